@@ -1,0 +1,1 @@
+"""Measurement chain: sine fit, comfort weighting."""

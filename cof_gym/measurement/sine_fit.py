@@ -1,0 +1,90 @@
+"""Known-frequency least-squares sine fit (IEEE Std 1057 three-parameter fit, plus a linear drift
+term) from running sums, as accumulated inside the native physics step (a lock-in).
+
+Model: ``y(t) = c0 cos(theta) + c1 sin(theta) + c2 + c3 tau = amp sin(theta + phase) + DC + drift``
+with ``theta`` the modulation phase and ``tau`` the time since the window's start. The DC level is
+removed by ``c2``; ``c3`` absorbs a slow drift of the operating point (e.g. the cruise control still
+settling), which otherwise leaks into the phase. For a stationary signal it reduces to IEEE 1057's
+three-parameter fit. The standard error of the phase follows from the residual variance and the
+delta method (Cramer-Rao: var >= 2 sigma^2 / (n amp^2)).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+N_BASIS = 4
+
+
+def unpack_symmetric(btb: np.ndarray) -> np.ndarray:
+    """4x4 symmetric matrix from its 10 upper-triangle entries (row-major, as the native sums)."""
+    out = np.empty((N_BASIS, N_BASIS))
+    k = 0
+    for i in range(N_BASIS):
+        for j in range(i, N_BASIS):
+            out[i, j] = out[j, i] = btb[k]
+            k += 1
+    return out
+
+
+@dataclass(frozen=True)
+class SineFit:
+    amplitude: float
+    phase_rad: float  # y ~ amplitude sin(theta + phase)
+    phase_se_rad: float
+    offset: float
+    drift_per_s: float
+    residual_rms: float
+
+
+def fit_from_sums(btb: np.ndarray, bty: np.ndarray, yty: float, n: float) -> SineFit:
+    """Solve the normal equations accumulated as B'B (10 entries), B'y (4) and y'y over n samples."""
+    if n <= N_BASIS:
+        raise ValueError(f"sine fit needs more than {N_BASIS} samples, got {n:g}")
+    a = unpack_symmetric(np.asarray(btb, dtype=np.float64))
+    b = np.asarray(bty, dtype=np.float64)
+    # scale the basis to unit diagonal: the drift column is in seconds and ill-scaled otherwise
+    scale = 1.0 / np.sqrt(np.maximum(np.diag(a), 1e-300))
+    a_s = a * np.outer(scale, scale)
+    cov_s = np.linalg.pinv(a_s)
+    coef = scale * (cov_s @ (b * scale))
+    cov_unit = cov_s * np.outer(scale, scale)
+    rss = max(float(yty - coef @ b), 0.0)
+    sigma2 = rss / (n - N_BASIS)
+    c0, c1 = coef[0], coef[1]
+    amp2 = c0 * c0 + c1 * c1
+    amplitude = float(np.sqrt(amp2))
+    if amp2 > 0.0:
+        grad = np.array([c1, -c0]) / amp2  # d atan2(c0, c1) / d(c0, c1)
+        var = sigma2 * float(grad @ cov_unit[:2, :2] @ grad)
+        phase_se = float(np.sqrt(max(var, 0.0)))
+    else:
+        phase_se = float(np.pi)
+    return SineFit(amplitude, float(np.arctan2(c0, c1)), phase_se, float(coef[2]), float(coef[3]),
+                   float(np.sqrt(rss / n)))
+
+
+def basis(theta: np.ndarray, tau: np.ndarray) -> np.ndarray:
+    return np.stack([np.cos(theta), np.sin(theta), np.ones_like(theta), tau], axis=1)
+
+
+def sums(theta: np.ndarray, tau: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, float, int]:
+    """The sums the native step accumulates, from sample arrays (tests, offline analysis)."""
+    bm = basis(np.asarray(theta, float), np.asarray(tau, float))
+    full = bm.T @ bm
+    btb = np.array([full[i, j] for i in range(N_BASIS) for j in range(i, N_BASIS)])
+    y = np.asarray(y, float)
+    return btb, bm.T @ y, float(y @ y), y.size
+
+
+def fit_samples(theta: np.ndarray, tau: np.ndarray, y: np.ndarray) -> SineFit:
+    """Fit sample arrays with the same solver as the native sums."""
+    return fit_from_sums(*sums(theta, tau, y))
+
+
+def wrap_deg(angle_deg: float) -> float:
+    """Wrap to (-180, 180]."""
+    w = (angle_deg + 180.0) % 360.0 - 180.0
+    return 180.0 if w == -180.0 else w

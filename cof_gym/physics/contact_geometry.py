@@ -1,0 +1,191 @@
+"""Wheel-rail contact patch geometry: Hertz semi-axes, Kalker's c11, Polach's creep constant.
+
+Units are SI throughout (m, N, Pa). The longitudinal semi-axis ``a`` lies along the rolling
+direction, the lateral semi-axis ``b`` across the rail, as in Kalker's and Polach's notation.
+
+References
+----------
+K. L. Johnson, *Contact Mechanics*, CUP 1985, ch. 4 (Hertz elliptic contact).
+J. J. Kalker, *Three-dimensional elastic bodies in rolling contact*, 1990, table E3.
+O. Polach, Wear 258 (2005) 992-1000 (creep-force law).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq
+from scipy.special import ellipe, ellipk
+
+__all__ = [
+    "ContactGeometry",
+    "hertz_semi_axes",
+    "kalker_c11",
+    "creep_stiffness_constant",
+    "KALKER_C11_A_OVER_B",
+    "KALKER_C11_B_OVER_A",
+]
+
+
+@dataclass(frozen=True)
+class ContactGeometry:
+    """Wheel and rail geometry and (identical) material of both bodies.
+
+    Attributes
+    ----------
+    wheel_radius_m:
+        Wheel rolling radius in m (curvature in the rolling direction). The wheel's transverse
+        profile is taken as flat (conical tread).
+    rail_crown_radius_m:
+        Rail head crown radius in m (curvature across the rail).
+    youngs_modulus_pa:
+        Young's modulus E of wheel and rail steel in Pa.
+    poisson_ratio:
+        Poisson's ratio nu, in (0, 0.5).
+    shear_modulus_pa:
+        Shear modulus G in Pa, used by Polach's creep constant (kept independent of E and nu
+        because the literature quotes G ~ 80 GPa directly).
+    """
+
+    wheel_radius_m: float = 0.46
+    rail_crown_radius_m: float = 0.30
+    youngs_modulus_pa: float = 210e9
+    poisson_ratio: float = 0.3
+    shear_modulus_pa: float = 80e9
+
+    def __post_init__(self) -> None:
+        for name in ("wheel_radius_m", "rail_crown_radius_m", "youngs_modulus_pa", "shear_modulus_pa"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0.0):
+                raise ValueError(f"{name} must be finite and > 0, got {value!r}")
+        nu = self.poisson_ratio
+        if not (math.isfinite(nu) and 0.0 < nu < 0.5):
+            raise ValueError(f"poisson_ratio must be in (0, 0.5), got {nu!r}")
+
+    @property
+    def reduced_modulus_pa(self) -> float:
+        """Contact modulus E* = E / (2 (1 - nu^2)) in Pa for two identical bodies."""
+        return self.youngs_modulus_pa / (2.0 * (1.0 - self.poisson_ratio**2))
+
+
+_DEFAULT_GEOMETRY = ContactGeometry()
+
+
+def _check_load(normal_load_n: float) -> float:
+    q = float(normal_load_n)
+    if not (math.isfinite(q) and q > 0.0):
+        raise ValueError(f"normal_load_n must be finite and > 0 N, got {normal_load_n!r}")
+    return q
+
+
+def _eccentricity_squared(curvature_ratio: float) -> float:
+    """Solve Johnson's eq. (4.?) for m = e^2 given the ratio (large/small) of curvature sums.
+
+    With the gap z = A' x^2 + B' y^2, A' <= B', the contact ellipse has its major semi-axis along
+    x and  B'/A' = [(a/b)^2 E(e) - K(e)] / [K(e) - E(e)],  (a/b)^2 = 1 / (1 - e^2).
+    """
+    if curvature_ratio <= 1.0 + 1e-12:
+        return 0.0  # circular contact
+
+    def residual(m: float) -> float:
+        k, e = ellipk(m), ellipe(m)
+        return (e / (1.0 - m) - k) / (k - e) - curvature_ratio
+
+    # residual -> 0 as m -> 0 (ratio -> 1) and -> +inf as m -> 1; bracket in (0, 1).
+    return float(brentq(residual, 1e-12, 1.0 - 1e-15, xtol=1e-15, rtol=1e-14, maxiter=500))
+
+
+def hertz_semi_axes(
+    normal_load_n: float, geometry: ContactGeometry = _DEFAULT_GEOMETRY
+) -> tuple[float, float]:
+    """Hertz contact ellipse semi-axes ``(a, b)`` in m; ``a`` along the rolling direction.
+
+    Exact elliptic Hertz solution (Johnson ch. 4) for identical materials: curvature sums
+    A = 1/(2 R_wheel) in the rolling direction and B = 1/(2 R_crown) laterally (flat wheel
+    tread profile), E* = E / (2 (1 - nu^2)). The major semi-axis lies along the smaller curvature
+    sum, so with R_wheel > R_crown the ellipse is elongated in the rolling direction (a > b).
+
+    Parameters
+    ----------
+    normal_load_n:
+        Wheel normal load Q in N, > 0.
+    geometry:
+        Radii and material constants.
+    """
+    q = _check_load(normal_load_n)
+    curv_roll = 1.0 / (2.0 * geometry.wheel_radius_m)
+    curv_lat = 1.0 / (2.0 * geometry.rail_crown_radius_m)
+    curv_small, curv_large = sorted((curv_roll, curv_lat))
+    m = _eccentricity_squared(curv_large / curv_small)
+    e_star = geometry.reduced_modulus_pa
+
+    if m == 0.0:
+        # circular: a^3 = 3 P R / (4 E*), with 1/R = A + B = 2 A
+        radius = (3.0 * q / (4.0 * e_star * 2.0 * curv_small)) ** (1.0 / 3.0)
+        major = minor = radius
+    else:
+        # A' = (p0/E*) (b / (e^2 a^2)) [K - E] and P = (2/3) pi a b p0
+        #  =>  a^3 = 3 P (K - E) / (2 pi A' E* e^2)
+        k, e = ellipk(m), ellipe(m)
+        major = (3.0 * q * (k - e) / (2.0 * math.pi * curv_small * e_star * m)) ** (1.0 / 3.0)
+        minor = major * math.sqrt(1.0 - m)
+
+    if curv_roll <= curv_lat:
+        return float(major), float(minor)  # major axis along the rolling direction
+    return float(minor), float(major)
+
+
+# Kalker (1990) table E3, row nu = 0.25, as given in DESIGN.md section 2.
+#: (a/b, c11) for a/b <= 1
+KALKER_C11_A_OVER_B: tuple[tuple[float, float], ...] = (
+    (0.1, 3.31),
+    (0.3, 3.44),
+    (0.5, 3.62),
+    (0.7, 3.81),
+    (1.0, 4.12),
+)
+#: (b/a, c11) for a/b >= 1 (b/a = 1 is the circular value 4.12)
+KALKER_C11_B_OVER_A: tuple[tuple[float, float], ...] = (
+    (1.0, 4.12),
+    (0.8, 4.36),
+    (0.6, 4.78),
+    (0.4, 5.57),
+    (0.2, 7.78),
+    (0.1, 11.7),
+)
+
+
+def kalker_c11(a_over_b: float) -> float:
+    """Kalker's longitudinal creepage coefficient c11 (dimensionless) for a semi-axis ratio a/b.
+
+    Linear interpolation of Kalker (1990) table E3 in the table's own variable: a/b for
+    a/b <= 1 and b/a for a/b > 1. The nu = 0.25 row is used (the only row available here);
+    wheel and rail steel has nu ~ 0.3, the difference is small but unverified.
+
+    Raises ``ValueError`` for a/b outside [0.1, 10].
+    """
+    g = float(a_over_b)
+    if not (math.isfinite(g) and 0.1 <= g <= 10.0):
+        raise ValueError(f"a_over_b must be in [0.1, 10], got {a_over_b!r}")
+    if g <= 1.0:
+        xs, ys = zip(*KALKER_C11_A_OVER_B)
+        return float(np.interp(g, xs, ys))
+    xs, ys = zip(*reversed(KALKER_C11_B_OVER_A))  # increasing b/a for np.interp
+    return float(np.interp(1.0 / g, xs, ys))
+
+
+def creep_stiffness_constant(
+    normal_load_n: float, geometry: ContactGeometry = _DEFAULT_GEOMETRY
+) -> float:
+    """Polach's creep constant C = G pi a b c11 / (4 Q) (dimensionless, per unit creepage).
+
+    Polach's gradient of tangential stress is eps = C |s| / mu, with s the longitudinal
+    creepage and mu the friction coefficient. a, b from :func:`hertz_semi_axes`, c11 from
+    :func:`kalker_c11`, G = ``geometry.shear_modulus_pa``.
+    """
+    q = _check_load(normal_load_n)
+    a, b = hertz_semi_axes(q, geometry)
+    c11 = kalker_c11(a / b)
+    return geometry.shear_modulus_pa * math.pi * a * b * c11 / (4.0 * q)

@@ -1,0 +1,223 @@
+"""Polach's wheel-rail creep law with falling friction: parameters, presets and analysis entry points.
+
+The force itself is computed by one C function (``cofgym_creep_force`` in ``native/cofgym_native.c``)
+that the MuJoCo callback calls every physics step; :func:`creep_curve` calls the very same function
+through ctypes, so plots and analysis can never drift from the simulation.
+
+**What ``cof`` means.** Polach's friction ``mu`` falls with the slip velocity
+(``mu = mu0 [(1 - A) exp(-B w) + A]``), so the steady creep curve peaks below ``mu0``. In cof_gym,
+*the coefficient of friction (CoF) is the maximum of the steady creep curve CoA(s) at the current
+speed and load*: what a slip test on that track would measure, and the value the torque-modulation
+method reads at the peak. ``mu0`` is derived from it (:func:`mu0_for_cof`).
+
+Presets (Polach 2005, Wear 258:992-1000, as widely cited; "unverified" against the original table):
+
+=============== ===== ===== ===== ========= ===========================================
+condition        kA    kS    A     B (s/m)   note
+=============== ===== ===== ===== ========= ===========================================
+dry             1.00  0.40  0.40  0.60      Polach's dry set
+wet             0.30  0.10  0.40  0.20      Polach's wet set
+low_adhesion    0.10  0.05  0.45  0.20      leaf layer: cof_gym's choice (unverified), a
+                                            flatter initial slope than wet
+=============== ===== ===== ===== ========= ===========================================
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from functools import lru_cache
+
+import numpy as np
+from scipy.optimize import brentq, minimize_scalar
+
+from cof_gym.physics.contact_geometry import ContactGeometry, hertz_semi_axes, kalker_c11
+from cof_gym.physics.native import layout
+from cof_gym.physics.native.build import native
+
+COF_RANGE = (1e-3, 1.5)
+"""Accepted CoF values (the environments draw from 0.02-0.6)."""
+
+
+def _check(name: str, value: float, low: float, high: float | None, allowed: str) -> None:
+    if not np.isfinite(value) or value <= low or (high is not None and value > high):
+        raise ValueError(f"{name} must be {allowed}, got {value!r}")
+
+
+@dataclass(frozen=True)
+class PolachShape:
+    """Shape parameters of Polach's law: reduction factors kA (adhesion) and kS (slip) of the
+    Kalker stiffness, and the falling-friction law mu = mu0 [(1 - A) exp(-B w) + A]."""
+
+    k_adhesion: float
+    k_slip: float
+    friction_ratio: float  # A = mu_inf / mu0
+    friction_decay_s_per_m: float  # B
+
+    def __post_init__(self) -> None:
+        _check("k_adhesion", self.k_adhesion, 0.0, None, "> 0")
+        _check("k_slip", self.k_slip, 0.0, None, "> 0")
+        if not (0.0 <= self.friction_ratio < 1.0):
+            raise ValueError(f"friction_ratio (A) must be in [0, 1) for a creep curve with a peak, got {self.friction_ratio}")
+        _check("friction_decay_s_per_m", self.friction_decay_s_per_m, 0.0, None, "> 0")
+
+
+CONDITIONS: dict[str, PolachShape] = {
+    "dry": PolachShape(1.00, 0.40, 0.40, 0.60),
+    "wet": PolachShape(0.30, 0.10, 0.40, 0.20),
+    "low_adhesion": PolachShape(0.10, 0.05, 0.45, 0.20),
+}
+
+
+def shape_of(condition: str | PolachShape) -> PolachShape:
+    """The Polach shape of a named condition (or a custom :class:`PolachShape`)."""
+    if isinstance(condition, PolachShape):
+        return condition
+    if condition not in CONDITIONS:
+        raise ValueError(f"condition must be one of {sorted(CONDITIONS)}, got {condition!r}")
+    return CONDITIONS[condition]
+
+
+@dataclass(frozen=True)
+class ContactPatch:
+    """Contact-patch constants the native law scales with load: a*b at a reference wheel load
+    (m^2), that load (N) and Kalker's c11."""
+
+    ab_ref_m2: float
+    q_ref_n: float
+    c11: float
+
+    @classmethod
+    def at_load(cls, wheel_load_n: float, geometry: ContactGeometry = ContactGeometry()) -> "ContactPatch":
+        a, b = hertz_semi_axes(wheel_load_n, geometry)
+        return cls(a * b, wheel_load_n, kalker_c11(a / b))
+
+    def vector(self) -> np.ndarray:
+        values = {"AB_REF": self.ab_ref_m2, "Q_REF": self.q_ref_n, "C11": self.c11}
+        return np.array([values[f] for f in layout.CONTACT_LAW_FIELDS], dtype=np.float64)
+
+
+@dataclass(frozen=True)
+class CreepLaw:
+    """A complete creep law: shape, friction level mu0 and the material's shear modulus (Pa)."""
+
+    shape: PolachShape
+    mu0: float
+    shear_modulus_pa: float = 80e9
+
+    def vector(self) -> np.ndarray:
+        s = self.shape
+        values = {
+            "MU0": self.mu0, "POLACH_A": s.friction_ratio, "POLACH_B": s.friction_decay_s_per_m,
+            "KA": s.k_adhesion, "KS": s.k_slip, "SHEAR_MODULUS": self.shear_modulus_pa,
+        }
+        return np.array([values[f] for f in layout.LAW_FIELDS], dtype=np.float64)
+
+
+def _ptr(a: np.ndarray):
+    import ctypes
+
+    return a.ctypes.data_as(ctypes.POINTER(ctypes.c_double))
+
+
+def _curve(law: CreepLaw, patch: ContactPatch, wheel_load_n: float, speed_m_s: float,
+           creepage: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    s = np.ascontiguousarray(creepage, dtype=np.float64)
+    coa, slope = np.empty_like(s), np.empty_like(s)
+    lv, pv = law.vector(), patch.vector()
+    native().cofgym_creep_curve(_ptr(lv), _ptr(pv), wheel_load_n, speed_m_s, _ptr(s), s.size,
+                                _ptr(coa), _ptr(slope))
+    return coa, slope
+
+
+@dataclass(frozen=True)
+class CreepPeak:
+    creepage: float
+    coa: float
+
+
+def _peak(law: CreepLaw, patch: ContactPatch, wheel_load_n: float, speed_m_s: float) -> CreepPeak:
+    grid = np.geomspace(1e-6, 2.0, 600)
+    coa, _ = _curve(law, patch, wheel_load_n, speed_m_s, grid)
+    i = int(np.argmax(coa))
+    lo, hi = np.log(grid[max(i - 1, 0)]), np.log(grid[min(i + 1, grid.size - 1)])
+    res = minimize_scalar(
+        lambda x: -_curve(law, patch, wheel_load_n, speed_m_s, np.array([np.exp(x)]))[0][0],
+        bounds=(lo, hi), method="bounded", options={"xatol": 1e-10},
+    )
+    return CreepPeak(float(np.exp(res.x)), float(-res.fun))
+
+
+@dataclass(frozen=True)
+class OperatingConditions:
+    """CoF, condition, wheel load (N, per wheel) and speed (m/s), validated."""
+
+    cof: float
+    condition: str | PolachShape = "dry"
+    wheel_load_n: float = 100e3
+    speed_m_s: float = 10.0
+    geometry: ContactGeometry = field(default_factory=ContactGeometry)
+
+    def __post_init__(self) -> None:
+        _check("cof", self.cof, 0.0, COF_RANGE[1], f"in (0, {COF_RANGE[1]}]")
+        _check("wheel_load_n", self.wheel_load_n, 0.0, None, "> 0 N")
+        _check("speed_m_s", self.speed_m_s, 0.0, None, "> 0 m/s")
+        shape_of(self.condition)
+
+    @property
+    def patch(self) -> ContactPatch:
+        return _patch_cached(self.wheel_load_n, self.geometry)
+
+    def law(self) -> CreepLaw:
+        """The creep law whose steady-curve maximum at this speed and load equals ``cof``."""
+        return CreepLaw(shape_of(self.condition), mu0_for_cof(self), self.geometry.shear_modulus_pa)
+
+
+@lru_cache(maxsize=256)
+def _patch_cached(wheel_load_n: float, geometry: ContactGeometry) -> ContactPatch:
+    return ContactPatch.at_load(wheel_load_n, geometry)
+
+
+def mu0_for_cof(op: OperatingConditions) -> float:
+    """Polach's mu0 such that the steady creep curve's maximum equals ``op.cof``."""
+    return _mu0_cached(op.cof, shape_of(op.condition), op.wheel_load_n, op.speed_m_s, op.geometry)
+
+
+@lru_cache(maxsize=4096)
+def _mu0_cached(cof: float, shape: PolachShape, load: float, speed: float, geometry: ContactGeometry) -> float:
+    patch = _patch_cached(load, geometry)
+
+    def excess(mu0: float) -> float:
+        return _peak(CreepLaw(shape, mu0, geometry.shear_modulus_pa), patch, load, speed).coa - cof
+
+    hi = cof / max(shape.friction_ratio, 0.05)
+    while excess(hi) < 0.0:
+        hi *= 2.0
+    return float(brentq(excess, cof, hi, xtol=1e-12, rtol=1e-10))
+
+
+def creep_curve(creepage: np.ndarray | float, op: OperatingConditions) -> tuple[np.ndarray, np.ndarray]:
+    """Steady creep curve: adhesion CoA (tangential/normal force) and its slope dCoA/ds at the given
+    longitudinal creepages s = (R Omega - v)/v. Same native code as the simulation."""
+    s = np.atleast_1d(np.asarray(creepage, dtype=np.float64))
+    return _curve(op.law(), op.patch, op.wheel_load_n, op.speed_m_s, s)
+
+
+def creep_peak(op: OperatingConditions) -> CreepPeak:
+    """Creepage and adhesion at the creep-curve maximum (the latter equals ``op.cof``)."""
+    return _peak(op.law(), op.patch, op.wheel_load_n, op.speed_m_s)
+
+
+def creepage_at_coa(coa: float, op: OperatingConditions) -> float:
+    """Creepage on the rising branch where the steady curve delivers adhesion ``coa`` (< cof)."""
+    peak = creep_peak(op)
+    if not (0.0 <= coa < peak.coa):
+        raise ValueError(f"coa must be in [0, {peak.coa:.6g}) (below the peak), got {coa!r}")
+    if coa == 0.0:
+        return 0.0
+    law, patch = op.law(), op.patch
+    f = lambda s: _curve(law, patch, op.wheel_load_n, op.speed_m_s, np.array([s]))[0][0] - coa
+    return float(brentq(f, 0.0, peak.creepage, xtol=1e-15, rtol=1e-12))
+
+
+def with_cof(op: OperatingConditions, cof: float) -> OperatingConditions:
+    return replace(op, cof=cof)

@@ -1,0 +1,223 @@
+"""MuJoCo models built from parameters with MjSpec: the paper's half wheelset and the planar wagon.
+
+Wheel-rail forces are not MuJoCo contacts: MuJoCo's collision is disabled and the native callback
+(:mod:`cof_gym.physics.native`) applies the normal (wheel-track spring) and creep forces at each
+wheel's contact point. Suspensions are MuJoCo spatial tendons with stiffness and damping, preloaded so
+that the nominal geometry is the static equilibrium.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import mujoco
+import numpy as np
+
+from cof_gym.physics.contact_geometry import ContactGeometry
+from cof_gym.physics.creep import ContactPatch
+from cof_gym.physics.native import layout
+from cof_gym.physics.vehicle import GRAVITY, HalfWheelsetParameters, WagonParameters
+
+DEFAULT_TIMESTEP_S = 1e-3
+HALF_WHEELSET_ARMATURE_KG = 1e12  # reflected mass that holds the half wheelset's speed constant
+
+
+@dataclass(frozen=True)
+class ContactSpec:
+    """One wheel-rail contact as the native callback sees it (see layout.CONTACT_FIELDS)."""
+
+    wheel_body: int
+    reaction_body: int
+    z_qpos: int
+    z_dof: int
+    n_wheels: int
+    radius_m: float
+    k_track_n_m: float
+    c_track_n_s_m: float
+    z_rest_m: float
+    nominal_load_n: float
+    patch: ContactPatch
+    torque_sign: int
+
+    def values(self) -> dict[str, float]:
+        return {
+            "WHEEL_BODY": self.wheel_body, "REACTION_BODY": self.reaction_body,
+            "Z_QPOS": self.z_qpos, "Z_DOF": self.z_dof, "N_WHEELS": self.n_wheels,
+            "RADIUS": self.radius_m, "K_TRACK": self.k_track_n_m, "C_TRACK": self.c_track_n_s_m,
+            "Z_REST": self.z_rest_m, "NOMINAL_LOAD": self.nominal_load_n,
+            "AB_REF": self.patch.ab_ref_m2, "Q_REF": self.patch.q_ref_n, "C11": self.patch.c11,
+            "TORQUE_SIGN": self.torque_sign,
+        }
+
+
+@dataclass
+class BuiltModel:
+    """A compiled model plus what the callback and the measurement need to know about it."""
+
+    kind: str
+    model: mujoco.MjModel
+    contacts: list[ContactSpec]
+    measured_contact: int
+    carbody_x_dof: int
+    wheel_radius_m: float
+    drive_spin_inertia_kg_m2: float  # spin inertia of the measured (driven) wheel(set)
+    nominal_wheel_load_n: float  # static load per wheel
+    wheels_per_contact: int
+    total_mass_kg: float
+    x_dofs: list[int] = field(default_factory=list)  # slide-x dofs (initial speed v)
+    spin_dofs: list[tuple[int, float]] = field(default_factory=list)  # (dof, radius) rolling at v/R
+
+    @property
+    def saturation_torque_per_cof(self) -> float:
+        """Static saturation torque of the driven wheel(set) per unit CoF, N m: R N_contact."""
+        return self.wheel_radius_m * self.nominal_wheel_load_n * self.wheels_per_contact
+
+
+def _spec(timestep: float) -> mujoco.MjSpec:
+    if not (1e-6 <= timestep <= 5e-3):
+        raise ValueError(f"timestep must be in [1e-6, 5e-3] s, got {timestep!r}")
+    spec = mujoco.MjSpec()
+    spec.option.timestep = timestep
+    spec.option.integrator = mujoco.mjtIntegrator.mjINT_EULER
+    spec.option.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT) | int(mujoco.mjtDisableBit.mjDSBL_CONSTRAINT)
+    spec.nuserdata = layout.SIZE
+    spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 1], rgba=[0.55, 0.5, 0.45, 1],
+                            contype=0, conaffinity=0)
+    spec.worldbody.add_light(pos=[0, -20, 30], dir=[0, 0.5, -1])
+    return spec
+
+
+def _joint(body, kind: str, name: str, armature: float = 0.0):
+    axis = {"x": ([1, 0, 0], mujoco.mjtJoint.mjJNT_SLIDE), "z": ([0, 0, 1], mujoco.mjtJoint.mjJNT_SLIDE),
+            "pitch": ([0, 1, 0], mujoco.mjtJoint.mjJNT_HINGE)}[kind]
+    return body.add_joint(name=name, type=axis[1], axis=axis[0], armature=armature)
+
+
+def _wheel(parent, name: str, mass: float, spin_inertia: float, roll_inertia: float, radius: float,
+           width: float = 0.14):
+    wheel = parent.add_body(name=name, ipos=[0, 0, 0], explicitinertial=True, mass=mass, inertia=[roll_inertia, spin_inertia, roll_inertia])
+    _joint(wheel, "pitch", f"{name}_spin")
+    wheel.add_geom(type=mujoco.mjtGeom.mjGEOM_CYLINDER, size=[radius, width / 2, 0], quat=[0.7071068, 0.7071068, 0, 0],
+                   rgba=[0.3, 0.3, 0.35, 1], contype=0, conaffinity=0, mass=0)
+    wheel.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[radius * 0.9, width / 2 + 0.01, 0.03],
+                   rgba=[0.9, 0.7, 0.1, 1], contype=0, conaffinity=0, mass=0)  # shows the spin
+    return wheel
+
+
+def build_half_wheelset(params: HalfWheelsetParameters = HalfWheelsetParameters(),
+                        timestep: float = DEFAULT_TIMESTEP_S,
+                        geometry: ContactGeometry = ContactGeometry()) -> BuiltModel:
+    """Paper Sect. 2 / Fig. 1: a half wheelset at constant speed (a reflected mass of 1e12 kg on its
+    longitudinal slide stands for the suspension holding v) under a constant normal load N."""
+    spec = _spec(timestep)
+    r = params.wheel_radius_m
+    box = spec.worldbody.add_body(name="axlebox", pos=[0, 0, r], ipos=[0, 0, 0], explicitinertial=True, mass=params.mass_kg, inertia=[1, 1, 1])
+    _joint(box, "x", "axlebox_x", armature=HALF_WHEELSET_ARMATURE_KG)
+    _wheel(box, "wheel", 1.0, params.spin_inertia_kg_m2, 0.6 * params.spin_inertia_kg_m2, r)
+    model = spec.compile()
+    contact = ContactSpec(
+        wheel_body=model.body("wheel").id, reaction_body=-1, z_qpos=-1, z_dof=-1, n_wheels=1, radius_m=r,
+        k_track_n_m=0.0, c_track_n_s_m=0.0, z_rest_m=0.0, nominal_load_n=params.normal_load_n,
+        patch=ContactPatch.at_load(params.normal_load_n, geometry), torque_sign=1,
+    )
+    return BuiltModel(
+        kind="half_wheelset", model=model, contacts=[contact], measured_contact=0, carbody_x_dof=-1,
+        wheel_radius_m=r, drive_spin_inertia_kg_m2=params.spin_inertia_kg_m2,
+        nominal_wheel_load_n=params.normal_load_n, wheels_per_contact=1, total_mass_kg=params.mass_kg,
+        x_dofs=[model.joint("axlebox_x").dofadr[0]], spin_dofs=[(model.joint("wheel_spin").dofadr[0], r)],
+    )
+
+
+def _spring(spec, name: str, terms: list[tuple[str, float]], stiffness: float, damping: float,
+            rest_length: float = 0.0) -> None:
+    """A linear spring-damper on the deflection sum(coef * q) (a MuJoCo fixed tendon): the
+    small-angle kinematics of a suspension element, free of the geometric stiffness a preloaded
+    spatial strut would add. ``rest_length`` > 0 preloads it in compression."""
+    t = spec.add_tendon(name=name, stiffness=[stiffness, 0, 0], damping=[damping, 0, 0],
+                        springlength=[rest_length, rest_length])
+    for joint, coef in terms:
+        t.wrap_joint(joint, coef)
+
+
+def build_wagon(params: WagonParameters, timestep: float = DEFAULT_TIMESTEP_S,
+                geometry: ContactGeometry = ContactGeometry()) -> BuiltModel:
+    """Paper Sect. 3: car body, two bogie frames, four wheelsets; primary and secondary suspensions
+    (Manchester benchmark); traction torque on the rear wheelset of the rear bogie and an equal,
+    opposite torque on that bogie's front wheelset (reactions on the bogie frame); PD cruise control
+    on the car body (in the callback). Planar: x (longitudinal), z (vertical), pitch."""
+    p = params
+    spec = _spec(timestep)
+    r = p.wheel_radius_m
+    m_body = p.carbody_mass_kg + p.payload_kg
+    load_length = p.bogie_centre_spacing_m + 1.0  # payload spread over the underframe (assumed)
+    i_body = p.carbody_pitch_inertia_kg_m2 + p.payload_kg * load_length**2 / 12.0
+    body = spec.worldbody.add_body(name="carbody", pos=[0, 0, p.carbody_cog_height_m], ipos=[0, 0, 0], explicitinertial=True, mass=m_body,
+                                   inertia=[56_800.0, i_body, i_body])
+    for kind in ("x", "z", "pitch"):
+        _joint(body, kind, f"carbody_{kind}")
+    body.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[12.0, 1.4, 1.1], pos=[0, 0, 0.6],
+                  rgba=[0.15, 0.35, 0.6, 1], contype=0, conaffinity=0, mass=0)
+
+    half_base, half_centres = p.bogie_wheelbase_m / 2, p.bogie_centre_spacing_m / 2
+    h2 = p.secondary_height_m
+    f_secondary = m_body * GRAVITY / 2  # per bogie (both sides)
+    f_primary = (f_secondary + p.bogie_mass_kg * GRAVITY) / 2  # per wheelset
+    n_wheelset = f_primary + p.wheelset_mass_kg * GRAVITY  # per wheelset (both wheels)
+    k_track = 2 * p.track_stiffness_n_m
+    wheelsets: list[tuple[str, float, int]] = []  # (name, x, torque sign)
+    for b_name, xb in (("bogie_front", half_centres), ("bogie_rear", -half_centres)):
+        bogie = spec.worldbody.add_body(name=b_name, pos=[xb, 0, p.bogie_cog_height_m], ipos=[0, 0, 0], explicitinertial=True, mass=p.bogie_mass_kg,
+                                        inertia=[1_722.0, p.bogie_pitch_inertia_kg_m2, 3_067.0])
+        for kind in ("x", "z", "pitch"):
+            _joint(bogie, kind, f"{b_name}_{kind}")
+        bogie.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[half_base + 0.4, 1.0, 0.15], rgba=[0.25, 0.25, 0.25, 1],
+                       contype=0, conaffinity=0, mass=0)
+        zb = p.bogie_cog_height_m
+        hb, hc = h2 - zb, h2 - p.carbody_cog_height_m  # secondary height in bogie / body frames
+        # small-angle kinematics: a point (x, z) of a body moves dx = x_j + z theta, dz = z_j - x theta
+        _spring(spec, f"{b_name}_secondary_z",
+                [("carbody_z", 1.0), ("carbody_pitch", -xb), (f"{b_name}_z", -1.0)],
+                2 * p.secondary_kz_n_m, 2 * p.secondary_cz_n_s_m, f_secondary / (2 * p.secondary_kz_n_m))
+        _spring(spec, f"{b_name}_secondary_x",
+                [("carbody_x", 1.0), ("carbody_pitch", hc), (f"{b_name}_x", -1.0), (f"{b_name}_pitch", -hb)],
+                2 * p.secondary_kx_n_m, 2 * p.secondary_cx_n_s_m)
+        for w_name, dx in (("front", half_base), ("rear", -half_base)):
+            name = f"{b_name}_{w_name}_wheelset"
+            xw = xb + dx
+            sign = 0 if b_name == "bogie_front" else (1 if w_name == "rear" else -1)
+            wheelsets.append((name, xw, sign))
+            box = spec.worldbody.add_body(name=f"{name}_axlebox", pos=[xw, 0, r], ipos=[0, 0, 0],
+                                          explicitinertial=True, mass=1.0, inertia=[0.1, 0.1, 0.1])
+            _joint(box, "x", f"{name}_x")
+            _joint(box, "z", f"{name}_z")
+            spin = p.motor_spin_inertia_kg_m2 if sign != 0 else p.trailer_spin_inertia_kg_m2
+            _wheel(box, name, p.wheelset_mass_kg - 1.0, spin, p.wheelset_roll_inertia_kg_m2, r)
+            _spring(spec, f"{name}_primary_z", [(f"{b_name}_z", 1.0), (f"{b_name}_pitch", -dx), (f"{name}_z", -1.0)],
+                    2 * p.primary_kz_n_m, 2 * p.primary_cz_n_s_m, f_primary / (2 * p.primary_kz_n_m))
+            _spring(spec, f"{name}_primary_x", [(f"{b_name}_x", 1.0), (f"{b_name}_pitch", r - zb), (f"{name}_x", -1.0)],
+                    2 * p.primary_kx_n_m, 2 * p.primary_cx_n_s_m)
+
+    spec.worldbody.add_camera(name="side", mode=mujoco.mjtCamLight.mjCAMLIGHT_TRACKCOM, pos=[0, -28, 3],
+                              xyaxes=[1, 0, 0, 0, 0.1, 1])
+    model = spec.compile()
+    patch = ContactPatch.at_load(p.static_wheel_load_n, geometry)
+    contacts = []
+    for name, _, sign in wheelsets:
+        zj = model.joint(f"{name}_z")
+        reaction = model.body("bogie_rear").id if sign != 0 else -1
+        contacts.append(ContactSpec(
+            wheel_body=model.body(name).id, reaction_body=reaction, z_qpos=int(zj.qposadr[0]),
+            z_dof=int(zj.dofadr[0]), n_wheels=2, radius_m=r, k_track_n_m=k_track,
+            c_track_n_s_m=2 * p.track_damping_n_s_m, z_rest_m=n_wheelset / k_track, nominal_load_n=n_wheelset,
+            patch=patch, torque_sign=sign,
+        ))
+    measured = next(i for i, c in enumerate(contacts) if c.torque_sign == 1)
+    x_joints = ["carbody_x", "bogie_front_x", "bogie_rear_x"] + [f"{n}_x" for n, _, _ in wheelsets]
+    return BuiltModel(
+        kind="wagon", model=model, contacts=contacts, measured_contact=measured,
+        carbody_x_dof=int(model.joint("carbody_x").dofadr[0]), wheel_radius_m=r,
+        drive_spin_inertia_kg_m2=p.motor_spin_inertia_kg_m2, nominal_wheel_load_n=p.static_wheel_load_n,
+        wheels_per_contact=2, total_mass_kg=p.total_mass_kg,
+        x_dofs=[int(model.joint(j).dofadr[0]) for j in x_joints],
+        spin_dofs=[(int(model.joint(f"{n}_spin").dofadr[0]), r) for n, _, _ in wheelsets],
+    )

@@ -1,0 +1,354 @@
+/*
+ * cof_gym native core: Polach creep law, wheel-rail contact forces, modulated traction torque,
+ * cruise control and the in-step measurement chain (lock-in sums, ISO 2631 Wd filter), run as a
+ * MuJoCo mjcb_passive callback. No Python runs per physics step.
+ *
+ * Everything a simulation needs is read from mjData.userdata (layout: cofgym_layout.h, generated
+ * from layout.py), so one process-global callback serves any number of models and simulations,
+ * and mujoco.batch (which copies userdata with the state) is bit-identical to single stepping.
+ */
+#include <math.h>
+#include <string.h>
+#include <stdint.h>
+#include <mujoco/mujoco.h>
+#include "cofgym_layout.h"
+
+#define PI 3.14159265358979323846
+#define TWO_OVER_PI 0.63661977236758134308
+
+/* ---------------------------------------------------------------- creep law (Polach 2005) */
+
+/* Polach's creep-stiffness constant C = G pi a b c11 / (4 Q) for wheel load q (N). The Hertz
+ * product a*b scales with q^(2/3) from its reference value (a/b and so c11 stay constant). */
+static double creep_constant(const double* claw, double shear_modulus, double q) {
+  double ab = claw[CLAW_AB_REF] * pow(q / claw[CLAW_Q_REF], 2.0 / 3.0);
+  return shear_modulus * PI * ab * claw[CLAW_C11] / (4.0 * q);
+}
+
+/* Longitudinal creep force per wheel (N) and its derivative with respect to the slip velocity
+ * u = R Omega - v (N s/m), at wheel load q (N) and rolling speed v (m/s, > 0).
+ *   F/(q mu) = (2/pi) [kA eps/(1 + (kA eps)^2) + atan(kS eps)],  eps = C |s| / mu,  s = u / v
+ *   mu = mu0 [(1 - A) exp(-B |u|) + A]   (falling friction with slip velocity w = |s| v = |u|)
+ */
+double cofgym_creep_force(const double* law, const double* claw, double q, double v, double u,
+                          double* dfdu) {
+  if (!(q > 0.0) || !(v > 0.0)) {
+    if (dfdu) *dfdu = 0.0;
+    return 0.0;
+  }
+  const double mu0 = law[LAW_MU0], A = law[LAW_POLACH_A], B = law[LAW_POLACH_B];
+  const double kA = law[LAW_KA], kS = law[LAW_KS];
+  const double c = creep_constant(claw, law[LAW_SHEAR_MODULUS], q);
+  const double w = fabs(u);
+  const double s = w / v;
+  const double e = exp(-B * w);
+  const double mu = mu0 * ((1.0 - A) * e + A);
+  const double dmu_dw = -mu0 * (1.0 - A) * B * e;
+  const double eps = c * s / mu;
+  const double ka_eps = kA * eps, ks_eps = kS * eps;
+  const double g = TWO_OVER_PI * (ka_eps / (1.0 + ka_eps * ka_eps) + atan(ks_eps));
+  const double dg_deps = TWO_OVER_PI * (kA * (1.0 - ka_eps * ka_eps) /
+                                            ((1.0 + ka_eps * ka_eps) * (1.0 + ka_eps * ka_eps)) +
+                                        kS / (1.0 + ks_eps * ks_eps));
+  const double deps_dw = c / (v * mu) - c * s / (mu * mu) * dmu_dw;
+  if (dfdu) *dfdu = q * (dmu_dw * g + mu * dg_deps * deps_dw);
+  const double f = q * mu * g;
+  return u >= 0.0 ? f : -f;
+}
+
+/* Sample the steady creep curve: adhesion CoA(s) = F/q and its slope dCoA/ds for n creepages. */
+void cofgym_creep_curve(const double* law, const double* claw, double q, double v,
+                        const double* creepage, int n, double* coa, double* slope) {
+  for (int i = 0; i < n; i++) {
+    double dfdu = 0.0;
+    double f = cofgym_creep_force(law, claw, q, v, creepage[i] * v, &dfdu);
+    coa[i] = f / q;
+    slope[i] = dfdu * v / q;
+  }
+}
+
+/* ---------------------------------------------------------------- helpers */
+
+static uint32_t rng_next(double* ud) {
+  /* xorshift64 kept as two exact 32-bit integers in doubles (userdata is copied as numbers) */
+  uint64_t x = ((uint64_t)ud[UD_RNG_STATE0] << 32) | (uint64_t)ud[UD_RNG_STATE1];
+  if (x == 0) x = 0x9E3779B97F4A7C15ull;
+  x ^= x << 13;
+  x ^= x >> 7;
+  x ^= x << 17;
+  ud[UD_RNG_STATE0] = (double)(uint32_t)(x >> 32);
+  ud[UD_RNG_STATE1] = (double)(uint32_t)(x & 0xffffffffu);
+  return (uint32_t)(x >> 32);
+}
+
+static double rng_normal(double* ud) {
+  /* Box-Muller; (k + 0.5) / 2^32 keeps u1 in (0, 1) */
+  double u1 = ((double)rng_next(ud) + 0.5) / 4294967296.0;
+  double u2 = ((double)rng_next(ud) + 0.5) / 4294967296.0;
+  return sqrt(-2.0 * log(u1)) * cos(2.0 * PI * u2);
+}
+
+/* transposed direct form II cascade of second-order sections, states updated in place */
+static double sos_filter(const double* sos, double* state, int nsect, double x) {
+  for (int k = 0; k < nsect; k++) {
+    const double* c = sos + 5 * k;
+    double* z = state + 2 * k;
+    double y = c[0] * x + z[0];
+    z[0] = c[1] * x - c[3] * y + z[1];
+    z[1] = c[2] * x - c[4] * y;
+    x = y;
+  }
+  return x;
+}
+
+/* accumulate basis b = [cos th, sin th, 1, tau]: B'B (10 unique entries) */
+static void acc_btb(double* btb, const double* b) {
+  int k = 0;
+  for (int i = 0; i < 4; i++)
+    for (int j = i; j < 4; j++) btb[k++] += b[i] * b[j];
+}
+
+static void acc_bty(double* bty, double* yty, const double* b, double y) {
+  for (int i = 0; i < 4; i++) bty[i] += b[i] * y;
+  *yty += y * y;
+}
+
+static double dc_torque(const double* ud, double t) {
+  double dur = ud[UD_RAMP_DURATION];
+  double start = ud[UD_TORQUE_DC_START], target = ud[UD_TORQUE_DC_TARGET];
+  double frac = dur > 0.0 ? (t - ud[UD_RAMP_START_TIME]) / dur : 1.0;
+  if (frac >= 1.0) return target;
+  if (frac <= 0.0) return start;
+  return start + (target - start) * frac;
+}
+
+static double modulation_phase(const double* ud, double t) {
+  return ud[UD_THETA_BASE] + ud[UD_MOD_OMEGA] * (t - ud[UD_TIME_BASE]);
+}
+
+/* ---------------------------------------------------------------- the callback */
+
+typedef struct {
+  double normal;    /* N, whole contact */
+  double omega;     /* rad/s */
+  double speed;     /* m/s, wheel centre */
+  double slip;      /* u = R Omega - v, m/s */
+  double force;     /* applied tangential force, N (whole contact, + forward) */
+  double creepage;
+} contact_state;
+
+void cofgym_passive(const mjModel* m, mjData* d) {
+  if (m->nuserdata < UD_SIZE) return;
+  double* ud = d->userdata;
+  if (ud[UD_MAGIC] != UD_MAGIC_VALUE) return;
+
+  const int nv = m->nv;
+  const double dt = m->opt.timestep;
+  const double t = d->time;
+  const int advance = t != ud[UD_LAST_TIME];
+  const int ncon = (int)ud[UD_N_CONTACTS];
+  if (ncon < 1 || ncon > UD_MAX_CONTACTS) return;
+
+  mj_markStack(d);
+  double* tau = mj_stackAllocNum(d, nv);    /* explicit generalised forces we add */
+  double* jacp = mj_stackAllocNum(d, 3 * nv * ncon);
+  double* jacr = mj_stackAllocNum(d, 3 * nv);
+  double* minv_j = mj_stackAllocNum(d, nv);
+  double* total = mj_stackAllocNum(d, nv);
+  mju_zero(tau, nv);
+
+  /* drive: DC ramp + sine at mid-step (the torque acts over [t, t+dt]), first-order lag */
+  const double t_mid = t + 0.5 * dt;
+  const double theta_mid = modulation_phase(ud, t_mid);
+  const double amp = ud[UD_TORQUE_AMPLITUDE], wm = ud[UD_MOD_OMEGA];
+  const double torque_cmd = dc_torque(ud, t_mid) + amp * sin(theta_mid);
+  const double tau_m = ud[UD_MOTOR_TAU];
+  if (advance) {
+    double alpha = tau_m > 0.0 ? 1.0 - exp(-dt / tau_m) : 1.0;
+    ud[UD_MOTOR_TORQUE] += alpha * (torque_cmd - ud[UD_MOTOR_TORQUE]);
+  }
+  const double torque = ud[UD_MOTOR_TORQUE];
+  double torque_rate; /* dM/dt at mid-step, N m/s */
+  if (tau_m > 0.0) {
+    torque_rate = (torque_cmd - torque) / tau_m;
+  } else {
+    double dur = ud[UD_RAMP_DURATION], since = t_mid - ud[UD_RAMP_START_TIME];
+    double ramp = (dur > 0.0 && since > 0.0 && since < dur)
+                      ? (ud[UD_TORQUE_DC_TARGET] - ud[UD_TORQUE_DC_START]) / dur : 0.0;
+    torque_rate = ramp + amp * wm * cos(theta_mid);
+  }
+  double* unit_torque = mj_stackAllocNum(d, nv); /* generalised force of a unit motor torque */
+  mju_zero(unit_torque, nv);
+
+  contact_state cs[UD_MAX_CONTACTS];
+  double dfdu[UD_MAX_CONTACTS];
+  const double* law = ud + UD_MU0;
+  const double vmin = ud[UD_MIN_SPEED];
+
+  /* pass 1: kinematics, normal load, motor torque, explicit creep force */
+  for (int k = 0; k < ncon; k++) {
+    double* cfg = ud + UD_CONTACT0 + k * UD_CONTACT_STRIDE;
+    int body = (int)cfg[CF_WHEEL_BODY];
+    double radius = cfg[CF_RADIUS];
+    double nwheels = cfg[CF_N_WHEELS];
+    double point[3] = {d->xpos[3 * body], d->xpos[3 * body + 1], d->xpos[3 * body + 2] - radius};
+    double* jp = jacp + 3 * nv * k;
+    mj_jac(m, d, jp, jacr, point, body);
+    double cvel = mju_dot(jp, d->qvel, nv);            /* contact-point velocity along x */
+    double omega = mju_dot(jacr + nv, d->qvel, nv);    /* spin about y */
+    double speed = cvel + radius * omega;              /* wheel-centre velocity */
+    double slip = -cvel;
+
+    double normal;
+    int zq = (int)cfg[CF_Z_QPOS], zd = (int)cfg[CF_Z_DOF];
+    if (zq >= 0) {
+      normal = cfg[CF_K_TRACK] * (cfg[CF_Z_REST] - d->qpos[zq]) - cfg[CF_C_TRACK] * d->qvel[zd];
+      if (normal < 0.0) normal = 0.0; /* unilateral: the wheel may lift */
+      double fz[3] = {0.0, 0.0, normal}, zero[3] = {0.0, 0.0, 0.0};
+      mj_applyFT(m, d, fz, zero, point, body, tau);
+    } else {
+      normal = cfg[CF_NOMINAL_LOAD];
+    }
+
+    double sign = cfg[CF_TORQUE_SIGN];
+    if (sign != 0.0) {
+      double my[3] = {0.0, sign, 0.0}, zero[3] = {0.0, 0.0, 0.0};
+      mj_applyFT(m, d, zero, my, d->xpos + 3 * body, body, unit_torque);
+      int rb = (int)cfg[CF_REACTION_BODY];
+      if (rb >= 0) {
+        double mr[3] = {0.0, -sign, 0.0};
+        mj_applyFT(m, d, zero, mr, d->xpos + 3 * rb, rb, unit_torque);
+      }
+    }
+
+    double vref = fabs(speed) > vmin ? fabs(speed) : vmin;
+    double q = normal / nwheels;
+    double dfw = 0.0;
+    double fw = cofgym_creep_force(law, cfg + CF_AB_REF, q, vref, slip, &dfw);
+    double f = nwheels * fw;
+    dfdu[k] = nwheels * (dfw > 0.0 ? dfw : 0.0); /* past the peak the law stays explicit */
+    for (int i = 0; i < nv; i++) tau[i] += jp[i] * f;
+
+    cs[k].normal = normal;
+    cs[k].omega = omega;
+    cs[k].speed = speed;
+    cs[k].slip = slip;
+    cs[k].force = f;
+    cs[k].creepage = slip / vref;
+  }
+
+  /* cruise control: PD on the car body's speed (acceleration from the previous steps) */
+  int cx = (int)ud[UD_CARBODY_X_DOF];
+  if (cx >= 0) {
+    double vb = d->qvel[cx];
+    if (advance) {
+      ud[UD_CARBODY_ACC] = ud[UD_LAST_TIME] >= 0.0 ? (vb - ud[UD_CARBODY_PREV_VEL]) / dt : 0.0;
+      ud[UD_CARBODY_PREV_VEL] = vb;
+    }
+    tau[cx] += ud[UD_CRUISE_KP] * (ud[UD_CRUISE_SPEED] - vb) - ud[UD_CRUISE_KD] * ud[UD_CARBODY_ACC];
+  }
+
+  for (int i = 0; i < nv; i++) tau[i] += torque * unit_torque[i];
+
+  /* pass 2: exponential integration of each contact's slip velocity u over the step.
+   * Linearised, du/dt = a + b (t - t_mid) - lambda (u - u_n) with a = -J M^-1 (total force at
+   * mid-step), b its rate from the drive torque and lambda = A F', A = J M^-1 J'. Exactly:
+   *   du = dt [(a - b dt/2) phi1(z) + b dt phi2(z)],  z = lambda dt,
+   * which tends to the explicit midpoint step for a soft contact (z -> 0) and to the quasi-static
+   * creep balance at the step's end for a stiff one (z >> 1): stable and phase-accurate at any
+   * creep stiffness. The creep force applied is the one that makes MuJoCo's Euler step give du. */
+  for (int i = 0; i < nv; i++) total[i] = d->qfrc_passive[i] + tau[i];
+  for (int k = 0; k < ncon; k++) {
+    double* jp = jacp + 3 * nv * k;
+    mj_solveM(m, d, minv_j, jp, 1);
+    double a_inv = mju_dot(jp, minv_j, nv);
+    double a_u = -mju_dot(minv_j, total, nv);
+    double b_u = -mju_dot(minv_j, unit_torque, nv) * torque_rate;
+    double z = dt * a_inv * dfdu[k];
+    double phi1, phi2;
+    if (z < 1e-3) {
+      phi1 = 1.0 - z / 2.0 + z * z / 6.0;
+      phi2 = 0.5 - z / 6.0 + z * z / 24.0;
+    } else {
+      double em1 = expm1(-z);
+      phi1 = -em1 / z;
+      phi2 = (z + em1) / (z * z);
+    }
+    double du = dt * ((a_u - 0.5 * b_u * dt) * phi1 + b_u * dt * phi2);
+    double df = (dt * a_u - du) / (dt * a_inv);
+    for (int i = 0; i < nv; i++) tau[i] += jp[i] * df;
+    cs[k].force += df;
+  }
+  mju_addTo(d->qfrc_passive, tau, nv);
+
+  /* measurement chain: only once per physics step */
+  if (advance) {
+    ud[UD_LAST_TIME] = t;
+    int mc = (int)ud[UD_MEASURED_CONTACT];
+    const contact_state* c = cs + mc;
+    double omega_meas = c->omega + (ud[UD_NOISE_OMEGA] > 0.0 ? ud[UD_NOISE_OMEGA] * rng_normal(ud) : 0.0);
+    double speed_meas = c->speed + (ud[UD_NOISE_SPEED] > 0.0 ? ud[UD_NOISE_SPEED] * rng_normal(ud) : 0.0);
+    double coa_true = c->normal > 0.0 ? c->force / c->normal : 0.0;
+    double coa_meas = coa_true;
+    if (ud[UD_NOISE_FORCE] > 0.0) {
+      double ft = c->force * (1.0 + ud[UD_NOISE_FORCE] * rng_normal(ud));
+      double fn = c->normal * (1.0 + ud[UD_NOISE_FORCE] * rng_normal(ud));
+      coa_meas = fn > 0.0 ? ft / fn : 0.0;
+    }
+
+    /* comfort: car-body acceleration through ISO 2631 Wd and the band limit (jerk) */
+    double a_wd = 0.0, jerk = 0.0;
+    if (cx >= 0) {
+      double acc = ud[UD_CARBODY_ACC];
+      double band = sos_filter(ud + UD_BAND_SOS_0, ud + UD_BAND_STATE_0, (int)ud[UD_BAND_NSECT], acc);
+      a_wd = sos_filter(ud + UD_WD_SOS_0, ud + UD_WD_STATE_0, (int)ud[UD_WD_NSECT], acc);
+      jerk = (band - ud[UD_BAND_PREV]) / dt;
+      ud[UD_BAND_PREV] = band;
+      ud[UD_LAST_CARBODY_ACC] = acc;
+    }
+
+    ud[UD_LAST_OMEGA] = c->omega;
+    ud[UD_LAST_SPEED] = c->speed;
+    ud[UD_LAST_CREEPAGE] = c->creepage;
+    ud[UD_LAST_COA] = coa_true;
+    ud[UD_LAST_NORMAL] = c->normal;
+    ud[UD_LAST_TORQUE] = torque;
+
+    if (t >= ud[UD_ACC_START_TIME]) {
+      double t0 = ud[UD_ACC_START_TIME];
+      double theta = modulation_phase(ud, t);
+      double b_mid[4] = {cos(theta_mid), sin(theta_mid), 1.0, t_mid - t0};
+      double b_now[4] = {cos(theta), sin(theta), 1.0, t - t0};
+      ud[UD_N_SAMPLES] += 1.0;
+      acc_btb(ud + UD_BTB_TORQUE_0, b_mid);
+      acc_bty(ud + UD_BTY_TORQUE_0, ud + UD_YTY_TORQUE, b_mid, torque);
+      acc_btb(ud + UD_BTB_STATE_0, b_now);
+      acc_bty(ud + UD_BTY_OMEGA_0, ud + UD_YTY_OMEGA, b_now, omega_meas);
+      acc_bty(ud + UD_BTY_CREEP_0, ud + UD_YTY_CREEP, b_now, c->creepage);
+      ud[UD_SUM_COA_MEASURED] += coa_meas;
+      ud[UD_SUM_COA_TRUE] += coa_true;
+      ud[UD_SUM_CREEPAGE] += c->creepage;
+      ud[UD_SUM_SPEED_MEASURED] += speed_meas;
+      ud[UD_SUM_NORMAL] += c->normal;
+      ud[UD_SUM_TANGENTIAL] += c->force;
+      ud[UD_SUM_TORQUE] += torque;
+      if (fabs(torque) > ud[UD_MAX_ABS_TORQUE]) ud[UD_MAX_ABS_TORQUE] = fabs(torque);
+      ud[UD_SUM_WD2] += a_wd * a_wd;
+      ud[UD_SUM_JERK2] += jerk * jerk;
+      if (fabs(a_wd) > ud[UD_MAX_ABS_WD]) ud[UD_MAX_ABS_WD] = fabs(a_wd);
+      int past_peak = 0;
+      for (int k = 0; k < ncon; k++) {
+        double power = fabs(cs[k].force * cs[k].slip);
+        ud[UD_FRICTION_ENERGY] += power * dt;
+        double as = fabs(cs[k].creepage);
+        if (as > ud[UD_MAX_ABS_CREEPAGE]) ud[UD_MAX_ABS_CREEPAGE] = as;
+        if (as > ud[UD_S_PEAK]) {
+          past_peak = 1;
+          ud[UD_ENERGY_PAST_PEAK] += power * dt;
+        }
+      }
+      if (past_peak) ud[UD_TIME_PAST_PEAK] += dt;
+    }
+  }
+  mj_freeStack(d);
+}

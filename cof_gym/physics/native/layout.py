@@ -1,0 +1,162 @@
+"""Layout of ``mjData.userdata``: the one definition shared by Python and the native callback.
+
+The MuJoCo callback is process-global, so everything a simulation needs (its model's wheel-rail
+contacts, its creep law, drive, cruise control, noise, filter states and the window accumulators)
+lives in that simulation's ``userdata``. ``mujoco.batch`` copies userdata with the rest of the
+integration state, so batched and single stepping see the same numbers.
+
+This module is the single source of truth: :func:`c_header` renders the same offsets as a C header
+that the native code is compiled against.
+"""
+
+from __future__ import annotations
+
+MAGIC = 7263.0417  # marks a cof_gym simulation; other models in the process are left untouched
+MAX_CONTACTS = 4
+MAX_WD_SECTIONS = 4  # second-order sections of the ISO 2631 Wd weighting
+MAX_BAND_SECTIONS = 2  # band limiting (for jerk)
+SOS_COEFFS = 5  # b0 b1 b2 a1 a2 (a0 == 1)
+
+# Per-contact configuration block (model constants, copied into every simulation's userdata).
+CONTACT_FIELDS: tuple[str, ...] = (
+    "WHEEL_BODY",  # body id of the spinning wheel(set)
+    "REACTION_BODY",  # body receiving the motor's reaction torque (-1: none)
+    "Z_QPOS",  # qpos address of the wheelset's vertical slide (-1: load is NOMINAL_LOAD)
+    "Z_DOF",  # dof address of the same joint
+    "N_WHEELS",  # wheels represented by this contact (2 for a planar wheelset, 1 for a half)
+    "RADIUS",  # rolling radius, m
+    "K_TRACK",  # vertical wheel-track stiffness of the contact, N/m
+    "C_TRACK",  # vertical wheel-track damping, N s/m
+    "Z_REST",  # wheelset height at which the track spring is unloaded, m
+    "NOMINAL_LOAD",  # normal load of the contact when it has no vertical joint, N
+    "AB_REF",  # Hertz a*b per wheel at Q_REF, m^2
+    "Q_REF",  # wheel load at which AB_REF holds, N
+    "C11",  # Kalker's longitudinal creep coefficient
+    "TORQUE_SIGN",  # +1 driven by the modulated torque, -1 equal and opposite, 0 unpowered
+)
+
+# Creep law (Polach) block; the same ordering is used by the analysis entry points.
+LAW_FIELDS: tuple[str, ...] = ("MU0", "POLACH_A", "POLACH_B", "KA", "KS", "SHEAR_MODULUS")
+CONTACT_LAW_FIELDS: tuple[str, ...] = ("AB_REF", "Q_REF", "C11")
+
+_SCALARS: tuple[str, ...] = (
+    "MAGIC",
+    "N_CONTACTS",
+    "MEASURED_CONTACT",  # the driven contact whose signals are measured
+    "CARBODY_X_DOF",  # dof of the car body's longitudinal slide (-1: no car body)
+    "MIN_SPEED",  # regularisation of the creepage denominator, m/s
+    *LAW_FIELDS,
+    # drive
+    "TORQUE_DC_START",
+    "TORQUE_DC_TARGET",
+    "RAMP_START_TIME",
+    "RAMP_DURATION",
+    "TORQUE_AMPLITUDE",
+    "MOD_OMEGA",  # modulation angular frequency, rad/s
+    "THETA_BASE",  # modulation phase at TIME_BASE, rad
+    "TIME_BASE",
+    "MOTOR_TAU",  # first-order traction-motor torque lag, s (0: none)
+    "MOTOR_TORQUE",  # applied motor torque (lag state), N m
+    # cruise control on the car body
+    "CRUISE_SPEED",
+    "CRUISE_KP",  # N per m/s
+    "CRUISE_KD",  # N per m/s^2
+    "CARBODY_PREV_VEL",
+    "CARBODY_ACC",
+    # sensor noise (standard deviations) and the generator's state
+    "NOISE_OMEGA",  # rad/s
+    "NOISE_FORCE",  # relative
+    "NOISE_SPEED",  # m/s
+    "RNG_STATE0",
+    "RNG_STATE1",
+    # bookkeeping
+    "LAST_TIME",  # time of the last state update (guards repeated mj_forward calls)
+    "ACC_START_TIME",  # window accumulation starts at this time
+    "S_PEAK",  # creepage of the creep-curve peak (slip cost), -
+    "BAND_PREV",  # previous band-limited car-body acceleration (jerk)
+    # last step (diagnostics)
+    "LAST_OMEGA",
+    "LAST_SPEED",
+    "LAST_CREEPAGE",
+    "LAST_COA",
+    "LAST_NORMAL",
+    "LAST_TORQUE",
+    "LAST_CARBODY_ACC",
+)
+
+# Window accumulators: zeroed by Python at the start of a window.
+ACCUMULATORS: tuple[str, ...] = (
+    "N_SAMPLES",
+    *(f"BTB_TORQUE_{i}" for i in range(10)),  # basis [cos, sin, 1, t] at mid-step
+    *(f"BTY_TORQUE_{i}" for i in range(4)),
+    "YTY_TORQUE",
+    *(f"BTB_STATE_{i}" for i in range(10)),  # the same basis at the step's start
+    *(f"BTY_OMEGA_{i}" for i in range(4)),
+    "YTY_OMEGA",
+    *(f"BTY_CREEP_{i}" for i in range(4)),
+    "YTY_CREEP",
+    "SUM_COA_MEASURED",
+    "SUM_COA_TRUE",
+    "SUM_CREEPAGE",
+    "SUM_SPEED_MEASURED",
+    "SUM_NORMAL",
+    "SUM_TANGENTIAL",
+    "SUM_TORQUE",
+    "MAX_ABS_TORQUE",
+    "SUM_WD2",
+    "SUM_JERK2",
+    "MAX_ABS_WD",
+    "FRICTION_ENERGY",  # J, all contacts
+    "TIME_PAST_PEAK",  # s, any contact beyond the creep-curve peak
+    "ENERGY_PAST_PEAK",  # J
+    "MAX_ABS_CREEPAGE",  # any contact
+)
+
+
+def _build_offsets() -> tuple[dict[str, int], int]:
+    names: list[str] = list(_SCALARS)
+    for k in range(MAX_CONTACTS):
+        names += [f"C{k}_{f}" for f in CONTACT_FIELDS]
+    names += [f"WD_SOS_{i}" for i in range(MAX_WD_SECTIONS * SOS_COEFFS)]
+    names += [f"WD_STATE_{i}" for i in range(MAX_WD_SECTIONS * 2)]
+    names += ["WD_NSECT"]
+    names += [f"BAND_SOS_{i}" for i in range(MAX_BAND_SECTIONS * SOS_COEFFS)]
+    names += [f"BAND_STATE_{i}" for i in range(MAX_BAND_SECTIONS * 2)]
+    names += ["BAND_NSECT"]
+    names += list(ACCUMULATORS)
+    return {n: i for i, n in enumerate(names)}, len(names)
+
+
+OFFSETS, SIZE = _build_offsets()
+CONTACT_STRIDE = len(CONTACT_FIELDS)
+ACC_FIRST = OFFSETS[ACCUMULATORS[0]]
+ACC_COUNT = len(ACCUMULATORS)
+
+
+def index(name: str) -> int:
+    """Userdata index of a named field (raises KeyError with the name)."""
+    return OFFSETS[name]
+
+
+def c_header() -> str:
+    """The layout as C preprocessor definitions (``UD_<NAME>``)."""
+    lines = ["/* generated from cof_gym/physics/native/layout.py: do not edit */", "#pragma once"]
+    lines.append(f"#define UD_SIZE {SIZE}")
+    lines.append(f"#define UD_MAGIC_VALUE {MAGIC!r}")
+    lines.append(f"#define UD_MAX_CONTACTS {MAX_CONTACTS}")
+    lines.append(f"#define UD_CONTACT_STRIDE {CONTACT_STRIDE}")
+    lines.append(f"#define UD_CONTACT0 {OFFSETS['C0_' + CONTACT_FIELDS[0]]}")
+    for i, f in enumerate(CONTACT_FIELDS):
+        lines.append(f"#define CF_{f} {i}")
+    for i, f in enumerate(LAW_FIELDS):
+        lines.append(f"#define LAW_{f} {i}")
+    lines.append(f"#define LAW_SIZE {len(LAW_FIELDS)}")
+    for i, f in enumerate(CONTACT_LAW_FIELDS):
+        lines.append(f"#define CLAW_{f} {i}")
+    lines.append(f"#define UD_ACC_FIRST {ACC_FIRST}")
+    lines.append(f"#define UD_ACC_COUNT {ACC_COUNT}")
+    for name in ("WD_SOS_0", "WD_STATE_0", "WD_NSECT", "BAND_SOS_0", "BAND_STATE_0", "BAND_NSECT"):
+        lines.append(f"#define UD_{name} {OFFSETS[name]}")
+    for name in (*_SCALARS, *ACCUMULATORS):
+        lines.append(f"#define UD_{name} {OFFSETS[name]}")
+    return "\n".join(lines) + "\n"

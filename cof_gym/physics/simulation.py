@@ -1,0 +1,282 @@
+"""A simulation = a built model + an ``MjData`` whose ``userdata`` carries cof_gym's state.
+
+The functions on userdata rows (:func:`initial_userdata`, :func:`begin_window`,
+:func:`read_window`) work on any ``(SIZE,)`` float array, so the single :class:`Simulation` and the
+batched vector environment (rows of a ``mujoco.batch.Batch``) share them.
+
+One measurement window is one ``mujoco.mj_step(model, data, nstep)`` call: the native callback
+applies the forces and accumulates every sum the window's measurement needs.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import mujoco
+import numpy as np
+
+from cof_gym.measurement.comfort import band_limiting_sos, wd_weighting_sos
+from cof_gym.measurement.sine_fit import fit_from_sums, wrap_deg
+from cof_gym.physics.creep import OperatingConditions, creep_peak
+from cof_gym.physics.models import BuiltModel
+from cof_gym.physics.native import layout
+from cof_gym.physics.native.build import install_callback
+
+I = layout.OFFSETS
+MIN_SPEED_M_S = 0.1  # creepage denominator floor (only reached when a wheel stands still)
+
+
+@dataclass(frozen=True)
+class SensorNoise:
+    """Standard deviations of the on-board sensors (zero: ideal, as in the paper)."""
+
+    omega_rad_s: float = 0.0  # encoder-derived wheelset speed
+    force_relative: float = 0.0  # contact-force sensors (tangential and normal, each)
+    speed_m_s: float = 0.0  # train speed
+
+    def __post_init__(self) -> None:
+        for name in ("omega_rad_s", "force_relative", "speed_m_s"):
+            v = getattr(self, name)
+            if not (math.isfinite(v) and v >= 0.0):
+                raise ValueError(f"noise {name} must be >= 0, got {v!r}")
+
+
+@dataclass(frozen=True)
+class CruiseControl:
+    """PD speed control acting on the car body: F = kp (v_set - v) - kd a.
+
+    The gains scale with the vehicle mass: ``bandwidth_hz`` sets kp = 2 pi f m and ``kd_mass_ratio``
+    kd = ratio * m (an acceleration feedback that adds apparent mass)."""
+
+    bandwidth_hz: float = 0.5
+    kd_mass_ratio: float = 0.5
+
+    def gains(self, mass_kg: float) -> tuple[float, float]:
+        return 2 * math.pi * self.bandwidth_hz * mass_kg, self.kd_mass_ratio * mass_kg
+
+
+@dataclass(frozen=True)
+class DriveCommand:
+    """Traction torque M = Mc + M0 sin(theta), dtheta/dt = 2 pi f (N m, N m, Hz)."""
+
+    dc_torque_nm: float
+    amplitude_nm: float
+    frequency_hz: float
+
+    def __post_init__(self) -> None:
+        for name in ("dc_torque_nm", "amplitude_nm", "frequency_hz"):
+            if not math.isfinite(getattr(self, name)):
+                raise ValueError(f"{name} must be finite, got {getattr(self, name)!r}")
+        if self.amplitude_nm < 0:
+            raise ValueError(f"amplitude_nm must be >= 0 N m, got {self.amplitude_nm!r}")
+        if not (0.1 <= self.frequency_hz <= 100.0):
+            raise ValueError(f"frequency_hz must be in [0.1, 100] Hz, got {self.frequency_hz!r}")
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """Everything drawn per episode: operating conditions plus sensor noise and motor lag (s)."""
+
+    op: OperatingConditions
+    noise: SensorNoise = field(default_factory=SensorNoise)
+    motor_lag_s: float = 0.0
+    cruise: CruiseControl = field(default_factory=CruiseControl)
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.motor_lag_s) and 0.0 <= self.motor_lag_s <= 1.0):
+            raise ValueError(f"motor_lag_s must be in [0, 1] s, got {self.motor_lag_s!r}")
+
+
+def initial_userdata(built: BuiltModel, scenario: Scenario) -> np.ndarray:
+    """A fresh userdata row for one simulation of ``built`` in ``scenario``."""
+    op = scenario.op
+    if op.wheel_load_n != built.nominal_wheel_load_n:
+        raise ValueError(
+            f"scenario wheel_load_n ({op.wheel_load_n}) must equal the model's static wheel load "
+            f"({built.nominal_wheel_load_n}); build the model for that load case"
+        )
+    ud = np.zeros(layout.SIZE)
+    ud[I["MAGIC"]] = layout.MAGIC
+    ud[I["N_CONTACTS"]] = len(built.contacts)
+    ud[I["MEASURED_CONTACT"]] = built.measured_contact
+    ud[I["CARBODY_X_DOF"]] = built.carbody_x_dof
+    ud[I["MIN_SPEED"]] = MIN_SPEED_M_S
+    for k, contact in enumerate(built.contacts):
+        for name, value in contact.values().items():
+            ud[I[f"C{k}_{name}"]] = value
+    law = op.law()
+    for name, value in zip(layout.LAW_FIELDS, law.vector()):
+        ud[I[name]] = value
+    ud[I["S_PEAK"]] = creep_peak(op).creepage
+    ud[I["MOD_OMEGA"]] = 2 * math.pi * 5.0
+    ud[I["MOTOR_TAU"]] = scenario.motor_lag_s
+    kp, kd = scenario.cruise.gains(built.total_mass_kg)
+    ud[I["CRUISE_SPEED"]], ud[I["CRUISE_KP"]], ud[I["CRUISE_KD"]] = op.speed_m_s, kp, kd
+    ud[I["CARBODY_PREV_VEL"]] = op.speed_m_s
+    ud[I["NOISE_OMEGA"]] = scenario.noise.omega_rad_s
+    ud[I["NOISE_FORCE"]] = scenario.noise.force_relative
+    ud[I["NOISE_SPEED"]] = scenario.noise.speed_m_s
+    seeds = np.random.default_rng(scenario.seed).integers(1, 2**32, size=2)
+    ud[I["RNG_STATE0"]], ud[I["RNG_STATE1"]] = float(seeds[0]), float(seeds[1])
+    ud[I["LAST_TIME"]] = -1.0
+    fs = 1.0 / built.model.opt.timestep
+    for prefix, sos, cap in (("WD", wd_weighting_sos(fs), layout.MAX_WD_SECTIONS),
+                             ("BAND", band_limiting_sos(fs), layout.MAX_BAND_SECTIONS)):
+        if len(sos) > cap:
+            raise ValueError(f"{prefix} filter has {len(sos)} sections, the layout holds {cap}")
+        coeffs = np.concatenate([row[[0, 1, 2, 4, 5]] for row in sos])
+        ud[I[f"{prefix}_SOS_0"]: I[f"{prefix}_SOS_0"] + coeffs.size] = coeffs
+        ud[I[f"{prefix}_NSECT"]] = len(sos)
+    return ud
+
+
+def initial_state(built: BuiltModel, speed_m_s: float, qpos: np.ndarray, qvel: np.ndarray) -> None:
+    """Nominal geometry (the static equilibrium), every body at ``speed_m_s``, wheels rolling."""
+    qpos[:] = built.model.qpos0
+    qvel[:] = 0.0
+    qvel[built.x_dofs] = speed_m_s
+    for dof, radius in built.spin_dofs:
+        qvel[dof] = speed_m_s / radius
+
+
+def dc_torque_at(ud: np.ndarray, t: float) -> float:
+    """The DC torque the native drive applies at time t (same ramp as the C code)."""
+    dur = ud[I["RAMP_DURATION"]]
+    start, target = ud[I["TORQUE_DC_START"]], ud[I["TORQUE_DC_TARGET"]]
+    frac = (t - ud[I["RAMP_START_TIME"]]) / dur if dur > 0 else 1.0
+    return float(target if frac >= 1 else start if frac <= 0 else start + (target - start) * frac)
+
+
+def begin_window(ud: np.ndarray, t: float, drive: DriveCommand, ramp_s: float, settle_s: float) -> None:
+    """Command a new drive at time ``t`` (DC ramped over ``ramp_s``, modulation phase continuous)
+    and restart the accumulators, which sum from ``t + settle_s`` on."""
+    ud[I["TORQUE_DC_START"]] = dc_torque_at(ud, t)
+    ud[I["TORQUE_DC_TARGET"]] = drive.dc_torque_nm
+    ud[I["RAMP_START_TIME"]] = t
+    ud[I["RAMP_DURATION"]] = ramp_s
+    ud[I["TORQUE_AMPLITUDE"]] = drive.amplitude_nm
+    theta = ud[I["THETA_BASE"]] + ud[I["MOD_OMEGA"]] * (t - ud[I["TIME_BASE"]])
+    ud[I["THETA_BASE"]] = math.fmod(theta, 2 * math.pi)
+    ud[I["TIME_BASE"]] = t
+    ud[I["MOD_OMEGA"]] = 2 * math.pi * drive.frequency_hz
+    ud[I["ACC_START_TIME"]] = t + settle_s
+    ud[layout.ACC_FIRST: layout.ACC_FIRST + layout.ACC_COUNT] = 0.0
+
+
+@dataclass(frozen=True)
+class WindowMeasurement:
+    """What one window measured. Phases in degrees; a positive lag means the wheelset speed lags the
+    torque (the paper's phase difference). Forces in N, torques in N m, accelerations in m/s^2."""
+
+    phase_lag_deg: float
+    phase_lag_se_deg: float
+    amplitude_ratio: float  # wheelset speed amplitude / torque amplitude, rad/s per N m
+    torque_amplitude_nm: float
+    omega_amplitude_rad_s: float
+    creep_phase_lag_deg: float  # phi_v: lag of the creepage behind the wheelset speed
+    creepage_amplitude: float
+    coa_measured: float  # mean tangential/normal force of the driven wheelset, with sensor noise
+    coa_true: float
+    creepage_mean: float
+    speed_measured_m_s: float
+    normal_load_n: float
+    tangential_force_n: float
+    torque_mean_nm: float
+    torque_peak_nm: float
+    wd_rms_m_s2: float  # ISO 2631-1 Wd-weighted RMS car-body longitudinal acceleration
+    jerk_rms_m_s3: float
+    wd_peak_m_s2: float
+    friction_energy_j: float
+    time_past_peak_s: float
+    energy_past_peak_j: float
+    max_abs_creepage: float
+    samples: int
+
+
+def _fit(ud: np.ndarray, btb: str, bty: str, yty: str, n: float):
+    b0, y0 = I[f"{btb}_0"], I[f"{bty}_0"]
+    return fit_from_sums(ud[b0:b0 + 10], ud[y0:y0 + 4], ud[I[yty]], n)
+
+
+def read_window(ud: np.ndarray) -> WindowMeasurement:
+    """The window's measurement from the accumulated sums (once per window, in Python)."""
+    n = float(ud[I["N_SAMPLES"]])
+    if n <= 8:
+        raise ValueError(f"window too short: {n:g} samples accumulated (need > 8); lengthen the window")
+    torque = _fit(ud, "BTB_TORQUE", "BTY_TORQUE", "YTY_TORQUE", n)
+    omega = _fit(ud, "BTB_STATE", "BTY_OMEGA", "YTY_OMEGA", n)
+    creep = _fit(ud, "BTB_STATE", "BTY_CREEP", "YTY_CREEP", n)
+    modulated = torque.amplitude > 1e-9
+    lag = wrap_deg(math.degrees(torque.phase_rad - omega.phase_rad)) if modulated else 0.0
+    lag_se = math.degrees(math.hypot(torque.phase_se_rad, omega.phase_se_rad)) if modulated else 180.0
+    mean = lambda key: float(ud[I[key]] / n)  # noqa: E731
+    dt_energy = lambda key: float(ud[I[key]])  # noqa: E731
+    return WindowMeasurement(
+        phase_lag_deg=lag,
+        phase_lag_se_deg=min(lag_se, 180.0),
+        amplitude_ratio=omega.amplitude / torque.amplitude if modulated else 0.0,
+        torque_amplitude_nm=torque.amplitude,
+        omega_amplitude_rad_s=omega.amplitude,
+        creep_phase_lag_deg=wrap_deg(math.degrees(omega.phase_rad - creep.phase_rad)),
+        creepage_amplitude=creep.amplitude,
+        coa_measured=mean("SUM_COA_MEASURED"),
+        coa_true=mean("SUM_COA_TRUE"),
+        creepage_mean=mean("SUM_CREEPAGE"),
+        speed_measured_m_s=mean("SUM_SPEED_MEASURED"),
+        normal_load_n=mean("SUM_NORMAL"),
+        tangential_force_n=mean("SUM_TANGENTIAL"),
+        torque_mean_nm=mean("SUM_TORQUE"),
+        torque_peak_nm=float(ud[I["MAX_ABS_TORQUE"]]),
+        wd_rms_m_s2=math.sqrt(mean("SUM_WD2")),
+        jerk_rms_m_s3=math.sqrt(mean("SUM_JERK2")),
+        wd_peak_m_s2=float(ud[I["MAX_ABS_WD"]]),
+        friction_energy_j=dt_energy("FRICTION_ENERGY"),
+        time_past_peak_s=dt_energy("TIME_PAST_PEAK"),
+        energy_past_peak_j=dt_energy("ENERGY_PAST_PEAK"),
+        max_abs_creepage=float(ud[I["MAX_ABS_CREEPAGE"]]),
+        samples=int(n),
+    )
+
+
+def state_is_finite(qpos: np.ndarray, qvel: np.ndarray, ud: np.ndarray) -> bool:
+    return bool(np.isfinite(qpos).all() and np.isfinite(qvel).all() and np.isfinite(ud).all())
+
+
+class Simulation:
+    """One model and one ``MjData`` stepped window by window."""
+
+    def __init__(self, built: BuiltModel) -> None:
+        install_callback()
+        self.built = built
+        self.model = built.model
+        self.data = mujoco.MjData(self.model)
+        self.scenario: Scenario | None = None
+
+    @property
+    def timestep(self) -> float:
+        return float(self.model.opt.timestep)
+
+    def reset(self, scenario: Scenario) -> None:
+        mujoco.mj_resetData(self.model, self.data)
+        initial_state(self.built, scenario.op.speed_m_s, self.data.qpos, self.data.qvel)
+        self.data.userdata[:] = initial_userdata(self.built, scenario)
+        self.scenario = scenario
+        mujoco.mj_forward(self.model, self.data)
+
+    def run_window(self, drive: DriveCommand, duration_s: float, settle_s: float = 0.0,
+                   ramp_s: float = 0.0) -> WindowMeasurement:
+        """Command ``drive``, step ``duration_s`` in one native call, return the measurement of the
+        part after ``settle_s``."""
+        if self.scenario is None:
+            raise RuntimeError("call reset() before run_window()")
+        if not (0.0 <= settle_s < duration_s):
+            raise ValueError(f"settle_s must be in [0, duration_s={duration_s}), got {settle_s!r}")
+        begin_window(self.data.userdata, self.data.time, drive, ramp_s, settle_s)
+        nstep = int(round(duration_s / self.timestep))
+        mujoco.mj_step(self.model, self.data, nstep)
+        return read_window(self.data.userdata)
+
+    def is_finite(self) -> bool:
+        return state_is_finite(self.data.qpos, self.data.qvel, self.data.userdata)
