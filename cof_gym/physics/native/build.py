@@ -24,6 +24,8 @@ from cof_gym.physics.native import layout
 _HERE = Path(__file__).resolve().parent
 _SOURCE = _HERE / "cofgym_native.c"
 _MJ_DIR = Path(mujoco.__file__).resolve().parent
+# built on the machine that runs it, so -march=native is safe; no fast-math: results stay IEEE
+_FLAGS = ("-O3", "-march=native", "-fPIC", "-shared", "-std=c99", "-fno-fast-math", "-ffp-contract=off")
 
 
 def _mujoco_library() -> Path:
@@ -52,7 +54,7 @@ def library_path() -> Path:
     """Path of the compiled library, building it if the cache has none for this source."""
     header = layout.c_header()
     source = _SOURCE.read_text()
-    key = hashlib.sha256((source + header + mujoco.__version__).encode()).hexdigest()[:16]
+    key = hashlib.sha256((source + header + mujoco.__version__ + " ".join(_FLAGS)).encode()).hexdigest()[:16]
     target = _cache_dir() / f"cofgym_native-{key}.so"
     if target.exists():
         return target
@@ -62,7 +64,7 @@ def library_path() -> Path:
         (Path(tmp) / "cofgym_layout.h").write_text(header)
         out = Path(tmp) / target.name
         cmd = [
-            _compiler(), "-O2", "-fPIC", "-shared", "-std=c99", "-fno-fast-math",
+            _compiler(), *_FLAGS,
             f"-I{tmp}", f"-I{_MJ_DIR / 'include'}", str(_SOURCE), "-o", str(out),
             str(mjlib), f"-Wl,-rpath,{mjlib.parent}", "-lm",
         ]

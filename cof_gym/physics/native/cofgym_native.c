@@ -21,7 +21,8 @@
 /* Polach's creep-stiffness constant C = G pi a b c11 / (4 Q) for wheel load q (N). The Hertz
  * product a*b scales with q^(2/3) from its reference value (a/b and so c11 stay constant). */
 static double creep_constant(const double* claw, double shear_modulus, double q) {
-  double ab = claw[CLAW_AB_REF] * pow(q / claw[CLAW_Q_REF], 2.0 / 3.0);
+  double r = q / claw[CLAW_Q_REF];
+  double ab = claw[CLAW_AB_REF] * cbrt(r * r);
   return shear_modulus * PI * ab * claw[CLAW_C11] / (4.0 * q);
 }
 
@@ -126,6 +127,43 @@ static double modulation_phase(const double* ud, double t) {
   return ud[UD_THETA_BASE] + ud[UD_MOD_OMEGA] * (t - ud[UD_TIME_BASE]);
 }
 
+/* Jacobian rows of a world point on a body over its chain of dofs (as mj_jac, sparse, only the rows
+ * needed): x and z of the point's velocity and the angular velocity about y. Returns the count. */
+#define MAX_CHAIN 64
+typedef struct {
+  int n;
+  int dof[MAX_CHAIN];
+  double x[MAX_CHAIN], z[MAX_CHAIN], ry[MAX_CHAIN];
+} chain_jac;
+
+static void point_jacobian(const mjModel* m, const mjData* d, int body, const double* point, chain_jac* j) {
+  j->n = 0;
+  while (body > 0 && m->body_dofnum[body] == 0) body = m->body_parentid[body];
+  if (body <= 0) return;
+  const double* com = d->subtree_com + 3 * m->body_rootid[body];
+  double off[3] = {point[0] - com[0], point[1] - com[1], point[2] - com[2]};
+  int i = m->body_dofadr[body] + m->body_dofnum[body] - 1;
+  while (i >= 0 && j->n < MAX_CHAIN) {
+    const double* c = d->cdof + 6 * i; /* [angular, linear] about the root's subtree com */
+    j->dof[j->n] = i;
+    j->x[j->n] = c[3] + c[1] * off[2] - c[2] * off[1];
+    j->z[j->n] = c[5] + c[0] * off[1] - c[1] * off[0];
+    j->ry[j->n] = c[1];
+    j->n++;
+    i = m->dof_parentid[i];
+  }
+}
+
+static double chain_dot(const chain_jac* j, const double* row, const double* v) {
+  double s = 0.0;
+  for (int k = 0; k < j->n; k++) s += row[k] * v[j->dof[k]];
+  return s;
+}
+
+static void chain_add(const chain_jac* j, const double* row, double scale, double* out) {
+  for (int k = 0; k < j->n; k++) out[j->dof[k]] += row[k] * scale;
+}
+
 /* ---------------------------------------------------------------- the callback */
 
 typedef struct {
@@ -149,19 +187,23 @@ void cofgym_passive(const mjModel* m, mjData* d) {
   const int ncon = (int)ud[UD_N_CONTACTS];
   if (ncon < 1 || ncon > UD_MAX_CONTACTS) return;
 
-  mj_markStack(d);
-  double* tau = mj_stackAllocNum(d, nv);    /* explicit generalised forces we add */
-  double* jacp = mj_stackAllocNum(d, 3 * nv * ncon);
-  double* jacr = mj_stackAllocNum(d, 3 * nv);
-  double* minv_j = mj_stackAllocNum(d, nv);
-  double* total = mj_stackAllocNum(d, nv);
+  /* scratch on the C stack (variable-length arrays: nv is small for these vehicles) */
+  double tau[nv];       /* generalised forces we add */
+  double jx[nv * ncon];     /* contact-point Jacobians along x, per contact */
+  double minv_j[nv * ncon];  /* half solves of the contact Jacobians */
+  double total[nv];
+  double unit_torque[nv];   /* generalised force of a unit motor torque */
+  mju_zero(tau, nv);
+  mju_zero(unit_torque, nv);
+  int reaction_done[UD_MAX_CONTACTS];
   mju_zero(tau, nv);
 
   /* drive: DC ramp + sine at mid-step (the torque acts over [t, t+dt]), first-order lag */
   const double t_mid = t + 0.5 * dt;
   const double theta_mid = modulation_phase(ud, t_mid);
   const double amp = ud[UD_TORQUE_AMPLITUDE], wm = ud[UD_MOD_OMEGA];
-  const double torque_cmd = dc_torque(ud, t_mid) + amp * sin(theta_mid);
+  const double sin_mid = sin(theta_mid), cos_mid = cos(theta_mid);
+  const double torque_cmd = dc_torque(ud, t_mid) + amp * sin_mid;
   const double tau_m = ud[UD_MOTOR_TAU];
   if (advance) {
     double alpha = tau_m > 0.0 ? 1.0 - exp(-dt / tau_m) : 1.0;
@@ -175,27 +217,31 @@ void cofgym_passive(const mjModel* m, mjData* d) {
     double dur = ud[UD_RAMP_DURATION], since = t_mid - ud[UD_RAMP_START_TIME];
     double ramp = (dur > 0.0 && since > 0.0 && since < dur)
                       ? (ud[UD_TORQUE_DC_TARGET] - ud[UD_TORQUE_DC_START]) / dur : 0.0;
-    torque_rate = ramp + amp * wm * cos(theta_mid);
+    torque_rate = ramp + amp * wm * cos_mid;
   }
-  double* unit_torque = mj_stackAllocNum(d, nv); /* generalised force of a unit motor torque */
-  mju_zero(unit_torque, nv);
 
   contact_state cs[UD_MAX_CONTACTS];
   double dfdu[UD_MAX_CONTACTS];
   const double* law = ud + UD_MU0;
   const double vmin = ud[UD_MIN_SPEED];
 
-  /* pass 1: kinematics, normal load, motor torque, explicit creep force */
+  /* pass 1: kinematics, normal load, motor torque, explicit creep force, as Jacobian-transpose
+   * products over each wheel's dof chain */
+  chain_jac cj[UD_MAX_CONTACTS];
+  for (int k = 0; k < ncon; k++) reaction_done[k] = 0;
+  mju_zero(jx, nv * ncon);
   for (int k = 0; k < ncon; k++) {
     double* cfg = ud + UD_CONTACT0 + k * UD_CONTACT_STRIDE;
     int body = (int)cfg[CF_WHEEL_BODY];
     double radius = cfg[CF_RADIUS];
     double nwheels = cfg[CF_N_WHEELS];
     double point[3] = {d->xpos[3 * body], d->xpos[3 * body + 1], d->xpos[3 * body + 2] - radius};
-    double* jp = jacp + 3 * nv * k;
-    mj_jac(m, d, jp, jacr, point, body);
-    double cvel = mju_dot(jp, d->qvel, nv);            /* contact-point velocity along x */
-    double omega = mju_dot(jacr + nv, d->qvel, nv);    /* spin about y */
+    chain_jac* J = cj + k;
+    point_jacobian(m, d, body, point, J);
+    double* jp = jx + nv * k;
+    for (int i = 0; i < J->n; i++) jp[J->dof[i]] = J->x[i];
+    double cvel = chain_dot(J, J->x, d->qvel);         /* contact-point velocity along x */
+    double omega = chain_dot(J, J->ry, d->qvel);       /* spin about y */
     double speed = cvel + radius * omega;              /* wheel-centre velocity */
     double slip = -cvel;
 
@@ -204,20 +250,30 @@ void cofgym_passive(const mjModel* m, mjData* d) {
     if (zq >= 0) {
       normal = cfg[CF_K_TRACK] * (cfg[CF_Z_REST] - d->qpos[zq]) - cfg[CF_C_TRACK] * d->qvel[zd];
       if (normal < 0.0) normal = 0.0; /* unilateral: the wheel may lift */
-      double fz[3] = {0.0, 0.0, normal}, zero[3] = {0.0, 0.0, 0.0};
-      mj_applyFT(m, d, fz, zero, point, body, tau);
+      chain_add(J, J->z, normal, tau);
     } else {
       normal = cfg[CF_NOMINAL_LOAD];
     }
 
     double sign = cfg[CF_TORQUE_SIGN];
     if (sign != 0.0) {
-      double my[3] = {0.0, sign, 0.0}, zero[3] = {0.0, 0.0, 0.0};
-      mj_applyFT(m, d, zero, my, d->xpos + 3 * body, body, unit_torque);
+      chain_add(J, J->ry, sign, unit_torque);
       int rb = (int)cfg[CF_REACTION_BODY];
-      if (rb >= 0) {
-        double mr[3] = {0.0, -sign, 0.0};
-        mj_applyFT(m, d, zero, mr, d->xpos + 3 * rb, rb, unit_torque);
+      if (rb >= 0 && !reaction_done[k]) {
+        /* reaction on the motor's mount; contacts sharing the mount are summed first */
+        double net = 0.0;
+        for (int j = k; j < ncon; j++) {
+          double* cjf = ud + UD_CONTACT0 + j * UD_CONTACT_STRIDE;
+          if ((int)cjf[CF_REACTION_BODY] == rb && cjf[CF_TORQUE_SIGN] != 0.0) {
+            net += cjf[CF_TORQUE_SIGN];
+            reaction_done[j] = 1;
+          }
+        }
+        if (net != 0.0) {
+          chain_jac R;
+          point_jacobian(m, d, rb, d->xpos + 3 * rb, &R);
+          chain_add(&R, R.ry, -net, unit_torque);
+        }
       }
     }
 
@@ -227,7 +283,7 @@ void cofgym_passive(const mjModel* m, mjData* d) {
     double fw = cofgym_creep_force(law, cfg + CF_AB_REF, q, vref, slip, &dfw);
     double f = nwheels * fw;
     dfdu[k] = nwheels * (dfw > 0.0 ? dfw : 0.0); /* past the peak the law stays explicit */
-    for (int i = 0; i < nv; i++) tau[i] += jp[i] * f;
+    chain_add(J, J->x, f, tau);
 
     cs[k].normal = normal;
     cs[k].omega = omega;
@@ -257,13 +313,18 @@ void cofgym_passive(const mjModel* m, mjData* d) {
    * which tends to the explicit midpoint step for a soft contact (z -> 0) and to the quasi-static
    * creep balance at the step's end for a stiff one (z >> 1): stable and phase-accurate at any
    * creep stiffness. The creep force applied is the one that makes MuJoCo's Euler step give du. */
-  for (int i = 0; i < nv; i++) total[i] = d->qfrc_passive[i] + tau[i];
+  /* with M = L' D L and the half solve h(y) = D^-1/2 L'^-1 y: J M^-1 y = h(J') . h(y) */
+  double sqrt_inv_d[nv], half_total[nv], half_torque[nv];
+  for (int i = 0; i < nv; i++) sqrt_inv_d[i] = sqrt(d->qLDiagInv[i]);
+  mju_add(total, d->qfrc_passive, tau, nv);
+  mj_solveM2(m, d, minv_j, jx, sqrt_inv_d, ncon);
+  mj_solveM2(m, d, half_total, total, sqrt_inv_d, 1);
+  mj_solveM2(m, d, half_torque, unit_torque, sqrt_inv_d, 1);
   for (int k = 0; k < ncon; k++) {
-    double* jp = jacp + 3 * nv * k;
-    mj_solveM(m, d, minv_j, jp, 1);
-    double a_inv = mju_dot(jp, minv_j, nv);
-    double a_u = -mju_dot(minv_j, total, nv);
-    double b_u = -mju_dot(minv_j, unit_torque, nv) * torque_rate;
+    double* hj = minv_j + nv * k;
+    double a_inv = mju_dot(hj, hj, nv);
+    double a_u = -mju_dot(hj, half_total, nv);
+    double b_u = -mju_dot(hj, half_torque, nv) * torque_rate;
     double z = dt * a_inv * dfdu[k];
     double phi1, phi2;
     if (z < 1e-3) {
@@ -276,7 +337,7 @@ void cofgym_passive(const mjModel* m, mjData* d) {
     }
     double du = dt * ((a_u - 0.5 * b_u * dt) * phi1 + b_u * dt * phi2);
     double df = (dt * a_u - du) / (dt * a_inv);
-    for (int i = 0; i < nv; i++) tau[i] += jp[i] * df;
+    chain_add(cj + k, cj[k].x, df, tau);
     cs[k].force += df;
   }
   mju_addTo(d->qfrc_passive, tau, nv);
@@ -316,9 +377,10 @@ void cofgym_passive(const mjModel* m, mjData* d) {
 
     if (t >= ud[UD_ACC_START_TIME]) {
       double t0 = ud[UD_ACC_START_TIME];
-      double theta = modulation_phase(ud, t);
-      double b_mid[4] = {cos(theta_mid), sin(theta_mid), 1.0, t_mid - t0};
-      double b_now[4] = {cos(theta), sin(theta), 1.0, t - t0};
+      /* basis at t = rotation of the mid-step basis by -wm dt/2 */
+      double h = 0.5 * wm * dt, ch = cos(h), sh = sin(h);
+      double b_mid[4] = {cos_mid, sin_mid, 1.0, t_mid - t0};
+      double b_now[4] = {cos_mid * ch + sin_mid * sh, sin_mid * ch - cos_mid * sh, 1.0, t - t0};
       ud[UD_N_SAMPLES] += 1.0;
       acc_btb(ud + UD_BTB_TORQUE_0, b_mid);
       acc_bty(ud + UD_BTY_TORQUE_0, ud + UD_YTY_TORQUE, b_mid, torque);
@@ -350,5 +412,4 @@ void cofgym_passive(const mjModel* m, mjData* d) {
       if (past_peak) ud[UD_TIME_PAST_PEAK] += dt;
     }
   }
-  mj_freeStack(d);
 }

@@ -1,0 +1,45 @@
+"""The ``cof-gym`` command line."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+
+def _reproduce(args: argparse.Namespace) -> int:
+    from cof_gym.analysis.paper import reproduce, summary_lines
+
+    results = reproduce(Path(args.out), quick=args.quick)
+    print("\n".join(summary_lines(results)))
+    print(f"figures and results.json in {args.out}")
+    return 0 if results["fig5_half_wheelset"]["acceptance"]["passed"] else 1
+
+
+def _bench(args: argparse.Namespace) -> int:
+    from cof_gym.bench import main as bench_main
+
+    bench_main(args.seconds)
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="cof-gym", description=__doc__)
+    sub = parser.add_subparsers(dest="command", required=True)
+    p = sub.add_parser("reproduce-paper", help="re-simulate the paper's Figs. 5, 4/7 and 8")
+    p.add_argument("--out", default="out/paper", help="output directory (figures, results.json)")
+    p.add_argument("--quick", action="store_true", help="shorter windows (under 2 minutes)")
+    p.set_defaults(func=_reproduce)
+    p = sub.add_parser("bench", help="simulation speed and native/bare ratio")
+    p.add_argument("--seconds", type=float, default=5.0, help="simulated seconds per timing")
+    p.set_defaults(func=_bench)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    return int(args.func(args) or 0)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
