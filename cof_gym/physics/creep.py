@@ -35,6 +35,7 @@ from cof_gym.physics.native import layout
 from cof_gym.physics.native.build import native
 
 COF_RANGE = (1e-3, 1.5)
+MAX_CREEPAGE = 2.0  # the creep-curve maximum (the CoF) must lie below this creepage
 """Accepted CoF values (the environments draw from 0.02-0.6)."""
 
 
@@ -136,9 +137,15 @@ class CreepPeak:
 
 
 def _peak(law: CreepLaw, patch: ContactPatch, wheel_load_n: float, speed_m_s: float) -> CreepPeak:
-    grid = np.geomspace(1e-6, 2.0, 600)
+    grid = np.geomspace(1e-6, MAX_CREEPAGE, 600)
     coa, _ = _curve(law, patch, wheel_load_n, speed_m_s, grid)
     i = int(np.argmax(coa))
+    if i >= grid.size - 2:
+        raise ValueError(
+            f"the creep curve has no maximum below creepage {MAX_CREEPAGE} at speed_m_s={speed_m_s} for this "
+            "condition, so its CoF (the curve's maximum) is undefined; use a lower speed or a condition with "
+            "stronger falling friction"
+        )
     lo, hi = np.log(grid[max(i - 1, 0)]), np.log(grid[min(i + 1, grid.size - 1)])
     res = minimize_scalar(
         lambda x: -_curve(law, patch, wheel_load_n, speed_m_s, np.array([np.exp(x)]))[0][0],

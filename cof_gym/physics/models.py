@@ -140,11 +140,14 @@ def _spring(spec, name: str, terms: list[tuple[str, float]], stiffness: float, d
 
 
 def build_wagon(params: WagonParameters, timestep: float = DEFAULT_TIMESTEP_S,
-                geometry: ContactGeometry = ContactGeometry()) -> BuiltModel:
+                geometry: ContactGeometry = ContactGeometry(), counter_torque: bool = True) -> BuiltModel:
     """Paper Sect. 3: car body, two bogie frames, four wheelsets; primary and secondary suspensions
     (Manchester benchmark); traction torque on the rear wheelset of the rear bogie and an equal,
     opposite torque on that bogie's front wheelset (reactions on the bogie frame); PD cruise control
-    on the car body (in the callback). Planar: x (longitudinal), z (vertical), pitch."""
+    on the car body (in the callback). Planar: x (longitudinal), z (vertical), pitch.
+
+    ``counter_torque=False`` drops the opposite torque: the traction then acts on the whole train, the
+    cruise control balances it, and the car body feels the modulation (passenger comfort)."""
     p = params
     spec = _spec(timestep)
     r = p.wheel_radius_m
@@ -184,13 +187,14 @@ def build_wagon(params: WagonParameters, timestep: float = DEFAULT_TIMESTEP_S,
         for w_name, dx in (("front", half_base), ("rear", -half_base)):
             name = f"{b_name}_{w_name}_wheelset"
             xw = xb + dx
-            sign = 0 if b_name == "bogie_front" else (1 if w_name == "rear" else -1)
+            sign = 0 if b_name == "bogie_front" else (1 if w_name == "rear" else (-1 if counter_torque else 0))
             wheelsets.append((name, xw, sign))
             box = spec.worldbody.add_body(name=f"{name}_axlebox", pos=[xw, 0, r], ipos=[0, 0, 0],
                                           explicitinertial=True, mass=1.0, inertia=[0.1, 0.1, 0.1])
             _joint(box, "x", f"{name}_x")
             _joint(box, "z", f"{name}_z")
-            spin = p.motor_spin_inertia_kg_m2 if sign != 0 else p.trailer_spin_inertia_kg_m2
+            motored = b_name == "bogie_rear"  # both wheelsets of the rear bogie carry a drive
+            spin = p.motor_spin_inertia_kg_m2 if motored else p.trailer_spin_inertia_kg_m2
             _wheel(box, name, p.wheelset_mass_kg - 1.0, spin, p.wheelset_roll_inertia_kg_m2, r)
             _spring(spec, f"{name}_primary_z", [(f"{b_name}_z", 1.0), (f"{b_name}_pitch", -dx), (f"{name}_z", -1.0)],
                     2 * p.primary_kz_n_m, 2 * p.primary_cz_n_s_m, f_primary / (2 * p.primary_kz_n_m))

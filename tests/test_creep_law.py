@@ -1,0 +1,148 @@
+"""Polach creep law (native, through ctypes): CoF = curve maximum, shape, slope, validation."""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+
+from cof_gym.physics.contact_geometry import creep_stiffness_constant
+from cof_gym.physics.creep import (
+    CONDITIONS,
+    OperatingConditions,
+    PolachShape,
+    creep_curve,
+    creep_peak,
+)
+
+COFS = (0.02, 0.1, 0.4, 0.6)
+SPEEDS = (2.0, 10.0, 40.0)
+GRID = list(itertools.product(sorted(CONDITIONS), COFS, SPEEDS))
+
+
+def _ids(grid) -> list[str]:
+    return [f"{c}-cof{cof}-v{v:g}" for c, cof, v in grid]
+
+
+@pytest.mark.parametrize(("condition", "cof", "speed"), GRID, ids=_ids(GRID))
+def test_peak_of_creep_curve_equals_cof(condition: str, cof: float, speed: float) -> None:
+    op = OperatingConditions(cof=cof, condition=condition, wheel_load_n=100e3, speed_m_s=speed)
+    peak = creep_peak(op)
+    assert peak.coa == pytest.approx(cof, rel=1e-6)
+
+    # independent of creep_peak's own optimiser: a dense scan of the curve never exceeds the CoF,
+    # gets within 1e-6 of it, and the analytic slope vanishes at the reported peak creepage
+    s = np.concatenate([np.geomspace(1e-7, 5.0, 4000),
+                        peak.creepage * np.linspace(0.98, 1.02, 2001)])
+    coa, slope = creep_curve(s, op)
+    assert coa.max() <= cof * (1 + 1e-9)
+    assert coa.max() >= cof * (1 - 1e-6)
+    initial_slope = creep_curve(1e-9, op)[1][0]
+    assert abs(creep_curve(peak.creepage, op)[1][0]) < 1e-4 * initial_slope
+
+
+@pytest.mark.parametrize(("condition", "cof", "speed"), GRID, ids=_ids(GRID))
+def test_falling_friction_mu0_above_cof(condition: str, cof: float, speed: float) -> None:
+    op = OperatingConditions(cof=cof, condition=condition, speed_m_s=speed)
+    mu0 = op.law().mu0
+    assert mu0 > cof
+    # the curve falls just past the peak and stays below the CoF far beyond it (it may rise again
+    # towards A mu0 < CoF at large creepage: Polach's atan term keeps growing as mu levels off)
+    peak = creep_peak(op)
+    assert creep_curve(1.5 * peak.creepage, op)[1][0] < 0.0
+    far = creep_curve(np.geomspace(2.0, 1e3, 200) * peak.creepage, op)[0]
+    assert far.max() < cof
+
+
+@pytest.mark.parametrize("condition", sorted(CONDITIONS))
+def test_curve_is_odd_in_creepage(condition: str) -> None:
+    op = OperatingConditions(cof=0.3, condition=condition, speed_m_s=10.0)
+    s = np.concatenate([np.geomspace(1e-6, 1.0, 60), [0.0]])
+    coa_pos, slope_pos = creep_curve(s, op)
+    coa_neg, slope_neg = creep_curve(-s, op)
+    np.testing.assert_array_equal(coa_neg, -coa_pos)
+    np.testing.assert_array_equal(slope_neg, slope_pos)  # the derivative of an odd function is even
+    assert coa_pos[-1] == 0.0
+    assert np.all(coa_pos[:-1] > 0.0)
+
+
+@pytest.mark.parametrize("condition", sorted(CONDITIONS))
+@pytest.mark.parametrize("cof", (0.05, 0.4))
+@pytest.mark.parametrize("load", (50e3, 100e3))
+def test_initial_slope_is_polach_linear_limit(condition: str, cof: float, load: float) -> None:
+    """s -> 0: CoA -> (2/pi)(kA + kS) C s, independent of mu (and so of CoF and speed)."""
+    shape = CONDITIONS[condition]
+    expected = 2.0 / math.pi * (shape.k_adhesion + shape.k_slip) * creep_stiffness_constant(load)
+    for speed in (2.0, 40.0):
+        op = OperatingConditions(cof=cof, condition=condition, wheel_load_n=load, speed_m_s=speed)
+        s = 1e-9
+        coa, slope = creep_curve(s, op)
+        assert slope[0] == pytest.approx(expected, rel=1e-3)
+        assert coa[0] / s == pytest.approx(expected, rel=1e-3)
+
+
+@pytest.mark.parametrize("condition", sorted(CONDITIONS))
+@pytest.mark.parametrize("speed", SPEEDS)
+@pytest.mark.parametrize("ratio", (0.05, 0.3, 0.7, 0.9, 1.5, 3.0, 10.0))
+def test_analytic_slope_matches_finite_difference(condition: str, speed: float, ratio: float) -> None:
+    """dCoA/ds returned by the native law vs a central difference of CoA, before and past the peak."""
+    op = OperatingConditions(cof=0.3, condition=condition, speed_m_s=speed)
+    s = ratio * creep_peak(op).creepage
+    h = 1e-4 * s
+    coa, slope = creep_curve(np.array([s - h, s, s + h]), op)
+    fd = (coa[2] - coa[0]) / (2 * h)
+    assert slope[1] == pytest.approx(fd, rel=1e-5)
+    if 1.0 < ratio <= 3.0:
+        assert slope[1] < 0.0  # falling branch just past the peak
+    elif ratio < 1.0:
+        assert slope[1] > 0.0
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "field"),
+    [
+        ({"cof": 0.0}, "cof"),
+        ({"cof": -0.1}, "cof"),
+        ({"cof": float("nan")}, "cof"),
+        ({"cof": 0.3, "speed_m_s": 0.0}, "speed_m_s"),
+        ({"cof": 0.3, "speed_m_s": -5.0}, "speed_m_s"),
+        ({"cof": 0.3, "wheel_load_n": -100e3}, "wheel_load_n"),
+        ({"cof": 0.3, "wheel_load_n": 0.0}, "wheel_load_n"),
+        ({"cof": 0.3, "condition": "icy"}, "condition"),
+    ],
+    ids=["cof0", "cof-neg", "cof-nan", "speed0", "speed-neg", "load-neg", "load0", "condition"],
+)
+def test_operating_conditions_reject_bad_values(kwargs: dict, field: str) -> None:
+    with pytest.raises(ValueError, match=rf"\b{field}\b"):
+        OperatingConditions(**kwargs)
+
+
+@pytest.mark.parametrize("ratio", (1.0, 1.5, float("nan"), -0.1))
+def test_polach_shape_rejects_friction_ratio_without_peak(ratio: float) -> None:
+    with pytest.raises(ValueError, match=r"friction_ratio"):
+        PolachShape(1.0, 0.4, ratio, 0.6)
+
+
+def test_polach_shape_accepts_valid_custom_shape() -> None:
+    shape = PolachShape(0.5, 0.2, 0.3, 0.4)
+    op = OperatingConditions(cof=0.25, condition=shape)
+    assert creep_peak(op).coa == pytest.approx(0.25, rel=1e-6)
+
+
+@pytest.mark.parametrize(
+    ("condition", "cof", "speed"),
+    [("low_adhesion", 0.6, 80.0), ("dry", 1.0, 80.0), ("wet", 1.5, 40.0)],
+)
+def test_accepted_conditions_have_a_true_peak(condition: str, cof: float, speed: float) -> None:
+    """Either the conditions are rejected, or the CoF is the curve's maximum (the documented meaning)."""
+    try:
+        op = OperatingConditions(cof=cof, condition=condition, speed_m_s=speed)
+        peak = creep_peak(op)
+    except ValueError:
+        return
+    s = np.geomspace(1e-6, 1e3, 20000)
+    coa, _ = creep_curve(s, op)
+    assert coa.max() <= cof * (1 + 1e-6)
+    assert peak.creepage < 1.0  # an interior maximum, not the scan's edge at s = 2
