@@ -67,12 +67,40 @@ def half_wheelset_sweep(timing: Timing) -> dict:
             rows.append({"fraction": float(frac), "phase_sim_deg": m.phase_lag_deg, "phase_se_deg": m.phase_lag_se_deg,
                          "phase_eq3_deg": eq3, "small_signal": small_signal, "within_tolerance": ok})
         out["cofs"][str(cof)] = rows
+    per_cof = {}
+    for cof, rows in out["cofs"].items():
+        fails = [r["fraction"] for r in rows if r["small_signal"] and not r["within_tolerance"]]
+        per_cof[cof] = {"passed": not fails, "failing_fractions": fails}
     out["acceptance"] = {
         "rule": "|phi_sim - phi_Eq3| <= max(0.2 deg, 5 % of phi_Eq3) where M0 <= 0.25 (M_sat - M_c)",
         "worst_error_over_tolerance": worst,
         "passed": bool(worst <= 1.0),
+        "per_cof": per_cof,
     }
+    out["amplitude_check"] = amplitude_check(sim, built, timing)
     return out
+
+
+def amplitude_check(sim: Simulation, built: BuiltModel, timing: Timing, cof: float = 0.1,
+                    fractions: tuple[float, ...] = (0.56, 0.61, 0.66),
+                    amplitudes: tuple[float, ...] = (345.0, 200.0, 100.0, 50.0, 20.0)) -> list[dict]:
+    """Eq. 3 is small-signal: at CoF 0.1 the paper's 345 N m is 7.5 % of the saturation torque and the
+    modulation sweeps a curved part of the creep curve. Shrinking M0 shows the simulation converging
+    to Eq. 3 (the deviation is the physics of a large modulation, not a numerical error)."""
+    op = OperatingConditions(cof=cof, wheel_load_n=built.nominal_wheel_load_n, speed_m_s=PAPER_SPEED_M_S)
+    m_sat = built.saturation_torque_per_cof * cof
+    r, n = built.wheel_radius_m, built.nominal_wheel_load_n
+    rows = []
+    for frac in fractions:
+        eq3 = phase_eq3_deg(built.drive_spin_inertia_kg_m2, 2 * math.pi * PAPER_FREQUENCY_HZ, PAPER_SPEED_M_S, n, r,
+                            creep_slope_at_torque(frac * m_sat, r, n, op))
+        for amp in amplitudes:
+            sim.reset(Scenario(op))
+            m = sim.run_window(DriveCommand(frac * m_sat, amp, PAPER_FREQUENCY_HZ), timing.settle + timing.measure,
+                               timing.settle, timing.ramp)
+            rows.append({"cof": cof, "fraction": frac, "amplitude_nm": amp, "phase_sim_deg": m.phase_lag_deg,
+                         "phase_eq3_deg": eq3, "relative_deviation": m.phase_lag_deg / eq3 - 1.0})
+    return rows
 
 
 def wagon_staircase(built: BuiltModel, cof: float, timing: Timing, fractions: np.ndarray) -> list[dict]:
@@ -138,7 +166,11 @@ def reproduce(out_dir: Path, quick: bool = False) -> dict:
 def summary_lines(results: dict) -> list[str]:
     acc = results["fig5_half_wheelset"]["acceptance"]
     lines = [f"half wheelset vs Eq. 3: worst error / tolerance = {acc['worst_error_over_tolerance']:.3f} "
-             f"({'PASS' if acc['passed'] else 'FAIL'})",
+             f"({'PASS' if acc['passed'] else 'FAIL'})"]
+    for cof, entry in acc["per_cof"].items():
+        status = "pass" if entry["passed"] else f"outside at {[round(100 * f) for f in entry['failing_fractions']]} % (large-signal)"
+        lines.append(f"  CoF {cof}: {status}")
+    lines += [
              "wagon, paper's rule (first positive phase):",
              "  CoF   crossing [% M_sat]  interpolated  CoA there  CoA-as-CoF error"]
     for cof, entry in results["fig8_wagon_cof_sweep"].items():
