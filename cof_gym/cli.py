@@ -23,6 +23,18 @@ def _bench(args: argparse.Namespace) -> int:
     return 0
 
 
+def _evaluate(args: argparse.Namespace) -> int:
+    from agents.evaluate import run
+
+    return run(args)
+
+
+def _train(args: argparse.Namespace) -> int:
+    from agents.train import run
+
+    return run(args)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="cof-gym", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True)
@@ -33,6 +45,19 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("bench", help="simulation speed and native/bare ratio")
     p.add_argument("--seconds", type=float, default=5.0, help="simulated seconds per timing")
     p.set_defaults(func=_bench)
+    from agents.evaluate import add_arguments as evaluate_arguments
+
+    p = sub.add_parser("evaluate", help="agents side by side on the same seeded scenarios")
+    evaluate_arguments(p)
+    p.set_defaults(func=_evaluate)
+    try:
+        from agents.train import add_arguments as train_arguments
+    except ImportError:  # training extras not installed
+        train_arguments = None
+    if train_arguments is not None:
+        p = sub.add_parser("train", help="train a PPO interrogation policy")
+        train_arguments(p)
+        p.set_defaults(func=_train)
     return parser
 
 

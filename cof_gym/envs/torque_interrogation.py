@@ -17,11 +17,11 @@ from gymnasium.utils import EzPickle
 from cof_gym.envs.reward import RewardWeights, discomfort, relative_error, reward_terms, slip_cost
 from cof_gym.envs.scenarios import SCENARIO_KEYS, EpisodeScenario, ScenarioRanges, draw_scenario
 from cof_gym.envs.spaces import (
-    MotorLimits, action_space, check_action, decode_action, encode_observation, observation_space,
+    DecodedAction, MotorLimits, action_space, check_action, decode_action, encode_observation, observation_space,
 )
 from cof_gym.physics.creep import OperatingConditions, creep_peak
 from cof_gym.physics.models import DEFAULT_TIMESTEP_S, BuiltModel, build_half_wheelset, build_wagon
-from cof_gym.physics.simulation import DriveCommand, Simulation, WindowMeasurement
+from cof_gym.physics.simulation import DriveCommand, Scenario, Simulation, WindowMeasurement
 from cof_gym.physics.vehicle import LADEN_WHEEL_LOAD_N, HalfWheelsetParameters, wagon_parameters
 
 VEHICLES = ("wagon", "half_wheelset")
@@ -39,6 +39,12 @@ def built_model(vehicle: str, load_case: str, timestep: float, counter_torque: b
     if vehicle == "wagon":
         return build_wagon(wagon_parameters(load_case), timestep=timestep, counter_torque=counter_torque)
     return build_half_wheelset(HalfWheelsetParameters(), timestep=timestep)
+
+
+def window_diverged(m: WindowMeasurement, bad_qacc: bool, state_finite: bool) -> bool:
+    """Whether a window diverged: a bad-acceleration warning, a non-finite state or measurement."""
+    values = np.array([v for v in asdict(m).values()], dtype=np.float64)
+    return bool(bad_qacc or not state_finite or not np.isfinite(values).all())
 
 
 class TorqueInterrogationEnv(gym.Env, EzPickle):
@@ -179,6 +185,7 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
         self.metadata = {**self.metadata, "render_fps": max(1, int(round(1.0 / self.window_s)))}
         self._sims: dict[str, Simulation] = {}
         self._sim: Simulation | None = None
+        self._built: BuiltModel | None = None
         self._renderer = None
         self._viewer = None
         self._warned_display = False
@@ -190,14 +197,24 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
         return self._sims[load_case]
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
+        physics = self._begin_episode(seed, options)
+        sim = self._simulation(self.scenario.load_case)
+        sim.reset(physics)
+        self._sim = sim
+        m = sim.run_window(self._drive, self.window_s, self.settle_s, self.ramp_s)
+        return self._finish_reset(m)
+
+    # The episode bookkeeping is split around the physics so that the vector env
+    # (cof_gym.envs.vector) runs the same code with batched simulations.
+    def _begin_episode(self, seed: int | None, options: dict | None) -> Scenario:
+        """Seed, draw the scenario and reset the bookkeeping; the physics scenario to simulate (on
+        ``self._built``, with the baseline drive ``self._drive``)."""
         super().reset(seed=seed)
         fixed = {**self.fixed, **(options or {})}
         self.scenario: EpisodeScenario = draw_scenario(self.np_random, self.ranges, fixed)
-        sim = self._simulation(self.scenario.load_case)
-        built = sim.built
+        built = built_model(self.vehicle, self.scenario.load_case, self.timestep, self.counter_torque)
         physics = self.scenario.physics(built.nominal_wheel_load_n, seed=int(self.np_random.integers(2**31)))
-        sim.reset(physics)
-        self._sim = sim
+        self._built = built
         self._contact_load = built.nominal_wheel_load_n * built.wheels_per_contact
         op: OperatingConditions = physics.op
         self._peak = creep_peak(op)
@@ -206,13 +223,16 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
         self._windows = 0
         self._estimate = 0.0
         self._drive = DriveCommand(0.0, 100.0, 5.0)
-        m = sim.run_window(self._drive, self.window_s, self.settle_s, self.ramp_s)
+        return physics
+
+    def _finish_reset(self, m: WindowMeasurement) -> tuple[np.ndarray, dict]:
+        """The first observation and info from the baseline window."""
         self._last = m
         obs = self._observe(m)
         return obs, self._info(m, {}, diverged=False)
 
     def _observe(self, m: WindowMeasurement) -> np.ndarray:
-        return encode_observation(m, self._drive, self.limits, self._sim.built.drive_spin_inertia_kg_m2,
+        return encode_observation(m, self._drive, self.limits, self._built.drive_spin_inertia_kg_m2,
                                   self._contact_load, self._elapsed, self.max_windows * self.window_s)
 
     def _info(self, m: WindowMeasurement, terms: dict, diverged: bool) -> dict:
@@ -232,15 +252,25 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     def step(self, action):
         if self._sim is None:
             raise RuntimeError("call reset() before step()")
+        decoded = self._command(action)
+        m = self._sim.run_window(self._drive, self.window_s, self.settle_s, self.ramp_s)
+        out = self._finish_step(m, decoded, self._diverged(m))
+        if self.render_mode == "human":
+            self.render()
+        return out
+
+    def _command(self, action) -> DecodedAction:
+        """Check and decode the action; sets the drive (``self._drive``) of the next window."""
         a = check_action(action)
         decoded = decode_action(a, self.limits)
         self._drive = decoded.drive
         self._estimate = decoded.cof_estimate
-        sim = self._sim
-        m = sim.run_window(self._drive, self.window_s, self.settle_s, self.ramp_s)
+        return decoded
+
+    def _finish_step(self, m: WindowMeasurement, decoded: DecodedAction, diverged: bool):
+        """The step's (obs, reward, terminated, truncated, info) from the window's measurement."""
         self._windows += 1
         self._elapsed += self.window_s
-        diverged = self._diverged(m)
         if diverged:
             m = self._last
         self._last = m
@@ -256,15 +286,12 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
         info["macro_slip"] = bool(macro_slip)
         info["relative_error"] = scored
         obs = self._observe(m)
-        if self.render_mode == "human":
-            self.render()
         return obs, reward, terminated, bool(truncated), info
 
     def _diverged(self, m: WindowMeasurement) -> bool:
         d = self._sim.data
         bad = d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0
-        values = np.array([v for v in asdict(m).values()], dtype=np.float64)
-        return bool(bad or not self._sim.is_finite() or not np.isfinite(values).all())
+        return window_diverged(m, bad, self._sim.is_finite())
 
     # ------------------------------------------------------------------ rendering
     def render(self):

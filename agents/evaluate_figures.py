@@ -1,0 +1,80 @@
+"""Figures of ``cof-gym evaluate``: error per CoF level, error vs discomfort, one trace per agent."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def plot_all(records, summary, traces, out: Path) -> list[Path]:
+    agents = list(summary)
+    paths = []
+    # error per CoF level
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    edges = np.linspace(0.0, 0.6, 7)
+    centres = 0.5 * (edges[1:] + edges[:-1])
+    for k, a in enumerate(agents):
+        rows = [r for r in records if r.agent == a]
+        cof = np.array([r.cof for r in rows])
+        err = np.array([r.relative_error for r in rows])
+        ax.scatter(cof, 100 * err, s=10, alpha=0.35)
+        med = [np.median(err[(cof >= lo) & (cof < hi)]) if np.any((cof >= lo) & (cof < hi)) else np.nan
+               for lo, hi in zip(edges[:-1], edges[1:])]
+        ax.plot(centres, 100 * np.array(med), "o-", label=f"{a} (median per bin)")
+    ax.set(xlabel="true CoF", ylabel="relative CoF error [%]", yscale="symlog", title="Error per CoF level")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    paths.append(out / "error_per_cof.png")
+    fig.tight_layout()
+    fig.savefig(paths[-1], dpi=110)
+    plt.close(fig)
+
+    # error vs discomfort trade-off
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    for a in agents:
+        s = summary[a]
+        x, y = s["wd_rms_m_s2"], s["median_error"]
+        ax.errorbar(x["value"], 100 * y["value"],
+                    xerr=[[x["value"] - x["ci95"][0]], [x["ci95"][1] - x["value"]]],
+                    yerr=[[100 * (y["value"] - y["ci95"][0])], [100 * (y["ci95"][1] - y["value"])]], fmt="o", capsize=3,
+                    label=a)
+    ax.set(xlabel="mean Wd-weighted RMS car-body acceleration [m/s^2]", ylabel="median relative CoF error [%]",
+           title="Error vs discomfort (95 % CI)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    paths.append(out / "error_vs_discomfort.png")
+    fig.tight_layout()
+    fig.savefig(paths[-1], dpi=110)
+    plt.close(fig)
+
+    # one episode trace per agent
+    fig, axes = plt.subplots(4, 1, figsize=(8, 8), sharex=True)
+    for a, trace in traces.items():
+        if not trace:
+            continue
+        t = [p["t"] for p in trace]
+        axes[0].step(t, [p["dc_torque_nm"] / 1e3 for p in trace], where="post", label=a)
+        axes[1].plot(t, [p["wheel_speed_m_s"] - p["speed_m_s"] for p in trace], "o-", ms=3)
+        axes[2].plot(t, [p["phase_deg"] for p in trace], "o-", ms=3)
+        line, = axes[3].plot(t, [p["coa"] for p in trace], "o-", ms=3)
+        axes[3].plot(t, [p["estimate"] for p in trace], "--", color=line.get_color())
+        axes[3].axhline(trace[0]["cof"], color="k", lw=0.6)
+    axes[0].set_ylabel("mean torque [kN m]")
+    axes[1].set_ylabel("wheelset R*Omega - v [m/s]")
+    axes[2].set_ylabel("phase lag [deg]")
+    axes[3].set_ylabel("CoA (-), estimate (--)")
+    axes[3].set_xlabel("time [s]")
+    axes[0].legend(fontsize=8)
+    axes[0].set_title("First episode of the suite, per agent (black line: true CoF)")
+    for ax in axes:
+        ax.grid(alpha=0.3)
+    paths.append(out / "episode_traces.png")
+    fig.tight_layout()
+    fig.savefig(paths[-1], dpi=110)
+    plt.close(fig)
+    return paths

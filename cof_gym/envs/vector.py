@@ -1,0 +1,262 @@
+"""Batched vector environment: N torque-interrogation envs stepped by one ``mujoco.batch.Batch``.
+
+``gym.make_vec("CofGym/TorqueInterrogation-v0", num_envs=N, vectorization_mode="vector_entry_point")``
+returns a :class:`TorqueInterrogationVectorEnv`. It holds N :class:`TorqueInterrogationEnv` for their
+episode bookkeeping (scenario draws, reward, observation, info) and replaces only their physics: each
+window, the N simulations are rows of one batch, stepped by a single ``Batch.step(nstep=...)`` on
+``num_threads`` threads. The native passive callback is C, so the batch runs without the GIL.
+
+Results are bit-identical to ``gym.make_vec(..., vectorization_mode="sync")`` (N single envs made with
+``gym.make``, sub-env i seeded ``seed + i``, next-step autoreset, infos merged by
+:meth:`gymnasium.vector.VectorEnv._add_info`), at any thread count.
+
+Each simulation runs on the model of its episode's load case (``Batch.set_models``); the empty and
+laden wagons are compiled from one structure, so they share the batch's state layout.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from typing import Any, Sequence
+
+import gymnasium as gym
+import mujoco
+import numpy as np
+from gymnasium.vector import AutoresetMode
+from gymnasium.vector.utils import batch_space
+from mujoco.batch import Batch, SimulationError
+
+from cof_gym.envs.spaces import DecodedAction, check_action
+from cof_gym.envs.torque_interrogation import TorqueInterrogationEnv, built_model, window_diverged
+from cof_gym.physics.native import layout
+from cof_gym.physics.native.build import install_callback
+from cof_gym.physics.simulation import begin_window, initial_state, initial_userdata, read_window, state_is_finite
+
+_BADQACC = int(mujoco.mjtWarning.mjWARN_BADQACC)
+_MAGIC = layout.OFFSETS["MAGIC"]
+
+# one sub-env's result: obs, reward, terminated, truncated, info
+StepResult = tuple[np.ndarray, float, bool, bool, dict]
+
+
+class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
+    """``num_envs`` torque-interrogation environments on one ``mujoco.batch.Batch``.
+
+    Args:
+        num_envs: number of sub-environments (simulations).
+        num_threads: threads of the batch; default ``min(num_envs, os.cpu_count())``.
+        max_episode_steps: the registered ``TimeLimit`` (``gym.make_vec`` passes the spec's), applied
+            per sub-env exactly as ``gymnasium.wrappers.TimeLimit`` does; None: none.
+        **kwargs: the arguments of :class:`TorqueInterrogationEnv` (vehicle, window_s, scenario fields...).
+
+    Autoreset is gymnasium's default :attr:`AutoresetMode.NEXT_STEP`: the step after a sub-env
+    terminated or truncated resets it (its action is ignored, reward 0, the info is the reset's).
+    ``reset(options={"reset_mask": mask, ...})`` resets only the masked sub-envs; other options are
+    passed to every reset sub-env (scenario fields, as for the single env).
+
+    Divergence is detected per simulation as in the single env (bad-acceleration warning, non-finite
+    state or measurement: ``info["diverged"]``, the episode terminates). A simulation in which MuJoCo
+    raises an error, or whose state MuJoCo auto-reset (cof_gym's userdata marker lost), is treated as
+    diverged too instead of stopping the whole batch.
+    """
+
+    metadata: dict[str, Any] = {"autoreset_mode": AutoresetMode.NEXT_STEP, "render_modes": []}
+
+    def __init__(self, num_envs: int = 1, num_threads: int | None = None, max_episode_steps: int | None = None,
+                 render_mode: str | None = None, **kwargs: Any) -> None:
+        if not (isinstance(num_envs, (int, np.integer)) and num_envs >= 1):
+            raise ValueError(f"num_envs must be an int >= 1, got {num_envs!r}")
+        num_envs = int(num_envs)
+        if num_threads is None:
+            num_threads = min(num_envs, os.cpu_count() or 1)
+        if not (isinstance(num_threads, (int, np.integer)) and num_threads >= 1):
+            raise ValueError(f"num_threads must be an int >= 1, got {num_threads!r}")
+        if max_episode_steps is not None and not (isinstance(max_episode_steps, (int, np.integer))
+                                                  and max_episode_steps >= 1):
+            raise ValueError(f"max_episode_steps must be an int >= 1 or None, got {max_episode_steps!r}")
+        if render_mode is not None:
+            raise ValueError("the batched vector env does not render; use gym.make_vec(..., "
+                             "vectorization_mode='sync', render_mode=...) to render sub-environments")
+        self.num_envs = num_envs
+        self.num_threads = int(num_threads)
+        self.max_episode_steps = None if max_episode_steps is None else int(max_episode_steps)
+        self.render_mode = None
+        self.envs = [TorqueInterrogationEnv(**kwargs) for _ in range(num_envs)]
+        first = self.envs[0]
+        self.metadata = {**type(self).metadata, "render_fps": first.metadata["render_fps"]}
+        self.single_action_space = first.action_space
+        self.single_observation_space = first.observation_space
+        self.action_space = batch_space(self.single_action_space, num_envs)
+        self.observation_space = batch_space(self.single_observation_space, num_envs)
+
+        base = built_model(first.vehicle, first.ranges.load_cases[-1], first.timestep, first.counter_torque)
+        install_callback()  # before the batch exists; process-global and idempotent
+        self._batch = Batch(base.model, num_envs, nthread=self.num_threads)
+        self._models: list[mujoco.MjModel] = [base.model] * num_envs
+        self._batch.set_models(self._models)
+        self._qpos = self._batch.bind("qpos")
+        self._qvel = self._batch.bind("qvel")
+        self._ud = self._batch.bind("userdata")
+        self._time = self._batch.bind("time")
+        self._nstep = int(round(first.window_s / float(base.model.opt.timestep)))
+
+        self._observations = np.zeros(self.observation_space.shape, dtype=self.single_observation_space.dtype)
+        self._rewards = np.zeros(num_envs, dtype=np.float64)
+        self._terminations = np.zeros(num_envs, dtype=np.bool_)
+        self._truncations = np.zeros(num_envs, dtype=np.bool_)
+        self._autoreset_envs = np.zeros(num_envs, dtype=np.bool_)
+        self._elapsed_steps = np.zeros(num_envs, dtype=np.int64)
+        self._started = np.zeros(num_envs, dtype=np.bool_)
+        self.step_seconds = 0.0  # wall time inside Batch.step (for benchmarks)
+
+    # ------------------------------------------------------------------ core
+    def _advance(self, resets: dict[int, tuple[int | None, dict | None]],
+                 actions: dict[int, Any]) -> dict[int, StepResult]:
+        """Reset the sub-envs in ``resets`` (index -> (seed, options)) and step those in ``actions``
+        (index -> action), all in one batch call. Returns each one's (obs, reward, terminated,
+        truncated, info); a reset's reward is 0 and its flags False, as in next-step autoreset."""
+        overlap = set(resets) & set(actions)
+        if overlap:
+            raise ValueError(f"sub-env(s) {sorted(overlap)} cannot be reset and stepped at once")
+        for i in actions:
+            if not self._started[i]:
+                raise RuntimeError(f"sub-env {i}: call reset() before step()")
+        checked = {i: check_action(a) for i, a in actions.items()}  # raises before any state changes
+        reset_ids = sorted(resets)
+
+        # resets: the env draws its scenario; its simulation row is reset to that episode's model
+        physics = {i: self.envs[i]._begin_episode(*resets[i]) for i in reset_ids}
+        changed = False
+        for i in reset_ids:
+            model = self.envs[i]._built.model
+            if self._models[i] is not model:
+                self._models[i] = model
+                changed = True
+        if changed:
+            self._batch.set_models(self._models)
+        if reset_ids:
+            ids = np.asarray(reset_ids, dtype=np.int32)
+            self._batch.reset(ids, stage=mujoco.mjtStage.mjSTAGE_NONE)  # defaults, time 0, warnings cleared
+            for i in reset_ids:
+                built = self.envs[i]._built
+                initial_state(built, physics[i].op.speed_m_s, self._qpos[i], self._qvel[i])
+                self._ud[i] = initial_userdata(built, physics[i])
+            self._batch.forward(ids)  # as Simulation.reset's mj_forward (the callback starts there)
+            self._started[ids] = True
+            self._elapsed_steps[ids] = 0
+
+        decoded: dict[int, DecodedAction] = {i: self.envs[i]._command(checked[i]) for i in checked}
+        active = sorted(reset_ids + list(checked))
+        for i in active:
+            env = self.envs[i]
+            begin_window(self._ud[i], float(self._time[i]), env._drive, env.ramp_s, env.settle_s)
+        failed: set[int] = set()
+        if active:
+            ids = None if len(active) == self.num_envs else np.asarray(active, dtype=np.int32)
+            t0 = time.perf_counter()
+            try:
+                self._batch.step(ids, nstep=self._nstep)
+            except SimulationError as err:
+                failed = {int(i) for i in err.ids}
+            self.step_seconds += time.perf_counter() - t0
+
+        results: dict[int, StepResult] = {}
+        for i in active:
+            env = self.envs[i]
+            ud = self._ud[i]
+            if i in resets:
+                if i in failed:
+                    raise RuntimeError(f"sub-env {i}: MuJoCo raised in the baseline window: {self._batch.error(i)}")
+                obs, info = env._finish_reset(read_window(ud))
+                results[i] = (obs, 0.0, False, False, info)
+                continue
+            if i in failed or ud[_MAGIC] != layout.MAGIC:  # MuJoCo error, or its auto-reset wiped userdata
+                m, diverged = env._last, True
+            else:
+                m = read_window(ud)
+                bad_qacc = self._batch.warning[i, _BADQACC, 1] > 0  # mjWarningStat: (lastinfo, number)
+                diverged = window_diverged(m, bool(bad_qacc), state_is_finite(self._qpos[i], self._qvel[i], ud))
+            obs, reward, terminated, truncated, info = env._finish_step(m, decoded[i], diverged)
+            self._elapsed_steps[i] += 1
+            if self.max_episode_steps is not None and self._elapsed_steps[i] >= self.max_episode_steps:
+                truncated = True  # as gymnasium's TimeLimit
+            results[i] = (obs, reward, terminated, truncated, info)
+        return results
+
+    @staticmethod
+    def _seeds(seed: int | Sequence[int | None] | None, n: int) -> list[int | None]:
+        if seed is None:
+            return [None] * n
+        if isinstance(seed, (int, np.integer)):
+            return [int(seed) + i for i in range(n)]
+        seeds = list(seed)
+        if len(seeds) != n:
+            raise ValueError(f"If seeds are passed as a list the length must match num_envs={n} but got length={len(seeds)}.")
+        return seeds
+
+    # ------------------------------------------------------------------ gymnasium API
+    def reset(self, *, seed: int | Sequence[int | None] | None = None, options: dict[str, Any] | None = None):
+        """Reset all sub-envs (or ``options["reset_mask"]``'s); sub-env i is seeded ``seed + i``."""
+        seeds = self._seeds(seed, self.num_envs)
+        options = dict(options) if options is not None else None
+        mask = np.ones(self.num_envs, dtype=np.bool_)
+        if options is not None and "reset_mask" in options:
+            mask = options.pop("reset_mask")
+            if not isinstance(mask, np.ndarray):
+                raise TypeError(f"`options['reset_mask']` must be a numpy array, got {type(mask)}")
+            if mask.shape != (self.num_envs,):
+                raise ValueError(f"`options['reset_mask']` must have shape `({self.num_envs},)`, got {mask.shape}")
+            if mask.dtype != np.bool_:
+                raise TypeError(f"`options['reset_mask']` must have `dtype=np.bool_`, got {mask.dtype}")
+            if not mask.any():
+                raise ValueError(f"`options['reset_mask']` must contain at least one True value, got reset_mask={mask}")
+        self._terminations[mask] = False
+        self._truncations[mask] = False
+        self._autoreset_envs[mask] = False
+        self._rewards[mask] = 0.0
+        results = self._advance({i: (seeds[i], options) for i in np.flatnonzero(mask)}, {})
+        infos: dict[str, Any] = {}
+        for i, (obs, _, _, _, info) in sorted(results.items()):
+            self._observations[i] = obs
+            infos = self._add_info(infos, info, i)
+        return self._observations.copy(), infos
+
+    def step(self, actions):
+        """Step every sub-env; those that ended at the previous step are reset instead."""
+        actions = np.asarray(actions)
+        if actions.shape != self.action_space.shape:
+            raise ValueError(f"actions must have shape {self.action_space.shape}, got {actions.shape}")
+        resetting = self._autoreset_envs
+        results = self._advance({i: (None, None) for i in np.flatnonzero(resetting)},
+                                {i: actions[i] for i in np.flatnonzero(~resetting)})
+        infos: dict[str, Any] = {}
+        for i in range(self.num_envs):
+            obs, self._rewards[i], self._terminations[i], self._truncations[i], info = results[i]
+            self._observations[i] = obs
+            infos = self._add_info(infos, info, i)
+        self._autoreset_envs = np.logical_or(self._terminations, self._truncations)
+        return (self._observations.copy(), self._rewards.copy(), self._terminations.copy(),
+                self._truncations.copy(), infos)
+
+    def get_attr(self, name: str) -> tuple[Any, ...]:
+        """An attribute of every sub-env (their bookkeeping, e.g. ``scenario``)."""
+        return tuple(getattr(env, name) for env in self.envs)
+
+    def call(self, name: str, *args: Any, **kwargs: Any) -> tuple[Any, ...]:
+        results = []
+        for env in self.envs:
+            fn = getattr(env, name)
+            results.append(fn(*args, **kwargs) if callable(fn) else fn)
+        return tuple(results)
+
+    def close_extras(self, **kwargs: Any) -> None:
+        for env in self.envs:
+            env.close()
+        # the bound arrays are views of the batch's state rows: drop them with it
+        self._qpos = self._qvel = self._ud = self._time = None  # type: ignore[assignment]
+        self._batch = None  # type: ignore[assignment]
+
+    def __repr__(self) -> str:
+        env_id = self.spec.id if self.spec is not None else "TorqueInterrogation"
+        return f"TorqueInterrogationVectorEnv({env_id}, num_envs={self.num_envs}, num_threads={self.num_threads})"
