@@ -1,0 +1,155 @@
+"""A trained Stable-Baselines3 PPO policy behind the :class:`agents.base.Agent` protocol.
+
+``PPOAgent.load(path)`` takes what ``cof-gym train`` writes (``OUT/model.zip`` with
+``OUT/vecnormalize.pkl`` beside it, the directory ``OUT``, ``OUT/best`` or a checkpoint
+``OUT/checkpoints/ppo_<N>_steps.zip`` with its ``ppo_vecnormalize_<N>_steps.pkl``). The observation
+statistics are loaded frozen (``training=False``, ``norm_reward=False``), as SB3 and RL Zoo evaluate.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+DEFAULT_ENV_ID = "CofGym/TorqueInterrogation-v0"
+MODEL_NAMES = ("model.zip", "best_model.zip")  # looked for, in this order, when given a directory
+VECNORMALIZE_NAME = "vecnormalize.pkl"
+META_NAME = "train_meta.json"
+
+
+def resolve_model_path(path: str | Path) -> Path:
+    """The model zip named by ``path``: a zip file, a path without the ``.zip`` suffix, or a directory
+    holding ``model.zip`` (a training output) or ``best_model.zip`` (``OUT/best``)."""
+    p = Path(path)
+    if p.is_dir():
+        for name in MODEL_NAMES:
+            if (p / name).is_file():
+                return p / name
+        raise FileNotFoundError(f"no {' or '.join(MODEL_NAMES)} in directory {p}")
+    if p.is_file():
+        return p
+    if p.suffix != ".zip" and p.with_name(p.name + ".zip").is_file():
+        return p.with_name(p.name + ".zip")
+    raise FileNotFoundError(f"model not found: {p}")
+
+
+def vecnormalize_path(model_path: str | Path) -> Path:
+    """The VecNormalize statistics saved with a model: ``vecnormalize.pkl`` beside it, or, for an SB3
+    checkpoint ``<prefix>_<N>_steps.zip``, ``<prefix>_vecnormalize_<N>_steps.pkl``, or, for an RL Zoo
+    model ``<run>/<env>.zip``, ``<run>/<env>/vecnormalize.pkl``. The path beside the model is returned
+    when none exists."""
+    model_path = Path(model_path)
+    m = re.fullmatch(r"(.*)_(\d+)_steps", model_path.stem)
+    if m:
+        checkpoint = model_path.with_name(f"{m[1]}_vecnormalize_{m[2]}_steps.pkl")
+        if checkpoint.is_file():
+            return checkpoint
+    beside = model_path.with_name(VECNORMALIZE_NAME)
+    zoo = model_path.with_suffix("") / VECNORMALIZE_NAME  # RL Zoo: <run>/<env>.zip + <run>/<env>/vecnormalize.pkl
+    return zoo if not beside.is_file() and zoo.is_file() else beside
+
+
+def find_train_meta(model_path: str | Path) -> dict[str, Any] | None:
+    """``train_meta.json`` of the run that produced ``model_path`` (beside it, or one directory up
+    for ``OUT/best`` and ``OUT/checkpoints``), or None."""
+    model_path = Path(model_path)
+    for d in (model_path.parent, model_path.parent.parent):
+        f = d / META_NAME
+        if f.is_file():
+            try:
+                return json.loads(f.read_text())
+            except (OSError, ValueError):
+                return None
+    return None
+
+
+def make_env_fn(env_id: str, env_kwargs: dict[str, Any] | None = None):
+    """A picklable env factory for ``make_vec_env``. ``gym.make`` is given ``"cof_gym:<id>"`` so that the
+    registration also happens in spawned / forkserver subprocesses (DESIGN.md section 6). A
+    ``max_windows`` other than the registered horizon also moves the TimeLimit (``max_episode_steps``)
+    unless that is given too, so that the last estimate is scored by the env itself."""
+    import functools
+
+    import gymnasium as gym
+
+    kwargs = dict(env_kwargs or {})
+    if "max_windows" in kwargs and "max_episode_steps" not in kwargs:
+        kwargs["max_episode_steps"] = int(kwargs["max_windows"])
+    full_id = env_id if ":" in env_id else f"cof_gym:{env_id}"
+    return functools.partial(gym.make, full_id, **kwargs)
+
+
+class PPOAgent:
+    """Deterministic action of a trained PPO policy on the normalised observation."""
+
+    name = "ppo"
+    oracle = False
+
+    def __init__(self, model: Any, vec_normalize: Any | None, env_id: str = DEFAULT_ENV_ID,
+                 model_path: Path | None = None) -> None:
+        self.model = model
+        self.vec_normalize = vec_normalize
+        self.env_id = env_id
+        self.model_path = model_path
+
+    @classmethod
+    def load(cls, path: str | Path, env_id: str | None = None, env_kwargs: dict[str, Any] | None = None,
+             device: str = "cpu") -> "PPOAgent":
+        """Load a model zip (or a training output directory) and the VecNormalize statistics saved
+        beside it. ``env_id`` defaults to the one recorded in ``train_meta.json``; the env is only
+        built to check the spaces and to host the (frozen) statistics, it is never stepped."""
+        from stable_baselines3 import PPO
+        from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
+
+        model_path = resolve_model_path(path)
+        meta = find_train_meta(model_path) or {}
+        env_id = env_id or meta.get("env_id") or DEFAULT_ENV_ID
+        if env_kwargs is None:
+            env_kwargs = meta.get("env_kwargs") or {}
+        model = PPO.load(model_path, device=device)
+        venv = DummyVecEnv([make_env_fn(env_id, env_kwargs)])
+        if model.observation_space.shape != venv.observation_space.shape or \
+                model.action_space.shape != venv.action_space.shape:
+            venv.close()
+            raise ValueError(f"{model_path} was trained on observation {model.observation_space.shape} / action "
+                             f"{model.action_space.shape}; {env_id} has {venv.observation_space.shape} / "
+                             f"{venv.action_space.shape}")
+        stats = vecnormalize_path(model_path)
+        vec_normalize = None
+        if stats.is_file():
+            vec_normalize = VecNormalize.load(str(stats), venv)
+            vec_normalize.training = False
+            vec_normalize.norm_reward = False
+        else:
+            import warnings
+
+            warnings.warn(f"no VecNormalize statistics beside {model_path} ({stats.name}): "
+                          "the policy will see raw observations", stacklevel=2)
+            venv.close()
+        return cls(model, vec_normalize, env_id=env_id, model_path=model_path)
+
+    def normalize(self, observation: np.ndarray) -> np.ndarray:
+        """The observation as the policy saw it in training (frozen statistics)."""
+        obs = np.asarray(observation, dtype=np.float32)
+        if self.vec_normalize is None:
+            return obs
+        return np.asarray(self.vec_normalize.normalize_obs(obs), dtype=np.float32)
+
+    def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
+        """The policy is memoryless (MLP): nothing to reset."""
+
+    def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
+        obs = self.normalize(observation)
+        action, _ = self.model.predict(obs, deterministic=True)
+        action = np.clip(np.asarray(action, dtype=np.float32).reshape(-1), -1.0, 1.0)
+        if action.shape != (5,):
+            raise ValueError(f"policy returned an action of shape {action.shape}, expected (5,)")
+        return action
+
+    def close(self) -> None:
+        if self.vec_normalize is not None:
+            self.vec_normalize.close()

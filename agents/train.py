@@ -1,0 +1,452 @@
+"""``cof-gym train``: PPO (Stable-Baselines3) on the cof_gym environments.
+
+Defaults come from ``agents/hyperparams/ppo.yml`` (RL Zoo format, the file ``python -m rl_zoo3.train``
+reads too); the command line overrides them. Writes, under ``--out DIR``:
+
+- ``model.zip`` and ``vecnormalize.pkl`` beside it (observation statistics; load them with
+  ``training=False, norm_reward=False``, as :class:`agents.ppo.PPOAgent` does);
+- ``tb/PPO_<k>/``: TensorBoard logs, with per-episode reward terms, relative CoF error and
+  macro-slip rate under ``episode/``;
+- ``checkpoints/ppo_<N>_steps.zip`` + ``ppo_vecnormalize_<N>_steps.pkl`` (``--save-freq``);
+- ``best/best_model.zip`` + ``best/vecnormalize.pkl`` (``--eval-freq``, on a separate frozen-statistics
+  env);
+- ``monitor/<rank>.monitor.csv``: SB3 Monitor episode logs;
+- ``train_meta.json``: command line, seed, hyperparameters, timesteps, wall time, versions.
+
+``--resume PATH`` continues a saved model (and its statistics) for ``--timesteps`` more steps
+(``reset_num_timesteps=False``: the step counter and TensorBoard curves continue).
+"""
+
+from __future__ import annotations
+
+import argparse
+import ast
+import json
+import os
+import platform
+import shlex
+import subprocess
+import sys
+import time
+from datetime import datetime, timezone
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+ALGOS = ("ppo",)
+DEFAULT_CONF = Path(__file__).resolve().parent / "hyperparams" / "ppo.yml"
+DEFAULT_ENV_ID = "CofGym/TorqueInterrogation-v0"
+REWARD_TERMS = ("reward_error", "reward_slip", "reward_comfort", "reward_time")
+# keys of the YAML that are not PPO constructor arguments
+_ZOO_KEYS = ("n_envs", "n_timesteps", "policy", "normalize", "env_kwargs")
+_SCHEDULED = ("learning_rate", "clip_range", "clip_range_vf")
+
+
+# ---------------------------------------------------------------------------- hyperparameters
+def _parse_value(text: str) -> Any:
+    try:
+        return ast.literal_eval(text)
+    except (ValueError, SyntaxError):
+        return text
+
+
+class StoreDict(argparse.Action):
+    """``key:value`` pairs into a dict (RL Zoo's ``--env-kwargs`` / ``--hyperparams`` syntax); values are
+    Python literals (``5``, ``0.1``, ``True``, ``'dry'``, ``[1, 2]``) or else plain strings."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        out = dict(getattr(namespace, self.dest) or {})
+        for item in values:
+            key, sep, value = item.partition(":")
+            if not sep or not key:
+                parser.error(f"{option_string} expects key:value pairs, got {item!r}")
+            out[key] = _parse_value(value)
+        setattr(namespace, self.dest, out)
+
+
+def load_hyperparams(env_id: str, conf_file: str | Path = DEFAULT_CONF) -> dict[str, Any]:
+    """The raw YAML entry of ``env_id`` (falling back to a ``default`` entry, as RL Zoo does)."""
+    import yaml
+
+    with open(conf_file) as f:
+        table = yaml.safe_load(f) or {}
+    if env_id in table:
+        return dict(table[env_id])
+    if "default" in table:
+        return dict(table["default"])
+    raise KeyError(f"no hyperparameters for {env_id!r} in {conf_file} (ids: {sorted(table)})")
+
+
+def _eval_kwargs(text: str) -> dict[str, Any]:
+    """``policy_kwargs`` / ``normalize`` strings, evaluated as RL Zoo does (``dict(...)``, ``nn.Tanh``)."""
+    import torch
+
+    namespace = {"__builtins__": {}, "dict": dict, "list": list, "tuple": tuple, "True": True, "False": False,
+                 "None": None, "nn": torch.nn, "th": torch, "torch": torch}
+    value = eval(text, namespace)  # noqa: S307 - same contract as RL Zoo: the YAML is trusted code
+    if not isinstance(value, dict):
+        raise ValueError(f"expected a dict, got {value!r} from {text!r}")
+    return value
+
+
+def _schedule(key: str, value: Any) -> Any:
+    """RL Zoo's ``lin_<x>`` strings into linear schedules (``x`` at the start, 0 at the end)."""
+    if isinstance(value, str):
+        kind, _, initial = value.partition("_")
+        if kind != "lin" or not initial:
+            raise ValueError(f"{key}: expected a number or 'lin_<value>', got {value!r}")
+        from stable_baselines3.common.utils import LinearSchedule
+
+        return LinearSchedule(float(initial), 0.0, 1.0)
+    return float(value) if isinstance(value, (int, float)) and not isinstance(value, bool) else value
+
+
+def split_hyperparams(raw: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
+    """``(run settings, PPO kwargs)`` from a YAML entry. Run settings: n_envs, n_timesteps, policy,
+    normalize (VecNormalize kwargs, always obs-only by default), env_kwargs."""
+    raw = dict(raw)
+    settings: dict[str, Any] = {
+        "n_envs": int(raw.pop("n_envs", 1)),
+        "n_timesteps": int(float(raw.pop("n_timesteps", 100_000))),
+        "policy": raw.pop("policy", "MlpPolicy"),
+        "env_kwargs": dict(raw.pop("env_kwargs", None) or {}),
+    }
+    normalize = raw.pop("normalize", True)
+    if isinstance(normalize, str):
+        normalize = _eval_kwargs(normalize)
+    if isinstance(normalize, dict):
+        norm = {"norm_obs": True, "norm_reward": False, **normalize}
+    else:  # a bool: observations only (the reward scale is meaningful)
+        norm = {"norm_obs": bool(normalize), "norm_reward": False}
+    if "gamma" in raw:
+        norm.setdefault("gamma", float(raw["gamma"]))
+    settings["normalize"] = norm
+    unsupported = {"frame_stack", "env_wrapper", "vec_env_wrapper", "callback", "monitor_kwargs"} & set(raw)
+    if unsupported:
+        raise ValueError(f"RL Zoo keys not supported by cof-gym train: {sorted(unsupported)}")
+    ppo: dict[str, Any] = {}
+    for key, value in raw.items():
+        if key == "policy_kwargs" and isinstance(value, str):
+            value = _eval_kwargs(value)
+        elif key in _SCHEDULED:
+            value = _schedule(key, value)
+        ppo[key] = value
+    return settings, ppo
+
+
+# ---------------------------------------------------------------------------- callbacks
+def _callbacks():
+    """Callback classes, defined lazily so that importing this module does not import SB3."""
+    from stable_baselines3.common.callbacks import BaseCallback
+
+    class EpisodeTermsCallback(BaseCallback):
+        """Logs, per finished training episode (mean over the episodes of each logging interval):
+        ``episode/reward_*`` (each term summed over the episode), ``episode/relative_error`` (scored
+        episodes only), ``episode/macro_slip_rate``, ``episode/scored_rate``, ``episode/diverged_rate``."""
+
+        def _init_callback(self) -> None:
+            self._sums = np.zeros((self.training_env.num_envs, len(REWARD_TERMS)))
+
+        def _on_step(self) -> bool:
+            infos = self.locals["infos"]
+            dones = self.locals["dones"]
+            for i, (info, done) in enumerate(zip(infos, dones)):
+                for k, term in enumerate(REWARD_TERMS):
+                    self._sums[i, k] += float(info.get(term, 0.0))
+                if not done:
+                    continue
+                for k, term in enumerate(REWARD_TERMS):
+                    self.logger.record_mean(f"episode/{term}", float(self._sums[i, k]))
+                rel = info.get("relative_error")
+                if rel is not None:
+                    self.logger.record_mean("episode/relative_error", float(rel))
+                self.logger.record_mean("episode/scored_rate", float(rel is not None))
+                self.logger.record_mean("episode/macro_slip_rate", float(bool(info.get("macro_slip", False))))
+                self.logger.record_mean("episode/diverged_rate", float(bool(info.get("diverged", False))))
+                self._sums[i] = 0.0
+            return True
+
+    class SaveVecNormalizeCallback(BaseCallback):
+        """Saves the training VecNormalize statistics (used as EvalCallback's callback_on_new_best)."""
+
+        def __init__(self, path: Path) -> None:
+            super().__init__()
+            self.path = Path(path)
+
+        def _on_step(self) -> bool:
+            vec_normalize = self.model.get_vec_normalize_env()
+            if vec_normalize is not None:
+                self.path.parent.mkdir(parents=True, exist_ok=True)
+                vec_normalize.save(str(self.path))
+            return True
+
+    return EpisodeTermsCallback, SaveVecNormalizeCallback
+
+
+# ---------------------------------------------------------------------------- run
+def _versions() -> dict[str, str]:
+    from importlib import metadata
+
+    out = {"python": platform.python_version(), "platform": platform.platform()}
+    for dist in ("cof_gym", "stable_baselines3", "torch", "gymnasium", "mujoco", "numpy", "rl_zoo3"):
+        try:
+            out[dist] = metadata.version(dist)
+        except metadata.PackageNotFoundError:
+            pass
+    if "cof_gym" not in out:
+        import cof_gym
+
+        out["cof_gym"] = cof_gym.__version__
+    try:
+        root = Path(__file__).resolve().parent.parent
+        commit = subprocess.run(["git", "rev-parse", "HEAD"], cwd=root, capture_output=True, text=True, timeout=5)
+        if commit.returncode == 0:
+            out["git_commit"] = commit.stdout.strip()
+            dirty = subprocess.run(["git", "status", "--porcelain"], cwd=root, capture_output=True, text=True, timeout=5)
+            out["git_dirty"] = str(bool(dirty.stdout.strip()))
+    except (OSError, subprocess.SubprocessError):
+        pass
+    return out
+
+
+def _jsonable(value: Any) -> Any:
+    if isinstance(value, dict):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, (str, int, float, bool)) or value is None:
+        return value
+    if isinstance(value, (np.integer, np.floating)):
+        return value.item()
+    if isinstance(value, Path):
+        return str(value)
+    return repr(value)
+
+
+def _write_meta(path: Path, meta: dict[str, Any]) -> None:
+    tmp = path.with_suffix(".json.tmp")
+    tmp.write_text(json.dumps(_jsonable(meta), indent=2) + "\n")
+    os.replace(tmp, path)
+
+
+def _make_venv(env_id: str, env_kwargs: dict[str, Any], n_envs: int, seed: int, vec: str,
+               monitor_dir: Path | None):
+    from stable_baselines3.common.env_util import make_vec_env
+    from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
+
+    from agents.ppo import make_env_fn
+
+    cls = SubprocVecEnv if vec == "subproc" else DummyVecEnv
+    return make_vec_env(make_env_fn(env_id, env_kwargs), n_envs=n_envs, seed=seed, vec_env_cls=cls,
+                        monitor_dir=str(monitor_dir) if monitor_dir is not None else None,
+                        monitor_kwargs={"info_keywords": ("relative_error", "macro_slip")})
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The options of ``cof-gym train``."""
+    parser.add_argument("--algo", choices=ALGOS, default="ppo", help="RL algorithm (default: ppo)")
+    parser.add_argument("--env", default=None,
+                        help=f"environment id (default: {DEFAULT_ENV_ID}, or the resumed run's)")
+    parser.add_argument("--out", required=True, help="output directory (model.zip, vecnormalize.pkl, tb/, ...)")
+    parser.add_argument("--timesteps", "-n", type=int, default=None,
+                        help="environment steps to train (default: n_timesteps of the YAML); with --resume, "
+                             "steps added to the loaded model's")
+    parser.add_argument("--n-envs", type=int, default=None, help="parallel environments (default: YAML n_envs)")
+    parser.add_argument("--seed", type=int, default=None,
+                        help="random seed (default: 0; with --resume: the run's seed + its timesteps)")
+    parser.add_argument("--resume", default=None, metavar="PATH",
+                        help="continue training a saved model zip (or output directory); the "
+                             "vecnormalize.pkl beside it is loaded too")
+    parser.add_argument("--vec", choices=("subproc", "dummy"), default=None,
+                        help="vector env type (default: dummy for 1 env, subproc otherwise)")
+    parser.add_argument("--conf-file", default=str(DEFAULT_CONF), help="RL Zoo hyperparameter YAML")
+    parser.add_argument("--hyperparams", "-params", nargs="+", action=StoreDict, default={}, metavar="KEY:VALUE",
+                        help="override YAML hyperparameters, e.g. n_steps:256 learning_rate:1e-4")
+    parser.add_argument("--env-kwargs", nargs="+", action=StoreDict, default={}, metavar="KEY:VALUE",
+                        help="environment constructor arguments, e.g. max_windows:10 condition:'dry'")
+    parser.add_argument("--eval-freq", type=int, default=10_000,
+                        help="evaluate every N environment steps, best model to OUT/best (<= 0: off)")
+    parser.add_argument("--eval-episodes", type=int, default=10, help="episodes per evaluation")
+    parser.add_argument("--save-freq", type=int, default=50_000,
+                        help="checkpoint every N environment steps to OUT/checkpoints (<= 0: off)")
+    parser.add_argument("--device", default="cpu", help="torch device (default: cpu; PPO+MLP is faster on CPU)")
+    parser.add_argument("--torch-threads", type=int, default=1,
+                        help="torch CPU threads of the learner (default 1: the MLP is tiny and OpenMP threads "
+                             "competing with the simulation for the cores slow it down many-fold; 0: torch's default)")
+    parser.add_argument("--progress", action=argparse.BooleanOptionalAction, default=True,
+                        help="progress bar (tqdm + rich)")
+    parser.add_argument("--verbose", "-v", type=int, default=0, help="SB3 verbosity (1: print log tables)")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="allow writing over an existing OUT/model.zip")
+
+
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Register ``train`` on a subparsers object (``set_defaults(func=run)``)."""
+    p = subparsers.add_parser("train", help="train a PPO agent (Stable-Baselines3)",
+                              description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_arguments(p)
+    p.set_defaults(func=run)
+    return p
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="cof-gym train", description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_arguments(p)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    return run(build_parser().parse_args(argv))
+
+
+def run(args: argparse.Namespace) -> int:  # noqa: C901 - one linear recipe
+    """Train; 0 on success, 2 on a usage error, 130 when interrupted (the model is saved anyway)."""
+    import cof_gym  # noqa: F401 - registers the ids in this process
+
+    from agents.ppo import META_NAME, find_train_meta, resolve_model_path, vecnormalize_path
+
+    out = Path(args.out)
+    resume_path = None
+    prev_meta: dict[str, Any] = {}
+    if args.resume:
+        try:
+            resume_path = resolve_model_path(args.resume)
+        except FileNotFoundError as e:
+            print(f"cof-gym train: --resume: {e}", file=sys.stderr)
+            return 2
+        prev_meta = find_train_meta(resume_path) or {}
+    if (out / "model.zip").exists() and not args.overwrite and \
+            (resume_path is None or resume_path.resolve() != (out / "model.zip").resolve()):
+        print(f"cof-gym train: {out / 'model.zip'} exists; use --overwrite or another --out", file=sys.stderr)
+        return 2
+
+    env_id = args.env or prev_meta.get("env_id") or DEFAULT_ENV_ID
+    try:
+        raw = load_hyperparams(env_id, args.conf_file)
+        raw.update(args.hyperparams or {})
+        settings, ppo_kwargs = split_hyperparams(raw)
+    except (KeyError, ValueError, OSError) as e:
+        print(f"cof-gym train: {e}", file=sys.stderr)
+        return 2
+    env_kwargs = {**settings["env_kwargs"], **(prev_meta.get("env_kwargs") or {}), **(args.env_kwargs or {})}
+    n_envs = args.n_envs or settings["n_envs"]
+    timesteps = args.timesteps if args.timesteps is not None else settings["n_timesteps"]
+    vec = args.vec or ("dummy" if n_envs == 1 else "subproc")
+    if n_envs < 1 or timesteps < 1:
+        print("cof-gym train: --n-envs and --timesteps must be >= 1", file=sys.stderr)
+        return 2
+
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.callbacks import CheckpointCallback, EvalCallback
+    from stable_baselines3.common.utils import set_random_seed
+    from stable_baselines3.common.vec_env import VecNormalize
+
+    EpisodeTermsCallback, SaveVecNormalizeCallback = _callbacks()
+    if args.progress:
+        import warnings
+
+        try:  # SB3's bar is tqdm.rich, which warns that it is experimental on every run
+            from tqdm import TqdmExperimentalWarning
+
+            warnings.filterwarnings("ignore", category=TqdmExperimentalWarning)
+        except ImportError:
+            pass
+    if args.torch_threads and args.torch_threads > 0:
+        import torch
+
+        torch.set_num_threads(args.torch_threads)
+
+    out.mkdir(parents=True, exist_ok=True)
+    previous_steps = 0
+    if resume_path is not None:
+        if args.seed is None:
+            previous_steps = int(PPO.load(resume_path, device=args.device).num_timesteps)
+    seed = args.seed if args.seed is not None else int(prev_meta.get("seed", 0)) + previous_steps
+    set_random_seed(seed)
+
+    meta: dict[str, Any] = {
+        "command": shlex.join(sys.argv), "argv": sys.argv, "args": {k: v for k, v in vars(args).items() if k != "func"},
+        "algo": args.algo, "env_id": env_id, "env_kwargs": env_kwargs, "seed": seed, "n_envs": n_envs, "vec": vec,
+        "timesteps_requested": timesteps, "conf_file": str(args.conf_file),
+        # a resumed model keeps its own hyperparameters; only --hyperparams overrides apply
+        "hyperparams": raw if resume_path is None else {**(prev_meta.get("hyperparams") or {}), **(args.hyperparams or {})},
+        "resumed_from": str(resume_path) if resume_path else None, "status": "running",
+        "started": datetime.now(timezone.utc).isoformat(timespec="seconds"), "versions": _versions(),
+    }
+    meta_path = out / META_NAME
+    _write_meta(meta_path, meta)
+
+    train_env = _make_venv(env_id, env_kwargs, n_envs, seed, vec, out / "monitor")
+    eval_env = None
+    try:
+        if resume_path is not None:
+            stats = vecnormalize_path(resume_path)
+            if stats.is_file():
+                train_env = VecNormalize.load(str(stats), train_env)
+                train_env.training = True
+                train_env.norm_reward = settings["normalize"]["norm_reward"]
+            else:
+                print(f"cof-gym train: warning: no {stats.name} beside {resume_path}; fresh statistics",
+                      file=sys.stderr)
+                train_env = VecNormalize(train_env, **settings["normalize"])
+            overrides = split_hyperparams({**(args.hyperparams or {})})[1]
+            model = PPO.load(resume_path, env=train_env, device=args.device, tensorboard_log=str(out / "tb"),
+                             verbose=args.verbose, **overrides)
+            model.set_random_seed(seed)
+        else:
+            train_env = VecNormalize(train_env, **settings["normalize"])
+            model = PPO(settings["policy"], train_env, seed=seed, tensorboard_log=str(out / "tb"),
+                        verbose=args.verbose, device=args.device, **ppo_kwargs)
+        start_steps = int(model.num_timesteps)
+
+        callbacks: list = [EpisodeTermsCallback()]
+        if args.save_freq and args.save_freq > 0:
+            callbacks.append(CheckpointCallback(save_freq=max(args.save_freq // n_envs, 1),
+                                                save_path=str(out / "checkpoints"), name_prefix="ppo",
+                                                save_vecnormalize=True))
+        if args.eval_freq and args.eval_freq > 0:
+            eval_env = VecNormalize(_make_venv(env_id, env_kwargs, 1, seed + 10_000, "dummy", None),
+                                    training=False, norm_obs=settings["normalize"]["norm_obs"], norm_reward=False)
+            callbacks.append(EvalCallback(
+                eval_env, n_eval_episodes=args.eval_episodes, eval_freq=max(args.eval_freq // n_envs, 1),
+                best_model_save_path=str(out / "best"), log_path=str(out / "eval"), deterministic=True,
+                callback_on_new_best=SaveVecNormalizeCallback(out / "best" / "vecnormalize.pkl"), verbose=args.verbose))
+
+        status, code = "finished", 0
+        t0 = time.perf_counter()
+        try:
+            model.learn(total_timesteps=timesteps, callback=callbacks, tb_log_name="PPO",
+                        reset_num_timesteps=resume_path is None, progress_bar=args.progress)
+        except KeyboardInterrupt:
+            status, code = "interrupted", 130
+            print("cof-gym train: interrupted, saving the model", file=sys.stderr)
+        wall = time.perf_counter() - t0
+
+        model.save(out / "model.zip")
+        vec_normalize = model.get_vec_normalize_env()
+        vec_normalize.save(str(out / "vecnormalize.pkl"))
+        steps = int(model.num_timesteps) - start_steps
+        meta.update({
+            "status": status, "finished": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+            "wall_time_s": round(wall, 3), "timesteps_trained": steps, "num_timesteps": int(model.num_timesteps),
+            "steps_per_s": round(steps / wall, 2) if wall > 0 else None,
+            "tensorboard_dir": model.logger.get_dir() if model.logger is not None else None,
+        })
+        _write_meta(meta_path, meta)
+        print(f"{status}: {steps} steps ({model.num_timesteps} total) in {wall:.1f} s "
+              f"({meta['steps_per_s']} steps/s); model {out / 'model.zip'}, statistics {out / 'vecnormalize.pkl'}")
+        return code
+    finally:
+        for venv in (train_env, eval_env):
+            if venv is None:
+                continue
+            try:
+                venv.close()
+            except (EOFError, BrokenPipeError, ConnectionResetError, OSError):
+                pass  # subprocess workers already gone (e.g. after Ctrl-C)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,128 @@
+"""``cof-gym train`` (agents/train.py) and the trained-policy agent (agents/ppo.py): a short PPO run
+writes the model, its VecNormalize statistics and TensorBoard logs; the agent acts on a real
+observation; a resumed run continues the step counter."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("stable_baselines3")
+pytest.importorskip("yaml")
+
+import gymnasium as gym  # noqa: E402
+
+import cof_gym  # noqa: E402,F401
+from agents.base import Agent  # noqa: E402
+from agents.ppo import PPOAgent, vecnormalize_path  # noqa: E402
+from agents.train import build_parser, load_hyperparams, run, split_hyperparams  # noqa: E402
+
+ENV_ID = "CofGym/HalfWheelset-v0"
+SHORT = ["--env-kwargs", "max_windows:5", "--hyperparams", "n_steps:128", "batch_size:64", "n_epochs:2"]
+
+
+def _train(*argv: str) -> int:
+    return run(build_parser().parse_args(list(argv)))
+
+
+@pytest.fixture(scope="module")
+def trained(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("ppo") / "run"
+    rc = _train("--env", ENV_ID, "--timesteps", "256", "--n-envs", "1", "--seed", "3", *SHORT,
+                "--eval-freq", "128", "--eval-episodes", "2", "--save-freq", "128", "--out", str(out))
+    assert rc == 0
+    return out
+
+
+def test_yaml_has_every_env_id_in_rl_zoo_form():
+    for env_id in cof_gym.ENV_IDS:
+        raw = load_hyperparams(env_id)
+        for key in ("n_envs", "n_timesteps", "policy", "normalize", "n_steps", "batch_size", "gamma",
+                    "learning_rate", "ent_coef", "policy_kwargs"):
+            assert key in raw, (env_id, key)
+        assert isinstance(raw["normalize"], str) and isinstance(raw["policy_kwargs"], str)
+        settings, ppo = split_hyperparams(raw)
+        assert settings["normalize"]["norm_obs"] is True and settings["normalize"]["norm_reward"] is False
+        assert ppo["policy_kwargs"]["net_arch"]["pi"] == [64, 64]
+        assert (ppo["n_steps"] * settings["n_envs"]) % ppo["batch_size"] == 0
+
+
+def test_train_writes_model_statistics_logs_and_meta(trained: Path):
+    assert (trained / "model.zip").is_file()
+    assert (trained / "vecnormalize.pkl").is_file()
+    events = list((trained / "tb").glob("PPO_*/events.out.tfevents.*"))
+    assert events, "no TensorBoard event file"
+    assert (trained / "checkpoints" / "ppo_128_steps.zip").is_file()
+    assert (trained / "checkpoints" / "ppo_vecnormalize_128_steps.pkl").is_file()
+    assert (trained / "best" / "best_model.zip").is_file() and (trained / "best" / "vecnormalize.pkl").is_file()
+    meta = json.loads((trained / "train_meta.json").read_text())
+    assert meta["status"] == "finished" and meta["num_timesteps"] == 256 and meta["seed"] == 3
+    assert meta["env_id"] == ENV_ID and meta["env_kwargs"] == {"max_windows": 5} and meta["vec"] == "dummy"
+    assert meta["wall_time_s"] > 0 and "stable_baselines3" in meta["versions"]
+
+
+def test_tensorboard_has_episode_terms(trained: Path):
+    ea_mod = pytest.importorskip("tensorboard.backend.event_processing.event_accumulator")
+    run_dir = next((trained / "tb").glob("PPO_*"))
+    acc = ea_mod.EventAccumulator(str(run_dir))
+    acc.Reload()
+    tags = set(acc.Tags()["scalars"])
+    for tag in ("episode/reward_error", "episode/reward_slip", "episode/reward_comfort", "episode/reward_time",
+                "episode/macro_slip_rate", "rollout/ep_rew_mean", "eval/mean_reward"):
+        assert tag in tags, tag
+    for event in acc.Scalars("episode/macro_slip_rate"):
+        assert 0.0 <= event.value <= 1.0
+
+
+def test_ppo_agent_acts_on_a_real_observation(trained: Path):
+    agent = PPOAgent.load(trained, env_id=ENV_ID)
+    assert isinstance(agent, Agent) and agent.name == "ppo" and agent.oracle is False
+    assert agent.vec_normalize is not None
+    assert agent.vec_normalize.training is False and agent.vec_normalize.norm_reward is False
+    assert agent.vec_normalize.obs_rms.count > 100  # the training statistics, not fresh ones
+    env = gym.make(ENV_ID, max_windows=5)
+    obs, info = env.reset(seed=11)
+    agent.reset(obs, info)
+    action = agent.act(obs, info)
+    assert action.dtype == np.float32 and action.shape == (5,)
+    assert env.action_space.contains(action)
+    np.testing.assert_array_equal(action, agent.act(obs, info))  # deterministic
+    obs, reward, terminated, truncated, info = env.step(action)
+    assert np.isfinite(reward)
+    env.close()
+    agent.close()
+
+
+def test_ppo_agent_loads_checkpoints_and_best(trained: Path):
+    ckpt = trained / "checkpoints" / "ppo_128_steps.zip"
+    assert vecnormalize_path(ckpt).name == "ppo_vecnormalize_128_steps.pkl"
+    for path in (ckpt, trained / "best", trained / "model.zip"):
+        agent = PPOAgent.load(path)  # env id from train_meta.json
+        assert agent.env_id == ENV_ID
+        obs = np.zeros(12, dtype=np.float32)
+        assert agent.act(obs, {}).shape == (5,)
+        agent.close()
+
+
+def test_resume_continues_the_step_counter(trained: Path, tmp_path: Path):
+    from stable_baselines3 import PPO
+
+    out = tmp_path / "resumed"
+    rc = _train("--resume", str(trained / "model.zip"), "--timesteps", "256", "--n-envs", "2", "--vec", "subproc",
+                "--eval-freq", "0", "--save-freq", "0", "--no-progress", "--out", str(out))
+    assert rc == 0
+    model = PPO.load(out / "model.zip", device="cpu")
+    assert model.num_timesteps == 512
+    meta = json.loads((out / "train_meta.json").read_text())
+    assert meta["resumed_from"].endswith("model.zip") and meta["timesteps_trained"] == 256
+    assert meta["env_id"] == ENV_ID and meta["env_kwargs"] == {"max_windows": 5}  # from the resumed run
+    assert meta["vec"] == "subproc" and meta["n_envs"] == 2
+    assert (out / "vecnormalize.pkl").is_file()
+    assert list((out / "tb").glob("PPO_*/events.out.tfevents.*"))
+
+
+def test_refuses_to_overwrite_a_model(trained: Path):
+    assert _train("--env", ENV_ID, "--timesteps", "8", "--out", str(trained)) == 2
