@@ -94,13 +94,14 @@ def run_episode(env: gym.Env, agent: Agent, seed: int, options: dict, episode: i
         if terminated or truncated:
             break
     gt = info["ground_truth"]
-    scored = info.get("relative_error") is not None
-    err = float(info["relative_error"]) if scored else 1.0
+    macro_slip = bool(info.get("macro_slip", False))
+    scored = not macro_slip and info.get("relative_error") is not None
+    err = float(info["relative_error"]) if info.get("relative_error") is not None else 1.0
     return EpisodeRecord(
         agent=agent.name, oracle=agent.oracle, episode=episode, seed=seed, cof=gt["cof"], condition=gt["condition"],
         speed_m_s=gt["speed_m_s"], load_case=gt["load_case"], noise_level=gt["noise_level"],
         motor_lag_s=gt["motor_lag_s"], estimate=info["cof_estimate"], relative_error=err, scored=scored,
-        macro_slip=bool(info.get("macro_slip", False)), slip_energy_j=slip_e, friction_energy_j=fric_e,
+        macro_slip=macro_slip, slip_energy_j=slip_e, friction_energy_j=fric_e,
         wd_rms_m_s2=math.sqrt(wd2 / steps), measurement_time_s=info["elapsed_s"], peak_torque_fraction=peak,
         episode_return=total, steps=steps,
     )

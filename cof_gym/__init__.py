@@ -30,7 +30,7 @@ def _register() -> None:
             entry_point="cof_gym.envs.torque_interrogation:TorqueInterrogationEnv",
             vector_entry_point="cof_gym.envs.vector:TorqueInterrogationVectorEnv",
             max_episode_steps=DEFAULT_MAX_WINDOWS,
-            kwargs={"vehicle": vehicle, "max_windows": DEFAULT_MAX_WINDOWS},
+            kwargs={"vehicle": vehicle},
         )
 
 

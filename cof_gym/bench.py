@@ -1,12 +1,16 @@
 """``cof-gym bench``: simulation speed of the wagon with and without the native callback, measured in
-the same run (ratios are what to compare across machines)."""
+the same run (ratios are what to compare across machines), and agent steps per second of the
+environment: one env (``gym.make``) and the batched vector env (``gym.make_vec``, 8 simulations on 1
+and 2 threads)."""
 
 from __future__ import annotations
 
+import os
 import time
 from dataclasses import dataclass
 
 import mujoco
+import numpy as np
 
 from cof_gym.physics.creep import OperatingConditions
 from cof_gym.physics.models import build_wagon
@@ -66,6 +70,93 @@ def bench_physics(seconds: float = 5.0, repeats: int = 5) -> PhysicsBench:
     return PhysicsBench(steps, sim.timestep, native_best, bare_best)
 
 
+ENV_ID = "CofGym/TorqueInterrogation-v0"
+# a fixed scenario, a long horizon and a DC torque kept below saturation: no episode ends in the timing
+BENCH_SCENARIO = dict(cof=0.4, condition="dry", speed_m_s=20.0, load_case="laden", noise_level=0.5,
+                      motor_lag_s=0.01)
+BENCH_HORIZON = 10_000
+VECTOR_SIMS = 8
+
+
+@dataclass(frozen=True)
+class AgentBench:
+    single_steps_per_s: float
+    vector_steps_per_s: dict[int, float]  # threads -> agent steps/s (all sub-envs)
+    num_envs: int
+    load_average: float  # 1-min load average when the timing started (other processes share the cores)
+
+    @property
+    def thread_ratio(self) -> float:
+        """2-thread / 1-thread agent steps per second of the vector env."""
+        return self.vector_steps_per_s[2] / self.vector_steps_per_s[1]
+
+
+def _bench_actions(space) -> np.ndarray:
+    """Random actions, stop forced off and the DC torque held in its lowest quarter (no macro-slip)."""
+    a = space.sample()
+    a[..., 0] = -1.0 + 0.25 * (a[..., 0] + 1.0)
+    a[..., 4] = -1.0
+    return a
+
+
+def _make_single():
+    import gymnasium as gym
+
+    import cof_gym  # noqa: F401  (registers the ids)
+
+    env = gym.make(ENV_ID, max_windows=BENCH_HORIZON, max_episode_steps=BENCH_HORIZON, **BENCH_SCENARIO)
+    env.reset(seed=0)
+    env.action_space.seed(0)
+    return env
+
+
+def _make_vector(num_envs: int, num_threads: int):
+    import gymnasium as gym
+
+    import cof_gym  # noqa: F401
+
+    env = gym.make_vec(ENV_ID, num_envs=num_envs, vectorization_mode="vector_entry_point", num_threads=num_threads,
+                       max_windows=BENCH_HORIZON, max_episode_steps=BENCH_HORIZON, **BENCH_SCENARIO)
+    env.reset(seed=0)
+    env.action_space.seed(0)
+    return env
+
+
+def _rate(env, steps: int, per_step: int) -> float:
+    """Agent steps per second over ``steps`` calls of ``env.step`` (``per_step`` agent steps each)."""
+    actions = [_bench_actions(env.action_space) for _ in range(steps)]
+    t0 = time.perf_counter()
+    for a in actions:
+        _, _, terminated, truncated, _ = env.step(a)
+        if np.any(terminated) or np.any(truncated):
+            raise RuntimeError("an episode ended during the agent-step timing; the bench scenario must not end")
+    return steps * per_step / (time.perf_counter() - t0)
+
+
+def bench_agent(seconds: float = 5.0, num_envs: int = VECTOR_SIMS, repeats: int = 3) -> AgentBench:
+    """Agent steps (windows) per second: one env; the vector env with ``num_envs`` simulations on 1 and
+    2 threads. Each is timed ``repeats`` times, interleaved (so that a passing load hits all alike),
+    for about ``seconds`` / 2 wall seconds in total per configuration; the best is kept."""
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    single = _make_single()
+    vectors = {n: _make_vector(num_envs, n) for n in (1, 2)}
+    # warm-up, and a rough rate to size the timed runs
+    rough_single = _rate(single, 3, 1)
+    rough_vector = _rate(vectors[1], 2, num_envs)
+    budget = max(seconds, 1.0) / 2.0 / repeats
+    single_steps = max(5, int(budget * rough_single))
+    vector_steps = max(3, int(budget * rough_vector / num_envs))
+    best_single, best_vector = 0.0, {1: 0.0, 2: 0.0}
+    for _ in range(repeats):
+        best_single = max(best_single, _rate(single, single_steps, 1))
+        for n, env in vectors.items():
+            best_vector[n] = max(best_vector[n], _rate(env, vector_steps, num_envs))
+    single.close()
+    for env in vectors.values():
+        env.close()
+    return AgentBench(best_single, best_vector, num_envs, load)
+
+
 def main(seconds: float = 5.0) -> None:
     from rich.console import Console
     from rich.table import Table
@@ -78,4 +169,51 @@ def main(seconds: float = 5.0) -> None:
     table.add_row("wagon physics steps/s, bare mj_step (no callback)", f"{pb.bare_steps_per_s:,.0f}")
     table.add_row("simulated s per wall s (dt = %.4g s)" % pb.timestep_s, f"{pb.realtime_factor:,.0f}")
     table.add_row("ratio native / bare (target >= 0.8)", f"{pb.ratio:.3f}")
+    ab = bench_agent(seconds)
+    table.add_section()
+    table.add_row("agent steps/s, one env (gym.make, 1 s windows)", f"{ab.single_steps_per_s:,.1f}")
+    for n, rate in ab.vector_steps_per_s.items():
+        table.add_row(f"agent steps/s, vector env ({ab.num_envs} sims, {n} thread{'s' if n > 1 else ''})",
+                      f"{rate:,.1f}")
+    table.add_row("ratio vector 2 threads / 1 thread (target >= 1.7)", f"{ab.thread_ratio:.2f}")
+    table.add_row("CPUs / 1-min load average at start", f"{os.cpu_count()} / {ab.load_average:.2f}")
     Console().print(table)
+
+
+def bench_sb3(n_envs: int = 2, seconds: float = 5.0, backends: tuple[str, ...] = ("batch", "subproc", "dummy"),
+              repeats: int = 3) -> dict[str, float]:
+    """Agent steps per second of the SB3 VecEnvs of :func:`cof_gym.envs.sb3.make_sb3_vec_env` (random
+    actions as in :func:`bench_agent`, same fixed scenario), ``repeats`` interleaved timings of about
+    ``seconds`` / ``repeats`` wall seconds per backend; the best of each. Not part of :func:`main`
+    (starting subprocesses takes a while). The "subproc" backend starts workers with forkserver/spawn:
+    call this from a script under ``if __name__ == "__main__":``."""
+    from cof_gym.envs.sb3 import make_sb3_vec_env
+
+    envs = {b: make_sb3_vec_env(ENV_ID, n_envs=n_envs, seed=0, backend=b, max_windows=BENCH_HORIZON,
+                                max_episode_steps=BENCH_HORIZON, **BENCH_SCENARIO) for b in backends}
+    rng = np.random.default_rng(0)
+    space = next(iter(envs.values())).action_space
+
+    def actions() -> np.ndarray:
+        a = rng.uniform(-1.0, 1.0, (n_envs, *space.shape)).astype(np.float32)
+        a[:, 0] = -1.0 + 0.25 * (a[:, 0] + 1.0)
+        a[:, 4] = -1.0
+        return a
+
+    def rate(env, steps: int) -> float:
+        batch = [actions() for _ in range(steps)]
+        t0 = time.perf_counter()
+        for a in batch:
+            env.step(a)
+        return steps * n_envs / (time.perf_counter() - t0)
+
+    for env in envs.values():
+        env.reset()
+    rough = {b: rate(env, 3) for b, env in envs.items()}
+    best = {b: 0.0 for b in envs}
+    for _ in range(repeats):
+        for b, env in envs.items():
+            best[b] = max(best[b], rate(env, max(5, int(seconds / repeats * rough[b] / n_envs))))
+    for env in envs.values():
+        env.close()
+    return best

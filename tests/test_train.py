@@ -8,6 +8,8 @@ import json
 from pathlib import Path
 
 import numpy as np
+
+from cof_gym.envs.spaces import OBSERVATION_NAMES
 import pytest
 
 pytest.importorskip("stable_baselines3")
@@ -102,7 +104,7 @@ def test_ppo_agent_loads_checkpoints_and_best(trained: Path):
     for path in (ckpt, trained / "best", trained / "model.zip"):
         agent = PPOAgent.load(path)  # env id from train_meta.json
         assert agent.env_id == ENV_ID
-        obs = np.zeros(12, dtype=np.float32)
+        obs = np.zeros(len(OBSERVATION_NAMES), dtype=np.float32)
         assert agent.act(obs, {}).shape == (5,)
         agent.close()
 

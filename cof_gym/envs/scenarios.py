@@ -93,5 +93,9 @@ def draw_scenario(rng: np.random.Generator, ranges: ScenarioRanges, fixed: dict)
         raise ValueError(f"load_case must be one of {list(LOAD_CASES)}, got {sc.load_case!r}")
     if not (math.isfinite(sc.noise_level) and sc.noise_level >= 0):
         raise ValueError(f"noise_level must be >= 0, got {sc.noise_level!r}")
+    if not (math.isfinite(sc.motor_lag_s) and 0.0 <= sc.motor_lag_s <= 1.0):
+        raise ValueError(f"motor_lag_s must be in [0, 1] s, got {sc.motor_lag_s!r}")
+    if sc.load_case not in ranges.load_cases:
+        raise ValueError(f"load_case must be one of {list(ranges.load_cases)} for this vehicle, got {sc.load_case!r}")
     OperatingConditions(cof=sc.cof, condition=sc.condition, speed_m_s=sc.speed_m_s)  # validates
     return sc

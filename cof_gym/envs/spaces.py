@@ -13,7 +13,7 @@ from cof_gym.physics.simulation import DriveCommand, WindowMeasurement
 ACTION_NAMES = ("dc_torque", "amplitude", "frequency", "cof_estimate", "stop")
 OBSERVATION_NAMES = (
     "phase_lag", "phase_lag_se", "compliance", "coa_measured", "dc_torque", "amplitude", "frequency",
-    "speed", "wd_rms", "jerk_rms", "normal_load", "elapsed",
+    "speed", "wd_rms", "jerk_rms", "normal_load", "elapsed", "cof_estimate",
 )
 
 
@@ -97,7 +97,8 @@ def encode_action(dc_torque_nm: float, amplitude_nm: float, frequency_hz: float,
 
 
 def encode_observation(m: WindowMeasurement, drive: DriveCommand, limits: MotorLimits, spin_inertia: float,
-                       nominal_contact_load_n: float, elapsed_s: float, horizon_s: float) -> np.ndarray:
+                       nominal_contact_load_n: float, elapsed_s: float, horizon_s: float,
+                       cof_estimate: float) -> np.ndarray:
     """Only what a train measures, scaled to O(1). ``compliance`` is the speed/torque amplitude ratio
     times Iw*wm: 1 for a free wheel, ~0 when the creep force holds the wheel (far from the peak)."""
     wm = 2 * math.pi * drive.frequency_hz
@@ -114,5 +115,6 @@ def encode_observation(m: WindowMeasurement, drive: DriveCommand, limits: MotorL
         m.jerk_rms_m_s3 / 10.0,
         m.normal_load_n / nominal_contact_load_n,
         elapsed_s / horizon_s,
+        cof_estimate / limits.max_cof_estimate,
     ], dtype=np.float64)
     return np.nan_to_num(np.clip(obs, -OBS_BOUND, OBS_BOUND), nan=0.0).astype(np.float32)

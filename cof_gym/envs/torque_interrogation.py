@@ -5,7 +5,7 @@ from __future__ import annotations
 import importlib
 import os
 import sys
-from dataclasses import asdict, replace
+from dataclasses import asdict, fields, replace
 from functools import lru_cache
 from typing import Any
 
@@ -21,10 +21,12 @@ from cof_gym.envs.spaces import (
 )
 from cof_gym.physics.creep import OperatingConditions, creep_peak
 from cof_gym.physics.models import DEFAULT_TIMESTEP_S, BuiltModel, build_half_wheelset, build_wagon
-from cof_gym.physics.simulation import DriveCommand, Scenario, Simulation, WindowMeasurement
+from cof_gym.physics.simulation import DriveCommand, SimulationDiverged, Scenario, Simulation, WindowMeasurement
 from cof_gym.physics.vehicle import LADEN_WHEEL_LOAD_N, HalfWheelsetParameters, wagon_parameters
 
 VEHICLES = ("wagon", "half_wheelset")
+DEFAULT_MAX_WINDOWS = 30
+SHAPING_GAMMA = 0.95  # discount the shaping potential assumes (agents/hyperparams/ppo.yml's gamma)
 MAX_DC_TORQUE_PER_LADEN_SATURATION = 0.7 / 0.6  # the drive reaches saturation up to CoF ~0.7
 
 
@@ -43,7 +45,7 @@ def built_model(vehicle: str, load_case: str, timestep: float, counter_torque: b
 
 def window_diverged(m: WindowMeasurement, bad_qacc: bool, state_finite: bool) -> bool:
     """Whether a window diverged: a bad-acceleration warning, a non-finite state or measurement."""
-    values = np.array([v for v in asdict(m).values()], dtype=np.float64)
+    values = np.array([getattr(m, f.name) for f in fields(m)], dtype=np.float64)
     return bool(bad_qacc or not state_finite or not np.isfinite(values).all())
 
 
@@ -72,7 +74,7 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     continuous across windows.
 
     ## Observation Space
-    ``Box(-1000, 1000, (12,), float32)``, from the last window only, never the ground truth:
+    ``Box(-1000, 1000, (13,), float32)``, from the last window only, never the ground truth:
 
     | Num | Observation    | Meaning                                                         |
     |-----|----------------|-----------------------------------------------------------------|
@@ -88,6 +90,7 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | 9   | jerk_rms       | RMS car-body jerk / 10 m/s^3                                    |
     | 10  | normal_load    | measured normal load / nominal                                  |
     | 11  | elapsed        | elapsed time / horizon                                          |
+    | 12  | cof_estimate   | the agent's last reported estimate / 0.8                        |
 
     ## Rewards
     ``reward = reward_error + reward_slip + reward_comfort + reward_time`` (see
@@ -96,7 +99,9 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     ``-w_comfort`` x (Wd RMS acceleration + 0.1 RMS jerk), ``-w_time`` x window length. Every term
     is in ``info``; ``info["cost"]`` holds the unweighted constraint costs (slip, discomfort) and
     ``info["ground_truth"]`` the true CoF, condition, creepage and saturation torque, for evaluation
-    only.
+    only. With ``shaping=True`` a potential-based term ``reward_shaping = 0.95 Phi' - Phi``,
+    ``Phi = -w_error x`` (relative error of the current estimate), ``Phi = 0`` at the end, gives the
+    estimate a dense signal for training (Ng et al. 1999: the optimal policy is unchanged).
 
     ## Starting State
     CoF, condition, speed, load case, sensor-noise level and motor lag are drawn from ``np_random``
@@ -110,8 +115,9 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     - terminated: the agent requests stop (its estimate is scored); macro-slip (max creepage beyond
       ``macro_slip_creepage``: penalised, estimate scored as ``error_cap``); a diverging simulation
       (``info["diverged"] = True``, penalised like macro-slip).
-    - truncated: after ``max_windows`` windows (the last reported estimate is scored). Registered ids set
-      ``max_episode_steps`` to the same value.
+    - truncated: after ``max_windows`` windows (default 30; the last reported estimate is scored).
+      The registered ids set ``max_episode_steps`` to 30: with ``max_windows`` above 30 also pass
+      ``max_episode_steps`` to ``gym.make``, or the TimeLimit cuts the episode before the env scores it.
 
     ## Arguments
     | Argument | Default | Description |
@@ -120,14 +126,16 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | window_s | 1.0 | simulated time per step, s |
     | settle_fraction | 0.4 | part of the window not measured (transient after a change) |
     | ramp_fraction | 0.3 | part of the window over which the DC torque is ramped |
-    | max_windows | 30 | horizon in steps |
+    | max_windows | 30 | horizon in steps (None: 30) |
     | macro_slip_creepage | 0.15 | creepage that counts as macro-slip |
     | counter_torque | False | the paper's equal-and-opposite torque on the bogie's other wheelset |
     | timestep | 0.001 | physics step, s |
     | ranges | ScenarioRanges() | per-episode draw ranges |
     | w_error, w_slip, w_comfort, w_time, macro_slip_penalty | 10, 1, 1, 0.02, 5 | reward weights |
     | cof, condition, speed_m_s, load_case, noise_level, motor_lag_s | None | fix a scenario field |
+    | shaping | False | add the potential-based shaping term (training) |
     | render_mode | None | "rgb_array" or "human" |
+    | width, height | 480, 240 | rgb_array frame size, pixels |
 
     ## Version History
     - v0: initial release (MuJoCo 4.0.0).
@@ -136,14 +144,15 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 1}
 
     def __init__(self, vehicle: str = "wagon", window_s: float = 1.0, settle_fraction: float = 0.4,
-                 ramp_fraction: float = 0.3, max_windows: int = 30, macro_slip_creepage: float = 0.15,
+                 ramp_fraction: float = 0.3, max_windows: int | None = None, macro_slip_creepage: float = 0.15,
                  counter_torque: bool = False, timestep: float = DEFAULT_TIMESTEP_S,
                  ranges: ScenarioRanges | None = None, w_error: float = 10.0, w_slip: float = 1.0,
                  w_comfort: float = 1.0, w_time: float = 0.02, macro_slip_penalty: float = 5.0,
-                 render_mode: str | None = None, width: int = 480, height: int = 240, **fixed: Any) -> None:
+                 shaping: bool = False, render_mode: str | None = None, width: int = 480, height: int = 240,
+                 **fixed: Any) -> None:
         EzPickle.__init__(self, vehicle, window_s, settle_fraction, ramp_fraction, max_windows, macro_slip_creepage,
                           counter_torque, timestep, ranges, w_error, w_slip, w_comfort, w_time, macro_slip_penalty,
-                          render_mode, width, height, **fixed)
+                          shaping, render_mode, width, height, **fixed)
         if vehicle not in VEHICLES:
             raise ValueError(f"vehicle must be one of {list(VEHICLES)}, got {vehicle!r}")
         if not (isinstance(window_s, (int, float)) and 0.2 <= window_s <= 10.0):
@@ -152,8 +161,11 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
             raise ValueError(f"settle_fraction must be in [0, 0.9), got {settle_fraction!r}")
         if not (0.0 <= ramp_fraction <= settle_fraction or ramp_fraction == 0.0):
             raise ValueError(f"ramp_fraction must be in [0, settle_fraction={settle_fraction}], got {ramp_fraction!r}")
-        if not (isinstance(max_windows, int) and 1 <= max_windows <= 10_000):
-            raise ValueError(f"max_windows must be an int in [1, 10000], got {max_windows!r}")
+        if max_windows is not None and not (type(max_windows) is int and 1 <= max_windows <= 10_000):
+            raise ValueError(f"max_windows must be None or an int in [1, 10000], got {max_windows!r}")
+        for name, value in (("width", width), ("height", height)):
+            if not (type(value) is int and 16 <= value <= 4096):
+                raise ValueError(f"{name} must be an int in [16, 4096] pixels, got {value!r}")
         if not (0.0 < macro_slip_creepage <= 1.0):
             raise ValueError(f"macro_slip_creepage must be in (0, 1], got {macro_slip_creepage!r}")
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
@@ -165,7 +177,8 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
         self.window_s = float(window_s)
         self.settle_s = settle_fraction * self.window_s
         self.ramp_s = ramp_fraction * self.window_s
-        self.max_windows = max_windows
+        self.max_windows = DEFAULT_MAX_WINDOWS if max_windows is None else max_windows
+        self.shaping = bool(shaping)
         self.macro_slip_creepage = macro_slip_creepage
         self.counter_torque = bool(counter_torque)
         self.timestep = float(timestep)
@@ -222,6 +235,7 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
         self._elapsed = 0.0
         self._windows = 0
         self._estimate = 0.0
+        self._potential = self._shaping_potential()
         self._drive = DriveCommand(0.0, 100.0, 5.0)
         return physics
 
@@ -233,7 +247,11 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
 
     def _observe(self, m: WindowMeasurement) -> np.ndarray:
         return encode_observation(m, self._drive, self.limits, self._built.drive_spin_inertia_kg_m2,
-                                  self._contact_load, self._elapsed, self.max_windows * self.window_s)
+                                  self._contact_load, self._elapsed, self.max_windows * self.window_s, self._estimate)
+
+    def _shaping_potential(self) -> float:
+        """Phi = -w_error x relative error of the current estimate (potential-based shaping)."""
+        return -self.weights.w_error * relative_error(self._estimate, self.scenario.cof, self.weights.error_cap)
 
     def _info(self, m: WindowMeasurement, terms: dict, diverged: bool) -> dict:
         info = dict(terms)
@@ -253,8 +271,12 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
         if self._sim is None:
             raise RuntimeError("call reset() before step()")
         decoded = self._command(action)
-        m = self._sim.run_window(self._drive, self.window_s, self.settle_s, self.ramp_s)
-        out = self._finish_step(m, decoded, self._diverged(m))
+        try:
+            m = self._sim.run_window(self._drive, self.window_s, self.settle_s, self.ramp_s)
+            diverged = self._diverged(m)
+        except SimulationDiverged:
+            m, diverged = self._last, True
+        out = self._finish_step(m, decoded, diverged)
         if self.render_mode == "human":
             self.render()
         return out
@@ -280,11 +302,16 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
         scored = relative_error(self._estimate, self.scenario.cof, self.weights.error_cap) \
             if (decoded.stop or truncated) and not macro_slip else None
         terms = reward_terms(self.weights, m, self._contact_load, self.scenario.speed_m_s, self.window_s, scored, macro_slip)
+        if self.shaping:
+            ended = terminated or truncated
+            potential = 0.0 if ended else self._shaping_potential()
+            terms["reward_shaping"] = SHAPING_GAMMA * potential - self._potential
+            self._potential = potential
         reward = float(sum(terms.values()))
         info = self._info(m, {**terms, "slip_cost": slip_cost(m, self._contact_load, self.scenario.speed_m_s, self.window_s),
                               "discomfort": discomfort(m)}, diverged)
         info["macro_slip"] = bool(macro_slip)
-        info["relative_error"] = scored
+        info["relative_error"] = self.weights.error_cap if macro_slip else scored
         obs = self._observe(m)
         return obs, reward, terminated, bool(truncated), info
 
@@ -301,8 +328,7 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
         if self.render_mode == "rgb_array":
             if self._renderer is None or self._renderer.model is not model:
                 self._renderer = mujoco.Renderer(model, self.height, self.width)
-            camera = "side" if self.vehicle == "wagon" else -1
-            self._renderer.update_scene(data, camera=camera)
+            self._renderer.update_scene(data, camera="side")
             return self._renderer.render()
         if not display_available():
             if not self._warned_display:

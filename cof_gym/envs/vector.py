@@ -82,6 +82,8 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
         self.num_threads = int(num_threads)
         self.max_episode_steps = None if max_episode_steps is None else int(max_episode_steps)
         self.render_mode = None
+        if self.max_episode_steps is not None and kwargs.get("max_windows") is None:
+            kwargs = {**kwargs, "max_windows": self.max_episode_steps}  # the horizon a TimeLimit'd env would have
         self.envs = [TorqueInterrogationEnv(**kwargs) for _ in range(num_envs)]
         first = self.envs[0]
         self.metadata = {**type(self).metadata, "render_fps": first.metadata["render_fps"]}
@@ -122,10 +124,12 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
         for i in actions:
             if not self._started[i]:
                 raise RuntimeError(f"sub-env {i}: call reset() before step()")
-        checked = {i: check_action(a) for i, a in actions.items()}  # raises before any state changes
+        checked = {int(i): check_action(a) for i, a in actions.items()}  # raises before any state changes
+        resets = {int(i): r for i, r in resets.items()}
         reset_ids = sorted(resets)
 
         # resets: the env draws its scenario; its simulation row is reset to that episode's model
+        self._started[reset_ids] = False  # until its row is reset (a draw may raise on bad options)
         physics = {i: self.envs[i]._begin_episode(*resets[i]) for i in reset_ids}
         changed = False
         for i in reset_ids:
@@ -192,7 +196,8 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
             return [int(seed) + i for i in range(n)]
         seeds = list(seed)
         if len(seeds) != n:
-            raise ValueError(f"If seeds are passed as a list the length must match num_envs={n} but got length={len(seeds)}.")
+            raise ValueError(f"If seeds are passed as a list the length must match num_envs={n} "
+                             f"but got length={len(seeds)}.")
         return seeds
 
     # ------------------------------------------------------------------ gymnasium API

@@ -114,6 +114,8 @@ def build_half_wheelset(params: HalfWheelsetParameters = HalfWheelsetParameters(
     box = spec.worldbody.add_body(name="axlebox", pos=[0, 0, r], ipos=[0, 0, 0], explicitinertial=True, mass=params.mass_kg, inertia=[1, 1, 1])
     _joint(box, "x", "axlebox_x", armature=HALF_WHEELSET_ARMATURE_KG)
     _wheel(box, "wheel", 1.0, params.spin_inertia_kg_m2, 0.6 * params.spin_inertia_kg_m2, r)
+    spec.worldbody.add_camera(name="side", mode=mujoco.mjtCamLight.mjCAMLIGHT_TRACKCOM, pos=[0, -3, 0.8],
+                              xyaxes=[1, 0, 0, 0, 0.15, 1])
     model = spec.compile()
     contact = ContactSpec(
         wheel_body=model.body("wheel").id, reaction_body=-1, z_qpos=-1, z_dof=-1, n_wheels=1, radius_m=r,

@@ -244,6 +244,10 @@ def state_is_finite(qpos: np.ndarray, qvel: np.ndarray, ud: np.ndarray) -> bool:
     return bool(np.isfinite(qpos).all() and np.isfinite(qvel).all() and np.isfinite(ud).all())
 
 
+class SimulationDiverged(RuntimeError):
+    """The simulation blew up during a window (MuJoCo's bad-acceleration warning)."""
+
+
 class Simulation:
     """One model and one ``MjData`` stepped window by window."""
 
@@ -276,6 +280,8 @@ class Simulation:
         begin_window(self.data.userdata, self.data.time, drive, ramp_s, settle_s)
         nstep = int(round(duration_s / self.timestep))
         mujoco.mj_step(self.model, self.data, nstep)
+        if self.data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0:
+            raise SimulationDiverged(f"simulation diverged at t = {self.data.time:.3f} s (MuJoCo bad acceleration)")
         return read_window(self.data.userdata)
 
     def is_finite(self) -> bool:

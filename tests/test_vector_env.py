@@ -1,0 +1,234 @@
+"""The batched vector env (one mujoco.batch.Batch) against N single envs, and its SB3 adapter."""
+
+from __future__ import annotations
+
+import os
+
+import gymnasium as gym
+import numpy as np
+
+from cof_gym.envs.spaces import OBSERVATION_NAMES
+import pytest
+from gymnasium.vector import AutoresetMode
+from gymnasium.vector.utils import batch_space
+
+import cof_gym  # noqa: F401  (registers the ids)
+from cof_gym.envs.vector import TorqueInterrogationVectorEnv
+
+ENV_ID = "CofGym/TorqueInterrogation-v0"
+
+
+def same(x, y) -> bool:
+    """Bit-identical, recursively (NaN equals NaN; dtypes and types must match)."""
+    if isinstance(x, dict):
+        return isinstance(y, dict) and x.keys() == y.keys() and all(same(x[k], y[k]) for k in x)
+    if isinstance(x, (tuple, list)):
+        return type(x) is type(y) and len(x) == len(y) and all(same(a, b) for a, b in zip(x, y))
+    if isinstance(x, np.ndarray):
+        if not (isinstance(y, np.ndarray) and x.dtype == y.dtype and x.shape == y.shape):
+            return False
+        if x.dtype == object:
+            return all(same(a, b) for a, b in zip(x.ravel(), y.ravel()))
+        return x.tobytes() == y.tobytes()
+    if isinstance(x, (float, np.floating)) and isinstance(y, (float, np.floating)):
+        return type(x) is type(y) and np.float64(x).tobytes() == np.float64(y).tobytes()
+    return type(x) is type(y) and x == y
+
+
+def first_difference(x, y, path: str = "") -> str:
+    if isinstance(x, dict) and isinstance(y, dict):
+        for k in sorted(set(x) | set(y), key=str):
+            if k not in x or k not in y:
+                return f"{path}{k}: missing on one side"
+            d = first_difference(x[k], y[k], f"{path}{k}.")
+            if d:
+                return d
+        return ""
+    if isinstance(x, (tuple, list)) and isinstance(y, (tuple, list)) and len(x) == len(y):
+        for k, (a, b) in enumerate(zip(x, y)):
+            d = first_difference(a, b, f"{path}[{k}].")
+            if d:
+                return d
+        return ""
+    return "" if same(x, y) else f"{path}: {x!r} != {y!r}"
+
+
+def make_pair(n: int, **kwargs):
+    batched = gym.make_vec(ENV_ID, num_envs=n, vectorization_mode="vector_entry_point", **kwargs)
+    kwargs.pop("num_threads", None)
+    sync = gym.make_vec(ENV_ID, num_envs=n, vectorization_mode="sync", **kwargs)
+    return batched, sync
+
+
+def test_make_vec_returns_the_batched_env_with_gymnasium_spaces():
+    envs = gym.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point")
+    single = gym.make(ENV_ID)
+    try:
+        assert isinstance(envs, TorqueInterrogationVectorEnv)
+        assert envs.num_envs == 2 and envs.num_threads == min(2, os.cpu_count())
+        assert envs.metadata["autoreset_mode"] == AutoresetMode.NEXT_STEP
+        assert envs.spec is not None and envs.spec.id == ENV_ID
+        assert envs.max_episode_steps == single.spec.max_episode_steps
+        assert envs.single_action_space == single.action_space
+        assert envs.single_observation_space == single.observation_space
+        assert envs.action_space == batch_space(single.action_space, 2)
+        assert envs.observation_space == batch_space(single.observation_space, 2)
+        assert envs.action_space.shape == (2, 5) and envs.action_space.dtype == np.float32
+        obs, info = envs.reset(seed=0)
+        assert obs.shape == (2, len(OBSERVATION_NAMES)) and obs.dtype == np.float32 and envs.observation_space.contains(obs)
+        assert info["_diverged"].all() and not info["diverged"].any()
+        t_reset = envs._time.copy()
+        with pytest.raises(ValueError, match="not finite"):  # checked before any simulation moves
+            envs.step(np.full((2, 5), np.nan, dtype=np.float32))
+        assert np.array_equal(envs._time, t_reset)
+        # gymnasium's vector wrappers accept it (they check the autoreset mode)
+        wrapped = gym.wrappers.vector.RecordEpisodeStatistics(envs)
+        out = wrapped.step(envs.action_space.sample())
+        assert envs.observation_space.contains(out[0]) and out[1].dtype == np.float64
+    finally:
+        envs.close()
+        single.close()
+
+
+def test_bit_identical_to_single_envs_with_autoreset_and_load_cases():
+    """N=3 vs gymnasium's SyncVectorEnv of gym.make envs (seeded seed+i, next-step autoreset): every
+    observation, reward, flag and info, through terminations, truncations, autoresets, a masked
+    reset with a fixed load case, and both load cases."""
+    n = 3
+    batched, sync = make_pair(n, max_windows=6)
+    try:
+        assert same(batched.reset(seed=123), sync.reset(seed=123))
+        batched.action_space.seed(5)
+        rng = np.random.default_rng(5)
+        ends = truncations = autoresets = 0
+        ended = np.zeros(n, dtype=bool)
+        load_cases = set()
+        for t in range(24):
+            if t == 12:  # masked reset with an option, in the middle of episodes
+                mask = np.array([True, False, True])
+                opts = {"load_case": "empty", "reset_mask": mask}
+                a, b = batched.reset(options=dict(opts)), sync.reset(options=dict(opts))
+                assert same(a, b), first_difference(a, b)
+                ended[mask] = False
+            actions = batched.action_space.sample()
+            actions[:, 0] = np.minimum(actions[:, 0], 0.0)  # mostly below saturation: episodes run on
+            actions[:, 4] = np.where(rng.random(n) < 0.15, 1.0, -1.0)
+            a, b = batched.step(actions), sync.step(actions)
+            assert same(a, b), f"step {t}: {first_difference(a, b)}"
+            ends += int(np.sum(a[2] | a[3]))
+            truncations += int(np.sum(a[3]))
+            autoresets += int(np.sum(ended))
+            assert np.all(a[1][ended] == 0.0) and not np.any(a[2][ended] | a[3][ended])
+            ended = a[2] | a[3]
+            load_cases |= set(s.load_case for s in batched.get_attr("scenario"))
+            # scalar info entries, explicitly
+            for key in ("diverged", "cof_estimate", "elapsed_s", "reward_slip", "reward_error"):
+                if key in a[4]:
+                    assert same(a[4][key], b[4][key]) and same(a[4]["_" + key], b[4]["_" + key])
+        assert ends >= 3 and truncations >= 1 and autoresets >= 3
+        assert load_cases == {"empty", "laden"}
+    finally:
+        batched.close()
+        sync.close()
+
+
+def test_thread_count_does_not_change_results():
+    runs = []
+    for threads in (1, 2):
+        envs = gym.make_vec(ENV_ID, num_envs=3, vectorization_mode="vector_entry_point", num_threads=threads,
+                            max_windows=5)
+        assert envs.num_threads == threads
+        envs.action_space.seed(9)
+        trace = [envs.reset(seed=42)]
+        for t in range(15):
+            actions = envs.action_space.sample()
+            actions[:, 0] = np.minimum(actions[:, 0], 0.0)
+            actions[:, 4] = -1.0 if t % 4 else 1.0
+            trace.append(envs.step(actions))
+        envs.close()
+        runs.append(trace)
+    assert same(runs[0], runs[1]), first_difference(runs[0], runs[1])
+
+
+def test_half_wheelset_vector_matches_single():
+    batched, sync = make_pair(2, vehicle="half_wheelset")
+    try:
+        assert same(batched.reset(seed=3), sync.reset(seed=3))
+        batched.action_space.seed(3)
+        for t in range(5):
+            actions = batched.action_space.sample()
+            a, b = batched.step(actions), sync.step(actions)
+            assert same(a, b), f"step {t}: {first_difference(a, b)}"
+    finally:
+        batched.close()
+        sync.close()
+
+
+def test_a_corrupted_simulation_diverges_alone_and_autoresets():
+    envs = gym.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point", cof=0.4, speed_m_s=20.0)
+    try:
+        envs.reset(seed=0)
+        envs._qvel[1, 3] = np.nan  # MuJoCo warns, auto-resets that simulation; the env reports divergence
+        actions = np.tile(np.array([-0.8, 0.0, 0.0, 0.0, -1.0], np.float32), (2, 1))
+        obs, reward, terminated, truncated, info = envs.step(actions)
+        assert info["diverged"].tolist() == [False, True] and terminated.tolist() == [False, True]
+        assert np.isfinite(obs).all() and np.isfinite(reward).all()
+        obs, reward, terminated, _, info = envs.step(actions)  # sub-env 1 autoresets
+        assert reward[1] == 0.0 and not terminated.any() and not info["diverged"].any() and np.isfinite(obs).all()
+        obs, reward, terminated, _, info = envs.step(actions)
+        assert not terminated.any() and not info["diverged"].any() and np.isfinite(obs).all()
+    finally:
+        envs.close()
+
+
+def test_sb3_adapter_matches_dummy_vec_env():
+    from stable_baselines3.common.monitor import Monitor
+
+    from cof_gym.envs.sb3 import BatchedSB3VecEnv, make_sb3_vec_env
+
+    batched = make_sb3_vec_env(ENV_ID, n_envs=2, seed=11, max_windows=5)
+    dummy = make_sb3_vec_env(ENV_ID, n_envs=2, seed=11, backend="dummy", max_windows=5)
+    try:
+        assert isinstance(batched, BatchedSB3VecEnv)
+        assert batched.observation_space == dummy.observation_space and batched.action_space == dummy.action_space
+        assert same(batched.reset(), dummy.reset())
+        assert same(batched.reset_infos, dummy.reset_infos)
+        rng = np.random.default_rng(0)
+        dones = 0
+        for t in range(14):
+            actions = rng.uniform(-1, 1, (2, 5)).astype(np.float32)
+            actions[:, 0] = np.minimum(actions[:, 0], 0.0)
+            a, b = batched.step(actions), dummy.step(actions)
+            for k in range(3):
+                assert same(a[k], b[k]), (t, k)
+            for ia, ib in zip(a[3], b[3]):
+                assert ("episode" in ia) == ("episode" in ib)
+                if "episode" in ia:
+                    assert ia["episode"]["r"] == ib["episode"]["r"] and ia["episode"]["l"] == ib["episode"]["l"]
+                    ia, ib = {**ia, "episode": None}, {**ib, "episode": None}
+                assert same(ia, ib), f"step {t}: {first_difference(ia, ib)}"
+            dones += int(a[2].sum())
+        assert dones >= 2
+        for wrapper in (Monitor, gym.wrappers.TimeLimit, gym.wrappers.ClipAction):
+            assert batched.env_is_wrapped(wrapper) == dummy.env_is_wrapped(wrapper)
+        assert len(batched.get_attr("scenario")) == 2
+    finally:
+        batched.close()
+        dummy.close()
+
+
+def test_ppo_learns_on_the_sb3_adapter():
+    from stable_baselines3 import PPO
+
+    from cof_gym.envs.sb3 import make_sb3_vec_env
+
+    env = make_sb3_vec_env(ENV_ID, n_envs=2, seed=0)
+    try:
+        model = PPO("MlpPolicy", env, n_steps=64, batch_size=64, n_epochs=2, seed=0, device="cpu")
+        model.learn(128)
+        assert model.num_timesteps >= 128
+        obs = env.reset()
+        action, _ = model.predict(obs, deterministic=True)
+        assert action.shape == (2, 5)
+    finally:
+        env.close()
