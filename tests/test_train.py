@@ -62,7 +62,7 @@ def test_train_writes_model_statistics_logs_and_meta(trained: Path):
     assert (trained / "best" / "best_model.zip").is_file() and (trained / "best" / "vecnormalize.pkl").is_file()
     meta = json.loads((trained / "train_meta.json").read_text())
     assert meta["status"] == "finished" and meta["num_timesteps"] == 256 and meta["seed"] == 3
-    assert meta["env_id"] == ENV_ID and meta["env_kwargs"] == {"max_windows": 5} and meta["vec"] == "dummy"
+    assert meta["env_id"] == ENV_ID and meta["env_kwargs"] == {"shaping": True, "max_windows": 5} and meta["vec"] == "dummy"
     assert meta["wall_time_s"] > 0 and "stable_baselines3" in meta["versions"]
 
 
@@ -120,7 +120,7 @@ def test_resume_continues_the_step_counter(trained: Path, tmp_path: Path):
     assert model.num_timesteps == 512
     meta = json.loads((out / "train_meta.json").read_text())
     assert meta["resumed_from"].endswith("model.zip") and meta["timesteps_trained"] == 256
-    assert meta["env_id"] == ENV_ID and meta["env_kwargs"] == {"max_windows": 5}  # from the resumed run
+    assert meta["env_id"] == ENV_ID and meta["env_kwargs"] == {"shaping": True, "max_windows": 5}  # from the resumed run
     assert meta["vec"] == "subproc" and meta["n_envs"] == 2
     assert (out / "vecnormalize.pkl").is_file()
     assert list((out / "tb").glob("PPO_*/events.out.tfevents.*"))
