@@ -37,7 +37,7 @@ import numpy as np
 ALGOS = ("ppo",)
 DEFAULT_CONF = Path(__file__).resolve().parent / "hyperparams" / "ppo.yml"
 DEFAULT_ENV_ID = "CofGym/TorqueInterrogation-v0"
-REWARD_TERMS = ("reward_error", "reward_slip", "reward_comfort", "reward_time")
+REWARD_TERMS = ("reward_error", "reward_slip", "reward_comfort", "reward_time", "reward_shaping")
 # keys of the YAML that are not PPO constructor arguments
 _ZOO_KEYS = ("n_envs", "n_timesteps", "policy", "normalize", "env_kwargs")
 _SCHEDULED = ("learning_rate", "clip_range", "clip_range_vf")
@@ -142,8 +142,8 @@ def _callbacks():
 
     class EpisodeTermsCallback(BaseCallback):
         """Logs, per finished training episode (mean over the episodes of each logging interval):
-        ``episode/reward_*`` (each term summed over the episode), ``episode/relative_error`` (scored
-        episodes only), ``episode/macro_slip_rate``, ``episode/scored_rate``, ``episode/diverged_rate``."""
+        ``episode/reward_*`` (each term summed over the episode), ``episode/relative_error`` (macro-slip
+        episodes count as the error cap, 1.0), ``episode/macro_slip_rate``, ``episode/scored_rate``, ``episode/diverged_rate``."""
 
         def _init_callback(self) -> None:
             self._sums = np.zeros((self.training_env.num_envs, len(REWARD_TERMS)))
@@ -161,7 +161,8 @@ def _callbacks():
                 rel = info.get("relative_error")
                 if rel is not None:
                     self.logger.record_mean("episode/relative_error", float(rel))
-                self.logger.record_mean("episode/scored_rate", float(rel is not None))
+                scored = rel is not None and not info.get("macro_slip", False)
+                self.logger.record_mean("episode/scored_rate", float(scored))
                 self.logger.record_mean("episode/macro_slip_rate", float(bool(info.get("macro_slip", False))))
                 self.logger.record_mean("episode/diverged_rate", float(bool(info.get("diverged", False))))
                 self._sums[i] = 0.0
