@@ -67,20 +67,27 @@ def find_train_meta(model_path: str | Path) -> dict[str, Any] | None:
     return None
 
 
-def make_env_fn(env_id: str, env_kwargs: dict[str, Any] | None = None):
+def _make_env(full_id: str, adapter: str, **kwargs: Any):
+    import gymnasium as gym
+
+    from agents.adapters import wrap
+
+    return wrap(gym.make(full_id, **kwargs), adapter)
+
+
+def make_env_fn(env_id: str, env_kwargs: dict[str, Any] | None = None, adapter: str = "absolute"):
     """A picklable env factory for ``make_vec_env``. ``gym.make`` is given ``"cof_gym:<id>"`` so that the
     registration also happens in spawned / forkserver subprocesses (DESIGN.md section 6). A
     ``max_windows`` other than the registered horizon also moves the TimeLimit (``max_episode_steps``)
-    unless that is given too, so that the last estimate is scored by the env itself."""
+    unless that is given too, so that the last estimate is scored by the env itself. ``adapter``:
+    :mod:`agents.adapters` (how the policy's output becomes the env's action)."""
     import functools
-
-    import gymnasium as gym
 
     kwargs = dict(env_kwargs or {})
     if "max_windows" in kwargs and "max_episode_steps" not in kwargs:
         kwargs["max_episode_steps"] = int(kwargs["max_windows"])
     full_id = env_id if ":" in env_id else f"cof_gym:{env_id}"
-    return functools.partial(gym.make, full_id, **kwargs)
+    return functools.partial(_make_env, full_id, adapter, **kwargs)
 
 
 class PPOAgent:
@@ -90,11 +97,13 @@ class PPOAgent:
     oracle = False
 
     def __init__(self, model: Any, vec_normalize: Any | None, env_id: str = DEFAULT_ENV_ID,
-                 model_path: Path | None = None) -> None:
+                 model_path: Path | None = None, adapter: str = "absolute", limits: Any = None) -> None:
         self.model = model
         self.vec_normalize = vec_normalize
         self.env_id = env_id
         self.model_path = model_path
+        self.adapter = adapter
+        self.limits = limits
 
     @classmethod
     def load(cls, path: str | Path, env_id: str | None = None, env_kwargs: dict[str, Any] | None = None,
@@ -111,7 +120,9 @@ class PPOAgent:
         if env_kwargs is None:
             env_kwargs = meta.get("env_kwargs") or {}
         model = PPO.load(model_path, device=device)
-        venv = DummyVecEnv([make_env_fn(env_id, env_kwargs)])
+        adapter = meta.get("action_adapter", "absolute")
+        venv = DummyVecEnv([make_env_fn(env_id, env_kwargs, adapter)])
+        limits = venv.envs[0].unwrapped.limits
         if model.observation_space.shape != venv.observation_space.shape or \
                 model.action_space.shape != venv.action_space.shape:
             venv.close()
@@ -130,7 +141,7 @@ class PPOAgent:
             warnings.warn(f"no VecNormalize statistics beside {model_path} ({stats.name}): "
                           "the policy will see raw observations", stacklevel=2)
             venv.close()
-        return cls(model, vec_normalize, env_id=env_id, model_path=model_path)
+        return cls(model, vec_normalize, env_id=env_id, model_path=model_path, adapter=adapter, limits=limits)
 
     def normalize(self, observation: np.ndarray) -> np.ndarray:
         """The observation as the policy saw it in training (frozen statistics)."""
@@ -148,6 +159,10 @@ class PPOAgent:
         action = np.clip(np.asarray(action, dtype=np.float32).reshape(-1), -1.0, 1.0)
         if action.shape != (5,):
             raise ValueError(f"policy returned an action of shape {action.shape}, expected (5,)")
+        if self.adapter == "incremental":
+            from agents.adapters import incremental_to_env
+
+            return incremental_to_env(action, observation, self.limits)
         return action
 
     def close(self) -> None:

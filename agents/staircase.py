@@ -16,6 +16,14 @@ from cof_gym.envs.spaces import OBSERVATION_NAMES, MotorLimits, encode_action
 PHASE = OBSERVATION_NAMES.index("phase_lag")
 PHASE_SE = OBSERVATION_NAMES.index("phase_lag_se")
 COA = OBSERVATION_NAMES.index("coa_measured")
+COMPLIANCE = OBSERVATION_NAMES.index("compliance")
+
+
+def compliance_angle_deg(observation: np.ndarray) -> float:
+    """The Eq. 3 angle read from the amplitude ratio: for the half wheelset
+    |Omega/M| Iw wm = 1/|j + N R^2 k/(v wm Iw)| = sin(phi_Eq3), so asin(compliance) rises to 90 deg at
+    the creep-curve peak like the phase, but is not shifted by the vehicle's speed oscillation."""
+    return float(np.degrees(np.arcsin(np.clip(observation[COMPLIANCE], 0.0, 1.0))))
 
 
 def limits_of(env) -> MotorLimits:
@@ -61,56 +69,70 @@ class PaperStaircase:
 class PracticalStaircase:
     """A staircase that knows no ground truth.
 
-    The reset window (no DC torque) gives the phase baseline. The DC torque climbs in absolute steps
-    (``first_step_nm``), refined as the phase rises above the baseline (the creep slope falls): the
-    step halves when the rise exceeds 2, 5, 10 and 20 deg. The modulation amplitude is scaled to the
+    The first torque step gives the baseline of the interrogation angle. The DC torque climbs in
+    absolute steps (``first_step_nm``), refined as the angle rises above the baseline (the creep slope
+    falls): the step halves when the rise exceeds the ``refine_at_deg`` thresholds. The angle is read
+    from the amplitude ratio (:func:`compliance_angle_deg`), the magnitude twin of the phase: without the
+    paper's counter torque the train's own speed oscillation shifts the phase (it first falls with the
+    torque), not the ratio. The modulation amplitude is scaled to the
     torque level (``amplitude_ratio`` x DC, within the drive's limits), so that it stays small-signal
     at low friction. It stops when the rise exceeds ``stop_rise_deg`` (near the creep-curve peak) or
-    when the measured CoA stops increasing with the torque (past the peak), and reports the largest
-    measured CoA as the CoF.
+    when the measured CoA falls twice in a row although the torque rose (past the peak), and reports
+    the largest measured CoA as the CoF. A window whose phase standard error exceeds
+    ``max_phase_se_deg`` (a transient, sensor noise) is measured again at the same torque.
     """
 
     limits: MotorLimits
     first_step_nm: float = 3000.0
     frequency_hz: float = 5.0
     amplitude_ratio: float = 0.03
-    min_amplitude_nm: float = 30.0
-    refine_at_deg: tuple[float, ...] = (2.0, 5.0, 10.0, 20.0)
+    min_amplitude_nm: float = 400.0
+    refine_at_deg: tuple[float, ...] = (3.0, 6.0, 10.0, 15.0)
     stop_rise_deg: float = 30.0
-    max_phase_se_deg: float = 3.0  # a noisier window (transient, noise) is repeated, up to max_repeats
-    max_repeats: int = 2
+    max_phase_se_deg: float = 4.0  # a noisier window (transient, noise) is repeated, up to max_repeats
+    max_repeats: int = 1
     name: str = "staircase"
     oracle: bool = False
-    _baseline: float = 0.0
+    _baseline: float | None = None
     _dc: float = 0.0
     _best_coa: float = 0.0
     _last_coa: float = 0.0
     _repeats: int = 0
+    _falls: int = 0
 
     def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
-        self._baseline = float(observation[PHASE]) * 90.0
+        self._baseline = None  # measured at the first torque step, with this agent's own amplitude
         self._dc = 0.0
         self._best_coa = 0.0
         self._last_coa = float(observation[COA])
         self._repeats = 0
+        self._falls = 0
 
     def _amplitude(self, dc: float) -> float:
         return max(self.min_amplitude_nm, self.amplitude_ratio * dc)
 
     def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
-        rise = float(observation[PHASE]) * 90.0 - self._baseline
+        phase = compliance_angle_deg(observation)
+        se = float(observation[PHASE_SE]) * 90.0
+        if self._dc > 0 and self._baseline is None:
+            self._baseline = phase
+        rise = phase - self._baseline if self._baseline is not None else 0.0
         coa = float(observation[COA])
-        if float(observation[PHASE_SE]) * 90.0 > self.max_phase_se_deg and self._repeats < self.max_repeats:
-            self._repeats += 1  # unreliable window: measure again at the same torque
-            return encode_action(self._dc, self._amplitude(self._dc), self.frequency_hz, self._best_coa, False,
-                                 self.limits)
+        if se > self.max_phase_se_deg and self._repeats < self.max_repeats:
+            self._repeats += 1  # unreliable window (transient, noise): measure again at the same torque
+            return self._command(False)
         self._repeats = 0
-        past_peak = self._dc > 0 and coa < self._last_coa - 0.002
-        self._best_coa = max(self._best_coa, coa)
+        # past the peak: the CoA falls although the torque rose (twice, to ignore one noisy window)
+        falling = self._dc > 0.2 * self.limits.max_dc_torque_nm and coa < self._last_coa - 0.005
+        self._falls = self._falls + 1 if falling else 0
+        self._best_coa = max(self._best_coa, coa) if self._dc > 0 else 0.0
         self._last_coa = coa
-        if rise > self.stop_rise_deg or past_peak or self._dc >= self.limits.max_dc_torque_nm:
-            return encode_action(self._dc, self._amplitude(self._dc), self.frequency_hz, self._best_coa, True,
-                                 self.limits)
+        near_peak = rise > self.stop_rise_deg and se < self.max_phase_se_deg
+        if near_peak or self._falls >= 2 or self._dc >= self.limits.max_dc_torque_nm:
+            return self._command(True)
         step = self.first_step_nm * 0.5 ** sum(rise > r for r in self.refine_at_deg)
         self._dc = min(self._dc + step, self.limits.max_dc_torque_nm)
-        return encode_action(self._dc, self._amplitude(self._dc), self.frequency_hz, self._best_coa, False, self.limits)
+        return self._command(False)
+
+    def _command(self, stop: bool) -> np.ndarray:
+        return encode_action(self._dc, self._amplitude(self._dc), self.frequency_hz, self._best_coa, stop, self.limits)

@@ -232,14 +232,14 @@ def _write_meta(path: Path, meta: dict[str, Any]) -> None:
 
 
 def _make_venv(env_id: str, env_kwargs: dict[str, Any], n_envs: int, seed: int, vec: str,
-               monitor_dir: Path | None):
+               monitor_dir: Path | None, adapter: str = "absolute"):
     from stable_baselines3.common.env_util import make_vec_env
     from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
 
     from agents.ppo import make_env_fn
 
     cls = SubprocVecEnv if vec == "subproc" else DummyVecEnv
-    return make_vec_env(make_env_fn(env_id, env_kwargs), n_envs=n_envs, seed=seed, vec_env_cls=cls,
+    return make_vec_env(make_env_fn(env_id, env_kwargs, adapter), n_envs=n_envs, seed=seed, vec_env_cls=cls,
                         monitor_dir=str(monitor_dir) if monitor_dir is not None else None,
                         monitor_kwargs={"info_keywords": ("relative_error", "macro_slip")})
 
@@ -278,6 +278,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--progress", action=argparse.BooleanOptionalAction, default=True,
                         help="progress bar (tqdm + rich)")
     parser.add_argument("--verbose", "-v", type=int, default=0, help="SB3 verbosity (1: print log tables)")
+    parser.add_argument("--action-adapter", choices=("absolute", "incremental"), default=None,
+                        help="how the policy's output becomes the env action (agents/adapters.py; default: "
+                             "absolute, or the resumed run's)")
+    parser.add_argument("--pretrain-episodes", type=int, default=0,
+                        help="behaviour-clone the practical staircase over N episodes before PPO (0: off)")
     parser.add_argument("--overwrite", action="store_true",
                         help="allow writing over an existing OUT/model.zip")
 
@@ -335,6 +340,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: C901 - one linear recipe
     n_envs = args.n_envs or settings["n_envs"]
     timesteps = args.timesteps if args.timesteps is not None else settings["n_timesteps"]
     vec = args.vec or ("dummy" if n_envs == 1 else "subproc")
+    adapter = args.action_adapter or prev_meta.get("action_adapter", "absolute")
     if n_envs < 1 or timesteps < 1:
         print("cof-gym train: --n-envs and --timesteps must be >= 1", file=sys.stderr)
         return 2
@@ -369,7 +375,8 @@ def run(args: argparse.Namespace) -> int:  # noqa: C901 - one linear recipe
 
     meta: dict[str, Any] = {
         "command": shlex.join(sys.argv), "argv": sys.argv, "args": {k: v for k, v in vars(args).items() if k != "func"},
-        "algo": args.algo, "env_id": env_id, "env_kwargs": env_kwargs, "seed": seed, "n_envs": n_envs, "vec": vec,
+        "algo": args.algo, "env_id": env_id, "env_kwargs": env_kwargs, "action_adapter": adapter, "seed": seed,
+        "n_envs": n_envs, "vec": vec,
         "timesteps_requested": timesteps, "conf_file": str(args.conf_file),
         # a resumed model keeps its own hyperparameters; only --hyperparams overrides apply
         "hyperparams": raw if resume_path is None else {**(prev_meta.get("hyperparams") or {}), **(args.hyperparams or {})},
@@ -379,7 +386,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: C901 - one linear recipe
     meta_path = out / META_NAME
     _write_meta(meta_path, meta)
 
-    train_env = _make_venv(env_id, env_kwargs, n_envs, seed, vec, out / "monitor")
+    train_env = _make_venv(env_id, env_kwargs, n_envs, seed, vec, out / "monitor", adapter)
     eval_env = None
     try:
         if resume_path is not None:
@@ -400,6 +407,17 @@ def run(args: argparse.Namespace) -> int:  # noqa: C901 - one linear recipe
             train_env = VecNormalize(train_env, **settings["normalize"])
             model = PPO(settings["policy"], train_env, seed=seed, tensorboard_log=str(out / "tb"),
                         verbose=args.verbose, device=args.device, **ppo_kwargs)
+            if args.pretrain_episodes > 0:
+                from agents.pretrain import behaviour_clone, collect_demonstrations
+
+                t_bc = time.perf_counter()
+                demo_obs, demo_act = collect_demonstrations(env_id, env_kwargs, args.pretrain_episodes, seed + 100_000)
+                mse = behaviour_clone(model, demo_obs, demo_act, seed=seed)
+                meta["pretrain"] = {"agent": "staircase", "episodes": args.pretrain_episodes,
+                                    "samples": int(len(demo_obs)), "final_mse": mse,
+                                    "wall_time_s": round(time.perf_counter() - t_bc, 3)}
+                _write_meta(meta_path, meta)
+                print(f"behaviour cloning: {len(demo_obs)} staircase samples, final MSE {mse:.4f}")
         start_steps = int(model.num_timesteps)
 
         callbacks: list = [EpisodeTermsCallback()]
@@ -408,7 +426,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: C901 - one linear recipe
                                                 save_path=str(out / "checkpoints"), name_prefix="ppo",
                                                 save_vecnormalize=True))
         if args.eval_freq and args.eval_freq > 0:
-            eval_env = VecNormalize(_make_venv(env_id, env_kwargs, 1, seed + 10_000, "dummy", None),
+            eval_env = VecNormalize(_make_venv(env_id, env_kwargs, 1, seed + 10_000, "dummy", None, adapter),
                                     training=False, norm_obs=settings["normalize"]["norm_obs"], norm_reward=False)
             callbacks.append(EvalCallback(
                 eval_env, n_eval_episodes=args.eval_episodes, eval_freq=max(args.eval_freq // n_envs, 1),

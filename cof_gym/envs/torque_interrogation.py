@@ -100,8 +100,9 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     is in ``info``; ``info["cost"]`` holds the unweighted constraint costs (slip, discomfort) and
     ``info["ground_truth"]`` the true CoF, condition, creepage and saturation torque, for evaluation
     only. With ``shaping=True`` a potential-based term ``reward_shaping = 0.95 Phi' - Phi``,
-    ``Phi = -w_error x`` (relative error of the current estimate), ``Phi = 0`` at the end, gives the
-    estimate a dense signal for training (Ng et al. 1999: the optimal policy is unchanged).
+    ``Phi = w_error x (1 - relative error of the current estimate)`` (0 in terminal states), gives
+    the estimate a dense signal for training (Ng et al. 1999). A non-negative potential: with a
+    negative one, ``(1 - gamma) |Phi|`` per step pays the agent for stalling with a bad estimate.
 
     ## Starting State
     CoF, condition, speed, load case, sensor-noise level and motor lag are drawn from ``np_random``
@@ -250,8 +251,9 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
                                   self._contact_load, self._elapsed, self.max_windows * self.window_s, self._estimate)
 
     def _shaping_potential(self) -> float:
-        """Phi = -w_error x relative error of the current estimate (potential-based shaping)."""
-        return -self.weights.w_error * relative_error(self._estimate, self.scenario.cof, self.weights.error_cap)
+        """Phi = w_error x (error_cap - relative error of the current estimate) >= 0."""
+        err = relative_error(self._estimate, self.scenario.cof, self.weights.error_cap)
+        return self.weights.w_error * (self.weights.error_cap - err)
 
     def _info(self, m: WindowMeasurement, terms: dict, diverged: bool) -> dict:
         info = dict(terms)
@@ -303,8 +305,8 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
             if (decoded.stop or truncated) and not macro_slip else None
         terms = reward_terms(self.weights, m, self._contact_load, self.scenario.speed_m_s, self.window_s, scored, macro_slip)
         if self.shaping:
-            ended = terminated or truncated
-            potential = 0.0 if ended else self._shaping_potential()
+            # Phi = 0 in terminal states; a truncated state is not terminal (learners bootstrap there)
+            potential = 0.0 if terminated else self._shaping_potential()
             terms["reward_shaping"] = SHAPING_GAMMA * potential - self._potential
             self._potential = potential
         reward = float(sum(terms.values()))
