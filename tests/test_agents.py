@@ -1,0 +1,114 @@
+"""Agents and the evaluation CLI: the paper's rule, the adapters, determinism of the tables."""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import cof_gym  # noqa: F401
+from agents.adapters import DC_STEP_FRACTION, incremental_to_env
+from agents.base import Agent
+from agents.evaluate import evaluate, run_episode
+from agents.staircase import PaperStaircase, PracticalStaircase, limits_of
+from agents.suites import make_suite, paper_suite
+from cof_gym.envs.spaces import OBSERVATION_NAMES, decode_action
+
+WAGON = "CofGym/TorqueInterrogation-v0"
+
+
+def test_agents_implement_the_interface() -> None:
+    env = gym.make(WAGON)
+    for agent in (PaperStaircase(limits_of(env)), PracticalStaircase(limits_of(env))):
+        assert isinstance(agent, Agent)
+    assert PaperStaircase(limits_of(env)).oracle and not PracticalStaircase(limits_of(env)).oracle
+
+
+def test_paper_staircase_stops_at_the_first_positive_phase_like_reproduce_paper() -> None:
+    """On the paper's setting (laden, dry, 10 m/s, counter torque) the oracle climbs the paper's schedule
+    and stops at the first positive phase: for CoF 0.4, the 77 % step of `reproduce-paper` (Fig. 8)."""
+    suite = paper_suite(5, seed=0)
+    env = gym.make(suite.env_id, **suite.env_kwargs)
+    agent = PaperStaircase(limits_of(env))
+    seed, options = suite.episodes[3]
+    assert options["cof"] == 0.4
+    obs, info = env.reset(seed=seed, options=options)
+    agent.reset(obs, info)
+    phases, fractions = [], []
+    while True:
+        obs, _, terminated, truncated, info = env.step(agent.act(obs, info))
+        phases.append(info["measurement"]["phase_lag_deg"])
+        fractions.append(info["ground_truth"]["torque_fraction"])
+        if terminated or truncated:
+            break
+    assert terminated and not info["macro_slip"]
+    assert phases[0] < 0 and all(p <= 0 for p in phases[:-2]) and phases[-2] > 0  # stop requested after it
+    assert 0.74 <= fractions[-2] <= 0.80
+    assert info["cof_estimate"] == pytest.approx(info["measurement"]["coa_measured"], abs=0.01)
+    assert info["relative_error"] == pytest.approx(0.23, abs=0.03)
+
+
+def test_incremental_adapter_moves_the_torque_and_corrects_the_measured_coa() -> None:
+    env = gym.make(WAGON)
+    limits = limits_of(env)
+    obs = np.zeros(len(OBSERVATION_NAMES), dtype=np.float32)
+    obs[OBSERVATION_NAMES.index("dc_torque")] = 0.5
+    obs[OBSERVATION_NAMES.index("coa_measured")] = 0.2
+    d = decode_action(incremental_to_env(np.array([1.0, 0.0, 0.0, 0.0, 0.0]), obs, limits), limits)
+    assert d.drive.dc_torque_nm == pytest.approx((0.5 + DC_STEP_FRACTION) * limits.max_dc_torque_nm, rel=1e-5)
+    assert d.cof_estimate == pytest.approx(0.2, rel=1e-5) and not d.stop
+    d = decode_action(incremental_to_env(np.array([-1.0, 0.0, 0.0, 1.0, 0.9]), obs, limits), limits)
+    assert d.drive.dc_torque_nm == pytest.approx((0.5 - DC_STEP_FRACTION) * limits.max_dc_torque_nm, rel=1e-5)
+    assert d.cof_estimate == pytest.approx(0.3, rel=1e-5) and d.stop
+
+
+def test_same_agents_same_seed_give_identical_tables(tmp_path: Path) -> None:
+    suite = make_suite("default", 3, seed=5)
+    a = evaluate(["staircase", "staircase-paper"], suite, tmp_path / "a", seed=5, quiet=True)
+    b = evaluate(["staircase", "staircase-paper"], suite, tmp_path / "b", seed=5, quiet=True)
+    assert a["summary"] == b["summary"]
+    assert (tmp_path / "a" / "summary.md").read_text() == (tmp_path / "b" / "summary.md").read_text()
+    assert (tmp_path / "a" / "episodes.csv").read_text() == (tmp_path / "b" / "episodes.csv").read_text()
+    rows = list(csv.DictReader(open(tmp_path / "a" / "episodes.csv")))
+    assert len(rows) == 6
+    # every agent met the same scenarios
+    by_agent = {}
+    for r in rows:
+        by_agent.setdefault(r["agent"], []).append((r["seed"], r["cof"], r["condition"], r["speed_m_s"]))
+    assert by_agent["staircase"] == by_agent["staircase-paper"]
+    for name in ("error_per_cof.png", "error_vs_discomfort.png", "episode_traces.png", "summary.json"):
+        assert (tmp_path / "a" / name).stat().st_size > 1000
+    summary = json.loads((tmp_path / "a" / "summary.json").read_text())["summary"]
+    lo, hi = summary["staircase"]["median_error"]["ci95"]
+    assert lo <= summary["staircase"]["median_error"]["value"] <= hi
+
+
+def test_bad_agent_and_suite_names_raise(tmp_path: Path) -> None:
+    with pytest.raises(ValueError, match="agent"):
+        evaluate(["oracle-of-delphi"], make_suite("default", 1, 0), tmp_path, 0, quiet=True)
+    with pytest.raises(ValueError, match="suite"):
+        make_suite("no-such-suite", 1, 0)
+
+
+def test_a_2048_step_training_run_loads_in_evaluate(tmp_path: Path) -> None:
+    from agents.train import build_parser, run
+
+    out = tmp_path / "run"
+    args = build_parser().parse_args(["--env", WAGON, "--timesteps", "2048", "--n-envs", "1", "--seed", "1",
+                                      "--action-adapter", "incremental", "--eval-freq", "0", "--save-freq", "0",
+                                      "--no-progress", "--out", str(out)])
+    assert run(args) == 0
+    result = evaluate([f"ppo:{out}"], make_suite("default", 2, seed=0), tmp_path / "eval", seed=0, quiet=True)
+    (name,) = result["summary"]
+    assert name.startswith("ppo") and result["summary"][name]["episodes"] == 2
+
+
+def test_run_episode_records_the_ground_truth_it_was_given() -> None:
+    env = gym.make(WAGON)
+    rec = run_episode(env, PracticalStaircase(limits_of(env)), 3, {"cof": 0.25, "condition": "wet"}, 0)
+    assert rec.cof == 0.25 and rec.condition == "wet" and rec.steps >= 1
+    assert 0.0 <= rec.relative_error <= 1.0 and np.isfinite(rec.episode_return)
