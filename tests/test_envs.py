@@ -659,3 +659,18 @@ def test_ppo_smoke() -> None:
     obs, _ = env.reset(seed=0)
     action, _ = model.predict(obs, deterministic=True)
     assert env.action_space.contains(action)
+
+
+@pytest.mark.parametrize("env_id", [WAGON, HALF])
+def test_a_diverging_simulation_ends_the_episode_without_a_crash(env_id: str) -> None:
+    env = gym.make(env_id)
+    obs, _ = env.reset(seed=0)
+    env.unwrapped._sim.data.qvel[:] = np.nan  # a blown-up state, as an unstable integration would leave
+    obs2, reward, terminated, truncated, info = env.step(env.action_space.sample() * 0)
+    assert info["diverged"] and terminated and not truncated
+    assert np.isfinite(obs2).all() and np.isfinite(reward)
+    assert reward <= -env.unwrapped.weights.macro_slip_penalty
+    obs3, _ = env.reset(seed=1)  # the env recovers on reset
+    assert np.isfinite(obs3).all()
+    _, _, _, _, info = env.step(env.action_space.sample() * 0)
+    assert not info["diverged"]

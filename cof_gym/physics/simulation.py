@@ -245,7 +245,12 @@ def state_is_finite(qpos: np.ndarray, qvel: np.ndarray, ud: np.ndarray) -> bool:
 
 
 class SimulationDiverged(RuntimeError):
-    """The simulation blew up during a window (MuJoCo's bad-acceleration warning)."""
+    """The simulation blew up during a window (MuJoCo's bad position/velocity/acceleration warnings,
+    after which MuJoCo resets the data)."""
+
+
+_DIVERGENCE_WARNINGS = (mujoco.mjtWarning.mjWARN_BADQPOS, mujoco.mjtWarning.mjWARN_BADQVEL,
+                        mujoco.mjtWarning.mjWARN_BADQACC)
 
 
 class Simulation:
@@ -280,8 +285,9 @@ class Simulation:
         begin_window(self.data.userdata, self.data.time, drive, ramp_s, settle_s)
         nstep = int(round(duration_s / self.timestep))
         mujoco.mj_step(self.model, self.data, nstep)
-        if self.data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0:
-            raise SimulationDiverged(f"simulation diverged at t = {self.data.time:.3f} s (MuJoCo bad acceleration)")
+        bad = [w.name for w in _DIVERGENCE_WARNINGS if self.data.warning[w].number > 0]
+        if bad:
+            raise SimulationDiverged(f"simulation diverged at t = {self.data.time:.3f} s (MuJoCo {', '.join(bad)})")
         return read_window(self.data.userdata)
 
     def is_finite(self) -> bool:
