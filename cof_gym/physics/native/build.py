@@ -14,6 +14,7 @@ import os
 import shutil
 import subprocess
 import tempfile
+import warnings
 from functools import lru_cache
 from pathlib import Path
 
@@ -90,25 +91,18 @@ def native() -> ctypes.CDLL:
     return lib
 
 
-_CALLBACK_ADDRESS: int | None = None
-
-
-def callback_address() -> int:
-    """Address of the native ``mjcb_passive`` function."""
-    return ctypes.cast(native().cofgym_passive, ctypes.c_void_p).value  # type: ignore[return-value]
-
-
 def install_callback() -> None:
     """Install the native passive callback process-wide (idempotent).
 
     MuJoCo's callbacks are global; the native function leaves every model whose ``userdata`` does
     not carry cof_gym's marker untouched, so other MuJoCo users in the process are unaffected as long
-    as they do not install an mjcb_passive of their own.
+    as they do not install an mjcb_passive of their own (one installed before is replaced, with a
+    warning).
     """
-    global _CALLBACK_ADDRESS
     fn = native().cofgym_passive
     current = mujoco.get_mjcb_passive()
-    if _CALLBACK_ADDRESS is not None and current is not None:
+    if current is fn:
         return
+    if current is not None:
+        warnings.warn("cof_gym replaces the mjcb_passive callback installed before it", RuntimeWarning, stacklevel=2)
     mujoco.set_mjcb_passive(fn)
-    _CALLBACK_ADDRESS = callback_address()
