@@ -190,7 +190,7 @@ void cofgym_passive(const mjModel* m, mjData* d) {
   /* scratch on the C stack (variable-length arrays: nv is small for these vehicles) */
   double tau[nv];       /* generalised forces we add */
   double jx[nv * ncon];     /* contact-point Jacobians along x, per contact */
-  double minv_j[nv * ncon];  /* half solves of the contact Jacobians */
+  double minv_j[nv * ncon];  /* M^-1 J' per contact */
   double total[nv];
   double unit_torque[nv];   /* generalised force of a unit motor torque */
   mju_zero(tau, nv);
@@ -313,18 +313,14 @@ void cofgym_passive(const mjModel* m, mjData* d) {
    * which tends to the explicit midpoint step for a soft contact (z -> 0) and to the quasi-static
    * creep balance at the step's end for a stiff one (z >> 1): stable and phase-accurate at any
    * creep stiffness. The creep force applied is the one that makes MuJoCo's Euler step give du. */
-  /* with M = L' D L and the half solve h(y) = D^-1/2 L'^-1 y: J M^-1 y = h(J') . h(y) */
-  double sqrt_inv_d[nv], half_total[nv], half_torque[nv];
-  for (int i = 0; i < nv; i++) sqrt_inv_d[i] = sqrt(d->qLDiagInv[i]);
+  /* x_k = M^-1 J_k' (one solve for all contacts): A = J x, a_u = -x . total, b_u = -x . unit torque */
   mju_add(total, d->qfrc_passive, tau, nv);
-  mj_solveM2(m, d, minv_j, jx, sqrt_inv_d, ncon);
-  mj_solveM2(m, d, half_total, total, sqrt_inv_d, 1);
-  mj_solveM2(m, d, half_torque, unit_torque, sqrt_inv_d, 1);
+  mj_solveM(m, d, minv_j, jx, ncon);
   for (int k = 0; k < ncon; k++) {
-    double* hj = minv_j + nv * k;
-    double a_inv = mju_dot(hj, hj, nv);
-    double a_u = -mju_dot(hj, half_total, nv);
-    double b_u = -mju_dot(hj, half_torque, nv) * torque_rate;
+    double* xk = minv_j + nv * k;
+    double a_inv = chain_dot(cj + k, cj[k].x, xk);
+    double a_u = -mju_dot(xk, total, nv);
+    double b_u = -mju_dot(xk, unit_torque, nv) * torque_rate;
     double z = dt * a_inv * dfdu[k];
     double phi1, phi2;
     if (z < 1e-3) {
