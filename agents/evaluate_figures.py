@@ -4,11 +4,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from cof_gym.analysis.plotting import finish, plt, save  # selects the Agg backend
 
 
 def plot_all(records, summary, traces, out: Path) -> list[Path]:
@@ -27,12 +25,8 @@ def plot_all(records, summary, traces, out: Path) -> list[Path]:
                for lo, hi in zip(edges[:-1], edges[1:])]
         ax.plot(centres, 100 * np.array(med), "o-", label=f"{a} (median per bin)")
     ax.set(xlabel="true CoF", ylabel="relative CoF error [%]", yscale="symlog", title="Error per CoF level")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    paths.append(out / "error_per_cof.png")
-    fig.tight_layout()
-    fig.savefig(paths[-1], dpi=110)
-    plt.close(fig)
+    finish(ax)
+    paths.append(save(fig, out / "error_per_cof.png", dpi=110))
 
     # error vs discomfort trade-off
     fig, ax = plt.subplots(figsize=(6, 4.5))
@@ -45,12 +39,8 @@ def plot_all(records, summary, traces, out: Path) -> list[Path]:
                     label=a)
     ax.set(xlabel="mean Wd-weighted RMS car-body acceleration [m/s^2]", ylabel="median relative CoF error [%]",
            title="Error vs discomfort (95 % CI)")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    paths.append(out / "error_vs_discomfort.png")
-    fig.tight_layout()
-    fig.savefig(paths[-1], dpi=110)
-    plt.close(fig)
+    finish(ax)
+    paths.append(save(fig, out / "error_vs_discomfort.png", dpi=110))
 
     # one episode trace per agent
     fig, axes = plt.subplots(4, 1, figsize=(8, 8), sharex=True)
@@ -73,8 +63,5 @@ def plot_all(records, summary, traces, out: Path) -> list[Path]:
     axes[0].set_title("First episode of the suite, per agent (black line: true CoF)")
     for ax in axes:
         ax.grid(alpha=0.3)
-    paths.append(out / "episode_traces.png")
-    fig.tight_layout()
-    fig.savefig(paths[-1], dpi=110)
-    plt.close(fig)
+    paths.append(save(fig, out / "episode_traces.png", dpi=110))
     return paths

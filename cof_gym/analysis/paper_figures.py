@@ -4,10 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+from cof_gym.analysis.plotting import finish, plt, save  # selects the Agg backend
 
 
 def _col(rows: list[dict], key: str) -> list[float]:
@@ -26,10 +23,7 @@ def plot_all(results: dict, out_dir: Path) -> list[Path]:
            title="Half wheelset (paper Fig. 5): N 100 kN, v 10 m/s, 5 Hz, 345 Nm")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, ncol=2)
-    paths.append(out_dir / "fig5_half_wheelset.png")
-    fig.tight_layout()
-    fig.savefig(paths[-1], dpi=120)
-    plt.close(fig)
+    paths.append(save(fig, out_dir / "fig5_half_wheelset.png", dpi=120))
 
     # Fig. 4/7: wagon CoF 0.4 with Eq. 4
     rows = results["fig7_wagon_cof_0.4"]
@@ -42,12 +36,8 @@ def plot_all(results: dict, out_dir: Path) -> list[Path]:
     ax.axhline(0, color="k", lw=0.5)
     ax.set(xlabel="DC torque [% of saturation torque]", ylabel="phase [deg]",
            title="Wagon with cruise control, CoF 0.4 (paper Figs. 4 and 7)")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    paths.append(out_dir / "fig7_wagon_eq4.png")
-    fig.tight_layout()
-    fig.savefig(paths[-1], dpi=120)
-    plt.close(fig)
+    finish(ax)
+    paths.append(save(fig, out_dir / "fig7_wagon_eq4.png", dpi=120))
 
     # Fig. 8: CoF sweep on the wagon + crossing / error
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
@@ -62,8 +52,7 @@ def plot_all(results: dict, out_dir: Path) -> list[Path]:
             errors.append(100 * z["cof_error_relative"])
     ax.axhline(0, color="k", lw=0.5)
     ax.set(xlabel="DC torque [% of saturation torque]", ylabel="phase lag [deg]", title="Wagon, CoF 0.1...0.5 (paper Fig. 8)")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
+    finish(ax)
     ax2.plot(cofs, crossing, "o-", label="zero crossing [% M_sat]")
     ax2.axhspan(94, 95, color="tab:orange", alpha=0.3, label="paper: 94-95 %")
     ax2b = ax2.twinx()
@@ -73,8 +62,5 @@ def plot_all(results: dict, out_dir: Path) -> list[Path]:
     ax2.legend(loc="upper left", fontsize=8)
     ax2b.legend(loc="lower right", fontsize=8)
     ax2.grid(alpha=0.3)
-    paths.append(out_dir / "fig8_wagon_cof_sweep.png")
-    fig.tight_layout()
-    fig.savefig(paths[-1], dpi=120)
-    plt.close(fig)
+    paths.append(save(fig, out_dir / "fig8_wagon_cof_sweep.png", dpi=120))
     return paths
