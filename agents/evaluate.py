@@ -154,7 +154,7 @@ def markdown_table(summary: dict[str, dict[str, Any]]) -> str:
             fmt = "{:.1%}" if "error" in key else "{:.3g}"
             cells.append(f"{fmt.format(v['value'])} [{fmt.format(v['ci95'][0])}, {fmt.format(v['ci95'][1])}]")
         lines.append(f"| {label} | " + " | ".join(cells) + " |")
-    lines.append(f"| episodes | " + " | ".join(str(summary[a]["episodes"]) for a in agents) + " |")
+    lines.append("| episodes | " + " | ".join(str(summary[a]["episodes"]) for a in agents) + " |")
     return "\n".join(lines)
 
 

@@ -37,15 +37,3 @@ def phase_eq4_deg(phase_eq3: float, phi_v_deg: float) -> float:
     pv = math.radians(phi_v_deg)
     return math.degrees(math.atan(math.tan(math.radians(phase_eq3)) / math.cos(pv) - math.tan(pv)))
 
-
-def describing_function_slope(mean_creepage: float, creepage_amplitude: float, op: OperatingConditions,
-                              n: int = 128) -> float:
-    """First-harmonic (describing-function) slope of the creep curve for s = s0 + a sin(theta):
-    k = 1/(pi a) * integral of CoA(s0 + a sin theta) sin theta over a period. It equals the tangent
-    slope dCoA/ds(s0) in the small-signal limit a -> 0 and is the slope Eq. 3 sees when the
-    modulation sweeps a curved part of the creep curve."""
-    if creepage_amplitude <= 0.0:
-        return float(creep_curve(mean_creepage, op)[1][0])
-    theta = (np.arange(n) + 0.5) * (2 * np.pi / n)
-    coa, _ = creep_curve(mean_creepage + creepage_amplitude * np.sin(theta), op)
-    return float(2.0 * np.mean(coa * np.sin(theta)) / creepage_amplitude)

@@ -22,7 +22,7 @@ from cof_gym.envs.spaces import (
 from cof_gym.physics.creep import OperatingConditions, creep_peak
 from cof_gym.physics.models import DEFAULT_TIMESTEP_S, BuiltModel, build_half_wheelset, build_wagon
 from cof_gym.physics.simulation import DriveCommand, SimulationDiverged, Scenario, Simulation, WindowMeasurement
-from cof_gym.physics.vehicle import LADEN_WHEEL_LOAD_N, HalfWheelsetParameters, wagon_parameters
+from cof_gym.physics.vehicle import HalfWheelsetParameters, wagon_parameters
 
 VEHICLES = ("wagon", "half_wheelset")
 DEFAULT_MAX_WINDOWS = 30

@@ -24,7 +24,7 @@ low_adhesion    0.10  0.05  0.45  0.20      leaf layer: cof_gym's choice (unveri
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from functools import lru_cache
 
 import numpy as np
@@ -225,6 +225,3 @@ def creepage_at_coa(coa: float, op: OperatingConditions) -> float:
     f = lambda s: _curve(law, patch, op.wheel_load_n, op.speed_m_s, np.array([s]))[0][0] - coa
     return float(brentq(f, 0.0, peak.creepage, xtol=1e-15, rtol=1e-12))
 
-
-def with_cof(op: OperatingConditions, cof: float) -> OperatingConditions:
-    return replace(op, cof=cof)

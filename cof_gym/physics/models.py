@@ -11,7 +11,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import mujoco
-import numpy as np
 
 from cof_gym.physics.contact_geometry import ContactGeometry
 from cof_gym.physics.creep import ContactPatch
