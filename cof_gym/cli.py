@@ -24,13 +24,13 @@ def _bench(args: argparse.Namespace) -> int:
 
 
 def _evaluate(args: argparse.Namespace) -> int:
-    from agents.evaluate import run
+    from cof_gym.agents.evaluate import run
 
     return run(args)
 
 
 def _train(args: argparse.Namespace) -> int:
-    from agents.train import run
+    from cof_gym.agents.train import run
 
     return run(args)
 
@@ -45,13 +45,13 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("bench", help="simulation speed and native/bare ratio")
     p.add_argument("--seconds", type=float, default=5.0, help="simulated seconds per timing")
     p.set_defaults(func=_bench)
-    from agents.evaluate import add_arguments as evaluate_arguments
+    from cof_gym.agents.evaluate import add_arguments as evaluate_arguments
 
     p = sub.add_parser("evaluate", help="agents side by side on the same seeded scenarios")
     evaluate_arguments(p)
     p.set_defaults(func=_evaluate)
     try:
-        from agents.train import add_arguments as train_arguments
+        from cof_gym.agents.train import add_arguments as train_arguments
     except ImportError:  # training extras not installed
         train_arguments = None
     if train_arguments is not None:

@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 
 import cof_gym  # noqa: F401
-from agents.adapters import DC_STEP_FRACTION, incremental_to_env
-from agents.base import Agent
-from agents.evaluate import evaluate, run_episode
-from agents.staircase import PaperStaircase, PracticalStaircase, limits_of
-from agents.suites import make_suite, paper_suite
+from cof_gym.agents.adapters import DC_STEP_FRACTION, incremental_to_env
+from cof_gym.agents.base import Agent
+from cof_gym.agents.evaluate import evaluate, run_episode
+from cof_gym.agents.staircase import PaperStaircase, PracticalStaircase, limits_of
+from cof_gym.agents.suites import make_suite, paper_suite
 from cof_gym.envs.spaces import OBSERVATION_NAMES, decode_action
 
 WAGON = "CofGym/TorqueInterrogation-v0"
@@ -95,7 +95,7 @@ def test_bad_agent_and_suite_names_raise(tmp_path: Path) -> None:
 
 
 def test_a_2048_step_training_run_loads_in_evaluate(tmp_path: Path) -> None:
-    from agents.train import build_parser, run
+    from cof_gym.agents.train import build_parser, run
 
     out = tmp_path / "run"
     args = build_parser().parse_args(["--env", WAGON, "--timesteps", "2048", "--n-envs", "1", "--seed", "1",

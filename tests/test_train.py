@@ -1,4 +1,4 @@
-"""``cof-gym train`` (agents/train.py) and the trained-policy agent (agents/ppo.py): a short PPO run
+"""``cof-gym train`` (cof_gym/agents/train.py) and the trained-policy agent (cof_gym/agents/ppo.py): a short PPO run
 writes the model, its VecNormalize statistics and TensorBoard logs; the agent acts on a real
 observation; a resumed run continues the step counter."""
 
@@ -18,9 +18,9 @@ pytest.importorskip("yaml")
 import gymnasium as gym  # noqa: E402
 
 import cof_gym  # noqa: E402,F401
-from agents.base import Agent  # noqa: E402
-from agents.ppo import PPOAgent, vecnormalize_path  # noqa: E402
-from agents.train import build_parser, load_hyperparams, run, split_hyperparams  # noqa: E402
+from cof_gym.agents.base import Agent  # noqa: E402
+from cof_gym.agents.ppo import PPOAgent, vecnormalize_path  # noqa: E402
+from cof_gym.agents.train import build_parser, load_hyperparams, run, split_hyperparams  # noqa: E402
 
 ENV_ID = "CofGym/HalfWheelset-v0"
 SHORT = ["--env-kwargs", "max_windows:5", "--hyperparams", "n_steps:128", "batch_size:64", "n_epochs:2"]

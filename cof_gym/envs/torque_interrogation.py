@@ -26,7 +26,7 @@ from cof_gym.physics.vehicle import HalfWheelsetParameters, wagon_parameters
 
 VEHICLES = ("wagon", "half_wheelset")
 DEFAULT_MAX_WINDOWS = 30
-SHAPING_GAMMA = 0.95  # discount the shaping potential assumes (agents/hyperparams/ppo.yml's gamma)
+SHAPING_GAMMA = 0.95  # discount the shaping potential assumes (cof_gym/agents/hyperparams/ppo.yml's gamma)
 MAX_DC_TORQUE_PER_LADEN_SATURATION = 0.7 / 0.6  # the drive reaches saturation up to CoF ~0.7
 
 

@@ -15,12 +15,12 @@ import gymnasium as gym
 import numpy as np
 
 import cof_gym  # noqa: F401  (registers the environments)
-from agents.base import Agent
-from agents.staircase import PaperStaircase, PracticalStaircase, limits_of
-from agents.suites import Suite, make_suite
+from cof_gym.agents.base import Agent
+from cof_gym.agents.staircase import PaperStaircase, PracticalStaircase, limits_of
+from cof_gym.agents.suites import Suite, make_suite
 
-REPO = Path(__file__).resolve().parent.parent
-SHIPPED_PPO = REPO / "agents" / "policies" / "ppo_wagon"
+PACKAGE_DIR = Path(__file__).resolve().parent
+SHIPPED_PPO = PACKAGE_DIR / "policies" / "ppo_wagon"
 DEFAULT_AGENTS = "staircase-paper,staircase,ppo"
 N_BOOTSTRAP = 2000
 
@@ -33,7 +33,7 @@ def make_agent(spec: str, env: gym.Env) -> Agent:
     if spec == "staircase":
         return PracticalStaircase(limits)
     if spec == "ppo" or spec.startswith("ppo:"):
-        from agents.ppo import PPOAgent
+        from cof_gym.agents.ppo import PPOAgent
 
         path = Path(spec[4:]) if spec.startswith("ppo:") else SHIPPED_PPO
         agent = PPOAgent.load(path)
@@ -196,7 +196,7 @@ def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: 
               "agents": agent_specs, "summary": summary, "traces": traces,
               "wall_time_s": time.perf_counter() - t0}
     (out / "summary.json").write_text(json.dumps({k: v for k, v in result.items() if k != "wall_time_s"}, indent=1))
-    from agents.evaluate_figures import plot_all
+    from cof_gym.agents.evaluate_figures import plot_all
 
     result["figures"] = [str(p) for p in plot_all(records, summary, traces, out)]
     if not quiet:

@@ -1,4 +1,4 @@
-"""A trained Stable-Baselines3 PPO policy behind the :class:`agents.base.Agent` protocol.
+"""A trained Stable-Baselines3 PPO policy behind the :class:`cof_gym.agents.base.Agent` protocol.
 
 ``PPOAgent.load(path)`` takes what ``cof-gym train`` writes (``OUT/model.zip`` with
 ``OUT/vecnormalize.pkl`` beside it, the directory ``OUT``, ``OUT/best`` or a checkpoint
@@ -70,7 +70,7 @@ def find_train_meta(model_path: str | Path) -> dict[str, Any] | None:
 def _make_env(full_id: str, adapter: str, **kwargs: Any):
     import gymnasium as gym
 
-    from agents.adapters import wrap
+    from cof_gym.agents.adapters import wrap
 
     return wrap(gym.make(full_id, **kwargs), adapter)
 
@@ -80,7 +80,7 @@ def make_env_fn(env_id: str, env_kwargs: dict[str, Any] | None = None, adapter: 
     registration also happens in spawned / forkserver subprocesses (DESIGN.md section 6). A
     ``max_windows`` other than the registered horizon also moves the TimeLimit (``max_episode_steps``)
     unless that is given too, so that the last estimate is scored by the env itself. ``adapter``:
-    :mod:`agents.adapters` (how the policy's output becomes the env's action)."""
+    :mod:`cof_gym.agents.adapters` (how the policy's output becomes the env's action)."""
     import functools
 
     kwargs = dict(env_kwargs or {})
@@ -160,7 +160,7 @@ class PPOAgent:
         if action.shape != (5,):
             raise ValueError(f"policy returned an action of shape {action.shape}, expected (5,)")
         if self.adapter == "incremental":
-            from agents.adapters import incremental_to_env
+            from cof_gym.agents.adapters import incremental_to_env
 
             return incremental_to_env(action, observation, self.limits)
         return action

@@ -1,10 +1,10 @@
 """``cof-gym train``: PPO (Stable-Baselines3) on the cof_gym environments.
 
-Defaults come from ``agents/hyperparams/ppo.yml`` (RL Zoo format, the file ``python -m rl_zoo3.train``
+Defaults come from ``cof_gym/agents/hyperparams/ppo.yml`` (RL Zoo format, the file ``python -m rl_zoo3.train``
 reads too); the command line overrides them. Writes, under ``--out DIR``:
 
 - ``model.zip`` and ``vecnormalize.pkl`` beside it (observation statistics; load them with
-  ``training=False, norm_reward=False``, as :class:`agents.ppo.PPOAgent` does);
+  ``training=False, norm_reward=False``, as :class:`cof_gym.agents.ppo.PPOAgent` does);
 - ``tb/PPO_<k>/``: TensorBoard logs, with per-episode reward terms, relative CoF error and
   macro-slip rate under ``episode/``;
 - ``checkpoints/ppo_<N>_steps.zip`` + ``ppo_vecnormalize_<N>_steps.pkl`` (``--save-freq``);
@@ -236,7 +236,7 @@ def _make_venv(env_id: str, env_kwargs: dict[str, Any], n_envs: int, seed: int, 
     from stable_baselines3.common.env_util import make_vec_env
     from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
 
-    from agents.ppo import make_env_fn
+    from cof_gym.agents.ppo import make_env_fn
 
     cls = SubprocVecEnv if vec == "subproc" else DummyVecEnv
     return make_vec_env(make_env_fn(env_id, env_kwargs, adapter), n_envs=n_envs, seed=seed, vec_env_cls=cls,
@@ -279,7 +279,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="progress bar (tqdm + rich)")
     parser.add_argument("--verbose", "-v", type=int, default=0, help="SB3 verbosity (1: print log tables)")
     parser.add_argument("--action-adapter", choices=("absolute", "incremental"), default=None,
-                        help="how the policy's output becomes the env action (agents/adapters.py; default: "
+                        help="how the policy's output becomes the env action (cof_gym/agents/adapters.py; default: "
                              "absolute, or the resumed run's)")
     parser.add_argument("--pretrain-episodes", type=int, default=0,
                         help="behaviour-clone the practical staircase over N episodes before PPO (0: off)")
@@ -311,7 +311,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: C901 - one linear recipe
     """Train; 0 on success, 2 on a usage error, 130 when interrupted (the model is saved anyway)."""
     import cof_gym  # noqa: F401 - registers the ids in this process
 
-    from agents.ppo import META_NAME, find_train_meta, resolve_model_path, vecnormalize_path
+    from cof_gym.agents.ppo import META_NAME, find_train_meta, resolve_model_path, vecnormalize_path
 
     out = Path(args.out)
     resume_path = None
@@ -408,7 +408,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: C901 - one linear recipe
             model = PPO(settings["policy"], train_env, seed=seed, tensorboard_log=str(out / "tb"),
                         verbose=args.verbose, device=args.device, **ppo_kwargs)
             if args.pretrain_episodes > 0:
-                from agents.pretrain import behaviour_clone, collect_demonstrations
+                from cof_gym.agents.pretrain import behaviour_clone, collect_demonstrations
 
                 t_bc = time.perf_counter()
                 demo_obs, demo_act = collect_demonstrations(env_id, env_kwargs, args.pretrain_episodes, seed + 100_000)

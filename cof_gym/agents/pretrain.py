@@ -13,7 +13,7 @@ import gymnasium as gym
 import numpy as np
 import torch
 
-from agents.staircase import PracticalStaircase, limits_of
+from cof_gym.agents.staircase import PracticalStaircase, limits_of
 from cof_gym.envs.spaces import ACTION_NAMES
 
 STOP = ACTION_NAMES.index("stop")

@@ -1,1 +1,0 @@
-"""Agents for the torque-interrogation task, all behind :class:`agents.base.Agent`."""
