@@ -10,6 +10,7 @@ import pytest
 from cof_gym.physics.contact_geometry import (
     KALKER_C11_A_OVER_B,
     KALKER_C11_B_OVER_A,
+    KALKER_C11_POISSON,
     ContactGeometry,
     creep_stiffness_constant,
     hertz_semi_axes,
@@ -89,28 +90,52 @@ def test_geometry_is_frozen() -> None:
 
 
 def test_c11_at_design_ratio() -> None:
-    assert 4.45 <= kalker_c11(1 / 0.75) <= 4.5
+    # DESIGN value for the nu = 0.25 column: c11 ~ 4.45 at b/a ~ 0.75
+    assert kalker_c11(1 / 0.75, 0.25) == pytest.approx(4.45, abs=0.01)
+
+
+def test_c11_uses_the_hertz_poisson_ratio() -> None:
+    """The default is the Hertz solution's nu (0.3), between the table's 0.25 and 0.5 columns."""
+    g = 1 / 0.75
+    assert kalker_c11(g) == kalker_c11(g, ContactGeometry().poisson_ratio)
+    assert kalker_c11(g, 0.25) < kalker_c11(g) < kalker_c11(g, 0.5)
+    assert kalker_c11(g) == pytest.approx(4.62, abs=0.01)
+
+
+def test_c11_nu_interpolation_follows_kalker_thin_strip_asymptote() -> None:
+    """1/c11 is interpolated in nu; at a/b -> 0 Kalker's c11 = pi^2 / (4 (1 - nu)) is linear in nu as
+    1/c11, so the interpolation at a/b = 0.1 tracks the asymptote's nu-dependence."""
+    ratio = kalker_c11(0.1, 0.3) / kalker_c11(0.1, 0.0)
+    assert ratio == pytest.approx(1.0 / (1.0 - 0.3), rel=0.02)
 
 
 def test_c11_reproduces_table_points_exactly() -> None:
-    for g, c11 in KALKER_C11_A_OVER_B:
-        assert kalker_c11(g) == pytest.approx(c11, abs=1e-12)
-    for b_over_a, c11 in KALKER_C11_B_OVER_A:
-        assert kalker_c11(1 / b_over_a) == pytest.approx(c11, abs=1e-12)
-    assert kalker_c11(0.1) == pytest.approx(3.31, abs=1e-12)
-    assert kalker_c11(10.0) == pytest.approx(11.7, abs=1e-12)
+    for nu_index, nu in enumerate(KALKER_C11_POISSON):
+        for g, row in KALKER_C11_A_OVER_B:
+            assert kalker_c11(g, nu) == pytest.approx(row[nu_index], abs=1e-12)
+        for b_over_a, row in KALKER_C11_B_OVER_A:
+            assert kalker_c11(1 / b_over_a, nu) == pytest.approx(row[nu_index], abs=1e-12)
+    assert kalker_c11(0.1, 0.25) == pytest.approx(3.31, abs=1e-12)
+    assert kalker_c11(10.0, 0.25) == pytest.approx(11.7, abs=1e-12)
 
 
 def test_c11_is_linear_in_table_variable() -> None:
-    # midway in b/a between 0.8 and 0.6 (a/b = 1/0.7), not midway in a/b
-    assert kalker_c11(1 / 0.7) == pytest.approx((4.36 + 4.78) / 2, abs=1e-12)
-    assert kalker_c11(0.4) == pytest.approx((3.44 + 3.62) / 2, abs=1e-12)
+    # midway in b/a between 0.8 and 0.7 (a/b = 1/0.75), not midway in a/b
+    assert kalker_c11(1 / 0.75, 0.25) == pytest.approx((4.36 + 4.54) / 2, abs=1e-12)
+    assert kalker_c11(0.45, 0.25) == pytest.approx((3.53 + 3.62) / 2, abs=1e-12)
 
 
-def test_c11_increases_with_a_over_b() -> None:
+@pytest.mark.parametrize("nu", [0.0, 0.25, 0.3])  # Kalker's nu = 0.5 column dips slightly below a/b 0.4
+def test_c11_increases_with_a_over_b(nu: float) -> None:
     grid = [0.1 + 0.05 * i for i in range(int((10 - 0.1) / 0.05) + 1)]
-    values = [kalker_c11(min(g, 10.0)) for g in grid]
+    values = [kalker_c11(min(g, 10.0), nu) for g in grid]
     assert all(v2 >= v1 for v1, v2 in zip(values, values[1:]))
+
+
+@pytest.mark.parametrize("nu", [-0.01, 0.51, math.nan])
+def test_c11_bad_poisson_ratio_is_rejected(nu: float) -> None:
+    with pytest.raises(ValueError, match=r"poisson_ratio.*\[0, 0\.5\]"):
+        kalker_c11(1.0, nu)
 
 
 @pytest.mark.parametrize("g", [0.09, 10.01, 0.0, -1.0, math.nan])
@@ -123,7 +148,7 @@ def test_creep_constant_at_paper_load() -> None:
     c = creep_stiffness_constant(100e3)
     assert 105 <= c <= 115
     a, b = hertz_semi_axes(100e3)
-    assert c == pytest.approx(80e9 * math.pi * a * b * kalker_c11(a / b) / (4 * 100e3), rel=1e-12)
+    assert c == pytest.approx(80e9 * math.pi * a * b * kalker_c11(a / b, 0.3) / (4 * 100e3), rel=1e-12)
 
 
 def test_creep_constant_falls_with_load() -> None:

@@ -19,6 +19,14 @@ dry             1.00  0.40  0.40  0.60      Polach's dry set
 wet             0.30  0.10  0.40  0.20      Polach's wet set
 low_adhesion    0.10  0.05  0.45  0.20      leaf layer: cof_gym's choice (unverified), a
                                             flatter initial slope than wet
+dry_kalker      1.00  1.00  0.40  0.60      dry, with Kalker's unreduced initial slope
+                                            (kA + kS = 2: dF/ds at s = 0 is Kalker's linear
+                                            theory, G a b c11 / Q per unit CoA, as a
+                                            Kalker-table or FASTSIM contact gives; Polach
+                                            2005 Sect. 2 reduces it by (kA + kS)/2 < 1 to
+                                            fit measurements); A, B as dry. cof_gym's
+                                            choice: the creep-curve shape under which the
+                                            paper's ~94 % zero crossing is reproduced
 =============== ===== ===== ===== ========= ===========================================
 """
 
@@ -66,6 +74,7 @@ CONDITIONS: dict[str, PolachShape] = {
     "dry": PolachShape(1.00, 0.40, 0.40, 0.60),
     "wet": PolachShape(0.30, 0.10, 0.40, 0.20),
     "low_adhesion": PolachShape(0.10, 0.05, 0.45, 0.20),
+    "dry_kalker": PolachShape(1.00, 1.00, 0.40, 0.60),
 }
 
 
