@@ -19,6 +19,8 @@ __version__ = "0.1.0"
 
 DEFAULT_MAX_WINDOWS = 30
 ENV_IDS = ("CofGym/TorqueInterrogation-v0", "CofGym/HalfWheelset-v0")
+WAGON_ENV_ID = "CofGym/TorqueInterrogation-v0"
+HALF_WHEELSET_ENV_ID = "CofGym/HalfWheelset-v0"
 
 
 def _register() -> None:
