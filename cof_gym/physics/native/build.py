@@ -1,88 +1,121 @@
-"""Compile and load the native core (C, through ctypes) against the installed MuJoCo.
+"""Load the native core (C, through ctypes) and install its MuJoCo callback.
 
-The shared library is built on first use with the system C compiler (``cc``/``gcc``) against
-MuJoCo's own headers and library from the ``mujoco`` wheel, and cached under
-``$COF_GYM_CACHE`` (default ``~/.cache/cof_gym``) keyed by the source, the layout and the MuJoCo
-version. Installing the callback (:func:`install_callback`) is idempotent and process-global.
+The shared library ``libcofgym-native.so`` is compiled when the package is built (``setup.py``, a
+setuptools ``build_ext`` step; :mod:`cof_gym.physics.native.toolchain` does the work) and installed
+beside this module, so an installed cof_gym needs no compiler and no writable directory at run time.
+It links MuJoCo's ``libmujoco`` from the ``mujoco`` wheel (by soname, with an rpath relative to the
+installed ``mujoco`` package; the loader also loads the bindings' own libmujoco globally first).
+
+Every library carries a build id (a hash of its C sources, the layout header rendered from
+``layout.py`` and the MuJoCo version). The loader checks it, and that the file is a complete ELF
+object, *before* loading it: a library that does not match the sources beside it is never loaded.
+In a source checkout (``pip install -e .``, or a clone on ``sys.path``) a missing or stale library is
+rebuilt in place (serialized by a file lock, published atomically; set ``COF_GYM_NATIVE_REBUILD=0`` to
+get an error instead); an installed package raises :class:`NativeLibraryError` asking to reinstall.
+Installing the callback (:func:`install_callback`) is idempotent and process-global.
 """
 
 from __future__ import annotations
 
 import ctypes
-import hashlib
 import os
-import shutil
-import subprocess
-import tempfile
+import sys
+import threading
 import warnings
 from functools import lru_cache
 from pathlib import Path
 
 import mujoco
 
-from cof_gym.physics.native import layout
+from cof_gym.physics.native import toolchain
 
 _HERE = Path(__file__).resolve().parent
-_SOURCE = _HERE / "cofgym_native.c"
-_MJ_DIR = Path(mujoco.__file__).resolve().parent
-# built on the machine that runs it, so -march=native is safe; no fast-math: results stay IEEE
-_FLAGS = ("-O3", "-march=native", "-fPIC", "-shared", "-std=c99", "-fno-fast-math", "-ffp-contract=off")
+LIBRARY = _HERE / toolchain.LIBRARY_NAME
+_LOCK = threading.Lock()
 
 
-def _mujoco_library() -> Path:
-    libs = sorted(_MJ_DIR.glob("libmujoco.so*")) + sorted(_MJ_DIR.glob("libmujoco*.dylib"))
-    if not libs:
-        raise RuntimeError(f"libmujoco not found in {_MJ_DIR}; is the mujoco wheel installed?")
-    return libs[0]
+class NativeLibraryError(RuntimeError):
+    """cof_gym's native library is missing, damaged or does not match the installed sources."""
 
 
-def _cache_dir() -> Path:
-    root = os.environ.get("COF_GYM_CACHE") or os.path.join(Path.home(), ".cache", "cof_gym")
-    return Path(root)
+def _is_source_tree() -> bool:
+    """A source checkout (setup.py and pyproject.toml at the root), not an installed package."""
+    root = _HERE.parents[2]
+    return (root / "setup.py").is_file() and (root / "pyproject.toml").is_file()
 
 
-def _compiler() -> str:
-    for name in (os.environ.get("CC"), "cc", "gcc", "clang"):
-        if name and shutil.which(name):
-            return name
-    raise RuntimeError(
-        "cof_gym needs a C compiler (cc, gcc or clang) to build its native MuJoCo callback; "
-        "install one (e.g. apt-get install gcc) or set CC"
-    )
+def library_problem(path: Path = LIBRARY) -> str | None:
+    """Why ``path`` must not be loaded (missing, damaged, built from other sources), or None."""
+    if not path.exists():
+        return "is missing"
+    problem = toolchain.elf_problem(path)
+    if problem:
+        return problem
+    embedded = toolchain.embedded_build_id(path)
+    if embedded is None:
+        return "carries no build id"
+    if any(p.suffix == ".c" for p in toolchain.source_files(_HERE)):  # the sources ship with the package
+        expected = toolchain.expected_build_id(_HERE)
+        if embedded != expected:
+            return (f"was built from other sources or another MuJoCo (build id {embedded[:12]}, "
+                    f"the sources here give {expected[:12]})")
+    return None
+
+
+def _rebuild(path: Path, reason: str) -> None:
+    import fcntl
+
+    print(f"cof_gym: native library {path.name} {reason}; rebuilding it in this source tree", file=sys.stderr)
+    lock_path = path.with_name(f".{path.name}.lock")
+    with open(lock_path, "a") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)  # another process may be building it: wait, then re-check
+        try:
+            if library_problem(path) is not None:
+                toolchain.build(path)
+        finally:
+            fcntl.flock(lock, fcntl.LOCK_UN)
 
 
 def library_path() -> Path:
-    """Path of the compiled library, building it if the cache has none for this source."""
-    header = layout.c_header()
-    source = _SOURCE.read_text()
-    key = hashlib.sha256((source + header + mujoco.__version__ + " ".join(_FLAGS)).encode()).hexdigest()[:16]
-    target = _cache_dir() / f"cofgym_native-{key}.so"
-    if target.exists():
-        return target
-    target.parent.mkdir(parents=True, exist_ok=True)
-    mjlib = _mujoco_library()
-    with tempfile.TemporaryDirectory() as tmp:
-        (Path(tmp) / "cofgym_layout.h").write_text(header)
-        out = Path(tmp) / target.name
-        cmd = [
-            _compiler(), *_FLAGS,
-            f"-I{tmp}", f"-I{_MJ_DIR / 'include'}", str(_SOURCE), "-o", str(out),
-            str(mjlib), f"-Wl,-rpath,{mjlib.parent}", "-lm",
-        ]
-        proc = subprocess.run(cmd, capture_output=True, text=True)
-        if proc.returncode != 0:
-            raise RuntimeError(f"building the native callback failed:\n{' '.join(cmd)}\n{proc.stderr}")
-        # atomic publish: concurrent processes may build the same key
-        tmp_target = target.with_suffix(f".{os.getpid()}.tmp")
-        shutil.copyfile(out, tmp_target)
-        os.replace(tmp_target, target)
-    return target
+    """Path of a verified native library (rebuilt first in a source tree when missing or stale)."""
+    with _LOCK:
+        problem = library_problem(LIBRARY)
+        if problem is None:
+            return LIBRARY
+        rebuild_allowed = os.environ.get("COF_GYM_NATIVE_REBUILD", "1") not in ("0", "false", "no")
+        if _is_source_tree() and rebuild_allowed:
+            try:
+                _rebuild(LIBRARY, problem)
+            except (toolchain.BuildError, OSError) as e:
+                raise NativeLibraryError(f"cof_gym's native library {LIBRARY} {problem}, and rebuilding it "
+                                         f"failed: {e}") from e
+            problem = library_problem(LIBRARY)
+            if problem is None:
+                return LIBRARY
+        hint = ("run `pip install -e .` in the source tree again" if _is_source_tree()
+                else "reinstall cof_gym (pip install --force-reinstall --no-deps cof_gym)")
+        raise NativeLibraryError(f"cof_gym's native library {LIBRARY} {problem}: {hint}")
+
+
+def _load_libmujoco_globally() -> None:
+    """The bindings' libmujoco, made global, so the native library's MuJoCo symbols resolve to the very
+    copy the bindings use (wherever this package and mujoco are installed, editable or not)."""
+    try:
+        ctypes.CDLL(str(toolchain.mujoco_library(Path(mujoco.__file__).resolve().parent)), mode=ctypes.RTLD_GLOBAL)
+    except (OSError, toolchain.BuildError):
+        pass  # the rpath and the soname still resolve it
 
 
 @lru_cache(maxsize=1)
 def native() -> ctypes.CDLL:
     """The loaded native library with its argument types declared."""
-    lib = ctypes.CDLL(str(library_path()))
+    path = library_path()
+    _load_libmujoco_globally()
+    try:
+        lib = ctypes.CDLL(str(path))
+    except OSError as e:
+        raise NativeLibraryError(f"cof_gym's native library {path} cannot be loaded ({e}); "
+                                 "reinstall cof_gym (a directory mounted noexec cannot hold it)") from e
     dp = ctypes.POINTER(ctypes.c_double)
     lib.cofgym_creep_force.restype = ctypes.c_double
     lib.cofgym_creep_force.argtypes = [dp, dp, ctypes.c_double, ctypes.c_double, ctypes.c_double, dp]
