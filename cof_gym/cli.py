@@ -38,10 +38,11 @@ def _train(args: argparse.Namespace) -> int:
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="cof-gym", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True)
-    p = sub.add_parser("reproduce-paper", help="re-simulate the paper's Figs. 5, 4/7 and 8")
-    p.add_argument("--out", default="out/paper", help="output directory (figures, results.json)")
-    p.add_argument("--quick", action="store_true", help="shorter windows (under 2 minutes)")
-    p.set_defaults(func=_reproduce)
+    from cof_gym.analysis.paper import add_arguments as reproduce_arguments, run as reproduce_run
+
+    p = sub.add_parser("reproduce-paper", help="re-simulate the paper's Figs. 5, 4/7 and 8; exit 1 if a check fails")
+    reproduce_arguments(p)
+    p.set_defaults(func=reproduce_run)
     p = sub.add_parser("bench", help="simulation speed and native/bare ratio")
     p.add_argument("--seconds", type=float, default=5.0, help="simulated seconds per timing")
     p.set_defaults(func=_bench)

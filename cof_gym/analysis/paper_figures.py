@@ -1,66 +1,183 @@
-"""Figures of ``reproduce-paper`` (matplotlib, Agg), drawn from the numbers in results.json."""
+"""Figures of ``reproduce-paper`` (matplotlib, Agg), drawn only from the numbers in results.json."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+
 from cof_gym.analysis.plotting import finish, plt, save  # selects the Agg backend
 
+SHAPE_STYLE = {"dry": {"color": "tab:blue", "label": "dry (Polach kA 1, kS 0.4)"},
+               "dry_kalker": {"color": "tab:green", "label": "dry_kalker (kA = kS = 1)"}}
+PAPER_BAND = {"color": "tab:orange", "alpha": 0.25}
 
-def _col(rows: list[dict], key: str) -> list[float]:
-    return [r[key] for r in rows]
+
+def _col(rows: list[dict], key: str) -> np.ndarray:
+    return np.array([np.nan if r[key] is None else r[key] for r in rows], dtype=float)
+
+
+def _pct(rows: list[dict]) -> np.ndarray:
+    return 100 * _col(rows, "fraction")
+
+
+def _paper_band(ax, results: dict, vertical: bool = False) -> None:
+    lo, hi = results["paper"]["crossing_percent"]
+    span = ax.axvspan if vertical else ax.axhspan
+    span(lo, hi, **PAPER_BAND, label=f"paper: crossing {lo:.0f}-{hi:.0f} %")
+
+
+def fig_half_wheelset(results: dict, out_dir: Path) -> Path:
+    """Every schedule point vs Eq. 3 with its tolerance band; large-signal points and their amplitude ladder."""
+    hw = results["half_wheelset"]
+    fig, axes = plt.subplots(2, 3, figsize=(14, 8))
+    for ax, (cof, rows) in zip(axes.flat, hw["cofs"].items()):
+        x, eq3, tol = _pct(rows), _col(rows, "phase_eq3_deg"), _col(rows, "tolerance_deg")
+        ax.fill_between(x, eq3 - tol, eq3 + tol, color="0.8", label="Eq. 3 +- max(0.2 deg, 5 %)")
+        ax.plot(x, eq3, "k-", lw=1, label="Eq. 3")
+        sim = _col(rows, "phase_sim_deg")
+        within = np.array([r["within_tolerance"] for r in rows])
+        large = np.array([r["large_signal"] for r in rows])
+        ax.plot(x[within], sim[within], "o", ms=4, color="tab:blue", label="MuJoCo, within tolerance")
+        if large.any():
+            ax.plot(x[large], sim[large], "D", ms=5, mfc="none", color="tab:red",
+                    label="outside: large-signal (converges as M0 shrinks)")
+        other = ~within & ~large
+        if other.any():
+            ax.plot(x[other], sim[other], "x", ms=7, color="k", label="outside, unexplained")
+        ax.set_yscale("log")
+        m_sat = float(cof) * hw["parameters"]["wheel_radius_m"] * hw["parameters"]["normal_load_n"]
+        ax.set(xlabel="DC torque [% of saturation torque]", ylabel="phase lag [deg]",
+               title=f"CoF {cof}: M0 = {100 * hw['parameters']['amplitude_nm'] / m_sat:.2f} % of M_sat")
+        finish(ax, 7)
+    ax = axes.flat[5]
+    ladder = np.array(hw["amplitude_ladder"]) * hw["parameters"]["amplitude_nm"]
+    for cof, rows in hw["cofs"].items():
+        for r in rows:
+            if r["ladder"] is not None:
+                ax.plot(ladder, np.abs(r["ladder"]["deviation_deg"]) / r["tolerance_deg"], "o-", ms=3, lw=0.8,
+                        color="tab:red", alpha=0.5)
+    ax.plot([], [], "o-", color="tab:red", alpha=0.5, label="each point outside at 345 N m")
+    ax.plot(ladder, 2.5 * (ladder / ladder[0]) ** 2, "k--", lw=1, label="~ M0^2")
+    ax.axhline(1.0, color="0.4", lw=1, label="tolerance")
+    ax.set(xscale="log", yscale="log", xlabel="modulation amplitude M0 [N m]", ylabel="|phi_sim - phi_Eq3| / tolerance",
+           title="Large-signal points: deviation vs M0")
+    finish(ax, 7)
+    fig.suptitle("Half wheelset (paper Sect. 2, Fig. 5): N 100 kN, v 10 m/s, 5 Hz, every schedule point")
+    return save(fig, out_dir / "fig5_half_wheelset.png", dpi=100)
+
+
+def fig_eq4(results: dict, out_dir: Path) -> Path:
+    """Wagon, CoF 0.4: simulated phase vs Eq. 4 in the paper's and the compliant form, measured phi_v."""
+    fig, axes = plt.subplots(1, 3, figsize=(16, 4.8))
+    for ax, shape in zip(axes, ("dry", "dry_kalker")):
+        rows = results["wagon"][shape]["cofs"]["0.4"]["steps"]
+        x = _pct(rows)
+        ax.errorbar(x, _col(rows, "phase_sim_deg"), yerr=_col(rows, "phase_se_deg"), fmt="o", ms=4, color="k",
+                    label="MuJoCo wagon")
+        ax.plot(x, _col(rows, "phase_eq4_compliant_deg"), "-", color="tab:green",
+                label="Eq. 4, cos^2(phi_v) (compliant wheelset)")
+        ax.plot(x, _col(rows, "phase_eq4_paper_deg"), "--", color="tab:purple", label="Eq. 4, cos(phi_v) (paper)")
+        ax.plot(x, _col(rows, "phase_eq3_deg"), ":", color="tab:gray", label="Eq. 3")
+        ax.plot(x, -_col(rows, "phi_v_deg"), "^", ms=3, color="tab:orange", alpha=0.7, label="-phi_v (measured)")
+        ax.axhline(0, color="k", lw=0.5)
+        ax.set(xlabel="DC torque [% of saturation torque]", ylabel="phase [deg]",
+               title=f"{SHAPE_STYLE[shape]['label']}, CoF 0.4 (paper Figs. 4, 7)")
+        finish(ax, 7)
+    ax = axes[2]
+    for shape in ("dry", "dry_kalker"):
+        rows = results["wagon"][shape]["cofs"]["0.4"]["steps"]
+        c = SHAPE_STYLE[shape]["color"]
+        ax.plot(_pct(rows), _col(rows, "creep_amplitude_ratio"), "o", ms=4, color=c,
+                label=f"{shape}: creepage amplitude / (R Omega0 / v)")
+        ax.plot(_pct(rows), _col(rows, "cos_phi_v"), "-", color=c, lw=1, label=f"{shape}: cos(phi_v)")
+    ax.set(xlabel="DC torque [% of saturation torque]", ylabel="ratio",
+           title="Why cos^2: the creepage amplitude shrinks by cos(phi_v)")
+    finish(ax, 7)
+    return save(fig, out_dir / "fig7_wagon_eq4.png", dpi=100)
+
+
+def fig_cof_sweep(results: dict, out_dir: Path) -> Path:
+    """Paper Fig. 8 for both shapes; crossing and CoA-as-CoF error per CoF on separate axes."""
+    fig, axes = plt.subplots(2, 2, figsize=(12, 8.5))
+    for ax, shape in zip(axes[0], ("dry", "dry_kalker")):
+        for cof, e in results["wagon"][shape]["cofs"].items():
+            ax.plot(_pct(e["steps"]), _col(e["steps"], "phase_sim_deg"), "o-", ms=3, lw=1, label=f"CoF {cof}")
+        _paper_band(ax, results, vertical=True)
+        ax.axhline(0, color="k", lw=0.5)
+        ax.set(xlabel="DC torque [% of saturation torque]", ylabel="phase lag [deg]",
+               title=f"Wagon, {SHAPE_STYLE[shape]['label']} (paper Fig. 8)")
+        finish(ax, 7)
+    ax_c, ax_e = axes[1]
+    _paper_band(ax_c, results)
+    lo, hi = results["paper"]["crossing_percent"]
+    for shape, entry in results["wagon"].items():
+        st = SHAPE_STYLE[shape]
+        cofs = [float(c) for c in entry["cofs"]]
+        z = [e["zero_crossing"] for e in entry["cofs"].values()]
+        ax_c.plot(cofs, [100 * (q["fraction_interpolated"] or np.nan) for q in z], "o-", color=st["color"],
+                  label=f"{shape}: MuJoCo wagon")
+        ax_c.plot(cofs, [100 * e["model_crossing_fraction"] for e in entry["cofs"].values()], "s", mfc="none",
+                  ms=8, color=st["color"], label=f"{shape}: small-signal model")
+        ax_e.plot(cofs, [100 * (q["cof_error_relative"] if q["fraction"] is not None else np.nan) for q in z], "o-",
+                  color=st["color"], label=f"{shape}: MuJoCo wagon")
+    ax_c.set(xlabel="CoF", ylabel="zero crossing [% of saturation torque]", title="Where the phase turns positive",
+             ylim=(60, 100))
+    finish(ax_c, 7)
+    ax_e.axhline(results["paper"]["error_percent"], color=PAPER_BAND["color"], ls="--",
+                 label=f"paper: about {results['paper']['error_percent']:.0f} %")
+    ax_e.axhline(0, color="k", lw=0.5)
+    ax_e.set(xlabel="CoF", ylabel="CoA-as-CoF error [%]", title="CoA at the first positive step, taken as the CoF",
+             ylim=(-35, 2))
+    finish(ax_e, 7)
+    fig.suptitle("Counter torque, laden (100 kN per wheel), 10 m/s, 5 Hz, 345 N m")
+    return save(fig, out_dir / "fig8_wagon_cof_sweep.png", dpi=100)
+
+
+def fig_mechanism(results: dict, out_dir: Path) -> Path:
+    """k_cross against the creep slope; crossing vs primary stiffness and vs creep shape."""
+    mech = results["mechanism"]
+    fig, axes = plt.subplots(1, 3, figsize=(16, 4.8))
+    ax = axes[0]
+    x = 100 * np.array(mech["slope_vs_fraction"]["fraction"])
+    for shape, st in SHAPE_STYLE.items():
+        ax.plot(x, mech["slope_vs_fraction"][shape], color=st["color"], label=f"{st['label']}: dCoA/ds")
+        ax.axvline(100 * results["wagon"][shape]["cofs"][str(mech["cof"])]["model_crossing_fraction"],
+                   color=st["color"], ls=":", lw=1)
+    ax.axhline(mech["k_cross"], color="k", ls="--", lw=1, label=f"k_cross = {mech['k_cross']:.1f}")
+    ax.set(yscale="log", xlabel="DC torque [% of saturation torque]", ylabel="creep slope dCoA/ds",
+           title=f"The crossing is where the slope meets k_cross (CoF {mech['cof']})")
+    finish(ax, 7)
+    ax = axes[1]
+    model = mech["stiffness_model"]
+    for shape, st in SHAPE_STYLE.items():
+        ax.plot(model["kx_per_axlebox_mn_m"], 100 * np.array(model[shape], dtype=float), "-", color=st["color"],
+                lw=1, label=f"{shape}: small-signal model")
+        pts = [p for p in mech["stiffness"] if p["shape"] == shape]
+        ax.plot([p["kx_per_axlebox_mn_m"] for p in pts], [100 * (p["crossing_sim"] or np.nan) for p in pts], "o",
+                color=st["color"], label=f"{shape}: MuJoCo wagon")
+    ax.axvline(mech["model"]["kx_n_m"] / 2e6, color="0.5", lw=0.8, ls=":", label="benchmark kx")
+    _paper_band(ax, results)
+    ax.set(xscale="log", xlabel="primary kx per axlebox [MN/m]", ylabel="zero crossing [% of saturation torque]",
+           title=f"Crossing vs primary longitudinal stiffness (CoF {mech['cof']})", ylim=(0, 100))
+    finish(ax, 7)
+    ax = axes[2]
+    sm = mech["shape_model"]
+    ax.plot(sm["initial_slope_over_kalker"], 100 * np.array(sm["crossing"], dtype=float), "-", color="k", lw=1,
+            label="small-signal model")
+    ax.plot([p["initial_slope_over_kalker"] for p in mech["shape"]], [100 * (p["crossing_sim"] or np.nan) for p in mech["shape"]],
+            "o", color="tab:red", label="MuJoCo wagon (kA 1, kS 0.4 ... 1)")
+    for shape, st in SHAPE_STYLE.items():
+        s = results["wagon"][shape]["shape"]
+        ax.axvline((s["k_adhesion"] + s["k_slip"]) / 2, color=st["color"], ls=":", label=shape)
+    _paper_band(ax, results)
+    ax.set(xlabel="initial creep slope / Kalker's, (kA + kS) / 2", ylabel="zero crossing [% of saturation torque]",
+           title="Crossing vs creep-curve shape (A 0.4, B 0.6 s/m)")
+    finish(ax, 7)
+    return save(fig, out_dir / "fig_mechanism.png", dpi=100)
 
 
 def plot_all(results: dict, out_dir: Path) -> list[Path]:
-    paths = []
-    # Fig. 5: half wheelset, simulation vs Eq. 3
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    for cof, rows in results["fig5_half_wheelset"]["cofs"].items():
-        x = [100 * f for f in _col(rows, "fraction")]
-        line, = ax.plot(x, _col(rows, "phase_eq3_deg"), "-", lw=1, label=f"Eq. 3, CoF {cof}")
-        ax.plot(x, _col(rows, "phase_sim_deg"), "o", ms=3, color=line.get_color(), label=f"MuJoCo, CoF {cof}")
-    ax.set(xlabel="DC torque [% of saturation torque]", ylabel="phase lag of wheelset speed [deg]",
-           title="Half wheelset (paper Fig. 5): N 100 kN, v 10 m/s, 5 Hz, 345 Nm")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, ncol=2)
-    paths.append(save(fig, out_dir / "fig5_half_wheelset.png", dpi=120))
-
-    # Fig. 4/7: wagon CoF 0.4 with Eq. 4
-    rows = results["fig7_wagon_cof_0.4"]
-    x = [100 * f for f in _col(rows, "fraction")]
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    ax.errorbar(x, _col(rows, "phase_sim_deg"), yerr=_col(rows, "phase_se_deg"), fmt="o-", ms=3, label="MuJoCo wagon")
-    ax.plot(x, _col(rows, "phase_eq4_deg"), "s--", ms=3, label="Eq. 4 with measured phi_v")
-    ax.plot(x, _col(rows, "phase_eq3_deg"), ":", label="Eq. 3")
-    ax.plot(x, _col(rows, "phi_v_deg"), "^", ms=3, alpha=0.6, label="phi_v (creepage behind speed)")
-    ax.axhline(0, color="k", lw=0.5)
-    ax.set(xlabel="DC torque [% of saturation torque]", ylabel="phase [deg]",
-           title="Wagon with cruise control, CoF 0.4 (paper Figs. 4 and 7)")
-    finish(ax)
-    paths.append(save(fig, out_dir / "fig7_wagon_eq4.png", dpi=120))
-
-    # Fig. 8: CoF sweep on the wagon + crossing / error
-    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
-    cofs, crossing, errors = [], [], []
-    for cof, entry in results["fig8_wagon_cof_sweep"].items():
-        steps = entry["steps"]
-        ax.plot([100 * f for f in _col(steps, "fraction")], _col(steps, "phase_sim_deg"), "o-", ms=3, label=f"CoF {cof}")
-        z = entry["zero_crossing"]
-        if z["fraction"] is not None:
-            cofs.append(float(cof))
-            crossing.append(100 * z["fraction_interpolated"])
-            errors.append(100 * z["cof_error_relative"])
-    ax.axhline(0, color="k", lw=0.5)
-    ax.set(xlabel="DC torque [% of saturation torque]", ylabel="phase lag [deg]", title="Wagon, CoF 0.1...0.5 (paper Fig. 8)")
-    finish(ax)
-    ax2.plot(cofs, crossing, "o-", label="zero crossing [% M_sat]")
-    ax2.axhspan(94, 95, color="tab:orange", alpha=0.3, label="paper: 94-95 %")
-    ax2b = ax2.twinx()
-    ax2b.plot(cofs, errors, "s--", color="tab:red", label="CoA-as-CoF error [%]")
-    ax2.set(xlabel="CoF", ylabel="zero-crossing torque [% M_sat]", title="Paper's rule on this wagon")
-    ax2b.set_ylabel("CoA-as-CoF error [%]")
-    ax2.legend(loc="upper left", fontsize=8)
-    ax2b.legend(loc="lower right", fontsize=8)
-    ax2.grid(alpha=0.3)
-    paths.append(save(fig, out_dir / "fig8_wagon_cof_sweep.png", dpi=120))
-    return paths
+    """Every figure of reproduce-paper into ``out_dir``."""
+    return [fig_half_wheelset(results, out_dir), fig_eq4(results, out_dir), fig_cof_sweep(results, out_dir),
+            fig_mechanism(results, out_dir)]
