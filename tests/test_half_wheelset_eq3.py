@@ -1,7 +1,9 @@
 """Acceptance: the simulated half wheelset reproduces the paper's Eq. 3 over its torque schedule.
 
 tan(phi) = Iw wm v / (N R^2 dCoA/ds), with dCoA/ds the creep-curve slope where CoA = Mc / (R N).
-Checked where the modulation is small against the distance to saturation, M0 <= 0.25 (M_sat - Mc).
+Eq. 3 is small-signal: every schedule point of CoF 0.2-0.5 agrees at the paper's 345 N m; at CoF 0.1
+(345 N m = 7.5 % of the saturation torque) the points above ~55 % deviate, and the deviation is pinned
+and shown to vanish as M0 shrinks (and to be the right solution of the nonlinear spin equation).
 """
 
 from __future__ import annotations
@@ -47,36 +49,21 @@ def _op(cof: float) -> OperatingConditions:
     return OperatingConditions(cof=cof, condition="dry", wheel_load_n=N, speed_m_s=SPEED)
 
 
-# Eq. 3 is a small-signal (linearised) result. At CoF 0.1, M0 = 345 N m is 7.5 % of M_sat, and on the
-# strongly curved creep curve above ~55 % the phase exceeds Eq. 3 by more than the tolerance even though
-# M0 <= 0.25 (M_sat - Mc). The simulation is right there (see the two tests at the end: an independent
-# stiff ODE solution agrees, and the error vanishes ~M0^2 as M0 shrinks): the acceptance rule's
-# small-signal condition is not strict enough for low CoF. Not a library bug.
-SMALL_SIGNAL_LIMIT = pytest.mark.xfail(
-    reason="Eq. 3 small-signal limit, not a library bug: CoF 0.1, M0=345 Nm; sim matches an independent "
-    "Radau solution and converges to Eq. 3 as M0 -> 0",
-    strict=True,
-)
-KNOWN_LARGE_SIGNAL = {(0.1, 0.56), (0.1, 0.61), (0.1, 0.66)}
+SMALL_SIGNAL_COFS = (0.2, 0.3, 0.4, 0.5)  # M0 = 345 N m is at most 3.75 % of their saturation torque
+LARGE_SIGNAL_COF = 0.1  # M0 = 345 N m is 7.5 % of the saturation torque
 
 
-def _cases():
-    for cof in COFS:
-        m_sat = R * N * cof
-        for frac in paper_schedule():
-            mc = frac * m_sat
-            if M0 <= 0.25 * (m_sat - mc):
-                marks = [SMALL_SIGNAL_LIMIT] if (cof, frac) in KNOWN_LARGE_SIGNAL else []
-                yield pytest.param(cof, frac, marks=marks, id=f"cof{cof}-{round(frac * 100)}pct")
+def _tolerance(phi_eq3: float) -> float:
+    return max(0.2, 0.05 * phi_eq3)
 
 
-CASES = list(_cases())
-
-
-def test_acceptance_grid_covers_the_schedule() -> None:
-    fracs = {c.values[1] for c in CASES if c.values[0] == 0.5}
-    assert 0.01 in fracs and 0.94 in fracs and 0.95 not in fracs
-    assert len(CASES) > 60
+def test_schedule_reads_the_paper_literally() -> None:
+    """Steps accumulate from 1 %: 89 % is below 90 %, so the next step is +3 to 92 %; 90 and 91 % are
+    not steps (cof_gym.analysis.theory documents the reading)."""
+    percents = [round(100 * f) for f in paper_schedule()]
+    assert percents[:7] == [1, 11, 21, 31, 41, 51, 56]
+    assert 89 in percents and 92 in percents and 90 not in percents and 91 not in percents
+    assert percents[percents.index(92):] == list(range(92, 100))
 
 
 @pytest.fixture(scope="module")
@@ -90,17 +77,53 @@ def _simulate(sim: Simulation, cof: float, frac: float, amplitude: float = M0):
     return sim.run_window(DriveCommand(mc, amplitude, FREQ), duration_s=DURATION, settle_s=SETTLE, ramp_s=RAMP)
 
 
-@pytest.mark.parametrize(("cof", "frac"), CASES)
-def test_phase_matches_eq3(sim: Simulation, cof: float, frac: float) -> None:
+SMALL = [pytest.param(c, f, id=f"cof{c}-{round(100 * f)}pct") for c in SMALL_SIGNAL_COFS for f in paper_schedule()]
+
+
+@pytest.mark.parametrize(("cof", "frac"), SMALL)
+def test_phase_matches_eq3_at_every_schedule_point(sim: Simulation, cof: float, frac: float) -> None:
+    """CoF 0.2-0.5 at the paper's 345 N m: every schedule point up to 99 % within max(0.2 deg, 5 %)."""
     op = _op(cof)
     mc = frac * R * N * cof
     m = _simulate(sim, cof, frac)
     phi_eq3 = eq3_phase_deg(mc, op)
-    tol = max(0.2, 0.05 * phi_eq3)
+    tol = _tolerance(phi_eq3)
     assert abs(m.phase_lag_deg - phi_eq3) <= tol, (
         f"phi_sim={m.phase_lag_deg:.4f} deg, phi_Eq3={phi_eq3:.4f} deg, tol={tol:.3f}")
     # the measured mean adhesion is the DC balance Mc / (R N)
     assert m.coa_true == pytest.approx(mc / (R * N), rel=1e-3, abs=1e-6)
+
+
+@pytest.fixture(scope="module")
+def low_cof_deviation(sim: Simulation) -> dict[float, tuple[float, float, float]]:
+    """CoF 0.1, every schedule point: (phi_sim - phi_Eq3 at 345 N m, the same at 345/4 N m, tolerance)."""
+    out = {}
+    for frac in paper_schedule():
+        phi_eq3 = eq3_phase_deg(frac * R * N * LARGE_SIGNAL_COF, _op(LARGE_SIGNAL_COF))
+        out[float(frac)] = (_simulate(sim, LARGE_SIGNAL_COF, frac).phase_lag_deg - phi_eq3,
+                            _simulate(sim, LARGE_SIGNAL_COF, frac, M0 / 4).phase_lag_deg - phi_eq3,
+                            _tolerance(phi_eq3))
+    return out
+
+
+def test_low_cof_converges_to_eq3_as_the_modulation_shrinks(low_cof_deviation: dict) -> None:
+    """CoF 0.1: at M0 / 4 (86 N m, 1.9 % of the saturation torque, like CoF 0.4 at 345 N m) every
+    schedule point is within the tolerance."""
+    outside = {f: d for f, (_, d, tol) in low_cof_deviation.items() if abs(d) > tol}
+    assert not outside
+
+
+def test_low_cof_large_signal_deviations(low_cof_deviation: dict) -> None:
+    """CoF 0.1 at 345 N m: the points above ~55 % lag Eq. 3 by up to ~3 tolerances (16 of 24 points
+    outside). The excess is positive (the modulation sweeps the curved creep curve, whose mean slope
+    over the swing is below the slope at the DC point) and the low-torque points are unaffected."""
+    outside = sorted(f for f, (d, _, tol) in low_cof_deviation.items() if abs(d) > tol)
+    assert 14 <= len(outside) <= 18
+    assert min(outside) >= 0.5
+    assert all(low_cof_deviation[f][0] > 0 for f in outside)
+    worst = max(low_cof_deviation[f][0] / low_cof_deviation[f][2] for f in outside)
+    assert 2.0 <= worst <= 3.5
+    assert all(abs(d) <= tol for f, (d, _, tol) in low_cof_deviation.items() if f <= 0.51)
 
 
 def _reference_phase_deg(cof: float, frac: float, amplitude: float) -> float:
@@ -141,7 +164,7 @@ def test_phase_matches_independent_stiff_solution(sim: Simulation, cof: float, f
     assert m.phase_lag_deg == pytest.approx(ref, abs=0.05)
 
 
-@pytest.mark.parametrize("frac", [0.56, 0.61, 0.66])
+@pytest.mark.parametrize("frac", [0.56, 0.66, 0.92, 0.98])
 def test_large_signal_deviation_vanishes_with_amplitude(sim: Simulation, frac: float) -> None:
     """At CoF 0.1 the excess phase over Eq. 3 shrinks roughly with M0^2 and is within tolerance at
     M0 = 43 N m."""
