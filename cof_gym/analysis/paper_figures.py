@@ -68,9 +68,10 @@ def fig_half_wheelset(results: dict, out_dir: Path) -> Path:
 
 
 def fig_eq4(results: dict, out_dir: Path) -> Path:
-    """Wagon, CoF 0.4: simulated phase vs Eq. 4 in the paper's and the compliant form, measured phi_v."""
-    fig, axes = plt.subplots(1, 3, figsize=(16, 4.8))
-    for ax, shape in zip(axes, ("dry", "dry_kalker")):
+    """Wagon, CoF 0.4: simulated phase vs Eq. 4 in the paper's and the compliant form, measured phi_v;
+    the residuals of both forms; the measured creepage amplitude against cos(phi_v)."""
+    fig, axes = plt.subplots(2, 2, figsize=(13, 9))
+    for ax, shape in zip(axes[0], ("dry", "dry_kalker")):
         rows = results["wagon"][shape]["cofs"]["0.4"]["steps"]
         x = _pct(rows)
         ax.errorbar(x, _col(rows, "phase_sim_deg"), yerr=_col(rows, "phase_se_deg"), fmt="o", ms=4, color="k",
@@ -84,15 +85,28 @@ def fig_eq4(results: dict, out_dir: Path) -> Path:
         ax.set(xlabel="DC torque [% of saturation torque]", ylabel="phase [deg]",
                title=f"{SHAPE_STYLE[shape]['label']}, CoF 0.4 (paper Figs. 4, 7)")
         finish(ax, 7)
-    ax = axes[2]
+    ax = axes[1, 0]
+    for shape in ("dry", "dry_kalker"):
+        rows = results["wagon"][shape]["cofs"]["0.4"]["steps"]
+        c, sim = SHAPE_STYLE[shape]["color"], _col(rows, "phase_sim_deg")
+        ax.plot(_pct(rows), _col(rows, "phase_eq4_compliant_deg") - sim, "-o", ms=3, color=c, label=f"{shape}: cos^2 form")
+        ax.plot(_pct(rows), _col(rows, "phase_eq4_paper_deg") - sim, "--s", ms=3, mfc="none", color=c,
+                label=f"{shape}: paper's cos form")
+    ax.axhline(0, color="k", lw=0.5)
+    ax.set(xlabel="DC torque [% of saturation torque]", ylabel="Eq. 4 - simulation [deg]",
+           title="Eq. 4 residuals with the measured phi_v (large-signal near 99 %)", ylim=(-1.0, 0.5))
+    finish(ax, 7)
+    ax = axes[1, 1]
     for shape in ("dry", "dry_kalker"):
         rows = results["wagon"][shape]["cofs"]["0.4"]["steps"]
         c = SHAPE_STYLE[shape]["color"]
         ax.plot(_pct(rows), _col(rows, "creep_amplitude_ratio"), "o", ms=4, color=c,
-                label=f"{shape}: creepage amplitude / (R Omega0 / v)")
-        ax.plot(_pct(rows), _col(rows, "cos_phi_v"), "-", color=c, lw=1, label=f"{shape}: cos(phi_v)")
+                label=f"{shape}: measured creepage amplitude / (R Omega0 / v)")
+        ax.plot(_pct(rows), _col(rows, "creep_amplitude_ratio_model"), "--", color=c, lw=1,
+                label=f"{shape}: small-signal model")
+        ax.plot(_pct(rows), _col(rows, "cos_phi_v"), "-", color=c, lw=1, label=f"{shape}: cos(phi_v) (measured phi_v)")
     ax.set(xlabel="DC torque [% of saturation torque]", ylabel="ratio",
-           title="Why cos^2: the creepage amplitude shrinks by cos(phi_v)")
+           title="The creepage amplitude shrinks with cos(phi_v): hence cos^2")
     finish(ax, 7)
     return save(fig, out_dir / "fig7_wagon_eq4.png", dpi=100)
 
