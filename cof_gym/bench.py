@@ -12,6 +12,8 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+import cof_gym
+
 from cof_gym.physics.creep import OperatingConditions
 from cof_gym.physics.models import build_wagon
 from cof_gym.physics.native.build import install_callback, native
@@ -70,7 +72,7 @@ def bench_physics(seconds: float = 5.0, repeats: int = 5) -> PhysicsBench:
     return PhysicsBench(steps, sim.timestep, native_best, bare_best)
 
 
-ENV_ID = "CofGym/TorqueInterrogation-v0"
+ENV_ID = cof_gym.WAGON_ENV_ID
 # a fixed scenario, a long horizon and a DC torque kept below saturation: no episode ends in the timing
 BENCH_SCENARIO = dict(cof=0.4, condition="dry", speed_m_s=20.0, load_case="laden", noise_level=0.5,
                       motor_lag_s=0.01)
@@ -158,6 +160,8 @@ def bench_agent(seconds: float = 5.0, num_envs: int = VECTOR_SIMS, repeats: int 
 
 
 def main(seconds: float = 5.0) -> None:
+    if not (seconds > 0 and np.isfinite(seconds)):
+        raise ValueError(f"seconds must be a finite number > 0, got {seconds!r}")
     from rich.console import Console
     from rich.table import Table
 
@@ -178,42 +182,3 @@ def main(seconds: float = 5.0) -> None:
     table.add_row("ratio vector 2 threads / 1 thread (target >= 1.7)", f"{ab.thread_ratio:.2f}")
     table.add_row("CPUs / 1-min load average at start", f"{os.cpu_count()} / {ab.load_average:.2f}")
     Console().print(table)
-
-
-def bench_sb3(n_envs: int = 2, seconds: float = 5.0, backends: tuple[str, ...] = ("batch", "subproc", "dummy"),
-              repeats: int = 3) -> dict[str, float]:
-    """Agent steps per second of the SB3 VecEnvs of :func:`cof_gym.envs.sb3.make_sb3_vec_env` (random
-    actions as in :func:`bench_agent`, same fixed scenario), ``repeats`` interleaved timings of about
-    ``seconds`` / ``repeats`` wall seconds per backend; the best of each. Not part of :func:`main`
-    (starting subprocesses takes a while). The "subproc" backend starts workers with forkserver/spawn:
-    call this from a script under ``if __name__ == "__main__":``."""
-    from cof_gym.envs.sb3 import make_sb3_vec_env
-
-    envs = {b: make_sb3_vec_env(ENV_ID, n_envs=n_envs, seed=0, backend=b, max_windows=BENCH_HORIZON,
-                                max_episode_steps=BENCH_HORIZON, **BENCH_SCENARIO) for b in backends}
-    rng = np.random.default_rng(0)
-    space = next(iter(envs.values())).action_space
-
-    def actions() -> np.ndarray:
-        a = rng.uniform(-1.0, 1.0, (n_envs, *space.shape)).astype(np.float32)
-        a[:, 0] = -1.0 + 0.25 * (a[:, 0] + 1.0)
-        a[:, 4] = -1.0
-        return a
-
-    def rate(env, steps: int) -> float:
-        batch = [actions() for _ in range(steps)]
-        t0 = time.perf_counter()
-        for a in batch:
-            env.step(a)
-        return steps * n_envs / (time.perf_counter() - t0)
-
-    for env in envs.values():
-        env.reset()
-    rough = {b: rate(env, 3) for b, env in envs.items()}
-    best = {b: 0.0 for b in envs}
-    for _ in range(repeats):
-        for b, env in envs.items():
-            best[b] = max(best[b], rate(env, max(5, int(seconds / repeats * rough[b] / n_envs))))
-    for env in envs.values():
-        env.close()
-    return best

@@ -6,41 +6,41 @@ import argparse
 import csv
 import json
 import math
+import os
+import shutil
+import sys
 import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
-import gymnasium as gym
 import numpy as np
 
-import cof_gym  # noqa: F401  (registers the environments)
-from cof_gym.agents.base import Agent
-from cof_gym.agents.staircase import PaperStaircase, PracticalStaircase, limits_of
-from cof_gym.agents.suites import Suite, make_suite
+import cof_gym
+from cof_gym.agents import registry
+from cof_gym.agents.suites import Suite, SuiteError, make_suite
 
-PACKAGE_DIR = Path(__file__).resolve().parent
-SHIPPED_PPO = PACKAGE_DIR / "policies" / "ppo_wagon"
-DEFAULT_AGENTS = "staircase-paper,staircase,ppo"
+DESCRIPTION = """\
+Play every agent on the same seeded scenarios (same CoF, condition, speed, load, noise streams) and
+write OUT/episodes.csv, OUT/summary.md, OUT/summary.json (median and P90 relative CoF error,
+macro-slips, slip energy, Wd comfort, measurement time and peak torque as a fraction of the real
+saturation torque, each with a bootstrap 95 % CI, and a breakdown by condition and CoF band) and
+figures. The outputs appear all at once when the run completes (an interrupted run leaves the
+previous OUT as it was). Only agents marked as oracles see info["ground_truth"]."""
+
 N_BOOTSTRAP = 2000
+DEFAULT_OUT = Path("out") / "evaluate"
+COF_BANDS = (0.0, 0.1, 0.2, 0.3, 0.4, math.inf)  # CoF band edges of the breakdown
+TABLE_WIDTH = 100  # when stdout is not a terminal
+OUTPUT_MARKER = "summary.json"  # what makes an existing --out directory a previous evaluate output
 
 
-def make_agent(spec: str, env: gym.Env) -> Agent:
-    """``staircase-paper``, ``staircase``, ``ppo`` (the shipped policy) or ``ppo:PATH``."""
-    limits = limits_of(env)
-    if spec == "staircase-paper":
-        return PaperStaircase(limits)
-    if spec == "staircase":
-        return PracticalStaircase(limits)
-    if spec == "ppo" or spec.startswith("ppo:"):
-        from cof_gym.agents.ppo import PPOAgent
-
-        path = Path(spec[4:]) if spec.startswith("ppo:") else SHIPPED_PPO
-        agent = PPOAgent.load(path)
-        if spec.startswith("ppo:"):
-            agent.name = f"ppo:{path.stem if path.suffix else path.name}"
-        return agent
-    raise ValueError(f"agent must be staircase-paper, staircase, ppo or ppo:PATH, got {spec!r}")
+def default_out(suite: str) -> Path:
+    """``out/evaluate`` for the default suite, ``out/evaluate-<suite>`` for any other (so that runs on
+    different suites never overwrite each other)."""
+    if suite == "default":
+        return DEFAULT_OUT
+    return DEFAULT_OUT.with_name(f"evaluate-{Path(suite).stem if suite.endswith('.json') else suite}")
 
 
 @dataclass
@@ -56,51 +56,71 @@ class EpisodeRecord:
     noise_level: float
     motor_lag_s: float
     estimate: float
-    relative_error: float  # error_cap (1.0) when the episode ended in macro-slip or divergence
+    relative_error: float  # |estimate / CoF - 1|; 1.0 when the episode ended unscored (divergence)
     scored: bool
     macro_slip: bool
     slip_energy_j: float  # energy dissipated past the creep-curve peak
     friction_energy_j: float
     wd_rms_m_s2: float  # time-weighted over the episode
     measurement_time_s: float
-    peak_torque_fraction: float  # max |torque| over the saturation torque
+    peak_torque_fraction: float  # max |torque| over the real saturation torque
     episode_return: float
     steps: int
 
 
-def run_episode(env: gym.Env, agent: Agent, seed: int, options: dict, episode: int,
-                trace: list | None = None) -> EpisodeRecord:
+def _field(info: dict, key: str, default: float = 0.0) -> float:
+    """A window quantity wherever the env files it (ground truth first, then the sensor readings)."""
+    for group in ("ground_truth", "measurement"):
+        value = info.get(group, {}).get(key)
+        if value is not None:
+            return value
+    return default
+
+
+def agent_view(info: dict[str, Any], oracle: bool) -> dict[str, Any]:
+    """The info dict an agent receives: without ``ground_truth`` unless the agent is an oracle."""
+    if oracle:
+        return info
+    return {k: v for k, v in info.items() if k != "ground_truth"}
+
+
+def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list | None = None,
+                oracle: bool | None = None) -> EpisodeRecord:
+    """One episode of ``agent``. ``oracle`` (default: the agent's own flag) decides whether the agent
+    sees ``info["ground_truth"]``; the evaluator always reads it for scoring."""
+    oracle = bool(getattr(agent, "oracle", False)) if oracle is None else bool(oracle)
     obs, info = env.reset(seed=seed, options=options)
-    agent.reset(obs, info)
+    agent.reset(obs, agent_view(info, oracle))
     total, steps = 0.0, 0
     slip_e = fric_e = wd2 = 0.0
     peak = 0.0
     sat = info["ground_truth"]["saturation_torque_nm"]
     while True:
-        action = agent.act(obs, info)
+        action = agent.act(obs, agent_view(info, oracle))
         obs, reward, terminated, truncated, info = env.step(action)
         total += reward
         steps += 1
         m = info["measurement"]
-        slip_e += m["energy_past_peak_j"]
-        fric_e += m["friction_energy_j"]
+        slip_e += _field(info, "energy_past_peak_j")
+        fric_e += _field(info, "friction_energy_j")
         wd2 += m["wd_rms_m_s2"] ** 2
         peak = max(peak, m["torque_peak_nm"] / sat)
         if trace is not None:
             trace.append({"t": info["elapsed_s"], "dc_torque_nm": m["torque_mean_nm"], "speed_m_s": m["speed_measured_m_s"],
-                          "wheel_speed_m_s": m["speed_measured_m_s"] * (1.0 + m["creepage_mean"]),
+                          "wheel_speed_m_s": m["speed_measured_m_s"] * (1.0 + _field(info, "creepage_mean")),
                           "coa": m["coa_measured"], "phase_deg": m["phase_lag_deg"],
                           "estimate": info["cof_estimate"], "cof": info["ground_truth"]["cof"]})
         if terminated or truncated:
             break
     gt = info["ground_truth"]
     macro_slip = bool(info.get("macro_slip", False))
-    scored = not macro_slip and info.get("relative_error") is not None
-    err = float(info["relative_error"]) if info.get("relative_error") is not None else 1.0
+    err = info.get("relative_error")
+    scored = err is not None and bool(info.get("scored", True)) and not info.get("diverged", False)
     return EpisodeRecord(
-        agent=agent.name, oracle=agent.oracle, episode=episode, seed=seed, cof=gt["cof"], condition=gt["condition"],
+        agent=agent.name, oracle=oracle, episode=episode, seed=seed, cof=gt["cof"], condition=gt["condition"],
         speed_m_s=gt["speed_m_s"], load_case=gt["load_case"], noise_level=gt["noise_level"],
-        motor_lag_s=gt["motor_lag_s"], estimate=info["cof_estimate"], relative_error=err, scored=scored,
+        motor_lag_s=gt["motor_lag_s"], estimate=info["cof_estimate"],
+        relative_error=float(err) if err is not None else 1.0, scored=scored,
         macro_slip=macro_slip, slip_energy_j=slip_e, friction_energy_j=fric_e,
         wd_rms_m_s2=math.sqrt(wd2 / steps), measurement_time_s=info["elapsed_s"], peak_torque_fraction=peak,
         episode_return=total, steps=steps,
@@ -117,109 +137,402 @@ def bootstrap_ci(values: np.ndarray, stat, rng: np.random.Generator, n: int = N_
     return float(np.percentile(stats, 2.5)), float(np.percentile(stats, 97.5))
 
 
+def _p90(v: np.ndarray) -> float:
+    return float(np.percentile(v, 90))
+
+
 METRICS = (
-    # (key, label, column, statistic)
-    ("median_error", "median rel. CoF error", "relative_error", np.median),
-    ("p90_error", "P90 rel. CoF error", "relative_error", lambda v: np.percentile(v, 90)),
-    ("macro_slip_events", "macro-slip events", "macro_slip", np.sum),
-    ("slip_energy_j", "slip energy past peak [J]", "slip_energy_j", np.mean),
-    ("wd_rms_m_s2", "Wd comfort [m/s^2]", "wd_rms_m_s2", np.mean),
-    ("measurement_time_s", "measurement time [s]", "measurement_time_s", np.mean),
-    ("peak_torque_fraction", "peak torque / M_sat", "peak_torque_fraction", np.mean),
+    # (key, label with unit, column, statistic, format of the value)
+    ("median_error", "median rel. CoF error [%]", "relative_error", np.median, "pct"),
+    ("p90_error", "P90 rel. CoF error [%]", "relative_error", _p90, "pct"),
+    ("macro_slip_events", "macro-slips [episodes]", "macro_slip", np.sum, "int"),
+    ("slip_energy_j", "slip energy past peak [J]", "slip_energy_j", np.mean, "g3"),
+    ("wd_rms_m_s2", "Wd comfort [m/s^2]", "wd_rms_m_s2", np.mean, "g3"),
+    ("measurement_time_s", "measurement time [s]", "measurement_time_s", np.mean, "g3"),
+    ("peak_torque_fraction", "peak torque [% of real M_sat]", "peak_torque_fraction", np.mean, "pct"),
 )
+
+
+def _fmt(value: float, kind: str) -> str:
+    if not np.isfinite(value):
+        return "-"
+    if kind == "pct":
+        return f"{100 * value:.1f}"
+    if kind == "int":
+        return f"{value:.0f}"
+    return f"{value:.3g}"
+
+
+def cof_band(cof: float) -> str:
+    for lo, hi in zip(COF_BANDS[:-1], COF_BANDS[1:]):
+        if lo <= cof < hi:
+            return f"CoF {lo:.2f}+" if math.isinf(hi) else f"CoF {lo:.2f}-{hi:.2f}"
+    return "CoF ?"
+
+
+def _group_stats(rows: list[EpisodeRecord]) -> dict[str, Any]:
+    err = np.array([r.relative_error for r in rows])
+    return {"episodes": len(rows), "median_error": float(np.median(err)), "p90_error": _p90(err),
+            "macro_slip_events": int(sum(r.macro_slip for r in rows)),
+            "peak_torque_fraction": float(np.mean([r.peak_torque_fraction for r in rows]))}
+
+
+def breakdown(records: list[EpisodeRecord]) -> dict[str, dict[str, dict[str, Any]]]:
+    """Per agent: statistics by condition and by CoF band (groups in a fixed order)."""
+    out: dict[str, dict[str, dict[str, Any]]] = {}
+    conditions = sorted({r.condition for r in records})
+    bands = [b for b in (cof_band(0.5 * (lo + min(hi, lo + 1))) for lo, hi in zip(COF_BANDS[:-1], COF_BANDS[1:]))
+             if any(cof_band(r.cof) == b for r in records)]
+    for agent in dict.fromkeys(r.agent for r in records):
+        rows = [r for r in records if r.agent == agent]
+        groups: dict[str, dict[str, Any]] = {}
+        for c in conditions:
+            sel = [r for r in rows if r.condition == c]
+            if sel:
+                groups[c] = _group_stats(sel)
+        for b in bands:
+            sel = [r for r in rows if cof_band(r.cof) == b]
+            if sel:
+                groups[b] = _group_stats(sel)
+        out[agent] = groups
+    return out
 
 
 def summarize(records: list[EpisodeRecord], seed: int) -> dict[str, dict[str, Any]]:
     out: dict[str, dict[str, Any]] = {}
+    groups = breakdown(records)
     for agent in dict.fromkeys(r.agent for r in records):
         rows = [r for r in records if r.agent == agent]
         rng = np.random.default_rng(seed)
         entry: dict[str, Any] = {"episodes": len(rows), "oracle": rows[0].oracle}
-        for key, _, column, stat in METRICS:
+        for key, _, column, stat, _ in METRICS:
             values = np.array([getattr(r, column) for r in rows], dtype=float)
             lo, hi = bootstrap_ci(values, stat, rng)
             entry[key] = {"value": float(stat(values)), "ci95": [lo, hi]}
+        entry["breakdown"] = groups[agent]
         out[agent] = entry
     return out
 
 
+def _agent_label(summary: dict, a: str) -> str:
+    return f"{a} (oracle)" if summary[a]["oracle"] else a
+
+
 def markdown_table(summary: dict[str, dict[str, Any]]) -> str:
     agents = list(summary)
-    head = "| metric | " + " | ".join(f"{a}{' (oracle)' if summary[a]['oracle'] else ''}" for a in agents) + " |"
-    lines = [head, "|---" * (len(agents) + 1) + "|"]
-    for key, label, _, _ in METRICS:
+    lines = ["| metric [unit] (95 % CI) | " + " | ".join(_agent_label(summary, a) for a in agents) + " |",
+             "|---" * (len(agents) + 1) + "|"]
+    for key, label, _, _, kind in METRICS:
         cells = []
         for a in agents:
             v = summary[a][key]
-            fmt = "{:.1%}" if "error" in key else "{:.3g}"
-            cells.append(f"{fmt.format(v['value'])} [{fmt.format(v['ci95'][0])}, {fmt.format(v['ci95'][1])}]")
+            cells.append(f"{_fmt(v['value'], kind)} [{_fmt(v['ci95'][0], kind)}, {_fmt(v['ci95'][1], kind)}]")
         lines.append(f"| {label} | " + " | ".join(cells) + " |")
-    lines.append("| episodes | " + " | ".join(str(summary[a]["episodes"]) for a in agents) + " |")
+    lines.append("| episodes [count] | " + " | ".join(str(summary[a]["episodes"]) for a in agents) + " |")
     return "\n".join(lines)
 
 
-def print_table(summary: dict[str, dict[str, Any]], title: str) -> None:
+def markdown_breakdown(summary: dict[str, dict[str, Any]]) -> str:
+    """Median relative error [%] / P90 [%] / macro-slips / mean peak torque [% of M_sat], per group."""
+    agents = list(summary)
+    groups = list(dict.fromkeys(g for a in agents for g in summary[a]["breakdown"]))
+    lines = ["| group (episodes) | " + " | ".join(_agent_label(summary, a) for a in agents) + " |",
+             "|---" * (len(agents) + 1) + "|"]
+    for g in groups:
+        n = next(summary[a]["breakdown"][g]["episodes"] for a in agents if g in summary[a]["breakdown"])
+        cells = []
+        for a in agents:
+            s = summary[a]["breakdown"].get(g)
+            cells.append("-" if s is None else
+                         f"{_fmt(s['median_error'], 'pct')} % / {_fmt(s['p90_error'], 'pct')} % / "
+                         f"{s['macro_slip_events']} / {_fmt(s['peak_torque_fraction'], 'pct')} %")
+        lines.append(f"| {g} ({n}) | " + " | ".join(cells) + " |")
+    return ("Cells: median rel. CoF error / P90 rel. CoF error / macro-slips [episodes] / mean peak torque "
+            "[% of real M_sat].\n\n" + "\n".join(lines))
+
+
+def _console(stderr: bool = False):
     from rich.console import Console
+
+    stream = sys.stderr if stderr else sys.stdout
+    width = shutil.get_terminal_size((TABLE_WIDTH, 24)).columns if stream.isatty() else TABLE_WIDTH
+    return Console(file=stream, width=width, highlight=False, markup=False)
+
+
+def print_table(summary: dict[str, dict[str, Any]], title: str) -> None:
+    """The summary (value, CI below it) and the breakdown (median error per group), in the terminal's
+    width (100 columns when not a terminal)."""
     from rich.table import Table
 
-    table = Table(title=title)
-    table.add_column("metric (95 % CI)")
+    console = _console()
+    table = Table(title=title, title_justify="left", show_lines=False, pad_edge=False)
+    table.add_column("metric [unit]\n(95 % CI)", overflow="fold")
     for a in summary:
-        table.add_column(a + (" (oracle)" if summary[a]["oracle"] else ""), justify="right")
-    for key, label, _, _ in METRICS:
-        fmt = "{:.1%}" if "error" in key else "{:.3g}"
-        table.add_row(label, *[f"{fmt.format(summary[a][key]['value'])} [{fmt.format(summary[a][key]['ci95'][0])}, "
-                               f"{fmt.format(summary[a][key]['ci95'][1])}]" for a in summary])
-    Console(width=160).print(table)
+        table.add_column(_agent_label(summary, a), justify="right", overflow="fold")
+    for key, label, _, _, kind in METRICS:
+        table.add_row(label, *[f"{_fmt(summary[a][key]['value'], kind)}\n[{_fmt(summary[a][key]['ci95'][0], kind)}, "
+                               f"{_fmt(summary[a][key]['ci95'][1], kind)}]" for a in summary])
+    table.add_row("episodes [count]", *[str(summary[a]["episodes"]) for a in summary])
+    console.print(table)
+    groups = list(dict.fromkeys(g for a in summary for g in summary[a]["breakdown"]))
+    bd = Table(title="median rel. CoF error [%] by condition and CoF band (macro-slips in brackets)",
+               title_justify="left", pad_edge=False)
+    bd.add_column("group [episodes]", overflow="fold")
+    for a in summary:
+        bd.add_column(a, justify="right", overflow="fold")
+    for g in groups:
+        n = next(summary[a]["breakdown"][g]["episodes"] for a in summary if g in summary[a]["breakdown"])
+        cells = []
+        for a in summary:
+            s = summary[a]["breakdown"].get(g)
+            cells.append("-" if s is None else f"{_fmt(s['median_error'], 'pct')} [{s['macro_slip_events']}]")
+        bd.add_row(f"{g} [{n}]", *cells)
+    console.print(bd)
 
 
-def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: bool = False) -> dict[str, Any]:
-    out.mkdir(parents=True, exist_ok=True)
-    env = gym.make(suite.env_id, **suite.env_kwargs)
+# ---------------------------------------------------------------------------- output directory
+class _Staging:
+    """Outputs are written into a hidden sibling directory and renamed onto ``out`` when complete; on
+    failure or interruption the staging directory (and any parent this run created) is removed."""
+
+    def __init__(self, out: Path) -> None:
+        self.out = Path(out)
+        self.created: list[Path] = []
+        parent = self.out.resolve().parent
+        missing = []
+        while not parent.exists():
+            missing.append(parent)
+            parent = parent.parent
+        for d in reversed(missing):
+            d.mkdir()
+            self.created.append(d)
+        self.path = self.out.parent / f".{self.out.name}.partial-{os.getpid()}"
+        if self.path.exists():
+            shutil.rmtree(self.path)
+        self.path.mkdir()
+
+    def commit(self) -> None:
+        old = None
+        if self.out.exists():
+            old = self.out.parent / f".{self.out.name}.old-{os.getpid()}"
+            os.replace(self.out, old)
+        os.replace(self.path, self.out)
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+        self.created = []
+
+    def abort(self) -> None:
+        shutil.rmtree(self.path, ignore_errors=True)
+        for d in reversed(self.created):
+            try:
+                d.rmdir()
+            except OSError:
+                pass
+
+
+def check_out(out: Path) -> Path:
+    """``--out``: creatable, and if it exists, empty or a previous ``cof-gym evaluate`` output."""
+    from cof_gym.cli import UsageError, check_output_dir
+
+    out = check_output_dir(Path(out))
+    if out.is_dir() and any(out.iterdir()) and not (out / OUTPUT_MARKER).is_file():
+        raise UsageError("--out", f"{out} exists and is not a cof-gym evaluate output (no {OUTPUT_MARKER}); "
+                         "give a new or empty directory")
+    return out
+
+
+# ---------------------------------------------------------------------------- the run
+def _progress(quiet: bool):
+    """A rich progress bar on stderr when it is a terminal; plain lines otherwise; nothing if quiet."""
+    if quiet:
+        return None
+    if sys.stderr.isatty():
+        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+        return Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+                        TextColumn("episodes"), TimeElapsedColumn(), console=_console(stderr=True), transient=False)
+    return None
+
+
+def build_agents(agent_specs: list[str], env) -> list[tuple[Any, bool]]:
+    """Every agent, built before the first episode: ``(agent, oracle)`` pairs. Raises
+    :class:`~cof_gym.agents.registry.AgentSpecError` for an unknown name or a model that cannot be used."""
+    if not agent_specs:
+        raise registry.AgentSpecError(f"no agent given; allowed: {registry.describe()}")
+    built, names = [], set()
+    for spec in agent_specs:
+        entry, _ = registry.parse(spec)
+        try:
+            agent = registry.make_agent(spec, env)
+        except (FileNotFoundError, ValueError, OSError) as e:
+            raise registry.AgentSpecError(f"{spec}: {e}") from e
+        if agent.name in names:
+            raise registry.AgentSpecError(f"agent {agent.name!r} given twice")
+        names.add(agent.name)
+        built.append((agent, entry.oracle))
+    return built
+
+
+def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: bool = False,
+             check_suite: bool = False) -> dict[str, Any]:
+    """Play ``agent_specs`` on ``suite``; write the outputs to ``out`` (atomically); return the results.
+
+    Before the first episode every agent is built (:class:`~cof_gym.agents.registry.AgentSpecError`)
+    and, with ``check_suite``, the env kwargs and every distinct reset option set of the suite are tried
+    (:class:`~cof_gym.agents.suites.SuiteError`)."""
+    import gymnasium as gym
+
+    t0 = time.perf_counter()
+    try:
+        env = gym.make(suite.env_id, **suite.env_kwargs)
+    except (ValueError, TypeError) as e:
+        if not check_suite:
+            raise
+        raise SuiteError(f"{suite.name}: env_kwargs {suite.env_kwargs}: {e}") from None
+    agents: list[tuple[Any, bool]] = []
+    try:
+        if check_suite:
+            check_suite_runs(suite, env)
+        agents = build_agents(agent_specs, env)
+        staging = _Staging(out)
+        try:
+            result = _play_and_write(env, agents, agent_specs, suite, staging.path, seed, quiet, t0)
+            staging.commit()
+        except BaseException:
+            staging.abort()
+            raise
+    finally:
+        env.close()
+        for agent, _ in agents:
+            close = getattr(agent, "close", None)
+            if callable(close):
+                close()
+    if not quiet:
+        print_table(result["summary"], f"cof-gym evaluate: suite {suite.name} ({len(suite.episodes)} episodes per "
+                                       f"agent), seed {seed}, {suite.env_id}")
+        print(f"episodes.csv, summary.md/json and figures in {out} ({result['wall_time_s']:.1f} s)")
+    return result
+
+
+def _play_and_write(env, agents, agent_specs, suite: Suite, out: Path, seed: int, quiet: bool,
+                    t0: float) -> dict[str, Any]:
     records: list[EpisodeRecord] = []
     traces: dict[str, list] = {}
-    t0 = time.perf_counter()
-    for spec in agent_specs:
-        agent = make_agent(spec, env)
-        traces[agent.name] = []
-        for i, (ep_seed, options) in enumerate(suite.episodes):
-            records.append(run_episode(env, agent, ep_seed, options, i, traces[agent.name] if i == 0 else None))
-    env.close()
+    progress = _progress(quiet)
+    if progress is not None:
+        progress.start()
+    try:
+        tasks = {agent.name: progress.add_task(agent.name, total=len(suite.episodes)) for agent, _ in agents} \
+            if progress is not None else {}
+        for agent, oracle in agents:
+            traces[agent.name] = []
+            t_agent = time.perf_counter()
+            for i, (ep_seed, options) in enumerate(suite.episodes):
+                records.append(run_episode(env, agent, ep_seed, options, i, traces[agent.name] if i == 0 else None,
+                                           oracle=oracle))
+                if progress is not None:
+                    progress.advance(tasks[agent.name])
+            if progress is None and not quiet:
+                print(f"{agent.name}: {len(suite.episodes)} episodes in {time.perf_counter() - t_agent:.1f} s",
+                      file=sys.stderr)
+    finally:
+        if progress is not None:
+            progress.stop()
     summary = summarize(records, seed)
     with open(out / "episodes.csv", "w", newline="") as fh:
         writer = csv.DictWriter(fh, fieldnames=list(asdict(records[0])))
         writer.writeheader()
         writer.writerows(asdict(r) for r in records)
-    table = markdown_table(summary)
-    (out / "summary.md").write_text(f"# cof-gym evaluate: suite {suite.name}, seed {seed}\n\n{table}\n")
-    result = {"suite": suite.name, "env_id": suite.env_id, "env_kwargs": suite.env_kwargs, "seed": seed,
-              "agents": agent_specs, "summary": summary, "traces": traces,
-              "wall_time_s": time.perf_counter() - t0}
-    (out / "summary.json").write_text(json.dumps({k: v for k, v in result.items() if k != "wall_time_s"}, indent=1))
+    (out / "summary.md").write_text(
+        f"# cof-gym evaluate: suite {suite.name}, seed {seed}, {suite.env_id}\n\n{markdown_table(summary)}\n\n"
+        f"## By condition and CoF band\n\n{markdown_breakdown(summary)}\n")
     from cof_gym.agents.evaluate_figures import plot_all
 
-    result["figures"] = [str(p) for p in plot_all(records, summary, traces, out)]
-    if not quiet:
-        print_table(summary, f"cof-gym evaluate: suite {suite.name} ({len(suite.episodes)} episodes), seed {seed}")
-        print(f"per-episode CSV, summary.md/json and figures in {out} ({result['wall_time_s']:.1f} s)")
+    figures = [Path(p).name for p in plot_all(records, summary, traces, out)]
+    result = {"suite": suite.name, "env_id": suite.env_id, "env_kwargs": suite.env_kwargs, "seed": seed,
+              "agents": list(agent_specs), "summary": summary, "traces": traces, "figures": figures,
+              "cof_bands": [b for b in COF_BANDS if math.isfinite(b)]}
+    # written last: its presence marks a complete output directory
+    (out / OUTPUT_MARKER).write_text(json.dumps(result, indent=1))
+    result["wall_time_s"] = time.perf_counter() - t0
     return result
 
 
+# ---------------------------------------------------------------------------- command line
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--agents", default=None,
-                        help=f"comma-separated: staircase-paper, staircase, ppo, ppo:PATH (default {DEFAULT_AGENTS}, "
-                             "ppo only if the shipped policy exists)")
-    parser.add_argument("--episodes", type=int, default=60, help="episodes per agent")
-    parser.add_argument("--suite", default="default", help="default | paper | FILE.json")
-    parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--out", default="out/evaluate")
+    from cof_gym.cli import positive_int, non_negative_int
+
+    parser.add_argument("--agents", default=None, metavar="A,B,...",
+                        help=f"comma-separated agents: {registry.describe()} (default: "
+                             f"{','.join(registry.default_agents())})")
+    parser.add_argument("--episodes", type=positive_int, default=60,
+                        help="episodes per agent (a suite file with an episode list sets its own)")
+    parser.add_argument("--suite", default="default", metavar="SUITE",
+                        help="scenarios: 'default' (the env's distribution), 'paper' (the paper's setting) or a "
+                             "JSON suite file (see cof_gym/agents/suites.py)")
+    parser.add_argument("--seed", type=non_negative_int, default=0,
+                        help="seed of the first episode (episode i uses seed + i) and of the bootstrap CIs")
+    parser.add_argument("--out", default=None, metavar="DIR",
+                        help="output directory, replaced when the run completes (default: out/evaluate, or "
+                             "out/evaluate-SUITE for another suite)")
+    parser.add_argument("--quiet", "-q", action="store_true", help="no progress and no table on the terminal")
+
+
+def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
+    """Check the whole command line before anything runs or is written (UsageError naming the flag)."""
+    import gymnasium as gym
+
+    from cof_gym.cli import UsageError
+
+    specs = [s.strip() for s in args.agents.split(",")] if args.agents is not None else registry.default_agents()
+    if not specs or any(not s for s in specs):
+        raise UsageError("--agents", f"empty agent name in {args.agents!r}; allowed: {registry.describe()}")
+    for spec in specs:
+        try:
+            _, argument = registry.parse(spec)
+        except registry.AgentSpecError as e:
+            raise UsageError("--agents", str(e)) from None
+        if argument is not None and spec.startswith("ppo:"):
+            from cof_gym.agents.ppo import resolve_model_path
+
+            try:
+                resolve_model_path(argument)
+            except FileNotFoundError as e:
+                raise UsageError("--agents", f"{spec}: {e}") from None
+    if len(set(specs)) != len(specs):
+        raise UsageError("--agents", f"an agent is given twice in {args.agents!r}")
+    try:
+        suite = make_suite(args.suite, args.episodes, args.seed)
+    except SuiteError as e:
+        raise UsageError("--suite", str(e)) from None
+    if suite.env_id not in gym.registry:
+        raise UsageError("--suite", f"{args.suite}: unknown env_id {suite.env_id!r}; allowed: {list(cof_gym.ENV_IDS)}")
+    out = check_out(Path(args.out) if args.out is not None else default_out(args.suite))
+    return specs, suite, out
+
+
+def check_suite_runs(suite: Suite, env) -> None:
+    """Every distinct reset option set of the suite is accepted by the env (one reset each)."""
+    seen = set()
+    for i, (ep_seed, options) in enumerate(suite.episodes):
+        key = json.dumps(options, sort_keys=True, default=repr)
+        if key in seen:
+            continue
+        seen.add(key)
+        try:
+            env.reset(seed=ep_seed, options=options)
+        except (ValueError, TypeError, KeyError) as e:
+            raise SuiteError(f"{suite.name}: episode {i} (options {options}): {e}") from None
 
 
 def run(args: argparse.Namespace) -> int:
-    if args.episodes < 1:
-        raise ValueError(f"--episodes must be >= 1, got {args.episodes}")
-    specs = args.agents.split(",") if args.agents else [
-        a for a in DEFAULT_AGENTS.split(",") if a != "ppo" or (SHIPPED_PPO / "model.zip").exists()]
-    evaluate([s.strip() for s in specs if s.strip()], make_suite(args.suite, args.episodes, args.seed), Path(args.out),
-             args.seed)
+    from cof_gym.cli import UsageError
+
+    specs, suite, out = prepare(args)
+    try:
+        evaluate(specs, suite, out, args.seed, quiet=args.quiet, check_suite=True)
+    except SuiteError as e:
+        raise UsageError("--suite", str(e)) from None
+    except registry.AgentSpecError as e:
+        raise UsageError("--agents", str(e)) from None
     return 0

@@ -1,4 +1,5 @@
-"""Figures of ``cof-gym evaluate``: error per CoF level, error vs discomfort, one trace per agent."""
+"""Figures of ``cof-gym evaluate``: error per CoF level, error vs discomfort, error vs peak torque
+(accuracy against intrusiveness), one trace per agent."""
 
 from __future__ import annotations
 
@@ -41,6 +42,25 @@ def plot_all(records, summary, traces, out: Path) -> list[Path]:
            title="Error vs discomfort (95 % CI)")
     finish(ax)
     paths.append(save(fig, out / "error_vs_discomfort.png", dpi=110))
+
+    # accuracy against intrusiveness: error vs the peak torque as a fraction of the real saturation torque
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for a in agents:
+        rows = [r for r in records if r.agent == a]
+        frac = np.array([100 * r.peak_torque_fraction for r in rows])
+        err = np.array([100 * r.relative_error for r in rows])
+        slip = np.array([r.macro_slip for r in rows], dtype=bool)
+        points = ax.scatter(frac[~slip], err[~slip], s=12, alpha=0.45, label=f"{a} (episodes)")
+        color = points.get_facecolor()[0]
+        if slip.any():
+            ax.scatter(frac[slip], err[slip], s=30, marker="x", color=color, label=f"{a} (macro-slip)")
+        ax.plot([np.median(frac)], [np.median(err)], marker="D", ms=9, mec="k", color=color, ls="none",
+                label=f"{a} (median)")
+    ax.axvline(100.0, color="k", lw=0.6)
+    ax.set(xlabel="peak torque [% of the real saturation torque]", ylabel="relative CoF error [%]",
+           yscale="symlog", title="Accuracy against intrusiveness (per episode)")
+    finish(ax)
+    paths.append(save(fig, out / "error_vs_peak_torque.png", dpi=110))
 
     # one episode trace per agent
     fig, axes = plt.subplots(4, 1, figsize=(8, 8), sharex=True)

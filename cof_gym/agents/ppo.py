@@ -15,7 +15,9 @@ from typing import Any
 
 import numpy as np
 
-DEFAULT_ENV_ID = "CofGym/TorqueInterrogation-v0"
+import cof_gym
+
+DEFAULT_ENV_ID = cof_gym.WAGON_ENV_ID
 MODEL_NAMES = ("model.zip", "best_model.zip")  # looked for, in this order, when given a directory
 VECNORMALIZE_NAME = "vecnormalize.pkl"
 META_NAME = "train_meta.json"

@@ -1,13 +1,39 @@
-"""Evaluation suites: which environment, and which seeded scenarios every agent meets."""
+"""Evaluation suites: which environment, and which seeded scenarios every agent meets.
+
+A suite file is JSON::
+
+    {
+      "env_id": "CofGym/TorqueInterrogation-v1",        (optional; default: the wagon)
+      "env_kwargs": {"counter_torque": true},            (optional; constructor arguments)
+      "options": {"condition": "wet"},                   (optional; reset options of every episode)
+      "episodes": [{"seed": 1, "options": {"cof": 0.2}}, ...],
+      "description": "..."                               (optional; free text)
+    }
+
+Without ``"episodes"``, ``--episodes`` seeded draws (seeds ``seed``, ``seed + 1``, ...) are played;
+with it, exactly those (an episode's ``"options"`` are merged over the top-level ones, its ``"seed"``
+defaults to ``seed + index``). Anything else is refused with a :class:`SuiteError` naming the file.
+"""
 
 from __future__ import annotations
 
 import json
+import numbers
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import cof_gym
+
 PAPER_COFS = (0.1, 0.2, 0.3, 0.4, 0.5)
+SUITE_NAMES = ("default", "paper")
+FILE_KEYS = ("env_id", "env_kwargs", "options", "episodes", "description")
+EPISODE_KEYS = ("seed", "options")
+MAX_SEED = 2**63 - 1
+
+
+class SuiteError(ValueError):
+    """A suite name that does not exist, or a suite file that cannot be read or does not fit the schema."""
 
 
 @dataclass(frozen=True)
@@ -23,9 +49,9 @@ class Suite:
 
 
 def default_suite(n_episodes: int, seed: int) -> Suite:
-    """The wagon env's default scenario distribution (CoF 0.02-0.6, all conditions, 5-40 m/s, empty
-    and laden, noise and motor lag drawn), ``n_episodes`` seeded draws."""
-    return Suite("default", "CofGym/TorqueInterrogation-v0", {}, [(seed + i, {}) for i in range(n_episodes)])
+    """The wagon env's default scenario distribution (CoF in each condition's range, all conditions,
+    5-40 m/s, empty and laden, noise and motor lag drawn), ``n_episodes`` seeded draws."""
+    return Suite("default", cof_gym.WAGON_ENV_ID, {}, [(seed + i, {}) for i in range(n_episodes)])
 
 
 def paper_suite(n_episodes: int, seed: int) -> Suite:
@@ -33,26 +59,74 @@ def paper_suite(n_episodes: int, seed: int) -> Suite:
     or lag, CoF 0.1...0.5 (cycled over ``n_episodes``)."""
     fixed = {"condition": "dry", "speed_m_s": 10.0, "load_case": "laden", "noise_level": 0.0, "motor_lag_s": 0.0}
     episodes = [(seed + i, {**fixed, "cof": PAPER_COFS[i % len(PAPER_COFS)]}) for i in range(n_episodes)]
-    return Suite("paper", "CofGym/TorqueInterrogation-v0", {"counter_torque": True}, episodes)
+    return Suite("paper", cof_gym.WAGON_ENV_ID, {"counter_torque": True}, episodes)
+
+
+def _check_dict(value: Any, where: str, path: Path) -> dict[str, Any]:
+    if not isinstance(value, dict):
+        raise SuiteError(f"{path}: {where} must be a JSON object, got {type(value).__name__}")
+    return dict(value)
+
+
+def _check_seed(value: Any, where: str, path: Path) -> int:
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not 0 <= value <= MAX_SEED:
+        raise SuiteError(f"{path}: {where} must be an integer >= 0, got {value!r}")
+    return int(value)
 
 
 def file_suite(path: Path, n_episodes: int, seed: int) -> Suite:
-    """A JSON file: ``{"env_id": ..., "env_kwargs": {...}, "episodes": [{"seed": 1, "options": {...}}, ...]}``;
-    without "episodes", ``n_episodes`` draws with ``"options"`` (fixed fields) applied to each."""
-    spec = json.loads(Path(path).read_text())
-    env_id = spec.get("env_id", "CofGym/TorqueInterrogation-v0")
+    """A suite read from a JSON file (schema in the module docstring)."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except IsADirectoryError:
+        raise SuiteError(f"{path} is a directory, not a suite file") from None
+    except UnicodeDecodeError:
+        raise SuiteError(f"{path}: not UTF-8 text") from None
+    except OSError as e:
+        raise SuiteError(f"{path}: cannot be read ({e.strerror})") from None
+    try:
+        spec = json.loads(text)
+    except json.JSONDecodeError as e:
+        raise SuiteError(f"{path}: invalid JSON at line {e.lineno} column {e.colno}: {e.msg}") from None
+    spec = _check_dict(spec, "the top level", path)
+    unknown = sorted(set(spec) - set(FILE_KEYS))
+    if unknown:
+        raise SuiteError(f"{path}: unknown key(s) {unknown}; allowed: {list(FILE_KEYS)}")
+    env_id = spec.get("env_id", cof_gym.WAGON_ENV_ID)
+    if not isinstance(env_id, str):
+        raise SuiteError(f"{path}: env_id must be a string such as {cof_gym.WAGON_ENV_ID!r}, got {env_id!r}")
+    env_kwargs = _check_dict(spec.get("env_kwargs", {}), "env_kwargs", path)
+    options = _check_dict(spec.get("options", {}), "options", path)
+    if "description" in spec and not isinstance(spec["description"], str):
+        raise SuiteError(f"{path}: description must be a string")
     if "episodes" in spec:
-        episodes = [(int(e.get("seed", seed + i)), dict(e.get("options", {}))) for i, e in enumerate(spec["episodes"])]
+        raw = spec["episodes"]
+        if not isinstance(raw, list) or not raw:
+            raise SuiteError(f"{path}: episodes must be a non-empty list of objects like "
+                             f'{{"seed": 1, "options": {{...}}}}, got {raw!r:.60}')
+        episodes = []
+        for i, e in enumerate(raw):
+            e = _check_dict(e, f"episodes[{i}]", path)
+            bad = sorted(set(e) - set(EPISODE_KEYS))
+            if bad:
+                raise SuiteError(f"{path}: episodes[{i}]: unknown key(s) {bad}; allowed: {list(EPISODE_KEYS)}")
+            ep_seed = _check_seed(e.get("seed", seed + i), f"episodes[{i}].seed", path)
+            episodes.append((ep_seed, {**options, **_check_dict(e.get("options", {}), f"episodes[{i}].options", path)}))
     else:
-        episodes = [(seed + i, dict(spec.get("options", {}))) for i in range(n_episodes)]
-    return Suite(Path(path).stem, env_id, dict(spec.get("env_kwargs", {})), episodes)
+        episodes = [(seed + i, dict(options)) for i in range(n_episodes)]
+    return Suite(str(path), env_id, env_kwargs, episodes)
 
 
 def make_suite(name: str, n_episodes: int, seed: int) -> Suite:
+    """``default``, ``paper`` or a JSON file path (:class:`SuiteError` otherwise)."""
     if name == "default":
         return default_suite(n_episodes, seed)
     if name == "paper":
         return paper_suite(n_episodes, seed)
-    if Path(name).is_file():
-        return file_suite(Path(name), n_episodes, seed)
-    raise ValueError(f"suite must be 'default', 'paper' or a JSON file path, got {name!r}")
+    path = Path(name)
+    if path.exists():
+        return file_suite(path, n_episodes, seed)
+    if path.suffix == ".json" or "/" in name or "\\" in name:
+        raise SuiteError(f"no such suite file: {name}")
+    raise SuiteError(f"unknown suite {name!r}; allowed: {', '.join(SUITE_NAMES)} or a JSON suite file")

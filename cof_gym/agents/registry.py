@@ -1,0 +1,133 @@
+"""The agents ``cof-gym evaluate`` knows: name -> factory, with an ``oracle`` flag.
+
+Adding an agent is one :func:`register` line. ``factory`` is ``"module:attribute"`` (imported only
+when the agent is built, so listing agents imports neither torch nor SB3) and is called as
+``factory(limits)`` with the env's :class:`~cof_gym.task.interface.MotorLimits` (the staircases'
+convention), or as ``factory(env, argument)`` when registered with ``takes_env=True``. An agent
+registered with ``argument="PATH"`` is named ``name:PATH`` on the command line.
+
+Only agents registered with ``oracle=True`` receive ``info["ground_truth"]`` from the evaluator.
+"""
+
+from __future__ import annotations
+
+import importlib
+import importlib.util
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+PACKAGE_DIR = Path(__file__).resolve().parent
+SHIPPED_PPO = PACKAGE_DIR / "policies" / "ppo_wagon"
+
+
+class AgentSpecError(ValueError):
+    """An agent name the registry does not know, or an argument it does not accept."""
+
+
+@dataclass(frozen=True)
+class AgentEntry:
+    name: str
+    factory: str  # "module:attribute"
+    oracle: bool
+    help: str = ""
+    takes_env: bool = False  # factory(env, argument) instead of factory(limits)
+    argument: str | None = None  # metavar of an optional ":ARG" (e.g. "PATH"), None: no argument
+    default: bool = True  # part of the default --agents list when available
+
+    def available(self) -> bool:
+        module = self.factory.partition(":")[0]
+        try:
+            return importlib.util.find_spec(module) is not None
+        except ModuleNotFoundError:
+            return False
+
+    def load(self):
+        module, _, attr = self.factory.partition(":")
+        return getattr(importlib.import_module(module), attr)
+
+
+AGENTS: dict[str, AgentEntry] = {}
+
+
+def register(name: str, factory: str, *, oracle: bool, help: str = "", takes_env: bool = False,
+             argument: str | None = None, default: bool = True) -> None:
+    """Register an agent under ``name`` (later registrations of the same name replace earlier ones)."""
+    if not name or ":" in name or "," in name:
+        raise ValueError(f"agent names must be non-empty without ':' or ',', got {name!r}")
+    AGENTS[name] = AgentEntry(name, factory, oracle, help, takes_env, argument, default)
+
+
+def _ppo(env, argument: str | None):
+    """The shipped policy, or ``ppo:PATH`` (a model zip or a ``cof-gym train`` output directory)."""
+    from cof_gym.agents.ppo import PPOAgent
+
+    path = Path(argument) if argument else SHIPPED_PPO
+    agent = PPOAgent.load(path)
+    if argument:
+        agent.name = f"ppo:{path.stem if path.suffix else path.name}"
+    return agent
+
+
+def shipped_ppo_available() -> bool:
+    return (SHIPPED_PPO / "model.zip").is_file()
+
+
+register("staircase-paper", "cof_gym.agents.staircase:PaperStaircase", oracle=True,
+         help="the paper's rule on the true saturation torque (oracle)")
+register("staircase", "cof_gym.agents.staircase:PracticalStaircase", oracle=False,
+         help="a staircase that knows no ground truth")
+register("model-based", "cof_gym.agents.model_based:ModelBasedAgent", oracle=False,
+         help="creep-curve fit from windows below the peak")
+register("ppo", "cof_gym.agents.registry:_ppo", oracle=False, takes_env=True, argument="PATH",
+         help="the shipped PPO policy, or ppo:PATH for any saved model")
+
+
+def names(available_only: bool = True) -> list[str]:
+    return [n for n, e in AGENTS.items() if not available_only or e.available()]
+
+
+def describe() -> str:
+    """``a, b, c or ppo:PATH`` for messages."""
+    parts = [n for n in names()] + [f"{n}:{e.argument}" for n, e in AGENTS.items() if e.argument and e.available()]
+    return ", ".join(parts[:-1]) + f" or {parts[-1]}" if len(parts) > 1 else "".join(parts)
+
+
+def default_agents() -> list[str]:
+    out = []
+    for name, entry in AGENTS.items():
+        if not entry.default or not entry.available():
+            continue
+        if name == "ppo" and not shipped_ppo_available():
+            continue
+        out.append(name)
+    return out
+
+
+def parse(spec: str) -> tuple[AgentEntry, str | None]:
+    """``name`` or ``name:ARG`` -> (entry, ARG or None); :class:`AgentSpecError` for anything else."""
+    name, sep, argument = spec.strip().partition(":")
+    entry = AGENTS.get(name)
+    if entry is None or not entry.available():
+        raise AgentSpecError(f"unknown agent {spec.strip()!r}; allowed: {describe()}")
+    if sep and entry.argument is None:
+        raise AgentSpecError(f"agent {name!r} takes no ':' argument, got {spec.strip()!r}")
+    if sep and not argument:
+        raise AgentSpecError(f"agent {name}:{entry.argument} needs a value after ':', got {spec.strip()!r}")
+    if name == "ppo" and not sep and not shipped_ppo_available():
+        raise AgentSpecError("no shipped PPO policy in this installation; use ppo:PATH with a trained model")
+    return entry, (argument if sep else None)
+
+
+def make_agent(spec: str, env: Any):
+    """Build the agent named by ``spec`` for ``env``."""
+    entry, argument = parse(spec)
+    factory = entry.load()
+    if entry.takes_env:
+        return factory(env, argument)
+    return factory(env.unwrapped.limits)
+
+
+def is_oracle(agent: Any) -> bool:
+    """Whether an agent may read the ground truth: its registry entry or its own ``oracle`` flag."""
+    return bool(getattr(agent, "oracle", False))

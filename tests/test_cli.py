@@ -1,0 +1,151 @@
+"""The command line: every usage error is one line on stderr naming the flag, exit status 2, no
+traceback, and nothing created; evaluate writes complete outputs only, and --help shows defaults."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from cof_gym import cli
+
+SUITE_FILES = {
+    "bad_json.json": "{not json",
+    "list.json": "[1, 2]",
+    "string_cof.json": json.dumps({"options": {"cof": "0.3"}}),
+    "unknown_key.json": json.dumps({"episodes": [{"seed": 1, "opts": {}}]}),
+    "empty_episodes.json": json.dumps({"episodes": []}),
+    "negative_seed.json": json.dumps({"episodes": [{"seed": -1}]}),
+    "string_bool.json": json.dumps({"env_kwargs": {"counter_torque": "false"}}),
+    "options_list.json": json.dumps({"options": ["cof", 0.3]}),
+    "unknown_option.json": json.dumps({"options": {"friction": 0.3}}),
+    "bad_env_id.json": json.dumps({"env_id": "CofGym/NoSuchEnv-v9"}),
+}
+
+# (argv, a fragment the one-line message must contain)
+BAD = [
+    (["evaluate", "--agents", "nonexistent"], "--agents"),
+    (["evaluate", "--agents", "staircase-paper,staircase,pp0"], "pp0"),
+    (["evaluate", "--agents", "staircase,,staircase-paper"], "--agents"),
+    (["evaluate", "--agents", "staircase,staircase"], "twice"),
+    (["evaluate", "--agents", "staircase:x"], "--agents"),
+    (["evaluate", "--agents", "ppo:/no/such/model.zip"], "/no/such/model"),
+    (["evaluate", "--episodes", "0"], "--episodes"),
+    (["evaluate", "--episodes", "many"], "--episodes"),
+    (["evaluate", "--seed", "-1"], "--seed"),
+    (["evaluate", "--suite", "/no/such/file.json"], "no such suite file"),
+    (["evaluate", "--suite", "nonsense"], "--suite"),
+    *[(["evaluate", "--suite", name, "--agents", "staircase"], name) for name in SUITE_FILES],
+    (["evaluate", "--agents", "staircase", "--out", "a_file.txt"], "--out"),
+    (["evaluate", "--agents", "staircase", "--out", "a_file.txt/sub"], "--out"),
+    (["evaluate", "--agents", "staircase", "--out", "."], "--out"),
+    (["evaluate", "--agents", "staircase", "--out", "not_an_output"], "not a cof-gym evaluate output"),
+    (["evaluate", "--no-such-flag"], "--no-such-flag"),
+    (["bench", "--seconds", "0"], "--seconds"),
+    (["bench", "--seconds", "nan"], "--seconds"),
+    (["train", "--out", "run", "--timesteps", "0"], "--timesteps"),
+    (["train", "--out", "run", "--env", "CofGym/Nope-v0"], "--env"),
+    (["train", "--out", "run", "--resume", "/no/such/model.zip"], "--resume"),
+    (["train", "--out", "run", "--env-kwargs", "counter_torque:false"], "counter_torque"),
+    (["train", "--out", "run", "--hyperparams", "no_such_hyperparameter:1"], "--hyperparams"),
+    (["train", "--out", "run", "--conf-file", "/no/such.yml"], "--conf-file"),
+    (["train", "--out", "a_file.txt"], "--out"),
+    (["train", "--out", "run", "--n-envs", "-2"], "--n-envs"),
+    (["train"], "--out"),
+    ([], "COMMAND"),
+    (["no-such-command"], "no-such-command"),
+]
+
+
+@pytest.fixture()
+def workdir(tmp_path: Path, monkeypatch) -> Path:
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "a_file.txt").write_text("not a directory\n")
+    (tmp_path / "not_an_output").mkdir()
+    (tmp_path / "not_an_output" / "notes.txt").write_text("mine\n")
+    for name, text in SUITE_FILES.items():
+        (tmp_path / name).write_text(text)
+    return tmp_path
+
+
+def _tree(root: Path) -> dict[str, float]:
+    return {str(p.relative_to(root)): p.stat().st_mtime for p in root.rglob("*")}
+
+
+@pytest.mark.parametrize("argv,fragment", BAD, ids=[" ".join(a) or "(none)" for a, _ in BAD])
+def test_usage_errors_are_one_line_exit_2_and_create_nothing(argv, fragment, workdir: Path, capsys) -> None:
+    before = _tree(workdir)
+    try:
+        code = cli.main(argv)
+    except SystemExit as e:  # argparse's own errors
+        code = e.code
+    captured = capsys.readouterr()
+    err = captured.err.strip()
+    assert code == 2, (argv, captured)
+    assert err and "\n" not in err, err
+    assert "Traceback" not in captured.err and "Traceback" not in captured.out
+    assert err.startswith("cof-gym") and "error:" in err and fragment in err, err
+    assert _tree(workdir) == before, "a usage error created or changed files"
+    assert not Path("out").exists()
+
+
+def test_at_least_15_bad_invocations() -> None:
+    assert len(BAD) >= 15
+
+
+def test_a_usage_error_in_a_subprocess(tmp_path: Path) -> None:
+    proc = subprocess.run([sys.executable, "-m", "cof_gym.cli", "evaluate", "--agents", "staircase,pp0"],
+                          cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 2
+    assert proc.stderr.count("\n") == 1 and "pp0" in proc.stderr and "Traceback" not in proc.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_help_shows_defaults_and_every_flag_has_help(capsys) -> None:
+    parser = cli.build_parser()
+    sub = next(a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction")
+    assert set(sub.choices) >= {"evaluate", "train", "bench", "reproduce-paper"}
+    for name, p in sub.choices.items():
+        for action in p._actions:
+            if action.option_strings and action.dest != "help":
+                assert action.help, f"{name} {action.option_strings} has no help"
+    with pytest.raises(SystemExit):
+        cli.main(["evaluate", "--help"])
+    text = capsys.readouterr().out
+    assert "(default: 60)" in text and "(default: default)" in text
+    assert "``" not in (parser.description or "") and ":class:" not in (parser.description or "")
+
+
+def test_evaluate_writes_complete_outputs_and_replaces_its_own(workdir: Path, capsys) -> None:
+    suite = workdir / "suite.json"
+    suite.write_text(json.dumps({"options": {"condition": "dry", "cof": 0.3}}))
+    assert cli.main(["evaluate", "--agents", "staircase", "--episodes", "2", "--suite", str(suite), "--quiet"]) == 0
+    out = workdir / "out" / "evaluate-suite"  # not out/evaluate: suites never overwrite each other
+    names = sorted(p.name for p in out.iterdir())
+    assert names == sorted(["episodes.csv", "summary.md", "summary.json", "error_per_cof.png",
+                            "error_vs_discomfort.png", "error_vs_peak_torque.png", "episode_traces.png"])
+    first = (out / "summary.json").read_text()
+    assert cli.main(["evaluate", "--agents", "staircase", "--episodes", "2", "--suite", str(suite), "--quiet",
+                     "--seed", "1"]) == 0
+    assert (out / "summary.json").read_text() != first
+    assert not [p for p in (workdir / "out").iterdir() if p.name.startswith(".")]  # no staging left behind
+
+
+def test_an_interrupted_evaluate_leaves_nothing(workdir: Path, monkeypatch) -> None:
+    from cof_gym.agents import evaluate as ev
+
+    calls = {"n": 0}
+    real = ev.run_episode
+
+    def interrupted(*args, **kwargs):
+        calls["n"] += 1
+        if calls["n"] == 2:
+            raise KeyboardInterrupt
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(ev, "run_episode", interrupted)
+    assert cli.main(["evaluate", "--agents", "staircase", "--episodes", "3", "--out", "deep/res", "--quiet"]) == 130
+    assert sorted(p.name for p in workdir.iterdir()) == sorted(["a_file.txt", "not_an_output", *SUITE_FILES])
