@@ -7,7 +7,7 @@ import os
 import gymnasium as gym
 import numpy as np
 
-from cof_gym.envs.spaces import OBSERVATION_NAMES
+from cof_gym.task.interface import OBSERVATION_NAMES
 import pytest
 from gymnasium.vector import AutoresetMode
 from gymnasium.vector.utils import batch_space
@@ -15,7 +15,7 @@ from gymnasium.vector.utils import batch_space
 import cof_gym  # noqa: F401  (registers the ids)
 from cof_gym.envs.vector import TorqueInterrogationVectorEnv
 
-ENV_ID = "CofGym/TorqueInterrogation-v0"
+ENV_ID = "CofGym/TorqueInterrogation-v1"
 
 
 def same(x, y) -> bool:
@@ -95,7 +95,7 @@ def test_bit_identical_to_single_envs_with_autoreset_and_load_cases():
     observation, reward, flag and info, through terminations, truncations, autoresets, a masked
     reset with a fixed load case, and both load cases."""
     n = 3
-    batched, sync = make_pair(n, max_windows=6)
+    batched, sync = make_pair(n, max_windows=4)
     try:
         assert same(batched.reset(seed=123), sync.reset(seed=123))
         batched.action_space.seed(5)
@@ -111,7 +111,7 @@ def test_bit_identical_to_single_envs_with_autoreset_and_load_cases():
                 assert same(a, b), first_difference(a, b)
                 ended[mask] = False
             actions = batched.action_space.sample()
-            actions[:, 0] = np.minimum(actions[:, 0], 0.0)  # mostly below saturation: episodes run on
+            actions[:, 0] = np.minimum(actions[:, 0], -0.98)  # mostly below saturation: episodes run on
             actions[:, 4] = np.where(rng.random(n) < 0.15, 1.0, -1.0)
             a, b = batched.step(actions), sync.step(actions)
             assert same(a, b), f"step {t}: {first_difference(a, b)}"
@@ -179,56 +179,3 @@ def test_a_corrupted_simulation_diverges_alone_and_autoresets():
         assert not terminated.any() and not info["diverged"].any() and np.isfinite(obs).all()
     finally:
         envs.close()
-
-
-def test_sb3_adapter_matches_dummy_vec_env():
-    from stable_baselines3.common.monitor import Monitor
-
-    from cof_gym.envs.sb3 import BatchedSB3VecEnv, make_sb3_vec_env
-
-    batched = make_sb3_vec_env(ENV_ID, n_envs=2, seed=11, max_windows=5)
-    dummy = make_sb3_vec_env(ENV_ID, n_envs=2, seed=11, backend="dummy", max_windows=5)
-    try:
-        assert isinstance(batched, BatchedSB3VecEnv)
-        assert batched.observation_space == dummy.observation_space and batched.action_space == dummy.action_space
-        assert same(batched.reset(), dummy.reset())
-        assert same(batched.reset_infos, dummy.reset_infos)
-        rng = np.random.default_rng(0)
-        dones = 0
-        for t in range(14):
-            actions = rng.uniform(-1, 1, (2, 5)).astype(np.float32)
-            actions[:, 0] = np.minimum(actions[:, 0], 0.0)
-            a, b = batched.step(actions), dummy.step(actions)
-            for k in range(3):
-                assert same(a[k], b[k]), (t, k)
-            for ia, ib in zip(a[3], b[3]):
-                assert ("episode" in ia) == ("episode" in ib)
-                if "episode" in ia:
-                    assert ia["episode"]["r"] == ib["episode"]["r"] and ia["episode"]["l"] == ib["episode"]["l"]
-                    ia, ib = {**ia, "episode": None}, {**ib, "episode": None}
-                assert same(ia, ib), f"step {t}: {first_difference(ia, ib)}"
-            dones += int(a[2].sum())
-        assert dones >= 2
-        for wrapper in (Monitor, gym.wrappers.TimeLimit, gym.wrappers.ClipAction):
-            assert batched.env_is_wrapped(wrapper) == dummy.env_is_wrapped(wrapper)
-        assert len(batched.get_attr("scenario")) == 2
-    finally:
-        batched.close()
-        dummy.close()
-
-
-def test_ppo_learns_on_the_sb3_adapter():
-    from stable_baselines3 import PPO
-
-    from cof_gym.envs.sb3 import make_sb3_vec_env
-
-    env = make_sb3_vec_env(ENV_ID, n_envs=2, seed=0)
-    try:
-        model = PPO("MlpPolicy", env, n_steps=64, batch_size=64, n_epochs=2, seed=0, device="cpu")
-        model.learn(128)
-        assert model.num_timesteps >= 128
-        obs = env.reset()
-        action, _ = model.predict(obs, deterministic=True)
-        assert action.shape == (2, 5)
-    finally:
-        env.close()

@@ -13,7 +13,7 @@ from __future__ import annotations
 import gymnasium as gym
 import numpy as np
 
-from cof_gym.envs.spaces import OBSERVATION_NAMES, MotorLimits, decode_action, encode_action
+from cof_gym.task.interface import OBSERVATION_NAMES, MotorLimits, decode_action, encode_action
 
 DC_STEP_FRACTION = 0.06
 ESTIMATE_CORRECTION = 0.5

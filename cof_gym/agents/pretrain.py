@@ -14,7 +14,7 @@ import numpy as np
 import torch
 
 from cof_gym.agents.staircase import PracticalStaircase, limits_of
-from cof_gym.envs.spaces import ACTION_NAMES
+from cof_gym.task.interface import ACTION_NAMES
 
 STOP = ACTION_NAMES.index("stop")
 

@@ -1,6 +1,6 @@
 """Scripted staircase agents: the paper's rule (an oracle reproduction) and a practical version.
 
-Observation indices follow :data:`cof_gym.envs.spaces.OBSERVATION_NAMES`.
+Observation indices follow :data:`cof_gym.task.interface.OBSERVATION_NAMES`.
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from cof_gym.analysis.theory import paper_schedule
-from cof_gym.envs.spaces import OBSERVATION_NAMES, MotorLimits, encode_action
+from cof_gym.task.interface import OBSERVATION_NAMES, MotorLimits, encode_action
 
 PHASE = OBSERVATION_NAMES.index("phase_lag")
 PHASE_SE = OBSERVATION_NAMES.index("phase_lag_se")
@@ -67,29 +67,32 @@ class PaperStaircase:
 
 @dataclass
 class PracticalStaircase:
-    """A staircase that knows no ground truth.
+    """A staircase that knows no ground truth, scale-free across the CoF range.
 
-    The first torque step gives the baseline of the interrogation angle. The DC torque climbs in
-    absolute steps (``first_step_nm``), refined as the angle rises above the baseline (the creep slope
-    falls): the step halves when the rise exceeds the ``refine_at_deg`` thresholds. The angle is read
-    from the amplitude ratio (:func:`compliance_angle_deg`), the magnitude twin of the phase: without the
-    paper's counter torque the train's own speed oscillation shifts the phase (it first falls with the
-    torque), not the ratio. The modulation amplitude is scaled to the
-    torque level (``amplitude_ratio`` x DC, within the drive's limits), so that it stays small-signal
-    at low friction. It stops when the rise exceeds ``stop_rise_deg`` (near the creep-curve peak) or
-    when the measured CoA falls twice in a row although the torque rose (past the peak), and reports
-    the largest measured CoA as the CoF. A window whose phase standard error exceeds
-    ``max_phase_se_deg`` (a transient, sensor noise) is measured again at the same torque.
+    The DC torque climbs in *multiplicative* steps from ``first_fraction`` of the drive's maximum (below
+    the saturation torque of the lowest CoF in range, so the first step never slips): it grows by
+    ``growth`` per window while the interrogation angle stays near its baseline (the first loaded
+    window), and the growth shrinks towards 1 as the angle rises (the creep slope falls near the
+    peak): ``growth ** (1 / 2 ** n)`` with n the number of ``refine_at_deg`` thresholds the rise
+    exceeds. The angle
+    is read from the amplitude ratio (:func:`compliance_angle_deg`): without the paper's counter torque
+    the train's own speed oscillation shifts the phase, not the ratio. The modulation amplitude is
+    ``amplitude_ratio`` x DC (at least ``min_amplitude_nm``), small-signal at every friction level. It
+    stops when the angle exceeds ``stop_angle_deg`` (near the peak; 90 deg at the peak), when the measured CoA falls twice
+    although the torque rose (past the peak), or at the drive's limit, and reports the largest
+    measured CoA. A window whose phase standard error exceeds ``max_phase_se_deg`` (a transient, sensor
+    noise) is measured again at the same torque.
     """
 
     limits: MotorLimits
-    first_step_nm: float = 3000.0
+    first_fraction: float = 0.005
+    growth: float = 1.35
     frequency_hz: float = 5.0
-    amplitude_ratio: float = 0.03
-    min_amplitude_nm: float = 400.0
-    refine_at_deg: tuple[float, ...] = (3.0, 6.0, 10.0, 15.0)
-    stop_rise_deg: float = 30.0
-    max_phase_se_deg: float = 4.0  # a noisier window (transient, noise) is repeated, up to max_repeats
+    amplitude_ratio: float = 0.04
+    min_amplitude_nm: float = 60.0
+    refine_at_deg: tuple[float, ...] = (3.0, 6.0, 10.0, 15.0, 22.0)  # rise above the baseline angle
+    stop_angle_deg: float = 68.0
+    max_phase_se_deg: float = 4.0
     max_repeats: int = 1
     name: str = "staircase"
     oracle: bool = False
@@ -101,7 +104,7 @@ class PracticalStaircase:
     _falls: int = 0
 
     def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
-        self._baseline = None  # measured at the first torque step, with this agent's own amplitude
+        self._baseline = None  # the angle of the first loaded window, with this agent's own amplitude
         self._dc = 0.0
         self._best_coa = 0.0
         self._last_coa = float(observation[COA])
@@ -112,27 +115,31 @@ class PracticalStaircase:
         return max(self.min_amplitude_nm, self.amplitude_ratio * dc)
 
     def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
-        phase = compliance_angle_deg(observation)
+        angle = compliance_angle_deg(observation)
         se = float(observation[PHASE_SE]) * 90.0
         if self._dc > 0 and self._baseline is None:
-            self._baseline = phase
-        rise = phase - self._baseline if self._baseline is not None else 0.0
+            self._baseline = angle
+        rise = angle - self._baseline if self._baseline is not None else 0.0
         coa = float(observation[COA])
         if se > self.max_phase_se_deg and self._repeats < self.max_repeats:
             self._repeats += 1  # unreliable window (transient, noise): measure again at the same torque
             return self._command(False)
         self._repeats = 0
         # past the peak: the CoA falls although the torque rose (twice, to ignore one noisy window)
-        falling = self._dc > 0.2 * self.limits.max_dc_torque_nm and coa < self._last_coa - 0.005
+        falling = self._dc > 0 and coa < self._last_coa * 0.995
         self._falls = self._falls + 1 if falling else 0
         self._best_coa = max(self._best_coa, coa) if self._dc > 0 else 0.0
         self._last_coa = coa
-        near_peak = rise > self.stop_rise_deg and se < self.max_phase_se_deg
+        near_peak = angle > self.stop_angle_deg and se < self.max_phase_se_deg
         if near_peak or self._falls >= 2 or self._dc >= self.limits.max_dc_torque_nm:
             return self._command(True)
-        step = self.first_step_nm * 0.5 ** sum(rise > r for r in self.refine_at_deg)
-        self._dc = min(self._dc + step, self.limits.max_dc_torque_nm)
+        if self._dc == 0.0:
+            self._dc = self.first_fraction * self.limits.max_dc_torque_nm
+        else:
+            refinements = sum(rise > r for r in self.refine_at_deg)
+            self._dc = min(self._dc * self.growth ** (0.5 ** refinements), self.limits.max_dc_torque_nm)
         return self._command(False)
 
     def _command(self, stop: bool) -> np.ndarray:
-        return encode_action(self._dc, self._amplitude(self._dc), self.frequency_hz, self._best_coa, stop, self.limits)
+        estimate = max(self._best_coa, self.limits.min_cof_estimate)
+        return encode_action(self._dc, self._amplitude(self._dc), self.frequency_hz, estimate, stop, self.limits)

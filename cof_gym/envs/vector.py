@@ -1,10 +1,11 @@
 """Batched vector environment: N torque-interrogation envs stepped by one ``mujoco.batch.Batch``.
 
-``gym.make_vec("CofGym/TorqueInterrogation-v0", num_envs=N, vectorization_mode="vector_entry_point")``
-returns a :class:`TorqueInterrogationVectorEnv`. It holds N :class:`TorqueInterrogationEnv` for their
-episode bookkeeping (scenario draws, reward, observation, info) and replaces only their physics: each
-window, the N simulations are rows of one batch, stepped by a single ``Batch.step(nstep=...)`` on
-``num_threads`` threads. The native passive callback is C, so the batch runs without the GIL.
+``gym.make_vec("CofGym/TorqueInterrogation-v1", num_envs=N, vectorization_mode="vector_entry_point")``
+returns a :class:`TorqueInterrogationVectorEnv`. It composes the same task as the single env
+(:class:`~cof_gym.task.InterrogationTask`: scenario draws, ground truth, reward, observation, info,
+one :class:`~cof_gym.task.Episode` per sub-env) with batched physics: each window, the N simulations
+are rows of one batch, stepped by a single ``Batch.step(nstep=...)`` on ``num_threads`` threads. The
+native passive callback is C, so the batch runs without the GIL.
 
 Results are bit-identical to ``gym.make_vec(..., vectorization_mode="sync")`` (N single envs made with
 ``gym.make``, sub-env i seeded ``seed + i``, next-step autoreset, infos merged by
@@ -23,12 +24,14 @@ from typing import Any, Sequence
 import gymnasium as gym
 import mujoco
 import numpy as np
+from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode
 from gymnasium.vector.utils import batch_space
 from mujoco.batch import Batch, SimulationError
 
-from cof_gym.envs.spaces import DecodedAction, check_action
-from cof_gym.envs.torque_interrogation import TorqueInterrogationEnv, built_model, window_diverged
+from cof_gym.envs.torque_interrogation import make_task, window_diverged
+from cof_gym.task import Episode
+from cof_gym.task.interface import DecodedAction, check_action
 from cof_gym.physics.native import layout
 from cof_gym.physics.native.build import install_callback
 from cof_gym.physics.simulation import begin_window, initial_state, initial_userdata, read_window, state_is_finite
@@ -46,8 +49,9 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
     Args:
         num_envs: number of sub-environments (simulations).
         num_threads: threads of the batch; default ``min(num_envs, os.cpu_count())``.
-        max_episode_steps: the registered ``TimeLimit`` (``gym.make_vec`` passes the spec's), applied
-            per sub-env exactly as ``gymnasium.wrappers.TimeLimit`` does; None: none.
+        max_episode_steps: a ``TimeLimit`` (``gym.make_vec`` passes the spec's), applied per sub-env
+            exactly as ``gymnasium.wrappers.TimeLimit`` does; None (the registered ids): the task's
+            horizon ``max_windows`` ends episodes.
         **kwargs: the arguments of :class:`TorqueInterrogationEnv` (vehicle, window_s, scenario fields...).
 
     Autoreset is gymnasium's default :attr:`AutoresetMode.NEXT_STEP`: the step after a sub-env
@@ -82,17 +86,16 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
         self.num_threads = int(num_threads)
         self.max_episode_steps = None if max_episode_steps is None else int(max_episode_steps)
         self.render_mode = None
-        if self.max_episode_steps is not None and kwargs.get("max_windows") is None:
-            kwargs = {**kwargs, "max_windows": self.max_episode_steps}  # the horizon a TimeLimit'd env would have
-        self.envs = [TorqueInterrogationEnv(**kwargs) for _ in range(num_envs)]
-        first = self.envs[0]
-        self.metadata = {**type(self).metadata, "render_fps": first.metadata["render_fps"]}
-        self.single_action_space = first.action_space
-        self.single_observation_space = first.observation_space
+        self.task = make_task(**kwargs)
+        self.metadata = {**type(self).metadata, "render_fps": max(1, int(round(1.0 / self.task.window_s)))}
+        self.single_action_space = self.task.action_space
+        self.single_observation_space = self.task.observation_space
         self.action_space = batch_space(self.single_action_space, num_envs)
         self.observation_space = batch_space(self.single_observation_space, num_envs)
+        self.episodes: list[Episode | None] = [None] * num_envs
+        self._np_randoms: list[np.random.Generator | None] = [None] * num_envs
 
-        base = built_model(first.vehicle, first.ranges.load_cases[-1], first.timestep, first.counter_torque)
+        base = self.task.model(self.task.ranges.load_cases[-1])
         install_callback()  # before the batch exists; process-global and idempotent
         self._batch = Batch(base.model, num_envs, nthread=self.num_threads)
         self._models: list[mujoco.MjModel] = [base.model] * num_envs
@@ -101,7 +104,7 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
         self._qvel = self._batch.bind("qvel")
         self._ud = self._batch.bind("userdata")
         self._time = self._batch.bind("time")
-        self._nstep = int(round(first.window_s / float(base.model.opt.timestep)))
+        self._nstep = int(round(self.task.window_s / float(base.model.opt.timestep)))
 
         self._observations = np.zeros(self.observation_space.shape, dtype=self.single_observation_space.dtype)
         self._rewards = np.zeros(num_envs, dtype=np.float64)
@@ -128,12 +131,18 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
         resets = {int(i): r for i, r in resets.items()}
         reset_ids = sorted(resets)
 
-        # resets: the env draws its scenario; its simulation row is reset to that episode's model
+        # resets: the task draws each scenario (from the sub-env's own generator, seeded as
+        # gymnasium.Env.reset seeds np_random); its simulation row is reset to that episode's model
         self._started[reset_ids] = False  # until its row is reset (a draw may raise on bad options)
-        physics = {i: self.envs[i]._begin_episode(*resets[i]) for i in reset_ids}
+        for i in reset_ids:
+            seed, options = resets[i]
+            if seed is not None or self._np_randoms[i] is None:
+                self._np_randoms[i], _ = seeding.np_random(seed)
+            self.episodes[i] = None
+            self.episodes[i] = self.task.new_episode(self._np_randoms[i], options)
         changed = False
         for i in reset_ids:
-            model = self.envs[i]._built.model
+            model = self.episodes[i].built.model
             if self._models[i] is not model:
                 self._models[i] = model
                 changed = True
@@ -143,18 +152,17 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
             ids = np.asarray(reset_ids, dtype=np.int32)
             self._batch.reset(ids, stage=mujoco.mjtStage.mjSTAGE_NONE)  # defaults, time 0, warnings cleared
             for i in reset_ids:
-                built = self.envs[i]._built
-                initial_state(built, physics[i].op.speed_m_s, self._qpos[i], self._qvel[i])
-                self._ud[i] = initial_userdata(built, physics[i])
+                episode = self.episodes[i]
+                initial_state(episode.built, episode.physics.op.speed_m_s, self._qpos[i], self._qvel[i])
+                self._ud[i] = initial_userdata(episode.built, episode.physics)
             self._batch.forward(ids)  # as Simulation.reset's mj_forward (the callback starts there)
             self._started[ids] = True
             self._elapsed_steps[ids] = 0
 
-        decoded: dict[int, DecodedAction] = {i: self.envs[i]._command(checked[i]) for i in checked}
+        decoded: dict[int, DecodedAction] = {i: self.task.decode(self.episodes[i], checked[i]) for i in checked}
         active = sorted(reset_ids + list(checked))
         for i in active:
-            env = self.envs[i]
-            begin_window(self._ud[i], float(self._time[i]), env._drive, env.ramp_s, env.settle_s)
+            begin_window(self._ud[i], float(self._time[i]), self.episodes[i].drive, self.task.ramp_s, self.task.settle_s)
         failed: set[int] = set()
         if active:
             ids = None if len(active) == self.num_envs else np.asarray(active, dtype=np.int32)
@@ -167,21 +175,21 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
 
         results: dict[int, StepResult] = {}
         for i in active:
-            env = self.envs[i]
+            episode = self.episodes[i]
             ud = self._ud[i]
             if i in resets:
                 if i in failed:
                     raise RuntimeError(f"sub-env {i}: MuJoCo raised in the baseline window: {self._batch.error(i)}")
-                obs, info = env._finish_reset(read_window(ud))
+                obs, info = self.task.after_reset(episode, read_window(ud))
                 results[i] = (obs, 0.0, False, False, info)
                 continue
             if i in failed or ud[_MAGIC] != layout.MAGIC:  # MuJoCo error, or its auto-reset wiped userdata
-                m, diverged = env._last, True
+                m, diverged = episode.last, True
             else:
                 m = read_window(ud)
                 bad_qacc = self._batch.warning[i, _BADQACC, 1] > 0  # mjWarningStat: (lastinfo, number)
                 diverged = window_diverged(m, bool(bad_qacc), state_is_finite(self._qpos[i], self._qvel[i], ud))
-            obs, reward, terminated, truncated, info = env._finish_step(m, decoded[i], diverged)
+            obs, reward, terminated, truncated, info = self.task.after_step(episode, m, decoded[i], diverged)
             self._elapsed_steps[i] += 1
             if self.max_episode_steps is not None and self._elapsed_steps[i] >= self.max_episode_steps:
                 truncated = True  # as gymnasium's TimeLimit
@@ -245,19 +253,10 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
                 self._truncations.copy(), infos)
 
     def get_attr(self, name: str) -> tuple[Any, ...]:
-        """An attribute of every sub-env (their bookkeeping, e.g. ``scenario``)."""
-        return tuple(getattr(env, name) for env in self.envs)
-
-    def call(self, name: str, *args: Any, **kwargs: Any) -> tuple[Any, ...]:
-        results = []
-        for env in self.envs:
-            fn = getattr(env, name)
-            results.append(fn(*args, **kwargs) if callable(fn) else fn)
-        return tuple(results)
+        """An attribute of every sub-env's episode (e.g. ``scenario``, ``truth``)."""
+        return tuple(getattr(episode, name) for episode in self.episodes)
 
     def close_extras(self, **kwargs: Any) -> None:
-        for env in self.envs:
-            env.close()
         # the bound arrays are views of the batch's state rows: drop them with it
         self._qpos = self._qvel = self._ud = self._time = None  # type: ignore[assignment]
         self._batch = None  # type: ignore[assignment]

@@ -49,9 +49,10 @@ class ContactSpec:
         }
 
 
-@dataclass
+@dataclass(eq=False)
 class BuiltModel:
-    """A compiled model plus what the callback and the measurement need to know about it."""
+    """A compiled model plus what the callback and the measurement need to know about it (hashed by
+    identity: models are built once per process and shared)."""
 
     kind: str
     model: mujoco.MjModel
@@ -182,9 +183,10 @@ def build_wagon(params: WagonParameters, timestep: float = DEFAULT_TIMESTEP_S,
         _spring(spec, f"{b_name}_secondary_z",
                 [("carbody_z", 1.0), ("carbody_pitch", -xb), (f"{b_name}_z", -1.0)],
                 2 * p.secondary_kz_n_m, 2 * p.secondary_cz_n_s_m, f_secondary / (2 * p.secondary_kz_n_m))
-        _spring(spec, f"{b_name}_secondary_x",
-                [("carbody_x", 1.0), ("carbody_pitch", hc), (f"{b_name}_x", -1.0), (f"{b_name}_pitch", -hb)],
-                2 * p.secondary_kx_n_m, 2 * p.secondary_cx_n_s_m)
+        secondary_x = [("carbody_x", 1.0), ("carbody_pitch", hc), (f"{b_name}_x", -1.0), (f"{b_name}_pitch", -hb)]
+        _spring(spec, f"{b_name}_secondary_x", secondary_x, 2 * p.secondary_kx_n_m, 2 * p.secondary_cx_n_s_m)
+        if p.traction_rod_kx_n_m > 0:
+            _spring(spec, f"{b_name}_traction_rod", secondary_x, p.traction_rod_kx_n_m, p.traction_rod_cx_n_s_m)
         for w_name, dx in (("front", half_base), ("rear", -half_base)):
             name = f"{b_name}_{w_name}_wheelset"
             xw = xb + dx

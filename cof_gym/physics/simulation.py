@@ -44,16 +44,22 @@ class SensorNoise:
 
 @dataclass(frozen=True)
 class CruiseControl:
-    """PD speed control acting on the car body: F = kp (v_set - v) - kd a.
+    """PI speed control with acceleration feedback on the car body:
+    F = kp (v_set - v) + ki int(v_set - v) dt - kd a.
 
-    The gains scale with the vehicle mass: ``bandwidth_hz`` sets kp = 2 pi f m and ``kd_mass_ratio``
-    kd = ratio * m (an acceleration feedback that adds apparent mass)."""
+    The gains scale with the vehicle mass m: ``bandwidth_hz`` sets kp = 2 pi f m, ``integral_hz``
+    ki = 2 pi f_i kp (the integral action removes the steady speed error under a steady traction
+    force) and ``kd_mass_ratio`` kd = ratio * m (an acceleration feedback that adds apparent mass).
+    The closed loop (m + kd) s^2 + kp s + ki is stable for any positive gains."""
 
     bandwidth_hz: float = 0.5
+    integral_hz: float = 0.1
     kd_mass_ratio: float = 0.5
 
-    def gains(self, mass_kg: float) -> tuple[float, float]:
-        return 2 * math.pi * self.bandwidth_hz * mass_kg, self.kd_mass_ratio * mass_kg
+    def gains(self, mass_kg: float) -> tuple[float, float, float]:
+        """(kp N s/m, ki N/m, kd kg) for a vehicle of ``mass_kg``."""
+        kp = 2 * math.pi * self.bandwidth_hz * mass_kg
+        return kp, 2 * math.pi * self.integral_hz * kp, self.kd_mass_ratio * mass_kg
 
 
 @dataclass(frozen=True)
@@ -82,6 +88,7 @@ class Scenario:
     noise: SensorNoise = field(default_factory=SensorNoise)
     motor_lag_s: float = 0.0
     cruise: CruiseControl = field(default_factory=CruiseControl)
+    traction_balance: bool = False  # the rest of the train cancels the DC part of the torque
     seed: int = 0
 
     def __post_init__(self) -> None:
@@ -92,10 +99,12 @@ class Scenario:
 def initial_userdata(built: BuiltModel, scenario: Scenario) -> np.ndarray:
     """A fresh userdata row for one simulation of ``built`` in ``scenario``."""
     op = scenario.op
-    if op.wheel_load_n != built.nominal_wheel_load_n:
+    # op.wheel_load_n is the load at which the law's CoF is defined (the static load, or the driven
+    # wheel's load at saturation); the contacts scale the law with their actual load every step
+    if not (0.5 <= op.wheel_load_n / built.nominal_wheel_load_n <= 2.0):
         raise ValueError(
-            f"scenario wheel_load_n ({op.wheel_load_n}) must equal the model's static wheel load "
-            f"({built.nominal_wheel_load_n}); build the model for that load case"
+            f"scenario wheel_load_n ({op.wheel_load_n:g} N) must be within 0.5-2 x the model's static wheel load "
+            f"({built.nominal_wheel_load_n:g} N); build the model for that load case"
         )
     ud = np.zeros(layout.SIZE)
     ud[I["MAGIC"]] = layout.MAGIC
@@ -112,8 +121,10 @@ def initial_userdata(built: BuiltModel, scenario: Scenario) -> np.ndarray:
     ud[I["S_PEAK"]] = creep_peak(op).creepage
     ud[I["MOD_OMEGA"]] = 2 * math.pi * 5.0
     ud[I["MOTOR_TAU"]] = scenario.motor_lag_s
-    kp, kd = scenario.cruise.gains(built.total_mass_kg)
-    ud[I["CRUISE_SPEED"]], ud[I["CRUISE_KP"]], ud[I["CRUISE_KD"]] = op.speed_m_s, kp, kd
+    kp, ki, kd = scenario.cruise.gains(built.total_mass_kg)
+    ud[I["CRUISE_SPEED"]], ud[I["CRUISE_KP"]], ud[I["CRUISE_KI"]], ud[I["CRUISE_KD"]] = op.speed_m_s, kp, ki, kd
+    if scenario.traction_balance:
+        ud[I["BALANCE_PER_NM"]] = 1.0 / built.wheel_radius_m  # tractive force of one N m at the rail
     ud[I["CARBODY_PREV_VEL"]] = op.speed_m_s
     ud[I["NOISE_OMEGA"]] = scenario.noise.omega_rad_s
     ud[I["NOISE_FORCE"]] = scenario.noise.force_relative
@@ -180,12 +191,15 @@ class WindowMeasurement:
     coa_measured: float  # mean tangential/normal force of the driven wheelset, with sensor noise
     coa_true: float
     creepage_mean: float
+    creepage_measured: float  # mean of R omega / v - 1 from the noisy encoder and speed sensor
     speed_measured_m_s: float
     normal_load_n: float
+    normal_load_measured_n: float
     tangential_force_n: float
+    tangential_force_measured_n: float
     torque_mean_nm: float
     torque_peak_nm: float
-    wd_rms_m_s2: float  # ISO 2631-1 Wd-weighted RMS car-body longitudinal acceleration
+    wd_rms_m_s2: float  # ISO 2631-1 Wd-weighted RMS car-body longitudinal acceleration (whole window)
     jerk_rms_m_s3: float
     wd_peak_m_s2: float
     friction_energy_j: float
@@ -224,13 +238,16 @@ def read_window(ud: np.ndarray) -> WindowMeasurement:
         coa_measured=mean("SUM_COA_MEASURED"),
         coa_true=mean("SUM_COA_TRUE"),
         creepage_mean=mean("SUM_CREEPAGE"),
+        creepage_measured=mean("SUM_CREEPAGE_MEASURED"),
         speed_measured_m_s=mean("SUM_SPEED_MEASURED"),
         normal_load_n=mean("SUM_NORMAL"),
+        normal_load_measured_n=mean("SUM_NORMAL_MEASURED"),
         tangential_force_n=mean("SUM_TANGENTIAL"),
+        tangential_force_measured_n=mean("SUM_TANGENTIAL_MEASURED"),
         torque_mean_nm=mean("SUM_TORQUE"),
         torque_peak_nm=float(ud[I["MAX_ABS_TORQUE"]]),
-        wd_rms_m_s2=math.sqrt(mean("SUM_WD2")),
-        jerk_rms_m_s3=math.sqrt(mean("SUM_JERK2")),
+        wd_rms_m_s2=math.sqrt(ud[I["SUM_WD2"]] / max(ud[I["N_COMFORT_SAMPLES"]], 1.0)),
+        jerk_rms_m_s3=math.sqrt(ud[I["SUM_JERK2"]] / max(ud[I["N_COMFORT_SAMPLES"]], 1.0)),
         wd_peak_m_s2=float(ud[I["MAX_ABS_WD"]]),
         friction_energy_j=dt_energy("FRICTION_ENERGY"),
         time_past_peak_s=dt_energy("TIME_PAST_PEAK"),

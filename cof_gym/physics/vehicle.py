@@ -51,6 +51,11 @@ class WagonParameters:
     secondary_cz_n_s_m: float = 20e3
     secondary_cx_n_s_m: float = 32e3  # assumed equal to the benchmark's lateral cy
     secondary_height_m: float = 0.9  # assumed height of the secondary (traction) connection
+    # traction rod between bogie frame and car body, per bogie (assumed: the benchmark coach has no
+    # drive; a powered bogie passes its traction through a rod or centre pivot with rubber bushes,
+    # much stiffer than the air springs' shear stiffness), at the secondary height
+    traction_rod_kx_n_m: float = 10e6
+    traction_rod_cx_n_s_m: float = 150e3
     # geometry
     bogie_wheelbase_m: float = 2.56
     bogie_centre_spacing_m: float = 19.0

@@ -293,15 +293,20 @@ void cofgym_passive(const mjModel* m, mjData* d) {
     cs[k].creepage = slip / vref;
   }
 
-  /* cruise control: PD on the car body's speed (acceleration from the previous steps) */
+  /* cruise control: PI on the car body's speed with acceleration feedback (acceleration from the
+   * previous steps), and the traction balance: the rest of the train cancels the interrogation's DC
+   * torque (same ramp), so a DC step does not change the train's speed; the modulation is not cancelled */
   int cx = (int)ud[UD_CARBODY_X_DOF];
   if (cx >= 0) {
     double vb = d->qvel[cx];
+    double err = ud[UD_CRUISE_SPEED] - vb;
     if (advance) {
       ud[UD_CARBODY_ACC] = ud[UD_LAST_TIME] >= 0.0 ? (vb - ud[UD_CARBODY_PREV_VEL]) / dt : 0.0;
       ud[UD_CARBODY_PREV_VEL] = vb;
+      ud[UD_CRUISE_INTEGRAL] += err * dt;
     }
-    tau[cx] += ud[UD_CRUISE_KP] * (ud[UD_CRUISE_SPEED] - vb) - ud[UD_CRUISE_KD] * ud[UD_CARBODY_ACC];
+    tau[cx] += ud[UD_CRUISE_KP] * err + ud[UD_CRUISE_KI] * ud[UD_CRUISE_INTEGRAL]
+               - ud[UD_CRUISE_KD] * ud[UD_CARBODY_ACC] - ud[UD_BALANCE_PER_NM] * dc_torque(ud, t_mid);
   }
 
   for (int i = 0; i < nv; i++) tau[i] += torque * unit_torque[i];
@@ -346,12 +351,14 @@ void cofgym_passive(const mjModel* m, mjData* d) {
     double omega_meas = c->omega + (ud[UD_NOISE_OMEGA] > 0.0 ? ud[UD_NOISE_OMEGA] * rng_normal(ud) : 0.0);
     double speed_meas = c->speed + (ud[UD_NOISE_SPEED] > 0.0 ? ud[UD_NOISE_SPEED] * rng_normal(ud) : 0.0);
     double coa_true = c->normal > 0.0 ? c->force / c->normal : 0.0;
-    double coa_meas = coa_true;
+    double ft = c->force, fn = c->normal;
     if (ud[UD_NOISE_FORCE] > 0.0) {
-      double ft = c->force * (1.0 + ud[UD_NOISE_FORCE] * rng_normal(ud));
-      double fn = c->normal * (1.0 + ud[UD_NOISE_FORCE] * rng_normal(ud));
-      coa_meas = fn > 0.0 ? ft / fn : 0.0;
+      ft *= 1.0 + ud[UD_NOISE_FORCE] * rng_normal(ud);
+      fn *= 1.0 + ud[UD_NOISE_FORCE] * rng_normal(ud);
     }
+    double coa_meas = fn > 0.0 ? ft / fn : 0.0;
+    double radius = ud[UD_CONTACT0 + mc * UD_CONTACT_STRIDE + CF_RADIUS];
+    double creep_meas = fabs(speed_meas) > vmin ? radius * omega_meas / speed_meas - 1.0 : 0.0;
 
     /* comfort: car-body acceleration through ISO 2631 Wd and the band limit (jerk) */
     double a_wd = 0.0, jerk = 0.0;
@@ -371,6 +378,12 @@ void cofgym_passive(const mjModel* m, mjData* d) {
     ud[UD_LAST_NORMAL] = c->normal;
     ud[UD_LAST_TORQUE] = torque;
 
+    /* comfort over the whole window: passengers feel the settling part too */
+    ud[UD_N_COMFORT_SAMPLES] += 1.0;
+    ud[UD_SUM_WD2] += a_wd * a_wd;
+    ud[UD_SUM_JERK2] += jerk * jerk;
+    if (fabs(a_wd) > ud[UD_MAX_ABS_WD]) ud[UD_MAX_ABS_WD] = fabs(a_wd);
+
     if (t >= ud[UD_ACC_START_TIME]) {
       double t0 = ud[UD_ACC_START_TIME];
       /* basis at t = rotation of the mid-step basis by -wm dt/2 */
@@ -386,14 +399,14 @@ void cofgym_passive(const mjModel* m, mjData* d) {
       ud[UD_SUM_COA_MEASURED] += coa_meas;
       ud[UD_SUM_COA_TRUE] += coa_true;
       ud[UD_SUM_CREEPAGE] += c->creepage;
+      ud[UD_SUM_CREEPAGE_MEASURED] += creep_meas;
       ud[UD_SUM_SPEED_MEASURED] += speed_meas;
       ud[UD_SUM_NORMAL] += c->normal;
+      ud[UD_SUM_NORMAL_MEASURED] += fn;
       ud[UD_SUM_TANGENTIAL] += c->force;
+      ud[UD_SUM_TANGENTIAL_MEASURED] += ft;
       ud[UD_SUM_TORQUE] += torque;
       if (fabs(torque) > ud[UD_MAX_ABS_TORQUE]) ud[UD_MAX_ABS_TORQUE] = fabs(torque);
-      ud[UD_SUM_WD2] += a_wd * a_wd;
-      ud[UD_SUM_JERK2] += jerk * jerk;
-      if (fabs(a_wd) > ud[UD_MAX_ABS_WD]) ud[UD_MAX_ABS_WD] = fabs(a_wd);
       int past_peak = 0;
       for (int k = 0; k < ncon; k++) {
         double power = fabs(cs[k].force * cs[k].slip);

@@ -57,10 +57,15 @@ _SCALARS: tuple[str, ...] = (
     "TIME_BASE",
     "MOTOR_TAU",  # first-order traction-motor torque lag, s (0: none)
     "MOTOR_TORQUE",  # applied motor torque (lag state), N m
-    # cruise control on the car body
+    # cruise control on the car body (PI with acceleration feedback)
     "CRUISE_SPEED",
     "CRUISE_KP",  # N per m/s
+    "CRUISE_KI",  # N per m (integral of the speed error)
     "CRUISE_KD",  # N per m/s^2
+    "CRUISE_INTEGRAL",  # integral of the speed error, m
+    # traction balance: the rest of the train's traction, lumped on the car body, cancels the DC part
+    # of the interrogation torque: F = -BALANCE_PER_NM x DC torque (N per N m; 0: none)
+    "BALANCE_PER_NM",
     "CARBODY_PREV_VEL",
     "CARBODY_ACC",
     # sensor noise (standard deviations) and the generator's state
@@ -98,11 +103,15 @@ ACCUMULATORS: tuple[str, ...] = (
     "SUM_COA_MEASURED",
     "SUM_COA_TRUE",
     "SUM_CREEPAGE",
+    "SUM_CREEPAGE_MEASURED",  # R omega / v from the noisy encoder and speed sensor
     "SUM_SPEED_MEASURED",
     "SUM_NORMAL",
+    "SUM_NORMAL_MEASURED",
     "SUM_TANGENTIAL",
+    "SUM_TANGENTIAL_MEASURED",
     "SUM_TORQUE",
     "MAX_ABS_TORQUE",
+    "N_COMFORT_SAMPLES",  # comfort sums cover the whole window (from its start, not its settling end)
     "SUM_WD2",
     "SUM_JERK2",
     "MAX_ABS_WD",

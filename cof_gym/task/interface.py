@@ -1,0 +1,186 @@
+"""The agent's side of the task: action decoding and observation encoding (with the matching decode).
+
+Only sensor readings reach the agent: :data:`SENSOR_FIELDS` lists the parts of a window's
+measurement a train's sensors give (the rest of :class:`~cof_gym.physics.simulation.WindowMeasurement`
+is ground truth, reported under ``info["ground_truth"]``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from gymnasium import spaces
+
+from cof_gym.physics.simulation import DriveCommand, WindowMeasurement
+
+ACTION_NAMES = ("dc_torque", "amplitude", "frequency", "cof_estimate", "stop")
+OBSERVATION_NAMES = (
+    "phase_lag", "phase_lag_se", "compliance", "coa_measured", "creepage_measured", "dc_torque", "amplitude",
+    "frequency", "speed", "wd_rms", "jerk_rms", "normal_load", "elapsed", "cof_estimate",
+)
+OBS_BOUND = 1e3  # observations are clipped to +-OBS_BOUND (they are O(1) in normal operation)
+CREEPAGE_SCALE = 10.0  # observation = measured creepage x 10
+SPEED_SCALE_M_S = 40.0
+JERK_SCALE_M_S3 = 10.0
+WD_SCALE_M_S2 = 0.01
+
+# What a train's sensors measure in a window (encoder, speed sensor, force sensors or an observer, the
+# drive's torque, a car-body accelerometer); info["measurement"] holds exactly these.
+SENSOR_FIELDS = (
+    "phase_lag_deg", "phase_lag_se_deg", "amplitude_ratio", "torque_amplitude_nm", "omega_amplitude_rad_s",
+    "coa_measured", "creepage_measured", "speed_measured_m_s", "normal_load_measured_n",
+    "tangential_force_measured_n", "torque_mean_nm", "torque_peak_nm", "wd_rms_m_s2", "jerk_rms_m_s3",
+    "wd_peak_m_s2", "samples",
+)
+
+
+@dataclass(frozen=True)
+class MotorLimits:
+    """What the traction drive can do (N m, Hz) and the range of the reported estimate."""
+
+    max_dc_torque_nm: float
+    wheel_radius_m: float = 0.46  # of the driven wheelset: tractive force = torque / radius
+    min_amplitude_nm: float = 20.0
+    max_amplitude_nm: float = 3000.0
+    min_frequency_hz: float = 1.0
+    max_frequency_hz: float = 20.0
+    min_cof_estimate: float = 0.01
+    max_cof_estimate: float = 1.0
+
+    def __post_init__(self) -> None:
+        if not (0 < self.min_amplitude_nm < self.max_amplitude_nm and 0 < self.min_frequency_hz < self.max_frequency_hz
+                and self.max_dc_torque_nm > 0 and self.wheel_radius_m > 0 and 0 < self.min_cof_estimate < self.max_cof_estimate):
+            raise ValueError(f"motor limits must be positive with min < max, got {self!r}")
+
+
+def action_space() -> spaces.Box:
+    return spaces.Box(-1.0, 1.0, shape=(len(ACTION_NAMES),), dtype=np.float32)
+
+
+def observation_space() -> spaces.Box:
+    return spaces.Box(-OBS_BOUND, OBS_BOUND, shape=(len(OBSERVATION_NAMES),), dtype=np.float32)
+
+
+def check_action(action) -> np.ndarray:
+    """A real, finite action of shape (5,): anything else raises ``ValueError`` naming the problem
+    (shape, dtype, or the non-finite components); values are clipped to [-1, 1]."""
+    a = np.asarray(action)
+    if a.shape != (len(ACTION_NAMES),):
+        raise ValueError(f"action must have shape ({len(ACTION_NAMES)},) {ACTION_NAMES}, got shape {a.shape}")
+    if a.dtype.kind not in "fiu":
+        raise ValueError(f"action must be a real (float or int) array in [-1, 1], got dtype {a.dtype}")
+    a = a.astype(np.float64)
+    bad = [ACTION_NAMES[i] for i in np.flatnonzero(~np.isfinite(a))]
+    if bad:
+        raise ValueError(f"action component(s) {bad} are not finite (NaN/inf); allowed range [-1, 1]")
+    return np.clip(a, -1.0, 1.0)
+
+
+def _log_map(x: float, low: float, high: float) -> float:
+    return math.exp(math.log(low) + (x + 1.0) / 2.0 * (math.log(high) - math.log(low)))
+
+
+def _log_unmap(v: float, low: float, high: float) -> float:
+    v = min(max(v, low), high)
+    return 2.0 * (math.log(v) - math.log(low)) / (math.log(high) - math.log(low)) - 1.0
+
+
+@dataclass(frozen=True)
+class DecodedAction:
+    drive: DriveCommand
+    cof_estimate: float
+    stop: bool
+
+
+def decode_action(a: np.ndarray, limits: MotorLimits) -> DecodedAction:
+    """[-1, 1]^5 -> DC torque (linear, 0...max), amplitude, frequency and CoF estimate (logarithmic)
+    and stop (> 0)."""
+    dc = (a[0] + 1.0) / 2.0 * limits.max_dc_torque_nm
+    amp = _log_map(a[1], limits.min_amplitude_nm, limits.max_amplitude_nm)
+    freq = _log_map(a[2], limits.min_frequency_hz, limits.max_frequency_hz)
+    est = _log_map(a[3], limits.min_cof_estimate, limits.max_cof_estimate)
+    return DecodedAction(DriveCommand(dc, amp, freq), float(est), bool(a[4] > 0.0))
+
+
+def encode_action(dc_torque_nm: float, amplitude_nm: float, frequency_hz: float, cof_estimate: float, stop: bool,
+                  limits: MotorLimits) -> np.ndarray:
+    """Inverse of :func:`decode_action` (for scripted agents), clipped to the limits."""
+    a = np.array([
+        2.0 * dc_torque_nm / limits.max_dc_torque_nm - 1.0,
+        _log_unmap(amplitude_nm, limits.min_amplitude_nm, limits.max_amplitude_nm),
+        _log_unmap(frequency_hz, limits.min_frequency_hz, limits.max_frequency_hz),
+        _log_unmap(cof_estimate, limits.min_cof_estimate, limits.max_cof_estimate),
+        1.0 if stop else -1.0,
+    ])
+    return np.clip(a, -1.0, 1.0).astype(np.float32)
+
+
+@dataclass(frozen=True)
+class ObservationScales:
+    """The vehicle constants the observation is scaled with (known on board)."""
+
+    limits: MotorLimits
+    spin_inertia_kg_m2: float  # of the driven wheelset
+    static_contact_load_n: float
+    horizon_s: float
+
+
+def encode_observation(m: WindowMeasurement, drive: DriveCommand, scales: ObservationScales, elapsed_s: float,
+                       cof_estimate: float) -> np.ndarray:
+    """Only what a train measures, scaled to O(1). ``compliance`` is the speed/torque amplitude ratio
+    times Iw*wm: 1 for a free wheel, ~0 when the creep force holds the wheel (far from the peak)."""
+    lim = scales.limits
+    wm = 2 * math.pi * drive.frequency_hz
+    obs = np.array([
+        m.phase_lag_deg / 90.0,
+        min(m.phase_lag_se_deg, 180.0) / 90.0,
+        m.amplitude_ratio * scales.spin_inertia_kg_m2 * wm,
+        m.coa_measured,
+        m.creepage_measured * CREEPAGE_SCALE,
+        drive.dc_torque_nm / lim.max_dc_torque_nm,
+        drive.amplitude_nm / lim.max_amplitude_nm,
+        drive.frequency_hz / lim.max_frequency_hz,
+        m.speed_measured_m_s / SPEED_SCALE_M_S,
+        m.wd_rms_m_s2 / WD_SCALE_M_S2,
+        m.jerk_rms_m_s3 / JERK_SCALE_M_S3,
+        m.normal_load_measured_n / scales.static_contact_load_n,
+        elapsed_s / scales.horizon_s,
+        cof_estimate / lim.max_cof_estimate,
+    ], dtype=np.float64)
+    return np.nan_to_num(np.clip(obs, -OBS_BOUND, OBS_BOUND), nan=0.0).astype(np.float32)
+
+
+@dataclass(frozen=True)
+class DecodedObservation:
+    """An observation in physical units (the inverse of :func:`encode_observation`)."""
+
+    phase_lag_deg: float
+    phase_lag_se_deg: float
+    compliance: float
+    coa_measured: float
+    creepage_measured: float
+    dc_torque_nm: float
+    amplitude_nm: float
+    frequency_hz: float
+    speed_m_s: float
+    wd_rms_m_s2: float
+    jerk_rms_m_s3: float
+    normal_load_n: float
+    elapsed_s: float
+    cof_estimate: float
+
+
+def decode_observation(obs: np.ndarray, scales: ObservationScales) -> DecodedObservation:
+    """Physical units back from an observation vector (for scripted agents)."""
+    o = np.asarray(obs, dtype=np.float64)
+    lim = scales.limits
+    return DecodedObservation(
+        phase_lag_deg=o[0] * 90.0, phase_lag_se_deg=o[1] * 90.0, compliance=o[2], coa_measured=o[3],
+        creepage_measured=o[4] / CREEPAGE_SCALE, dc_torque_nm=o[5] * lim.max_dc_torque_nm,
+        amplitude_nm=o[6] * lim.max_amplitude_nm, frequency_hz=o[7] * lim.max_frequency_hz,
+        speed_m_s=o[8] * SPEED_SCALE_M_S, wd_rms_m_s2=o[9] * WD_SCALE_M_S2, jerk_rms_m_s3=o[10] * JERK_SCALE_M_S3,
+        normal_load_n=o[11] * scales.static_contact_load_n, elapsed_s=o[12] * scales.horizon_s,
+        cof_estimate=o[13] * lim.max_cof_estimate,
+    )

@@ -1,0 +1,161 @@
+"""Episode scenarios: what is drawn per episode, from which ranges, and how to override it.
+
+Every draw comes from the environment's ``np_random``; any field can be fixed by a constructor kwarg
+of the same name or per episode by ``reset(options={...})``.
+
+**CoF ranges per condition** (the draws; a fixed ``cof`` may pair with any condition inside the
+envelope :data:`COF_ENVELOPE`):
+
+============= =========== =====================================================================
+condition      CoF drawn   source
+============= =========== =====================================================================
+dry            0.15-0.60   clean dry rail 0.20-0.40 in service (UK Adhesion Working Group,
+                           *Managing low adhesion*, "What is low adhesion"), up to ~0.5-0.6 in
+                           laboratory tests; the paper sweeps 0.1-0.5
+wet            0.05-0.25   wet rail 0.10-0.20 (same source); 0.05-0.15 in traction tables
+low_adhesion   0.02-0.10   leaf layers: below the 0.09 a full-service brake needs, reported down
+                           to ~0.01 (same source)
+dry_kalker     0.15-0.60   the dry range (not drawn by default; see :mod:`cof_gym.physics.creep`)
+============= =========== =====================================================================
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields
+from types import MappingProxyType
+from typing import Any, Mapping
+
+import numpy as np
+
+from cof_gym.physics.creep import CONDITIONS, OperatingConditions
+from cof_gym.physics.simulation import Scenario, SensorNoise
+from cof_gym.physics.vehicle import LOAD_CASES
+from cof_gym.task.validation import check_choice, check_number
+
+# sensor noise at full scale (noise_level = 1): realistic on-board sensors (assumed values)
+FULL_SCALE_NOISE = SensorNoise(omega_rad_s=0.02, force_relative=0.02, speed_m_s=0.05)
+
+COF_BY_CONDITION: Mapping[str, tuple[float, float]] = MappingProxyType({
+    "dry": (0.15, 0.60),
+    "wet": (0.05, 0.25),
+    "low_adhesion": (0.02, 0.10),
+    "dry_kalker": (0.15, 0.60),
+})
+DEFAULT_CONDITIONS = ("dry", "wet", "low_adhesion")
+COF_ENVELOPE = (0.02, 0.60)  # every CoF the task accepts; the drive reaches its peak at each
+SPEED_ENVELOPE_M_S = (5.0, 40.0)
+NOISE_LEVEL_MAX = 3.0  # multiples of FULL_SCALE_NOISE
+MOTOR_LAG_MAX_S = 0.1
+
+
+def _check_range(name: str, value: Any, low: float, high: float) -> tuple[float, float]:
+    if not (isinstance(value, (tuple, list)) and len(value) == 2):
+        raise ValueError(f"{name} must be a (min, max) pair within [{low:g}, {high:g}], got {value!r}")
+    lo = check_number(f"{name}[0]", value[0], low, high)
+    hi = check_number(f"{name}[1]", value[1], low, high)
+    if lo > hi:
+        raise ValueError(f"{name} must satisfy min <= max, got {value!r}")
+    return lo, hi
+
+
+@dataclass(frozen=True)
+class ScenarioRanges:
+    """Ranges of the per-episode draws (uniform). ``cof`` maps each condition to its CoF range."""
+
+    cof: Mapping[str, tuple[float, float]] = field(default_factory=lambda: dict(COF_BY_CONDITION))
+    conditions: tuple[str, ...] = DEFAULT_CONDITIONS
+    speed_m_s: tuple[float, float] = SPEED_ENVELOPE_M_S
+    load_cases: tuple[str, ...] = LOAD_CASES
+    noise_level: tuple[float, float] = (0.0, 1.0)  # multiplies FULL_SCALE_NOISE
+    motor_lag_s: tuple[float, float] = (0.0, 0.03)
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.cof, Mapping):
+            raise ValueError(f"ranges.cof must map condition -> (min, max), got {self.cof!r}")
+        for cond, rng in self.cof.items():
+            check_choice("ranges.cof condition", cond, CONDITIONS)
+            _check_range(f"ranges.cof[{cond!r}]", rng, *COF_ENVELOPE)
+        _choices("ranges.conditions", self.conditions, tuple(self.cof))
+        _check_range("ranges.speed_m_s", self.speed_m_s, *SPEED_ENVELOPE_M_S)
+        _check_range("ranges.noise_level", self.noise_level, 0.0, NOISE_LEVEL_MAX)
+        _check_range("ranges.motor_lag_s", self.motor_lag_s, 0.0, MOTOR_LAG_MAX_S)
+        _choices("ranges.load_cases", self.load_cases, LOAD_CASES)
+
+
+def _choices(name: str, value: Any, allowed: tuple[str, ...]) -> None:
+    if not isinstance(value, (tuple, list)) or not value or any(v not in allowed for v in value):
+        raise ValueError(f"{name} must be a non-empty subset of {list(allowed)}, got {value!r}")
+
+
+@dataclass(frozen=True)
+class EpisodeScenario:
+    """One episode's draw (the ground truth the agent never observes)."""
+
+    cof: float
+    condition: str
+    speed_m_s: float
+    load_case: str
+    noise_level: float
+    motor_lag_s: float
+
+    def to_dict(self) -> dict:
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+    def noise(self) -> SensorNoise:
+        return SensorNoise(*(self.noise_level * getattr(FULL_SCALE_NOISE, f.name) for f in fields(SensorNoise)))
+
+
+SCENARIO_KEYS = tuple(f.name for f in fields(EpisodeScenario))
+
+
+def check_fixed(fixed: Mapping[str, Any], load_cases: tuple[str, ...] = LOAD_CASES) -> dict[str, Any]:
+    """Validate fixed scenario fields (None: drawn), each by type and range; returns them cleaned."""
+    if not isinstance(fixed, Mapping):
+        raise ValueError(f"scenario options must be a dict of {list(SCENARIO_KEYS)}, got {fixed!r}")
+    unknown = set(fixed) - set(SCENARIO_KEYS)
+    if unknown:
+        raise ValueError(f"unknown scenario option(s) {sorted(unknown)}; allowed: {list(SCENARIO_KEYS)}")
+    out: dict[str, Any] = {}
+    for key, value in fixed.items():
+        if value is None:
+            continue
+        if key == "cof":
+            out[key] = check_number("cof", value, *COF_ENVELOPE)
+        elif key == "condition":
+            out[key] = check_choice("condition", value, tuple(COF_BY_CONDITION))
+        elif key == "speed_m_s":
+            out[key] = check_number("speed_m_s", value, *SPEED_ENVELOPE_M_S, unit=" m/s")
+        elif key == "load_case":
+            out[key] = check_choice("load_case", value, load_cases)
+        elif key == "noise_level":
+            out[key] = check_number("noise_level", value, 0.0, NOISE_LEVEL_MAX)
+        else:
+            out[key] = check_number("motor_lag_s", value, 0.0, MOTOR_LAG_MAX_S, unit=" s")
+    return out
+
+
+def draw_scenario(rng: np.random.Generator, ranges: ScenarioRanges, fixed: Mapping[str, Any]) -> EpisodeScenario:
+    """Draw every field not in ``fixed`` (always drawing all, in a fixed order, so fixing one leaves
+    the others' streams unchanged). The CoF is drawn in the range of the episode's condition."""
+    fixed = check_fixed(fixed, ranges.load_cases)
+    condition = str(ranges.conditions[rng.integers(len(ranges.conditions))])
+    condition = fixed.get("condition", condition)
+    unit_cof = float(rng.uniform())
+    lo, hi = ranges.cof.get(condition, COF_ENVELOPE)
+    drawn = {
+        "cof": lo + (hi - lo) * unit_cof,
+        "condition": condition,
+        "speed_m_s": float(rng.uniform(*ranges.speed_m_s)),
+        "load_case": str(ranges.load_cases[rng.integers(len(ranges.load_cases))]),
+        "noise_level": float(rng.uniform(*ranges.noise_level)),
+        "motor_lag_s": float(rng.uniform(*ranges.motor_lag_s)),
+    }
+    drawn.update(fixed)
+    return EpisodeScenario(**drawn)
+
+
+def physics_scenario(sc: EpisodeScenario, wheel_load_n: float, seed: int, traction_balance: bool) -> Scenario:
+    """The simulation's scenario: the creep law is calibrated at ``wheel_load_n`` (the driven wheel's
+    load at saturation, see :mod:`cof_gym.task.ground_truth`)."""
+    op = OperatingConditions(cof=sc.cof, condition=sc.condition, wheel_load_n=wheel_load_n, speed_m_s=sc.speed_m_s)
+    return Scenario(op=op, noise=sc.noise(), motor_lag_s=sc.motor_lag_s, traction_balance=traction_balance, seed=seed)

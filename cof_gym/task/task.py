@@ -1,0 +1,239 @@
+"""The torque-interrogation task: scenario draw, ground truth, action and observation interface, reward,
+constraints and horizon, in one object that the single and the vector environment both compose with
+their physics (as dm_control composes a Task with a Physics).
+
+An :class:`Episode` holds one episode's bookkeeping; the task's methods turn a window's measurement
+into what the environment returns. The physics (one ``Simulation`` or rows of a ``mujoco.batch``)
+is the environment's business.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from functools import lru_cache
+from typing import Any, Mapping
+
+import numpy as np
+
+from cof_gym.physics.models import DEFAULT_TIMESTEP_S, BuiltModel, build_half_wheelset, build_wagon
+from cof_gym.physics.simulation import DriveCommand, Scenario, WindowMeasurement
+from cof_gym.physics.vehicle import HalfWheelsetParameters, wagon_parameters
+from cof_gym.task.ground_truth import GroundTruth, ground_truth, max_saturation_torque_nm, static_contact_load_n
+from cof_gym.task.interface import (
+    SENSOR_FIELDS, DecodedAction, MotorLimits, ObservationScales, action_space, check_action, decode_action,
+    encode_observation, observation_space,
+)
+from cof_gym.task.reward import MacroSlipLimit, Reward, discomfort, log_error, relative_error, slip_cost
+from cof_gym.task.scenarios import COF_ENVELOPE, EpisodeScenario, ScenarioRanges, check_fixed, draw_scenario, physics_scenario
+from cof_gym.task.validation import check_bool, check_choice, check_int, check_number
+
+VEHICLES = ("wagon", "half_wheelset")
+DEFAULT_MAX_WINDOWS = 30
+TIMESTEP_RANGE_S = (1e-4, 2e-3)  # stable for every vehicle and scenario (tests/test_envs.py)
+DRIVE_MARGIN = 1.25  # the drive's DC torque reaches 1.25 x the largest saturation torque in range
+SHAPING_GAMMA = 0.95  # the discount the shaping potential assumes (agents' hyperparams' gamma)
+BASELINE_DRIVE = DriveCommand(0.0, 100.0, 5.0)  # the reset window: no DC torque, a small modulation
+WINDOW_TRUTH_FIELDS = (
+    "coa_true", "creepage_mean", "creep_phase_lag_deg", "creepage_amplitude", "normal_load_n", "tangential_force_n",
+    "friction_energy_j", "time_past_peak_s", "energy_past_peak_j", "max_abs_creepage",
+)
+
+
+@lru_cache(maxsize=16)
+def built_model(vehicle: str, load_case: str, timestep: float, counter_torque: bool) -> BuiltModel:
+    """Models are built once per process and shared (read-only) by every env."""
+    if vehicle == "wagon":
+        return build_wagon(wagon_parameters(load_case), timestep=timestep, counter_torque=counter_torque)
+    return build_half_wheelset(HalfWheelsetParameters(), timestep=timestep)
+
+
+@dataclass
+class Episode:
+    """One episode's state: its scenario, ground truth and bookkeeping."""
+
+    scenario: EpisodeScenario
+    truth: GroundTruth
+    built: BuiltModel
+    physics: Scenario
+    drive: DriveCommand = BASELINE_DRIVE
+    estimate: float = 0.0
+    elapsed_s: float = 0.0
+    windows: int = 0
+    potential: float = 0.0
+    last: WindowMeasurement | None = None
+    done: bool = False
+
+
+@dataclass(frozen=True)
+class InterrogationTask:
+    """Everything the environment scores and shows, apart from the physics.
+
+    Arguments are checked strictly (types and ranges); see the environment's docstring table."""
+
+    vehicle: str = "wagon"
+    window_s: float = 1.0
+    settle_fraction: float = 0.4
+    ramp_fraction: float = 0.3
+    max_windows: int = DEFAULT_MAX_WINDOWS
+    counter_torque: bool = False
+    traction_balance: bool | None = None  # None: on for the wagon without counter torque
+    timestep: float = DEFAULT_TIMESTEP_S
+    ranges: ScenarioRanges = field(default_factory=ScenarioRanges)
+    fixed: Mapping[str, Any] = field(default_factory=dict)
+    reward: Reward = field(default_factory=Reward)
+    macro_slip: MacroSlipLimit = field(default_factory=MacroSlipLimit)
+    shaping: bool = False
+
+    def __post_init__(self) -> None:
+        check_choice("vehicle", self.vehicle, VEHICLES)
+        check_number("window_s", self.window_s, 0.2, 10.0, unit=" s")
+        check_number("settle_fraction", self.settle_fraction, 0.0, 0.8)
+        check_number("ramp_fraction", self.ramp_fraction, 0.0, self.settle_fraction)
+        check_int("max_windows", self.max_windows, 1, 10_000)
+        check_bool("counter_torque", self.counter_torque)
+        check_bool("shaping", self.shaping)
+        check_number("timestep", self.timestep, *TIMESTEP_RANGE_S, unit=" s")
+        if self.traction_balance is not None:
+            check_bool("traction_balance", self.traction_balance)
+            if self.traction_balance and (self.counter_torque or self.vehicle != "wagon"):
+                raise ValueError("traction_balance=True needs the wagon without counter_torque (the counter torque "
+                                 "already cancels the traction; the half wheelset has no train)")
+        for name, kind in (("ranges", ScenarioRanges), ("reward", Reward), ("macro_slip", MacroSlipLimit)):
+            if not isinstance(getattr(self, name), kind):
+                raise ValueError(f"{name} must be a {kind.__name__}, got {getattr(self, name)!r}")
+        if self.vehicle == "half_wheelset":
+            object.__setattr__(self, "ranges", replace(self.ranges, load_cases=("laden",)))
+        object.__setattr__(self, "fixed", check_fixed(self.fixed, self.ranges.load_cases))
+
+    # ------------------------------------------------------------------ derived constants
+    @property
+    def balanced(self) -> bool:
+        """Whether the rest of the train cancels the DC part of the interrogation torque."""
+        if self.traction_balance is not None:
+            return self.traction_balance
+        return self.vehicle == "wagon" and not self.counter_torque
+
+    @property
+    def settle_s(self) -> float:
+        return self.settle_fraction * self.window_s
+
+    @property
+    def ramp_s(self) -> float:
+        return self.ramp_fraction * self.window_s
+
+    @property
+    def horizon_s(self) -> float:
+        return self.max_windows * self.window_s
+
+    def model(self, load_case: str) -> BuiltModel:
+        return built_model(self.vehicle, load_case, self.timestep, self.counter_torque)
+
+    @property
+    def limits(self) -> MotorLimits:
+        return _limits(self.model(self.ranges.load_cases[-1]), self.balanced)
+
+    def scales(self, built: BuiltModel) -> ObservationScales:
+        return ObservationScales(self.limits, built.drive_spin_inertia_kg_m2, static_contact_load_n(built),
+                                 self.horizon_s)
+
+    @property
+    def action_space(self):
+        return action_space()
+
+    @property
+    def observation_space(self):
+        return observation_space()
+
+    # ------------------------------------------------------------------ episode
+    def new_episode(self, rng: np.random.Generator, options: Mapping[str, Any] | None) -> Episode:
+        """Draw a scenario (``options`` fix fields for this episode) and its ground truth."""
+        scenario = draw_scenario(rng, self.ranges, {**self.fixed, **check_fixed(options or {}, self.ranges.load_cases)})
+        built = self.model(scenario.load_case)
+        truth, wheel_load = ground_truth(built, self.balanced, scenario.cof, scenario.condition, scenario.speed_m_s)
+        physics = physics_scenario(scenario, wheel_load, seed=int(rng.integers(2**31)), traction_balance=self.balanced)
+        episode = Episode(scenario=scenario, truth=truth, built=built, physics=physics)
+        episode.potential = self._potential(episode)
+        return episode
+
+    def decode(self, episode: Episode, action: Any) -> DecodedAction:
+        """Check and decode an action; it sets the drive of the episode's next window."""
+        if episode.done:
+            raise RuntimeError("the episode has ended: call reset() before step()")
+        decoded = decode_action(check_action(action), self.limits)
+        episode.drive = decoded.drive
+        episode.estimate = decoded.cof_estimate
+        return decoded
+
+    def observe(self, episode: Episode, m: WindowMeasurement) -> np.ndarray:
+        return encode_observation(m, episode.drive, self.scales(episode.built), episode.elapsed_s, episode.estimate)
+
+    def after_reset(self, episode: Episode, m: WindowMeasurement) -> tuple[np.ndarray, dict]:
+        """The first observation and info, from the baseline window."""
+        episode.last = m
+        return self.observe(episode, m), self._info(episode, m, {}, diverged=False, macro_slip=False, scored=False)
+
+    def after_step(self, episode: Episode, m: WindowMeasurement, decoded: DecodedAction,
+                   diverged: bool) -> tuple[np.ndarray, float, bool, bool, dict]:
+        """(obs, reward, terminated, truncated, info) from the window's measurement."""
+        episode.windows += 1
+        episode.elapsed_s += self.window_s
+        if diverged:
+            m = episode.last
+        episode.last = m
+        macro_slip = diverged or self.macro_slip.violated(m, episode.truth.peak_creepage)
+        terminated = bool(macro_slip or decoded.stop)
+        truncated = episode.windows >= self.max_windows and not terminated
+        scored = terminated or truncated
+        err = log_error(episode.estimate, episode.truth.cof) if scored else None
+        sc = episode.scenario
+        contact_load = static_contact_load_n(episode.built)
+        terms = self.reward.terms(m, contact_load, sc.speed_m_s, self.window_s, err, macro_slip)
+        if self.shaping:
+            # Phi = 0 in terminal states; a truncated state is not terminal (learners bootstrap there)
+            potential = 0.0 if terminated else self._potential(episode)
+            terms["reward_shaping"] = SHAPING_GAMMA * potential - episode.potential
+            episode.potential = potential
+        reward = float(sum(terms.values()))
+        costs = {"slip": slip_cost(m, contact_load, sc.speed_m_s, self.window_s), "discomfort": discomfort(m),
+                 "macro_slip": float(macro_slip)}
+        info = self._info(episode, m, {**terms, "cost": costs}, diverged, macro_slip, scored)
+        episode.done = terminated or truncated
+        return self.observe(episode, m), reward, terminated, truncated, info
+
+    # ------------------------------------------------------------------ helpers
+    def _potential(self, episode: Episode) -> float:
+        """Phi = w_error (E_max - |ln(estimate / CoF)|) >= 0, E_max the largest error in range."""
+        lim = self.limits
+        e_max = math.log(lim.max_cof_estimate / lim.min_cof_estimate)
+        est = min(max(episode.estimate, lim.min_cof_estimate), lim.max_cof_estimate)
+        return self.reward.w_error * max(e_max - log_error(est, episode.truth.cof), 0.0)
+
+    def _info(self, episode: Episode, m: WindowMeasurement, extra: dict, diverged: bool, macro_slip: bool,
+              scored: bool) -> dict:
+        truth = episode.truth
+        info: dict[str, Any] = {**extra}
+        info.setdefault("cost", {"slip": 0.0, "discomfort": 0.0, "macro_slip": 0.0})
+        info["diverged"] = bool(diverged)
+        info["macro_slip"] = bool(macro_slip)
+        info["scored"] = bool(scored)
+        info["cof_estimate"] = episode.estimate
+        info["log_error"] = log_error(episode.estimate, truth.cof) if scored else None
+        info["relative_error"] = relative_error(episode.estimate, truth.cof) if scored else None
+        info["elapsed_s"] = episode.elapsed_s
+        info["measurement"] = {k: getattr(m, k) for k in SENSOR_FIELDS}
+        info["ground_truth"] = {
+            **episode.scenario.to_dict(), **truth.to_dict(),
+            "macro_slip_creepage": self.macro_slip.limit(truth.peak_creepage),
+            **{k: getattr(m, k) for k in WINDOW_TRUTH_FIELDS},
+            "torque_fraction": episode.drive.dc_torque_nm / truth.saturation_torque_nm,
+            "peak_torque_fraction": m.torque_peak_nm / truth.saturation_torque_nm,
+        }
+        return info
+
+
+@lru_cache(maxsize=32)
+def _limits(laden: BuiltModel, balanced: bool) -> MotorLimits:
+    """The drive reaches DRIVE_MARGIN x the largest saturation torque of the envelope's top CoF."""
+    return MotorLimits(max_dc_torque_nm=DRIVE_MARGIN * max_saturation_torque_nm(laden, balanced, COF_ENVELOPE[1]),
+                       wheel_radius_m=laden.wheel_radius_m)

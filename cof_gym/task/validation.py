@@ -1,0 +1,46 @@
+"""Strict argument checks shared by the task and the environments: a wrong type or range raises a
+``ValueError`` naming the field, the type or range allowed and the value given. Booleans are never
+numbers here, strings are never booleans, and nothing non-finite passes."""
+
+from __future__ import annotations
+
+import math
+import numbers
+from typing import Any, Iterable
+
+
+def check_bool(name: str, value: Any) -> bool:
+    """A real boolean (``True``/``False`` or a numpy bool), nothing else."""
+    if isinstance(value, bool) or type(value).__name__ == "bool_":
+        return bool(value)
+    raise ValueError(f"{name} must be a bool (True or False), got {value!r} ({type(value).__name__})")
+
+
+def check_number(name: str, value: Any, low: float, high: float, *, low_open: bool = False,
+                 unit: str = "") -> float:
+    """A finite real number (not a bool, not a string) in [low, high] (or (low, high])."""
+    if isinstance(value, bool) or type(value).__name__ == "bool_" or not isinstance(value, numbers.Real):
+        raise ValueError(f"{name} must be a number in {_interval(low, high, low_open)}{unit}, "
+                         f"got {value!r} ({type(value).__name__})")
+    v = float(value)
+    if not math.isfinite(v) or v < low or v > high or (low_open and v == low):
+        raise ValueError(f"{name} must be a finite number in {_interval(low, high, low_open)}{unit}, got {value!r}")
+    return v
+
+
+def check_int(name: str, value: Any, low: int, high: int) -> int:
+    """An integer (not a bool) in [low, high]."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not (low <= int(value) <= high):
+        raise ValueError(f"{name} must be an int in [{low}, {high}], got {value!r} ({type(value).__name__})")
+    return int(value)
+
+
+def check_choice(name: str, value: Any, allowed: Iterable[str]) -> str:
+    allowed = tuple(allowed)
+    if not isinstance(value, str) or value not in allowed:
+        raise ValueError(f"{name} must be one of {list(allowed)}, got {value!r}")
+    return value
+
+
+def _interval(low: float, high: float, low_open: bool) -> str:
+    return f"{'(' if low_open else '['}{low:g}, {high:g}]"
