@@ -10,11 +10,17 @@ reads too); the command line overrides them. Writes, under ``--out DIR``:
 - ``checkpoints/ppo_<N>_steps.zip`` + ``ppo_vecnormalize_<N>_steps.pkl`` (``--save-freq``);
 - ``best/best_model.zip`` + ``best/vecnormalize.pkl`` (``--eval-freq``, on a separate frozen-statistics
   env);
-- ``monitor/<rank>.monitor.csv``: SB3 Monitor episode logs;
-- ``train_meta.json``: command line, seed, hyperparameters, timesteps, wall time, versions.
+- ``monitor/<rank>.monitor.csv``: SB3 Monitor episode logs (``<rank>.resume<k>.monitor.csv`` for the
+  k-th resumed run into the same directory);
+- ``eval/evaluations.npz`` (``eval/resume<k>/`` likewise);
+- ``train_meta.json``: command line, seed, hyperparameters, timesteps, wall time, versions, ``status``
+  (``setting up``, ``running``, then ``finished``, ``interrupted`` or ``failed``), and ``history`` (the
+  earlier runs into the same directory).
 
 ``--resume PATH`` continues a saved model (and its statistics) for ``--timesteps`` more steps
-(``reset_num_timesteps=False``: the step counter and TensorBoard curves continue).
+(``reset_num_timesteps=False``: the step counter and TensorBoard curves continue). Into the same
+``--out``, nothing is destroyed: the continued model is kept as ``checkpoints/ppo_<N>_steps.zip``
+(``resumed_from`` points at it), and ``best/`` is only replaced by a better evaluation.
 """
 
 from __future__ import annotations
@@ -34,9 +40,22 @@ from typing import Any
 
 import numpy as np
 
+import cof_gym
+
 ALGOS = ("ppo",)
 DEFAULT_CONF = Path(__file__).resolve().parent / "hyperparams" / "ppo.yml"
-DEFAULT_ENV_ID = "CofGym/TorqueInterrogation-v0"
+DEFAULT_ENV_ID = cof_gym.WAGON_ENV_ID
+DESCRIPTION = """\
+Train a PPO interrogation policy (Stable-Baselines3). Defaults come from the RL Zoo hyperparameter
+file (--conf-file); the command line overrides them. Writes, under --out DIR: model.zip and
+vecnormalize.pkl (observation statistics), tb/ (TensorBoard, with per-episode reward terms, CoF error
+and macro-slip rate), checkpoints/, best/ (best model on a frozen-statistics evaluation env),
+monitor/ (episode logs) and train_meta.json (command, seed, hyperparameters, versions, status).
+
+--resume PATH continues a saved model for --timesteps more steps. Into the same --out it appends:
+the resumed model is kept as a checkpoint, new monitor files and evaluations sit beside the old ones,
+best/ is replaced only by a better model, and train_meta.json keeps the earlier runs under "history".
+Everything on the command line is checked before anything is written (usage errors exit with 2)."""
 REWARD_TERMS = ("reward_error", "reward_slip", "reward_comfort", "reward_time", "reward_shaping")
 # keys of the YAML that are not PPO constructor arguments
 _ZOO_KEYS = ("n_envs", "n_timesteps", "policy", "normalize", "env_kwargs")
@@ -231,74 +250,94 @@ def _write_meta(path: Path, meta: dict[str, Any]) -> None:
     os.replace(tmp, path)
 
 
+class _MonitoredEnvFn:
+    """A picklable env factory: the env, its action space seeded, under an SB3 Monitor writing
+    ``monitor_dir/<rank><suffix>.monitor.csv`` (as ``make_vec_env`` does, plus a suffix so that a resumed
+    run writes new files beside the old ones instead of over them)."""
+
+    def __init__(self, env_fn, rank: int, seed: int, monitor_dir: Path | None, suffix: str) -> None:
+        self.env_fn, self.rank, self.seed, self.monitor_dir, self.suffix = env_fn, rank, seed, monitor_dir, suffix
+
+    def __call__(self):
+        from stable_baselines3.common.monitor import Monitor
+
+        env = self.env_fn()
+        env.action_space.seed(self.seed + self.rank)
+        filename = None
+        if self.monitor_dir is not None:
+            os.makedirs(self.monitor_dir, exist_ok=True)
+            filename = os.path.join(self.monitor_dir, f"{self.rank}{self.suffix}")
+        return Monitor(env, filename=filename, info_keywords=("relative_error", "macro_slip"))
+
+
 def _make_venv(env_id: str, env_kwargs: dict[str, Any], n_envs: int, seed: int, vec: str,
-               monitor_dir: Path | None, adapter: str = "absolute"):
-    from stable_baselines3.common.env_util import make_vec_env
+               monitor_dir: Path | None, adapter: str = "absolute", monitor_suffix: str = ""):
     from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
 
     from cof_gym.agents.ppo import make_env_fn
 
     cls = SubprocVecEnv if vec == "subproc" else DummyVecEnv
-    return make_vec_env(make_env_fn(env_id, env_kwargs, adapter), n_envs=n_envs, seed=seed, vec_env_cls=cls,
-                        monitor_dir=str(monitor_dir) if monitor_dir is not None else None,
-                        monitor_kwargs={"info_keywords": ("relative_error", "macro_slip")})
+    env_fn = make_env_fn(env_id, env_kwargs, adapter)
+    venv = cls([_MonitoredEnvFn(env_fn, rank, seed, monitor_dir, monitor_suffix) for rank in range(n_envs)])
+    venv.seed(seed)
+    return venv
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The options of ``cof-gym train``."""
-    parser.add_argument("--algo", choices=ALGOS, default="ppo", help="RL algorithm (default: ppo)")
-    parser.add_argument("--env", default=None,
-                        help=f"environment id (default: {DEFAULT_ENV_ID}, or the resumed run's)")
-    parser.add_argument("--out", required=True, help="output directory (model.zip, vecnormalize.pkl, tb/, ...)")
-    parser.add_argument("--timesteps", "-n", type=int, default=None,
+    from cof_gym.cli import non_negative_int, positive_int
+
+    parser.add_argument("--algo", choices=ALGOS, default="ppo", help="RL algorithm")
+    parser.add_argument("--env", default=None, choices=cof_gym.ENV_IDS, metavar="ENV_ID",
+                        help=f"environment id, one of {', '.join(cof_gym.ENV_IDS)} (default: {DEFAULT_ENV_ID}, "
+                             "or the resumed run's)")
+    parser.add_argument("--out", required=True, metavar="DIR",
+                        help="output directory (model.zip, vecnormalize.pkl, tb/, ...)")
+    parser.add_argument("--timesteps", "-n", type=positive_int, default=None,
                         help="environment steps to train (default: n_timesteps of the YAML); with --resume, "
                              "steps added to the loaded model's")
-    parser.add_argument("--n-envs", type=int, default=None, help="parallel environments (default: YAML n_envs)")
-    parser.add_argument("--seed", type=int, default=None,
+    parser.add_argument("--n-envs", type=positive_int, default=None,
+                        help="parallel environments (default: n_envs of the YAML)")
+    parser.add_argument("--seed", type=non_negative_int, default=None,
                         help="random seed (default: 0; with --resume: the run's seed + its timesteps)")
     parser.add_argument("--resume", default=None, metavar="PATH",
                         help="continue training a saved model zip (or output directory); the "
                              "vecnormalize.pkl beside it is loaded too")
     parser.add_argument("--vec", choices=("subproc", "dummy"), default=None,
                         help="vector env type (default: dummy for 1 env, subproc otherwise)")
-    parser.add_argument("--conf-file", default=str(DEFAULT_CONF), help="RL Zoo hyperparameter YAML")
+    parser.add_argument("--conf-file", default=str(DEFAULT_CONF), metavar="YAML",
+                        help="RL Zoo hyperparameter file")
     parser.add_argument("--hyperparams", "-params", nargs="+", action=StoreDict, default={}, metavar="KEY:VALUE",
-                        help="override YAML hyperparameters, e.g. n_steps:256 learning_rate:1e-4")
+                        help="override hyperparameters of the YAML, e.g. n_steps:256 learning_rate:1e-4")
     parser.add_argument("--env-kwargs", nargs="+", action=StoreDict, default={}, metavar="KEY:VALUE",
-                        help="environment constructor arguments, e.g. max_windows:10 condition:'dry'")
+                        help="environment constructor arguments, e.g. max_windows:10 condition:'dry' "
+                             "counter_torque:True")
     parser.add_argument("--eval-freq", type=int, default=10_000,
                         help="evaluate every N environment steps, best model to OUT/best (<= 0: off)")
-    parser.add_argument("--eval-episodes", type=int, default=10, help="episodes per evaluation")
+    parser.add_argument("--eval-episodes", type=positive_int, default=10, help="episodes per evaluation")
     parser.add_argument("--save-freq", type=int, default=50_000,
                         help="checkpoint every N environment steps to OUT/checkpoints (<= 0: off)")
-    parser.add_argument("--device", default="cpu", help="torch device (default: cpu; PPO+MLP is faster on CPU)")
-    parser.add_argument("--torch-threads", type=int, default=1,
-                        help="torch CPU threads of the learner (default 1: the MLP is tiny and OpenMP threads "
-                             "competing with the simulation for the cores slow it down many-fold; 0: torch's default)")
+    parser.add_argument("--device", default="cpu", help="torch device (PPO with an MLP is faster on the CPU)")
+    parser.add_argument("--torch-threads", type=non_negative_int, default=1,
+                        help="torch CPU threads of the learner (the MLP is tiny and OpenMP threads competing with "
+                             "the simulation for the cores slow it down many-fold; 0: torch's default)")
     parser.add_argument("--progress", action=argparse.BooleanOptionalAction, default=True,
-                        help="progress bar (tqdm + rich)")
-    parser.add_argument("--verbose", "-v", type=int, default=0, help="SB3 verbosity (1: print log tables)")
+                        help="progress bar (tqdm + rich) on the terminal")
+    parser.add_argument("--verbose", "-v", type=int, choices=(0, 1, 2), default=0,
+                        help="SB3 verbosity (1: print log tables)")
     parser.add_argument("--action-adapter", choices=("absolute", "incremental"), default=None,
                         help="how the policy's output becomes the env action (cof_gym/agents/adapters.py; default: "
                              "absolute, or the resumed run's)")
-    parser.add_argument("--pretrain-episodes", type=int, default=0,
+    parser.add_argument("--pretrain-episodes", type=non_negative_int, default=0,
                         help="behaviour-clone the practical staircase over N episodes before PPO (0: off)")
     parser.add_argument("--overwrite", action="store_true",
-                        help="allow writing over an existing OUT/model.zip")
-
-
-def add_parser(subparsers) -> argparse.ArgumentParser:
-    """Register ``train`` on a subparsers object (``set_defaults(func=run)``)."""
-    p = subparsers.add_parser("train", help="train a PPO agent (Stable-Baselines3)",
-                              description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    add_arguments(p)
-    p.set_defaults(func=run)
-    return p
+                        help="allow a new run to replace an existing OUT/model.zip")
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="cof-gym train", description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    from cof_gym.cli import Parser
+
+    p = Parser(prog="cof-gym train", description=DESCRIPTION)
     add_arguments(p)
     return p
 
@@ -307,43 +346,115 @@ def main(argv: list[str] | None = None) -> int:
     return run(build_parser().parse_args(argv))
 
 
-def run(args: argparse.Namespace) -> int:  # noqa: C901 - one linear recipe
-    """Train; 0 on success, 2 on a usage error, 130 when interrupted (the model is saved anyway)."""
-    import cof_gym  # noqa: F401 - registers the ids in this process
+def _previous_best(out: Path, prev_meta: dict[str, Any]) -> float | None:
+    """The best mean evaluation reward of the earlier runs into ``out`` (their best/ model's)."""
+    if prev_meta.get("best_mean_reward") is not None:
+        return float(prev_meta["best_mean_reward"])
+    means = []
+    for f in (out / "eval").rglob("evaluations.npz"):
+        try:
+            with np.load(f) as data:
+                means.extend(np.mean(data["results"], axis=1).tolist())
+        except (OSError, KeyError, ValueError):
+            continue
+    return max(means) if means else None
 
-    from cof_gym.agents.ppo import META_NAME, find_train_meta, resolve_model_path, vecnormalize_path
 
-    out = Path(args.out)
+def _check(args: argparse.Namespace) -> dict[str, Any]:
+    """Everything on the command line, before anything is written; :class:`UsageError` naming the flag."""
+    import gymnasium as gym
+
+    from cof_gym.agents.ppo import META_NAME, find_train_meta, resolve_model_path
+    from cof_gym.cli import UsageError, check_output_dir
+
+    out = check_output_dir(Path(args.out))
     resume_path = None
     prev_meta: dict[str, Any] = {}
     if args.resume:
         try:
             resume_path = resolve_model_path(args.resume)
         except FileNotFoundError as e:
-            print(f"cof-gym train: --resume: {e}", file=sys.stderr)
-            return 2
+            raise UsageError("--resume", str(e)) from None
         prev_meta = find_train_meta(resume_path) or {}
-    if (out / "model.zip").exists() and not args.overwrite and \
-            (resume_path is None or resume_path.resolve() != (out / "model.zip").resolve()):
-        print(f"cof-gym train: {out / 'model.zip'} exists; use --overwrite or another --out", file=sys.stderr)
-        return 2
-
+    same_out = resume_path is not None and resume_path.resolve() == (out / "model.zip").resolve()
+    if (out / "model.zip").exists() and not args.overwrite and not same_out:
+        raise UsageError("--out", f"{out / 'model.zip'} exists; use --overwrite, another --out or "
+                         f"--resume {out}")
     env_id = args.env or prev_meta.get("env_id") or DEFAULT_ENV_ID
+    if env_id not in gym.registry:
+        raise UsageError("--resume" if resume_path is not None and not args.env else "--env",
+                         f"environment {env_id!r} is not registered; allowed: {', '.join(cof_gym.ENV_IDS)}")
+    conf = Path(args.conf_file)
+    if not conf.is_file():
+        raise UsageError("--conf-file", f"no such file: {conf}")
     try:
-        raw = load_hyperparams(env_id, args.conf_file)
-        raw.update(args.hyperparams or {})
+        raw = load_hyperparams(env_id, conf)
+    except KeyError as e:
+        raise UsageError("--conf-file", str(e.args[0])) from None
+    except Exception as e:  # yaml.YAMLError and friends
+        raise UsageError("--conf-file", f"{conf}: {' '.join(str(e).split())}") from None
+    raw.update(args.hyperparams or {})
+    try:
         settings, ppo_kwargs = split_hyperparams(raw)
-    except (KeyError, ValueError, OSError) as e:
-        print(f"cof-gym train: {e}", file=sys.stderr)
-        return 2
+    except (ValueError, TypeError, SyntaxError, NameError) as e:
+        raise UsageError("--hyperparams", str(e)) from None
+    import inspect
+
+    from stable_baselines3 import PPO
+
+    allowed = set(inspect.signature(PPO.__init__).parameters) - {"self", "policy", "env"}
+    unknown = sorted(set(ppo_kwargs) - allowed)
+    if unknown:
+        raise UsageError("--hyperparams", f"unknown PPO argument(s) {unknown}")
     env_kwargs = {**settings["env_kwargs"], **(prev_meta.get("env_kwargs") or {}), **(args.env_kwargs or {})}
+    try:
+        probe = gym.make(env_id, **env_kwargs)
+        probe.close()
+    except (ValueError, TypeError) as e:
+        raise UsageError("--env-kwargs", f"{env_id}: {e}") from None
     n_envs = args.n_envs or settings["n_envs"]
     timesteps = args.timesteps if args.timesteps is not None else settings["n_timesteps"]
+    if n_envs < 1 or timesteps < 1:
+        raise UsageError("--n-envs" if n_envs < 1 else "--timesteps", "must be >= 1 (the YAML says otherwise)")
+    try:
+        import torch
+
+        device = torch.device(args.device)
+    except (RuntimeError, ValueError) as e:
+        raise UsageError("--device", f"{args.device!r}: {e}") from None
+    if device.type == "cuda" and not torch.cuda.is_available():
+        raise UsageError("--device", f"{args.device!r}: no CUDA device here; use cpu")
+    history = []
+    if same_out and (out / META_NAME).is_file():
+        previous = json.loads((out / META_NAME).read_text())
+        history = [*previous.pop("history", []), previous]
+    return {"out": out, "resume_path": resume_path, "prev_meta": prev_meta, "same_out": same_out, "env_id": env_id,
+            "raw": raw, "settings": settings, "ppo_kwargs": ppo_kwargs, "env_kwargs": env_kwargs, "n_envs": n_envs,
+            "timesteps": timesteps, "history": history}
+
+
+def run(args: argparse.Namespace) -> int:
+    """Train; 0 on success, 2 on a usage error (one line on stderr, nothing written), 130 when
+    interrupted (the model is saved anyway)."""
+    from cof_gym.cli import UsageError
+
+    try:
+        checked = _check(args)
+    except UsageError as e:
+        print(f"cof-gym train: error: {e}", file=sys.stderr)
+        return 2
+    return _train(args, **checked)
+
+
+def _train(args: argparse.Namespace, out: Path, resume_path: Path | None, prev_meta: dict[str, Any], same_out: bool,
+           env_id: str, raw: dict[str, Any], settings: dict[str, Any], ppo_kwargs: dict[str, Any],
+           env_kwargs: dict[str, Any], n_envs: int, timesteps: int, history: list) -> int:  # noqa: C901
+    import shutil
+
+    from cof_gym.agents.ppo import META_NAME, vecnormalize_path
+
     vec = args.vec or ("dummy" if n_envs == 1 else "subproc")
     adapter = args.action_adapter or prev_meta.get("action_adapter", "absolute")
-    if n_envs < 1 or timesteps < 1:
-        print("cof-gym train: --n-envs and --timesteps must be >= 1", file=sys.stderr)
-        return 2
 
     from stable_baselines3 import PPO
     from stable_baselines3.common.callbacks import CheckpointCallback, EvalCallback
@@ -365,13 +476,28 @@ def run(args: argparse.Namespace) -> int:  # noqa: C901 - one linear recipe
 
         torch.set_num_threads(args.torch_threads)
 
-    out.mkdir(parents=True, exist_ok=True)
     previous_steps = 0
     if resume_path is not None:
-        if args.seed is None:
-            previous_steps = int(PPO.load(resume_path, device=args.device).num_timesteps)
-    seed = args.seed if args.seed is not None else int(prev_meta.get("seed", 0)) + previous_steps
+        previous_steps = int(PPO.load(resume_path, device=args.device).num_timesteps)
+    seed = args.seed if args.seed is not None else (int(prev_meta.get("seed", 0)) + previous_steps
+                                                    if resume_path is not None else 0)
     set_random_seed(seed)
+    out.mkdir(parents=True, exist_ok=True)
+    resumed_from = resume_path
+    if same_out:
+        # keep the model being continued: OUT/model.zip is replaced when this run ends
+        ckpt_dir = out / "checkpoints"
+        ckpt_dir.mkdir(exist_ok=True)
+        kept = ckpt_dir / f"ppo_{previous_steps}_steps.zip"
+        if not kept.exists():
+            shutil.copy2(resume_path, kept)
+        stats = vecnormalize_path(resume_path)
+        kept_stats = ckpt_dir / f"ppo_vecnormalize_{previous_steps}_steps.pkl"
+        if stats.is_file() and not kept_stats.exists():
+            shutil.copy2(stats, kept_stats)
+        resumed_from = kept
+    run_index = len(history)  # 0: the first run into OUT
+    suffix = f".resume{run_index}" if run_index else ""
 
     meta: dict[str, Any] = {
         "command": shlex.join(sys.argv), "argv": sys.argv, "args": {k: v for k, v in vars(args).items() if k != "func"},
@@ -380,15 +506,19 @@ def run(args: argparse.Namespace) -> int:  # noqa: C901 - one linear recipe
         "timesteps_requested": timesteps, "conf_file": str(args.conf_file),
         # a resumed model keeps its own hyperparameters; only --hyperparams overrides apply
         "hyperparams": raw if resume_path is None else {**(prev_meta.get("hyperparams") or {}), **(args.hyperparams or {})},
-        "resumed_from": str(resume_path) if resume_path else None, "status": "running",
+        "resumed_from": str(resumed_from) if resumed_from else None,
+        "resumed_from_timesteps": previous_steps if resume_path is not None else None,
+        "status": "setting up",
         "started": datetime.now(timezone.utc).isoformat(timespec="seconds"), "versions": _versions(),
     }
+    if history:
+        meta["history"] = history
     meta_path = out / META_NAME
     _write_meta(meta_path, meta)
 
-    train_env = _make_venv(env_id, env_kwargs, n_envs, seed, vec, out / "monitor", adapter)
-    eval_env = None
+    train_env = eval_env = None
     try:
+        train_env = _make_venv(env_id, env_kwargs, n_envs, seed, vec, out / "monitor", adapter, suffix)
         if resume_path is not None:
             stats = vecnormalize_path(resume_path)
             if stats.is_file():
@@ -425,13 +555,22 @@ def run(args: argparse.Namespace) -> int:  # noqa: C901 - one linear recipe
             callbacks.append(CheckpointCallback(save_freq=max(args.save_freq // n_envs, 1),
                                                 save_path=str(out / "checkpoints"), name_prefix="ppo",
                                                 save_vecnormalize=True))
+        eval_callback = None
         if args.eval_freq and args.eval_freq > 0:
             eval_env = VecNormalize(_make_venv(env_id, env_kwargs, 1, seed + 10_000, "dummy", None, adapter),
                                     training=False, norm_obs=settings["normalize"]["norm_obs"], norm_reward=False)
-            callbacks.append(EvalCallback(
+            eval_callback = EvalCallback(
                 eval_env, n_eval_episodes=args.eval_episodes, eval_freq=max(args.eval_freq // n_envs, 1),
-                best_model_save_path=str(out / "best"), log_path=str(out / "eval"), deterministic=True,
-                callback_on_new_best=SaveVecNormalizeCallback(out / "best" / "vecnormalize.pkl"), verbose=args.verbose))
+                best_model_save_path=str(out / "best"),
+                log_path=str(out / "eval" / f"resume{run_index}" if run_index else out / "eval"), deterministic=True,
+                callback_on_new_best=SaveVecNormalizeCallback(out / "best" / "vecnormalize.pkl"), verbose=args.verbose)
+            if same_out and (out / "best" / "best_model.zip").is_file():
+                best = _previous_best(out, prev_meta)
+                if best is not None:  # best/ is replaced only by a better model
+                    eval_callback.best_mean_reward = best
+            callbacks.append(eval_callback)
+        meta["status"] = "running"
+        _write_meta(meta_path, meta)
 
         status, code = "finished", 0
         t0 = time.perf_counter()
@@ -453,10 +592,22 @@ def run(args: argparse.Namespace) -> int:  # noqa: C901 - one linear recipe
             "steps_per_s": round(steps / wall, 2) if wall > 0 else None,
             "tensorboard_dir": model.logger.get_dir() if model.logger is not None else None,
         })
+        if eval_callback is not None and np.isfinite(eval_callback.best_mean_reward):
+            meta["best_mean_reward"] = float(eval_callback.best_mean_reward)
         _write_meta(meta_path, meta)
         print(f"{status}: {steps} steps ({model.num_timesteps} total) in {wall:.1f} s "
               f"({meta['steps_per_s']} steps/s); model {out / 'model.zip'}, statistics {out / 'vecnormalize.pkl'}")
         return code
+    except BaseException as e:
+        if meta["status"] in ("setting up", "running"):  # never leave a run marked as running
+            meta.update({"status": "interrupted" if isinstance(e, KeyboardInterrupt) else "failed",
+                         "error": f"{type(e).__name__}: {e}",
+                         "finished": datetime.now(timezone.utc).isoformat(timespec="seconds")})
+            _write_meta(meta_path, meta)
+        if isinstance(e, KeyboardInterrupt):
+            print("cof-gym train: interrupted during set-up", file=sys.stderr)
+            return 130
+        raise
     finally:
         for venv in (train_env, eval_env):
             if venv is None:
