@@ -17,20 +17,27 @@ from pathlib import Path
 import gymnasium as gym
 import numpy as np
 
-from cof_gym.envs.spaces import OBSERVATION_NAMES
 import pytest
 from gymnasium.utils.env_checker import check_env as gym_check_env
 
 import cof_gym
+from cof_gym.task.interface import OBSERVATION_NAMES
+from cof_gym.task.task import DEFAULT_MAX_WINDOWS
 
-WAGON = "CofGym/TorqueInterrogation-v0"
-HALF = "CofGym/HalfWheelset-v0"
+WAGON = "CofGym/TorqueInterrogation-v1"
+HALF = "CofGym/HalfWheelset-v1"
 ENV_IDS = sorted(env_id for env_id in gym.registry if env_id.startswith("CofGym/"))
 SHORT = {"max_windows": 4, "window_s": 0.5}  # short horizons keep the module fast
 ACTION_NAMES = ("dc_torque", "amplitude", "frequency", "cof_estimate", "stop")  # the docstring's table
-MAX_COF_ESTIMATE = 0.8
+ESTIMATE_RANGE = (0.01, 1.0)  # the docstring's logarithmic estimate range
 REWARD_KEYS = ("reward_error", "reward_slip", "reward_comfort", "reward_time")
 QUIET = np.array([-1.0, -1.0, 0.0, 0.0, -1.0], dtype=np.float32)  # no DC torque, smallest amplitude, no stop
+
+
+def estimate_of(action_value: float) -> float:
+    """The CoF estimate an action component maps to (logarithmic over ESTIMATE_RANGE)."""
+    lo, hi = ESTIMATE_RANGE
+    return math.exp(math.log(lo) + (float(np.float32(action_value)) + 1.0) / 2.0 * math.log(hi / lo))
 
 # gymnasium's check_env always warns when it is given a wrapped env (it recommends env.unwrapped):
 # a property of the checker, not of the environment, so it is the one message allowed for made envs.
@@ -153,7 +160,7 @@ preloaded = "cof_gym" in sys.modules
 try:
     import gymnasium as gym
     import numpy as np
-    env = gym.make("cof_gym:CofGym/TorqueInterrogation-v0", max_windows=2, window_s=0.5)
+    env = gym.make("cof_gym:CofGym/TorqueInterrogation-v1", max_windows=2, window_s=0.5)
     obs0, _ = env.reset(seed=0)
     obs1, reward, terminated, truncated, _ = env.step(np.array([0.0, 0.0, 0.0, 0.0, -1.0], np.float32))
     queue.put(("ok", preloaded, obs0, obs1, reward, "cof_gym" in sys.modules))
@@ -196,8 +203,8 @@ def test_pickle_roundtrip(env_id: str) -> None:
     env.reset(seed=3)
     env.step(QUIET)
     clone = pickle.loads(pickle.dumps(env))
-    assert clone.unwrapped.max_windows == 4 and clone.unwrapped.window_s == 0.5
-    assert clone.unwrapped.fixed == {"cof": 0.25}
+    assert clone.unwrapped.task.max_windows == 4 and clone.unwrapped.task.window_s == 0.5
+    assert clone.unwrapped.task.fixed == {"cof": 0.25}
     action = np.array([-0.6, 0.3, -0.2, 0.1, -1.0], np.float32)
     for _ in range(2):  # same results twice: the clone is independent of the original
         assert_same(env.reset(seed=7), clone.reset(seed=7))
@@ -251,19 +258,22 @@ def test_returned_arrays_are_not_shared(env_id: str) -> None:
 
 
 @pytest.mark.parametrize("env_id", ENV_IDS)
-def test_max_episode_steps_on_spec(env_id: str) -> None:
+def test_the_task_owns_the_horizon(env_id: str) -> None:
+    """No TimeLimit beside the task's horizon: the env truncates itself after max_windows windows."""
     env = gym.make(env_id, window_s=0.5)
-    assert env.spec.max_episode_steps == cof_gym.DEFAULT_MAX_WINDOWS == env.unwrapped.max_windows
+    assert env.spec.max_episode_steps is None and env.unwrapped.task.max_windows == DEFAULT_MAX_WINDOWS
     env.reset(seed=0, options={"cof": 0.3})
-    for i in range(1, cof_gym.DEFAULT_MAX_WINDOWS + 1):
+    for i in range(1, DEFAULT_MAX_WINDOWS + 1):
         _, _, terminated, truncated, info = env.step(QUIET)
         assert not terminated
-        assert truncated == (i == cof_gym.DEFAULT_MAX_WINDOWS)
-    assert info["relative_error"] == pytest.approx(abs(0.4 - 0.3) / 0.3)
+        assert truncated == (i == DEFAULT_MAX_WINDOWS)
+    assert info["relative_error"] == pytest.approx(abs(estimate_of(0.0) - 0.3) / 0.3)
+    with pytest.raises(RuntimeError, match="reset"):
+        env.step(QUIET)  # the episode has ended
 
 
 def test_make_with_longer_max_windows_scores_at_its_horizon() -> None:
-    env = gym.make(HALF, max_windows=40, max_episode_steps=40, window_s=0.5)
+    env = gym.make(HALF, max_windows=40, window_s=0.5)
     env.reset(seed=0, options={"cof": 0.3})
     for i in range(1, 41):
         _, _, terminated, truncated, info = env.step(QUIET)
@@ -441,12 +451,12 @@ def test_stop_terminates_and_scores_the_estimate(env_id: str, estimate_action: f
     action = QUIET.copy()
     action[3], action[4] = estimate_action, 1.0
     _, reward, terminated, truncated, info = env.step(action)
-    estimate = (float(np.float32(estimate_action)) + 1.0) / 2.0 * MAX_COF_ESTIMATE
-    expected = abs(estimate - cof) / cof
+    estimate = estimate_of(estimate_action)
     assert terminated and not truncated and not info["macro_slip"]
     assert info["cof_estimate"] == pytest.approx(estimate, rel=1e-12, abs=1e-15)
-    assert info["relative_error"] == pytest.approx(expected, rel=1e-9, abs=1e-12)
-    assert info["reward_error"] == pytest.approx(-10.0 * expected, rel=1e-9, abs=1e-12)
+    assert info["relative_error"] == pytest.approx(abs(estimate - cof) / cof, rel=1e-9, abs=1e-12)
+    assert info["log_error"] == pytest.approx(abs(math.log(estimate / cof)), rel=1e-9, abs=1e-12)
+    assert info["reward_error"] == pytest.approx(-10.0 * abs(math.log(estimate / cof)), rel=1e-9, abs=1e-12)
 
 
 def test_stop_threshold_is_strictly_positive() -> None:
@@ -459,13 +469,20 @@ def test_stop_threshold_is_strictly_positive() -> None:
     assert env.step(action)[2]
 
 
-def test_scored_error_is_capped() -> None:
-    env = gym.make(HALF, **SHORT, cof=0.1)
-    env.reset(seed=0)
-    action = QUIET.copy()
-    action[3], action[4] = 1.0, 1.0  # estimate 0.8 for CoF 0.1: 700 % off
-    _, _, terminated, _, info = env.step(action)
-    assert terminated and info["relative_error"] == 1.0 and info["reward_error"] == -10.0
+def test_scored_error_is_symmetric_in_ratio_and_not_capped() -> None:
+    """A factor k over costs what a factor k under costs, and a larger factor always costs more."""
+    costs = {}
+    for estimate_action in (-1.0, -0.5, 0.5, 1.0):  # estimates 0.01, 0.0316, 0.316, 1.0 for CoF 0.1
+        env = gym.make(HALF, **SHORT, cof=0.1)
+        env.reset(seed=0)
+        action = QUIET.copy()
+        action[3], action[4] = estimate_action, 1.0
+        _, _, terminated, _, info = env.step(action)
+        assert terminated
+        costs[estimate_action] = info["reward_error"]
+    assert costs[-1.0] == pytest.approx(costs[1.0], rel=1e-6) == pytest.approx(-10.0 * math.log(10.0), rel=1e-6)
+    assert costs[-0.5] == pytest.approx(costs[0.5], rel=1e-6)
+    assert costs[1.0] < costs[0.5] < 0.0
 
 
 @pytest.mark.parametrize("env_id", ENV_IDS)
@@ -482,9 +499,9 @@ def test_truncation_scores_the_last_estimate(env_id: str) -> None:
         assert truncated == (i == len(estimates))
         if i < len(estimates):
             assert info["relative_error"] is None and info["reward_error"] == 0.0
-    last = (float(np.float32(estimates[-1])) + 1.0) / 2.0 * MAX_COF_ESTIMATE
+    last = estimate_of(estimates[-1])
     assert info["relative_error"] == pytest.approx(abs(last - cof) / cof, rel=1e-9)
-    assert info["reward_error"] == pytest.approx(-10.0 * abs(last - cof) / cof, rel=1e-9)
+    assert info["reward_error"] == pytest.approx(-10.0 * abs(math.log(last / cof)), rel=1e-9)
 
 
 @pytest.mark.parametrize("env_id", ENV_IDS)
@@ -501,9 +518,10 @@ def test_saturating_drive_ends_in_macro_slip(env_id: str) -> None:
         results[penalty] = (reward, info)
         assert info["macro_slip"] and terminated and not truncated and not info["diverged"]
         assert reward < 0.0
-        assert info["reward_error"] == -10.0  # the estimate is scored as error_cap
+        assert info["reward_error"] == pytest.approx(-10.0 * abs(math.log(estimate_of(0.0) / 0.05)))  # scored
         assert info["reward_slip"] <= -penalty
-        assert reward <= -10.0 - penalty
+        gt = info["ground_truth"]
+        assert gt["max_abs_creepage"] > gt["macro_slip_creepage"] > gt["peak_creepage"]
         assert reward == pytest.approx(sum(info[k] for k in REWARD_KEYS), rel=1e-12)
     # the penalty is exactly the difference between the two otherwise identical episodes
     assert results[5.0][0] - results[0.0][0] == pytest.approx(-5.0, rel=1e-9)
@@ -512,7 +530,7 @@ def test_saturating_drive_ends_in_macro_slip(env_id: str) -> None:
 @pytest.mark.parametrize("env_id", ENV_IDS)
 def test_reward_terms_sum_to_the_reward(env_id: str) -> None:
     env = gym.make(env_id, **SHORT)
-    weights = env.unwrapped.weights
+    weights = env.unwrapped.task.reward
     for seed in range(6):
         for item in rollout(env, seed, allow_stop=seed % 2 == 1)[1:]:
             obs, reward, _, _, info = item
@@ -669,7 +687,7 @@ def test_a_diverging_simulation_ends_the_episode_without_a_crash(env_id: str) ->
     obs2, reward, terminated, truncated, info = env.step(env.action_space.sample() * 0)
     assert info["diverged"] and terminated and not truncated
     assert np.isfinite(obs2).all() and np.isfinite(reward)
-    assert reward <= -env.unwrapped.weights.macro_slip_penalty
+    assert reward <= -env.unwrapped.task.reward.macro_slip_penalty
     obs3, _ = env.reset(seed=1)  # the env recovers on reset
     assert np.isfinite(obs3).all()
     _, _, _, _, info = env.step(env.action_space.sample() * 0)
