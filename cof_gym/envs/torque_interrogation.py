@@ -43,7 +43,7 @@ def make_task(vehicle: str = "wagon", window_s: float = 1.0, settle_fraction: fl
               ranges: ScenarioRanges | None = None, w_error: float = 10.0, w_slip: float = 1.0,
               w_comfort: float = 0.05, w_time: float = 0.02, macro_slip_penalty: float = 10.0,
               macro_slip_ratio: float = 2.0, macro_slip_floor: float = 0.02, shaping: bool = False,
-              **fixed: Any) -> InterrogationTask:
+              action_type: str = "absolute", observation_type: str = "window", **fixed: Any) -> InterrogationTask:
     """The task from the environment's keyword arguments (the table in the env's docstring)."""
     unknown = set(fixed) - set(SCENARIO_KEYS)
     if unknown:
@@ -54,6 +54,7 @@ def make_task(vehicle: str = "wagon", window_s: float = 1.0, settle_fraction: fl
         ranges=ScenarioRanges() if ranges is None else ranges, fixed=fixed,
         reward=Reward(w_error, w_slip, w_comfort, w_time, macro_slip_penalty),
         macro_slip=MacroSlipLimit(macro_slip_ratio, macro_slip_floor), shaping=shaping,
+        action_type=action_type, observation_type=observation_type,
     )
 
 
@@ -67,8 +68,9 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     ``mj_step`` call).
 
     ## Action Space
-    ``Box(-1, 1, (5,), float32)``, rescaled inside (out-of-range values are clipped; NaN/inf, other
-    shapes and non-real dtypes raise ``ValueError``):
+    ``Box(-1, 1, (5,), float32)`` for every ``action_type``, rescaled inside (out-of-range values are
+    clipped; NaN/inf, other shapes and non-real dtypes raise ``ValueError``). ``action_type="absolute"``
+    (default):
 
     | Num | Action        | Rescaled to                                            | Unit |
     |-----|---------------|--------------------------------------------------------|------|
@@ -78,9 +80,21 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | 3   | cof_estimate  | logarithmic 0.01 ... 1                                  | -    |
     | 4   | stop          | > 0 requests the end of the measurement                 | -    |
 
+    ``action_type="relative"`` (:class:`cof_gym.task.actions.RelativeActions`: scale-free across CoF
+    0.02-0.6; the one RL Zoo trains, ``cof_gym/agents/hyperparams/ppo.yml``):
+
+    | Num | Action        | Rescaled to                                                                | Unit |
+    |-----|---------------|----------------------------------------------------------------------------|------|
+    | 0   | dc_torque     | ``max(dc, floor) x exp(0.5 a)``, ``dc`` the current level, ``floor`` 0.3 % of max (the first step from zero stays below the smallest saturation torque in range, ~1.1 % of max) | N m |
+    | 1   | amplitude     | logarithmic 1 ... 30 % of the new DC level (``max(dc', floor)``), within 20 ... 3000 | N m |
+    | 2   | frequency     | logarithmic 1 ... 20                                                        | Hz   |
+    | 3   | cof_estimate  | ``max(best measured CoA so far, 0.01) x exp(0.5 a)``, within 0.01 ... 1     | -    |
+    | 4   | stop          | > 0.5 requests the end of the measurement                                   | -    |
+
     The DC level is ramped over the first ``ramp_fraction`` of the window; the modulation phase is
     continuous across windows. The drive reaches 1.25 x the largest saturation torque in the CoF
-    envelope (load transfer included).
+    envelope (load transfer included). Scripted agents encode with
+    ``env.unwrapped.task.actions.encode(context, dc, amplitude, frequency, estimate, stop, limits)``.
 
     ## Observation Space
     ``Box(-1000, 1000, (14,), float32)``, from the last window's *sensor readings* only
@@ -102,6 +116,17 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | 11  | normal_load        | measured normal load / static load                            |
     | 12  | elapsed            | elapsed time / horizon                                        |
     | 13  | cof_estimate       | the agent's last reported estimate                            |
+
+    ``observation_type="history"``: ``Box(-1000, 1000, (29,), float32)``, the 14 above followed by a
+    fixed-size memory of the episode, from the same sensor-only values
+    (:class:`cof_gym.task.interface.HistoryObservation`, :func:`cof_gym.task.interface.decode_history`):
+
+    | Num   | Observation          | Meaning                                                              |
+    |-------|----------------------|----------------------------------------------------------------------|
+    | 14    | baseline_phase_lag   | phase_lag of the first window the agent drove (until then: the reset window's) |
+    | 15    | baseline_compliance  | its compliance                                                       |
+    | 16    | best_coa             | the largest measured CoA so far (reset window included)              |
+    | 17-28 | coa_measured_k, creepage_measured_k, phase_lag_k, dc_torque_k | of the k-th previous window, k = 1...K, K = 3 (newest first; the oldest known window repeats until there are K) |
 
     ## Rewards
     ``reward = reward_error + reward_slip + reward_comfort + reward_time`` (:mod:`cof_gym.task.reward`,
@@ -152,6 +177,8 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | macro_slip_ratio, macro_slip_floor | 2, 0.02 | the macro-slip limit relative to the peak creepage |
     | cof, condition, speed_m_s, load_case, noise_level, motor_lag_s | None | fix a scenario field |
     | shaping | False | add the potential-based shaping term (training) |
+    | action_type | "absolute" | "absolute" or "relative" (see Action Space) |
+    | observation_type | "window" | "window" (14) or "history" (29; see Observation Space) |
     | render_mode | None | "rgb_array" or "human" |
     | width, height | 480, 240 | rgb_array frame size, pixels |
 
@@ -174,13 +201,16 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
                  ranges: ScenarioRanges | None = None, w_error: float = 10.0, w_slip: float = 1.0,
                  w_comfort: float = 0.05, w_time: float = 0.02, macro_slip_penalty: float = 10.0,
                  macro_slip_ratio: float = 2.0, macro_slip_floor: float = 0.02, shaping: bool = False,
-                 render_mode: str | None = None, width: int = 480, height: int = 240, **fixed: Any) -> None:
+                 render_mode: str | None = None, width: int = 480, height: int = 240, action_type: str = "absolute",
+                 observation_type: str = "window", **fixed: Any) -> None:
         EzPickle.__init__(self, vehicle, window_s, settle_fraction, ramp_fraction, max_windows, counter_torque,
                           traction_balance, timestep, ranges, w_error, w_slip, w_comfort, w_time, macro_slip_penalty,
-                          macro_slip_ratio, macro_slip_floor, shaping, render_mode, width, height, **fixed)
+                          macro_slip_ratio, macro_slip_floor, shaping, render_mode, width, height,
+                          action_type=action_type, observation_type=observation_type, **fixed)
         self.task = make_task(vehicle, window_s, settle_fraction, ramp_fraction, max_windows, counter_torque,
                               traction_balance, timestep, ranges, w_error, w_slip, w_comfort, w_time,
-                              macro_slip_penalty, macro_slip_ratio, macro_slip_floor, shaping, **fixed)
+                              macro_slip_penalty, macro_slip_ratio, macro_slip_floor, shaping,
+                              action_type=action_type, observation_type=observation_type, **fixed)
         self.width = check_int("width", width, 16, 4096)
         self.height = check_int("height", height, 16, 4096)
         if render_mode is not None:

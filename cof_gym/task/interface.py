@@ -8,7 +8,7 @@ is ground truth, reported under ``info["ground_truth"]``).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from gymnasium import spaces
@@ -184,3 +184,113 @@ def decode_observation(obs: np.ndarray, scales: ObservationScales) -> DecodedObs
         normal_load_n=o[11] * scales.static_contact_load_n, elapsed_s=o[12] * scales.horizon_s,
         cof_estimate=o[13] * lim.max_cof_estimate,
     )
+
+
+# ---------------------------------------------------------------------------------------------------------
+# Observation types (env option ``observation_type``): "window" (the 14 values above, default) or
+# "history" (those plus a fixed-size running summary of the episode, from the same sensor readings).
+
+HISTORY_WINDOWS = 3  # K: the previous windows a "history" observation repeats
+HISTORY_SUMMARY_NAMES = ("baseline_phase_lag", "baseline_compliance", "best_coa")
+HISTORY_WINDOW_NAMES = ("coa_measured", "creepage_measured", "phase_lag", "dc_torque")  # per previous window
+HISTORY_OBSERVATION_NAMES = OBSERVATION_NAMES + HISTORY_SUMMARY_NAMES + tuple(
+    f"{name}_{k}" for k in range(1, HISTORY_WINDOWS + 1) for name in HISTORY_WINDOW_NAMES)
+_WINDOW_INDEX = tuple(OBSERVATION_NAMES.index(n) for n in HISTORY_WINDOW_NAMES)
+_PHASE, _COMPLIANCE, _COA = (OBSERVATION_NAMES.index(n) for n in ("phase_lag", "compliance", "coa_measured"))
+
+
+@dataclass
+class Memory:
+    """What an episode remembers of its windows, kept from the encoded (sensor-only) window observations:
+    the baseline (the first window the agent drove; until then the reset window), the best measured
+    CoA, and the last ``HISTORY_WINDOWS + 1`` windows (newest first, the current one included).
+    An agent can keep the same memory from the observations it is given."""
+
+    baseline: np.ndarray | None = None
+    baseline_driven: bool = False
+    best_coa: float = 0.0
+    recent: list[np.ndarray] = field(default_factory=list)
+
+    def push(self, window: np.ndarray, driven: bool) -> None:
+        """Record one window's observation (``driven``: measured with the agent's drive, not the reset's)."""
+        window = np.asarray(window, dtype=np.float32)
+        if self.baseline is None or (driven and not self.baseline_driven):
+            self.baseline = window
+            self.baseline_driven = driven
+        coa = float(window[_COA])
+        if math.isfinite(coa):
+            self.best_coa = max(self.best_coa, coa)
+        self.recent = [window] + self.recent[:HISTORY_WINDOWS]
+
+
+@dataclass(frozen=True)
+class WindowObservation:
+    """The last window only (:data:`OBSERVATION_NAMES`)."""
+
+    name: str = "window"
+    names: tuple[str, ...] = OBSERVATION_NAMES
+
+    def space(self) -> spaces.Box:
+        return observation_space()
+
+    def encode(self, window: np.ndarray, memory: Memory) -> np.ndarray:
+        return window
+
+
+@dataclass(frozen=True)
+class HistoryObservation:
+    """The last window, then the summary (the baseline's phase lag and compliance, the best measured CoA)
+    and, for each of the previous ``HISTORY_WINDOWS`` windows (newest first; the oldest window known
+    repeats until there are enough), its measured CoA, creepage, phase lag and DC torque, all in the
+    window observation's units (:data:`HISTORY_OBSERVATION_NAMES`)."""
+
+    name: str = "history"
+    names: tuple[str, ...] = HISTORY_OBSERVATION_NAMES
+
+    def space(self) -> spaces.Box:
+        return spaces.Box(-OBS_BOUND, OBS_BOUND, shape=(len(self.names),), dtype=np.float32)
+
+    def encode(self, window: np.ndarray, memory: Memory) -> np.ndarray:
+        recent = memory.recent[1:]
+        previous = [recent[min(k, len(recent) - 1)] if recent else window for k in range(HISTORY_WINDOWS)]
+        base = memory.baseline if memory.baseline is not None else window
+        summary = [base[_PHASE], base[_COMPLIANCE], min(memory.best_coa, OBS_BOUND)]
+        parts = [np.asarray(window, dtype=np.float32), np.asarray(summary, dtype=np.float32)]
+        parts += [np.asarray(w, dtype=np.float32)[list(_WINDOW_INDEX)] for w in previous]
+        return np.concatenate(parts).astype(np.float32)
+
+
+OBSERVATION_TYPES = {"window": WindowObservation(), "history": HistoryObservation()}
+
+
+def get_observation_type(name: str):
+    try:
+        return OBSERVATION_TYPES[name]
+    except (KeyError, TypeError):
+        raise ValueError(f"observation_type must be one of {list(OBSERVATION_TYPES)}, got {name!r}") from None
+
+
+@dataclass(frozen=True)
+class DecodedHistory:
+    """A "history" observation in physical units (the inverse of :meth:`HistoryObservation.encode`)."""
+
+    window: DecodedObservation
+    baseline_phase_lag_deg: float
+    baseline_compliance: float
+    best_coa: float
+    previous: tuple[dict[str, float], ...]  # newest first: coa_measured, creepage_measured, phase_lag_deg, dc_torque_nm
+
+
+def decode_history(obs: np.ndarray, scales: ObservationScales) -> DecodedHistory:
+    """Physical units back from a "history" observation (for scripted agents)."""
+    o = np.asarray(obs, dtype=np.float64)
+    if o.shape != (len(HISTORY_OBSERVATION_NAMES),):
+        raise ValueError(f"a history observation has shape ({len(HISTORY_OBSERVATION_NAMES)},), got {o.shape}")
+    n, s = len(OBSERVATION_NAMES), len(HISTORY_SUMMARY_NAMES)
+    w = len(HISTORY_WINDOW_NAMES)
+    previous = tuple(
+        {"coa_measured": float(o[i]), "creepage_measured": float(o[i + 1] / CREEPAGE_SCALE),
+         "phase_lag_deg": float(o[i + 2] * 90.0), "dc_torque_nm": float(o[i + 3] * scales.limits.max_dc_torque_nm)}
+        for i in range(n + s, n + s + w * HISTORY_WINDOWS, w))
+    return DecodedHistory(decode_observation(o[:n], scales), baseline_phase_lag_deg=float(o[n] * 90.0),
+                          baseline_compliance=float(o[n + 1]), best_coa=float(o[n + 2]), previous=previous)

@@ -20,9 +20,10 @@ from cof_gym.physics.models import DEFAULT_TIMESTEP_S, BuiltModel, build_half_wh
 from cof_gym.physics.simulation import DriveCommand, Scenario, WindowMeasurement
 from cof_gym.physics.vehicle import HalfWheelsetParameters, wagon_parameters
 from cof_gym.task.ground_truth import GroundTruth, ground_truth, max_saturation_torque_nm, static_contact_load_n
+from cof_gym.task.actions import ACTION_TYPES, ActionContext, get_action_type
 from cof_gym.task.interface import (
-    SENSOR_FIELDS, DecodedAction, MotorLimits, ObservationScales, action_space, check_action, decode_action,
-    encode_observation, observation_space,
+    OBSERVATION_TYPES, SENSOR_FIELDS, DecodedAction, Memory, MotorLimits, ObservationScales, check_action,
+    encode_observation, get_observation_type,
 )
 from cof_gym.task.reward import MacroSlipLimit, Reward, discomfort, log_error, relative_error, slip_cost
 from cof_gym.task.scenarios import COF_ENVELOPE, EpisodeScenario, ScenarioRanges, check_fixed, draw_scenario, physics_scenario
@@ -63,6 +64,12 @@ class Episode:
     potential: float = 0.0
     last: WindowMeasurement | None = None
     done: bool = False
+    memory: Memory = field(default_factory=Memory)  # of the sensor-only window observations (best CoA, history)
+
+    @property
+    def action_context(self) -> ActionContext:
+        """What the action type may read: the applied DC torque and the best measured CoA."""
+        return ActionContext(self.drive.dc_torque_nm, self.memory.best_coa)
 
 
 @dataclass(frozen=True)
@@ -84,8 +91,12 @@ class InterrogationTask:
     reward: Reward = field(default_factory=Reward)
     macro_slip: MacroSlipLimit = field(default_factory=MacroSlipLimit)
     shaping: bool = False
+    action_type: str = "absolute"  # cof_gym.task.actions.ACTION_TYPES
+    observation_type: str = "window"  # cof_gym.task.interface.OBSERVATION_TYPES
 
     def __post_init__(self) -> None:
+        check_choice("action_type", self.action_type, tuple(ACTION_TYPES))
+        check_choice("observation_type", self.observation_type, tuple(OBSERVATION_TYPES))
         check_choice("vehicle", self.vehicle, VEHICLES)
         check_number("window_s", self.window_s, 0.2, 10.0, unit=" s")
         check_number("settle_fraction", self.settle_fraction, 0.0, 0.8)
@@ -138,12 +149,22 @@ class InterrogationTask:
                                  self.horizon_s)
 
     @property
+    def actions(self):
+        """The action type (:mod:`cof_gym.task.actions`)."""
+        return get_action_type(self.action_type)
+
+    @property
+    def observations(self):
+        """The observation type (:data:`cof_gym.task.interface.OBSERVATION_TYPES`)."""
+        return get_observation_type(self.observation_type)
+
+    @property
     def action_space(self):
-        return action_space()
+        return self.actions.space()
 
     @property
     def observation_space(self):
-        return observation_space()
+        return self.observations.space()
 
     # ------------------------------------------------------------------ episode
     def new_episode(self, rng: np.random.Generator, options: Mapping[str, Any] | None) -> Episode:
@@ -160,13 +181,17 @@ class InterrogationTask:
         """Check and decode an action; it sets the drive of the episode's next window."""
         if episode.done:
             raise RuntimeError("the episode has ended: call reset() before step()")
-        decoded = decode_action(check_action(action), self.limits)
+        decoded = self.actions.decode(episode.action_context, check_action(action), self.limits)
         episode.drive = decoded.drive
         episode.estimate = decoded.cof_estimate
         return decoded
 
     def observe(self, episode: Episode, m: WindowMeasurement) -> np.ndarray:
-        return encode_observation(m, episode.drive, self.scales(episode.built), episode.elapsed_s, episode.estimate)
+        """The observation of a window (called once per window): the window's sensor-only encoding is
+        recorded in the episode's memory, and the observation type builds the observation from both."""
+        window = encode_observation(m, episode.drive, self.scales(episode.built), episode.elapsed_s, episode.estimate)
+        episode.memory.push(window, driven=episode.windows > 0)
+        return self.observations.encode(window, episode.memory)
 
     def after_reset(self, episode: Episode, m: WindowMeasurement) -> tuple[np.ndarray, dict]:
         """The first observation and info, from the baseline window."""
