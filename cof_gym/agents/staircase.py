@@ -65,81 +65,114 @@ class PaperStaircase:
         return encode_action(frac * m_sat, self.amplitude_nm, self.frequency_hz, coa, False, self.limits)
 
 
+# How far below the creep-curve peak a point of the rising branch lies, read from the local log-slope
+# (elasticity) e = d ln(creepage) / d ln(CoA): 1 on the linear part, infinite at the peak. Steady
+# Polach curves of every default condition (dry, wet, low adhesion), CoF over each condition's range,
+# 5-40 m/s and both wheel loads give CoA / CoF within the [min, max] band below for each e (computed
+# with cof_gym.physics.creep; scale-free: neither the CoF nor the condition has to be known).
+ELASTICITY = (1.0, 1.1, 1.25, 1.5, 2.0, 3.0, 5.0, 8.0, 15.0, 40.0)
+PEAK_FRACTION_MEDIAN = (0.0, 0.270, 0.396, 0.507, 0.619, 0.719, 0.860, 0.955, 0.987, 0.998)
+PEAK_FRACTION_MAX = (0.30, 0.373, 0.535, 0.667, 0.787, 0.877, 0.935, 0.970, 0.993, 0.999)
+CREEPAGE = OBSERVATION_NAMES.index("creepage_measured")
+DC = OBSERVATION_NAMES.index("dc_torque")
+
+
+def peak_fraction(elasticity: float, table: tuple[float, ...] = PEAK_FRACTION_MEDIAN) -> float:
+    """CoA / CoF on the rising branch where the creep curve's elasticity is ``elasticity``."""
+    return float(np.interp(np.log(max(elasticity, 1.0)), np.log(ELASTICITY), table))
+
+
 @dataclass
 class PracticalStaircase:
-    """A staircase that knows no ground truth, scale-free across the CoF range.
+    """A staircase that knows no ground truth, scale-free across the CoF range and conditions.
 
-    The DC torque climbs in *multiplicative* steps from ``first_fraction`` of the drive's maximum (below
-    the saturation torque of the lowest CoF in range, so the first step never slips): it grows by
-    ``growth`` per window while the interrogation angle stays near its baseline (the first loaded
-    window), and the growth shrinks towards 1 as the angle rises (the creep slope falls near the
-    peak): ``growth ** (1 / 2 ** n)`` with n the number of ``refine_at_deg`` thresholds the rise
-    exceeds. The angle
-    is read from the amplitude ratio (:func:`compliance_angle_deg`): without the paper's counter torque
-    the train's own speed oscillation shifts the phase, not the ratio. The modulation amplitude is
-    ``amplitude_ratio`` x DC (at least ``min_amplitude_nm``), small-signal at every friction level. It
-    stops when the angle exceeds ``stop_angle_deg`` (near the peak; 90 deg at the peak), when the measured CoA falls twice
-    although the torque rose (past the peak), or at the drive's limit, and reports the largest
-    measured CoA. A window whose phase standard error exceeds ``max_phase_se_deg`` (a transient, sensor
-    noise) is measured again at the same torque.
+    It reads the creep curve through the measured CoA and creepage of its own windows: the local
+    elasticity ``e = d ln(creepage) / d ln(CoA)`` (between the last two windows of the climb) is 1 on the linear part and grows without bound at the peak, and at a given ``e``
+    every Polach curve in the default conditions lies within a narrow band of CoA / CoF
+    (:data:`PEAK_FRACTION_MEDIAN`, :data:`PEAK_FRACTION_MAX`). So:
+
+    * the DC torque climbs in multiplicative steps from ``first_fraction`` of the drive's maximum
+      (below the saturation torque of the lowest CoF in range on the empty wagon, so the first step
+      never slips); each step is ``safety`` x the largest step that keeps the CoA below the peak on the
+      worst curve of the band (``1 / max_fraction(e) - 1``), at most ``max_growth``, at least
+      ``min_growth``: big steps on the linear part, small ones near the knee, whatever the
+      condition;
+    * it stops when ``e`` exceeds ``stop_elasticity`` (CoA within a few percent of the peak) at a
+      creepage of at least ``min_stop_creepage`` (every peak in range lies above 1 %: a large ``e``
+      at a tiny creepage is sensor noise), when the CoA falls although the torque rose (past the
+      peak), or at the drive's limit; the stop window's DC torque backs off to ``stop_backoff`` x the
+      last one (the env runs the window in which the stop is requested);
+    * it reports the measured CoA divided by the median CoA / CoF at the measured ``e`` (never less
+      than the largest CoA it measured).
+
+    The modulation amplitude is ``amplitude_ratio`` x DC (at least ``min_amplitude_nm``): the method
+    does not need a large one, and a small one keeps the modulation from brushing the peak. The
+    compliance angle is not used: at high speed and low adhesion the amplitude ratio saturates (angle
+    90 deg) at 70-80 % of the saturation torque, long before the peak.
     """
 
     limits: MotorLimits
     first_fraction: float = 0.005
-    growth: float = 1.35
+    max_growth: float = 1.5
+    min_growth: float = 1.01
+    safety: float = 0.5
+    stop_elasticity: float = 10.0
     frequency_hz: float = 5.0
-    amplitude_ratio: float = 0.04
-    min_amplitude_nm: float = 60.0
-    refine_at_deg: tuple[float, ...] = (3.0, 6.0, 10.0, 15.0, 22.0)  # rise above the baseline angle
-    stop_angle_deg: float = 68.0
-    max_phase_se_deg: float = 4.0
-    max_repeats: int = 1
+    amplitude_ratio: float = 0.02
+    min_amplitude_nm: float = 40.0
+    min_stop_creepage: float = 0.003
+    stop_backoff: float = 0.8
     name: str = "staircase"
     oracle: bool = False
-    _baseline: float | None = None
     _dc: float = 0.0
     _best_coa: float = 0.0
-    _last_coa: float = 0.0
-    _repeats: int = 0
+    _estimate: float = 0.0
+    _points: list = field(default_factory=list)
     _falls: int = 0
 
     def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
-        self._baseline = None  # the angle of the first loaded window, with this agent's own amplitude
         self._dc = 0.0
         self._best_coa = 0.0
-        self._last_coa = float(observation[COA])
-        self._repeats = 0
+        self._estimate = 0.0
+        self._points = []
         self._falls = 0
 
     def _amplitude(self, dc: float) -> float:
         return max(self.min_amplitude_nm, self.amplitude_ratio * dc)
 
+    def elasticity(self) -> float:
+        """d ln s / d ln CoA between the last two windows of the climb (1 with fewer than two, or when
+        the CoA barely moved)."""
+        if len(self._points) < 2:
+            return 1.0
+        (c1, s1), (c2, s2) = self._points[-2:]
+        if min(c1, c2, s1, s2) <= 0 or c2 <= c1 * 1.002:
+            return 1.0
+        return float(max(np.log(s2 / s1) / np.log(c2 / c1), 1.0))
+
     def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
-        angle = compliance_angle_deg(observation)
-        se = float(observation[PHASE_SE]) * 90.0
-        if self._dc > 0 and self._baseline is None:
-            self._baseline = angle
-        rise = angle - self._baseline if self._baseline is not None else 0.0
         coa = float(observation[COA])
-        if se > self.max_phase_se_deg and self._repeats < self.max_repeats:
-            self._repeats += 1  # unreliable window (transient, noise): measure again at the same torque
-            return self._command(False)
-        self._repeats = 0
-        # past the peak: the CoA falls although the torque rose (twice, to ignore one noisy window)
-        falling = self._dc > 0 and coa < self._last_coa * 0.995
-        self._falls = self._falls + 1 if falling else 0
-        self._best_coa = max(self._best_coa, coa) if self._dc > 0 else 0.0
-        self._last_coa = coa
-        near_peak = angle > self.stop_angle_deg and se < self.max_phase_se_deg
-        if near_peak or self._falls >= 2 or self._dc >= self.limits.max_dc_torque_nm:
+        creepage = float(observation[CREEPAGE]) / 10.0
+        if self._dc > 0:
+            falling = bool(self._points) and coa < self._points[-1][0] * 0.995
+            self._falls = self._falls + 1 if falling else 0
+            self._points.append((coa, creepage))
+            self._best_coa = max(self._best_coa, coa)
+        e = self.elasticity()
+        if self._dc > 0:
+            self._estimate = max(self._best_coa, coa / max(peak_fraction(e), 1e-3)) if e >= 2.0 else self._best_coa
+        near_peak = e >= self.stop_elasticity and creepage >= self.min_stop_creepage
+        if near_peak or self._falls >= 1 or self._dc >= self.limits.max_dc_torque_nm:
+            self._dc *= self.stop_backoff
             return self._command(True)
         if self._dc == 0.0:
             self._dc = self.first_fraction * self.limits.max_dc_torque_nm
         else:
-            refinements = sum(rise > r for r in self.refine_at_deg)
-            self._dc = min(self._dc * self.growth ** (0.5 ** refinements), self.limits.max_dc_torque_nm)
+            room = 1.0 / peak_fraction(e, PEAK_FRACTION_MAX) - 1.0
+            growth = min(max(1.0 + self.safety * room, self.min_growth), self.max_growth)
+            self._dc = min(self._dc * growth, self.limits.max_dc_torque_nm)
         return self._command(False)
 
     def _command(self, stop: bool) -> np.ndarray:
-        estimate = max(self._best_coa, self.limits.min_cof_estimate)
+        estimate = max(self._estimate, self.limits.min_cof_estimate)
         return encode_action(self._dc, self._amplitude(self._dc), self.frequency_hz, estimate, stop, self.limits)
