@@ -123,6 +123,8 @@ class PPOAgent:
             env_kwargs = meta.get("env_kwargs") or {}
         model = PPO.load(model_path, device=device)
         adapter = meta.get("action_adapter", "absolute")
+        action_type = env_kwargs.get("action_type", "relative" if adapter in ("incremental", "relative") else "absolute")
+        observation_type = env_kwargs.get("observation_type", "window")
         venv = DummyVecEnv([make_env_fn(env_id, env_kwargs, adapter)])
         limits = venv.envs[0].unwrapped.limits
         if model.observation_space.shape != venv.observation_space.shape or \
@@ -143,7 +145,13 @@ class PPOAgent:
             warnings.warn(f"no VecNormalize statistics beside {model_path} ({stats.name}): "
                           "the policy will see raw observations", stacklevel=2)
             venv.close()
-        return cls(model, vec_normalize, env_id=env_id, model_path=model_path, adapter=adapter, limits=limits)
+        agent = cls(model, vec_normalize, env_id=env_id, model_path=model_path, adapter=adapter, limits=limits)
+        if action_type != "absolute" or observation_type != "window":
+            # trained on other action/observation types: applied on the agent's side of a default env
+            from cof_gym.agents.adapters import AgentSideInterface
+
+            agent.interface = AgentSideInterface(limits, action_type, observation_type)
+        return agent
 
     def normalize(self, observation: np.ndarray) -> np.ndarray:
         """The observation as the policy saw it in training (frozen statistics)."""
@@ -152,10 +160,22 @@ class PPOAgent:
             return obs
         return np.asarray(self.vec_normalize.normalize_obs(obs), dtype=np.float32)
 
+    interface: Any = None  # AgentSideInterface when the policy was trained on non-default env types
+    _pending: np.ndarray | None = None
+
     def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
-        """The policy is memoryless (MLP): nothing to reset."""
+        """Start the agent-side memory (when the policy uses one; the MLP itself is memoryless)."""
+        if self.interface is not None:
+            self._pending = self.interface.reset(observation)
 
     def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
+        if self.interface is not None:
+            if self._pending is not None:  # the reset observation, already in the memory
+                policy_obs, self._pending = self._pending, None
+            else:
+                policy_obs = self.interface.observe(observation)
+            action, _ = self.model.predict(self.normalize(policy_obs), deterministic=True)
+            return np.asarray(self.interface.to_env(np.asarray(action).reshape(-1)), dtype=np.float32)
         obs = self.normalize(observation)
         action, _ = self.model.predict(obs, deterministic=True)
         action = np.clip(np.asarray(action, dtype=np.float32).reshape(-1), -1.0, 1.0)
