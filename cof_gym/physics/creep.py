@@ -99,7 +99,7 @@ class ContactPatch:
     @classmethod
     def at_load(cls, wheel_load_n: float, geometry: ContactGeometry = ContactGeometry()) -> "ContactPatch":
         a, b = hertz_semi_axes(wheel_load_n, geometry)
-        return cls(a * b, wheel_load_n, kalker_c11(a / b))
+        return cls(a * b, wheel_load_n, kalker_c11(a / b, geometry.poisson_ratio))
 
     def vector(self) -> np.ndarray:
         values = {"AB_REF": self.ab_ref_m2, "Q_REF": self.q_ref_n, "C11": self.c11}
