@@ -1,0 +1,96 @@
+"""The model-based agent: safe first step, fitted peak with an interval that covers the CoF, determinism."""
+
+from __future__ import annotations
+
+import itertools
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import cof_gym
+from cof_gym.agents.evaluate import agent_view, run_episode
+from cof_gym.agents.model_based import ModelBasedAgent, creep_shapes, fit_peak
+from cof_gym.agents.registry import make_agent
+from cof_gym.agents.staircase import limits_of
+from cof_gym.task.interface import decode_action
+
+WORST = {"noise_level": 3.0, "motor_lag_s": 0.1}
+
+
+@pytest.fixture(scope="module")
+def env():
+    e = gym.make(cof_gym.WAGON_ENV_ID)
+    yield e
+    e.close()
+
+
+def test_registered_as_a_non_oracle(env) -> None:
+    agent = make_agent("model-based", env)
+    assert isinstance(agent, ModelBasedAgent) and agent.name == "model-based" and not agent.oracle
+
+
+@pytest.mark.parametrize("condition", ["dry", "wet", "low_adhesion", "dry_kalker"])
+def test_first_step_never_slips_at_the_lowest_cof(env, condition: str) -> None:
+    agent = ModelBasedAgent(limits_of(env))
+    for load_case, speed in itertools.product(("empty", "laden"), (5.0, 40.0)):
+        options = {"cof": 0.02, "condition": condition, "load_case": load_case, "speed_m_s": speed, **WORST}
+        obs, info = env.reset(seed=5, options=options)
+        agent.reset(obs, agent_view(info, False))
+        action = agent.act(obs, agent_view(info, False))
+        decoded = decode_action(action, limits_of(env))
+        assert not decoded.stop
+        assert decoded.drive.dc_torque_nm < 0.5 * info["ground_truth"]["saturation_torque_nm"], options
+        _, _, terminated, _, info = env.step(action)
+        assert not info["macro_slip"] and not terminated, options
+
+
+@pytest.mark.parametrize("options", [
+    {"cof": 0.5, "condition": "dry", "load_case": "laden", "speed_m_s": 30.0},
+    {"cof": 0.2, "condition": "dry", "load_case": "empty", "speed_m_s": 7.0},
+    {"cof": 0.15, "condition": "wet", "load_case": "laden", "speed_m_s": 18.0},
+    {"cof": 0.04, "condition": "low_adhesion", "load_case": "empty", "speed_m_s": 25.0},
+])
+def test_fitted_peak_is_within_3_percent_and_its_interval_covers_the_cof(env, options) -> None:
+    """Full sensor noise: no macro-slip, the reported peak within 3 % and the last interval covering
+    the CoF (with 0.5 % slack for the grid of the fit)."""
+    agent = ModelBasedAgent(limits_of(env))
+    rec = run_episode(env, agent, 21, {**options, "noise_level": 1.0}, 0)
+    assert not rec.macro_slip and rec.steps < 30
+    assert rec.relative_error < 0.03, (options, rec.estimate)
+    low, estimate, high = agent.interval
+    assert low <= estimate <= high
+    assert low * 0.995 <= rec.cof <= high * 1.005, (options, agent.interval)
+
+
+def test_same_seed_same_actions(env) -> None:
+    def actions() -> list[np.ndarray]:
+        agent = ModelBasedAgent(limits_of(env))
+        obs, info = env.reset(seed=4)
+        agent.reset(obs, agent_view(info, False))
+        out = []
+        while True:
+            a = agent.act(obs, agent_view(info, False))
+            out.append(a)
+            obs, _, terminated, truncated, info = env.step(a)
+            if terminated or truncated:
+                return out
+
+    a, b = actions(), actions()
+    assert len(a) == len(b) and all(np.array_equal(x, y) for x, y in zip(a, b))
+
+
+def test_fit_on_an_exact_curve_recovers_its_peak_and_stays_open_on_a_line() -> None:
+    """Points of a library shape scaled to peak 0.3 at creepage 0.02 up to 85 % of the peak: the fit
+    finds 0.3 inside its interval, which narrows with a point at 95 %; points on a straight line (far below any knee) leave it open."""
+    from cof_gym.agents.model_based import SHAPE_GRID
+
+    shape = creep_shapes()[5]
+    u = np.array([0.2, 0.4, 0.6, 0.75, 0.85])
+    s = 0.02 * np.interp(u, SHAPE_GRID, shape)
+    fit = fit_peak(0.3 * u, s, speed_m_s=25.0)
+    assert fit.estimate == pytest.approx(0.3, rel=0.02) and fit.low <= 0.3 <= fit.high
+    closer = fit_peak(0.3 * np.append(u, 0.95), 0.02 * np.interp(np.append(u, 0.95), SHAPE_GRID, shape), 25.0)
+    assert closer.low <= 0.3 <= closer.high and closer.half_width < 0.5 * fit.half_width
+    line = fit_peak(np.array([0.01, 0.02, 0.03, 0.04]), np.array([1e-4, 2e-4, 3e-4, 4e-4]), speed_m_s=25.0)
+    assert line.high > 2.0 * 0.04 and line.half_width > 0.3
