@@ -34,6 +34,11 @@ elasticity exceeds ``stop_elasticity`` (the CoA within a few percent of the peak
 although the torque rose, or at the drive's limit. The stop window's DC torque backs off to
 ``stop_backoff`` x the last one. :attr:`ModelBasedAgent.interval` holds the last fit's
 ``(low, estimate, high)``.
+
+**Accuracy against intrusiveness** (validation seeds 1000-1059 of the default v1 suite, not the
+reporting seeds): ``ci_tolerance`` 0.04 (default) median 0.4 % / P90 1.4 % error at a mean peak torque
+of ~96 % of the saturation torque; 0.08: 0.9 % / 2.5 % at 93 %; 0.15: 1.4 % / 5.4 % at 89 % (the
+paper's outlook: the CoF at lower applied torque). No macro-slip in any of them.
 """
 
 from __future__ import annotations
