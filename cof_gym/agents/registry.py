@@ -73,6 +73,8 @@ def shipped_ppo_available() -> bool:
     return (SHIPPED_PPO / "model.zip").is_file()
 
 
+register("oracle", "cof_gym.agents.oracle:SaturationOracle", oracle=True,
+         help="holds 98 % of the true saturation torque and reports the CoA there (the physics' floor)")
 register("staircase-paper", "cof_gym.agents.staircase:PaperStaircase", oracle=True,
          help="the paper's rule on the true saturation torque (oracle)")
 register("staircase", "cof_gym.agents.staircase:PracticalStaircase", oracle=False,
