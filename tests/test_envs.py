@@ -459,6 +459,23 @@ def test_stop_terminates_and_scores_the_estimate(env_id: str, estimate_action: f
     assert info["reward_error"] == pytest.approx(-10.0 * abs(math.log(estimate / cof)), rel=1e-9, abs=1e-12)
 
 
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_a_stop_runs_no_window(env_id: str) -> None:
+    """Stopping scores the estimate at once: no time, slip or comfort cost, the simulation does not
+    advance, and the observation is the last window's."""
+    env = gym.make(env_id, **SHORT, cof=0.3)
+    env.reset(seed=1)
+    obs, *_ = env.step(QUIET)
+    time_before = env.unwrapped._sim.data.time
+    stop = np.array([1.0, 1.0, 0.0, 0.0, 1.0], np.float32)  # full DC torque with the stop: never applied
+    obs2, reward, terminated, truncated, info = env.step(stop)
+    assert terminated and not truncated and not info["macro_slip"]
+    assert env.unwrapped._sim.data.time == time_before and np.array_equal(obs, obs2)
+    assert (info["reward_time"], info["reward_slip"], info["reward_comfort"]) == (0.0, 0.0, 0.0)
+    assert reward == info["reward_error"] == pytest.approx(-10.0 * abs(math.log(estimate_of(0.0) / 0.3)))
+    assert info["elapsed_s"] == SHORT["window_s"]
+
+
 def test_stop_threshold_is_strictly_positive() -> None:
     env = gym.make(HALF, **SHORT)
     env.reset(seed=0)
@@ -545,7 +562,8 @@ def test_reward_terms_sum_to_the_reward(env_id: str) -> None:
             penalty = weights.macro_slip_penalty if info["macro_slip"] else 0.0
             assert info["reward_slip"] == pytest.approx(-weights.w_slip * cost["slip"] - penalty, rel=1e-12, abs=1e-12)
             assert info["reward_comfort"] == pytest.approx(-weights.w_comfort * cost["discomfort"], rel=1e-12, abs=1e-12)
-            assert info["reward_time"] == pytest.approx(-weights.w_time * SHORT["window_s"], rel=1e-12)
+            window_run = not (info["scored"] and info["reward_time"] == 0.0 and not info["macro_slip"])
+            assert info["reward_time"] == pytest.approx(-weights.w_time * SHORT["window_s"] * window_run, rel=1e-12)
 
 
 # ------------------------------------------------------------------------------------ 6. rendering

@@ -78,7 +78,7 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | 1   | amplitude     | logarithmic 20 ... 3000                                 | N m  |
     | 2   | frequency     | logarithmic 1 ... 20                                    | Hz   |
     | 3   | cof_estimate  | logarithmic 0.01 ... 1                                  | -    |
-    | 4   | stop          | > 0 requests the end of the measurement                 | -    |
+    | 4   | stop          | > 0 ends the measurement now (no window is run)          | -    |
 
     ``action_type="relative"`` (:class:`cof_gym.task.actions.RelativeActions`: scale-free across CoF
     0.02-0.6; the one RL Zoo trains, ``cof_gym/agents/hyperparams/ppo.yml``):
@@ -155,7 +155,8 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     measured for the first observation.
 
     ## Episode End
-    - terminated: the agent requests stop (its estimate is scored); macro-slip (any wheel's creepage
+    - terminated: the agent requests stop (its estimate is scored at once: that step runs no window,
+      costs no time, slip or comfort, and returns the last window's observation); macro-slip (any wheel's creepage
       beyond ``max(macro_slip_ratio x peak creepage, peak + macro_slip_floor)``: penalised, the estimate
       scored); a diverging simulation (``info["diverged"] = True``, treated as a macro-slip).
     - truncated: after ``max_windows`` windows (the task's horizon, default 30; the last estimate is
@@ -249,6 +250,8 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
         if self.episode is None or self._sim is None:
             raise RuntimeError("call reset() (successfully) before step()")
         decoded = self.task.decode(self.episode, action)
+        if decoded.stop:  # the measurement ends now: no window is run
+            return self.task.after_stop(self.episode)
         try:
             m = self._sim.run_window(self.episode.drive, self.task.window_s, self.task.settle_s, self.task.ramp_s)
             diverged = self._diverged(m)

@@ -160,7 +160,8 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
             self._elapsed_steps[ids] = 0
 
         decoded: dict[int, DecodedAction] = {i: self.task.decode(self.episodes[i], checked[i]) for i in checked}
-        active = sorted(reset_ids + list(checked))
+        stopping = sorted(i for i in checked if decoded[i].stop)  # a stop runs no window
+        active = sorted(reset_ids + [i for i in checked if not decoded[i].stop])
         for i in active:
             begin_window(self._ud[i], float(self._time[i]), self.episodes[i].drive, self.task.ramp_s, self.task.settle_s)
         failed: set[int] = set()
@@ -174,6 +175,8 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
             self.step_seconds += time.perf_counter() - t0
 
         results: dict[int, StepResult] = {}
+        for i in stopping:
+            results[i] = self._limit(i, self.task.after_stop(self.episodes[i]))
         for i in active:
             episode = self.episodes[i]
             ud = self._ud[i]
@@ -189,12 +192,16 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
                 m = read_window(ud)
                 bad_qacc = self._batch.warning[i, _BADQACC, 1] > 0  # mjWarningStat: (lastinfo, number)
                 diverged = window_diverged(m, bool(bad_qacc), state_is_finite(self._qpos[i], self._qvel[i], ud))
-            obs, reward, terminated, truncated, info = self.task.after_step(episode, m, decoded[i], diverged)
-            self._elapsed_steps[i] += 1
-            if self.max_episode_steps is not None and self._elapsed_steps[i] >= self.max_episode_steps:
-                truncated = True  # as gymnasium's TimeLimit
-            results[i] = (obs, reward, terminated, truncated, info)
+            results[i] = self._limit(i, self.task.after_step(episode, m, decoded[i], diverged))
         return results
+
+    def _limit(self, i: int, result: StepResult) -> StepResult:
+        """Count sub-env i's step and apply ``max_episode_steps`` as gymnasium's TimeLimit does."""
+        obs, reward, terminated, truncated, info = result
+        self._elapsed_steps[i] += 1
+        if self.max_episode_steps is not None and self._elapsed_steps[i] >= self.max_episode_steps:
+            truncated = True
+        return obs, reward, terminated, truncated, info
 
     @staticmethod
     def _seeds(seed: int | Sequence[int | None] | None, n: int) -> list[int | None]:

@@ -86,6 +86,11 @@ class Reward:
             "reward_time": -self.w_time * window_s,
         }
 
+    def terms_without_window(self, scored_log_error: float) -> dict[str, float]:
+        """The terms of a step that runs no window (a stop): only the scored error."""
+        return {"reward_error": -self.w_error * scored_log_error, "reward_slip": 0.0, "reward_comfort": 0.0,
+                "reward_time": 0.0}
+
 
 @dataclass(frozen=True)
 class MacroSlipLimit:

@@ -65,6 +65,7 @@ class Episode:
     last: WindowMeasurement | None = None
     done: bool = False
     memory: Memory = field(default_factory=Memory)  # of the sensor-only window observations (best CoA, history)
+    observation: np.ndarray | None = None  # the last observation returned
 
     @property
     def action_context(self) -> ActionContext:
@@ -182,7 +183,8 @@ class InterrogationTask:
         if episode.done:
             raise RuntimeError("the episode has ended: call reset() before step()")
         decoded = self.actions.decode(episode.action_context, check_action(action), self.limits)
-        episode.drive = decoded.drive
+        if not decoded.stop:  # a stop runs no window: the drive stays what the last window applied
+            episode.drive = decoded.drive
         episode.estimate = decoded.cof_estimate
         return decoded
 
@@ -191,7 +193,8 @@ class InterrogationTask:
         recorded in the episode's memory, and the observation type builds the observation from both."""
         window = encode_observation(m, episode.drive, self.scales(episode.built), episode.elapsed_s, episode.estimate)
         episode.memory.push(window, driven=episode.windows > 0)
-        return self.observations.encode(window, episode.memory)
+        episode.observation = self.observations.encode(window, episode.memory)
+        return episode.observation.copy()
 
     def after_reset(self, episode: Episode, m: WindowMeasurement) -> tuple[np.ndarray, dict]:
         """The first observation and info, from the baseline window."""
@@ -225,6 +228,19 @@ class InterrogationTask:
         info = self._info(episode, m, {**terms, "cost": costs}, diverged, macro_slip, scored)
         episode.done = terminated or truncated
         return self.observe(episode, m), reward, terminated, truncated, info
+
+    def after_stop(self, episode: Episode) -> tuple[np.ndarray, float, bool, bool, dict]:
+        """The agent stopped: its estimate is scored at once, no window is run (no time, slip or comfort
+        cost); the observation is the last window's."""
+        err = log_error(episode.estimate, episode.truth.cof)
+        terms = self.reward.terms_without_window(err)
+        if self.shaping:
+            terms["reward_shaping"] = -episode.potential  # Phi = 0 in the terminal state
+            episode.potential = 0.0
+        costs = {"slip": 0.0, "discomfort": 0.0, "macro_slip": 0.0}
+        info = self._info(episode, episode.last, {**terms, "cost": costs}, False, False, True)
+        episode.done = True
+        return episode.observation.copy(), float(sum(terms.values())), True, False, info
 
     # ------------------------------------------------------------------ helpers
     def _potential(self, episode: Episode) -> float:
