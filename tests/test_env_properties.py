@@ -8,7 +8,7 @@ import math
 import gymnasium as gym
 import numpy as np
 
-from cof_gym.envs.spaces import OBSERVATION_NAMES
+from cof_gym.task.interface import OBSERVATION_NAMES
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st

@@ -1,0 +1,130 @@
+"""Model selection and reporting for several PPO seeds (run from the repository root).
+
+    python experiments/ppo_seeds.py --runs runs/ppo_s0 runs/ppo_s1 runs/ppo_s2 --out out/ppo_seeds [--ship]
+
+1. Candidates per seed: its final ``model.zip`` and its ``best/best_model.zip`` (the training-time
+   evaluation's best). Each is played on ``suites/validation_grid.json`` (model selection only); the
+   candidate with the lowest median relative error (then P90) is that seed's policy.
+2. The seeds' policies are played on ``suites/heldout_grid.json`` and on 100 episodes of the default
+   suite (reporting only; nothing is selected there). Per seed: median / P90 relative error,
+   macro-slips. Over seeds: the interquartile mean (IQM) and median of the relative error with
+   stratified-bootstrap 95 % CIs (runs resampled within each scenario, as rliable's
+   ``StratifiedBootstrap`` does; Agarwal et al. 2021), so the CI covers seed and scenario variation.
+3. ``--ship`` copies the policy of the best seed *on the validation grid* (model zip, VecNormalize
+   statistics, train_meta.json) into ``cof_gym/agents/policies/ppo_wagon``, the default ``ppo`` agent.
+
+Writes ``OUT/report.md`` and ``OUT/report.json``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+
+from cof_gym.agents.evaluate import evaluate
+from cof_gym.agents.registry import SHIPPED_PPO
+from cof_gym.agents.suites import make_suite
+
+HERE = Path(__file__).resolve().parent
+VALIDATION = HERE / "suites" / "validation_grid.json"
+HELDOUT = HERE / "suites" / "heldout_grid.json"
+DEFAULT_EPISODES = 100
+N_BOOTSTRAP = 2000
+
+
+def iqm(x: np.ndarray) -> float:
+    """Interquartile mean: the mean of the middle 50 % of the values."""
+    x = np.sort(np.ravel(x))
+    lo, hi = int(np.floor(0.25 * x.size)), int(np.ceil(0.75 * x.size))
+    return float(x[lo:hi].mean())
+
+
+def stratified_bootstrap_ci(scores: np.ndarray, stat, seed: int = 0) -> tuple[float, float]:
+    """95 % CI of ``stat`` over a (runs x scenarios) matrix, resampling runs within every scenario."""
+    rng = np.random.default_rng(seed)
+    runs, tasks = scores.shape
+    stats = [stat(scores[rng.integers(0, runs, size=(runs, tasks)), np.arange(tasks)]) for _ in range(N_BOOTSTRAP)]
+    return float(np.percentile(stats, 2.5)), float(np.percentile(stats, 97.5))
+
+
+def play(spec: str, suite_name: str, out: Path, episodes: int = DEFAULT_EPISODES) -> tuple[dict, np.ndarray, int]:
+    """Summary, per-episode relative errors (from OUT/episodes.csv) and macro-slips of one agent."""
+    suite = make_suite(suite_name, episodes, 0)
+    summary = next(iter(evaluate([spec], suite, out, seed=0, quiet=True)["summary"].values()))
+    with open(out / "episodes.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    errors = np.array([float(r["relative_error"]) for r in rows])
+    return summary, errors, sum(r["macro_slip"] == "True" for r in rows)
+
+
+def candidates(run: Path) -> list[Path]:
+    return [p for p in (run / "model.zip", run / "best" / "best_model.zip") if p.is_file()]
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--runs", nargs="+", required=True, type=Path, help="cof-gym train output directories")
+    parser.add_argument("--out", type=Path, default=Path("out/ppo_seeds"))
+    parser.add_argument("--ship", action="store_true", help="copy the best-on-validation policy into the package")
+    args = parser.parse_args()
+    args.out.mkdir(parents=True, exist_ok=True)
+    chosen: dict[str, dict] = {}
+    for run in args.runs:
+        scored = []
+        for k, model in enumerate(candidates(run)):
+            summary, _, _ = play(f"ppo:{model}", str(VALIDATION), args.out / f"val_{run.name}_{k}")
+            scored.append((summary["median_error"]["value"], summary["p90_error"]["value"], str(model)))
+            print(f"{run.name}: {model} validation median {scored[-1][0]:.3%} P90 {scored[-1][1]:.3%}")
+        best = min(scored)
+        chosen[run.name] = {"model": best[2], "validation_median": best[0], "validation_p90": best[1]}
+    report: dict = {"seeds": chosen, "suites": {}}
+    for suite_name in (str(HELDOUT), "default"):
+        matrix = []
+        per_seed = {}
+        for name, entry in chosen.items():
+            summary, errors, slips = play(f"ppo:{entry['model']}", suite_name, args.out / f"rep_{name}_{Path(suite_name).stem}")
+            matrix.append(errors)
+            per_seed[name] = {"median": float(np.median(errors)), "p90": float(np.percentile(errors, 90)),
+                              "macro_slips": slips, "episodes": int(errors.size)}
+        scores = np.array(matrix)
+        report["suites"][Path(suite_name).stem] = {
+            "per_seed": per_seed,
+            "iqm": iqm(scores), "iqm_ci95": stratified_bootstrap_ci(scores, iqm),
+            "median": float(np.median(scores)),
+            "median_ci95": stratified_bootstrap_ci(scores, lambda s: float(np.median(s))),
+        }
+    shipped = min(chosen.items(), key=lambda kv: (kv[1]["validation_median"], kv[1]["validation_p90"]))
+    report["shipped"] = {"seed_run": shipped[0], **shipped[1]}
+    (args.out / "report.json").write_text(json.dumps(report, indent=1))
+    lines = ["| seed run | chosen model | validation median | " + " | ".join(
+        f"{s}: median / P90 / macro-slips" for s in report["suites"]) + " |", "|---" * (3 + len(report["suites"])) + "|"]
+    for name, entry in chosen.items():
+        cells = [f"{v['per_seed'][name]['median']:.1%} / {v['per_seed'][name]['p90']:.1%} / "
+                 f"{v['per_seed'][name]['macro_slips']}" for v in report["suites"].values()]
+        lines.append(f"| {name} | {Path(entry['model']).relative_to(Path(entry['model']).parents[1])} | "
+                     f"{entry['validation_median']:.1%} | " + " | ".join(cells) + " |")
+    for s, v in report["suites"].items():
+        lines.append(f"\n{s}: IQM {v['iqm']:.1%} [{v['iqm_ci95'][0]:.1%}, {v['iqm_ci95'][1]:.1%}], median "
+                     f"{v['median']:.1%} [{v['median_ci95'][0]:.1%}, {v['median_ci95'][1]:.1%}] "
+                     "(relative error over seeds x scenarios, stratified bootstrap 95 % CI)")
+    lines.append(f"\nshipped (best on the validation grid): {shipped[0]} ({shipped[1]['model']})")
+    (args.out / "report.md").write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
+    if args.ship:
+        model = Path(shipped[1]["model"])
+        SHIPPED_PPO.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(model, SHIPPED_PPO / "model.zip")
+        shutil.copyfile(model.parent / "vecnormalize.pkl", SHIPPED_PPO / "vecnormalize.pkl")
+        run = model.parent if (model.parent / "train_meta.json").is_file() else model.parent.parent
+        shutil.copyfile(run / "train_meta.json", SHIPPED_PPO / "train_meta.json")
+        (SHIPPED_PPO / "selection.json").write_text(json.dumps(report["shipped"], indent=1))
+        print(f"shipped to {SHIPPED_PPO}")
+
+
+if __name__ == "__main__":
+    main()
