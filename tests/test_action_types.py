@@ -6,7 +6,6 @@ import math
 import os
 import subprocess
 import sys
-import time
 from dataclasses import astuple
 from pathlib import Path
 
@@ -191,7 +190,6 @@ def test_rl_zoo_trains_the_registered_id_with_the_shipped_hyperparameters(tmp_pa
     """RL Zoo's own entry point on the registered id with ppo.yml (the relative actions and the history
     observation through its env_kwargs), for 512 steps (2 envs x 2 rollouts of 128): ~25 s of CPU."""
     pytest.importorskip("rl_zoo3")
-    t0 = time.perf_counter()
     cmd = [sys.executable, "-m", "rl_zoo3.train", "--algo", "ppo", "--env", ENV_ID, "--gym-packages", "cof_gym",
            "--conf-file", str(ROOT / "cof_gym/agents/hyperparams/ppo.yml"), "-n", "512", "--eval-freq", "-1",
            "--seed", "0", "--log-folder", str(tmp_path), "--device", "cpu", "--hyperparams", "n_steps:128", "n_epochs:2"]
@@ -201,4 +199,3 @@ def test_rl_zoo_trains_the_registered_id_with_the_shipped_hyperparameters(tmp_pa
     run_dir = tmp_path / "ppo" / "CofGym-TorqueInterrogation-v1_1"
     assert (run_dir / "CofGym-TorqueInterrogation-v1.zip").is_file()
     assert (run_dir / "CofGym-TorqueInterrogation-v1" / "vecnormalize.pkl").is_file()
-    assert time.perf_counter() - t0 < 120

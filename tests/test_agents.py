@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import math
 import json
 from pathlib import Path
 
@@ -11,7 +12,7 @@ import numpy as np
 import pytest
 
 import cof_gym  # noqa: F401
-from cof_gym.agents.adapters import DC_STEP_FRACTION, incremental_to_env
+from cof_gym.agents.adapters import incremental_to_env
 from cof_gym.agents.base import Agent
 from cof_gym.agents.evaluate import evaluate, run_episode
 from cof_gym.agents.staircase import PaperStaircase, PracticalStaircase, limits_of
@@ -52,18 +53,20 @@ def test_paper_staircase_stops_at_the_first_positive_phase_like_reproduce_paper(
     assert info["relative_error"] == pytest.approx(0.20, abs=0.03)
 
 
-def test_incremental_adapter_moves_the_torque_and_corrects_the_measured_coa() -> None:
+def test_incremental_adapter_is_the_env_relative_interface_on_the_agent_side() -> None:
+    """``incremental`` moves the DC torque by a log-step (x e^0.5 at most per window) and reports the
+    estimate as a factor on the best measured CoA, as the env's ``relative`` action type."""
     env = gym.make(WAGON)
     limits = limits_of(env)
     obs = np.zeros(len(OBSERVATION_NAMES), dtype=np.float32)
     obs[OBSERVATION_NAMES.index("dc_torque")] = 0.5
     obs[OBSERVATION_NAMES.index("coa_measured")] = 0.2
     d = decode_action(incremental_to_env(np.array([1.0, 0.0, 0.0, 0.0, 0.0]), obs, limits), limits)
-    assert d.drive.dc_torque_nm == pytest.approx((0.5 + DC_STEP_FRACTION) * limits.max_dc_torque_nm, rel=1e-5)
+    assert d.drive.dc_torque_nm == pytest.approx(0.5 * math.exp(0.5) * limits.max_dc_torque_nm, rel=1e-5)
     assert d.cof_estimate == pytest.approx(0.2, rel=1e-5) and not d.stop
     d = decode_action(incremental_to_env(np.array([-1.0, 0.0, 0.0, 1.0, 0.9]), obs, limits), limits)
-    assert d.drive.dc_torque_nm == pytest.approx((0.5 - DC_STEP_FRACTION) * limits.max_dc_torque_nm, rel=1e-5)
-    assert d.cof_estimate == pytest.approx(0.3, rel=1e-5) and d.stop
+    assert d.drive.dc_torque_nm == pytest.approx(0.5 * math.exp(-0.5) * limits.max_dc_torque_nm, rel=1e-5)
+    assert d.cof_estimate == pytest.approx(0.2 * math.exp(0.5), rel=1e-5) and d.stop
 
 
 def test_same_agents_same_seed_give_identical_tables(tmp_path: Path) -> None:

@@ -30,7 +30,6 @@ from cof_gym.task.interface import (
 )
 
 RELATIVE = RelativeActions()
-DC_STEP_FRACTION = RELATIVE.floor_fraction  # deprecated name: the relative type's floor level / max DC torque
 ESTIMATE_CORRECTION = RELATIVE.estimate_log_range
 STOP_THRESHOLD = RELATIVE.stop_threshold
 ADAPTERS = ("absolute", "relative", "incremental")
