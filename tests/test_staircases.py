@@ -10,6 +10,7 @@ import pytest
 
 import cof_gym
 from cof_gym.agents.evaluate import agent_view, run_episode
+from cof_gym.agents.model_based import ModelBasedAgent
 from cof_gym.agents.staircase import (
     ELASTICITY, PEAK_FRACTION_MAX, PEAK_FRACTION_MEDIAN, PracticalStaircase, limits_of, peak_fraction,
 )
@@ -25,11 +26,13 @@ def env():
     e.close()
 
 
+@pytest.mark.parametrize("agent_class", [PracticalStaircase, ModelBasedAgent])
 @pytest.mark.parametrize("condition", ["dry", "wet", "low_adhesion", "dry_kalker"])
-def test_first_step_never_slips_at_the_lowest_cof(env, condition: str) -> None:
+def test_first_step_never_slips_at_the_lowest_cof(env, condition: str, agent_class) -> None:
     """CoF 0.02 (the envelope's bottom), both loads, 5 and 40 m/s, the worst noise and lag: the first
-    torque step stays below half the saturation torque and the window ends without macro-slip."""
-    agent = PracticalStaircase(limits_of(env))
+    torque step of either scale-free agent stays below half the saturation torque and the window ends
+    without macro-slip."""
+    agent = agent_class(limits_of(env))
     for load_case, speed in itertools.product(("empty", "laden"), (5.0, 40.0)):
         options = {"cof": 0.02, "condition": condition, "load_case": load_case, "speed_m_s": speed, **WORST}
         obs, info = env.reset(seed=7, options=options)

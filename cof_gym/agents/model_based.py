@@ -22,17 +22,15 @@ peak the statistical interval alone covers the truth in only ~70 % of fits on va
 data are a straight line that any ``P`` above the largest measured CoA fits: the interval is open
 (up to ``max_ratio`` x the largest CoA) and the agent keeps climbing.
 
-**The climb.** The staircase's scale-free steps (:class:`~cof_gym.agents.staircase.PracticalStaircase`:
-first step at ``first_fraction`` of the drive's maximum, below the saturation torque of CoF 0.02 on
-the empty wagon; growth from the measured elasticity ``d ln s / d ln CoA``), further capped so that
-the next CoA stays below ``safety`` of the way to the interval's lower bound.
+**The climb.** The staircase's scale-free steps (:class:`~cof_gym.agents.staircase.ElasticityClimb`:
+a first step below the saturation torque of CoF 0.02 on the empty wagon; growth from the measured
+elasticity ``d ln s / d ln CoA``), further capped by the fitted peak once the interval has closed.
 
 **The stop.** When the interval is narrower than ``ci_tolerance`` (relative half-width) with at least
 ``min_windows`` windows on the climb and the last creepage above ``min_stop_creepage`` (well above the
 sensor noise), it reports the fitted peak; as fall-backs, when the measured
 elasticity exceeds ``stop_elasticity`` (the CoA within a few percent of the peak), when the CoA falls
-although the torque rose, or at the drive's limit. The stop window's DC torque backs off to
-``stop_backoff`` x the last one. :attr:`ModelBasedAgent.interval` holds the last fit's
+although the torque rose, or at the drive's limit. :attr:`ModelBasedAgent.interval` holds the last fit's
 ``(low, estimate, high)``.
 
 **Accuracy against intrusiveness** (validation seeds 1000-1059 of the default v1 suite, not the
@@ -50,8 +48,8 @@ from typing import Any
 
 import numpy as np
 
-from cof_gym.agents.staircase import COA, CREEPAGE, PEAK_FRACTION_MAX, peak_fraction
-from cof_gym.task.interface import OBSERVATION_NAMES, SPEED_SCALE_M_S, MotorLimits, encode_action
+from cof_gym.agents.staircase import COA, CREEPAGE, ElasticityClimb, peak_fraction
+from cof_gym.task.interface import OBSERVATION_NAMES, SPEED_SCALE_M_S, MotorLimits
 
 SPEED = OBSERVATION_NAMES.index("speed")
 SHAPE_CONDITIONS = ("dry", "wet", "low_adhesion", "dry_kalker")
@@ -141,20 +139,13 @@ class ModelBasedAgent:
     docstring). Knows no ground truth."""
 
     limits: MotorLimits
-    first_fraction: float = 0.005
-    max_growth: float = 1.5
-    min_growth: float = 1.01
-    safety: float = 0.5
+    climb: ElasticityClimb = field(default_factory=ElasticityClimb)
     ci_tolerance: float = 0.04
     min_windows: int = 4
     stop_elasticity: float = 10.0
     min_stop_creepage: float = 0.003
-    stop_backoff: float = 0.8
     min_span: float = 0.03
     max_ratio: float = 4.0
-    frequency_hz: float = 5.0
-    amplitude_ratio: float = 0.02
-    min_amplitude_nm: float = 40.0
     name: str = "model-based"
     oracle: bool = False
     interval: tuple[float, float, float] | None = None
@@ -211,23 +202,12 @@ class ModelBasedAgent:
         informative = fit is not None and len(pts) >= self.min_windows and creepage >= self.min_stop_creepage
         narrow = informative and fit.half_width <= self.ci_tolerance
         near_peak = e >= self.stop_elasticity and creepage >= self.min_stop_creepage
-        if narrow or near_peak or falling or self._dc >= self.limits.max_dc_torque_nm:
-            if near_peak and fit is not None and not narrow:
-                # the fit disagrees with the curve's own flattening: trust the measured peak region
-                self._estimate = max(best, best / max(peak_fraction(e), 1e-3))
-            self._dc *= self.stop_backoff
-            return self._command(True)
-        if self._dc == 0.0:
-            self._dc = self.first_fraction * self.limits.max_dc_torque_nm
-        else:
-            room = 1.0 / peak_fraction(e, PEAK_FRACTION_MAX) - 1.0
-            if fit is not None and fit.high < 0.9 * self.max_ratio * best:  # the interval has closed
-                room = min(room, max(fit.estimate / max(coa, 1e-9) - 1.0, 0.0))
-            growth = min(max(1.0 + self.safety * room, self.min_growth), self.max_growth)
-            self._dc = min(self._dc * growth, self.limits.max_dc_torque_nm)
-        return self._command(False)
-
-    def _command(self, stop: bool) -> np.ndarray:
-        estimate = min(max(self._estimate, self.limits.min_cof_estimate), self.limits.max_cof_estimate)
-        amplitude = max(self.min_amplitude_nm, self.amplitude_ratio * self._dc)
-        return encode_action(self._dc, amplitude, self.frequency_hz, estimate, stop, self.limits)
+        stop = narrow or near_peak or falling or self._dc >= self.limits.max_dc_torque_nm
+        if stop and near_peak and fit is not None and not narrow:
+            # the fit disagrees with the curve's own flattening: trust the measured peak region
+            self._estimate = max(best, best / max(peak_fraction(e), 1e-3))
+        if not stop:
+            closed = fit is not None and fit.high < 0.9 * self.max_ratio * best  # the interval has closed
+            cap = max(fit.estimate / max(coa, 1e-9) - 1.0, 0.0) if closed else None
+            self._dc = self.climb.next_dc(self._dc, e, self.limits, room_cap=cap)
+        return self.climb.command(self._dc, self._estimate, stop, self.limits)

@@ -82,6 +82,42 @@ def peak_fraction(elasticity: float, table: tuple[float, ...] = PEAK_FRACTION_ME
     return float(np.interp(np.log(max(elasticity, 1.0)), np.log(ELASTICITY), table))
 
 
+@dataclass(frozen=True)
+class ElasticityClimb:
+    """The climb of the scale-free agents (the practical staircase and the model-based agent).
+
+    The DC torque starts at ``first_fraction`` of the drive's maximum (below the saturation torque of
+    the lowest CoF in range on the empty wagon, so the first step never slips) and grows by
+    ``safety`` x the largest step that keeps the CoA below the peak on the worst curve of the band at
+    the measured elasticity (``1 / max_fraction(e) - 1``), within [``min_growth``, ``max_growth``].
+    The modulation amplitude is ``amplitude_ratio`` x DC (at least ``min_amplitude_nm``)."""
+
+    first_fraction: float = 0.005
+    max_growth: float = 1.5
+    min_growth: float = 1.01
+    safety: float = 0.5
+    frequency_hz: float = 5.0
+    amplitude_ratio: float = 0.02
+    min_amplitude_nm: float = 40.0
+
+    def next_dc(self, dc: float, elasticity: float, limits: MotorLimits, room_cap: float | None = None) -> float:
+        """The next DC torque (N m) after ``dc`` at the measured ``elasticity``; ``room_cap`` bounds
+        the relative step further (e.g. a fitted peak)."""
+        if dc == 0.0:
+            return self.first_fraction * limits.max_dc_torque_nm
+        room = 1.0 / peak_fraction(elasticity, PEAK_FRACTION_MAX) - 1.0
+        if room_cap is not None:
+            room = min(room, room_cap)
+        growth = min(max(1.0 + self.safety * room, self.min_growth), self.max_growth)
+        return min(dc * growth, limits.max_dc_torque_nm)
+
+    def command(self, dc: float, estimate: float, stop: bool, limits: MotorLimits) -> np.ndarray:
+        """The absolute env action for this DC torque, its modulation and the estimate."""
+        estimate = min(max(estimate, limits.min_cof_estimate), limits.max_cof_estimate)
+        amplitude = max(self.min_amplitude_nm, self.amplitude_ratio * dc)
+        return encode_action(dc, amplitude, self.frequency_hz, estimate, stop, limits)
+
+
 @dataclass
 class PracticalStaircase:
     """A staircase that knows no ground truth, scale-free across the CoF range and conditions.
@@ -91,37 +127,25 @@ class PracticalStaircase:
     every Polach curve in the default conditions lies within a narrow band of CoA / CoF
     (:data:`PEAK_FRACTION_MEDIAN`, :data:`PEAK_FRACTION_MAX`). So:
 
-    * the DC torque climbs in multiplicative steps from ``first_fraction`` of the drive's maximum
-      (below the saturation torque of the lowest CoF in range on the empty wagon, so the first step
-      never slips); each step is ``safety`` x the largest step that keeps the CoA below the peak on the
-      worst curve of the band (``1 / max_fraction(e) - 1``), at most ``max_growth``, at least
-      ``min_growth``: big steps on the linear part, small ones near the knee, whatever the
-      condition;
+    * the DC torque climbs in multiplicative steps (:class:`ElasticityClimb`): big steps on the
+      linear part, small ones near the knee, whatever the condition, and a first step that never
+      slips;
     * it stops when ``e`` exceeds ``stop_elasticity`` (CoA within a few percent of the peak) at a
       creepage of at least ``min_stop_creepage`` (every peak in range lies above 1 %: a large ``e``
       at a tiny creepage is sensor noise), when the CoA falls although the torque rose (past the
-      peak), or at the drive's limit; the stop window's DC torque backs off to ``stop_backoff`` x the
-      last one (the env runs the window in which the stop is requested);
+      peak), or at the drive's limit;
     * it reports the measured CoA divided by the median CoA / CoF at the measured ``e`` (never less
       than the largest CoA it measured).
 
-    The modulation amplitude is ``amplitude_ratio`` x DC (at least ``min_amplitude_nm``): the method
-    does not need a large one, and a small one keeps the modulation from brushing the peak. The
-    compliance angle is not used: at high speed and low adhesion the amplitude ratio saturates (angle
+    The modulation amplitude is small: the method does not need a large one, and a small one keeps
+    the modulation from brushing the peak. The compliance angle is not used: at high speed and low adhesion the amplitude ratio saturates (angle
     90 deg) at 70-80 % of the saturation torque, long before the peak.
     """
 
     limits: MotorLimits
-    first_fraction: float = 0.005
-    max_growth: float = 1.5
-    min_growth: float = 1.01
-    safety: float = 0.5
+    climb: ElasticityClimb = field(default_factory=ElasticityClimb)
     stop_elasticity: float = 10.0
-    frequency_hz: float = 5.0
-    amplitude_ratio: float = 0.02
-    min_amplitude_nm: float = 40.0
     min_stop_creepage: float = 0.003
-    stop_backoff: float = 0.8
     name: str = "staircase"
     oracle: bool = False
     _dc: float = 0.0
@@ -136,9 +160,6 @@ class PracticalStaircase:
         self._estimate = 0.0
         self._points = []
         self._falls = 0
-
-    def _amplitude(self, dc: float) -> float:
-        return max(self.min_amplitude_nm, self.amplitude_ratio * dc)
 
     def elasticity(self) -> float:
         """d ln s / d ln CoA between the last two windows of the climb (1 with fewer than two, or when
@@ -162,17 +183,7 @@ class PracticalStaircase:
         if self._dc > 0:
             self._estimate = max(self._best_coa, coa / max(peak_fraction(e), 1e-3)) if e >= 2.0 else self._best_coa
         near_peak = e >= self.stop_elasticity and creepage >= self.min_stop_creepage
-        if near_peak or self._falls >= 1 or self._dc >= self.limits.max_dc_torque_nm:
-            self._dc *= self.stop_backoff
-            return self._command(True)
-        if self._dc == 0.0:
-            self._dc = self.first_fraction * self.limits.max_dc_torque_nm
-        else:
-            room = 1.0 / peak_fraction(e, PEAK_FRACTION_MAX) - 1.0
-            growth = min(max(1.0 + self.safety * room, self.min_growth), self.max_growth)
-            self._dc = min(self._dc * growth, self.limits.max_dc_torque_nm)
-        return self._command(False)
-
-    def _command(self, stop: bool) -> np.ndarray:
-        estimate = max(self._estimate, self.limits.min_cof_estimate)
-        return encode_action(self._dc, self._amplitude(self._dc), self.frequency_hz, estimate, stop, self.limits)
+        stop = near_peak or self._falls >= 1 or self._dc >= self.limits.max_dc_torque_nm
+        if not stop:
+            self._dc = self.climb.next_dc(self._dc, e, self.limits)
+        return self.climb.command(self._dc, self._estimate, stop, self.limits)
