@@ -386,8 +386,13 @@ void cofgym_passive(const mjModel* m, mjData* d) {
 
     if (t >= ud[UD_ACC_START_TIME]) {
       double t0 = ud[UD_ACC_START_TIME];
-      /* basis at t = rotation of the mid-step basis by -wm dt/2 */
-      double h = 0.5 * wm * dt, ch = cos(h), sh = sin(h);
+      /* basis at t = rotation of the mid-step basis by -wm dt/2 (cos and sin cached per frequency) */
+      if (ud[UD_ROT_OMEGA] != wm) {
+        ud[UD_ROT_OMEGA] = wm;
+        ud[UD_ROT_COS] = cos(0.5 * wm * dt);
+        ud[UD_ROT_SIN] = sin(0.5 * wm * dt);
+      }
+      const double ch = ud[UD_ROT_COS], sh = ud[UD_ROT_SIN];
       double b_mid[4] = {cos_mid, sin_mid, 1.0, t_mid - t0};
       double b_now[4] = {cos_mid * ch + sin_mid * sh, sin_mid * ch - cos_mid * sh, 1.0, t - t0};
       ud[UD_N_SAMPLES] += 1.0;

@@ -55,6 +55,9 @@ _SCALARS: tuple[str, ...] = (
     "MOD_OMEGA",  # modulation angular frequency, rad/s
     "THETA_BASE",  # modulation phase at TIME_BASE, rad
     "TIME_BASE",
+    "ROT_OMEGA",  # the MOD_OMEGA for which ROT_COS / ROT_SIN hold (a cache, recomputed on change)
+    "ROT_COS",  # cos(MOD_OMEGA dt / 2): rotates the mid-step basis to the step's start
+    "ROT_SIN",
     "MOTOR_TAU",  # first-order traction-motor torque lag, s (0: none)
     "MOTOR_TORQUE",  # applied motor torque (lag state), N m
     # cruise control on the car body (PI with acceleration feedback)
