@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import cof_gym
-from cof_gym.agents.evaluate import agent_view, run_episode
+from cof_gym.agents.evaluate import run_episode
 from cof_gym.agents.model_based import ModelBasedAgent, creep_shapes, fit_peak
 from cof_gym.agents.registry import make_agent
 from cof_gym.agents.staircase import limits_of
@@ -44,23 +44,6 @@ def test_fitted_peak_is_within_3_percent_and_its_interval_covers_the_cof(env, op
     low, estimate, high = agent.interval
     assert low <= estimate <= high
     assert low * 0.995 <= rec.cof <= high * 1.005, (options, agent.interval)
-
-
-def test_same_seed_same_actions(env) -> None:
-    def actions() -> list[np.ndarray]:
-        agent = ModelBasedAgent(limits_of(env))
-        obs, info = env.reset(seed=4)
-        agent.reset(obs, agent_view(info, False))
-        out = []
-        while True:
-            a = agent.act(obs, agent_view(info, False))
-            out.append(a)
-            obs, _, terminated, truncated, info = env.step(a)
-            if terminated or truncated:
-                return out
-
-    a, b = actions(), actions()
-    assert len(a) == len(b) and all(np.array_equal(x, y) for x, y in zip(a, b))
 
 
 def test_fit_on_an_exact_curve_recovers_its_peak_and_stays_open_on_a_line() -> None:

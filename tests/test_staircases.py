@@ -59,9 +59,10 @@ def test_climbs_to_the_peak_without_slipping_and_reports_the_cof(env, options) -
     assert rec.steps < 30  # stopped by its own rule, not truncated
 
 
-def test_same_seed_same_actions(env) -> None:
+@pytest.mark.parametrize("agent_class", [PracticalStaircase, ModelBasedAgent])
+def test_same_seed_same_actions(env, agent_class) -> None:
     def actions() -> list[np.ndarray]:
-        agent = PracticalStaircase(limits_of(env))
+        agent = agent_class(limits_of(env))
         obs, info = env.reset(seed=3)
         agent.reset(obs, agent_view(info, False))
         out = []

@@ -48,7 +48,7 @@ from typing import Any
 
 import numpy as np
 
-from cof_gym.agents.staircase import COA, CREEPAGE, ElasticityClimb, peak_fraction
+from cof_gym.agents.staircase import COA, CREEPAGE, ElasticityClimb, elasticity_between, peak_fraction
 from cof_gym.task.interface import OBSERVATION_NAMES, SPEED_SCALE_M_S, MotorLimits
 
 SPEED = OBSERVATION_NAMES.index("speed")
@@ -167,15 +167,13 @@ class ModelBasedAgent:
         dominate); 1 with fewer than two windows."""
         if len(self._points) < 2:
             return 1.0
-        c2, s2 = self._points[-1]
-        c1, s1 = self._points[-2]
-        for c, s in reversed(self._points[:-1]):
-            c1, s1 = c, s
-            if c <= c2 / (1.0 + self.min_span):
+        upper = self._points[-1]
+        lower = self._points[-2]
+        for point in reversed(self._points[:-1]):
+            lower = point
+            if point[0] <= upper[0] / (1.0 + self.min_span):
                 break
-        if min(c1, c2, s1, s2) <= 0 or c2 <= c1 * 1.002:
-            return 1.0
-        return float(max(np.log(s2 / s1) / np.log(c2 / c1), 1.0))
+        return elasticity_between(lower, upper)
 
     def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
         coa = float(observation[COA])

@@ -77,6 +77,15 @@ CREEPAGE = OBSERVATION_NAMES.index("creepage_measured")
 DC = OBSERVATION_NAMES.index("dc_torque")
 
 
+def elasticity_between(lower: tuple[float, float], upper: tuple[float, float]) -> float:
+    """d ln(creepage) / d ln(CoA) between two (CoA, creepage) points of the climb; 1 (the linear part)
+    when either is not positive or the CoA barely moved."""
+    (c1, s1), (c2, s2) = lower, upper
+    if min(c1, c2, s1, s2) <= 0 or c2 <= c1 * 1.002:
+        return 1.0
+    return float(max(np.log(s2 / s1) / np.log(c2 / c1), 1.0))
+
+
 def peak_fraction(elasticity: float, table: tuple[float, ...] = PEAK_FRACTION_MEDIAN) -> float:
     """CoA / CoF on the rising branch where the creep curve's elasticity is ``elasticity``."""
     return float(np.interp(np.log(max(elasticity, 1.0)), np.log(ELASTICITY), table))
@@ -166,10 +175,7 @@ class PracticalStaircase:
         the CoA barely moved)."""
         if len(self._points) < 2:
             return 1.0
-        (c1, s1), (c2, s2) = self._points[-2:]
-        if min(c1, c2, s1, s2) <= 0 or c2 <= c1 * 1.002:
-            return 1.0
-        return float(max(np.log(s2 / s1) / np.log(c2 / c1), 1.0))
+        return elasticity_between(self._points[-2], self._points[-1])
 
     def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
         coa = float(observation[COA])
