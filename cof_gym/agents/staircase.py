@@ -14,16 +14,7 @@ from cof_gym.analysis.theory import paper_schedule
 from cof_gym.task.interface import OBSERVATION_NAMES, MotorLimits, encode_action
 
 PHASE = OBSERVATION_NAMES.index("phase_lag")
-PHASE_SE = OBSERVATION_NAMES.index("phase_lag_se")
 COA = OBSERVATION_NAMES.index("coa_measured")
-COMPLIANCE = OBSERVATION_NAMES.index("compliance")
-
-
-def compliance_angle_deg(observation: np.ndarray) -> float:
-    """The Eq. 3 angle read from the amplitude ratio: for the half wheelset
-    |Omega/M| Iw wm = 1/|j + N R^2 k/(v wm Iw)| = sin(phi_Eq3), so asin(compliance) rises to 90 deg at
-    the creep-curve peak like the phase, but is not shifted by the vehicle's speed oscillation."""
-    return float(np.degrees(np.arcsin(np.clip(observation[COMPLIANCE], 0.0, 1.0))))
 
 
 def limits_of(env) -> MotorLimits:

@@ -73,14 +73,19 @@ def load_transfer_coefficient(built: BuiltModel, traction_balance: bool) -> floa
     return (n_loaded - n_free) / f_loaded
 
 
+def saturation_load_n(built: BuiltModel, traction_balance: bool, cof: float) -> float:
+    """The driven contact's normal load at saturation, N_sat = N0 / (1 - alpha cof), N."""
+    alpha = load_transfer_coefficient(built, traction_balance)
+    if alpha * cof >= 0.5:
+        raise ValueError(f"cof={cof} with load transfer {alpha:.3f} would more than double the wheel load")
+    return static_contact_load_n(built) / (1.0 - alpha * cof)
+
+
 def ground_truth(built: BuiltModel, traction_balance: bool, cof: float, condition: str,
                  speed_m_s: float) -> tuple[GroundTruth, float]:
     """The episode's ground truth and the wheel load (N, per wheel) at which the creep law is
     calibrated so that its peak equals ``cof`` there."""
-    alpha = load_transfer_coefficient(built, traction_balance)
-    if alpha * cof >= 0.5:
-        raise ValueError(f"cof={cof} with load transfer {alpha:.3f} would more than double the wheel load")
-    n_sat = static_contact_load_n(built) / (1.0 - alpha * cof)
+    n_sat = saturation_load_n(built, traction_balance, cof)
     wheel_load = n_sat / built.wheels_per_contact
     peak = creep_peak(OperatingConditions(cof=cof, condition=condition, wheel_load_n=wheel_load, speed_m_s=speed_m_s))
     truth = GroundTruth(cof=cof, saturation_torque_nm=built.wheel_radius_m * cof * n_sat, saturation_load_n=n_sat,
@@ -90,5 +95,4 @@ def ground_truth(built: BuiltModel, traction_balance: bool, cof: float, conditio
 
 def max_saturation_torque_nm(built: BuiltModel, traction_balance: bool, max_cof: float) -> float:
     """The largest saturation torque of ``built`` over CoF up to ``max_cof`` (load transfer included)."""
-    alpha = load_transfer_coefficient(built, traction_balance)
-    return built.wheel_radius_m * max_cof * static_contact_load_n(built) / (1.0 - alpha * max_cof)
+    return built.wheel_radius_m * max_cof * saturation_load_n(built, traction_balance, max_cof)
