@@ -69,14 +69,23 @@ def non_negative_int(text: str) -> int:
     return _int_at_least(text, 0)
 
 
-def positive_float(text: str) -> float:
+def _float_above(text: str, low: float, inclusive: bool) -> float:
+    bound = f">= {low:g}" if inclusive else f"> {low:g}"
     try:
         value = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a number > 0, got {text!r}") from None
-    if not math.isfinite(value) or value <= 0:
-        raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {text!r}")
+        raise argparse.ArgumentTypeError(f"must be a number {bound}, got {text!r}") from None
+    if not math.isfinite(value) or value < low or (value == low and not inclusive):
+        raise argparse.ArgumentTypeError(f"must be a finite number {bound}, got {text!r}")
     return value
+
+
+def positive_float(text: str) -> float:
+    return _float_above(text, 0.0, inclusive=False)
+
+
+def non_negative_float(text: str) -> float:
+    return _float_above(text, 0.0, inclusive=True)
 
 
 def check_output_dir(path: Path, flag: str = "--out") -> Path:

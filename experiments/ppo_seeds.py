@@ -2,15 +2,18 @@
 
     python experiments/ppo_seeds.py --runs runs/ppo_s0 runs/ppo_s1 runs/ppo_s2 --out out/ppo_seeds [--ship]
 
-1. Candidates per seed: its final ``model.zip`` and its ``best/best_model.zip`` (the training-time
-   evaluation's best). Each is played on ``suites/validation_grid.json`` (model selection only); the
-   candidate with the lowest median relative error (then P90) is that seed's policy.
+1. Candidates per seed: its final ``model.zip``, its ``best/best_model.zip`` (the training-time
+   evaluation's best) and its checkpoints (``checkpoints/ppo_<N>_steps.zip``). Each is played on
+   ``suites/validation_grid.json`` (model selection only); the candidate with the highest mean episode
+   return there is that seed's policy: the task's own reward (relative error, slip past the peak,
+   macro-slips, comfort, time; evaluated without the training-time shaping), so no single metric is
+   bought at the others' cost.
 2. The seeds' policies are played on ``suites/heldout_grid.json`` and on 100 episodes of the default
    suite (reporting only; nothing is selected there). Per seed: median / P90 relative error,
    macro-slips. Over seeds: the interquartile mean (IQM) and median of the relative error with
    stratified-bootstrap 95 % CIs (runs resampled within each scenario, as rliable's
    ``StratifiedBootstrap`` does; Agarwal et al. 2021), so the CI covers seed and scenario variation.
-3. ``--ship`` copies the policy of the best seed *on the validation grid* (model zip, VecNormalize
+3. ``--ship`` copies the policy of the best seed *on the validation grid* (highest mean return; model zip, VecNormalize
    statistics, train_meta.json) into ``cof_gym/agents/policies/ppo_wagon``, the default ``ppo`` agent.
 
 Writes ``OUT/report.md`` and ``OUT/report.json``.
@@ -22,11 +25,13 @@ import argparse
 import csv
 import json
 import shutil
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
 
 from cof_gym.agents.evaluate import evaluate
+from cof_gym.agents.ppo import vecnormalize_path
 from cof_gym.agents.registry import SHIPPED_PPO
 from cof_gym.agents.suites import make_suite
 
@@ -52,18 +57,21 @@ def stratified_bootstrap_ci(scores: np.ndarray, stat, seed: int = 0) -> tuple[fl
     return float(np.percentile(stats, 2.5)), float(np.percentile(stats, 97.5))
 
 
-def play(spec: str, suite_name: str, out: Path, episodes: int = DEFAULT_EPISODES) -> tuple[dict, np.ndarray, int]:
-    """Summary, per-episode relative errors (from OUT/episodes.csv) and macro-slips of one agent."""
+def play(spec: str, suite_name: str, out: Path, episodes: int = DEFAULT_EPISODES) -> tuple[dict, np.ndarray, int, float]:
+    """Summary, per-episode relative errors (from OUT/episodes.csv), macro-slips and mean episode return
+    of one agent."""
     suite = make_suite(suite_name, episodes, 0)
     summary = next(iter(evaluate([spec], suite, out, seed=0, quiet=True)["summary"].values()))
     with open(out / "episodes.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
     errors = np.array([float(r["relative_error"]) for r in rows])
-    return summary, errors, sum(r["macro_slip"] == "True" for r in rows)
+    mean_return = float(np.mean([float(r["episode_return"]) for r in rows]))
+    return summary, errors, sum(r["macro_slip"] == "True" for r in rows), mean_return
 
 
 def candidates(run: Path) -> list[Path]:
-    return [p for p in (run / "model.zip", run / "best" / "best_model.zip") if p.is_file()]
+    checkpoints = sorted(run.glob("checkpoints/ppo_*_steps.zip"), key=lambda p: int(p.stem.split("_")[1]))
+    return [p for p in (run / "model.zip", run / "best" / "best_model.zip", *checkpoints) if p.is_file()]
 
 
 def main() -> None:
@@ -71,23 +79,35 @@ def main() -> None:
     parser.add_argument("--runs", nargs="+", required=True, type=Path, help="cof-gym train output directories")
     parser.add_argument("--out", type=Path, default=Path("out/ppo_seeds"))
     parser.add_argument("--ship", action="store_true", help="copy the best-on-validation policy into the package")
+    parser.add_argument("--jobs", type=int, default=2, help="evaluations run in parallel (processes)")
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     chosen: dict[str, dict] = {}
-    for run in args.runs:
-        scored = []
-        for k, model in enumerate(candidates(run)):
-            summary, _, _ = play(f"ppo:{model}", str(VALIDATION), args.out / f"val_{run.name}_{k}")
-            scored.append((summary["median_error"]["value"], summary["p90_error"]["value"], str(model)))
-            print(f"{run.name}: {model} validation median {scored[-1][0]:.3%} P90 {scored[-1][1]:.3%}")
-        best = min(scored)
-        chosen[run.name] = {"model": best[2], "validation_median": best[0], "validation_p90": best[1]}
+    jobs = [(run, k, model) for run in args.runs for k, model in enumerate(candidates(run))]
+    with ProcessPoolExecutor(max_workers=max(args.jobs, 1)) as pool:
+        results = list(pool.map(play, [f"ppo:{m}" for _, _, m in jobs], [str(VALIDATION)] * len(jobs),
+                                [args.out / f"val_{run.name}_{k}" for run, k, _ in jobs]))
+    for (run, _, model), (summary, _, slips, mean_return) in zip(jobs, results):
+        entry = {"model": str(model), "validation_return": mean_return,
+                 "validation_median": summary["median_error"]["value"], "validation_p90": summary["p90_error"]["value"],
+                 "validation_macro_slips": slips}
+        print(f"{run.name}: {model} validation return {mean_return:.3f} median {entry['validation_median']:.2%}"
+              f" P90 {entry['validation_p90']:.2%} macro-slips {slips}")
+        chosen.setdefault(run.name, {"candidates": []})["candidates"].append(entry)
+    for name, seed_runs in chosen.items():
+        chosen[name] = {**max(seed_runs["candidates"], key=lambda c: c["validation_return"]), **seed_runs}
     report: dict = {"seeds": chosen, "suites": {}}
-    for suite_name in (str(HELDOUT), "default"):
+    suites = (str(HELDOUT), "default")
+    reports = [(name, suite_name) for suite_name in suites for name in chosen]
+    with ProcessPoolExecutor(max_workers=max(args.jobs, 1)) as pool:
+        played = dict(zip(reports, pool.map(
+            play, [f"ppo:{chosen[name]['model']}" for name, _ in reports], [suite_name for _, suite_name in reports],
+            [args.out / f"rep_{name}_{Path(suite_name).stem}" for name, suite_name in reports])))
+    for suite_name in suites:
         matrix = []
         per_seed = {}
-        for name, entry in chosen.items():
-            summary, errors, slips = play(f"ppo:{entry['model']}", suite_name, args.out / f"rep_{name}_{Path(suite_name).stem}")
+        for name in chosen:
+            _, errors, slips, _ = played[(name, suite_name)]
             matrix.append(errors)
             per_seed[name] = {"median": float(np.median(errors)), "p90": float(np.percentile(errors, 90)),
                               "macro_slips": slips, "episodes": int(errors.size)}
@@ -98,16 +118,17 @@ def main() -> None:
             "median": float(np.median(scores)),
             "median_ci95": stratified_bootstrap_ci(scores, lambda s: float(np.median(s))),
         }
-    shipped = min(chosen.items(), key=lambda kv: (kv[1]["validation_median"], kv[1]["validation_p90"]))
+    shipped = max(chosen.items(), key=lambda kv: kv[1]["validation_return"])
     report["shipped"] = {"seed_run": shipped[0], **shipped[1]}
     (args.out / "report.json").write_text(json.dumps(report, indent=1))
-    lines = ["| seed run | chosen model | validation median | " + " | ".join(
+    lines = ["| seed run | chosen model | validation: return / median / P90 / macro-slips | " + " | ".join(
         f"{s}: median / P90 / macro-slips" for s in report["suites"]) + " |", "|---" * (3 + len(report["suites"])) + "|"]
     for name, entry in chosen.items():
         cells = [f"{v['per_seed'][name]['median']:.1%} / {v['per_seed'][name]['p90']:.1%} / "
                  f"{v['per_seed'][name]['macro_slips']}" for v in report["suites"].values()]
         lines.append(f"| {name} | {Path(entry['model']).relative_to(Path(entry['model']).parents[1])} | "
-                     f"{entry['validation_median']:.1%} | " + " | ".join(cells) + " |")
+                     f"{entry['validation_return']:.3f} / {entry['validation_median']:.1%} / "
+                     f"{entry['validation_p90']:.1%} / {entry['validation_macro_slips']} | " + " | ".join(cells) + " |")
     for s, v in report["suites"].items():
         lines.append(f"\n{s}: IQM {v['iqm']:.1%} [{v['iqm_ci95'][0]:.1%}, {v['iqm_ci95'][1]:.1%}], median "
                      f"{v['median']:.1%} [{v['median_ci95'][0]:.1%}, {v['median_ci95'][1]:.1%}] "
@@ -119,7 +140,7 @@ def main() -> None:
         model = Path(shipped[1]["model"])
         SHIPPED_PPO.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(model, SHIPPED_PPO / "model.zip")
-        shutil.copyfile(model.parent / "vecnormalize.pkl", SHIPPED_PPO / "vecnormalize.pkl")
+        shutil.copyfile(vecnormalize_path(model), SHIPPED_PPO / "vecnormalize.pkl")
         run = model.parent if (model.parent / "train_meta.json").is_file() else model.parent.parent
         shutil.copyfile(run / "train_meta.json", SHIPPED_PPO / "train_meta.json")
         (SHIPPED_PPO / "selection.json").write_text(json.dumps(report["shipped"], indent=1))

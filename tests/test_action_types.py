@@ -1,4 +1,5 @@
-"""The env's action types ("absolute", "relative") and observation types ("window", "history")."""
+"""The env's action types ("absolute", "relative", "identified") and observation types ("window", "history",
+"identification")."""
 
 from __future__ import annotations
 
@@ -26,7 +27,9 @@ from test_vector_env import first_difference, make_pair, same  # tests/ is on sy
 
 ENV_ID = "CofGym/TorqueInterrogation-v1"
 ROOT = Path(__file__).resolve().parents[1]
-OPTIONS = [("absolute", "window"), ("relative", "window"), ("absolute", "history"), ("relative", "history")]
+OPTIONS = [("absolute", "window"), ("relative", "window"), ("absolute", "history"), ("relative", "history"),
+           ("identified", "identification")]
+OBSERVATION_SIZES = {"window": 14, "history": 29, "identification": 38}
 REL = RelativeActions()
 
 
@@ -173,7 +176,7 @@ def test_check_env_with_each_option(action_type, observation_type) -> None:
         warnings.simplefilter("error")
         check_env(env.unwrapped, skip_render_check=True)
         sb3_check_env(env.unwrapped, warn=True)
-    assert env.observation_space.shape == ((14,) if observation_type == "window" else (29,))
+    assert env.observation_space.shape == (OBSERVATION_SIZES[observation_type],)
 
 
 def test_bad_option_values_raise() -> None:
@@ -187,15 +190,15 @@ def test_bad_option_values_raise() -> None:
 
 @pytest.mark.skipif(os.environ.get("COF_GYM_SKIP_ZOO") == "1", reason="COF_GYM_SKIP_ZOO=1")
 def test_rl_zoo_trains_the_registered_id_with_the_shipped_hyperparameters(tmp_path: Path) -> None:
-    """RL Zoo's own entry point on the registered id with ppo.yml (the relative actions and the history
-    observation through its env_kwargs), for 512 steps (2 envs x 2 rollouts of 128): ~25 s of CPU."""
+    """RL Zoo's own entry point on the registered id with ppo.yml (the identified actions and the
+    identification observation through its env_kwargs), for 512 steps (2 envs x 2 rollouts of 128): ~25 s of CPU."""
     pytest.importorskip("rl_zoo3")
     cmd = [sys.executable, "-m", "rl_zoo3.train", "--algo", "ppo", "--env", ENV_ID, "--gym-packages", "cof_gym",
            "--conf-file", str(ROOT / "cof_gym/agents/hyperparams/ppo.yml"), "-n", "512", "--eval-freq", "-1",
            "--seed", "0", "--log-folder", str(tmp_path), "--device", "cpu", "--hyperparams", "n_steps:128", "n_epochs:2"]
     out = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, timeout=300)
     assert out.returncode == 0, out.stdout[-2000:] + out.stderr[-2000:]
-    assert "'action_type': 'relative'" in out.stdout
+    assert "'action_type': 'identified'" in out.stdout
     run_dir = tmp_path / "ppo" / "CofGym-TorqueInterrogation-v1_1"
     assert (run_dir / "CofGym-TorqueInterrogation-v1.zip").is_file()
     assert (run_dir / "CofGym-TorqueInterrogation-v1" / "vecnormalize.pkl").is_file()

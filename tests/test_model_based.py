@@ -9,7 +9,8 @@ import pytest
 
 import cof_gym
 from cof_gym.agents.evaluate import run_episode
-from cof_gym.agents.model_based import ModelBasedAgent, creep_shapes, fit_peak
+from cof_gym.agents.model_based import ModelBasedAgent
+from cof_gym.measurement.creep_fit import SHAPE_GRID, creep_shapes, fit_peak
 from cof_gym.agents.registry import make_agent
 from cof_gym.agents.staircase import limits_of
 
@@ -49,7 +50,6 @@ def test_fitted_peak_is_within_3_percent_and_its_interval_covers_the_cof(env, op
 def test_fit_on_an_exact_curve_recovers_its_peak_and_stays_open_on_a_line() -> None:
     """Points of a library shape scaled to peak 0.3 at creepage 0.02 up to 85 % of the peak: the fit
     finds 0.3 inside its interval, which narrows with a point at 95 %; points on a straight line (far below any knee) leave it open."""
-    from cof_gym.agents.model_based import SHAPE_GRID
 
     shape = creep_shapes()[5]
     u = np.array([0.2, 0.4, 0.6, 0.75, 0.85])

@@ -77,7 +77,7 @@ class AgentSideInterface:
 
     def to_env(self, raw: np.ndarray) -> np.ndarray:
         a = np.clip(np.asarray(raw, dtype=np.float64).reshape(-1), -1.0, 1.0)
-        d = self.actions.decode(ActionContext(self.dc_torque_nm, self.memory.best_coa), a, self.limits)
+        d = self.actions.decode(ActionContext.of(self.dc_torque_nm, self.memory), a, self.limits)
         action = encode_action(d.drive.dc_torque_nm, d.drive.amplitude_nm, d.drive.frequency_hz, d.cof_estimate,
                                d.stop, self.limits)
         self.dc_torque_nm = d.drive.dc_torque_nm

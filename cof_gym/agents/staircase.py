@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 
 from cof_gym.analysis.theory import paper_schedule
+from cof_gym.measurement.creep_fit import elasticity_between
 from cof_gym.task.interface import OBSERVATION_NAMES, MotorLimits, encode_action
 
 PHASE = OBSERVATION_NAMES.index("phase_lag")
@@ -66,15 +67,6 @@ PEAK_FRACTION_MEDIAN = (0.0, 0.270, 0.396, 0.507, 0.619, 0.719, 0.860, 0.955, 0.
 PEAK_FRACTION_MAX = (0.30, 0.373, 0.535, 0.667, 0.787, 0.877, 0.935, 0.970, 0.993, 0.999)
 CREEPAGE = OBSERVATION_NAMES.index("creepage_measured")
 DC = OBSERVATION_NAMES.index("dc_torque")
-
-
-def elasticity_between(lower: tuple[float, float], upper: tuple[float, float]) -> float:
-    """d ln(creepage) / d ln(CoA) between two (CoA, creepage) points of the climb; 1 (the linear part)
-    when either is not positive or the CoA barely moved."""
-    (c1, s1), (c2, s2) = lower, upper
-    if min(c1, c2, s1, s2) <= 0 or c2 <= c1 * 1.002:
-        return 1.0
-    return float(max(np.log(s2 / s1) / np.log(c2 / c1), 1.0))
 
 
 def peak_fraction(elasticity: float, table: tuple[float, ...] = PEAK_FRACTION_MEDIAN) -> float:

@@ -43,6 +43,7 @@ import numpy as np
 import cof_gym
 
 ALGOS = ("ppo",)
+PRETRAIN_SEED_OFFSET = 200_000  # demonstration episodes draw seeds from here (not the suites' seeds)
 DEFAULT_CONF = Path(__file__).resolve().parent / "hyperparams" / "ppo.yml"
 DEFAULT_ENV_ID = cof_gym.WAGON_ENV_ID
 DESCRIPTION = """\
@@ -283,9 +284,26 @@ def _make_venv(env_id: str, env_kwargs: dict[str, Any], n_envs: int, seed: int, 
     return venv
 
 
+WARM_START_DIR = "warm_start"
+
+
+def save_warm_start(model, train_env, out: Path, env_id: str) -> Path:
+    """The cloned policy before RL, in RL Zoo's layout (``OUT/warm_start/<Env-Name>.zip`` with
+    ``OUT/warm_start/<Env-Name>/vecnormalize.pkl``), so that ``python -m rl_zoo3.train ... -i`` can
+    fine-tune it too. Returns the zip's path."""
+    from cof_gym.agents.ppo import VECNORMALIZE_NAME
+
+    name = env_id.split(":")[-1].replace("/", "-")
+    (out / WARM_START_DIR / name).mkdir(parents=True, exist_ok=True)
+    zip_path = out / WARM_START_DIR / f"{name}.zip"
+    model.save(zip_path)
+    train_env.save(str(out / WARM_START_DIR / name / VECNORMALIZE_NAME))
+    return zip_path
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The options of ``cof-gym train``."""
-    from cof_gym.cli import non_negative_int, positive_int
+    from cof_gym.cli import non_negative_float, non_negative_int, positive_int
 
     parser.add_argument("--algo", choices=ALGOS, default="ppo", help="RL algorithm")
     parser.add_argument("--env", default=None, choices=cof_gym.ENV_IDS, metavar="ENV_ID",
@@ -329,7 +347,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="how the policy's output becomes the env action (cof_gym/agents/adapters.py; default: "
                              "absolute, or the resumed run's)")
     parser.add_argument("--pretrain-episodes", type=non_negative_int, default=0,
-                        help="behaviour-clone the practical staircase over N episodes before PPO (0: off)")
+                        help="behaviour-clone a scripted expert (policy and value) over N episodes before PPO (0: off)")
+    parser.add_argument("--pretrain-agent", choices=("model-based", "staircase"), default="model-based",
+                        help="the expert --pretrain-episodes clones (cof_gym/agents/pretrain.py)")
+    parser.add_argument("--pretrain-noise", type=non_negative_float, default=0.15, metavar="STD",
+                        help="std of the noise added to the expert's executed actions while cloning (DART)")
     parser.add_argument("--overwrite", action="store_true",
                         help="allow a new run to replace an existing OUT/model.zip")
 
@@ -541,13 +563,19 @@ def _train(args: argparse.Namespace, out: Path, resume_path: Path | None, prev_m
                 from cof_gym.agents.pretrain import behaviour_clone, collect_demonstrations
 
                 t_bc = time.perf_counter()
-                demo_obs, demo_act = collect_demonstrations(env_id, env_kwargs, args.pretrain_episodes, seed + 100_000)
-                mse = behaviour_clone(model, demo_obs, demo_act, seed=seed)
-                meta["pretrain"] = {"agent": "staircase", "episodes": args.pretrain_episodes,
-                                    "samples": int(len(demo_obs)), "final_mse": mse,
+                demo_obs, demo_act, demo_ret = collect_demonstrations(
+                    env_id, env_kwargs, args.pretrain_episodes, PRETRAIN_SEED_OFFSET + seed * args.pretrain_episodes,
+                    expert=args.pretrain_agent, gamma=float(ppo_kwargs.get("gamma", 0.99)),
+                    noise_std=args.pretrain_noise)
+                losses = behaviour_clone(model, demo_obs, demo_act, demo_ret, seed=seed)
+                warm = save_warm_start(model, train_env, out, env_id)
+                meta["pretrain"] = {"agent": args.pretrain_agent, "episodes": args.pretrain_episodes,
+                                    "noise_std": args.pretrain_noise,
+                                    "samples": int(len(demo_obs)), **losses, "warm_start": str(warm),
                                     "wall_time_s": round(time.perf_counter() - t_bc, 3)}
                 _write_meta(meta_path, meta)
-                print(f"behaviour cloning: {len(demo_obs)} staircase samples, final MSE {mse:.4f}")
+                print(f"behaviour cloning: {len(demo_obs)} {args.pretrain_agent} samples, final action MSE "
+                      f"{losses['action_mse']:.4f}, value MSE {losses['value_mse']:.3f}")
         start_steps = int(model.num_timesteps)
 
         callbacks: list = [EpisodeTermsCallback()]

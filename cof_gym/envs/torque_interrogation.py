@@ -81,7 +81,7 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | 4   | stop          | > 0 ends the measurement now (no window is run)          | -    |
 
     ``action_type="relative"`` (:class:`cof_gym.task.actions.RelativeActions`: scale-free across CoF
-    0.02-0.6; the one RL Zoo trains, ``cof_gym/agents/hyperparams/ppo.yml``):
+    0.02-0.6):
 
     | Num | Action        | Rescaled to                                                                | Unit |
     |-----|---------------|----------------------------------------------------------------------------|------|
@@ -90,6 +90,13 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | 2   | frequency     | logarithmic 1 ... 20                                                        | Hz   |
     | 3   | cof_estimate  | ``max(best measured CoA so far, 0.01) x exp(0.5 a)``, within 0.01 ... 1     | -    |
     | 4   | stop          | > 0.5 requests the end of the measurement                                   | -    |
+
+    ``action_type="identified"`` (:class:`cof_gym.task.actions.IdentifiedActions`): as "relative", but
+    the estimate is ``fitted peak x exp(0.05 a3)`` (x0.95 ... x1.05), the fitted peak that of the
+    creep-curve fit of the climb so far (:mod:`cof_gym.measurement.creep_fit`: Polach's family with free
+    peak CoA and peak creepage, fitted to the measured CoA and creepage of the driven windows), the best
+    measured CoA before the climb has 3 points: a residual on the model-based identification (the
+    interface ``cof_gym/agents/hyperparams/ppo.yml`` trains, with ``observation_type="identification"``).
 
     The DC level is ramped over the first ``ramp_fraction`` of the window; the modulation phase is
     continuous across windows. The drive reaches 1.25 x the largest saturation torque in the CoF
@@ -127,6 +134,22 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | 15    | baseline_compliance  | its compliance                                                       |
     | 16    | best_coa             | the largest measured CoA so far (reset window included)              |
     | 17-28 | coa_measured_k, creepage_measured_k, phase_lag_k, dc_torque_k | of the k-th previous window, k = 1...K, K = 3 (newest first; the oldest known window repeats until there are K) |
+
+    ``observation_type="identification"``: ``Box(-1000, 1000, (38,), float32)``, the 29 of "history"
+    followed by the creep-curve fit of the climb (the driven windows with a DC torque whose CoA did not
+    fall; :func:`cof_gym.task.interface.identification_features`), all from the same sensor readings:
+
+    | Num | Observation     | Meaning                                                                   |
+    |-----|-----------------|---------------------------------------------------------------------------|
+    | 29  | fit_available   | 1 once the climb has 3 points with positive CoA and creepage              |
+    | 30  | fit_peak_ratio  | ln(fitted peak CoA / best measured CoA of the climb) (0 without a fit)    |
+    | 31  | fit_low_ratio   | ln(low end of the fit's confidence interval / best CoA)                   |
+    | 32  | fit_high_ratio  | ln(high end / best CoA) (open interval: up to ln 4)                       |
+    | 33  | fit_half_width  | the interval's relative half-width, 0.5 ln(high / low)                    |
+    | 34  | load_fraction   | the last window's CoA / fitted peak (/ best CoA before a fit)             |
+    | 35  | log_elasticity  | ln(d ln creepage / d ln CoA) over >= 3 % of CoA (0 on the linear part)    |
+    | 36  | climb_points    | points of the climb / 10                                                  |
+    | 37  | falling         | 1 when the last window's CoA fell (past the peak)                         |
 
     ## Rewards
     ``reward = reward_error + reward_slip + reward_comfort + reward_time`` (:mod:`cof_gym.task.reward`,
@@ -178,8 +201,8 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | macro_slip_ratio, macro_slip_floor | 2, 0.02 | the macro-slip limit relative to the peak creepage |
     | cof, condition, speed_m_s, load_case, noise_level, motor_lag_s | None | fix a scenario field |
     | shaping | False | add the potential-based shaping term (training) |
-    | action_type | "absolute" | "absolute" or "relative" (see Action Space) |
-    | observation_type | "window" | "window" (14) or "history" (29; see Observation Space) |
+    | action_type | "absolute" | "absolute", "relative" or "identified" (see Action Space) |
+    | observation_type | "window" | "window" (14), "history" (29) or "identification" (38; see Observation Space) |
     | render_mode | None | "rgb_array" or "human" |
     | width, height | 480, 240 | rgb_array frame size, pixels |
 

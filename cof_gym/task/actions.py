@@ -19,6 +19,10 @@ keep them from its own commands and the observations).
   ``max(best_coa, 0.01) x exp(0.5 a3)`` (x0.61...x1.65, within 0.01...1); stop needs ``a4 > 0.5``. A
   random policy thus holds a sensible estimate and explores torque ramps rather than jumps, and the
   same action means the same relative change at CoF 0.02 and 0.6.
+- ``"identified"`` (:class:`IdentifiedActions`): the relative torque, amplitude and frequency, and the
+  estimate a factor ``exp(0.05 a3)`` (x0.95...x1.05) on the peak of the creep-curve fit of the climb
+  so far (:mod:`cof_gym.measurement.creep_fit`; the best measured CoA before 3 points): the policy
+  decides how to climb and when to stop, and corrects the fit by a few percent.
 """
 
 from __future__ import annotations
@@ -30,19 +34,32 @@ from typing import Protocol
 import numpy as np
 from gymnasium import spaces
 
+from cof_gym.measurement.creep_fit import ClimbRecord
 from cof_gym.physics.simulation import DriveCommand
 from cof_gym.task.interface import (
-    DecodedAction, MotorLimits, _log_map, _log_unmap, action_space, decode_action, encode_action,
+    DecodedAction, Memory, MotorLimits, _log_map, _log_unmap, action_space, decode_action, encode_action,
 )
 
 
 @dataclass(frozen=True)
 class ActionContext:
-    """What an action type reads of the episode: the DC torque now applied (N m) and the best (largest)
-    measured CoA so far (0 before any)."""
+    """What an action type reads of the episode: the DC torque now applied (N m), the best (largest)
+    measured CoA so far (0 before any) and the climb whose creep-curve fit gives the fitted peak."""
 
     dc_torque_nm: float = 0.0
     best_coa: float = 0.0
+    climb: ClimbRecord | None = None
+
+    @classmethod
+    def of(cls, dc_torque_nm: float, memory: Memory) -> "ActionContext":
+        """The context of an episode whose :class:`~cof_gym.task.interface.Memory` is ``memory``."""
+        return cls(dc_torque_nm, memory.best_coa, memory.climb)
+
+    @property
+    def fitted_peak(self) -> float:
+        """The fit's peak CoA (:mod:`cof_gym.measurement.creep_fit`); 0 before a fit (< 3 points)."""
+        fit = self.climb.fit if self.climb is not None else None
+        return fit.estimate if fit is not None else 0.0
 
 
 class ActionType(Protocol):
@@ -115,13 +132,33 @@ class RelativeActions:
         a4 = 1.0 if stop else -1.0
         return np.clip(np.array([a0, a1, a2, a3, a4]), -1.0, 1.0).astype(np.float32)
 
-    @staticmethod
-    def _base(context: ActionContext, limits: MotorLimits) -> float:
-        coa = context.best_coa if math.isfinite(context.best_coa) else 0.0
-        return min(max(coa, limits.min_cof_estimate), limits.max_cof_estimate)
+    def _base(self, context: ActionContext, limits: MotorLimits) -> float:
+        """What the estimate is a factor on: the best measured CoA."""
+        return _within_estimate_range(context.best_coa, limits)
 
 
-ACTION_TYPES: dict[str, ActionType] = {"absolute": AbsoluteActions(), "relative": RelativeActions()}
+@dataclass(frozen=True)
+class IdentifiedActions(RelativeActions):
+    """The relative torque, amplitude and frequency actions, with the estimate a factor within
+    x0.95...x1.05 on the climb's fitted peak (:attr:`ActionContext.fitted_peak`; the best measured CoA
+    before a fit): a residual on the model-based identification, for a policy that decides how to climb
+    and when to stop and corrects the fit by a few percent."""
+
+    name: str = "identified"
+    estimate_log_range: float = 0.05
+
+    def _base(self, context: ActionContext, limits: MotorLimits) -> float:
+        fitted = context.fitted_peak
+        return _within_estimate_range(fitted if fitted > 0 else context.best_coa, limits)
+
+
+def _within_estimate_range(coa: float, limits: MotorLimits) -> float:
+    coa = coa if math.isfinite(coa) else 0.0
+    return min(max(coa, limits.min_cof_estimate), limits.max_cof_estimate)
+
+
+ACTION_TYPES: dict[str, ActionType] = {"absolute": AbsoluteActions(), "relative": RelativeActions(),
+                                       "identified": IdentifiedActions()}
 
 
 def get_action_type(name: str) -> ActionType:

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from gymnasium import spaces
 
+from cof_gym.measurement.creep_fit import ELASTICITY_SPAN, ClimbRecord
 from cof_gym.physics.simulation import DriveCommand, WindowMeasurement
 
 ACTION_NAMES = ("dc_torque", "amplitude", "frequency", "cof_estimate", "stop")
@@ -187,8 +188,9 @@ def decode_observation(obs: np.ndarray, scales: ObservationScales) -> DecodedObs
 
 
 # ---------------------------------------------------------------------------------------------------------
-# Observation types (env option ``observation_type``): "window" (the 14 values above, default) or
-# "history" (those plus a fixed-size running summary of the episode, from the same sensor readings).
+# Observation types (env option ``observation_type``): "window" (the 14 values above, default),
+# "history" (those plus a fixed-size running summary of the episode, from the same sensor readings) and
+# "identification" (the history plus the creep-curve fit of the climb so far).
 
 HISTORY_WINDOWS = 3  # K: the previous windows a "history" observation repeats
 HISTORY_SUMMARY_NAMES = ("baseline_phase_lag", "baseline_compliance", "best_coa")
@@ -196,20 +198,23 @@ HISTORY_WINDOW_NAMES = ("coa_measured", "creepage_measured", "phase_lag", "dc_to
 HISTORY_OBSERVATION_NAMES = OBSERVATION_NAMES + HISTORY_SUMMARY_NAMES + tuple(
     f"{name}_{k}" for k in range(1, HISTORY_WINDOWS + 1) for name in HISTORY_WINDOW_NAMES)
 _WINDOW_INDEX = tuple(OBSERVATION_NAMES.index(n) for n in HISTORY_WINDOW_NAMES)
-_PHASE, _COMPLIANCE, _COA = (OBSERVATION_NAMES.index(n) for n in ("phase_lag", "compliance", "coa_measured"))
+_PHASE, _COMPLIANCE, _COA, _CREEPAGE, _SPEED, _DC = (OBSERVATION_NAMES.index(n) for n in (
+    "phase_lag", "compliance", "coa_measured", "creepage_measured", "speed", "dc_torque"))
 
 
 @dataclass
 class Memory:
     """What an episode remembers of its windows, kept from the encoded (sensor-only) window observations:
     the baseline (the first window the agent drove; until then the reset window), the best measured
-    CoA, and the last ``HISTORY_WINDOWS + 1`` windows (newest first, the current one included).
-    An agent can keep the same memory from the observations it is given."""
+    CoA, the last ``HISTORY_WINDOWS + 1`` windows (newest first, the current one included) and the
+    climb (:class:`~cof_gym.measurement.creep_fit.ClimbRecord`: the driven windows with a DC torque,
+    for the creep-curve fit). An agent can keep the same memory from the observations it is given."""
 
     baseline: np.ndarray | None = None
     baseline_driven: bool = False
     best_coa: float = 0.0
     recent: list[np.ndarray] = field(default_factory=list)
+    climb: ClimbRecord = field(default_factory=ClimbRecord)
 
     def push(self, window: np.ndarray, driven: bool) -> None:
         """Record one window's observation (``driven``: measured with the agent's drive, not the reset's)."""
@@ -221,6 +226,9 @@ class Memory:
         if math.isfinite(coa):
             self.best_coa = max(self.best_coa, coa)
         self.recent = [window] + self.recent[:HISTORY_WINDOWS]
+        if driven and window[_DC] > 0:
+            self.climb.add(coa, float(window[_CREEPAGE]) / CREEPAGE_SCALE, float(window[_SPEED]) * SPEED_SCALE_M_S,
+                           float(window[_DC]))
 
 
 @dataclass(frozen=True)
@@ -260,7 +268,52 @@ class HistoryObservation:
         return np.concatenate(parts).astype(np.float32)
 
 
-OBSERVATION_TYPES = {"window": WindowObservation(), "history": HistoryObservation()}
+IDENTIFICATION_NAMES = (
+    "fit_available", "fit_peak_ratio", "fit_low_ratio", "fit_high_ratio", "fit_half_width", "load_fraction",
+    "log_elasticity", "climb_points", "falling",
+)
+IDENTIFICATION_OBSERVATION_NAMES = HISTORY_OBSERVATION_NAMES + IDENTIFICATION_NAMES
+CLIMB_POINTS_SCALE = 10.0
+
+
+def identification_features(window: np.ndarray, climb: ClimbRecord) -> np.ndarray:
+    """The creep-curve fit of the climb, scale-free (:data:`IDENTIFICATION_NAMES`): whether a fit exists
+    (>= 3 points), its peak, low and high ends as ``ln(value / best CoA)``, its relative half-width, the
+    last window's CoA as a fraction of the fitted peak (of the best CoA before a fit), ``ln`` of the
+    measured elasticity ``d ln s / d ln CoA`` (0 on the linear part), the climb's points / 10, and
+    whether the last window's CoA fell (past the peak)."""
+    fit, best = climb.fit, climb.best_coa
+    coa = float(window[_COA])
+    if fit is None or best <= 0:
+        ratios, half_width, reference = (0.0, 0.0, 0.0), 0.0, best
+    else:
+        ratios = tuple(math.log(v / best) for v in (fit.estimate, fit.low, fit.high))
+        half_width, reference = fit.half_width, fit.estimate
+    values = [float(fit is not None), *ratios, half_width, coa / reference if reference > 0 else 0.0,
+              math.log(climb.elasticity(ELASTICITY_SPAN)), len(climb.points) / CLIMB_POINTS_SCALE,
+              float(climb.falling)]
+    return np.clip(np.nan_to_num(np.asarray(values), nan=0.0), -OBS_BOUND, OBS_BOUND).astype(np.float32)
+
+
+@dataclass(frozen=True)
+class IdentificationObservation:
+    """The "history" observation followed by :func:`identification_features`
+    (:data:`IDENTIFICATION_OBSERVATION_NAMES`): what the model-based agent decides from, for a policy
+    to decide when and how to climb and when to stop."""
+
+    name: str = "identification"
+    names: tuple[str, ...] = IDENTIFICATION_OBSERVATION_NAMES
+
+    def space(self) -> spaces.Box:
+        return spaces.Box(-OBS_BOUND, OBS_BOUND, shape=(len(self.names),), dtype=np.float32)
+
+    def encode(self, window: np.ndarray, memory: Memory) -> np.ndarray:
+        history = HistoryObservation().encode(window, memory)
+        return np.concatenate([history, identification_features(window, memory.climb)]).astype(np.float32)
+
+
+OBSERVATION_TYPES = {"window": WindowObservation(), "history": HistoryObservation(),
+                     "identification": IdentificationObservation()}
 
 
 def get_observation_type(name: str):

@@ -70,7 +70,7 @@ class Episode:
     @property
     def action_context(self) -> ActionContext:
         """What the action type may read: the applied DC torque and the best measured CoA."""
-        return ActionContext(self.drive.dc_torque_nm, self.memory.best_coa)
+        return ActionContext.of(self.drive.dc_torque_nm, self.memory)
 
 
 @dataclass(frozen=True)
