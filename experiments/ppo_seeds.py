@@ -1,9 +1,10 @@
 """Model selection and reporting for several PPO seeds (run from the repository root).
 
-    python experiments/ppo_seeds.py --runs runs/ppo_s0 runs/ppo_s1 runs/ppo_s2 --out out/ppo_seeds [--ship]
+    python experiments/ppo_seeds.py --runs runs/ppo_id_s0 runs/ppo_id_s1 runs/ppo_id_s2 --out out/ppo_seeds [--ship]
 
-1. Candidates per seed: its final ``model.zip``, its ``best/best_model.zip`` (the training-time
-   evaluation's best) and its checkpoints (``checkpoints/ppo_<N>_steps.zip``). Each is played on
+1. Candidates per seed: the cloned policy before RL (``warm_start/``, when the run was warm-started),
+   its checkpoints (``checkpoints/ppo_<N>_steps.zip``), its ``best/best_model.zip`` (the training-time
+   evaluation's best) and its final ``model.zip``. Each is played on
    ``suites/validation_grid.json`` (model selection only); the candidate with the highest mean episode
    return there is that seed's policy: the task's own reward (relative error, slip past the peak,
    macro-slips, comfort, time; evaluated without the training-time shaping), so no single metric is
@@ -71,7 +72,8 @@ def play(spec: str, suite_name: str, out: Path, episodes: int = DEFAULT_EPISODES
 
 def candidates(run: Path) -> list[Path]:
     checkpoints = sorted(run.glob("checkpoints/ppo_*_steps.zip"), key=lambda p: int(p.stem.split("_")[1]))
-    return [p for p in (run / "model.zip", run / "best" / "best_model.zip", *checkpoints) if p.is_file()]
+    warm_start = sorted(run.glob("warm_start/*.zip"))  # the cloned policy before RL (--pretrain-episodes)
+    return [p for p in (*warm_start, *checkpoints, run / "best" / "best_model.zip", run / "model.zip") if p.is_file()]
 
 
 def main() -> None:

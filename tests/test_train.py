@@ -48,7 +48,8 @@ def test_yaml_has_every_env_id_in_rl_zoo_form():
         assert isinstance(raw["normalize"], str) and isinstance(raw["policy_kwargs"], str)
         settings, ppo = split_hyperparams(raw)
         assert settings["normalize"]["norm_obs"] is True and settings["normalize"]["norm_reward"] is False
-        assert ppo["policy_kwargs"]["net_arch"]["pi"] == [64, 64]
+        arch = ppo["policy_kwargs"]["net_arch"]
+        assert len(arch["pi"]) == len(arch["vf"]) == 2 and all(n >= 64 for n in arch["pi"] + arch["vf"])
         assert (ppo["n_steps"] * settings["n_envs"]) % ppo["batch_size"] == 0
 
 
@@ -162,3 +163,28 @@ def test_an_interrupted_set_up_is_not_left_running(tmp_path: Path, monkeypatch) 
     out = tmp_path / "run"
     assert _train("--env", ENV_ID, "--timesteps", "64", "--no-progress", "--out", str(out)) == 130
     assert json.loads((out / "train_meta.json").read_text())["status"] == "interrupted"
+
+
+def test_warm_start_clones_the_expert_and_is_saved_in_rl_zoo_layout(tmp_path: Path) -> None:
+    """--pretrain-episodes clones the model-based agent through the yml's identified interface and
+    saves the clone where ``python -m rl_zoo3.train -i`` finds it (zip + <env>/vecnormalize.pkl)."""
+    out = tmp_path / "run"
+    rc = _train("--env", cof_gym.WAGON_ENV_ID, "--timesteps", "128", "--n-envs", "1", "--seed", "0",
+                "--hyperparams", "n_steps:128", "batch_size:64", "n_epochs:1", "--eval-freq", "0", "--save-freq", "0",
+                "--pretrain-episodes", "2", "--pretrain-log-std=-3,-2,-2,-2,-2.5", "--out", str(out))
+    assert rc == 0
+    meta = json.loads((out / "train_meta.json").read_text())
+    pre = meta["pretrain"]
+    assert pre["agent"] == "model-based" and pre["episodes"] == 2 and pre["samples"] >= 6
+    assert np.isfinite(pre["action_mse"]) and pre["action_mse"] < 0.5 and np.isfinite(pre["value_mse"])
+    warm = out / "warm_start" / "CofGym-TorqueInterrogation-v1.zip"
+    assert Path(pre["warm_start"]) == warm and warm.is_file()
+    assert vecnormalize_path(warm) == out / "warm_start" / "CofGym-TorqueInterrogation-v1" / "vecnormalize.pkl"
+    assert vecnormalize_path(warm).is_file()
+    agent = PPOAgent.load(warm)  # the env kwargs come from train_meta.json one directory up
+    np.testing.assert_allclose(agent.model.policy.log_std.detach().numpy(), [-3, -2, -2, -2, -2.5])
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    obs, info = env.reset(seed=0)
+    agent.reset(obs, info)
+    action = agent.act(obs, info)
+    assert action.shape == (5,) and env.action_space.contains(action)

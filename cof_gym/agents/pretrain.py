@@ -76,11 +76,12 @@ def discounted_returns(rewards: np.ndarray, gamma: float) -> np.ndarray:
 
 
 def behaviour_clone(model, observations: np.ndarray, actions: np.ndarray, returns: np.ndarray | None = None,
-                    epochs: int = 100, batch_size: int = 256, learning_rate: float = 1e-3, log_std: float | None = None,
+                    epochs: int = 100, batch_size: int = 256, learning_rate: float = 1e-3, log_std: float | list[float] | None = None,
                     seed: int = 0) -> dict[str, float]:
     """Fit the policy's mean action to the demonstrations (MSE, the one stop sample per episode weighted
     as much as the rest of the episode) and, when ``returns`` are given, the value function to them;
-    set the exploration noise to ``log_std`` (None: keep the policy's ``log_std_init``); seed the
+    set the exploration noise to ``log_std`` (one value, one per action component, or None: keep the
+    policy's ``log_std_init``); seed the
     VecNormalize observation statistics. Returns the final training losses."""
     vec_normalize = model.get_vec_normalize_env()
     if vec_normalize is not None:
@@ -116,5 +117,5 @@ def behaviour_clone(model, observations: np.ndarray, actions: np.ndarray, return
             losses["action_mse"] = float(action_loss.detach())
     if log_std is not None:
         with torch.no_grad():
-            policy.log_std.fill_(log_std)
+            policy.log_std.copy_(torch.as_tensor(np.broadcast_to(log_std, policy.log_std.shape).copy()))
     return losses

@@ -287,6 +287,20 @@ def _make_venv(env_id: str, env_kwargs: dict[str, Any], n_envs: int, seed: int, 
 WARM_START_DIR = "warm_start"
 
 
+def _log_std_list(text: str) -> list[float]:
+    """``L0,...,L4``: one finite log std per action component, each in [-5, 1]."""
+    from cof_gym.task.interface import ACTION_NAMES
+
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) != len(ACTION_NAMES) or not all(np.isfinite(v) and -5.0 <= v <= 1.0 for v in values):
+        raise argparse.ArgumentTypeError(f"must be {len(ACTION_NAMES)} comma-separated numbers in [-5, 1] "
+                                         f"({', '.join(ACTION_NAMES)}), got {text!r}")
+    return values
+
+
 def save_warm_start(model, train_env, out: Path, env_id: str) -> Path:
     """The cloned policy before RL, in RL Zoo's layout (``OUT/warm_start/<Env-Name>.zip`` with
     ``OUT/warm_start/<Env-Name>/vecnormalize.pkl``), so that ``python -m rl_zoo3.train ... -i`` can
@@ -350,6 +364,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="behaviour-clone a scripted expert (policy and value) over N episodes before PPO (0: off)")
     parser.add_argument("--pretrain-agent", choices=("model-based", "staircase"), default="model-based",
                         help="the expert --pretrain-episodes clones (cof_gym/agents/pretrain.py)")
+    parser.add_argument("--pretrain-log-std", type=_log_std_list, default=None, metavar="L0,...,L4",
+                        help="the clone's exploration noise, log std per action component (default: the yml's "
+                             "log_std_init for all); write --pretrain-log-std=-3,-2,-2,-2,-2 (values start with '-')")
     parser.add_argument("--pretrain-noise", type=non_negative_float, default=0.15, metavar="STD",
                         help="std of the noise added to the expert's executed actions while cloning (DART)")
     parser.add_argument("--overwrite", action="store_true",
@@ -567,10 +584,10 @@ def _train(args: argparse.Namespace, out: Path, resume_path: Path | None, prev_m
                     env_id, env_kwargs, args.pretrain_episodes, PRETRAIN_SEED_OFFSET + seed * args.pretrain_episodes,
                     expert=args.pretrain_agent, gamma=float(ppo_kwargs.get("gamma", 0.99)),
                     noise_std=args.pretrain_noise)
-                losses = behaviour_clone(model, demo_obs, demo_act, demo_ret, seed=seed)
+                losses = behaviour_clone(model, demo_obs, demo_act, demo_ret, seed=seed, log_std=args.pretrain_log_std)
                 warm = save_warm_start(model, train_env, out, env_id)
                 meta["pretrain"] = {"agent": args.pretrain_agent, "episodes": args.pretrain_episodes,
-                                    "noise_std": args.pretrain_noise,
+                                    "noise_std": args.pretrain_noise, "log_std": args.pretrain_log_std,
                                     "samples": int(len(demo_obs)), **losses, "warm_start": str(warm),
                                     "wall_time_s": round(time.perf_counter() - t_bc, 3)}
                 _write_meta(meta_path, meta)
