@@ -1,6 +1,6 @@
 """Model selection and reporting for several PPO seeds (run from the repository root).
 
-    python experiments/ppo_seeds.py --runs runs/ppo_id_s0 runs/ppo_id_s1 runs/ppo_id_s2 --out out/ppo_seeds [--ship]
+    python experiments/ppo_seeds.py --runs runs/ppo_lo_s0 runs/ppo_lo_s1 runs/ppo_lo_s2 --out out/ppo_seeds [--ship]
 
 1. Candidates per seed: the cloned policy before RL (``warm_start/``, when the run was warm-started),
    its checkpoints (``checkpoints/ppo_<N>_steps.zip``), its ``best/best_model.zip`` (the training-time

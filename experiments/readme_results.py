@@ -3,7 +3,7 @@ so that its tables are generated, never typed:
 
     cof-gym evaluate --out out/evaluate                                              # default suite
     cof-gym evaluate --suite experiments/suites/heldout_grid.json --out out/evaluate-heldout
-    python experiments/ppo_seeds.py --runs runs/ppo_id_s0 runs/ppo_id_s1 runs/ppo_id_s2 --out out/ppo_seeds
+    python experiments/ppo_seeds.py --runs runs/ppo_lo_s0 runs/ppo_lo_s1 runs/ppo_lo_s2 --out out/ppo_seeds
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in README.md;

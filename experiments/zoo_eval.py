@@ -1,0 +1,52 @@
+"""Play a model trained by RL Zoo on the registered id (run from the repository root):
+
+    python experiments/zoo_eval.py out/zoo/ppo/CofGym-TorqueInterrogation-v1_1/CofGym-TorqueInterrogation-v1.zip
+
+RL Zoo writes no ``train_meta.json``; the env's interface comes from the yml's ``env_kwargs`` (the
+ones the model was trained with). The policy acts deterministically, through the agent-side interface,
+on a default env for ``--episodes`` draws of the env's distribution (seeds 10000 + i, not the suites'),
+and the mean episode length, the median / P90 relative error and the macro-slips are printed.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+import gymnasium as gym
+import numpy as np
+
+import cof_gym
+from cof_gym.agents.ppo import PPOAgent
+from cof_gym.agents.train import load_hyperparams
+
+FIRST_SEED = 10_000
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("model", help="the RL Zoo model zip")
+    parser.add_argument("--episodes", type=int, default=40)
+    args = parser.parse_args()
+    env_kwargs = {k: v for k, v in load_hyperparams(cof_gym.WAGON_ENV_ID).get("env_kwargs", {}).items()
+                  if k != "shaping"}
+    agent = PPOAgent.load(args.model, env_id=cof_gym.WAGON_ENV_ID, env_kwargs=env_kwargs)
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    lengths, errors, slips = [], [], 0
+    for i in range(args.episodes):
+        obs, info = env.reset(seed=FIRST_SEED + i)
+        agent.reset(obs, info)
+        steps = 0
+        while True:
+            obs, _, terminated, truncated, info = env.step(agent.act(obs, info))
+            steps += 1
+            if terminated or truncated:
+                break
+        lengths.append(steps)
+        errors.append(info["relative_error"])
+        slips += info["macro_slip"]
+    print(f"{args.episodes} episodes: mean length {np.mean(lengths):.1f} windows, median rel. error "
+          f"{np.median(errors):.1%}, P90 {np.percentile(errors, 90):.1%}, macro-slips {slips}")
+
+
+if __name__ == "__main__":
+    main()
