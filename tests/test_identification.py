@@ -118,3 +118,30 @@ def test_the_model_based_agent_through_the_identified_interface_is_the_model_bas
 
 def test_discounted_returns() -> None:
     np.testing.assert_allclose(discounted_returns(np.array([1.0, 0.0, 2.0]), 0.5), [1.5, 1.0, 2.0])
+
+
+def test_the_shipped_policy_interrogates_and_stops_by_itself() -> None:
+    """The shipped PPO policy (cof_gym/agents/policies/ppo_wagon, trained on the identified interface)
+    climbs, stops before the horizon without a macro-slip and reports the CoF within a few percent on
+    draws of the default distribution it was not selected on."""
+    from cof_gym.agents.registry import SHIPPED_PPO, shipped_ppo_available
+
+    if not shipped_ppo_available():
+        pytest.skip("no shipped policy")
+    from cof_gym.agents.ppo import PPOAgent
+
+    agent = PPOAgent.load(SHIPPED_PPO)
+    env = gym.make(ENV_ID)
+    errors = []
+    for seed in range(20_000, 20_006):
+        obs, info = env.reset(seed=seed)
+        agent.reset(obs, info)
+        steps = 0
+        while True:
+            obs, _, terminated, truncated, info = env.step(agent.act(obs, info))
+            steps += 1
+            if terminated or truncated:
+                break
+        assert terminated and not info["macro_slip"] and 3 <= steps < 30, (seed, steps, info["macro_slip"])
+        errors.append(info["relative_error"])
+    assert np.median(errors) < 0.02 and max(errors) < 0.06, errors
