@@ -70,6 +70,14 @@ def play(spec: str, suite_name: str, out: Path, episodes: int = DEFAULT_EPISODES
     return summary, errors, sum(r["macro_slip"] == "True" for r in rows), mean_return
 
 
+def play_all(plays: list[tuple[str, str, Path]], jobs: int) -> list[tuple[dict, np.ndarray, int, float]]:
+    """:func:`play` for each (agent spec, suite, output directory), ``jobs`` processes at a time."""
+    if not plays:
+        return []
+    with ProcessPoolExecutor(max_workers=max(jobs, 1)) as pool:
+        return list(pool.map(play, *zip(*plays)))
+
+
 def candidates(run: Path) -> list[Path]:
     checkpoints = sorted(run.glob("checkpoints/ppo_*_steps.zip"), key=lambda p: int(p.stem.split("_")[1]))
     warm_start = sorted(run.glob("warm_start/*.zip"))  # the cloned policy before RL (--pretrain-episodes)
@@ -84,27 +92,25 @@ def main() -> None:
     parser.add_argument("--jobs", type=int, default=2, help="evaluations run in parallel (processes)")
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
-    chosen: dict[str, dict] = {}
     jobs = [(run, k, model) for run in args.runs for k, model in enumerate(candidates(run))]
-    with ProcessPoolExecutor(max_workers=max(args.jobs, 1)) as pool:
-        results = list(pool.map(play, [f"ppo:{m}" for _, _, m in jobs], [str(VALIDATION)] * len(jobs),
-                                [args.out / f"val_{run.name}_{k}" for run, k, _ in jobs]))
+    results = play_all([(f"ppo:{m}", str(VALIDATION), args.out / f"val_{run.name}_{k}") for run, k, m in jobs],
+                       args.jobs)
+    scored: dict[str, list[dict]] = {run.name: [] for run in args.runs}
     for (run, _, model), (summary, _, slips, mean_return) in zip(jobs, results):
         entry = {"model": str(model), "validation_return": mean_return,
                  "validation_median": summary["median_error"]["value"], "validation_p90": summary["p90_error"]["value"],
                  "validation_macro_slips": slips}
         print(f"{run.name}: {model} validation return {mean_return:.3f} median {entry['validation_median']:.2%}"
               f" P90 {entry['validation_p90']:.2%} macro-slips {slips}")
-        chosen.setdefault(run.name, {"candidates": []})["candidates"].append(entry)
-    for name, seed_runs in chosen.items():
-        chosen[name] = {**max(seed_runs["candidates"], key=lambda c: c["validation_return"]), **seed_runs}
+        scored[run.name].append(entry)
+    chosen = {name: {**max(entries, key=lambda c: c["validation_return"]), "candidates": entries}
+              for name, entries in scored.items() if entries}
     report: dict = {"seeds": chosen, "suites": {}}
     suites = (str(HELDOUT), "default")
     reports = [(name, suite_name) for suite_name in suites for name in chosen]
-    with ProcessPoolExecutor(max_workers=max(args.jobs, 1)) as pool:
-        played = dict(zip(reports, pool.map(
-            play, [f"ppo:{chosen[name]['model']}" for name, _ in reports], [suite_name for _, suite_name in reports],
-            [args.out / f"rep_{name}_{Path(suite_name).stem}" for name, suite_name in reports])))
+    played = dict(zip(reports, play_all([(f"ppo:{chosen[name]['model']}", suite_name,
+                                          args.out / f"rep_{name}_{Path(suite_name).stem}")
+                                         for name, suite_name in reports], args.jobs)))
     for suite_name in suites:
         matrix = []
         per_seed = {}

@@ -16,6 +16,7 @@ import gymnasium as gym
 import numpy as np
 
 import cof_gym
+from cof_gym.agents.evaluate import run_episode
 from cof_gym.agents.ppo import PPOAgent
 from cof_gym.agents.train import load_hyperparams
 
@@ -31,19 +32,10 @@ def main() -> None:
                   if k != "shaping"}
     agent = PPOAgent.load(args.model, env_id=cof_gym.WAGON_ENV_ID, env_kwargs=env_kwargs)
     env = gym.make(cof_gym.WAGON_ENV_ID)
-    lengths, errors, slips = [], [], 0
-    for i in range(args.episodes):
-        obs, info = env.reset(seed=FIRST_SEED + i)
-        agent.reset(obs, info)
-        steps = 0
-        while True:
-            obs, _, terminated, truncated, info = env.step(agent.act(obs, info))
-            steps += 1
-            if terminated or truncated:
-                break
-        lengths.append(steps)
-        errors.append(info["relative_error"])
-        slips += info["macro_slip"]
+    records = [run_episode(env, agent, FIRST_SEED + i, {}, i) for i in range(args.episodes)]
+    lengths = [r.steps for r in records]
+    errors = [r.relative_error for r in records]
+    slips = sum(r.macro_slip for r in records)
     print(f"{args.episodes} episodes: mean length {np.mean(lengths):.1f} windows, median rel. error "
           f"{np.median(errors):.1%}, P90 {np.percentile(errors, 90):.1%}, macro-slips {slips}")
 

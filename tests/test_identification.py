@@ -12,10 +12,12 @@ import pytest
 
 import cof_gym  # noqa: F401  (registers the ids)
 from cof_gym.agents.adapters import AgentSideInterface
+from cof_gym.agents.evaluate import run_episode
 from cof_gym.agents.model_based import ModelBasedAgent
 from cof_gym.agents.pretrain import collect_demonstrations, discounted_returns
 from cof_gym.measurement.creep_fit import ClimbRecord, fit_peak
 from cof_gym.task.actions import ActionContext, IdentifiedActions
+from cof_gym.task.task import DEFAULT_MAX_WINDOWS
 from cof_gym.task.interface import IDENTIFICATION_NAMES, IDENTIFICATION_OBSERVATION_NAMES, OBSERVATION_NAMES
 from test_vector_env import same  # tests/ is on sys.path (pytest rootdir)
 
@@ -94,16 +96,9 @@ def test_the_model_based_agent_through_the_identified_interface_is_the_model_bas
     plain, ident = gym.make(ENV_ID), gym.make(ENV_ID, **IDENT)
     limits = plain.unwrapped.limits
     for seed in (2, 5):
-        agent = ModelBasedAgent(limits)
-        o, i = plain.reset(seed=seed)
-        agent.reset(o, i)
-        steps = 0
-        while True:
-            o, _, terminated, truncated, i = plain.step(agent.act(o, i))
-            steps += 1
-            if terminated or truncated:
-                break
+        record = run_episode(plain, ModelBasedAgent(limits), seed, {}, 0)
         obs, act, ret = collect_demonstrations(ENV_ID, IDENT, 1, seed)
+        steps = record.steps
         assert obs.shape == (steps, 38) and act.shape == (steps, 5) and np.all(np.abs(act) <= 1.0)
         assert np.abs(act[:, 3]).max() < 1e-3  # the estimate is the fitted peak
         assert act[-1, 4] > 0.5 and np.all(act[:-1, 4] < 0.5)
@@ -112,7 +107,7 @@ def test_the_model_based_agent_through_the_identified_interface_is_the_model_bas
             _, reward, *_ , info = ident.step(a)
         # the relative first step reaches 0.495 % of max, not the climb's 0.5 %: the torques of the two
         # runs differ by ~1 %, the fitted peaks by < 0.2 %
-        assert info["cof_estimate"] == pytest.approx(i["cof_estimate"], rel=2e-3)
+        assert info["cof_estimate"] == pytest.approx(record.estimate, rel=2e-3)
         assert ret[-1] == pytest.approx(reward)
 
 
@@ -134,14 +129,8 @@ def test_the_shipped_policy_interrogates_and_stops_by_itself() -> None:
     env = gym.make(ENV_ID)
     errors = []
     for seed in range(20_000, 20_006):
-        obs, info = env.reset(seed=seed)
-        agent.reset(obs, info)
-        steps = 0
-        while True:
-            obs, _, terminated, truncated, info = env.step(agent.act(obs, info))
-            steps += 1
-            if terminated or truncated:
-                break
-        assert terminated and not info["macro_slip"] and 3 <= steps < 30, (seed, steps, info["macro_slip"])
-        errors.append(info["relative_error"])
+        rec = run_episode(env, agent, seed, {}, 0)
+        # fewer windows than the horizon: the episode terminated, by the policy's own stop
+        assert rec.scored and not rec.macro_slip and 3 <= rec.steps < DEFAULT_MAX_WINDOWS, (seed, rec.steps, rec.macro_slip)
+        errors.append(rec.relative_error)
     assert np.median(errors) < 0.02 and max(errors) < 0.06, errors

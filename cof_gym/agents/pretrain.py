@@ -20,14 +20,14 @@ from __future__ import annotations
 
 import gymnasium as gym
 import numpy as np
-import torch
 
-from cof_gym.agents.model_based import ModelBasedAgent
-from cof_gym.agents.staircase import PracticalStaircase, limits_of
+from cof_gym.agents.evaluate import agent_view
+from cof_gym.agents.registry import make_agent
+from cof_gym.agents.staircase import limits_of
 from cof_gym.task.interface import ACTION_NAMES, OBSERVATION_NAMES, decode_action
 
 STOP = ACTION_NAMES.index("stop")
-EXPERTS = {"model-based": ModelBasedAgent, "staircase": PracticalStaircase}
+EXPERTS = ("model-based", "staircase")  # registry names of the scripted agents that know no ground truth
 
 
 def collect_demonstrations(env_id: str, env_kwargs: dict, episodes: int, seed: int, expert: str = "model-based",
@@ -39,17 +39,17 @@ def collect_demonstrations(env_id: str, env_kwargs: dict, episodes: int, seed: i
     env = gym.make(f"cof_gym:{env_id}", **{k: v for k, v in env_kwargs.items() if k != "max_episode_steps"})
     base = env.unwrapped
     limits = limits_of(env)
-    agent = EXPERTS[expert](limits)
+    agent = make_agent(expert, env)
     window = len(OBSERVATION_NAMES)
     obs_list, act_list, ret_list = [], [], []
     rng = np.random.default_rng(seed)
     perturbed = np.arange(len(ACTION_NAMES)) != STOP
     for i in range(episodes):
         obs, info = env.reset(seed=seed + i)
-        agent.reset(obs[:window], info)
+        agent.reset(obs[:window], agent_view(info, oracle=False))
         rewards = []
         while True:
-            d = decode_action(agent.act(obs[:window], info).astype(np.float64), limits)
+            d = decode_action(agent.act(obs[:window], agent_view(info, oracle=False)).astype(np.float64), limits)
             action = base.task.actions.encode(base.episode.action_context, d.drive.dc_torque_nm, d.drive.amplitude_nm,
                                               d.drive.frequency_hz, d.cof_estimate, d.stop, limits)
             obs_list.append(obs)
@@ -83,6 +83,8 @@ def behaviour_clone(model, observations: np.ndarray, actions: np.ndarray, return
     set the exploration noise to ``log_std`` (one value, one per action component, or None: keep the
     policy's ``log_std_init``); seed the
     VecNormalize observation statistics. Returns the final training losses."""
+    import torch  # here: building the CLI parser (the EXPERTS choices) imports no torch
+
     vec_normalize = model.get_vec_normalize_env()
     if vec_normalize is not None:
         vec_normalize.obs_rms.update(observations)

@@ -317,6 +317,7 @@ def save_warm_start(model, train_env, out: Path, env_id: str) -> Path:
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The options of ``cof-gym train``."""
+    from cof_gym.agents.pretrain import EXPERTS
     from cof_gym.cli import non_negative_float, non_negative_int, positive_int
 
     parser.add_argument("--algo", choices=ALGOS, default="ppo", help="RL algorithm")
@@ -362,7 +363,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "absolute, or the resumed run's)")
     parser.add_argument("--pretrain-episodes", type=non_negative_int, default=0,
                         help="behaviour-clone a scripted expert (policy and value) over N episodes before PPO (0: off)")
-    parser.add_argument("--pretrain-agent", choices=("model-based", "staircase"), default="model-based",
+    parser.add_argument("--pretrain-agent", choices=EXPERTS, default=EXPERTS[0],
                         help="the expert --pretrain-episodes clones (cof_gym/agents/pretrain.py)")
     parser.add_argument("--pretrain-log-std", type=_log_std_list, default=None, metavar="L0,...,L4",
                         help="the clone's exploration noise, log std per action component (default: the yml's "
