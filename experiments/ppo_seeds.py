@@ -31,10 +31,10 @@ from pathlib import Path
 
 import numpy as np
 
-from cof_gym.agents.evaluate import evaluate
+from cof_gym.commands.evaluate import evaluate
 from cof_gym.agents.ppo import vecnormalize_path
 from cof_gym.agents.registry import SHIPPED_PPO
-from cof_gym.agents.suites import make_suite
+from cof_gym.commands.suites import make_suite
 
 HERE = Path(__file__).resolve().parent
 VALIDATION = HERE / "suites" / "validation_grid.json"

@@ -16,9 +16,9 @@ import gymnasium as gym
 import numpy as np
 
 import cof_gym
-from cof_gym.agents.evaluate import run_episode
+from cof_gym.commands.evaluate import run_episode
 from cof_gym.agents.ppo import PPOAgent
-from cof_gym.agents.train import load_hyperparams
+from cof_gym.commands.train import load_hyperparams
 
 FIRST_SEED = 10_000
 

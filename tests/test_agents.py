@@ -14,9 +14,9 @@ import pytest
 import cof_gym  # noqa: F401
 from cof_gym.agents.adapters import incremental_to_env
 from cof_gym.agents.base import Agent
-from cof_gym.agents.evaluate import evaluate, run_episode
+from cof_gym.commands.evaluate import evaluate, run_episode
 from cof_gym.agents.staircase import PaperStaircase, PracticalStaircase, limits_of
-from cof_gym.agents.suites import make_suite, paper_suite
+from cof_gym.commands.suites import make_suite, paper_suite
 from cof_gym.task.interface import OBSERVATION_NAMES, decode_action
 
 WAGON = "CofGym/TorqueInterrogation-v1"
@@ -98,7 +98,7 @@ def test_bad_agent_and_suite_names_raise(tmp_path: Path) -> None:
 
 
 def test_a_2048_step_training_run_loads_in_evaluate(tmp_path: Path) -> None:
-    from cof_gym.agents.train import build_parser, run
+    from cof_gym.commands.train import build_parser, run
 
     out = tmp_path / "run"
     args = build_parser().parse_args(["--env", WAGON, "--timesteps", "2048", "--n-envs", "1", "--seed", "1",
@@ -132,7 +132,7 @@ class _InfoSpy:
 
 
 def test_only_oracle_agents_receive_the_ground_truth() -> None:
-    from cof_gym.agents.evaluate import build_agents
+    from cof_gym.commands.evaluate import build_agents
 
     env = gym.make(cof_gym.WAGON_ENV_ID)
     for oracle in (False, True):

@@ -135,7 +135,7 @@ def test_evaluate_writes_complete_outputs_and_replaces_its_own(workdir: Path, ca
 
 
 def test_an_interrupted_evaluate_leaves_nothing(workdir: Path, monkeypatch) -> None:
-    from cof_gym.agents import evaluate as ev
+    from cof_gym.commands import evaluate as ev
 
     calls = {"n": 0}
     real = ev.run_episode

@@ -1,5 +1,5 @@
 """Creep-curve identification as an env interface: the climb record and its fit
-(cof_gym.measurement.creep_fit), the "identification" observation, the "identified" action type, and
+(cof_gym.task.creep_fit), the "identification" observation, the "identified" action type, and
 the behaviour-cloning demonstrations built on them."""
 
 from __future__ import annotations
@@ -12,10 +12,10 @@ import pytest
 
 import cof_gym  # noqa: F401  (registers the ids)
 from cof_gym.agents.adapters import AgentSideInterface
-from cof_gym.agents.evaluate import run_episode
+from cof_gym.commands.evaluate import run_episode
 from cof_gym.agents.model_based import ModelBasedAgent
 from cof_gym.agents.pretrain import collect_demonstrations, discounted_returns
-from cof_gym.measurement.creep_fit import ClimbRecord, fit_peak
+from cof_gym.task.creep_fit import ClimbRecord, fit_peak
 from cof_gym.task.actions import ActionContext, IdentifiedActions
 from cof_gym.task.task import DEFAULT_MAX_WINDOWS
 from cof_gym.task.interface import IDENTIFICATION_NAMES, IDENTIFICATION_OBSERVATION_NAMES, OBSERVATION_NAMES

@@ -10,8 +10,8 @@ from pathlib import Path
 
 import pytest
 
-from cof_gym.analysis.paper import PAPER_COFS, exit_status, reproduce, summary_lines
-from cof_gym.analysis.readme import readme_section, render_section
+from cof_gym.commands.paper import PAPER_COFS, exit_status, reproduce, summary_lines
+from cof_gym.commands.paper_readme import readme_section, render_section
 from cof_gym.analysis.theory import paper_schedule
 from cof_gym.physics.contact_geometry import creep_stiffness_constant, hertz_semi_axes, kalker_c11
 from cof_gym.physics.creep import OperatingConditions, creep_curve
@@ -82,10 +82,10 @@ def test_results_json_holds_every_plotted_point(run: tuple[dict, Path]) -> None:
 
 
 def test_readme_section_matches_a_fresh_quick_run(results: dict) -> None:
-    """The README's "What reproduce-paper shows" is what `python -m cof_gym.analysis.readme` writes: same
+    """The README's "What reproduce-paper shows" is what `cof-gym reproduce-paper --quick --readme README.md` writes: same
     text, and every number within one unit of its last printed digit of a fresh --quick run."""
     fresh, current = render_section(results), readme_section(README)
-    assert NUMBER.sub("#", current) == NUMBER.sub("#", fresh), "README text differs: run python -m cof_gym.analysis.readme"
+    assert NUMBER.sub("#", current) == NUMBER.sub("#", fresh), "README text differs: run cof-gym reproduce-paper --quick --readme README.md"
     for old, new in zip(NUMBER.findall(current), NUMBER.findall(fresh)):
         unit = 10.0 ** -(len(old.split(".")[1]) if "." in old else 0)
         assert abs(float(old) - float(new)) <= 1.01 * unit, f"README {old} vs fresh run {new}"

@@ -1,4 +1,4 @@
-"""``cof-gym train`` (cof_gym/agents/train.py) and the trained-policy agent (cof_gym/agents/ppo.py): a short PPO run
+"""``cof-gym train`` (cof_gym/commands/train.py) and the trained-policy agent (cof_gym/agents/ppo.py): a short PPO run
 writes the model, its VecNormalize statistics and TensorBoard logs; the agent acts on a real
 observation; a resumed run continues the step counter."""
 
@@ -20,7 +20,7 @@ import gymnasium as gym  # noqa: E402
 import cof_gym  # noqa: E402,F401
 from cof_gym.agents.base import Agent  # noqa: E402
 from cof_gym.agents.ppo import PPOAgent, vecnormalize_path  # noqa: E402
-from cof_gym.agents.train import build_parser, load_hyperparams, run, split_hyperparams  # noqa: E402
+from cof_gym.commands.train import build_parser, load_hyperparams, run, split_hyperparams  # noqa: E402
 
 ENV_ID = "CofGym/HalfWheelset-v1"
 SHORT = ["--env-kwargs", "max_windows:5", "--hyperparams", "n_steps:128", "batch_size:64", "n_epochs:2"]
@@ -154,7 +154,7 @@ def test_resume_into_the_same_out_appends(trained: Path, tmp_path: Path) -> None
 
 
 def test_an_interrupted_set_up_is_not_left_running(tmp_path: Path, monkeypatch) -> None:
-    from cof_gym.agents import train
+    from cof_gym.commands import train
 
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt

@@ -20,3 +20,10 @@ class Agent(Protocol):
 
     def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
         """The action (float32, shape (5,), in [-1, 1]) for the next window."""
+
+
+def agent_view(info: dict[str, Any], oracle: bool) -> dict[str, Any]:
+    """The info dict an agent receives: without ``ground_truth`` unless the agent is an oracle."""
+    if oracle:
+        return info
+    return {k: v for k, v in info.items() if k != "ground_truth"}

@@ -2,9 +2,9 @@
 extrapolates the peak (the CoF) with a confidence interval.
 
 **What it knows.** No ground truth: only the observations (measured CoA, measured creepage, measured
-speed) and the creep law's *family*: the fit of :mod:`cof_gym.measurement.creep_fit` (Polach shapes
+speed) and the creep law's *family*: the fit of :mod:`cof_gym.task.creep_fit` (Polach shapes
 with free peak CoA and peak creepage, profile-likelihood interval), on the points of its climb
-(:class:`~cof_gym.measurement.creep_fit.ClimbRecord`).
+(:class:`~cof_gym.task.creep_fit.ClimbRecord`).
 
 **The climb.** The staircase's scale-free steps (:class:`~cof_gym.agents.staircase.ElasticityClimb`:
 a first step below the saturation torque of CoF 0.02 on the empty wagon; growth from the measured
@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from cof_gym.agents.staircase import COA, CREEPAGE, DC, ElasticityClimb, peak_fraction
-from cof_gym.measurement.creep_fit import ELASTICITY_SPAN, ClimbRecord
+from cof_gym.task.creep_fit import ELASTICITY_SPAN, ClimbRecord
 from cof_gym.task.interface import OBSERVATION_NAMES, SPEED_SCALE_M_S, MotorLimits
 
 SPEED = OBSERVATION_NAMES.index("speed")

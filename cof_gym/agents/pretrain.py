@@ -21,7 +21,7 @@ from __future__ import annotations
 import gymnasium as gym
 import numpy as np
 
-from cof_gym.agents.evaluate import agent_view
+from cof_gym.agents.base import agent_view
 from cof_gym.agents.registry import make_agent
 from cof_gym.agents.staircase import limits_of
 from cof_gym.task.interface import ACTION_NAMES, OBSERVATION_NAMES, decode_action

@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from cof_gym.analysis.theory import paper_schedule
-from cof_gym.measurement.creep_fit import elasticity_between
+from cof_gym.task.creep_fit import elasticity_between
 from cof_gym.task.interface import OBSERVATION_NAMES, MotorLimits, encode_action
 
 PHASE = OBSERVATION_NAMES.index("phase_lag")

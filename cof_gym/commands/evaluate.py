@@ -18,7 +18,8 @@ import numpy as np
 
 import cof_gym
 from cof_gym.agents import registry
-from cof_gym.agents.suites import Suite, SuiteError, make_suite
+from cof_gym.agents.base import agent_view
+from cof_gym.commands.suites import Suite, SuiteError, make_suite
 
 DESCRIPTION = """\
 Play every agent on the same seeded scenarios (same CoF, condition, speed, load, noise streams) and
@@ -75,13 +76,6 @@ def _field(info: dict, key: str, default: float = 0.0) -> float:
         if value is not None:
             return value
     return default
-
-
-def agent_view(info: dict[str, Any], oracle: bool) -> dict[str, Any]:
-    """The info dict an agent receives: without ``ground_truth`` unless the agent is an oracle."""
-    if oracle:
-        return info
-    return {k: v for k, v in info.items() if k != "ground_truth"}
 
 
 def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list | None = None,
@@ -332,7 +326,7 @@ class _Staging:
 
 def check_out(out: Path) -> Path:
     """``--out``: creatable, and if it exists, empty or a previous ``cof-gym evaluate`` output."""
-    from cof_gym.cli import UsageError, check_output_dir
+    from cof_gym.commands.args import UsageError, check_output_dir
 
     out = check_output_dir(Path(out))
     if out.is_dir() and any(out.iterdir()) and not (out / OUTPUT_MARKER).is_file():
@@ -379,7 +373,7 @@ def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: 
 
     Before the first episode every agent is built (:class:`~cof_gym.agents.registry.AgentSpecError`)
     and, with ``check_suite``, the env kwargs and every distinct reset option set of the suite are tried
-    (:class:`~cof_gym.agents.suites.SuiteError`)."""
+    (:class:`~cof_gym.commands.suites.SuiteError`)."""
     import gymnasium as gym
 
     t0 = time.perf_counter()
@@ -446,7 +440,7 @@ def _play_and_write(env, agents, agent_specs, suite: Suite, out: Path, seed: int
     (out / "summary.md").write_text(
         f"# cof-gym evaluate: suite {suite.name}, seed {seed}, {suite.env_id}\n\n{markdown_table(summary)}\n\n"
         f"## By condition and CoF band\n\n{markdown_breakdown(summary)}\n")
-    from cof_gym.agents.evaluate_figures import plot_all
+    from cof_gym.commands.evaluate_figures import plot_all
 
     figures = [Path(p).name for p in plot_all(records, summary, traces, out)]
     result = {"suite": suite.name, "env_id": suite.env_id, "env_kwargs": suite.env_kwargs, "seed": seed,
@@ -460,7 +454,7 @@ def _play_and_write(env, agents, agent_specs, suite: Suite, out: Path, seed: int
 
 # ---------------------------------------------------------------------------- command line
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    from cof_gym.cli import positive_int, non_negative_int
+    from cof_gym.commands.args import positive_int, non_negative_int
 
     parser.add_argument("--agents", default=None, metavar="A,B,...",
                         help=f"comma-separated agents: {registry.describe()} (default: "
@@ -469,7 +463,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="episodes per agent (a suite file with an episode list sets its own)")
     parser.add_argument("--suite", default="default", metavar="SUITE",
                         help="scenarios: 'default' (the env's distribution), 'paper' (the paper's setting) or a "
-                             "JSON suite file (see cof_gym/agents/suites.py)")
+                             "JSON suite file (see cof_gym/commands/suites.py)")
     parser.add_argument("--seed", type=non_negative_int, default=0,
                         help="seed of the first episode (episode i uses seed + i) and of the bootstrap CIs")
     parser.add_argument("--out", default=None, metavar="DIR",
@@ -482,7 +476,7 @@ def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
     """Check the whole command line before anything runs or is written (UsageError naming the flag)."""
     import gymnasium as gym
 
-    from cof_gym.cli import UsageError
+    from cof_gym.commands.args import UsageError
 
     specs = [s.strip() for s in args.agents.split(",")] if args.agents is not None else registry.default_agents()
     if not specs or any(not s for s in specs):
@@ -526,7 +520,7 @@ def check_suite_runs(suite: Suite, env) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from cof_gym.cli import UsageError
+    from cof_gym.commands.args import UsageError
 
     specs, suite, out = prepare(args)
     try:

@@ -31,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from cof_gym.commands.paper_readme import update_readme
 from cof_gym.analysis.theory import (
     CompliantWheelset,
     creep_slope_at_torque,
@@ -319,7 +320,7 @@ def reproduce(out_dir: Path, quick: bool = False) -> dict:
     results["mechanism"] = mechanism(timing)
     results["checks"] = checks(results)
     results["wall_time_s"] = time.perf_counter() - t0
-    from cof_gym.analysis.paper_figures import plot_all
+    from cof_gym.commands.paper_figures import plot_all
 
     results["figures"] = [p.name for p in plot_all(results, out_dir)]
     (out_dir / "results.json").write_text(json.dumps(results, indent=1))
@@ -370,8 +371,6 @@ def run(args: argparse.Namespace) -> int:
     print("\n".join(summary_lines(results)))
     print(f"figures and results.json in {args.out}")
     if getattr(args, "readme", None):
-        from cof_gym.analysis.readme import update_readme
-
         update_readme(Path(args.readme), results, Path(args.out))
         print(f"README section rewritten in {args.readme}")
     return exit_status(results)

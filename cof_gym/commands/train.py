@@ -44,7 +44,7 @@ import cof_gym
 
 ALGOS = ("ppo",)
 PRETRAIN_SEED_OFFSET = 200_000  # demonstration episodes draw seeds from here (not the suites' seeds)
-DEFAULT_CONF = Path(__file__).resolve().parent / "hyperparams" / "ppo.yml"
+DEFAULT_CONF = Path(__file__).resolve().parents[1] / "agents" / "hyperparams" / "ppo.yml"
 DEFAULT_ENV_ID = cof_gym.WAGON_ENV_ID
 DESCRIPTION = """\
 Train a PPO interrogation policy (Stable-Baselines3). Defaults come from the RL Zoo hyperparameter
@@ -318,7 +318,7 @@ def save_warm_start(model, train_env, out: Path, env_id: str) -> Path:
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The options of ``cof-gym train``."""
     from cof_gym.agents.pretrain import EXPERTS
-    from cof_gym.cli import non_negative_float, non_negative_int, positive_int
+    from cof_gym.commands.args import non_negative_float, non_negative_int, positive_int
 
     parser.add_argument("--algo", choices=ALGOS, default="ppo", help="RL algorithm")
     parser.add_argument("--env", default=None, choices=cof_gym.ENV_IDS, metavar="ENV_ID",
@@ -375,7 +375,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from cof_gym.cli import Parser
+    from cof_gym.commands.args import Parser
 
     p = Parser(prog="cof-gym train", description=DESCRIPTION)
     add_arguments(p)
@@ -405,7 +405,7 @@ def _check(args: argparse.Namespace) -> dict[str, Any]:
     import gymnasium as gym
 
     from cof_gym.agents.ppo import META_NAME, find_train_meta, resolve_model_path
-    from cof_gym.cli import UsageError, check_output_dir
+    from cof_gym.commands.args import UsageError, check_output_dir
 
     out = check_output_dir(Path(args.out))
     resume_path = None
@@ -476,7 +476,7 @@ def _check(args: argparse.Namespace) -> dict[str, Any]:
 def run(args: argparse.Namespace) -> int:
     """Train; 0 on success, 2 on a usage error (one line on stderr, nothing written), 130 when
     interrupted (the model is saved anyway)."""
-    from cof_gym.cli import UsageError
+    from cof_gym.commands.args import UsageError
 
     try:
         checked = _check(args)

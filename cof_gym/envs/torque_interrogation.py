@@ -93,7 +93,7 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
 
     ``action_type="identified"`` (:class:`cof_gym.task.actions.IdentifiedActions`): as "relative", but
     the estimate is ``fitted peak x exp(0.05 a3)`` (x0.95 ... x1.05), the fitted peak that of the
-    creep-curve fit of the climb so far (:mod:`cof_gym.measurement.creep_fit`: Polach's family with free
+    creep-curve fit of the climb so far (:mod:`cof_gym.task.creep_fit`: Polach's family with free
     peak CoA and peak creepage, fitted to the measured CoA and creepage of the driven windows), the best
     measured CoA before the climb has 3 points: a residual on the model-based identification (the
     interface ``cof_gym/agents/hyperparams/ppo.yml`` trains, with ``observation_type="identification"``).

@@ -21,7 +21,7 @@ keep them from its own commands and the observations).
   same action means the same relative change at CoF 0.02 and 0.6.
 - ``"identified"`` (:class:`IdentifiedActions`): the relative torque, amplitude and frequency, and the
   estimate a factor ``exp(0.05 a3)`` (x0.95...x1.05) on the peak of the creep-curve fit of the climb
-  so far (:mod:`cof_gym.measurement.creep_fit`; the best measured CoA before 3 points): the policy
+  so far (:mod:`cof_gym.task.creep_fit`; the best measured CoA before 3 points): the policy
   decides how to climb and when to stop, and corrects the fit by a few percent.
 """
 
@@ -34,7 +34,7 @@ from typing import Protocol
 import numpy as np
 from gymnasium import spaces
 
-from cof_gym.measurement.creep_fit import ClimbRecord
+from cof_gym.task.creep_fit import ClimbRecord
 from cof_gym.physics.simulation import DriveCommand
 from cof_gym.task.interface import (
     DecodedAction, Memory, MotorLimits, _log_map, _log_unmap, action_space, decode_action, encode_action,
@@ -57,7 +57,7 @@ class ActionContext:
 
     @property
     def fitted_peak(self) -> float:
-        """The fit's peak CoA (:mod:`cof_gym.measurement.creep_fit`); 0 before a fit (< 3 points)."""
+        """The fit's peak CoA (:mod:`cof_gym.task.creep_fit`); 0 before a fit (< 3 points)."""
         fit = self.climb.fit if self.climb is not None else None
         return fit.estimate if fit is not None else 0.0
 

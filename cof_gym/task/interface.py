@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from gymnasium import spaces
 
-from cof_gym.measurement.creep_fit import ELASTICITY_SPAN, ClimbRecord
+from cof_gym.task.creep_fit import ELASTICITY_SPAN, ClimbRecord
 from cof_gym.physics.simulation import DriveCommand, WindowMeasurement
 
 ACTION_NAMES = ("dc_torque", "amplitude", "frequency", "cof_estimate", "stop")
@@ -207,7 +207,7 @@ class Memory:
     """What an episode remembers of its windows, kept from the encoded (sensor-only) window observations:
     the baseline (the first window the agent drove; until then the reset window), the best measured
     CoA, the last ``HISTORY_WINDOWS + 1`` windows (newest first, the current one included) and the
-    climb (:class:`~cof_gym.measurement.creep_fit.ClimbRecord`: the driven windows with a DC torque,
+    climb (:class:`~cof_gym.task.creep_fit.ClimbRecord`: the driven windows with a DC torque,
     for the creep-curve fit). An agent can keep the same memory from the observations it is given."""
 
     baseline: np.ndarray | None = None
