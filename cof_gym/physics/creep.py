@@ -1,14 +1,17 @@
-"""Polach's wheel-rail creep law with falling friction: parameters, presets and analysis entry points.
+"""Wheel-rail creep laws: operating conditions, calibration to the CoF and analysis entry points.
 
-The force itself is computed by one C function (``cofgym_creep_force`` in ``native/cofgym_native.c``)
-that the MuJoCo callback calls every physics step; :func:`creep_curve` calls the very same function
-through ctypes, so plots and analysis can never drift from the simulation.
+The law is a member of a family (:mod:`cof_gym.physics.creep_laws`: Polach, Shen-Hedrick-Elkins,
+tabulated). The force itself is computed by one C function per family (dispatched by
+``cofgym_creep_force`` in ``native/cofgym_native.c``) that the MuJoCo callback calls every physics
+step; :func:`creep_curve` calls the very same function through ctypes, so plots and analysis can
+never drift from the simulation.
 
 **What ``cof`` means.** Polach's friction ``mu`` falls with the slip velocity
 (``mu = mu0 [(1 - A) exp(-B w) + A]``), so the steady creep curve peaks below ``mu0``. In cof_gym,
 *the coefficient of friction (CoF) is the maximum of the steady creep curve CoA(s) at the current
-speed and load*: what a slip test on that track would measure, and the value the torque-modulation
-method reads at the peak. ``mu0`` is derived from it (:func:`mu0_for_cof`).
+speed and load* (for a curve without a falling branch, its supremum, reached at a finite creepage
+in every family here): what a slip test on that track would measure, and the value the
+torque-modulation method reads at the peak. ``mu0`` is derived from it (:func:`mu0_for_cof`).
 
 Presets (Polach 2005, Wear 258:992-1000, as widely cited; "unverified" against the original table):
 
@@ -39,6 +42,18 @@ import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
 from cof_gym.physics.contact_geometry import ContactGeometry, hertz_semi_axes, kalker_c11
+from cof_gym.physics.creep_laws import (  # noqa: F401  (re-exported: the shapes and presets live there)
+    CONDITIONS,
+    FAMILIES,
+    CreepPeak,
+    CreepShape,
+    PolachShape,
+    ShenHedrickElkinsShape,
+    TableShape,
+    creep_law_from_spec,
+    draw_shape,
+    law_vector,
+)
 from cof_gym.physics.native import layout
 from cof_gym.physics.native.build import native
 
@@ -52,38 +67,12 @@ def _check(name: str, value: float, low: float, high: float | None, allowed: str
         raise ValueError(f"{name} must be {allowed}, got {value!r}")
 
 
-@dataclass(frozen=True)
-class PolachShape:
-    """Shape parameters of Polach's law: reduction factors kA (adhesion) and kS (slip) of the
-    Kalker stiffness, and the falling-friction law mu = mu0 [(1 - A) exp(-B w) + A]."""
-
-    k_adhesion: float
-    k_slip: float
-    friction_ratio: float  # A = mu_inf / mu0
-    friction_decay_s_per_m: float  # B
-
-    def __post_init__(self) -> None:
-        _check("k_adhesion", self.k_adhesion, 0.0, None, "> 0")
-        _check("k_slip", self.k_slip, 0.0, None, "> 0")
-        if not (0.0 <= self.friction_ratio < 1.0):
-            raise ValueError(f"friction_ratio (A) must be in [0, 1) for a creep curve with a peak, got {self.friction_ratio}")
-        _check("friction_decay_s_per_m", self.friction_decay_s_per_m, 0.0, None, "> 0")
-
-
-CONDITIONS: dict[str, PolachShape] = {
-    "dry": PolachShape(1.00, 0.40, 0.40, 0.60),
-    "wet": PolachShape(0.30, 0.10, 0.40, 0.20),
-    "low_adhesion": PolachShape(0.10, 0.05, 0.45, 0.20),
-    "dry_kalker": PolachShape(1.00, 1.00, 0.40, 0.60),
-}
-
-
-def shape_of(condition: str | PolachShape) -> PolachShape:
-    """The Polach shape of a named condition (or a custom :class:`PolachShape`)."""
-    if isinstance(condition, PolachShape):
+def shape_of(condition: str | CreepShape) -> CreepShape:
+    """The creep-curve shape of a named condition (a Polach preset), or a shape of any family as is."""
+    if isinstance(condition, CreepShape):
         return condition
-    if condition not in CONDITIONS:
-        raise ValueError(f"condition must be one of {sorted(CONDITIONS)}, got {condition!r}")
+    if not isinstance(condition, str) or condition not in CONDITIONS:
+        raise ValueError(f"condition must be one of {sorted(CONDITIONS)} or a creep-law shape, got {condition!r}")
     return CONDITIONS[condition]
 
 
@@ -108,19 +97,15 @@ class ContactPatch:
 
 @dataclass(frozen=True)
 class CreepLaw:
-    """A complete creep law: shape, friction level mu0 and the material's shear modulus (Pa)."""
+    """A complete creep law: shape (any family), friction level mu0 and the shear modulus (Pa)."""
 
-    shape: PolachShape
+    shape: CreepShape
     mu0: float
     shear_modulus_pa: float = 80e9
 
     def vector(self) -> np.ndarray:
-        s = self.shape
-        values = {
-            "MU0": self.mu0, "POLACH_A": s.friction_ratio, "POLACH_B": s.friction_decay_s_per_m,
-            "KA": s.k_adhesion, "KS": s.k_slip, "SHEAR_MODULUS": self.shear_modulus_pa,
-        }
-        return np.array([values[f] for f in layout.LAW_FIELDS], dtype=np.float64)
+        """The native law block (``layout.LAW_FIELDS``)."""
+        return law_vector(self.shape, self.mu0, self.shear_modulus_pa)
 
 
 def _ptr(a: np.ndarray):
@@ -139,13 +124,31 @@ def _curve(law: CreepLaw, patch: ContactPatch, wheel_load_n: float, speed_m_s: f
     return coa, slope
 
 
-@dataclass(frozen=True)
-class CreepPeak:
-    creepage: float
-    coa: float
+def _coa_at(law: CreepLaw, patch: ContactPatch, wheel_load_n: float, speed_m_s: float, s: float) -> float:
+    return float(_curve(law, patch, wheel_load_n, speed_m_s, np.array([s]))[0][0])
+
+
+def _first_reach(law: CreepLaw, patch: ContactPatch, wheel_load_n: float, speed_m_s: float, level: float,
+                 lo: float, hi: float) -> float:
+    """Smallest creepage in (lo, hi] where the curve reaches ``level`` (CoA(lo) < level <= CoA(hi)),
+    by bisection to adjacent doubles."""
+    while True:
+        mid = 0.5 * (lo + hi)
+        if not (lo < mid < hi):
+            return hi
+        if _coa_at(law, patch, wheel_load_n, speed_m_s, mid) >= level:
+            hi = mid
+        else:
+            lo = mid
 
 
 def _peak(law: CreepLaw, patch: ContactPatch, wheel_load_n: float, speed_m_s: float) -> CreepPeak:
+    """Where the curve first reaches its maximum: closed form where the family has one, the start of
+    a plateau (a curve that saturates, e.g. Shen-Hedrick-Elkins with constant friction) by
+    bisection, else an interior maximum by a bounded search around the densest scan's best point."""
+    exact = law.shape.exact_peak(law.mu0)
+    if exact is not None:
+        return exact
     grid = np.geomspace(1e-6, MAX_CREEPAGE, 600)
     coa, _ = _curve(law, patch, wheel_load_n, speed_m_s, grid)
     i = int(np.argmax(coa))
@@ -155,6 +158,9 @@ def _peak(law: CreepLaw, patch: ContactPatch, wheel_load_n: float, speed_m_s: fl
             "condition, so its CoF (the curve's maximum) is undefined; use a lower speed or a condition with "
             "stronger falling friction"
         )
+    if coa[i + 1] == coa[i]:  # saturated: the maximum is held from its first point on
+        return CreepPeak(_first_reach(law, patch, wheel_load_n, speed_m_s, float(coa[i]), grid[i - 1], grid[i]),
+                         float(coa[i]))
     lo, hi = np.log(grid[max(i - 1, 0)]), np.log(grid[min(i + 1, grid.size - 1)])
     res = minimize_scalar(
         lambda x: -_curve(law, patch, wheel_load_n, speed_m_s, np.array([np.exp(x)]))[0][0],
@@ -165,10 +171,11 @@ def _peak(law: CreepLaw, patch: ContactPatch, wheel_load_n: float, speed_m_s: fl
 
 @dataclass(frozen=True)
 class OperatingConditions:
-    """CoF, condition, wheel load (N, per wheel) and speed (m/s), validated."""
+    """CoF, condition (a preset name or a creep-curve shape of any family), wheel load (N, per wheel)
+    and speed (m/s), validated."""
 
     cof: float
-    condition: str | PolachShape = "dry"
+    condition: str | CreepShape = "dry"
     wheel_load_n: float = 100e3
     speed_m_s: float = 10.0
     geometry: ContactGeometry = field(default_factory=ContactGeometry)
@@ -184,7 +191,7 @@ class OperatingConditions:
         return _patch_cached(self.wheel_load_n, self.geometry)
 
     def law(self) -> CreepLaw:
-        """The creep law whose steady-curve maximum at this speed and load equals ``cof``."""
+        """The creep law whose steady-curve maximum (supremum) at this speed and load equals ``cof``."""
         return CreepLaw(shape_of(self.condition), mu0_for_cof(self), self.geometry.shear_modulus_pa)
 
 
@@ -194,18 +201,22 @@ def _patch_cached(wheel_load_n: float, geometry: ContactGeometry) -> ContactPatc
 
 
 def mu0_for_cof(op: OperatingConditions) -> float:
-    """Polach's mu0 such that the steady creep curve's maximum equals ``op.cof``."""
+    """The friction level mu0 such that the steady creep curve's maximum (the supremum, for a curve
+    without a falling branch) at this speed and load equals ``op.cof``: exactly ``cof`` where the
+    maximum is mu0 itself (a table, constant friction), else solved."""
     return _mu0_cached(op.cof, shape_of(op.condition), op.wheel_load_n, op.speed_m_s, op.geometry)
 
 
 @lru_cache(maxsize=4096)
-def _mu0_cached(cof: float, shape: PolachShape, load: float, speed: float, geometry: ContactGeometry) -> float:
+def _mu0_cached(cof: float, shape: CreepShape, load: float, speed: float, geometry: ContactGeometry) -> float:
+    if shape.max_is_mu0():
+        return cof
     patch = _patch_cached(load, geometry)
 
     def excess(mu0: float) -> float:
         return _peak(CreepLaw(shape, mu0, geometry.shear_modulus_pa), patch, load, speed).coa - cof
 
-    hi = cof / max(shape.friction_ratio, 0.05)
+    hi = shape.mu0_upper(cof)
     while excess(hi) < 0.0:
         hi *= 2.0
     return float(brentq(excess, cof, hi, xtol=1e-12, rtol=1e-10))
@@ -219,7 +230,9 @@ def creep_curve(creepage: np.ndarray | float, op: OperatingConditions) -> tuple[
 
 
 def creep_peak(op: OperatingConditions) -> CreepPeak:
-    """Creepage and adhesion at the creep-curve maximum (the latter equals ``op.cof``)."""
+    """Creepage where the creep curve first reaches its maximum, and the adhesion there (``op.cof``).
+    For a curve that saturates (no falling branch) that creepage is where the supremum is reached,
+    e.g. 3 mu / (k C_K) for Shen-Hedrick-Elkins with constant friction: the macro-slip reference."""
     return _peak(op.law(), op.patch, op.wheel_load_n, op.speed_m_s)
 
 

@@ -24,7 +24,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import lru_cache
 
-from cof_gym.physics.creep import OperatingConditions, creep_peak
+from cof_gym.physics.creep import CreepShape, OperatingConditions, creep_peak
 from cof_gym.physics.models import BuiltModel
 from cof_gym.physics.simulation import DriveCommand, Scenario, Simulation
 
@@ -81,10 +81,12 @@ def saturation_load_n(built: BuiltModel, traction_balance: bool, cof: float) -> 
     return static_contact_load_n(built) / (1.0 - alpha * cof)
 
 
-def ground_truth(built: BuiltModel, traction_balance: bool, cof: float, condition: str,
+def ground_truth(built: BuiltModel, traction_balance: bool, cof: float, condition: str | CreepShape,
                  speed_m_s: float) -> tuple[GroundTruth, float]:
     """The episode's ground truth and the wheel load (N, per wheel) at which the creep law is
-    calibrated so that its peak equals ``cof`` there."""
+    calibrated so that its peak equals ``cof`` there. ``condition``: a preset name or a creep-curve
+    shape of any family (:mod:`cof_gym.physics.creep_laws`); for a curve without a falling branch
+    the peak is where its supremum is first reached."""
     n_sat = saturation_load_n(built, traction_balance, cof)
     wheel_load = n_sat / built.wheels_per_contact
     peak = creep_peak(OperatingConditions(cof=cof, condition=condition, wheel_load_n=wheel_load, speed_m_s=speed_m_s))

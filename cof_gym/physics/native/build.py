@@ -121,6 +121,8 @@ def native() -> ctypes.CDLL:
     lib.cofgym_creep_force.argtypes = [dp, dp, ctypes.c_double, ctypes.c_double, ctypes.c_double, dp]
     lib.cofgym_creep_curve.restype = None
     lib.cofgym_creep_curve.argtypes = [dp, dp, ctypes.c_double, ctypes.c_double, dp, ctypes.c_int, dp, dp]
+    lib.cofgym_family_id.restype = ctypes.c_int
+    lib.cofgym_family_id.argtypes = [ctypes.c_char_p]
     return lib
 
 

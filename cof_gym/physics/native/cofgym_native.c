@@ -1,7 +1,7 @@
 /*
- * cof_gym native core: Polach creep law, wheel-rail contact forces, modulated traction torque,
- * cruise control and the in-step measurement chain (lock-in sums, ISO 2631 Wd filter), run as a
- * MuJoCo mjcb_passive callback. No Python runs per physics step.
+ * cof_gym native core: creep-law families (Polach, Shen-Hedrick-Elkins, tabulated), wheel-rail
+ * contact forces, modulated traction torque, cruise control and the in-step measurement chain
+ * (lock-in sums, ISO 2631 Wd filter), run as a MuJoCo mjcb_passive callback. No Python runs per physics step.
  *
  * Everything a simulation needs is read from mjData.userdata (layout: cofgym_layout.h, generated
  * from layout.py), so one process-global callback serves any number of models and simulations,
@@ -16,35 +16,49 @@
 #define PI 3.14159265358979323846
 #define TWO_OVER_PI 0.63661977236758134308
 
-/* ---------------------------------------------------------------- creep law (Polach 2005) */
+/* ---------------------------------------------------------------- creep-law families
+ *
+ * A family is one function: the longitudinal creep force per wheel (N, with the sign of u) and its
+ * derivative with respect to the slip velocity u = R Omega - v (N s/m), at wheel load q > 0 (N) and
+ * rolling speed v > 0 (m/s). Its parameters are law[LAW_CREEP_P0 + k] in the order of the family's
+ * Python description (cof_gym/physics/creep_laws.py), which also gives their sources and ranges.
+ * FAMILIES (below the functions) maps each family's name to its function; Python looks the id up
+ * by name, so adding a family is one function here, one row in FAMILIES and one Python class.
+ */
+typedef double (*creep_family_fn)(const double* law, const double* claw, double q, double v, double u,
+                                  double* dfdu);
 
-/* Polach's creep-stiffness constant C = G pi a b c11 / (4 Q) for wheel load q (N). The Hertz
- * product a*b scales with q^(2/3) from its reference value (a/b and so c11 stay constant). */
-static double creep_constant(const double* claw, double shear_modulus, double q) {
+/* Hertz product a*b (m^2) at wheel load q (N): it scales with q^(2/3) from its reference value (a/b
+ * and so c11 stay constant). */
+static double hertz_ab(const double* claw, double q) {
   double r = q / claw[CLAW_Q_REF];
-  double ab = claw[CLAW_AB_REF] * cbrt(r * r);
+  return claw[CLAW_AB_REF] * cbrt(r * r);
+}
+
+/* Polach's creep-stiffness constant C = G pi a b c11 / (4 Q) for wheel load q (N). */
+static double creep_constant(const double* claw, double shear_modulus, double q) {
+  double ab = hertz_ab(claw, q);
   return shear_modulus * PI * ab * claw[CLAW_C11] / (4.0 * q);
 }
 
-/* Longitudinal creep force per wheel (N) and its derivative with respect to the slip velocity
- * u = R Omega - v (N s/m), at wheel load q (N) and rolling speed v (m/s, > 0).
+/* Falling friction mu = mu0 [(1 - A) exp(-B w) + A] at slip velocity w (m/s) and dmu/dw (Polach 2005). */
+static double falling_friction(double mu0, double A, double B, double w, double* dmu_dw) {
+  const double e = exp(-B * w);
+  *dmu_dw = -mu0 * (1.0 - A) * B * e;
+  return mu0 * ((1.0 - A) * e + A);
+}
+
+/* Polach (2005, Wear 258:992-1000); parameters kA, kS, A, B:
  *   F/(q mu) = (2/pi) [kA eps/(1 + (kA eps)^2) + atan(kS eps)],  eps = C |s| / mu,  s = u / v
- *   mu = mu0 [(1 - A) exp(-B |u|) + A]   (falling friction with slip velocity w = |s| v = |u|)
- */
-double cofgym_creep_force(const double* law, const double* claw, double q, double v, double u,
-                          double* dfdu) {
-  if (!(q > 0.0) || !(v > 0.0)) {
-    if (dfdu) *dfdu = 0.0;
-    return 0.0;
-  }
-  const double mu0 = law[LAW_MU0], A = law[LAW_POLACH_A], B = law[LAW_POLACH_B];
-  const double kA = law[LAW_KA], kS = law[LAW_KS];
+ *   mu = mu0 [(1 - A) exp(-B |u|) + A]   (falling friction with slip velocity w = |s| v = |u|) */
+static double polach_force(const double* law, const double* claw, double q, double v, double u, double* dfdu) {
+  const double mu0 = law[LAW_MU0], kA = law[LAW_CREEP_P0], kS = law[LAW_CREEP_P0 + 1];
+  const double A = law[LAW_CREEP_P0 + 2], B = law[LAW_CREEP_P0 + 3];
   const double c = creep_constant(claw, law[LAW_SHEAR_MODULUS], q);
   const double w = fabs(u);
   const double s = w / v;
-  const double e = exp(-B * w);
-  const double mu = mu0 * ((1.0 - A) * e + A);
-  const double dmu_dw = -mu0 * (1.0 - A) * B * e;
+  double dmu_dw;
+  const double mu = falling_friction(mu0, A, B, w, &dmu_dw);
   const double eps = c * s / mu;
   const double ka_eps = kA * eps, ks_eps = kS * eps;
   const double g = TWO_OVER_PI * (ka_eps / (1.0 + ka_eps * ka_eps) + atan(ks_eps));
@@ -55,6 +69,98 @@ double cofgym_creep_force(const double* law, const double* claw, double q, doubl
   if (dfdu) *dfdu = q * (dmu_dw * g + mu * dg_deps * deps_dw);
   const double f = q * mu * g;
   return u >= 0.0 ? f : -f;
+}
+
+/* Shen, Hedrick, Elkins (8th IAVSD, 1983) saturation of Kalker's linear theory; parameters k, A, B:
+ *   F/(q mu) = x - x^2/3 + x^3/27 = 1 - (1 - x/3)^3 for x < 3, else 1;   x = k C_K |s| / mu
+ * with Kalker's linear stiffness per unit load C_K = G a b c11 / q (Kalker 1990), a reduction factor
+ * k (1: Kalker's) and Polach's falling friction mu(w) (A = 1 or B = 0: constant friction, the
+ * original law, which saturates at mu with no falling branch, reached at x = 3). */
+static double she_force(const double* law, const double* claw, double q, double v, double u, double* dfdu) {
+  const double mu0 = law[LAW_MU0], k = law[LAW_CREEP_P0];
+  const double A = law[LAW_CREEP_P0 + 1], B = law[LAW_CREEP_P0 + 2];
+  const double c = k * law[LAW_SHEAR_MODULUS] * hertz_ab(claw, q) * claw[CLAW_C11] / q;
+  const double w = fabs(u);
+  const double s = w / v;
+  double dmu_dw;
+  const double mu = falling_friction(mu0, A, B, w, &dmu_dw);
+  const double x = c * s / mu;
+  double g = 1.0, dg_dx = 0.0;
+  if (x < 3.0) {
+    const double y = 1.0 - x / 3.0;
+    g = 1.0 - y * y * y;
+    dg_dx = y * y;
+  }
+  const double dx_dw = c / (v * mu) - c * s / (mu * mu) * dmu_dw;
+  if (dfdu) *dfdu = q * (dmu_dw * g + mu * dg_dx * dx_dw);
+  const double f = q * mu * g;
+  return u >= 0.0 ? f : -f;
+}
+
+/* Tabulated adhesion ratio: CoA = mu0 r(|s|), with r the monotone piecewise-cubic Hermite
+ * interpolant (PCHIP, Fritsch & Carlson 1980; knot slopes computed once in Python) through the
+ * points (TABLE_S, TABLE_R), constant beyond the last point; independent of speed and load. */
+static double table_force(const double* law, const double* claw, double q, double v, double u, double* dfdu) {
+  (void)claw;
+  const int n = (int)law[LAW_TABLE_N];
+  const double* xs = law + LAW_TABLE_S_0;
+  const double* rs = law + LAW_TABLE_R_0;
+  const double* ds = law + LAW_TABLE_D_0;
+  if (n < 2 || n > LAW_MAX_TABLE_POINTS) {
+    if (dfdu) *dfdu = 0.0;
+    return 0.0;
+  }
+  const double s = fabs(u) / v;
+  double r, dr = 0.0;
+  if (s >= xs[n - 1]) {
+    r = rs[n - 1];
+  } else {
+    int lo = 0, hi = n - 1; /* xs[lo] <= s < xs[hi] */
+    while (hi - lo > 1) {
+      int mid = (lo + hi) / 2;
+      if (xs[mid] <= s) lo = mid; else hi = mid;
+    }
+    const double h = xs[hi] - xs[lo], t = (s - xs[lo]) / h, t1 = 1.0 - t;
+    r = (1.0 + 2.0 * t) * t1 * t1 * rs[lo] + t * t1 * t1 * h * ds[lo] + t * t * (3.0 - 2.0 * t) * rs[hi] +
+        t * t * (t - 1.0) * h * ds[hi];
+    dr = 6.0 * t * (t - 1.0) * (rs[lo] - rs[hi]) / h + (3.0 * t * t - 4.0 * t + 1.0) * ds[lo] +
+         (3.0 * t * t - 2.0 * t) * ds[hi];
+  }
+  const double mu0 = law[LAW_MU0];
+  if (dfdu) *dfdu = q * mu0 * dr / v;
+  const double f = q * mu0 * r;
+  return u >= 0.0 ? f : -f;
+}
+
+typedef struct {
+  const char* name;
+  creep_family_fn force;
+} creep_family;
+
+static const creep_family FAMILIES[] = {
+    {"polach", polach_force},
+    {"shen_hedrick_elkins", she_force},
+    {"table", table_force},
+};
+#define N_FAMILIES ((int)(sizeof FAMILIES / sizeof FAMILIES[0]))
+
+/* The id (LAW_CREEP_FAMILY) of a family by name, -1 for an unknown name. */
+int cofgym_family_id(const char* name) {
+  for (int i = 0; i < N_FAMILIES; i++)
+    if (strcmp(FAMILIES[i].name, name) == 0) return i;
+  return -1;
+}
+
+/* Longitudinal creep force per wheel (N) and dF/du (N s/m) of the law block ``law`` (its family
+ * chosen by LAW_CREEP_FAMILY); zero for no load, no speed or an unknown family. */
+double cofgym_creep_force(const double* law, const double* claw, double q, double v, double u,
+                          double* dfdu) {
+  const int id = (int)law[LAW_CREEP_FAMILY];
+  if (!(q > 0.0) || !(v > 0.0) || id < 0 || id >= N_FAMILIES) {
+    if (dfdu) *dfdu = 0.0;
+    return 0.0;
+  }
+  return FAMILIES[id].force(law, claw, q, v, u, dfdu);
 }
 
 /* Sample the steady creep curve: adhesion CoA(s) = F/q and its slope dCoA/ds for n creepages. */
@@ -222,7 +328,7 @@ void cofgym_passive(const mjModel* m, mjData* d) {
 
   contact_state cs[UD_MAX_CONTACTS];
   double dfdu[UD_MAX_CONTACTS];
-  const double* law = ud + UD_MU0;
+  const double* law = ud + UD_LAW0;
   const double vmin = ud[UD_MIN_SPEED];
 
   /* pass 1: kinematics, normal load, motor torque, explicit creep force, as Jacobian-transpose

@@ -35,8 +35,23 @@ CONTACT_FIELDS: tuple[str, ...] = (
     "TORQUE_SIGN",  # +1 driven by the modulated torque, -1 equal and opposite, 0 unpowered
 )
 
-# Creep law (Polach) block; the same ordering is used by the analysis entry points.
-LAW_FIELDS: tuple[str, ...] = ("MU0", "POLACH_A", "POLACH_B", "KA", "KS", "SHEAR_MODULUS")
+# Creep-law block, generic over the law families (cof_gym/physics/creep_laws.py): the family's id (its
+# index in the native FAMILIES table, looked up by name), the friction level mu0, the shear modulus
+# (Pa), up to MAX_LAW_PARAMS family parameters (in the order of the family's Python description) and
+# a tabulated curve of up to MAX_TABLE_POINTS points (creepage, value, slope). The same ordering is
+# used by the analysis entry points.
+MAX_LAW_PARAMS = 8
+MAX_TABLE_POINTS = 64
+LAW_FIELDS: tuple[str, ...] = (
+    "CREEP_FAMILY",
+    "MU0",
+    "SHEAR_MODULUS",
+    *(f"CREEP_P{i}" for i in range(MAX_LAW_PARAMS)),
+    "TABLE_N",  # number of table points used (0: no table)
+    *(f"TABLE_S_{i}" for i in range(MAX_TABLE_POINTS)),  # creepage, strictly increasing from 0
+    *(f"TABLE_R_{i}" for i in range(MAX_TABLE_POINTS)),  # tabulated value at the creepage
+    *(f"TABLE_D_{i}" for i in range(MAX_TABLE_POINTS)),  # its slope d value / d creepage
+)
 CONTACT_LAW_FIELDS: tuple[str, ...] = ("AB_REF", "Q_REF", "C11")
 
 _SCALARS: tuple[str, ...] = (
@@ -163,6 +178,9 @@ def c_header() -> str:
     for i, f in enumerate(LAW_FIELDS):
         lines.append(f"#define LAW_{f} {i}")
     lines.append(f"#define LAW_SIZE {len(LAW_FIELDS)}")
+    lines.append(f"#define LAW_MAX_PARAMS {MAX_LAW_PARAMS}")
+    lines.append(f"#define LAW_MAX_TABLE_POINTS {MAX_TABLE_POINTS}")
+    lines.append(f"#define UD_LAW0 {OFFSETS[LAW_FIELDS[0]]}")
     for i, f in enumerate(CONTACT_LAW_FIELDS):
         lines.append(f"#define CLAW_{f} {i}")
     lines.append(f"#define UD_ACC_FIRST {ACC_FIRST}")
