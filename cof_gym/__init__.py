@@ -1,8 +1,9 @@
 """cof_gym: torque-modulation measurement of the wheel-rail coefficient of friction as a MuJoCo +
 Gymnasium learning problem.
 
-Importing the package registers ``CofGym/TorqueInterrogation-v1`` (the wagon) and
-``CofGym/HalfWheelset-v1`` (the paper's Sect. 2 model)."""
+Importing the package registers ``CofGym/TorqueInterrogation-v2`` (the wagon) and
+``CofGym/HalfWheelset-v2`` (the paper's Sect. 2 model), the realistic task (creep-law families,
+systematic sensor errors), and their v1 predecessors, kept as published."""
 
 from __future__ import annotations
 
@@ -17,22 +18,36 @@ import gymnasium as gym  # noqa: E402
 
 __version__ = "0.2.0"
 
-WAGON_ENV_ID = "CofGym/TorqueInterrogation-v1"
-HALF_WHEELSET_ENV_ID = "CofGym/HalfWheelset-v1"
-ENV_IDS = (WAGON_ENV_ID, HALF_WHEELSET_ENV_ID)
-_VEHICLES = {WAGON_ENV_ID: "wagon", HALF_WHEELSET_ENV_ID: "half_wheelset"}
+WAGON_ENV_ID = "CofGym/TorqueInterrogation-v2"
+HALF_WHEELSET_ENV_ID = "CofGym/HalfWheelset-v2"
+WAGON_V1_ENV_ID = "CofGym/TorqueInterrogation-v1"
+HALF_WHEELSET_V1_ENV_ID = "CofGym/HalfWheelset-v1"
+ENV_IDS = (WAGON_ENV_ID, HALF_WHEELSET_ENV_ID, WAGON_V1_ENV_ID, HALF_WHEELSET_V1_ENV_ID)
+# id -> (vehicle, task version): v2 draws creep-law families and systematic sensor errors; v1 stays as
+# published (the Polach presets, unbiased sensors)
+_IDS = {WAGON_ENV_ID: ("wagon", 2), HALF_WHEELSET_ENV_ID: ("half_wheelset", 2),
+        WAGON_V1_ENV_ID: ("wagon", 1), HALF_WHEELSET_V1_ENV_ID: ("half_wheelset", 1)}
+
+
+# The task's default horizon (max_windows) in steps, carried by the spec: gym.make's TimeLimit ends an
+# episode at the same step as the task, which scores the estimate there. A different max_windows moves the
+# TimeLimit only with max_episode_steps (cof_gym.envs.torque_interrogation.make_kwargs does both).
+MAX_EPISODE_STEPS = 30
 
 
 def _register() -> None:
-    # no max_episode_steps: the task owns the horizon (max_windows) and truncates the episode itself
-    for env_id, vehicle in _VEHICLES.items():
+    # disable_env_checker: gymnasium's PassiveEnvChecker leaves the env failing every step after a first
+    # reset() that raised; gymnasium's check_env runs on the env in tests/test_action_types.py
+    for env_id, (vehicle, version) in _IDS.items():
         if env_id in gym.registry:
             continue
         gym.register(
             id=env_id,
             entry_point="cof_gym.envs.torque_interrogation:TorqueInterrogationEnv",
             vector_entry_point="cof_gym.envs.vector:TorqueInterrogationVectorEnv",
-            kwargs={"vehicle": vehicle},
+            kwargs={"vehicle": vehicle, "task_version": version},
+            max_episode_steps=MAX_EPISODE_STEPS,
+            disable_env_checker=True,
         )
 
 

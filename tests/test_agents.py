@@ -134,7 +134,7 @@ class _InfoSpy:
 def test_only_oracle_agents_receive_the_ground_truth() -> None:
     from cof_gym.commands.evaluate import build_agents
 
-    env = gym.make(cof_gym.WAGON_ENV_ID)
+    env = gym.make(cof_gym.WAGON_V1_ENV_ID)
     for oracle in (False, True):
         spy = _InfoSpy(oracle)
         rec = run_episode(env, spy, 3, {"cof": 0.25}, 0)
@@ -154,7 +154,7 @@ def test_a_new_agent_is_one_registry_line() -> None:
     registry.register("test-staircase", "cof_gym.agents.staircase:PracticalStaircase", oracle=False, default=False)
     try:
         assert "test-staircase" in registry.names() and "test-staircase" not in registry.default_agents()
-        env = gym.make(cof_gym.WAGON_ENV_ID)
+        env = gym.make(cof_gym.WAGON_V1_ENV_ID)
         assert isinstance(registry.make_agent("test-staircase", env), PracticalStaircase)
         env.close()
         with pytest.raises(registry.AgentSpecError, match="unknown agent"):

@@ -19,7 +19,7 @@ WORST = {"noise_level": 3.0, "motor_lag_s": 0.1}
 
 @pytest.fixture(scope="module")
 def env():
-    e = gym.make(cof_gym.WAGON_ENV_ID)
+    e = gym.make(cof_gym.WAGON_V1_ENV_ID)
     yield e
     e.close()
 

@@ -51,7 +51,7 @@ def play(env, agent, seeds) -> tuple[np.ndarray, np.ndarray, int]:
 
 @pytest.fixture(scope="module")
 def results():
-    env = gym.make(cof_gym.WAGON_ENV_ID)
+    env = gym.make(cof_gym.WAGON_V1_ENV_ID)
     limits = env.unwrapped.limits
     return {agent.name: play(env, agent, SEEDS)
             for agent in (SaturationOracle(limits), PracticalStaircase(limits), ConstantGuess(limits))}
@@ -78,6 +78,6 @@ def test_the_ranking_follows_accuracy(results) -> None:
 def test_the_paper_rule_reaches_its_accuracy_on_v1() -> None:
     """`cof-gym evaluate --agents staircase-paper`'s acceptance on the default suite: median <= 2.5 %, no
     macro-slip (60 episodes, seed 0)."""
-    env = gym.make(cof_gym.WAGON_ENV_ID)
+    env = gym.make(cof_gym.WAGON_V1_ENV_ID)
     _, errors, slips = play(env, PaperStaircase(env.unwrapped.limits), range(60))
     assert np.median(errors) <= 0.025 and slips == 0

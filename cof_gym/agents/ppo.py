@@ -17,7 +17,7 @@ import numpy as np
 
 import cof_gym
 
-DEFAULT_ENV_ID = cof_gym.WAGON_ENV_ID
+DEFAULT_ENV_ID = cof_gym.WAGON_V1_ENV_ID  # the shipped policy was trained on v1
 MODEL_NAMES = ("model.zip", "best_model.zip")  # looked for, in this order, when given a directory
 VECNORMALIZE_NAME = "vecnormalize.pkl"
 META_NAME = "train_meta.json"
@@ -85,9 +85,9 @@ def make_env_fn(env_id: str, env_kwargs: dict[str, Any] | None = None, adapter: 
     :mod:`cof_gym.agents.adapters` (how the policy's output becomes the env's action)."""
     import functools
 
-    kwargs = dict(env_kwargs or {})
-    if "max_windows" in kwargs and "max_episode_steps" not in kwargs:
-        kwargs["max_episode_steps"] = int(kwargs["max_windows"])
+    from cof_gym.envs.torque_interrogation import make_kwargs
+
+    kwargs = make_kwargs(env_kwargs or {})
     full_id = env_id if ":" in env_id else f"cof_gym:{env_id}"
     return functools.partial(_make_env, full_id, adapter, **kwargs)
 

@@ -17,6 +17,16 @@ low_adhesion   0.02-0.10   leaf layers: below the 0.09 a full-service brake need
                            to ~0.01 (same source)
 dry_kalker     0.15-0.60   the dry range (not drawn by default; see :mod:`cof_gym.physics.creep`)
 ============= =========== =====================================================================
+
+**Creep law.** v1 (``ScenarioRanges()``): the condition's Polach preset. v2
+(:data:`V2_RANGES`): per episode a family from ``ranges.creep_families`` and a shape of it drawn from
+that family's documented ranges for the condition (:func:`cof_gym.physics.creep_laws.draw_shape`).
+``creep_law`` fixes it (a preset name, ``{"polach": {...}}``, ``{"table": {"creepage": [...],
+"adhesion_ratio": [...]}}``, any family of :data:`cof_gym.physics.creep_laws.FAMILIES`) and replaces
+the condition's shape; the condition still sets the CoF range of a draw.
+
+**Systematic sensor errors** (:mod:`cof_gym.task.sensors`): drawn in +-``sensor_error_scale`` x each
+error's documented range (0 in v1, 1 in v2); each fixable within its accepted range.
 """
 
 from __future__ import annotations
@@ -28,8 +38,10 @@ from typing import Any, Mapping
 import numpy as np
 
 from cof_gym.physics.creep import CONDITIONS, OperatingConditions
+from cof_gym.physics.creep_laws import RANGES as CREEP_RANGES, CreepShape, creep_law_from_spec, draw_shape
 from cof_gym.physics.simulation import Scenario, SensorNoise
 from cof_gym.physics.vehicle import LOAD_CASES
+from cof_gym.task.sensors import SYSTEMATIC_ERRORS, SensorErrors
 from cof_gym.task.validation import check_choice, check_number
 
 # sensor noise at full scale (noise_level = 1): realistic on-board sensors (assumed values)
@@ -46,6 +58,7 @@ COF_ENVELOPE = (0.02, 0.60)  # every CoF the task accepts; the drive reaches its
 SPEED_ENVELOPE_M_S = (5.0, 40.0)
 NOISE_LEVEL_MAX = 3.0  # multiples of FULL_SCALE_NOISE
 MOTOR_LAG_MAX_S = 0.1
+SENSOR_ERROR_SCALE_MAX = 3.0  # multiples of each systematic error's drawn range
 
 
 def _check_range(name: str, value: Any, low: float, high: float) -> tuple[float, float]:
@@ -68,6 +81,8 @@ class ScenarioRanges:
     load_cases: tuple[str, ...] = LOAD_CASES
     noise_level: tuple[float, float] = (0.0, 1.0)  # multiplies FULL_SCALE_NOISE
     motor_lag_s: tuple[float, float] = (0.0, 0.03)
+    creep_families: tuple[str, ...] | None = None  # None: the condition's preset (v1); else drawn shapes
+    sensor_error_scale: float = 0.0  # systematic errors drawn in +- this x their ranges (v1: none)
 
     def __post_init__(self) -> None:
         if not isinstance(self.cof, Mapping):
@@ -80,6 +95,14 @@ class ScenarioRanges:
         _check_range("ranges.noise_level", self.noise_level, 0.0, NOISE_LEVEL_MAX)
         _check_range("ranges.motor_lag_s", self.motor_lag_s, 0.0, MOTOR_LAG_MAX_S)
         _choices("ranges.load_cases", self.load_cases, LOAD_CASES)
+        if self.creep_families is not None:
+            _choices("ranges.creep_families", self.creep_families, tuple(CREEP_RANGES))
+        check_number("ranges.sensor_error_scale", self.sensor_error_scale, 0.0, SENSOR_ERROR_SCALE_MAX)
+
+    @property
+    def draws_v2(self) -> bool:
+        """Whether the v2 fields (a creep-law shape, systematic errors) are drawn."""
+        return self.creep_families is not None or self.sensor_error_scale > 0.0
 
 
 def _choices(name: str, value: Any, allowed: tuple[str, ...]) -> None:
@@ -97,15 +120,46 @@ class EpisodeScenario:
     load_case: str
     noise_level: float
     motor_lag_s: float
+    creep_law: CreepShape | None = None  # None: the condition's preset
+    speed_sensor_error: float = 0.0
+    wheel_radius_error: float = 0.0
+    force_gain_error: float = 0.0
+    torque_gain_error: float = 0.0
+
+    @property
+    def shape(self) -> CreepShape | str:
+        """The creep-curve shape the physics runs: ``creep_law``, else the condition's preset."""
+        return self.condition if self.creep_law is None else self.creep_law
+
+    @property
+    def creep_family(self) -> str:
+        return "polach" if self.creep_law is None else self.creep_law.family
+
+    @property
+    def sensor_errors(self) -> SensorErrors:
+        return SensorErrors(**{name: getattr(self, name) for name in SYSTEMATIC_ERRORS})
 
     def to_dict(self) -> dict:
-        return {f.name: getattr(self, f.name) for f in fields(self)}
+        """Every field, the creep law as its spec (``{family: {parameter: value}}``, JSON-ready)."""
+        out = {f.name: getattr(self, f.name) for f in fields(self)}
+        out["creep_law"] = shape_spec(self.creep_law) if self.creep_law is not None else self.condition
+        out["creep_family"] = self.creep_family
+        out["creepage_offset"] = self.sensor_errors.creepage_offset
+        return out
 
     def noise(self) -> SensorNoise:
         return SensorNoise(*(self.noise_level * getattr(FULL_SCALE_NOISE, f.name) for f in fields(SensorNoise)))
 
 
 SCENARIO_KEYS = tuple(f.name for f in fields(EpisodeScenario))
+V1_KEYS = SCENARIO_KEYS[:SCENARIO_KEYS.index("creep_law")]  # drawn in v1, in this order
+
+
+def shape_spec(shape: CreepShape) -> dict[str, dict[str, Any]]:
+    """The spec of a shape, ``{family: {parameter: value}}`` (lists for tables): what
+    :func:`cof_gym.physics.creep_laws.creep_law_from_spec` reads back."""
+    return {shape.family: {f.name: (list(v) if isinstance(v := getattr(shape, f.name), tuple) else v)
+                           for f in fields(shape)}}
 
 
 def check_fixed(fixed: Mapping[str, Any], load_cases: tuple[str, ...] = LOAD_CASES) -> dict[str, Any]:
@@ -129,8 +183,13 @@ def check_fixed(fixed: Mapping[str, Any], load_cases: tuple[str, ...] = LOAD_CAS
             out[key] = check_choice("load_case", value, load_cases)
         elif key == "noise_level":
             out[key] = check_number("noise_level", value, 0.0, NOISE_LEVEL_MAX)
-        else:
+        elif key == "motor_lag_s":
             out[key] = check_number("motor_lag_s", value, 0.0, MOTOR_LAG_MAX_S, unit=" s")
+        elif key == "creep_law":
+            out[key] = creep_law_from_spec(value)
+        else:
+            bound = SYSTEMATIC_ERRORS[key].accepted
+            out[key] = check_number(key, value, -bound, bound)
     return out
 
 
@@ -150,12 +209,30 @@ def draw_scenario(rng: np.random.Generator, ranges: ScenarioRanges, fixed: Mappi
         "noise_level": float(rng.uniform(*ranges.noise_level)),
         "motor_lag_s": float(rng.uniform(*ranges.motor_lag_s)),
     }
+    if ranges.draws_v2:  # drawn after the v1 fields, so v1 streams (and numbers) stay as they were
+        drawn.update(_draw_v2(rng, ranges, condition))
     drawn.update(fixed)
     return EpisodeScenario(**drawn)
+
+
+def _draw_v2(rng: np.random.Generator, ranges: ScenarioRanges, condition: str) -> dict[str, Any]:
+    """A creep-law shape for ``condition`` (when families are drawn) and the systematic errors."""
+    out: dict[str, Any] = {}
+    families = ranges.creep_families or ()
+    family = str(families[rng.integers(len(families))]) if families else None
+    if family is not None and condition in CREEP_RANGES[family]:
+        out["creep_law"] = draw_shape(rng, family, condition)
+    for name, err in SYSTEMATIC_ERRORS.items():
+        out[name] = float(rng.uniform(-1.0, 1.0)) * err.drawn * ranges.sensor_error_scale
+    return out
+
+
+V2_RANGES = ScenarioRanges(creep_families=tuple(CREEP_RANGES), sensor_error_scale=1.0)
+"""The v2 task's draws: every family with documented ranges, systematic sensor errors."""
 
 
 def physics_scenario(sc: EpisodeScenario, wheel_load_n: float, seed: int, traction_balance: bool) -> Scenario:
     """The simulation's scenario: the creep law is calibrated at ``wheel_load_n`` (the driven wheel's
     load at saturation, see :mod:`cof_gym.task.ground_truth`)."""
-    op = OperatingConditions(cof=sc.cof, condition=sc.condition, wheel_load_n=wheel_load_n, speed_m_s=sc.speed_m_s)
+    op = OperatingConditions(cof=sc.cof, condition=sc.shape, wheel_load_n=wheel_load_n, speed_m_s=sc.speed_m_s)
     return Scenario(op=op, noise=sc.noise(), motor_lag_s=sc.motor_lag_s, traction_balance=traction_balance, seed=seed)

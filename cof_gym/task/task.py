@@ -16,7 +16,10 @@ from typing import Any, Mapping
 
 import numpy as np
 
+from cof_gym import MAX_EPISODE_STEPS
 from cof_gym.physics.models import DEFAULT_TIMESTEP_S, BuiltModel, build_half_wheelset, build_wagon
+from cof_gym.physics.creep import NoPeakError
+from cof_gym.physics.creep_laws import draw_shape
 from cof_gym.physics.simulation import DriveCommand, Scenario, WindowMeasurement
 from cof_gym.physics.vehicle import HalfWheelsetParameters, wagon_parameters
 from cof_gym.task.ground_truth import GroundTruth, ground_truth, max_saturation_torque_nm, static_contact_load_n
@@ -30,11 +33,13 @@ from cof_gym.task.scenarios import COF_ENVELOPE, EpisodeScenario, ScenarioRanges
 from cof_gym.task.validation import check_bool, check_choice, check_int, check_number
 
 VEHICLES = ("wagon", "half_wheelset")
-DEFAULT_MAX_WINDOWS = 30
+DEFAULT_MAX_WINDOWS = MAX_EPISODE_STEPS  # the horizon the ids register (one number, in cof_gym/__init__.py)
 TIMESTEP_RANGE_S = (1e-4, 2e-3)  # stable for every vehicle and scenario (tests/test_envs.py)
 DRIVE_MARGIN = 1.25  # the drive's DC torque reaches 1.25 x the largest saturation torque in range
 SHAPING_GAMMA = 0.95  # the discount the shaping potential assumes (agents' hyperparams' gamma)
 BASELINE_DRIVE = DriveCommand(0.0, 100.0, 5.0)  # the reset window: no DC torque, a small modulation
+MAX_DRAWN_PEAK_CREEPAGE = 0.2  # a drawn creep curve peaks below 20 % creepage (else drawn again)
+MAX_SHAPE_DRAWS = 50
 WINDOW_TRUTH_FIELDS = (
     "coa_true", "creepage_mean", "creep_phase_lag_deg", "creepage_amplitude", "normal_load_n", "tangential_force_n",
     "friction_energy_j", "time_past_peak_s", "energy_past_peak_j", "max_abs_creepage",
@@ -170,9 +175,10 @@ class InterrogationTask:
     # ------------------------------------------------------------------ episode
     def new_episode(self, rng: np.random.Generator, options: Mapping[str, Any] | None) -> Episode:
         """Draw a scenario (``options`` fix fields for this episode) and its ground truth."""
-        scenario = draw_scenario(rng, self.ranges, {**self.fixed, **check_fixed(options or {}, self.ranges.load_cases)})
+        fixed = {**self.fixed, **check_fixed(options or {}, self.ranges.load_cases)}
+        scenario = draw_scenario(rng, self.ranges, fixed)
         built = self.model(scenario.load_case)
-        truth, wheel_load = ground_truth(built, self.balanced, scenario.cof, scenario.condition, scenario.speed_m_s)
+        truth, wheel_load, scenario = self._truth(built, scenario, rng, shape_fixed="creep_law" in fixed)
         physics = physics_scenario(scenario, wheel_load, seed=int(rng.integers(2**31)), traction_balance=self.balanced)
         episode = Episode(scenario=scenario, truth=truth, built=built, physics=physics)
         episode.potential = self._potential(episode)
@@ -191,7 +197,9 @@ class InterrogationTask:
     def observe(self, episode: Episode, m: WindowMeasurement) -> np.ndarray:
         """The observation of a window (called once per window): the window's sensor-only encoding is
         recorded in the episode's memory, and the observation type builds the observation from both."""
-        window = encode_observation(m, episode.drive, self.scales(episode.built), episode.elapsed_s, episode.estimate)
+        sensed = episode.scenario.sensor_errors.read(m)  # systematic errors change readings, not physics
+        window = encode_observation(sensed, episode.drive, self.scales(episode.built), episode.elapsed_s,
+                                    episode.estimate)
         episode.memory.push(window, driven=episode.windows > 0)
         episode.observation = self.observations.encode(window, episode.memory)
         return episode.observation.copy()
@@ -243,6 +251,23 @@ class InterrogationTask:
         return episode.observation.copy(), float(sum(terms.values())), True, False, info
 
     # ------------------------------------------------------------------ helpers
+    def _truth(self, built: BuiltModel, scenario: EpisodeScenario, rng: np.random.Generator,
+               shape_fixed: bool) -> tuple[GroundTruth, float, EpisodeScenario]:
+        """The ground truth; a *drawn* shape whose curve has no peak, or one beyond
+        :data:`MAX_DRAWN_PEAK_CREEPAGE`, at the episode's speed and load is drawn again (from ``rng``)."""
+        for _ in range(MAX_SHAPE_DRAWS):
+            try:
+                truth, wheel_load = ground_truth(built, self.balanced, scenario.cof, scenario.shape,
+                                                 scenario.speed_m_s)
+                if shape_fixed or scenario.creep_law is None or truth.peak_creepage <= MAX_DRAWN_PEAK_CREEPAGE:
+                    return truth, wheel_load, scenario
+            except NoPeakError:
+                if shape_fixed or scenario.creep_law is None:
+                    raise
+            scenario = replace(scenario, creep_law=draw_shape(rng, scenario.creep_family, scenario.condition))
+        raise RuntimeError(f"no creep-curve shape with a peak below creepage {MAX_DRAWN_PEAK_CREEPAGE} in "
+                           f"{MAX_SHAPE_DRAWS} draws for {scenario.condition} at {scenario.speed_m_s:.1f} m/s")
+
     def _potential(self, episode: Episode) -> float:
         """Phi = w_error (E_max - |ln(estimate / CoF)|) >= 0, E_max the largest error in range."""
         lim = self.limits
@@ -259,10 +284,12 @@ class InterrogationTask:
         info["macro_slip"] = bool(macro_slip)
         info["scored"] = bool(scored)
         info["cof_estimate"] = episode.estimate
-        info["log_error"] = log_error(episode.estimate, truth.cof) if scored else None
-        info["relative_error"] = relative_error(episode.estimate, truth.cof) if scored else None
+        if scored:  # the errors exist once the estimate is scored; info holds no None
+            info["log_error"] = log_error(episode.estimate, truth.cof)
+            info["relative_error"] = relative_error(episode.estimate, truth.cof)
         info["elapsed_s"] = episode.elapsed_s
-        info["measurement"] = {k: getattr(m, k) for k in SENSOR_FIELDS}
+        sensed = episode.scenario.sensor_errors.read(m)
+        info["measurement"] = {k: getattr(sensed, k) for k in SENSOR_FIELDS}
         info["ground_truth"] = {
             **episode.scenario.to_dict(), **truth.to_dict(),
             "macro_slip_creepage": self.macro_slip.limit(truth.peak_creepage),

@@ -1,0 +1,100 @@
+"""Systematic sensor errors: what a train's sensors read when their calibration is off.
+
+Random noise is added per physics step by the native measurement chain
+(:class:`cof_gym.physics.simulation.SensorNoise`). A train's sensors also carry *systematic* errors
+that stay constant over a measurement; they are drawn once per episode (v2) and change what the
+sensors read, never the physics. Each is a relative error ``e``: the sensor reads ``(1 + e)`` times
+the true value.
+
+=========================== ========== ========== =====================================================
+field                        drawn (v2)  accepted   what it models, source
+=========================== ========== ========== =====================================================
+``speed_sensor_error``       +-1.5 %     +-5 %      the reference (train) speed. A state-of-the-art
+                                                    correlation radar reached a peak error of 0.47 km/h
+                                                    up to 130 km/h (Reissland, Weigel, Koelpin, Lurz,
+                                                    IEEE MTT-S featured article, Dec 2023): 1.3 % at
+                                                    36 km/h, 2.6 % at 18 km/h; other sources
+                                                    (unpowered axles, GNSS) are no better
+``wheel_radius_error``       +-0.5 %     +-2 %      the rolling radius the creepage computation
+                                                    assumes, drifting with tread wear between
+                                                    calibrations: 1 mm of wear on 460 mm is 0.22 %
+``force_gain_error``         +-3 %       +-10 %     gain of the tangential-force measurement
+                                                    (instrumented wheelset or a force observer):
+                                                    cof_gym's choice, a calibration uncertainty of a few
+                                                    percent (unverified)
+``torque_gain_error``        +-5 %       +-15 %     gain of the drive's torque estimate (motor-current
+                                                    torque model): cof_gym's choice (unverified)
+=========================== ========== ========== =====================================================
+
+How each reading changes (``s`` the creepage the sensors would read without systematic error):
+creepage ``(1 + s)(1 + e_R) / (1 + e_v) - 1`` (the train computes ``R Omega / v - 1`` with the assumed
+radius and the reference speed), speed ``(1 + e_v) v``, tangential force and measured CoA
+``(1 + e_F)``, torque readings ``(1 + e_T)`` and the speed/torque amplitude ratio ``/ (1 + e_T)``.
+The phase lag is a ratio of two fitted phases and no gain changes it: the paper's point about the
+phase method. Every map is affine in the window's mean, so applying it to the window's averages is
+exactly what applying it to every sample would give.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields, replace
+from types import MappingProxyType
+from typing import Mapping
+
+from cof_gym.physics.simulation import WindowMeasurement
+
+
+@dataclass(frozen=True)
+class ErrorRange:
+    """A systematic error's default draw (uniform in +-``drawn``) and the values accepted when fixed."""
+
+    drawn: float
+    accepted: float
+
+
+# the one table of systematic errors: field -> ranges (the docstring above gives the sources)
+SYSTEMATIC_ERRORS: Mapping[str, ErrorRange] = MappingProxyType({
+    "speed_sensor_error": ErrorRange(drawn=0.015, accepted=0.05),
+    "wheel_radius_error": ErrorRange(drawn=0.005, accepted=0.02),
+    "force_gain_error": ErrorRange(drawn=0.03, accepted=0.10),
+    "torque_gain_error": ErrorRange(drawn=0.05, accepted=0.15),
+})
+
+
+@dataclass(frozen=True)
+class SensorErrors:
+    """One episode's systematic sensor errors (relative, see the module table)."""
+
+    speed_sensor_error: float = 0.0
+    wheel_radius_error: float = 0.0
+    force_gain_error: float = 0.0
+    torque_gain_error: float = 0.0
+
+    @property
+    def creepage_offset(self) -> float:
+        """The systematic creepage error at zero creepage, (1 + e_R) / (1 + e_v) - 1 (about e_R - e_v)."""
+        return (1.0 + self.wheel_radius_error) / (1.0 + self.speed_sensor_error) - 1.0
+
+    @property
+    def is_zero(self) -> bool:
+        return not any(getattr(self, f.name) for f in fields(self))
+
+    def read(self, m: WindowMeasurement) -> WindowMeasurement:
+        """What the sensors read of the window ``m`` (its true values untouched); ``m`` itself without
+        systematic errors, so v1 numbers stay bit-identical."""
+        if self.is_zero:
+            return m
+        creep_gain = 1.0 + self.creepage_offset
+        force_gain = 1.0 + self.force_gain_error
+        torque_gain = 1.0 + self.torque_gain_error
+        return replace(
+            m,
+            creepage_measured=(1.0 + m.creepage_measured) * creep_gain - 1.0,
+            speed_measured_m_s=m.speed_measured_m_s * (1.0 + self.speed_sensor_error),
+            tangential_force_measured_n=m.tangential_force_measured_n * force_gain,
+            coa_measured=m.coa_measured * force_gain,
+            torque_amplitude_nm=m.torque_amplitude_nm * torque_gain,
+            torque_mean_nm=m.torque_mean_nm * torque_gain,
+            torque_peak_nm=m.torque_peak_nm * torque_gain,
+            amplitude_ratio=m.amplitude_ratio / torque_gain,
+        )
