@@ -20,18 +20,24 @@ import cof_gym
 from cof_gym.agents import registry
 from cof_gym.agents.base import agent_view
 from cof_gym.commands.suites import Suite, SuiteError, make_suite
+from cof_gym.envs.torque_interrogation import make_kwargs
 
 DESCRIPTION = """\
 Play every agent on the same seeded scenarios (same CoF, condition, speed, load, noise streams) and
 write OUT/episodes.csv, OUT/summary.md, OUT/summary.json (median and P90 relative CoF error,
 macro-slips, slip energy, Wd comfort, measurement time and peak torque as a fraction of the real
-saturation torque, each with a bootstrap 95 % CI, and a breakdown by condition and CoF band) and
+saturation torque, each with a bootstrap 95 % CI, and a breakdown by condition, CoF band, creep-law
+family, systematic creepage-error band and the utilisation at which the estimate was committed) and
 figures. The outputs appear all at once when the run completes (an interrupted run leaves the
 previous OUT as it was). Only agents marked as oracles see info["ground_truth"]."""
 
 N_BOOTSTRAP = 2000
 DEFAULT_OUT = Path("out") / "evaluate"
 COF_BANDS = (0.0, 0.1, 0.2, 0.3, 0.4, math.inf)  # CoF band edges of the breakdown
+# |systematic creepage error| band edges (the sensors' (1 + e_R)/(1 + e_v) - 1; 0 in v1)
+CREEPAGE_ERROR_BANDS = (0.0, 1e-9, 0.002, 0.005, 0.01, math.inf)
+# "how early can you know": peak torque at the committed estimate, as a fraction of the true M_sat
+UTILISATION_BANDS = (0.0, 0.8, 0.9, 0.95, math.inf)
 TABLE_WIDTH = 100  # when stdout is not a terminal
 OUTPUT_MARKER = "summary.json"  # what makes an existing --out directory a previous evaluate output
 
@@ -56,6 +62,8 @@ class EpisodeRecord:
     load_case: str
     noise_level: float
     motor_lag_s: float
+    creep_family: str
+    creepage_offset: float  # the sensors' systematic creepage error (1 + e_R)/(1 + e_v) - 1
     estimate: float
     relative_error: float  # |estimate / CoF - 1|; 1.0 when the episode ended unscored (divergence)
     scored: bool
@@ -98,7 +106,7 @@ def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list 
         slip_e += _field(info, "energy_past_peak_j")
         fric_e += _field(info, "friction_energy_j")
         wd2 += m["wd_rms_m_s2"] ** 2
-        peak = max(peak, m["torque_peak_nm"] / sat)
+        peak = max(peak, _field(info, "peak_torque_fraction"))  # the true torque, not the biased reading
         if trace is not None:
             trace.append({"t": info["elapsed_s"], "dc_torque_nm": m["torque_mean_nm"], "speed_m_s": m["speed_measured_m_s"],
                           "wheel_speed_m_s": m["speed_measured_m_s"] * (1.0 + _field(info, "creepage_mean")),
@@ -113,7 +121,8 @@ def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list 
     return EpisodeRecord(
         agent=agent.name, oracle=oracle, episode=episode, seed=seed, cof=gt["cof"], condition=gt["condition"],
         speed_m_s=gt["speed_m_s"], load_case=gt["load_case"], noise_level=gt["noise_level"],
-        motor_lag_s=gt["motor_lag_s"], estimate=info["cof_estimate"],
+        motor_lag_s=gt["motor_lag_s"], creep_family=gt.get("creep_family", "polach"),
+        creepage_offset=gt.get("creepage_offset", 0.0), estimate=info["cof_estimate"],
         relative_error=float(err) if err is not None else 1.0, scored=scored,
         macro_slip=macro_slip, slip_energy_j=slip_e, friction_energy_j=fric_e,
         wd_rms_m_s2=math.sqrt(wd2 / steps), measurement_time_s=info["elapsed_s"], peak_torque_fraction=peak,
@@ -157,11 +166,42 @@ def _fmt(value: float, kind: str) -> str:
     return f"{value:.3g}"
 
 
+def _band(value: float, edges: tuple[float, ...], label) -> str:
+    for lo, hi in zip(edges[:-1], edges[1:]):
+        if lo <= value < hi:
+            return label(lo, hi)
+    return label(edges[-2], edges[-1])
+
+
 def cof_band(cof: float) -> str:
-    for lo, hi in zip(COF_BANDS[:-1], COF_BANDS[1:]):
-        if lo <= cof < hi:
-            return f"CoF {lo:.2f}+" if math.isinf(hi) else f"CoF {lo:.2f}-{hi:.2f}"
-    return "CoF ?"
+    return _band(cof, COF_BANDS, lambda lo, hi: f"CoF {lo:.2f}+" if math.isinf(hi) else f"CoF {lo:.2f}-{hi:.2f}")
+
+
+def creepage_error_band(offset: float) -> str:
+    """The band of |systematic creepage error| (0: none, as in v1)."""
+    return _band(abs(offset), CREEPAGE_ERROR_BANDS,
+                 lambda lo, hi: "creepage error 0" if hi <= 1e-9 else
+                 f"|creepage error| {100 * lo:.1f}+ %" if math.isinf(hi) else
+                 f"|creepage error| {100 * lo:.1f}-{100 * hi:.1f} %")
+
+
+def utilisation_band(fraction: float) -> str:
+    """The band of the peak torque (fraction of the true saturation torque) at the committed estimate."""
+    return _band(fraction, UTILISATION_BANDS,
+                 lambda lo, hi: f"committed at > {100 * lo:.0f} % M_sat" if math.isinf(hi) else
+                 f"committed at <= {100 * hi:.0f} % M_sat" if lo == 0 else
+                 f"committed at {100 * lo:.0f}-{100 * hi:.0f} % M_sat")
+
+
+# the breakdown's groupings, in table order: (name, group of a record, the record's order within it)
+GROUPINGS = (
+    ("condition", lambda r: r.condition, lambda r: r.condition),
+    ("CoF band", lambda r: cof_band(r.cof), lambda r: r.cof),
+    ("creep-law family", lambda r: f"law {r.creep_family}", lambda r: r.creep_family),
+    ("creepage-error band", lambda r: creepage_error_band(r.creepage_offset), lambda r: abs(r.creepage_offset)),
+    ("utilisation at commitment", lambda r: utilisation_band(r.peak_torque_fraction),
+     lambda r: r.peak_torque_fraction),
+)
 
 
 def _group_stats(rows: list[EpisodeRecord]) -> dict[str, Any]:
@@ -172,22 +212,24 @@ def _group_stats(rows: list[EpisodeRecord]) -> dict[str, Any]:
 
 
 def breakdown(records: list[EpisodeRecord]) -> dict[str, dict[str, dict[str, Any]]]:
-    """Per agent: statistics by condition and by CoF band (groups in a fixed order)."""
+    """Per agent: statistics by each of :data:`GROUPINGS` (groups sorted within a grouping; a grouping
+    with a single group, e.g. one creep-law family, is left out)."""
     out: dict[str, dict[str, dict[str, Any]]] = {}
-    conditions = sorted({r.condition for r in records})
-    bands = [b for b in (cof_band(0.5 * (lo + min(hi, lo + 1))) for lo, hi in zip(COF_BANDS[:-1], COF_BANDS[1:]))
-             if any(cof_band(r.cof) == b for r in records)]
+    keys = []
+    for k, (_, key, order) in enumerate(GROUPINGS):
+        first = {}
+        for r in sorted(records, key=order):
+            first.setdefault(key(r), len(first))
+        if len(first) > 1 or k == 0:
+            keys.append((key, list(first)))
     for agent in dict.fromkeys(r.agent for r in records):
         rows = [r for r in records if r.agent == agent]
         groups: dict[str, dict[str, Any]] = {}
-        for c in conditions:
-            sel = [r for r in rows if r.condition == c]
-            if sel:
-                groups[c] = _group_stats(sel)
-        for b in bands:
-            sel = [r for r in rows if cof_band(r.cof) == b]
-            if sel:
-                groups[b] = _group_stats(sel)
+        for key, values in keys:
+            for v in values:
+                sel = [r for r in rows if key(r) == v]
+                if sel:
+                    groups[v] = _group_stats(sel)
         out[agent] = groups
     return out
 
@@ -269,7 +311,7 @@ def print_table(summary: dict[str, dict[str, Any]], title: str) -> None:
     table.add_row("episodes [count]", *[str(summary[a]["episodes"]) for a in summary])
     console.print(table)
     groups = list(dict.fromkeys(g for a in summary for g in summary[a]["breakdown"]))
-    bd = Table(title="median rel. CoF error [%] by condition and CoF band (macro-slips in brackets)",
+    bd = Table(title="median rel. CoF error [%] by group (macro-slips in brackets)",
                title_justify="left", pad_edge=False)
     bd.add_column("group [episodes]", overflow="fold")
     for a in summary:
@@ -378,7 +420,7 @@ def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: 
 
     t0 = time.perf_counter()
     try:
-        env = gym.make(suite.env_id, **suite.env_kwargs)
+        env = gym.make(suite.env_id, **make_kwargs(suite.env_kwargs))
     except (ValueError, TypeError) as e:
         if not check_suite:
             raise
@@ -439,7 +481,7 @@ def _play_and_write(env, agents, agent_specs, suite: Suite, out: Path, seed: int
         writer.writerows(asdict(r) for r in records)
     (out / "summary.md").write_text(
         f"# cof-gym evaluate: suite {suite.name}, seed {seed}, {suite.env_id}\n\n{markdown_table(summary)}\n\n"
-        f"## By condition and CoF band\n\n{markdown_breakdown(summary)}\n")
+        f"## By condition, CoF band, creep-law family, creepage-error band and utilisation\n\n{markdown_breakdown(summary)}\n")
     from cof_gym.commands.evaluate_figures import plot_all
 
     figures = [Path(p).name for p in plot_all(records, summary, traces, out)]

@@ -84,4 +84,37 @@ def plot_all(records, summary, traces, out: Path) -> list[Path]:
     for ax in axes:
         ax.grid(alpha=0.3)
     paths.append(save(fig, out / "episode_traces.png", dpi=110))
+    paths += plot_creepage_error(records, agents, out)
     return paths
+
+
+CREEPAGE_ERROR_EDGES_PCT = np.array([-3.0, -1.0, -0.5, -0.2, 0.2, 0.5, 1.0, 3.0])
+
+
+def plot_creepage_error(records, agents: list[str], out: Path) -> list[Path]:
+    """Each agent's median relative CoF error and macro-slip rate per band of the sensors' systematic
+    creepage error (v2; one band at 0 in v1: then no figure)."""
+    offsets = np.array([100 * r.creepage_offset for r in records])
+    if np.ptp(offsets) == 0.0:
+        return []
+    edges = CREEPAGE_ERROR_EDGES_PCT
+    centres = 0.5 * (edges[1:] + edges[:-1])
+    fig, (ax_err, ax_slip) = plt.subplots(2, 1, figsize=(7, 6.5), sharex=True)
+    for a in agents:
+        rows = [r for r in records if r.agent == a]
+        x = np.array([100 * r.creepage_offset for r in rows])
+        err = np.array([100 * r.relative_error for r in rows])
+        slip = np.array([r.macro_slip for r in rows], dtype=float)
+        which = np.digitize(x, edges[1:-1])
+        med = [np.median(err[which == k]) if np.any(which == k) else np.nan for k in range(centres.size)]
+        rate = [100 * slip[which == k].mean() if np.any(which == k) else np.nan for k in range(centres.size)]
+        line, = ax_err.plot(centres, med, "o-", label=a)
+        ax_err.scatter(x, err, s=8, alpha=0.25, color=line.get_color())
+        ax_slip.plot(centres, rate, "o-", color=line.get_color(), label=a)
+    ax_err.set(ylabel="relative CoF error [%]", yscale="symlog", ylim=(0, None),
+               title="Error and macro-slips against the systematic creepage error (median per band)")
+    ax_slip.set(xlabel="systematic creepage error (1 + e_R)/(1 + e_v) - 1 [%]", ylabel="macro-slip rate [%]",
+                ylim=(-2, 102))
+    for ax in (ax_err, ax_slip):
+        finish(ax)
+    return [save(fig, out / "error_vs_creepage_error.png", dpi=110)]

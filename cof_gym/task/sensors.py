@@ -18,10 +18,12 @@ field                        drawn (v2)  accepted   what it models, source
 ``wheel_radius_error``       +-0.5 %     +-2 %      the rolling radius the creepage computation
                                                     assumes, drifting with tread wear between
                                                     calibrations: 1 mm of wear on 460 mm is 0.22 %
-``force_gain_error``         +-3 %       +-10 %     gain of the tangential-force measurement
-                                                    (instrumented wheelset or a force observer):
-                                                    cof_gym's choice, a calibration uncertainty of a few
-                                                    percent (unverified)
+``force_gain_error``         +-1 %       +-10 %     gain of the tangential-force measurement
+                                                    (a calibrated instrumented wheelset or a force
+                                                    observer): cof_gym's choice, a calibration
+                                                    uncertainty of about a percent (unverified); it
+                                                    scales every measured CoA, so it is a floor no
+                                                    agent can measure below
 ``torque_gain_error``        +-5 %       +-15 %     gain of the drive's torque estimate (motor-current
                                                     torque model): cof_gym's choice (unverified)
 =========================== ========== ========== =====================================================
@@ -56,7 +58,7 @@ class ErrorRange:
 SYSTEMATIC_ERRORS: Mapping[str, ErrorRange] = MappingProxyType({
     "speed_sensor_error": ErrorRange(drawn=0.015, accepted=0.05),
     "wheel_radius_error": ErrorRange(drawn=0.005, accepted=0.02),
-    "force_gain_error": ErrorRange(drawn=0.03, accepted=0.10),
+    "force_gain_error": ErrorRange(drawn=0.01, accepted=0.10),
     "torque_gain_error": ErrorRange(drawn=0.05, accepted=0.15),
 })
 
