@@ -1,9 +1,15 @@
-"""Write the two scenario grids that the README's agent results use (run from the repository root):
+"""Write the scenario grids that the README's agent results use (run from the repository root):
 
-- ``suites/validation_grid.json``: model selection (e.g. which PPO seed or checkpoint ships). Never
-  used for the reported numbers.
-- ``suites/heldout_grid.json``: reporting only. Its CoF values, speeds and noise draws differ from the
-  validation grid's and from the default suite's seeds; nothing is tuned on it.
+- ``suites/validation_grid.json`` (v1): model selection (e.g. which PPO seed or checkpoint ships).
+  Never used for the reported numbers.
+- ``suites/heldout_grid.json`` (v1): reporting only. Its CoF values, speeds and noise draws differ from
+  the validation grid's and from the default suite's seeds; nothing is tuned on it.
+- ``suites/v2_validation_grid.json``: v2 model selection: the v2 env draws each episode's creep-law
+  shape and systematic sensor errors from its own distribution (the families and ranges agents may be
+  tuned to).
+- ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
+  tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
+  that reaches past the v2 draws (up to 2.5 % of speed error).
 
 Each grid crosses every condition, CoF values at off-round fractions of that condition's range, speeds
 across 5-40 m/s and both load cases, with full sensor noise and a motor lag; the ranges come from
@@ -15,8 +21,38 @@ import itertools
 import json
 from pathlib import Path
 
+import numpy as np
+
 import cof_gym
 from cof_gym.task.scenarios import COF_BY_CONDITION, DEFAULT_CONDITIONS
+
+
+def _table(ratio, peak_creepage: float, n: int = 40) -> dict:
+    """A creep_law table spec: ``ratio(x)`` with x = creepage / peak_creepage, sampled geometrically up
+    to 4 x the peak, exactly 1 at x = 1 (its maximum), 0 at 0."""
+    x = np.unique(np.concatenate([[0.0], np.geomspace(1e-3, 4.0, n), [1.0]]))
+    r = np.clip(ratio(x), 0.0, None)
+    r[0], r[x == 1.0] = 0.0, 1.0
+    rising = x < 1.0
+    r[rising] = np.minimum(r[rising], 1.0 - 1e-6)  # strictly below the maximum before the peak
+    return {"table": {"creepage": [float(v) for v in x * peak_creepage], "adhesion_ratio": [float(v) for v in r]}}
+
+
+# Held-out creep curves (ratio of the CoF against creepage / peak creepage), none a member of a family:
+HELDOUT_SHAPES = {
+    # a sharp peak with a steep exponential fall (CONTACT's exponential falling friction, in shape)
+    "sharp_peak": lambda x: x * np.exp(1.0 - x),
+    # a third-body layer in shape: a low initial slope, a late, rounded knee, a slight fall after it
+    "third_body": lambda x: np.where(x <= 1.0, np.tanh(1.5 * x) / np.tanh(1.5), 1.0 - 0.05 * (x - 1.0)),
+    # water: a steep initial slope and an early knee into a plateau that is held (no falling branch)
+    "water_plateau": lambda x: np.where(x <= 1.0, 1.0 - (1.0 - x) ** 4, 1.0),
+    # a linear rise with an abrupt break (the simplest Coulomb-like saturation)
+    "linear_break": lambda x: np.where(x <= 1.0, x, 1.0 - 0.15 * (1.0 - np.exp(-(x - 1.0)))),
+}
+HELDOUT_PEAK_CREEPAGE = {"dry": (0.004, 0.012), "wet": (0.006, 0.02), "low_adhesion": (0.01, 0.04)}
+HELDOUT_ERRORS = (  # (speed sensor, wheel radius) relative errors, force and torque gain errors
+    (0.0, 0.0, 0.0, 0.0), (0.025, -0.004, 0.008, -0.04), (-0.02, 0.006, -0.012, 0.06), (0.007, 0.009, 0.005, 0.02),
+)
 
 GRIDS = {
     # name: (CoF fractions of the condition's range, speeds m/s, first seed, description)
@@ -35,15 +71,51 @@ def grid(fractions, speeds, first_seed: int, description: str) -> dict:
         options = {"condition": condition, "cof": round(lo + fraction * (hi - lo), 4), "speed_m_s": speed,
                    "load_case": load_case, "noise_level": 1.0, "motor_lag_s": 0.02}
         episodes.append({"seed": first_seed + k, "options": options})
-    return {"env_id": cof_gym.WAGON_ENV_ID, "env_kwargs": {}, "description": description, "episodes": episodes}
+    return {"env_id": cof_gym.WAGON_V1_ENV_ID, "env_kwargs": {}, "description": description, "episodes": episodes}
+
+
+def v2_validation_grid(fractions=(0.11, 0.37, 0.63, 0.89), speeds=(7.0, 19.0, 33.0), first_seed: int = 60_000) -> dict:
+    """Conditions x CoF x speed x load; the creep-law shape and sensor errors drawn by the v2 env."""
+    episodes = []
+    combos = itertools.product(DEFAULT_CONDITIONS, fractions, speeds, ("empty", "laden"))
+    for k, (condition, fraction, speed, load_case) in enumerate(combos):
+        lo, hi = COF_BY_CONDITION[condition]
+        options = {"condition": condition, "cof": round(lo + fraction * (hi - lo), 4), "speed_m_s": speed,
+                   "load_case": load_case, "noise_level": 1.0, "motor_lag_s": 0.02}
+        episodes.append({"seed": first_seed + k, "options": options})
+    return {"env_id": cof_gym.WAGON_ENV_ID, "env_kwargs": {},
+            "description": "v2 model selection only (never reported): shapes and sensor errors from the v2 draws",
+            "episodes": episodes}
+
+
+def v2_heldout_grid(fractions=(0.21, 0.74), speeds=(9.0, 26.0), first_seed: int = 95_000) -> dict:
+    """Held-out shapes (tables) x conditions x CoF x speed x systematic errors, loads alternating."""
+    episodes = []
+    combos = itertools.product(HELDOUT_SHAPES, DEFAULT_CONDITIONS, fractions, speeds)
+    for k, (shape, condition, fraction, speed) in enumerate(combos):
+        lo, hi = COF_BY_CONDITION[condition]
+        s_lo, s_hi = HELDOUT_PEAK_CREEPAGE[condition]
+        peak = s_lo + (s_hi - s_lo) * ((0.618 * k) % 1.0)
+        ev, er, ef, et = HELDOUT_ERRORS[k % len(HELDOUT_ERRORS)]
+        options = {"condition": condition, "cof": round(lo + fraction * (hi - lo), 4), "speed_m_s": speed,
+                   "load_case": ("empty", "laden")[k % 2], "noise_level": 1.0, "motor_lag_s": 0.02,
+                   "creep_law": _table(HELDOUT_SHAPES[shape], round(peak, 5)),
+                   "speed_sensor_error": ev, "wheel_radius_error": er, "force_gain_error": ef,
+                   "torque_gain_error": et}
+        episodes.append({"seed": first_seed + k, "options": options, "note": shape})
+    return {"env_id": cof_gym.WAGON_ENV_ID, "env_kwargs": {},
+            "description": "v2 reporting only: creep curves outside every family, sensor errors past the v2 draws",
+            "episodes": episodes}
 
 
 def main() -> None:
     out = Path(__file__).resolve().parent / "suites"
-    for name, spec in GRIDS.items():
+    grids = {name: grid(*spec) for name, spec in GRIDS.items()}
+    grids.update(v2_validation_grid=v2_validation_grid(), v2_heldout_grid=v2_heldout_grid())
+    for name, spec in grids.items():
         path = out / f"{name}.json"
-        path.write_text(json.dumps(grid(*spec), indent=1) + "\n")
-        print(f"{path}: {len(grid(*spec)['episodes'])} episodes")
+        path.write_text(json.dumps(spec, indent=1) + "\n")
+        print(f"{path}: {len(spec['episodes'])} episodes")
 
 
 if __name__ == "__main__":

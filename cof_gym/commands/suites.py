@@ -6,7 +6,10 @@ A suite file is JSON::
       "env_id": "CofGym/TorqueInterrogation-v1",        (optional; default: the wagon)
       "env_kwargs": {"counter_torque": true},            (optional; constructor arguments)
       "options": {"condition": "wet"},                   (optional; reset options of every episode)
-      "episodes": [{"seed": 1, "options": {"cof": 0.2}}, ...],
+      "episodes": [{"seed": 1, "options": {"cof": 0.2}, "note": "..."}, ...],
+                          (options: any scenario field, e.g. "creep_law": "wet",
+                           {"polach": {...}} or {"table": {"creepage": [...],
+                           "adhesion_ratio": [...]}}, "speed_sensor_error": 0.01)
       "description": "..."                               (optional; free text)
     }
 
@@ -24,11 +27,12 @@ from pathlib import Path
 from typing import Any
 
 import cof_gym
+from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 
 PAPER_COFS = (0.1, 0.2, 0.3, 0.4, 0.5)
 SUITE_NAMES = ("default", "paper")
 FILE_KEYS = ("env_id", "env_kwargs", "options", "episodes", "description")
-EPISODE_KEYS = ("seed", "options")
+EPISODE_KEYS = ("seed", "options", "note")  # note: a free-text label, not read
 MAX_SEED = 2**63 - 1
 
 
@@ -57,7 +61,9 @@ def default_suite(n_episodes: int, seed: int) -> Suite:
 def paper_suite(n_episodes: int, seed: int) -> Suite:
     """The paper's setting: laden wagon with the opposite torque on the bogie, dry, 10 m/s, no noise
     or lag, CoF 0.1...0.5 (cycled over ``n_episodes``)."""
-    fixed = {"condition": "dry", "speed_m_s": 10.0, "load_case": "laden", "noise_level": 0.0, "motor_lag_s": 0.0}
+    # the paper's simulation: Polach's dry curve, ideal sensors (no noise, no systematic error)
+    fixed = {"condition": "dry", "speed_m_s": 10.0, "load_case": "laden", "noise_level": 0.0, "motor_lag_s": 0.0,
+             "creep_law": "dry", **{name: 0.0 for name in SYSTEMATIC_ERRORS}}
     episodes = [(seed + i, {**fixed, "cof": PAPER_COFS[i % len(PAPER_COFS)]}) for i in range(n_episodes)]
     return Suite("paper", cof_gym.WAGON_ENV_ID, {"counter_torque": True}, episodes)
 
