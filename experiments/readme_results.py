@@ -1,8 +1,11 @@
 """Copy measured agent results into the README (run from the repository root after the commands below),
 so that its tables are generated, never typed:
 
-    cof-gym evaluate --out out/evaluate                                              # default suite
-    cof-gym evaluate --suite experiments/suites/heldout_grid.json --out out/evaluate-heldout
+    cof-gym evaluate --out out/evaluate                                              # v2 default suite
+    cof-gym evaluate --suite experiments/suites/v2_no_systematic_errors.json --episodes 60 --out out/evaluate-v2-no-errors
+    cof-gym evaluate --suite experiments/suites/v2_heldout_grid.json --out out/evaluate-v2-heldout
+    cof-gym evaluate --suite experiments/suites/v1_default.json --episodes 60 --out out/evaluate-v1
+    cof-gym evaluate --suite experiments/suites/heldout_grid.json --out out/evaluate-heldout   # v1 held-out
     python experiments/ppo_seeds.py --runs runs/ppo_lo_s0 runs/ppo_lo_s1 runs/ppo_lo_s2 --out out/ppo_seeds
     python experiments/readme_results.py
 
@@ -19,6 +22,9 @@ ROOT = Path(__file__).resolve().parent.parent
 README = ROOT / "README.md"
 SOURCES = {
     "default": ROOT / "out" / "evaluate" / "summary.md",
+    "v2_no_errors": ROOT / "out" / "evaluate-v2-no-errors" / "summary.md",
+    "v2_heldout": ROOT / "out" / "evaluate-v2-heldout" / "summary.md",
+    "v1_default": ROOT / "out" / "evaluate-v1" / "summary.md",
     "heldout": ROOT / "out" / "evaluate-heldout" / "summary.md",
     "ppo_seeds": ROOT / "out" / "ppo_seeds" / "report.md",
 }

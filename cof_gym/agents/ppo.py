@@ -39,6 +39,20 @@ def resolve_model_path(path: str | Path) -> Path:
     raise FileNotFoundError(f"model not found: {p}")
 
 
+def model_spaces(path: str | Path) -> tuple[Any, Any]:
+    """(observation space, action space) saved in a Stable-Baselines3 model zip, read without building
+    the policy. ``ValueError`` (one line) for a file that is not a zip or a zip that is not a model."""
+    from stable_baselines3.common.save_util import load_from_zip_file
+
+    try:
+        data, _, _ = load_from_zip_file(path, device="cpu", load_data=True, print_system_info=False)
+    except Exception as e:  # noqa: BLE001 - SB3 raises ValueError, zipfile, pickle and torch errors alike
+        raise ValueError(f"{path} is not a readable Stable-Baselines3 model ({' '.join(str(e).split())})") from None
+    if not data or "observation_space" not in data or "action_space" not in data:
+        raise ValueError(f"{path} is a zip file but not a Stable-Baselines3 model (no saved spaces)")
+    return data["observation_space"], data["action_space"]
+
+
 def vecnormalize_path(model_path: str | Path) -> Path:
     """The VecNormalize statistics saved with a model: ``vecnormalize.pkl`` beside it, or, for an SB3
     checkpoint ``<prefix>_<N>_steps.zip``, ``<prefix>_vecnormalize_<N>_steps.pkl``, or, for an RL Zoo
@@ -146,6 +160,7 @@ class PPOAgent:
                           "the policy will see raw observations", stacklevel=2)
             venv.close()
         agent = cls(model, vec_normalize, env_id=env_id, model_path=model_path, adapter=adapter, limits=limits)
+        agent.trained_on = (meta.get("env_id") or env_id, dict(meta.get("env_kwargs") or {}))
         if action_type != "absolute" or observation_type != "window":
             # trained on other action/observation types: applied on the agent's side of a default env
             from cof_gym.agents.adapters import AgentSideInterface
@@ -161,6 +176,23 @@ class PPOAgent:
         return np.asarray(self.vec_normalize.normalize_obs(obs), dtype=np.float32)
 
     interface: Any = None  # AgentSideInterface when the policy was trained on non-default env types
+    trained_on: tuple[str, dict[str, Any]] | None = None  # (env id, env kwargs) of its training run
+    INTERFACE_KWARGS = ("action_type", "observation_type", "shaping")  # applied agent-side, not the world
+
+    def distribution_note(self, env_id: str, env_kwargs: dict[str, Any]) -> str | None:
+        """A line saying where an evaluation env lies outside the policy's training distribution (its
+        training env id and world-changing kwargs, e.g. ``counter_torque``), None when it does not."""
+        if self.trained_on is None:
+            return None
+        trained_id, trained_kwargs = self.trained_on
+        world = lambda kw: {k: v for k, v in kw.items() if k not in self.INTERFACE_KWARGS}  # noqa: E731
+        differs = [f"{k}={v!r} (trained: {world(trained_kwargs).get(k, 'default')!r})"
+                   for k, v in sorted(world(env_kwargs).items()) if world(trained_kwargs).get(k) != v]
+        if env_id != trained_id:
+            differs.insert(0, f"env {env_id} (trained: {trained_id})")
+        if not differs:
+            return None
+        return f"{self.name} is out of its training distribution here: " + ", ".join(differs)
     _pending: np.ndarray | None = None
 
     def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
