@@ -142,6 +142,11 @@ def _first_reach(law: CreepLaw, patch: ContactPatch, wheel_load_n: float, speed_
             lo = mid
 
 
+class NoPeakError(ValueError):
+    """The steady creep curve has no maximum (and no plateau) below :data:`MAX_CREEPAGE`: its CoF is
+    undefined at that speed and load."""
+
+
 def _peak(law: CreepLaw, patch: ContactPatch, wheel_load_n: float, speed_m_s: float) -> CreepPeak:
     """Where the curve first reaches its maximum: closed form where the family has one, the start of
     a plateau (a curve that saturates, e.g. Shen-Hedrick-Elkins with constant friction) by
@@ -153,13 +158,14 @@ def _peak(law: CreepLaw, patch: ContactPatch, wheel_load_n: float, speed_m_s: fl
     coa, _ = _curve(law, patch, wheel_load_n, speed_m_s, grid)
     i = int(np.argmax(coa))
     if i >= grid.size - 2:
-        raise ValueError(
+        raise NoPeakError(
             f"the creep curve has no maximum below creepage {MAX_CREEPAGE} at speed_m_s={speed_m_s} for this "
             "condition, so its CoF (the curve's maximum) is undefined; use a lower speed or a condition with "
             "stronger falling friction"
         )
     if coa[i + 1] == coa[i]:  # saturated: the maximum is held from its first point on
-        return CreepPeak(_first_reach(law, patch, wheel_load_n, speed_m_s, float(coa[i]), grid[i - 1], grid[i]),
+        return CreepPeak(_first_reach(law, patch, wheel_load_n, speed_m_s, float(coa[i]), float(grid[i - 1]),
+                                      float(grid[i])),
                          float(coa[i]))
     lo, hi = np.log(grid[max(i - 1, 0)]), np.log(grid[min(i + 1, grid.size - 1)])
     res = minimize_scalar(
@@ -234,6 +240,17 @@ def creep_peak(op: OperatingConditions) -> CreepPeak:
     For a curve that saturates (no falling branch) that creepage is where the supremum is reached,
     e.g. 3 mu / (k C_K) for Shen-Hedrick-Elkins with constant friction: the macro-slip reference."""
     return _peak(op.law(), op.patch, op.wheel_load_n, op.speed_m_s)
+
+
+def has_maximum(op: OperatingConditions) -> bool:
+    """Whether the curve of ``op`` has a maximum (or reaches its supremum) below creepage
+    ``MAX_CREEPAGE`` once calibrated, so that its CoF is defined (an ``accept`` for
+    :func:`draw_shape`)."""
+    try:
+        creep_peak(op)
+    except ValueError:
+        return False
+    return True
 
 
 def creepage_at_coa(coa: float, op: OperatingConditions) -> float:

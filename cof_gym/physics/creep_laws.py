@@ -41,7 +41,7 @@ The extended creep force model with a third-body layer (Meierhofer et al., Wear 
 is not implemented: its equations were not available to source here.
 
 **Ranges** for drawing shapes per episode (:data:`RANGES`, :func:`draw_shape`; each parameter
-uniform in its range, independently):
+uniform in its range; Polach draws with kS > kA are redrawn, see :meth:`PolachShape.drawable`):
 
 ====================== ============= ============ ============ ============ ==============
 family / condition      k_adhesion    k_slip       friction_    friction_    k_stiffness
@@ -76,7 +76,7 @@ import numbers
 from dataclasses import MISSING, dataclass, fields
 from functools import lru_cache
 from types import MappingProxyType
-from typing import Any, ClassVar, Mapping
+from typing import Any, Callable, ClassVar, Mapping
 
 import numpy as np
 
@@ -118,6 +118,10 @@ class CreepShape:
     def table(self) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
         """Tabulated curve (creepage, value, slope) for the native table arrays, or None."""
         return None
+
+    def drawable(self) -> bool:
+        """Whether :func:`draw_shape` keeps this draw (a family's structural constraint on its ranges)."""
+        return True
 
     def max_is_mu0(self) -> bool:
         """True when the curve's maximum (supremum) is mu0 itself at every speed and load, so that
@@ -172,6 +176,11 @@ class PolachShape(CreepShape):
 
     def mu0_upper(self, cof: float) -> float:
         return cof / max(self.friction_ratio, 0.05)
+
+    def drawable(self) -> bool:
+        """kS <= kA, as in every preset and published set: with kS > kA the atan (slip) term outgrows
+        the adhesion term and many such curves have no maximum at all."""
+        return self.k_slip <= self.k_adhesion
 
 
 @dataclass(frozen=True)
@@ -244,7 +253,7 @@ class TableShape(CreepShape):
                              f"the CoF, got maximum {max(r)!r}")
         if any(b <= a for a, b in zip(r[:peak + 1], r[1:peak + 1])):
             raise ValueError(f"adhesion_ratio must rise strictly from 0 to its maximum 1, got {list(r[:peak + 1])}")
-        r = tuple(min(v, 1.0) if abs(v - 1.0) <= self.MAX_TOLERANCE else v for v in r)
+        r = tuple(1.0 if abs(v - 1.0) <= self.MAX_TOLERANCE else v for v in r)
         object.__setattr__(self, "creepage", s)
         object.__setattr__(self, "adhesion_ratio", r)
 
@@ -383,13 +392,23 @@ def creep_law_from_spec(spec: Any) -> CreepShape:
         raise ValueError(f"creep_law.{family}.{e}") from None
 
 
-def draw_shape(rng: np.random.Generator, family: str, condition: str) -> CreepShape:
-    """A shape of ``family`` drawn for ``condition`` from :data:`RANGES` (each parameter uniform in
-    its range, in field order; randomness only from ``rng``)."""
+MAX_DRAWS = 1000
+
+
+def draw_shape(rng: np.random.Generator, family: str, condition: str,
+               accept: Callable[[CreepShape], bool] | None = None) -> CreepShape:
+    """A shape of ``family`` drawn for ``condition`` from :data:`RANGES`: each parameter uniform in its
+    range, in field order, redrawn until the family's constraint (:meth:`CreepShape.drawable`) and
+    ``accept`` (e.g. "the curve has a maximum at this episode's speed and load",
+    :func:`cof_gym.physics.creep.has_maximum`) hold. Randomness only from ``rng``."""
     if family not in RANGES:
         raise ValueError(f"family must be one of {sorted(RANGES)} (the families with parameter ranges), got {family!r}")
     ranges = RANGES[family]
     if condition not in ranges:
         raise ValueError(f"condition must be one of {sorted(ranges)} for the {family} family, got {condition!r}")
     cls = FAMILIES[family]
-    return cls(**{f.name: float(rng.uniform(*ranges[condition][f.name])) for f in fields(cls)})
+    for _ in range(MAX_DRAWS):
+        shape = cls(**{f.name: float(rng.uniform(*ranges[condition][f.name])) for f in fields(cls)})
+        if shape.drawable() and (accept is None or accept(shape)):
+            return shape
+    raise ValueError(f"no {family} shape for {condition} passed the acceptance test in {MAX_DRAWS} draws")
