@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+import zipfile
 from pathlib import Path
 
 import pytest
@@ -23,7 +24,10 @@ SUITE_FILES = {
     "options_list.json": json.dumps({"options": ["cof", 0.3]}),
     "unknown_option.json": json.dumps({"options": {"friction": 0.3}}),
     "bad_env_id.json": json.dumps({"env_id": "CofGym/NoSuchEnv-v9"}),
+    "cartpole.json": json.dumps({"env_id": "CartPole-v1"}),  # registered, but not a cof_gym env
+    "too_many_episodes.json": json.dumps({"episodes": [{}] * 100_001}),
 }
+SHIPPED = str(Path(cli.__file__).parent / "agents" / "policies" / "ppo_wagon")  # observation (38,)
 
 # (argv, a fragment the one-line message must contain)
 BAD = [
@@ -35,6 +39,10 @@ BAD = [
     (["evaluate", "--agents", "ppo:/no/such/model.zip"], "/no/such/model"),
     (["evaluate", "--episodes", "0"], "--episodes"),
     (["evaluate", "--episodes", "many"], "--episodes"),
+    (["evaluate", "--episodes", "1000000000"], "--episodes"),
+    (["evaluate", "--agents", "ppo:not_a_model.zip"], "not a Stable-Baselines3 model"),
+    (["evaluate", "--agents", "ppo:corrupt.zip"], "corrupt.zip"),
+    (["evaluate", "--agents", "staircase", "--out", "/proc/cof_gym_out"], "--out"),
     (["evaluate", "--seed", "-1"], "--seed"),
     (["evaluate", "--suite", "/no/such/file.json"], "no such suite file"),
     (["evaluate", "--suite", "nonsense"], "--suite"),
@@ -54,6 +62,15 @@ BAD = [
     (["train", "--out", "run", "--conf-file", "/no/such.yml"], "--conf-file"),
     (["train", "--out", "a_file.txt"], "--out"),
     (["train", "--out", "run", "--n-envs", "-2"], "--n-envs"),
+    (["train", "--out", "run", "--hyperparams", "n_steps:0", "--timesteps", "100"], "n_steps"),
+    (["train", "--out", "run", "--hyperparams", "gamma:1.5", "--timesteps", "100"], "gamma"),
+    (["train", "--out", "run", "--resume", SHIPPED, "--env-kwargs", "observation_type:'window'"], "--env-kwargs"),
+    (["train", "--out", "run", "--resume", "corrupt.zip"], "--resume"),
+    (["train", "--out", "run", "--resume", "not_a_model.zip"], "--resume"),
+    (["train", "--out", "/proc/cof_gym_run"], "--out"),
+    (["reproduce-paper", "--quick", "--readme", "/nonexistent/README.md"], "--readme"),
+    (["reproduce-paper", "--quick", "--readme", "a_file.txt"], "markers"),
+    (["reproduce-paper", "--quick", "--out", "/proc/cof_gym_paper"], "--out"),
     (["train"], "--out"),
     ([], "COMMAND"),
     (["no-such-command"], "no-such-command"),
@@ -68,6 +85,9 @@ def workdir(tmp_path: Path, monkeypatch) -> Path:
     (tmp_path / "not_an_output" / "notes.txt").write_text("mine\n")
     for name, text in SUITE_FILES.items():
         (tmp_path / name).write_text(text)
+    with zipfile.ZipFile(tmp_path / "not_a_model.zip", "w") as z:  # a valid zip, not a model
+        z.writestr("notes.txt", "not a model\n")
+    (tmp_path / "corrupt.zip").write_bytes(b"PK\x03\x04" + b"\x00garbage" * 8)
     return tmp_path
 
 
@@ -148,4 +168,5 @@ def test_an_interrupted_evaluate_leaves_nothing(workdir: Path, monkeypatch) -> N
 
     monkeypatch.setattr(ev, "run_episode", interrupted)
     assert cli.main(["evaluate", "--agents", "staircase", "--episodes", "3", "--out", "deep/res", "--quiet"]) == 130
-    assert sorted(p.name for p in workdir.iterdir()) == sorted(["a_file.txt", "not_an_output", *SUITE_FILES])
+    assert sorted(p.name for p in workdir.iterdir()) == sorted(["a_file.txt", "not_an_output", "not_a_model.zip",
+                                                               "corrupt.zip", *SUITE_FILES])

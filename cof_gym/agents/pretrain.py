@@ -24,6 +24,7 @@ import numpy as np
 from cof_gym.agents.base import agent_view
 from cof_gym.agents.registry import make_agent
 from cof_gym.agents.staircase import limits_of
+from cof_gym.envs.torque_interrogation import make_kwargs
 from cof_gym.task.interface import ACTION_NAMES, OBSERVATION_NAMES, decode_action
 
 STOP = ACTION_NAMES.index("stop")
@@ -36,7 +37,7 @@ def collect_demonstrations(env_id: str, env_kwargs: dict, episodes: int, seed: i
     the actions in the env's action type. The expert reads the window part of the observation; the env
     executes its action plus N(0, ``noise_std``) on every component but the stop (the label is the
     clean action)."""
-    env = gym.make(f"cof_gym:{env_id}", **{k: v for k, v in env_kwargs.items() if k != "max_episode_steps"})
+    env = gym.make(f"cof_gym:{env_id}", **make_kwargs(env_kwargs))
     base = env.unwrapped
     limits = limits_of(env)
     agent = make_agent(expert, env)

@@ -44,14 +44,25 @@ class Parser(argparse.ArgumentParser):
 
 
 # ---------------------------------------------------------------------------- argument types
-def _int_at_least(text: str, low: int) -> int:
+def _int_at_least(text: str, low: int, high: int | None = None) -> int:
     try:
         value = int(text)
     except ValueError:
         value = low - 1
-    if value < low:
-        raise argparse.ArgumentTypeError(f"must be an integer >= {low}, got {text!r}")
+    if value < low or (high is not None and value > high):
+        bound = f">= {low}" if high is None else f"in [{low}, {high}]"
+        raise argparse.ArgumentTypeError(f"must be an integer {bound}, got {text!r}")
     return value
+
+
+def int_in_range(low: int, high: int):
+    """An argparse type: an integer in [low, high]."""
+
+    def parse(text: str) -> int:
+        return _int_at_least(text, low, high)
+
+    parse.__name__ = f"integer in [{low}, {high}]"
+    return parse
 
 
 def positive_int(text: str) -> int:
@@ -96,6 +107,34 @@ def check_output_dir(path: Path, flag: str = "--out") -> Path:
         ancestor = ancestor.parent
     if not ancestor.is_dir():
         raise UsageError(flag, f"{path}: {ancestor} is a file, not a directory")
-    if not os.access(ancestor, os.W_OK | os.X_OK):
+    if not os.access(ancestor, os.W_OK | os.X_OK) or os.statvfs(ancestor).f_flag & os.ST_RDONLY:
         raise UsageError(flag, f"{path}: {ancestor} is not writable")
+    fs_type = filesystem_type(ancestor)
+    if fs_type in PSEUDO_FILESYSTEMS:
+        raise UsageError(flag, f"{path}: {ancestor} is on a {fs_type} pseudo-filesystem; give a directory on disk")
     return path
+
+
+# kernel filesystems that hold no files (writes fail even as root, where os.access says yes)
+PSEUDO_FILESYSTEMS = frozenset({"proc", "sysfs", "devpts", "cgroup", "cgroup2", "debugfs", "tracefs", "securityfs",
+                                "pstore", "bpf", "configfs", "fusectl", "mqueue", "binfmt_misc", "autofs"})
+
+
+def filesystem_type(path: Path) -> str | None:
+    """The type of the filesystem mounted at or above ``path`` (Linux ``/proc/self/mountinfo``; None
+    elsewhere or when unknown)."""
+    try:
+        lines = Path("/proc/self/mountinfo").read_text().splitlines()
+    except OSError:
+        return None
+    best, fs_type = "", None
+    target = str(Path(path).resolve())
+    for line in lines:
+        fields = line.split()
+        if " - " not in line or len(fields) < 5:
+            continue
+        mount = fields[4].replace("\\040", " ")
+        inside = target == mount or target.startswith(mount.rstrip("/") + "/")
+        if inside and len(mount) >= len(best):
+            best, fs_type = mount, line.split(" - ", 1)[1].split()[0]
+    return fs_type

@@ -16,10 +16,9 @@ from typing import Any
 
 import numpy as np
 
-import cof_gym
 from cof_gym.agents import registry
 from cof_gym.agents.base import agent_view
-from cof_gym.commands.suites import Suite, SuiteError, make_suite
+from cof_gym.commands.suites import MAX_EPISODES, Suite, SuiteError, make_suite
 from cof_gym.envs.torque_interrogation import make_kwargs
 
 DESCRIPTION = """\
@@ -38,7 +37,6 @@ COF_BANDS = (0.0, 0.1, 0.2, 0.3, 0.4, math.inf)  # CoF band edges of the breakdo
 CREEPAGE_ERROR_BANDS = (0.0, 1e-9, 0.002, 0.005, 0.01, math.inf)
 # "how early can you know": peak torque at the committed estimate, as a fraction of the true M_sat
 UTILISATION_BANDS = (0.0, 0.8, 0.9, 0.95, math.inf)
-TABLE_WIDTH = 100  # when stdout is not a terminal
 OUTPUT_MARKER = "summary.json"  # what makes an existing --out directory a previous evaluate output
 
 
@@ -287,43 +285,30 @@ def markdown_breakdown(summary: dict[str, dict[str, Any]]) -> str:
             "[% of real M_sat].\n\n" + "\n".join(lines))
 
 
-def _console(stderr: bool = False):
-    from rich.console import Console
+def print_table(summary: dict[str, dict[str, Any]], title: str, out=None) -> None:
+    """The summary (value, CI below it) and the breakdown (median error per group) on ``out`` (a rich
+    console; default: stdout at the terminal's width, or COLUMNS, or 100), splitting no word
+    (:func:`cof_gym.commands.terminal.print_table`)."""
+    from cof_gym.commands import terminal
 
-    stream = sys.stderr if stderr else sys.stdout
-    width = shutil.get_terminal_size((TABLE_WIDTH, 24)).columns if stream.isatty() else TABLE_WIDTH
-    return Console(file=stream, width=width, highlight=False, markup=False)
-
-
-def print_table(summary: dict[str, dict[str, Any]], title: str) -> None:
-    """The summary (value, CI below it) and the breakdown (median error per group), in the terminal's
-    width (100 columns when not a terminal)."""
-    from rich.table import Table
-
-    console = _console()
-    table = Table(title=title, title_justify="left", show_lines=False, pad_edge=False)
-    table.add_column("metric [unit]\n(95 % CI)", overflow="fold")
-    for a in summary:
-        table.add_column(_agent_label(summary, a), justify="right", overflow="fold")
-    for key, label, _, _, kind in METRICS:
-        table.add_row(label, *[f"{_fmt(summary[a][key]['value'], kind)}\n[{_fmt(summary[a][key]['ci95'][0], kind)}, "
-                               f"{_fmt(summary[a][key]['ci95'][1], kind)}]" for a in summary])
-    table.add_row("episodes [count]", *[str(summary[a]["episodes"]) for a in summary])
-    console.print(table)
+    out = out or terminal.console()
+    rows = [[label, *[f"{_fmt(summary[a][key]['value'], kind)}\n[{_fmt(summary[a][key]['ci95'][0], kind)}, "
+                      f"{_fmt(summary[a][key]['ci95'][1], kind)}]" for a in summary]]
+            for key, label, _, _, kind in METRICS]
+    rows.append(["episodes [count]", *[str(summary[a]["episodes"]) for a in summary]])
+    labels = [_agent_label(summary, a).replace(" (oracle)", "\n(oracle)") for a in summary]
+    terminal.print_table(title, ["metric [unit]\n(95 % CI)", *labels], rows, out)
     groups = list(dict.fromkeys(g for a in summary for g in summary[a]["breakdown"]))
-    bd = Table(title="median rel. CoF error [%] by group (macro-slips in brackets)",
-               title_justify="left", pad_edge=False)
-    bd.add_column("group [episodes]", overflow="fold")
-    for a in summary:
-        bd.add_column(a, justify="right", overflow="fold")
+    bd_rows = []
     for g in groups:
         n = next(summary[a]["breakdown"][g]["episodes"] for a in summary if g in summary[a]["breakdown"])
         cells = []
         for a in summary:
             s = summary[a]["breakdown"].get(g)
             cells.append("-" if s is None else f"{_fmt(s['median_error'], 'pct')} [{s['macro_slip_events']}]")
-        bd.add_row(f"{g} [{n}]", *cells)
-    console.print(bd)
+        bd_rows.append([f"{g} [{n}]", *cells])
+    terminal.print_table("median rel. CoF error [%] by group (macro-slips in brackets)",
+                         ["group [episodes]", *summary], bd_rows, out)
 
 
 # ---------------------------------------------------------------------------- output directory
@@ -379,15 +364,19 @@ def check_out(out: Path) -> Path:
 
 # ---------------------------------------------------------------------------- the run
 def _progress(quiet: bool):
-    """A rich progress bar on stderr when it is a terminal; plain lines otherwise; nothing if quiet."""
+    """A rich progress bar on stderr when it is a terminal; a plain line every few seconds otherwise
+    (:class:`cof_gym.commands.terminal.PlainProgress`); nothing if quiet."""
+    from cof_gym.commands import terminal
+
     if quiet:
         return None
     if sys.stderr.isatty():
         from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
         return Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
-                        TextColumn("episodes"), TimeElapsedColumn(), console=_console(stderr=True), transient=False)
-    return None
+                        TextColumn("episodes"), TimeElapsedColumn(), console=terminal.console(sys.stderr),
+                        transient=False)
+    return terminal.PlainProgress(sys.stderr)
 
 
 def build_agents(agent_specs: list[str], env) -> list[tuple[Any, bool]]:
@@ -462,15 +451,11 @@ def _play_and_write(env, agents, agent_specs, suite: Suite, out: Path, seed: int
             if progress is not None else {}
         for agent, oracle in agents:
             traces[agent.name] = []
-            t_agent = time.perf_counter()
             for i, (ep_seed, options) in enumerate(suite.episodes):
                 records.append(run_episode(env, agent, ep_seed, options, i, traces[agent.name] if i == 0 else None,
                                            oracle=oracle))
                 if progress is not None:
                     progress.advance(tasks[agent.name])
-            if progress is None and not quiet:
-                print(f"{agent.name}: {len(suite.episodes)} episodes in {time.perf_counter() - t_agent:.1f} s",
-                      file=sys.stderr)
     finally:
         if progress is not None:
             progress.stop()
@@ -496,13 +481,14 @@ def _play_and_write(env, agents, agent_specs, suite: Suite, out: Path, seed: int
 
 # ---------------------------------------------------------------------------- command line
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    from cof_gym.commands.args import positive_int, non_negative_int
+    from cof_gym.commands.args import int_in_range, non_negative_int
 
     parser.add_argument("--agents", default=None, metavar="A,B,...",
                         help=f"comma-separated agents: {registry.describe()} (default: "
                              f"{','.join(registry.default_agents())})")
-    parser.add_argument("--episodes", type=positive_int, default=60,
-                        help="episodes per agent (a suite file with an episode list sets its own)")
+    parser.add_argument("--episodes", type=int_in_range(1, MAX_EPISODES), default=60,
+                        help=f"episodes per agent, at most {MAX_EPISODES} (a suite file with an episode list sets "
+                             "its own)")
     parser.add_argument("--suite", default="default", metavar="SUITE",
                         help="scenarios: 'default' (the env's distribution), 'paper' (the paper's setting) or a "
                              "JSON suite file (see cof_gym/commands/suites.py)")
@@ -516,8 +502,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
     """Check the whole command line before anything runs or is written (UsageError naming the flag)."""
-    import gymnasium as gym
-
     from cof_gym.commands.args import UsageError
 
     specs = [s.strip() for s in args.agents.split(",")] if args.agents is not None else registry.default_agents()
@@ -529,11 +513,11 @@ def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
         except registry.AgentSpecError as e:
             raise UsageError("--agents", str(e)) from None
         if argument is not None and spec.startswith("ppo:"):
-            from cof_gym.agents.ppo import resolve_model_path
+            from cof_gym.agents.ppo import model_spaces, resolve_model_path
 
             try:
-                resolve_model_path(argument)
-            except FileNotFoundError as e:
+                model_spaces(resolve_model_path(argument))
+            except (FileNotFoundError, ValueError) as e:
                 raise UsageError("--agents", f"{spec}: {e}") from None
     if len(set(specs)) != len(specs):
         raise UsageError("--agents", f"an agent is given twice in {args.agents!r}")
@@ -541,8 +525,6 @@ def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
         suite = make_suite(args.suite, args.episodes, args.seed)
     except SuiteError as e:
         raise UsageError("--suite", str(e)) from None
-    if suite.env_id not in gym.registry:
-        raise UsageError("--suite", f"{args.suite}: unknown env_id {suite.env_id!r}; allowed: {list(cof_gym.ENV_IDS)}")
     out = check_out(Path(args.out) if args.out is not None else default_out(args.suite))
     return specs, suite, out
 

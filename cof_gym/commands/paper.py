@@ -31,7 +31,8 @@ from pathlib import Path
 
 import numpy as np
 
-from cof_gym.commands.paper_readme import update_readme
+from cof_gym.commands.args import UsageError
+from cof_gym.commands.paper_readme import check_readme, update_readme
 from cof_gym.analysis.theory import (
     CompliantWheelset,
     creep_slope_at_torque,
@@ -366,7 +367,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """``cof-gym reproduce-paper``: exit status 1 when a check that should hold fails."""
+    """``cof-gym reproduce-paper``: exit status 1 when a check that should hold fails; the README to
+    rewrite is checked before anything is simulated (a usage error otherwise)."""
+    if getattr(args, "readme", None):
+        try:
+            check_readme(Path(args.readme))
+        except ValueError as e:
+            raise UsageError("--readme", str(e)) from None
     results = reproduce(Path(args.out), quick=args.quick)
     print("\n".join(summary_lines(results)))
     print(f"figures and results.json in {args.out}")

@@ -10,6 +10,7 @@ the README, so the README's physics numbers cannot drift from the code.
 from __future__ import annotations
 
 import math
+import os
 import shutil
 from pathlib import Path
 
@@ -206,11 +207,24 @@ def render_section(results: dict) -> str:
     return "\n".join(lines)
 
 
+def check_readme(readme: Path) -> str:
+    """The README's text, when it can be rewritten: a readable, writable UTF-8 file with the markers
+    in order, beside a ``docs/`` that can be written. ``ValueError`` (one line) otherwise; changes nothing."""
+    try:
+        text = readme.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as e:
+        raise ValueError(f"{readme}: cannot be read ({getattr(e, 'strerror', None) or e})") from None
+    if BEGIN not in text or END not in text or text.index(BEGIN) > text.index(END):
+        raise ValueError(f"{readme} lacks the markers {BEGIN} ... {END}")
+    docs = readme.parent / "docs"
+    if not os.access(readme, os.W_OK) or not os.access(docs if docs.is_dir() else readme.parent, os.W_OK):
+        raise ValueError(f"{readme} or {docs} is not writable")
+    return text
+
+
 def update_readme(readme: Path, results: dict, out_dir: Path) -> None:
     """Rewrite the README between the markers and copy the figures it shows into ``docs/``."""
-    text = readme.read_text()
-    if BEGIN not in text or END not in text:
-        raise ValueError(f"{readme} lacks the markers {BEGIN} / {END}")
+    text = check_readme(readme)
     head, rest = text.split(BEGIN, 1)
     _, tail = rest.split(END, 1)
     readme.write_text(f"{head}{BEGIN}\n{render_section(results)}\n{END}{tail}")

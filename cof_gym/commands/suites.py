@@ -22,9 +22,10 @@ from __future__ import annotations
 
 import json
 import numbers
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable, Iterator
 
 import cof_gym
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
@@ -34,6 +35,29 @@ SUITE_NAMES = ("default", "paper")
 FILE_KEYS = ("env_id", "env_kwargs", "options", "episodes", "description")
 EPISODE_KEYS = ("seed", "options", "note")  # note: a free-text label, not read
 MAX_SEED = 2**63 - 1
+MAX_EPISODES = 100_000  # episodes per agent (--episodes and a file's episode list): hours of simulation
+
+
+class SeededEpisodes(Sequence):
+    """``count`` episodes with seeds ``seed``, ``seed + 1``, ... and the reset options ``options(i)``
+    of episode i, made when read (a long suite is streamed, never built as a list)."""
+
+    def __init__(self, seed: int, count: int, options: Callable[[int], dict[str, Any]] = lambda i: {}) -> None:
+        self.seed, self.count, self.options = seed, count, options
+
+    def __len__(self) -> int:
+        return self.count
+
+    def __getitem__(self, i):  # noqa: ANN001 - Sequence protocol (int or slice)
+        if isinstance(i, slice):
+            return [self[k] for k in range(*i.indices(self.count))]
+        if not -self.count <= i < self.count:
+            raise IndexError(f"episode {i} of {self.count}")
+        i %= self.count
+        return self.seed + i, self.options(i)
+
+    def __iter__(self) -> Iterator[tuple[int, dict[str, Any]]]:
+        return (self[i] for i in range(self.count))
 
 
 class SuiteError(ValueError):
@@ -49,13 +73,13 @@ class Suite:
     name: str
     env_id: str
     env_kwargs: dict[str, Any]
-    episodes: list[tuple[int, dict[str, Any]]] = field(default_factory=list)
+    episodes: Sequence[tuple[int, dict[str, Any]]] = field(default_factory=list)
 
 
 def default_suite(n_episodes: int, seed: int) -> Suite:
     """The wagon env's default scenario distribution (CoF in each condition's range, all conditions,
     5-40 m/s, empty and laden, noise and motor lag drawn), ``n_episodes`` seeded draws."""
-    return Suite("default", cof_gym.WAGON_ENV_ID, {}, [(seed + i, {}) for i in range(n_episodes)])
+    return Suite("default", cof_gym.WAGON_ENV_ID, {}, SeededEpisodes(seed, n_episodes))
 
 
 def paper_suite(n_episodes: int, seed: int) -> Suite:
@@ -64,7 +88,7 @@ def paper_suite(n_episodes: int, seed: int) -> Suite:
     # the paper's simulation: Polach's dry curve, ideal sensors (no noise, no systematic error)
     fixed = {"condition": "dry", "speed_m_s": 10.0, "load_case": "laden", "noise_level": 0.0, "motor_lag_s": 0.0,
              "creep_law": "dry", **{name: 0.0 for name in SYSTEMATIC_ERRORS}}
-    episodes = [(seed + i, {**fixed, "cof": PAPER_COFS[i % len(PAPER_COFS)]}) for i in range(n_episodes)]
+    episodes = SeededEpisodes(seed, n_episodes, lambda i: {**fixed, "cof": PAPER_COFS[i % len(PAPER_COFS)]})
     return Suite("paper", cof_gym.WAGON_ENV_ID, {"counter_torque": True}, episodes)
 
 
@@ -100,16 +124,16 @@ def file_suite(path: Path, n_episodes: int, seed: int) -> Suite:
     if unknown:
         raise SuiteError(f"{path}: unknown key(s) {unknown}; allowed: {list(FILE_KEYS)}")
     env_id = spec.get("env_id", cof_gym.WAGON_ENV_ID)
-    if not isinstance(env_id, str):
-        raise SuiteError(f"{path}: env_id must be a string such as {cof_gym.WAGON_ENV_ID!r}, got {env_id!r}")
+    if env_id not in cof_gym.ENV_IDS:
+        raise SuiteError(f"{path}: env_id must be a cof_gym id, one of {list(cof_gym.ENV_IDS)}; got {env_id!r}")
     env_kwargs = _check_dict(spec.get("env_kwargs", {}), "env_kwargs", path)
     options = _check_dict(spec.get("options", {}), "options", path)
     if "description" in spec and not isinstance(spec["description"], str):
         raise SuiteError(f"{path}: description must be a string")
     if "episodes" in spec:
         raw = spec["episodes"]
-        if not isinstance(raw, list) or not raw:
-            raise SuiteError(f"{path}: episodes must be a non-empty list of objects like "
+        if not isinstance(raw, list) or not raw or len(raw) > MAX_EPISODES:
+            raise SuiteError(f"{path}: episodes must be a list of 1 to {MAX_EPISODES} objects like "
                              f'{{"seed": 1, "options": {{...}}}}, got {raw!r:.60}')
         episodes = []
         for i, e in enumerate(raw):
@@ -120,7 +144,7 @@ def file_suite(path: Path, n_episodes: int, seed: int) -> Suite:
             ep_seed = _check_seed(e.get("seed", seed + i), f"episodes[{i}].seed", path)
             episodes.append((ep_seed, {**options, **_check_dict(e.get("options", {}), f"episodes[{i}].options", path)}))
     else:
-        episodes = [(seed + i, dict(options)) for i in range(n_episodes)]
+        episodes = SeededEpisodes(seed, n_episodes, lambda i: dict(options))
     return Suite(str(path), env_id, env_kwargs, episodes)
 
 

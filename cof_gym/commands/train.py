@@ -38,6 +38,7 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any
 
+import gymnasium as gym
 import numpy as np
 
 import cof_gym
@@ -386,6 +387,52 @@ def main(argv: list[str] | None = None) -> int:
     return run(build_parser().parse_args(argv))
 
 
+# PPO hyperparameters that Stable-Baselines3 takes unchecked: name -> (low, high, low_open)
+PPO_BOUNDS: dict[str, tuple[float, float, bool]] = {
+    "gamma": (0.0, 1.0, True), "gae_lambda": (0.0, 1.0, False), "n_epochs": (1, 1e6, False),
+    "ent_coef": (0.0, 1e6, False), "vf_coef": (0.0, 1e6, False), "max_grad_norm": (0.0, 1e12, True),
+    "clip_range": (0.0, 1e6, True), "target_kl": (0.0, 1e6, True),
+}
+
+
+class _SpacesOnly(gym.Env):
+    """A stand-in env with the training env's spaces: SB3 builds a model on it without simulating."""
+
+    def __init__(self, observation_space: gym.Space, action_space: gym.Space) -> None:
+        self.observation_space, self.action_space = observation_space, action_space
+
+
+def check_ppo_kwargs(policy: str, ppo_kwargs: dict[str, Any], observation_space: gym.Space, action_space: gym.Space,
+                     n_envs: int) -> None:
+    """PPO's hyperparameters, as SB3 checks them when it builds the model (on a stand-in env with the
+    same spaces and ``n_envs``: nothing is simulated or written) and within :data:`PPO_BOUNDS`.
+    ``ValueError`` in one line."""
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.vec_env import DummyVecEnv
+
+    from cof_gym.task.validation import check_number
+
+    for key, (low, high, low_open) in PPO_BOUNDS.items():
+        if ppo_kwargs.get(key) is not None and not callable(ppo_kwargs[key]):
+            check_number(key, ppo_kwargs[key], low, high, low_open=low_open)
+    venv = DummyVecEnv([lambda: _SpacesOnly(observation_space, action_space)] * n_envs)
+    try:
+        PPO(policy, venv, device="cpu", **ppo_kwargs)
+    except Exception as e:  # noqa: BLE001 - SB3 reports bad values as AssertionError, TypeError or ValueError
+        raise ValueError(" ".join(str(e).split()) or type(e).__name__) from None
+
+
+def _check_resume_spaces(path: Path, saved: tuple[Any, Any], env: tuple[Any, Any], env_id: str,
+                         env_kwargs: dict[str, Any], from_flag: bool) -> None:
+    """A resumed model must fit the env it continues on (observation and action shapes)."""
+    from cof_gym.commands.args import UsageError
+
+    if tuple(s.shape for s in saved) != tuple(s.shape for s in env):
+        raise UsageError("--env-kwargs" if from_flag else "--resume",
+                         f"{path} was trained on observation {saved[0].shape} / action {saved[1].shape}; {env_id} "
+                         f"with env_kwargs {env_kwargs} has {env[0].shape} / {env[1].shape}")
+
+
 def _previous_best(out: Path, prev_meta: dict[str, Any]) -> float | None:
     """The best mean evaluation reward of the earlier runs into ``out`` (their best/ model's)."""
     if prev_meta.get("best_mean_reward") is not None:
@@ -404,7 +451,7 @@ def _check(args: argparse.Namespace) -> dict[str, Any]:
     """Everything on the command line, before anything is written; :class:`UsageError` naming the flag."""
     import gymnasium as gym
 
-    from cof_gym.agents.ppo import META_NAME, find_train_meta, resolve_model_path
+    from cof_gym.agents.ppo import META_NAME, find_train_meta, make_env_fn, model_spaces, resolve_model_path
     from cof_gym.commands.args import UsageError, check_output_dir
 
     out = check_output_dir(Path(args.out))
@@ -413,7 +460,8 @@ def _check(args: argparse.Namespace) -> dict[str, Any]:
     if args.resume:
         try:
             resume_path = resolve_model_path(args.resume)
-        except FileNotFoundError as e:
+            resume_spaces = model_spaces(resume_path)
+        except (FileNotFoundError, ValueError) as e:
             raise UsageError("--resume", str(e)) from None
         prev_meta = find_train_meta(resume_path) or {}
     same_out = resume_path is not None and resume_path.resolve() == (out / "model.zip").resolve()
@@ -447,15 +495,23 @@ def _check(args: argparse.Namespace) -> dict[str, Any]:
     if unknown:
         raise UsageError("--hyperparams", f"unknown PPO argument(s) {unknown}")
     env_kwargs = {**settings["env_kwargs"], **(prev_meta.get("env_kwargs") or {}), **(args.env_kwargs or {})}
+    adapter = args.action_adapter or prev_meta.get("action_adapter", "absolute")
     try:
-        probe = gym.make(env_id, **env_kwargs)
+        probe = make_env_fn(env_id, env_kwargs, adapter)()
+        spaces = probe.observation_space, probe.action_space
         probe.close()
     except (ValueError, TypeError) as e:
         raise UsageError("--env-kwargs", f"{env_id}: {e}") from None
+    if resume_path is not None:
+        _check_resume_spaces(resume_path, resume_spaces, spaces, env_id, env_kwargs, bool(args.env_kwargs))
     n_envs = args.n_envs or settings["n_envs"]
     timesteps = args.timesteps if args.timesteps is not None else settings["n_timesteps"]
     if n_envs < 1 or timesteps < 1:
         raise UsageError("--n-envs" if n_envs < 1 else "--timesteps", "must be >= 1 (the YAML says otherwise)")
+    try:
+        check_ppo_kwargs(settings["policy"], ppo_kwargs, *spaces, n_envs)
+    except ValueError as e:
+        raise UsageError("--hyperparams", str(e)) from None
     try:
         import torch
 
@@ -469,7 +525,7 @@ def _check(args: argparse.Namespace) -> dict[str, Any]:
         previous = json.loads((out / META_NAME).read_text())
         history = [*previous.pop("history", []), previous]
     return {"out": out, "resume_path": resume_path, "prev_meta": prev_meta, "same_out": same_out, "env_id": env_id,
-            "raw": raw, "settings": settings, "ppo_kwargs": ppo_kwargs, "env_kwargs": env_kwargs, "n_envs": n_envs,
+            "adapter": adapter, "raw": raw, "settings": settings, "ppo_kwargs": ppo_kwargs, "env_kwargs": env_kwargs, "n_envs": n_envs,
             "timesteps": timesteps, "history": history}
 
 
@@ -487,14 +543,13 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _train(args: argparse.Namespace, out: Path, resume_path: Path | None, prev_meta: dict[str, Any], same_out: bool,
-           env_id: str, raw: dict[str, Any], settings: dict[str, Any], ppo_kwargs: dict[str, Any],
+           env_id: str, adapter: str, raw: dict[str, Any], settings: dict[str, Any], ppo_kwargs: dict[str, Any],
            env_kwargs: dict[str, Any], n_envs: int, timesteps: int, history: list) -> int:  # noqa: C901
     import shutil
 
     from cof_gym.agents.ppo import META_NAME, vecnormalize_path
 
     vec = args.vec or ("dummy" if n_envs == 1 else "subproc")
-    adapter = args.action_adapter or prev_meta.get("action_adapter", "absolute")
 
     from stable_baselines3 import PPO
     from stable_baselines3.common.callbacks import CheckpointCallback, EvalCallback

@@ -21,7 +21,7 @@ from gymnasium.utils import EzPickle
 from cof_gym.physics.models import DEFAULT_TIMESTEP_S
 from cof_gym.physics.simulation import SimulationDiverged, Simulation, WindowMeasurement
 from cof_gym.task import InterrogationTask, MacroSlipLimit, Reward, ScenarioRanges
-from cof_gym.task.scenarios import SCENARIO_KEYS
+from cof_gym.task.scenarios import SCENARIO_KEYS, V2_RANGES
 from cof_gym.task.task import DEFAULT_MAX_WINDOWS, Episode
 from cof_gym.task.validation import check_choice, check_int
 
@@ -37,21 +37,40 @@ def window_diverged(m: WindowMeasurement, bad_qacc: bool, state_finite: bool) ->
     return bool(bad_qacc or not state_finite or not np.isfinite(values).all())
 
 
+def default_ranges(task_version: int) -> ScenarioRanges:
+    """The scenario draws of a task version: 1 the Polach presets without systematic sensor errors, 2
+    creep-law families with drawn shapes and systematic sensor errors (:data:`cof_gym.task.scenarios.V2_RANGES`)."""
+    return V2_RANGES if check_int("task_version", task_version, 1, 2) == 2 else ScenarioRanges()
+
+
+def make_kwargs(kwargs: dict[str, Any]) -> dict[str, Any]:
+    """``gym.make`` / ``gym.make_vec`` keyword arguments in which a ``max_windows`` also moves the
+    registered ``TimeLimit`` (``max_episode_steps``) unless that is given too, so that the task's own
+    horizon ends the episode and scores the last estimate."""
+    kwargs = dict(kwargs)
+    if "max_windows" in kwargs and "max_episode_steps" not in kwargs:
+        kwargs["max_episode_steps"] = kwargs["max_windows"]
+    return kwargs
+
+
 def make_task(vehicle: str = "wagon", window_s: float = 1.0, settle_fraction: float = 0.4, ramp_fraction: float = 0.3,
               max_windows: int = DEFAULT_MAX_WINDOWS, counter_torque: bool = False,
               traction_balance: bool | None = None, timestep: float = DEFAULT_TIMESTEP_S,
               ranges: ScenarioRanges | None = None, w_error: float = 10.0, w_slip: float = 1.0,
               w_comfort: float = 0.05, w_time: float = 0.02, macro_slip_penalty: float = 10.0,
               macro_slip_ratio: float = 2.0, macro_slip_floor: float = 0.02, shaping: bool = False,
-              action_type: str = "absolute", observation_type: str = "window", **fixed: Any) -> InterrogationTask:
-    """The task from the environment's keyword arguments (the table in the env's docstring)."""
+              action_type: str = "absolute", observation_type: str = "window", task_version: int = 1,
+              **fixed: Any) -> InterrogationTask:
+    """The task from the environment's keyword arguments (the table in the env's docstring). An unknown
+    argument name is a ``TypeError`` (as Python's for an unexpected keyword: RL libraries such as
+    torchrl retry without an optional argument on it); a wrong value is a ``ValueError``."""
     unknown = set(fixed) - set(SCENARIO_KEYS)
     if unknown:
-        raise ValueError(f"unknown argument(s) {sorted(unknown)}; scenario fields are {list(SCENARIO_KEYS)}")
+        raise TypeError(f"unexpected keyword argument(s) {sorted(unknown)}; scenario fields are {list(SCENARIO_KEYS)}")
     return InterrogationTask(
         vehicle=vehicle, window_s=window_s, settle_fraction=settle_fraction, ramp_fraction=ramp_fraction,
         max_windows=max_windows, counter_torque=counter_torque, traction_balance=traction_balance, timestep=timestep,
-        ranges=ScenarioRanges() if ranges is None else ranges, fixed=fixed,
+        ranges=default_ranges(task_version) if ranges is None else ranges, fixed=fixed,
         reward=Reward(w_error, w_slip, w_comfort, w_time, macro_slip_penalty),
         macro_slip=MacroSlipLimit(macro_slip_ratio, macro_slip_floor), shaping=shaping,
         action_type=action_type, observation_type=observation_type,
@@ -226,15 +245,17 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
                  w_comfort: float = 0.05, w_time: float = 0.02, macro_slip_penalty: float = 10.0,
                  macro_slip_ratio: float = 2.0, macro_slip_floor: float = 0.02, shaping: bool = False,
                  render_mode: str | None = None, width: int = 480, height: int = 240, action_type: str = "absolute",
-                 observation_type: str = "window", **fixed: Any) -> None:
+                 observation_type: str = "window", task_version: int = 1, **fixed: Any) -> None:
         EzPickle.__init__(self, vehicle, window_s, settle_fraction, ramp_fraction, max_windows, counter_torque,
                           traction_balance, timestep, ranges, w_error, w_slip, w_comfort, w_time, macro_slip_penalty,
                           macro_slip_ratio, macro_slip_floor, shaping, render_mode, width, height,
-                          action_type=action_type, observation_type=observation_type, **fixed)
+                          action_type=action_type, observation_type=observation_type, task_version=task_version,
+                          **fixed)
         self.task = make_task(vehicle, window_s, settle_fraction, ramp_fraction, max_windows, counter_torque,
                               traction_balance, timestep, ranges, w_error, w_slip, w_comfort, w_time,
                               macro_slip_penalty, macro_slip_ratio, macro_slip_floor, shaping,
-                              action_type=action_type, observation_type=observation_type, **fixed)
+                              action_type=action_type, observation_type=observation_type,
+                              task_version=task_version, **fixed)
         self.width = check_int("width", width, 16, 4096)
         self.height = check_int("height", height, 16, 4096)
         if render_mode is not None:
