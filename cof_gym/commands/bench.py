@@ -14,7 +14,7 @@ import numpy as np
 
 import cof_gym
 
-from cof_gym.physics.creep import OperatingConditions
+from cof_gym.physics.creep import FAMILIES, CreepShape, OperatingConditions
 from cof_gym.physics.models import build_wagon
 from cof_gym.physics.native.build import install_callback, native
 from cof_gym.physics.simulation import DriveCommand, Scenario, Simulation, begin_window
@@ -47,29 +47,46 @@ def _best_rate(run, steps: int, repeats: int) -> float:
     return steps / best
 
 
-def bench_physics(seconds: float = 5.0, repeats: int = 5) -> PhysicsBench:
-    """Wagon (laden, CoF 0.4, 10 m/s, 90 % of saturation torque, 345 Nm at 5 Hz) stepped with
-    ``mj_step(nstep)``; then the same model and state stepped bare, without the callback. The two are
-    interleaved ``repeats`` times and the best of each is kept."""
+def bench_physics(seconds: float = 5.0, repeats: int = 5, condition: str | CreepShape = "dry") -> PhysicsBench:
+    """Wagon (laden, CoF 0.4, 10 m/s, 90 % of saturation torque, 345 Nm at 5 Hz, creep law
+    ``condition``) stepped with ``mj_step(nstep)``; then the same model and state stepped bare,
+    without the callback. The two are interleaved ``repeats`` times and the best of each is kept."""
+    return _bench_laws({"law": condition}, seconds, repeats)["law"]
+
+
+def bench_families(seconds: float = 5.0, repeats: int = 5) -> dict[str, PhysicsBench]:
+    """:func:`bench_physics` for each creep-law family's example shape (one row per family), all
+    interleaved in each repeat so that a passing load hits every family alike."""
+    return _bench_laws({name: cls.example() for name, cls in FAMILIES.items()}, seconds, repeats)
+
+
+def _bench_laws(conditions: dict[str, str | CreepShape], seconds: float, repeats: int) -> dict[str, PhysicsBench]:
     built = build_wagon(wagon_parameters("laden"))
-    op = OperatingConditions(cof=0.4, wheel_load_n=built.nominal_wheel_load_n, speed_m_s=10.0)
-    sim = Simulation(built)
-    sim.reset(Scenario(op))
-    begin_window(sim.data.userdata, 0.0, DriveCommand(0.9 * built.saturation_torque_per_cof * 0.4, 345.0, 5.0), 0.5, 0.0)
-    steps = int(seconds / sim.timestep)
-    bare = mujoco.MjData(built.model)
-    bare.qpos[:], bare.qvel[:] = sim.data.qpos, sim.data.qvel
+    sims, bares = {}, {}
+    for name, condition in conditions.items():
+        op = OperatingConditions(cof=0.4, condition=condition, wheel_load_n=built.nominal_wheel_load_n, speed_m_s=10.0)
+        sim = sims[name] = Simulation(built)
+        sim.reset(Scenario(op))
+        begin_window(sim.data.userdata, 0.0, DriveCommand(0.9 * built.saturation_torque_per_cof * 0.4, 345.0, 5.0),
+                     0.5, 0.0)
+        bare = bares[name] = mujoco.MjData(built.model)
+        bare.qpos[:], bare.qvel[:] = sim.data.qpos, sim.data.qvel
+    timestep = built.model.opt.timestep
+    steps = int(seconds / timestep)
     callback = native().cofgym_passive
-    native_best, bare_best = 0.0, 0.0
+    native_best, bare_best = dict.fromkeys(conditions, 0.0), dict.fromkeys(conditions, 0.0)
     for _ in range(repeats):
-        install_callback()
-        native_best = max(native_best, _best_rate(lambda n: mujoco.mj_step(built.model, sim.data, n), steps, 1))
-        mujoco.set_mjcb_passive(None)
-        try:
-            bare_best = max(bare_best, _best_rate(lambda n: mujoco.mj_step(built.model, bare, n), steps, 1))
-        finally:
-            mujoco.set_mjcb_passive(callback)
-    return PhysicsBench(steps, sim.timestep, native_best, bare_best)
+        for name in conditions:
+            install_callback()
+            data = sims[name].data
+            native_best[name] = max(native_best[name], _best_rate(lambda n: mujoco.mj_step(built.model, data, n), steps, 1))
+            mujoco.set_mjcb_passive(None)
+            try:
+                bare_best[name] = max(bare_best[name], _best_rate(lambda n: mujoco.mj_step(built.model, bares[name], n),
+                                                                  steps, 1))
+            finally:
+                mujoco.set_mjcb_passive(callback)
+    return {name: PhysicsBench(steps, timestep, native_best[name], bare_best[name]) for name in conditions}
 
 
 ENV_ID = cof_gym.WAGON_ENV_ID
@@ -165,7 +182,8 @@ def main(seconds: float = 5.0) -> None:
     from rich.console import Console
     from rich.table import Table
 
-    pb = bench_physics(seconds)
+    families = bench_families(seconds)
+    pb = families["polach"]
     table = Table(title=f"cof-gym bench (mujoco {mujoco.__version__}, one thread)")
     table.add_column("measure")
     table.add_column("value", justify="right")
@@ -173,6 +191,8 @@ def main(seconds: float = 5.0) -> None:
     table.add_row("wagon physics steps/s, bare mj_step (no callback)", f"{pb.bare_steps_per_s:,.0f}")
     table.add_row("simulated s per wall s (dt = %.4g s)" % pb.timestep_s, f"{pb.realtime_factor:,.0f}")
     table.add_row("ratio native / bare (target >= 0.8)", f"{pb.ratio:.3f}")
+    for name, fb in families.items():
+        table.add_row(f"ratio native / bare, creep law {name} (target >= 0.8)", f"{fb.ratio:.3f}")
     ab = bench_agent(seconds)
     table.add_section()
     table.add_row("agent steps/s, one env (gym.make, 1 s windows)", f"{ab.single_steps_per_s:,.1f}")

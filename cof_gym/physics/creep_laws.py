@@ -119,6 +119,11 @@ class CreepShape:
         """Tabulated curve (creepage, value, slope) for the native table arrays, or None."""
         return None
 
+    @classmethod
+    def example(cls) -> "CreepShape":
+        """A representative shape of the family (``cof-gym bench`` times one per family)."""
+        raise NotImplementedError
+
     def drawable(self) -> bool:
         """Whether :func:`draw_shape` keeps this draw (a family's structural constraint on its ranges)."""
         return True
@@ -177,6 +182,10 @@ class PolachShape(CreepShape):
     def mu0_upper(self, cof: float) -> float:
         return cof / max(self.friction_ratio, 0.05)
 
+    @classmethod
+    def example(cls) -> "PolachShape":
+        return CONDITIONS["dry"]
+
     def drawable(self) -> bool:
         """kS <= kA, as in every preset and published set: with kS > kA the atan (slip) term outgrows
         the adhesion term and many such curves have no maximum at all."""
@@ -209,6 +218,10 @@ class ShenHedrickElkinsShape(CreepShape):
 
     def max_is_mu0(self) -> bool:
         return self.friction_ratio == 1.0 or self.friction_decay_s_per_m == 0.0
+
+    @classmethod
+    def example(cls) -> "ShenHedrickElkinsShape":
+        return cls(k_stiffness=0.7)
 
     def mu0_upper(self, cof: float) -> float:
         return cof / max(self.friction_ratio, 0.05)
@@ -273,6 +286,16 @@ class TableShape(CreepShape):
 
     def max_is_mu0(self) -> bool:
         return True
+
+    @classmethod
+    def example(cls) -> "TableShape":
+        """48 points of a saturating curve (Shen-Hedrick-Elkins-like rise to 1 at creepage 0.01,
+        geometric spacing) falling to 0.8 at 0.05: a full-size table for timing."""
+        rise = np.geomspace(1e-5, 1e-2, 40)
+        fall = np.geomspace(1.2e-2, 5e-2, 7)
+        s = np.concatenate([[0.0], rise, fall])
+        r = np.concatenate([[0.0], 1.0 - (1.0 - rise / 1e-2) ** 3, 1.0 - 0.2 * (fall - 1e-2) / 4e-2])
+        return cls(tuple(s), tuple(r))
 
     def exact_peak(self, mu0: float) -> CreepPeak:
         return CreepPeak(self.creepage[self.peak_index], mu0)
