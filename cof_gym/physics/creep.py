@@ -13,7 +13,8 @@ speed and load* (for a curve without a falling branch, its supremum, reached at 
 in every family here): what a slip test on that track would measure, and the value the
 torque-modulation method reads at the peak. ``mu0`` is derived from it (:func:`mu0_for_cof`).
 
-Presets (Polach 2005, Wear 258:992-1000, as widely cited; "unverified" against the original table):
+Presets (:data:`cof_gym.physics.creep_laws.CONDITIONS`, points of the Polach family; Polach 2005,
+Wear 258:992-1000, as widely cited; "unverified" against the original table):
 
 =============== ===== ===== ===== ========= ===========================================
 condition        kA    kS    A     B (s/m)   note

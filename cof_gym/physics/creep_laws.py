@@ -14,9 +14,11 @@ entry; the task, the environments and the agents take it through :func:`creep_la
 **Families.**
 
 ``polach``
-    Polach (2005, Wear 258:992-1000; Polach 1999, VSD 31(S1):..., and 2003/2001 Computers &
-    Structures 79 for the underlying fast method): falling friction with slip velocity, so the curve
-    has a peak and a falling branch.
+    Polach (2005, Wear 258:992-1000, "Creep forces in simulations of traction vehicles running on
+    adhesion limit", presented at CM2003; the underlying fast method: Polach 1999, "A fast
+    wheel-rail forces calculation computer code", Vehicle System Dynamics 33 Suppl.; its extension
+    to large creep: Polach 2001, Vehicle System Dynamics 35 Suppl.): falling friction with slip
+    velocity, so the curve has a peak and a falling branch.
 ``shen_hedrick_elkins``
     Shen, Hedrick and Elkins (1983, 8th IAVSD Symposium, Cambridge MA: "A comparison of alternative
     creep force models for rail vehicle dynamic analysis"): Kalker's linear creep force saturated
