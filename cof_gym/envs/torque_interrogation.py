@@ -66,7 +66,9 @@ def make_task(vehicle: str = "wagon", window_s: float = 1.0, settle_fraction: fl
     torchrl retry without an optional argument on it); a wrong value is a ``ValueError``."""
     unknown = set(fixed) - set(SCENARIO_KEYS)
     if unknown:
-        raise TypeError(f"unexpected keyword argument(s) {sorted(unknown)}; scenario fields are {list(SCENARIO_KEYS)}")
+        names = ", ".join(repr(name) for name in sorted(unknown))  # worded as Python's, which clients match
+        raise TypeError(f"TorqueInterrogationEnv() got an unexpected keyword argument {names}; scenario fields are "
+                        f"{list(SCENARIO_KEYS)}")
     return InterrogationTask(
         vehicle=vehicle, window_s=window_s, settle_fraction=settle_fraction, ramp_fraction=ramp_fraction,
         max_windows=max_windows, counter_torque=counter_torque, traction_balance=traction_balance, timestep=timestep,

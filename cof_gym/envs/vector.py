@@ -41,6 +41,19 @@ _MAGIC = layout.OFFSETS["MAGIC"]
 
 # one sub-env's result: obs, reward, terminated, truncated, info
 StepResult = tuple[np.ndarray, float, bool, bool, dict]
+AUTORESET_MODES = (AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP, AutoresetMode.DISABLED)
+
+
+def _autoreset_mode(value: AutoresetMode | str) -> AutoresetMode:
+    """One of :data:`AUTORESET_MODES` (the enum or its value); ``ValueError`` in one line otherwise."""
+    try:
+        mode = AutoresetMode(value)
+    except ValueError:
+        mode = None
+    if mode not in AUTORESET_MODES:
+        raise ValueError(f"autoreset_mode must be one of {[m.value for m in AUTORESET_MODES]} "
+                         f"(gymnasium.vector.AutoresetMode), got {value!r}")
+    return mode
 
 
 class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
@@ -54,8 +67,12 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
             horizon ``max_windows`` ends episodes.
         **kwargs: the arguments of :class:`TorqueInterrogationEnv` (vehicle, window_s, scenario fields...).
 
-    Autoreset is gymnasium's default :attr:`AutoresetMode.NEXT_STEP`: the step after a sub-env
-    terminated or truncated resets it (its action is ignored, reward 0, the info is the reset's).
+    ``autoreset_mode`` (:data:`AUTORESET_MODES`, declared in ``metadata["autoreset_mode"]``), as
+    gymnasium's vector envs: ``NEXT_STEP`` (default) resets a sub-env at the step after it terminated
+    or truncated (its action is ignored, reward 0, the info is the reset's); ``SAME_STEP`` resets it
+    within the step that ended it (the observation and info are the reset's; the last ones are in
+    ``info["final_obs"]`` / ``info["final_info"]``, masked by ``info["_final_obs"]``); ``DISABLED``
+    never resets by itself (``reset(options={"reset_mask": ...})``).
     ``reset(options={"reset_mask": mask, ...})`` resets only the masked sub-envs; other options are
     passed to every reset sub-env (scenario fields, as for the single env).
 
@@ -68,7 +85,9 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
     metadata: dict[str, Any] = {"autoreset_mode": AutoresetMode.NEXT_STEP, "render_modes": []}
 
     def __init__(self, num_envs: int = 1, num_threads: int | None = None, max_episode_steps: int | None = None,
-                 render_mode: str | None = None, **kwargs: Any) -> None:
+                 render_mode: str | None = None, autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP,
+                 **kwargs: Any) -> None:
+        self.autoreset_mode = _autoreset_mode(autoreset_mode)
         if not (isinstance(num_envs, (int, np.integer)) and num_envs >= 1):
             raise ValueError(f"num_envs must be an int >= 1, got {num_envs!r}")
         num_envs = int(num_envs)
@@ -87,7 +106,8 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
         self.max_episode_steps = None if max_episode_steps is None else int(max_episode_steps)
         self.render_mode = None
         self.task = make_task(**kwargs)
-        self.metadata = {**type(self).metadata, "render_fps": max(1, int(round(1.0 / self.task.window_s)))}
+        self.metadata = {**type(self).metadata, "render_fps": max(1, int(round(1.0 / self.task.window_s))),
+                         "autoreset_mode": self.autoreset_mode}
         self.single_action_space = self.task.action_space
         self.single_observation_space = self.task.observation_space
         self.action_space = batch_space(self.single_action_space, num_envs)
@@ -243,16 +263,24 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
         return self._observations.copy(), infos
 
     def step(self, actions):
-        """Step every sub-env; those that ended at the previous step are reset instead."""
+        """Step every sub-env; ended ones are reset as ``autoreset_mode`` says (next step: those that
+        ended at the previous step are reset instead; same step: those that end now are reset too)."""
         actions = np.asarray(actions)
         if actions.shape != self.action_space.shape:
             raise ValueError(f"actions must have shape {self.action_space.shape}, got {actions.shape}")
-        resetting = self._autoreset_envs
+        resetting = self._autoreset_envs if self.autoreset_mode == AutoresetMode.NEXT_STEP else \
+            np.zeros(self.num_envs, dtype=np.bool_)
         results = self._advance({i: (None, None) for i in np.flatnonzero(resetting)},
                                 {i: actions[i] for i in np.flatnonzero(~resetting)})
+        ended = [i for i, r in results.items() if r[2] or r[3]]
+        restarted = self._advance({i: (None, None) for i in ended}, {}) \
+            if self.autoreset_mode == AutoresetMode.SAME_STEP and ended else {}
         infos: dict[str, Any] = {}
         for i in range(self.num_envs):
             obs, self._rewards[i], self._terminations[i], self._truncations[i], info = results[i]
+            if i in restarted:
+                infos = self._add_info(infos, {"final_obs": obs, "final_info": info}, i)
+                obs, _, _, _, info = restarted[i]
             self._observations[i] = obs
             infos = self._add_info(infos, info, i)
         self._autoreset_envs = np.logical_or(self._terminations, self._truncations)
