@@ -6,6 +6,7 @@ so that its tables are generated, never typed:
     cof-gym evaluate --suite experiments/suites/v2_heldout_grid.json --out out/evaluate-v2-heldout
     cof-gym evaluate --suite experiments/suites/v1_default.json --episodes 60 --out out/evaluate-v1
     cof-gym evaluate --suite experiments/suites/heldout_grid.json --out out/evaluate-heldout   # v1 held-out
+    cof-gym bench --seconds 10 --markdown out/bench.md
     python experiments/ppo_seeds.py --runs runs/ppo_lo_s0 runs/ppo_lo_s1 runs/ppo_lo_s2 --out out/ppo_seeds
     python experiments/readme_results.py
 
@@ -25,6 +26,7 @@ SOURCES = {
     "v2_no_errors": ROOT / "out" / "evaluate-v2-no-errors" / "summary.md",
     "v2_heldout": ROOT / "out" / "evaluate-v2-heldout" / "summary.md",
     "v1_default": ROOT / "out" / "evaluate-v1" / "summary.md",
+    "bench": ROOT / "out" / "bench.md",
     "heldout": ROOT / "out" / "evaluate-heldout" / "summary.md",
     "ppo_seeds": ROOT / "out" / "ppo_seeds" / "report.md",
 }

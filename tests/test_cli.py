@@ -146,7 +146,7 @@ def test_evaluate_writes_complete_outputs_and_replaces_its_own(workdir: Path, ca
     out = workdir / "out" / "evaluate-suite"  # not out/evaluate: suites never overwrite each other
     names = sorted(p.name for p in out.iterdir())
     assert names == sorted(["episodes.csv", "summary.md", "summary.json", "error_per_cof.png",
-                            "error_vs_discomfort.png", "error_vs_peak_torque.png", "episode_traces.png"])
+                            "error_vs_discomfort.png", "error_vs_peak_torque.png", "episode_traces.png", "error_vs_creepage_error.png"])
     first = (out / "summary.json").read_text()
     assert cli.main(["evaluate", "--agents", "staircase", "--episodes", "2", "--suite", str(suite), "--quiet",
                      "--seed", "1"]) == 0

@@ -6,6 +6,7 @@ and 2 threads)."""
 from __future__ import annotations
 
 import os
+from pathlib import Path
 import time
 from dataclasses import dataclass
 
@@ -176,7 +177,9 @@ def bench_agent(seconds: float = 5.0, num_envs: int = VECTOR_SIMS, repeats: int 
     return AgentBench(best_single, best_vector, num_envs, load)
 
 
-def main(seconds: float = 5.0) -> None:
+def main(seconds: float = 5.0, markdown: str | None = None) -> None:
+    """Print the speed table; with ``markdown``, also write it there as a Markdown table (the README's
+    speed section is copied from that file by ``experiments/readme_results.py``)."""
     if not (seconds > 0 and np.isfinite(seconds)):
         raise ValueError(f"seconds must be a finite number > 0, got {seconds!r}")
     from rich.console import Console
@@ -184,21 +187,30 @@ def main(seconds: float = 5.0) -> None:
 
     families = bench_families(seconds)
     pb = families["polach"]
-    table = Table(title=f"cof-gym bench (mujoco {mujoco.__version__}, one thread)")
+    rows = [
+        ("wagon physics steps/s, native callback", f"{pb.native_steps_per_s:,.0f}"),
+        ("wagon physics steps/s, bare mj_step (no callback)", f"{pb.bare_steps_per_s:,.0f}"),
+        ("simulated s per wall s (dt = %.4g s)" % pb.timestep_s, f"{pb.realtime_factor:,.0f}"),
+        *((f"ratio native / bare, creep law {name} (target >= 0.8)", f"{fb.ratio:.3f}") for name, fb in families.items()),
+    ]
+    ab = bench_agent(seconds)
+    agent_rows = [
+        ("agent steps/s, one env (gym.make, 1 s windows)", f"{ab.single_steps_per_s:,.1f}"),
+        *((f"agent steps/s, vector env ({ab.num_envs} sims, {n} thread{'s' if n > 1 else ''})", f"{rate:,.1f}")
+          for n, rate in ab.vector_steps_per_s.items()),
+        ("ratio vector 2 threads / 1 thread (target >= 1.7)", f"{ab.thread_ratio:.2f}"),
+        ("CPUs / 1-min load average at start", f"{os.cpu_count()} / {ab.load_average:.2f}"),
+    ]
+    title = f"cof-gym bench (mujoco {mujoco.__version__}, one thread, --seconds {seconds:g})"
+    table = Table(title=title)
     table.add_column("measure")
     table.add_column("value", justify="right")
-    table.add_row("wagon physics steps/s, native callback", f"{pb.native_steps_per_s:,.0f}")
-    table.add_row("wagon physics steps/s, bare mj_step (no callback)", f"{pb.bare_steps_per_s:,.0f}")
-    table.add_row("simulated s per wall s (dt = %.4g s)" % pb.timestep_s, f"{pb.realtime_factor:,.0f}")
-    table.add_row("ratio native / bare (target >= 0.8)", f"{pb.ratio:.3f}")
-    for name, fb in families.items():
-        table.add_row(f"ratio native / bare, creep law {name} (target >= 0.8)", f"{fb.ratio:.3f}")
-    ab = bench_agent(seconds)
+    for row in rows:
+        table.add_row(*row)
     table.add_section()
-    table.add_row("agent steps/s, one env (gym.make, 1 s windows)", f"{ab.single_steps_per_s:,.1f}")
-    for n, rate in ab.vector_steps_per_s.items():
-        table.add_row(f"agent steps/s, vector env ({ab.num_envs} sims, {n} thread{'s' if n > 1 else ''})",
-                      f"{rate:,.1f}")
-    table.add_row("ratio vector 2 threads / 1 thread (target >= 1.7)", f"{ab.thread_ratio:.2f}")
-    table.add_row("CPUs / 1-min load average at start", f"{os.cpu_count()} / {ab.load_average:.2f}")
+    for row in agent_rows:
+        table.add_row(*row)
     Console().print(table)
+    if markdown:
+        lines = [f"# {title}", "", "| measure | value |", "|---|---|", *(f"| {a} | {b} |" for a, b in rows + agent_rows)]
+        Path(markdown).write_text("\n".join(lines) + "\n")
