@@ -92,11 +92,16 @@ class ElasticityClimb:
     amplitude_ratio: float = 0.02
     min_amplitude_nm: float = 40.0
 
+    def first_dc(self, limits: MotorLimits) -> float:
+        """The first DC torque (N m) of a climb: ``first_fraction`` of the drive's maximum, below the
+        saturation torque of the lowest CoF in range on the empty wagon (shared by every climbing agent)."""
+        return self.first_fraction * limits.max_dc_torque_nm
+
     def next_dc(self, dc: float, elasticity: float, limits: MotorLimits, room_cap: float | None = None) -> float:
         """The next DC torque (N m) after ``dc`` at the measured ``elasticity``; ``room_cap`` bounds
         the relative step further (e.g. a fitted peak)."""
         if dc == 0.0:
-            return self.first_fraction * limits.max_dc_torque_nm
+            return self.first_dc(limits)
         room = 1.0 / peak_fraction(elasticity, PEAK_FRACTION_MAX) - 1.0
         if room_cap is not None:
             room = min(room, room_cap)

@@ -1,0 +1,174 @@
+"""Choose the phase rule's parameters (cof_gym/agents/phase_rule.py) on validation seeds only.
+
+Validation set (never the default evaluate suite, seeds 0-59, nor a held-out grid): seeds from
+100000 on, drawn from the envs' default scenario distributions, in four vehicle settings: the v2
+wagon (traction balance), the v2 wagon with the paper's counter torque, the v1 wagon and the v2 half
+wheelset.
+
+The climb (growth, amplitude) decides the windows; the stop rule only decides where to leave them.
+So each climb is played once with the stop disabled (``threshold_*`` infinite: it runs until a
+macro-slip, a falling CoA, the drive's limit or the horizon) and every stop rule is replayed offline
+on the recorded observations: the agent itself is fed the same observations and commands the same
+torques up to its own stop, so the replay is exact. Ranking: fewest macro-slips, then the pooled P90
+relative error, then the median.
+
+    python experiments/select_phase_rule.py [--workers 2] [--quick] [--out PATH.json]
+
+Runs on 2 cores in about 10 minutes (``--quick``: a fifth of the seeds, for a smoke test).
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import json
+import math
+import time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+# (label, env id, env kwargs, first seed, number of seeds)
+SETTINGS: tuple[tuple[str, str, dict[str, Any], int, int], ...] = (
+    ("v2 wagon", "CofGym/TorqueInterrogation-v2", {}, 100000, 120),
+    ("v2 wagon, counter torque", "CofGym/TorqueInterrogation-v2", {"counter_torque": True}, 100000, 120),
+    ("v1 wagon", "CofGym/TorqueInterrogation-v1", {}, 100000, 40),
+    ("v2 half wheelset", "CofGym/HalfWheelset-v2", {}, 100000, 40),
+)
+CLIMBS: tuple[dict[str, float], ...] = tuple(
+    {"max_growth": g, "rise_scale_deg": r, "amplitude_ratio": a, "min_amplitude_nm": floor}
+    for g, r, (a, floor) in itertools.product((1.25, 1.4, 1.6), (2.0, 6.0), ((0.0165, 20.0), (0.04, 100.0)))
+)
+STOPS: tuple[dict[str, float], ...] = tuple(
+    {"threshold_rise_deg": rise, "threshold_abs_deg": ab, "margin_se": m, "max_se_deg": se}
+    for rise, ab, m, se in itertools.product((10.0, 20.0, 30.0, 45.0, 90.0), (45.0, 60.0, 75.0, 90.0), (2.0, 3.0),
+                                             (5.0, 10.0))
+)
+CORRECTIONS = (1.0, 1.0 / 0.95)
+NO_STOP = {"threshold_rise_deg": math.inf, "threshold_abs_deg": math.inf}
+
+
+@dataclass
+class Recording:
+    """One validation episode played with the stop disabled: what the rule saw in each driven window
+    (window j is seen by action j + 1) and how the episode ended."""
+
+    setting: str
+    window: dict[str, np.ndarray]  # phase_deg, se_deg, base_deg, base_se_deg, best_coa per driven window
+    cof: float
+    end: int  # index of the last action (a macro-slip, the horizon, or a stop for a falling CoA / the limit)
+    slipped: bool
+    limits: Any
+
+
+def record(job: tuple[dict[str, float], str, str, dict[str, Any], int, int]) -> list[Recording]:
+    """Play one climb on one setting's seeds with the stop disabled."""
+    import gymnasium as gym
+
+    import cof_gym  # noqa: F401  (registers the envs)
+    from cof_gym.agents.phase_rule import PhaseRule, Window
+    from cof_gym.task.interface import decode_action
+
+    climb, label, env_id, kwargs, first, n = job
+    env = gym.make(env_id, **kwargs)
+    limits = env.unwrapped.limits
+    out = []
+    for seed in range(first, first + n):
+        obs, info = env.reset(seed=seed)
+        agent = PhaseRule(limits, **climb, **NO_STOP)
+        agent.reset(obs, {})
+        slipped = False
+        for k in itertools.count():
+            action = agent.act(obs, {})
+            if decode_action(action, limits).stop:
+                break
+            obs, _, terminated, truncated, info = env.step(action)
+            slipped = bool(info["macro_slip"])
+            if terminated or truncated:
+                break
+        window = {f: np.array([getattr(w, f) for w in agent.windows]) for f in Window.__dataclass_fields__}
+        out.append(Recording(label, window, float(info["ground_truth"]["cof"]), k, slipped, limits))
+    env.close()
+    return out
+
+
+def replay(rec: Recording, params: dict[str, float]) -> tuple[float, bool]:
+    """(relative error, macro-slip) of the phase rule with ``params`` on a recorded climb: its stop test
+    (:func:`~cof_gym.agents.phase_rule.phase_exceeds`) on the windows it would have seen, its estimate
+    the best CoA so far times the correction (as the agent reports it, up to the action's float32)."""
+    from cof_gym.agents.phase_rule import phase_exceeds
+
+    w = rec.window
+    stop_params = {k: params[k] for k in ("threshold_rise_deg", "threshold_abs_deg", "margin_se", "max_se_deg")}
+    hits = np.flatnonzero(phase_exceeds(w["phase_deg"], w["se_deg"], w["base_deg"], w["base_se_deg"], **stop_params))
+    hits = hits[hits + 1 <= rec.end]
+    lo, hi = rec.limits.min_cof_estimate, rec.limits.max_cof_estimate
+    if hits.size:
+        return abs(min(max(w["best_coa"][hits[0]] * params["correction"], lo), hi) / rec.cof - 1.0), False
+    estimate = min(max(w["best_coa"][rec.end - 1] * params["correction"], lo), hi) if rec.end >= 1 else lo
+    return abs(estimate / rec.cof - 1.0), rec.slipped
+
+
+def score(job: tuple[dict[str, float], list[Recording]]) -> list[dict[str, Any]]:
+    """Every stop rule and correction on one climb's recordings."""
+    climb, recordings = job
+    rows = []
+    for stop, corr in itertools.product(STOPS, CORRECTIONS):
+        params = {**climb, **stop, "correction": corr}
+        per_setting: dict[str, list[tuple[float, bool]]] = {}
+        for rec in recordings:
+            per_setting.setdefault(rec.setting, []).append(replay(rec, params))
+        e = np.array([x[0] for v in per_setting.values() for x in v])
+        rows.append({"params": params, "macro_slips": int(sum(x[1] for v in per_setting.values() for x in v)),
+                     "median": float(np.median(e)), "p90": float(np.percentile(e, 90)),
+                     "settings": {s: {"median": float(np.median([x[0] for x in v])),
+                                      "p90": float(np.percentile([x[0] for x in v], 90)),
+                                      "macro_slips": int(sum(x[1] for x in v)), "episodes": len(v)}
+                                  for s, v in per_setting.items()}})
+    return rows
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--quick", action="store_true", help="a fifth of the seeds (smoke test)")
+    parser.add_argument("--out", type=Path, default=Path("experiments/results/select_phase_rule.json"))
+    args = parser.parse_args()
+    t0 = time.time()
+    settings = [(lab, eid, kw, first, max(n // 5, 4) if args.quick else n) for lab, eid, kw, first, n in SETTINGS]
+    with ProcessPoolExecutor(args.workers) as pool:
+        jobs = [(climb, *s) for climb in CLIMBS for s in settings]
+        recorded = list(pool.map(record, jobs))
+        by_climb = [(climb, [r for (c, *_), recs in zip(jobs, recorded) if c is climb for r in recs])
+                    for climb in CLIMBS]
+        rows = [row for part in pool.map(score, by_climb) for row in part]
+    rows.sort(key=lambda r: (r["macro_slips"], r["p90"], r["median"]))
+    best = rows[0]
+    print(f"{len(rows)} rules on {len(by_climb[0][1])} validation episodes in {time.time() - t0:.0f} s")
+    print("best:", json.dumps(best["params"]))
+    print("| setting | episodes | median | P90 | macro-slips |\n|---|---|---|---|---|")
+    for s, v in best["settings"].items():
+        print(f"| {s} | {v['episodes']} | {v['median']:.1%} | {v['p90']:.1%} | {v['macro_slips']} |")
+    print(f"| all | {len(by_climb[0][1])} | {best['median']:.1%} | {best['p90']:.1%} | {best['macro_slips']} |")
+    same = [r for r in rows if {k: v for k, v in r["params"].items() if k != "correction"}
+            == {k: v for k, v in best["params"].items() if k != "correction"} and r is not best]
+    if same:
+        r = same[0]
+        print(f"same rule, correction {r['params']['correction']:.4f}: median {r['median']:.1%} P90 {r['p90']:.1%} "
+              f"macro-slips {r['macro_slips']}")
+    print("best stop rule per climb (macro-slips / median / P90):")
+    per_climb = []
+    for climb in CLIMBS:
+        r = next(r for r in rows if all(r["params"][k] == v for k, v in climb.items()))
+        per_climb.append(r)
+        print(f"  {json.dumps(climb)}: {r['macro_slips']} / {r['median']:.1%} / {r['p90']:.1%} with "
+              f"{json.dumps({k: v for k, v in r['params'].items() if k not in climb})}")
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    args.out.write_text(json.dumps({"best": rows[:20], "per_climb": per_climb}, indent=1))
+
+
+if __name__ == "__main__":
+    main()
