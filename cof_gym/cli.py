@@ -1,7 +1,7 @@
 """cof-gym: measure the wheel-rail coefficient of friction by torque modulation, in simulation.
 
 Commands: evaluate (agents side by side on the same seeded scenarios), train (a PPO interrogation
-policy), bench (simulation speed), reproduce-paper (the paper's figures re-simulated). Run
+policy), bench (simulation speed), reproduce-paper (the paper's figures re-simulated), watch (a video of an episode). Run
 "cof-gym COMMAND --help" for the options of each.
 
 Exit status: 0 on success, 2 on a usage error (one line on stderr, nothing written), 130 when
@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import warnings
 from pathlib import Path
 
 from cof_gym.commands.args import PROG, Parser, UsageError, check_output_dir, positive_float
@@ -50,7 +51,9 @@ def _reproduce(args: argparse.Namespace) -> int:
 def _bench(args: argparse.Namespace) -> int:
     from cof_gym.commands.bench import main as bench_main
 
-    bench_main(args.seconds)
+    if args.markdown is not None and not Path(args.markdown).resolve().parent.is_dir():
+        raise UsageError("--markdown", f"{args.markdown}: its directory does not exist")
+    bench_main(args.seconds, args.markdown)
     return 0
 
 
@@ -64,6 +67,14 @@ def _train(args: argparse.Namespace) -> int:
     from cof_gym.commands.train import run
 
     return run(args)
+
+
+def _add_watch(sub) -> None:
+    from cof_gym.commands.watch import DESCRIPTION, add_arguments, run
+
+    p = sub.add_parser("watch", help="a video (MP4 or GIF) of one agent's episode", description=DESCRIPTION)
+    add_arguments(p)
+    p.set_defaults(func=run)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -88,12 +99,18 @@ def build_parser() -> argparse.ArgumentParser:
                                    "agent steps per second of the single and the vector env.")
     p.add_argument("--seconds", type=positive_float, default=5.0,
                    help="simulated seconds per physics timing (also sets the env timings' length)")
+    p.add_argument("--markdown", metavar="PATH", default=None,
+                   help="also write the table there as Markdown (experiments/readme_results.py copies it into the README)")
     p.set_defaults(func=_bench)
     _add_reproduce(sub)
+    _add_watch(sub)
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
+    # a v1 id is a deliberate choice here (published results): Gymnasium's "out of date" notice would
+    # be a second line on stderr
+    warnings.filterwarnings("ignore", message=r".*is out of date\. You should consider upgrading")
     parser = build_parser()
     args = parser.parse_args(argv)
     command = f"{PROG} {args.command}"

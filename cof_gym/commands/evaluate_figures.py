@@ -9,6 +9,20 @@ import numpy as np
 
 from cof_gym.analysis.plotting import finish, plt, save  # selects the Agg backend
 
+ERROR_FLOOR_PCT = 0.01  # |relative error| below this is drawn at it on the log axes
+
+
+def _error_axis(ax, label: str = "|relative CoF error| [%]") -> None:
+    """A log axis of the non-negative relative error, from the floor up."""
+    ax.set_yscale("log")
+    ax.set_ylim(bottom=ERROR_FLOOR_PCT * 0.8)
+    ax.set_ylabel(f"{label} (log; < {ERROR_FLOOR_PCT:g} % at {ERROR_FLOOR_PCT:g} %)")
+
+
+def _error_pct(err) -> np.ndarray:
+    """Relative errors in %, as magnitudes, floored for the log axes."""
+    return np.maximum(100 * np.abs(np.asarray(err, dtype=float)), ERROR_FLOOR_PCT)
+
 
 def plot_all(records, summary, traces, out: Path) -> list[Path]:
     agents = list(summary)
@@ -21,11 +35,12 @@ def plot_all(records, summary, traces, out: Path) -> list[Path]:
         rows = [r for r in records if r.agent == a]
         cof = np.array([r.cof for r in rows])
         err = np.array([r.relative_error for r in rows])
-        ax.scatter(cof, 100 * err, s=10, alpha=0.35)
+        ax.scatter(cof, _error_pct(err), s=10, alpha=0.35)
         med = [np.median(err[(cof >= lo) & (cof < hi)]) if np.any((cof >= lo) & (cof < hi)) else np.nan
                for lo, hi in zip(edges[:-1], edges[1:])]
-        ax.plot(centres, 100 * np.array(med), "o-", label=f"{a} (median per bin)")
-    ax.set(xlabel="true CoF", ylabel="relative CoF error [%]", yscale="symlog", title="Error per CoF level")
+        ax.plot(centres, _error_pct(med), "o-", label=f"{a} (median per bin)")
+    ax.set(xlabel="true CoF", title="Error per CoF level")
+    _error_axis(ax)
     finish(ax)
     paths.append(save(fig, out / "error_per_cof.png", dpi=110))
 
@@ -48,7 +63,7 @@ def plot_all(records, summary, traces, out: Path) -> list[Path]:
     for a in agents:
         rows = [r for r in records if r.agent == a]
         frac = np.array([100 * r.peak_torque_fraction for r in rows])
-        err = np.array([100 * r.relative_error for r in rows])
+        err = _error_pct([r.relative_error for r in rows])
         slip = np.array([r.macro_slip for r in rows], dtype=bool)
         points = ax.scatter(frac[~slip], err[~slip], s=12, alpha=0.45, label=f"{a} (episodes)")
         color = points.get_facecolor()[0]
@@ -57,35 +72,58 @@ def plot_all(records, summary, traces, out: Path) -> list[Path]:
         ax.plot([np.median(frac)], [np.median(err)], marker="D", ms=9, mec="k", color=color, ls="none",
                 label=f"{a} (median)")
     ax.axvline(100.0, color="k", lw=0.6)
-    ax.set(xlabel="peak torque [% of the real saturation torque]", ylabel="relative CoF error [%]",
-           yscale="symlog", title="Accuracy against intrusiveness (per episode)")
+    ax.set(xlabel="peak torque [% of the real saturation torque]", title="Accuracy against intrusiveness (per episode)")
+    _error_axis(ax)
     finish(ax)
     paths.append(save(fig, out / "error_vs_peak_torque.png", dpi=110))
 
-    # one episode trace per agent
+    paths.append(plot_traces(traces, out))
+    paths += plot_creepage_error(records, agents, out)
+    return paths
+
+
+def _final_error(trace: list[dict]) -> float:
+    """|estimate / CoF - 1| at the end of a trace."""
+    return abs(trace[-1]["estimate"] / trace[-1]["cof"] - 1.0)
+
+
+def plot_traces(traces: dict[str, list], out: Path) -> Path:
+    """One episode trace per agent; the worst final estimate is drawn last, thick, and labelled."""
+    from matplotlib.lines import Line2D
+
     fig, axes = plt.subplots(4, 1, figsize=(8, 8), sharex=True)
-    for a, trace in traces.items():
-        if not trace:
-            continue
+    colors = {a: f"C{k}" for k, a in enumerate(traces)}
+    shown = {a: tr for a, tr in traces.items() if tr}
+    worst = max(shown, key=lambda a: _final_error(shown[a]), default=None)
+    for a in sorted(shown, key=lambda name: name == worst):  # the worst last: on top
+        trace, color, top = shown[a], colors[a], a == worst
         t = [p["t"] for p in trace]
-        axes[0].step(t, [p["dc_torque_nm"] / 1e3 for p in trace], where="post", label=a)
-        axes[1].plot(t, [p["wheel_speed_m_s"] - p["speed_m_s"] for p in trace], "o-", ms=3)
-        axes[2].plot(t, [p["phase_deg"] for p in trace], "o-", ms=3)
-        line, = axes[3].plot(t, [p["coa"] for p in trace], "o-", ms=3)
-        axes[3].plot(t, [p["estimate"] for p in trace], "--", color=line.get_color())
-        axes[3].axhline(trace[0]["cof"], color="k", lw=0.6)
+        axes[0].step(t, [p["dc_torque_nm"] / 1e3 for p in trace], where="post", color=color, label=a)
+        axes[1].plot(t, [p["wheel_speed_m_s"] - p["speed_m_s"] for p in trace], "o-", ms=3, color=color)
+        axes[2].plot(t, [p["phase_deg"] for p in trace], "o-", ms=3, color=color)
+        axes[3].plot(t, [p["coa"] for p in trace], "o-", ms=3, lw=1.0, color=color)
+        axes[3].plot(t, [p["estimate"] for p in trace], "--", color=color, lw=2.8 if top else 1.4,
+                     zorder=10 if top else 3)
+        if top:
+            axes[3].annotate(f"worst estimate: {a} ({100 * _final_error(trace):.0f} % off)",
+                             (t[-1], trace[-1]["estimate"]), xytext=(-6, 8), textcoords="offset points", ha="right",
+                             fontsize=8, fontweight="bold", color=color, zorder=11,
+                             bbox=dict(boxstyle="round", fc="white", alpha=0.8, lw=0))
+    if shown:
+        axes[3].axhline(next(iter(shown.values()))[0]["cof"], color="k", lw=1.0)
     axes[0].set_ylabel("mean torque [kN m]")
     axes[1].set_ylabel("wheelset R*Omega - v [m/s]")
     axes[2].set_ylabel("phase lag [deg]")
-    axes[3].set_ylabel("CoA (-), estimate (--)")
+    axes[3].set_ylabel("CoF [-]")
     axes[3].set_xlabel("time [s]")
-    axes[0].legend(fontsize=8)
-    axes[0].set_title("First episode of the suite, per agent (black line: true CoF)")
+    axes[0].legend(fontsize=8, title="agent", title_fontsize=8)
+    axes[3].legend(handles=[Line2D([], [], color="0.3", marker="o", ms=3, lw=1.0, label="measured CoA"),
+                            Line2D([], [], color="0.3", ls="--", lw=1.4, label="estimate"),
+                            Line2D([], [], color="k", lw=1.0, label="true CoF")], fontsize=8, loc="best")
+    axes[0].set_title("First episode of the suite, per agent")
     for ax in axes:
         ax.grid(alpha=0.3)
-    paths.append(save(fig, out / "episode_traces.png", dpi=110))
-    paths += plot_creepage_error(records, agents, out)
-    return paths
+    return save(fig, out / "episode_traces.png", dpi=110)
 
 
 CREEPAGE_ERROR_EDGES_PCT = np.array([-3.0, -1.0, -0.5, -0.2, 0.2, 0.5, 1.0, 3.0])

@@ -15,6 +15,7 @@ import mujoco
 from cof_gym.physics.contact_geometry import ContactGeometry
 from cof_gym.physics.creep import ContactPatch
 from cof_gym.physics.native import layout
+from cof_gym.physics.scenery import add_scenery
 from cof_gym.physics.vehicle import GRAVITY, HalfWheelsetParameters, WagonParameters
 
 DEFAULT_TIMESTEP_S = 1e-3
@@ -81,9 +82,6 @@ def _spec(timestep: float) -> mujoco.MjSpec:
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_EULER
     spec.option.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT) | int(mujoco.mjtDisableBit.mjDSBL_CONSTRAINT)
     spec.nuserdata = layout.SIZE
-    spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 1], rgba=[0.55, 0.5, 0.45, 1],
-                            contype=0, conaffinity=0)
-    spec.worldbody.add_light(pos=[0, -20, 30], dir=[0, 0.5, -1])
     return spec
 
 
@@ -116,6 +114,7 @@ def build_half_wheelset(params: HalfWheelsetParameters = HalfWheelsetParameters(
     _wheel(box, "wheel", 1.0, params.spin_inertia_kg_m2, 0.6 * params.spin_inertia_kg_m2, r)
     spec.worldbody.add_camera(name="side", mode=mujoco.mjtCamLight.mjCAMLIGHT_TRACKCOM, pos=[0, -3, 0.8],
                               xyaxes=[1, 0, 0, 0, 0.15, 1])
+    add_scenery(spec, r, rail_y_m=(0.0,))
     model = spec.compile()
     contact = ContactSpec(
         wheel_body=model.body("wheel").id, reaction_body=-1, z_qpos=-1, z_dof=-1, n_wheels=1, radius_m=r,
@@ -206,6 +205,7 @@ def build_wagon(params: WagonParameters, timestep: float = DEFAULT_TIMESTEP_S,
 
     spec.worldbody.add_camera(name="side", mode=mujoco.mjtCamLight.mjCAMLIGHT_TRACKCOM, pos=[0, -28, 3],
                               xyaxes=[1, 0, 0, 0, 0.1, 1])
+    add_scenery(spec, r, [n for n, _, _ in wheelsets], next(n for n, _, sign in wheelsets if sign == 1))
     model = spec.compile()
     patch = ContactPatch.at_load(p.static_wheel_load_n, geometry)
     contacts = []

@@ -1,0 +1,120 @@
+"""``cof-gym watch``: the scenery leaves the dynamics bit-identical, a frame shows a lit scene and the
+panels, and bad command lines get one line and exit status 2 before anything is simulated or written."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import cof_gym
+from cof_gym.cli import main
+from cof_gym.commands import watch
+from cof_gym.commands.watch_frames import CURVE_COLOR
+
+
+def _clear_model_caches() -> None:
+    from cof_gym.task import ground_truth, task
+
+    task.built_model.cache_clear()
+    task._limits.cache_clear()
+    ground_truth.load_transfer_coefficient.cache_clear()
+
+
+def _episode(env_id: str, seed: int) -> tuple[bytes, bytes]:
+    import gymnasium as gym
+
+    from cof_gym.agents import registry
+    from cof_gym.commands.evaluate import run_episode
+
+    env = gym.make(env_id)
+    trace: list = []
+    record = run_episode(env, registry.make_agent("model-based", env), seed, {}, 0, trace)
+    obs = env.unwrapped.episode.observation
+    env.close()
+    return np.asarray(obs).tobytes(), repr((record, trace)).encode()
+
+
+@pytest.mark.parametrize("env_id", [cof_gym.WAGON_V1_ENV_ID if hasattr(cof_gym, "WAGON_V1_ENV_ID")
+                                    else cof_gym.WAGON_ENV_ID, cof_gym.HALF_WHEELSET_ENV_ID])
+def test_scenery_leaves_the_episode_bit_identical(env_id, monkeypatch):
+    import cof_gym.physics.models as models
+
+    _clear_model_caches()
+    with_scenery = _episode(env_id, 3)
+    monkeypatch.setattr(models, "add_scenery", lambda *args, **kwargs: None)
+    _clear_model_caches()
+    try:
+        bare = _episode(env_id, 3)
+    finally:
+        monkeypatch.undo()
+        _clear_model_caches()
+    assert with_scenery == bare
+
+
+def _request(tmp_path, suffix: str = ".gif", **kw) -> watch.WatchRequest:
+    return watch.WatchRequest(**{"agent": "model-based", "oracle": False, "env_id": cof_gym.WAGON_ENV_ID, "seed": 0,
+                                 "out": tmp_path / f"episode{suffix}", "fps": 10, "width": 640, "speed": 1.0, **kw})
+
+
+def test_a_frame_shows_the_scene_and_the_panels(tmp_path):
+    error = watch.gl_error()
+    if error is not None:
+        pytest.skip(error)
+    facts = watch.watch(_request(tmp_path), max_frames=4)
+    frame = facts["last_frame"]
+    assert frame.shape == (352, 640, 3) and (tmp_path / "episode.gif").is_file()
+    assert [p.name for p in tmp_path.iterdir()] == ["episode.gif"]  # no partial file left
+    scene, panels = frame[:, :320].astype(float), frame[:, 320:].astype(float)
+    assert scene.std() > 20.0, "the scene is near-uniform"
+    assert (scene.max(axis=2) < 30).mean() < 0.5, "the scene is mostly black"
+    curve = np.array([int(CURVE_COLOR[i:i + 2], 16) for i in (1, 3, 5)], dtype=float)
+    assert (np.abs(panels - curve).max(axis=2) < 40).sum() > 100, "no creep curve drawn in the panels"
+    assert (panels.min(axis=2) < 200).mean() > 0.05, "the panels are blank"
+
+
+def test_the_replay_is_the_scored_episode():
+    """The video's windows end, bit for bit, where the env's did (replay raises otherwise)."""
+    record, env = watch.play(_request(Path("/nonexistent")))
+    try:
+        rep = watch.replay(env, [w for w in env.windows if w.ran], 0.1)
+    finally:
+        env.close()
+    assert len(rep.window_end_s) == record.steps + 1 - sum(not w.ran for w in env.windows)
+    assert rep.samples["t"].size > 100
+
+
+@pytest.mark.parametrize("argv, flag", [
+    (["--agent", "nope"], "--agent"),
+    (["--agent", "ppo:/nonexistent/model.zip"], "--agent"),
+    (["--out", "{tmp}/episode.avi"], "--out"),
+    (["--out", "{tmp}"], "--out"),
+    (["--out", "/proc/cof-gym-test/episode.mp4"], "--out"),
+    (["--seed", "-1"], "--seed"),
+    (["--fps", "0"], "--fps"),
+    (["--width", "10"], "--width"),
+    (["--speed", "100"], "--speed"),
+    (["--env", "CartPole-v1"], "--env"),
+])
+def test_bad_input_one_line_exit_2_nothing_written(argv, flag, tmp_path, monkeypatch, capsys):
+    def no_simulation(*args, **kwargs):
+        raise AssertionError("simulated before the command line was checked")
+
+    monkeypatch.setattr(watch, "play", no_simulation)
+    monkeypatch.chdir(tmp_path)
+    argv = [a.replace("{tmp}", str(tmp_path)) for a in argv]
+    if "--out" not in argv:
+        argv += ["--out", str(tmp_path / "episode.mp4")]
+    assert _exit_code(["watch", *argv]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and flag in err, err
+    assert list(tmp_path.iterdir()) == []
+
+
+def _exit_code(argv: list[str]) -> int:
+    """The CLI's exit status (argparse exits, the commands return)."""
+    try:
+        return main(argv)
+    except SystemExit as e:
+        return int(e.code)
