@@ -38,7 +38,7 @@ the estimate against the true CoF. MP4 needs imageio-ffmpeg, GIF pillow. Rendere
 MUJOCO_GL=osmesa)."""
 
 EXTENSIONS = (".mp4", ".gif")
-DEFAULT_WIDTH = {".mp4": 1280, ".gif": 800}  # frame width, pixels (height 9/16 of it)
+DEFAULT_WIDTH = {".mp4": 1280, ".gif": 960}  # frame width, pixels (height 9/16 of it)
 DEFAULT_FPS = {".mp4": 25, ".gif": 12}
 SAMPLE_STEPS_S = 0.002  # the traces are sampled every 2 ms of simulated time (25 samples per 20 Hz period)
 HOLD_S = 2.5  # the last frame is held this long (video seconds)
@@ -154,7 +154,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--fps", type=_int_in(1, 60), default=None,
                         help="frames per video second (default: 25 for MP4, 12 for GIF)")
     parser.add_argument("--width", type=_int_in(320, 3840), default=None,
-                        help="frame width in pixels, height 9/16 of it (default: 1280 for MP4, 800 for GIF)")
+                        help="frame width in pixels, height 9/16 of it (default: 1280 for MP4, 960 for GIF)")
     parser.add_argument("--speed", type=positive_float, default=1.0,
                         help="simulated seconds per video second, in [0.05, 10] (0.5: slow motion)")
 
@@ -329,14 +329,16 @@ def _open_writer(path: Path, fps: int):
     return imageio.get_writer(path, format="GIF", mode="I", duration=1000.0 / fps, loop=0)
 
 
-def _caption(request: WatchRequest, k: int, n: int, w: WindowRecord, t: float) -> str:
+def _caption(request: WatchRequest, k: int, n: int, w: WindowRecord, t: float, wagon: bool) -> str:
+    """The scene's caption: agent, time, window and its drive."""
     d = w.drive
     head = f"{request.agent}  seed {request.seed}  t = {t:5.2f} s"
     if k == 0:
         return (f"{head}\nbaseline window: no DC torque\nM0 {d.amplitude_nm / 1e3:.2f} kN m at {d.frequency_hz:.1f} Hz"
-                f"\n{DRIVEN}")
+                + (f"\n{DRIVEN}" if wagon else ""))
     return (f"{head}\nwindow {k}/{n}  estimate {w.estimate:.4f}\n"
-            f"Mc {d.dc_torque_nm / 1e3:.2f} kN m  M0 {d.amplitude_nm / 1e3:.2f} kN m at {d.frequency_hz:.1f} Hz\n{DRIVEN}")
+            f"Mc {d.dc_torque_nm / 1e3:.2f} kN m  M0 {d.amplitude_nm / 1e3:.2f} kN m at {d.frequency_hz:.1f} Hz"
+            + (f"\n{DRIVEN}" if wagon else ""))
 
 
 def render_video(request: WatchRequest, env, record, path: Path, max_frames: int | None = None) -> dict[str, Any]:
@@ -372,7 +374,7 @@ def render_video(request: WatchRequest, env, record, path: Path, max_frames: int
             if last:
                 done.append(WindowPoint(float(rep.window_end_s[k]), *(windows[k].measurement[m] for m in (
                     "phase_lag_deg", "phase_lag_se_deg", "coa_measured", "creepage_measured")), windows[k].estimate))
-            scene = caption.draw(camera.render(rep.frame_qpos[f]), _caption(request, k, len(windows) - 1, windows[k], t),
+            scene = caption.draw(camera.render(rep.frame_qpos[f]), _caption(request, k, len(windows) - 1, windows[k], t, built.kind == "wagon"),
                                  _result_line(record, "\n") if last else "")
             frame = np.concatenate([scene, panels.draw(t, sofar, done, windows[k].estimate)], axis=1)
             writer.append_data(frame)

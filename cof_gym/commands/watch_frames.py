@@ -164,7 +164,7 @@ class Panels:
     def __init__(self, view: EpisodeView, width: int, height: int, dpi: int = 100) -> None:
         self.view = view
         self.width, self.height = width, height
-        fs = 7.5 * height / 720
+        fs = max(6.0, 7.5 * height / 720)  # points; readable down to the GIF size
         with plt.rc_context({"font.size": fs}):
             self.fig = plt.figure(figsize=(width / dpi, height / dpi), dpi=dpi, facecolor="white")
             gs = self.fig.add_gridspec(4, 2, left=0.11, right=0.975, top=0.955, bottom=0.065, hspace=0.62,
