@@ -17,6 +17,7 @@ a block whose source file is missing is left as it is (and reported).
 from __future__ import annotations
 
 import re
+import shutil
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -39,7 +40,18 @@ def body(path: Path) -> str:
     return "\n".join(lines).strip()
 
 
+FIGURES = {  # figure of a run -> where the README shows it
+    ROOT / "out" / "evaluate" / "error_vs_creepage_error.png": ROOT / "docs" / "evaluate_error_vs_creepage_error.png",
+}
+
+
 def main() -> None:
+    for src, dst in FIGURES.items():
+        if src.is_file():
+            shutil.copyfile(src, dst)
+            print(f"{dst.relative_to(ROOT)} <- {src.relative_to(ROOT)}")
+        else:
+            print(f"{src} missing: {dst.relative_to(ROOT)} left as it is")
     text = README.read_text()
     for name, path in SOURCES.items():
         pattern = re.compile(rf"(<!-- results:{name}:begin -->\n).*?(<!-- results:{name}:end -->)", re.S)

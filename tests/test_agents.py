@@ -14,7 +14,7 @@ import pytest
 import cof_gym  # noqa: F401
 from cof_gym.agents.adapters import incremental_to_env
 from cof_gym.agents.base import Agent
-from cof_gym.commands.evaluate import evaluate, run_episode
+from cof_gym.commands.evaluate import GROUPINGS, evaluate, run_episode, utilisation_band
 from cof_gym.agents.staircase import PaperStaircase, PracticalStaircase, limits_of
 from cof_gym.commands.suites import make_suite, paper_suite
 from cof_gym.task.interface import OBSERVATION_NAMES, decode_action
@@ -163,6 +163,15 @@ def test_a_new_agent_is_one_registry_line() -> None:
         del registry.AGENTS["test-staircase"]
 
 
+def _records(path: Path) -> list:
+    """episodes.csv rows with the fields the breakdown groups by, as numbers where they are numbers."""
+    from types import SimpleNamespace
+
+    numeric = ("cof", "creepage_offset", "peak_torque_fraction")
+    return [SimpleNamespace(**{k: float(v) if k in numeric else v for k, v in row.items()})
+            for row in csv.DictReader(open(path))]
+
+
 def test_summary_has_the_breakdown_and_the_intrusiveness_figure(tmp_path: Path) -> None:
     result = evaluate(["staircase"], make_suite("default", 4, seed=2), tmp_path / "ev", seed=2, quiet=True)
     groups = result["summary"]["staircase"]["breakdown"]
@@ -170,6 +179,12 @@ def test_summary_has_the_breakdown_and_the_intrusiveness_figure(tmp_path: Path) 
     assert conditions <= set(groups) and any(g.startswith("CoF ") for g in groups)
     assert sum(groups[c]["episodes"] for c in conditions) == 4
     assert sum(v["episodes"] for g, v in groups.items() if g.startswith("CoF ")) == 4
-    assert "By condition and CoF band" in (tmp_path / "ev" / "summary.md").read_text()
+    for name, key, _ in GROUPINGS:  # every grouping partitions the episodes
+        labels = {key(r) for r in _records(tmp_path / "ev" / "episodes.csv")}
+        if len(labels) > 1 or name in ("condition", "CoF band"):
+            assert sum(groups[g]["episodes"] for g in labels) == 4, name
+    assert any(g.startswith("committed at") for g in groups) or len(
+        {utilisation_band(float(r["peak_torque_fraction"])) for r in csv.DictReader(open(tmp_path / "ev" / "episodes.csv"))}) == 1
+    assert "By condition, CoF band, creep-law family" in (tmp_path / "ev" / "summary.md").read_text()
     assert 0.0 < result["summary"]["staircase"]["peak_torque_fraction"]["value"] < 5.0
     assert (tmp_path / "ev" / "error_vs_peak_torque.png").stat().st_size > 1000

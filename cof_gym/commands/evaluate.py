@@ -210,15 +210,15 @@ def _group_stats(rows: list[EpisodeRecord]) -> dict[str, Any]:
 
 
 def breakdown(records: list[EpisodeRecord]) -> dict[str, dict[str, dict[str, Any]]]:
-    """Per agent: statistics by each of :data:`GROUPINGS` (groups sorted within a grouping; a grouping
-    with a single group, e.g. one creep-law family, is left out)."""
+    """Per agent: statistics by each of :data:`GROUPINGS` (groups ordered within a grouping; a grouping
+    other than condition and CoF band with a single group, e.g. one creep-law family, is left out)."""
     out: dict[str, dict[str, dict[str, Any]]] = {}
     keys = []
     for k, (_, key, order) in enumerate(GROUPINGS):
         first = {}
         for r in sorted(records, key=order):
             first.setdefault(key(r), len(first))
-        if len(first) > 1 or k == 0:
+        if len(first) > 1 or k < 2:  # condition and CoF band always; the rest where they vary
             keys.append((key, list(first)))
     for agent in dict.fromkeys(r.agent for r in records):
         rows = [r for r in records if r.agent == agent]
