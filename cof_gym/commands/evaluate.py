@@ -435,8 +435,21 @@ def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: 
     if not quiet:
         print_table(result["summary"], f"cof-gym evaluate: suite {suite.name} ({len(suite.episodes)} episodes per "
                                        f"agent), seed {seed}, {suite.env_id}")
+        for note in result["notes"]:
+            print(f"note: {note}")
         print(f"episodes.csv, summary.md/json and figures in {out} ({result['wall_time_s']:.1f} s)")
     return result
+
+
+def distribution_notes(agents, suite: Suite) -> list[str]:
+    """One line per agent that says the suite lies outside what it was trained on (learned agents)."""
+    notes = []
+    for agent, _ in agents:
+        note = getattr(agent, "distribution_note", None)
+        line = note(suite.env_id, dict(suite.env_kwargs)) if callable(note) else None
+        if line:
+            notes.append(line)
+    return notes
 
 
 def _play_and_write(env, agents, agent_specs, suite: Suite, out: Path, seed: int, quiet: bool,
@@ -460,18 +473,20 @@ def _play_and_write(env, agents, agent_specs, suite: Suite, out: Path, seed: int
         if progress is not None:
             progress.stop()
     summary = summarize(records, seed)
+    notes = distribution_notes(agents, suite)
     with open(out / "episodes.csv", "w", newline="") as fh:
         writer = csv.DictWriter(fh, fieldnames=list(asdict(records[0])))
         writer.writeheader()
         writer.writerows(asdict(r) for r in records)
     (out / "summary.md").write_text(
-        f"# cof-gym evaluate: suite {suite.name}, seed {seed}, {suite.env_id}\n\n{markdown_table(summary)}\n\n"
+        f"# cof-gym evaluate: suite {suite.name}, seed {seed}, {suite.env_id}\n\n"
+        + "".join(f"Note: {n}.\n\n" for n in notes) + f"{markdown_table(summary)}\n\n"
         f"## By condition, CoF band, creep-law family, creepage-error band and utilisation\n\n{markdown_breakdown(summary)}\n")
     from cof_gym.commands.evaluate_figures import plot_all
 
     figures = [Path(p).name for p in plot_all(records, summary, traces, out)]
     result = {"suite": suite.name, "env_id": suite.env_id, "env_kwargs": suite.env_kwargs, "seed": seed,
-              "agents": list(agent_specs), "summary": summary, "traces": traces, "figures": figures,
+              "agents": list(agent_specs), "summary": summary, "traces": traces, "figures": figures, "notes": notes,
               "cof_bands": [b for b in COF_BANDS if math.isfinite(b)]}
     # written last: its presence marks a complete output directory
     (out / OUTPUT_MARKER).write_text(json.dumps(result, indent=1))
