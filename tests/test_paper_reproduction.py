@@ -92,9 +92,9 @@ def test_readme_section_matches_a_fresh_quick_run(results: dict) -> None:
 
 
 def test_readme_creep_law_constants_match_the_code() -> None:
-    """The **Creep law** paragraph's c11, C and initial slopes are the code's values."""
+    """The **Creep laws** paragraph's c11, C and initial slopes are the code's values."""
     text = README.read_text()
-    para = text[text.index("**Creep law**"):text.index("**Models**")]
+    para = text[text.index("**Creep laws**"):text.index("**Models**")]
     a, b = hertz_semi_axes(100e3)
     c11 = float(re.search(r"c11 = ([\d.]+)", para).group(1))
     assert c11 == pytest.approx(kalker_c11(a / b), abs=0.005)

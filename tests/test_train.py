@@ -177,9 +177,10 @@ def test_warm_start_clones_the_expert_and_is_saved_in_rl_zoo_layout(tmp_path: Pa
     pre = meta["pretrain"]
     assert pre["agent"] == "model-based" and pre["episodes"] == 2 and pre["samples"] >= 6
     assert np.isfinite(pre["action_mse"]) and pre["action_mse"] < 0.5 and np.isfinite(pre["value_mse"])
-    warm = out / "warm_start" / "CofGym-TorqueInterrogation-v1.zip"
+    stem = cof_gym.WAGON_ENV_ID.replace("/", "-")
+    warm = out / "warm_start" / f"{stem}.zip"
     assert Path(pre["warm_start"]) == warm and warm.is_file()
-    assert vecnormalize_path(warm) == out / "warm_start" / "CofGym-TorqueInterrogation-v1" / "vecnormalize.pkl"
+    assert vecnormalize_path(warm) == out / "warm_start" / stem / "vecnormalize.pkl"
     assert vecnormalize_path(warm).is_file()
     agent = PPOAgent.load(warm)  # the env kwargs come from train_meta.json one directory up
     np.testing.assert_allclose(agent.model.policy.log_std.detach().numpy(), [-3, -2, -2, -2, -2.5])
