@@ -63,7 +63,9 @@ GRIDS = {
 }
 
 
-def grid(fractions, speeds, first_seed: int, description: str) -> dict:
+def grid(fractions, speeds, first_seed: int, description: str, env_id: str = cof_gym.WAGON_V1_ENV_ID) -> dict:
+    """Conditions x CoF fractions of each condition's range x speeds x both loads, full noise and a
+    motor lag; on v2 the env draws each episode's creep-law shape and systematic sensor errors."""
     episodes = []
     combos = itertools.product(DEFAULT_CONDITIONS, fractions, speeds, ("empty", "laden"))
     for k, (condition, fraction, speed, load_case) in enumerate(combos):
@@ -71,21 +73,7 @@ def grid(fractions, speeds, first_seed: int, description: str) -> dict:
         options = {"condition": condition, "cof": round(lo + fraction * (hi - lo), 4), "speed_m_s": speed,
                    "load_case": load_case, "noise_level": 1.0, "motor_lag_s": 0.02}
         episodes.append({"seed": first_seed + k, "options": options})
-    return {"env_id": cof_gym.WAGON_V1_ENV_ID, "env_kwargs": {}, "description": description, "episodes": episodes}
-
-
-def v2_validation_grid(fractions=(0.11, 0.37, 0.63, 0.89), speeds=(7.0, 19.0, 33.0), first_seed: int = 60_000) -> dict:
-    """Conditions x CoF x speed x load; the creep-law shape and sensor errors drawn by the v2 env."""
-    episodes = []
-    combos = itertools.product(DEFAULT_CONDITIONS, fractions, speeds, ("empty", "laden"))
-    for k, (condition, fraction, speed, load_case) in enumerate(combos):
-        lo, hi = COF_BY_CONDITION[condition]
-        options = {"condition": condition, "cof": round(lo + fraction * (hi - lo), 4), "speed_m_s": speed,
-                   "load_case": load_case, "noise_level": 1.0, "motor_lag_s": 0.02}
-        episodes.append({"seed": first_seed + k, "options": options})
-    return {"env_id": cof_gym.WAGON_ENV_ID, "env_kwargs": {},
-            "description": "v2 model selection only (never reported): shapes and sensor errors from the v2 draws",
-            "episodes": episodes}
+    return {"env_id": env_id, "env_kwargs": {}, "description": description, "episodes": episodes}
 
 
 def v2_heldout_grid(fractions=(0.21, 0.74), speeds=(9.0, 26.0), first_seed: int = 95_000) -> dict:
@@ -111,7 +99,10 @@ def v2_heldout_grid(fractions=(0.21, 0.74), speeds=(9.0, 26.0), first_seed: int 
 def main() -> None:
     out = Path(__file__).resolve().parent / "suites"
     grids = {name: grid(*spec) for name, spec in GRIDS.items()}
-    grids.update(v2_validation_grid=v2_validation_grid(), v2_heldout_grid=v2_heldout_grid())
+    grids.update(v2_validation_grid=grid((0.11, 0.37, 0.63, 0.89), (7.0, 19.0, 33.0), 60_000,
+                                         "v2 model selection only (never reported): shapes and sensor errors "
+                                         "from the v2 draws", env_id=cof_gym.WAGON_ENV_ID),
+                 v2_heldout_grid=v2_heldout_grid())
     for name, spec in grids.items():
         path = out / f"{name}.json"
         path.write_text(json.dumps(spec, indent=1) + "\n")
