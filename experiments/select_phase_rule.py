@@ -5,16 +5,17 @@ Validation set (never the default evaluate suite, seeds 0-59, nor a held-out gri
 wagon (traction balance), the v2 wagon with the paper's counter torque, the v1 wagon and the v2 half
 wheelset.
 
-The climb (growth, amplitude) decides the windows; the stop rule only decides where to leave them.
-So each climb is played once with the stop disabled (``threshold_*`` infinite: it runs until a
-macro-slip, a falling CoA, the drive's limit or the horizon) and every stop rule is replayed offline
-on the recorded observations: the agent itself is fed the same observations and commands the same
-torques up to its own stop, so the replay is exact. Ranking: fewest macro-slips, then the pooled P90
-relative error, then the median.
+The climb (probe amplitude, step) decides the windows; the stop rule only decides where to leave them.
+So each climb is played once with the stop disabled (``jump_deg`` and ``threshold_rise_deg`` infinite:
+it runs until a macro-slip, a falling CoA, the drive's limit or the horizon) and every stop rule is
+replayed offline on the recorded observations: the agent itself is fed the same observations and
+commands the same torques up to its own stop, so the replay is exact. Ranking: fewest macro-slips,
+then the pooled median relative error, then the P90. Wd is the mean car-body Wd RMS (m/s^2) of the
+windows the rule drives.
 
     python experiments/select_phase_rule.py [--workers 2] [--quick] [--out PATH.json]
 
-Runs on 2 cores in about 10 minutes (``--quick``: a fifth of the seeds, for a smoke test).
+Runs on 2 cores in about 8 minutes (``--quick``: a fifth of the seeds, for a smoke test).
 """
 
 from __future__ import annotations
@@ -38,17 +39,19 @@ SETTINGS: tuple[tuple[str, str, dict[str, Any], int, int], ...] = (
     ("v1 wagon", "CofGym/TorqueInterrogation-v1", {}, 100000, 40),
     ("v2 half wheelset", "CofGym/HalfWheelset-v2", {}, 100000, 40),
 )
+# (probe amplitude / DC, largest step / DC, largest step / amplitude)
 CLIMBS: tuple[dict[str, float], ...] = tuple(
-    {"max_growth": g, "rise_scale_deg": r, "amplitude_ratio": a, "min_amplitude_nm": floor}
-    for g, r, (a, floor) in itertools.product((1.25, 1.4, 1.6), (2.0, 6.0), ((0.0165, 20.0), (0.04, 100.0)))
+    {"amplitude_ratio": p, "max_step": s, "probe_step": g}
+    for p, s, g in ((0.3, 0.2, 0.67), (0.4, 0.25, 0.8), (0.5, 0.3, 0.67), (0.5, 0.3, 1.0))
 )
 STOPS: tuple[dict[str, float], ...] = tuple(
-    {"threshold_rise_deg": rise, "threshold_abs_deg": ab, "margin_se": m, "max_se_deg": se}
-    for rise, ab, m, se in itertools.product((10.0, 20.0, 30.0, 45.0, 90.0), (45.0, 60.0, 75.0, 90.0), (2.0, 3.0),
-                                             (5.0, 10.0))
+    {"jump_deg": j, "threshold_rise_deg": rise, "margin_se": m, "max_se_deg": se}
+    for j, rise, m, se in itertools.product((2.0, 4.0, 8.0, math.inf), (10.0, 15.0, 30.0, math.inf), (2.0, 3.0),
+                                            (5.0, 10.0))
 )
-CORRECTIONS = (1.0, 1.0 / 0.95)
-NO_STOP = {"threshold_rise_deg": math.inf, "threshold_abs_deg": math.inf}
+CORRECTIONS = (1.0, 1.05, 1.1, 1.2)
+NO_STOP = {"jump_deg": math.inf, "threshold_rise_deg": math.inf}
+WD = 9  # observation index of the Wd RMS (/ 0.01 m/s^2)
 
 
 @dataclass
@@ -57,11 +60,12 @@ class Recording:
     (window j is seen by action j + 1) and how the episode ended."""
 
     setting: str
-    window: dict[str, np.ndarray]  # phase_deg, se_deg, base_deg, base_se_deg, best_coa per driven window
+    window: dict[str, np.ndarray]  # the agent's Window fields per driven window, and wd (m/s^2)
     cof: float
     end: int  # index of the last action (a macro-slip, the horizon, or a stop for a falling CoA / the limit)
     slipped: bool
     limits: Any
+    baseline_windows: int
 
 
 def record(job: tuple[dict[str, float], str, str, dict[str, Any], int, int]) -> list[Recording]:
@@ -81,35 +85,51 @@ def record(job: tuple[dict[str, float], str, str, dict[str, Any], int, int]) -> 
         agent = PhaseRule(limits, **climb, **NO_STOP)
         agent.reset(obs, {})
         slipped = False
+        wd = []
         for k in itertools.count():
             action = agent.act(obs, {})
             if decode_action(action, limits).stop:
                 break
             obs, _, terminated, truncated, info = env.step(action)
+            wd.append(float(obs[WD]) * 0.01)
             slipped = bool(info["macro_slip"])
             if terminated or truncated:
                 break
         window = {f: np.array([getattr(w, f) for w in agent.windows]) for f in Window.__dataclass_fields__}
-        out.append(Recording(label, window, float(info["ground_truth"]["cof"]), k, slipped, limits))
+        window["wd"] = np.array(wd)
+        out.append(Recording(label, window, float(info["ground_truth"]["cof"]), k, slipped, limits,
+                             agent.baseline_windows))
     env.close()
     return out
 
 
-def replay(rec: Recording, params: dict[str, float]) -> tuple[float, bool]:
-    """(relative error, macro-slip) of the phase rule with ``params`` on a recorded climb: its stop test
-    (:func:`~cof_gym.agents.phase_rule.phase_exceeds`) on the windows it would have seen, its estimate
-    the best CoA so far times the correction (as the agent reports it, up to the action's float32)."""
-    from cof_gym.agents.phase_rule import phase_exceeds
+def replay(rec: Recording, params: dict[str, float]) -> tuple[float, bool, float]:
+    """(relative error, macro-slip, mean Wd) of the phase rule with ``params`` on a recorded climb: its
+    stop test (:func:`~cof_gym.agents.phase_rule.knee_seen`) on the windows it would have seen (after
+    the baseline windows), its estimate the best crest CoA so far times the correction (as the agent
+    reports it, up to the action's float32)."""
+    from cof_gym.agents.phase_rule import knee_seen
 
     w = rec.window
-    stop_params = {k: params[k] for k in ("threshold_rise_deg", "threshold_abs_deg", "margin_se", "max_se_deg")}
-    hits = np.flatnonzero(phase_exceeds(w["phase_deg"], w["se_deg"], w["base_deg"], w["base_se_deg"], **stop_params))
-    hits = hits[hits + 1 <= rec.end]
+    stop_params = {k: params[k] for k in ("jump_deg", "threshold_rise_deg", "margin_se", "max_se_deg")}
+    hit = knee_seen(w["phase_deg"], w["se_deg"], w["prev_deg"], w["prev_se_deg"], w["base_deg"], w["base_se_deg"],
+                    **stop_params)
+    hits = np.flatnonzero(hit)
+    hits = hits[(hits >= rec.baseline_windows) & (hits + 1 <= rec.end)]
     lo, hi = rec.limits.min_cof_estimate, rec.limits.max_cof_estimate
     if hits.size:
-        return abs(min(max(w["best_coa"][hits[0]] * params["correction"], lo), hi) / rec.cof - 1.0), False
-    estimate = min(max(w["best_coa"][rec.end - 1] * params["correction"], lo), hi) if rec.end >= 1 else lo
-    return abs(estimate / rec.cof - 1.0), rec.slipped
+        i = hits[0]
+        return (abs(min(max(w["best_crest_coa"][i] * params["correction"], lo), hi) / rec.cof - 1.0), False,
+                float(np.mean(w["wd"][:i + 1])))
+    estimate = min(max(w["best_crest_coa"][rec.end - 1] * params["correction"], lo), hi) if rec.end >= 1 else lo
+    return abs(estimate / rec.cof - 1.0), rec.slipped, float(np.mean(w["wd"])) if len(w["wd"]) else 0.0
+
+
+def summary(results: list[tuple[float, bool, float]]) -> dict[str, Any]:
+    e = np.array([x[0] for x in results])
+    return {"median": float(np.median(e)), "p90": float(np.percentile(e, 90)),
+            "macro_slips": int(sum(x[1] for x in results)), "wd": float(np.mean([x[2] for x in results])),
+            "episodes": len(results)}
 
 
 def score(job: tuple[dict[str, float], list[Recording]]) -> list[dict[str, Any]]:
@@ -118,16 +138,11 @@ def score(job: tuple[dict[str, float], list[Recording]]) -> list[dict[str, Any]]
     rows = []
     for stop, corr in itertools.product(STOPS, CORRECTIONS):
         params = {**climb, **stop, "correction": corr}
-        per_setting: dict[str, list[tuple[float, bool]]] = {}
+        per_setting: dict[str, list[tuple[float, bool, float]]] = {}
         for rec in recordings:
             per_setting.setdefault(rec.setting, []).append(replay(rec, params))
-        e = np.array([x[0] for v in per_setting.values() for x in v])
-        rows.append({"params": params, "macro_slips": int(sum(x[1] for v in per_setting.values() for x in v)),
-                     "median": float(np.median(e)), "p90": float(np.percentile(e, 90)),
-                     "settings": {s: {"median": float(np.median([x[0] for x in v])),
-                                      "p90": float(np.percentile([x[0] for x in v], 90)),
-                                      "macro_slips": int(sum(x[1] for x in v)), "episodes": len(v)}
-                                  for s, v in per_setting.items()}})
+        rows.append({"params": params, **summary([x for v in per_setting.values() for x in v]),
+                     "settings": {s: summary(v) for s, v in per_setting.items()}})
     return rows
 
 
@@ -145,19 +160,25 @@ def main() -> None:
         by_climb = [(climb, [r for (c, *_), recs in zip(jobs, recorded) if c is climb for r in recs])
                     for climb in CLIMBS]
         rows = [row for part in pool.map(score, by_climb) for row in part]
-    rows.sort(key=lambda r: (r["macro_slips"], r["p90"], r["median"]))
+    rows.sort(key=lambda r: (r["macro_slips"], r["median"], r["p90"]))
     best = rows[0]
     print(f"{len(rows)} rules on {len(by_climb[0][1])} validation episodes in {time.time() - t0:.0f} s")
     print("best:", json.dumps(best["params"]))
-    print("| setting | episodes | median | P90 | macro-slips |\n|---|---|---|---|---|")
+    print("| setting | episodes | median | P90 | macro-slips | Wd, m/s^2 |\n|---|---|---|---|---|---|")
     for s, v in best["settings"].items():
-        print(f"| {s} | {v['episodes']} | {v['median']:.1%} | {v['p90']:.1%} | {v['macro_slips']} |")
-    print(f"| all | {len(by_climb[0][1])} | {best['median']:.1%} | {best['p90']:.1%} | {best['macro_slips']} |")
+        print(f"| {s} | {v['episodes']} | {v['median']:.1%} | {v['p90']:.1%} | {v['macro_slips']} | {v['wd']:.4f} |")
+    print(f"| all | {best['episodes']} | {best['median']:.1%} | {best['p90']:.1%} | {best['macro_slips']} | "
+          f"{best['wd']:.4f} |")
     same = [r for r in rows if {k: v for k, v in r["params"].items() if k != "correction"}
             == {k: v for k, v in best["params"].items() if k != "correction"} and r is not best]
     if same:
         r = same[0]
         print(f"same rule, correction {r['params']['correction']:.4f}: median {r['median']:.1%} P90 {r['p90']:.1%} "
+              f"macro-slips {r['macro_slips']}")
+    no_jump = [r for r in rows if r["params"]["jump_deg"] == math.inf]
+    if no_jump:
+        r = no_jump[0]
+        print(f"best without the jump test: {json.dumps(r['params'])}: median {r['median']:.1%} P90 {r['p90']:.1%} "
               f"macro-slips {r['macro_slips']}")
     print("best stop rule per climb (macro-slips / median / P90):")
     per_climb = []
