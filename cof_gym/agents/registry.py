@@ -80,7 +80,7 @@ register("staircase-paper", "cof_gym.agents.staircase:PaperStaircase", oracle=Tr
 register("staircase", "cof_gym.agents.staircase:PracticalStaircase", oracle=False,
          help="a staircase that knows no ground truth")
 register("phase-rule", "cof_gym.agents.phase_rule:PhaseRule", oracle=False,
-         help="the paper's phase rule without ground truth or creepage (validation-chosen threshold)")
+         help="the paper's phase rule without ground truth or creepage: the modulation probes ahead of the DC level, stop on a phase jump (validation-chosen)")
 register("model-based", "cof_gym.agents.model_based:ModelBasedAgent", oracle=False,
          help="creep-curve fit from windows below the peak")
 register("ppo", "cof_gym.agents.registry:_ppo", oracle=False, takes_env=True, argument="PATH",
