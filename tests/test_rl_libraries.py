@@ -1,15 +1,21 @@
 """The registered ids in the RL libraries users pick, and the Gymnasium conventions those rely on:
 an unknown constructor argument name is a TypeError worded as Python's (torchrl drops ``frameskip`` on
 it), info holds no None, the spec carries the horizon, the env stays usable after a failed reset under
-gym.make's default wrappers, and the batched vector env autoresets in Gymnasium's modes."""
+gym.make's default wrappers, and the batched vector env autoresets in Gymnasium's modes. The clients:
+torchrl's ``GymEnv`` and ``GymWrapper`` over ``gym.make_vec`` (``info_layout="flat"`` with same-step
+autoreset, or the nested default with autoreset disabled), tianshou's PPO on its Dummy and Subproc
+vector envs (each skipped where the library is not installed)."""
 
 from __future__ import annotations
+
+import functools
 
 import gymnasium as gym
 import numpy as np
 import pytest
 
 import cof_gym
+from cof_gym.task.info_layout import FLAT_CODES, FLAT_SEPARATOR, decode_flat, flatten_info
 
 IDS = (cof_gym.WAGON_ENV_ID, cof_gym.HALF_WHEELSET_ENV_ID)
 SHORT = {"max_windows": 3, "window_s": 0.5}
@@ -111,3 +117,144 @@ def test_torchrl_gym_env_passes_check_env_specs(env_id: str) -> None:
     check_env_specs(env)
     rollout = env.rollout(4)
     assert rollout["next", "observation"].shape[-1] == env.observation_spec["observation"].shape[-1]
+
+
+# ---------------------------------------------------------------- info layouts
+@pytest.mark.parametrize("env_id", IDS)
+def test_flat_info_layout_holds_the_nested_numbers_under_joined_keys(env_id: str) -> None:
+    flat_env = gym.make(env_id, **SHORT, info_layout="flat")
+    nested_env = gym.make(env_id, **SHORT)
+    key_sets = set()
+    for seed in range(4):  # several episodes (families, conditions, load cases drawn)
+        (_, flat), (_, nested) = flat_env.reset(seed=seed), nested_env.reset(seed=seed)
+        infos = [(flat, nested)]
+        done = False
+        while not done:
+            *_, terminated, truncated, flat = flat_env.step(QUIET)
+            *_, _, _, nested = nested_env.step(QUIET)
+            infos.append((flat, nested))
+            done = terminated or truncated
+        for flat, nested in infos:
+            assert flat == flatten_info(nested)
+            assert all(isinstance(v, (bool, int, float)) and np.isfinite(v) for v in flat.values()), flat
+            assert "ground_truth/creep_law" not in flat and "creep_law" in nested["ground_truth"]
+            for key in FLAT_CODES:
+                group, name = key.split(FLAT_SEPARATOR)
+                assert decode_flat(key, flat[key]) == nested[group][name]
+            assert flat["measurement/phase_lag_deg"] == nested["measurement"]["phase_lag_deg"]
+        assert all("log_error" not in f for f, _ in infos[:-1]) and "log_error" in infos[-1][0]
+        key_sets.add(frozenset(infos[0][0]))  # a reset's keys
+        key_sets.add(frozenset(infos[-1][0]))  # a scored step's keys
+    assert len(key_sets) == 2  # the same keys in every episode
+
+
+def test_info_layout_value_is_checked() -> None:
+    with pytest.raises(ValueError, match="info_layout must be one of"):
+        gym.make(cof_gym.WAGON_ENV_ID, info_layout="flattened")
+    with pytest.raises(ValueError, match="info_layout"):
+        gym.make_vec(cof_gym.WAGON_ENV_ID, 2, vectorization_mode="vector_entry_point", info_layout=None)
+
+
+# ---------------------------------------------------------------- torchrl over gym.make_vec
+def _make_vec(env_id: str, mode: str, autoreset, **kwargs):
+    vector = {"autoreset_mode": autoreset} if mode == "vector_entry_point" else \
+        {"vector_kwargs": {"autoreset_mode": autoreset}}
+    return gym.make_vec(env_id, 2, vectorization_mode=mode, **SHORT, **vector, **kwargs)
+
+
+def _rollout_through_resets(env) -> None:
+    from torchrl.envs.utils import check_env_specs
+
+    check_env_specs(env)
+    env.set_seed(0)
+    rollout = env.rollout(8, break_when_any_done=False)  # the horizon is 3 steps: >= 2 resets per sub-env
+    assert rollout.batch_size == (2, 8)
+    assert (rollout["next", "done"].squeeze(-1).sum(-1) >= 2).all()
+    assert rollout["next", "observation"].isfinite().all()
+    return rollout
+
+
+@pytest.mark.parametrize("mode", ["vector_entry_point", "sync"])
+@pytest.mark.parametrize("env_id", IDS)
+def test_torchrl_gym_wrapper_over_make_vec_reads_the_flat_info(env_id: str, mode: str) -> None:
+    pytest.importorskip("torchrl")
+    from torchrl.envs import GymWrapper
+
+    env = GymWrapper(_make_vec(env_id, mode, gym.vector.AutoresetMode.SAME_STEP, info_layout="flat"))
+    rollout = _rollout_through_resets(env)
+    cof = rollout["next", "ground_truth/cof"]  # the info, read into the rollout
+    assert ((cof >= 0.02) & (cof <= 0.6)).all()
+
+
+@pytest.mark.parametrize("mode", ["vector_entry_point", "sync"])
+def test_torchrl_gym_wrapper_over_make_vec_with_autoreset_disabled_takes_the_nested_info(mode: str) -> None:
+    """torchrl's preferred autoreset mode for vector envs is DISABLED (it resets sub-envs itself, and
+    reads no info): the nested default works there."""
+    pytest.importorskip("torchrl")
+    from torchrl.envs import GymWrapper
+
+    for env_id in IDS:
+        _rollout_through_resets(GymWrapper(_make_vec(env_id, mode, gym.vector.AutoresetMode.DISABLED)))
+
+
+# ---------------------------------------------------------------- tianshou
+@pytest.mark.parametrize(("env_id", "venv", "info_layout"), [
+    (cof_gym.WAGON_ENV_ID, "DummyVectorEnv", "nested"),
+    (cof_gym.HALF_WHEELSET_ENV_ID, "SubprocVectorEnv", "flat"),
+])
+def test_tianshou_ppo_trains_two_epochs_of_1024_steps_on_two_envs(env_id: str, venv: str, info_layout: str) -> None:
+    """tianshou 2's low-level API (Algorithm + OnPolicyTrainerParams); its trainer raises
+    MalformedBufferError on a NaN anywhere in the buffer, info included."""
+    pytest.importorskip("tianshou", minversion="2.0")
+    import torch
+    from torch.distributions import Independent, Normal
+    from tianshou import env as tianshou_env
+    from tianshou.algorithm import PPO
+    from tianshou.algorithm.modelfree.reinforce import ProbabilisticActorPolicy
+    from tianshou.algorithm.optim import AdamOptimizerFactory
+    from tianshou.data import Collector, VectorReplayBuffer
+    from tianshou.trainer import OnPolicyTrainerParams
+    from tianshou.utils.net.common import Net
+    from tianshou.utils.net.continuous import ContinuousActorProbabilistic, ContinuousCritic
+
+    # 8 windows of 0.2 s: the cost of 2048 steps is mostly resets (the ground truth's creep-curve peak)
+    # "cof_gym:" imports cof_gym first: a spawned worker (torchrl sets spawn as the default) has not
+    make = functools.partial(gym.make, f"cof_gym:{env_id}", max_windows=8, window_s=0.2, info_layout=info_layout)
+    probe = make()
+    probe.reset(seed=0)  # models built and code compiled before the workers fork
+    obs_space, act_space = probe.observation_space, probe.action_space
+    probe.close()
+    envs = getattr(tianshou_env, venv)([make, make])
+    envs.seed([0, 1])
+    torch.manual_seed(0)
+    threads = torch.get_num_threads()
+    torch.set_num_threads(1)  # a 32-unit MLP: threads only contend with the envs
+    actor = ContinuousActorProbabilistic(preprocess_net=Net(state_shape=obs_space.shape, hidden_sizes=(32, 32)),
+                                         action_shape=act_space.shape, unbounded=True)
+    with torch.no_grad():  # a cautious start (small DC torque, stop rarely drawn): episodes last, resets are few
+        actor.mu.model[-1].bias[[0, 4]] = -2.0
+    critic = ContinuousCritic(preprocess_net=Net(state_shape=obs_space.shape, hidden_sizes=(32, 32)))
+
+    def gaussian(loc_scale):
+        loc, scale = loc_scale
+        return Independent(Normal(loc, scale), 1)
+
+    policy = ProbabilisticActorPolicy(actor=actor, dist_fn=gaussian, action_space=act_space,
+                                      observation_space=obs_space, action_scaling=False)  # the space is [-1, 1]
+    algorithm = PPO(policy=policy, critic=critic, optim=AdamOptimizerFactory(lr=3e-4))
+    collector = Collector(algorithm, envs, VectorReplayBuffer(2048, len(envs)), raise_on_nan_in_buffer=True)
+    try:
+        stats = algorithm.run_training(OnPolicyTrainerParams(
+            training_collector=collector, test_collector=None, max_epochs=2, epoch_num_steps=1024,
+            collection_step_num_env_steps=1024, batch_size=256, update_step_num_repetitions=2,
+            verbose=False, show_progress=False))
+        assert stats.train_step == 2048 and stats.update_step == 2
+        collector.collect(n_step=64)  # the trained policy, and the info as the buffer stores it
+    finally:
+        envs.close()
+        torch.set_num_threads(threads)
+    buffer = collector.buffer
+    info = buffer.info[buffer.sample_indices(0)]
+    cof = info["ground_truth/cof"] if info_layout == "flat" else info.ground_truth.cof
+    assert len(cof) == 64 and ((cof >= 0.02) & (cof <= 0.6)).all()
+    assert not buffer.hasnull()

@@ -60,7 +60,7 @@ def make_task(vehicle: str = "wagon", window_s: float = 1.0, settle_fraction: fl
               w_comfort: float = 0.05, w_time: float = 0.02, macro_slip_penalty: float = 10.0,
               macro_slip_ratio: float = 2.0, macro_slip_floor: float = 0.02, shaping: bool = False,
               action_type: str = "absolute", observation_type: str = "window", task_version: int = 1,
-              **fixed: Any) -> InterrogationTask:
+              info_layout: str = "nested", **fixed: Any) -> InterrogationTask:
     """The task from the environment's keyword arguments (the table in the env's docstring). An unknown
     argument name is a ``TypeError`` (as Python's for an unexpected keyword: RL libraries such as
     torchrl retry without an optional argument on it); a wrong value is a ``ValueError``."""
@@ -75,7 +75,7 @@ def make_task(vehicle: str = "wagon", window_s: float = 1.0, settle_fraction: fl
         ranges=default_ranges(task_version) if ranges is None else ranges, fixed=fixed,
         reward=Reward(w_error, w_slip, w_comfort, w_time, macro_slip_penalty),
         macro_slip=MacroSlipLimit(macro_slip_ratio, macro_slip_floor), shaping=shaping,
-        action_type=action_type, observation_type=observation_type,
+        action_type=action_type, observation_type=observation_type, info_layout=info_layout,
     )
 
 
@@ -224,6 +224,7 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | shaping | False | add the potential-based shaping term (training) |
     | action_type | "absolute" | "absolute", "relative" or "identified" (see Action Space) |
     | observation_type | "window" | "window" (14), "history" (29) or "identification" (38; see Observation Space) |
+    | info_layout | "nested" | "nested" (the info above) or "flat": one level of keys joined by "/" (``info["measurement/phase_lag_deg"]``), every value a number, strings as indices (:data:`cof_gym.task.info_layout.FLAT_CODES`), the creep law's spec left out; for torchrl's ``GymWrapper`` over ``gym.make_vec`` (:mod:`cof_gym.task.info_layout`) |
     | render_mode | None | "rgb_array" or "human" |
     | width, height | 480, 240 | rgb_array frame size, pixels |
 
@@ -247,17 +248,18 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
                  w_comfort: float = 0.05, w_time: float = 0.02, macro_slip_penalty: float = 10.0,
                  macro_slip_ratio: float = 2.0, macro_slip_floor: float = 0.02, shaping: bool = False,
                  render_mode: str | None = None, width: int = 480, height: int = 240, action_type: str = "absolute",
-                 observation_type: str = "window", task_version: int = 1, **fixed: Any) -> None:
+                 observation_type: str = "window", task_version: int = 1, info_layout: str = "nested",
+                 **fixed: Any) -> None:
         EzPickle.__init__(self, vehicle, window_s, settle_fraction, ramp_fraction, max_windows, counter_torque,
                           traction_balance, timestep, ranges, w_error, w_slip, w_comfort, w_time, macro_slip_penalty,
                           macro_slip_ratio, macro_slip_floor, shaping, render_mode, width, height,
                           action_type=action_type, observation_type=observation_type, task_version=task_version,
-                          **fixed)
+                          info_layout=info_layout, **fixed)
         self.task = make_task(vehicle, window_s, settle_fraction, ramp_fraction, max_windows, counter_torque,
                               traction_balance, timestep, ranges, w_error, w_slip, w_comfort, w_time,
                               macro_slip_penalty, macro_slip_ratio, macro_slip_floor, shaping,
                               action_type=action_type, observation_type=observation_type,
-                              task_version=task_version, **fixed)
+                              task_version=task_version, info_layout=info_layout, **fixed)
         self.width = check_int("width", width, 16, 4096)
         self.height = check_int("height", height, 16, 4096)
         if render_mode is not None:

@@ -76,6 +76,10 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
     ``reset(options={"reset_mask": mask, ...})`` resets only the masked sub-envs; other options are
     passed to every reset sub-env (scenario fields, as for the single env).
 
+    torchrl's ``GymWrapper`` takes this env (or the sync one) with ``autoreset_mode=SAME_STEP`` and
+    ``info_layout="flat"`` (its reader stacks each info key into a tensor: nested dicts and strings
+    fail there), or with ``autoreset_mode=DISABLED`` in either layout (torchrl then reads no info).
+
     Divergence is detected per simulation as in the single env (bad-acceleration warning, non-finite
     state or measurement: ``info["diverged"]``, the episode terminates). A simulation in which MuJoCo
     raises an error, or whose state MuJoCo auto-reset (cof_gym's userdata marker lost), is treated as

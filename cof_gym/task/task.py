@@ -24,6 +24,7 @@ from cof_gym.physics.simulation import DriveCommand, Scenario, WindowMeasurement
 from cof_gym.physics.vehicle import HalfWheelsetParameters, wagon_parameters
 from cof_gym.task.ground_truth import GroundTruth, ground_truth, max_saturation_torque_nm, static_contact_load_n
 from cof_gym.task.actions import ACTION_TYPES, ActionContext, get_action_type
+from cof_gym.task.info_layout import INFO_LAYOUTS, flatten_info
 from cof_gym.task.interface import (
     OBSERVATION_TYPES, SENSOR_FIELDS, DecodedAction, Memory, MotorLimits, ObservationScales, check_action,
     encode_observation, get_observation_type,
@@ -99,10 +100,12 @@ class InterrogationTask:
     shaping: bool = False
     action_type: str = "absolute"  # cof_gym.task.actions.ACTION_TYPES
     observation_type: str = "window"  # cof_gym.task.interface.OBSERVATION_TYPES
+    info_layout: str = "nested"  # cof_gym.task.info_layout.INFO_LAYOUTS
 
     def __post_init__(self) -> None:
         check_choice("action_type", self.action_type, tuple(ACTION_TYPES))
         check_choice("observation_type", self.observation_type, tuple(OBSERVATION_TYPES))
+        check_choice("info_layout", self.info_layout, INFO_LAYOUTS)
         check_choice("vehicle", self.vehicle, VEHICLES)
         check_number("window_s", self.window_s, 0.2, 10.0, unit=" s")
         check_number("settle_fraction", self.settle_fraction, 0.0, 0.8)
@@ -297,7 +300,7 @@ class InterrogationTask:
             "torque_fraction": episode.drive.dc_torque_nm / truth.saturation_torque_nm,
             "peak_torque_fraction": m.torque_peak_nm / truth.saturation_torque_nm,
         }
-        return info
+        return flatten_info(info) if self.info_layout == "flat" else info
 
 
 @lru_cache(maxsize=32)
