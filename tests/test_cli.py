@@ -26,11 +26,18 @@ SUITE_FILES = {
     "bad_env_id.json": json.dumps({"env_id": "CofGym/NoSuchEnv-v9"}),
     "cartpole.json": json.dumps({"env_id": "CartPole-v1"}),  # registered, but not a cof_gym env
     "too_many_episodes.json": json.dumps({"episodes": [{}] * 100_001}),
+    "table_not_increasing.json": json.dumps({"options": {"creep_law": {"table": {
+        "creepage": [0.0, 0.01, 0.005, 0.02], "adhesion_ratio": [0.0, 0.5, 1.0, 0.9]}}}}),
+    "polach_missing.json": json.dumps({"options": {"creep_law": {"polach": {"k_adhesion": 1.0}}}}),
+    "speed_error_too_large.json": json.dumps({"options": {"speed_sensor_error": 0.5}}),
 }
 SHIPPED = str(Path(cli.__file__).parent / "agents" / "policies" / "ppo_wagon")  # observation (38,)
 
 # (argv, a fragment the one-line message must contain)
 BAD = [
+    (["evaluate", "--agents", "staircase", "--suite", "table_not_increasing.json"], "creep_law.table.creepage"),
+    (["evaluate", "--agents", "staircase", "--suite", "polach_missing.json"], "creep_law.polach.k_slip"),
+    (["evaluate", "--agents", "staircase", "--suite", "speed_error_too_large.json"], "speed_sensor_error"),
     (["evaluate", "--agents", "nonexistent"], "--agents"),
     (["evaluate", "--agents", "staircase-paper,staircase,pp0"], "pp0"),
     (["evaluate", "--agents", "staircase,,staircase-paper"], "--agents"),
