@@ -152,7 +152,6 @@ class EpisodeScenario:
 
 
 SCENARIO_KEYS = tuple(f.name for f in fields(EpisodeScenario))
-V1_KEYS = SCENARIO_KEYS[:SCENARIO_KEYS.index("creep_law")]  # drawn in v1, in this order
 
 
 def shape_spec(shape: CreepShape) -> dict[str, dict[str, Any]]:
