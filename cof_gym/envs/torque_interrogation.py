@@ -194,7 +194,10 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     Condition, CoF (in the condition's range, :data:`cof_gym.task.COF_BY_CONDITION`), speed, load case,
     sensor-noise level and motor lag are drawn from ``np_random`` (:class:`cof_gym.task.ScenarioRanges`:
     dry / wet / low_adhesion, CoF 0.02-0.6 overall, 5-40 m/s, empty / laden, noise 0-1 x full scale,
-    lag 0-30 ms); each can be fixed by a constructor kwarg or ``reset(options={...})``. The vehicle
+    lag 0-30 ms); v2 (``task_version=2``) also draws a creep-law family and its shape
+    (:mod:`cof_gym.physics.creep_laws`) and the systematic sensor errors (:mod:`cof_gym.task.sensors`),
+    which change readings, never physics, and are reported only under ``info["ground_truth"]``; each
+    can be fixed by a constructor kwarg or ``reset(options={...})``. The vehicle
     starts at the static equilibrium, rolling, and a baseline window (no DC torque, 100 N m at 5 Hz) is
     measured for the first observation.
 
@@ -204,7 +207,9 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
       beyond ``max(macro_slip_ratio x peak creepage, peak + macro_slip_floor)``: penalised, the estimate
       scored); a diverging simulation (``info["diverged"] = True``, treated as a macro-slip).
     - truncated: after ``max_windows`` windows (the task's horizon, default 30; the last estimate is
-      scored). The env truncates itself: the registered ids set no ``TimeLimit``.
+      scored). The registered ids carry the same horizon as ``max_episode_steps`` (gym.make's
+      ``TimeLimit`` ends the episode at the same step); a longer ``max_windows`` needs
+      ``max_episode_steps`` too (:func:`make_kwargs` adds it).
 
     ## Arguments
     | Argument | Default | Description |
@@ -221,6 +226,9 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | w_error, w_slip, w_comfort, w_time, macro_slip_penalty | 10, 1, 0.05, 0.02, 10 | reward weights |
     | macro_slip_ratio, macro_slip_floor | 2, 0.02 | the macro-slip limit relative to the peak creepage |
     | cof, condition, speed_m_s, load_case, noise_level, motor_lag_s | None | fix a scenario field |
+    | creep_law | None | fix the creep curve: a preset name, ``{"polach": {...}}``, ``{"shen_hedrick_elkins": {...}}`` or ``{"table": {"creepage": [...], "adhesion_ratio": [...]}}`` (:func:`cof_gym.physics.creep_laws.creep_law_from_spec`) |
+    | speed_sensor_error, wheel_radius_error, force_gain_error, torque_gain_error | None | fix a systematic sensor error (relative; ranges in :data:`cof_gym.task.sensors.SYSTEMATIC_ERRORS`) |
+    | task_version | 1 | 1: Polach presets, unbiased sensors; 2: creep-law families and systematic sensor errors drawn (the -v2 ids) |
     | shaping | False | add the potential-based shaping term (training) |
     | action_type | "absolute" | "absolute", "relative" or "identified" (see Action Space) |
     | observation_type | "window" | "window" (14), "history" (29) or "identification" (38; see Observation Space) |
@@ -229,9 +237,13 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | width, height | 480, 240 | rgb_array frame size, pixels |
 
     Booleans must be ``bool``, numbers finite real numbers (not bool or str): anything else raises a
-    ``ValueError`` naming the argument, the type and the range.
+    ``ValueError`` naming the argument, the type and the range; an unknown argument name raises
+    ``TypeError``.
 
     ## Version History
+    - v2: creep-law families (Polach with drawn shapes, Shen-Hedrick-Elkins saturation, tables) and
+      systematic sensor errors (reference speed, wheel radius, force and torque gains) drawn per
+      episode; the horizon on the spec; no ``None`` in ``info``. v1 stays registered with its numbers.
     - v1: ground truth from the simulated physics (load transfer, controlled speed); PI cruise control
       and traction balance; a traction rod; CoF ranges per condition; macro-slip relative to the peak;
       log-ratio error, no slip cost below the peak, comfort over the whole window; sensors apart from
