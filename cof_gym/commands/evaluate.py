@@ -94,7 +94,6 @@ def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list 
     total, steps = 0.0, 0
     slip_e = fric_e = wd2 = 0.0
     peak = 0.0
-    sat = info["ground_truth"]["saturation_torque_nm"]
     while True:
         action = agent.act(obs, agent_view(info, oracle))
         obs, reward, terminated, truncated, info = env.step(action)

@@ -36,9 +36,7 @@ def plot_all(records, summary, traces, out: Path) -> list[Path]:
         cof = np.array([r.cof for r in rows])
         err = np.array([r.relative_error for r in rows])
         ax.scatter(cof, _error_pct(err), s=10, alpha=0.35)
-        med = [np.median(err[(cof >= lo) & (cof < hi)]) if np.any((cof >= lo) & (cof < hi)) else np.nan
-               for lo, hi in zip(edges[:-1], edges[1:])]
-        ax.plot(centres, _error_pct(med), "o-", label=f"{a} (median per bin)")
+        ax.plot(centres, _error_pct(per_bin(cof, err, edges, np.median)), "o-", label=f"{a} (median per bin)")
     ax.set(xlabel="true CoF", title="Error per CoF level")
     _error_axis(ax)
     finish(ax)
@@ -126,6 +124,13 @@ def plot_traces(traces: dict[str, list], out: Path) -> Path:
     return save(fig, out / "episode_traces.png", dpi=110)
 
 
+def per_bin(x: np.ndarray, y: np.ndarray, edges: np.ndarray, stat) -> np.ndarray:
+    """``stat`` of the ``y`` whose ``x`` falls in each bin of ``edges`` (the end bins take what lies
+    beyond them), NaN for an empty bin."""
+    which = np.digitize(x, edges[1:-1])
+    return np.array([stat(y[which == k]) if np.any(which == k) else np.nan for k in range(len(edges) - 1)])
+
+
 CREEPAGE_ERROR_EDGES_PCT = np.array([-3.0, -1.0, -0.5, -0.2, 0.2, 0.5, 1.0, 3.0])
 
 
@@ -143,9 +148,8 @@ def plot_creepage_error(records, agents: list[str], out: Path) -> list[Path]:
         x = np.array([100 * r.creepage_offset for r in rows])
         err = np.array([100 * r.relative_error for r in rows])
         slip = np.array([r.macro_slip for r in rows], dtype=float)
-        which = np.digitize(x, edges[1:-1])
-        med = [np.median(err[which == k]) if np.any(which == k) else np.nan for k in range(centres.size)]
-        rate = [100 * slip[which == k].mean() if np.any(which == k) else np.nan for k in range(centres.size)]
+        med = per_bin(x, err, edges, np.median)
+        rate = 100 * per_bin(x, slip, edges, np.mean)
         line, = ax_err.plot(centres, med, "o-", label=a)
         ax_err.scatter(x, err, s=8, alpha=0.25, color=line.get_color())
         ax_slip.plot(centres, rate, "o-", color=line.get_color(), label=a)
