@@ -60,7 +60,7 @@ def make_task(vehicle: str = "wagon", window_s: float = 1.0, settle_fraction: fl
               w_comfort: float = 0.05, w_time: float = 0.02, macro_slip_penalty: float = 10.0,
               macro_slip_ratio: float = 2.0, macro_slip_floor: float = 0.02, shaping: bool = False,
               action_type: str = "absolute", observation_type: str = "window", task_version: int = 1,
-              info_layout: str = "nested", **fixed: Any) -> InterrogationTask:
+              info_layout: str = "nested", excitation: str = "sine", tones: int = 2, **fixed: Any) -> InterrogationTask:
     """The task from the environment's keyword arguments (the table in the env's docstring). An unknown
     argument name is a ``TypeError`` (as Python's for an unexpected keyword: RL libraries such as
     torchrl retry without an optional argument on it); a wrong value is a ``ValueError``."""
@@ -76,6 +76,7 @@ def make_task(vehicle: str = "wagon", window_s: float = 1.0, settle_fraction: fl
         reward=Reward(w_error, w_slip, w_comfort, w_time, macro_slip_penalty),
         macro_slip=MacroSlipLimit(macro_slip_ratio, macro_slip_floor), shaping=shaping,
         action_type=action_type, observation_type=observation_type, info_layout=info_layout,
+        excitation=excitation, tones=tones,
     )
 
 
@@ -124,6 +125,26 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     envelope (load transfer included). Scripted agents encode with
     ``env.unwrapped.task.actions.encode(context, dc, amplitude, frequency, estimate, stop, limits)``.
 
+    ``excitation="multitone"`` (:mod:`cof_gym.task.excitation`) drives ``tones`` = K (2 or 3) sines,
+    ``M = Mc + sum_k a_k sin(2 pi f_k t)``, each phase-continuous across windows and measured by its own
+    lock-in (a joint least-squares fit of all tones). The action is ``Box(-1, 1, (5 + 2 (K - 1),))``: the 5
+    above, decoded by the ``action_type`` as listed (the amplitude is the TOTAL ``A = sum_k a_k``, the
+    frequency is tone 1's), then per extra tone k = 2...K, decoded the same way for every action type:
+
+    | Num         | Action      | Rescaled to                                                        | Unit |
+    |-------------|-------------|--------------------------------------------------------------------|------|
+    | 5 + 2(k-2)  | frequency_k | logarithmic 1 ... 20 (as tone 1's)                                  | Hz   |
+    | 6 + 2(k-2)  | share_k     | weight ``w_k = 1 + a`` in [0, 2] (tone 1's is 1); ``a_k = A w_k / (1 + sum_j w_j)``: 0 an equal split, -1 silences the tone, +1 twice tone 1's share | - |
+
+    Every ``a_k >= 0`` and they sum to ``A``. Tones closer than ``2 / T`` (``T = window_s x (1 -
+    settle_fraction)``, the measured span; the fit resolves ~1 / T) are moved apart: an extra tone goes to
+    the nearest frequency in 1-20 Hz at least ``2 / T`` from tone 1 and the earlier tones (tone 1 is never
+    moved; the applied frequencies are in ``info["measurement"]["tone<k>_frequency_hz"]``); a window too
+    short for K tones to fit that way is refused (``ValueError`` naming ``tones``). Tones at second-order
+    intermodulation frequencies of others (``f_i + f_j``, ``|f_i - f_j|``, ``2 f_i``) pick up a small
+    distortion product from the creep curve's curvature. The reset window splits its 100 N m equally over
+    tone 1 at 5 Hz and extra tones at 11 and 17 Hz.
+
     ## Observation Space
     ``Box(-1000, 1000, (14,), float32)``, from the last window's *sensor readings* only
     (:data:`cof_gym.task.SENSOR_FIELDS`; :func:`cof_gym.task.decode_observation` inverts it):
@@ -171,6 +192,15 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | 35  | log_elasticity  | ln(d ln creepage / d ln CoA) over >= 3 % of CoA (0 on the linear part)    |
     | 36  | climb_points    | points of the climb / 10                                                  |
     | 37  | falling         | 1 when the last window's CoA fell (past the peak)                         |
+
+    ``excitation="multitone"`` appends ``3 K`` values after whatever the ``observation_type`` produces
+    (shape 14 + 3K, 29 + 3K or 38 + 3K), for k = 1...K: ``[phase_lag_k / 90, phase_lag_se_k / 90,
+    compliance_k]``, ``compliance_k = (speed / torque amplitude of tone k) x Iw x 2 pi f_k``. A silent tone
+    (share 0) reads 0, 2 (SE 180 deg: no information) and 0; tones that cannot be separated read SE 180 deg
+    too, never NaN. The first three observations (and ``amplitude`` the total) are then tone 1's from the
+    joint fit. ``info["measurement"]`` adds, per tone, ``tone<k>_frequency_hz``, ``tone<k>_amplitude_nm``
+    (commanded), ``tone<k>_phase_lag_deg``, ``tone<k>_phase_lag_se_deg``, ``tone<k>_amplitude_ratio``
+    (rad/s per N m), ``tone<k>_torque_amplitude_nm`` and ``tone<k>_omega_amplitude_rad_s``.
 
     ## Rewards
     ``reward = reward_error + reward_slip + reward_comfort + reward_time`` (:mod:`cof_gym.task.reward`,
@@ -232,6 +262,8 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | shaping | False | add the potential-based shaping term (training) |
     | action_type | "absolute" | "absolute", "relative" or "identified" (see Action Space) |
     | observation_type | "window" | "window" (14), "history" (29) or "identification" (38; see Observation Space) |
+    | excitation | "sine" | "sine" (one tone, as in the paper) or "multitone" (``tones`` sines, each with its own lock-in; see Action Space) |
+    | tones | 2 | tones of the "multitone" excitation, 2 or 3 (ignored with "sine", still checked) |
     | info_layout | "nested" | "nested" (the info above) or "flat": one level of keys joined by "/" (``info["measurement/phase_lag_deg"]``), every value a number, strings as indices (:data:`cof_gym.task.info_layout.FLAT_CODES`), the creep law's spec left out; for torchrl's ``GymWrapper`` over ``gym.make_vec`` (:mod:`cof_gym.task.info_layout`) |
     | render_mode | None | "rgb_array" or "human" |
     | width, height | 480, 240 | rgb_array frame size, pixels |
@@ -261,17 +293,18 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
                  macro_slip_ratio: float = 2.0, macro_slip_floor: float = 0.02, shaping: bool = False,
                  render_mode: str | None = None, width: int = 480, height: int = 240, action_type: str = "absolute",
                  observation_type: str = "window", task_version: int = 1, info_layout: str = "nested",
-                 **fixed: Any) -> None:
+                 excitation: str = "sine", tones: int = 2, **fixed: Any) -> None:
         EzPickle.__init__(self, vehicle, window_s, settle_fraction, ramp_fraction, max_windows, counter_torque,
                           traction_balance, timestep, ranges, w_error, w_slip, w_comfort, w_time, macro_slip_penalty,
                           macro_slip_ratio, macro_slip_floor, shaping, render_mode, width, height,
                           action_type=action_type, observation_type=observation_type, task_version=task_version,
-                          info_layout=info_layout, **fixed)
+                          info_layout=info_layout, excitation=excitation, tones=tones, **fixed)
         self.task = make_task(vehicle, window_s, settle_fraction, ramp_fraction, max_windows, counter_torque,
                               traction_balance, timestep, ranges, w_error, w_slip, w_comfort, w_time,
                               macro_slip_penalty, macro_slip_ratio, macro_slip_floor, shaping,
                               action_type=action_type, observation_type=observation_type,
-                              task_version=task_version, info_layout=info_layout, **fixed)
+                              task_version=task_version, info_layout=info_layout, excitation=excitation,
+                              tones=tones, **fixed)
         self.width = check_int("width", width, 16, 4096)
         self.height = check_int("height", height, 16, 4096)
         if render_mode is not None:

@@ -31,7 +31,7 @@ from mujoco.batch import Batch, SimulationError
 
 from cof_gym.envs.torque_interrogation import make_task, window_diverged
 from cof_gym.task import Episode
-from cof_gym.task.interface import DecodedAction, check_action
+from cof_gym.task.interface import DecodedAction
 from cof_gym.physics.native import layout
 from cof_gym.physics.native.build import install_callback
 from cof_gym.physics.simulation import begin_window, initial_state, initial_userdata, read_window, state_is_finite
@@ -151,7 +151,7 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
         for i in actions:
             if not self._started[i]:
                 raise RuntimeError(f"sub-env {i}: call reset() before step()")
-        checked = {int(i): check_action(a) for i, a in actions.items()}  # raises before any state changes
+        checked = {int(i): self.task.check_action(a) for i, a in actions.items()}  # raises before any state changes
         resets = {int(i): r for i, r in resets.items()}
         reset_ids = sorted(resets)
 

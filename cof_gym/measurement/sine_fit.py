@@ -88,3 +88,74 @@ def wrap_deg(angle_deg: float) -> float:
     """Wrap to (-180, 180]."""
     w = (angle_deg + 180.0) % 360.0 - 180.0
     return 180.0 if w == -180.0 else w
+
+
+def unpack_symmetric_n(btb: np.ndarray, size: int) -> np.ndarray:
+    """``size`` x ``size`` symmetric matrix from its packed upper triangle (row-major)."""
+    out = np.empty((size, size))
+    k = 0
+    for i in range(size):
+        for j in range(i, size):
+            out[i, j] = out[j, i] = btb[k]
+            k += 1
+    return out
+
+
+# a joint normal matrix whose scaled condition number exceeds this cannot separate its tones: their
+# phases are reported with the standard error of no information (pi)
+MAX_CONDITION = 1e10
+
+
+def fit_tones_from_sums(btb: np.ndarray, bty: np.ndarray, yty: float, n: float, ntones: int) -> tuple[SineFit, ...]:
+    """Joint least-squares fit of ``ntones`` known-frequency sines plus offset and drift, from the sums
+    over the basis ``[cos th_1, sin th_1, ..., cos th_K, sin th_K, 1, tau]`` (B'B packed upper triangle,
+    B'y, y'y over n samples), as :func:`fit_from_sums` does for one tone. One :class:`SineFit` per tone
+    (offset, drift and residual shared). Each tone's phase standard error comes from the joint covariance,
+    so tones that are close in frequency (less than ~2 / T apart over a window of T s) get large errors;
+    an ill-conditioned system (:data:`MAX_CONDITION`, e.g. two tones at one frequency) gives pi."""
+    size = 2 * ntones + 2
+    if ntones < 1:
+        raise ValueError(f"ntones must be >= 1, got {ntones}")
+    if n <= size:
+        raise ValueError(f"a {ntones}-tone fit needs more than {size} samples, got {n:g}")
+    a = unpack_symmetric_n(np.asarray(btb, dtype=np.float64), size)
+    b = np.asarray(bty, dtype=np.float64)[:size]
+    scale = 1.0 / np.sqrt(np.maximum(np.diag(a), 1e-300))
+    a_s = a * np.outer(scale, scale)
+    eig = np.linalg.eigvalsh(a_s)
+    separable = eig[0] > eig[-1] / MAX_CONDITION
+    cov_s = np.linalg.pinv(a_s)
+    coef = scale * (cov_s @ (b * scale))
+    cov_unit = cov_s * np.outer(scale, scale)
+    rss = max(float(yty - coef @ b), 0.0)
+    sigma2 = rss / (n - size)
+    fits = []
+    for k in range(ntones):
+        c0, c1 = coef[2 * k], coef[2 * k + 1]
+        amp2 = c0 * c0 + c1 * c1
+        if amp2 > 0.0 and separable:
+            grad = np.array([c1, -c0]) / amp2
+            var = sigma2 * float(grad @ cov_unit[2 * k:2 * k + 2, 2 * k:2 * k + 2] @ grad)
+            phase_se = min(float(np.sqrt(max(var, 0.0))), float(np.pi))
+        else:
+            phase_se = float(np.pi)
+        fits.append(SineFit(float(np.sqrt(amp2)), float(np.arctan2(c0, c1)), phase_se, float(coef[-2]),
+                            float(coef[-1]), float(np.sqrt(rss / n))))
+    return tuple(fits)
+
+
+def tone_basis(thetas: np.ndarray, tau: np.ndarray) -> np.ndarray:
+    """The joint basis for phases ``thetas`` of shape (K, n) and drift time ``tau`` (n,)."""
+    thetas = np.atleast_2d(np.asarray(thetas, float))
+    cols = [f(th) for th in thetas for f in (np.cos, np.sin)]
+    return np.stack([*cols, np.ones_like(tau), tau], axis=1)
+
+
+def tone_sums(thetas: np.ndarray, tau: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, float, int]:
+    """The sums the native step accumulates for the joint fit, from sample arrays (tests, analysis)."""
+    bm = tone_basis(thetas, np.asarray(tau, float))
+    full = bm.T @ bm
+    size = bm.shape[1]
+    btb = np.array([full[i, j] for i in range(size) for j in range(i, size)])
+    y = np.asarray(y, float)
+    return btb, bm.T @ y, float(y @ y), y.size

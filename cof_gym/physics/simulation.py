@@ -17,7 +17,7 @@ import mujoco
 import numpy as np
 
 from cof_gym.measurement.comfort import band_limiting_sos, wd_weighting_sos
-from cof_gym.measurement.sine_fit import fit_from_sums, wrap_deg
+from cof_gym.measurement.sine_fit import SineFit, fit_from_sums, fit_tones_from_sums, wrap_deg
 from cof_gym.physics.creep import OperatingConditions, creep_peak
 from cof_gym.physics.models import BuiltModel
 from cof_gym.physics.native import layout
@@ -62,13 +62,23 @@ class CruiseControl:
         return kp, 2 * math.pi * self.integral_hz * kp, self.kd_mass_ratio * mass_kg
 
 
+FREQUENCY_RANGE_HZ = (0.1, 100.0)
+MAX_TONES = layout.MAX_TONES
+
+
 @dataclass(frozen=True)
 class DriveCommand:
-    """Traction torque M = Mc + M0 sin(theta), dtheta/dt = 2 pi f (N m, N m, Hz)."""
+    """Traction torque M = Mc + M0 sin(theta) + sum_k a_k sin(theta_k), dtheta/dt = 2 pi f,
+    dtheta_k/dt = 2 pi f_k (N m, N m, Hz).
+
+    ``extra_tones`` (default none: the single tone) holds up to ``MAX_TONES - 1`` further tones as
+    ``(amplitude_nm, frequency_hz)`` pairs, each phase-continuous across windows as the first tone; a
+    window with extra tones fits every tone jointly (:func:`read_window`)."""
 
     dc_torque_nm: float
     amplitude_nm: float
     frequency_hz: float
+    extra_tones: tuple[tuple[float, float], ...] = ()
 
     def __post_init__(self) -> None:
         for name in ("dc_torque_nm", "amplitude_nm", "frequency_hz"):
@@ -76,8 +86,46 @@ class DriveCommand:
                 raise ValueError(f"{name} must be finite, got {getattr(self, name)!r}")
         if self.amplitude_nm < 0:
             raise ValueError(f"amplitude_nm must be >= 0 N m, got {self.amplitude_nm!r}")
-        if not (0.1 <= self.frequency_hz <= 100.0):
-            raise ValueError(f"frequency_hz must be in [0.1, 100] Hz, got {self.frequency_hz!r}")
+        lo, hi = FREQUENCY_RANGE_HZ
+        if not (lo <= self.frequency_hz <= hi):
+            raise ValueError(f"frequency_hz must be in [{lo:g}, {hi:g}] Hz, got {self.frequency_hz!r}")
+        if self.extra_tones:  # () stays the very object it is (the single-tone default)
+            object.__setattr__(self, "extra_tones", _check_tones(self.extra_tones))
+
+    @property
+    def tones(self) -> tuple[tuple[float, float], ...]:
+        """Every tone as (amplitude N m, frequency Hz), the first one first."""
+        return ((self.amplitude_nm, self.frequency_hz), *self.extra_tones)
+
+    @property
+    def total_amplitude_nm(self) -> float:
+        """The sum of the tones' amplitudes (the single tone's amplitude without extra tones)."""
+        if not self.extra_tones:
+            return self.amplitude_nm
+        return self.amplitude_nm + sum(a for a, _ in self.extra_tones)
+
+
+def _check_tones(tones) -> tuple[tuple[float, float], ...]:
+    allowed = (f"a sequence of at most {MAX_TONES - 1} (amplitude_nm >= 0, frequency_hz in "
+               f"[{FREQUENCY_RANGE_HZ[0]:g}, {FREQUENCY_RANGE_HZ[1]:g}] Hz) pairs")
+    try:
+        pairs = tuple(tuple(t) for t in tones)
+    except TypeError:
+        raise ValueError(f"extra_tones must be {allowed}, got {tones!r}") from None
+    if len(pairs) > MAX_TONES - 1 or any(len(p) != 2 for p in pairs):
+        raise ValueError(f"extra_tones must be {allowed}, got {tones!r}")
+    out = []
+    for amp, freq in pairs:
+        if isinstance(amp, bool) or isinstance(freq, bool):
+            raise ValueError(f"extra_tones must be {allowed}, got {tones!r}")
+        try:
+            amp, freq = float(amp), float(freq)
+        except (TypeError, ValueError):
+            raise ValueError(f"extra_tones must be {allowed}, got {tones!r}") from None
+        if not (math.isfinite(amp) and amp >= 0.0 and FREQUENCY_RANGE_HZ[0] <= freq <= FREQUENCY_RANGE_HZ[1]):
+            raise ValueError(f"extra_tones must be {allowed}, got {tones!r}")
+        out.append((amp, freq))
+    return tuple(out)
 
 
 @dataclass(frozen=True)
@@ -168,10 +216,20 @@ def begin_window(ud: np.ndarray, t: float, drive: DriveCommand, ramp_s: float, s
     ud[I["RAMP_START_TIME"]] = t
     ud[I["RAMP_DURATION"]] = ramp_s
     ud[I["TORQUE_AMPLITUDE"]] = drive.amplitude_nm
-    theta = ud[I["THETA_BASE"]] + ud[I["MOD_OMEGA"]] * (t - ud[I["TIME_BASE"]])
+    since = t - ud[I["TIME_BASE"]]
+    theta = ud[I["THETA_BASE"]] + ud[I["MOD_OMEGA"]] * since
     ud[I["THETA_BASE"]] = math.fmod(theta, 2 * math.pi)
     ud[I["TIME_BASE"]] = t
     ud[I["MOD_OMEGA"]] = 2 * math.pi * drive.frequency_hz
+    # further tones: phase continuous as the first (a tone's phase advances while it is unused too)
+    extra = drive.extra_tones
+    ud[I["N_TONES"]] = 1 + len(extra)
+    for k in range(2, MAX_TONES + 1):
+        theta_k = ud[I[f"TONE{k}_THETA_BASE"]] + ud[I[f"TONE{k}_OMEGA"]] * since
+        ud[I[f"TONE{k}_THETA_BASE"]] = math.fmod(theta_k, 2 * math.pi)
+        amp, freq = extra[k - 2] if k - 2 < len(extra) else (0.0, 0.0)
+        ud[I[f"TONE{k}_AMPLITUDE"]] = amp
+        ud[I[f"TONE{k}_OMEGA"]] = 2 * math.pi * freq
     ud[I["ACC_START_TIME"]] = t + settle_s
     ud[layout.ACC_FIRST: layout.ACC_FIRST + layout.ACC_COUNT] = 0.0
 
@@ -207,11 +265,59 @@ class WindowMeasurement:
     energy_past_peak_j: float
     max_abs_creepage: float
     samples: int
+    # per tone k = 1...MAX_TONES (tone 1 the DriveCommand's own sine; tones beyond n_tones: lag 0, SE 180,
+    # ratio 0). With extra tones the fields above (phase lag, its SE, the amplitudes and their ratio, the
+    # creepage's lag and amplitude) are tone 1's from the joint fit; a single tone fills tone 1 with them.
+    n_tones: int = 1
+    tone1_phase_lag_deg: float = 0.0
+    tone1_phase_lag_se_deg: float = 180.0
+    tone1_amplitude_ratio: float = 0.0  # rad/s per N m
+    tone1_torque_amplitude_nm: float = 0.0
+    tone1_omega_amplitude_rad_s: float = 0.0
+    tone2_phase_lag_deg: float = 0.0
+    tone2_phase_lag_se_deg: float = 180.0
+    tone2_amplitude_ratio: float = 0.0
+    tone2_torque_amplitude_nm: float = 0.0
+    tone2_omega_amplitude_rad_s: float = 0.0
+    tone3_phase_lag_deg: float = 0.0
+    tone3_phase_lag_se_deg: float = 180.0
+    tone3_amplitude_ratio: float = 0.0
+    tone3_torque_amplitude_nm: float = 0.0
+    tone3_omega_amplitude_rad_s: float = 0.0
+
+
+TONE_FIELDS = ("phase_lag_deg", "phase_lag_se_deg", "amplitude_ratio", "torque_amplitude_nm", "omega_amplitude_rad_s")
+
+
+def tone_field(k: int, name: str) -> str:
+    """The :class:`WindowMeasurement` field of tone ``k`` (1-based): ``tone_field(2, "phase_lag_deg")``."""
+    return f"tone{k}_{name}"
 
 
 def _fit(ud: np.ndarray, btb: str, bty: str, yty: str, n: float):
     b0, y0 = I[f"{btb}_0"], I[f"{bty}_0"]
     return fit_from_sums(ud[b0:b0 + 10], ud[y0:y0 + 4], ud[I[yty]], n)
+
+
+def _tone_fits(ud: np.ndarray, n: float, ntones: int) -> tuple[tuple[SineFit, ...], ...]:
+    """The joint multi-tone fits (torque, omega, creepage), one SineFit per tone each."""
+    size = 2 * ntones + 2
+    packed = size * (size + 1) // 2
+    out = []
+    for btb, bty, yty in (("MT_BTB_TORQUE", "MT_BTY_TORQUE", "YTY_TORQUE"), ("MT_BTB_STATE", "MT_BTY_OMEGA", "YTY_OMEGA"),
+                          ("MT_BTB_STATE", "MT_BTY_CREEP", "YTY_CREEP")):
+        b0, y0 = I[f"{btb}_0"], I[f"{bty}_0"]
+        out.append(fit_tones_from_sums(ud[b0:b0 + packed], ud[y0:y0 + size], ud[I[yty]], n, ntones))
+    return tuple(out)
+
+
+def _lag(torque: SineFit, omega: SineFit, commanded: bool) -> tuple[float, float, float]:
+    """(lag of omega behind torque deg, its SE deg (<= 180), amplitude ratio) of one tone."""
+    if not (commanded and torque.amplitude > 1e-9):
+        return 0.0, 180.0, 0.0
+    lag = wrap_deg(math.degrees(torque.phase_rad - omega.phase_rad))
+    lag_se = min(math.degrees(math.hypot(torque.phase_se_rad, omega.phase_se_rad)), 180.0)
+    return lag, lag_se, omega.amplitude / torque.amplitude
 
 
 def read_window(ud: np.ndarray) -> WindowMeasurement:
@@ -222,15 +328,32 @@ def read_window(ud: np.ndarray) -> WindowMeasurement:
     torque = _fit(ud, "BTB_TORQUE", "BTY_TORQUE", "YTY_TORQUE", n)
     omega = _fit(ud, "BTB_STATE", "BTY_OMEGA", "YTY_OMEGA", n)
     creep = _fit(ud, "BTB_STATE", "BTY_CREEP", "YTY_CREEP", n)
-    modulated = torque.amplitude > 1e-9
-    lag = wrap_deg(math.degrees(torque.phase_rad - omega.phase_rad)) if modulated else 0.0
-    lag_se = math.degrees(math.hypot(torque.phase_se_rad, omega.phase_se_rad)) if modulated else 180.0
+    ntones = min(max(int(ud[I["N_TONES"]]), 1), MAX_TONES)
+    tones: dict[str, float] = {}
+    if ntones > 1:  # every tone from the joint fit; tone 1's replaces the single-tone fit (leaked into by the others)
+        if n <= 2 * ntones + 2 + 4:
+            raise ValueError(f"window too short: {n:g} samples for {ntones} tones; lengthen the window")
+        t_fits, o_fits, c_fits = _tone_fits(ud, n, ntones)
+        commanded = [ud[I["TORQUE_AMPLITUDE"]] > 0.0] + [ud[I[f"TONE{k}_AMPLITUDE"]] > 0.0 for k in range(2, ntones + 1)]
+        for k in range(1, ntones + 1):
+            lag_k, se_k, ratio_k = _lag(t_fits[k - 1], o_fits[k - 1], commanded[k - 1])
+            tones.update({tone_field(k, "phase_lag_deg"): lag_k, tone_field(k, "phase_lag_se_deg"): se_k,
+                          tone_field(k, "amplitude_ratio"): ratio_k,
+                          tone_field(k, "torque_amplitude_nm"): t_fits[k - 1].amplitude,
+                          tone_field(k, "omega_amplitude_rad_s"): o_fits[k - 1].amplitude})
+        torque, omega, creep = t_fits[0], o_fits[0], c_fits[0]
+        lag, lag_se, ratio = (tones[tone_field(1, f)] for f in ("phase_lag_deg", "phase_lag_se_deg", "amplitude_ratio"))
+    else:
+        modulated = torque.amplitude > 1e-9
+        lag = wrap_deg(math.degrees(torque.phase_rad - omega.phase_rad)) if modulated else 0.0
+        lag_se = math.degrees(math.hypot(torque.phase_se_rad, omega.phase_se_rad)) if modulated else 180.0
+        ratio = omega.amplitude / torque.amplitude if modulated else 0.0
     mean = lambda key: float(ud[I[key]] / n)  # noqa: E731
     dt_energy = lambda key: float(ud[I[key]])  # noqa: E731
     return WindowMeasurement(
         phase_lag_deg=lag,
         phase_lag_se_deg=min(lag_se, 180.0),
-        amplitude_ratio=omega.amplitude / torque.amplitude if modulated else 0.0,
+        amplitude_ratio=ratio,
         torque_amplitude_nm=torque.amplitude,
         omega_amplitude_rad_s=omega.amplitude,
         creep_phase_lag_deg=wrap_deg(math.degrees(omega.phase_rad - creep.phase_rad)),
@@ -254,6 +377,10 @@ def read_window(ud: np.ndarray) -> WindowMeasurement:
         energy_past_peak_j=dt_energy("ENERGY_PAST_PEAK"),
         max_abs_creepage=float(ud[I["MAX_ABS_CREEPAGE"]]),
         samples=int(n),
+        n_tones=ntones,
+        **(tones or {"tone1_phase_lag_deg": lag, "tone1_phase_lag_se_deg": min(lag_se, 180.0),
+                     "tone1_amplitude_ratio": ratio,
+                     "tone1_torque_amplitude_nm": torque.amplitude, "tone1_omega_amplitude_rad_s": omega.amplitude}),
     )
 
 

@@ -64,16 +64,17 @@ def observation_space() -> spaces.Box:
     return spaces.Box(-OBS_BOUND, OBS_BOUND, shape=(len(OBSERVATION_NAMES),), dtype=np.float32)
 
 
-def check_action(action) -> np.ndarray:
-    """A real, finite action of shape (5,): anything else raises ``ValueError`` naming the problem
-    (shape, dtype, or the non-finite components); values are clipped to [-1, 1]."""
+def check_action(action, names: tuple[str, ...] = ACTION_NAMES) -> np.ndarray:
+    """A real, finite action of shape (5,) (``(len(names),)``: the multi-tone excitation appends
+    components): anything else raises ``ValueError`` naming the problem (shape, dtype, or the
+    non-finite components); values are clipped to [-1, 1]."""
     a = np.asarray(action)
-    if a.shape != (len(ACTION_NAMES),):
-        raise ValueError(f"action must have shape ({len(ACTION_NAMES)},) {ACTION_NAMES}, got shape {a.shape}")
+    if a.shape != (len(names),):
+        raise ValueError(f"action must have shape ({len(names)},) {names}, got shape {a.shape}")
     if a.dtype.kind not in "fiu":
         raise ValueError(f"action must be a real (float or int) array in [-1, 1], got dtype {a.dtype}")
     a = a.astype(np.float64)
-    bad = [ACTION_NAMES[i] for i in np.flatnonzero(~np.isfinite(a))]
+    bad = [names[i] for i in np.flatnonzero(~np.isfinite(a))]
     if bad:
         raise ValueError(f"action component(s) {bad} are not finite (NaN/inf); allowed range [-1, 1]")
     return np.clip(a, -1.0, 1.0)
@@ -141,7 +142,7 @@ def encode_observation(m: WindowMeasurement, drive: DriveCommand, scales: Observ
         m.coa_measured,
         m.creepage_measured * CREEPAGE_SCALE,
         drive.dc_torque_nm / lim.max_dc_torque_nm,
-        drive.amplitude_nm / lim.max_amplitude_nm,
+        drive.total_amplitude_nm / lim.max_amplitude_nm,
         drive.frequency_hz / lim.max_frequency_hz,
         m.speed_measured_m_s / SPEED_SCALE_M_S,
         m.wd_rms_m_s2 / WD_SCALE_M_S2,

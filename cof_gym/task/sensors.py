@@ -43,7 +43,7 @@ from dataclasses import dataclass, fields, replace
 from types import MappingProxyType
 from typing import Mapping
 
-from cof_gym.physics.simulation import WindowMeasurement
+from cof_gym.physics.simulation import WindowMeasurement, tone_field
 
 
 @dataclass(frozen=True)
@@ -89,8 +89,14 @@ class SensorErrors:
         creep_gain = 1.0 + self.creepage_offset
         force_gain = 1.0 + self.force_gain_error
         torque_gain = 1.0 + self.torque_gain_error
+        tones = {}
+        for k in range(1, m.n_tones + 1):  # every tone's torque reads through the same gain
+            amp, ratio = tone_field(k, "torque_amplitude_nm"), tone_field(k, "amplitude_ratio")
+            tones[amp] = getattr(m, amp) * torque_gain
+            tones[ratio] = getattr(m, ratio) / torque_gain
         return replace(
             m,
+            **tones,
             creepage_measured=(1.0 + m.creepage_measured) * creep_gain - 1.0,
             speed_measured_m_s=m.speed_measured_m_s * (1.0 + self.speed_sensor_error),
             tangential_force_measured_n=m.tangential_force_measured_n * force_gain,

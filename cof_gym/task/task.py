@@ -15,6 +15,7 @@ from functools import lru_cache
 from typing import Any, Mapping
 
 import numpy as np
+from gymnasium import spaces
 
 from cof_gym import MAX_EPISODE_STEPS
 from cof_gym.physics.models import DEFAULT_TIMESTEP_S, BuiltModel, build_half_wheelset, build_wagon
@@ -24,10 +25,11 @@ from cof_gym.physics.simulation import DriveCommand, Scenario, WindowMeasurement
 from cof_gym.physics.vehicle import HalfWheelsetParameters, wagon_parameters
 from cof_gym.task.ground_truth import GroundTruth, ground_truth, max_saturation_torque_nm, static_contact_load_n
 from cof_gym.task.actions import ACTION_TYPES, ActionContext, get_action_type
+from cof_gym.task.excitation import Excitation
 from cof_gym.task.info_layout import INFO_LAYOUTS, flatten_info
 from cof_gym.task.interface import (
-    OBSERVATION_TYPES, SENSOR_FIELDS, DecodedAction, Memory, MotorLimits, ObservationScales, check_action,
-    encode_observation, get_observation_type,
+    ACTION_NAMES, OBS_BOUND, OBSERVATION_TYPES, SENSOR_FIELDS, DecodedAction, Memory, MotorLimits, ObservationScales,
+    check_action, encode_observation, get_observation_type,
 )
 from cof_gym.task.reward import MacroSlipLimit, Reward, discomfort, log_error, relative_error, slip_cost
 from cof_gym.task.scenarios import COF_ENVELOPE, EpisodeScenario, ScenarioRanges, check_fixed, draw_scenario, physics_scenario
@@ -100,6 +102,8 @@ class InterrogationTask:
     action_type: str = "absolute"  # cof_gym.task.actions.ACTION_TYPES
     observation_type: str = "window"  # cof_gym.task.interface.OBSERVATION_TYPES
     info_layout: str = "nested"  # cof_gym.task.info_layout.INFO_LAYOUTS
+    excitation: str = "sine"  # cof_gym.task.excitation.EXCITATIONS
+    tones: int = 2  # tones of the "multitone" excitation (2 or 3)
 
     def __post_init__(self) -> None:
         check_choice("action_type", self.action_type, tuple(ACTION_TYPES))
@@ -124,6 +128,13 @@ class InterrogationTask:
         if self.vehicle == "half_wheelset":
             object.__setattr__(self, "ranges", replace(self.ranges, load_cases=("laden",)))
         object.__setattr__(self, "fixed", check_fixed(self.fixed, self.ranges.load_cases))
+        # the interrogation signal (checks excitation and tones against the measured span)
+        object.__setattr__(self, "_signal", Excitation(self.excitation, self.tones, self.window_s - self.settle_s))
+
+    @property
+    def signal(self) -> Excitation:
+        """The interrogation signal (:mod:`cof_gym.task.excitation`)."""
+        return self._signal
 
     # ------------------------------------------------------------------ derived constants
     @property
@@ -167,12 +178,30 @@ class InterrogationTask:
         return get_observation_type(self.observation_type)
 
     @property
+    def action_names(self) -> tuple[str, ...]:
+        """The action's components: the action type's 5, then the excitation's (none for "sine")."""
+        return ACTION_NAMES + self.signal.action_names
+
+    @property
     def action_space(self):
-        return self.actions.space()
+        if not self.signal.multitone:
+            return self.actions.space()
+        return spaces.Box(-1.0, 1.0, shape=(len(self.action_names),), dtype=np.float32)
+
+    @property
+    def observation_names(self) -> tuple[str, ...]:
+        """The observation type's names, then the excitation's per-tone values (none for "sine")."""
+        return tuple(self.observations.names) + self.signal.observation_names
 
     @property
     def observation_space(self):
-        return self.observations.space()
+        if not self.signal.multitone:
+            return self.observations.space()
+        return spaces.Box(-OBS_BOUND, OBS_BOUND, shape=(len(self.observation_names),), dtype=np.float32)
+
+    def check_action(self, action: Any) -> np.ndarray:
+        """A real, finite action of the task's shape (``ValueError`` otherwise), clipped to [-1, 1]."""
+        return check_action(action, self.action_names)
 
     # ------------------------------------------------------------------ episode
     def new_episode(self, rng: np.random.Generator, options: Mapping[str, Any] | None) -> Episode:
@@ -182,7 +211,8 @@ class InterrogationTask:
         built = self.model(scenario.load_case)
         truth, wheel_load, scenario = self._truth(built, scenario, rng, shape_fixed="creep_law" in fixed)
         physics = physics_scenario(scenario, wheel_load, seed=int(rng.integers(2**31)), traction_balance=self.balanced)
-        episode = Episode(scenario=scenario, truth=truth, built=built, physics=physics)
+        episode = Episode(scenario=scenario, truth=truth, built=built, physics=physics,
+                          drive=self.signal.baseline(BASELINE_DRIVE))
         episode.potential = self._potential(episode)
         return episode
 
@@ -190,7 +220,10 @@ class InterrogationTask:
         """Check and decode an action; it sets the drive of the episode's next window."""
         if episode.done:
             raise RuntimeError("the episode has ended: call reset() before step()")
-        decoded = self.actions.decode(episode.action_context, check_action(action), self.limits)
+        a = self.check_action(action)
+        decoded = self.actions.decode(episode.action_context, a[:len(ACTION_NAMES)], self.limits)
+        if self.signal.multitone:  # the action type's amplitude is the total; the extra components add tones
+            decoded = replace(decoded, drive=self.signal.drive(decoded.drive, a[len(ACTION_NAMES):]))
         if not decoded.stop:  # a stop runs no window: the drive stays what the last window applied
             episode.drive = decoded.drive
         episode.estimate = decoded.cof_estimate
@@ -204,6 +237,10 @@ class InterrogationTask:
                                     episode.estimate)
         episode.memory.push(window, driven=episode.windows > 0)
         episode.observation = self.observations.encode(window, episode.memory)
+        if self.signal.multitone:
+            tones = self.signal.features(sensed, episode.drive, episode.built.drive_spin_inertia_kg_m2)
+            tones = np.clip(tones, -OBS_BOUND, OBS_BOUND).astype(np.float32)
+            episode.observation = np.concatenate([episode.observation, tones]).astype(np.float32)
         return episode.observation.copy()
 
     def after_reset(self, episode: Episode, m: WindowMeasurement) -> tuple[np.ndarray, dict]:
@@ -298,6 +335,7 @@ class InterrogationTask:
         info["elapsed_s"] = episode.elapsed_s
         sensed = episode.scenario.sensor_errors.read(m)
         info["measurement"] = {k: getattr(sensed, k) for k in SENSOR_FIELDS}
+        info["measurement"].update(self.signal.measurement_info(sensed, episode.drive))
         info["ground_truth"] = {
             **episode.scenario.to_dict(), **truth.to_dict(),
             "macro_slip_creepage": self.macro_slip.limit(truth.peak_creepage),

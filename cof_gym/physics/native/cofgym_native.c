@@ -220,6 +220,17 @@ static void acc_bty(double* bty, double* yty, const double* b, double y) {
   *yty += y * y;
 }
 
+/* multi-tone lock-in: packed upper triangle of B'B and B'y for a basis of np columns */
+static void acc_btb_n(double* btb, const double* b, int np) {
+  int k = 0;
+  for (int i = 0; i < np; i++)
+    for (int j = i; j < np; j++) btb[k++] += b[i] * b[j];
+}
+
+static void acc_bty_n(double* bty, const double* b, int np, double y) {
+  for (int i = 0; i < np; i++) bty[i] += b[i] * y;
+}
+
 static double dc_torque(const double* ud, double t) {
   double dur = ud[UD_RAMP_DURATION];
   double start = ud[UD_TORQUE_DC_START], target = ud[UD_TORQUE_DC_TARGET];
@@ -304,12 +315,31 @@ void cofgym_passive(const mjModel* m, mjData* d) {
   int reaction_done[UD_MAX_CONTACTS];
   mju_zero(tau, nv);
 
-  /* drive: DC ramp + sine at mid-step (the torque acts over [t, t+dt]), first-order lag */
+  /* drive: DC ramp + sine (+ tones 2..N_TONES) at mid-step (the torque acts over [t, t+dt]), first-order lag */
   const double t_mid = t + 0.5 * dt;
   const double theta_mid = modulation_phase(ud, t_mid);
   const double amp = ud[UD_TORQUE_AMPLITUDE], wm = ud[UD_MOD_OMEGA];
   const double sin_mid = sin(theta_mid), cos_mid = cos(theta_mid);
-  const double torque_cmd = dc_torque(ud, t_mid) + amp * sin_mid;
+  double torque_cmd = dc_torque(ud, t_mid) + amp * sin_mid;
+  /* tones 2..N_TONES (N_TONES <= 1: the single tone above, nothing below runs); a tone with zero
+   * amplitude adds nothing to the torque (it is still fitted by the joint lock-in) */
+  int ntones = (int)ud[UD_N_TONES];
+  if (ntones > UD_MAX_TONES) ntones = UD_MAX_TONES;
+  double tone_sin_mid[UD_MAX_TONES], tone_cos_mid[UD_MAX_TONES], extra_rate = 0.0;
+  if (ntones > 1) {
+    double extra_cmd = 0.0;
+    for (int k = 1; k < ntones; k++) {
+      const double* tb = ud + UD_TONE0 + (k - 1) * UD_TONE_STRIDE;
+      const double th = tb[TONE_THETA_BASE] + tb[TONE_OMEGA] * (t_mid - ud[UD_TIME_BASE]);
+      tone_sin_mid[k] = sin(th);
+      tone_cos_mid[k] = cos(th);
+      if (tb[TONE_AMPLITUDE] != 0.0) {
+        extra_cmd += tb[TONE_AMPLITUDE] * tone_sin_mid[k];
+        extra_rate += tb[TONE_AMPLITUDE] * tb[TONE_OMEGA] * tone_cos_mid[k];
+      }
+    }
+    torque_cmd += extra_cmd;
+  }
   const double tau_m = ud[UD_MOTOR_TAU];
   if (advance) {
     double alpha = tau_m > 0.0 ? 1.0 - exp(-dt / tau_m) : 1.0;
@@ -324,6 +354,7 @@ void cofgym_passive(const mjModel* m, mjData* d) {
     double ramp = (dur > 0.0 && since > 0.0 && since < dur)
                       ? (ud[UD_TORQUE_DC_TARGET] - ud[UD_TORQUE_DC_START]) / dur : 0.0;
     torque_rate = ramp + amp * wm * cos_mid;
+    if (ntones > 1) torque_rate += extra_rate;
   }
 
   contact_state cs[UD_MAX_CONTACTS];
@@ -507,6 +538,28 @@ void cofgym_passive(const mjModel* m, mjData* d) {
       acc_btb(ud + UD_BTB_STATE_0, b_now);
       acc_bty(ud + UD_BTY_OMEGA_0, ud + UD_YTY_OMEGA, b_now, omega_meas);
       acc_bty(ud + UD_BTY_CREEP_0, ud + UD_YTY_CREEP, b_now, c->creepage);
+      if (ntones > 1) {
+        /* joint basis [cos th_1, sin th_1, ..., cos th_K, sin th_K, 1, tau]; tone 1 as above */
+        double mt_mid[UD_MT_MAX_BASIS], mt_now[UD_MT_MAX_BASIS];
+        const int np = 2 * ntones + 2;
+        mt_mid[0] = b_mid[0]; mt_mid[1] = b_mid[1];
+        mt_now[0] = b_now[0]; mt_now[1] = b_now[1];
+        for (int k = 1; k < ntones; k++) {
+          const double* tb = ud + UD_TONE0 + (k - 1) * UD_TONE_STRIDE;
+          const double th = tb[TONE_THETA_BASE] + tb[TONE_OMEGA] * (t - ud[UD_TIME_BASE]);
+          mt_mid[2 * k] = tone_cos_mid[k];
+          mt_mid[2 * k + 1] = tone_sin_mid[k];
+          mt_now[2 * k] = cos(th);
+          mt_now[2 * k + 1] = sin(th);
+        }
+        mt_mid[np - 2] = 1.0; mt_mid[np - 1] = b_mid[3];
+        mt_now[np - 2] = 1.0; mt_now[np - 1] = b_now[3];
+        acc_btb_n(ud + UD_MT_BTB_TORQUE_0, mt_mid, np);
+        acc_bty_n(ud + UD_MT_BTY_TORQUE_0, mt_mid, np, torque);
+        acc_btb_n(ud + UD_MT_BTB_STATE_0, mt_now, np);
+        acc_bty_n(ud + UD_MT_BTY_OMEGA_0, mt_now, np, omega_meas);
+        acc_bty_n(ud + UD_MT_BTY_CREEP_0, mt_now, np, c->creepage);
+      }
       ud[UD_SUM_COA_MEASURED] += coa_meas;
       ud[UD_SUM_COA_TRUE] += coa_true;
       ud[UD_SUM_CREEPAGE] += c->creepage;

@@ -16,6 +16,16 @@ MAX_CONTACTS = 4
 MAX_WD_SECTIONS = 4  # second-order sections of the ISO 2631 Wd weighting
 MAX_BAND_SECTIONS = 2  # band limiting (for jerk)
 SOS_COEFFS = 5  # b0 b1 b2 a1 a2 (a0 == 1)
+# Multi-tone drive: tone 1 is the single modulation above (TORQUE_AMPLITUDE, MOD_OMEGA, THETA_BASE); tones
+# 2..MAX_TONES each have an amplitude, an angular frequency and a phase at TIME_BASE (TONE_FIELDS, one block
+# per tone, TONE_STRIDE apart). N_TONES > 1 switches on their torque terms and the joint lock-in over
+# [cos th_1, sin th_1, ..., cos th_K, sin th_K, 1, tau] (the MT_ accumulators); N_TONES <= 1 leaves the
+# single-tone arithmetic exactly as it was.
+MAX_TONES = 3
+TONE_FIELDS: tuple[str, ...] = ("AMPLITUDE", "OMEGA", "THETA_BASE")
+TONE_STRIDE = len(TONE_FIELDS)
+MT_MAX_BASIS = 2 * MAX_TONES + 2
+MT_MAX_BTB = MT_MAX_BASIS * (MT_MAX_BASIS + 1) // 2
 
 # Per-contact configuration block (model constants, copied into every simulation's userdata).
 CONTACT_FIELDS: tuple[str, ...] = (
@@ -105,6 +115,9 @@ _SCALARS: tuple[str, ...] = (
     "LAST_NORMAL",
     "LAST_TORQUE",
     "LAST_CARBODY_ACC",
+    # multi-tone drive (see MAX_TONES)
+    "N_TONES",
+    *(f"TONE{k}_{f}" for k in range(2, MAX_TONES + 1) for f in TONE_FIELDS),
 )
 
 # Window accumulators: zeroed by Python at the start of a window.
@@ -137,6 +150,14 @@ ACCUMULATORS: tuple[str, ...] = (
     "TIME_PAST_PEAK",  # s, any contact beyond the creep-curve peak
     "ENERGY_PAST_PEAK",  # J
     "MAX_ABS_CREEPAGE",  # any contact
+    # multi-tone joint lock-in (N_TONES > 1 only): B'B packed upper triangle for the basis of 2 K + 2
+    # columns [cos th_1, sin th_1, ..., cos th_K, sin th_K, 1, tau] (K = N_TONES), at mid-step (torque) and
+    # at the step's start (state), and B'y; y'y is the single-tone YTY_ of the same signal
+    *(f"MT_BTB_TORQUE_{i}" for i in range(MT_MAX_BTB)),
+    *(f"MT_BTY_TORQUE_{i}" for i in range(MT_MAX_BASIS)),
+    *(f"MT_BTB_STATE_{i}" for i in range(MT_MAX_BTB)),
+    *(f"MT_BTY_OMEGA_{i}" for i in range(MT_MAX_BASIS)),
+    *(f"MT_BTY_CREEP_{i}" for i in range(MT_MAX_BASIS)),
 )
 
 
@@ -155,6 +176,9 @@ def _build_offsets() -> tuple[dict[str, int], int]:
 
 
 OFFSETS, SIZE = _build_offsets()
+TONE0 = OFFSETS[f"TONE2_{TONE_FIELDS[0]}"]
+assert all(OFFSETS[f"TONE{k}_{f}"] == TONE0 + (k - 2) * TONE_STRIDE + i
+           for k in range(2, MAX_TONES + 1) for i, f in enumerate(TONE_FIELDS)), "tone blocks must be contiguous"
 CONTACT_STRIDE = len(CONTACT_FIELDS)
 ACC_FIRST = OFFSETS[ACCUMULATORS[0]]
 ACC_COUNT = len(ACCUMULATORS)
@@ -184,6 +208,12 @@ def c_header() -> str:
     for i, f in enumerate(CONTACT_LAW_FIELDS):
         lines.append(f"#define CLAW_{f} {i}")
     lines.append(f"#define UD_ACC_FIRST {ACC_FIRST}")
+    lines.append(f"#define UD_MAX_TONES {MAX_TONES}")
+    lines.append(f"#define UD_TONE0 {TONE0}")
+    lines.append(f"#define UD_TONE_STRIDE {TONE_STRIDE}")
+    for i, f in enumerate(TONE_FIELDS):
+        lines.append(f"#define TONE_{f} {i}")
+    lines.append(f"#define UD_MT_MAX_BASIS {MT_MAX_BASIS}")
     lines.append(f"#define UD_ACC_COUNT {ACC_COUNT}")
     for name in ("WD_SOS_0", "WD_STATE_0", "WD_NSECT", "BAND_SOS_0", "BAND_STATE_0", "BAND_NSECT"):
         lines.append(f"#define UD_{name} {OFFSETS[name]}")
