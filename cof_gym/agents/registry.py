@@ -34,6 +34,10 @@ class AgentEntry:
     takes_env: bool = False  # factory(env, argument) instead of factory(limits)
     argument: str | None = None  # metavar of an optional ":ARG" (e.g. "PATH"), None: no argument
     default: bool = True  # part of the default --agents list when available
+    shipped: Path | None = None  # a file the agent needs when named without ":ARG" (a shipped policy)
+
+    def shipped_available(self) -> bool:
+        return self.shipped is None or self.shipped.is_file()
 
     def available(self) -> bool:
         module = self.factory.partition(":")[0]
@@ -51,11 +55,11 @@ AGENTS: dict[str, AgentEntry] = {}
 
 
 def register(name: str, factory: str, *, oracle: bool, help: str = "", takes_env: bool = False,
-             argument: str | None = None, default: bool = True) -> None:
+             argument: str | None = None, default: bool = True, shipped: Path | None = None) -> None:
     """Register an agent under ``name`` (later registrations of the same name replace earlier ones)."""
     if not name or ":" in name or "," in name:
         raise ValueError(f"agent names must be non-empty without ':' or ',', got {name!r}")
-    AGENTS[name] = AgentEntry(name, factory, oracle, help, takes_env, argument, default)
+    AGENTS[name] = AgentEntry(name, factory, oracle, help, takes_env, argument, default, shipped)
 
 
 def _ppo(env, argument: str | None):
@@ -70,7 +74,7 @@ def _ppo(env, argument: str | None):
 
 
 def shipped_ppo_available() -> bool:
-    return (SHIPPED_PPO / "model.zip").is_file()
+    return AGENTS["ppo"].shipped_available()
 
 
 register("oracle", "cof_gym.agents.oracle:SaturationOracle", oracle=True,
@@ -83,7 +87,14 @@ register("phase-rule", "cof_gym.agents.phase_rule:PhaseRule", oracle=False,
          help="the paper's phase rule without ground truth or creepage: the modulation probes ahead of the DC level, stop on a phase jump (validation-chosen)")
 register("model-based", "cof_gym.agents.model_based:ModelBasedAgent", oracle=False,
          help="creep-curve fit from windows below the peak")
+register("robust-model", "cof_gym.agents.robust_model:RobustModel", oracle=False,
+         help="the phase rule's probing climb, the knee bracketed by bisecting the probe's crest at a held DC, no creepage read (validation-chosen)")
+register("interrogator", "cof_gym.agents.interrogator:load_interrogator", oracle=False, takes_env=True,
+         argument="DIR", shipped=PACKAGE_DIR / "policies" / "interrogator" / "manifest.json",
+         help="the learned interrogator (v2): a torque climb steered by a learned filter of phase, "
+         "compliance and CoA; interrogator:DIR for other networks")
 register("ppo", "cof_gym.agents.registry:_ppo", oracle=False, takes_env=True, argument="PATH",
+         shipped=SHIPPED_PPO / "model.zip",
          help="the shipped PPO policy, or ppo:PATH for any saved model")
 
 
@@ -102,7 +113,7 @@ def default_agents() -> list[str]:
     for name, entry in AGENTS.items():
         if not entry.default or not entry.available():
             continue
-        if name == "ppo" and not shipped_ppo_available():
+        if not entry.shipped_available():
             continue
         out.append(name)
     return out
@@ -118,8 +129,9 @@ def parse(spec: str) -> tuple[AgentEntry, str | None]:
         raise AgentSpecError(f"agent {name!r} takes no ':' argument, got {spec.strip()!r}")
     if sep and not argument:
         raise AgentSpecError(f"agent {name}:{entry.argument} needs a value after ':', got {spec.strip()!r}")
-    if name == "ppo" and not sep and not shipped_ppo_available():
-        raise AgentSpecError("no shipped PPO policy in this installation; use ppo:PATH with a trained model")
+    if not sep and not entry.shipped_available():
+        raise AgentSpecError(f"no shipped {name} policy in this installation ({entry.shipped} is missing); use "
+                             f"{name}:{entry.argument} with a trained one")
     return entry, (argument if sep else None)
 
 
