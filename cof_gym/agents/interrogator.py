@@ -1,0 +1,290 @@
+"""The learned interrogator: a torque climb steered by a learned filter of the sensor history.
+
+**What it reads.** Only sensor observations: per window the phase lag of the wheelset speed behind
+the modulated torque and its standard error, the compliance (speed/torque amplitude ratio), the
+measured CoA, the applied DC torque, amplitude and frequency, the measured speed and normal load, and
+the vehicle configuration it was built for (counter torque on or off, known on board). It never reads
+the measured creepage (a train's carries systematic errors of the size of the peak creepage) and never
+``info["ground_truth"]``.
+
+**The learned filter.** An ensemble of small heteroscedastic networks
+(:class:`FilterEnsemble`, trained by :mod:`cof_gym.agents.interrogator_training` on the v2
+randomisation: creep-law families and shapes, systematic sensor errors, speeds, loads, both vehicle
+configurations) maps the episode's features (:class:`EpisodeFeatures`: the window's phase, compliance,
+slope index ``ln cot(phase)`` and their change since the first driven window, the CoA and torque
+growth, the two previous windows) to two Gaussian predictions:
+
+- the **headroom** ``ln(M_sat / DC)``: how far the DC torque is below the saturation torque;
+- the **correction** ``ln(CoF / CoA)``: the factor from the measured CoA to the CoF.
+
+The phase lag goes to 90 deg as the creep curve flattens (the paper's Eq. 3: the lag is
+``atan(I w v / (k r^2))`` for the half wheelset, ``k`` the local slope), so the slope index falls as the
+operating point nears the peak; the filter learns how far the peak still is from how the slope has
+fallen, across the shapes it was trained on.
+
+**The climb.** From the shared safe first step (below the lowest saturation torque in range), each
+window moves the DC torque to ``DC x exp(min(h - target_headroom, max_log_step))`` with the cautious
+headroom ``h = mean - caution x std`` (the ensemble's spread and each member's predicted variance
+combined), the modulation a fixed fraction of the DC. It stops (and reports ``CoA x exp(correction)``)
+when the next step would be smaller than ``min_log_step``, when the CoA falls although the torque rose
+(past the peak), at the drive's limit, or one window before the horizon. The parameters are chosen on
+validation scenarios only (``experiments/train_interrogator.py``).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from cof_gym.agents.staircase import ElasticityClimb
+from cof_gym.task.interface import OBSERVATION_NAMES, MotorLimits, encode_action
+
+SHIPPED_INTERROGATOR = Path(__file__).resolve().parent / "policies" / "interrogator"
+_INDEX = {name: OBSERVATION_NAMES.index(name) for name in OBSERVATION_NAMES}
+PHASE_CLIP_DEG = (1.0, 89.0)  # the slope index ln cot(phase) is finite within these
+SE_CLIP_DEG = 30.0
+HISTORY = 2  # previous windows in the features
+WORLD_KWARGS = ("vehicle", "counter_torque", "traction_balance", "window_s", "settle_fraction", "ramp_fraction",
+                "timestep")  # constructor arguments that change what the sensors see
+TARGET_NAMES = ("headroom", "correction")  # ln(M_sat / DC), ln(CoF / CoA measured)
+
+FEATURE_NAMES = (
+    "phase", "phase_se", "compliance", "slope_index", "slope_drop", "phase_rise", "compliance_rise",
+    "coa_growth", "dc_growth", "log_coa", "amplitude_ratio", "frequency", "speed", "normal_load",
+    "counter_torque", "window_index",
+    *(f"{name}_{k}" for k in range(1, HISTORY + 1) for name in ("phase", "slope_index", "coa_step", "dc_step")),
+)
+
+
+def slope_index(phase_deg: float) -> float:
+    """``ln cot(phase)``: the log of the creep curve's local slope in units of the wheel's inertial
+    impedance (Eq. 3 of the paper for the half wheelset); falls towards -inf as the phase nears 90 deg."""
+    phase = min(max(phase_deg, PHASE_CLIP_DEG[0]), PHASE_CLIP_DEG[1])
+    return math.log(1.0 / math.tan(math.radians(phase)))
+
+
+@dataclass(frozen=True)
+class Reading:
+    """One driven window as the filter sees it (deg, N m, Hz, m/s; CoA and load ratio dimensionless)."""
+
+    phase_deg: float
+    se_deg: float
+    compliance: float
+    coa: float
+    dc_nm: float
+    amplitude_nm: float
+    frequency_hz: float
+    speed_m_s: float
+    normal_load: float
+
+    @classmethod
+    def of(cls, observation: np.ndarray, limits: MotorLimits) -> "Reading":
+        o = np.nan_to_num(np.asarray(observation, dtype=np.float64)[: len(OBSERVATION_NAMES)], nan=0.0)
+        se = o[_INDEX["phase_lag_se"]] * 90.0
+        return cls(
+            phase_deg=float(o[_INDEX["phase_lag"]] * 90.0),
+            se_deg=float(se if 0.0 < se < SE_CLIP_DEG else SE_CLIP_DEG),
+            compliance=float(o[_INDEX["compliance"]]),
+            coa=float(max(o[_INDEX["coa_measured"]], 1e-4)),
+            dc_nm=float(o[_INDEX["dc_torque"]] * limits.max_dc_torque_nm),
+            amplitude_nm=float(o[_INDEX["amplitude"]] * limits.max_amplitude_nm),
+            frequency_hz=float(o[_INDEX["frequency"]] * limits.max_frequency_hz),
+            speed_m_s=float(o[_INDEX["speed"]] * 40.0),
+            normal_load=float(o[_INDEX["normal_load"]]),
+        )
+
+
+@dataclass
+class EpisodeFeatures:
+    """The driven windows of an episode, and the filter's feature vector of the newest one
+    (:data:`FEATURE_NAMES`). The same class builds the training data and runs on board."""
+
+    counter_torque: bool
+    readings: list[Reading] = field(default_factory=list)
+
+    def push(self, reading: Reading) -> None:
+        if reading.dc_nm <= 0.0:
+            raise ValueError("EpisodeFeatures.push takes driven windows (DC torque > 0)")
+        self.readings.append(reading)
+
+    def vector(self) -> np.ndarray:
+        if not self.readings:
+            raise ValueError("no driven window yet")
+        now, first = self.readings[-1], self.readings[0]
+        slope = slope_index(now.phase_deg)
+        values = [
+            now.phase_deg / 90.0, now.se_deg / SE_CLIP_DEG, now.compliance, slope,
+            slope_index(first.phase_deg) - slope, (now.phase_deg - first.phase_deg) / 90.0,
+            now.compliance - first.compliance, math.log(now.coa / first.coa), math.log(now.dc_nm / first.dc_nm),
+            math.log(now.coa), now.amplitude_nm / now.dc_nm, now.frequency_hz / 20.0, now.speed_m_s / 40.0,
+            now.normal_load, float(self.counter_torque), len(self.readings) / 30.0,
+        ]
+        for k in range(1, HISTORY + 1):
+            prev = self.readings[max(len(self.readings) - 1 - k, 0)]
+            values += [prev.phase_deg / 90.0, slope_index(prev.phase_deg), math.log(prev.coa / now.coa),
+                       math.log(prev.dc_nm / now.dc_nm)]
+        return np.nan_to_num(np.asarray(values, dtype=np.float64), nan=0.0, posinf=0.0, neginf=0.0)
+
+
+@dataclass(frozen=True)
+class FilterNetwork:
+    """One member: a tanh MLP on standardised features giving (mean, log variance) of each target."""
+
+    feature_mean: np.ndarray
+    feature_std: np.ndarray
+    weights: tuple[np.ndarray, ...]
+    biases: tuple[np.ndarray, ...]
+
+    def __call__(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        h = (np.atleast_2d(x) - self.feature_mean) / self.feature_std
+        for w, b in zip(self.weights[:-1], self.biases[:-1]):
+            h = np.tanh(h @ w + b)
+        out = h @ self.weights[-1] + self.biases[-1]
+        n = len(TARGET_NAMES)
+        return out[:, :n], np.clip(out[:, n:], -12.0, 4.0)
+
+    def save(self, path: Path) -> None:
+        arrays = {"feature_mean": self.feature_mean, "feature_std": self.feature_std}
+        arrays |= {f"w{i}": w for i, w in enumerate(self.weights)} | {f"b{i}": b for i, b in enumerate(self.biases)}
+        np.savez(path, feature_names=np.asarray(FEATURE_NAMES), **arrays)
+
+    @classmethod
+    def load(cls, path: Path) -> "FilterNetwork":
+        with np.load(path) as z:
+            names = tuple(str(n) for n in z["feature_names"])
+            if names != FEATURE_NAMES:
+                raise ValueError(f"{path}: the network was trained on other features ({len(names)} names); retrain it")
+            layers = sum(1 for k in z.files if k.startswith("w"))
+            return cls(z["feature_mean"], z["feature_std"], tuple(z[f"w{i}"] for i in range(layers)),
+                       tuple(z[f"b{i}"] for i in range(layers)))
+
+
+@dataclass(frozen=True)
+class FilterEnsemble:
+    """Members' Gaussian predictions combined: the mean of the means, the variance their spread plus
+    the mean predicted variance."""
+
+    members: tuple[FilterNetwork, ...]
+
+    def predict(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(mean, std) of every target, shape (n, 2) each."""
+        outs = [m(x) for m in self.members]
+        means = np.stack([o[0] for o in outs])
+        variances = np.stack([np.exp(o[1]) for o in outs])
+        return means.mean(axis=0), np.sqrt(means.var(axis=0) + variances.mean(axis=0))
+
+    @classmethod
+    def load(cls, directory: Path, members: list[str] | None = None) -> "FilterEnsemble":
+        directory = Path(directory)
+        files = [directory / f"{m}.npz" for m in members] if members else sorted(directory.glob("member_*.npz"))
+        if not files or not all(f.is_file() for f in files):
+            raise FileNotFoundError(f"no interrogator networks in {directory} (expected member_*.npz)")
+        return cls(tuple(FilterNetwork.load(f) for f in files))
+
+
+@dataclass(frozen=True)
+class ClimbParameters:
+    """The climb's settings (chosen on validation; see the module docstring)."""
+
+    amplitude_ratio: float = 0.1  # modulation amplitude / DC torque
+    min_amplitude_nm: float = 50.0
+    frequency_hz: float = 5.0
+    target_headroom: float = 0.05  # ln(M_sat / DC) the climb aims at (0.05: DC at 95 % of M_sat)
+    caution: float = 1.0  # standard deviations taken off the predicted headroom
+    max_log_step: float = 0.4
+    min_log_step: float = 0.02
+
+    def amplitude(self, dc_nm: float, limits: MotorLimits) -> float:
+        """The modulation amplitude (N m) at DC torque ``dc_nm``, within the drive's range."""
+        return min(max(self.amplitude_ratio * dc_nm, self.min_amplitude_nm, limits.min_amplitude_nm),
+                   limits.max_amplitude_nm)
+
+
+@dataclass
+class LearnedInterrogator:
+    """The agent (see the module docstring)."""
+
+    limits: MotorLimits
+    ensemble: FilterEnsemble
+    counter_torque: bool = False
+    params: ClimbParameters = field(default_factory=ClimbParameters)
+    max_windows: int = 30
+    name: str = "interrogator"
+    oracle: bool = False
+    climb: ElasticityClimb = field(default_factory=ElasticityClimb, repr=False)
+    features: EpisodeFeatures = field(init=False, repr=False)
+    stop_reason: str = field(default="", repr=False)
+    trained_on: tuple[str, tuple[dict[str, Any], ...]] | None = None  # (env id, vehicle configurations)
+    _dc: float = 0.0
+    _estimate: float = 0.0
+    _driven: int = 0
+
+    def distribution_note(self, env_id: str, env_kwargs: dict[str, Any]) -> str | None:
+        """A line naming where an evaluation env lies outside the training distribution (another env id,
+        or a vehicle configuration it was not trained on), None when it does not."""
+        if self.trained_on is None:
+            return None
+        trained_id, configs = self.trained_on
+        world = {k: v for k, v in env_kwargs.items() if k in WORLD_KWARGS}
+        if env_id != trained_id:
+            return f"{self.name}: trained on {trained_id}, evaluated on {env_id}: out of its training distribution"
+        if not any(world == {k: v for k, v in c.items() if k in WORLD_KWARGS} for c in configs):
+            return (f"{self.name}: vehicle configuration {world or 'default'} is none of those it was trained on "
+                    f"({[c or 'default' for c in configs]}): out of its training distribution")
+        return None
+
+    def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
+        self.features = EpisodeFeatures(self.counter_torque)
+        self._dc = 0.0
+        self._driven = 0
+        self._estimate = self.limits.min_cof_estimate
+        self.stop_reason = ""
+
+    def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
+        p = self.params
+        stop = False
+        if self._dc > 0.0:
+            self._driven += 1
+            reading = Reading.of(observation, self.limits)
+            falling = bool(self.features.readings) and reading.coa < self.features.readings[-1].coa * 0.995
+            self.features.push(reading)
+            mean, std = self.ensemble.predict(self.features.vector())
+            headroom = float(mean[0, 0] - p.caution * std[0, 0])
+            if not falling:
+                self._estimate = reading.coa * math.exp(float(mean[0, 1]))
+            step = min(headroom - p.target_headroom, p.max_log_step)
+            at_limit = self._dc >= self.limits.max_dc_torque_nm
+            last = self._driven >= self.max_windows - 1
+            stop = falling or at_limit or last or step < p.min_log_step
+            if stop:
+                self.stop_reason = ("falling" if falling else "limit" if at_limit else "horizon" if last
+                                    else "headroom")
+            else:
+                self._dc = min(self._dc * math.exp(step), self.limits.max_dc_torque_nm)
+        else:
+            self._dc = self.climb.first_dc(self.limits)
+        estimate = min(max(self._estimate, self.limits.min_cof_estimate), self.limits.max_cof_estimate)
+        return encode_action(self._dc, p.amplitude(self._dc, self.limits), p.frequency_hz, estimate, stop, self.limits)
+
+
+def load_interrogator(env, argument: str | None = None) -> LearnedInterrogator:
+    """The shipped interrogator, or ``interrogator:DIR`` (a directory of ``member_*.npz`` and a
+    ``manifest.json`` with the climb's parameters and the training distribution), for ``env``'s drive and vehicle configuration."""
+    directory = Path(argument) if argument else SHIPPED_INTERROGATOR
+    ensemble = FilterEnsemble.load(directory)
+    manifest_file = directory / "manifest.json"
+    manifest = json.loads(manifest_file.read_text()) if manifest_file.is_file() else {}
+    params = ClimbParameters(**manifest.get("climb", {}))
+    trained = manifest.get("trained_on")
+    base = env.unwrapped
+    agent = LearnedInterrogator(base.limits, ensemble, counter_torque=bool(base.task.counter_torque), params=params,
+                                max_windows=int(base.task.max_windows),
+                                trained_on=(trained["env_id"], tuple(trained["configs"])) if trained else None)
+    if argument:
+        agent.name = f"interrogator:{directory.name}"
+    return agent

@@ -1,0 +1,219 @@
+"""Train, select and report the learned interrogator (cof_gym/agents/interrogator.py). 2 cores, CPU.
+
+    python experiments/train_interrogator.py --out runs/interrogator [--ship]
+
+1. **Data**: training climbs on the v2 wagon's randomisation, half with the paper's counter torque
+   (cof_gym/agents/interrogator_training.py; seeds from 1 000 000 on, far from every evaluation seed),
+   cached in OUT/data.npz.
+2. **Seeds**: one filter network per seed (bootstrap resample of the training episodes, its own
+   initialisation), OUT/seed_K/; the ensemble of all seeds in OUT/ensemble/.
+3. **Selection, validation only**: the climb's parameters (modulation ratio, target headroom, caution)
+   on experiments/suites/v2_validation_grid.json, played in both vehicle configurations (144
+   episodes), with the ensemble. Ranking: fewest macro-slips, then P90, then median relative error.
+   Written to every OUT/*/manifest.json.
+4. **Report** (nothing is chosen here): every seed and the ensemble on the default suite (60 episodes)
+   and on experiments/suites/v2_heldout_grid.json; per seed median / P90 / macro-slips, and over
+   seeds x scenarios the interquartile mean (IQM) of the relative error with a stratified-bootstrap
+   95 % CI (runs resampled within each scenario; Agarwal et al. 2021). OUT/report.md, OUT/report.json.
+5. ``--ship`` copies OUT/ensemble into cof_gym/agents/policies/interrogator (the ``interrogator`` agent).
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import json
+import shutil
+import sys
+import time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import asdict, replace
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+
+import cof_gym
+from cof_gym.agents.interrogator import (
+    SHIPPED_INTERROGATOR, ClimbParameters, FilterEnsemble, LearnedInterrogator,
+)
+from cof_gym.agents.interrogator_training import Dataset, FitSettings, collect_parallel, fit_member, nll
+from cof_gym.commands.evaluate import run_episode
+from cof_gym.commands.suites import make_suite
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+from ppo_seeds import iqm, stratified_bootstrap_ci  # noqa: E402
+
+ENV_ID = cof_gym.WAGON_ENV_ID
+CONFIGS = [{}, {"counter_torque": True}]  # the two vehicle configurations trained on
+VALIDATION = HERE / "suites" / "v2_validation_grid.json"
+HELDOUT = HERE / "suites" / "v2_heldout_grid.json"
+GRID = [{"amplitude_ratio": a, "target_headroom": h, "caution": c}
+        for a, h, c in itertools.product((0.05, 0.1, 0.2), (0.03, 0.06, 0.1), (0.5, 1.0, 2.0))]
+
+
+def load_or_collect(out: Path, episodes: int, workers: int) -> Dataset:
+    path = out / "data.npz"
+    if path.is_file():
+        with np.load(path) as z:
+            data = Dataset(z["features"], z["targets"], z["episode"])
+        if int(data.episode.max()) + 1 >= episodes:
+            keep = data.episode < episodes
+            return Dataset(data.features[keep], data.targets[keep], data.episode[keep])
+    t0 = time.time()
+    data = collect_parallel(ENV_ID, CONFIGS, episodes, workers)
+    np.savez(path, features=data.features, targets=data.targets, episode=data.episode)
+    print(f"collected {episodes} climbs ({len(data)} windows) in {time.time() - t0:.0f} s", flush=True)
+    return data
+
+
+def split(data: Dataset, fraction: float = 0.1) -> tuple[Dataset, Dataset]:
+    """The last ``fraction`` of the episodes apart, to report the fit's held-out likelihood."""
+    cut = int((1 - fraction) * (int(data.episode.max()) + 1))
+    a, b = data.episode < cut, data.episode >= cut
+    return (Dataset(data.features[a], data.targets[a], data.episode[a]),
+            Dataset(data.features[b], data.targets[b], data.episode[b]))
+
+
+def play(ensemble_dir: str, params: dict, suite_path: str, env_kwargs: dict) -> list[tuple[float, bool]]:
+    """(relative error, macro-slip) of every episode of a suite file, in a vehicle configuration."""
+    suite = make_suite(suite_path, 0, 0)
+    env = gym.make(suite.env_id, **{**suite.env_kwargs, **env_kwargs})
+    agent = LearnedInterrogator(env.unwrapped.limits, FilterEnsemble.load(Path(ensemble_dir)),
+                                counter_torque=bool(env.unwrapped.task.counter_torque),
+                                params=ClimbParameters(**params), max_windows=env.unwrapped.task.max_windows)
+    out = []
+    for i, (seed, options) in enumerate(suite.episodes):
+        r = run_episode(env, agent, seed, options, i)
+        out.append((r.relative_error if r.scored else 1.0, r.macro_slip))
+    env.close()
+    return out
+
+
+def score(results: list[tuple[float, bool]]) -> dict:
+    errors = np.array([e for e, _ in results])
+    return {"median": float(np.median(errors)), "p90": float(np.percentile(errors, 90)),
+            "macro_slips": int(sum(s for _, s in results)), "episodes": len(results)}
+
+
+def select_climb(ensemble_dir: Path, workers: int) -> tuple[dict, list[dict]]:
+    jobs = [(str(ensemble_dir), g, str(VALIDATION), c) for g in GRID for c in CONFIGS]
+    with ProcessPoolExecutor(workers) as pool:
+        results = list(pool.map(play, *zip(*jobs)))
+    table = []
+    for k, g in enumerate(GRID):
+        pooled = results[2 * k] + results[2 * k + 1]
+        table.append({**g, **score(pooled)})
+    table.sort(key=lambda r: (r["macro_slips"], r["p90"], r["median"]))
+    return {k: table[0][k] for k in GRID[0]}, table
+
+
+def report_runs(out: Path, runs: list[Path], workers: int) -> dict:
+    """Every run (seed or ensemble) on the default suite and the held-out grid, per episode."""
+    default = {"name": "default", "path": "default"}
+    suites = [default, {"name": "v2 held-out grid", "path": str(HELDOUT)}]
+    report = {}
+    for s in suites:
+        suite = make_suite(s["path"], 60, 0)
+        jobs = [(str(r), s["path"]) for r in runs]
+        with ProcessPoolExecutor(workers) as pool:
+            per_run = list(pool.map(_play_shipped_climb, *zip(*jobs)))
+        report[s["name"]] = {"episodes": len(suite.episodes),
+                             "runs": {r.name: {**score(res), "errors": [e for e, _ in res]} for r, res in zip(runs, per_run)}}
+    return report
+
+
+def _play_shipped_climb(run_dir: str, suite_path: str) -> list[tuple[float, bool]]:
+    manifest = json.loads((Path(run_dir) / "manifest.json").read_text())
+    suite = make_suite(suite_path, 60, 0)
+    env = gym.make(suite.env_id, **suite.env_kwargs)
+    agent = LearnedInterrogator(env.unwrapped.limits, FilterEnsemble.load(Path(run_dir)),
+                                counter_torque=bool(env.unwrapped.task.counter_torque),
+                                params=ClimbParameters(**manifest["climb"]), max_windows=env.unwrapped.task.max_windows)
+    res = []
+    for i, (seed, options) in enumerate(suite.episodes):
+        r = run_episode(env, agent, seed, options, i)
+        res.append((r.relative_error if r.scored else 1.0, r.macro_slip))
+    env.close()
+    return res
+
+
+def markdown(report: dict, seeds: list[str]) -> str:
+    lines = []
+    for suite, block in report.items():
+        lines += [f"### {suite} ({block['episodes']} episodes)", "",
+                  "| run | median | P90 | macro-slips |", "|---|---|---|---|"]
+        for name, r in block["runs"].items():
+            lines.append(f"| {name} | {100 * r['median']:.1f} % | {100 * r['p90']:.1f} % | {r['macro_slips']} |")
+        scores = np.array([block["runs"][s]["errors"] for s in seeds])
+        lo, hi = stratified_bootstrap_ci(scores, iqm)
+        mlo, mhi = stratified_bootstrap_ci(scores, np.median)
+        lines += ["", f"Over {len(seeds)} seeds x {scores.shape[1]} scenarios: IQM {100 * iqm(scores):.1f} % "
+                  f"[{100 * lo:.1f}, {100 * hi:.1f}], median {100 * np.median(scores):.1f} % "
+                  f"[{100 * mlo:.1f}, {100 * mhi:.1f}] (stratified bootstrap 95 % CI).", ""]
+    return "\n".join(lines)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--out", type=Path, default=Path("runs/interrogator"))
+    ap.add_argument("--episodes", type=int, default=6000)
+    ap.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2, 3, 4])
+    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--epochs", type=int, default=FitSettings.epochs)
+    ap.add_argument("--ship", action="store_true")
+    args = ap.parse_args()
+    out = args.out
+    out.mkdir(parents=True, exist_ok=True)
+    t0 = time.time()
+    data = load_or_collect(out, args.episodes, args.workers)
+    train, held = split(data)
+    settings = replace(FitSettings(), epochs=args.epochs)
+    ensemble_dir = out / "ensemble"
+    ensemble_dir.mkdir(exist_ok=True)
+    fit_report = {}
+    for seed in args.seeds:
+        t = time.time()
+        member = fit_member(train, seed, settings)
+        seed_dir = out / f"seed_{seed}"
+        seed_dir.mkdir(exist_ok=True)
+        member.save(seed_dir / "member_0.npz")
+        member.save(ensemble_dir / f"member_{seed}.npz")
+        fit_report[f"seed_{seed}"] = nll(member, held)
+        print(f"seed {seed}: fitted in {time.time() - t:.0f} s, held-out {fit_report[f'seed_{seed}']}", flush=True)
+    fit_report["ensemble"] = nll(FilterEnsemble.load(ensemble_dir), held)
+    print(f"ensemble held-out {fit_report['ensemble']}", flush=True)
+    for stale in ensemble_dir.glob("member_*.npz"):
+        if int(stale.stem.split("_")[1]) not in args.seeds:
+            stale.unlink()
+    t = time.time()
+    chosen, table = select_climb(ensemble_dir, args.workers)
+    print(f"climb selected on validation in {time.time() - t:.0f} s: {chosen}", flush=True)
+    manifest = {"climb": {**asdict(ClimbParameters()), **chosen},
+                "trained_on": {"env_id": ENV_ID, "configs": CONFIGS},
+                "training": {"episodes": args.episodes, "seeds": args.seeds, "fit": asdict(settings)}}
+    runs = [out / f"seed_{s}" for s in args.seeds] + [ensemble_dir]
+    for r in runs:
+        (r / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n")
+    report = report_runs(out, runs, args.workers)
+    text = ["# Learned interrogator: seeds, selection and report", "",
+            f"Command: `python experiments/train_interrogator.py --out {out}` ({time.time() - t0:.0f} s on this machine).", "",
+            "## Climb selection (experiments/suites/v2_validation_grid.json, both vehicle configurations; "
+            "ranked by macro-slips, P90, median)", "", "| amplitude ratio | target headroom | caution | median | P90 | macro-slips |",
+            "|---|---|---|---|---|---|"]
+    text += [f"| {r['amplitude_ratio']} | {r['target_headroom']} | {r['caution']} | {100 * r['median']:.1f} % | "
+             f"{100 * r['p90']:.1f} % | {r['macro_slips']} |" for r in table[:10]]
+    text += ["", "## Report (nothing chosen here)", "", markdown(report, [f"seed_{s}" for s in args.seeds])]
+    (out / "report.md").write_text("\n".join(text) + "\n")
+    (out / "report.json").write_text(json.dumps({"fit": fit_report, "selection": table, "report": report}, indent=1))
+    print("\n".join(text))
+    if args.ship:
+        if SHIPPED_INTERROGATOR.exists():
+            shutil.rmtree(SHIPPED_INTERROGATOR)
+        shutil.copytree(ensemble_dir, SHIPPED_INTERROGATOR)
+        print(f"shipped {ensemble_dir} -> {SHIPPED_INTERROGATOR}")
+
+
+if __name__ == "__main__":
+    main()

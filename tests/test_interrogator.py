@@ -1,0 +1,143 @@
+"""The learned interrogator (cof_gym/agents/interrogator.py): what it reads, its files, its training."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import cof_gym
+from cof_gym.agents import registry
+from cof_gym.agents.interrogator import (
+    FEATURE_NAMES, SHIPPED_INTERROGATOR, TARGET_NAMES, ClimbParameters, EpisodeFeatures, FilterEnsemble, FilterNetwork,
+    LearnedInterrogator, Reading, slope_index,
+)
+from cof_gym.agents.interrogator_training import Dataset, FitSettings, collect, fit_member
+from cof_gym.commands.evaluate import run_episode
+from cof_gym.task.interface import OBSERVATION_NAMES
+
+SHIPPED = (SHIPPED_INTERROGATOR / "manifest.json").is_file()
+CREEPAGE = OBSERVATION_NAMES.index("creepage_measured")
+
+
+def random_network(seed: int = 0, width: int = 8) -> FilterNetwork:
+    rng = np.random.default_rng(seed)
+    n = len(FEATURE_NAMES)
+    shapes = [(n, width), (width, 2 * len(TARGET_NAMES))]
+    return FilterNetwork(np.zeros(n), np.ones(n), tuple(rng.normal(0, 0.3, s) for s in shapes),
+                         tuple(rng.normal(0, 0.1, s[1]) for s in shapes))
+
+
+def test_slope_index_is_ln_cot_and_falls_towards_the_peak():
+    assert slope_index(45.0) == pytest.approx(0.0, abs=1e-12)
+    assert slope_index(30.0) == pytest.approx(math.log(math.sqrt(3.0)), rel=1e-12)
+    values = [slope_index(p) for p in (5, 20, 45, 70, 88, 89, 120)]
+    assert all(a > b for a, b in zip(values, values[1:-1]))
+    assert values[-1] == values[-2]  # clipped at 89 deg: finite
+
+
+def test_network_round_trip_and_feature_check(tmp_path):
+    net = random_network()
+    net.save(tmp_path / "member_0.npz")
+    loaded = FilterNetwork.load(tmp_path / "member_0.npz")
+    x = np.random.default_rng(1).normal(size=(5, len(FEATURE_NAMES)))
+    for a, b in zip(net(x), loaded(x)):
+        np.testing.assert_array_equal(a, b)
+    np.savez(tmp_path / "member_1.npz", feature_names=np.asarray(["other"]), feature_mean=np.zeros(1))
+    with pytest.raises(ValueError, match="other features"):
+        FilterNetwork.load(tmp_path / "member_1.npz")
+
+
+def test_ensemble_std_combines_spread_and_predicted_variance():
+    a, b = random_network(0), random_network(1)
+    x = np.random.default_rng(2).normal(size=(4, len(FEATURE_NAMES)))
+    mean, std = FilterEnsemble((a, b)).predict(x)
+    (ma, la), (mb, lb) = a(x), b(x)
+    np.testing.assert_allclose(mean, (ma + mb) / 2, rtol=1e-12)
+    np.testing.assert_allclose(std**2, ((ma - mb) / 2) ** 2 + (np.exp(la) + np.exp(lb)) / 2, rtol=1e-12)
+
+
+def play(agent, seed: int, env_kwargs: dict | None = None, perturb_creepage: float = 0.0):
+    env = gym.make(cof_gym.WAGON_ENV_ID, **(env_kwargs or {}))
+    obs, info = env.reset(seed=seed)
+    agent.reset(obs, {})
+    actions = []
+    while True:
+        seen = obs.copy()
+        seen[CREEPAGE] += perturb_creepage
+        action = agent.act(seen, {})
+        actions.append(action)
+        obs, _, terminated, truncated, info = env.step(action)
+        if terminated or truncated:
+            return np.asarray(actions), info
+
+
+def test_reads_neither_creepage_nor_ground_truth():
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    agent = LearnedInterrogator(env.unwrapped.limits, FilterEnsemble((random_network(3), random_network(4))))
+    a, _ = play(agent, 5)
+    b, _ = play(agent, 5, perturb_creepage=0.5)
+    np.testing.assert_array_equal(a, b)
+    assert agent.oracle is False
+
+
+def test_features_are_finite_and_reject_undriven_windows():
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    limits = env.unwrapped.limits
+    feats = EpisodeFeatures(counter_torque=False)
+    obs, _ = env.reset(seed=0)
+    with pytest.raises(ValueError, match="driven"):
+        feats.push(Reading.of(obs, limits))  # the reset window has no DC torque
+    bad = obs.copy()
+    bad[OBSERVATION_NAMES.index("dc_torque")] = 0.01
+    bad[OBSERVATION_NAMES.index("phase_lag")] = np.nan
+    feats.push(Reading.of(bad, limits))
+    v = feats.vector()
+    assert v.shape == (len(FEATURE_NAMES),) and np.all(np.isfinite(v))
+
+
+def test_training_data_and_fit_learn_the_headroom():
+    """A few climbs, then a member fitted on them predicts the headroom ln(M_sat / DC) of those windows
+    better than their mean does (the features carry the information; the fit works)."""
+    data = collect(cof_gym.WAGON_ENV_ID, [{}, {"counter_torque": True}], 16, first_seed=2_000_000)
+    assert data.features.shape[1] == len(FEATURE_NAMES) and len(data) >= 30
+    assert np.all(np.isfinite(data.features)) and np.all(np.isfinite(data.targets))
+    member = fit_member(data, seed=0, settings=FitSettings(hidden=(16,), epochs=100, batch_size=32))
+    mean, _ = member(data.features)
+    residual = np.mean((mean[:, 0] - data.targets[:, 0]) ** 2)
+    assert residual < 0.5 * np.var(data.targets[:, 0])
+    again = fit_member(data, seed=0, settings=FitSettings(hidden=(16,), epochs=100, batch_size=32))
+    np.testing.assert_array_equal(again(data.features)[0], mean)  # seeded fits reproduce
+
+
+def test_distribution_note_names_untrained_settings():
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    agent = LearnedInterrogator(env.unwrapped.limits, FilterEnsemble((random_network(),)),
+                                trained_on=(cof_gym.WAGON_ENV_ID, ({}, {"counter_torque": True})))
+    assert agent.distribution_note(cof_gym.WAGON_ENV_ID, {}) is None
+    assert agent.distribution_note(cof_gym.WAGON_ENV_ID, {"counter_torque": True, "max_windows": 20}) is None
+    assert "out of its training distribution" in agent.distribution_note(cof_gym.WAGON_V1_ENV_ID, {})
+    assert "traction_balance" in agent.distribution_note(cof_gym.WAGON_ENV_ID, {"traction_balance": False})
+
+
+def test_bad_directory_is_one_line_and_exit_2(tmp_path):
+    proc = subprocess.run([sys.executable, "-m", "cof_gym.cli", "evaluate", "--agents", f"interrogator:{tmp_path}",
+                           "--episodes", "1", "--out", str(tmp_path / "out")], capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert "Traceback" not in proc.stderr and "member_" in proc.stderr
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.skipif(not SHIPPED, reason="no shipped interrogator in this checkout")
+def test_shipped_interrogator_is_a_default_agent_and_measures():
+    assert "interrogator" in registry.default_agents()
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    agent = registry.make_agent("interrogator", env)
+    assert agent.distribution_note(cof_gym.WAGON_ENV_ID, {}) is None
+    records = [run_episode(env, agent, seed, {}, i) for i, seed in enumerate((11, 12, 13))]
+    assert not any(r.macro_slip for r in records)
+    assert all(r.scored and r.relative_error < 0.5 for r in records)
