@@ -87,6 +87,8 @@ register("phase-rule", "cof_gym.agents.phase_rule:PhaseRule", oracle=False,
          help="the paper's phase rule without ground truth or creepage: the modulation probes ahead of the DC level, stop on a phase jump (validation-chosen)")
 register("model-based", "cof_gym.agents.model_based:ModelBasedAgent", oracle=False,
          help="creep-curve fit from windows below the peak")
+register("robust-model", "cof_gym.agents.robust_model:RobustModel", oracle=False,
+         help="the phase rule's probing climb, the knee bracketed by bisecting the probe's crest at a held DC, no creepage read (validation-chosen)")
 register("interrogator", "cof_gym.agents.interrogator:load_interrogator", oracle=False, takes_env=True,
          argument="DIR", shipped=PACKAGE_DIR / "policies" / "interrogator" / "manifest.json",
          help="the learned interrogator (v2): a torque climb steered by a learned filter of phase, "
