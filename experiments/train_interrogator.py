@@ -56,14 +56,15 @@ GRID = [{"amplitude_ratio": a, "target_headroom": h, "caution": c}
 def load_or_collect(out: Path, episodes: int, workers: int) -> Dataset:
     path = out / "data.npz"
     if path.is_file():
-        with np.load(path) as z:
-            data = Dataset(z["features"], z["targets"], z["episode"])
-        if int(data.episode.max()) + 1 >= episodes:
-            keep = data.episode < episodes
-            return Dataset(data.features[keep], data.targets[keep], data.episode[keep])
+        try:
+            data = Dataset.load(path)
+        except (ValueError, KeyError):
+            data = None
+        if data is not None and int(data.episode.max()) + 1 >= episodes:
+            return data.subset(data.episode < episodes)
     t0 = time.time()
     data = collect_parallel(ENV_ID, CONFIGS, episodes, workers)
-    np.savez(path, features=data.features, targets=data.targets, episode=data.episode)
+    data.save(path)
     print(f"collected {episodes} climbs ({len(data)} windows) in {time.time() - t0:.0f} s", flush=True)
     return data
 
@@ -71,9 +72,7 @@ def load_or_collect(out: Path, episodes: int, workers: int) -> Dataset:
 def split(data: Dataset, fraction: float = 0.1) -> tuple[Dataset, Dataset]:
     """The last ``fraction`` of the episodes apart, to report the fit's held-out likelihood."""
     cut = int((1 - fraction) * (int(data.episode.max()) + 1))
-    a, b = data.episode < cut, data.episode >= cut
-    return (Dataset(data.features[a], data.targets[a], data.episode[a]),
-            Dataset(data.features[b], data.targets[b], data.episode[b]))
+    return data.subset(data.episode < cut), data.subset(data.episode >= cut)
 
 
 def play(ensemble_dir: str, params: dict, suite_path: str, env_kwargs: dict) -> list[tuple[float, bool]]:

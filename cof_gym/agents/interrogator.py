@@ -3,16 +3,19 @@
 **What it reads.** Only sensor observations: per window the phase lag of the wheelset speed behind
 the modulated torque and its standard error, the compliance (speed/torque amplitude ratio), the
 measured CoA, the applied DC torque, amplitude and frequency, the measured speed and normal load, and
-the vehicle configuration it was built for (counter torque on or off, known on board). It never reads
-the measured creepage (a train's carries systematic errors of the size of the peak creepage) and never
-``info["ground_truth"]``.
+the vehicle configuration it was built for (counter torque on or off, known on board), and the measured
+creepage only through *differences between windows, in ratio*: a train's creepage carries a systematic
+offset of the size of the peak creepage (reference speed and wheel radius errors) and a scale error of
+a percent or two; the offset cancels in a difference, the scale in a ratio of two differences. It
+never reads ``info["ground_truth"]``.
 
 **The learned filter.** An ensemble of small heteroscedastic networks
 (:class:`FilterEnsemble`, trained by :mod:`cof_gym.agents.interrogator_training` on the v2
 randomisation: creep-law families and shapes, systematic sensor errors, speeds, loads, both vehicle
 configurations) maps the episode's features (:class:`EpisodeFeatures`: the window's phase, compliance,
 slope index ``ln cot(phase)`` and their change since the first driven window, the CoA and torque
-growth, the two previous windows) to two Gaussian predictions:
+growth, the secant flexibility of the creep curve ``d creepage / d CoA`` over the last step relative to
+its chord from the first driven window, the two previous windows) to two Gaussian predictions:
 
 - the **headroom** ``ln(M_sat / DC)``: how far the DC torque is below the saturation torque;
 - the **correction** ``ln(CoF / CoA)``: the factor from the measured CoA to the CoF.
@@ -42,7 +45,7 @@ from typing import Any
 import numpy as np
 
 from cof_gym.agents.staircase import ElasticityClimb
-from cof_gym.task.interface import OBSERVATION_NAMES, MotorLimits, encode_action
+from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES, MotorLimits, encode_action
 
 SHIPPED_INTERROGATOR = Path(__file__).resolve().parent / "policies" / "interrogator"
 _INDEX = {name: OBSERVATION_NAMES.index(name) for name in OBSERVATION_NAMES}
@@ -56,9 +59,28 @@ TARGET_NAMES = ("headroom", "correction")  # ln(M_sat / DC), ln(CoF / CoA measur
 FEATURE_NAMES = (
     "phase", "phase_se", "compliance", "slope_index", "slope_drop", "phase_rise", "compliance_rise",
     "coa_growth", "dc_growth", "log_coa", "amplitude_ratio", "frequency", "speed", "normal_load",
-    "counter_torque", "window_index",
-    *(f"{name}_{k}" for k in range(1, HISTORY + 1) for name in ("phase", "slope_index", "coa_step", "dc_step")),
+    "counter_torque", "window_index", "secant_flexibility",
+    *(f"{name}_{k}" for k in range(1, HISTORY + 1)
+      for name in ("phase", "slope_index", "coa_step", "dc_step", "secant_flexibility")),
 )
+FLEXIBILITY_CLIP = 5.0  # |ln| of the secant/chord flexibility ratio: beyond it, the step went past the peak
+
+
+def flexibility_ratio(readings: list["Reading"], k: int) -> float:
+    """``ln`` of the creep curve's flexibility ``d creepage / d CoA`` over the step into window ``k``
+    relative to its chord from the first driven window to window ``k``: 0 on the linear part, rising
+    as the curve flattens towards its peak; ``FLEXIBILITY_CLIP`` once the CoA stops rising (past the
+    peak), 0 before two windows. Offset-free (differences) and scale-free (a ratio) in the creepage."""
+    if k < 2:
+        return 0.0
+    now, prev, first = readings[k], readings[k - 1], readings[0]
+    d_coa, chord_coa = now.coa - prev.coa, now.coa - first.coa
+    d_s, chord_s = now.creepage - prev.creepage, now.creepage - first.creepage
+    if d_coa <= 0.0 or chord_coa <= 0.0 or chord_s <= 0.0:
+        return FLEXIBILITY_CLIP if d_coa <= 0.0 < chord_coa else 0.0
+    if d_s <= 0.0:
+        return -FLEXIBILITY_CLIP
+    return float(np.clip(math.log((d_s / d_coa) / (chord_s / chord_coa)), -FLEXIBILITY_CLIP, FLEXIBILITY_CLIP))
 
 
 def slope_index(phase_deg: float) -> float:
@@ -76,6 +98,7 @@ class Reading:
     se_deg: float
     compliance: float
     coa: float
+    creepage: float  # as measured (with the sensors' offset): used only in differences
     dc_nm: float
     amplitude_nm: float
     frequency_hz: float
@@ -91,6 +114,7 @@ class Reading:
             se_deg=float(se if 0.0 < se < SE_CLIP_DEG else SE_CLIP_DEG),
             compliance=float(o[_INDEX["compliance"]]),
             coa=float(max(o[_INDEX["coa_measured"]], 1e-4)),
+            creepage=float(o[_INDEX["creepage_measured"]] / CREEPAGE_SCALE),
             dc_nm=float(o[_INDEX["dc_torque"]] * limits.max_dc_torque_nm),
             amplitude_nm=float(o[_INDEX["amplitude"]] * limits.max_amplitude_nm),
             frequency_hz=float(o[_INDEX["frequency"]] * limits.max_frequency_hz),
@@ -123,11 +147,13 @@ class EpisodeFeatures:
             now.compliance - first.compliance, math.log(now.coa / first.coa), math.log(now.dc_nm / first.dc_nm),
             math.log(now.coa), now.amplitude_nm / now.dc_nm, now.frequency_hz / 20.0, now.speed_m_s / 40.0,
             now.normal_load, float(self.counter_torque), len(self.readings) / 30.0,
+            flexibility_ratio(self.readings, len(self.readings) - 1),
         ]
         for k in range(1, HISTORY + 1):
-            prev = self.readings[max(len(self.readings) - 1 - k, 0)]
+            j = max(len(self.readings) - 1 - k, 0)
+            prev = self.readings[j]
             values += [prev.phase_deg / 90.0, slope_index(prev.phase_deg), math.log(prev.coa / now.coa),
-                       math.log(prev.dc_nm / now.dc_nm)]
+                       math.log(prev.dc_nm / now.dc_nm), flexibility_ratio(self.readings, j)]
         return np.nan_to_num(np.asarray(values, dtype=np.float64), nan=0.0, posinf=0.0, neginf=0.0)
 
 

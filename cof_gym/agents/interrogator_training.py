@@ -7,8 +7,9 @@ visits utilisations ``u = DC / M_sat`` drawn sorted from U(first, u_max), ``u_ma
 with a modulation ratio log-uniform in 3-40 % and a frequency of 5 Hz or log-uniform in 3-10 Hz,
 until the last target or a macro-slip. The climb is steered by the true saturation torque so that
 the data cover the last 20 % before the peak densely; the labels (``ln(M_sat / DC)``,
-``ln(CoF / CoA measured)``) are the episode's ground truth. The features come from the observations
-only, through the same :class:`~cof_gym.agents.interrogator.EpisodeFeatures` the agent runs.
+``ln(CoF / CoA measured)``) are the episode's ground truth. The readings of every window are kept
+(:class:`Dataset`); the features are rebuilt from them through the same
+:class:`~cof_gym.agents.interrogator.EpisodeFeatures` the agent runs.
 
 **Networks.** Each member is a tanh MLP fitted by the Gaussian negative log-likelihood of both
 targets (mean and log variance per target), on a bootstrap resample of the training episodes
@@ -19,7 +20,7 @@ from __future__ import annotations
 
 import math
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import dataclass
+from dataclasses import astuple, dataclass, fields
 from typing import Any
 
 import gymnasium as gym
@@ -34,14 +35,47 @@ from cof_gym.task.interface import encode_action
 TRAINING_SEED = 1_000_000  # first training seed: far from every evaluation and validation seed
 
 
+READING_FIELDS = tuple(f.name for f in fields(Reading))
+
+
 @dataclass(frozen=True)
 class Dataset:
-    features: np.ndarray  # (n, len(FEATURE_NAMES))
+    """Driven windows of training climbs: the raw readings (so that features can change without new
+    simulations), the vehicle configuration, the targets and the episode of each window."""
+
+    readings: np.ndarray  # (n, len(READING_FIELDS))
+    counter_torque: np.ndarray  # (n,) bool
     targets: np.ndarray  # (n, 2): ln(M_sat / DC), ln(CoF / CoA)
-    episode: np.ndarray  # (n,) episode index, for resampling whole episodes
+    episode: np.ndarray  # (n,) episode index (windows of an episode are contiguous, in order)
 
     def __len__(self) -> int:
         return len(self.targets)
+
+    def subset(self, rows: np.ndarray) -> "Dataset":
+        return Dataset(self.readings[rows], self.counter_torque[rows], self.targets[rows], self.episode[rows])
+
+    @property
+    def features(self) -> np.ndarray:
+        """Each window's feature vector, rebuilt from the readings of its episode up to it."""
+        out = np.empty((len(self), len(FEATURE_NAMES)))
+        features = None
+        for i in range(len(self)):
+            if i == 0 or self.episode[i] != self.episode[i - 1]:
+                features = EpisodeFeatures(bool(self.counter_torque[i]))
+            features.push(Reading(*(float(v) for v in self.readings[i])))
+            out[i] = features.vector()
+        return out
+
+    def save(self, path) -> None:
+        np.savez(path, readings=self.readings, counter_torque=self.counter_torque, targets=self.targets,
+                 episode=self.episode, reading_fields=np.asarray(READING_FIELDS))
+
+    @classmethod
+    def load(cls, path) -> "Dataset":
+        with np.load(path) as z:
+            if tuple(str(f) for f in z["reading_fields"]) != READING_FIELDS:
+                raise ValueError(f"{path}: recorded with other reading fields; collect again")
+            return cls(z["readings"], z["counter_torque"], z["targets"], z["episode"])
 
     @classmethod
     def concatenate(cls, parts: list["Dataset"]) -> "Dataset":
@@ -49,11 +83,11 @@ class Dataset:
         for p in parts:
             episodes.append(p.episode + offset)
             offset += int(p.episode.max()) + 1 if len(p) else 0
-        return cls(np.concatenate([p.features for p in parts]), np.concatenate([p.targets for p in parts]),
-                   np.concatenate(episodes))
+        return cls(np.concatenate([p.readings for p in parts]), np.concatenate([p.counter_torque for p in parts]),
+                   np.concatenate([p.targets for p in parts]), np.concatenate(episodes))
 
 
-def _climb_episode(env, seed: int, counter_torque: bool) -> tuple[list[np.ndarray], list[tuple[float, float]]]:
+def _climb_episode(env, seed: int) -> tuple[list[Reading], list[tuple[float, float]]]:
     rng = np.random.default_rng([seed, 7])
     obs, info = env.reset(seed=seed)
     base = env.unwrapped
@@ -67,14 +101,12 @@ def _climb_episode(env, seed: int, counter_torque: bool) -> tuple[list[np.ndarra
     dcs = [first] + [float(t) for t in targets if t > first]
     p = ClimbParameters(amplitude_ratio=float(math.exp(rng.uniform(math.log(0.03), math.log(0.4)))),
                         frequency_hz=5.0 if rng.random() < 0.5 else float(math.exp(rng.uniform(math.log(3), math.log(10)))))
-    features = EpisodeFeatures(counter_torque)
     xs, ys = [], []
     for dc in dcs[: base.task.max_windows]:
         action = encode_action(dc, p.amplitude(dc, limits), p.frequency_hz, 0.1, False, limits)
         obs, _, terminated, truncated, info = env.step(action)
         reading = Reading.of(obs, limits)
-        features.push(reading)
-        xs.append(features.vector())
+        xs.append(reading)
         ys.append((math.log(m_sat / dc), math.log(cof / reading.coa)))
         if terminated or truncated:
             break
@@ -84,16 +116,17 @@ def _climb_episode(env, seed: int, counter_torque: bool) -> tuple[list[np.ndarra
 def collect(env_id: str, configs: list[dict[str, Any]], episodes: int, first_seed: int = TRAINING_SEED) -> Dataset:
     """``episodes`` training climbs (seeds ``first_seed...``), the configurations in turn."""
     envs = [gym.make(env_id, **c) for c in configs]
-    xs, ys, eps = [], [], []
+    xs, cts, ys, eps = [], [], [], []
     for i in range(episodes):
         k = i % len(configs)
-        x, y = _climb_episode(envs[k], first_seed + i, bool(envs[k].unwrapped.task.counter_torque))
-        xs += x
+        x, y = _climb_episode(envs[k], first_seed + i)
+        xs += [astuple(r) for r in x]
         ys += y
+        cts += [bool(envs[k].unwrapped.task.counter_torque)] * len(x)
         eps += [i] * len(x)
     for e in envs:
         e.close()
-    return Dataset(np.asarray(xs, dtype=np.float64).reshape(-1, len(FEATURE_NAMES)),
+    return Dataset(np.asarray(xs, dtype=np.float64).reshape(-1, len(READING_FIELDS)), np.asarray(cts, dtype=bool),
                    np.asarray(ys, dtype=np.float64).reshape(-1, len(TARGET_NAMES)), np.asarray(eps, dtype=np.int64))
 
 
@@ -129,7 +162,8 @@ def fit_member(data: Dataset, seed: int, settings: FitSettings = FitSettings()) 
     chosen = rng.choice(episodes, size=len(episodes), replace=True)
     rows_of = {e: np.flatnonzero(data.episode == e) for e in episodes}
     rows = np.concatenate([rows_of[e] for e in chosen])
-    x, y = data.features[rows], data.targets[rows]
+    all_features = data.features
+    x, y = all_features[rows], data.targets[rows]
     mean, std = x.mean(axis=0), x.std(axis=0)
     std = np.where(std > 1e-8, std, 1.0)
     torch.manual_seed(seed)
@@ -162,11 +196,12 @@ def fit_member(data: Dataset, seed: int, settings: FitSettings = FitSettings()) 
 
 def nll(member_or_ensemble, data: Dataset) -> dict[str, float]:
     """Per-target RMSE and mean Gaussian NLL of a member's predictions on ``data``."""
+    x = data.features
     if isinstance(member_or_ensemble, FilterNetwork):
-        mu, log_var = member_or_ensemble(data.features)
+        mu, log_var = member_or_ensemble(x)
         std = np.exp(0.5 * log_var)
     else:
-        mu, std = member_or_ensemble.predict(data.features)
+        mu, std = member_or_ensemble.predict(x)
     out = {}
     for k, name in enumerate(TARGET_NAMES):
         err = data.targets[:, k] - mu[:, k]
