@@ -8,6 +8,7 @@ so that its tables are generated, never typed:
     cof-gym evaluate --suite experiments/suites/heldout_grid.json --out out/evaluate-heldout   # v1 held-out
     cof-gym bench --seconds 10 --markdown out/bench.md
     python experiments/ppo_seeds.py --runs runs/ppo_lo_s0 runs/ppo_lo_s1 runs/ppo_lo_s2 --out out/ppo_seeds
+    python experiments/train_interrogator.py --out runs/interrogator --ship
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in README.md;
@@ -16,6 +17,7 @@ a block whose source file is missing is left as it is (and reported).
 
 from __future__ import annotations
 
+import json
 import re
 import shutil
 from pathlib import Path
@@ -30,7 +32,12 @@ SOURCES = {
     "bench": ROOT / "out" / "bench.md",
     "heldout": ROOT / "out" / "evaluate-heldout" / "summary.md",
     "ppo_seeds": ROOT / "out" / "ppo_seeds" / "report.md",
+    "interrogator_seeds": ROOT / "runs" / "interrogator" / "report.md",
 }
+LEARNED = "interrogator"  # the learned agent the issue's targets are about
+TARGET_SUITES = {"v2 default suite (`cof-gym evaluate`)": ROOT / "out" / "evaluate" / "summary.json",
+                 "v2 held-out grid (`--suite experiments/suites/v2_heldout_grid.json`)":
+                     ROOT / "out" / "evaluate-v2-heldout" / "summary.json"}
 
 
 def body(path: Path) -> str:
@@ -42,7 +49,44 @@ def body(path: Path) -> str:
 
 FIGURES = {  # figure of a run -> where the README shows it
     ROOT / "out" / "evaluate" / "error_vs_creepage_error.png": ROOT / "docs" / "evaluate_error_vs_creepage_error.png",
+    ROOT / "out" / "evaluate" / "error_vs_peak_torque.png": ROOT / "docs" / "evaluate_error_vs_peak_torque.png",
 }
+
+
+def _stat(summary: dict, agent: str, key: str) -> float:
+    return float(summary[agent][key]["value"])
+
+
+def targets(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNED) -> str | None:
+    """The learned agent's targets (median <= 3 %, P90 <= 8 %, <= 1 macro-slip per 100 episodes, better
+    than every non-oracle agent on median and P90 with no more macro-slips than the best of them), each
+    marked met or not, from the evaluate summaries; None when a summary is missing."""
+    rows = ["| suite | target | measured | met |", "|---|---|---|---|"]
+    for label, path in paths.items():
+        if not path.is_file():
+            return None
+        summary = json.loads(path.read_text())["summary"]
+        if learned not in summary:
+            return None
+        n = summary[learned]["episodes"]
+        med, p90 = 100 * _stat(summary, learned, "median_error"), 100 * _stat(summary, learned, "p90_error")
+        slips = _stat(summary, learned, "macro_slip_events")
+        others = [a for a, v in summary.items() if not v["oracle"] and a != learned]
+        best_med = min(others, key=lambda a: _stat(summary, a, "median_error"))
+        best_p90 = min(others, key=lambda a: _stat(summary, a, "p90_error"))
+        fewest = min(_stat(summary, a, "macro_slip_events") for a in others)
+        checks = [
+            ("median <= 3 %", f"{med:.1f} %", med <= 3.0),
+            ("P90 <= 8 %", f"{p90:.1f} %", p90 <= 8.0),
+            ("<= 1 macro-slip per 100 episodes", f"{slips:.0f} in {n}", slips <= n / 100.0),
+            ("median below every non-oracle agent's", f"{med:.1f} % vs {best_med} "
+             f"{100 * _stat(summary, best_med, 'median_error'):.1f} %", med < 100 * _stat(summary, best_med, "median_error")),
+            ("P90 below every non-oracle agent's", f"{p90:.1f} % vs {best_p90} "
+             f"{100 * _stat(summary, best_p90, 'p90_error'):.1f} %", p90 < 100 * _stat(summary, best_p90, "p90_error")),
+            ("no more macro-slips than the best non-oracle agent", f"{slips:.0f} vs {fewest:.0f}", slips <= fewest),
+        ]
+        rows += [f"| {label} | {t} | {m} | {'met' if ok else '**not met**'} |" for t, m, ok in checks]
+    return "\n".join(rows)
 
 
 def main() -> None:
@@ -63,6 +107,13 @@ def main() -> None:
             continue
         text = pattern.sub(lambda m: m.group(1) + body(path) + "\n" + m.group(2), text)
         print(f"results:{name} <- {path.relative_to(ROOT)}")
+    block = targets()
+    pattern = re.compile(r"(<!-- results:targets:begin -->\n).*?(<!-- results:targets:end -->)", re.S)
+    if block is None or not pattern.search(text):
+        print("results:targets left as it is (a summary, the learned agent or the README block is missing)")
+    else:
+        text = pattern.sub(lambda m: m.group(1) + block + "\n" + m.group(2), text)
+        print("results:targets <- out/evaluate, out/evaluate-v2-heldout")
     README.write_text(text)
 
 

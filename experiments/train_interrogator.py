@@ -35,7 +35,7 @@ import numpy as np
 
 import cof_gym
 from cof_gym.agents.interrogator import (
-    SHIPPED_INTERROGATOR, ClimbParameters, FilterEnsemble, LearnedInterrogator,
+    SHIPPED_INTERROGATOR, ClimbParameters, FilterEnsemble, FilterNetwork, LearnedInterrogator,
 )
 from cof_gym.agents.interrogator_training import Dataset, FitSettings, collect_parallel, fit_member, nll
 from cof_gym.commands.evaluate import run_episode
@@ -51,6 +51,9 @@ VALIDATION = HERE / "suites" / "v2_validation_grid.json"
 HELDOUT = HERE / "suites" / "v2_heldout_grid.json"
 GRID = [{"amplitude_ratio": a, "target_headroom": h, "caution": c}
         for a, h, c in itertools.product((0.05, 0.1, 0.2), (0.03, 0.06, 0.1), (0.5, 1.0, 2.0))]
+# what is reported does not change the climb, so every estimate source is scored on the same episodes
+ESTIMATES = [{"estimate_from": "filter", "best_coa_factor": 1.0}] + [
+    {"estimate_from": "best_coa", "best_coa_factor": f} for f in (1.0, 1.02, 1.05)]
 
 
 def load_or_collect(out: Path, episodes: int, workers: int) -> Dataset:
@@ -75,17 +78,22 @@ def split(data: Dataset, fraction: float = 0.1) -> tuple[Dataset, Dataset]:
     return data.subset(data.episode < cut), data.subset(data.episode >= cut)
 
 
-def play(ensemble_dir: str, params: dict, suite_path: str, env_kwargs: dict) -> list[tuple[float, bool]]:
-    """(relative error, macro-slip) of every episode of a suite file, in a vehicle configuration."""
+def play(ensemble_dir: str, params: dict, suite_path: str, env_kwargs: dict) -> list[list[tuple[float, bool]]]:
+    """(relative error, macro-slip) of every episode of a suite file, in a vehicle configuration, for
+    each estimate source of ESTIMATES."""
     suite = make_suite(suite_path, 0, 0)
     env = gym.make(suite.env_id, **{**suite.env_kwargs, **env_kwargs})
     agent = LearnedInterrogator(env.unwrapped.limits, FilterEnsemble.load(Path(ensemble_dir)),
                                 counter_torque=bool(env.unwrapped.task.counter_torque),
                                 params=ClimbParameters(**params), max_windows=env.unwrapped.task.max_windows)
-    out = []
+    lim = env.unwrapped.limits
+    out: list[list[tuple[float, bool]]] = [[] for _ in ESTIMATES]
     for i, (seed, options) in enumerate(suite.episodes):
         r = run_episode(env, agent, seed, options, i)
-        out.append((r.relative_error if r.scored else 1.0, r.macro_slip))
+        for k, e in enumerate(ESTIMATES):
+            est = agent.candidate_estimates(e["best_coa_factor"])[e["estimate_from"]]
+            est = min(max(est, lim.min_cof_estimate), lim.max_cof_estimate)
+            out[k].append((abs(est / r.cof - 1.0) if r.scored else 1.0, r.macro_slip))
     env.close()
     return out
 
@@ -102,10 +110,11 @@ def select_climb(ensemble_dir: Path, workers: int) -> tuple[dict, list[dict]]:
         results = list(pool.map(play, *zip(*jobs)))
     table = []
     for k, g in enumerate(GRID):
-        pooled = results[2 * k] + results[2 * k + 1]
-        table.append({**g, **score(pooled)})
+        for j, e in enumerate(ESTIMATES):
+            pooled = results[2 * k][j] + results[2 * k + 1][j]
+            table.append({**g, **e, **score(pooled)})
     table.sort(key=lambda r: (r["macro_slips"], r["p90"], r["median"]))
-    return {k: table[0][k] for k in GRID[0]}, table
+    return {k: table[0][k] for k in (*GRID[0], *ESTIMATES[0])}, table
 
 
 def report_runs(out: Path, runs: list[Path], workers: int) -> dict:
@@ -162,6 +171,7 @@ def main() -> None:
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--epochs", type=int, default=FitSettings.epochs)
     ap.add_argument("--ship", action="store_true")
+    ap.add_argument("--reuse", action="store_true", help="keep OUT/seed_K networks that exist (selection and report only)")
     args = ap.parse_args()
     out = args.out
     out.mkdir(parents=True, exist_ok=True)
@@ -174,6 +184,11 @@ def main() -> None:
     fit_report = {}
     for seed in args.seeds:
         t = time.time()
+        if args.reuse and (out / f"seed_{seed}" / "member_0.npz").is_file():
+            member = FilterNetwork.load(out / f"seed_{seed}" / "member_0.npz")
+            fit_report[f"seed_{seed}"] = nll(member, held)
+            member.save(ensemble_dir / f"member_{seed}.npz")
+            continue
         member = fit_member(train, seed, settings)
         seed_dir = out / f"seed_{seed}"
         seed_dir.mkdir(exist_ok=True)
@@ -199,10 +214,12 @@ def main() -> None:
     text = ["# Learned interrogator: seeds, selection and report", "",
             f"Command: `python experiments/train_interrogator.py --out {out}` ({time.time() - t0:.0f} s on this machine).", "",
             "## Climb selection (experiments/suites/v2_validation_grid.json, both vehicle configurations; "
-            "ranked by macro-slips, P90, median)", "", "| amplitude ratio | target headroom | caution | median | P90 | macro-slips |",
-            "|---|---|---|---|---|---|"]
-    text += [f"| {r['amplitude_ratio']} | {r['target_headroom']} | {r['caution']} | {100 * r['median']:.1f} % | "
-             f"{100 * r['p90']:.1f} % | {r['macro_slips']} |" for r in table[:10]]
+            "ranked by macro-slips, P90, median; the best 10 of the grid)", "",
+            "| amplitude ratio | target headroom | caution | estimate | median | P90 | macro-slips |",
+            "|---|---|---|---|---|---|---|"]
+    text += [f"| {r['amplitude_ratio']} | {r['target_headroom']} | {r['caution']} | "
+             f"{r['estimate_from'] if r['estimate_from'] == 'filter' else 'best CoA x %g' % r['best_coa_factor']} | "
+             f"{100 * r['median']:.1f} % | {100 * r['p90']:.1f} % | {r['macro_slips']} |" for r in table[:10]]
     text += ["", "## Report (nothing chosen here)", "", markdown(report, [f"seed_{s}" for s in args.seeds])]
     (out / "report.md").write_text("\n".join(text) + "\n")
     (out / "report.json").write_text(json.dumps({"fit": fit_report, "selection": table, "report": report}, indent=1))

@@ -144,3 +144,21 @@ def test_shipped_interrogator_is_a_default_agent_and_measures():
     records = [run_episode(env, agent, seed, {}, i) for i, seed in enumerate((11, 12, 13))]
     assert not any(r.macro_slip for r in records)
     assert all(r.scored and r.relative_error < 0.5 for r in records)
+
+
+@pytest.mark.parametrize("kwargs, field", [({"estimate_from": "median"}, "estimate_from"),
+                                            ({"amplitude_ratio": float("nan")}, "amplitude_ratio"),
+                                            ({"best_coa_factor": -1.0}, "best_coa_factor")])
+def test_bad_climb_parameters_name_the_field(kwargs, field):
+    with pytest.raises(ValueError, match=field):
+        ClimbParameters(**kwargs)
+
+
+def test_the_estimate_source_does_not_change_the_climb():
+    """Both estimate sources see the same windows: the actions differ only in the estimate component."""
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    ensemble = FilterEnsemble((random_network(5), random_network(6)))
+    a, _ = play(LearnedInterrogator(env.unwrapped.limits, ensemble, params=ClimbParameters(estimate_from="filter")), 8)
+    b, _ = play(LearnedInterrogator(env.unwrapped.limits, ensemble, params=ClimbParameters(estimate_from="best_coa")), 8)
+    estimate = 3  # ACTION_NAMES index of cof_estimate
+    np.testing.assert_array_equal(np.delete(a, estimate, axis=1), np.delete(b, estimate, axis=1))

@@ -30,7 +30,9 @@ window moves the DC torque to ``DC x exp(min(h - target_headroom, max_log_step))
 headroom ``h = mean - caution x std`` (the ensemble's spread and each member's predicted variance
 combined), the modulation a fixed fraction of the DC. It stops (and reports ``CoA x exp(correction)``)
 when the next step would be smaller than ``min_log_step``, when the CoA falls although the torque rose
-(past the peak), at the drive's limit, or one window before the horizon. The parameters are chosen on
+(past the peak), at the drive's limit, or one window before the horizon. The estimate is either the
+filter's (the last rising window's CoA times its predicted correction) or the best CoA of the climb
+times a factor, whichever the validation chose. The parameters are chosen on
 validation scenarios only (``experiments/train_interrogator.py``).
 """
 
@@ -54,6 +56,7 @@ SE_CLIP_DEG = 30.0
 HISTORY = 2  # previous windows in the features
 WORLD_KWARGS = ("vehicle", "counter_torque", "traction_balance", "window_s", "settle_fraction", "ramp_fraction",
                 "timestep")  # constructor arguments that change what the sensors see
+ESTIMATE_SOURCES = ("filter", "best_coa")
 TARGET_NAMES = ("headroom", "correction")  # ln(M_sat / DC), ln(CoF / CoA measured)
 
 FEATURE_NAMES = (
@@ -224,6 +227,17 @@ class ClimbParameters:
     caution: float = 1.0  # standard deviations taken off the predicted headroom
     max_log_step: float = 0.4
     min_log_step: float = 0.02
+    estimate_from: str = "filter"  # "filter": CoA x exp(predicted correction); "best_coa": best CoA x factor
+    best_coa_factor: float = 1.0
+
+    def __post_init__(self) -> None:
+        if self.estimate_from not in ESTIMATE_SOURCES:
+            raise ValueError(f"estimate_from must be one of {ESTIMATE_SOURCES}, got {self.estimate_from!r}")
+        for name in ("amplitude_ratio", "min_amplitude_nm", "frequency_hz", "max_log_step", "min_log_step",
+                     "best_coa_factor"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+                raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
 
     def amplitude(self, dc_nm: float, limits: MotorLimits) -> float:
         """The modulation amplitude (N m) at DC torque ``dc_nm``, within the drive's range."""
@@ -247,7 +261,9 @@ class LearnedInterrogator:
     stop_reason: str = field(default="", repr=False)
     trained_on: tuple[str, tuple[dict[str, Any], ...]] | None = None  # (env id, vehicle configurations)
     _dc: float = 0.0
+    filter_estimate: float = field(default=0.0, repr=False)
     _estimate: float = 0.0
+    _best_coa: float = 0.0
     _driven: int = 0
 
     def distribution_note(self, env_id: str, env_kwargs: dict[str, Any]) -> str | None:
@@ -268,8 +284,15 @@ class LearnedInterrogator:
         self.features = EpisodeFeatures(self.counter_torque)
         self._dc = 0.0
         self._driven = 0
+        self._best_coa = 0.0
+        self.filter_estimate = 0.0
         self._estimate = self.limits.min_cof_estimate
         self.stop_reason = ""
+
+    def candidate_estimates(self, best_coa_factor: float) -> dict[str, float]:
+        """The estimate of each source of :data:`ESTIMATE_SOURCES` after the windows so far (the
+        trajectory does not depend on which one is reported)."""
+        return {"filter": self.filter_estimate, "best_coa": self._best_coa * best_coa_factor}
 
     def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
         p = self.params
@@ -282,7 +305,9 @@ class LearnedInterrogator:
             mean, std = self.ensemble.predict(self.features.vector())
             headroom = float(mean[0, 0] - p.caution * std[0, 0])
             if not falling:
-                self._estimate = reading.coa * math.exp(float(mean[0, 1]))
+                self._best_coa = max(self._best_coa, reading.coa)
+                self.filter_estimate = reading.coa * math.exp(float(mean[0, 1]))
+                self._estimate = self.candidate_estimates(p.best_coa_factor)[p.estimate_from]
             step = min(headroom - p.target_headroom, p.max_log_step)
             at_limit = self._dc >= self.limits.max_dc_torque_nm
             last = self._driven >= self.max_windows - 1
