@@ -212,7 +212,8 @@ def main() -> None:
         (r / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n")
     report = report_runs(out, runs, args.workers)
     text = ["# Learned interrogator: seeds, selection and report", "",
-            f"Command: `python experiments/train_interrogator.py --out {out}` ({time.time() - t0:.0f} s on this machine).", "",
+            f"Command: `python experiments/train_interrogator.py {' '.join(sys.argv[1:])}` ({time.time() - t0:.0f} s on "
+            f"this machine{'; networks reused, not fitted' if args.reuse else ''}).", "",
             "## Climb selection (experiments/suites/v2_validation_grid.json, both vehicle configurations; "
             "ranked by macro-slips, P90, median; the best 10 of the grid)", "",
             "| amplitude ratio | target headroom | caution | estimate | median | P90 | macro-slips |",
