@@ -35,7 +35,7 @@ import numpy as np
 
 import cof_gym
 from cof_gym.agents.interrogator import (
-    SHIPPED_INTERROGATOR, ClimbParameters, FilterEnsemble, FilterNetwork, LearnedInterrogator,
+    SHIPPED_INTERROGATOR, ClimbParameters, FilterEnsemble, FilterNetwork, interrogator_for,
 )
 from cof_gym.agents.interrogator_training import Dataset, FitSettings, collect_parallel, fit_member, nll
 from cof_gym.commands.evaluate import run_episode
@@ -78,23 +78,27 @@ def split(data: Dataset, fraction: float = 0.1) -> tuple[Dataset, Dataset]:
     return data.subset(data.episode < cut), data.subset(data.episode >= cut)
 
 
+def episodes(run_dir: str, suite_path: str, env_kwargs: dict, params: dict | None = None):
+    """(record, agent after the episode) of every episode of a suite (the default suite: 60 episodes)
+    in a vehicle configuration, played by the interrogator of ``run_dir`` (``params``: another climb)."""
+    suite = make_suite(suite_path, 60, 0)
+    env = gym.make(suite.env_id, **{**suite.env_kwargs, **env_kwargs})
+    agent = interrogator_for(env, Path(run_dir), ClimbParameters(**params) if params else None)
+    for i, (seed, options) in enumerate(suite.episodes):
+        yield run_episode(env, agent, seed, options, i), agent
+    env.close()
+
+
 def play(ensemble_dir: str, params: dict, suite_path: str, env_kwargs: dict) -> list[list[tuple[float, bool]]]:
     """(relative error, macro-slip) of every episode of a suite file, in a vehicle configuration, for
     each estimate source of ESTIMATES."""
-    suite = make_suite(suite_path, 0, 0)
-    env = gym.make(suite.env_id, **{**suite.env_kwargs, **env_kwargs})
-    agent = LearnedInterrogator(env.unwrapped.limits, FilterEnsemble.load(Path(ensemble_dir)),
-                                counter_torque=bool(env.unwrapped.task.counter_torque),
-                                params=ClimbParameters(**params), max_windows=env.unwrapped.task.max_windows)
-    lim = env.unwrapped.limits
     out: list[list[tuple[float, bool]]] = [[] for _ in ESTIMATES]
-    for i, (seed, options) in enumerate(suite.episodes):
-        r = run_episode(env, agent, seed, options, i)
+    for r, agent in episodes(ensemble_dir, suite_path, env_kwargs, params):
+        lim = agent.limits
         for k, e in enumerate(ESTIMATES):
             est = agent.candidate_estimates(e["best_coa_factor"])[e["estimate_from"]]
             est = min(max(est, lim.min_cof_estimate), lim.max_cof_estimate)
             out[k].append((abs(est / r.cof - 1.0) if r.scored else 1.0, r.macro_slip))
-    env.close()
     return out
 
 
@@ -117,10 +121,9 @@ def select_climb(ensemble_dir: Path, workers: int) -> tuple[dict, list[dict]]:
     return {k: table[0][k] for k in (*GRID[0], *ESTIMATES[0])}, table
 
 
-def report_runs(out: Path, runs: list[Path], workers: int) -> dict:
+def report_runs(runs: list[Path], workers: int) -> dict:
     """Every run (seed or ensemble) on the default suite and the held-out grid, per episode."""
-    default = {"name": "default", "path": "default"}
-    suites = [default, {"name": "v2 held-out grid", "path": str(HELDOUT)}]
+    suites = [{"name": "default", "path": "default"}, {"name": "v2 held-out grid", "path": str(HELDOUT)}]
     report = {}
     for s in suites:
         suite = make_suite(s["path"], 60, 0)
@@ -133,18 +136,7 @@ def report_runs(out: Path, runs: list[Path], workers: int) -> dict:
 
 
 def _play_shipped_climb(run_dir: str, suite_path: str) -> list[tuple[float, bool]]:
-    manifest = json.loads((Path(run_dir) / "manifest.json").read_text())
-    suite = make_suite(suite_path, 60, 0)
-    env = gym.make(suite.env_id, **suite.env_kwargs)
-    agent = LearnedInterrogator(env.unwrapped.limits, FilterEnsemble.load(Path(run_dir)),
-                                counter_torque=bool(env.unwrapped.task.counter_torque),
-                                params=ClimbParameters(**manifest["climb"]), max_windows=env.unwrapped.task.max_windows)
-    res = []
-    for i, (seed, options) in enumerate(suite.episodes):
-        r = run_episode(env, agent, seed, options, i)
-        res.append((r.relative_error if r.scored else 1.0, r.macro_slip))
-    env.close()
-    return res
+    return [(r.relative_error if r.scored else 1.0, r.macro_slip) for r, _ in episodes(run_dir, suite_path, {})]
 
 
 def markdown(report: dict, seeds: list[str]) -> str:
@@ -210,7 +202,7 @@ def main() -> None:
     runs = [out / f"seed_{s}" for s in args.seeds] + [ensemble_dir]
     for r in runs:
         (r / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n")
-    report = report_runs(out, runs, args.workers)
+    report = report_runs(runs, args.workers)
     text = ["# Learned interrogator: seeds, selection and report", "",
             f"Command: `python experiments/train_interrogator.py {' '.join(sys.argv[1:])}` ({time.time() - t0:.0f} s on "
             f"this machine{'; networks reused, not fitted' if args.reuse else ''}).", "",

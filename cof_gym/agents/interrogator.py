@@ -46,8 +46,9 @@ from typing import Any
 
 import numpy as np
 
+from cof_gym.agents.phase_rule import probe_amplitude
 from cof_gym.agents.staircase import ElasticityClimb
-from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES, MotorLimits, encode_action
+from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES, SPEED_SCALE_M_S, MotorLimits, encode_action
 
 SHIPPED_INTERROGATOR = Path(__file__).resolve().parent / "policies" / "interrogator"
 _INDEX = {name: OBSERVATION_NAMES.index(name) for name in OBSERVATION_NAMES}
@@ -121,7 +122,7 @@ class Reading:
             dc_nm=float(o[_INDEX["dc_torque"]] * limits.max_dc_torque_nm),
             amplitude_nm=float(o[_INDEX["amplitude"]] * limits.max_amplitude_nm),
             frequency_hz=float(o[_INDEX["frequency"]] * limits.max_frequency_hz),
-            speed_m_s=float(o[_INDEX["speed"]] * 40.0),
+            speed_m_s=float(o[_INDEX["speed"]] * SPEED_SCALE_M_S),
             normal_load=float(o[_INDEX["normal_load"]]),
         )
 
@@ -241,8 +242,7 @@ class ClimbParameters:
 
     def amplitude(self, dc_nm: float, limits: MotorLimits) -> float:
         """The modulation amplitude (N m) at DC torque ``dc_nm``, within the drive's range."""
-        return min(max(self.amplitude_ratio * dc_nm, self.min_amplitude_nm, limits.min_amplitude_nm),
-                   limits.max_amplitude_nm)
+        return probe_amplitude(self.amplitude_ratio, dc_nm, self.min_amplitude_nm, limits)
 
 
 @dataclass
@@ -323,19 +323,26 @@ class LearnedInterrogator:
         return encode_action(self._dc, p.amplitude(self._dc, self.limits), p.frequency_hz, estimate, stop, self.limits)
 
 
-def load_interrogator(env, argument: str | None = None) -> LearnedInterrogator:
-    """The shipped interrogator, or ``interrogator:DIR`` (a directory of ``member_*.npz`` and a
-    ``manifest.json`` with the climb's parameters and the training distribution), for ``env``'s drive and vehicle configuration."""
-    directory = Path(argument) if argument else SHIPPED_INTERROGATOR
+def interrogator_for(env, directory: Path, params: ClimbParameters | None = None) -> LearnedInterrogator:
+    """The interrogator of ``directory`` (``member_*.npz`` and a ``manifest.json`` with the climb's
+    parameters and the training distribution) for ``env``'s drive and vehicle configuration;
+    ``params`` replaces the manifest's climb."""
+    directory = Path(directory)
     ensemble = FilterEnsemble.load(directory)
     manifest_file = directory / "manifest.json"
     manifest = json.loads(manifest_file.read_text()) if manifest_file.is_file() else {}
-    params = ClimbParameters(**manifest.get("climb", {}))
     trained = manifest.get("trained_on")
     base = env.unwrapped
-    agent = LearnedInterrogator(base.limits, ensemble, counter_torque=bool(base.task.counter_torque), params=params,
-                                max_windows=int(base.task.max_windows),
-                                trained_on=(trained["env_id"], tuple(trained["configs"])) if trained else None)
+    return LearnedInterrogator(base.limits, ensemble, counter_torque=bool(base.task.counter_torque),
+                               params=params or ClimbParameters(**manifest.get("climb", {})),
+                               max_windows=int(base.task.max_windows),
+                               trained_on=(trained["env_id"], tuple(trained["configs"])) if trained else None)
+
+
+def load_interrogator(env, argument: str | None = None) -> LearnedInterrogator:
+    """The shipped interrogator, or ``interrogator:DIR`` (see :func:`interrogator_for`)."""
+    directory = Path(argument) if argument else SHIPPED_INTERROGATOR
+    agent = interrogator_for(env, directory)
     if argument:
         agent.name = f"interrogator:{directory.name}"
     return agent

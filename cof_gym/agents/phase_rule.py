@@ -62,6 +62,18 @@ def phase_of(observation: np.ndarray) -> tuple[float, float]:
     return phase, min(se, UNKNOWN_SE_DEG)
 
 
+def probe_amplitude(ratio: float, dc_nm: float, floor_nm: float, limits: MotorLimits) -> float:
+    """A modulation amplitude (N m) of ``ratio`` x the DC torque, at least ``floor_nm`` and the drive's
+    minimum, at most its maximum (the probe of the phase rule, the robust model and the interrogator)."""
+    return min(max(ratio * dc_nm, floor_nm, limits.min_amplitude_nm), limits.max_amplitude_nm)
+
+
+def probe_next_dc(dc_nm: float, amplitude_nm: float, max_step: float, probe_step: float, limits: MotorLimits) -> float:
+    """The DC torque after a window at ``dc_nm`` whose probe of ``amplitude_nm`` showed no knee: a step
+    of at most ``max_step`` x DC and ``probe_step`` x the amplitude (below the probed crest)."""
+    return min(dc_nm + min(max_step * dc_nm, probe_step * amplitude_nm), limits.max_dc_torque_nm)
+
+
 def knee_seen(phase_deg, se_deg, prev_deg, prev_se_deg, base_deg, base_se_deg, jump_deg: float,
               threshold_rise_deg: float, margin_se: float, max_se_deg: float):
     """The stop test (scalars or numpy arrays, deg): the window is informative (its SE at most
@@ -164,13 +176,12 @@ class PhaseRule:
 
     def amplitude(self, dc: float) -> float:
         """The modulation amplitude (N m) at DC torque ``dc``: the probe, within the drive's range."""
-        return min(max(self.amplitude_ratio * dc, self.min_amplitude_nm, self.limits.min_amplitude_nm),
-                   self.limits.max_amplitude_nm)
+        return probe_amplitude(self.amplitude_ratio, dc, self.min_amplitude_nm, self.limits)
 
     def next_dc(self, dc: float, amplitude: float) -> float:
         """The DC torque after a window at ``dc`` with modulation ``amplitude`` showed no knee: a step
         of at most ``max_step`` x DC and ``probe_step`` x the amplitude (below the probed crest)."""
-        return min(dc + min(self.max_step * dc, self.probe_step * amplitude), self.limits.max_dc_torque_nm)
+        return probe_next_dc(dc, amplitude, self.max_step, self.probe_step, self.limits)
 
     def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
         coa = float(observation[COA])

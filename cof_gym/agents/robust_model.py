@@ -38,7 +38,7 @@ from typing import Any
 
 import numpy as np
 
-from cof_gym.agents.phase_rule import UNKNOWN_SE_DEG, phase_of
+from cof_gym.agents.phase_rule import UNKNOWN_SE_DEG, phase_of, probe_amplitude, probe_next_dc
 from cof_gym.agents.staircase import COA, ElasticityClimb
 from cof_gym.task.interface import OBSERVATION_NAMES, MotorLimits, encode_action
 
@@ -143,11 +143,10 @@ class RobustModel:
 
     # -- helpers ---------------------------------------------------------------------------------------
     def amplitude(self, dc: float) -> float:
-        return min(max(self.amplitude_ratio * dc, self.min_amplitude_nm, self.limits.min_amplitude_nm),
-                   self.limits.max_amplitude_nm)
+        return probe_amplitude(self.amplitude_ratio, dc, self.min_amplitude_nm, self.limits)
 
     def next_dc(self, dc: float, amplitude: float) -> float:
-        return min(dc + min(self.max_step * dc, self.probe_step * amplitude), self.limits.max_dc_torque_nm)
+        return probe_next_dc(dc, amplitude, self.max_step, self.probe_step, self.limits)
 
     def _jumped(self, now: Probe, ref: Probe, jump_deg: float) -> bool:
         if now.se_deg > self.max_se_deg:

@@ -18,15 +18,25 @@ import numpy as np
 N_BASIS = 4
 
 
-def unpack_symmetric(btb: np.ndarray) -> np.ndarray:
-    """4x4 symmetric matrix from its 10 upper-triangle entries (row-major, as the native sums)."""
-    out = np.empty((N_BASIS, N_BASIS))
+def unpack_symmetric(btb: np.ndarray, size: int = N_BASIS) -> np.ndarray:
+    """``size`` x ``size`` symmetric matrix from its packed upper triangle (row-major, as the native
+    sums; 10 entries for the single-tone basis)."""
+    out = np.empty((size, size))
     k = 0
-    for i in range(N_BASIS):
-        for j in range(i, N_BASIS):
+    for i in range(size):
+        for j in range(i, size):
             out[i, j] = out[j, i] = btb[k]
             k += 1
     return out
+
+
+def _solve_scaled(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(coefficients, their unit-variance covariance, the unit-diagonal matrix) of ``a x = b``, the
+    basis scaled to unit diagonal first (the drift column is in seconds and ill-scaled otherwise)."""
+    scale = 1.0 / np.sqrt(np.maximum(np.diag(a), 1e-300))
+    a_s = a * np.outer(scale, scale)
+    cov_s = np.linalg.pinv(a_s)
+    return scale * (cov_s @ (b * scale)), cov_s * np.outer(scale, scale), a_s
 
 
 @dataclass(frozen=True)
@@ -45,12 +55,7 @@ def fit_from_sums(btb: np.ndarray, bty: np.ndarray, yty: float, n: float) -> Sin
         raise ValueError(f"sine fit needs more than {N_BASIS} samples, got {n:g}")
     a = unpack_symmetric(np.asarray(btb, dtype=np.float64))
     b = np.asarray(bty, dtype=np.float64)
-    # scale the basis to unit diagonal: the drift column is in seconds and ill-scaled otherwise
-    scale = 1.0 / np.sqrt(np.maximum(np.diag(a), 1e-300))
-    a_s = a * np.outer(scale, scale)
-    cov_s = np.linalg.pinv(a_s)
-    coef = scale * (cov_s @ (b * scale))
-    cov_unit = cov_s * np.outer(scale, scale)
+    coef, cov_unit, _ = _solve_scaled(a, b)
     rss = max(float(yty - coef @ b), 0.0)
     sigma2 = rss / (n - N_BASIS)
     c0, c1 = coef[0], coef[1]
@@ -70,13 +75,18 @@ def basis(theta: np.ndarray, tau: np.ndarray) -> np.ndarray:
     return np.stack([np.cos(theta), np.sin(theta), np.ones_like(theta), tau], axis=1)
 
 
-def sums(theta: np.ndarray, tau: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, float, int]:
-    """The sums the native step accumulates, from sample arrays (tests, offline analysis)."""
-    bm = basis(np.asarray(theta, float), np.asarray(tau, float))
+def packed_sums(bm: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, float, int]:
+    """B'B (packed upper triangle, row-major), B'y, y'y and n of a basis matrix ``bm`` (n, size)."""
     full = bm.T @ bm
-    btb = np.array([full[i, j] for i in range(N_BASIS) for j in range(i, N_BASIS)])
+    size = bm.shape[1]
+    btb = np.array([full[i, j] for i in range(size) for j in range(i, size)])
     y = np.asarray(y, float)
     return btb, bm.T @ y, float(y @ y), y.size
+
+
+def sums(theta: np.ndarray, tau: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, float, int]:
+    """The sums the native step accumulates, from sample arrays (tests, offline analysis)."""
+    return packed_sums(basis(np.asarray(theta, float), np.asarray(tau, float)), y)
 
 
 def fit_samples(theta: np.ndarray, tau: np.ndarray, y: np.ndarray) -> SineFit:
@@ -88,17 +98,6 @@ def wrap_deg(angle_deg: float) -> float:
     """Wrap to (-180, 180]."""
     w = (angle_deg + 180.0) % 360.0 - 180.0
     return 180.0 if w == -180.0 else w
-
-
-def unpack_symmetric_n(btb: np.ndarray, size: int) -> np.ndarray:
-    """``size`` x ``size`` symmetric matrix from its packed upper triangle (row-major)."""
-    out = np.empty((size, size))
-    k = 0
-    for i in range(size):
-        for j in range(i, size):
-            out[i, j] = out[j, i] = btb[k]
-            k += 1
-    return out
 
 
 # a joint normal matrix whose scaled condition number exceeds this cannot separate its tones: their
@@ -118,15 +117,11 @@ def fit_tones_from_sums(btb: np.ndarray, bty: np.ndarray, yty: float, n: float, 
         raise ValueError(f"ntones must be >= 1, got {ntones}")
     if n <= size:
         raise ValueError(f"a {ntones}-tone fit needs more than {size} samples, got {n:g}")
-    a = unpack_symmetric_n(np.asarray(btb, dtype=np.float64), size)
+    a = unpack_symmetric(np.asarray(btb, dtype=np.float64), size)
     b = np.asarray(bty, dtype=np.float64)[:size]
-    scale = 1.0 / np.sqrt(np.maximum(np.diag(a), 1e-300))
-    a_s = a * np.outer(scale, scale)
+    coef, cov_unit, a_s = _solve_scaled(a, b)
     eig = np.linalg.eigvalsh(a_s)
     separable = eig[0] > eig[-1] / MAX_CONDITION
-    cov_s = np.linalg.pinv(a_s)
-    coef = scale * (cov_s @ (b * scale))
-    cov_unit = cov_s * np.outer(scale, scale)
     rss = max(float(yty - coef @ b), 0.0)
     sigma2 = rss / (n - size)
     fits = []
@@ -153,9 +148,4 @@ def tone_basis(thetas: np.ndarray, tau: np.ndarray) -> np.ndarray:
 
 def tone_sums(thetas: np.ndarray, tau: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, float, int]:
     """The sums the native step accumulates for the joint fit, from sample arrays (tests, analysis)."""
-    bm = tone_basis(thetas, np.asarray(tau, float))
-    full = bm.T @ bm
-    size = bm.shape[1]
-    btb = np.array([full[i, j] for i in range(size) for j in range(i, size)])
-    y = np.asarray(y, float)
-    return btb, bm.T @ y, float(y @ y), y.size
+    return packed_sums(tone_basis(thetas, np.asarray(tau, float)), y)
