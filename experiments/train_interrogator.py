@@ -3,13 +3,16 @@
     python experiments/train_interrogator.py --out runs/interrogator [--ship]
 
 1. **Data**: training climbs on the v2 wagon's randomisation, half with the paper's counter torque
-   (cof_gym/agents/interrogator_training.py; seeds from 1 000 000 on, far from every evaluation seed),
-   cached in OUT/data.npz.
+   (cof_gym/agents/interrogator_training.py): probing climbs steered by their own readings, never by
+   the truth, from the collections of COLLECTIONS (``--climbs NAME=N``; the recipe: ``env=8000``): on
+   the env's creep-law draws (seeds from 1 000 000 on), on procedural creep curves, tables beyond every
+   family (from 1 100 000 on), and on the env's draws with 8-20 Hz modulations (from 1 200 000 on); far
+   from every evaluation seed; cached in OUT/climbs*.npz.
 2. **Seeds**: one filter network per seed (bootstrap resample of the training episodes, its own
    initialisation), OUT/seed_K/; the ensemble of all seeds in OUT/ensemble/.
-3. **Selection, validation only**: the climb's parameters (modulation ratio, target headroom, caution)
-   on experiments/suites/v2_validation_grid.json, played in both vehicle configurations (144
-   episodes), with the ensemble. Ranking: fewest macro-slips, then P90, then median relative error.
+3. **Selection, validation only**: the climb's parameters (modulation ratio and frequency, target
+   headroom, caution, largest step: GRID) on experiments/suites/v2_validation_grid.json, played in both
+   vehicle configurations (144 episodes), with the ensemble. Ranking: fewest macro-slips, then P90, then median relative error.
    Written to every OUT/*/manifest.json.
 4. **Report** (nothing is chosen here): every seed and the ensemble on the default suite (60 episodes)
    and on experiments/suites/v2_heldout_grid.json; per seed median / P90 / macro-slips, and over
@@ -37,7 +40,9 @@ import cof_gym
 from cof_gym.agents.interrogator import (
     SHIPPED_INTERROGATOR, ClimbParameters, FilterEnsemble, FilterNetwork, interrogator_for,
 )
-from cof_gym.agents.interrogator_training import Dataset, FitSettings, collect_parallel, fit_member, nll
+from cof_gym.agents.interrogator_training import (
+    TRAINING_SEED, Dataset, FitSettings, collect_parallel, fit_member, nll,
+)
 from cof_gym.commands.evaluate import run_episode
 from cof_gym.commands.suites import make_suite
 
@@ -47,17 +52,28 @@ from ppo_seeds import iqm, stratified_bootstrap_ci  # noqa: E402
 
 ENV_ID = cof_gym.WAGON_ENV_ID
 CONFIGS = [{}, {"counter_torque": True}]  # the two vehicle configurations trained on
+# the training climbs: name -> (cache file in OUT, first seed, creep curves (interrogator_training.SHAPE_SOURCES),
+# modulation frequencies in Hz (None: 5 Hz or log-uniform 3-10 Hz)), and how many of each the recipe uses
+COLLECTIONS = {
+    "env": ("climbs.npz", TRAINING_SEED, "env", None),
+    "procedural": ("climbs_procedural.npz", TRAINING_SEED + 100_000, "procedural", None),
+    "high_frequency": ("climbs_high_frequency.npz", TRAINING_SEED + 200_000, "env", (8.0, 20.0)),
+}
+EPISODES = {"env": 8000}  # the shipped recipe (procedural and high_frequency lost on validation: README)
 VALIDATION = HERE / "suites" / "v2_validation_grid.json"
 HELDOUT = HERE / "suites" / "v2_heldout_grid.json"
-GRID = [{"amplitude_ratio": a, "target_headroom": h, "caution": c}
-        for a, h, c in itertools.product((0.05, 0.1, 0.2), (0.03, 0.06, 0.1), (0.5, 1.0, 2.0))]
+GRID = [{"amplitude_ratio": a, "target_headroom": h, "caution": c, "max_log_step": m, "frequency_hz": f}
+        for a, h, c, m, f in itertools.product((0.1, 0.2), (0.04, 0.07, 0.1), (1.0, 2.0, 3.0), (0.15, 0.4), (5.0, 15.0))]
 # what is reported does not change the climb, so every estimate source is scored on the same episodes
 ESTIMATES = [{"estimate_from": "filter", "best_coa_factor": 1.0}] + [
     {"estimate_from": "best_coa", "best_coa_factor": f} for f in (1.0, 1.02, 1.05)]
 
 
-def load_or_collect(out: Path, episodes: int, workers: int) -> Dataset:
-    path = out / "data.npz"
+def load_or_collect(out: Path, name: str, episodes: int, workers: int) -> Dataset:
+    """``episodes`` training climbs of collection ``name`` (:data:`COLLECTIONS`), from OUT's cache when it
+    holds them."""
+    file, first_seed, shapes, frequencies = COLLECTIONS[name]
+    path = out / file
     if path.is_file():
         try:
             data = Dataset.load(path)
@@ -66,16 +82,29 @@ def load_or_collect(out: Path, episodes: int, workers: int) -> Dataset:
         if data is not None and int(data.episode.max()) + 1 >= episodes:
             return data.subset(data.episode < episodes)
     t0 = time.time()
-    data = collect_parallel(ENV_ID, CONFIGS, episodes, workers)
+    data = collect_parallel(ENV_ID, CONFIGS, episodes, workers, first_seed, shapes, frequencies)
     data.save(path)
-    print(f"collected {episodes} climbs ({len(data)} windows) in {time.time() - t0:.0f} s", flush=True)
+    print(f"collected {episodes} {name} climbs ({len(data)} windows) in {time.time() - t0:.0f} s", flush=True)
     return data
 
 
-def split(data: Dataset, fraction: float = 0.1) -> tuple[Dataset, Dataset]:
-    """The last ``fraction`` of the episodes apart, to report the fit's held-out likelihood."""
-    cut = int((1 - fraction) * (int(data.episode.max()) + 1))
-    return data.subset(data.episode < cut), data.subset(data.episode >= cut)
+def parse_climbs(parser: argparse.ArgumentParser, items: list[str]) -> dict[str, int]:
+    """``NAME=N`` items as {collection: climbs}; a bad item is a one-line usage error (exit 2)."""
+    out = {}
+    for item in items:
+        name, _, n = item.partition("=")
+        if name not in COLLECTIONS or not n.isdigit():
+            parser.error(f"--climbs: expected NAME=N with NAME one of {', '.join(COLLECTIONS)} and N >= 0, got {item!r}")
+        out[name] = int(n)
+    if not any(out.values()):
+        parser.error("--climbs: at least one collection needs N > 0")
+    return out
+
+
+def split(data: Dataset, every: int = 10) -> tuple[Dataset, Dataset]:
+    """Every ``every``-th episode apart (of each schedule alike), to report the fit's held-out likelihood."""
+    held = data.episode % every == every - 1
+    return data.subset(~held), data.subset(held)
 
 
 def episodes(run_dir: str, suite_path: str, env_kwargs: dict, params: dict | None = None):
@@ -158,7 +187,8 @@ def markdown(report: dict, seeds: list[str]) -> str:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=Path("runs/interrogator"))
-    ap.add_argument("--episodes", type=int, default=6000)
+    ap.add_argument("--climbs", nargs="+", default=[f"{k}={v}" for k, v in EPISODES.items()], metavar="NAME=N",
+                    help=f"training climbs per collection ({', '.join(COLLECTIONS)}; 0 or absent: none)")
     ap.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2, 3, 4])
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--epochs", type=int, default=FitSettings.epochs)
@@ -168,7 +198,8 @@ def main() -> None:
     out = args.out
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.time()
-    data = load_or_collect(out, args.episodes, args.workers)
+    climbs = parse_climbs(ap, args.climbs)
+    data = Dataset.concatenate([load_or_collect(out, name, n, args.workers) for name, n in climbs.items() if n])
     train, held = split(data)
     settings = replace(FitSettings(), epochs=args.epochs)
     ensemble_dir = out / "ensemble"
@@ -198,7 +229,7 @@ def main() -> None:
     print(f"climb selected on validation in {time.time() - t:.0f} s: {chosen}", flush=True)
     manifest = {"climb": {**asdict(ClimbParameters()), **chosen},
                 "trained_on": {"env_id": ENV_ID, "configs": CONFIGS},
-                "training": {"episodes": args.episodes, "seeds": args.seeds, "fit": asdict(settings)}}
+                "training": {"climbs": climbs, "seeds": args.seeds, "fit": asdict(settings)}}
     runs = [out / f"seed_{s}" for s in args.seeds] + [ensemble_dir]
     for r in runs:
         (r / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n")
@@ -208,9 +239,10 @@ def main() -> None:
             f"this machine{'; networks reused, not fitted' if args.reuse else ''}).", "",
             "## Climb selection (experiments/suites/v2_validation_grid.json, both vehicle configurations; "
             "ranked by macro-slips, P90, median; the best 10 of the grid)", "",
-            "| amplitude ratio | target headroom | caution | estimate | median | P90 | macro-slips |",
-            "|---|---|---|---|---|---|---|"]
-    text += [f"| {r['amplitude_ratio']} | {r['target_headroom']} | {r['caution']} | "
+            "| amplitude ratio | frequency [Hz] | target headroom | caution | max log step | estimate | median | P90 | "
+            "macro-slips |", "|---|---|---|---|---|---|---|---|---|"]
+    text += [f"| {r['amplitude_ratio']} | {r['frequency_hz']} | {r['target_headroom']} | {r['caution']} | "
+             f"{r['max_log_step']} | "
              f"{r['estimate_from'] if r['estimate_from'] == 'filter' else 'best CoA x %g' % r['best_coa_factor']} | "
              f"{100 * r['median']:.1f} % | {100 * r['p90']:.1f} % | {r['macro_slips']} |" for r in table[:10]]
     text += ["", "## Report (nothing chosen here)", "", markdown(report, [f"seed_{s}" for s in args.seeds])]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import subprocess
+from dataclasses import replace
 import sys
 
 import gymnasium as gym
@@ -14,9 +15,12 @@ import cof_gym
 from cof_gym.agents import registry
 from cof_gym.agents.interrogator import (
     FEATURE_NAMES, SHIPPED_INTERROGATOR, TARGET_NAMES, ClimbParameters, EpisodeFeatures, FilterEnsemble, FilterNetwork,
-    LearnedInterrogator, Reading, slope_index,
+    PEAK_GAP_CLIP, LearnedInterrogator, Reading, peak_gap, slope_from_phase, slope_index,
 )
-from cof_gym.agents.interrogator_training import Dataset, FitSettings, collect, fit_member
+from cof_gym.agents.interrogator_training import (
+    PROCEDURAL_PEAK_CREEPAGE, Dataset, FitSettings, _climb_episode, collect, fit_member, procedural_shape,
+)
+from cof_gym.physics.creep_laws import creep_law_from_spec
 from cof_gym.commands.evaluate import run_episode
 from cof_gym.task.interface import OBSERVATION_NAMES
 
@@ -162,3 +166,77 @@ def test_the_estimate_source_does_not_change_the_climb():
     b, _ = play(LearnedInterrogator(env.unwrapped.limits, ensemble, params=ClimbParameters(estimate_from="best_coa")), 8)
     estimate = 3  # ACTION_NAMES index of cof_estimate
     np.testing.assert_array_equal(np.delete(a, estimate, axis=1), np.delete(b, estimate, axis=1))
+
+
+def test_peak_gap_is_exact_on_a_quadratic_peak():
+    """On mu(s) = mu_p - a (s_p - s)^2 with the phase of Eq. 3 (cot(phase) proportional to the slope
+    d mu / d s over the frequency), two windows extrapolate the peak exactly (up to rounding): the
+    quadratic-peak law the feature is built on. Off the peak law, a falling CoA gives 0 and a slope that
+    did not fall gives the clip."""
+    mu_p, a, s_p, scale = 0.3, 400.0, 0.01, 0.5
+
+    def reading(s: float, frequency: float) -> Reading:
+        slope = 2.0 * a * (s_p - s)
+        phase = math.degrees(math.atan2(frequency * scale, slope))  # cot(phase) = slope / (f scale)
+        return Reading(phase, 0.1, 0.5, mu_p - a * (s_p - s) ** 2, s, 1000.0, 50.0, frequency, 20.0, 1.0)
+
+    for s1, s2, f1, f2 in ((0.004, 0.006, 5.0, 5.0), (0.002, 0.008, 5.0, 7.0), (0.007, 0.0095, 3.0, 3.0)):
+        windows = [reading(s1, f1), reading(s2, f2)]
+        assert 1.0 < windows[1].phase_deg < 89.0
+        expected = math.log(mu_p / windows[1].coa)
+        assert peak_gap(windows, 1, 0, slope_from_phase) == pytest.approx(expected, rel=1e-9)
+    past = [reading(0.006, 5.0), reading(0.006, 5.0)]
+    assert peak_gap(past, 1, 0, slope_from_phase) == 0.0
+    linear = [reading(0.004, 5.0), replace(reading(0.004, 5.0), coa=0.29)]
+    assert peak_gap(linear, 1, 0, slope_from_phase) == PEAK_GAP_CLIP
+
+
+class _ScrambledTruth(gym.Wrapper):
+    """The same env, with its ground truth doubled in ``info`` and its actions recorded."""
+
+    def __init__(self, env):
+        super().__init__(env)
+        self.actions: list[np.ndarray] = []
+
+    def _scramble(self, info):
+        info["ground_truth"] = {**info["ground_truth"], "cof": 2 * info["ground_truth"]["cof"],
+                                "saturation_torque_nm": 2 * info["ground_truth"]["saturation_torque_nm"]}
+        return info
+
+    def reset(self, **kwargs):
+        obs, info = self.env.reset(**kwargs)
+        return obs, self._scramble(info)
+
+    def step(self, action):
+        self.actions.append(np.asarray(action).copy())
+        obs, reward, terminated, truncated, info = self.env.step(action)
+        return obs, reward, terminated, truncated, self._scramble(info)
+
+
+def test_training_climbs_are_steered_by_readings_not_by_the_truth():
+    """A truth-steered schedule would leak the labels into the torque-step features: the training
+    climb's actions are the same whatever the ground truth says (up to where it ends the climb)."""
+    plain, scrambled = _ScrambledTruth(gym.make(cof_gym.WAGON_ENV_ID)), _ScrambledTruth(gym.make(cof_gym.WAGON_ENV_ID))
+    plain._scramble = lambda info: info
+    for seed in (2_000_100, 2_000_101):
+        plain.actions.clear()
+        scrambled.actions.clear()
+        _climb_episode(plain, seed)
+        labels = _climb_episode(scrambled, seed)[1]
+        n = min(len(plain.actions), len(scrambled.actions))
+        assert n >= 3
+        np.testing.assert_array_equal(np.asarray(plain.actions[:n]), np.asarray(scrambled.actions[:n]))
+        assert labels[0][0] > 0.0
+
+
+def test_procedural_shapes_are_valid_creep_laws_with_their_peak_where_drawn():
+    """Every procedural curve is a table the env accepts (rising strictly to exactly 1, then anything
+    in [0, 1]), peaks at a creepage in PROCEDURAL_PEAK_CREEPAGE and reproduces from its seed."""
+    for seed in range(200):
+        spec = procedural_shape(np.random.default_rng([seed, 11]))
+        shape = creep_law_from_spec(spec)
+        creepage, ratio = np.asarray(shape.creepage), np.asarray(shape.adhesion_ratio)
+        lo, hi = PROCEDURAL_PEAK_CREEPAGE
+        assert lo <= creepage[shape.peak_index] <= hi
+        assert np.all(ratio[shape.peak_index:] <= 1.0) and np.all(ratio >= 0.0)
+        assert spec == procedural_shape(np.random.default_rng([seed, 11]))

@@ -15,7 +15,9 @@ randomisation: creep-law families and shapes, systematic sensor errors, speeds, 
 configurations) maps the episode's features (:class:`EpisodeFeatures`: the window's phase, compliance,
 slope index ``ln cot(phase)`` and their change since the first driven window, the CoA and torque
 growth, the secant flexibility of the creep curve ``d creepage / d CoA`` over the last step relative to
-its chord from the first driven window, the two previous windows) to two Gaussian predictions:
+its chord from the first driven window, the quadratic-peak extrapolation of the CoA from the slopes of
+the last windows (:func:`peak_gap`, from the phase and from the compliance), the two previous
+windows) to two Gaussian predictions:
 
 - the **headroom** ``ln(M_sat / DC)``: how far the DC torque is below the saturation torque;
 - the **correction** ``ln(CoF / CoA)``: the factor from the measured CoA to the CoF.
@@ -66,8 +68,11 @@ FEATURE_NAMES = (
     "counter_torque", "window_index", "secant_flexibility",
     *(f"{name}_{k}" for k in range(1, HISTORY + 1)
       for name in ("phase", "slope_index", "coa_step", "dc_step", "secant_flexibility")),
+    "peak_gap_phase", "peak_gap_compliance", "peak_gap_phase_2", "slope_ratio_phase", "slope_ratio_compliance",
 )
 FLEXIBILITY_CLIP = 5.0  # |ln| of the secant/chord flexibility ratio: beyond it, the step went past the peak
+PEAK_GAP_CLIP = 0.5  # ln(peak CoA / CoA) of the quadratic-peak extrapolation: beyond it, "far from the peak"
+COMPLIANCE_CLIP = (1e-3, 0.999)  # the slope from the compliance, sqrt(1 / C^2 - 1), is finite within these
 
 
 def flexibility_ratio(readings: list["Reading"], k: int) -> float:
@@ -92,6 +97,38 @@ def slope_index(phase_deg: float) -> float:
     impedance (Eq. 3 of the paper for the half wheelset); falls towards -inf as the phase nears 90 deg."""
     phase = min(max(phase_deg, PHASE_CLIP_DEG[0]), PHASE_CLIP_DEG[1])
     return math.log(1.0 / math.tan(math.radians(phase)))
+
+
+def slope_from_phase(r: "Reading") -> float:
+    """The creep curve's local slope up to a constant of the episode, ``f cot(phase)`` (Hz): Eq. 3 gives
+    ``cot(phase) = k r^2 / (I w v)`` for a wheel on a creep curve of slope ``k``."""
+    phase = min(max(r.phase_deg, PHASE_CLIP_DEG[0]), PHASE_CLIP_DEG[1])
+    return r.frequency_hz / math.tan(math.radians(phase))
+
+
+def slope_from_compliance(r: "Reading") -> float:
+    """The same slope from the speed/torque amplitude ratio ``C = I w |speed / torque|``:
+    ``f sqrt(1 / C^2 - 1)`` (the torque gain error scales it; the phase does not see that error)."""
+    c = min(max(r.compliance, COMPLIANCE_CLIP[0]), COMPLIANCE_CLIP[1])
+    return r.frequency_hz * math.sqrt(1.0 / c**2 - 1.0)
+
+
+def peak_gap(readings: list["Reading"], i: int, j: int, slope) -> float:
+    """``ln(peak CoA / CoA_i)`` extrapolated from windows ``j < i`` by the quadratic-peak law: near a
+    smooth maximum ``mu_peak - mu = k^2 / (2 |mu''|)`` with ``k`` the local slope, so two windows give
+    ``mu_peak = mu_i + (mu_i - mu_j) k_i^2 / (k_j^2 - k_i^2)``; only slope *ratios* enter (no inertia,
+    radius, load or speed). 0 when the CoA did not rise (at or past the peak), :data:`PEAK_GAP_CLIP`
+    when the slope did not fall (the linear part: far from the peak) or beyond it."""
+    if j < 0:
+        return PEAK_GAP_CLIP
+    now, before = readings[i], readings[j]
+    if now.coa <= before.coa:
+        return 0.0
+    q_now, q_before = slope(now) ** 2, slope(before) ** 2
+    if q_now >= q_before:
+        return PEAK_GAP_CLIP
+    gap = math.log1p((now.coa - before.coa) / now.coa * q_now / (q_before - q_now))
+    return min(gap, PEAK_GAP_CLIP)
 
 
 @dataclass(frozen=True)
@@ -158,6 +195,13 @@ class EpisodeFeatures:
             prev = self.readings[j]
             values += [prev.phase_deg / 90.0, slope_index(prev.phase_deg), math.log(prev.coa / now.coa),
                        math.log(prev.dc_nm / now.dc_nm), flexibility_ratio(self.readings, j)]
+        i = len(self.readings) - 1
+        prev = self.readings[max(i - 1, 0)]
+        values += [peak_gap(self.readings, i, i - 1, slope_from_phase),
+                   peak_gap(self.readings, i, i - 1, slope_from_compliance),
+                   peak_gap(self.readings, i, i - 2, slope_from_phase),
+                   math.log(slope_from_phase(now) / slope_from_phase(prev)),
+                   math.log(slope_from_compliance(now) / slope_from_compliance(prev))]
         return np.nan_to_num(np.asarray(values, dtype=np.float64), nan=0.0, posinf=0.0, neginf=0.0)
 
 

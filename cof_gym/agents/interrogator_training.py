@@ -3,12 +3,16 @@
 **Data.** Climbs on the training env's own randomisation (every v2 draw: creep-law family and shape,
 systematic sensor errors, CoF, speed, load, noise, motor lag), in every vehicle configuration listed,
 with training seeds that no evaluation uses. Each climb starts at the shared safe first step and
-visits utilisations ``u = DC / M_sat`` drawn sorted from U(first, u_max), ``u_max ~ U(0.8, 1.05)``,
-with a modulation ratio log-uniform in 3-40 % and a frequency of 5 Hz or log-uniform in 3-10 Hz,
-until the last target or a macro-slip. The climb is steered by the true saturation torque so that
-the data cover the last 20 % before the peak densely; the labels (``ln(M_sat / DC)``,
-``ln(CoF / CoA measured)``) are the episode's ground truth. The readings of every window are kept
-(:class:`Dataset`); the features are rebuilt from them through the same
+probes upwards with a modulation ratio log-uniform in 3-40 % and a frequency of 5 Hz or log-uniform in
+3-10 Hz; each log step is the climb's largest step (log-uniform 0.15-0.6) times the local slope
+relative to the first window's (from the phase) to a drawn power (1-3), floored at a drawn 2-15 % of
+the largest step, times a random
+factor: the climb slows as the creep curve flattens, the way a cautious probe does, until a
+macro-slip, the horizon or 1.08 x ``M_sat``. **The DC torques depend on the readings and the climb's
+own random draws only, never on the truth**: a schedule steered by the saturation torque would leak
+it into the torque-step features (a network then learns the schedule, not the creep curve). The
+labels (``ln(M_sat / DC)``, ``ln(CoF / CoA measured)``) are the episode's ground truth. The readings
+of every window are kept (:class:`Dataset`); the features are rebuilt from them through the same
 :class:`~cof_gym.agents.interrogator.EpisodeFeatures` the agent runs.
 
 **Networks.** Each member is a tanh MLP fitted by the Gaussian negative log-likelihood of both
@@ -21,13 +25,14 @@ from __future__ import annotations
 import math
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import astuple, dataclass, fields
+from functools import cached_property
 from typing import Any
 
 import gymnasium as gym
 import numpy as np
 
 from cof_gym.agents.interrogator import (
-    FEATURE_NAMES, TARGET_NAMES, ClimbParameters, EpisodeFeatures, FilterNetwork, Reading,
+    FEATURE_NAMES, TARGET_NAMES, ClimbParameters, EpisodeFeatures, FilterNetwork, Reading, slope_from_phase,
 )
 from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.task.interface import encode_action
@@ -54,9 +59,9 @@ class Dataset:
     def subset(self, rows: np.ndarray) -> "Dataset":
         return Dataset(self.readings[rows], self.counter_torque[rows], self.targets[rows], self.episode[rows])
 
-    @property
+    @cached_property
     def features(self) -> np.ndarray:
-        """Each window's feature vector, rebuilt from the readings of its episode up to it."""
+        """Each window's feature vector, rebuilt from the readings of its episode up to it (once)."""
         out = np.empty((len(self), len(FEATURE_NAMES)))
         features = None
         for i in range(len(self)):
@@ -87,39 +92,108 @@ class Dataset:
                    np.concatenate([p.targets for p in parts]), np.concatenate(episodes))
 
 
-def _climb_episode(env, seed: int) -> tuple[list[Reading], list[tuple[float, float]]]:
+PROBING_SIGMA = (0.15, 0.6)  # log-uniform: a climb's largest log step
+PROBING_POWER = (1.0, 3.0)  # uniform: how sharply it slows as the slope falls
+PROBING_FLOOR = (0.02, 0.15)  # uniform: its smallest step, as a fraction of the largest
+STOP_UTILISATION = 1.08  # a training climb ends once its DC torque passes 1.08 x M_sat
+
+
+def _probing_step(rng: np.random.Generator, readings: list[Reading], sigma: float, power: float,
+                  floor: float) -> float:
+    """The next log step of a training climb: ``sigma`` times the local slope relative to the first
+    window's (from the phase, :func:`~cof_gym.agents.interrogator.slope_from_phase`) to the ``power``,
+    floored, times a random factor in ``exp(+-0.5)``. A function of the readings and ``rng`` only,
+    never of the truth."""
+    ratio = slope_from_phase(readings[-1]) / slope_from_phase(readings[0])
+    return sigma * min(max(ratio**power, floor), 1.0) * math.exp(rng.uniform(-0.5, 0.5))
+
+
+SHAPE_SOURCES = ("env", "procedural")  # the env's own creep-law draw, or :func:`procedural_shape`
+PROCEDURAL_PEAK_CREEPAGE = (0.003, 0.04)  # log-uniform
+PROCEDURAL_KNOTS = (0.0, 0.05, 0.15, 0.3, 0.5, 0.7, 0.85, 1.0)  # x = creepage / peak creepage
+
+
+def procedural_shape(rng: np.random.Generator) -> dict[str, Any]:
+    """A random creep curve as a ``creep_law`` table spec (domain randomisation beyond the families):
+    the rise is a monotone cubic through knots at :data:`PROCEDURAL_KNOTS` whose increments are drawn
+    from a Dirichlet distribution (shrinking: a concave rise; with probability 0.4 growing over the
+    first 2-4 knots first: a low initial slope and one inflection, as a third-body layer gives), with a zero slope at the peak half of the time (a smooth maximum) and
+    the interpolant's slope otherwise (a kink); after the peak the curve falls by a drawn 0-40 % with a
+    drawn decay length (0.2-4 peak creepages), a plateau one time in five."""
+    from scipy.interpolate import CubicHermiteSpline, PchipInterpolator
+
+    n = len(PROCEDURAL_KNOTS) - 1
+    increments = 0.02 + (1.0 - 0.02 * n) * rng.dirichlet(np.full(n, rng.uniform(0.5, 3.0)))
+    increments = np.sort(increments)[::-1]
+    if rng.random() < 0.4:  # a low initial slope: the increments grow to their largest, then shrink
+        m = int(rng.integers(2, 5))
+        increments[:m] = increments[:m][::-1]
+    knots = np.asarray(PROCEDURAL_KNOTS)
+    values = np.concatenate([[0.0], np.cumsum(increments)])
+    values[-1] = 1.0
+    slopes = PchipInterpolator(knots, values).derivative()(knots)
+    if rng.random() < 0.5:
+        slopes[-1] = 0.0
+    rise = CubicHermiteSpline(knots, values, slopes)
+    drop = 0.0 if rng.random() < 0.2 else rng.uniform(0.0, 0.4)
+    decay = math.exp(rng.uniform(math.log(0.2), math.log(4.0)))
+    x_rise = np.concatenate([[0.0], np.geomspace(2e-3, 0.97, 30), [0.985, 1.0]])
+    x_fall = 1.0 + np.geomspace(0.02, 3.0, 10)
+    ratio = np.concatenate([np.clip(rise(x_rise), 0.0, 1.0), 1.0 - drop * (1.0 - np.exp(-(x_fall - 1.0) / decay))])
+    ratio[0], ratio[len(x_rise) - 1] = 0.0, 1.0
+    rising = ratio[: len(x_rise) - 1]
+    rising[1:] = np.maximum.accumulate(np.maximum(rising[1:], 1e-9))  # strictly rising, below the maximum
+    rising[1:] += np.arange(1, len(rising)) * 1e-9
+    ratio[: len(x_rise) - 1] = np.minimum(rising, 1.0 - 1e-6)
+    peak = math.exp(rng.uniform(*np.log(PROCEDURAL_PEAK_CREEPAGE)))
+    return {"table": {"creepage": [float(v) for v in np.concatenate([x_rise, x_fall]) * peak],
+                      "adhesion_ratio": [float(v) for v in ratio]}}
+
+
+def _climb_episode(env, seed: int, shapes: str = "env",
+                  frequencies_hz: tuple[float, float] | None = None) -> tuple[list[Reading], list[tuple[float, float]]]:
+    """One training climb (module docstring): its readings and their labels. ``frequencies_hz``: the
+    modulation frequency log-uniform in this range (None: 5 Hz or log-uniform in 3-10 Hz)."""
     rng = np.random.default_rng([seed, 7])
-    obs, info = env.reset(seed=seed)
+    if shapes not in SHAPE_SOURCES:
+        raise ValueError(f"shapes must be one of {SHAPE_SOURCES}, got {shapes!r}")
+    options = {"creep_law": procedural_shape(np.random.default_rng([seed, 11]))} if shapes == "procedural" else None
+    obs, info = env.reset(seed=seed, options=options)
     base = env.unwrapped
     limits = base.limits
     truth = info["ground_truth"]
     m_sat, cof = truth["saturation_torque_nm"], truth["cof"]
-    first = ElasticityClimb().first_dc(limits)
-    u_max = rng.uniform(0.8, 1.05)
-    n = int(rng.integers(3, 16))
-    targets = np.sort(rng.uniform(min(first / m_sat, u_max), u_max, n)) * m_sat
-    dcs = [first] + [float(t) for t in targets if t > first]
-    p = ClimbParameters(amplitude_ratio=float(math.exp(rng.uniform(math.log(0.03), math.log(0.4)))),
-                        frequency_hz=5.0 if rng.random() < 0.5 else float(math.exp(rng.uniform(math.log(3), math.log(10)))))
+    amplitude_ratio = float(math.exp(rng.uniform(math.log(0.03), math.log(0.4))))
+    if frequencies_hz is None:
+        frequency = 5.0 if rng.random() < 0.5 else float(math.exp(rng.uniform(math.log(3), math.log(10))))
+    else:
+        frequency = float(math.exp(rng.uniform(*np.log(frequencies_hz))))
+    p = ClimbParameters(amplitude_ratio=amplitude_ratio, frequency_hz=frequency)
+    sigma = float(math.exp(rng.uniform(*np.log(PROBING_SIGMA))))
+    power, floor = float(rng.uniform(*PROBING_POWER)), float(rng.uniform(*PROBING_FLOOR))
+    dc = ElasticityClimb().first_dc(limits)
     xs, ys = [], []
-    for dc in dcs[: base.task.max_windows]:
+    for _ in range(base.task.max_windows):
         action = encode_action(dc, p.amplitude(dc, limits), p.frequency_hz, 0.1, False, limits)
         obs, _, terminated, truncated, info = env.step(action)
         reading = Reading.of(obs, limits)
         xs.append(reading)
         ys.append((math.log(m_sat / dc), math.log(cof / reading.coa)))
-        if terminated or truncated:
+        if terminated or truncated or dc > STOP_UTILISATION * m_sat:
             break
+        dc = min(dc * math.exp(_probing_step(rng, xs, sigma, power, floor)), limits.max_dc_torque_nm)
     return xs, ys
 
 
-def collect(env_id: str, configs: list[dict[str, Any]], episodes: int, first_seed: int = TRAINING_SEED) -> Dataset:
-    """``episodes`` training climbs (seeds ``first_seed...``), the configurations in turn."""
+def collect(env_id: str, configs: list[dict[str, Any]], episodes: int, first_seed: int = TRAINING_SEED,
+            shapes: str = "env", frequencies_hz: tuple[float, float] | None = None) -> Dataset:
+    """``episodes`` training climbs (seeds ``first_seed...``; creep curves from :data:`SHAPE_SOURCES`),
+    the configurations in turn."""
     envs = [gym.make(env_id, **c) for c in configs]
     xs, cts, ys, eps = [], [], [], []
     for i in range(episodes):
         k = i % len(configs)
-        x, y = _climb_episode(envs[k], first_seed + i)
+        x, y = _climb_episode(envs[k], first_seed + i, shapes, frequencies_hz)
         xs += [astuple(r) for r in x]
         ys += y
         cts += [bool(envs[k].unwrapped.task.counter_torque)] * len(x)
@@ -131,24 +205,26 @@ def collect(env_id: str, configs: list[dict[str, Any]], episodes: int, first_see
 
 
 def collect_parallel(env_id: str, configs: list[dict[str, Any]], episodes: int, workers: int,
-                     first_seed: int = TRAINING_SEED) -> Dataset:
+                     first_seed: int = TRAINING_SEED, shapes: str = "env",
+                     frequencies_hz: tuple[float, float] | None = None) -> Dataset:
     """:func:`collect` split over ``workers`` processes (the same episodes, in the same order)."""
     if workers <= 1:
-        return collect(env_id, configs, episodes, first_seed)
+        return collect(env_id, configs, episodes, first_seed, shapes, frequencies_hz)
     n_configs = len(configs)
     chunk = math.ceil(episodes / workers / n_configs) * n_configs  # keeps the configuration rotation aligned
     starts = list(range(0, episodes, chunk))
     with ProcessPoolExecutor(workers) as pool:
         parts = list(pool.map(collect, [env_id] * len(starts), [configs] * len(starts),
-                              [min(chunk, episodes - s) for s in starts], [first_seed + s for s in starts]))
+                              [min(chunk, episodes - s) for s in starts], [first_seed + s for s in starts],
+                              [shapes] * len(starts), [frequencies_hz] * len(starts)))
     return Dataset.concatenate(parts)
 
 
 @dataclass(frozen=True)
 class FitSettings:
     hidden: tuple[int, ...] = (64, 64)
-    epochs: int = 150
-    batch_size: int = 256
+    epochs: int = 80
+    batch_size: int = 512
     learning_rate: float = 2e-3
     weight_decay: float = 1e-5
 
