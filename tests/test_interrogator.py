@@ -240,3 +240,15 @@ def test_procedural_shapes_are_valid_creep_laws_with_their_peak_where_drawn():
         assert lo <= creepage[shape.peak_index] <= hi
         assert np.all(ratio[shape.peak_index:] <= 1.0) and np.all(ratio >= 0.0)
         assert spec == procedural_shape(np.random.default_rng([seed, 11]))
+
+
+def test_climb_step_is_the_cautious_gap_capped_near_and_far_from_the_peak():
+    near = ClimbParameters(target_headroom=0.05, max_log_step=0.15)
+    assert near.log_step(0.12) == pytest.approx(0.07, rel=1e-12)  # the gap itself, below the cap
+    assert near.log_step(3.0) == 0.15  # capped
+    assert near.log_step(0.01) < 0.0  # past the target: the climb stops (smaller than min_log_step)
+    far = ClimbParameters(target_headroom=0.05, max_log_step=0.15, approach_fraction=0.5)
+    assert far.log_step(3.05) == pytest.approx(1.5, rel=1e-12)  # half the gap far from the peak
+    assert far.log_step(0.3) == 0.15 and far.log_step(0.12) == pytest.approx(0.07, rel=1e-12)
+    with pytest.raises(ValueError, match="approach_fraction"):
+        ClimbParameters(approach_fraction=1.0)

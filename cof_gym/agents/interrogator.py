@@ -28,7 +28,8 @@ operating point nears the peak; the filter learns how far the peak still is from
 fallen, across the shapes it was trained on.
 
 **The climb.** From the shared safe first step (below the lowest saturation torque in range), each
-window moves the DC torque to ``DC x exp(min(h - target_headroom, max_log_step))`` with the cautious
+window moves the DC torque to ``DC x exp(min(h - target_headroom, max_log_step))`` (or, far from the
+peak, up to ``approach_fraction`` of the gap ``h - target_headroom``) with the cautious
 headroom ``h = mean - caution x std`` (the ensemble's spread and each member's predicted variance
 combined), the modulation a fixed fraction of the DC. It stops (and reports ``CoA x exp(correction)``)
 when the next step would be smaller than ``min_log_step``, when the CoA falls although the torque rose
@@ -271,6 +272,7 @@ class ClimbParameters:
     target_headroom: float = 0.05  # ln(M_sat / DC) the climb aims at (0.05: DC at 95 % of M_sat)
     caution: float = 1.0  # standard deviations taken off the predicted headroom
     max_log_step: float = 0.4
+    approach_fraction: float = 0.0  # far from the peak a step may close this fraction of the cautious gap
     min_log_step: float = 0.02
     estimate_from: str = "filter"  # "filter": CoA x exp(predicted correction); "best_coa": best CoA x factor
     best_coa_factor: float = 1.0
@@ -283,6 +285,14 @@ class ClimbParameters:
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+        if not (isinstance(self.approach_fraction, (int, float)) and 0.0 <= self.approach_fraction < 1.0):
+            raise ValueError(f"approach_fraction must be in [0, 1), got {self.approach_fraction!r}")
+
+    def log_step(self, cautious_headroom: float) -> float:
+        """The next DC step in log units: the cautious gap to the target, at most ``max_log_step`` or,
+        when larger, ``approach_fraction`` of that gap (big steps far from the peak, small ones near it)."""
+        gap = cautious_headroom - self.target_headroom
+        return min(gap, max(self.max_log_step, self.approach_fraction * gap))
 
     def amplitude(self, dc_nm: float, limits: MotorLimits) -> float:
         """The modulation amplitude (N m) at DC torque ``dc_nm``, within the drive's range."""
@@ -352,7 +362,7 @@ class LearnedInterrogator:
                 self._best_coa = max(self._best_coa, reading.coa)
                 self.filter_estimate = reading.coa * math.exp(float(mean[0, 1]))
                 self._estimate = self.candidate_estimates(p.best_coa_factor)[p.estimate_from]
-            step = min(headroom - p.target_headroom, p.max_log_step)
+            step = p.log_step(headroom)
             at_limit = self._dc >= self.limits.max_dc_torque_nm
             last = self._driven >= self.max_windows - 1
             stop = falling or at_limit or last or step < p.min_log_step
