@@ -7,6 +7,9 @@
 - ``suites/v2_validation_grid.json``: v2 model selection: the v2 env draws each episode's creep-law
   shape and systematic sensor errors from its own distribution (the families and ranges agents may be
   tuned to).
+- ``suites/v2_validation_procedural_grid.json``: v2 model selection beside the v2 validation grid:
+  procedural creep curves beyond every family (not the held-out shapes), so that a selection also
+  asks for robustness to curves an agent was not given.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -96,13 +99,34 @@ def v2_heldout_grid(fractions=(0.21, 0.74), speeds=(9.0, 26.0), first_seed: int 
             "episodes": episodes}
 
 
+def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.0, 36.0),
+                                  first_seed: int = 65_000) -> dict:
+    """Procedural creep curves (:func:`cof_gym.agents.interrogator_training.procedural_shape`, tables
+    beyond every family, none of :data:`HELDOUT_SHAPES`) x conditions x CoF x speed x both loads; the
+    env draws the systematic sensor errors. Model selection only: it asks a climb to survive creep
+    curves it was not trained on, as the held-out grid will, without using the held-out shapes."""
+    from cof_gym.agents.interrogator_training import procedural_shape
+
+    episodes = []
+    combos = itertools.product(DEFAULT_CONDITIONS, fractions, speeds, ("empty", "laden"))
+    for k, (condition, fraction, speed, load_case) in enumerate(combos):
+        lo, hi = COF_BY_CONDITION[condition]
+        options = {"condition": condition, "cof": round(lo + fraction * (hi - lo), 4), "speed_m_s": speed,
+                   "load_case": load_case, "noise_level": 1.0, "motor_lag_s": 0.02,
+                   "creep_law": procedural_shape(np.random.default_rng([first_seed + k, 13]))}
+        episodes.append({"seed": first_seed + k, "options": options})
+    return {"env_id": cof_gym.WAGON_ENV_ID, "env_kwargs": {},
+            "description": "v2 model selection only (never reported): procedural creep curves beyond every family",
+            "episodes": episodes}
+
+
 def main() -> None:
     out = Path(__file__).resolve().parent / "suites"
     grids = {name: grid(*spec) for name, spec in GRIDS.items()}
     grids.update(v2_validation_grid=grid((0.11, 0.37, 0.63, 0.89), (7.0, 19.0, 33.0), 60_000,
                                          "v2 model selection only (never reported): shapes and sensor errors "
                                          "from the v2 draws", env_id=cof_gym.WAGON_ENV_ID),
-                 v2_heldout_grid=v2_heldout_grid())
+                 v2_heldout_grid=v2_heldout_grid(), v2_validation_procedural_grid=v2_validation_procedural_grid())
     for name, spec in grids.items():
         path = out / f"{name}.json"
         path.write_text(json.dumps(spec, indent=1) + "\n")

@@ -12,8 +12,10 @@
    initialisation), OUT/seed_K/; the ensemble of all seeds in OUT/ensemble/.
 3. **Selection, validation only**: the climb's parameters (modulation ratio, target headroom,
    caution, largest step near and far from the peak: GRID; a 15 Hz modulation and ratios of 0.05 and
-   0.1 lost in earlier selections) on experiments/suites/v2_validation_grid.json, played in both
-   vehicle configurations (144 episodes), with the ensemble. Ranking: fewest macro-slips, then P90, then median relative error.
+   0.1 lost in earlier selections) on experiments/suites/v2_validation_grid.json (the v2 draws), played
+   in both vehicle configurations (144 episodes), with the ensemble. ``--procedural-validation`` adds
+   experiments/suites/v2_validation_procedural_grid.json (procedural creep curves beyond every family,
+   none of the held-out shapes; 108 more episodes): a robustness diagnostic, not the recipe (README). Ranking: fewest macro-slips, then P90, then median relative error.
    Written to every OUT/*/manifest.json.
 4. **Report** (nothing is chosen here): every seed and the ensemble on the default suite (60 episodes)
    and on experiments/suites/v2_heldout_grid.json; per seed median / P90 / macro-slips, and over
@@ -61,7 +63,9 @@ COLLECTIONS = {
     "high_frequency": ("climbs_high_frequency.npz", TRAINING_SEED + 200_000, "env", (8.0, 20.0)),
 }
 EPISODES = {"env": 8000}  # the shipped recipe (procedural and high_frequency lost on validation: README)
-VALIDATION = HERE / "suites" / "v2_validation_grid.json"
+VALIDATION = HERE / "suites" / "v2_validation_grid.json"  # the v2 draws (families, sensor errors)
+# procedural creep curves beyond every family (--procedural-validation): a robustness diagnostic (README)
+PROCEDURAL_VALIDATION = HERE / "suites" / "v2_validation_procedural_grid.json"
 HELDOUT = HERE / "suites" / "v2_heldout_grid.json"
 GRID = [{"amplitude_ratio": a, "target_headroom": h, "caution": c, "max_log_step": m, "approach_fraction": f}
         for a, h, c, m, f in itertools.product((0.2,), (0.04, 0.07, 0.1), (1.5, 2.0, 3.0), (0.15, 0.4), (0.0, 0.5))]
@@ -138,14 +142,17 @@ def score(results: list[tuple[float, bool]]) -> dict:
             "macro_slips": int(sum(s for _, s in results)), "episodes": len(results)}
 
 
-def select_climb(ensemble_dir: Path, workers: int) -> tuple[dict, list[dict]]:
-    jobs = [(str(ensemble_dir), g, str(VALIDATION), c) for g in GRID for c in CONFIGS]
+def select_climb(ensemble_dir: Path, workers: int, grids: list[Path]) -> tuple[dict, list[dict]]:
+    """The climb of GRID x ESTIMATES with the fewest macro-slips, then the lowest P90, then median, over
+    the validation ``grids`` in both vehicle configurations (episodes pooled), and the whole table."""
+    per_climb = len(grids) * len(CONFIGS)
+    jobs = [(str(ensemble_dir), g, str(v), c) for g in GRID for v in grids for c in CONFIGS]
     with ProcessPoolExecutor(workers) as pool:
         results = list(pool.map(play, *zip(*jobs)))
     table = []
     for k, g in enumerate(GRID):
         for j, e in enumerate(ESTIMATES):
-            pooled = results[2 * k][j] + results[2 * k + 1][j]
+            pooled = [r for run in results[per_climb * k: per_climb * (k + 1)] for r in run[j]]
             table.append({**g, **e, **score(pooled)})
     table.sort(key=lambda r: (r["macro_slips"], r["p90"], r["median"]))
     return {k: table[0][k] for k in (*GRID[0], *ESTIMATES[0])}, table
@@ -194,6 +201,8 @@ def main() -> None:
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--epochs", type=int, default=FitSettings.epochs)
     ap.add_argument("--ship", action="store_true")
+    ap.add_argument("--procedural-validation", action="store_true",
+                    help="select on suites/v2_validation_procedural_grid.json too (a robustness diagnostic)")
     ap.add_argument("--reuse", action="store_true", help="keep OUT/seed_K networks that exist (selection and report only)")
     args = ap.parse_args()
     out = args.out
@@ -226,7 +235,8 @@ def main() -> None:
         if int(stale.stem.split("_")[1]) not in args.seeds:
             stale.unlink()
     t = time.time()
-    chosen, table = select_climb(ensemble_dir, args.workers)
+    grids = [VALIDATION, PROCEDURAL_VALIDATION] if args.procedural_validation else [VALIDATION]
+    chosen, table = select_climb(ensemble_dir, args.workers, grids)
     print(f"climb selected on validation in {time.time() - t:.0f} s: {chosen}", flush=True)
     manifest = {"climb": {**asdict(ClimbParameters()), **chosen},
                 "trained_on": {"env_id": ENV_ID, "configs": CONFIGS},
@@ -238,8 +248,8 @@ def main() -> None:
     text = ["# Learned interrogator: seeds, selection and report", "",
             f"Command: `python experiments/train_interrogator.py {' '.join(sys.argv[1:])}` ({time.time() - t0:.0f} s on "
             f"this machine{'; networks reused, not fitted' if args.reuse else ''}).", "",
-            "## Climb selection (experiments/suites/v2_validation_grid.json, both vehicle configurations; "
-            "ranked by macro-slips, P90, median; the best 10 of the grid)", "",
+            f"## Climb selection ({' and '.join(str(g.relative_to(HERE.parent)) for g in grids)}, "
+            "both vehicle configurations; ranked by macro-slips, P90, median; the best 10 of the grid)", "",
             "| amplitude ratio | target headroom | caution | max log step | approach fraction | estimate | median | "
             "P90 | macro-slips |", "|---|---|---|---|---|---|---|---|---|"]
     text += [f"| {r['amplitude_ratio']} | {r['target_headroom']} | {r['caution']} | {r['max_log_step']} | "
