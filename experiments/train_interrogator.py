@@ -15,8 +15,9 @@
    0.1 lost in earlier selections) on experiments/suites/v2_validation_grid.json (the v2 draws), played
    in both vehicle configurations (144 episodes), with the ensemble. ``--procedural-validation`` adds
    experiments/suites/v2_validation_procedural_grid.json (procedural creep curves beyond every family,
-   none of the held-out shapes; 108 more episodes): a robustness diagnostic, not the recipe (README). Ranking: fewest macro-slips, then P90, then median relative error.
-   Written to every OUT/*/manifest.json.
+   none of the held-out shapes; 108 more episodes): a robustness diagnostic, not the recipe (README).
+   Ranking: fewest macro-slips, then P90, then median relative error. Written to every
+   OUT/*/manifest.json.
 4. **Report** (nothing is chosen here): every seed and the ensemble on the default suite (60 episodes)
    and on experiments/suites/v2_heldout_grid.json; per seed median / P90 / macro-slips, and over
    seeds x scenarios the interquartile mean (IQM) of the relative error with a stratified-bootstrap
@@ -107,7 +108,7 @@ def parse_climbs(parser: argparse.ArgumentParser, items: list[str]) -> dict[str,
 
 
 def split(data: Dataset, every: int = 10) -> tuple[Dataset, Dataset]:
-    """Every ``every``-th episode apart (of each schedule alike), to report the fit's held-out likelihood."""
+    """Every ``every``-th episode apart (of every collection alike), to report the fit's held-out likelihood."""
     held = data.episode % every == every - 1
     return data.subset(~held), data.subset(held)
 

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 
-import gymnasium as gym
 import numpy as np
 import pytest
 
@@ -15,13 +14,7 @@ from cof_gym.agents.registry import make_agent
 from cof_gym.agents.staircase import limits_of
 
 WORST = {"noise_level": 3.0, "motor_lag_s": 0.1}
-
-
-@pytest.fixture(scope="module")
-def env():
-    e = gym.make(cof_gym.WAGON_V1_ENV_ID)
-    yield e
-    e.close()
+ENV_ID = cof_gym.WAGON_V1_ENV_ID  # the wagon of the conftest's env fixture
 
 
 def test_registered_as_a_non_oracle(env) -> None:

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import itertools
 
-import gymnasium as gym
 import numpy as np
 import pytest
 
@@ -19,13 +18,6 @@ from cof_gym.task.interface import OBSERVATION_NAMES, decode_action
 
 CREEPAGE = OBSERVATION_NAMES.index("creepage_measured")
 WORST = {"noise_level": 3.0, "motor_lag_s": 0.1}  # the most sensor noise and motor lag the env accepts
-
-
-@pytest.fixture(scope="module")
-def env():
-    e = gym.make(cof_gym.WAGON_ENV_ID)
-    yield e
-    e.close()
 
 
 def test_registered_without_ground_truth(env) -> None:

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import copy
 
-import gymnasium as gym
 import numpy as np
 import pytest
 
@@ -18,13 +17,6 @@ from cof_gym.commands.evaluate import agent_view, run_episode
 from cof_gym.task.interface import OBSERVATION_NAMES, decode_action
 
 CREEPAGE = OBSERVATION_NAMES.index("creepage_measured")
-
-
-@pytest.fixture(scope="module")
-def env():
-    e = gym.make(cof_gym.WAGON_ENV_ID)
-    yield e
-    e.close()
 
 
 def test_registered_without_ground_truth(env) -> None:

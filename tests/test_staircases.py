@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import itertools
 
-import gymnasium as gym
 import numpy as np
 import pytest
 
@@ -17,13 +16,7 @@ from cof_gym.agents.staircase import (
 from cof_gym.task.interface import decode_action
 
 WORST = {"noise_level": 3.0, "motor_lag_s": 0.1}  # the most sensor noise and motor lag the env accepts
-
-
-@pytest.fixture(scope="module")
-def env():
-    e = gym.make(cof_gym.WAGON_V1_ENV_ID)
-    yield e
-    e.close()
+ENV_ID = cof_gym.WAGON_V1_ENV_ID  # the wagon of the conftest's env fixture
 
 
 @pytest.mark.parametrize("agent_class", [PracticalStaircase, ModelBasedAgent])

@@ -93,18 +93,21 @@ def flexibility_ratio(readings: list["Reading"], k: int) -> float:
     return float(np.clip(math.log((d_s / d_coa) / (chord_s / chord_coa)), -FLEXIBILITY_CLIP, FLEXIBILITY_CLIP))
 
 
+def _tan_clipped(phase_deg: float) -> float:
+    """``tan(phase)`` with the phase clipped to :data:`PHASE_CLIP_DEG` (finite and > 0)."""
+    return math.tan(math.radians(min(max(phase_deg, PHASE_CLIP_DEG[0]), PHASE_CLIP_DEG[1])))
+
+
 def slope_index(phase_deg: float) -> float:
     """``ln cot(phase)``: the log of the creep curve's local slope in units of the wheel's inertial
     impedance (Eq. 3 of the paper for the half wheelset); falls towards -inf as the phase nears 90 deg."""
-    phase = min(max(phase_deg, PHASE_CLIP_DEG[0]), PHASE_CLIP_DEG[1])
-    return math.log(1.0 / math.tan(math.radians(phase)))
+    return math.log(1.0 / _tan_clipped(phase_deg))
 
 
 def slope_from_phase(r: "Reading") -> float:
     """The creep curve's local slope up to a constant of the episode, ``f cot(phase)`` (Hz): Eq. 3 gives
     ``cot(phase) = k r^2 / (I w v)`` for a wheel on a creep curve of slope ``k``."""
-    phase = min(max(r.phase_deg, PHASE_CLIP_DEG[0]), PHASE_CLIP_DEG[1])
-    return r.frequency_hz / math.tan(math.radians(phase))
+    return r.frequency_hz / _tan_clipped(r.phase_deg)
 
 
 def slope_from_compliance(r: "Reading") -> float:

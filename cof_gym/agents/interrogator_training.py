@@ -4,11 +4,12 @@
 systematic sensor errors, CoF, speed, load, noise, motor lag), in every vehicle configuration listed,
 with training seeds that no evaluation uses. Each climb starts at the shared safe first step and
 probes upwards with a modulation ratio log-uniform in 3-40 % and a frequency of 5 Hz or log-uniform in
-3-10 Hz; each log step is the climb's largest step (log-uniform 0.15-0.6) times the local slope
-relative to the first window's (from the phase) to a drawn power (1-3), floored at a drawn 2-15 % of
-the largest step, times a random
-factor: the climb slows as the creep curve flattens, the way a cautious probe does, until a
-macro-slip, the horizon or 1.08 x ``M_sat``. **The DC torques depend on the readings and the climb's
+3-10 Hz (or in a given range); each log step is the climb's largest step (log-uniform 0.15-0.6) times
+the local slope relative to the first window's (from the phase) to a drawn power (1-3), floored at a
+drawn 2-15 % of the largest step, times a random factor: the climb slows as the creep curve
+flattens, the way a cautious probe does, until a macro-slip, the horizon or 1.08 x ``M_sat``. The
+creep curves are the env's own draws or procedural tables beyond every family
+(:func:`procedural_shape`). **The DC torques depend on the readings and the climb's
 own random draws only, never on the truth**: a schedule steered by the saturation torque would leak
 it into the torque-step features (a network then learns the schedule, not the creep curve). The
 labels (``ln(M_sat / DC)``, ``ln(CoF / CoA measured)``) are the episode's ground truth. The readings
@@ -117,8 +118,9 @@ def procedural_shape(rng: np.random.Generator) -> dict[str, Any]:
     """A random creep curve as a ``creep_law`` table spec (domain randomisation beyond the families):
     the rise is a monotone cubic through knots at :data:`PROCEDURAL_KNOTS` whose increments are drawn
     from a Dirichlet distribution (shrinking: a concave rise; with probability 0.4 growing over the
-    first 2-4 knots first: a low initial slope and one inflection, as a third-body layer gives), with a zero slope at the peak half of the time (a smooth maximum) and
-    the interpolant's slope otherwise (a kink); after the peak the curve falls by a drawn 0-40 % with a
+    first 2-4 knots first: a low initial slope and one inflection, as a third-body layer gives), with a
+    zero slope at the peak half of the time (a smooth maximum) and the interpolant's slope otherwise
+    (a kink); after the peak the curve falls by a drawn 0-40 % with a
     drawn decay length (0.2-4 peak creepages), a plateau one time in five."""
     from scipy.interpolate import CubicHermiteSpline, PchipInterpolator
 
