@@ -12,6 +12,8 @@ import numpy as np
 import pytest
 
 import cof_gym
+from cof_gym.commands.suites import make_suite
+from cof_gym.task.scenarios import ScenarioRanges
 from cof_gym.agents import registry
 from cof_gym.agents.interrogator import (
     FEATURE_NAMES, SHIPPED_INTERROGATOR, TARGET_NAMES, ClimbParameters, EpisodeFeatures, FilterEnsemble, FilterNetwork,
@@ -129,6 +131,25 @@ def test_distribution_note_names_untrained_settings():
     assert agent.distribution_note(cof_gym.WAGON_ENV_ID, {"counter_torque": True, "max_windows": 20}) is None
     assert "out of its training distribution" in agent.distribution_note(cof_gym.WAGON_V1_ENV_ID, {})
     assert "traction_balance" in agent.distribution_note(cof_gym.WAGON_ENV_ID, {"traction_balance": False})
+
+
+def test_distribution_note_counts_episodes_beyond_the_training_draws():
+    """The held-out grid (tables, larger sensor errors) lies wholly outside the v2 draws; the paper suite
+    has one CoF below the dry draws; the default suite's seeded draws lie inside."""
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    agent = LearnedInterrogator(env.unwrapped.limits, FilterEnsemble((random_network(),)),
+                                trained_on=(cof_gym.WAGON_ENV_ID, ({}, {"counter_torque": True})))
+    heldout = make_suite("experiments/suites/v2_heldout_grid.json", 60, 0)
+    note = agent.distribution_note(heldout.env_id, heldout.env_kwargs, [o for _, o in heldout.episodes])
+    assert note.startswith(f"interrogator: {len(heldout.episodes)} of {len(heldout.episodes)} episodes")
+    assert "creep_law in 48 (e.g. 'table'" in note and "out of its training distribution" in note
+    paper = make_suite("paper", 5, 0)
+    note = agent.distribution_note(paper.env_id, paper.env_kwargs, [o for _, o in paper.episodes])
+    assert "1 of 5 episodes" in note and "cof in 1 (e.g. 0.1, drawn: 0.15-0.6)" in note
+    default = make_suite("default", 60, 0)
+    assert agent.distribution_note(default.env_id, default.env_kwargs, [o for _, o in default.episodes]) is None
+    ranges = ScenarioRanges(speed_m_s=(10.0, 20.0))
+    assert "ranges" in agent.distribution_note(cof_gym.WAGON_ENV_ID, {"ranges": ranges})
 
 
 def test_bad_directory_is_one_line_and_exit_2(tmp_path):

@@ -15,6 +15,7 @@ import pytest
 
 import cof_gym
 from cof_gym import cli
+from cof_gym.task.scenarios import SCENARIO_KEYS, V2_RANGES, ScenarioRanges, draw_scenario, outside_draws
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 
 TABLE = {"creepage": [0.0, 0.002, 0.005, 0.01, 0.02], "adhesion_ratio": [0.0, 0.5, 0.85, 1.0, 0.9]}
@@ -102,6 +103,26 @@ def test_v2_draws_families_and_errors_v1_draws_neither():
         assert all(gt1[name] == 0.0 for name in SYSTEMATIC_ERRORS)
     assert families == {"polach", "shen_hedrick_elkins"}
     assert max(map(abs, offsets)) > 0.005 and all(math.isfinite(o) for o in offsets)
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_every_v2_draw_lies_inside_the_v2_draws(seed):
+    """outside_draws names nothing for a scenario the v2 draws produced (every field fixed to it)."""
+    drawn = draw_scenario(np.random.default_rng(seed), V2_RANGES, {}).to_dict()
+    assert outside_draws({k: drawn[k] for k in SCENARIO_KEYS}, V2_RANGES) == {}
+
+
+@pytest.mark.parametrize("options, field", [
+    ({"creep_law": {"table": {"creepage": [0.0, 0.01, 0.02], "adhesion_ratio": [0.0, 1.0, 0.8]}}}, "creep_law"),
+    ({"force_gain_error": 0.03}, "force_gain_error"),
+    ({"condition": "dry", "cof": 0.1}, "cof"),
+    ({"condition": "dry_kalker"}, "condition"),
+    ({"creep_law": {"polach": {"k_adhesion": 5.0, "k_slip": 0.5, "friction_ratio": 0.4,
+                               "friction_decay_s_per_m": 0.5}}}, "creep_law"),
+])
+def test_options_beyond_the_draws_are_named_by_field(options, field):
+    assert list(outside_draws(options, V2_RANGES)) == [field]
+    assert field in outside_draws(options, ScenarioRanges())  # v1 draws no creep law, no sensor error
 
 
 def test_the_three_forms_run_through_a_suite_file(tmp_path: Path, monkeypatch):

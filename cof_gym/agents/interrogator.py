@@ -45,10 +45,11 @@ import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Iterable, Mapping
 
 import numpy as np
 
+from cof_gym.agents.base import outside_training_note, registered_ranges
 from cof_gym.agents.phase_rule import probe_amplitude
 from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES, SPEED_SCALE_M_S, MotorLimits, encode_action
@@ -323,9 +324,12 @@ class LearnedInterrogator:
     _best_coa: float = 0.0
     _driven: int = 0
 
-    def distribution_note(self, env_id: str, env_kwargs: dict[str, Any]) -> str | None:
-        """A line naming where an evaluation env lies outside the training distribution (another env id,
-        or a vehicle configuration it was not trained on), None when it does not."""
+    def distribution_note(self, env_id: str, env_kwargs: dict[str, Any],
+                          episodes: Iterable[Mapping[str, Any]] = ()) -> str | None:
+        """A line naming where an evaluation lies outside the training distribution (another env id, a
+        vehicle configuration it was not trained on, other scenario draws, or episodes whose fixed
+        options none of its training draws give: :func:`~cof_gym.task.scenarios.outside_draws`), None
+        when it does not."""
         if self.trained_on is None:
             return None
         trained_id, configs = self.trained_on
@@ -335,7 +339,10 @@ class LearnedInterrogator:
         if not any(world == {k: v for k, v in c.items() if k in WORLD_KWARGS} for c in configs):
             return (f"{self.name}: vehicle configuration {world or 'default'} is none of those it was trained on "
                     f"({[c or 'default' for c in configs]}): out of its training distribution")
-        return None
+        trained = registered_ranges(trained_id)
+        if registered_ranges(env_id, env_kwargs) != trained:
+            return f"{self.name}: the suite's scenario draws (ranges) are not its training draws: out of its training distribution"
+        return outside_training_note(self.name, trained, episodes)
 
     def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
         self.features = EpisodeFeatures(self.counter_torque)

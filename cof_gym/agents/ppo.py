@@ -11,11 +11,12 @@ from __future__ import annotations
 import json
 import re
 from pathlib import Path
-from typing import Any
+from typing import Any, Iterable, Mapping
 
 import numpy as np
 
 import cof_gym
+from cof_gym.agents.base import outside_training_note, registered_ranges
 
 DEFAULT_ENV_ID = cof_gym.WAGON_V1_ENV_ID  # the shipped policy was trained on v1
 MODEL_NAMES = ("model.zip", "best_model.zip")  # looked for, in this order, when given a directory
@@ -179,9 +180,11 @@ class PPOAgent:
     trained_on: tuple[str, dict[str, Any]] | None = None  # (env id, env kwargs) of its training run
     INTERFACE_KWARGS = ("action_type", "observation_type", "shaping")  # applied agent-side, not the world
 
-    def distribution_note(self, env_id: str, env_kwargs: dict[str, Any]) -> str | None:
-        """A line saying where an evaluation env lies outside the policy's training distribution (its
-        training env id and world-changing kwargs, e.g. ``counter_torque``), None when it does not."""
+    def distribution_note(self, env_id: str, env_kwargs: dict[str, Any],
+                          episodes: Iterable[Mapping[str, Any]] = ()) -> str | None:
+        """A line saying where an evaluation lies outside the policy's training distribution (its
+        training env id and world-changing kwargs, e.g. ``counter_torque``, or episodes whose fixed
+        options its training draws never give), None when it does not."""
         if self.trained_on is None:
             return None
         trained_id, trained_kwargs = self.trained_on
@@ -191,7 +194,7 @@ class PPOAgent:
         if env_id != trained_id:
             differs.insert(0, f"env {env_id} (trained: {trained_id})")
         if not differs:
-            return None
+            return outside_training_note(self.name, registered_ranges(trained_id, world(trained_kwargs)), episodes)
         return f"{self.name} is out of its training distribution here: " + ", ".join(differs)
     _pending: np.ndarray | None = None
 

@@ -445,7 +445,7 @@ def distribution_notes(agents, suite: Suite) -> list[str]:
     notes = []
     for agent, _ in agents:
         note = getattr(agent, "distribution_note", None)
-        line = note(suite.env_id, dict(suite.env_kwargs)) if callable(note) else None
+        line = note(suite.env_id, dict(suite.env_kwargs), [o for _, o in suite.episodes]) if callable(note) else None
         if line:
             notes.append(line)
     return notes

@@ -226,6 +226,45 @@ def _draw_v2(rng: np.random.Generator, ranges: ScenarioRanges, condition: str) -
     return out
 
 
+def outside_draws(options: Mapping[str, Any], ranges: ScenarioRanges) -> dict[str, str]:
+    """Where an episode's fixed ``options`` (validated as :func:`check_fixed` does) lie outside what
+    ``ranges`` draws: field -> what it is and what is drawn (``{}``: a scenario the draws could have
+    produced). A learned agent trained on ``ranges`` is out of its training distribution there."""
+    fixed = check_fixed(options, ranges.load_cases)
+    out: dict[str, str] = {}
+    condition = fixed.get("condition")
+    if condition is not None and condition not in ranges.conditions:
+        out["condition"] = f"{condition!r}, drawn: {', '.join(ranges.conditions)}"
+    conditions = (condition,) if condition in ranges.cof else ranges.conditions
+    intervals = {"cof": (min(ranges.cof[c][0] for c in conditions), max(ranges.cof[c][1] for c in conditions)),
+                 "speed_m_s": ranges.speed_m_s, "noise_level": ranges.noise_level, "motor_lag_s": ranges.motor_lag_s}
+    for name, (lo, hi) in intervals.items():
+        if name in fixed and not lo <= fixed[name] <= hi:
+            out[name] = f"{fixed[name]:g}, drawn: {lo:g}-{hi:g}"
+    if "load_case" in fixed and fixed["load_case"] not in ranges.load_cases:
+        out["load_case"] = f"{fixed['load_case']!r}, drawn: {', '.join(ranges.load_cases)}"
+    if "creep_law" in fixed and (why := _creep_law_outside(fixed["creep_law"], ranges, conditions)):
+        out["creep_law"] = why
+    for name, err in SYSTEMATIC_ERRORS.items():
+        bound = err.drawn * ranges.sensor_error_scale
+        if abs(fixed.get(name, 0.0)) > bound * (1.0 + 1e-9):
+            out[name] = f"{fixed[name]:+g}, drawn: within +-{bound:g}"
+    return out
+
+
+def _creep_law_outside(shape: CreepShape, ranges: ScenarioRanges, conditions: tuple[str, ...]) -> str | None:
+    """Why a fixed creep-law shape is none the draws give (a family not drawn, or parameters outside
+    its family's ranges for every condition the episode may have), None when the draws include it."""
+    families = ranges.creep_families or ()
+    if shape.family not in families:
+        return f"{shape.family!r}, drawn: {', '.join(families) or 'the condition presets'}"
+    family_ranges = CREEP_RANGES[shape.family]
+    if any(all(lo <= getattr(shape, name) <= hi for name, (lo, hi) in family_ranges[c].items())
+           for c in conditions if c in family_ranges):
+        return None
+    return f"{shape.family} parameters beyond the drawn ranges"
+
+
 V2_RANGES = ScenarioRanges(creep_families=tuple(CREEP_RANGES), sensor_error_scale=1.0)
 """The v2 task's draws: every family with documented ranges, systematic sensor errors."""
 
