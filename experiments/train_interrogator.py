@@ -6,20 +6,23 @@
    (cof_gym/agents/interrogator_training.py): probing climbs steered by their own readings, never by
    the truth, from the collections of COLLECTIONS (``--climbs NAME=N``; the recipe: ``env=8000``): on
    the env's creep-law draws (seeds from 1 000 000 on), on procedural creep curves, tables beyond every
-   family (from 1 100 000 on), and on the env's draws with 8-20 Hz modulations (from 1 200 000 on); far
-   from every evaluation seed; cached in OUT/climbs*.npz.
+   family (from 1 100 000 on), on the env's draws with 8-20 Hz modulations (from 1 200 000 on) and with
+   modulation ratios of 10-80 % instead of 3-40 % (from 1 300 000 on); far from every evaluation seed;
+   cached in OUT/climbs*.npz.
 2. **Seeds**: one filter network per seed (bootstrap resample of the training episodes, its own
    initialisation), OUT/seed_K/; the ensemble of all seeds in OUT/ensemble/.
 3. **Selection, validation only**: the climb's parameters (modulation ratio, target headroom,
-   caution, largest step near and far from the peak: GRID; a 15 Hz modulation and ratios of 0.05 and
-   0.1 lost in earlier selections) on experiments/suites/v2_validation_grid.json (the v2 draws), played
+   caution, a slow probe while the headroom is uncertain: GRID; a 15 Hz modulation, ratios of 0.05-0.2
+   and 0.6, cautions of 1.25 and 3, a largest step of 0.4 and larger steps far from the peak lost in
+   earlier selections) on experiments/suites/v2_validation_grid.json (the v2 draws), played
    in both vehicle configurations (144 episodes), with the ensemble. ``--procedural-validation`` adds
    experiments/suites/v2_validation_procedural_grid.json (procedural creep curves beyond every family,
    none of the held-out shapes; 108 more episodes): a robustness diagnostic, not the recipe (README).
    Ranking: fewest macro-slips, then P90, then median relative error. Written to every
    OUT/*/manifest.json.
-4. **Report** (nothing is chosen here): every seed and the ensemble on the default suite (60 episodes)
-   and on experiments/suites/v2_heldout_grid.json; per seed median / P90 / macro-slips, and over
+4. **Report** (nothing is chosen here): every seed and the ensemble on the default suite (60 episodes),
+   on experiments/suites/v2_heldout_grid.json and, as a robustness diagnostic, on the procedural
+   validation grid (traction balance); per seed median / P90 / macro-slips, and over
    seeds x scenarios the interquartile mean (IQM) of the relative error with a stratified-bootstrap
    95 % CI (runs resampled within each scenario; Agarwal et al. 2021). OUT/report.md, OUT/report.json.
 5. ``--ship`` copies OUT/ensemble into cof_gym/agents/policies/interrogator (the ``interrogator`` agent).
@@ -45,7 +48,7 @@ from cof_gym.agents.interrogator import (
     SHIPPED_INTERROGATOR, ClimbParameters, FilterEnsemble, FilterNetwork, interrogator_for,
 )
 from cof_gym.agents.interrogator_training import (
-    TRAINING_SEED, Dataset, FitSettings, collect_parallel, fit_member, nll,
+    TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel, fit_member, nll,
 )
 from cof_gym.commands.evaluate import run_episode
 from cof_gym.commands.suites import make_suite
@@ -56,20 +59,22 @@ from ppo_seeds import iqm, stratified_bootstrap_ci  # noqa: E402
 
 ENV_ID = cof_gym.WAGON_ENV_ID
 CONFIGS = [{}, {"counter_torque": True}]  # the two vehicle configurations trained on
-# the training climbs: name -> (cache file in OUT, first seed, creep curves (interrogator_training.SHAPE_SOURCES),
-# modulation frequencies in Hz (None: 5 Hz or log-uniform 3-10 Hz)), and how many of each the recipe uses
+# the training climbs: name -> (cache file in OUT, first seed, what the climbs draw beyond the env's own
+# randomisation (interrogator_training.ClimbDraws)), and how many of each the recipe uses
 COLLECTIONS = {
-    "env": ("climbs.npz", TRAINING_SEED, "env", None),
-    "procedural": ("climbs_procedural.npz", TRAINING_SEED + 100_000, "procedural", None),
-    "high_frequency": ("climbs_high_frequency.npz", TRAINING_SEED + 200_000, "env", (8.0, 20.0)),
+    "env": ("climbs.npz", TRAINING_SEED, ClimbDraws()),
+    "procedural": ("climbs_procedural.npz", TRAINING_SEED + 100_000, ClimbDraws(shapes="procedural")),
+    "high_frequency": ("climbs_high_frequency.npz", TRAINING_SEED + 200_000, ClimbDraws(frequencies_hz=(8.0, 20.0))),
+    "wide_probe": ("climbs_wide_probe.npz", TRAINING_SEED + 300_000, ClimbDraws(amplitude_ratios=(0.1, 0.8))),
 }
 EPISODES = {"env": 8000}  # the shipped recipe (procedural and high_frequency lost on validation: README)
 VALIDATION = HERE / "suites" / "v2_validation_grid.json"  # the v2 draws (families, sensor errors)
 # procedural creep curves beyond every family (--procedural-validation): a robustness diagnostic (README)
 PROCEDURAL_VALIDATION = HERE / "suites" / "v2_validation_procedural_grid.json"
 HELDOUT = HERE / "suites" / "v2_heldout_grid.json"
-GRID = [{"amplitude_ratio": a, "target_headroom": h, "caution": c, "max_log_step": m, "approach_fraction": f}
-        for a, h, c, m, f in itertools.product((0.2,), (0.04, 0.07, 0.1), (1.5, 2.0, 3.0), (0.15, 0.4), (0.0, 0.5))]
+GRID = [{"amplitude_ratio": a, "target_headroom": h, "caution": c, "max_log_step": 0.15, "creep_log_step": k,
+         "creep_while_std": w}
+        for a, h, c, (k, w) in itertools.product((0.3, 0.4), (0.04, 0.07), (1.5, 2.0), ((0.0, 0.1), (0.03, 0.08), (0.03, 0.12)))]
 # what is reported does not change the climb, so every estimate source is scored on the same episodes
 ESTIMATES = [{"estimate_from": "filter", "best_coa_factor": 1.0}] + [
     {"estimate_from": "best_coa", "best_coa_factor": f} for f in (1.0, 1.02, 1.05)]
@@ -78,7 +83,7 @@ ESTIMATES = [{"estimate_from": "filter", "best_coa_factor": 1.0}] + [
 def load_or_collect(out: Path, name: str, episodes: int, workers: int) -> Dataset:
     """``episodes`` training climbs of collection ``name`` (:data:`COLLECTIONS`), from OUT's cache when it
     holds them."""
-    file, first_seed, shapes, frequencies = COLLECTIONS[name]
+    file, first_seed, draws = COLLECTIONS[name]
     path = out / file
     if path.is_file():
         try:
@@ -88,7 +93,7 @@ def load_or_collect(out: Path, name: str, episodes: int, workers: int) -> Datase
         if data is not None and int(data.episode.max()) + 1 >= episodes:
             return data.subset(data.episode < episodes)
     t0 = time.time()
-    data = collect_parallel(ENV_ID, CONFIGS, episodes, workers, first_seed, shapes, frequencies)
+    data = collect_parallel(ENV_ID, CONFIGS, episodes, workers, first_seed, draws)
     data.save(path)
     print(f"collected {episodes} {name} climbs ({len(data)} windows) in {time.time() - t0:.0f} s", flush=True)
     return data
@@ -160,8 +165,10 @@ def select_climb(ensemble_dir: Path, workers: int, grids: list[Path]) -> tuple[d
 
 
 def report_runs(runs: list[Path], workers: int) -> dict:
-    """Every run (seed or ensemble) on the default suite and the held-out grid, per episode."""
-    suites = [{"name": "default", "path": "default"}, {"name": "v2 held-out grid", "path": str(HELDOUT)}]
+    """Every run (seed or ensemble) on the default suite, the held-out grid and the procedural validation
+    grid (a robustness diagnostic: nothing is chosen on it), per episode."""
+    suites = [{"name": "default", "path": "default"}, {"name": "v2 held-out grid", "path": str(HELDOUT)},
+              {"name": "procedural validation grid (a robustness diagnostic)", "path": str(PROCEDURAL_VALIDATION)}]
     report = {}
     for s in suites:
         suite = make_suite(s["path"], 60, 0)
@@ -251,10 +258,9 @@ def main() -> None:
             f"this machine{'; networks reused, not fitted' if args.reuse else ''}).", "",
             f"## Climb selection ({' and '.join(str(g.relative_to(HERE.parent)) for g in grids)}, "
             "both vehicle configurations; ranked by macro-slips, P90, median; the best 10 of the grid)", "",
-            "| amplitude ratio | target headroom | caution | max log step | approach fraction | estimate | median | "
-            "P90 | macro-slips |", "|---|---|---|---|---|---|---|---|---|"]
-    text += [f"| {r['amplitude_ratio']} | {r['target_headroom']} | {r['caution']} | {r['max_log_step']} | "
-             f"{r['approach_fraction']} | "
+            "| " + " | ".join(k.replace("_", " ") for k in GRID[0]) + " | estimate | median | P90 | macro-slips |",
+            "|---" * (len(GRID[0]) + 4) + "|"]
+    text += ["| " + " | ".join(str(r[k]) for k in GRID[0]) + " | "
              f"{r['estimate_from'] if r['estimate_from'] == 'filter' else 'best CoA x %g' % r['best_coa_factor']} | "
              f"{100 * r['median']:.1f} % | {100 * r['p90']:.1f} % | {r['macro_slips']} |" for r in table[:10]]
     text += ["", "## Report (nothing chosen here)", "", markdown(report, [f"seed_{s}" for s in args.seeds])]

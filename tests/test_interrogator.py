@@ -273,3 +273,17 @@ def test_climb_step_is_the_cautious_gap_capped_near_and_far_from_the_peak():
     assert far.log_step(0.3) == 0.15 and far.log_step(0.12) == pytest.approx(0.07, rel=1e-12)
     with pytest.raises(ValueError, match="approach_fraction"):
         ClimbParameters(approach_fraction=1.0)
+
+
+def test_an_uncertain_headroom_creeps_instead_of_stopping():
+    """Where the cautious gap is closed, the climb stops only once the predicted headroom is certain
+    (std at most creep_while_std); before that it creeps by creep_log_step. Off by default."""
+    creeping = ClimbParameters(target_headroom=0.05, max_log_step=0.15, creep_log_step=0.03, creep_while_std=0.08)
+    assert creeping.log_step(0.06, headroom_std=0.2) == 0.03  # gap 0.01 < min_log_step, uncertain: creep
+    assert creeping.log_step(0.06, headroom_std=0.05) == pytest.approx(0.01, rel=1e-12)  # certain: stop
+    assert creeping.log_step(0.12, headroom_std=0.2) == pytest.approx(0.07, rel=1e-12)  # open gap: unchanged
+    assert ClimbParameters(target_headroom=0.05).log_step(0.06, headroom_std=0.2) == pytest.approx(0.01, rel=1e-12)
+    with pytest.raises(ValueError, match="creep_log_step"):
+        ClimbParameters(max_log_step=0.15, creep_log_step=0.2)
+    with pytest.raises(ValueError, match="creep_while_std"):
+        ClimbParameters(creep_while_std=0.0)

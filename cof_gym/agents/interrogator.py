@@ -31,9 +31,12 @@ fallen, across the shapes it was trained on.
 window moves the DC torque to ``DC x exp(min(h - target_headroom, max_log_step))`` (or, far from the
 peak, up to ``approach_fraction`` of the gap ``h - target_headroom``) with the cautious
 headroom ``h = mean - caution x std`` (the ensemble's spread and each member's predicted variance
-combined), the modulation a fixed fraction of the DC. It stops (and reports ``CoA x exp(correction)``)
-when the next step would be smaller than ``min_log_step``, when the CoA falls although the torque rose
-(past the peak), at the drive's limit, or one window before the horizon. The estimate is either the
+combined), the modulation a fixed fraction of the DC. Where that gap is closed while the predicted
+headroom is still uncertain (its std above ``creep_while_std``), it creeps by ``creep_log_step``: a
+stop there would report a poorly known estimate, and a slow probe buys the readings that settle it.
+It stops (and reports ``CoA x exp(correction)``) when the next step would be smaller than
+``min_log_step``, when the CoA falls although the torque rose (past the peak), at the drive's limit,
+or one window before the horizon. The estimate is either the
 filter's (the last rising window's CoA times its predicted correction) or the best CoA of the climb
 times a factor, whichever the validation chose. The parameters are chosen on
 validation scenarios only (``experiments/train_interrogator.py``).
@@ -278,6 +281,8 @@ class ClimbParameters:
     max_log_step: float = 0.4
     approach_fraction: float = 0.0  # far from the peak a step may close this fraction of the cautious gap
     min_log_step: float = 0.02
+    creep_log_step: float = 0.0  # > 0: a step this small where the cautious gap is closed but the
+    creep_while_std: float = 0.1  # ... predicted headroom's std still exceeds this (more readings, not a stop)
     estimate_from: str = "filter"  # "filter": CoA x exp(predicted correction); "best_coa": best CoA x factor
     best_coa_factor: float = 1.0
 
@@ -285,18 +290,25 @@ class ClimbParameters:
         if self.estimate_from not in ESTIMATE_SOURCES:
             raise ValueError(f"estimate_from must be one of {ESTIMATE_SOURCES}, got {self.estimate_from!r}")
         for name in ("amplitude_ratio", "min_amplitude_nm", "frequency_hz", "max_log_step", "min_log_step",
-                     "best_coa_factor"):
+                     "best_coa_factor", "creep_while_std"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
         if not (isinstance(self.approach_fraction, (int, float)) and 0.0 <= self.approach_fraction < 1.0):
             raise ValueError(f"approach_fraction must be in [0, 1), got {self.approach_fraction!r}")
+        if not (isinstance(self.creep_log_step, (int, float)) and 0.0 <= self.creep_log_step <= self.max_log_step):
+            raise ValueError(f"creep_log_step must be in [0, max_log_step={self.max_log_step}], got {self.creep_log_step!r}")
 
-    def log_step(self, cautious_headroom: float) -> float:
+    def log_step(self, cautious_headroom: float, headroom_std: float = 0.0) -> float:
         """The next DC step in log units: the cautious gap to the target, at most ``max_log_step`` or,
-        when larger, ``approach_fraction`` of that gap (big steps far from the peak, small ones near it)."""
+        when larger, ``approach_fraction`` of that gap (big steps far from the peak, small ones near it);
+        where that gap is closed but the headroom is still uncertain (std above ``creep_while_std``),
+        ``creep_log_step`` (0: none): a slow probe that gathers readings rather than a stop."""
         gap = cautious_headroom - self.target_headroom
-        return min(gap, max(self.max_log_step, self.approach_fraction * gap))
+        step = min(gap, max(self.max_log_step, self.approach_fraction * gap))
+        if step < self.min_log_step and headroom_std > self.creep_while_std:
+            step = max(step, self.creep_log_step)
+        return step
 
     def amplitude(self, dc_nm: float, limits: MotorLimits) -> float:
         """The modulation amplitude (N m) at DC torque ``dc_nm``, within the drive's range."""
@@ -372,7 +384,7 @@ class LearnedInterrogator:
                 self._best_coa = max(self._best_coa, reading.coa)
                 self.filter_estimate = reading.coa * math.exp(float(mean[0, 1]))
                 self._estimate = self.candidate_estimates(p.best_coa_factor)[p.estimate_from]
-            step = p.log_step(headroom)
+            step = p.log_step(headroom, float(std[0, 0]))
             at_limit = self._dc >= self.limits.max_dc_torque_nm
             last = self._driven >= self.max_windows - 1
             stop = falling or at_limit or last or step < p.min_log_step

@@ -3,11 +3,12 @@
 **Data.** Climbs on the training env's own randomisation (every v2 draw: creep-law family and shape,
 systematic sensor errors, CoF, speed, load, noise, motor lag), in every vehicle configuration listed,
 with training seeds that no evaluation uses. Each climb starts at the shared safe first step and
-probes upwards with a modulation ratio log-uniform in 3-40 % and a frequency of 5 Hz or log-uniform in
-3-10 Hz (or in a given range); each log step is the climb's largest step (log-uniform 0.15-0.6) times
-the local slope relative to the first window's (from the phase) to a drawn power (1-3), floored at a
-drawn 2-15 % of the largest step, times a random factor: the climb slows as the creep curve
-flattens, the way a cautious probe does, until a macro-slip, the horizon or 1.08 x ``M_sat``. The
+probes upwards with a modulation ratio log-uniform in 3-40 % and a frequency of 5 Hz or log-uniform
+in 3-10 Hz (or in given ranges: :class:`ClimbDraws`); each log step is the climb's largest step
+(log-uniform 0.15-0.6) times the local slope relative to the first window's (from the phase) to a
+drawn power (1-3), floored at a drawn 2-15 % of the largest step, times a random factor: the climb
+slows as the creep curve flattens, the way a cautious probe does, until a macro-slip, the horizon or
+1.08 x ``M_sat``. The
 creep curves are the env's own draws or procedural tables beyond every family
 (:func:`procedural_shape`). **The DC torques depend on the readings and the climb's
 own random draws only, never on the truth**: a schedule steered by the saturation torque would leak
@@ -152,24 +153,40 @@ def procedural_shape(rng: np.random.Generator) -> dict[str, Any]:
                       "adhesion_ratio": [float(v) for v in ratio]}}
 
 
-def _climb_episode(env, seed: int, shapes: str = "env",
-                  frequencies_hz: tuple[float, float] | None = None) -> tuple[list[Reading], list[tuple[float, float]]]:
-    """One training climb (module docstring): its readings and their labels. ``frequencies_hz``: the
-    modulation frequency log-uniform in this range (None: 5 Hz or log-uniform in 3-10 Hz)."""
+@dataclass(frozen=True)
+class ClimbDraws:
+    """What a collection's training climbs draw beyond the env's own randomisation: the creep curves
+    (:data:`SHAPE_SOURCES`), the modulation frequency (log-uniform in ``frequencies_hz``; None: 5 Hz or
+    log-uniform in 3-10 Hz, half and half) and the modulation ratio (log-uniform in ``amplitude_ratios``)."""
+
+    shapes: str = "env"
+    frequencies_hz: tuple[float, float] | None = None
+    amplitude_ratios: tuple[float, float] = (0.03, 0.4)
+
+    def __post_init__(self) -> None:
+        if self.shapes not in SHAPE_SOURCES:
+            raise ValueError(f"shapes must be one of {SHAPE_SOURCES}, got {self.shapes!r}")
+        for name in ("frequencies_hz", "amplitude_ratios"):
+            value = getattr(self, name)
+            if value is not None and not (len(value) == 2 and 0.0 < value[0] <= value[1]):
+                raise ValueError(f"{name} must be a (low, high) pair with 0 < low <= high, got {value!r}")
+
+
+def _climb_episode(env, seed: int, draws: ClimbDraws = ClimbDraws()) -> tuple[list[Reading], list[tuple[float, float]]]:
+    """One training climb (module docstring): its readings and their labels."""
     rng = np.random.default_rng([seed, 7])
-    if shapes not in SHAPE_SOURCES:
-        raise ValueError(f"shapes must be one of {SHAPE_SOURCES}, got {shapes!r}")
-    options = {"creep_law": procedural_shape(np.random.default_rng([seed, 11]))} if shapes == "procedural" else None
+    procedural = draws.shapes == "procedural"
+    options = {"creep_law": procedural_shape(np.random.default_rng([seed, 11]))} if procedural else None
     obs, info = env.reset(seed=seed, options=options)
     base = env.unwrapped
     limits = base.limits
     truth = info["ground_truth"]
     m_sat, cof = truth["saturation_torque_nm"], truth["cof"]
-    amplitude_ratio = float(math.exp(rng.uniform(math.log(0.03), math.log(0.4))))
-    if frequencies_hz is None:
+    amplitude_ratio = float(math.exp(rng.uniform(*np.log(draws.amplitude_ratios))))
+    if draws.frequencies_hz is None:
         frequency = 5.0 if rng.random() < 0.5 else float(math.exp(rng.uniform(math.log(3), math.log(10))))
     else:
-        frequency = float(math.exp(rng.uniform(*np.log(frequencies_hz))))
+        frequency = float(math.exp(rng.uniform(*np.log(draws.frequencies_hz))))
     p = ClimbParameters(amplitude_ratio=amplitude_ratio, frequency_hz=frequency)
     sigma = float(math.exp(rng.uniform(*np.log(PROBING_SIGMA))))
     power, floor = float(rng.uniform(*PROBING_POWER)), float(rng.uniform(*PROBING_FLOOR))
@@ -188,14 +205,13 @@ def _climb_episode(env, seed: int, shapes: str = "env",
 
 
 def collect(env_id: str, configs: list[dict[str, Any]], episodes: int, first_seed: int = TRAINING_SEED,
-            shapes: str = "env", frequencies_hz: tuple[float, float] | None = None) -> Dataset:
-    """``episodes`` training climbs (seeds ``first_seed...``; creep curves from :data:`SHAPE_SOURCES`),
-    the configurations in turn."""
+            draws: ClimbDraws = ClimbDraws()) -> Dataset:
+    """``episodes`` training climbs (seeds ``first_seed...``), the configurations in turn."""
     envs = [gym.make(env_id, **c) for c in configs]
     xs, cts, ys, eps = [], [], [], []
     for i in range(episodes):
         k = i % len(configs)
-        x, y = _climb_episode(envs[k], first_seed + i, shapes, frequencies_hz)
+        x, y = _climb_episode(envs[k], first_seed + i, draws)
         xs += [astuple(r) for r in x]
         ys += y
         cts += [bool(envs[k].unwrapped.task.counter_torque)] * len(x)
@@ -207,18 +223,17 @@ def collect(env_id: str, configs: list[dict[str, Any]], episodes: int, first_see
 
 
 def collect_parallel(env_id: str, configs: list[dict[str, Any]], episodes: int, workers: int,
-                     first_seed: int = TRAINING_SEED, shapes: str = "env",
-                     frequencies_hz: tuple[float, float] | None = None) -> Dataset:
+                     first_seed: int = TRAINING_SEED, draws: ClimbDraws = ClimbDraws()) -> Dataset:
     """:func:`collect` split over ``workers`` processes (the same episodes, in the same order)."""
     if workers <= 1:
-        return collect(env_id, configs, episodes, first_seed, shapes, frequencies_hz)
+        return collect(env_id, configs, episodes, first_seed, draws)
     n_configs = len(configs)
     chunk = math.ceil(episodes / workers / n_configs) * n_configs  # keeps the configuration rotation aligned
     starts = list(range(0, episodes, chunk))
     with ProcessPoolExecutor(workers) as pool:
         parts = list(pool.map(collect, [env_id] * len(starts), [configs] * len(starts),
                               [min(chunk, episodes - s) for s in starts], [first_seed + s for s in starts],
-                              [shapes] * len(starts), [frequencies_hz] * len(starts)))
+                              [draws] * len(starts)))
     return Dataset.concatenate(parts)
 
 
