@@ -73,6 +73,13 @@ class Episode:
     done: bool = False
     memory: Memory = field(default_factory=Memory)  # of the sensor-only window observations (best CoA, history)
     observation: np.ndarray | None = None  # the last observation returned
+    _sensed: tuple[WindowMeasurement, WindowMeasurement] | None = None  # (window, what the sensors read of it)
+
+    def sensed(self, m: WindowMeasurement) -> WindowMeasurement:
+        """What the sensors read of window ``m`` (its systematic errors applied once per window)."""
+        if self._sensed is None or self._sensed[0] is not m:
+            self._sensed = (m, self.scenario.sensor_errors.read(m))
+        return self._sensed[1]
 
     @property
     def action_context(self) -> ActionContext:
@@ -232,7 +239,7 @@ class InterrogationTask:
     def observe(self, episode: Episode, m: WindowMeasurement) -> np.ndarray:
         """The observation of a window (called once per window): the window's sensor-only encoding is
         recorded in the episode's memory, and the observation type builds the observation from both."""
-        sensed = episode.scenario.sensor_errors.read(m)  # systematic errors change readings, not physics
+        sensed = episode.sensed(m)  # systematic errors change readings, not physics
         window = encode_observation(sensed, episode.drive, self.scales(episode.built), episode.elapsed_s,
                                     episode.estimate)
         episode.memory.push(window, driven=episode.windows > 0)
@@ -333,7 +340,7 @@ class InterrogationTask:
             info["log_error"] = log_error(episode.estimate, truth.cof)
             info["relative_error"] = relative_error(episode.estimate, truth.cof)
         info["elapsed_s"] = episode.elapsed_s
-        sensed = episode.scenario.sensor_errors.read(m)
+        sensed = episode.sensed(m)
         info["measurement"] = {k: getattr(sensed, k) for k in SENSOR_FIELDS}
         info["measurement"].update(self.signal.measurement_info(sensed, episode.drive))
         info["ground_truth"] = {
