@@ -12,9 +12,10 @@
 2. **Seeds**: one filter network per seed (bootstrap resample of the training episodes, its own
    initialisation), OUT/seed_K/; the ensemble of all seeds in OUT/ensemble/.
 3. **Selection, validation only**: the climb's parameters (modulation ratio, target headroom,
-   caution, largest step, a slow probe while the headroom is uncertain: GRID; a 15 Hz modulation,
-   ratios of 0.05-0.2 and 0.6, cautions of 1.25 and 3, a largest step of 0.4, larger steps far from the
-   peak and a slow probe only above a std of 0.12 lost in earlier selections), played with the ensemble
+   caution, largest step, a slow probe while the headroom is uncertain and whether it stays slow: GRID;
+   a 15 Hz modulation, ratios of 0.05-0.3 and 0.6, cautions of 1.25 and 3, a largest step of 0.4, larger
+   steps far from the peak, a target of 0.04 and a slow probe only above a std of 0.12 lost in earlier
+   selections), played with the ensemble
    in both vehicle configurations on experiments/suites/v2_validation_grid.json (the v2 draws, 144
    episodes) and experiments/suites/v2_validation_procedural_grid.json (procedural creep curves beyond
    every family, none of the held-out shapes; 108 episodes). Ranking: fewest macro-slips on the family
@@ -72,10 +73,10 @@ VALIDATION = HERE / "suites" / "v2_validation_grid.json"  # the v2 draws (famili
 # procedural creep curves beyond every family, none of the held-out shapes: the selection's robustness data
 PROCEDURAL_VALIDATION = HERE / "suites" / "v2_validation_procedural_grid.json"
 HELDOUT = HERE / "suites" / "v2_heldout_grid.json"
-GRID = [{"amplitude_ratio": a, "target_headroom": h, "caution": c, "max_log_step": m, "creep_log_step": k,
-         "creep_while_std": w}
-        for a, h, c, m, (k, w) in itertools.product((0.3, 0.4), (0.07, 0.1), (1.5, 2.0), (0.15, 0.25),
-                                                    ((0.0, 0.1), (0.03, 0.08)))]
+GRID = [{"amplitude_ratio": 0.4, "target_headroom": h, "caution": c, "max_log_step": m, "creep_log_step": k,
+         "creep_while_std": w, "creep_sticky": sticky}
+        for h, c, m, (k, w, sticky) in itertools.product(
+            (0.07, 0.1), (1.5, 2.0), (0.15, 0.25), ((0.0, 0.1, False), (0.03, 0.08, False), (0.03, 0.08, True)))]
 # what is reported does not change the climb, so every estimate source is scored on the same episodes
 ESTIMATES = [{"estimate_from": "filter", "best_coa_factor": 1.0}] + [
     {"estimate_from": "best_coa", "best_coa_factor": f} for f in (1.0, 1.02, 1.05)]

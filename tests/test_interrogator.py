@@ -287,3 +287,35 @@ def test_an_uncertain_headroom_creeps_instead_of_stopping():
         ClimbParameters(max_log_step=0.15, creep_log_step=0.2)
     with pytest.raises(ValueError, match="creep_while_std"):
         ClimbParameters(creep_while_std=0.0)
+
+
+class _ScriptedFilter:
+    """A stand-in ensemble whose predicted (headroom, correction) means and stds follow a script."""
+
+    def __init__(self, script: list[tuple[float, float]]):
+        self.script = iter(script)
+
+    def predict(self, x):
+        mean, std = next(self.script)
+        return np.array([[mean, 0.0]]), np.array([[std, 0.01]])
+
+
+@pytest.mark.parametrize("sticky", [False, True])
+def test_a_sticky_creep_takes_no_big_step_after_it_crept(sticky):
+    """After an uncertain, closed gap (a creep), a confident, open gap allows max_log_step again, unless
+    creep_sticky holds the climb to creep_log_step from then on."""
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    params = ClimbParameters(target_headroom=0.05, max_log_step=0.15, creep_log_step=0.03, creep_while_std=0.08,
+                             caution=1.0, creep_sticky=sticky)
+    # window 1: mean 0.26, std 0.2 -> cautious gap 0.01: creep; window 2: mean 1, std 0.01 -> open gap
+    agent = LearnedInterrogator(env.unwrapped.limits, _ScriptedFilter([(0.26, 0.2), (1.0, 0.01)]), params=params)
+    obs, info = env.reset(seed=5)
+    agent.reset(obs, info)
+    dcs = []
+    for _ in range(3):
+        obs, _, _, _, info = env.step(agent.act(obs, info))
+        dcs.append(agent._dc)
+    assert math.log(dcs[1] / dcs[0]) == pytest.approx(0.03, rel=1e-9)  # the creep
+    assert math.log(dcs[2] / dcs[1]) == pytest.approx(0.03 if sticky else 0.15, rel=1e-9)
+    with pytest.raises(ValueError, match="creep_sticky"):
+        ClimbParameters(creep_sticky=1)

@@ -33,7 +33,9 @@ peak, up to ``approach_fraction`` of the gap ``h - target_headroom``) with the c
 headroom ``h = mean - caution x std`` (the ensemble's spread and each member's predicted variance
 combined), the modulation a fixed fraction of the DC. Where that gap is closed while the predicted
 headroom is still uncertain (its std above ``creep_while_std``), it creeps by ``creep_log_step``: a
-stop there would report a poorly known estimate, and a slow probe buys the readings that settle it.
+stop there would report a poorly known estimate, and a slow probe buys the readings that settle it;
+with ``creep_sticky`` no later step is larger (the filter thought the peak might be near: a big step
+after that passes the peak on a curve unlike its training curves).
 It stops (and reports ``CoA x exp(correction)``) when the next step would be smaller than
 ``min_log_step``, when the CoA falls although the torque rose (past the peak), at the drive's limit,
 or one window before the horizon. The estimate is either the
@@ -283,6 +285,7 @@ class ClimbParameters:
     min_log_step: float = 0.02
     creep_log_step: float = 0.0  # > 0: a step this small where the cautious gap is closed but the
     creep_while_std: float = 0.1  # ... predicted headroom's std still exceeds this (more readings, not a stop)
+    creep_sticky: bool = False  # once it has crept, no later step exceeds creep_log_step
     estimate_from: str = "filter"  # "filter": CoA x exp(predicted correction); "best_coa": best CoA x factor
     best_coa_factor: float = 1.0
 
@@ -296,6 +299,8 @@ class ClimbParameters:
                 raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
         if not (isinstance(self.approach_fraction, (int, float)) and 0.0 <= self.approach_fraction < 1.0):
             raise ValueError(f"approach_fraction must be in [0, 1), got {self.approach_fraction!r}")
+        if not isinstance(self.creep_sticky, bool):
+            raise ValueError(f"creep_sticky must be True or False, got {self.creep_sticky!r}")
         if not (isinstance(self.creep_log_step, (int, float)) and 0.0 <= self.creep_log_step <= self.max_log_step):
             raise ValueError(f"creep_log_step must be in [0, max_log_step={self.max_log_step}], got {self.creep_log_step!r}")
 
@@ -335,6 +340,7 @@ class LearnedInterrogator:
     _estimate: float = 0.0
     _best_coa: float = 0.0
     _driven: int = 0
+    _crept: bool = False
 
     def distribution_note(self, env_id: str, env_kwargs: dict[str, Any],
                           episodes: Iterable[Mapping[str, Any]] = ()) -> str | None:
@@ -360,6 +366,7 @@ class LearnedInterrogator:
         self.features = EpisodeFeatures(self.counter_torque)
         self._dc = 0.0
         self._driven = 0
+        self._crept = False
         self._best_coa = 0.0
         self.filter_estimate = 0.0
         self._estimate = self.limits.min_cof_estimate
@@ -385,6 +392,9 @@ class LearnedInterrogator:
                 self.filter_estimate = reading.coa * math.exp(float(mean[0, 1]))
                 self._estimate = self.candidate_estimates(p.best_coa_factor)[p.estimate_from]
             step = p.log_step(headroom, float(std[0, 0]))
+            if p.creep_sticky and self._crept:  # the peak may be near: no big step again
+                step = min(step, p.creep_log_step)
+            self._crept |= p.creep_log_step > 0.0 and step == p.creep_log_step
             at_limit = self._dc >= self.limits.max_dc_torque_nm
             last = self._driven >= self.max_windows - 1
             stop = falling or at_limit or last or step < p.min_log_step
