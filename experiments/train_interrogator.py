@@ -172,9 +172,9 @@ def select_climb(ensemble_dir: Path, workers: int, criterion: str = "pooled") ->
         for j, e in enumerate(ESTIMATES):
             fam = [r for run in family for r in run[j]]
             proc = [r for run in procedural for r in run[j]]
-            failed = np.array([1.0 if slip else err for err, slip in fam + proc])
+            failed = score([(1.0 if slip else err, slip) for err, slip in fam + proc])  # a macro-slip: 100 %
             table.append({**g, **e, **score(fam), **{f"procedural_{k}": v for k, v in score(proc).items()},
-                          "pooled_p90": float(np.percentile(failed, 90)), "pooled_median": float(np.median(failed))})
+                          "pooled_p90": failed["p90"], "pooled_median": failed["median"]})
     table.sort(key=CRITERIA[criterion])
     return {k: table[0][k] for k in (*GRID[0], *ESTIMATES[0])}, table
 

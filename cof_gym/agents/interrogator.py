@@ -309,11 +309,17 @@ class ClimbParameters:
         when larger, ``approach_fraction`` of that gap (big steps far from the peak, small ones near it);
         where that gap is closed but the headroom is still uncertain (std above ``creep_while_std``),
         ``creep_log_step`` (0: none): a slow probe that gathers readings rather than a stop."""
+        step = self._gap_step(cautious_headroom)
+        return max(step, self.creep_log_step) if self.creeps(cautious_headroom, headroom_std) else step
+
+    def _gap_step(self, cautious_headroom: float) -> float:
         gap = cautious_headroom - self.target_headroom
-        step = min(gap, max(self.max_log_step, self.approach_fraction * gap))
-        if step < self.min_log_step and headroom_std > self.creep_while_std:
-            step = max(step, self.creep_log_step)
-        return step
+        return min(gap, max(self.max_log_step, self.approach_fraction * gap))
+
+    def creeps(self, cautious_headroom: float, headroom_std: float) -> bool:
+        """Whether the next step is the slow probe: the cautious gap is closed, the headroom uncertain."""
+        return (self.creep_log_step > 0.0 and headroom_std > self.creep_while_std
+                and self._gap_step(cautious_headroom) < self.min_log_step)
 
     def amplitude(self, dc_nm: float, limits: MotorLimits) -> float:
         """The modulation amplitude (N m) at DC torque ``dc_nm``, within the drive's range."""
@@ -394,7 +400,7 @@ class LearnedInterrogator:
             step = p.log_step(headroom, float(std[0, 0]))
             if p.creep_sticky and self._crept:  # the peak may be near: no big step again
                 step = min(step, p.creep_log_step)
-            self._crept |= p.creep_log_step > 0.0 and step == p.creep_log_step
+            self._crept |= p.creeps(headroom, float(std[0, 0]))
             at_limit = self._dc >= self.limits.max_dc_torque_nm
             last = self._driven >= self.max_windows - 1
             stop = falling or at_limit or last or step < p.min_log_step

@@ -73,13 +73,6 @@ class Episode:
     done: bool = False
     memory: Memory = field(default_factory=Memory)  # of the sensor-only window observations (best CoA, history)
     observation: np.ndarray | None = None  # the last observation returned
-    _sensed: tuple[WindowMeasurement, WindowMeasurement] | None = None  # (window, what the sensors read of it)
-
-    def sensed(self, m: WindowMeasurement) -> WindowMeasurement:
-        """What the sensors read of window ``m`` (its systematic errors applied once per window)."""
-        if self._sensed is None or self._sensed[0] is not m:
-            self._sensed = (m, self.scenario.sensor_errors.read(m))
-        return self._sensed[1]
 
     @property
     def action_context(self) -> ActionContext:
@@ -236,10 +229,10 @@ class InterrogationTask:
         episode.estimate = decoded.cof_estimate
         return decoded
 
-    def observe(self, episode: Episode, m: WindowMeasurement) -> np.ndarray:
-        """The observation of a window (called once per window): the window's sensor-only encoding is
-        recorded in the episode's memory, and the observation type builds the observation from both."""
-        sensed = episode.sensed(m)  # systematic errors change readings, not physics
+    def observe(self, episode: Episode, sensed: WindowMeasurement) -> np.ndarray:
+        """The observation of a window from what the sensors read of it (called once per window): the
+        window's sensor-only encoding is recorded in the episode's memory, and the observation type builds
+        the observation from both."""
         window = encode_observation(sensed, episode.drive, self.scales(episode.built), episode.elapsed_s,
                                     episode.estimate)
         episode.memory.push(window, driven=episode.windows > 0)
@@ -253,7 +246,9 @@ class InterrogationTask:
     def after_reset(self, episode: Episode, m: WindowMeasurement) -> tuple[np.ndarray, dict]:
         """The first observation and info, from the baseline window."""
         episode.last = m
-        return self.observe(episode, m), self._info(episode, m, {}, diverged=False, macro_slip=False, scored=False)
+        sensed = episode.scenario.sensor_errors.read(m)  # systematic errors change readings, not physics
+        return self.observe(episode, sensed), self._info(episode, m, sensed, {}, diverged=False, macro_slip=False,
+                                                         scored=False)
 
     def after_step(self, episode: Episode, m: WindowMeasurement, decoded: DecodedAction,
                    diverged: bool) -> tuple[np.ndarray, float, bool, bool, dict]:
@@ -279,9 +274,10 @@ class InterrogationTask:
         reward = float(sum(terms.values()))
         costs = {"slip": slip_cost(m, contact_load, sc.speed_m_s, self.window_s), "discomfort": discomfort(m),
                  "macro_slip": float(macro_slip)}
-        info = self._info(episode, m, {**terms, "cost": costs}, diverged, macro_slip, scored)
+        sensed = episode.scenario.sensor_errors.read(m)
+        info = self._info(episode, m, sensed, {**terms, "cost": costs}, diverged, macro_slip, scored)
         episode.done = terminated or truncated
-        return self.observe(episode, m), reward, terminated, truncated, info
+        return self.observe(episode, sensed), reward, terminated, truncated, info
 
     def after_stop(self, episode: Episode) -> tuple[np.ndarray, float, bool, bool, dict]:
         """The agent stopped: its estimate is scored at once, no window is run (no time, slip or comfort
@@ -292,7 +288,8 @@ class InterrogationTask:
             terms["reward_shaping"] = -episode.potential  # Phi = 0 in the terminal state
             episode.potential = 0.0
         costs = {"slip": 0.0, "discomfort": 0.0, "macro_slip": 0.0}
-        info = self._info(episode, episode.last, {**terms, "cost": costs}, False, False, True)
+        info = self._info(episode, episode.last, episode.scenario.sensor_errors.read(episode.last),
+                          {**terms, "cost": costs}, False, False, True)
         episode.done = True
         return episode.observation.copy(), float(sum(terms.values())), True, False, info
 
@@ -327,8 +324,9 @@ class InterrogationTask:
         est = min(max(episode.estimate, lim.min_cof_estimate), lim.max_cof_estimate)
         return self.reward.w_error * max(e_max - log_error(est, episode.truth.cof), 0.0)
 
-    def _info(self, episode: Episode, m: WindowMeasurement, extra: dict, diverged: bool, macro_slip: bool,
-              scored: bool) -> dict:
+    def _info(self, episode: Episode, m: WindowMeasurement, sensed: WindowMeasurement, extra: dict, diverged: bool,
+              macro_slip: bool, scored: bool) -> dict:
+        """The step's info: ``m`` the window (ground truth), ``sensed`` what the sensors read of it."""
         truth = episode.truth
         info: dict[str, Any] = {**extra}
         info.setdefault("cost", {"slip": 0.0, "discomfort": 0.0, "macro_slip": 0.0})
@@ -340,7 +338,6 @@ class InterrogationTask:
             info["log_error"] = log_error(episode.estimate, truth.cof)
             info["relative_error"] = relative_error(episode.estimate, truth.cof)
         info["elapsed_s"] = episode.elapsed_s
-        sensed = episode.sensed(m)
         info["measurement"] = {k: getattr(sensed, k) for k in SENSOR_FIELDS}
         info["measurement"].update(self.signal.measurement_info(sensed, episode.drive))
         info["ground_truth"] = {
