@@ -133,10 +133,9 @@ def test_distribution_note_names_untrained_settings():
     assert "traction_balance" in agent.distribution_note(cof_gym.WAGON_ENV_ID, {"traction_balance": False})
 
 
-def test_distribution_note_counts_episodes_beyond_the_training_draws():
+def test_distribution_note_counts_episodes_beyond_the_training_draws(env):
     """The held-out grid (tables, larger sensor errors) lies wholly outside the v2 draws; the paper suite
     has one CoF below the dry draws; the default suite's seeded draws lie inside."""
-    env = gym.make(cof_gym.WAGON_ENV_ID)
     agent = LearnedInterrogator(env.unwrapped.limits, FilterEnsemble((random_network(),)),
                                 trained_on=(cof_gym.WAGON_ENV_ID, ({}, {"counter_torque": True})))
     heldout = make_suite("experiments/suites/v2_heldout_grid.json", 60, 0)
@@ -301,10 +300,9 @@ class _ScriptedFilter:
 
 
 @pytest.mark.parametrize("sticky", [False, True])
-def test_a_sticky_creep_takes_no_big_step_after_it_crept(sticky):
+def test_a_sticky_creep_takes_no_big_step_after_it_crept(env, sticky):
     """After an uncertain, closed gap (a creep), a confident, open gap allows max_log_step again, unless
     creep_sticky holds the climb to creep_log_step from then on."""
-    env = gym.make(cof_gym.WAGON_ENV_ID)
     params = ClimbParameters(target_headroom=0.05, max_log_step=0.15, creep_log_step=0.03, creep_while_std=0.08,
                              caution=1.0, creep_sticky=sticky)
     # window 1: mean 0.26, std 0.2 -> cautious gap 0.01: creep; window 2: mean 1, std 0.01 -> open gap
