@@ -13,6 +13,9 @@
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
+- ``suites/v2_heldout2_grid.json``: a second v2 reporting set (:data:`HELDOUT2_SHAPES`, other errors,
+  speeds and CoF values), written once decisions had been taken with the first in view, to report
+  those decisions on data that took no part in them.
 
 Each grid crosses every condition, CoF values at off-round fractions of that condition's range, speeds
 across 5-40 m/s and both load cases, with full sensor noise and a motor lag; the ranges come from
@@ -52,9 +55,27 @@ HELDOUT_SHAPES = {
     # a linear rise with an abrupt break (the simplest Coulomb-like saturation)
     "linear_break": lambda x: np.where(x <= 1.0, x, 1.0 - 0.15 * (1.0 - np.exp(-(x - 1.0)))),
 }
+# A second held-out set, written after every decision on the first had been taken (session 8) and
+# measured once: none a family member, none of HELDOUT_SHAPES, none procedural.
+HELDOUT2_SHAPES = {
+    # two layers that shear one after the other (a contaminant film over the rail): a steep first rise
+    # into a shoulder, then a second, stiffening rise to the peak, and a slow fall
+    "two_stage": lambda x: np.where(x <= 1.0, 0.55 * np.tanh(6.0 * x) / np.tanh(6.0) + 0.45 * x**2,
+                                    1.0 - 0.1 * (x - 1.0)),
+    # a rounded (parabolic) rise and a cliff just past the peak: adhesion lost abruptly (stick-slip)
+    "cliff": lambda x: np.where(x <= 1.0, 1.0 - (1.0 - x) ** 2, np.where(x <= 1.05, 1.0, 0.6)),
+    # a concave power law (infinite initial slope) that breaks at the peak into a steep linear fall
+    "concave_power": lambda x: np.where(x <= 1.0, np.power(np.clip(x, 0.0, None), 0.4), 1.0 - 0.3 * (x - 1.0)),
+    # a delayed knee: zero initial slope (an S-shaped rise) that meets the peak still rising
+    "delayed_knee": lambda x: np.where(x <= 1.0, (1.0 - np.exp(-3.0 * x**3)) / (1.0 - np.exp(-3.0)),
+                                       1.0 - 0.08 * (x - 1.0)),
+}
 HELDOUT_PEAK_CREEPAGE = {"dry": (0.004, 0.012), "wet": (0.006, 0.02), "low_adhesion": (0.01, 0.04)}
 HELDOUT_ERRORS = (  # (speed sensor, wheel radius) relative errors, force and torque gain errors
     (0.0, 0.0, 0.0, 0.0), (0.025, -0.004, 0.008, -0.04), (-0.02, 0.006, -0.012, 0.06), (0.007, 0.009, 0.005, 0.02),
+)
+HELDOUT2_ERRORS = (
+    (-0.015, 0.003, 0.01, -0.03), (0.018, -0.007, -0.006, 0.05), (0.004, 0.0, 0.015, -0.06), (0.0, 0.0, 0.0, 0.0),
 )
 
 GRIDS = {
@@ -79,24 +100,26 @@ def grid(fractions, speeds, first_seed: int, description: str, env_id: str = cof
     return {"env_id": env_id, "env_kwargs": {}, "description": description, "episodes": episodes}
 
 
-def v2_heldout_grid(fractions=(0.21, 0.74), speeds=(9.0, 26.0), first_seed: int = 95_000) -> dict:
-    """Held-out shapes (tables) x conditions x CoF x speed x systematic errors, loads alternating."""
+def v2_heldout_grid(fractions=(0.21, 0.74), speeds=(9.0, 26.0), first_seed: int = 95_000, shapes=None,
+                    errors=HELDOUT_ERRORS, description: str = "v2 reporting only: creep curves outside every family, "
+                    "sensor errors past the v2 draws") -> dict:
+    """Held-out shapes (tables; default :data:`HELDOUT_SHAPES`) x conditions x CoF x speed x systematic
+    errors, loads alternating."""
+    shapes = HELDOUT_SHAPES if shapes is None else shapes
     episodes = []
-    combos = itertools.product(HELDOUT_SHAPES, DEFAULT_CONDITIONS, fractions, speeds)
+    combos = itertools.product(shapes, DEFAULT_CONDITIONS, fractions, speeds)
     for k, (shape, condition, fraction, speed) in enumerate(combos):
         lo, hi = COF_BY_CONDITION[condition]
         s_lo, s_hi = HELDOUT_PEAK_CREEPAGE[condition]
         peak = s_lo + (s_hi - s_lo) * ((0.618 * k) % 1.0)
-        ev, er, ef, et = HELDOUT_ERRORS[k % len(HELDOUT_ERRORS)]
+        ev, er, ef, et = errors[k % len(errors)]
         options = {"condition": condition, "cof": round(lo + fraction * (hi - lo), 4), "speed_m_s": speed,
                    "load_case": ("empty", "laden")[k % 2], "noise_level": 1.0, "motor_lag_s": 0.02,
-                   "creep_law": _table(HELDOUT_SHAPES[shape], round(peak, 5)),
+                   "creep_law": _table(shapes[shape], round(peak, 5)),
                    "speed_sensor_error": ev, "wheel_radius_error": er, "force_gain_error": ef,
                    "torque_gain_error": et}
         episodes.append({"seed": first_seed + k, "options": options, "note": shape})
-    return {"env_id": cof_gym.WAGON_ENV_ID, "env_kwargs": {},
-            "description": "v2 reporting only: creep curves outside every family, sensor errors past the v2 draws",
-            "episodes": episodes}
+    return {"env_id": cof_gym.WAGON_ENV_ID, "env_kwargs": {}, "description": description, "episodes": episodes}
 
 
 def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.0, 36.0),
@@ -126,7 +149,11 @@ def main() -> None:
     grids.update(v2_validation_grid=grid((0.11, 0.37, 0.63, 0.89), (7.0, 19.0, 33.0), 60_000,
                                          "v2 model selection only (never reported): shapes and sensor errors "
                                          "from the v2 draws", env_id=cof_gym.WAGON_ENV_ID),
-                 v2_heldout_grid=v2_heldout_grid(), v2_validation_procedural_grid=v2_validation_procedural_grid())
+                 v2_heldout_grid=v2_heldout_grid(), v2_validation_procedural_grid=v2_validation_procedural_grid(),
+                 v2_heldout2_grid=v2_heldout_grid(
+                     (0.33, 0.63), (6.0, 17.0, 31.0), 97_000, HELDOUT2_SHAPES, HELDOUT2_ERRORS,
+                     "v2 reporting only, a second set written after every decision on the first: creep curves "
+                     "outside every family and the first set, other sensor errors past the v2 draws"))
     for name, spec in grids.items():
         path = out / f"{name}.json"
         path.write_text(json.dumps(spec, indent=1) + "\n")

@@ -32,6 +32,8 @@ from typing import Any
 
 import numpy as np
 
+from selection import best_per_group, error_summary, group_line
+
 # (label, env id, env kwargs, first seed, number of seeds)
 SETTINGS: tuple[tuple[str, str, dict[str, Any], int, int], ...] = (
     ("v2 wagon", "CofGym/TorqueInterrogation-v2", {}, 100000, 120),
@@ -126,10 +128,8 @@ def replay(rec: Recording, params: dict[str, float]) -> tuple[float, bool, float
 
 
 def summary(results: list[tuple[float, bool, float]]) -> dict[str, Any]:
-    e = np.array([x[0] for x in results])
-    return {"median": float(np.median(e)), "p90": float(np.percentile(e, 90)),
-            "macro_slips": int(sum(x[1] for x in results)), "wd": float(np.mean([x[2] for x in results])),
-            "episodes": len(results)}
+    return {**error_summary([x[0] for x in results], [x[1] for x in results]),
+            "wd": float(np.mean([x[2] for x in results]))}
 
 
 def score(job: tuple[dict[str, float], list[Recording]]) -> list[dict[str, Any]]:
@@ -181,12 +181,8 @@ def main() -> None:
         print(f"best without the jump test: {json.dumps(r['params'])}: median {r['median']:.1%} P90 {r['p90']:.1%} "
               f"macro-slips {r['macro_slips']}")
     print("best stop rule per climb (macro-slips / median / P90):")
-    per_climb = []
-    for climb in CLIMBS:
-        r = next(r for r in rows if all(r["params"][k] == v for k, v in climb.items()))
-        per_climb.append(r)
-        print(f"  {json.dumps(climb)}: {r['macro_slips']} / {r['median']:.1%} / {r['p90']:.1%} with "
-              f"{json.dumps({k: v for k, v in r['params'].items() if k not in climb})}")
+    per_climb = best_per_group(rows, CLIMBS)
+    print("\n".join(group_line(climb, r) for climb, r in zip(CLIMBS, per_climb)))
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(json.dumps({"best": rows[:20], "per_climb": per_climb}, indent=1))
 

@@ -28,7 +28,7 @@ from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from typing import Any
 
-import numpy as np
+from selection import best_per_group, error_summary, group_line
 
 VALIDATION_GRID = "experiments/suites/v2_validation_grid.json"
 DEFAULT_SEEDS = (100000, 120)  # first seed, count, of the default v2 distribution
@@ -94,9 +94,8 @@ def play(job: tuple[str, dict[str, Any], list[tuple[str, int, dict[str, Any]]]])
 
 
 def summary(rows: list[dict[str, Any]], key=None) -> dict[str, Any]:
-    e = np.array([abs((r["estimate"] if key is None else r["estimates"][key]) / r["cof"] - 1.0) for r in rows])
-    return {"median": float(np.median(e)), "p90": float(np.percentile(e, 90)),
-            "macro_slips": int(sum(r["slipped"] for r in rows)), "episodes": len(rows)}
+    return error_summary([abs((r["estimate"] if key is None else r["estimates"][key]) / r["cof"] - 1.0) for r in rows],
+                         [r["slipped"] for r in rows])
 
 
 def main() -> None:
@@ -133,12 +132,8 @@ def main() -> None:
     print(f"| robust-model, all | {best['episodes']} | {best['median']:.1%} | {best['p90']:.1%} | "
           f"{best['macro_slips']} |")
     print("best (knee_weight, correction) per climb and bracketing (macro-slips / median / P90):")
-    per_config = []
-    for params in configs:
-        r = next(r for r in rows if all(r["params"][k] == v for k, v in params.items()))
-        per_config.append(r)
-        print(f"  {json.dumps(params)}: {r['macro_slips']} / {r['median']:.1%} / {r['p90']:.1%} with knee_weight "
-              f"{r['params']['knee_weight']}, correction {r['params']['correction']}")
+    per_config = best_per_group(rows, configs)
+    print("\n".join(group_line(params, r) for params, r in zip(configs, per_config)))
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(json.dumps({"phase_rule": reference, "best": rows[:20], "per_config": per_config}, indent=1))
 
