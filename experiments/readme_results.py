@@ -4,6 +4,7 @@ so that its tables are generated, never typed:
     cof-gym evaluate --out out/evaluate                                              # v2 default suite
     cof-gym evaluate --suite experiments/suites/v2_no_systematic_errors.json --episodes 60 --out out/evaluate-v2-no-errors
     cof-gym evaluate --suite experiments/suites/v2_heldout_grid.json --out out/evaluate-v2-heldout
+    cof-gym evaluate --suite experiments/suites/v2_heldout2_grid.json --out out/evaluate-v2-heldout2
     cof-gym evaluate --suite experiments/suites/v1_default.json --episodes 60 --out out/evaluate-v1
     cof-gym evaluate --suite experiments/suites/heldout_grid.json --out out/evaluate-heldout   # v1 held-out
     cof-gym bench --seconds 10 --markdown out/bench.md
@@ -28,6 +29,7 @@ SOURCES = {
     "default": ROOT / "out" / "evaluate" / "summary.md",
     "v2_no_errors": ROOT / "out" / "evaluate-v2-no-errors" / "summary.md",
     "v2_heldout": ROOT / "out" / "evaluate-v2-heldout" / "summary.md",
+    "v2_heldout2": ROOT / "out" / "evaluate-v2-heldout2" / "summary.md",
     "v1_default": ROOT / "out" / "evaluate-v1" / "summary.md",
     "bench": ROOT / "out" / "bench.md",
     "heldout": ROOT / "out" / "evaluate-heldout" / "summary.md",
@@ -37,7 +39,9 @@ SOURCES = {
 LEARNED = "interrogator"  # the learned agent the targets are about
 TARGET_SUITES = {"v2 default suite (`cof-gym evaluate`)": ROOT / "out" / "evaluate" / "summary.json",
                  "v2 held-out grid (`--suite experiments/suites/v2_heldout_grid.json`)":
-                     ROOT / "out" / "evaluate-v2-heldout" / "summary.json"}
+                     ROOT / "out" / "evaluate-v2-heldout" / "summary.json",
+                 "v2 second held-out grid (`--suite experiments/suites/v2_heldout2_grid.json`)":
+                     ROOT / "out" / "evaluate-v2-heldout2" / "summary.json"}
 
 
 def body(path: Path) -> str:
@@ -113,7 +117,7 @@ def main() -> None:
         print("results:targets left as it is (a summary, the learned agent or the README block is missing)")
     else:
         text = pattern.sub(lambda m: m.group(1) + block + "\n" + m.group(2), text)
-        print("results:targets <- out/evaluate, out/evaluate-v2-heldout")
+        print(f"results:targets <- {', '.join(str(p.parent.relative_to(ROOT)) for p in TARGET_SUITES.values())}")
     README.write_text(text)
 
 

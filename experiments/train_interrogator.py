@@ -77,6 +77,7 @@ VALIDATION = HERE / "suites" / "v2_validation_grid.json"  # the v2 draws (famili
 # procedural creep curves beyond every family, none of the held-out shapes: the selection's robustness data
 PROCEDURAL_VALIDATION = HERE / "suites" / "v2_validation_procedural_grid.json"
 HELDOUT = HERE / "suites" / "v2_heldout_grid.json"
+HELDOUT2 = HERE / "suites" / "v2_heldout2_grid.json"  # written after every decision on the first
 GRIDS = {  # the climbs the selection tries
     "recipe": [{"amplitude_ratio": 0.4, "target_headroom": h, "caution": c, "max_log_step": m, "creep_log_step": k,
                 "creep_while_std": w, "creep_sticky": sticky}
@@ -194,6 +195,7 @@ def report_runs(runs: list[Path], workers: int) -> dict:
     """Every run (seed or ensemble) on the default suite, the held-out grid and the procedural validation
     grid (per seed: the selection played the ensemble there), per episode."""
     suites = [{"name": "default", "path": "default"}, {"name": "v2 held-out grid", "path": str(HELDOUT)},
+              {"name": "v2 second held-out grid", "path": str(HELDOUT2)},
               {"name": "procedural validation grid (selection data, per seed)", "path": str(PROCEDURAL_VALIDATION)}]
     report = {}
     for s in suites:

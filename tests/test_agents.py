@@ -16,7 +16,7 @@ from cof_gym.agents.adapters import incremental_to_env
 from cof_gym.agents.base import Agent
 from cof_gym.commands.evaluate import GROUPINGS, evaluate, run_episode, utilisation_band
 from cof_gym.agents.staircase import PaperStaircase, PracticalStaircase, limits_of
-from cof_gym.commands.suites import make_suite, paper_suite
+from cof_gym.commands.suites import SuiteError, make_suite, paper_suite
 from cof_gym.task.interface import OBSERVATION_NAMES, decode_action
 
 WAGON = "CofGym/TorqueInterrogation-v1"
@@ -188,3 +188,23 @@ def test_summary_has_the_breakdown_and_the_intrusiveness_figure(tmp_path: Path) 
     assert "By condition, CoF band, creep-law family" in (tmp_path / "ev" / "summary.md").read_text()
     assert 0.0 < result["summary"]["staircase"]["peak_torque_fraction"]["value"] < 5.0
     assert (tmp_path / "ev" / "error_vs_peak_torque.png").stat().st_size > 1000
+
+
+def test_breakdown_groups_by_the_suite_files_episode_notes(tmp_path: Path) -> None:
+    spec = {"episodes": [{"seed": 3, "options": {"cof": 0.2}, "note": "steep"},
+                         {"seed": 4, "options": {"cof": 0.3}, "note": "steep"},
+                         {"seed": 5, "options": {"cof": 0.25}, "note": "flat"}]}
+    (tmp_path / "s.json").write_text(json.dumps(spec))
+    suite = make_suite(str(tmp_path / "s.json"), 60, 0)
+    assert [suite.note(i) for i in range(3)] == ["steep", "steep", "flat"]
+    result = evaluate(["staircase"], suite, tmp_path / "ev", seed=0, quiet=True)
+    groups = result["summary"]["staircase"]["breakdown"]
+    assert groups["note steep"]["episodes"] == 2 and groups["note flat"]["episodes"] == 1
+    assert [r["note"] for r in csv.DictReader(open(tmp_path / "ev" / "episodes.csv"))] == ["steep", "steep", "flat"]
+    assert make_suite("default", 2, 0).note(1) == ""
+
+
+def test_a_suite_note_that_is_not_a_string_is_named(tmp_path: Path) -> None:
+    (tmp_path / "s.json").write_text(json.dumps({"episodes": [{"seed": 3, "note": 7}]}))
+    with pytest.raises(SuiteError, match=r"episodes\[0\]\.note must be a string"):
+        make_suite(str(tmp_path / "s.json"), 60, 0)

@@ -73,6 +73,7 @@ class EpisodeRecord:
     peak_torque_fraction: float  # max |torque| over the real saturation torque
     episode_return: float
     steps: int
+    note: str = ""  # the suite's label of the episode (e.g. a held-out grid's creep-curve shape)
 
 
 def _field(info: dict, key: str, default: float = 0.0) -> float:
@@ -85,7 +86,7 @@ def _field(info: dict, key: str, default: float = 0.0) -> float:
 
 
 def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list | None = None,
-                oracle: bool | None = None) -> EpisodeRecord:
+                oracle: bool | None = None, note: str = "") -> EpisodeRecord:
     """One episode of ``agent``. ``oracle`` (default: the agent's own flag) decides whether the agent
     sees ``info["ground_truth"]``; the evaluator always reads it for scoring."""
     oracle = bool(getattr(agent, "oracle", False)) if oracle is None else bool(oracle)
@@ -123,7 +124,7 @@ def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list 
         relative_error=float(err) if err is not None else 1.0, scored=scored,
         macro_slip=macro_slip, slip_energy_j=slip_e, friction_energy_j=fric_e,
         wd_rms_m_s2=math.sqrt(wd2 / steps), measurement_time_s=info["elapsed_s"], peak_torque_fraction=peak,
-        episode_return=total, steps=steps,
+        episode_return=total, steps=steps, note=note,
     )
 
 
@@ -198,6 +199,7 @@ GROUPINGS = (
     ("creepage-error band", lambda r: creepage_error_band(r.creepage_offset), lambda r: abs(r.creepage_offset)),
     ("utilisation at commitment", lambda r: utilisation_band(r.peak_torque_fraction),
      lambda r: r.peak_torque_fraction),
+    ("the suite's episode note", lambda r: f"note {r.note}" if r.note else "no note", lambda r: r.note),
 )
 
 
@@ -465,7 +467,7 @@ def _play_and_write(env, agents, agent_specs, suite: Suite, out: Path, seed: int
             traces[agent.name] = []
             for i, (ep_seed, options) in enumerate(suite.episodes):
                 records.append(run_episode(env, agent, ep_seed, options, i, traces[agent.name] if i == 0 else None,
-                                           oracle=oracle))
+                                           oracle=oracle, note=suite.note(i)))
                 if progress is not None:
                     progress.advance(tasks[agent.name])
     finally:
@@ -480,7 +482,7 @@ def _play_and_write(env, agents, agent_specs, suite: Suite, out: Path, seed: int
     (out / "summary.md").write_text(
         f"# cof-gym evaluate: suite {suite.name}, seed {seed}, {suite.env_id}\n\n"
         + "".join(f"Note: {n}.\n\n" for n in notes) + f"{markdown_table(summary)}\n\n"
-        f"## By condition, CoF band, creep-law family, creepage-error band and utilisation\n\n{markdown_breakdown(summary)}\n")
+        f"## By condition, CoF band, creep-law family, creepage-error band, utilisation and note\n\n{markdown_breakdown(summary)}\n")
     from cof_gym.commands.evaluate_figures import plot_all
 
     figures = [Path(p).name for p in plot_all(records, summary, traces, out)]

@@ -15,7 +15,9 @@ A suite file is JSON::
 
 Without ``"episodes"``, ``--episodes`` seeded draws (seeds ``seed``, ``seed + 1``, ...) are played;
 with it, exactly those (an episode's ``"options"`` are merged over the top-level ones, its ``"seed"``
-defaults to ``seed + index``). Anything else is refused with a :class:`SuiteError` naming the file.
+defaults to ``seed + index``, its optional ``"note"`` labels it: ``cof-gym evaluate`` breaks its
+results down by note, e.g. a grid's creep-curve shapes). Anything else is refused with a
+:class:`SuiteError` naming the file.
 """
 
 from __future__ import annotations
@@ -33,7 +35,7 @@ from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 PAPER_COFS = (0.1, 0.2, 0.3, 0.4, 0.5)
 SUITE_NAMES = ("default", "paper")
 FILE_KEYS = ("env_id", "env_kwargs", "options", "episodes", "description")
-EPISODE_KEYS = ("seed", "options", "note")  # note: a free-text label, not read
+EPISODE_KEYS = ("seed", "options", "note")  # note: a free-text label (evaluate's breakdown groups by it)
 MAX_SEED = 2**63 - 1
 MAX_EPISODES = 100_000  # episodes per agent (--episodes and a file's episode list): hours of simulation
 
@@ -74,6 +76,11 @@ class Suite:
     env_id: str
     env_kwargs: dict[str, Any]
     episodes: Sequence[tuple[int, dict[str, Any]]] = field(default_factory=list)
+    episode_notes: tuple[str, ...] = ()  # a label per episode (a suite file's "note"; "" where none), or none
+
+    def note(self, i: int) -> str:
+        """Episode ``i``'s label ("" where the suite gives none)."""
+        return self.episode_notes[i] if self.episode_notes else ""
 
 
 def default_suite(n_episodes: int, seed: int) -> Suite:
@@ -135,17 +142,20 @@ def file_suite(path: Path, n_episodes: int, seed: int) -> Suite:
         if not isinstance(raw, list) or not raw or len(raw) > MAX_EPISODES:
             raise SuiteError(f"{path}: episodes must be a list of 1 to {MAX_EPISODES} objects like "
                              f'{{"seed": 1, "options": {{...}}}}, got {raw!r:.60}')
-        episodes = []
+        episodes, notes = [], []
         for i, e in enumerate(raw):
             e = _check_dict(e, f"episodes[{i}]", path)
             bad = sorted(set(e) - set(EPISODE_KEYS))
             if bad:
                 raise SuiteError(f"{path}: episodes[{i}]: unknown key(s) {bad}; allowed: {list(EPISODE_KEYS)}")
             ep_seed = _check_seed(e.get("seed", seed + i), f"episodes[{i}].seed", path)
+            note = e.get("note", "")
+            if not isinstance(note, str):
+                raise SuiteError(f"{path}: episodes[{i}].note must be a string, got {note!r:.60}")
+            notes.append(note)
             episodes.append((ep_seed, {**options, **_check_dict(e.get("options", {}), f"episodes[{i}].options", path)}))
-    else:
-        episodes = SeededEpisodes(seed, n_episodes, lambda i: dict(options))
-    return Suite(str(path), env_id, env_kwargs, episodes)
+        return Suite(str(path), env_id, env_kwargs, episodes, tuple(notes) if any(notes) else ())
+    return Suite(str(path), env_id, env_kwargs, SeededEpisodes(seed, n_episodes, lambda i: dict(options)))
 
 
 def make_suite(name: str, n_episodes: int, seed: int) -> Suite:
