@@ -74,14 +74,20 @@ def probe_next_dc(dc_nm: float, amplitude_nm: float, max_step: float, probe_step
     return min(dc_nm + min(max_step * dc_nm, probe_step * amplitude_nm), limits.max_dc_torque_nm)
 
 
+def phase_rise(phase_deg, se_deg, ref_deg, ref_se_deg, margin_se: float):
+    """How far (deg) a window's phase lies above a reference window's beyond ``margin_se`` standard
+    errors of their difference (scalars or numpy arrays): > 0 is a significant rise."""
+    return phase_deg - ref_deg - margin_se * np.hypot(se_deg, ref_se_deg)
+
+
 def knee_seen(phase_deg, se_deg, prev_deg, prev_se_deg, base_deg, base_se_deg, jump_deg: float,
               threshold_rise_deg: float, margin_se: float, max_se_deg: float):
     """The stop test (scalars or numpy arrays, deg): the window is informative (its SE at most
     ``max_se_deg``) and its phase either jumps over the previous window's by ``jump_deg`` beyond
     ``margin_se`` standard errors (both windows') or rises over the baseline by ``threshold_rise_deg``
     beyond ``margin_se`` standard errors (window and baseline)."""
-    jump = phase_deg - prev_deg - margin_se * np.hypot(se_deg, prev_se_deg)
-    rise = phase_deg - base_deg - margin_se * np.hypot(se_deg, base_se_deg)
+    jump = phase_rise(phase_deg, se_deg, prev_deg, prev_se_deg, margin_se)
+    rise = phase_rise(phase_deg, se_deg, base_deg, base_se_deg, margin_se)
     return (se_deg <= max_se_deg) & ((jump > jump_deg) | (rise > threshold_rise_deg))
 
 

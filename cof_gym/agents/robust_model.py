@@ -38,7 +38,7 @@ from typing import Any
 
 import numpy as np
 
-from cof_gym.agents.phase_rule import UNKNOWN_SE_DEG, phase_of, probe_amplitude, probe_next_dc
+from cof_gym.agents.phase_rule import UNKNOWN_SE_DEG, phase_of, phase_rise, probe_amplitude, probe_next_dc
 from cof_gym.agents.staircase import COA, ElasticityClimb
 from cof_gym.task.interface import OBSERVATION_NAMES, MotorLimits, encode_action
 
@@ -149,9 +149,9 @@ class RobustModel:
         return probe_next_dc(dc, amplitude, self.max_step, self.probe_step, self.limits)
 
     def _jumped(self, now: Probe, ref: Probe, jump_deg: float) -> bool:
-        if now.se_deg > self.max_se_deg:
-            return False
-        return now.phase_deg - ref.phase_deg - self.margin_se * math.hypot(now.se_deg, ref.se_deg) > jump_deg
+        """The phase rule's jump test (:func:`~cof_gym.agents.phase_rule.phase_rise`) on two probes."""
+        return now.se_deg <= self.max_se_deg and bool(
+            phase_rise(now.phase_deg, now.se_deg, ref.phase_deg, ref.se_deg, self.margin_se) > jump_deg)
 
     def _coa_per_nm(self) -> float:
         """Measured CoA per N m of DC torque on the windows below the knee (force / torque ratio)."""
