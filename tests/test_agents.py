@@ -208,3 +208,13 @@ def test_a_suite_note_that_is_not_a_string_is_named(tmp_path: Path) -> None:
     (tmp_path / "s.json").write_text(json.dumps({"episodes": [{"seed": 3, "note": 7}]}))
     with pytest.raises(SuiteError, match=r"episodes\[0\]\.note must be a string"):
         make_suite(str(tmp_path / "s.json"), 60, 0)
+
+
+def test_configuration_note_names_each_difference_from_the_nearest_trained_world() -> None:
+    from cof_gym.agents.base import configuration_note
+
+    assert configuration_note("a", "X", {"counter_torque": True}, "X", ({}, {"counter_torque": True})) is None
+    assert configuration_note("a", "X", {}, "X", ({"counter_torque": True},)) == (
+        "a is out of its training distribution here: counter_torque='default' (trained: True)")
+    assert configuration_note("a", "Y", {"counter_torque": True, "vehicle": "v"}, "X", ({}, {"counter_torque": True})) == (
+        "a is out of its training distribution here: env Y (trained: X), vehicle='v' (trained: 'default')")

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections import Counter
-from typing import Any, Iterable, Mapping, Protocol, runtime_checkable
+from typing import Any, Iterable, Mapping, Protocol, Sequence, runtime_checkable
 
 import numpy as np
 
@@ -41,6 +41,24 @@ def registered_ranges(env_id: str, env_kwargs: Mapping[str, Any] | None = None) 
 
     kwargs = {**gym.spec(env_id).kwargs, **(env_kwargs or {})}
     return kwargs["ranges"] if kwargs.get("ranges") is not None else default_ranges(kwargs.get("task_version", 2))
+
+
+def configuration_note(name: str, env_id: str, world: Mapping[str, Any], trained_id: str,
+                       trained_worlds: Sequence[Mapping[str, Any]]) -> str | None:
+    """A line naming how an evaluation's env id and world-changing constructor arguments (``world``:
+    what the agent's sensors see differently, e.g. ``counter_torque``) differ from those an agent was
+    trained on (the nearest of ``trained_worlds``), None when they are one of them."""
+    if env_id == trained_id and any(dict(world) == dict(w) for w in trained_worlds):
+        return None
+
+    def differing(w: Mapping[str, Any]) -> list[str]:
+        return [k for k in sorted(set(world) | set(w)) if world.get(k) != w.get(k)]
+
+    nearest = min(trained_worlds, key=lambda w: len(differing(w)), default={})
+    differs = [f"{k}={world.get(k, 'default')!r} (trained: {nearest.get(k, 'default')!r})" for k in differing(nearest)]
+    if env_id != trained_id:
+        differs.insert(0, f"env {env_id} (trained: {trained_id})")
+    return f"{name} is out of its training distribution here: " + ", ".join(differs)
 
 
 def outside_training_note(name: str, ranges: ScenarioRanges, episodes: Iterable[Mapping[str, Any]]) -> str | None:

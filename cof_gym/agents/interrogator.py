@@ -54,7 +54,7 @@ from typing import Any, Iterable, Mapping
 
 import numpy as np
 
-from cof_gym.agents.base import outside_training_note, registered_ranges
+from cof_gym.agents.base import configuration_note, outside_training_note, registered_ranges
 from cof_gym.agents.phase_rule import probe_amplitude
 from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES, SPEED_SCALE_M_S, MotorLimits, encode_action
@@ -357,12 +357,10 @@ class LearnedInterrogator:
         if self.trained_on is None:
             return None
         trained_id, configs = self.trained_on
-        world = {k: v for k, v in env_kwargs.items() if k in WORLD_KWARGS}
-        if env_id != trained_id:
-            return f"{self.name}: trained on {trained_id}, evaluated on {env_id}: out of its training distribution"
-        if not any(world == {k: v for k, v in c.items() if k in WORLD_KWARGS} for c in configs):
-            return (f"{self.name}: vehicle configuration {world or 'default'} is none of those it was trained on "
-                    f"({[c or 'default' for c in configs]}): out of its training distribution")
+        world = lambda kw: {k: v for k, v in kw.items() if k in WORLD_KWARGS}  # noqa: E731
+        note = configuration_note(self.name, env_id, world(env_kwargs), trained_id, [world(c) for c in configs])
+        if note:
+            return note
         trained = registered_ranges(trained_id)
         if registered_ranges(env_id, env_kwargs) != trained:
             return f"{self.name}: the suite's scenario draws (ranges) are not its training draws: out of its training distribution"

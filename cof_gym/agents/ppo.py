@@ -16,7 +16,7 @@ from typing import Any, Iterable, Mapping
 import numpy as np
 
 import cof_gym
-from cof_gym.agents.base import outside_training_note, registered_ranges
+from cof_gym.agents.base import configuration_note, outside_training_note, registered_ranges
 
 DEFAULT_ENV_ID = cof_gym.WAGON_V1_ENV_ID  # the shipped policy was trained on v1
 MODEL_NAMES = ("model.zip", "best_model.zip")  # looked for, in this order, when given a directory
@@ -189,13 +189,8 @@ class PPOAgent:
             return None
         trained_id, trained_kwargs = self.trained_on
         world = lambda kw: {k: v for k, v in kw.items() if k not in self.INTERFACE_KWARGS}  # noqa: E731
-        differs = [f"{k}={v!r} (trained: {world(trained_kwargs).get(k, 'default')!r})"
-                   for k, v in sorted(world(env_kwargs).items()) if world(trained_kwargs).get(k) != v]
-        if env_id != trained_id:
-            differs.insert(0, f"env {env_id} (trained: {trained_id})")
-        if not differs:
-            return outside_training_note(self.name, registered_ranges(trained_id, world(trained_kwargs)), episodes)
-        return f"{self.name} is out of its training distribution here: " + ", ".join(differs)
+        note = configuration_note(self.name, env_id, world(env_kwargs), trained_id, (world(trained_kwargs),))
+        return note or outside_training_note(self.name, registered_ranges(trained_id, world(trained_kwargs)), episodes)
     _pending: np.ndarray | None = None
 
     def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
