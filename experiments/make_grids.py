@@ -30,6 +30,7 @@ from pathlib import Path
 import numpy as np
 
 import cof_gym
+from cof_gym.physics.creep_laws import below_peak
 from cof_gym.task.scenarios import COF_BY_CONDITION, DEFAULT_CONDITIONS
 
 
@@ -40,7 +41,7 @@ def _table(ratio, peak_creepage: float, n: int = 40) -> dict:
     r = np.clip(ratio(x), 0.0, None)
     r[0], r[x == 1.0] = 0.0, 1.0
     rising = x < 1.0
-    r[rising] = np.minimum(r[rising], 1.0 - 1e-6)  # strictly below the maximum before the peak
+    r[rising] = below_peak(r[rising])  # strictly below the maximum before the peak
     return {"table": {"creepage": [float(v) for v in x * peak_creepage], "adhesion_ratio": [float(v) for v in r]}}
 
 

@@ -27,6 +27,7 @@ from cof_gym.physics.creep_laws import (
     PolachShape,
     ShenHedrickElkinsShape,
     TableShape,
+    below_peak,
     creep_law_from_spec,
     draw_shape,
     family_id,
@@ -373,3 +374,10 @@ def test_draw_with_acceptance_gives_a_defined_cof() -> None:
 def test_draw_rejects_what_has_no_ranges(family: str, condition: str, message: str) -> None:
     with pytest.raises(ValueError, match=message):
         draw_shape(np.random.default_rng(0), family, condition)
+
+
+def test_below_peak_keeps_a_rise_that_nears_its_peak_strictly_increasing() -> None:
+    rise = np.array([0.0, 0.5, 1.0 - 1e-7, 1.0 - 1e-8, 1.0 - 1e-9])  # a common 1 - 1e-6 cap would tie them
+    capped = below_peak(rise)
+    assert capped[:2].tolist() == [0.0, 0.5] and np.all(np.diff(capped) > 0) and capped[-1] < 1.0
+    TableShape(tuple(np.arange(6) * 1e-3), tuple(capped) + (1.0,))  # the table law takes it

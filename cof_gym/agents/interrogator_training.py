@@ -37,6 +37,7 @@ from cof_gym.agents.interrogator import (
     FEATURE_NAMES, TARGET_NAMES, ClimbParameters, EpisodeFeatures, FilterNetwork, Reading, slope_from_phase,
 )
 from cof_gym.agents.staircase import ElasticityClimb
+from cof_gym.physics.creep_laws import below_peak
 from cof_gym.task.interface import encode_action
 
 TRAINING_SEED = 1_000_000  # first training seed: far from every evaluation and validation seed
@@ -147,7 +148,7 @@ def procedural_shape(rng: np.random.Generator) -> dict[str, Any]:
     rising = ratio[: len(x_rise) - 1]
     rising[1:] = np.maximum.accumulate(np.maximum(rising[1:], 1e-9))  # strictly rising, below the maximum
     rising[1:] += np.arange(1, len(rising)) * 1e-9
-    ratio[: len(x_rise) - 1] = np.minimum(rising, 1.0 - 1e-6)
+    ratio[: len(x_rise) - 1] = below_peak(rising)
     peak = math.exp(rng.uniform(*np.log(PROCEDURAL_PEAK_CREEPAGE)))
     return {"table": {"creepage": [float(v) for v in np.concatenate([x_rise, x_fall]) * peak],
                       "adhesion_ratio": [float(v) for v in ratio]}}

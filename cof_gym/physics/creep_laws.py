@@ -236,6 +236,15 @@ def pchip_slopes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return PchipInterpolator(x, y)(x, 1)
 
 
+def below_peak(rise: np.ndarray, margin: float = 1e-6) -> np.ndarray:
+    """A table's adhesion ratios before its peak (a strictly increasing array), capped so that
+    :class:`TableShape` takes them: point ``k`` of ``n`` at most ``1 - margin x (n - k)``, strictly
+    below the peak's 1 and, where several are capped, still strictly increasing (one common cap would
+    make them equal)."""
+    rise = np.asarray(rise, dtype=np.float64)
+    return np.minimum(rise, 1.0 - margin * np.arange(len(rise), 0, -1))
+
+
 @dataclass(frozen=True)
 class TableShape(CreepShape):
     """A tabulated curve: ``adhesion_ratio`` (CoA / CoF) at ``creepage`` (tuples; lists are
