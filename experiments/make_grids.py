@@ -101,12 +101,10 @@ def grid(fractions, speeds, first_seed: int, description: str, env_id: str = cof
     return {"env_id": env_id, "env_kwargs": {}, "description": description, "episodes": episodes}
 
 
-def v2_heldout_grid(fractions=(0.21, 0.74), speeds=(9.0, 26.0), first_seed: int = 95_000, shapes=None,
-                    errors=HELDOUT_ERRORS, description: str = "v2 reporting only: creep curves outside every family, "
+def v2_heldout_grid(fractions=(0.21, 0.74), speeds=(9.0, 26.0), first_seed: int = 95_000,
+                    shapes=HELDOUT_SHAPES, errors=HELDOUT_ERRORS, description: str = "v2 reporting only: creep curves outside every family, "
                     "sensor errors past the v2 draws") -> dict:
-    """Held-out shapes (tables; default :data:`HELDOUT_SHAPES`) x conditions x CoF x speed x systematic
-    errors, loads alternating."""
-    shapes = HELDOUT_SHAPES if shapes is None else shapes
+    """Held-out shapes (tables) x conditions x CoF x speed x systematic errors, loads alternating."""
     episodes = []
     combos = itertools.product(shapes, DEFAULT_CONDITIONS, fractions, speeds)
     for k, (shape, condition, fraction, speed) in enumerate(combos):
