@@ -16,6 +16,8 @@
 - ``suites/v2_heldout2_grid.json``: a second v2 reporting set (:data:`HELDOUT2_SHAPES`, other errors,
   speeds and CoF values), written once decisions had been taken with the first in view, to report
   those decisions on data that took no part in them.
+- ``suites/v2_heldout3_grid.json``: a third v2 reporting set (:data:`HELDOUT3_SHAPES`, other errors,
+  speeds and CoF values), written before session 9's change to the learned climb was measured.
 
 Each grid crosses every condition, CoF values at off-round fractions of that condition's range, speeds
 across 5-40 m/s and both load cases, with full sensor noise and a motor lag; the ranges come from
@@ -71,12 +73,32 @@ HELDOUT2_SHAPES = {
     "delayed_knee": lambda x: np.where(x <= 1.0, (1.0 - np.exp(-3.0 * x**3)) / (1.0 - np.exp(-3.0)),
                                        1.0 - 0.08 * (x - 1.0)),
 }
+# A third held-out set, written in session 9 before the change it reports (the climb's jump to the
+# lowest CoF the task admits) was measured on any held-out or default episode: none a family member,
+# none of the sets above, none procedural.
+HELDOUT3_SHAPES = {
+    # a smooth arctangent rise (Kalker-like, no knee) into a steep linear falling branch
+    "atan_fall": lambda x: np.where(x <= 1.0, np.arctan(4.0 * x) / np.arctan(4.0), 1.0 - 0.25 * (x - 1.0)),
+    # a static-friction (stick) peak: a gentle power-law rise with a narrow hump at the peak, a plateau after
+    "stick_peak": lambda x: np.where(x <= 1.0, 0.88 * np.power(np.clip(x, 0.0, None), 0.7)
+                                     + 0.12 * np.exp(-(((x - 1.0) / 0.12) ** 2)),
+                                     0.88 + 0.12 * np.exp(-(((x - 1.0) / 0.12) ** 2))),
+    # an exponential rise and a Stribeck-like drop to half the peak within a third of a peak creepage
+    "stribeck_drop": lambda x: np.where(x <= 1.0, (1.0 - np.exp(-3.0 * x)) / (1.0 - np.exp(-3.0)),
+                                        0.5 + 0.5 * np.exp(-(x - 1.0) / 0.3)),
+    # linear to 85 % of the peak creepage, then rounded to a zero slope at the peak, flat beyond
+    "late_round": lambda x: np.where(x <= 0.85, x / 0.925,
+                                     np.where(x <= 1.0, (0.85 + (x - 0.85) - (x - 0.85) ** 2 / 0.3) / 0.925, 1.0)),
+}
 HELDOUT_PEAK_CREEPAGE = {"dry": (0.004, 0.012), "wet": (0.006, 0.02), "low_adhesion": (0.01, 0.04)}
 HELDOUT_ERRORS = (  # (speed sensor, wheel radius) relative errors, force and torque gain errors
     (0.0, 0.0, 0.0, 0.0), (0.025, -0.004, 0.008, -0.04), (-0.02, 0.006, -0.012, 0.06), (0.007, 0.009, 0.005, 0.02),
 )
 HELDOUT2_ERRORS = (
     (-0.015, 0.003, 0.01, -0.03), (0.018, -0.007, -0.006, 0.05), (0.004, 0.0, 0.015, -0.06), (0.0, 0.0, 0.0, 0.0),
+)
+HELDOUT3_ERRORS = (
+    (0.012, -0.005, -0.009, 0.035), (0.0, 0.0, 0.0, 0.0), (-0.022, 0.008, 0.013, -0.05), (0.009, 0.004, -0.015, 0.07),
 )
 
 GRIDS = {
@@ -152,7 +174,11 @@ def main() -> None:
                  v2_heldout2_grid=v2_heldout_grid(
                      (0.33, 0.63), (6.0, 17.0, 31.0), 97_000, HELDOUT2_SHAPES, HELDOUT2_ERRORS,
                      "v2 reporting only, a second set written after every decision on the first: creep curves "
-                     "outside every family and the first set, other sensor errors past the v2 draws"))
+                     "outside every family and the first set, other sensor errors past the v2 draws"),
+                 v2_heldout3_grid=v2_heldout_grid(
+                     (0.27, 0.85), (5.5, 14.0, 37.0), 99_000, HELDOUT3_SHAPES, HELDOUT3_ERRORS,
+                     "v2 reporting only, a third set written before session 9's climb change was measured: "
+                     "creep curves outside every family and both earlier sets, other sensor errors"))
     for name, spec in grids.items():
         path = out / f"{name}.json"
         path.write_text(json.dumps(spec, indent=1) + "\n")
