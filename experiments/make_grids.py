@@ -35,6 +35,8 @@ import cof_gym
 from cof_gym.physics.creep_laws import below_peak
 from cof_gym.task.scenarios import COF_BY_CONDITION, DEFAULT_CONDITIONS
 
+SUITES = Path(__file__).resolve().parent / "suites"
+
 
 def _table(ratio, peak_creepage: float, n: int = 40) -> dict:
     """A creep_law table spec: ``ratio(x)`` with x = creepage / peak_creepage, sampled geometrically up
@@ -164,8 +166,8 @@ def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.
             "episodes": episodes}
 
 
-def main() -> None:
-    out = Path(__file__).resolve().parent / "suites"
+def all_grids() -> dict[str, dict]:
+    """Every grid this script writes, by file name (without ``.json``)."""
     grids = {name: grid(*spec) for name, spec in GRIDS.items()}
     grids.update(v2_validation_grid=grid((0.11, 0.37, 0.63, 0.89), (7.0, 19.0, 33.0), 60_000,
                                          "v2 model selection only (never reported): shapes and sensor errors "
@@ -179,9 +181,18 @@ def main() -> None:
                      (0.27, 0.85), (5.5, 14.0, 37.0), 99_000, HELDOUT3_SHAPES, HELDOUT3_ERRORS,
                      "v2 reporting only, a third set written before session 9's climb change was measured: "
                      "creep curves outside every family and both earlier sets, other sensor errors"))
-    for name, spec in grids.items():
-        path = out / f"{name}.json"
-        path.write_text(json.dumps(spec, indent=1) + "\n")
+    return grids
+
+
+def grid_text(spec: dict) -> str:
+    """A grid as its file holds it."""
+    return json.dumps(spec, indent=1) + "\n"
+
+
+def main() -> None:
+    for name, spec in all_grids().items():
+        path = SUITES / f"{name}.json"
+        path.write_text(grid_text(spec))
         print(f"{path}: {len(spec['episodes'])} episodes")
 
 

@@ -13,14 +13,14 @@ import pytest
 
 import cof_gym
 from cof_gym.commands.suites import make_suite
-from cof_gym.task.scenarios import ScenarioRanges
+from cof_gym.task.scenarios import COF_ENVELOPE, ScenarioRanges
 from cof_gym.agents import registry
 from cof_gym.agents.interrogator import (
     FEATURE_NAMES, SHIPPED_INTERROGATOR, TARGET_NAMES, ClimbParameters, EpisodeFeatures, FilterEnsemble, FilterNetwork,
-    PEAK_GAP_CLIP, LearnedInterrogator, Reading, peak_gap, slope_from_phase, slope_index,
+    PEAK_GAP_CLIP, LearnedInterrogator, Reading, floor_headroom, peak_gap, slope_from_phase, slope_index,
 )
 from cof_gym.agents.interrogator_training import (
-    PROCEDURAL_PEAK_CREEPAGE, Dataset, FitSettings, _climb_episode, collect, fit_member, procedural_shape,
+    PROCEDURAL_PEAK_CREEPAGE, ClimbDraws, Dataset, FitSettings, _climb_episode, collect, fit_member, procedural_shape,
 )
 from cof_gym.physics.creep_laws import creep_law_from_spec
 from cof_gym.commands.evaluate import run_episode
@@ -317,3 +317,65 @@ def test_a_sticky_creep_takes_no_big_step_after_it_crept(env, sticky):
     assert math.log(dcs[2] / dcs[1]) == pytest.approx(0.03 if sticky else 0.15, rel=1e-9)
     with pytest.raises(ValueError, match="creep_sticky"):
         ClimbParameters(creep_sticky=1)
+
+
+class _StopFilter:
+    """A stand-in ensemble that always predicts no headroom: without the floor the climb stops at once."""
+
+    def predict(self, x):
+        return np.array([[0.0, 0.0]]), np.array([[1.0, 0.01]])
+
+
+@pytest.mark.parametrize("cof, condition, load_case", [(0.02, "low_adhesion", "empty"), (0.02, "low_adhesion", "laden"),
+                                                       (0.6, "dry", "laden")])
+def test_the_floor_step_jumps_to_the_lowest_cof_and_never_past_its_peak(env, cof, condition, load_case):
+    """With floor_margin, the step out of a window is ln(CoF_min / CoA) - target - margin whatever the
+    filter predicts: from the first DC it lands below the saturation torque of the lowest CoF the task
+    admits (here that CoF itself, exact sensors), and at a high CoF several times above the first DC."""
+    params = ClimbParameters(floor_margin=0.2, target_headroom=0.1)
+    agent = LearnedInterrogator(env.unwrapped.limits, _StopFilter(), params=params)
+    options = {"condition": condition, "cof": cof, "load_case": load_case, "speed_m_s": 20.0, "speed_sensor_error": 0.0,
+               "wheel_radius_error": 0.0, "force_gain_error": 0.0, "torque_gain_error": 0.0}
+    obs, info = env.reset(seed=3, options=options)
+    m_sat = info["ground_truth"]["saturation_torque_nm"]
+    agent.reset(obs, {})
+    obs, _, _, _, info = env.step(agent.act(obs, {}))
+    first = agent._dc
+    agent.act(obs, {})
+    coa = agent.features.readings[0].coa
+    assert math.log(agent._dc / first) == pytest.approx(floor_headroom(coa) - 0.3, rel=1e-12, abs=1e-12)
+    assert agent._dc < m_sat * COF_ENVELOPE[0] / cof
+    if cof > 0.1:
+        assert agent._dc > 3.0 * first
+    plain = LearnedInterrogator(env.unwrapped.limits, _StopFilter(), params=ClimbParameters(target_headroom=0.1))
+    obs, info = env.reset(seed=3, options=options)
+    plain.reset(obs, {})
+    obs, _, _, _, info = env.step(plain.act(obs, {}))
+    assert plain._dc == first and plain.act(obs, {}) is not None and plain.stop_reason == "headroom"
+    with pytest.raises(ValueError, match="floor_margin"):
+        ClimbParameters(floor_margin=-0.1)
+
+
+def test_floor_jump_training_climbs_jump_and_other_collections_are_unchanged():
+    """A collection with floor_margins takes the floor step when it is the larger (at a high CoF its
+    second window lands within the largest margin of the floor); without it, the same first window."""
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    options = {"condition": "dry", "cof": 0.55, "load_case": "laden"}
+    jumped, _ = _climb_episode(_Fixed(env, options), 2_000_200, ClimbDraws(floor_margins=(0.1, 0.5)))
+    plain, _ = _climb_episode(_Fixed(env, options), 2_000_200)
+    assert jumped[0] == plain[0]
+    assert jumped[1].coa > plain[1].coa
+    assert floor_headroom(jumped[1].coa) < 0.5 + 0.05  # landed within the largest margin of the floor
+    with pytest.raises(ValueError, match="floor_margins"):
+        ClimbDraws(floor_margins=(0.5, 0.1))
+
+
+class _Fixed(gym.Wrapper):
+    """An env whose every reset takes the given options (a training climb resets with none)."""
+
+    def __init__(self, env, options):
+        super().__init__(env)
+        self._options = options
+
+    def reset(self, *, seed=None, options=None):
+        return self.env.reset(seed=seed, options={**self._options, **(options or {})})

@@ -36,6 +36,10 @@ headroom is still uncertain (its std above ``creep_while_std``), it creeps by ``
 stop there would report a poorly known estimate, and a slow probe buys the readings that settle it;
 with ``creep_sticky`` no later step is larger (the filter thought the peak might be near: a big step
 after that passes the peak on a curve unlike its training curves).
+With ``floor_margin`` set, a step is at least the one that the lowest CoF the task admits
+guarantees safe (:func:`floor_headroom`: the CoA is the DC's fraction of the saturation torque times
+the CoF, so ``ln(CoF_min / CoA)`` bounds the headroom from below whatever the creep curve): a climb that
+starts far below a high CoF's peak crosses that range in one step instead of spending windows there.
 It stops (and reports ``CoA x exp(correction)``) when the next step would be smaller than
 ``min_log_step``, when the CoA falls although the torque rose (past the peak), at the drive's limit,
 or one window before the horizon. The estimate is either the
@@ -57,6 +61,7 @@ import numpy as np
 from cof_gym.agents.base import configuration_note, outside_training_note, registered_ranges
 from cof_gym.agents.phase_rule import probe_amplitude
 from cof_gym.agents.staircase import ElasticityClimb
+from cof_gym.task.scenarios import COF_ENVELOPE
 from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES, SPEED_SCALE_M_S, MotorLimits, encode_action
 
 SHIPPED_INTERROGATOR = Path(__file__).resolve().parent / "policies" / "interrogator"
@@ -102,6 +107,13 @@ def flexibility_ratio(readings: list["Reading"], k: int) -> float:
 def _tan_clipped(phase_deg: float) -> float:
     """``tan(phase)`` with the phase clipped to :data:`PHASE_CLIP_DEG` (finite and > 0)."""
     return math.tan(math.radians(min(max(phase_deg, PHASE_CLIP_DEG[0]), PHASE_CLIP_DEG[1])))
+
+
+def floor_headroom(coa: float) -> float:
+    """``ln(CoF_min / CoA)``: a lower bound of the headroom ``ln(M_sat / DC)`` at the measured CoA
+    ``coa``, from the lowest CoF the task admits (:data:`~cof_gym.task.scenarios.COF_ENVELOPE`): at
+    a steady DC torque the CoA is its fraction of the saturation torque times the CoF."""
+    return math.log(COF_ENVELOPE[0] / coa)
 
 
 def slope_index(phase_deg: float) -> float:
@@ -288,6 +300,7 @@ class ClimbParameters:
     creep_sticky: bool = False  # once it has crept, no later step exceeds creep_log_step
     estimate_from: str = "filter"  # "filter": CoA x exp(predicted correction); "best_coa": best CoA x factor
     best_coa_factor: float = 1.0
+    floor_margin: float | None = None  # not None: a step may close the gap to the task's lowest CoF less this
 
     def __post_init__(self) -> None:
         if self.estimate_from not in ESTIMATE_SOURCES:
@@ -299,6 +312,9 @@ class ClimbParameters:
                 raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
         if not (isinstance(self.approach_fraction, (int, float)) and 0.0 <= self.approach_fraction < 1.0):
             raise ValueError(f"approach_fraction must be in [0, 1), got {self.approach_fraction!r}")
+        if self.floor_margin is not None and not (isinstance(self.floor_margin, (int, float))
+                                                  and math.isfinite(self.floor_margin) and self.floor_margin >= 0):
+            raise ValueError(f"floor_margin must be None or a finite number >= 0, got {self.floor_margin!r}")
         if not isinstance(self.creep_sticky, bool):
             raise ValueError(f"creep_sticky must be True or False, got {self.creep_sticky!r}")
         if not (isinstance(self.creep_log_step, (int, float)) and 0.0 <= self.creep_log_step <= self.max_log_step):
@@ -320,6 +336,15 @@ class ClimbParameters:
         """Whether the next step is the slow probe: the cautious gap is closed, the headroom uncertain."""
         return (self.creep_log_step > 0.0 and headroom_std > self.creep_while_std
                 and self._gap_step(cautious_headroom) < self.min_log_step)
+
+    def floor_step(self, coa: float) -> float:
+        """The step that the task's lowest CoF (:data:`~cof_gym.task.scenarios.COF_ENVELOPE`) guarantees
+        safe at the measured CoA ``coa``: ``ln(CoF_min / CoA) - target_headroom - floor_margin`` (the CoA
+        is the DC torque's fraction of the saturation torque times the CoF, up to the sensors' gain
+        errors, which the margin covers); 0 when unused."""
+        if self.floor_margin is None:
+            return 0.0
+        return floor_headroom(coa) - self.target_headroom - self.floor_margin
 
     def amplitude(self, dc_nm: float, limits: MotorLimits) -> float:
         """The modulation amplitude (N m) at DC torque ``dc_nm``, within the drive's range."""
@@ -399,6 +424,7 @@ class LearnedInterrogator:
             if p.creep_sticky and self._crept:  # the peak may be near: no big step again
                 step = min(step, p.creep_log_step)
             self._crept |= p.creeps(headroom, float(std[0, 0]))
+            step = max(step, p.floor_step(reading.coa))  # safe whatever the filter predicts
             at_limit = self._dc >= self.limits.max_dc_torque_nm
             last = self._driven >= self.max_windows - 1
             stop = falling or at_limit or last or step < p.min_log_step

@@ -34,7 +34,8 @@ import gymnasium as gym
 import numpy as np
 
 from cof_gym.agents.interrogator import (
-    FEATURE_NAMES, TARGET_NAMES, ClimbParameters, EpisodeFeatures, FilterNetwork, Reading, slope_from_phase,
+    FEATURE_NAMES, TARGET_NAMES, ClimbParameters, EpisodeFeatures, FilterNetwork, Reading, floor_headroom,
+    slope_from_phase,
 )
 from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.physics.creep_laws import below_peak
@@ -158,16 +159,19 @@ def procedural_shape(rng: np.random.Generator) -> dict[str, Any]:
 class ClimbDraws:
     """What a collection's training climbs draw beyond the env's own randomisation: the creep curves
     (:data:`SHAPE_SOURCES`), the modulation frequency (log-uniform in ``frequencies_hz``; None: 5 Hz or
-    log-uniform in 3-10 Hz, half and half) and the modulation ratio (log-uniform in ``amplitude_ratios``)."""
+    log-uniform in 3-10 Hz, half and half), the modulation ratio (log-uniform in ``amplitude_ratios``)
+    and, with ``floor_margins``, the deployed climb's jumps to the lowest CoF the task admits: a step is at
+    least :func:`~cof_gym.agents.interrogator.floor_headroom` less a margin drawn uniform in that range."""
 
     shapes: str = "env"
     frequencies_hz: tuple[float, float] | None = None
     amplitude_ratios: tuple[float, float] = (0.03, 0.4)
+    floor_margins: tuple[float, float] | None = None  # a step may close the gap to the lowest CoF less this
 
     def __post_init__(self) -> None:
         if self.shapes not in SHAPE_SOURCES:
             raise ValueError(f"shapes must be one of {SHAPE_SOURCES}, got {self.shapes!r}")
-        for name in ("frequencies_hz", "amplitude_ratios"):
+        for name in ("frequencies_hz", "amplitude_ratios", "floor_margins"):
             value = getattr(self, name)
             if value is not None and not (len(value) == 2 and 0.0 < value[0] <= value[1]):
                 raise ValueError(f"{name} must be a (low, high) pair with 0 < low <= high, got {value!r}")
@@ -191,6 +195,7 @@ def _climb_episode(env, seed: int, draws: ClimbDraws = ClimbDraws()) -> tuple[li
     p = ClimbParameters(amplitude_ratio=amplitude_ratio, frequency_hz=frequency)
     sigma = float(math.exp(rng.uniform(*np.log(PROBING_SIGMA))))
     power, floor = float(rng.uniform(*PROBING_POWER)), float(rng.uniform(*PROBING_FLOOR))
+    margin = float(rng.uniform(*draws.floor_margins)) if draws.floor_margins else None
     dc = ElasticityClimb().first_dc(limits)
     xs, ys = [], []
     for _ in range(base.task.max_windows):
@@ -201,7 +206,10 @@ def _climb_episode(env, seed: int, draws: ClimbDraws = ClimbDraws()) -> tuple[li
         ys.append((math.log(m_sat / dc), math.log(cof / reading.coa)))
         if terminated or truncated or dc > STOP_UTILISATION * m_sat:
             break
-        dc = min(dc * math.exp(_probing_step(rng, xs, sigma, power, floor)), limits.max_dc_torque_nm)
+        step = _probing_step(rng, xs, sigma, power, floor)
+        if margin is not None:
+            step = max(step, floor_headroom(reading.coa) - margin)
+        dc = min(dc * math.exp(step), limits.max_dc_torque_nm)
     return xs, ys
 
 

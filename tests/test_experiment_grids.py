@@ -1,0 +1,25 @@
+"""The scenario grids the README's results use are exactly what experiments/make_grids.py writes: a
+grid file edited by hand (or a generator change that moves a published grid) fails here."""
+
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
+from make_grids import SUITES, all_grids, grid_text  # noqa: E402
+
+GRIDS = all_grids()
+
+
+@pytest.mark.parametrize("name", sorted(GRIDS))
+def test_grid_file_is_the_generators_output(name):
+    assert (SUITES / f"{name}.json").read_text() == grid_text(GRIDS[name])
+
+
+def test_heldout_grids_share_no_seed_and_no_shape():
+    heldout = {name: spec for name, spec in GRIDS.items() if "heldout" in name and name.startswith("v2")}
+    seeds = [e["seed"] for spec in heldout.values() for e in spec["episodes"]]
+    assert len(seeds) == len(set(seeds))
+    notes = [{e["note"] for e in spec["episodes"]} for spec in heldout.values()]
+    assert sum(len(n) for n in notes) == len(set().union(*notes))
