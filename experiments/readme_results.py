@@ -5,6 +5,7 @@ so that its tables are generated, never typed:
     cof-gym evaluate --suite experiments/suites/v2_no_systematic_errors.json --episodes 60 --out out/evaluate-v2-no-errors
     cof-gym evaluate --suite experiments/suites/v2_heldout_grid.json --out out/evaluate-v2-heldout
     cof-gym evaluate --suite experiments/suites/v2_heldout2_grid.json --out out/evaluate-v2-heldout2
+    cof-gym evaluate --suite experiments/suites/v2_heldout3_grid.json --out out/evaluate-v2-heldout3
     cof-gym evaluate --suite experiments/suites/v1_default.json --episodes 60 --out out/evaluate-v1
     cof-gym evaluate --suite experiments/suites/heldout_grid.json --out out/evaluate-heldout   # v1 held-out
     cof-gym bench --seconds 10 --markdown out/bench.md
@@ -30,6 +31,7 @@ SOURCES = {
     "v2_no_errors": ROOT / "out" / "evaluate-v2-no-errors" / "summary.md",
     "v2_heldout": ROOT / "out" / "evaluate-v2-heldout" / "summary.md",
     "v2_heldout2": ROOT / "out" / "evaluate-v2-heldout2" / "summary.md",
+    "v2_heldout3": ROOT / "out" / "evaluate-v2-heldout3" / "summary.md",
     "v1_default": ROOT / "out" / "evaluate-v1" / "summary.md",
     "bench": ROOT / "out" / "bench.md",
     "heldout": ROOT / "out" / "evaluate-heldout" / "summary.md",
@@ -41,7 +43,9 @@ TARGET_SUITES = {"v2 default suite (`cof-gym evaluate`)": ROOT / "out" / "evalua
                  "v2 held-out grid (`--suite experiments/suites/v2_heldout_grid.json`)":
                      ROOT / "out" / "evaluate-v2-heldout" / "summary.json",
                  "v2 second held-out grid (`--suite experiments/suites/v2_heldout2_grid.json`)":
-                     ROOT / "out" / "evaluate-v2-heldout2" / "summary.json"}
+                     ROOT / "out" / "evaluate-v2-heldout2" / "summary.json",
+                 "v2 third held-out grid (`--suite experiments/suites/v2_heldout3_grid.json`)":
+                     ROOT / "out" / "evaluate-v2-heldout3" / "summary.json"}
 
 
 def body(path: Path) -> str:

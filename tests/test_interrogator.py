@@ -379,3 +379,16 @@ class _Fixed(gym.Wrapper):
 
     def reset(self, *, seed=None, options=None):
         return self.env.reset(seed=seed, options={**self._options, **(options or {})})
+
+
+def test_the_slow_probe_ends_where_the_predicted_headroom_reaches_creep_until():
+    """creep_until stops the creep once the mean headroom (cautious + caution x std) is that low."""
+    params = ClimbParameters(target_headroom=0.1, caution=2.0, creep_log_step=0.03, creep_while_std=0.08,
+                             creep_until=0.12)
+    assert params.log_step(0.1 - 0.4 + 0.13, headroom_std=0.2) == 0.03  # mean 0.53: creeps
+    assert params.creeps(0.13 - 2.0 * 0.2, 0.2)  # mean 0.13 > 0.12: creeps
+    assert not params.creeps(0.11 - 2.0 * 0.2, 0.2)  # mean 0.11: stops (the gap is closed)
+    assert params.log_step(0.11 - 2.0 * 0.2, headroom_std=0.2) < params.min_log_step
+    assert replace(params, creep_until=None).creeps(0.11 - 2.0 * 0.2, 0.2)
+    with pytest.raises(ValueError, match="creep_until"):
+        ClimbParameters(creep_until=float("inf"))

@@ -35,7 +35,9 @@ combined), the modulation a fixed fraction of the DC. Where that gap is closed w
 headroom is still uncertain (its std above ``creep_while_std``), it creeps by ``creep_log_step``: a
 stop there would report a poorly known estimate, and a slow probe buys the readings that settle it;
 with ``creep_sticky`` no later step is larger (the filter thought the peak might be near: a big step
-after that passes the peak on a curve unlike its training curves).
+after that passes the peak on a curve unlike its training curves). With ``creep_until`` the probe ends
+once the predicted (mean) headroom is that low: the filter expects the peak within it, and each further
+window there risks the modulation's crest passing the peak for readings the estimate no longer needs.
 With ``floor_margin`` set, a step is at least the one that the lowest CoF the task admits
 guarantees safe (:func:`floor_headroom`: the CoA is the DC's fraction of the saturation torque times
 the CoF, so ``ln(CoF_min / CoA)`` bounds the headroom from below whatever the creep curve): a climb that
@@ -298,6 +300,7 @@ class ClimbParameters:
     creep_log_step: float = 0.0  # > 0: a step this small where the cautious gap is closed but the
     creep_while_std: float = 0.1  # ... predicted headroom's std still exceeds this (more readings, not a stop)
     creep_sticky: bool = False  # once it has crept, no later step exceeds creep_log_step
+    creep_until: float | None = None  # not None: no creep once the predicted (mean) headroom is this low
     estimate_from: str = "filter"  # "filter": CoA x exp(predicted correction); "best_coa": best CoA x factor
     best_coa_factor: float = 1.0
     floor_margin: float | None = None  # not None: a step may close the gap to the task's lowest CoF less this
@@ -315,6 +318,9 @@ class ClimbParameters:
         if self.floor_margin is not None and not (isinstance(self.floor_margin, (int, float))
                                                   and math.isfinite(self.floor_margin) and self.floor_margin >= 0):
             raise ValueError(f"floor_margin must be None or a finite number >= 0, got {self.floor_margin!r}")
+        if self.creep_until is not None and not (isinstance(self.creep_until, (int, float))
+                                                 and math.isfinite(self.creep_until)):
+            raise ValueError(f"creep_until must be None or a finite number, got {self.creep_until!r}")
         if not isinstance(self.creep_sticky, bool):
             raise ValueError(f"creep_sticky must be True or False, got {self.creep_sticky!r}")
         if not (isinstance(self.creep_log_step, (int, float)) and 0.0 <= self.creep_log_step <= self.max_log_step):
@@ -333,9 +339,12 @@ class ClimbParameters:
         return min(gap, max(self.max_log_step, self.approach_fraction * gap))
 
     def creeps(self, cautious_headroom: float, headroom_std: float) -> bool:
-        """Whether the next step is the slow probe: the cautious gap is closed, the headroom uncertain."""
+        """Whether the next step is the slow probe: the cautious gap is closed, the headroom uncertain
+        and, with ``creep_until``, the predicted (mean) headroom still above it."""
+        mean_headroom = cautious_headroom + self.caution * headroom_std
         return (self.creep_log_step > 0.0 and headroom_std > self.creep_while_std
-                and self._gap_step(cautious_headroom) < self.min_log_step)
+                and self._gap_step(cautious_headroom) < self.min_log_step
+                and (self.creep_until is None or mean_headroom > self.creep_until))
 
     def floor_step(self, coa: float) -> float:
         """The step that the task's lowest CoF (:data:`~cof_gym.task.scenarios.COF_ENVELOPE`) guarantees
