@@ -319,13 +319,6 @@ def test_a_sticky_creep_takes_no_big_step_after_it_crept(env, sticky):
         ClimbParameters(creep_sticky=1)
 
 
-class _StopFilter:
-    """A stand-in ensemble that always predicts no headroom: without the floor the climb stops at once."""
-
-    def predict(self, x):
-        return np.array([[0.0, 0.0]]), np.array([[1.0, 0.01]])
-
-
 @pytest.mark.parametrize("cof, condition, load_case", [(0.02, "low_adhesion", "empty"), (0.02, "low_adhesion", "laden"),
                                                        (0.6, "dry", "laden")])
 def test_the_floor_step_jumps_to_the_lowest_cof_and_never_past_its_peak(env, cof, condition, load_case):
@@ -333,7 +326,8 @@ def test_the_floor_step_jumps_to_the_lowest_cof_and_never_past_its_peak(env, cof
     filter predicts: from the first DC it lands below the saturation torque of the lowest CoF the task
     admits (here that CoF itself, exact sensors), and at a high CoF several times above the first DC."""
     params = ClimbParameters(floor_margin=0.2, target_headroom=0.1)
-    agent = LearnedInterrogator(env.unwrapped.limits, _StopFilter(), params=params)
+    no_headroom = [(0.0, 1.0)]  # the filter's (mean, std): without the floor the climb stops at once
+    agent = LearnedInterrogator(env.unwrapped.limits, _ScriptedFilter(no_headroom), params=params)
     options = {"condition": condition, "cof": cof, "load_case": load_case, "speed_m_s": 20.0, "speed_sensor_error": 0.0,
                "wheel_radius_error": 0.0, "force_gain_error": 0.0, "torque_gain_error": 0.0}
     obs, info = env.reset(seed=3, options=options)
@@ -347,16 +341,18 @@ def test_the_floor_step_jumps_to_the_lowest_cof_and_never_past_its_peak(env, cof
     assert agent._dc < m_sat * COF_ENVELOPE[0] / cof
     if cof > 0.1:
         assert agent._dc > 3.0 * first
-    plain = LearnedInterrogator(env.unwrapped.limits, _StopFilter(), params=ClimbParameters(target_headroom=0.1))
+    plain = LearnedInterrogator(env.unwrapped.limits, _ScriptedFilter(no_headroom),
+                                params=ClimbParameters(target_headroom=0.1))
     obs, info = env.reset(seed=3, options=options)
     plain.reset(obs, {})
     obs, _, _, _, info = env.step(plain.act(obs, {}))
-    assert plain._dc == first and plain.act(obs, {}) is not None and plain.stop_reason == "headroom"
+    plain.act(obs, {})
+    assert plain._dc == first and plain.stop_reason == "headroom"
     with pytest.raises(ValueError, match="floor_margin"):
         ClimbParameters(floor_margin=-0.1)
 
 
-def test_floor_jump_training_climbs_jump_and_other_collections_are_unchanged():
+def test_floor_jump_training_climbs_take_the_floor_step():
     """A collection with floor_margins takes the floor step when it is the larger (at a high CoF its
     second window lands within the largest margin of the floor); without it, the same first window."""
     env = gym.make(cof_gym.WAGON_ENV_ID)

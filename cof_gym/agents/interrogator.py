@@ -64,6 +64,7 @@ from cof_gym.agents.base import configuration_note, outside_training_note, regis
 from cof_gym.agents.phase_rule import probe_amplitude
 from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.task.scenarios import COF_ENVELOPE
+from cof_gym.task.validation import check_number
 from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES, SPEED_SCALE_M_S, MotorLimits, encode_action
 
 SHIPPED_INTERROGATOR = Path(__file__).resolve().parent / "policies" / "interrogator"
@@ -315,12 +316,9 @@ class ClimbParameters:
                 raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
         if not (isinstance(self.approach_fraction, (int, float)) and 0.0 <= self.approach_fraction < 1.0):
             raise ValueError(f"approach_fraction must be in [0, 1), got {self.approach_fraction!r}")
-        if self.floor_margin is not None and not (isinstance(self.floor_margin, (int, float))
-                                                  and math.isfinite(self.floor_margin) and self.floor_margin >= 0):
-            raise ValueError(f"floor_margin must be None or a finite number >= 0, got {self.floor_margin!r}")
-        if self.creep_until is not None and not (isinstance(self.creep_until, (int, float))
-                                                 and math.isfinite(self.creep_until)):
-            raise ValueError(f"creep_until must be None or a finite number, got {self.creep_until!r}")
+        for name, low in (("floor_margin", 0.0), ("creep_until", -math.inf)):  # None: not used
+            if getattr(self, name) is not None:
+                check_number(name, getattr(self, name), low, math.inf)
         if not isinstance(self.creep_sticky, bool):
             raise ValueError(f"creep_sticky must be True or False, got {self.creep_sticky!r}")
         if not (isinstance(self.creep_log_step, (int, float)) and 0.0 <= self.creep_log_step <= self.max_log_step):
