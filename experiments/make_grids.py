@@ -18,6 +18,8 @@
   those decisions on data that took no part in them.
 - ``suites/v2_heldout3_grid.json``: a third v2 reporting set (:data:`HELDOUT3_SHAPES`, other errors,
   speeds and CoF values), written before session 9's change to the learned climb was measured.
+- ``suites/v2_heldout4_grid.json``: a fourth v2 reporting set (:data:`HELDOUT4_SHAPES`: a quarter ellipse
+  with a drop, a logarithmic rise, a rational knee, a cubic dome), written before any change of session 10 was measured.
 
 Each grid crosses every condition, CoF values at off-round fractions of that condition's range, speeds
 across 5-40 m/s and both load cases, with full sensor noise and a motor lag; the ranges come from
@@ -92,6 +94,21 @@ HELDOUT3_SHAPES = {
     "late_round": lambda x: np.where(x <= 0.85, x / 0.925,
                                      np.where(x <= 1.0, (0.85 + (x - 0.85) - (x - 0.85) ** 2 / 0.3) / 0.925, 1.0)),
 }
+# A fourth held-out set, written in session 10 before any change of that session was measured: none a
+# family member, none of the sets above, none procedural.
+HELDOUT4_SHAPES = {
+    # a quarter ellipse (infinitely steep start, zero slope at the peak) and a drop to 80 % within a
+    # tenth of a peak creepage past it, held after that
+    "ellipse_drop": lambda x: np.where(x <= 1.0, np.sqrt(np.clip(1.0 - (1.0 - x) ** 2, 0.0, None)),
+                                       0.8 + 0.2 * np.clip(1.0 - (x - 1.0) / 0.1, 0.0, 1.0)),
+    # a logarithmic rise (very steep start, long flattening) and an exponential fall to 70 %
+    "log_rise": lambda x: np.where(x <= 1.0, np.log1p(9.0 * np.clip(x, 0.0, None)) / np.log(10.0),
+                                   0.7 + 0.3 * np.exp(-(x - 1.0) / 0.5)),
+    # a Michaelis-Menten (rational) rise with an early knee and a gentle linear fall
+    "rational_knee": lambda x: np.where(x <= 1.0, x * 1.15 / (x + 0.15), 1.0 - 0.04 * (x - 1.0)),
+    # a smooth cubic rise with zero slope at the peak and a symmetric parabolic fall to 55 %
+    "cubic_dome": lambda x: np.where(x <= 1.0, 1.5 * x - 0.5 * x**3, np.maximum(1.0 - 0.75 * (x - 1.0) ** 2, 0.55)),
+}
 HELDOUT_PEAK_CREEPAGE = {"dry": (0.004, 0.012), "wet": (0.006, 0.02), "low_adhesion": (0.01, 0.04)}
 HELDOUT_ERRORS = (  # (speed sensor, wheel radius) relative errors, force and torque gain errors
     (0.0, 0.0, 0.0, 0.0), (0.025, -0.004, 0.008, -0.04), (-0.02, 0.006, -0.012, 0.06), (0.007, 0.009, 0.005, 0.02),
@@ -101,6 +118,9 @@ HELDOUT2_ERRORS = (
 )
 HELDOUT3_ERRORS = (
     (0.012, -0.005, -0.009, 0.035), (0.0, 0.0, 0.0, 0.0), (-0.022, 0.008, 0.013, -0.05), (0.009, 0.004, -0.015, 0.07),
+)
+HELDOUT4_ERRORS = (
+    (-0.008, -0.006, 0.011, 0.045), (0.02, 0.005, -0.004, -0.065), (0.0, 0.0, 0.0, 0.0), (-0.012, 0.002, -0.014, 0.025),
 )
 
 GRIDS = {
@@ -180,7 +200,11 @@ def all_grids() -> dict[str, dict]:
                  v2_heldout3_grid=v2_heldout_grid(
                      (0.27, 0.85), (5.5, 14.0, 37.0), 99_000, HELDOUT3_SHAPES, HELDOUT3_ERRORS,
                      "v2 reporting only, a third set written before session 9's climb change was measured: "
-                     "creep curves outside every family and both earlier sets, other sensor errors"))
+                     "creep curves outside every family and both earlier sets, other sensor errors"),
+                 v2_heldout4_grid=v2_heldout_grid(
+                     (0.09, 0.58), (7.5, 24.0, 39.0), 101_000, HELDOUT4_SHAPES, HELDOUT4_ERRORS,
+                     "v2 reporting only, a fourth set written before any change of session 10 was measured: "
+                     "creep curves outside every family and the three earlier sets, other sensor errors"))
     return grids
 
 
