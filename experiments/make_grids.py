@@ -10,6 +10,10 @@
 - ``suites/v2_validation_procedural_grid.json``: v2 model selection beside the v2 validation grid:
   procedural creep curves beyond every family (not the held-out shapes), so that a selection also
   asks for robustness to curves an agent was not given.
+- ``suites/v2_validation_steep_grid.json``: v2 model selection beside the two above (session 10):
+  procedural creep curves whose falling branch is steep (20-60 % within 0.03-0.3 peak creepages), where
+  a modulation crest that passes the peak makes the wheel run away; neither other validation grid has
+  such curves, and no held-out shape was used to write it.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -166,23 +170,27 @@ def v2_heldout_grid(fractions=(0.21, 0.74), speeds=(9.0, 26.0), first_seed: int 
 
 
 def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.0, 36.0),
-                                  first_seed: int = 65_000) -> dict:
+                                  first_seed: int = 65_000, steep: bool = False) -> dict:
     """Procedural creep curves (:func:`cof_gym.agents.interrogator_training.procedural_shape`, tables
-    beyond every family, none of :data:`HELDOUT_SHAPES`) x conditions x CoF x speed x both loads; the
+    beyond every family, none of the held-out shapes) x conditions x CoF x speed x both loads; the
     env draws the systematic sensor errors. Model selection only: it asks a climb to survive creep
-    curves it was not trained on, as the held-out grid will, without using the held-out shapes."""
-    from cof_gym.agents.interrogator_training import procedural_shape
+    curves it was not trained on, as the held-out grids will, without using the held-out shapes. With
+    ``steep`` the curves fall past their peak as :data:`~cof_gym.agents.interrogator_training.STEEP_FALL`
+    draws (by 20-60 % within 0.03-0.3 peak creepages): where a modulation crest past the peak runs away."""
+    from cof_gym.agents.interrogator_training import GENTLE_FALL, STEEP_FALL, procedural_shape
 
+    fall = STEEP_FALL if steep else GENTLE_FALL
     episodes = []
     combos = itertools.product(DEFAULT_CONDITIONS, fractions, speeds, ("empty", "laden"))
     for k, (condition, fraction, speed, load_case) in enumerate(combos):
         lo, hi = COF_BY_CONDITION[condition]
         options = {"condition": condition, "cof": round(lo + fraction * (hi - lo), 4), "speed_m_s": speed,
                    "load_case": load_case, "noise_level": 1.0, "motor_lag_s": 0.02,
-                   "creep_law": procedural_shape(np.random.default_rng([first_seed + k, 13]))}
+                   "creep_law": procedural_shape(np.random.default_rng([first_seed + k, 13]), fall)}
         episodes.append({"seed": first_seed + k, "options": options})
+    kind = "procedural creep curves with steep falling branches" if steep else "procedural creep curves"
     return {"env_id": cof_gym.WAGON_ENV_ID, "env_kwargs": {},
-            "description": "v2 model selection only (never reported): procedural creep curves beyond every family",
+            "description": f"v2 model selection only (never reported): {kind} beyond every family",
             "episodes": episodes}
 
 
@@ -193,6 +201,8 @@ def all_grids() -> dict[str, dict]:
                                          "v2 model selection only (never reported): shapes and sensor errors "
                                          "from the v2 draws", env_id=cof_gym.WAGON_ENV_ID),
                  v2_heldout_grid=v2_heldout_grid(), v2_validation_procedural_grid=v2_validation_procedural_grid(),
+                 v2_validation_steep_grid=v2_validation_procedural_grid((0.23, 0.61, 0.94), (6.0, 16.0, 30.0),
+                                                                        67_000, steep=True),
                  v2_heldout2_grid=v2_heldout_grid(
                      (0.33, 0.63), (6.0, 17.0, 31.0), 97_000, HELDOUT2_SHAPES, HELDOUT2_ERRORS,
                      "v2 reporting only, a second set written after every decision on the first: creep curves "
@@ -206,6 +216,15 @@ def all_grids() -> dict[str, dict]:
                      "v2 reporting only, a fourth set written before any change of session 10 was measured: "
                      "creep curves outside every family and the three earlier sets, other sensor errors"))
     return grids
+
+
+ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ")
+
+
+def v2_heldout_grids() -> dict[str, str]:
+    """The v2 reporting grids in the order they were written: file name (without ``.json``) -> label."""
+    names = [name for name in all_grids() if name.startswith("v2_heldout")]
+    return {name: f"v2 {ORDINALS[k]}held-out grid" for k, name in enumerate(names)}
 
 
 def grid_text(spec: dict) -> str:

@@ -6,6 +6,7 @@ so that its tables are generated, never typed:
     cof-gym evaluate --suite experiments/suites/v2_heldout_grid.json --out out/evaluate-v2-heldout
     cof-gym evaluate --suite experiments/suites/v2_heldout2_grid.json --out out/evaluate-v2-heldout2
     cof-gym evaluate --suite experiments/suites/v2_heldout3_grid.json --out out/evaluate-v2-heldout3
+    cof-gym evaluate --suite experiments/suites/v2_heldout4_grid.json --out out/evaluate-v2-heldout4
     cof-gym evaluate --suite experiments/suites/v1_default.json --episodes 60 --out out/evaluate-v1
     cof-gym evaluate --suite experiments/suites/heldout_grid.json --out out/evaluate-heldout   # v1 held-out
     cof-gym bench --seconds 10 --markdown out/bench.md
@@ -22,16 +23,21 @@ from __future__ import annotations
 import json
 import re
 import shutil
+import sys
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from make_grids import v2_heldout_grids  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 README = ROOT / "README.md"
+# the v2 held-out grids: README block (the grid's name without "_grid") -> (label, cof-gym evaluate --out)
+HELDOUT_RUNS = {name.removesuffix("_grid"): (label, ROOT / "out" / f"evaluate-{name.removesuffix('_grid').replace('_', '-')}")
+                for name, label in v2_heldout_grids().items()}
 SOURCES = {
     "default": ROOT / "out" / "evaluate" / "summary.md",
     "v2_no_errors": ROOT / "out" / "evaluate-v2-no-errors" / "summary.md",
-    "v2_heldout": ROOT / "out" / "evaluate-v2-heldout" / "summary.md",
-    "v2_heldout2": ROOT / "out" / "evaluate-v2-heldout2" / "summary.md",
-    "v2_heldout3": ROOT / "out" / "evaluate-v2-heldout3" / "summary.md",
+    **{block: out / "summary.md" for block, (_, out) in HELDOUT_RUNS.items()},
     "v1_default": ROOT / "out" / "evaluate-v1" / "summary.md",
     "bench": ROOT / "out" / "bench.md",
     "heldout": ROOT / "out" / "evaluate-heldout" / "summary.md",
@@ -40,12 +46,8 @@ SOURCES = {
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
 TARGET_SUITES = {"v2 default suite (`cof-gym evaluate`)": ROOT / "out" / "evaluate" / "summary.json",
-                 "v2 held-out grid (`--suite experiments/suites/v2_heldout_grid.json`)":
-                     ROOT / "out" / "evaluate-v2-heldout" / "summary.json",
-                 "v2 second held-out grid (`--suite experiments/suites/v2_heldout2_grid.json`)":
-                     ROOT / "out" / "evaluate-v2-heldout2" / "summary.json",
-                 "v2 third held-out grid (`--suite experiments/suites/v2_heldout3_grid.json`)":
-                     ROOT / "out" / "evaluate-v2-heldout3" / "summary.json"}
+                 **{f"{label} (`--suite experiments/suites/{block}_grid.json`)": out / "summary.json"
+                    for block, (label, out) in HELDOUT_RUNS.items()}}
 
 
 def body(path: Path) -> str:

@@ -24,7 +24,7 @@
    grid, then, over both grids pooled with a macro-slip counted as a failed measurement (100 % error),
    the lowest P90, then median relative error. Written to every OUT/*/manifest.json.
 4. **Report** (nothing is chosen here): every seed and the ensemble on the default suite (60 episodes),
-   on the three held-out grids (experiments/suites/v2_heldout*_grid.json) and on the procedural
+   on the held-out grids (experiments/suites/v2_heldout*_grid.json) and on the procedural
    validation grid (traction balance;
    per seed, where the selection played the ensemble); per seed median / P90 / macro-slips, and over
    seeds x scenarios the interquartile mean (IQM) of the relative error with a stratified-bootstrap
@@ -57,6 +57,9 @@ from cof_gym.agents.interrogator_training import (
 from cof_gym.commands.evaluate import run_episode
 from cof_gym.commands.suites import make_suite
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from make_grids import v2_heldout_grids  # noqa: E402
+
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 from ppo_seeds import iqm, stratified_bootstrap_ci  # noqa: E402
@@ -81,9 +84,6 @@ EPISODES = {"env": 8000}  # the shipped recipe (procedural and high_frequency lo
 VALIDATION = HERE / "suites" / "v2_validation_grid.json"  # the v2 draws (families, sensor errors)
 # procedural creep curves beyond every family, none of the held-out shapes: the selection's robustness data
 PROCEDURAL_VALIDATION = HERE / "suites" / "v2_validation_procedural_grid.json"
-HELDOUT = HERE / "suites" / "v2_heldout_grid.json"
-HELDOUT2 = HERE / "suites" / "v2_heldout2_grid.json"  # written after every decision on the first
-HELDOUT3 = HERE / "suites" / "v2_heldout3_grid.json"  # written before session 9's climb change was measured
 PROBES = ((0.0, 0.1, False), (0.03, 0.08, False), (0.03, 0.08, True))  # (creep step, while std, sticky)
 
 
@@ -221,11 +221,10 @@ def select_climb(ensemble_dir: Path, workers: int, criterion: str = "pooled",
 
 
 def report_runs(runs: list[Path], workers: int) -> dict:
-    """Every run (seed or ensemble) on the default suite, the three held-out grids and the procedural
+    """Every run (seed or ensemble) on the default suite, the held-out grids and the procedural
     validation grid (per seed: the selection played the ensemble there), per episode."""
-    suites = [{"name": "default", "path": "default"}, {"name": "v2 held-out grid", "path": str(HELDOUT)},
-              {"name": "v2 second held-out grid", "path": str(HELDOUT2)},
-              {"name": "v2 third held-out grid", "path": str(HELDOUT3)},
+    suites = [{"name": "default", "path": "default"},
+              *({"name": label, "path": str(HERE / "suites" / f"{name}.json")} for name, label in v2_heldout_grids().items()),
               {"name": "procedural validation grid (selection data, per seed)", "path": str(PROCEDURAL_VALIDATION)}]
     report = {}
     for s in suites:

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
-from make_grids import SUITES, all_grids, grid_text  # noqa: E402
+from make_grids import SUITES, all_grids, grid_text, v2_heldout_grids  # noqa: E402
 
 GRIDS = all_grids()
 
@@ -23,3 +23,13 @@ def test_heldout_grids_share_no_seed_and_no_shape():
     assert len(seeds) == len(set(seeds))
     notes = [{e["note"] for e in spec["episodes"]} for spec in heldout.values()]
     assert sum(len(n) for n in notes) == len(set().union(*notes))
+
+
+def test_every_v2_heldout_file_is_reported_in_the_order_written():
+    """The README, its targets and the training report list the v2 held-out grids from
+    v2_heldout_grids(): a new grid file is picked up there, each with its own label."""
+    listed = v2_heldout_grids()
+    assert set(listed) == {p.stem for p in SUITES.glob("v2_heldout*_grid.json")}
+    assert list(listed)[:2] == ["v2_heldout_grid", "v2_heldout2_grid"]
+    assert list(listed.values())[:2] == ["v2 held-out grid", "v2 second held-out grid"]
+    assert len(set(listed.values())) == len(listed)

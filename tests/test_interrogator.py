@@ -20,7 +20,8 @@ from cof_gym.agents.interrogator import (
     PEAK_GAP_CLIP, LearnedInterrogator, Reading, floor_headroom, peak_gap, slope_from_phase, slope_index,
 )
 from cof_gym.agents.interrogator_training import (
-    PROCEDURAL_PEAK_CREEPAGE, ClimbDraws, Dataset, FitSettings, _climb_episode, collect, fit_member, procedural_shape,
+    GENTLE_FALL, PROCEDURAL_PEAK_CREEPAGE, STEEP_FALL, ClimbDraws, Dataset, FallingBranch, FitSettings, _climb_episode,
+    collect, fit_member, procedural_shape,
 )
 from cof_gym.physics.creep_laws import creep_law_from_spec
 from cof_gym.commands.evaluate import run_episode
@@ -260,6 +261,22 @@ def test_procedural_shapes_are_valid_creep_laws_with_their_peak_where_drawn():
         assert lo <= creepage[shape.peak_index] <= hi
         assert np.all(ratio[shape.peak_index:] <= 1.0) and np.all(ratio >= 0.0)
         assert spec == procedural_shape(np.random.default_rng([seed, 11]))
+
+
+def test_steep_procedural_shapes_fall_as_drawn_and_the_default_draws_are_unchanged():
+    """STEEP_FALL curves are valid tables that lose 20-60 % of the peak adhesion, most of it within
+    0.3 peak creepages of the peak (a decay length <= 0.3); GENTLE_FALL is the default draw."""
+    for seed in range(100):
+        spec = procedural_shape(np.random.default_rng([seed, 13]), STEEP_FALL)
+        shape = creep_law_from_spec(spec)
+        x = np.asarray(shape.creepage) / shape.creepage[shape.peak_index]
+        ratio = np.asarray(shape.adhesion_ratio)
+        assert 0.4 - 1e-3 <= ratio[-1] <= 0.8 + 1e-3  # x = 4: exp(-3 / 0.3) of the drop is left
+        assert ratio[x >= 1.3][0] <= 1.0 - 0.2 * (1.0 - math.exp(-1.0))  # past one decay length
+        assert procedural_shape(np.random.default_rng([seed, 11]), GENTLE_FALL) == procedural_shape(
+            np.random.default_rng([seed, 11]))
+    with pytest.raises(ValueError, match="FallingBranch.drops"):
+        FallingBranch(drops=(0.5, 0.2))
 
 
 def test_climb_step_is_the_cautious_gap_capped_near_and_far_from_the_peak():

@@ -40,6 +40,7 @@ from cof_gym.agents.interrogator import (
 from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.physics.creep_laws import below_peak
 from cof_gym.task.interface import encode_action
+from cof_gym.task.validation import check_number
 
 TRAINING_SEED = 1_000_000  # first training seed: far from every evaluation and validation seed
 
@@ -117,14 +118,36 @@ PROCEDURAL_PEAK_CREEPAGE = (0.003, 0.04)  # log-uniform
 PROCEDURAL_KNOTS = (0.0, 0.05, 0.15, 0.3, 0.5, 0.7, 0.85, 1.0)  # x = creepage / peak creepage
 
 
-def procedural_shape(rng: np.random.Generator) -> dict[str, Any]:
+@dataclass(frozen=True)
+class FallingBranch:
+    """How a procedural creep curve falls past its peak: by a fraction drawn uniform in ``drops`` of the
+    peak adhesion, over a decay length drawn log-uniform in ``decays`` (peak creepages), held flat with
+    probability ``plateau``."""
+
+    drops: tuple[float, float] = (0.0, 0.4)
+    decays: tuple[float, float] = (0.2, 4.0)
+    plateau: float = 0.2
+
+    def __post_init__(self) -> None:
+        for name, low, high in (("drops", 0.0, 1.0), ("decays", 1e-3, 100.0)):
+            pair = getattr(self, name)
+            if not (len(pair) == 2 and low <= pair[0] <= pair[1] <= high):
+                raise ValueError(f"FallingBranch.{name} must be a (low, high) pair within [{low}, {high}], got {pair!r}")
+        check_number("FallingBranch.plateau", self.plateau, 0.0, 1.0)
+
+
+GENTLE_FALL = FallingBranch()  # the training climbs' and the procedural validation grid's
+STEEP_FALL = FallingBranch(drops=(0.2, 0.6), decays=(0.03, 0.3), plateau=0.0)  # a steep validation grid's
+
+
+def procedural_shape(rng: np.random.Generator, fall: FallingBranch = GENTLE_FALL) -> dict[str, Any]:
     """A random creep curve as a ``creep_law`` table spec (domain randomisation beyond the families):
     the rise is a monotone cubic through knots at :data:`PROCEDURAL_KNOTS` whose increments are drawn
     from a Dirichlet distribution (shrinking: a concave rise; with probability 0.4 growing over the
     first 2-4 knots first: a low initial slope and one inflection, as a third-body layer gives), with a
     zero slope at the peak half of the time (a smooth maximum) and the interpolant's slope otherwise
-    (a kink); after the peak the curve falls by a drawn 0-40 % with a
-    drawn decay length (0.2-4 peak creepages), a plateau one time in five."""
+    (a kink); after the peak it falls as ``fall`` draws (by default by 0-40 % over 0.2-4 peak
+    creepages, a plateau one time in five)."""
     from scipy.interpolate import CubicHermiteSpline, PchipInterpolator
 
     n = len(PROCEDURAL_KNOTS) - 1
@@ -140,8 +163,8 @@ def procedural_shape(rng: np.random.Generator) -> dict[str, Any]:
     if rng.random() < 0.5:
         slopes[-1] = 0.0
     rise = CubicHermiteSpline(knots, values, slopes)
-    drop = 0.0 if rng.random() < 0.2 else rng.uniform(0.0, 0.4)
-    decay = math.exp(rng.uniform(math.log(0.2), math.log(4.0)))
+    drop = 0.0 if rng.random() < fall.plateau else rng.uniform(*fall.drops)
+    decay = math.exp(rng.uniform(*np.log(fall.decays)))
     x_rise = np.concatenate([[0.0], np.geomspace(2e-3, 0.97, 30), [0.985, 1.0]])
     x_fall = 1.0 + np.geomspace(0.02, 3.0, 10)
     ratio = np.concatenate([np.clip(rise(x_rise), 0.0, 1.0), 1.0 - drop * (1.0 - np.exp(-(x_fall - 1.0) / decay))])

@@ -10,7 +10,7 @@ import os
 import shutil
 import sys
 import time
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 from typing import Any
 
@@ -49,11 +49,9 @@ def default_out(suite: str) -> Path:
 
 
 @dataclass
-class EpisodeRecord:
-    agent: str
-    oracle: bool
-    episode: int
-    seed: int
+class ScenarioColumns:
+    """An episode's scenario as a record holds it: the entries of ``info["ground_truth"]`` of these names."""
+
     cof: float
     condition: str
     speed_m_s: float
@@ -62,6 +60,21 @@ class EpisodeRecord:
     motor_lag_s: float
     creep_family: str
     creepage_offset: float  # the sensors' systematic creepage error (1 + e_R)/(1 + e_v) - 1
+
+    @classmethod
+    def read(cls, ground_truth: dict[str, Any]) -> dict[str, Any]:
+        """These columns' values in an episode's ground truth."""
+        return {f.name: ground_truth[f.name] for f in fields(cls)}
+
+
+@dataclass
+class EpisodeRecord(ScenarioColumns):
+    """One agent's episode: its scenario (:class:`ScenarioColumns`), then what the agent did and scored."""
+
+    agent: str
+    oracle: bool
+    episode: int
+    seed: int
     estimate: float
     relative_error: float  # |estimate / CoF - 1|; 1.0 when the episode ended unscored (divergence)
     scored: bool
@@ -117,10 +130,8 @@ def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list 
     err = info.get("relative_error")
     scored = err is not None and bool(info.get("scored", True)) and not info.get("diverged", False)
     return EpisodeRecord(
-        agent=agent.name, oracle=oracle, episode=episode, seed=seed, cof=gt["cof"], condition=gt["condition"],
-        speed_m_s=gt["speed_m_s"], load_case=gt["load_case"], noise_level=gt["noise_level"],
-        motor_lag_s=gt["motor_lag_s"], creep_family=gt.get("creep_family", "polach"),
-        creepage_offset=gt.get("creepage_offset", 0.0), estimate=info["cof_estimate"],
+        **ScenarioColumns.read(gt), agent=agent.name, oracle=oracle, episode=episode, seed=seed,
+        estimate=info["cof_estimate"],
         relative_error=float(err) if err is not None else 1.0, scored=scored,
         macro_slip=macro_slip, slip_energy_j=slip_e, friction_energy_j=fric_e,
         wd_rms_m_s2=math.sqrt(wd2 / steps), measurement_time_s=info["elapsed_s"], peak_torque_fraction=peak,

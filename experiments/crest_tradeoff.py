@@ -1,0 +1,78 @@
+"""How far below the peak must the shipped interrogator stop to survive steep falling branches?
+(run from the repository root; 2 cores, ~4 min)
+
+    python experiments/crest_tradeoff.py [--targets 0.1 0.15 0.2 0.3] [--out out/crest_tradeoff.md]
+
+The shipped climb's modulation is 40 % of the DC torque, so its crest passes the saturation torque once
+the DC is above ``1 / 1.4`` of it (a headroom below ``ln 1.4 = 0.34``); a creep curve that falls steeply
+past its peak then lets the wheel run away. This plays the shipped filter with its climb and only the
+target headroom (and the end of its slow probe) changed, in both vehicle configurations, on the three
+validation grids (model selection data, never reported elsewhere as results): the family draws, the
+procedural curves and the procedural curves with steep falling branches
+(``experiments/suites/v2_validation_steep_grid.json``). Per grid: median / P90 relative CoF error,
+macro-slips, and the mean episode return (the task's own trade of error against slip, comfort and time).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from train_interrogator import CONFIGS, PROCEDURAL_VALIDATION, VALIDATION, episodes, score  # noqa: E402
+
+from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR  # noqa: E402
+
+STEEP_VALIDATION = Path(__file__).resolve().parent / "suites" / "v2_validation_steep_grid.json"
+GRIDS = {"family": VALIDATION, "procedural": PROCEDURAL_VALIDATION, "steep": STEEP_VALIDATION}
+
+
+def _play(target: float, grid: str, config: dict) -> list[tuple[float, bool, float]]:
+    """(relative error, macro-slip, return) of every episode, the shipped climb at ``target``."""
+    manifest = json.loads((SHIPPED_INTERROGATOR / "manifest.json").read_text())["climb"]
+    params = {**manifest, "target_headroom": target,
+              "creep_until": max(manifest["creep_until"], target) if manifest.get("creep_until") is not None else None}
+    return [(r.relative_error if r.scored else 1.0, r.macro_slip, r.episode_return)
+            for r, _ in episodes(str(SHIPPED_INTERROGATOR), grid, config, params)]
+
+
+def table(targets: list[float], workers: int) -> str:
+    jobs = [(t, str(g), c) for t in targets for g in GRIDS.values() for c in CONFIGS]
+    with ProcessPoolExecutor(workers) as pool:
+        results = iter(list(pool.map(_play, *zip(*jobs))))
+    head = " | ".join(f"{name}: median / P90 / macro-slips / return" for name in GRIDS)
+    lines = [f"| target headroom | {head} | all: macro-slips / return |", "|---|" + "---|" * (len(GRIDS) + 1)]
+    for t in targets:
+        cells, pooled = [], []
+        for _ in GRIDS:
+            runs = [r for _ in CONFIGS for r in next(results)]
+            pooled += runs
+            s = score([(e, slip) for e, slip, _ in runs])
+            cells.append(f"{100 * s['median']:.1f} % / {100 * s['p90']:.1f} % / {s['macro_slips']} of {len(runs)} / "
+                         f"{np.mean([ret for *_, ret in runs]):.2f}")
+        lines.append(f"| {t:g} | {' | '.join(cells)} | {sum(slip for _, slip, _ in pooled)} of {len(pooled)} / "
+                     f"{np.mean([ret for *_, ret in pooled]):.2f} |")
+    return "\n".join(lines) + "\n"
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--targets", type=float, nargs="+", default=[0.1, 0.15, 0.2, 0.3])
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--out", type=Path, default=Path("out/crest_tradeoff.md"))
+    args = parser.parse_args()
+    if any(not 0.0 < t < 1.0 for t in args.targets):
+        parser.error("--targets must lie in (0, 1) (a headroom ln(M_sat / DC))")
+    text = table(args.targets, args.workers)
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    args.out.write_text(text)
+    print(text, end="")
+
+
+if __name__ == "__main__":
+    main()
