@@ -12,6 +12,7 @@ so that its tables are generated, never typed:
     cof-gym bench --seconds 10 --markdown out/bench.md
     python experiments/ppo_seeds.py --runs runs/ppo_lo_s0 runs/ppo_lo_s1 runs/ppo_lo_s2 --out out/ppo_seeds
     python experiments/train_interrogator.py --out runs/interrogator --ship
+    python experiments/crest_tradeoff.py --out out/crest_tradeoff.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in README.md;
@@ -43,6 +44,7 @@ SOURCES = {
     "heldout": ROOT / "out" / "evaluate-heldout" / "summary.md",
     "ppo_seeds": ROOT / "out" / "ppo_seeds" / "report.md",
     "interrogator_seeds": ROOT / "runs" / "interrogator" / "report.md",
+    "crest_tradeoff": ROOT / "out" / "crest_tradeoff.md",
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
 TARGET_SUITES = {"v2 default suite (`cof-gym evaluate`)": ROOT / "out" / "evaluate" / "summary.json",

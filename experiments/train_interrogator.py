@@ -8,8 +8,9 @@
    the env's creep-law draws (seeds from 1 000 000 on), on procedural creep curves, tables beyond every
    family (from 1 100 000 on), on the env's draws with 8-20 Hz modulations (from 1 200 000 on) and with
    modulation ratios of 10-80 % instead of 3-40 % (from 1 300 000 on), with the deployed probe only
-   (from 1 400 000 on) and with the climb's jump to the lowest CoF the task admits (from 1 500 000 on;
-   lost on validation in session 9); far from every evaluation seed; cached in OUT/climbs*.npz.
+   (from 1 400 000 on), with the climb's jump to the lowest CoF the task admits (from 1 500 000 on;
+   lost on validation in session 9) and on procedural curves with steep falling branches (from
+   1 600 000 on); far from every evaluation seed; cached in OUT/climbs*.npz.
 2. **Seeds**: one filter network per seed (bootstrap resample of the training episodes, its own
    initialisation), OUT/seed_K/; the ensemble of all seeds in OUT/ensemble/.
 3. **Selection, validation only**: the climb's parameters (modulation ratio, target headroom,
@@ -52,7 +53,7 @@ from cof_gym.agents.interrogator import (
     SHIPPED_INTERROGATOR, ClimbParameters, FilterEnsemble, FilterNetwork, interrogator_for,
 )
 from cof_gym.agents.interrogator_training import (
-    TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel, fit_member, nll,
+    STEEP_FALL, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel, fit_member, nll,
 )
 from cof_gym.commands.evaluate import run_episode
 from cof_gym.commands.suites import make_suite
@@ -79,6 +80,9 @@ COLLECTIONS = {
                        ClimbDraws(frequencies_hz=(5.0, 5.0), amplitude_ratios=(0.3, 0.5))),
     # the env's draws, with the deployed climb's jumps to the lowest CoF the task admits (margins 0.1-0.5)
     "floor_jump": ("climbs_floor_jump.npz", TRAINING_SEED + 500_000, ClimbDraws(floor_margins=(0.1, 0.5))),
+    # procedural creep curves with steep falling branches (interrogator_training.STEEP_FALL)
+    "procedural_steep": ("climbs_procedural_steep.npz", TRAINING_SEED + 600_000,
+                         ClimbDraws(shapes="procedural", fall=STEEP_FALL)),
 }
 EPISODES = {"env": 8000}  # the shipped recipe (procedural and high_frequency lost on validation: README)
 VALIDATION = HERE / "suites" / "v2_validation_grid.json"  # the v2 draws (families, sensor errors)

@@ -184,12 +184,14 @@ class ClimbDraws:
     (:data:`SHAPE_SOURCES`), the modulation frequency (log-uniform in ``frequencies_hz``; None: 5 Hz or
     log-uniform in 3-10 Hz, half and half), the modulation ratio (log-uniform in ``amplitude_ratios``)
     and, with ``floor_margins``, the deployed climb's jumps to the lowest CoF the task admits: a step is at
-    least :func:`~cof_gym.agents.interrogator.floor_headroom` less a margin drawn uniform in that range."""
+    least :func:`~cof_gym.agents.interrogator.floor_headroom` less a margin drawn uniform in that range;
+    ``fall``: how procedural curves fall past their peak."""
 
     shapes: str = "env"
     frequencies_hz: tuple[float, float] | None = None
     amplitude_ratios: tuple[float, float] = (0.03, 0.4)
     floor_margins: tuple[float, float] | None = None  # a step may close the gap to the lowest CoF less this
+    fall: FallingBranch = GENTLE_FALL
 
     def __post_init__(self) -> None:
         if self.shapes not in SHAPE_SOURCES:
@@ -204,7 +206,7 @@ def _climb_episode(env, seed: int, draws: ClimbDraws = ClimbDraws()) -> tuple[li
     """One training climb (module docstring): its readings and their labels."""
     rng = np.random.default_rng([seed, 7])
     procedural = draws.shapes == "procedural"
-    options = {"creep_law": procedural_shape(np.random.default_rng([seed, 11]))} if procedural else None
+    options = {"creep_law": procedural_shape(np.random.default_rng([seed, 11]), draws.fall)} if procedural else None
     obs, info = env.reset(seed=seed, options=options)
     base = env.unwrapped
     limits = base.limits
