@@ -218,3 +218,26 @@ def test_configuration_note_names_each_difference_from_the_nearest_trained_world
         "a is out of its training distribution here: counter_torque='default' (trained: True)")
     assert configuration_note("a", "Y", {"counter_torque": True, "vehicle": "v"}, "X", ({}, {"counter_torque": True})) == (
         "a is out of its training distribution here: env Y (trained: X), vehicle='v' (trained: 'default')")
+
+
+def test_saturation_oracle_keeps_its_crest_below_the_peak_and_refuses_a_crest_past_it() -> None:
+    """The oracle's hold plus its modulation stays below the true saturation torque, so it survives creep
+    curves that fall steeply past their peak (there a crest past the peak runs the wheel away); levels
+    that put the crest at or past the saturation torque are refused at construction."""
+    from cof_gym.agents.oracle import SaturationOracle
+    from cof_gym.commands.evaluate import run_episode
+    from cof_gym.commands.suites import make_suite
+
+    suite = make_suite(str(Path(__file__).resolve().parents[1] / "experiments" / "suites"
+                           / "v2_validation_steep_grid.json"), 60, 0)
+    env = gym.make(suite.env_id, **suite.env_kwargs)
+    oracle = SaturationOracle(limits_of(env))
+    assert max(oracle.levels) + oracle.amplitude_fraction < 1.0
+    for i, (seed, options) in enumerate(suite.episodes[:54:9]):
+        record = run_episode(env, oracle, seed, options, i)
+        assert not record.macro_slip and record.peak_torque_fraction < 1.0
+        assert record.relative_error < 0.05  # the CoA held at 98.5 % of the peak, with the sensors' errors
+    with pytest.raises(ValueError, match="levels must lie in"):
+        SaturationOracle(limits_of(env), levels=(0.5, 0.995))
+    with pytest.raises(ValueError, match="amplitude_fraction"):
+        SaturationOracle(limits_of(env), amplitude_fraction=0.0)

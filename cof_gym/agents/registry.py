@@ -78,7 +78,7 @@ def shipped_ppo_available() -> bool:
 
 
 register("oracle", "cof_gym.agents.oracle:SaturationOracle", oracle=True,
-         help="holds 98 % of the true saturation torque and reports the CoA there (the physics' floor)")
+         help="holds 98.5 % of the true saturation torque, its 1 % crest below it, and reports the CoA there (the physics' floor)")
 register("staircase-paper", "cof_gym.agents.staircase:PaperStaircase", oracle=True,
          help="the paper's rule on the true saturation torque (oracle)")
 register("staircase", "cof_gym.agents.staircase:PracticalStaircase", oracle=False,
