@@ -24,25 +24,30 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from train_interrogator import CONFIGS, PROCEDURAL_VALIDATION, VALIDATION, episodes, score  # noqa: E402
+from train_interrogator import (  # noqa: E402
+    CONFIGS, PROCEDURAL_VALIDATION, STEEP_VALIDATION, VALIDATION, episodes, score,
+)
 
 from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR  # noqa: E402
 
-STEEP_VALIDATION = Path(__file__).resolve().parent / "suites" / "v2_validation_steep_grid.json"
 GRIDS = {"family": VALIDATION, "procedural": PROCEDURAL_VALIDATION, "steep": STEEP_VALIDATION}
 
 
-def _play(target: float, grid: str, config: dict) -> list[tuple[float, bool, float]]:
-    """(relative error, macro-slip, return) of every episode, the shipped climb at ``target``."""
-    manifest = json.loads((SHIPPED_INTERROGATOR / "manifest.json").read_text())["climb"]
-    params = {**manifest, "target_headroom": target,
-              "creep_until": max(manifest["creep_until"], target) if manifest.get("creep_until") is not None else None}
+def climb_at(climb: dict, target: float) -> dict:
+    """The climb ``climb`` aiming at ``target``, its slow probe ending no lower than the target."""
+    until = climb.get("creep_until")
+    return {**climb, "target_headroom": target, "creep_until": None if until is None else max(until, target)}
+
+
+def _play(params: dict, grid: str, config: dict) -> list[tuple[float, bool, float]]:
+    """(relative error, macro-slip, return) of every episode, the shipped filter with the climb ``params``."""
     return [(r.relative_error if r.scored else 1.0, r.macro_slip, r.episode_return)
             for r, _ in episodes(str(SHIPPED_INTERROGATOR), grid, config, params)]
 
 
 def table(targets: list[float], workers: int) -> str:
-    jobs = [(t, str(g), c) for t in targets for g in GRIDS.values() for c in CONFIGS]
+    climb = json.loads((SHIPPED_INTERROGATOR / "manifest.json").read_text())["climb"]
+    jobs = [(climb_at(climb, t), str(g), c) for t in targets for g in GRIDS.values() for c in CONFIGS]
     with ProcessPoolExecutor(workers) as pool:
         results = iter(list(pool.map(_play, *zip(*jobs))))
     head = " | ".join(f"{name}: median / P90 / macro-slips / return" for name in GRIDS)

@@ -58,11 +58,9 @@ from cof_gym.agents.interrogator_training import (
 from cof_gym.commands.evaluate import run_episode
 from cof_gym.commands.suites import make_suite
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from make_grids import v2_heldout_grids  # noqa: E402
-
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
+from make_grids import v2_heldout_grids  # noqa: E402
 from ppo_seeds import iqm, stratified_bootstrap_ci  # noqa: E402
 from selection import error_summary  # noqa: E402
 
@@ -88,6 +86,8 @@ EPISODES = {"env": 8000}  # the shipped recipe (procedural and high_frequency lo
 VALIDATION = HERE / "suites" / "v2_validation_grid.json"  # the v2 draws (families, sensor errors)
 # procedural creep curves beyond every family, none of the held-out shapes: the selection's robustness data
 PROCEDURAL_VALIDATION = HERE / "suites" / "v2_validation_procedural_grid.json"
+# procedural creep curves with steep falling branches: crest_tradeoff.py's data (not the recipe's selection)
+STEEP_VALIDATION = HERE / "suites" / "v2_validation_steep_grid.json"
 PROBES = ((0.0, 0.1, False), (0.03, 0.08, False), (0.03, 0.08, True))  # (creep step, while std, sticky)
 
 

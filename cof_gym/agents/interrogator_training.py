@@ -40,7 +40,7 @@ from cof_gym.agents.interrogator import (
 from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.physics.creep_laws import below_peak
 from cof_gym.task.interface import encode_action
-from cof_gym.task.validation import check_number
+from cof_gym.task.validation import check_number, check_range
 
 TRAINING_SEED = 1_000_000  # first training seed: far from every evaluation and validation seed
 
@@ -129,10 +129,8 @@ class FallingBranch:
     plateau: float = 0.2
 
     def __post_init__(self) -> None:
-        for name, low, high in (("drops", 0.0, 1.0), ("decays", 1e-3, 100.0)):
-            pair = getattr(self, name)
-            if not (len(pair) == 2 and low <= pair[0] <= pair[1] <= high):
-                raise ValueError(f"FallingBranch.{name} must be a (low, high) pair within [{low}, {high}], got {pair!r}")
+        check_range("FallingBranch.drops", self.drops, 0.0, 1.0)
+        check_range("FallingBranch.decays", self.decays, 1e-3, 100.0)
         check_number("FallingBranch.plateau", self.plateau, 0.0, 1.0)
 
 

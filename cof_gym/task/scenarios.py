@@ -42,7 +42,7 @@ from cof_gym.physics.creep_laws import RANGES as CREEP_RANGES, CreepShape, creep
 from cof_gym.physics.simulation import Scenario, SensorNoise
 from cof_gym.physics.vehicle import LOAD_CASES
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS, SensorErrors
-from cof_gym.task.validation import check_choice, check_number
+from cof_gym.task.validation import check_choice, check_number, check_range
 
 # sensor noise at full scale (noise_level = 1): realistic on-board sensors (assumed values)
 FULL_SCALE_NOISE = SensorNoise(omega_rad_s=0.02, force_relative=0.02, speed_m_s=0.05)
@@ -59,16 +59,6 @@ SPEED_ENVELOPE_M_S = (5.0, 40.0)
 NOISE_LEVEL_MAX = 3.0  # multiples of FULL_SCALE_NOISE
 MOTOR_LAG_MAX_S = 0.1
 SENSOR_ERROR_SCALE_MAX = 3.0  # multiples of each systematic error's drawn range
-
-
-def _check_range(name: str, value: Any, low: float, high: float) -> tuple[float, float]:
-    if not (isinstance(value, (tuple, list)) and len(value) == 2):
-        raise ValueError(f"{name} must be a (min, max) pair within [{low:g}, {high:g}], got {value!r}")
-    lo = check_number(f"{name}[0]", value[0], low, high)
-    hi = check_number(f"{name}[1]", value[1], low, high)
-    if lo > hi:
-        raise ValueError(f"{name} must satisfy min <= max, got {value!r}")
-    return lo, hi
 
 
 @dataclass(frozen=True)
@@ -89,11 +79,11 @@ class ScenarioRanges:
             raise ValueError(f"ranges.cof must map condition -> (min, max), got {self.cof!r}")
         for cond, rng in self.cof.items():
             check_choice("ranges.cof condition", cond, CONDITIONS)
-            _check_range(f"ranges.cof[{cond!r}]", rng, *COF_ENVELOPE)
+            check_range(f"ranges.cof[{cond!r}]", rng, *COF_ENVELOPE)
         _choices("ranges.conditions", self.conditions, tuple(self.cof))
-        _check_range("ranges.speed_m_s", self.speed_m_s, *SPEED_ENVELOPE_M_S)
-        _check_range("ranges.noise_level", self.noise_level, 0.0, NOISE_LEVEL_MAX)
-        _check_range("ranges.motor_lag_s", self.motor_lag_s, 0.0, MOTOR_LAG_MAX_S)
+        check_range("ranges.speed_m_s", self.speed_m_s, *SPEED_ENVELOPE_M_S)
+        check_range("ranges.noise_level", self.noise_level, 0.0, NOISE_LEVEL_MAX)
+        check_range("ranges.motor_lag_s", self.motor_lag_s, 0.0, MOTOR_LAG_MAX_S)
         _choices("ranges.load_cases", self.load_cases, LOAD_CASES)
         if self.creep_families is not None:
             _choices("ranges.creep_families", self.creep_families, tuple(CREEP_RANGES))

@@ -28,6 +28,17 @@ def check_number(name: str, value: Any, low: float, high: float, *, low_open: bo
     return v
 
 
+def check_range(name: str, value: Any, low: float, high: float) -> tuple[float, float]:
+    """A (min, max) pair of numbers within [low, high] with min <= max."""
+    if not (isinstance(value, (tuple, list)) and len(value) == 2):
+        raise ValueError(f"{name} must be a (min, max) pair within [{low:g}, {high:g}], got {value!r}")
+    lo = check_number(f"{name}[0]", value[0], low, high)
+    hi = check_number(f"{name}[1]", value[1], low, high)
+    if lo > hi:
+        raise ValueError(f"{name} must satisfy min <= max, got {value!r}")
+    return lo, hi
+
+
 def check_int(name: str, value: Any, low: int, high: int) -> int:
     """An integer (not a bool) in [low, high]."""
     if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not (low <= int(value) <= high):
