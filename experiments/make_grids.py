@@ -24,6 +24,9 @@
   speeds and CoF values), written before session 9's change to the learned climb was measured.
 - ``suites/v2_heldout4_grid.json``: a fourth v2 reporting set (:data:`HELDOUT4_SHAPES`: a quarter ellipse
   with a drop, a logarithmic rise, a rational knee, a cubic dome), written before any change of session 10 was measured.
+- ``suites/v2_heldout5_grid.json``: a fifth v2 reporting set (:data:`HELDOUT5_SHAPES`: a sine bell, a
+  hyperbolic corner, a logistic S, a root-plus-line), written before the two-tone interrogator (session 11)
+  was measured on any reporting episode.
 
 Each grid crosses every condition, CoF values at off-round fractions of that condition's range, speeds
 across 5-40 m/s and both load cases, with full sensor noise and a motor lag; the ranges come from
@@ -113,6 +116,25 @@ HELDOUT4_SHAPES = {
     # a smooth cubic rise with zero slope at the peak and a symmetric parabolic fall to 55 %
     "cubic_dome": lambda x: np.where(x <= 1.0, 1.5 * x - 0.5 * x**3, np.maximum(1.0 - 0.75 * (x - 1.0) ** 2, 0.55)),
 }
+# A fifth held-out set, written in session 11 before the two-tone interrogator was measured on any
+# reporting episode: none a family member, none of the sets above, none procedural.
+HELDOUT5_SHAPES = {
+    # a quarter sine (zero slope at the peak) and a quarter cosine down to 75 % within half a peak creepage
+    "sine_bell": lambda x: np.where(x <= 1.0, np.sin(0.5 * np.pi * np.clip(x, 0.0, 1.0)),
+                                    1.0 - 0.25 * np.sin(0.5 * np.pi * np.clip((x - 1.0) / 0.5, 0.0, 1.0))),
+    # a hyperbolic corner between a straight rise and saturation (still rising at the peak) and a fall
+    # to 65 % over 0.15 peak creepages
+    "hyperbolic_corner": lambda x: np.where(
+        x <= 1.0, (1.6 * x - np.sqrt((1.6 * x - 1.0) ** 2 + 0.02) + np.sqrt(1.02)) / (1.6 - np.sqrt(0.38) + np.sqrt(1.02)),
+        0.65 + 0.35 * np.exp(-(x - 1.0) / 0.15)),
+    # a logistic S-shaped rise (low initial slope, steepest at 40 % of the peak creepage), a slow linear fall
+    "logistic_s": lambda x: np.where(
+        x <= 1.0, (1.0 / (1.0 + np.exp(-8.0 * (x - 0.4))) - 1.0 / (1.0 + np.exp(3.2)))
+        / (1.0 / (1.0 + np.exp(-4.8)) - 1.0 / (1.0 + np.exp(3.2))), 1.0 - 0.1 * (x - 1.0)),
+    # half a square root, half a line (a kinked peak) and an exponential fall to 85 %
+    "root_linear": lambda x: np.where(x <= 1.0, 0.5 * np.sqrt(np.clip(x, 0.0, None)) + 0.5 * x,
+                                      0.85 + 0.15 * np.exp(-(x - 1.0))),
+}
 HELDOUT_PEAK_CREEPAGE = {"dry": (0.004, 0.012), "wet": (0.006, 0.02), "low_adhesion": (0.01, 0.04)}
 HELDOUT_ERRORS = (  # (speed sensor, wheel radius) relative errors, force and torque gain errors
     (0.0, 0.0, 0.0, 0.0), (0.025, -0.004, 0.008, -0.04), (-0.02, 0.006, -0.012, 0.06), (0.007, 0.009, 0.005, 0.02),
@@ -125,6 +147,9 @@ HELDOUT3_ERRORS = (
 )
 HELDOUT4_ERRORS = (
     (-0.008, -0.006, 0.011, 0.045), (0.02, 0.005, -0.004, -0.065), (0.0, 0.0, 0.0, 0.0), (-0.012, 0.002, -0.014, 0.025),
+)
+HELDOUT5_ERRORS = (
+    (0.015, -0.002, 0.007, -0.055), (-0.006, 0.007, -0.01, 0.03), (0.0, 0.0, 0.0, 0.0), (0.022, 0.001, 0.012, 0.015),
 )
 
 GRIDS = {
@@ -214,7 +239,11 @@ def all_grids() -> dict[str, dict]:
                  v2_heldout4_grid=v2_heldout_grid(
                      (0.09, 0.58), (7.5, 24.0, 39.0), 101_000, HELDOUT4_SHAPES, HELDOUT4_ERRORS,
                      "v2 reporting only, a fourth set written before any change of session 10 was measured: "
-                     "creep curves outside every family and the three earlier sets, other sensor errors"))
+                     "creep curves outside every family and the three earlier sets, other sensor errors"),
+                 v2_heldout5_grid=v2_heldout_grid(
+                     (0.16, 0.69), (6.5, 21.0, 36.5), 103_000, HELDOUT5_SHAPES, HELDOUT5_ERRORS,
+                     "v2 reporting only, a fifth set written before the two-tone interrogator of session 11 was "
+                     "measured: creep curves outside every family and the four earlier sets, other sensor errors"))
     return grids
 
 
