@@ -9,8 +9,10 @@
    family (from 1 100 000 on), on the env's draws with 8-20 Hz modulations (from 1 200 000 on) and with
    modulation ratios of 10-80 % instead of 3-40 % (from 1 300 000 on), with the deployed probe only
    (from 1 400 000 on), with the climb's jump to the lowest CoF the task admits (from 1 500 000 on;
-   lost on validation in session 9) and on procedural curves with steep falling branches (from
-   1 600 000 on); far from every evaluation seed; cached in OUT/climbs*.npz.
+   lost on validation in session 9), on procedural curves with steep falling branches (from
+   1 600 000 on) and with a two-tone excitation (tone 2 at 10-20 Hz, from 1 700 000 on; a filter of its
+   own, selected with ``--grid two_tone``; lost on validation in session 11); far from every evaluation
+   seed; cached in OUT/climbs*.npz.
 2. **Seeds**: one filter network per seed (bootstrap resample of the training episodes, its own
    initialisation), OUT/seed_K/; the ensemble of all seeds in OUT/ensemble/.
 3. **Selection, validation only**: the climb's parameters (modulation ratio, target headroom,
@@ -50,7 +52,7 @@ import numpy as np
 
 import cof_gym
 from cof_gym.agents.interrogator import (
-    SHIPPED_INTERROGATOR, ClimbParameters, FilterEnsemble, FilterNetwork, interrogator_for,
+    SHIPPED_INTERROGATOR, ClimbParameters, FilterEnsemble, FilterNetwork, interrogator_for, manifest_climb,
 )
 from cof_gym.agents.interrogator_training import (
     STEEP_FALL, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel, fit_member, nll,
@@ -81,6 +83,8 @@ COLLECTIONS = {
     # procedural creep curves with steep falling branches (interrogator_training.STEEP_FALL)
     "procedural_steep": ("climbs_procedural_steep.npz", TRAINING_SEED + 600_000,
                          ClimbDraws(shapes="procedural", fall=STEEP_FALL)),
+    # the env's draws with a two-tone excitation: tone 2 at 10-20 Hz, weight 0.5-1.5 (a filter of its own)
+    "two_tone": ("climbs_two_tone.npz", TRAINING_SEED + 700_000, ClimbDraws(tone2_hz=(10.0, 20.0))),
 }
 EPISODES = {"env": 8000}  # the shipped recipe (procedural and high_frequency lost on validation: README)
 VALIDATION = HERE / "suites" / "v2_validation_grid.json"  # the v2 draws (families, sensor errors)
@@ -91,19 +95,21 @@ STEEP_VALIDATION = HERE / "suites" / "v2_validation_steep_grid.json"
 PROBES = ((0.0, 0.1, False), (0.03, 0.08, False), (0.03, 0.08, True))  # (creep step, while std, sticky)
 
 
-def climb_grid(targets, approaches=(None,), probes=PROBES, floors=(None,), untils=(None,)) -> list[dict]:
-    """Climbs at a 40 % modulation: target headroom x caution (1.5, 2) x largest step (0.15, 0.25) x
-    ``approach_fraction`` x slow probe x ``floor_margin`` x ``creep_until`` (only where the probe creeps);
-    None: the key left out (the default)."""
+def climb_grid(targets, approaches=(None,), probes=PROBES, floors=(None,), untils=(None,), cautions=(1.5, 2.0),
+               tone2s=(None,)) -> list[dict]:
+    """Climbs at a 40 % modulation: target headroom x caution x largest step (0.15, 0.25) x
+    ``approach_fraction`` x slow probe x ``floor_margin`` x ``creep_until`` (only where the probe creeps)
+    x tone 2's (frequency Hz, weight) of a two-tone excitation; None: the key left out (the default)."""
     grid = []
-    for h, c, m, a, (k, w, sticky), f, u in itertools.product(targets, (1.5, 2.0), (0.15, 0.25), approaches, probes,
-                                                              floors, untils):
+    for h, c, m, a, (k, w, sticky), f, u, t in itertools.product(targets, cautions, (0.15, 0.25), approaches, probes,
+                                                                 floors, untils, tone2s):
         if u is not None and k == 0.0:
             continue
         grid.append({"amplitude_ratio": 0.4, "target_headroom": h, "caution": c, "max_log_step": m,
                      **({} if a is None else {"approach_fraction": a}),
                      "creep_log_step": k, "creep_while_std": w, "creep_sticky": sticky,
-                     **({} if f is None else {"floor_margin": f}), **({} if u is None else {"creep_until": u})})
+                     **({} if f is None else {"floor_margin": f}), **({} if u is None else {"creep_until": u}),
+                     **({} if t is None else {"tone2_frequency_hz": t[0], "tone2_weight": t[1]})})
     return grid
 
 
@@ -121,6 +127,11 @@ GRIDS = {  # the climbs the selection tries
     "extended": climb_grid((0.07, 0.1, 0.15), approaches=(0.0, 0.3), probes=(PROBES[0], PROBES[2])),
     # tried in session 9 with networks fitted on env=8000 floor_jump=8000, not adopted (README)
     "floor": climb_grid((0.07, 0.1), floors=(None, 0.2)),
+    # for networks fitted on two-tone climbs (--climbs two_tone=N, session 11): the recipe's winning
+    # structure (caution 2, the sticky slow probe, the floor jump, with and without its end) x tone 2 at
+    # 12 or 17 Hz with a weight of 0.5 or 1 (32 climbs)
+    "two_tone": climb_grid((0.07, 0.1), probes=(PROBES[2],), floors=(0.2,), untils=(None, 0.12), cautions=(2.0,),
+                           tone2s=((12.0, 0.5), (12.0, 1.0), (17.0, 0.5), (17.0, 1.0))),
 }
 # what is reported does not change the climb, so every estimate source is scored on the same episodes
 ESTIMATES = [{"estimate_from": "filter", "best_coa_factor": 1.0}] + [
@@ -169,8 +180,10 @@ def episodes(run_dir: str, suite_path: str, env_kwargs: dict, params: dict | Non
     """(record, agent after the episode) of every episode of a suite (the default suite: 60 episodes)
     in a vehicle configuration, played by the interrogator of ``run_dir`` (``params``: another climb)."""
     suite = make_suite(suite_path, 60, 0)
-    env = gym.make(suite.env_id, **{**suite.env_kwargs, **env_kwargs})
-    agent = interrogator_for(env, Path(run_dir), ClimbParameters(**params) if params else None)
+    climb = ClimbParameters(**params) if params else None
+    options = (climb or manifest_climb(Path(run_dir))).env_options
+    env = gym.make(suite.env_id, **{**suite.env_kwargs, **env_kwargs, **options})
+    agent = interrogator_for(env, Path(run_dir), climb)
     for i, (seed, options) in enumerate(suite.episodes):
         yield run_episode(env, agent, seed, options, i), agent
     env.close()

@@ -308,6 +308,8 @@ def test_an_uncertain_headroom_creeps_instead_of_stopping():
 class _ScriptedFilter:
     """A stand-in ensemble whose predicted (headroom, correction) means and stds follow a script."""
 
+    tones = 1
+
     def __init__(self, script: list[tuple[float, float]]):
         self.script = iter(script)
 

@@ -48,13 +48,22 @@ or one window before the horizon. The estimate is either the
 filter's (the last rising window's CoA times its predicted correction) or the best CoA of the climb
 times a factor, whichever the validation chose. The parameters are chosen on
 validation scenarios only (``experiments/train_interrogator.py``).
+
+**Two tones.** With ``tone2_frequency_hz`` set, the modulation is two sines (the env's
+``excitation="multitone"``, ``tones=2``; :attr:`LearnedInterrogator.env_options`, which
+``cof-gym evaluate`` applies to the agent's own env): tone 1 at ``frequency_hz`` and tone 2 with
+``tone2_weight / (1 + tone2_weight)`` of the amplitude, each read by its own lock-in. The lag rises
+with the frequency (Eq. 3: ``tan(lag) = I w v / (k r^2)`` grows with ``w``), so a second, higher tone reads
+the slope's fall where one tone's lag is still small (low speeds, far from the peak), and the two lags'
+ratio tells the wheel's first-order response from the drive's and suspension's; the filter then reads
+:data:`TONE2_FEATURE_NAMES` as well and must be fitted on two-tone climbs.
 """
 
 from __future__ import annotations
 
 import json
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Iterable, Mapping
 
@@ -63,6 +72,7 @@ import numpy as np
 from cof_gym.agents.base import configuration_note, outside_training_note, registered_ranges
 from cof_gym.agents.phase_rule import probe_amplitude
 from cof_gym.agents.staircase import ElasticityClimb
+from cof_gym.task.excitation import encode_extra_tones
 from cof_gym.task.scenarios import COF_ENVELOPE
 from cof_gym.task.validation import check_number
 from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES, SPEED_SCALE_M_S, MotorLimits, encode_action
@@ -85,6 +95,23 @@ FEATURE_NAMES = (
       for name in ("phase", "slope_index", "coa_step", "dc_step", "secant_flexibility")),
     "peak_gap_phase", "peak_gap_compliance", "peak_gap_phase_2", "slope_ratio_phase", "slope_ratio_compliance",
 )
+# with a second tone (``ClimbParameters.tone2_frequency_hz``): the same small-signal readings at a second
+# frequency, appended (:func:`feature_names`)
+TONE2_FEATURE_NAMES = (
+    "tone2_phase", "tone2_phase_se", "tone2_compliance", "tone2_slope_index", "tone2_slope_drop",
+    "tone2_slope_ratio", "tone2_peak_gap", "tone_dispersion", "tone2_frequency", "tone2_share", "tone2_phase_1",
+)
+TONE_COUNTS = (1, 2)  # tones the filter reads
+TWO_TONE_ENV_OPTIONS = {"excitation": "multitone", "tones": 2}  # the env options a two-tone climb needs
+
+
+def feature_names(tones: int) -> tuple[str, ...]:
+    """The filter's features with ``tones`` tones (:data:`TONE_COUNTS`)."""
+    if tones not in TONE_COUNTS:
+        raise ValueError(f"tones must be one of {TONE_COUNTS}, got {tones!r}")
+    return FEATURE_NAMES + (TONE2_FEATURE_NAMES if tones == 2 else ())
+
+
 FLEXIBILITY_CLIP = 5.0  # |ln| of the secant/chord flexibility ratio: beyond it, the step went past the peak
 PEAK_GAP_CLIP = 0.5  # ln(peak CoA / CoA) of the quadratic-peak extrapolation: beyond it, "far from the peak"
 COMPLIANCE_CLIP = (1e-3, 0.999)  # the slope from the compliance, sqrt(1 / C^2 - 1), is finite within these
@@ -170,11 +197,29 @@ class Reading:
     frequency_hz: float
     speed_m_s: float
     normal_load: float
+    tone2_phase_deg: float = 0.0  # the second tone's lock-in (a two-tone excitation); 0 Hz: none
+    tone2_se_deg: float = SE_CLIP_DEG
+    tone2_compliance: float = 0.0
+    tone2_frequency_hz: float = 0.0
+    tone2_amplitude_nm: float = 0.0
 
     @classmethod
-    def of(cls, observation: np.ndarray, limits: MotorLimits) -> "Reading":
-        o = np.nan_to_num(np.asarray(observation, dtype=np.float64)[: len(OBSERVATION_NAMES)], nan=0.0)
+    def of(cls, observation: np.ndarray, limits: MotorLimits, info: Mapping[str, Any] | None = None) -> "Reading":
+        """The window observation's reading; with a two-tone excitation (the observation's per-tone block
+        after the window observation) also tone 2's, its applied frequency and amplitude from
+        ``info["measurement"]``."""
+        full = np.nan_to_num(np.asarray(observation, dtype=np.float64), nan=0.0)
+        o = full[: len(OBSERVATION_NAMES)]
         se = o[_INDEX["phase_lag_se"]] * 90.0
+        tone2 = {}
+        measurement = (info or {}).get("measurement", {})
+        if len(full) >= len(OBSERVATION_NAMES) + 6 and "tone2_frequency_hz" in measurement:
+            phase2, se2, compliance2 = full[len(OBSERVATION_NAMES) + 3: len(OBSERVATION_NAMES) + 6]
+            tone2 = {"tone2_phase_deg": float(phase2 * 90.0),
+                     "tone2_se_deg": float(se2 * 90.0 if 0.0 < se2 * 90.0 < SE_CLIP_DEG else SE_CLIP_DEG),
+                     "tone2_compliance": float(compliance2),
+                     "tone2_frequency_hz": float(measurement["tone2_frequency_hz"]),
+                     "tone2_amplitude_nm": float(measurement["tone2_amplitude_nm"])}
         return cls(
             phase_deg=float(o[_INDEX["phase_lag"]] * 90.0),
             se_deg=float(se if 0.0 < se < SE_CLIP_DEG else SE_CLIP_DEG),
@@ -186,7 +231,13 @@ class Reading:
             frequency_hz=float(o[_INDEX["frequency"]] * limits.max_frequency_hz),
             speed_m_s=float(o[_INDEX["speed"]] * SPEED_SCALE_M_S),
             normal_load=float(o[_INDEX["normal_load"]]),
+            **tone2,
         )
+
+    def tone2(self) -> "Reading":
+        """This window as tone 2 alone sees it (its phase, SE, compliance and frequency in tone 1's place)."""
+        return replace(self, phase_deg=self.tone2_phase_deg, se_deg=self.tone2_se_deg,
+                       compliance=self.tone2_compliance, frequency_hz=self.tone2_frequency_hz)
 
 
 @dataclass
@@ -196,11 +247,32 @@ class EpisodeFeatures:
 
     counter_torque: bool
     readings: list[Reading] = field(default_factory=list)
+    tones: int = 1  # 2: tone 2's features appended (:data:`TONE2_FEATURE_NAMES`)
 
     def push(self, reading: Reading) -> None:
         if reading.dc_nm <= 0.0:
             raise ValueError("EpisodeFeatures.push takes driven windows (DC torque > 0)")
+        if self.tones == 2 and reading.tone2_frequency_hz <= 0.0:
+            raise ValueError("EpisodeFeatures(tones=2).push takes two-tone readings (tone2_frequency_hz > 0)")
         self.readings.append(reading)
+
+    def _tone2_values(self) -> list[float]:
+        """Tone 2's features (:data:`TONE2_FEATURE_NAMES`): its lag, SE, compliance, slope index and
+        their change, its quadratic-peak gap, the lag's dispersion ``ln(tan lag_2 / tan lag_1) /
+        ln(f_2 / f_1)`` (1 for the half wheelset's first-order response of Eq. 3), its frequency and
+        its share of the modulation."""
+        views = [r.tone2() for r in self.readings]
+        now, first, prev = views[-1], views[0], views[max(len(views) - 2, 0)]
+        i = len(views) - 1
+        tone1 = self.readings[-1]
+        ratio = now.frequency_hz / tone1.frequency_hz
+        dispersion = (math.log(_tan_clipped(now.phase_deg) / _tan_clipped(tone1.phase_deg)) / math.log(ratio)
+                      if abs(math.log(ratio)) > 1e-3 else 0.0)
+        return [now.phase_deg / 90.0, now.se_deg / SE_CLIP_DEG, now.compliance, slope_index(now.phase_deg),
+                slope_index(first.phase_deg) - slope_index(now.phase_deg),
+                math.log(slope_from_phase(now) / slope_from_phase(prev)),
+                peak_gap(views, i, i - 1, slope_from_phase), dispersion, now.frequency_hz / 20.0,
+                now.tone2_amplitude_nm / max(now.amplitude_nm, 1e-9), prev.phase_deg / 90.0]
 
     def vector(self) -> np.ndarray:
         if not self.readings:
@@ -227,6 +299,8 @@ class EpisodeFeatures:
                    peak_gap(self.readings, i, i - 2, slope_from_phase),
                    math.log(slope_from_phase(now) / slope_from_phase(prev)),
                    math.log(slope_from_compliance(now) / slope_from_compliance(prev))]
+        if self.tones == 2:
+            values += self._tone2_values()
         return np.nan_to_num(np.asarray(values, dtype=np.float64), nan=0.0, posinf=0.0, neginf=0.0)
 
 
@@ -238,6 +312,11 @@ class FilterNetwork:
     feature_std: np.ndarray
     weights: tuple[np.ndarray, ...]
     biases: tuple[np.ndarray, ...]
+    feature_names: tuple[str, ...] = FEATURE_NAMES  # :func:`feature_names` of the tones it reads
+
+    @property
+    def tones(self) -> int:
+        return 2 if len(self.feature_names) > len(FEATURE_NAMES) else 1
 
     def __call__(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         h = (np.atleast_2d(x) - self.feature_mean) / self.feature_std
@@ -250,17 +329,17 @@ class FilterNetwork:
     def save(self, path: Path) -> None:
         arrays = {"feature_mean": self.feature_mean, "feature_std": self.feature_std}
         arrays |= {f"w{i}": w for i, w in enumerate(self.weights)} | {f"b{i}": b for i, b in enumerate(self.biases)}
-        np.savez(path, feature_names=np.asarray(FEATURE_NAMES), **arrays)
+        np.savez(path, feature_names=np.asarray(self.feature_names), **arrays)
 
     @classmethod
     def load(cls, path: Path) -> "FilterNetwork":
         with np.load(path) as z:
             names = tuple(str(n) for n in z["feature_names"])
-            if names != FEATURE_NAMES:
+            if names not in [feature_names(t) for t in TONE_COUNTS]:
                 raise ValueError(f"{path}: the network was trained on other features ({len(names)} names); retrain it")
             layers = sum(1 for k in z.files if k.startswith("w"))
             return cls(z["feature_mean"], z["feature_std"], tuple(z[f"w{i}"] for i in range(layers)),
-                       tuple(z[f"b{i}"] for i in range(layers)))
+                       tuple(z[f"b{i}"] for i in range(layers)), names)
 
 
 @dataclass(frozen=True)
@@ -269,6 +348,14 @@ class FilterEnsemble:
     the mean predicted variance."""
 
     members: tuple[FilterNetwork, ...]
+
+    def __post_init__(self) -> None:
+        if len({m.tones for m in self.members}) > 1:
+            raise ValueError("the ensemble's members read different tones; fit them on one collection")
+
+    @property
+    def tones(self) -> int:
+        return self.members[0].tones
 
     def predict(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(mean, std) of every target, shape (n, 2) each."""
@@ -305,6 +392,8 @@ class ClimbParameters:
     estimate_from: str = "filter"  # "filter": CoA x exp(predicted correction); "best_coa": best CoA x factor
     best_coa_factor: float = 1.0
     floor_margin: float | None = None  # not None: a step may close the gap to the task's lowest CoF less this
+    tone2_frequency_hz: float | None = None  # not None: a second tone at this frequency (a two-tone excitation)
+    tone2_weight: float = 1.0  # its weight against tone 1's 1 (the env's share_2 + 1, in [0, 2])
 
     def __post_init__(self) -> None:
         if self.estimate_from not in ESTIMATE_SOURCES:
@@ -319,6 +408,9 @@ class ClimbParameters:
         for name, low in (("floor_margin", 0.0), ("creep_until", -math.inf)):  # None: not used
             if getattr(self, name) is not None:
                 check_number(name, getattr(self, name), low, math.inf)
+        if self.tone2_frequency_hz is not None:
+            check_number("tone2_frequency_hz", self.tone2_frequency_hz, 1.0, 20.0)
+        check_number("tone2_weight", self.tone2_weight, 0.0, 2.0)
         if not isinstance(self.creep_sticky, bool):
             raise ValueError(f"creep_sticky must be True or False, got {self.creep_sticky!r}")
         if not (isinstance(self.creep_log_step, (int, float)) and 0.0 <= self.creep_log_step <= self.max_log_step):
@@ -354,8 +446,27 @@ class ClimbParameters:
         return floor_headroom(coa) - self.target_headroom - self.floor_margin
 
     def amplitude(self, dc_nm: float, limits: MotorLimits) -> float:
-        """The modulation amplitude (N m) at DC torque ``dc_nm``, within the drive's range."""
+        """The modulation amplitude (N m) at DC torque ``dc_nm``, within the drive's range (with two tones
+        the total: ``tone2_weight / (1 + tone2_weight)`` of it is tone 2's)."""
         return probe_amplitude(self.amplitude_ratio, dc_nm, self.min_amplitude_nm, limits)
+
+    @property
+    def tones(self) -> int:
+        return 1 if self.tone2_frequency_hz is None else 2
+
+    @property
+    def env_options(self) -> dict[str, Any]:
+        """The env options the climb's excitation needs (none for the sine)."""
+        return dict(TWO_TONE_ENV_OPTIONS) if self.tones == 2 else {}
+
+    def action(self, dc_nm: float, estimate: float, stop: bool, limits: MotorLimits) -> np.ndarray:
+        """The env action: the window action, and tone 2's frequency and weight with two tones."""
+        base = encode_action(dc_nm, self.amplitude(dc_nm, limits), self.frequency_hz, estimate, stop, limits)
+        if self.tones == 1:
+            return base
+        extra = encode_extra_tones([(self.tone2_frequency_hz, self.tone2_weight)], limits.min_frequency_hz,
+                                   limits.max_frequency_hz)
+        return np.concatenate([base, extra]).astype(np.float32)
 
 
 @dataclass
@@ -380,6 +491,16 @@ class LearnedInterrogator:
     _driven: int = 0
     _crept: bool = False
 
+    def __post_init__(self) -> None:
+        if self.ensemble.tones != self.params.tones:
+            raise ValueError(f"the climb drives {self.params.tones} tone(s) but the networks read "
+                             f"{self.ensemble.tones}: use networks fitted on that excitation")
+
+    @property
+    def env_options(self) -> dict[str, Any]:
+        """The env options the agent acts in (its excitation), beyond the suite's."""
+        return self.params.env_options
+
     def distribution_note(self, env_id: str, env_kwargs: dict[str, Any],
                           episodes: Iterable[Mapping[str, Any]] = ()) -> str | None:
         """A line naming where an evaluation lies outside the training distribution (another env id, a
@@ -399,7 +520,10 @@ class LearnedInterrogator:
         return outside_training_note(self.name, trained, episodes)
 
     def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
-        self.features = EpisodeFeatures(self.counter_torque)
+        if self.params.tones == 2 and "tone2_frequency_hz" not in info.get("measurement", {}):
+            raise ValueError(f"{self.name} drives two tones: make its env with {self.env_options} "
+                             "(cof-gym evaluate does that itself)")
+        self.features = EpisodeFeatures(self.counter_torque, tones=self.params.tones)
         self._dc = 0.0
         self._driven = 0
         self._crept = False
@@ -418,7 +542,7 @@ class LearnedInterrogator:
         stop = False
         if self._dc > 0.0:
             self._driven += 1
-            reading = Reading.of(observation, self.limits)
+            reading = Reading.of(observation, self.limits, info)
             falling = bool(self.features.readings) and reading.coa < self.features.readings[-1].coa * 0.995
             self.features.push(reading)
             mean, std = self.ensemble.predict(self.features.vector())
@@ -443,21 +567,31 @@ class LearnedInterrogator:
         else:
             self._dc = self.climb.first_dc(self.limits)
         estimate = min(max(self._estimate, self.limits.min_cof_estimate), self.limits.max_cof_estimate)
-        return encode_action(self._dc, p.amplitude(self._dc, self.limits), p.frequency_hz, estimate, stop, self.limits)
+        return p.action(self._dc, estimate, stop, self.limits)
+
+
+def read_manifest(directory: Path) -> dict[str, Any]:
+    """``directory/manifest.json`` (the climb's parameters, the training distribution), {} if absent."""
+    manifest_file = Path(directory) / "manifest.json"
+    return json.loads(manifest_file.read_text()) if manifest_file.is_file() else {}
+
+
+def manifest_climb(directory: Path) -> ClimbParameters:
+    """The climb of ``directory``'s manifest (the defaults where it names none)."""
+    return ClimbParameters(**read_manifest(directory).get("climb", {}))
 
 
 def interrogator_for(env, directory: Path, params: ClimbParameters | None = None) -> LearnedInterrogator:
     """The interrogator of ``directory`` (``member_*.npz`` and a ``manifest.json`` with the climb's
     parameters and the training distribution) for ``env``'s drive and vehicle configuration;
-    ``params`` replaces the manifest's climb."""
+    ``params`` replaces the manifest's climb. A two-tone climb acts in the env made with its
+    ``env_options``."""
     directory = Path(directory)
     ensemble = FilterEnsemble.load(directory)
-    manifest_file = directory / "manifest.json"
-    manifest = json.loads(manifest_file.read_text()) if manifest_file.is_file() else {}
-    trained = manifest.get("trained_on")
+    trained = read_manifest(directory).get("trained_on")
     base = env.unwrapped
     return LearnedInterrogator(base.limits, ensemble, counter_torque=bool(base.task.counter_torque),
-                               params=params or ClimbParameters(**manifest.get("climb", {})),
+                               params=params or manifest_climb(directory),
                                max_windows=int(base.task.max_windows),
                                trained_on=(trained["env_id"], tuple(trained["configs"])) if trained else None)
 

@@ -34,12 +34,11 @@ import gymnasium as gym
 import numpy as np
 
 from cof_gym.agents.interrogator import (
-    FEATURE_NAMES, TARGET_NAMES, ClimbParameters, EpisodeFeatures, FilterNetwork, Reading, floor_headroom,
-    slope_from_phase,
+    TARGET_NAMES, TWO_TONE_ENV_OPTIONS, ClimbParameters, EpisodeFeatures, FilterNetwork, Reading, feature_names,
+    floor_headroom, slope_from_phase,
 )
 from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.physics.creep_laws import below_peak
-from cof_gym.task.interface import encode_action
 from cof_gym.task.validation import check_number, check_range
 
 TRAINING_SEED = 1_000_000  # first training seed: far from every evaluation and validation seed
@@ -65,13 +64,21 @@ class Dataset:
         return Dataset(self.readings[rows], self.counter_torque[rows], self.targets[rows], self.episode[rows])
 
     @cached_property
+    def tones(self) -> int:
+        """2 where every window has a second tone, 1 where none has; a mix is refused."""
+        two = self.readings[:, READING_FIELDS.index("tone2_frequency_hz")] > 0.0
+        if two.any() and not two.all():
+            raise ValueError("the dataset mixes one- and two-tone climbs; fit a filter on one excitation")
+        return 2 if len(self) and two.all() else 1
+
+    @cached_property
     def features(self) -> np.ndarray:
         """Each window's feature vector, rebuilt from the readings of its episode up to it (once)."""
-        out = np.empty((len(self), len(FEATURE_NAMES)))
+        out = np.empty((len(self), len(feature_names(self.tones))))
         features = None
         for i in range(len(self)):
             if i == 0 or self.episode[i] != self.episode[i - 1]:
-                features = EpisodeFeatures(bool(self.counter_torque[i]))
+                features = EpisodeFeatures(bool(self.counter_torque[i]), tones=self.tones)
             features.push(Reading(*(float(v) for v in self.readings[i])))
             out[i] = features.vector()
         return out
@@ -83,9 +90,14 @@ class Dataset:
     @classmethod
     def load(cls, path) -> "Dataset":
         with np.load(path) as z:
-            if tuple(str(f) for f in z["reading_fields"]) != READING_FIELDS:
+            recorded = tuple(str(f) for f in z["reading_fields"])
+            if recorded != READING_FIELDS[:len(recorded)]:
                 raise ValueError(f"{path}: recorded with other reading fields; collect again")
-            return cls(z["readings"], z["counter_torque"], z["targets"], z["episode"])
+            readings = z["readings"]
+            if len(recorded) < len(READING_FIELDS):  # recorded before the later fields: their defaults
+                defaults = [f.default for f in fields(Reading)[len(recorded):]]
+                readings = np.hstack([readings, np.tile(np.asarray(defaults, dtype=np.float64), (len(readings), 1))])
+            return cls(readings, z["counter_torque"], z["targets"], z["episode"])
 
     @classmethod
     def concatenate(cls, parts: list["Dataset"]) -> "Dataset":
@@ -183,15 +195,26 @@ class ClimbDraws:
     log-uniform in 3-10 Hz, half and half), the modulation ratio (log-uniform in ``amplitude_ratios``)
     and, with ``floor_margins``, the deployed climb's jumps to the lowest CoF the task admits: a step is at
     least :func:`~cof_gym.agents.interrogator.floor_headroom` less a margin drawn uniform in that range;
-    ``fall``: how procedural curves fall past their peak."""
+    ``fall``: how procedural curves fall past their peak; ``tone2_hz``: a two-tone excitation (the env's
+    ``excitation="multitone"``), tone 2 log-uniform in that range with a weight (its share against tone 1's
+    1) uniform in ``tone2_weights``, drawn from their own generator (the other draws unchanged)."""
 
     shapes: str = "env"
     frequencies_hz: tuple[float, float] | None = None
     amplitude_ratios: tuple[float, float] = (0.03, 0.4)
     floor_margins: tuple[float, float] | None = None  # a step may close the gap to the lowest CoF less this
     fall: FallingBranch = GENTLE_FALL
+    tone2_hz: tuple[float, float] | None = None
+    tone2_weights: tuple[float, float] = (0.5, 1.5)
+
+    @property
+    def env_options(self) -> dict[str, Any]:
+        return dict(TWO_TONE_ENV_OPTIONS) if self.tone2_hz else {}
 
     def __post_init__(self) -> None:
+        if self.tone2_hz is not None:
+            check_range("ClimbDraws.tone2_hz", self.tone2_hz, 1.0, 20.0)
+        check_range("ClimbDraws.tone2_weights", self.tone2_weights, 0.0, 2.0)
         if self.shapes not in SHAPE_SOURCES:
             raise ValueError(f"shapes must be one of {SHAPE_SOURCES}, got {self.shapes!r}")
         for name in ("frequencies_hz", "amplitude_ratios", "floor_margins"):
@@ -215,16 +238,20 @@ def _climb_episode(env, seed: int, draws: ClimbDraws = ClimbDraws()) -> tuple[li
         frequency = 5.0 if rng.random() < 0.5 else float(math.exp(rng.uniform(math.log(3), math.log(10))))
     else:
         frequency = float(math.exp(rng.uniform(*np.log(draws.frequencies_hz))))
-    p = ClimbParameters(amplitude_ratio=amplitude_ratio, frequency_hz=frequency)
+    tone2 = {}
+    if draws.tone2_hz:
+        tone_rng = np.random.default_rng([seed, 13])
+        tone2 = {"tone2_frequency_hz": float(math.exp(tone_rng.uniform(*np.log(draws.tone2_hz)))),
+                 "tone2_weight": float(tone_rng.uniform(*draws.tone2_weights))}
+    p = ClimbParameters(amplitude_ratio=amplitude_ratio, frequency_hz=frequency, **tone2)
     sigma = float(math.exp(rng.uniform(*np.log(PROBING_SIGMA))))
     power, floor = float(rng.uniform(*PROBING_POWER)), float(rng.uniform(*PROBING_FLOOR))
     margin = float(rng.uniform(*draws.floor_margins)) if draws.floor_margins else None
     dc = ElasticityClimb().first_dc(limits)
     xs, ys = [], []
     for _ in range(base.task.max_windows):
-        action = encode_action(dc, p.amplitude(dc, limits), p.frequency_hz, 0.1, False, limits)
-        obs, _, terminated, truncated, info = env.step(action)
-        reading = Reading.of(obs, limits)
+        obs, _, terminated, truncated, info = env.step(p.action(dc, 0.1, False, limits))
+        reading = Reading.of(obs, limits, info)
         xs.append(reading)
         ys.append((math.log(m_sat / dc), math.log(cof / reading.coa)))
         if terminated or truncated or dc > STOP_UTILISATION * m_sat:
@@ -239,7 +266,7 @@ def _climb_episode(env, seed: int, draws: ClimbDraws = ClimbDraws()) -> tuple[li
 def collect(env_id: str, configs: list[dict[str, Any]], episodes: int, first_seed: int = TRAINING_SEED,
             draws: ClimbDraws = ClimbDraws()) -> Dataset:
     """``episodes`` training climbs (seeds ``first_seed...``), the configurations in turn."""
-    envs = [gym.make(env_id, **c) for c in configs]
+    envs = [gym.make(env_id, **c, **draws.env_options) for c in configs]
     xs, cts, ys, eps = [], [], [], []
     for i in range(episodes):
         k = i % len(configs)
@@ -316,7 +343,7 @@ def fit_member(data: Dataset, seed: int, settings: FitSettings = FitSettings()) 
         sched.step()
     linear = [m for m in net if isinstance(m, torch.nn.Linear)]
     return FilterNetwork(mean, std, tuple(m.weight.detach().numpy().T.copy() for m in linear),
-                         tuple(m.bias.detach().numpy().copy() for m in linear))
+                         tuple(m.bias.detach().numpy().copy() for m in linear), feature_names(data.tones))
 
 
 def nll(member_or_ensemble, data: Dataset) -> dict[str, float]:

@@ -427,19 +427,24 @@ def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: 
             raise
         raise SuiteError(f"{suite.name}: env_kwargs {suite.env_kwargs}: {e}") from None
     agents: list[tuple[Any, bool]] = []
+    own_envs: dict[str, Any] = {}
     try:
         if check_suite:
             check_suite_runs(suite, env)
         agents = build_agents(agent_specs, env)
+        own_envs = agent_envs(agents, suite)
         staging = _Staging(out)
         try:
-            result = _play_and_write(env, agents, agent_specs, suite, staging.path, seed, quiet, t0)
+            result = _play_and_write({a.name: own_envs.get(a.name, env) for a, _ in agents}, agents, agent_specs,
+                                     suite, staging.path, seed, quiet, t0)
             staging.commit()
         except BaseException:
             staging.abort()
             raise
     finally:
         env.close()
+        for own in own_envs.values():
+            own.close()
         for agent, _ in agents:
             close = getattr(agent, "close", None)
             if callable(close):
@@ -453,6 +458,21 @@ def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: 
     return result
 
 
+def agent_envs(agents, suite: Suite) -> dict[str, Any]:
+    """An env of its own for each agent whose excitation needs env options beyond the suite's
+    (``agent.env_options``, e.g. the two-tone interrogator's ``excitation="multitone"``): the suite's
+    env id and kwargs with those options; the same seeds draw the same scenarios and ground truth, and
+    only the drive and the measurement of the windows change."""
+    import gymnasium as gym
+
+    envs = {}
+    for agent, _ in agents:
+        options = dict(getattr(agent, "env_options", None) or {})
+        if options:
+            envs[agent.name] = gym.make(suite.env_id, **{**make_kwargs(suite.env_kwargs), **options})
+    return envs
+
+
 def distribution_notes(agents, suite: Suite) -> list[str]:
     """One line per agent that says the suite lies outside what it was trained on (learned agents)."""
     notes = []
@@ -464,7 +484,7 @@ def distribution_notes(agents, suite: Suite) -> list[str]:
     return notes
 
 
-def _play_and_write(env, agents, agent_specs, suite: Suite, out: Path, seed: int, quiet: bool,
+def _play_and_write(envs: dict[str, Any], agents, agent_specs, suite: Suite, out: Path, seed: int, quiet: bool,
                     t0: float) -> dict[str, Any]:
     records: list[EpisodeRecord] = []
     traces: dict[str, list] = {}
@@ -477,7 +497,8 @@ def _play_and_write(env, agents, agent_specs, suite: Suite, out: Path, seed: int
         for agent, oracle in agents:
             traces[agent.name] = []
             for i, (ep_seed, options) in enumerate(suite.episodes):
-                records.append(run_episode(env, agent, ep_seed, options, i, traces[agent.name] if i == 0 else None,
+                records.append(run_episode(envs[agent.name], agent, ep_seed, options, i,
+                                           traces[agent.name] if i == 0 else None,
                                            oracle=oracle, note=suite.note(i)))
                 if progress is not None:
                     progress.advance(tasks[agent.name])

@@ -57,6 +57,18 @@ def _log_map(x: float, low: float, high: float) -> float:
     return math.exp(math.log(low) + (x + 1.0) / 2.0 * (math.log(high) - math.log(low)))
 
 
+def encode_extra_tones(tones: list[tuple[float, float]], min_frequency_hz: float = 1.0,
+                       max_frequency_hz: float = 20.0) -> np.ndarray:
+    """The action components appended for extra tones given as ``(frequency_hz, weight)`` pairs (weight
+    ``w_k`` in [0, 2], tone 1's being 1): the inverse of :meth:`Excitation.drive`'s decoding."""
+    out = []
+    for frequency_hz, weight in tones:
+        f = min(max(frequency_hz, min_frequency_hz), max_frequency_hz)
+        out += [2.0 * math.log(f / min_frequency_hz) / math.log(max_frequency_hz / min_frequency_hz) - 1.0,
+                min(max(weight, 0.0), 2.0) - 1.0]
+    return np.asarray(out, dtype=np.float32)
+
+
 def separate(frequencies: list[float], separation_hz: float, low: float, high: float) -> list[float]:
     """The frequencies, each extra one (index >= 1) moved, if needed, to the nearest frequency in
     [low, high] at least ``separation_hz`` from every earlier one (the first is kept)."""
