@@ -7,6 +7,7 @@ so that its tables are generated, never typed:
     cof-gym evaluate --suite experiments/suites/v2_heldout2_grid.json --out out/evaluate-v2-heldout2
     cof-gym evaluate --suite experiments/suites/v2_heldout3_grid.json --out out/evaluate-v2-heldout3
     cof-gym evaluate --suite experiments/suites/v2_heldout4_grid.json --out out/evaluate-v2-heldout4
+    cof-gym evaluate --suite experiments/suites/v2_heldout5_grid.json --out out/evaluate-v2-heldout5
     cof-gym evaluate --suite experiments/suites/v1_default.json --episodes 60 --out out/evaluate-v1
     cof-gym evaluate --suite experiments/suites/heldout_grid.json --out out/evaluate-heldout   # v1 held-out
     cof-gym bench --seconds 10 --markdown out/bench.md
@@ -16,7 +17,8 @@ so that its tables are generated, never typed:
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in README.md;
-a block whose source file is missing is left as it is (and reported).
+a block whose source file is missing is left as it is (and reported). Two blocks are computed from the
+evaluate summaries (:data:`GENERATED`): the learned agent's targets and the held-out overview.
 """
 
 from __future__ import annotations
@@ -69,24 +71,39 @@ def _stat(summary: dict, agent: str, key: str) -> float:
     return float(summary[agent][key]["value"])
 
 
+def _load(path: Path, learned: str) -> dict | None:
+    """The evaluate summary at ``path``; None when it is missing or lacks the learned agent."""
+    if not path.is_file():
+        return None
+    summary = json.loads(path.read_text())["summary"]
+    return summary if learned in summary else None
+
+
+def _best(summary: dict, learned: str, key: str) -> str:
+    """The agent that does not read the truth (other than ``learned``) with the lowest ``key``."""
+    others = [a for a, v in summary.items() if not v["oracle"] and a != learned]
+    return min(others, key=lambda a: _stat(summary, a, key))
+
+
+def _cell(summary: dict, agent: str) -> str:
+    return (f"{100 * _stat(summary, agent, 'median_error'):.1f} % / {100 * _stat(summary, agent, 'p90_error'):.1f} % / "
+            f"{_stat(summary, agent, 'macro_slip_events'):.0f}")
+
+
 def targets(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNED) -> str | None:
     """The learned agent's targets (median <= 3 %, P90 <= 8 %, <= 1 macro-slip per 100 episodes, better
     than every non-oracle agent on median and P90 with no more macro-slips than the best of them), each
     marked met or not, from the evaluate summaries; None when a summary is missing."""
     rows = ["| suite | target | measured | met |", "|---|---|---|---|"]
     for label, path in paths.items():
-        if not path.is_file():
-            return None
-        summary = json.loads(path.read_text())["summary"]
-        if learned not in summary:
+        summary = _load(path, learned)
+        if summary is None:
             return None
         n = summary[learned]["episodes"]
         med, p90 = 100 * _stat(summary, learned, "median_error"), 100 * _stat(summary, learned, "p90_error")
         slips = _stat(summary, learned, "macro_slip_events")
-        others = [a for a, v in summary.items() if not v["oracle"] and a != learned]
-        best_med = min(others, key=lambda a: _stat(summary, a, "median_error"))
-        best_p90 = min(others, key=lambda a: _stat(summary, a, "p90_error"))
-        fewest = min(_stat(summary, a, "macro_slip_events") for a in others)
+        best_med, best_p90 = _best(summary, learned, "median_error"), _best(summary, learned, "p90_error")
+        fewest = _stat(summary, _best(summary, learned, "macro_slip_events"), "macro_slip_events")
         checks = [
             ("median <= 3 %", f"{med:.1f} %", med <= 3.0),
             ("P90 <= 8 %", f"{p90:.1f} %", p90 <= 8.0),
@@ -99,6 +116,26 @@ def targets(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNED) -> s
         ]
         rows += [f"| {label} | {t} | {m} | {'met' if ok else '**not met**'} |" for t, m, ok in checks]
     return "\n".join(rows)
+
+
+def heldout_overview(runs: dict[str, tuple[str, Path]] = HELDOUT_RUNS, learned: str = LEARNED) -> str | None:
+    """One row per v2 held-out grid: the learned agent's median / P90 / macro-slips beside the best
+    median, the best P90 and the fewest macro-slips of the agents that do not read the truth; None
+    when a summary is missing."""
+    rows = [f"| suite (episodes) | {learned} | best other median | best other P90 | fewest other macro-slips |",
+            "|---|---|---|---|---|"]
+    for label, out in runs.values():
+        summary = _load(out / "summary.json", learned)
+        if summary is None:
+            return None
+        med, p90, slips = (_best(summary, learned, k) for k in ("median_error", "p90_error", "macro_slip_events"))
+        rows.append(f"| {label.removeprefix('v2 ')} ({summary[learned]['episodes']}) | {_cell(summary, learned)} | "
+                    f"{med} {100 * _stat(summary, med, 'median_error'):.1f} % | {p90} {100 * _stat(summary, p90, 'p90_error'):.1f} % | "
+                    f"{slips} {_stat(summary, slips, 'macro_slip_events'):.0f} |")
+    return "\n".join(rows)
+
+
+GENERATED = {"targets": targets, "heldout_overview": heldout_overview}  # README block -> its generator
 
 
 def main() -> None:
@@ -119,13 +156,14 @@ def main() -> None:
             continue
         text = pattern.sub(lambda m: m.group(1) + body(path) + "\n" + m.group(2), text)
         print(f"results:{name} <- {path.relative_to(ROOT)}")
-    block = targets()
-    pattern = re.compile(r"(<!-- results:targets:begin -->\n).*?(<!-- results:targets:end -->)", re.S)
-    if block is None or not pattern.search(text):
-        print("results:targets left as it is (a summary, the learned agent or the README block is missing)")
-    else:
-        text = pattern.sub(lambda m: m.group(1) + block + "\n" + m.group(2), text)
-        print(f"results:targets <- {', '.join(str(p.parent.relative_to(ROOT)) for p in TARGET_SUITES.values())}")
+    for name, generate in GENERATED.items():
+        block = generate()
+        pattern = re.compile(rf"(<!-- results:{name}:begin -->\n).*?(<!-- results:{name}:end -->)", re.S)
+        if block is None or not pattern.search(text):
+            print(f"results:{name} left as it is (a summary, the learned agent or the README block is missing)")
+        else:
+            text = pattern.sub(lambda m: m.group(1) + block + "\n" + m.group(2), text)
+            print(f"results:{name} <- the evaluate summaries")
     README.write_text(text)
 
 

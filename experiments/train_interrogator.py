@@ -52,7 +52,7 @@ import numpy as np
 
 import cof_gym
 from cof_gym.agents.interrogator import (
-    SHIPPED_INTERROGATOR, ClimbParameters, FilterEnsemble, FilterNetwork, interrogator_for, manifest_climb,
+    FEATURE_BLOCKS, SHIPPED_INTERROGATOR, ClimbParameters, FilterEnsemble, FilterNetwork, interrogator_for, manifest_climb,
 )
 from cof_gym.agents.interrogator_training import (
     STEEP_FALL, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel, fit_member, nll,
@@ -282,6 +282,8 @@ def main() -> None:
     ap.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2, 3, 4])
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--epochs", type=int, default=FitSettings.epochs)
+    ap.add_argument("--features", nargs="*", default=[], choices=[b for b in FEATURE_BLOCKS if b != "tone2"],
+                    help="optional feature blocks the networks read (tone 2's follow two-tone climbs)")
     ap.add_argument("--ship", action="store_true")
     ap.add_argument("--criterion", choices=sorted(CRITERIA), default="pooled",
                     help="how the climb is ranked on validation (pooled: both grids, the recipe; family: the family grid alone)")
@@ -294,7 +296,7 @@ def main() -> None:
     climbs = parse_climbs(ap, args.climbs)
     data = Dataset.concatenate([load_or_collect(out, name, n, args.workers) for name, n in climbs.items() if n])
     train, held = split(data)
-    settings = replace(FitSettings(), epochs=args.epochs)
+    settings = replace(FitSettings(), epochs=args.epochs, features=tuple(args.features))
     ensemble_dir = out / "ensemble"
     ensemble_dir.mkdir(exist_ok=True)
     fit_report = {}

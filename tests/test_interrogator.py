@@ -16,7 +16,7 @@ from cof_gym.commands.suites import make_suite
 from cof_gym.task.scenarios import COF_ENVELOPE, ScenarioRanges
 from cof_gym.agents import registry
 from cof_gym.agents.interrogator import (
-    FEATURE_NAMES, SHIPPED_INTERROGATOR, TARGET_NAMES, ClimbParameters, EpisodeFeatures, FilterEnsemble, FilterNetwork,
+    CREEPAGE_RISE_FEATURE_NAMES, CREEPAGE_RISE_FLOORS, FEATURE_NAMES, blocks_of, feature_names, SHIPPED_INTERROGATOR, TARGET_NAMES, ClimbParameters, EpisodeFeatures, FilterEnsemble, FilterNetwork,
     PEAK_GAP_CLIP, LearnedInterrogator, Reading, floor_headroom, peak_gap, slope_from_phase, slope_index,
 )
 from cof_gym.agents.interrogator_training import (
@@ -308,7 +308,7 @@ def test_an_uncertain_headroom_creeps_instead_of_stopping():
 class _ScriptedFilter:
     """A stand-in ensemble whose predicted (headroom, correction) means and stds follow a script."""
 
-    tones = 1
+    tones, blocks = 1, ()
 
     def __init__(self, script: list[tuple[float, float]]):
         self.script = iter(script)
@@ -407,3 +407,46 @@ def test_the_slow_probe_ends_where_the_predicted_headroom_reaches_creep_until():
     assert replace(params, creep_until=None).creeps(0.11 - 2.0 * 0.2, 0.2)
     with pytest.raises(ValueError, match="creep_until"):
         ClimbParameters(creep_until=float("inf"))
+
+
+def _readings(creepages, coas):
+    return [Reading(20.0 + 5 * k, 0.5, 0.5, coa, s, 1000.0 * (1 + k), 400.0 * (1 + k), 5.0, 20.0, 1.0)
+            for k, (s, coa) in enumerate(zip(creepages, coas))]
+
+
+def test_creepage_rise_block_is_offset_free_and_reads_the_rise():
+    """The creepage_rise block: ln of the rise since the first window, of the rise per CoA rise and of
+    the last step's rise; a constant creepage offset (a speed-sensor bias) changes none of them."""
+    creepages, coas = [0.001, 0.003, 0.006], [0.1, 0.15, 0.2]
+    feats = EpisodeFeatures(False, blocks=("creepage_rise",))
+    shifted = EpisodeFeatures(False, blocks=("creepage_rise",))
+    for a, b in zip(_readings(creepages, coas), _readings([s + 0.013 for s in creepages], coas)):
+        feats.push(a)
+        shifted.push(b)
+    v, w = feats.vector(), shifted.vector()
+    n = len(FEATURE_NAMES)
+    assert v.shape == (len(feature_names(("creepage_rise",))),) == (n + len(CREEPAGE_RISE_FEATURE_NAMES),)
+    np.testing.assert_allclose(v[n:], [math.log(0.005), math.log(0.005 / 0.1), math.log(0.003)], rtol=1e-9)
+    np.testing.assert_allclose(v, w, rtol=0, atol=1e-12)  # differences of creepages: the offset cancels
+    falling = EpisodeFeatures(False, blocks=("creepage_rise",))
+    for r in _readings([0.004, 0.003], [0.1, 0.09]):
+        falling.push(r)
+    np.testing.assert_allclose(falling.vector()[n:], np.log(CREEPAGE_RISE_FLOORS))  # no rise: the floors
+
+
+def test_feature_blocks_name_themselves_in_the_networks_file(tmp_path):
+    for blocks in ((), ("tone2",), ("creepage_rise",), ("tone2", "creepage_rise")):
+        assert blocks_of(feature_names(blocks)) == blocks
+    assert feature_names(("creepage_rise", "tone2")) == feature_names(("tone2", "creepage_rise"))  # one order
+    with pytest.raises(ValueError, match="feature blocks must be among"):
+        feature_names(("harmonics",))
+    with pytest.raises(ValueError, match="tone2 follows the data"):
+        FitSettings(features=("tone2",)).blocks(None)
+    data = collect(cof_gym.WAGON_ENV_ID, [{}], 4, first_seed=2_000_500)
+    member = fit_member(data, seed=0, settings=FitSettings(hidden=(8,), epochs=3, features=("creepage_rise",)))
+    member.save(tmp_path / "member_0.npz")
+    loaded = FilterNetwork.load(tmp_path / "member_0.npz")
+    assert loaded.blocks == ("creepage_rise",) and loaded.tones == 1
+    agent = LearnedInterrogator(gym.make(cof_gym.WAGON_ENV_ID).unwrapped.limits, FilterEnsemble((loaded,)))
+    actions, info = play(agent, 7)
+    assert agent.features.blocks == ("creepage_rise",) and np.all(np.isfinite(actions))

@@ -20,6 +20,7 @@ from cof_gym.agents.interrogator import (
 from cof_gym.agents.interrogator_training import ClimbDraws, Dataset, FitSettings, collect, fit_member
 from cof_gym.commands.evaluate import evaluate
 from cof_gym.commands.suites import make_suite
+from cof_gym.commands.watch import WatchRequest, play
 from cof_gym.task.excitation import Excitation, encode_extra_tones
 
 TWO_TONES = ClimbParameters(amplitude_ratio=0.3, tone2_frequency_hz=14.0, tone2_weight=0.8)
@@ -63,7 +64,7 @@ def test_two_tone_climb_needs_its_env_and_reads_tone_2():
     sine = gym.make(cof_gym.WAGON_ENV_ID)
     obs, info = sine.reset(seed=3)
     assert Reading.of(obs, limits, info).tone2_frequency_hz == 0.0  # a sine reads no tone 2
-    agent = LearnedInterrogator(limits, FilterEnsemble((FilterNetwork(*_zeros(feature_names(2))),)), params=TWO_TONES)
+    agent = LearnedInterrogator(limits, FilterEnsemble((FilterNetwork(*_zeros(feature_names(("tone2",)))),)), params=TWO_TONES)
     with pytest.raises(ValueError, match="excitation"):
         agent.reset(obs, info)
 
@@ -75,18 +76,18 @@ def _zeros(names):
 
 def test_features_files_and_ensemble_agree_on_the_tones(two_tone_data, two_tone_member, tmp_path):
     assert two_tone_data.tones == 2
-    assert two_tone_data.features.shape[1] == len(feature_names(2)) == len(FEATURE_NAMES) + 11
+    assert two_tone_data.features.shape[1] == len(feature_names(("tone2",))) == len(FEATURE_NAMES) + 11
     assert np.all(np.isfinite(two_tone_data.features))
     two_tone_member.save(tmp_path / "member_0.npz")
     loaded = FilterNetwork.load(tmp_path / "member_0.npz")
-    assert loaded.tones == 2 and loaded.feature_names == feature_names(2)
-    one = FilterNetwork(*_zeros(feature_names(1)))
-    with pytest.raises(ValueError, match="different tones"):
+    assert loaded.tones == 2 and loaded.feature_names == feature_names(("tone2",))
+    one = FilterNetwork(*_zeros(feature_names()))
+    with pytest.raises(ValueError, match="different features"):
         FilterEnsemble((loaded, one))
     with pytest.raises(ValueError, match="networks read"):
         LearnedInterrogator(gym.make(cof_gym.WAGON_ENV_ID).unwrapped.limits, FilterEnsemble((one,)), params=TWO_TONES)
     with pytest.raises(ValueError, match="two-tone readings"):
-        EpisodeFeatures(False, tones=2).push(Reading(10.0, 1.0, 0.5, 0.1, 0.01, 1000.0, 100.0, 5.0, 20.0, 1.0))
+        EpisodeFeatures(False, blocks=("tone2",)).push(Reading(10.0, 1.0, 0.5, 0.1, 0.01, 1000.0, 100.0, 5.0, 20.0, 1.0))
     mixed = Dataset.concatenate([two_tone_data, collect(cof_gym.WAGON_ENV_ID, [{}], 1, first_seed=2_100_100)])
     with pytest.raises(ValueError, match="mixes"):
         mixed.tones
@@ -122,3 +123,7 @@ def test_evaluate_plays_a_two_tone_interrogator_in_its_own_env_on_the_same_scena
     env = gym.make(cof_gym.WAGON_ENV_ID)
     assert interrogator_for(env, run).env_options == TWO_TONE_ENV_OPTIONS
     assert all(math.isfinite(float(r["relative_error"])) for r in rows)
+    record, recorder = play(WatchRequest(f"interrogator:{run}", False, cof_gym.WAGON_ENV_ID, suite.episodes[0][0],
+                                         tmp_path / "v.mp4", 10, 320, 1.0))  # cof-gym watch's episode
+    recorder.close()
+    assert record.cof == float(by_agent[f"interrogator:{run.name}"][0][1])

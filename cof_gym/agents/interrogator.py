@@ -57,10 +57,18 @@ with the frequency (Eq. 3: ``tan(lag) = I w v / (k r^2)`` grows with ``w``), so 
 the slope's fall where one tone's lag is still small (low speeds, far from the peak), and the two lags'
 ratio tells the wheel's first-order response from the drive's and suspension's; the filter then reads
 :data:`TONE2_FEATURE_NAMES` as well and must be fitted on two-tone climbs.
+
+**Feature blocks.** Beyond :data:`FEATURE_NAMES` a filter may read optional blocks
+(:data:`FEATURE_BLOCKS`; its file names them, :func:`blocks_of`): ``tone2`` (above) and
+``creepage_rise``, the measured creepage's rise since the first driven window itself, not only in
+ratio (:data:`CREEPAGE_RISE_FEATURE_NAMES`): the offset cancels in the difference, and a scale error of a
+percent or two moves its ``ln`` by 0.01-0.02, so the rise tells a long, flat knee (wet and
+low-adhesion curves peak at large creepages) from a peak that is near.
 """
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
 from dataclasses import dataclass, field, replace
@@ -101,15 +109,31 @@ TONE2_FEATURE_NAMES = (
     "tone2_phase", "tone2_phase_se", "tone2_compliance", "tone2_slope_index", "tone2_slope_drop",
     "tone2_slope_ratio", "tone2_peak_gap", "tone_dispersion", "tone2_frequency", "tone2_share", "tone2_phase_1",
 )
-TONE_COUNTS = (1, 2)  # tones the filter reads
+# the measured creepage's rise since the first driven window (offset-free: :meth:`EpisodeFeatures._creepage_rise_values`)
+CREEPAGE_RISE_FEATURE_NAMES = ("creepage_rise", "chord_flexibility", "step_creepage_rise")
+CREEPAGE_RISE_FLOORS = (1e-5, 1e-4, 1e-6)  # below these (no rise), each of the three reads ln(floor)
+# optional feature blocks appended to FEATURE_NAMES, in this order (a network's file names the ones it reads)
+FEATURE_BLOCKS = {"tone2": TONE2_FEATURE_NAMES, "creepage_rise": CREEPAGE_RISE_FEATURE_NAMES}
 TWO_TONE_ENV_OPTIONS = {"excitation": "multitone", "tones": 2}  # the env options a two-tone climb needs
 
 
-def feature_names(tones: int) -> tuple[str, ...]:
-    """The filter's features with ``tones`` tones (:data:`TONE_COUNTS`)."""
-    if tones not in TONE_COUNTS:
-        raise ValueError(f"tones must be one of {TONE_COUNTS}, got {tones!r}")
-    return FEATURE_NAMES + (TONE2_FEATURE_NAMES if tones == 2 else ())
+def feature_names(blocks: Iterable[str] = ()) -> tuple[str, ...]:
+    """The filter's features with the optional ``blocks`` of :data:`FEATURE_BLOCKS`."""
+    blocks = tuple(blocks)
+    unknown = sorted(set(blocks) - set(FEATURE_BLOCKS))
+    if unknown:
+        raise ValueError(f"feature blocks must be among {tuple(FEATURE_BLOCKS)}, got {unknown}")
+    return FEATURE_NAMES + tuple(n for b, names in FEATURE_BLOCKS.items() if b in blocks for n in names)
+
+
+def blocks_of(names: Iterable[str]) -> tuple[str, ...]:
+    """The optional blocks (in :data:`FEATURE_BLOCKS` order) whose features are ``names``; ValueError if none."""
+    names = tuple(names)
+    for k in range(len(FEATURE_BLOCKS) + 1):
+        for blocks in itertools.combinations(FEATURE_BLOCKS, k):
+            if feature_names(blocks) == names:
+                return blocks
+    raise ValueError(f"not a feature list of this version ({len(names)} names)")
 
 
 FLEXIBILITY_CLIP = 5.0  # |ln| of the secant/chord flexibility ratio: beyond it, the step went past the peak
@@ -247,14 +271,28 @@ class EpisodeFeatures:
 
     counter_torque: bool
     readings: list[Reading] = field(default_factory=list)
-    tones: int = 1  # 2: tone 2's features appended (:data:`TONE2_FEATURE_NAMES`)
+    blocks: tuple[str, ...] = ()  # optional feature blocks appended (:data:`FEATURE_BLOCKS`)
+
+    def __post_init__(self) -> None:
+        feature_names(self.blocks)  # an unknown block: ValueError naming the allowed ones
 
     def push(self, reading: Reading) -> None:
         if reading.dc_nm <= 0.0:
             raise ValueError("EpisodeFeatures.push takes driven windows (DC torque > 0)")
-        if self.tones == 2 and reading.tone2_frequency_hz <= 0.0:
-            raise ValueError("EpisodeFeatures(tones=2).push takes two-tone readings (tone2_frequency_hz > 0)")
+        if "tone2" in self.blocks and reading.tone2_frequency_hz <= 0.0:
+            raise ValueError("EpisodeFeatures with the tone2 block takes two-tone readings (tone2_frequency_hz > 0)")
         self.readings.append(reading)
+
+    def _creepage_rise_values(self) -> list[float]:
+        """:data:`CREEPAGE_RISE_FEATURE_NAMES`: ``ln`` of the measured creepage's rise since the first driven
+        window, of that rise per CoA rise (the creep curve's chord flexibility) and of the last step's
+        rise, each floored (:data:`CREEPAGE_RISE_FLOORS`). A difference of creepages: the sensors' offset
+        (of the size of the peak creepage) cancels, their scale error of a percent or two scales it."""
+        now, first, prev = self.readings[-1], self.readings[0], self.readings[max(len(self.readings) - 2, 0)]
+        rise, coa_rise = now.creepage - first.creepage, now.coa - first.coa
+        floor_rise, floor_chord, floor_step = CREEPAGE_RISE_FLOORS
+        chord = max(rise / coa_rise, floor_chord) if coa_rise > 0.0 else floor_chord
+        return [math.log(max(rise, floor_rise)), math.log(chord), math.log(max(now.creepage - prev.creepage, floor_step))]
 
     def _tone2_values(self) -> list[float]:
         """Tone 2's features (:data:`TONE2_FEATURE_NAMES`): its lag, SE, compliance, slope index and
@@ -299,8 +337,10 @@ class EpisodeFeatures:
                    peak_gap(self.readings, i, i - 2, slope_from_phase),
                    math.log(slope_from_phase(now) / slope_from_phase(prev)),
                    math.log(slope_from_compliance(now) / slope_from_compliance(prev))]
-        if self.tones == 2:
+        if "tone2" in self.blocks:
             values += self._tone2_values()
+        if "creepage_rise" in self.blocks:
+            values += self._creepage_rise_values()
         return np.nan_to_num(np.asarray(values, dtype=np.float64), nan=0.0, posinf=0.0, neginf=0.0)
 
 
@@ -312,11 +352,15 @@ class FilterNetwork:
     feature_std: np.ndarray
     weights: tuple[np.ndarray, ...]
     biases: tuple[np.ndarray, ...]
-    feature_names: tuple[str, ...] = FEATURE_NAMES  # :func:`feature_names` of the tones it reads
+    feature_names: tuple[str, ...] = FEATURE_NAMES  # :func:`feature_names` of the blocks it reads
+
+    @property
+    def blocks(self) -> tuple[str, ...]:
+        return blocks_of(self.feature_names)
 
     @property
     def tones(self) -> int:
-        return 2 if len(self.feature_names) > len(FEATURE_NAMES) else 1
+        return 2 if "tone2" in self.blocks else 1
 
     def __call__(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         h = (np.atleast_2d(x) - self.feature_mean) / self.feature_std
@@ -335,8 +379,10 @@ class FilterNetwork:
     def load(cls, path: Path) -> "FilterNetwork":
         with np.load(path) as z:
             names = tuple(str(n) for n in z["feature_names"])
-            if names not in [feature_names(t) for t in TONE_COUNTS]:
-                raise ValueError(f"{path}: the network was trained on other features ({len(names)} names); retrain it")
+            try:
+                blocks_of(names)
+            except ValueError:
+                raise ValueError(f"{path}: the network was trained on other features ({len(names)} names); retrain it") from None
             layers = sum(1 for k in z.files if k.startswith("w"))
             return cls(z["feature_mean"], z["feature_std"], tuple(z[f"w{i}"] for i in range(layers)),
                        tuple(z[f"b{i}"] for i in range(layers)), names)
@@ -350,8 +396,12 @@ class FilterEnsemble:
     members: tuple[FilterNetwork, ...]
 
     def __post_init__(self) -> None:
-        if len({m.tones for m in self.members}) > 1:
-            raise ValueError("the ensemble's members read different tones; fit them on one collection")
+        if len({m.feature_names for m in self.members}) > 1:
+            raise ValueError("the ensemble's members read different features (tones or blocks); fit them alike")
+
+    @property
+    def blocks(self) -> tuple[str, ...]:
+        return self.members[0].blocks
 
     @property
     def tones(self) -> int:
@@ -523,7 +573,7 @@ class LearnedInterrogator:
         if self.params.tones == 2 and "tone2_frequency_hz" not in info.get("measurement", {}):
             raise ValueError(f"{self.name} drives two tones: make its env with {self.env_options} "
                              "(cof-gym evaluate does that itself)")
-        self.features = EpisodeFeatures(self.counter_torque, tones=self.params.tones)
+        self.features = EpisodeFeatures(self.counter_torque, blocks=self.ensemble.blocks)
         self._dc = 0.0
         self._driven = 0
         self._crept = False

@@ -34,8 +34,8 @@ import gymnasium as gym
 import numpy as np
 
 from cof_gym.agents.interrogator import (
-    TARGET_NAMES, TWO_TONE_ENV_OPTIONS, ClimbParameters, EpisodeFeatures, FilterNetwork, Reading, feature_names,
-    floor_headroom, slope_from_phase,
+    FEATURE_BLOCKS, TARGET_NAMES, TWO_TONE_ENV_OPTIONS, ClimbParameters, EpisodeFeatures, FilterNetwork, Reading,
+    feature_names, floor_headroom, slope_from_phase,
 )
 from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.physics.creep_laws import below_peak
@@ -72,16 +72,28 @@ class Dataset:
         return 2 if len(self) and two.all() else 1
 
     @cached_property
+    def _features(self) -> dict[tuple[str, ...], np.ndarray]:
+        return {}
+
+    @property
     def features(self) -> np.ndarray:
-        """Each window's feature vector, rebuilt from the readings of its episode up to it (once)."""
-        out = np.empty((len(self), len(feature_names(self.tones))))
-        features = None
-        for i in range(len(self)):
-            if i == 0 or self.episode[i] != self.episode[i - 1]:
-                features = EpisodeFeatures(bool(self.counter_torque[i]), tones=self.tones)
-            features.push(Reading(*(float(v) for v in self.readings[i])))
-            out[i] = features.vector()
-        return out
+        """Each window's feature vector with the blocks its data has (tone 2's for two-tone climbs)."""
+        return self.features_for(("tone2",) if self.tones == 2 else ())
+
+    def features_for(self, blocks: tuple[str, ...]) -> np.ndarray:
+        """Each window's feature vector with the optional ``blocks``, rebuilt from the readings of its
+        episode up to it (once per set of blocks)."""
+        blocks = tuple(b for b in FEATURE_BLOCKS if b in blocks)
+        if blocks not in self._features:
+            out = np.empty((len(self), len(feature_names(blocks))))
+            features = None
+            for i in range(len(self)):
+                if i == 0 or self.episode[i] != self.episode[i - 1]:
+                    features = EpisodeFeatures(bool(self.counter_torque[i]), blocks=blocks)
+                features.push(Reading(*(float(v) for v in self.readings[i])))
+                out[i] = features.vector()
+            self._features[blocks] = out
+        return self._features[blocks]
 
     def save(self, path) -> None:
         np.savez(path, readings=self.readings, counter_torque=self.counter_torque, targets=self.targets,
@@ -303,6 +315,15 @@ class FitSettings:
     batch_size: int = 512
     learning_rate: float = 2e-3
     weight_decay: float = 1e-5
+    features: tuple[str, ...] = ()  # optional feature blocks besides tone 2's (which follows the data)
+
+    def blocks(self, data: "Dataset") -> tuple[str, ...]:
+        """The feature blocks a member fitted on ``data`` reads, in :data:`FEATURE_BLOCKS` order."""
+        if "tone2" in self.features:
+            raise ValueError("features: tone2 follows the data (two-tone climbs), do not name it")
+        wanted = set(self.features) | ({"tone2"} if data.tones == 2 else set())
+        feature_names(wanted)  # an unknown block: ValueError naming the allowed ones
+        return tuple(b for b in FEATURE_BLOCKS if b in wanted)
 
 
 def fit_member(data: Dataset, seed: int, settings: FitSettings = FitSettings()) -> FilterNetwork:
@@ -314,7 +335,8 @@ def fit_member(data: Dataset, seed: int, settings: FitSettings = FitSettings()) 
     chosen = rng.choice(episodes, size=len(episodes), replace=True)
     rows_of = {e: np.flatnonzero(data.episode == e) for e in episodes}
     rows = np.concatenate([rows_of[e] for e in chosen])
-    all_features = data.features
+    blocks = settings.blocks(data)
+    all_features = data.features_for(blocks)
     x, y = all_features[rows], data.targets[rows]
     mean, std = x.mean(axis=0), x.std(axis=0)
     std = np.where(std > 1e-8, std, 1.0)
@@ -343,12 +365,12 @@ def fit_member(data: Dataset, seed: int, settings: FitSettings = FitSettings()) 
         sched.step()
     linear = [m for m in net if isinstance(m, torch.nn.Linear)]
     return FilterNetwork(mean, std, tuple(m.weight.detach().numpy().T.copy() for m in linear),
-                         tuple(m.bias.detach().numpy().copy() for m in linear), feature_names(data.tones))
+                         tuple(m.bias.detach().numpy().copy() for m in linear), feature_names(blocks))
 
 
 def nll(member_or_ensemble, data: Dataset) -> dict[str, float]:
     """Per-target RMSE and mean Gaussian NLL of a member's predictions on ``data``."""
-    x = data.features
+    x = data.features_for(member_or_ensemble.blocks)
     if isinstance(member_or_ensemble, FilterNetwork):
         mu, log_var = member_or_ensemble(x)
         std = np.exp(0.5 * log_var)

@@ -211,6 +211,10 @@ def play(request: WatchRequest):
     except (FileNotFoundError, ValueError, OSError) as e:
         env.close()
         raise UsageError("--agent", f"{request.agent}: {e}") from None
+    options = dict(getattr(agent, "env_options", None) or {})  # an excitation of its own (two tones)
+    if options:
+        env.close()
+        env = Recorder(gym.make(request.env_id, **options))
     try:
         record = run_episode(env, agent, request.seed, {}, 0, oracle=request.oracle)
     finally:

@@ -1,0 +1,39 @@
+"""experiments/readme_results.py: the README's targets and held-out overview are computed from the
+evaluate summaries as stated (the learned agent against the agents that do not read the truth)."""
+
+import json
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
+from readme_results import heldout_overview, targets  # noqa: E402
+
+
+def _summary(path: Path, agents: dict[str, tuple[bool, float, float, int]], episodes: int = 50) -> Path:
+    """agents: name -> (oracle, median, P90, macro-slips)."""
+    summary = {name: {"oracle": oracle, "episodes": episodes, "median_error": {"value": med},
+                      "p90_error": {"value": p90}, "macro_slip_events": {"value": slips}}
+               for name, (oracle, med, p90, slips) in agents.items()}
+    path.write_text(json.dumps({"summary": summary}))
+    return path
+
+
+def test_targets_compare_with_the_best_agent_that_does_not_read_the_truth(tmp_path):
+    path = _summary(tmp_path / "a.json", {"oracle": (True, 0.001, 0.002, 0), "learned": (False, 0.025, 0.09, 0),
+                                          "rule": (False, 0.05, 0.08, 0), "fit": (False, 0.03, 0.2, 3)})
+    rows = targets({"suite": path}, learned="learned").splitlines()[2:]
+    met = {row.split(" | ")[1]: row.endswith("| met |") for row in rows}
+    assert met == {"median <= 3 %": True, "P90 <= 8 %": False, "<= 1 macro-slip per 100 episodes": True,
+                   "median below every non-oracle agent's": True, "P90 below every non-oracle agent's": False,
+                   "no more macro-slips than the best non-oracle agent": True}
+    assert "2.5 % vs fit 3.0 %" in rows[3] and "9.0 % vs rule 8.0 %" in rows[4]  # the oracle is never the rival
+    assert targets({"suite": tmp_path / "missing.json"}, learned="learned") is None
+
+
+def test_heldout_overview_names_the_best_other_agent_per_column(tmp_path):
+    out = tmp_path / "grid"
+    out.mkdir()
+    _summary(out / "summary.json", {"oracle": (True, 0.001, 0.002, 0), "learned": (False, 0.04, 0.3, 5),
+                                     "rule": (False, 0.06, 0.25, 7), "fit": (False, 0.05, 0.5, 2)}, episodes=72)
+    rows = heldout_overview({"grid": ("v2 a held-out grid", out)}, learned="learned").splitlines()
+    assert rows[2] == "| a held-out grid (72) | 4.0 % / 30.0 % / 5 | fit 5.0 % | rule 25.0 % | fit 2 |"
