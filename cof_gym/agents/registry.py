@@ -92,7 +92,8 @@ register("robust-model", "cof_gym.agents.robust_model:RobustModel", oracle=False
 register("interrogator", "cof_gym.agents.interrogator:load_interrogator", oracle=False, takes_env=True,
          argument="DIR", shipped=PACKAGE_DIR / "policies" / "interrogator" / "manifest.json",
          help="the learned interrogator (v2): a torque climb steered by a learned filter of phase, "
-         "compliance and CoA; interrogator:DIR for other networks")
+         "compliance and CoA; interrogator:DIR for other networks (a two-tone climb plays in an env of "
+         "its own with the suite's scenarios)")
 register("ppo", "cof_gym.agents.registry:_ppo", oracle=False, takes_env=True, argument="PATH",
          shipped=SHIPPED_PPO / "model.zip",
          help="the shipped PPO policy, or ppo:PATH for any saved model")
