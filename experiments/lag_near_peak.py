@@ -13,6 +13,11 @@ KEY=VALUE`` overrides a reset option of every chosen episode (numbers as JSON, e
 
     python experiments/lag_near_peak.py --episodes 6 --levels 0.3 0.6 0.8 0.85 0.88 --amplitude-ratio 0.4 \
         --set load_case=laden motor_lag_s=0 [--env CofGym/HalfWheelset-v2]
+
+``--harmonics`` drives the env's three-tone excitation with tones 2 and 3 silent (weight 0) at twice and
+three times the modulation frequency: the torque is the same sine, and their lock-ins read the wheelset
+speed's second and third harmonics, printed relative to the fundamental (H2, H3): the distortion a
+curved or kinked creep curve puts on the response.
 """
 
 from __future__ import annotations
@@ -22,27 +27,42 @@ import json
 
 import gymnasium as gym
 
+import numpy as np
+
 from cof_gym.agents.interrogator import Reading
 from cof_gym.commands.suites import make_suite
+from cof_gym.task.excitation import encode_extra_tones
 from cof_gym.task.interface import encode_action
+
+HARMONIC_OPTIONS = {"excitation": "multitone", "tones": 3}  # tones 2 and 3 silent at 2 f and 3 f
 
 LEVELS = (0.3, 0.5, 0.7, 0.8, 0.85, 0.9, 0.93, 0.95, 0.97, 0.98, 0.99)
 
 
-def trace(env, seed: int, options: dict, levels, amplitude_ratio: float, frequency_hz: float) -> list[str]:
+def _harmonics(measurement: dict) -> str:
+    """The speed's second and third harmonics over its fundamental (silent tones 2 and 3)."""
+    fundamental = max(measurement["tone1_omega_amplitude_rad_s"], 1e-12)
+    return " | ".join(f"{measurement[f'tone{k}_omega_amplitude_rad_s'] / fundamental:.3f}" for k in (2, 3))
+
+
+def trace(env, seed: int, options: dict, levels, amplitude_ratio: float, frequency_hz: float,
+          harmonics: bool = False) -> list[str]:
     """Markdown rows, one per window of the staircase."""
     limits = env.unwrapped.limits
     _, info = env.reset(seed=seed, options=options)
     truth = info["ground_truth"]
+    silent = encode_extra_tones([(2 * frequency_hz, 0.0), (3 * frequency_hz, 0.0)], limits.min_frequency_hz,
+                                limits.max_frequency_hz) if harmonics else np.zeros(0, dtype=np.float32)
     rows = []
     for u in levels:
         dc = u * truth["saturation_torque_nm"]
-        obs, _, terminated, truncated, info = env.step(
-            encode_action(dc, amplitude_ratio * dc, frequency_hz, 0.1, False, limits))
+        action = np.concatenate([encode_action(dc, amplitude_ratio * dc, frequency_hz, 0.1, False, limits), silent])
+        obs, _, terminated, truncated, info = env.step(action)
         r = Reading.of(obs, limits)
         rows.append(f"| {u:.2f} | {r.phase_deg:.1f} +- {r.se_deg:.1f} | {r.compliance:.3f} | "
                     f"{r.coa / truth['cof']:.3f} | {info['ground_truth']['creepage_mean'] / truth['peak_creepage']:.2f} | "
-                    f"{'yes' if info['macro_slip'] else ''} |")
+                    + (f"{_harmonics(info['measurement'])} | " if harmonics else "")
+                    + f"{'yes' if info['macro_slip'] else ''} |")
         if terminated or truncated:
             break
     return rows
@@ -57,7 +77,10 @@ def main() -> None:
     ap.add_argument("--frequency", type=float, default=5.0, help="Hz")
     ap.add_argument("--env", default=None, help="play the episodes in this env id instead of the suite's")
     ap.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE", help="override a reset option")
+    ap.add_argument("--harmonics", action="store_true", help="also read the speed's 2nd and 3rd harmonics")
     args = ap.parse_args()
+    if args.harmonics and not 3 * args.frequency <= 20.0:
+        ap.error(f"--harmonics reads 3 x --frequency, which must be <= 20 Hz (the drive's range), got {args.frequency:g} Hz")
     overrides = {}
     for item in args.set:
         key, sep, value = item.partition("=")
@@ -71,14 +94,15 @@ def main() -> None:
     for k in args.episodes:
         if not 0 <= k < len(suite.episodes):
             ap.error(f"--episodes: {k} is not an index of the suite (0 to {len(suite.episodes) - 1})")
-    env = gym.make(args.env or suite.env_id, **suite.env_kwargs)
+    env = gym.make(args.env or suite.env_id, **suite.env_kwargs, **(HARMONIC_OPTIONS if args.harmonics else {}))
     for k in args.episodes:
         seed, options = suite.episodes[k]
         options = {**options, **overrides}
         print(f"\n### episode {k} (seed {seed}): {options.get('condition')}, CoF {options.get('cof')}\n")
-        print("| DC / M_sat | lag [deg] | compliance | CoA / CoF | creepage / peak creepage | macro-slip |")
-        print("|---|---|---|---|---|---|")
-        print("\n".join(trace(env, seed, options, args.levels, args.amplitude_ratio, args.frequency)))
+        extra = " H2 | H3 |" if args.harmonics else ""
+        print(f"| DC / M_sat | lag [deg] | compliance | CoA / CoF | creepage / peak creepage |{extra} macro-slip |")
+        print("|---" * (6 + 2 * args.harmonics) + "|")
+        print("\n".join(trace(env, seed, options, args.levels, args.amplitude_ratio, args.frequency, args.harmonics)))
 
 
 if __name__ == "__main__":
