@@ -32,7 +32,7 @@ import numpy as np
 from cof_gym.agents.interrogator import Reading
 from cof_gym.commands.suites import make_suite
 from cof_gym.task.excitation import encode_extra_tones
-from cof_gym.task.interface import encode_action
+from cof_gym.task.interface import MotorLimits, encode_action
 
 HARMONIC_OPTIONS = {"excitation": "multitone", "tones": 3}  # tones 2 and 3 silent at 2 f and 3 f
 
@@ -79,8 +79,9 @@ def main() -> None:
     ap.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE", help="override a reset option")
     ap.add_argument("--harmonics", action="store_true", help="also read the speed's 2nd and 3rd harmonics")
     args = ap.parse_args()
-    if args.harmonics and not 3 * args.frequency <= 20.0:
-        ap.error(f"--harmonics reads 3 x --frequency, which must be <= 20 Hz (the drive's range), got {args.frequency:g} Hz")
+    if args.harmonics and not 3 * args.frequency <= MotorLimits.max_frequency_hz:
+        ap.error(f"--harmonics reads 3 x --frequency, which must be <= {MotorLimits.max_frequency_hz:g} Hz "
+                 f"(the drive's range), got {args.frequency:g} Hz")
     overrides = {}
     for item in args.set:
         key, sep, value = item.partition("=")

@@ -32,6 +32,12 @@ def agent_view(info: dict[str, Any], oracle: bool) -> dict[str, Any]:
     return {k: v for k, v in info.items() if k != "ground_truth"}
 
 
+def own_env_options(agent: Any) -> dict[str, Any]:
+    """The env options an agent acts in beyond a suite's (``agent.env_options``, e.g. the two-tone
+    interrogator's excitation); {} for an agent that has none."""
+    return dict(getattr(agent, "env_options", None) or {})
+
+
 def registered_ranges(env_id: str, env_kwargs: Mapping[str, Any] | None = None) -> ScenarioRanges:
     """The scenario draws of a registered env id made with ``env_kwargs`` (its ``ranges`` kwarg, else
     the default draws of its task version)."""

@@ -158,6 +158,11 @@ def flexibility_ratio(readings: list["Reading"], k: int) -> float:
     return float(np.clip(math.log((d_s / d_coa) / (chord_s / chord_coa)), -FLEXIBILITY_CLIP, FLEXIBILITY_CLIP))
 
 
+def _se_clipped(se_deg: float) -> float:
+    """A lag's standard error (deg) as the filter reads it: :data:`SE_CLIP_DEG` where it is not in (0, that)."""
+    return se_deg if 0.0 < se_deg < SE_CLIP_DEG else SE_CLIP_DEG
+
+
 def _tan_clipped(phase_deg: float) -> float:
     """``tan(phase)`` with the phase clipped to :data:`PHASE_CLIP_DEG` (finite and > 0)."""
     return math.tan(math.radians(min(max(phase_deg, PHASE_CLIP_DEG[0]), PHASE_CLIP_DEG[1])))
@@ -234,19 +239,18 @@ class Reading:
         ``info["measurement"]``."""
         full = np.nan_to_num(np.asarray(observation, dtype=np.float64), nan=0.0)
         o = full[: len(OBSERVATION_NAMES)]
-        se = o[_INDEX["phase_lag_se"]] * 90.0
         tone2 = {}
         measurement = (info or {}).get("measurement", {})
         if len(full) >= len(OBSERVATION_NAMES) + 6 and "tone2_frequency_hz" in measurement:
             phase2, se2, compliance2 = full[len(OBSERVATION_NAMES) + 3: len(OBSERVATION_NAMES) + 6]
             tone2 = {"tone2_phase_deg": float(phase2 * 90.0),
-                     "tone2_se_deg": float(se2 * 90.0 if 0.0 < se2 * 90.0 < SE_CLIP_DEG else SE_CLIP_DEG),
+                     "tone2_se_deg": float(_se_clipped(se2 * 90.0)),
                      "tone2_compliance": float(compliance2),
                      "tone2_frequency_hz": float(measurement["tone2_frequency_hz"]),
                      "tone2_amplitude_nm": float(measurement["tone2_amplitude_nm"])}
         return cls(
             phase_deg=float(o[_INDEX["phase_lag"]] * 90.0),
-            se_deg=float(se if 0.0 < se < SE_CLIP_DEG else SE_CLIP_DEG),
+            se_deg=float(_se_clipped(o[_INDEX["phase_lag_se"]] * 90.0)),
             compliance=float(o[_INDEX["compliance"]]),
             coa=float(max(o[_INDEX["coa_measured"]], 1e-4)),
             creepage=float(o[_INDEX["creepage_measured"]] / CREEPAGE_SCALE),
@@ -459,7 +463,8 @@ class ClimbParameters:
             if getattr(self, name) is not None:
                 check_number(name, getattr(self, name), low, math.inf)
         if self.tone2_frequency_hz is not None:
-            check_number("tone2_frequency_hz", self.tone2_frequency_hz, 1.0, 20.0)
+            check_number("tone2_frequency_hz", self.tone2_frequency_hz, MotorLimits.min_frequency_hz,
+                         MotorLimits.max_frequency_hz)
         check_number("tone2_weight", self.tone2_weight, 0.0, 2.0)
         if not isinstance(self.creep_sticky, bool):
             raise ValueError(f"creep_sticky must be True or False, got {self.creep_sticky!r}")

@@ -39,6 +39,7 @@ from cof_gym.agents.interrogator import (
 )
 from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.physics.creep_laws import below_peak
+from cof_gym.task.interface import MotorLimits
 from cof_gym.task.validation import check_number, check_range
 
 TRAINING_SEED = 1_000_000  # first training seed: far from every evaluation and validation seed
@@ -225,7 +226,7 @@ class ClimbDraws:
 
     def __post_init__(self) -> None:
         if self.tone2_hz is not None:
-            check_range("ClimbDraws.tone2_hz", self.tone2_hz, 1.0, 20.0)
+            check_range("ClimbDraws.tone2_hz", self.tone2_hz, MotorLimits.min_frequency_hz, MotorLimits.max_frequency_hz)
         check_range("ClimbDraws.tone2_weights", self.tone2_weights, 0.0, 2.0)
         if self.shapes not in SHAPE_SOURCES:
             raise ValueError(f"shapes must be one of {SHAPE_SOURCES}, got {self.shapes!r}")

@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from cof_gym.agents import registry
-from cof_gym.agents.base import agent_view
+from cof_gym.agents.base import agent_view, own_env_options
 from cof_gym.commands.suites import MAX_EPISODES, Suite, SuiteError, make_suite
 from cof_gym.envs.torque_interrogation import make_kwargs
 
@@ -467,7 +467,7 @@ def agent_envs(agents, suite: Suite) -> dict[str, Any]:
 
     envs = {}
     for agent, _ in agents:
-        options = dict(getattr(agent, "env_options", None) or {})
+        options = own_env_options(agent)
         if options:
             envs[agent.name] = gym.make(suite.env_id, **{**make_kwargs(suite.env_kwargs), **options})
     return envs

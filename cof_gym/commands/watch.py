@@ -25,6 +25,7 @@ import numpy as np
 
 import cof_gym
 from cof_gym.agents import registry
+from cof_gym.agents.base import own_env_options
 from cof_gym.commands.args import UsageError, positive_float
 from cof_gym.physics.creep import creep_curve
 from cof_gym.physics.native import layout
@@ -211,7 +212,7 @@ def play(request: WatchRequest):
     except (FileNotFoundError, ValueError, OSError) as e:
         env.close()
         raise UsageError("--agent", f"{request.agent}: {e}") from None
-    options = dict(getattr(agent, "env_options", None) or {})  # an excitation of its own (two tones)
+    options = own_env_options(agent)  # an excitation of its own (two tones)
     if options:
         env.close()
         env = Recorder(gym.make(request.env_id, **options))

@@ -38,6 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from cof_gym.physics.simulation import MAX_TONES, DriveCommand, WindowMeasurement, tone_field
+from cof_gym.task.interface import _log_map, _log_unmap
 from cof_gym.task.validation import check_choice, check_int
 
 EXCITATIONS = ("sine", "multitone")
@@ -53,19 +54,13 @@ def min_separation_hz(measured_s: float) -> float:
     return RESOLUTION_FACTOR / measured_s
 
 
-def _log_map(x: float, low: float, high: float) -> float:
-    return math.exp(math.log(low) + (x + 1.0) / 2.0 * (math.log(high) - math.log(low)))
-
-
 def encode_extra_tones(tones: list[tuple[float, float]], min_frequency_hz: float = 1.0,
                        max_frequency_hz: float = 20.0) -> np.ndarray:
     """The action components appended for extra tones given as ``(frequency_hz, weight)`` pairs (weight
     ``w_k`` in [0, 2], tone 1's being 1): the inverse of :meth:`Excitation.drive`'s decoding."""
     out = []
     for frequency_hz, weight in tones:
-        f = min(max(frequency_hz, min_frequency_hz), max_frequency_hz)
-        out += [2.0 * math.log(f / min_frequency_hz) / math.log(max_frequency_hz / min_frequency_hz) - 1.0,
-                min(max(weight, 0.0), 2.0) - 1.0]
+        out += [_log_unmap(frequency_hz, min_frequency_hz, max_frequency_hz), min(max(weight, 0.0), 2.0) - 1.0]
     return np.asarray(out, dtype=np.float32)
 
 
