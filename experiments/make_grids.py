@@ -27,6 +27,9 @@
 - ``suites/v2_heldout5_grid.json``: a fifth v2 reporting set (:data:`HELDOUT5_SHAPES`: a sine bell, a
   hyperbolic corner, a logistic S, a root-plus-line), written before the two-tone interrogator (session 11)
   was measured on any reporting episode.
+- ``suites/v2_heldout6_grid.json``: a sixth v2 reporting set (:data:`HELDOUT6_SHAPES`: an error-function
+  rise, a bilinear knee, a Weibull rise into a cliff, a hyperbolic-cosine dome), written before any change
+  of session 12 was measured.
 
 Each grid crosses every condition, CoF values at off-round fractions of that condition's range, speeds
 across 5-40 m/s and both load cases, with full sensor noise and a motor lag; the ranges come from
@@ -39,6 +42,7 @@ import json
 from pathlib import Path
 
 import numpy as np
+from scipy.special import erf
 
 import cof_gym
 from cof_gym.physics.creep_laws import below_peak
@@ -135,6 +139,25 @@ HELDOUT5_SHAPES = {
     "root_linear": lambda x: np.where(x <= 1.0, 0.5 * np.sqrt(np.clip(x, 0.0, None)) + 0.5 * x,
                                       0.85 + 0.15 * np.exp(-(x - 1.0))),
 }
+# A sixth held-out set, written in session 12 before any change of that session was measured: none a
+# family member, none of the sets above, none procedural.
+HELDOUT6_SHAPES = {
+    # an error-function rise (a Gaussian distribution of asperity strengths) into a gentle exponential
+    # fall to 80 % over 0.4 peak creepages
+    "erf_rise": lambda x: np.where(x <= 1.0, erf(1.8 * np.clip(x, 0.0, None)) / erf(1.8),
+                                   0.8 + 0.2 * np.exp(-(x - 1.0) / 0.4)),
+    # two straight segments (the slope falls to three eighths at 60 % of the peak creepage), a kinked
+    # peak and a linear fall of 0.2 per peak creepage, held at 70 %
+    "bilinear_knee": lambda x: np.where(x <= 0.6, x / 0.75, np.where(x <= 1.0, 0.8 + 0.5 * (x - 0.6),
+                                                                     np.maximum(1.0 - 0.2 * (x - 1.0), 0.7))),
+    # a Weibull (stretched-exponential) rise and a cliff to 70 % within 0.05 peak creepages
+    "weibull_cliff": lambda x: np.where(
+        x <= 1.0, (1.0 - np.exp(-np.power(2.5 * np.clip(x, 0.0, None), 1.5))) / (1.0 - np.exp(-2.5**1.5)),
+        0.7 + 0.3 * np.clip(1.0 - (x - 1.0) / 0.05, 0.0, 1.0)),
+    # a hyperbolic-cosine dome (zero slope at the peak) mirrored past it down to 60 %
+    "cosh_dome": lambda x: np.where(x <= 1.0, 1.0 - (np.cosh(2.0 * (1.0 - x)) - 1.0) / (np.cosh(2.0) - 1.0),
+                                    np.maximum(1.0 - (np.cosh(2.0 * (x - 1.0)) - 1.0) / (np.cosh(2.0) - 1.0), 0.6)),
+}
 HELDOUT_PEAK_CREEPAGE = {"dry": (0.004, 0.012), "wet": (0.006, 0.02), "low_adhesion": (0.01, 0.04)}
 HELDOUT_ERRORS = (  # (speed sensor, wheel radius) relative errors, force and torque gain errors
     (0.0, 0.0, 0.0, 0.0), (0.025, -0.004, 0.008, -0.04), (-0.02, 0.006, -0.012, 0.06), (0.007, 0.009, 0.005, 0.02),
@@ -150,6 +173,9 @@ HELDOUT4_ERRORS = (
 )
 HELDOUT5_ERRORS = (
     (0.015, -0.002, 0.007, -0.055), (-0.006, 0.007, -0.01, 0.03), (0.0, 0.0, 0.0, 0.0), (0.022, 0.001, 0.012, 0.015),
+)
+HELDOUT6_ERRORS = (
+    (-0.018, 0.004, -0.008, 0.05), (0.0, 0.0, 0.0, 0.0), (0.011, -0.008, 0.014, -0.035), (-0.004, -0.003, 0.009, 0.065),
 )
 
 GRIDS = {
@@ -243,7 +269,11 @@ def all_grids() -> dict[str, dict]:
                  v2_heldout5_grid=v2_heldout_grid(
                      (0.16, 0.69), (6.5, 21.0, 36.5), 103_000, HELDOUT5_SHAPES, HELDOUT5_ERRORS,
                      "v2 reporting only, a fifth set written before the two-tone interrogator of session 11 was "
-                     "measured: creep curves outside every family and the four earlier sets, other sensor errors"))
+                     "measured: creep curves outside every family and the four earlier sets, other sensor errors"),
+                 v2_heldout6_grid=v2_heldout_grid(
+                     (0.24, 0.77), (5.0, 18.5, 33.5), 105_000, HELDOUT6_SHAPES, HELDOUT6_ERRORS,
+                     "v2 reporting only, a sixth set written before any change of session 12 was measured: "
+                     "creep curves outside every family and the five earlier sets, other sensor errors"))
     return grids
 
 
