@@ -16,7 +16,7 @@ from cof_gym.commands.suites import make_suite
 from cof_gym.task.scenarios import COF_ENVELOPE, ScenarioRanges
 from cof_gym.agents import registry
 from cof_gym.agents.interrogator import (
-    CREEPAGE_RISE_FEATURE_NAMES, CREEPAGE_RISE_FLOORS, FEATURE_NAMES, blocks_of, feature_names, SHIPPED_INTERROGATOR, TARGET_NAMES, ClimbParameters, EpisodeFeatures, FilterEnsemble, FilterNetwork,
+    CREEPAGE_MODULATION_FEATURE_NAMES, CREEPAGE_RISE_FEATURE_NAMES, CREEPAGE_RISE_FLOORS, FEATURE_NAMES, blocks_of, feature_names, SHIPPED_INTERROGATOR, TARGET_NAMES, ClimbParameters, EpisodeFeatures, FilterEnsemble, FilterNetwork,
     PEAK_GAP_CLIP, LearnedInterrogator, Reading, floor_headroom, peak_gap, slope_from_phase, slope_index,
 )
 from cof_gym.agents.interrogator_training import (
@@ -434,8 +434,32 @@ def test_creepage_rise_block_is_offset_free_and_reads_the_rise():
     np.testing.assert_allclose(falling.vector()[n:], np.log(CREEPAGE_RISE_FLOORS))  # no rise: the floors
 
 
+def test_creepage_modulation_block_reads_the_tangent_flexibility_and_its_noise():
+    """The creepage_modulation block: the lag and SE of the measured creepage's modulation, ln of its
+    swing per relative torque modulation, ln of its swing per torque against the first and the previous
+    windows (a scale error of the creepage cancels in both ratios), the previous window's lag."""
+    def reading(k: int, swing: float, scale: float = 1.0) -> Reading:
+        return replace(_readings([0.001], [0.1])[0], dc_nm=1000.0 * (1 + k), amplitude_nm=400.0 * (1 + k),
+                       creepage_modulation=scale * swing, creepage_modulation_lag_deg=10.0 * (k + 1),
+                       creepage_modulation_se_deg=12.0)
+    swings = [1e-4, 3e-4, 1.2e-3]  # per 400, 800, 1200 N m of modulation
+    feats = EpisodeFeatures(False, blocks=("creepage_modulation",))
+    scaled = EpisodeFeatures(False, blocks=("creepage_modulation",))
+    for k, swing in enumerate(swings):
+        feats.push(reading(k, swing))
+        scaled.push(reading(k, swing, scale=1.02))
+    v, w = feats.vector(), scaled.vector()
+    n = len(FEATURE_NAMES)
+    assert v.shape == (n + len(CREEPAGE_MODULATION_FEATURE_NAMES),)
+    np.testing.assert_allclose(v[n:], [30.0 / 90.0, 12.0 / 30.0, math.log(1.2e-3 / 0.4),
+                                       math.log((1.2e-3 / 1200.0) / (1e-4 / 400.0)),
+                                       math.log((1.2e-3 / 1200.0) / (3e-4 / 800.0)), 20.0 / 90.0], rtol=1e-12)
+    np.testing.assert_allclose(w[n + 3:n + 5], v[n + 3:n + 5], rtol=0, atol=1e-12)  # the scale error cancels
+
+
 def test_feature_blocks_name_themselves_in_the_networks_file(tmp_path):
-    for blocks in ((), ("tone2",), ("creepage_rise",), ("tone2", "creepage_rise")):
+    for blocks in ((), ("tone2",), ("creepage_rise",), ("tone2", "creepage_rise"), ("creepage_modulation",),
+                   ("tone2", "creepage_rise", "creepage_modulation")):
         assert blocks_of(feature_names(blocks)) == blocks
     assert feature_names(("creepage_rise", "tone2")) == feature_names(("tone2", "creepage_rise"))  # one order
     with pytest.raises(ValueError, match="feature blocks must be among"):

@@ -112,8 +112,15 @@ TONE2_FEATURE_NAMES = (
 # the measured creepage's rise since the first driven window (offset-free: :meth:`EpisodeFeatures._creepage_rise_values`)
 CREEPAGE_RISE_FEATURE_NAMES = ("creepage_rise", "chord_flexibility", "step_creepage_rise")
 CREEPAGE_RISE_FLOORS = (1e-5, 1e-4, 1e-6)  # below these (no rise), each of the three reads ln(floor)
+# the measured creepage's own modulation (its lock-in: :meth:`EpisodeFeatures._creepage_modulation_values`)
+CREEPAGE_MODULATION_FEATURE_NAMES = (
+    "creepage_modulation_lag", "creepage_modulation_se", "creepage_modulation_swing", "tangent_flexibility_rise",
+    "tangent_flexibility_step", "creepage_modulation_lag_1",
+)
+CREEPAGE_SWING_FLOOR = 1e-6  # the creepage swing per relative torque modulation reads at least ln(this)
 # optional feature blocks appended to FEATURE_NAMES, in this order (a network's file names the ones it reads)
-FEATURE_BLOCKS = {"tone2": TONE2_FEATURE_NAMES, "creepage_rise": CREEPAGE_RISE_FEATURE_NAMES}
+FEATURE_BLOCKS = {"tone2": TONE2_FEATURE_NAMES, "creepage_rise": CREEPAGE_RISE_FEATURE_NAMES,
+                  "creepage_modulation": CREEPAGE_MODULATION_FEATURE_NAMES}
 TWO_TONE_ENV_OPTIONS = {"excitation": "multitone", "tones": 2}  # the env options a two-tone climb needs
 
 
@@ -231,12 +238,15 @@ class Reading:
     tone2_compliance: float = 0.0
     tone2_frequency_hz: float = 0.0
     tone2_amplitude_nm: float = 0.0
+    creepage_modulation: float = 0.0  # the measured creepage's amplitude at the modulation (0: not read)
+    creepage_modulation_lag_deg: float = 0.0  # its lag behind the torque
+    creepage_modulation_se_deg: float = SE_CLIP_DEG
 
     @classmethod
     def of(cls, observation: np.ndarray, limits: MotorLimits, info: Mapping[str, Any] | None = None) -> "Reading":
         """The window observation's reading; with a two-tone excitation (the observation's per-tone block
         after the window observation) also tone 2's, its applied frequency and amplitude from
-        ``info["measurement"]``."""
+        ``info["measurement"]``, and from there the measured creepage's modulation (its lock-in)."""
         full = np.nan_to_num(np.asarray(observation, dtype=np.float64), nan=0.0)
         o = full[: len(OBSERVATION_NAMES)]
         tone2 = {}
@@ -248,6 +258,10 @@ class Reading:
                      "tone2_compliance": float(compliance2),
                      "tone2_frequency_hz": float(measurement["tone2_frequency_hz"]),
                      "tone2_amplitude_nm": float(measurement["tone2_amplitude_nm"])}
+        if "creepage_modulation_amplitude" in measurement:
+            tone2.update(creepage_modulation=float(measurement["creepage_modulation_amplitude"]),
+                         creepage_modulation_lag_deg=float(measurement["creepage_modulation_lag_deg"]),
+                         creepage_modulation_se_deg=float(_se_clipped(measurement["creepage_modulation_lag_se_deg"])))
         return cls(
             phase_deg=float(o[_INDEX["phase_lag"]] * 90.0),
             se_deg=float(_se_clipped(o[_INDEX["phase_lag_se"]] * 90.0)),
@@ -298,6 +312,21 @@ class EpisodeFeatures:
         chord = max(rise / coa_rise, floor_chord) if coa_rise > 0.0 else floor_chord
         return [math.log(max(rise, floor_rise)), math.log(chord), math.log(max(now.creepage - prev.creepage, floor_step))]
 
+    def _creepage_modulation_values(self) -> list[float]:
+        """:data:`CREEPAGE_MODULATION_FEATURE_NAMES`: the measured creepage's modulation (a lock-in of
+        ``R omega / v - 1`` at the torque's frequency): its lag behind the torque and that lag's SE (which
+        tells a reading from the sensors' noise), ``ln`` of its swing per relative torque modulation
+        (``ds / (dM / M)``: the creepage a relative torque step moves, the creep curve's local
+        flexibility times the CoA), and ``ln`` of its swing per torque (the tangent flexibility
+        ``ds / dM``) over the first driven window's and over the previous window's. The creepage's
+        offset has gone with its DC level; its scale error moves these by a percent or two."""
+        now, first, prev = self.readings[-1], self.readings[0], self.readings[max(len(self.readings) - 2, 0)]
+        tangent = lambda r: max(r.creepage_modulation, CREEPAGE_SWING_FLOOR) / max(r.amplitude_nm, 1e-9)  # noqa: E731
+        swing = max(now.creepage_modulation, CREEPAGE_SWING_FLOOR) * now.dc_nm / max(now.amplitude_nm, 1e-9)
+        return [now.creepage_modulation_lag_deg / 90.0, now.creepage_modulation_se_deg / SE_CLIP_DEG,
+                math.log(max(swing, CREEPAGE_SWING_FLOOR)), math.log(tangent(now) / tangent(first)),
+                math.log(tangent(now) / tangent(prev)), prev.creepage_modulation_lag_deg / 90.0]
+
     def _tone2_values(self) -> list[float]:
         """Tone 2's features (:data:`TONE2_FEATURE_NAMES`): its lag, SE, compliance, slope index and
         their change, its quadratic-peak gap, the lag's dispersion ``ln(tan lag_2 / tan lag_1) /
@@ -345,6 +374,8 @@ class EpisodeFeatures:
             values += self._tone2_values()
         if "creepage_rise" in self.blocks:
             values += self._creepage_rise_values()
+        if "creepage_modulation" in self.blocks:
+            values += self._creepage_modulation_values()
         return np.nan_to_num(np.asarray(values, dtype=np.float64), nan=0.0, posinf=0.0, neginf=0.0)
 
 

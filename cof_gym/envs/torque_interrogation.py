@@ -208,7 +208,10 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     scored (stop, macro-slip or the horizon), ``-w_slip`` x (time and energy past the creep-curve peak)
     ``- macro_slip_penalty`` on a macro-slip, ``-w_comfort`` x Wd RMS / 0.01 m/s^2,
     ``-w_time`` x window length. Every term is in ``info``; ``info["cost"]`` holds the unweighted
-    constraint costs (slip, discomfort, macro_slip). ``info["measurement"]`` holds only sensor readings;
+    constraint costs (slip, discomfort, macro_slip). ``info["measurement"]`` holds only sensor readings
+    (among them the measured creepage's own modulation, ``creepage_modulation_amplitude``,
+    ``creepage_modulation_lag_deg`` behind the torque and its SE: a lock-in of ``R omega / v - 1`` from the
+    noisy encoder and speed sensor, the creepage's offset gone with its DC level);
     every privileged quantity (the CoF, the saturation torque, true creepage and CoA, anything relative
     to the creep peak) is under ``info["ground_truth"]``, for evaluation only. With ``shaping=True`` a
     potential-based term ``reward_shaping = 0.95 Phi' - Phi``, ``Phi = w_error (ln 100 - |ln(estimate /

@@ -284,6 +284,12 @@ class WindowMeasurement:
     tone3_amplitude_ratio: float = 0.0
     tone3_torque_amplitude_nm: float = 0.0
     tone3_omega_amplitude_rad_s: float = 0.0
+    # the measured creepage's modulation at tone 1 (a sensor reading: R omega / v - 1 from the noisy encoder
+    # and speed sensor, the creepage's systematic offset gone with its DC level, its scale error kept):
+    # its amplitude, its lag behind the torque (deg) and that lag's standard error (180: not modulated)
+    creepage_modulation_amplitude: float = 0.0
+    creepage_modulation_lag_deg: float = 0.0
+    creepage_modulation_lag_se_deg: float = 180.0
 
 
 TONE_FIELDS = ("phase_lag_deg", "phase_lag_se_deg", "amplitude_ratio", "torque_amplitude_nm", "omega_amplitude_rad_s")
@@ -300,12 +306,13 @@ def _fit(ud: np.ndarray, btb: str, bty: str, yty: str, n: float):
 
 
 def _tone_fits(ud: np.ndarray, n: float, ntones: int) -> tuple[tuple[SineFit, ...], ...]:
-    """The joint multi-tone fits (torque, omega, creepage), one SineFit per tone each."""
+    """The joint multi-tone fits (torque, omega, creepage, measured creepage), one SineFit per tone each."""
     size = 2 * ntones + 2
     packed = size * (size + 1) // 2
     out = []
     for btb, bty, yty in (("MT_BTB_TORQUE", "MT_BTY_TORQUE", "YTY_TORQUE"), ("MT_BTB_STATE", "MT_BTY_OMEGA", "YTY_OMEGA"),
-                          ("MT_BTB_STATE", "MT_BTY_CREEP", "YTY_CREEP")):
+                          ("MT_BTB_STATE", "MT_BTY_CREEP", "YTY_CREEP"),
+                          ("MT_BTB_STATE", "MT_BTY_CREEP_MEASURED", "YTY_CREEP_MEASURED")):
         b0, y0 = I[f"{btb}_0"], I[f"{bty}_0"]
         out.append(fit_tones_from_sums(ud[b0:b0 + packed], ud[y0:y0 + size], ud[I[yty]], n, ntones))
     return tuple(out)
@@ -328,12 +335,13 @@ def read_window(ud: np.ndarray) -> WindowMeasurement:
     torque = _fit(ud, "BTB_TORQUE", "BTY_TORQUE", "YTY_TORQUE", n)
     omega = _fit(ud, "BTB_STATE", "BTY_OMEGA", "YTY_OMEGA", n)
     creep = _fit(ud, "BTB_STATE", "BTY_CREEP", "YTY_CREEP", n)
+    creep_measured = _fit(ud, "BTB_STATE", "BTY_CREEP_MEASURED", "YTY_CREEP_MEASURED", n)
     ntones = min(max(int(ud[I["N_TONES"]]), 1), MAX_TONES)
     tones: dict[str, float] = {}
     if ntones > 1:  # every tone from the joint fit; tone 1's replaces the single-tone fit (leaked into by the others)
         if n <= 2 * ntones + 2 + 4:
             raise ValueError(f"window too short: {n:g} samples for {ntones} tones; lengthen the window")
-        t_fits, o_fits, c_fits = _tone_fits(ud, n, ntones)
+        t_fits, o_fits, c_fits, cm_fits = _tone_fits(ud, n, ntones)
         commanded = [ud[I["TORQUE_AMPLITUDE"]] > 0.0] + [ud[I[f"TONE{k}_AMPLITUDE"]] > 0.0 for k in range(2, ntones + 1)]
         for k in range(1, ntones + 1):
             lag_k, se_k, ratio_k = _lag(t_fits[k - 1], o_fits[k - 1], commanded[k - 1])
@@ -341,13 +349,14 @@ def read_window(ud: np.ndarray) -> WindowMeasurement:
                           tone_field(k, "amplitude_ratio"): ratio_k,
                           tone_field(k, "torque_amplitude_nm"): t_fits[k - 1].amplitude,
                           tone_field(k, "omega_amplitude_rad_s"): o_fits[k - 1].amplitude})
-        torque, omega, creep = t_fits[0], o_fits[0], c_fits[0]
+        torque, omega, creep, creep_measured = t_fits[0], o_fits[0], c_fits[0], cm_fits[0]
         lag, lag_se, ratio = (tones[tone_field(1, f)] for f in ("phase_lag_deg", "phase_lag_se_deg", "amplitude_ratio"))
     else:
         modulated = torque.amplitude > 1e-9
         lag = wrap_deg(math.degrees(torque.phase_rad - omega.phase_rad)) if modulated else 0.0
         lag_se = math.degrees(math.hypot(torque.phase_se_rad, omega.phase_se_rad)) if modulated else 180.0
         ratio = omega.amplitude / torque.amplitude if modulated else 0.0
+    creep_lag, creep_lag_se, _ = _lag(torque, creep_measured, torque.amplitude > 1e-9)
     mean = lambda key: float(ud[I[key]] / n)  # noqa: E731
     dt_energy = lambda key: float(ud[I[key]])  # noqa: E731
     return WindowMeasurement(
@@ -377,6 +386,9 @@ def read_window(ud: np.ndarray) -> WindowMeasurement:
         energy_past_peak_j=dt_energy("ENERGY_PAST_PEAK"),
         max_abs_creepage=float(ud[I["MAX_ABS_CREEPAGE"]]),
         samples=int(n),
+        creepage_modulation_amplitude=creep_measured.amplitude,
+        creepage_modulation_lag_deg=creep_lag,
+        creepage_modulation_lag_se_deg=creep_lag_se,
         n_tones=ntones,
         **(tones or {"tone1_phase_lag_deg": lag, "tone1_phase_lag_se_deg": min(lag_se, 180.0),
                      "tone1_amplitude_ratio": ratio,

@@ -98,6 +98,7 @@ class SensorErrors:
             m,
             **tones,
             creepage_measured=(1.0 + m.creepage_measured) * creep_gain - 1.0,
+            creepage_modulation_amplitude=m.creepage_modulation_amplitude * creep_gain,
             speed_measured_m_s=m.speed_measured_m_s * (1.0 + self.speed_sensor_error),
             tangential_force_measured_n=m.tangential_force_measured_n * force_gain,
             coa_measured=m.coa_measured * force_gain,

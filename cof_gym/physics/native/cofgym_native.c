@@ -538,6 +538,7 @@ void cofgym_passive(const mjModel* m, mjData* d) {
       acc_btb(ud + UD_BTB_STATE_0, b_now);
       acc_bty(ud + UD_BTY_OMEGA_0, ud + UD_YTY_OMEGA, b_now, omega_meas);
       acc_bty(ud + UD_BTY_CREEP_0, ud + UD_YTY_CREEP, b_now, c->creepage);
+      acc_bty(ud + UD_BTY_CREEP_MEASURED_0, ud + UD_YTY_CREEP_MEASURED, b_now, creep_meas);
       if (ntones > 1) {
         /* joint basis [cos th_1, sin th_1, ..., cos th_K, sin th_K, 1, tau]; tone 1 as above */
         double mt_mid[UD_MT_MAX_BASIS], mt_now[UD_MT_MAX_BASIS];
@@ -559,6 +560,7 @@ void cofgym_passive(const mjModel* m, mjData* d) {
         acc_btb_n(ud + UD_MT_BTB_STATE_0, mt_now, np);
         acc_bty_n(ud + UD_MT_BTY_OMEGA_0, mt_now, np, omega_meas);
         acc_bty_n(ud + UD_MT_BTY_CREEP_0, mt_now, np, c->creepage);
+        acc_bty_n(ud + UD_MT_BTY_CREEP_MEASURED_0, mt_now, np, creep_meas);
       }
       ud[UD_SUM_COA_MEASURED] += coa_meas;
       ud[UD_SUM_COA_TRUE] += coa_true;

@@ -131,6 +131,8 @@ ACCUMULATORS: tuple[str, ...] = (
     "YTY_OMEGA",
     *(f"BTY_CREEP_{i}" for i in range(4)),
     "YTY_CREEP",
+    *(f"BTY_CREEP_MEASURED_{i}" for i in range(4)),  # the measured creepage (noisy encoder and speed sensor)
+    "YTY_CREEP_MEASURED",
     "SUM_COA_MEASURED",
     "SUM_COA_TRUE",
     "SUM_CREEPAGE",
@@ -158,6 +160,7 @@ ACCUMULATORS: tuple[str, ...] = (
     *(f"MT_BTB_STATE_{i}" for i in range(MT_MAX_BTB)),
     *(f"MT_BTY_OMEGA_{i}" for i in range(MT_MAX_BASIS)),
     *(f"MT_BTY_CREEP_{i}" for i in range(MT_MAX_BASIS)),
+    *(f"MT_BTY_CREEP_MEASURED_{i}" for i in range(MT_MAX_BASIS)),
 )
 
 
