@@ -2,11 +2,14 @@
 (run from the repository root; 2 cores, ~4 min)
 
     python experiments/crest_tradeoff.py [--targets 0.1 0.15 0.2 0.3] [--out out/crest_tradeoff.md]
+    python experiments/crest_tradeoff.py --run runs/interrogator_cm/ensemble --cautions 2 2.5 3 --targets 0.1 0.15
 
 The shipped climb's modulation is 40 % of the DC torque, so its crest passes the saturation torque once
 the DC is above ``1 / 1.4`` of it (a headroom below ``ln 1.4 = 0.34``); a creep curve that falls steeply
 past its peak then lets the wheel run away. This plays the shipped filter with its climb and only the
-target headroom (and the end of its slow probe) changed, in both vehicle configurations, on the three
+target headroom (and the end of its slow probe) changed, and with ``--cautions`` each of these caution
+factors in turn (the standard deviations taken off the predicted headroom), with ``--run`` another run's
+networks (a directory of ``member_*.npz``) under the shipped climb, in both vehicle configurations, on the three
 validation grids (model selection data, never reported elsewhere as results): the family draws, the
 procedural curves and the procedural curves with steep falling branches
 (``experiments/suites/v2_validation_steep_grid.json``). Per grid: median / P90 relative CoF error,
@@ -39,20 +42,23 @@ def climb_at(climb: dict, target: float) -> dict:
     return {**climb, "target_headroom": target, "creep_until": None if until is None else max(until, target)}
 
 
-def _play(params: dict, grid: str, config: dict) -> list[tuple[float, bool, float]]:
-    """(relative error, macro-slip, return) of every episode, the shipped filter with the climb ``params``."""
+def _play(run: str, params: dict, grid: str, config: dict) -> list[tuple[float, bool, float]]:
+    """(relative error, macro-slip, return) of every episode, the filter of ``run`` with the climb ``params``."""
     return [(r.relative_error if r.scored else 1.0, r.macro_slip, r.episode_return)
-            for r, _ in episodes(str(SHIPPED_INTERROGATOR), grid, config, params)]
+            for r, _ in episodes(run, grid, config, params)]
 
 
-def table(targets: list[float], workers: int) -> str:
+def table(targets: list[float], workers: int, run: Path = SHIPPED_INTERROGATOR,
+          cautions: list[float] | None = None) -> str:
     climb = json.loads((SHIPPED_INTERROGATOR / "manifest.json").read_text())["climb"]
-    jobs = [(climb_at(climb, t), str(g), c) for t in targets for g in GRIDS.values() for c in CONFIGS]
+    rows = [(c, t) for c in (cautions or [climb["caution"]]) for t in targets]
+    jobs = [(str(run), {**climb_at(climb, t), "caution": c}, str(g), cfg)
+            for c, t in rows for g in GRIDS.values() for cfg in CONFIGS]
     with ProcessPoolExecutor(workers) as pool:
         results = iter(list(pool.map(_play, *zip(*jobs))))
     head = " | ".join(f"{name}: median / P90 / macro-slips / return" for name in GRIDS)
-    lines = [f"| target headroom | {head} | all: macro-slips / return |", "|---|" + "---|" * (len(GRIDS) + 1)]
-    for t in targets:
+    lines = [f"| caution | target headroom | {head} | all: macro-slips / return |", "|---|---|" + "---|" * (len(GRIDS) + 1)]
+    for c, t in rows:
         cells, pooled = [], []
         for _ in GRIDS:
             runs = [r for _ in CONFIGS for r in next(results)]
@@ -60,7 +66,7 @@ def table(targets: list[float], workers: int) -> str:
             s = score([(e, slip) for e, slip, _ in runs])
             cells.append(f"{100 * s['median']:.1f} % / {100 * s['p90']:.1f} % / {s['macro_slips']} of {len(runs)} / "
                          f"{np.mean([ret for *_, ret in runs]):.2f}")
-        lines.append(f"| {t:g} | {' | '.join(cells)} | {sum(slip for _, slip, _ in pooled)} of {len(pooled)} / "
+        lines.append(f"| {c:g} | {t:g} | {' | '.join(cells)} | {sum(slip for _, slip, _ in pooled)} of {len(pooled)} / "
                      f"{np.mean([ret for *_, ret in pooled]):.2f} |")
     return "\n".join(lines) + "\n"
 
@@ -68,12 +74,20 @@ def table(targets: list[float], workers: int) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--targets", type=float, nargs="+", default=[0.1, 0.15, 0.2, 0.3])
+    parser.add_argument("--cautions", type=float, nargs="+", default=None,
+                        help="caution factors to try (default: the shipped climb's)")
+    parser.add_argument("--run", type=Path, default=SHIPPED_INTERROGATOR,
+                        help="a directory of networks (member_*.npz) played with the shipped climb")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--out", type=Path, default=Path("out/crest_tradeoff.md"))
     args = parser.parse_args()
     if any(not 0.0 < t < 1.0 for t in args.targets):
         parser.error("--targets must lie in (0, 1) (a headroom ln(M_sat / DC))")
-    text = table(args.targets, args.workers)
+    if args.cautions is not None and any(not 0.0 <= c <= 10.0 for c in args.cautions):
+        parser.error("--cautions must lie in [0, 10] (standard deviations)")
+    if not sorted(args.run.glob("member_*.npz")):
+        parser.error(f"--run: no networks (member_*.npz) in {args.run}")
+    text = table(args.targets, args.workers, args.run, args.cautions)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)
     print(text, end="")

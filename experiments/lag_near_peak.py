@@ -6,7 +6,9 @@ For each chosen episode of a suite file it steps the DC torque through fixed fra
 true saturation torque (``--levels``) with a modulation of ``--amplitude-ratio`` x DC at
 ``--frequency`` Hz, and prints per window the measured phase lag (deg, with its standard error), the
 compliance (speed/torque amplitude ratio x I w: 1 for a free wheel), the measured CoA over the CoF and
-the true mean creepage over the peak creepage. It shows how late the lag rises on sharp-kneed curves,
+the true mean creepage over the peak creepage, and the measured creepage's own modulation (a sensor
+reading: its swing per torque over the first window's, and its lag behind the torque with its standard
+error). It shows how late the lag rises on sharp-kneed curves,
 the reason the learned interrogator and the phase rule commit below the peak. ``--env`` plays the same
 episodes in another env (e.g. ``CofGym/HalfWheelset-v2``, the wheelset without the wagon) and ``--set
 KEY=VALUE`` overrides a reset option of every chosen episode (numbers as JSON, e.g. ``motor_lag_s=0``):
@@ -53,16 +55,20 @@ def trace(env, seed: int, options: dict, levels, amplitude_ratio: float, frequen
     truth = info["ground_truth"]
     silent = encode_extra_tones([(2 * frequency_hz, 0.0), (3 * frequency_hz, 0.0)], limits.min_frequency_hz,
                                 limits.max_frequency_hz) if harmonics else np.zeros(0, dtype=np.float32)
-    rows = []
+    rows, first_swing = [], None
     for u in levels:
         dc = u * truth["saturation_torque_nm"]
         action = np.concatenate([encode_action(dc, amplitude_ratio * dc, frequency_hz, 0.1, False, limits), silent])
         obs, _, terminated, truncated, info = env.step(action)
         r = Reading.of(obs, limits)
+        m = info["measurement"]
+        swing = m["creepage_modulation_amplitude"] / max(m["torque_amplitude_nm"], 1e-9)
+        first_swing = first_swing or swing
         rows.append(f"| {u:.2f} | {r.phase_deg:.1f} +- {r.se_deg:.1f} | {r.compliance:.3f} | "
                     f"{r.coa / truth['cof']:.3f} | {info['ground_truth']['creepage_mean'] / truth['peak_creepage']:.2f} | "
-                    + (f"{_harmonics(info['measurement'])} | " if harmonics else "")
-                    + f"{'yes' if info['macro_slip'] else ''} |")
+                    + (f"{_harmonics(m)} | " if harmonics else "")
+                    + f"{swing / first_swing:.2f} | {m['creepage_modulation_lag_deg']:.1f} +- "
+                    f"{m['creepage_modulation_lag_se_deg']:.1f} | {'yes' if info['macro_slip'] else ''} |")
         if terminated or truncated:
             break
     return rows
@@ -101,8 +107,9 @@ def main() -> None:
         options = {**options, **overrides}
         print(f"\n### episode {k} (seed {seed}): {options.get('condition')}, CoF {options.get('cof')}\n")
         extra = " H2 | H3 |" if args.harmonics else ""
-        print(f"| DC / M_sat | lag [deg] | compliance | CoA / CoF | creepage / peak creepage |{extra} macro-slip |")
-        print("|---" * (6 + 2 * args.harmonics) + "|")
+        print(f"| DC / M_sat | lag [deg] | compliance | CoA / CoF | creepage / peak creepage |{extra} "
+              "creepage swing / first | creepage lag [deg] | macro-slip |")
+        print("|---" * (8 + 2 * args.harmonics) + "|")
         print("\n".join(trace(env, seed, options, args.levels, args.amplitude_ratio, args.frequency, args.harmonics)))
 
 

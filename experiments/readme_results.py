@@ -1,5 +1,6 @@
-"""Copy measured agent results into the README (run from the repository root after the commands below),
-so that its tables are generated, never typed:
+"""Copy measured agent results into the README and its two result pages, docs/results.md and
+docs/interrogator.md (run from the repository root after the commands below), so that their tables are
+generated, never typed:
 
     cof-gym evaluate --out out/evaluate                                              # v2 default suite
     cof-gym evaluate --suite experiments/suites/v2_no_systematic_errors.json --episodes 60 --out out/evaluate-v2-no-errors
@@ -8,15 +9,19 @@ so that its tables are generated, never typed:
     cof-gym evaluate --suite experiments/suites/v2_heldout3_grid.json --out out/evaluate-v2-heldout3
     cof-gym evaluate --suite experiments/suites/v2_heldout4_grid.json --out out/evaluate-v2-heldout4
     cof-gym evaluate --suite experiments/suites/v2_heldout5_grid.json --out out/evaluate-v2-heldout5
+    cof-gym evaluate --suite experiments/suites/v2_heldout6_grid.json --out out/evaluate-v2-heldout6
     cof-gym evaluate --suite experiments/suites/v1_default.json --episodes 60 --out out/evaluate-v1
     cof-gym evaluate --suite experiments/suites/heldout_grid.json --out out/evaluate-heldout   # v1 held-out
     cof-gym bench --seconds 10 --markdown out/bench.md
     python experiments/ppo_seeds.py --runs runs/ppo_lo_s0 runs/ppo_lo_s1 runs/ppo_lo_s2 --out out/ppo_seeds
     python experiments/train_interrogator.py --out runs/interrogator --ship
     python experiments/crest_tradeoff.py --out out/crest_tradeoff.md
+    python experiments/crest_tradeoff.py --run runs/interrogator_cm/ensemble --cautions 2 2.5 3 --targets 0.1 0.15 \
+        --out out/crest_tradeoff_cm.md
     python experiments/readme_results.py
 
-Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in README.md;
+Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
+:data:`DOCUMENTS`;
 a block whose source file is missing is left as it is (and reported). Two blocks are computed from the
 evaluate summaries (:data:`GENERATED`): the learned agent's targets and the held-out overview.
 """
@@ -34,6 +39,7 @@ from make_grids import v2_heldout_grids  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 README = ROOT / "README.md"
+DOCUMENTS = (README, ROOT / "docs" / "results.md", ROOT / "docs" / "interrogator.md")  # where blocks may sit
 # the v2 held-out grids: README block (the grid's name without "_grid") -> (label, cof-gym evaluate --out)
 HELDOUT_RUNS = {name.removesuffix("_grid"): (label, ROOT / "out" / f"evaluate-{name.removesuffix('_grid').replace('_', '-')}")
                 for name, label in v2_heldout_grids().items()}
@@ -47,6 +53,7 @@ SOURCES = {
     "ppo_seeds": ROOT / "out" / "ppo_seeds" / "report.md",
     "interrogator_seeds": ROOT / "runs" / "interrogator" / "report.md",
     "crest_tradeoff": ROOT / "out" / "crest_tradeoff.md",
+    "crest_tradeoff_cm": ROOT / "out" / "crest_tradeoff_cm.md",
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about
 TARGET_SUITES = {"v2 default suite (`cof-gym evaluate`)": ROOT / "out" / "evaluate" / "summary.json",
@@ -135,7 +142,28 @@ def heldout_overview(runs: dict[str, tuple[str, Path]] = HELDOUT_RUNS, learned: 
     return "\n".join(rows)
 
 
-GENERATED = {"targets": targets, "heldout_overview": heldout_overview}  # README block -> its generator
+GENERATED = {"targets": targets, "heldout_overview": heldout_overview}  # block -> its generator
+
+
+def _shown(path: Path) -> str:
+    return str(path.relative_to(ROOT)) if path.is_relative_to(ROOT) else str(path)
+
+
+def _block(name: str) -> re.Pattern:
+    return re.compile(rf"(<!-- results:{name}:begin -->\n).*?(<!-- results:{name}:end -->)", re.S)
+
+
+def fill(texts: dict[Path, str], name: str, content: str | None, source: str) -> None:
+    """Put ``content`` into the block ``name`` of whichever document holds it (None: leave it as it is)."""
+    holders = [doc for doc, text in texts.items() if _block(name).search(text)]
+    if not holders:
+        print(f"no document has a results:{name} block")
+    elif content is None:
+        print(f"results:{name} left as it is ({source} missing)")
+    else:
+        for doc in holders:
+            texts[doc] = _block(name).sub(lambda m: m.group(1) + content + "\n" + m.group(2), texts[doc])
+        print(f"{', '.join(_shown(d) for d in holders)}: results:{name} <- {source}")
 
 
 def main() -> None:
@@ -145,26 +173,13 @@ def main() -> None:
             print(f"{dst.relative_to(ROOT)} <- {src.relative_to(ROOT)}")
         else:
             print(f"{src} missing: {dst.relative_to(ROOT)} left as it is")
-    text = README.read_text()
+    texts = {doc: doc.read_text() for doc in DOCUMENTS}
     for name, path in SOURCES.items():
-        pattern = re.compile(rf"(<!-- results:{name}:begin -->\n).*?(<!-- results:{name}:end -->)", re.S)
-        if not pattern.search(text):
-            print(f"README has no results:{name} block")
-            continue
-        if not path.is_file():
-            print(f"{path} missing: results:{name} left as it is")
-            continue
-        text = pattern.sub(lambda m: m.group(1) + body(path) + "\n" + m.group(2), text)
-        print(f"results:{name} <- {path.relative_to(ROOT)}")
+        fill(texts, name, body(path) if path.is_file() else None, _shown(path))
     for name, generate in GENERATED.items():
-        block = generate()
-        pattern = re.compile(rf"(<!-- results:{name}:begin -->\n).*?(<!-- results:{name}:end -->)", re.S)
-        if block is None or not pattern.search(text):
-            print(f"results:{name} left as it is (a summary, the learned agent or the README block is missing)")
-        else:
-            text = pattern.sub(lambda m: m.group(1) + block + "\n" + m.group(2), text)
-            print(f"results:{name} <- the evaluate summaries")
-    README.write_text(text)
+        fill(texts, name, generate(), "the evaluate summaries (or the learned agent in one)")
+    for doc, text in texts.items():
+        doc.write_text(text)
 
 
 if __name__ == "__main__":

@@ -1,12 +1,13 @@
 """experiments/readme_results.py: the README's targets and held-out overview are computed from the
-evaluate summaries as stated (the learned agent against the agents that do not read the truth)."""
+evaluate summaries as stated (the learned agent against the agents that do not read the truth), and
+every block lands in the document that holds it."""
 
 import json
 import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
-from readme_results import heldout_overview, targets  # noqa: E402
+from readme_results import DOCUMENTS, SOURCES, fill, heldout_overview, targets  # noqa: E402
 
 
 def _summary(path: Path, agents: dict[str, tuple[bool, float, float, int]], episodes: int = 50) -> Path:
@@ -37,3 +38,20 @@ def test_heldout_overview_names_the_best_other_agent_per_column(tmp_path):
                                      "rule": (False, 0.06, 0.25, 7), "fit": (False, 0.05, 0.5, 2)}, episodes=72)
     rows = heldout_overview({"grid": ("v2 a held-out grid", out)}, learned="learned").splitlines()
     assert rows[2] == "| a held-out grid (72) | 4.0 % / 30.0 % / 5 | fit 5.0 % | rule 25.0 % | fit 2 |"
+
+
+def test_a_block_is_filled_in_the_document_that_holds_it_and_nowhere_else(tmp_path, capsys):
+    a, b = tmp_path / "a.md", tmp_path / "b.md"
+    texts = {a: "x\n<!-- results:one:begin -->\nold\n<!-- results:one:end -->\n", b: "no blocks\n"}
+    fill(texts, "one", "new", "src")
+    assert texts[a] == "x\n<!-- results:one:begin -->\nnew\n<!-- results:one:end -->\n" and texts[b] == "no blocks\n"
+    fill(texts, "one", None, "src")  # a missing source leaves the block as it is
+    fill(texts, "two", "new", "src")
+    assert "new" in texts[a] and "no document has a results:two block" in capsys.readouterr().out
+
+
+def test_every_result_block_has_exactly_one_place_in_the_shipped_documents():
+    text = "".join(doc.read_text() for doc in DOCUMENTS)
+    for name in [*SOURCES, "targets", "heldout_overview"]:
+        assert text.count(f"<!-- results:{name}:begin -->") == 1, name
+        assert text.count(f"<!-- results:{name}:end -->") == 1, name
