@@ -3,12 +3,14 @@
 
     python experiments/crest_tradeoff.py [--targets 0.1 0.15 0.2 0.3] [--out out/crest_tradeoff.md]
     python experiments/crest_tradeoff.py --run runs/interrogator_cm/ensemble --cautions 2 2.5 3 --targets 0.1 0.15
+    python experiments/crest_tradeoff.py --spread-cautions 0 1 2 4 --targets 0.1 --out out/crest_tradeoff_spread.md
 
 The shipped climb's modulation is 40 % of the DC torque, so its crest passes the saturation torque once
 the DC is above ``1 / 1.4`` of it (a headroom below ``ln 1.4 = 0.34``); a creep curve that falls steeply
 past its peak then lets the wheel run away. This plays the shipped filter with its climb and only the
 target headroom (and the end of its slow probe) changed, and with ``--cautions`` each of these caution
-factors in turn (the standard deviations taken off the predicted headroom), with ``--run`` another run's
+factors in turn (the standard deviations taken off the predicted headroom), with ``--spread-cautions``
+each of these further multiples of the members' spread alone (their disagreement), with ``--run`` another run's
 networks (a directory of ``member_*.npz``) under the shipped climb, in both vehicle configurations, on the three
 validation grids (model selection data, never reported elsewhere as results): the family draws, the
 procedural curves and the procedural curves with steep falling branches
@@ -49,16 +51,19 @@ def _play(run: str, params: dict, grid: str, config: dict) -> list[tuple[float, 
 
 
 def table(targets: list[float], workers: int, run: Path = SHIPPED_INTERROGATOR,
-          cautions: list[float] | None = None) -> str:
+          cautions: list[float] | None = None, spread_cautions: list[float] | None = None) -> str:
     climb = json.loads((SHIPPED_INTERROGATOR / "manifest.json").read_text())["climb"]
-    rows = [(c, t) for c in (cautions or [climb["caution"]]) for t in targets]
-    jobs = [(str(run), {**climb_at(climb, t), "caution": c}, str(g), cfg)
-            for c, t in rows for g in GRIDS.values() for cfg in CONFIGS]
+    spreads = spread_cautions or [climb.get("spread_caution", 0.0)]
+    rows = [(c, k, t) for c in (cautions or [climb["caution"]]) for k in spreads for t in targets]
+    jobs = [(str(run), {**climb_at(climb, t), "caution": c, "spread_caution": k}, str(g), cfg)
+            for c, k, t in rows for g in GRIDS.values() for cfg in CONFIGS]
     with ProcessPoolExecutor(workers) as pool:
         results = iter(list(pool.map(_play, *zip(*jobs))))
     head = " | ".join(f"{name}: median / P90 / macro-slips / return" for name in GRIDS)
-    lines = [f"| caution | target headroom | {head} | all: macro-slips / return |", "|---|---|" + "---|" * (len(GRIDS) + 1)]
-    for c, t in rows:
+    spread_head = "spread caution | " if spread_cautions else ""
+    lines = [f"| caution | {spread_head}target headroom | {head} | all: macro-slips / return |",
+             "|---|---|" + "---|" * (len(GRIDS) + 1 + bool(spread_cautions))]
+    for c, k, t in rows:
         cells, pooled = [], []
         for _ in GRIDS:
             runs = [r for _ in CONFIGS for r in next(results)]
@@ -66,7 +71,7 @@ def table(targets: list[float], workers: int, run: Path = SHIPPED_INTERROGATOR,
             s = score([(e, slip) for e, slip, _ in runs])
             cells.append(f"{100 * s['median']:.1f} % / {100 * s['p90']:.1f} % / {s['macro_slips']} of {len(runs)} / "
                          f"{np.mean([ret for *_, ret in runs]):.2f}")
-        lines.append(f"| {c:g} | {t:g} | {' | '.join(cells)} | {sum(slip for _, slip, _ in pooled)} of {len(pooled)} / "
+        lines.append(f"| {c:g} | {f'{k:g} | ' if spread_cautions else ''}{t:g} | {' | '.join(cells)} | {sum(slip for _, slip, _ in pooled)} of {len(pooled)} / "
                      f"{np.mean([ret for *_, ret in pooled]):.2f} |")
     return "\n".join(lines) + "\n"
 
@@ -76,6 +81,8 @@ def main() -> None:
     parser.add_argument("--targets", type=float, nargs="+", default=[0.1, 0.15, 0.2, 0.3])
     parser.add_argument("--cautions", type=float, nargs="+", default=None,
                         help="caution factors to try (default: the shipped climb's)")
+    parser.add_argument("--spread-cautions", type=float, nargs="+", default=None,
+                        help="multiples of the members' spread also taken off the headroom (default: the shipped climb's)")
     parser.add_argument("--run", type=Path, default=SHIPPED_INTERROGATOR,
                         help="a directory of networks (member_*.npz) played with the shipped climb")
     parser.add_argument("--workers", type=int, default=2)
@@ -85,9 +92,11 @@ def main() -> None:
         parser.error("--targets must lie in (0, 1) (a headroom ln(M_sat / DC))")
     if args.cautions is not None and any(not 0.0 <= c <= 10.0 for c in args.cautions):
         parser.error("--cautions must lie in [0, 10] (standard deviations)")
+    if args.spread_cautions is not None and any(not 0.0 <= k <= 10.0 for k in args.spread_cautions):
+        parser.error("--spread-cautions must lie in [0, 10] (member spreads)")
     if not sorted(args.run.glob("member_*.npz")):
         parser.error(f"--run: no networks (member_*.npz) in {args.run}")
-    text = table(args.targets, args.workers, args.run, args.cautions)
+    text = table(args.targets, args.workers, args.run, args.cautions, args.spread_cautions)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)
     print(text, end="")

@@ -18,6 +18,7 @@ generated, never typed:
     python experiments/crest_tradeoff.py --out out/crest_tradeoff.md
     python experiments/crest_tradeoff.py --run runs/interrogator_cm/ensemble --cautions 2 2.5 3 --targets 0.1 0.15 \
         --out out/crest_tradeoff_cm.md
+    python experiments/crest_tradeoff.py --spread-cautions 0 1 2 4 --targets 0.1 --out out/crest_tradeoff_spread.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -54,6 +55,7 @@ SOURCES = {
     "interrogator_seeds": ROOT / "runs" / "interrogator" / "report.md",
     "crest_tradeoff": ROOT / "out" / "crest_tradeoff.md",
     "crest_tradeoff_cm": ROOT / "out" / "crest_tradeoff_cm.md",
+    "crest_tradeoff_spread": ROOT / "out" / "crest_tradeoff_spread.md",
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
 TARGET_SUITES = {"v2 default suite (`cof-gym evaluate`)": ROOT / "out" / "evaluate" / "summary.json",

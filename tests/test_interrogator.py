@@ -66,6 +66,21 @@ def test_ensemble_std_combines_spread_and_predicted_variance():
     (ma, la), (mb, lb) = a(x), b(x)
     np.testing.assert_allclose(mean, (ma + mb) / 2, rtol=1e-12)
     np.testing.assert_allclose(std**2, ((ma - mb) / 2) ** 2 + (np.exp(la) + np.exp(lb)) / 2, rtol=1e-12)
+    same_mean, same_std, spread = FilterEnsemble((a, b)).predict_with_spread(x)
+    np.testing.assert_array_equal(same_mean, mean)
+    np.testing.assert_array_equal(same_std, std)
+    np.testing.assert_allclose(spread, np.abs(ma - mb) / 2, rtol=1e-12)  # the members' disagreement alone
+    assert not FilterEnsemble((a, a)).predict_with_spread(x)[2].any()  # identical members: no spread
+
+
+def test_spread_caution_takes_the_members_disagreement_off_the_headroom_and_nothing_when_zero():
+    shipped = ClimbParameters(caution=2.0)
+    assert shipped.cautious_headroom(0.5, 0.1, spread=0.3) == 0.5 - 2.0 * 0.1  # 0: the climb is unchanged
+    wary = replace(shipped, spread_caution=3.0, creep_log_step=0.03, creep_while_std=0.08, creep_until=0.12)
+    assert wary.cautious_headroom(0.5, 0.1, spread=0.05) == pytest.approx(0.5 - 0.2 - 0.15, abs=1e-15)
+    # the slow probe's end reads the mean headroom, which the spread caution does not move: 0.13 > 0.12
+    assert wary.creeps(wary.cautious_headroom(0.13, 0.1, 0.05), 0.1, 0.05)
+    assert not wary.creeps(wary.cautious_headroom(0.11, 0.1, 0.05), 0.1, 0.05)
 
 
 def play(agent, seed: int, env_kwargs: dict | None = None, perturb_creepage: float = 0.0):
@@ -173,7 +188,8 @@ def test_shipped_interrogator_is_a_default_agent_and_measures():
 
 @pytest.mark.parametrize("kwargs, field", [({"estimate_from": "median"}, "estimate_from"),
                                             ({"amplitude_ratio": float("nan")}, "amplitude_ratio"),
-                                            ({"best_coa_factor": -1.0}, "best_coa_factor")])
+                                            ({"best_coa_factor": -1.0}, "best_coa_factor"),
+                                            ({"spread_caution": -0.5}, "spread_caution")])
 def test_bad_climb_parameters_name_the_field(kwargs, field):
     with pytest.raises(ValueError, match=field):
         ClimbParameters(**kwargs)
@@ -316,6 +332,9 @@ class _ScriptedFilter:
     def predict(self, x):
         mean, std = next(self.script)
         return np.array([[mean, 0.0]]), np.array([[std, 0.01]])
+
+    def predict_with_spread(self, x):
+        return *self.predict(x), np.zeros((1, 2))
 
 
 @pytest.mark.parametrize("sticky", [False, True])

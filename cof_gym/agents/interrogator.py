@@ -30,8 +30,9 @@ fallen, across the shapes it was trained on.
 **The climb.** From the shared safe first step (below the lowest saturation torque in range), each
 window moves the DC torque to ``DC x exp(min(h - target_headroom, max_log_step))`` (or, far from the
 peak, up to ``approach_fraction`` of the gap ``h - target_headroom``) with the cautious
-headroom ``h = mean - caution x std`` (the ensemble's spread and each member's predicted variance
-combined), the modulation a fixed fraction of the DC. Where that gap is closed while the predicted
+headroom ``h = mean - caution x std - spread_caution x spread`` (``std``: the ensemble's spread and each
+member's predicted variance combined; ``spread``: the members' disagreement alone, which grows where
+the readings are unlike the training climbs'; ``spread_caution`` 0 unless chosen), the modulation a fixed fraction of the DC. Where that gap is closed while the predicted
 headroom is still uncertain (its std above ``creep_while_std``), it creeps by ``creep_log_step``: a
 stop there would report a poorly known estimate, and a slow probe buys the readings that settle it;
 with ``creep_sticky`` no later step is larger (the filter thought the peak might be near: a big step
@@ -444,10 +445,19 @@ class FilterEnsemble:
 
     def predict(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(mean, std) of every target, shape (n, 2) each."""
+        mean, std, _ = self.predict_with_spread(x)
+        return mean, std
+
+    def predict_with_spread(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(mean, std, spread) of every target, shape (n, 2) each: the mixture's std (the members'
+        spread and their mean predicted variance together; Lakshminarayanan et al. 2017) and the
+        members' spread alone (their disagreement: large where the readings are unlike the training
+        climbs')."""
         outs = [m(x) for m in self.members]
         means = np.stack([o[0] for o in outs])
         variances = np.stack([np.exp(o[1]) for o in outs])
-        return means.mean(axis=0), np.sqrt(means.var(axis=0) + variances.mean(axis=0))
+        spread_var = means.var(axis=0)
+        return means.mean(axis=0), np.sqrt(spread_var + variances.mean(axis=0)), np.sqrt(spread_var)
 
     @classmethod
     def load(cls, directory: Path, members: list[str] | None = None) -> "FilterEnsemble":
@@ -467,6 +477,7 @@ class ClimbParameters:
     frequency_hz: float = 5.0
     target_headroom: float = 0.05  # ln(M_sat / DC) the climb aims at (0.05: DC at 95 % of M_sat)
     caution: float = 1.0  # standard deviations taken off the predicted headroom
+    spread_caution: float = 0.0  # and this many more of the members' spread alone (their disagreement)
     max_log_step: float = 0.4
     approach_fraction: float = 0.0  # far from the peak a step may close this fraction of the cautious gap
     min_log_step: float = 0.02
@@ -497,27 +508,32 @@ class ClimbParameters:
             check_number("tone2_frequency_hz", self.tone2_frequency_hz, MotorLimits.min_frequency_hz,
                          MotorLimits.max_frequency_hz)
         check_number("tone2_weight", self.tone2_weight, 0.0, 2.0)
+        check_number("spread_caution", self.spread_caution, 0.0, 10.0)
         if not isinstance(self.creep_sticky, bool):
             raise ValueError(f"creep_sticky must be True or False, got {self.creep_sticky!r}")
         if not (isinstance(self.creep_log_step, (int, float)) and 0.0 <= self.creep_log_step <= self.max_log_step):
             raise ValueError(f"creep_log_step must be in [0, max_log_step={self.max_log_step}], got {self.creep_log_step!r}")
 
-    def log_step(self, cautious_headroom: float, headroom_std: float = 0.0) -> float:
+    def cautious_headroom(self, mean: float, std: float, spread: float = 0.0) -> float:
+        """The predicted headroom less ``caution`` stds and ``spread_caution`` member spreads."""
+        return mean - self.caution * std - self.spread_caution * spread
+
+    def log_step(self, cautious_headroom: float, headroom_std: float = 0.0, spread: float = 0.0) -> float:
         """The next DC step in log units: the cautious gap to the target, at most ``max_log_step`` or,
         when larger, ``approach_fraction`` of that gap (big steps far from the peak, small ones near it);
         where that gap is closed but the headroom is still uncertain (std above ``creep_while_std``),
         ``creep_log_step`` (0: none): a slow probe that gathers readings rather than a stop."""
         step = self._gap_step(cautious_headroom)
-        return max(step, self.creep_log_step) if self.creeps(cautious_headroom, headroom_std) else step
+        return max(step, self.creep_log_step) if self.creeps(cautious_headroom, headroom_std, spread) else step
 
     def _gap_step(self, cautious_headroom: float) -> float:
         gap = cautious_headroom - self.target_headroom
         return min(gap, max(self.max_log_step, self.approach_fraction * gap))
 
-    def creeps(self, cautious_headroom: float, headroom_std: float) -> bool:
+    def creeps(self, cautious_headroom: float, headroom_std: float, spread: float = 0.0) -> bool:
         """Whether the next step is the slow probe: the cautious gap is closed, the headroom uncertain
         and, with ``creep_until``, the predicted (mean) headroom still above it."""
-        mean_headroom = cautious_headroom + self.caution * headroom_std
+        mean_headroom = cautious_headroom + self.caution * headroom_std + self.spread_caution * spread
         return (self.creep_log_step > 0.0 and headroom_std > self.creep_while_std
                 and self._gap_step(cautious_headroom) < self.min_log_step
                 and (self.creep_until is None or mean_headroom > self.creep_until))
@@ -631,16 +647,16 @@ class LearnedInterrogator:
             reading = Reading.of(observation, self.limits, info)
             falling = bool(self.features.readings) and reading.coa < self.features.readings[-1].coa * 0.995
             self.features.push(reading)
-            mean, std = self.ensemble.predict(self.features.vector())
-            headroom = float(mean[0, 0] - p.caution * std[0, 0])
+            mean, std, spread = self.ensemble.predict_with_spread(self.features.vector())
+            headroom = float(p.cautious_headroom(mean[0, 0], std[0, 0], spread[0, 0]))
             if not falling:
                 self._best_coa = max(self._best_coa, reading.coa)
                 self.filter_estimate = reading.coa * math.exp(float(mean[0, 1]))
                 self._estimate = self.candidate_estimates(p.best_coa_factor)[p.estimate_from]
-            step = p.log_step(headroom, float(std[0, 0]))
+            step = p.log_step(headroom, float(std[0, 0]), float(spread[0, 0]))
             if p.creep_sticky and self._crept:  # the peak may be near: no big step again
                 step = min(step, p.creep_log_step)
-            self._crept |= p.creeps(headroom, float(std[0, 0]))
+            self._crept |= p.creeps(headroom, float(std[0, 0]), float(spread[0, 0]))
             step = max(step, p.floor_step(reading.coa))  # safe whatever the filter predicts
             at_limit = self._dc >= self.limits.max_dc_torque_nm
             last = self._driven >= self.max_windows - 1
