@@ -10,10 +10,12 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
 from readme_results import DOCUMENTS, SOURCES, fill, heldout_overview, targets  # noqa: E402
 
 
-def _summary(path: Path, agents: dict[str, tuple[bool, float, float, int]], episodes: int = 50) -> Path:
-    """agents: name -> (oracle, median, P90, macro-slips)."""
+def _summary(path: Path, agents: dict[str, tuple[bool, float, float, int]], episodes: int = 50,
+             peak_torque: float = 0.85) -> Path:
+    """agents: name -> (oracle, median, P90, macro-slips); every agent's mean peak torque ``peak_torque``."""
     summary = {name: {"oracle": oracle, "episodes": episodes, "median_error": {"value": med},
-                      "p90_error": {"value": p90}, "macro_slip_events": {"value": slips}}
+                      "p90_error": {"value": p90}, "macro_slip_events": {"value": slips},
+                      "peak_torque_fraction": {"value": peak_torque}}
                for name, (oracle, med, p90, slips) in agents.items()}
     path.write_text(json.dumps({"summary": summary}))
     return path
@@ -26,8 +28,12 @@ def test_targets_compare_with_the_best_agent_that_does_not_read_the_truth(tmp_pa
     met = {row.split(" | ")[1]: row.endswith("| met |") for row in rows}
     assert met == {"median <= 3 %": True, "P90 <= 8 %": False, "<= 1 macro-slip per 100 episodes": True,
                    "median below every non-oracle agent's": True, "P90 below every non-oracle agent's": False,
-                   "no more macro-slips than the best non-oracle agent": True}
+                   "no more macro-slips than the best non-oracle agent": True,
+                   "stretch: median <= 5 % committed at <= 90 % of M_sat (mean peak torque)": True}
     assert "2.5 % vs fit 3.0 %" in rows[3] and "9.0 % vs rule 8.0 %" in rows[4]  # the oracle is never the rival
+    late = _summary(tmp_path / "b.json", {"learned": (False, 0.025, 0.09, 0), "rule": (False, 0.05, 0.08, 0)},
+                    peak_torque=0.95)
+    assert targets({"suite": late}, learned="learned").splitlines()[-1].endswith("2.5 % at 95.0 % | **not met** |")
     assert targets({"suite": tmp_path / "missing.json"}, learned="learned") is None
 
 
