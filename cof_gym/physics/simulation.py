@@ -352,16 +352,13 @@ def read_window(ud: np.ndarray) -> WindowMeasurement:
         torque, omega, creep, creep_measured = t_fits[0], o_fits[0], c_fits[0], cm_fits[0]
         lag, lag_se, ratio = (tones[tone_field(1, f)] for f in ("phase_lag_deg", "phase_lag_se_deg", "amplitude_ratio"))
     else:
-        modulated = torque.amplitude > 1e-9
-        lag = wrap_deg(math.degrees(torque.phase_rad - omega.phase_rad)) if modulated else 0.0
-        lag_se = math.degrees(math.hypot(torque.phase_se_rad, omega.phase_se_rad)) if modulated else 180.0
-        ratio = omega.amplitude / torque.amplitude if modulated else 0.0
+        lag, lag_se, ratio = _lag(torque, omega, True)
     creep_lag, creep_lag_se, _ = _lag(torque, creep_measured, torque.amplitude > 1e-9)
     mean = lambda key: float(ud[I[key]] / n)  # noqa: E731
     dt_energy = lambda key: float(ud[I[key]])  # noqa: E731
     return WindowMeasurement(
         phase_lag_deg=lag,
-        phase_lag_se_deg=min(lag_se, 180.0),
+        phase_lag_se_deg=lag_se,
         amplitude_ratio=ratio,
         torque_amplitude_nm=torque.amplitude,
         omega_amplitude_rad_s=omega.amplitude,
@@ -390,7 +387,7 @@ def read_window(ud: np.ndarray) -> WindowMeasurement:
         creepage_modulation_lag_deg=creep_lag,
         creepage_modulation_lag_se_deg=creep_lag_se,
         n_tones=ntones,
-        **(tones or {"tone1_phase_lag_deg": lag, "tone1_phase_lag_se_deg": min(lag_se, 180.0),
+        **(tones or {"tone1_phase_lag_deg": lag, "tone1_phase_lag_se_deg": lag_se,
                      "tone1_amplitude_ratio": ratio,
                      "tone1_torque_amplitude_nm": torque.amplitude, "tone1_omega_amplitude_rad_s": omega.amplitude}),
     )
