@@ -16,6 +16,7 @@ import cof_gym  # noqa: F401  (registers the ids)
 from cof_gym.physics.models import HALF_WHEELSET_ARMATURE_KG
 from cof_gym.physics.vehicle import HalfWheelsetParameters
 from cof_gym.task.excitation import encode_extra_tones
+from cof_gym.task.interface import encode_action
 from cof_gym.task.sensors import SensorErrors
 
 P = HalfWheelsetParameters()
@@ -96,12 +97,10 @@ def test_sensor_noise_gives_it_a_standard_error_and_never_nan() -> None:
     env = gym.make("CofGym/TorqueInterrogation-v2", max_windows=3)
     env.reset(seed=4, options={"speed_m_s": 6.0, "noise_level": 1.0})
     lim = env.unwrapped.limits
-    from cof_gym.task.interface import encode_action
     _, _, _, _, info = env.step(encode_action(0.05 * lim.max_dc_torque_nm, 0.02 * lim.max_dc_torque_nm, 5.0, 0.1,
                                               False, lim))
     m = info["measurement"]
     values = [m[k] for k in ("creepage_modulation_amplitude", "creepage_modulation_lag_deg",
                              "creepage_modulation_lag_se_deg")]
     assert all(math.isfinite(v) for v in values) and values[2] > 0.0
-    assert np.isfinite(values).all()
     env.close()
