@@ -4,6 +4,7 @@
     python experiments/crest_tradeoff.py [--targets 0.1 0.15 0.2 0.3] [--out out/crest_tradeoff.md]
     python experiments/crest_tradeoff.py --run runs/interrogator_cm/ensemble --cautions 2 2.5 3 --targets 0.1 0.15
     python experiments/crest_tradeoff.py --spread-cautions 0 1 2 4 --targets 0.1 --out out/crest_tradeoff_spread.md
+    python experiments/crest_tradeoff.py --guards runs/interrogator_cm/ensemble --cautions 1.5 2 --targets 0.07 0.1 0.15
 
 The shipped climb's modulation is 40 % of the DC torque, so its crest passes the saturation torque once
 the DC is above ``1 / 1.4`` of it (a headroom below ``ln 1.4 = 0.34``); a creep curve that falls steeply
@@ -11,7 +12,9 @@ past its peak then lets the wheel run away. This plays the shipped filter with i
 target headroom (and the end of its slow probe) changed, and with ``--cautions`` each of these caution
 factors in turn (the standard deviations taken off the predicted headroom), with ``--spread-cautions``
 each of these further multiples of the members' spread alone (their disagreement), with ``--run`` another run's
-networks (a directory of ``member_*.npz``) under the shipped climb, in both vehicle configurations, on the three
+networks (a directory of ``member_*.npz``) under the shipped climb, with ``--guards`` every row also with
+these networks as the climb's guards (it steers by the lowest cautious headroom of all; the estimate
+stays the filter's), in both vehicle configurations, on the three
 validation grids (model selection data, never reported elsewhere as results): the family draws, the
 procedural curves and the procedural curves with steep falling branches
 (``experiments/suites/v2_validation_steep_grid.json``). Per grid: median / P90 relative CoF error,
@@ -44,26 +47,31 @@ def climb_at(climb: dict, target: float) -> dict:
     return {**climb, "target_headroom": target, "creep_until": None if until is None else max(until, target)}
 
 
-def _play(run: str, params: dict, grid: str, config: dict) -> list[tuple[float, bool, float]]:
-    """(relative error, macro-slip, return) of every episode, the filter of ``run`` with the climb ``params``."""
+def _play(run: str, params: dict, grid: str, config: dict, guards: list[str]) -> list[tuple[float, bool, float]]:
+    """(relative error, macro-slip, return) of every episode, the filter of ``run`` with the climb ``params``
+    and the guard networks ``guards``."""
     return [(r.relative_error if r.scored else 1.0, r.macro_slip, r.episode_return)
-            for r, _ in episodes(run, grid, config, params)]
+            for r, _ in episodes(run, grid, config, params, guards)]
 
 
 def table(targets: list[float], workers: int, run: Path = SHIPPED_INTERROGATOR,
-          cautions: list[float] | None = None, spread_cautions: list[float] | None = None) -> str:
+          cautions: list[float] | None = None, spread_cautions: list[float] | None = None,
+          guards: list[Path] | None = None) -> str:
     climb = json.loads((SHIPPED_INTERROGATOR / "manifest.json").read_text())["climb"]
     spreads = spread_cautions or [climb.get("spread_caution", 0.0)]
-    rows = [(c, k, t) for c in (cautions or [climb["caution"]]) for k in spreads for t in targets]
-    jobs = [(str(run), {**climb_at(climb, t), "caution": c, "spread_caution": k}, str(g), cfg)
-            for c, k, t in rows for g in GRIDS.values() for cfg in CONFIGS]
+    guard_sets = [[], [str(g) for g in guards]] if guards else [[]]
+    rows = [(c, k, t, gs) for c in (cautions or [climb["caution"]]) for k in spreads for t in targets
+            for gs in guard_sets]
+    jobs = [(str(run), {**climb_at(climb, t), "caution": c, "spread_caution": k}, str(g), cfg, gs)
+            for c, k, t, gs in rows for g in GRIDS.values() for cfg in CONFIGS]
     with ProcessPoolExecutor(workers) as pool:
         results = iter(list(pool.map(_play, *zip(*jobs))))
     head = " | ".join(f"{name}: median / P90 / macro-slips / return" for name in GRIDS)
     spread_head = "spread caution | " if spread_cautions else ""
-    lines = [f"| caution | {spread_head}target headroom | {head} | all: macro-slips / return |",
-             "|---|---|" + "---|" * (len(GRIDS) + 1 + bool(spread_cautions))]
-    for c, k, t in rows:
+    guard_head = "guards | " if guards else ""
+    lines = [f"| caution | {spread_head}target headroom | {guard_head}{head} | all: macro-slips / return |",
+             "|---|---|" + "---|" * (len(GRIDS) + 1 + bool(spread_cautions) + bool(guards))]
+    for c, k, t, gs in rows:
         cells, pooled = [], []
         for _ in GRIDS:
             runs = [r for _ in CONFIGS for r in next(results)]
@@ -71,7 +79,8 @@ def table(targets: list[float], workers: int, run: Path = SHIPPED_INTERROGATOR,
             s = score([(e, slip) for e, slip, _ in runs])
             cells.append(f"{100 * s['median']:.1f} % / {100 * s['p90']:.1f} % / {s['macro_slips']} of {len(runs)} / "
                          f"{np.mean([ret for *_, ret in runs]):.2f}")
-        lines.append(f"| {c:g} | {f'{k:g} | ' if spread_cautions else ''}{t:g} | {' | '.join(cells)} | {sum(slip for _, slip, _ in pooled)} of {len(pooled)} / "
+        guard_cell = f"{', '.join(gs) or '-'} | " if guards else ""
+        lines.append(f"| {c:g} | {f'{k:g} | ' if spread_cautions else ''}{t:g} | {guard_cell}{' | '.join(cells)} | {sum(slip for _, slip, _ in pooled)} of {len(pooled)} / "
                      f"{np.mean([ret for *_, ret in pooled]):.2f} |")
     return "\n".join(lines) + "\n"
 
@@ -85,6 +94,8 @@ def main() -> None:
                         help="multiples of the members' spread also taken off the headroom (default: the shipped climb's)")
     parser.add_argument("--run", type=Path, default=SHIPPED_INTERROGATOR,
                         help="a directory of networks (member_*.npz) played with the shipped climb")
+    parser.add_argument("--guards", type=Path, nargs="+", default=None,
+                        help="directories of networks (member_*.npz) that also steer the climb, as guards (each row with and without)")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--out", type=Path, default=Path("out/crest_tradeoff.md"))
     args = parser.parse_args()
@@ -96,7 +107,10 @@ def main() -> None:
         parser.error("--spread-cautions must lie in [0, 10] (member spreads)")
     if not sorted(args.run.glob("member_*.npz")):
         parser.error(f"--run: no networks (member_*.npz) in {args.run}")
-    text = table(args.targets, args.workers, args.run, args.cautions, args.spread_cautions)
+    for guard in args.guards or []:
+        if not sorted(guard.glob("member_*.npz")):
+            parser.error(f"--guards: no networks (member_*.npz) in {guard}")
+    text = table(args.targets, args.workers, args.run, args.cautions, args.spread_cautions, args.guards)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)
     print(text, end="")

@@ -19,6 +19,8 @@ generated, never typed:
     python experiments/crest_tradeoff.py --run runs/interrogator_cm/ensemble --cautions 2 2.5 3 --targets 0.1 0.15 \
         --out out/crest_tradeoff_cm.md
     python experiments/crest_tradeoff.py --spread-cautions 0 1 2 4 --targets 0.1 --out out/crest_tradeoff_spread.md
+    python experiments/crest_tradeoff.py --guards runs/interrogator_cm/ensemble --cautions 1.5 2 --targets 0.07 0.1 0.15 \
+        --out out/crest_tradeoff_guard.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -56,6 +58,7 @@ SOURCES = {
     "crest_tradeoff": ROOT / "out" / "crest_tradeoff.md",
     "crest_tradeoff_cm": ROOT / "out" / "crest_tradeoff_cm.md",
     "crest_tradeoff_spread": ROOT / "out" / "crest_tradeoff_spread.md",
+    "crest_tradeoff_guard": ROOT / "out" / "crest_tradeoff_guard.md",
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
 TARGET_SUITES = {"v2 default suite (`cof-gym evaluate`)": ROOT / "out" / "evaluate" / "summary.json",

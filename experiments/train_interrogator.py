@@ -176,24 +176,27 @@ def split(data: Dataset, every: int = 10) -> tuple[Dataset, Dataset]:
     return data.subset(~held), data.subset(held)
 
 
-def episodes(run_dir: str, suite_path: str, env_kwargs: dict, params: dict | None = None):
+def episodes(run_dir: str, suite_path: str, env_kwargs: dict, params: dict | None = None,
+             guards: list[str] | None = None):
     """(record, agent after the episode) of every episode of a suite (the default suite: 60 episodes)
-    in a vehicle configuration, played by the interrogator of ``run_dir`` (``params``: another climb)."""
+    in a vehicle configuration, played by the interrogator of ``run_dir`` (``params``: another climb,
+    ``guards``: other guard directories than its manifest's)."""
     suite = make_suite(suite_path, 60, 0)
     climb = ClimbParameters(**params) if params else None
     options = (climb or manifest_climb(Path(run_dir))).env_options
     env = gym.make(suite.env_id, **{**suite.env_kwargs, **env_kwargs, **options})
-    agent = interrogator_for(env, Path(run_dir), climb)
+    agent = interrogator_for(env, Path(run_dir), climb, None if guards is None else [Path(g) for g in guards])
     for i, (seed, options) in enumerate(suite.episodes):
         yield run_episode(env, agent, seed, options, i), agent
     env.close()
 
 
-def play(ensemble_dir: str, params: dict, suite_path: str, env_kwargs: dict) -> list[list[tuple[float, bool]]]:
+def play(ensemble_dir: str, params: dict, suite_path: str, env_kwargs: dict,
+         guards: list[str] | None = None) -> list[list[tuple[float, bool]]]:
     """(relative error, macro-slip) of every episode of a suite file, in a vehicle configuration, for
-    each estimate source of ESTIMATES."""
+    each estimate source of ESTIMATES (``guards``: the climb's guard directories, None: the manifest's)."""
     out: list[list[tuple[float, bool]]] = [[] for _ in ESTIMATES]
-    for r, agent in episodes(ensemble_dir, suite_path, env_kwargs, params):
+    for r, agent in episodes(ensemble_dir, suite_path, env_kwargs, params, guards):
         lim = agent.limits
         for k, e in enumerate(ESTIMATES):
             est = agent.candidate_estimates(e["best_coa_factor"])[e["estimate_from"]]
@@ -213,14 +216,15 @@ CRITERIA = {  # how the selection ranks the climbs (sort keys of a table row)
 
 
 def select_climb(ensemble_dir: Path, workers: int, criterion: str = "pooled",
-                 grid: str = "recipe") -> tuple[dict, list[dict]]:
+                 grid: str = "recipe", guards: list[str] | None = None) -> tuple[dict, list[dict]]:
     """The climb of GRIDS[grid] x ESTIMATES chosen on the two validation grids, both vehicle configurations;
     ``pooled`` (the recipe): fewest macro-slips on the family grid (VALIDATION), then, over both grids
     pooled with a macro-slip counted as a failed measurement (100 % error), the lowest P90, then median;
-    ``family``: macro-slips, P90, median on the family grid alone. Returns it and the whole table."""
+    ``family``: macro-slips, P90, median on the family grid alone. Every climb with the guard
+    directories ``guards`` (None: the manifest's). Returns it and the whole table."""
     grids = [VALIDATION, PROCEDURAL_VALIDATION]
     climbs = GRIDS[grid]
-    jobs = [(str(ensemble_dir), g, str(v), c) for g in climbs for v in grids for c in CONFIGS]
+    jobs = [(str(ensemble_dir), g, str(v), c, guards) for g in climbs for v in grids for c in CONFIGS]
     with ProcessPoolExecutor(workers) as pool:
         results = iter(list(pool.map(play, *zip(*jobs))))
     table = []
@@ -235,6 +239,19 @@ def select_climb(ensemble_dir: Path, workers: int, criterion: str = "pooled",
                           "pooled_p90": failed["p90"], "pooled_median": failed["median"]})
     table.sort(key=CRITERIA[criterion])
     return {k: table[0][k] for k in (*grid_columns(climbs), *ESTIMATES[0]) if k in table[0]}, table
+
+
+def install_guards(run: Path, guards: list[Path]) -> list[str]:
+    """Copies the guard networks ``guards`` into ``run`` (``guard_K``, replacing any there) and returns
+    their names, relative to ``run`` as its manifest names them."""
+    for stale in run.glob("guard_*"):
+        shutil.rmtree(stale)
+    names = [f"guard_{k}" for k in range(len(guards))]
+    for name, guard in zip(names, guards):
+        (run / name).mkdir()
+        for member in sorted(guard.glob("member_*.npz")):
+            shutil.copy2(member, run / name / member.name)
+    return names
 
 
 def report_runs(runs: list[Path], workers: int) -> dict:
@@ -289,7 +306,13 @@ def main() -> None:
                     help="how the climb is ranked on validation (pooled: both grids, the recipe; family: the family grid alone)")
     ap.add_argument("--grid", choices=sorted(GRIDS), default="recipe", help="the climbs tried (recipe: the shipped recipe's)")
     ap.add_argument("--reuse", action="store_true", help="keep OUT/seed_K networks that exist (selection and report only)")
+    ap.add_argument("--guards", type=Path, nargs="+", default=[], metavar="DIR",
+                    help="networks (DIR/member_*.npz, e.g. another run's ensemble) that steer the climb beside the "
+                         "filter as its guards: copied into every run directory, named in the manifest")
     args = ap.parse_args()
+    for guard in args.guards:
+        if not sorted(guard.glob("member_*.npz")):
+            ap.error(f"--guards: no networks (member_*.npz) in {guard}")
     out = args.out
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.time()
@@ -320,14 +343,19 @@ def main() -> None:
         if int(stale.stem.split("_")[1]) not in args.seeds:
             stale.unlink()
     t = time.time()
-    chosen, table = select_climb(ensemble_dir, args.workers, args.criterion, args.grid)
+    guard_names = install_guards(ensemble_dir, args.guards)
+    chosen, table = select_climb(ensemble_dir, args.workers, args.criterion, args.grid,
+                                 [str(ensemble_dir / g) for g in guard_names])
     print(f"climb selected on validation in {time.time() - t:.0f} s: {chosen}", flush=True)
     manifest = {"climb": {**asdict(ClimbParameters()), **chosen},
                 "trained_on": {"env_id": ENV_ID, "configs": CONFIGS},
                 "training": {"climbs": climbs, "seeds": args.seeds, "fit": asdict(settings)}}
+    if guard_names:
+        manifest["guards"] = guard_names
     columns = grid_columns(GRIDS[args.grid])  # the climb parameters the grid varies
     runs = [out / f"seed_{s}" for s in args.seeds] + [ensemble_dir]
     for r in runs:
+        install_guards(r, args.guards)
         (r / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n")
     report = report_runs(runs, args.workers)
     text = ["# Learned interrogator: seeds, selection and report", "",

@@ -14,7 +14,8 @@ SCRIPT = Path(__file__).resolve().parent.parent / "experiments" / "crest_tradeof
 
 @pytest.mark.parametrize("args, option", [(["--cautions", "-1"], "--cautions"), (["--targets", "1.5"], "--targets"),
                                           (["--run", "no/such/run"], "--run"),
-                                          (["--spread-cautions", "nan"], "--spread-cautions")])
+                                          (["--spread-cautions", "nan"], "--spread-cautions"),
+                                          (["--guards", "no/such/guard"], "--guards")])
 def test_bad_options_exit_2_naming_the_option(args: list[str], option: str, tmp_path: Path) -> None:
     done = subprocess.run([sys.executable, str(SCRIPT), *args, "--out", str(tmp_path / "t.md")],
                           capture_output=True, text=True, timeout=120)

@@ -17,7 +17,7 @@ from cof_gym.task.scenarios import COF_ENVELOPE, ScenarioRanges
 from cof_gym.agents import registry
 from cof_gym.agents.interrogator import (
     CREEPAGE_MODULATION_FEATURE_NAMES, CREEPAGE_RISE_FEATURE_NAMES, CREEPAGE_RISE_FLOORS, FEATURE_NAMES, blocks_of, feature_names, SHIPPED_INTERROGATOR, TARGET_NAMES, ClimbParameters, EpisodeFeatures, FilterEnsemble, FilterNetwork,
-    PEAK_GAP_CLIP, LearnedInterrogator, Reading, floor_headroom, peak_gap, slope_from_phase, slope_index,
+    PEAK_GAP_CLIP, LearnedInterrogator, Reading, floor_headroom, interrogator_for, peak_gap, slope_from_phase, slope_index,
 )
 from cof_gym.agents.interrogator_training import (
     GENTLE_FALL, PROCEDURAL_PEAK_CREEPAGE, STEEP_FALL, ClimbDraws, Dataset, FallingBranch, FitSettings, _climb_episode,
@@ -493,3 +493,55 @@ def test_feature_blocks_name_themselves_in_the_networks_file(tmp_path):
     agent = LearnedInterrogator(gym.make(cof_gym.WAGON_ENV_ID).unwrapped.limits, FilterEnsemble((loaded,)))
     actions, info = play(agent, 7)
     assert agent.features.blocks == ("creepage_rise",) and np.all(np.isfinite(actions))
+
+
+def constant_network(headroom: float, correction: float, log_variance: float = -6.0) -> FilterNetwork:
+    """A member whose prediction is the same whatever it reads (its last layer is a bias alone)."""
+    n, width = len(FEATURE_NAMES), 4
+    weights = (np.zeros((n, width)), np.zeros((width, 2 * len(TARGET_NAMES))))
+    return FilterNetwork(np.zeros(n), np.ones(n), weights,
+                         (np.zeros(width), np.array([headroom, correction, log_variance, log_variance])))
+
+
+def test_a_guard_like_the_filter_or_bolder_leaves_the_climb_unchanged():
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    ensemble = FilterEnsemble((random_network(5), random_network(6)))
+    alone, _ = play(LearnedInterrogator(env.unwrapped.limits, ensemble), 8)
+    twin, _ = play(LearnedInterrogator(env.unwrapped.limits, ensemble, guards=(ensemble,)), 8)
+    bold, _ = play(LearnedInterrogator(env.unwrapped.limits, ensemble, guards=(FilterEnsemble((constant_network(5.0, 0.0),)),)), 8)
+    np.testing.assert_array_equal(twin, alone)
+    np.testing.assert_array_equal(bold, alone)
+
+
+def test_a_cautious_guard_stops_the_climb_and_the_estimate_stays_the_filters():
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    limits = env.unwrapped.limits
+    primary = FilterEnsemble((constant_network(1.0, 0.2),))  # far from the peak: it would step on
+    guard = FilterEnsemble((constant_network(-0.5, -0.4),))  # past the target: no step
+    free = LearnedInterrogator(limits, primary)
+    actions, _ = play(free, 8)
+    assert len(actions) > 3 and free.stop_reason != "headroom"
+    guarded = LearnedInterrogator(limits, primary, guards=(guard,))
+    actions, info = play(guarded, 8)
+    assert len(actions) == 2 and guarded.stop_reason == "headroom"  # the first window, then the stop
+    coa = guarded.features.readings[-1].coa
+    assert info["cof_estimate"] == pytest.approx(coa * math.exp(0.2), rel=1e-6)  # the filter's correction
+
+
+def test_guards_come_from_the_manifest_and_must_drive_the_climbs_tones(tmp_path):
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    run, guard_dir = tmp_path / "run", tmp_path / "run" / "guard"
+    guard_dir.mkdir(parents=True)
+    random_network(1).save(run / "member_0.npz")
+    constant_network(-0.5, 0.0).save(guard_dir / "member_0.npz")
+    assert not interrogator_for(env, run).guards
+    (run / "manifest.json").write_text('{"guards": ["guard"]}')
+    agent = interrogator_for(env, run)
+    assert len(agent.guards) == 1 and agent.guards[0].members[0].biases[-1][0] == -0.5
+    assert not interrogator_for(env, run, guards=[]).guards
+    names = feature_names(("tone2",))
+    two_tone = FilterNetwork(np.zeros(len(names)), np.ones(len(names)), (np.zeros((len(names), 2 * len(TARGET_NAMES))),),
+                             (np.zeros(2 * len(TARGET_NAMES)),), names)
+    with pytest.raises(ValueError, match="guard reads another excitation"):
+        LearnedInterrogator(env.unwrapped.limits, FilterEnsemble((random_network(1),)),
+                            guards=(FilterEnsemble((two_tone,)),))

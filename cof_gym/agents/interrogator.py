@@ -50,6 +50,12 @@ filter's (the last rising window's CoA times its predicted correction) or the be
 times a factor, whichever the validation chose. The parameters are chosen on
 validation scenarios only (``experiments/train_interrogator.py``).
 
+**Guards.** With ``guards`` (further ensembles that read their own feature blocks, e.g. networks fitted
+on the measured creepage's modulation) the climb steers by the lowest cautious headroom of the filter
+and its guards, each with its own std and spread: a guard can only slow the climb, and the estimate stays
+the filter's. A directory's ``manifest.json`` names its guards (``"guards"``: directories of
+``member_*.npz``, relative to it); the shipped interrogator has none.
+
 **Two tones.** With ``tone2_frequency_hz`` set, the modulation is two sines (the env's
 ``excitation="multitone"``, ``tones=2``; :attr:`LearnedInterrogator.env_options`, which
 ``cof-gym evaluate`` applies to the agent's own env): tone 1 at ``frequency_hz`` and tone 2 with
@@ -586,6 +592,8 @@ class LearnedInterrogator:
     features: EpisodeFeatures = field(init=False, repr=False)
     stop_reason: str = field(default="", repr=False)
     trained_on: tuple[str, tuple[dict[str, Any], ...]] | None = None  # (env id, vehicle configurations)
+    guards: tuple[FilterEnsemble, ...] = ()  # further filters that may only slow the climb (module docstring)
+    _guard_features: tuple[EpisodeFeatures, ...] = field(default=(), repr=False)
     _dc: float = 0.0
     filter_estimate: float = field(default=0.0, repr=False)
     _estimate: float = 0.0
@@ -597,6 +605,9 @@ class LearnedInterrogator:
         if self.ensemble.tones != self.params.tones:
             raise ValueError(f"the climb drives {self.params.tones} tone(s) but the networks read "
                              f"{self.ensemble.tones}: use networks fitted on that excitation")
+        if any(g.tones != self.params.tones for g in self.guards):
+            raise ValueError(f"a guard reads another excitation than the climb's {self.params.tones} tone(s): "
+                             "use guard networks fitted on that excitation")
 
     @property
     def env_options(self) -> dict[str, Any]:
@@ -626,6 +637,7 @@ class LearnedInterrogator:
             raise ValueError(f"{self.name} drives two tones: make its env with {self.env_options} "
                              "(cof-gym evaluate does that itself)")
         self.features = EpisodeFeatures(self.counter_torque, blocks=self.ensemble.blocks)
+        self._guard_features = tuple(EpisodeFeatures(self.counter_torque, blocks=g.blocks) for g in self.guards)
         self._dc = 0.0
         self._driven = 0
         self._crept = False
@@ -648,15 +660,15 @@ class LearnedInterrogator:
             falling = bool(self.features.readings) and reading.coa < self.features.readings[-1].coa * 0.995
             self.features.push(reading)
             mean, std, spread = self.ensemble.predict_with_spread(self.features.vector())
-            headroom = float(p.cautious_headroom(mean[0, 0], std[0, 0], spread[0, 0]))
+            headroom, headroom_std, headroom_spread = self._steering_headroom(reading, mean, std, spread)
             if not falling:
                 self._best_coa = max(self._best_coa, reading.coa)
                 self.filter_estimate = reading.coa * math.exp(float(mean[0, 1]))
                 self._estimate = self.candidate_estimates(p.best_coa_factor)[p.estimate_from]
-            step = p.log_step(headroom, float(std[0, 0]), float(spread[0, 0]))
+            step = p.log_step(headroom, headroom_std, headroom_spread)
             if p.creep_sticky and self._crept:  # the peak may be near: no big step again
                 step = min(step, p.creep_log_step)
-            self._crept |= p.creeps(headroom, float(std[0, 0]), float(spread[0, 0]))
+            self._crept |= p.creeps(headroom, headroom_std, headroom_spread)
             step = max(step, p.floor_step(reading.coa))  # safe whatever the filter predicts
             at_limit = self._dc >= self.limits.max_dc_torque_nm
             last = self._driven >= self.max_windows - 1
@@ -672,6 +684,21 @@ class LearnedInterrogator:
         return p.action(self._dc, estimate, stop, self.limits)
 
 
+    def _steering_headroom(self, reading: Reading, mean: np.ndarray, std: np.ndarray,
+                           spread: np.ndarray) -> tuple[float, float, float]:
+        """(cautious headroom, its std, its members' spread) that steers the climb: the filter's, or a
+        guard's where that is lower (each guard reads ``reading`` through its own features)."""
+        p = self.params
+        best = (float(p.cautious_headroom(mean[0, 0], std[0, 0], spread[0, 0])), float(std[0, 0]), float(spread[0, 0]))
+        for guard, features in zip(self.guards, self._guard_features):
+            features.push(reading)
+            g_mean, g_std, g_spread = guard.predict_with_spread(features.vector())
+            cautious = float(p.cautious_headroom(g_mean[0, 0], g_std[0, 0], g_spread[0, 0]))
+            if cautious < best[0]:
+                best = (cautious, float(g_std[0, 0]), float(g_spread[0, 0]))
+        return best
+
+
 def read_manifest(directory: Path) -> dict[str, Any]:
     """``directory/manifest.json`` (the climb's parameters, the training distribution), {} if absent."""
     manifest_file = Path(directory) / "manifest.json"
@@ -683,19 +710,27 @@ def manifest_climb(directory: Path) -> ClimbParameters:
     return ClimbParameters(**read_manifest(directory).get("climb", {}))
 
 
-def interrogator_for(env, directory: Path, params: ClimbParameters | None = None) -> LearnedInterrogator:
+def manifest_guards(directory: Path) -> tuple[Path, ...]:
+    """The guard directories ``directory``'s manifest names (relative to it), none where it names none."""
+    return tuple(Path(directory) / g for g in read_manifest(directory).get("guards", []))
+
+
+def interrogator_for(env, directory: Path, params: ClimbParameters | None = None,
+                     guards: Iterable[Path] | None = None) -> LearnedInterrogator:
     """The interrogator of ``directory`` (``member_*.npz`` and a ``manifest.json`` with the climb's
-    parameters and the training distribution) for ``env``'s drive and vehicle configuration;
-    ``params`` replaces the manifest's climb. A two-tone climb acts in the env made with its
-    ``env_options``."""
+    parameters, the training distribution and any guards) for ``env``'s drive and vehicle configuration;
+    ``params`` replaces the manifest's climb, ``guards`` (directories of ``member_*.npz``) its guards.
+    A two-tone climb acts in the env made with its ``env_options``."""
     directory = Path(directory)
     ensemble = FilterEnsemble.load(directory)
     trained = read_manifest(directory).get("trained_on")
+    guard_dirs = manifest_guards(directory) if guards is None else tuple(guards)
     base = env.unwrapped
     return LearnedInterrogator(base.limits, ensemble, counter_torque=bool(base.task.counter_torque),
                                params=params or manifest_climb(directory),
                                max_windows=int(base.task.max_windows),
-                               trained_on=(trained["env_id"], tuple(trained["configs"])) if trained else None)
+                               trained_on=(trained["env_id"], tuple(trained["configs"])) if trained else None,
+                               guards=tuple(FilterEnsemble.load(g) for g in guard_dirs))
 
 
 def load_interrogator(env, argument: str | None = None) -> LearnedInterrogator:

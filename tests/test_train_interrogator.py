@@ -1,0 +1,48 @@
+"""experiments/train_interrogator.py's guards: copied into a run directory as its manifest names them,
+and a bad ``--guards`` exits 2 with one line before any climb is collected."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+
+import cof_gym
+from cof_gym.agents.interrogator import FEATURE_NAMES, TARGET_NAMES, FilterNetwork, interrogator_for
+
+EXPERIMENTS = Path(__file__).resolve().parents[1] / "experiments"
+sys.path.insert(0, str(EXPERIMENTS))
+from train_interrogator import install_guards  # noqa: E402
+
+
+def network(bias: float) -> FilterNetwork:
+    n, out = len(FEATURE_NAMES), 2 * len(TARGET_NAMES)
+    return FilterNetwork(np.zeros(n), np.ones(n), (np.zeros((n, out)),), (np.full(out, bias),))
+
+
+def test_guards_are_copied_into_the_run_and_load_from_its_manifest(tmp_path: Path) -> None:
+    run, guard = tmp_path / "run", tmp_path / "other" / "ensemble"
+    run.mkdir()
+    guard.mkdir(parents=True)
+    network(0.0).save(run / "member_0.npz")
+    for k in range(2):
+        network(-0.1 * (k + 1)).save(guard / f"member_{k}.npz")
+    (run / "guard_7").mkdir()  # a stale guard of an earlier run
+    names = install_guards(run, [guard])
+    assert names == ["guard_0"] and not (run / "guard_7").exists()
+    assert sorted(p.name for p in (run / "guard_0").iterdir()) == ["member_0.npz", "member_1.npz"]
+    (run / "manifest.json").write_text('{"guards": ["guard_0"]}')
+    agent = interrogator_for(gym.make(cof_gym.WAGON_ENV_ID), run)
+    assert [m.biases[-1][0] for m in agent.guards[0].members] == [-0.1, -0.2]
+    assert install_guards(run, []) == [] and not (run / "guard_0").exists()
+
+
+def test_bad_guards_exit_2_naming_the_option(tmp_path: Path) -> None:
+    done = subprocess.run([sys.executable, str(EXPERIMENTS / "train_interrogator.py"), "--out", str(tmp_path / "run"),
+                           "--guards", str(tmp_path / "none")], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2
+    assert "--guards" in done.stderr.strip().splitlines()[-1]
+    assert not (tmp_path / "run").exists()
