@@ -658,9 +658,10 @@ class LearnedInterrogator:
             self._driven += 1
             reading = Reading.of(observation, self.limits, info)
             falling = bool(self.features.readings) and reading.coa < self.features.readings[-1].coa * 0.995
-            self.features.push(reading)
+            for features in (self.features, *self._guard_features):
+                features.push(reading)
             mean, std, spread = self.ensemble.predict_with_spread(self.features.vector())
-            headroom, headroom_std, headroom_spread = self._steering_headroom(reading, mean, std, spread)
+            headroom, headroom_std, headroom_spread = self._steering_headroom(mean, std, spread)
             if not falling:
                 self._best_coa = max(self._best_coa, reading.coa)
                 self.filter_estimate = reading.coa * math.exp(float(mean[0, 1]))
@@ -684,14 +685,13 @@ class LearnedInterrogator:
         return p.action(self._dc, estimate, stop, self.limits)
 
 
-    def _steering_headroom(self, reading: Reading, mean: np.ndarray, std: np.ndarray,
-                           spread: np.ndarray) -> tuple[float, float, float]:
-        """(cautious headroom, its std, its members' spread) that steers the climb: the filter's, or a
-        guard's where that is lower (each guard reads ``reading`` through its own features)."""
+    def _steering_headroom(self, mean: np.ndarray, std: np.ndarray, spread: np.ndarray) -> tuple[float, float, float]:
+        """(cautious headroom, its std, its members' spread) that steers the climb: the filter's (its
+        prediction ``mean``, ``std``, ``spread``), or a guard's where that is lower (each guard reads the
+        windows through its own features)."""
         p = self.params
         best = (float(p.cautious_headroom(mean[0, 0], std[0, 0], spread[0, 0])), float(std[0, 0]), float(spread[0, 0]))
         for guard, features in zip(self.guards, self._guard_features):
-            features.push(reading)
             g_mean, g_std, g_spread = guard.predict_with_spread(features.vector())
             cautious = float(p.cautious_headroom(g_mean[0, 0], g_std[0, 0], g_spread[0, 0]))
             if cautious < best[0]:
