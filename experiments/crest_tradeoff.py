@@ -5,6 +5,7 @@
     python experiments/crest_tradeoff.py --run runs/interrogator_cm/ensemble --cautions 2 2.5 3 --targets 0.1 0.15
     python experiments/crest_tradeoff.py --spread-cautions 0 1 2 4 --targets 0.1 --out out/crest_tradeoff_spread.md
     python experiments/crest_tradeoff.py --guards runs/interrogator_cm/ensemble --cautions 1.5 2 --targets 0.07 0.1 0.15
+    python experiments/crest_tradeoff.py --targets 0.1 --stops --out out/crest_tradeoff_stops.md
 
 The shipped climb's modulation is 40 % of the DC torque, so its crest passes the saturation torque once
 the DC is above ``1 / 1.4`` of it (a headroom below ``ln 1.4 = 0.34``); a creep curve that falls steeply
@@ -14,7 +15,8 @@ factors in turn (the standard deviations taken off the predicted headroom), with
 each of these further multiples of the members' spread alone (their disagreement), with ``--run`` another run's
 networks (a directory of ``member_*.npz``) under the shipped climb, with ``--guards`` every row also with
 these networks as the climb's guards (it steers by the lowest cautious headroom of all; the estimate
-stays the filter's), in both vehicle configurations, on the three
+stays the filter's), with ``--stops`` also how the climbs ended (the stop reason or a macro-slip) and
+their errors, in both vehicle configurations, on the three
 validation grids (model selection data, never reported elsewhere as results): the family draws, the
 procedural curves and the procedural curves with steep falling branches
 (``experiments/suites/v2_validation_steep_grid.json``). Per grid: median / P90 relative CoF error,
@@ -28,6 +30,7 @@ import json
 import sys
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -47,16 +50,39 @@ def climb_at(climb: dict, target: float) -> dict:
     return {**climb, "target_headroom": target, "creep_until": None if until is None else max(until, target)}
 
 
-def _play(run: str, params: dict, grid: str, config: dict, guards: list[str]) -> list[tuple[float, bool, float]]:
-    """(relative error, macro-slip, return) of every episode, the filter of ``run`` with the climb ``params``
-    and the guard networks ``guards``."""
-    return [(r.relative_error if r.scored else 1.0, r.macro_slip, r.episode_return)
-            for r, _ in episodes(run, grid, config, params, guards)]
+class Played(NamedTuple):
+    """One validation episode as the tables read it."""
+
+    error: float  # relative CoF error (1.0 when unscored)
+    macro_slip: bool
+    episode_return: float
+    ended: str  # why the climb ended: the agent's stop reason, or "macro-slip"
+    peak_torque_fraction: float  # the largest true torque over the saturation torque
+
+
+def _play(run: str, params: dict, grid: str, config: dict, guards: list[str]) -> list[Played]:
+    """Every episode of ``grid`` in ``config``, the filter of ``run`` with the climb ``params`` and the guard
+    networks ``guards``."""
+    return [Played(r.relative_error if r.scored else 1.0, r.macro_slip, r.episode_return,
+                   "macro-slip" if r.macro_slip else agent.stop_reason, r.peak_torque_fraction)
+            for r, agent in episodes(run, grid, config, params, guards)]
+
+
+def _ends(setting: str, grid: str, runs: list[Played]) -> list[str]:
+    """Rows of the table of how the climbs ended: per reason, the episodes, median / P90 error and the
+    median peak torque."""
+    rows = []
+    for ended in sorted({r.ended for r in runs}):
+        these = [r for r in runs if r.ended == ended]
+        s = score([(r.error, r.macro_slip) for r in these])
+        rows.append(f"| {setting}{grid} | {ended} | {len(these)} of {len(runs)} | {100 * s['median']:.1f} % | "
+                    f"{100 * s['p90']:.1f} % | {100 * float(np.median([r.peak_torque_fraction for r in these])):.0f} % |")
+    return rows
 
 
 def table(targets: list[float], workers: int, run: Path = SHIPPED_INTERROGATOR,
           cautions: list[float] | None = None, spread_cautions: list[float] | None = None,
-          guards: list[Path] | None = None) -> str:
+          guards: list[Path] | None = None, stops: bool = False) -> str:
     climb = json.loads((SHIPPED_INTERROGATOR / "manifest.json").read_text())["climb"]
     spreads = spread_cautions or [climb.get("spread_caution", 0.0)]
     guard_sets = [[], [str(g) for g in guards]] if guards else [[]]
@@ -71,17 +97,26 @@ def table(targets: list[float], workers: int, run: Path = SHIPPED_INTERROGATOR,
     guard_head = "guards | " if guards else ""
     lines = [f"| caution | {spread_head}target headroom | {guard_head}{head} | all: macro-slips / return |",
              "|---|---|" + "---|" * (len(GRIDS) + 1 + bool(spread_cautions) + bool(guards))]
+    ends = ["", "Where the climbs ended (both configurations; peak torque: the median over the episodes of "
+            "the largest true torque, crest included, over the saturation torque):", "",
+            "| setting, grid | ended | episodes | median | P90 | peak torque |", "|---|---|---|---|---|---|"]
     for c, k, t, gs in rows:
         cells, pooled = [], []
-        for _ in GRIDS:
+        setting = f"caution {c:g}, {f'spread caution {k:g}, ' if spread_cautions else ''}target {t:g}, " + \
+                  (f"guards {', '.join(gs) or '-'}, " if guards else "")
+        for grid in GRIDS:
             runs = [r for _ in CONFIGS for r in next(results)]
             pooled += runs
-            s = score([(e, slip) for e, slip, _ in runs])
+            ends += _ends(setting, grid, runs)
+            s = score([(r.error, r.macro_slip) for r in runs])
             cells.append(f"{100 * s['median']:.1f} % / {100 * s['p90']:.1f} % / {s['macro_slips']} of {len(runs)} / "
-                         f"{np.mean([ret for *_, ret in runs]):.2f}")
+                         f"{np.mean([r.episode_return for r in runs]):.2f}")
         guard_cell = f"{', '.join(gs) or '-'} | " if guards else ""
-        lines.append(f"| {c:g} | {f'{k:g} | ' if spread_cautions else ''}{t:g} | {guard_cell}{' | '.join(cells)} | {sum(slip for _, slip, _ in pooled)} of {len(pooled)} / "
-                     f"{np.mean([ret for *_, ret in pooled]):.2f} |")
+        lines.append(f"| {c:g} | {f'{k:g} | ' if spread_cautions else ''}{t:g} | {guard_cell}{' | '.join(cells)} | "
+                     f"{sum(r.macro_slip for r in pooled)} of {len(pooled)} / "
+                     f"{np.mean([r.episode_return for r in pooled]):.2f} |")
+    if stops:
+        lines += ends
     return "\n".join(lines) + "\n"
 
 
@@ -96,6 +131,8 @@ def main() -> None:
                         help="a directory of networks (member_*.npz) played with the shipped climb")
     parser.add_argument("--guards", type=Path, nargs="+", default=None,
                         help="directories of networks (member_*.npz) that also steer the climb, as guards (each row with and without)")
+    parser.add_argument("--stops", action="store_true",
+                        help="also a table of how the climbs ended (the agent's stop reason or a macro-slip), per grid")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--out", type=Path, default=Path("out/crest_tradeoff.md"))
     args = parser.parse_args()
@@ -110,7 +147,7 @@ def main() -> None:
     for guard in args.guards or []:
         if not sorted(guard.glob("member_*.npz")):
             parser.error(f"--guards: no networks (member_*.npz) in {guard}")
-    text = table(args.targets, args.workers, args.run, args.cautions, args.spread_cautions, args.guards)
+    text = table(args.targets, args.workers, args.run, args.cautions, args.spread_cautions, args.guards, args.stops)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)
     print(text, end="")

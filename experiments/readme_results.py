@@ -21,6 +21,7 @@ generated, never typed:
     python experiments/crest_tradeoff.py --spread-cautions 0 1 2 4 --targets 0.1 --out out/crest_tradeoff_spread.md
     python experiments/crest_tradeoff.py --guards runs/interrogator_cm/ensemble --cautions 1.5 2 --targets 0.07 0.1 0.15 \
         --out out/crest_tradeoff_guard.md
+    python experiments/crest_tradeoff.py --targets 0.1 --stops --out out/crest_tradeoff_stops.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -59,6 +60,7 @@ SOURCES = {
     "crest_tradeoff_cm": ROOT / "out" / "crest_tradeoff_cm.md",
     "crest_tradeoff_spread": ROOT / "out" / "crest_tradeoff_spread.md",
     "crest_tradeoff_guard": ROOT / "out" / "crest_tradeoff_guard.md",
+    "crest_tradeoff_stops": ROOT / "out" / "crest_tradeoff_stops.md",
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
 TARGET_SUITES = {"v2 default suite (`cof-gym evaluate`)": ROOT / "out" / "evaluate" / "summary.json",

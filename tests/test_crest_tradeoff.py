@@ -22,3 +22,15 @@ def test_bad_options_exit_2_naming_the_option(args: list[str], option: str, tmp_
     assert done.returncode == 2
     assert option in done.stderr.strip().splitlines()[-1]
     assert not (tmp_path / "t.md").exists()
+
+
+def test_how_the_climbs_ended_is_one_row_per_reason_with_its_errors() -> None:
+    sys.path.insert(0, str(SCRIPT.parent))
+    from crest_tradeoff import Played, _ends
+
+    runs = [Played(0.02, False, -1.0, "headroom", 1.1), Played(0.04, False, -1.2, "headroom", 1.2),
+            Played(0.30, False, -3.0, "horizon", 0.8), Played(1.0, True, -11.0, "macro-slip", 1.3)]
+    rows = _ends("caution 2, target 0.1, ", "family", runs)
+    assert rows == ["| caution 2, target 0.1, family | headroom | 2 of 4 | 3.0 % | 3.8 % | 115 % |",
+                    "| caution 2, target 0.1, family | horizon | 1 of 4 | 30.0 % | 30.0 % | 80 % |",
+                    "| caution 2, target 0.1, family | macro-slip | 1 of 4 | 100.0 % | 100.0 % | 130 % |"]
