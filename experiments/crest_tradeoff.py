@@ -6,14 +6,16 @@
     python experiments/crest_tradeoff.py --spread-cautions 0 1 2 4 --targets 0.1 --out out/crest_tradeoff_spread.md
     python experiments/crest_tradeoff.py --guards runs/interrogator_cm/ensemble --cautions 1.5 2 --targets 0.07 0.1 0.15
     python experiments/crest_tradeoff.py --targets 0.1 --stops --out out/crest_tradeoff_stops.md
+    python experiments/crest_tradeoff.py --run cof_gym/agents/policies/interrogator runs/interrogator_more/ensemble \
+        runs/interrogator_32k/ensemble --targets 0.1 --stops --out out/crest_tradeoff_data.md
 
 The shipped climb's modulation is 40 % of the DC torque, so its crest passes the saturation torque once
 the DC is above ``1 / 1.4`` of it (a headroom below ``ln 1.4 = 0.34``); a creep curve that falls steeply
 past its peak then lets the wheel run away. This plays the shipped filter with its climb and only the
 target headroom (and the end of its slow probe) changed, and with ``--cautions`` each of these caution
 factors in turn (the standard deviations taken off the predicted headroom), with ``--spread-cautions``
-each of these further multiples of the members' spread alone (their disagreement), with ``--run`` another run's
-networks (a directory of ``member_*.npz``) under the shipped climb, with ``--guards`` every row also with
+each of these further multiples of the members' spread alone (their disagreement), with ``--run`` other runs'
+networks (directories of ``member_*.npz``; several: each in turn) under the shipped climb, with ``--guards`` every row also with
 these networks as the climb's guards (it steers by the lowest cautious headroom of all; the estimate
 stays the filter's), with ``--stops`` also how the climbs ended (the stop reason or a macro-slip) and
 their errors, in both vehicle configurations, on the three
@@ -80,30 +82,35 @@ def _ends(setting: str, grid: str, runs: list[Played]) -> list[str]:
     return rows
 
 
-def table(targets: list[float], workers: int, run: Path = SHIPPED_INTERROGATOR,
+def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_INTERROGATOR,),
           cautions: list[float] | None = None, spread_cautions: list[float] | None = None,
           guards: list[Path] | None = None, stops: bool = False) -> str:
+    """The table (markdown) of every run's networks x caution x spread caution x target x guards (with and
+    without), each row on the three validation grids; several runs: a first column names the networks."""
     climb = json.loads((SHIPPED_INTERROGATOR / "manifest.json").read_text())["climb"]
     spreads = spread_cautions or [climb.get("spread_caution", 0.0)]
     guard_sets = [[], [str(g) for g in guards]] if guards else [[]]
-    rows = [(c, k, t, gs) for c in (cautions or [climb["caution"]]) for k in spreads for t in targets
-            for gs in guard_sets]
-    jobs = [(str(run), {**climb_at(climb, t), "caution": c, "spread_caution": k}, str(g), cfg, gs)
-            for c, k, t, gs in rows for g in GRIDS.values() for cfg in CONFIGS]
+    named = len(networks) > 1
+    rows = [(n, c, k, t, gs) for n in networks for c in (cautions or [climb["caution"]]) for k in spreads
+            for t in targets for gs in guard_sets]
+    jobs = [(str(n), {**climb_at(climb, t), "caution": c, "spread_caution": k}, str(g), cfg, gs)
+            for n, c, k, t, gs in rows for g in GRIDS.values() for cfg in CONFIGS]
     with ProcessPoolExecutor(workers) as pool:
         results = iter(list(pool.map(_play, *zip(*jobs))))
     head = " | ".join(f"{name}: median / P90 / macro-slips / return" for name in GRIDS)
     spread_head = "spread caution | " if spread_cautions else ""
     guard_head = "guards | " if guards else ""
-    lines = [f"| caution | {spread_head}target headroom | {guard_head}{head} | all: macro-slips / return |",
-             "|---|---|" + "---|" * (len(GRIDS) + 1 + bool(spread_cautions) + bool(guards))]
+    lines = [f"| {'networks | ' if named else ''}caution | {spread_head}target headroom | {guard_head}{head} | "
+             "all: macro-slips / return |",
+             "|---|---|" + "---|" * (len(GRIDS) + 1 + named + bool(spread_cautions) + bool(guards))]
     ends = ["", "Where the climbs ended (both configurations; peak torque: the median over the episodes of "
             "the largest true torque, crest included, over the saturation torque):", "",
             "| setting, grid | ended | episodes | median | P90 | peak torque |", "|---|---|---|---|---|---|"]
-    for c, k, t, gs in rows:
+    for n, c, k, t, gs in rows:
         cells, pooled = [], []
-        setting = f"caution {c:g}, {f'spread caution {k:g}, ' if spread_cautions else ''}target {t:g}, " + \
-                  (f"guards {', '.join(gs) or '-'}, " if guards else "")
+        setting = (f"{n}, " if named else "") + f"caution {c:g}, " + \
+            (f"spread caution {k:g}, " if spread_cautions else "") + f"target {t:g}, " + \
+            (f"guards {', '.join(gs) or '-'}, " if guards else "")
         for grid in GRIDS:
             runs = [r for _ in CONFIGS for r in next(results)]
             pooled += runs
@@ -112,7 +119,8 @@ def table(targets: list[float], workers: int, run: Path = SHIPPED_INTERROGATOR,
             cells.append(f"{100 * s['median']:.1f} % / {100 * s['p90']:.1f} % / {s['macro_slips']} of {len(runs)} / "
                          f"{np.mean([r.episode_return for r in runs]):.2f}")
         guard_cell = f"{', '.join(gs) or '-'} | " if guards else ""
-        lines.append(f"| {c:g} | {f'{k:g} | ' if spread_cautions else ''}{t:g} | {guard_cell}{' | '.join(cells)} | "
+        lines.append(f"| {f'{n} | ' if named else ''}{c:g} | {f'{k:g} | ' if spread_cautions else ''}{t:g} | "
+                     f"{guard_cell}{' | '.join(cells)} | "
                      f"{sum(r.macro_slip for r in pooled)} of {len(pooled)} / "
                      f"{np.mean([r.episode_return for r in pooled]):.2f} |")
     if stops:
@@ -127,8 +135,8 @@ def main() -> None:
                         help="caution factors to try (default: the shipped climb's)")
     parser.add_argument("--spread-cautions", type=float, nargs="+", default=None,
                         help="multiples of the members' spread also taken off the headroom (default: the shipped climb's)")
-    parser.add_argument("--run", type=Path, default=SHIPPED_INTERROGATOR,
-                        help="a directory of networks (member_*.npz) played with the shipped climb")
+    parser.add_argument("--run", type=Path, nargs="+", default=[SHIPPED_INTERROGATOR],
+                        help="directories of networks (member_*.npz) played with the shipped climb, each in turn")
     parser.add_argument("--guards", type=Path, nargs="+", default=None,
                         help="directories of networks (member_*.npz) that also steer the climb, as guards (each row with and without)")
     parser.add_argument("--stops", action="store_true",
@@ -142,8 +150,9 @@ def main() -> None:
         parser.error("--cautions must lie in [0, 10] (standard deviations)")
     if args.spread_cautions is not None and any(not 0.0 <= k <= 10.0 for k in args.spread_cautions):
         parser.error("--spread-cautions must lie in [0, 10] (member spreads)")
-    if not sorted(args.run.glob("member_*.npz")):
-        parser.error(f"--run: no networks (member_*.npz) in {args.run}")
+    for run in args.run:
+        if not sorted(run.glob("member_*.npz")):
+            parser.error(f"--run: no networks (member_*.npz) in {run}")
     for guard in args.guards or []:
         if not sorted(guard.glob("member_*.npz")):
             parser.error(f"--guards: no networks (member_*.npz) in {guard}")

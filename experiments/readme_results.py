@@ -22,6 +22,13 @@ generated, never typed:
     python experiments/crest_tradeoff.py --guards runs/interrogator_cm/ensemble --cautions 1.5 2 --targets 0.07 0.1 0.15 \
         --out out/crest_tradeoff_guard.md
     python experiments/crest_tradeoff.py --targets 0.1 --stops --out out/crest_tradeoff_stops.md
+    python experiments/train_interrogator.py --out runs/interrogator_more --climbs env=8000 env_more=8000
+    python experiments/train_interrogator.py --out runs/interrogator_32k --climbs env=8000 env_more=24000
+    python experiments/learning_curve.py --run runs/interrogator_more --climbs env=8000 env_more=8000 \
+        --sizes 2000 4000 8000 16000 --ensembles cof_gym/agents/policies/interrogator \
+        runs/interrogator_more/ensemble runs/interrogator_32k/ensemble --out out/learning_curve.md
+    python experiments/crest_tradeoff.py --run cof_gym/agents/policies/interrogator runs/interrogator_more/ensemble \
+        runs/interrogator_32k/ensemble --targets 0.1 --stops --out out/crest_tradeoff_data.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -61,6 +68,8 @@ SOURCES = {
     "crest_tradeoff_spread": ROOT / "out" / "crest_tradeoff_spread.md",
     "crest_tradeoff_guard": ROOT / "out" / "crest_tradeoff_guard.md",
     "crest_tradeoff_stops": ROOT / "out" / "crest_tradeoff_stops.md",
+    "learning_curve": ROOT / "out" / "learning_curve.md",
+    "crest_tradeoff_data": ROOT / "out" / "crest_tradeoff_data.md",
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
 TARGET_SUITES = {"v2 default suite (`cof-gym evaluate`)": ROOT / "out" / "evaluate" / "summary.json",

@@ -11,7 +11,8 @@
    (from 1 400 000 on), with the climb's jump to the lowest CoF the task admits (from 1 500 000 on;
    lost on validation in session 9), on procedural curves with steep falling branches (from
    1 600 000 on) and with a two-tone excitation (tone 2 at 10-20 Hz, from 1 700 000 on; a filter of its
-   own, selected with ``--grid two_tone``; lost on validation in session 11); far from every evaluation
+   own, selected with ``--grid two_tone``; lost on validation in session 11), and more of the env's own
+   draws (``env_more``, from 1 800 000 on; lost on validation in session 15); far from every evaluation
    seed; cached in OUT/climbs*.npz.
 2. **Seeds**: one filter network per seed (bootstrap resample of the training episodes, its own
    initialisation), OUT/seed_K/; the ensemble of all seeds in OUT/ensemble/.
@@ -72,6 +73,9 @@ CONFIGS = [{}, {"counter_torque": True}]  # the two vehicle configurations train
 # randomisation (interrogator_training.ClimbDraws)), and how many of each the recipe uses
 COLLECTIONS = {
     "env": ("climbs.npz", TRAINING_SEED, ClimbDraws()),
+    # more of the env's own draws (seeds from 1 800 000): sharper on the families, more macro-slips on steep
+    # falling branches; lost on validation in session 15 (docs/interrogator.md; experiments/learning_curve.py)
+    "env_more": ("climbs_env_more.npz", TRAINING_SEED + 800_000, ClimbDraws()),
     "procedural": ("climbs_procedural.npz", TRAINING_SEED + 100_000, ClimbDraws(shapes="procedural")),
     "high_frequency": ("climbs_high_frequency.npz", TRAINING_SEED + 200_000, ClimbDraws(frequencies_hz=(8.0, 20.0))),
     "wide_probe": ("climbs_wide_probe.npz", TRAINING_SEED + 300_000, ClimbDraws(amplitude_ratios=(0.1, 0.8))),
