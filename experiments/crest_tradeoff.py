@@ -8,6 +8,8 @@
     python experiments/crest_tradeoff.py --targets 0.1 --stops --out out/crest_tradeoff_stops.md
     python experiments/crest_tradeoff.py --run cof_gym/agents/policies/interrogator runs/interrogator_more/ensemble \
         runs/interrogator_32k/ensemble --targets 0.1 --stops --out out/crest_tradeoff_data.md
+    python experiments/crest_tradeoff.py --own-climb --run cof_gym/agents/policies/interrogator \
+        runs/interrogator_more/ensemble runs/interrogator_32k/ensemble --out out/crest_tradeoff_own.md
 
 The shipped climb's modulation is 40 % of the DC torque, so its crest passes the saturation torque once
 the DC is above ``1 / 1.4`` of it (a headroom below ``ln 1.4 = 0.34``); a creep curve that falls steeply
@@ -15,7 +17,8 @@ past its peak then lets the wheel run away. This plays the shipped filter with i
 target headroom (and the end of its slow probe) changed, and with ``--cautions`` each of these caution
 factors in turn (the standard deviations taken off the predicted headroom), with ``--spread-cautions``
 each of these further multiples of the members' spread alone (their disagreement), with ``--run`` other runs'
-networks (directories of ``member_*.npz``; several: each in turn) under the shipped climb, with ``--guards`` every row also with
+networks (directories of ``member_*.npz``; several: each in turn) under the shipped climb
+(``--own-climb``: each with the climb its own manifest names, unchanged), with ``--guards`` every row also with
 these networks as the climb's guards (it steers by the lowest cautious headroom of all; the estimate
 stays the filter's), with ``--stops`` also how the climbs ended (the stop reason or a macro-slip) and
 their errors, in both vehicle configurations, on the three
@@ -31,6 +34,7 @@ import argparse
 import json
 import sys
 from concurrent.futures import ProcessPoolExecutor
+from dataclasses import asdict
 from pathlib import Path
 from typing import NamedTuple
 
@@ -41,7 +45,7 @@ from train_interrogator import (  # noqa: E402
     CONFIGS, PROCEDURAL_VALIDATION, STEEP_VALIDATION, VALIDATION, episodes, score,
 )
 
-from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR  # noqa: E402
+from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR, ClimbParameters  # noqa: E402
 
 GRIDS = {"family": VALIDATION, "procedural": PROCEDURAL_VALIDATION, "steep": STEEP_VALIDATION}
 
@@ -82,19 +86,33 @@ def _ends(setting: str, grid: str, runs: list[Played]) -> list[str]:
     return rows
 
 
+def climb_settings(run: Path, shipped: dict, targets: list[float], cautions: list[float] | None,
+                   spread_cautions: list[float] | None, own_climb: bool) -> list[tuple[str, dict]]:
+    """(label, climb) of every setting a run is played with: the shipped climb x caution x spread caution x
+    target, or (``own_climb``) the climb its manifest names, labelled by what differs from the shipped one."""
+    if own_climb:
+        climb = {**shipped, **json.loads((run / "manifest.json").read_text())["climb"]}
+        default = asdict(ClimbParameters())
+        changed = ", ".join(f"{k} {v}" for k, v in climb.items() if {**default, **shipped}.get(k) != v) or "the shipped climb"
+        return [(f"{run} ({changed})", climb)]
+    return [(str(run), {**climb_at(shipped, t), "caution": c, "spread_caution": k})
+            for c in cautions or [shipped["caution"]] for k in spread_cautions or [shipped.get("spread_caution", 0.0)]
+            for t in targets]
+
+
 def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_INTERROGATOR,),
           cautions: list[float] | None = None, spread_cautions: list[float] | None = None,
-          guards: list[Path] | None = None, stops: bool = False) -> str:
+          guards: list[Path] | None = None, stops: bool = False, own_climb: bool = False) -> str:
     """The table (markdown) of every run's networks x caution x spread caution x target x guards (with and
-    without), each row on the three validation grids; several runs: a first column names the networks."""
-    climb = json.loads((SHIPPED_INTERROGATOR / "manifest.json").read_text())["climb"]
-    spreads = spread_cautions or [climb.get("spread_caution", 0.0)]
+    without), each row on the three validation grids; several runs (or ``own_climb``: each with its
+    manifest's climb, unchanged): a first column names the networks."""
+    shipped = json.loads((SHIPPED_INTERROGATOR / "manifest.json").read_text())["climb"]
     guard_sets = [[], [str(g) for g in guards]] if guards else [[]]
-    named = len(networks) > 1
-    rows = [(n, c, k, t, gs) for n in networks for c in (cautions or [climb["caution"]]) for k in spreads
-            for t in targets for gs in guard_sets]
-    jobs = [(str(n), {**climb_at(climb, t), "caution": c, "spread_caution": k}, str(g), cfg, gs)
-            for n, c, k, t, gs in rows for g in GRIDS.values() for cfg in CONFIGS]
+    named = len(networks) > 1 or own_climb
+    rows = [(n, label, climb, gs) for n in networks
+            for label, climb in climb_settings(n, shipped, targets, cautions, spread_cautions, own_climb)
+            for gs in guard_sets]
+    jobs = [(str(n), climb, str(g), cfg, gs) for n, _, climb, gs in rows for g in GRIDS.values() for cfg in CONFIGS]
     with ProcessPoolExecutor(workers) as pool:
         results = iter(list(pool.map(_play, *zip(*jobs))))
     head = " | ".join(f"{name}: median / P90 / macro-slips / return" for name in GRIDS)
@@ -106,9 +124,10 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
     ends = ["", "Where the climbs ended (both configurations; peak torque: the median over the episodes of "
             "the largest true torque, crest included, over the saturation torque):", "",
             "| setting, grid | ended | episodes | median | P90 | peak torque |", "|---|---|---|---|---|---|"]
-    for n, c, k, t, gs in rows:
+    for _, label, climb, gs in rows:
+        c, k, t = climb["caution"], climb.get("spread_caution", 0.0), climb["target_headroom"]
         cells, pooled = [], []
-        setting = (f"{n}, " if named else "") + f"caution {c:g}, " + \
+        setting = (f"{label}, " if named else "") + f"caution {c:g}, " + \
             (f"spread caution {k:g}, " if spread_cautions else "") + f"target {t:g}, " + \
             (f"guards {', '.join(gs) or '-'}, " if guards else "")
         for grid in GRIDS:
@@ -119,7 +138,7 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
             cells.append(f"{100 * s['median']:.1f} % / {100 * s['p90']:.1f} % / {s['macro_slips']} of {len(runs)} / "
                          f"{np.mean([r.episode_return for r in runs]):.2f}")
         guard_cell = f"{', '.join(gs) or '-'} | " if guards else ""
-        lines.append(f"| {f'{n} | ' if named else ''}{c:g} | {f'{k:g} | ' if spread_cautions else ''}{t:g} | "
+        lines.append(f"| {f'{label} | ' if named else ''}{c:g} | {f'{k:g} | ' if spread_cautions else ''}{t:g} | "
                      f"{guard_cell}{' | '.join(cells)} | "
                      f"{sum(r.macro_slip for r in pooled)} of {len(pooled)} / "
                      f"{np.mean([r.episode_return for r in pooled]):.2f} |")
@@ -130,7 +149,8 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--targets", type=float, nargs="+", default=[0.1, 0.15, 0.2, 0.3])
+    parser.add_argument("--targets", type=float, nargs="+", default=None,
+                        help="target headrooms of the shipped climb to try (default: 0.1 0.15 0.2 0.3)")
     parser.add_argument("--cautions", type=float, nargs="+", default=None,
                         help="caution factors to try (default: the shipped climb's)")
     parser.add_argument("--spread-cautions", type=float, nargs="+", default=None,
@@ -139,11 +159,23 @@ def main() -> None:
                         help="directories of networks (member_*.npz) played with the shipped climb, each in turn")
     parser.add_argument("--guards", type=Path, nargs="+", default=None,
                         help="directories of networks (member_*.npz) that also steer the climb, as guards (each row with and without)")
+    parser.add_argument("--own-climb", action="store_true",
+                        help="play each run with the climb its manifest.json names, unchanged (no --targets, --cautions, "
+                             "--spread-cautions)")
     parser.add_argument("--stops", action="store_true",
                         help="also a table of how the climbs ended (the agent's stop reason or a macro-slip), per grid")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--out", type=Path, default=Path("out/crest_tradeoff.md"))
     args = parser.parse_args()
+    if args.own_climb:
+        for option, value in (("--targets", args.targets), ("--cautions", args.cautions),
+                              ("--spread-cautions", args.spread_cautions)):
+            if value is not None:
+                parser.error(f"{option}: not with --own-climb (each run plays its own manifest's climb)")
+        for run in args.run:
+            if not (run / "manifest.json").is_file():
+                parser.error(f"--run: no manifest.json in {run} (--own-climb plays the climb it names)")
+    args.targets = args.targets or [0.1, 0.15, 0.2, 0.3]
     if any(not 0.0 < t < 1.0 for t in args.targets):
         parser.error("--targets must lie in (0, 1) (a headroom ln(M_sat / DC))")
     if args.cautions is not None and any(not 0.0 <= c <= 10.0 for c in args.cautions):
@@ -156,7 +188,8 @@ def main() -> None:
     for guard in args.guards or []:
         if not sorted(guard.glob("member_*.npz")):
             parser.error(f"--guards: no networks (member_*.npz) in {guard}")
-    text = table(args.targets, args.workers, args.run, args.cautions, args.spread_cautions, args.guards, args.stops)
+    text = table(args.targets, args.workers, args.run, args.cautions, args.spread_cautions, args.guards, args.stops,
+                 args.own_climb)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)
     print(text, end="")

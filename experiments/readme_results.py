@@ -29,6 +29,10 @@ generated, never typed:
         runs/interrogator_more/ensemble runs/interrogator_32k/ensemble --out out/learning_curve.md
     python experiments/crest_tradeoff.py --run cof_gym/agents/policies/interrogator runs/interrogator_more/ensemble \
         runs/interrogator_32k/ensemble --targets 0.1 --stops --out out/crest_tradeoff_data.md
+    python experiments/crest_tradeoff.py --own-climb --run cof_gym/agents/policies/interrogator \
+        runs/interrogator_more/ensemble runs/interrogator_32k/ensemble --out out/crest_tradeoff_own.md
+    python experiments/crest_tradeoff.py --run runs/interrogator_more/ensemble runs/interrogator_32k/ensemble \
+        --guards cof_gym/agents/policies/interrogator --targets 0.1 --out out/crest_tradeoff_data_guard.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -70,6 +74,8 @@ SOURCES = {
     "crest_tradeoff_stops": ROOT / "out" / "crest_tradeoff_stops.md",
     "learning_curve": ROOT / "out" / "learning_curve.md",
     "crest_tradeoff_data": ROOT / "out" / "crest_tradeoff_data.md",
+    "crest_tradeoff_own": ROOT / "out" / "crest_tradeoff_own.md",
+    "crest_tradeoff_data_guard": ROOT / "out" / "crest_tradeoff_data_guard.md",
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
 TARGET_SUITES = {"v2 default suite (`cof-gym evaluate`)": ROOT / "out" / "evaluate" / "summary.json",

@@ -3,6 +3,7 @@ before any episode is played."""
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 from pathlib import Path
@@ -10,18 +11,47 @@ from pathlib import Path
 import pytest
 
 SCRIPT = Path(__file__).resolve().parent.parent / "experiments" / "crest_tradeoff.py"
+SHIPPED = Path(__file__).resolve().parent.parent / "cof_gym" / "agents" / "policies" / "interrogator"
 
 
 @pytest.mark.parametrize("args, option", [(["--cautions", "-1"], "--cautions"), (["--targets", "1.5"], "--targets"),
                                           (["--run", "no/such/run"], "--run"),
                                           (["--spread-cautions", "nan"], "--spread-cautions"),
-                                          (["--guards", "no/such/guard"], "--guards")])
+                                          (["--guards", "no/such/guard"], "--guards"),
+                                          (["--own-climb", "--targets", "0.1"], "--targets"),
+                                          (["--own-climb", "--cautions", "2"], "--cautions")])
 def test_bad_options_exit_2_naming_the_option(args: list[str], option: str, tmp_path: Path) -> None:
     done = subprocess.run([sys.executable, str(SCRIPT), *args, "--out", str(tmp_path / "t.md")],
                           capture_output=True, text=True, timeout=120)
     assert done.returncode == 2
     assert option in done.stderr.strip().splitlines()[-1]
     assert not (tmp_path / "t.md").exists()
+
+
+def test_own_climb_needs_each_runs_manifest(tmp_path: Path) -> None:
+    run = tmp_path / "run"
+    run.mkdir()
+    (run / "member_0.npz").write_bytes((SHIPPED / "member_0.npz").read_bytes())
+    done = subprocess.run([sys.executable, str(SCRIPT), "--own-climb", "--run", str(run), "--out", str(tmp_path / "t.md")],
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2
+    assert "--run: no manifest.json" in done.stderr.strip().splitlines()[-1]
+    assert not (tmp_path / "t.md").exists()
+
+
+def test_own_climb_labels_a_run_by_what_its_climb_changes(tmp_path: Path) -> None:
+    sys.path.insert(0, str(SCRIPT.parent))
+    from crest_tradeoff import climb_settings
+
+    shipped = json.loads((SHIPPED / "manifest.json").read_text())["climb"]
+    (tmp_path / "manifest.json").write_text(json.dumps({"climb": {**shipped, "max_log_step": 0.25}}))
+    assert climb_settings(SHIPPED, shipped, [0.3], None, None, True) == [(f"{SHIPPED} (the shipped climb)", shipped)]
+    [(label, climb)] = climb_settings(tmp_path, shipped, [0.3], None, None, True)
+    assert label == f"{tmp_path} (max_log_step 0.25)" and climb == {**shipped, "max_log_step": 0.25}
+    # without it: the shipped climb at each target and caution
+    rows = climb_settings(tmp_path, shipped, [0.1, 0.3], [1.5], None, False)
+    assert [(c["target_headroom"], c["caution"], c["max_log_step"]) for _, c in rows] == [
+        (0.1, 1.5, shipped["max_log_step"]), (0.3, 1.5, shipped["max_log_step"])]
 
 
 def test_how_the_climbs_ended_is_one_row_per_reason_with_its_errors() -> None:
