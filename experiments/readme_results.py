@@ -33,6 +33,8 @@ generated, never typed:
         runs/interrogator_more/ensemble runs/interrogator_32k/ensemble --out out/crest_tradeoff_own.md
     python experiments/crest_tradeoff.py --run runs/interrogator_more/ensemble runs/interrogator_32k/ensemble \
         --guards cof_gym/agents/policies/interrogator --targets 0.1 --out out/crest_tradeoff_data_guard.md
+    python experiments/crest_tradeoff.py --own-climb --run runs/interrogator_more/ensemble \
+        --guards cof_gym/agents/policies/interrogator --out out/crest_tradeoff_own_guard.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -76,6 +78,7 @@ SOURCES = {
     "crest_tradeoff_data": ROOT / "out" / "crest_tradeoff_data.md",
     "crest_tradeoff_own": ROOT / "out" / "crest_tradeoff_own.md",
     "crest_tradeoff_data_guard": ROOT / "out" / "crest_tradeoff_data_guard.md",
+    "crest_tradeoff_own_guard": ROOT / "out" / "crest_tradeoff_own_guard.md",
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
 TARGET_SUITES = {"v2 default suite (`cof-gym evaluate`)": ROOT / "out" / "evaluate" / "summary.json",
