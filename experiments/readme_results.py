@@ -35,6 +35,9 @@ generated, never typed:
         --guards cof_gym/agents/policies/interrogator --targets 0.1 --out out/crest_tradeoff_data_guard.md
     python experiments/crest_tradeoff.py --own-climb --run runs/interrogator_more/ensemble \
         --guards cof_gym/agents/policies/interrogator --out out/crest_tradeoff_own_guard.md
+    python experiments/train_interrogator.py --out runs/interrogator_procguard --climbs procedural=8000 --fit-only
+    python experiments/crest_tradeoff.py --run cof_gym/agents/policies/interrogator runs/interrogator_more/ensemble \
+        --guards runs/interrogator_procguard/ensemble --targets 0.1 --out out/crest_tradeoff_procguard.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -79,6 +82,7 @@ SOURCES = {
     "crest_tradeoff_own": ROOT / "out" / "crest_tradeoff_own.md",
     "crest_tradeoff_data_guard": ROOT / "out" / "crest_tradeoff_data_guard.md",
     "crest_tradeoff_own_guard": ROOT / "out" / "crest_tradeoff_own_guard.md",
+    "crest_tradeoff_procguard": ROOT / "out" / "crest_tradeoff_procguard.md",
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
 TARGET_SUITES = {"v2 default suite (`cof-gym evaluate`)": ROOT / "out" / "evaluate" / "summary.json",

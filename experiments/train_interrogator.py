@@ -34,6 +34,8 @@
    seeds x scenarios the interquartile mean (IQM) of the relative error with a stratified-bootstrap
    95 % CI (runs resampled within each scenario; Agarwal et al. 2021). OUT/report.md, OUT/report.json.
 5. ``--ship`` copies OUT/ensemble into cof_gym/agents/policies/interrogator (the ``interrogator`` agent).
+
+``--fit-only`` stops after step 2: networks for another run's ``--guards`` or crest_tradeoff.py's ``--run``.
 """
 
 from __future__ import annotations
@@ -310,6 +312,9 @@ def main() -> None:
                     help="how the climb is ranked on validation (pooled: both grids, the recipe; family: the family grid alone)")
     ap.add_argument("--grid", choices=sorted(GRIDS), default="recipe", help="the climbs tried (recipe: the shipped recipe's)")
     ap.add_argument("--reuse", action="store_true", help="keep OUT/seed_K networks that exist (selection and report only)")
+    ap.add_argument("--fit-only", action="store_true",
+                    help="fit the networks and stop (no selection, report or manifest): networks for another run's "
+                         "--guards or crest_tradeoff.py --run")
     ap.add_argument("--guards", type=Path, nargs="+", default=[], metavar="DIR",
                     help="networks (DIR/member_*.npz, e.g. another run's ensemble) that steer the climb beside the "
                          "filter as its guards: copied into every run directory, named in the manifest")
@@ -346,6 +351,8 @@ def main() -> None:
     for stale in ensemble_dir.glob("member_*.npz"):
         if int(stale.stem.split("_")[1]) not in args.seeds:
             stale.unlink()
+    if args.fit_only:
+        return
     t = time.time()
     guard_names = install_guards(ensemble_dir, args.guards)
     chosen, table = select_climb(ensemble_dir, args.workers, args.criterion, args.grid,

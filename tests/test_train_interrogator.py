@@ -1,5 +1,6 @@
 """experiments/train_interrogator.py's guards: copied into a run directory as its manifest names them,
-and a bad ``--guards`` exits 2 with one line before any climb is collected."""
+and a bad ``--guards`` exits 2 with one line before any climb is collected; ``--fit-only`` fits the
+networks and stops before the selection."""
 
 from __future__ import annotations
 
@@ -46,3 +47,14 @@ def test_bad_guards_exit_2_naming_the_option(tmp_path: Path) -> None:
     assert done.returncode == 2
     assert "--guards" in done.stderr.strip().splitlines()[-1]
     assert not (tmp_path / "run").exists()
+
+
+def test_fit_only_leaves_the_networks_and_no_selection(tmp_path: Path) -> None:
+    run = tmp_path / "run"
+    done = subprocess.run([sys.executable, str(EXPERIMENTS / "train_interrogator.py"), "--out", str(run), "--climbs",
+                           "env=10", "--seeds", "0", "1", "--epochs", "1", "--workers", "1", "--fit-only"],
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert sorted(p.name for p in (run / "ensemble").iterdir()) == ["member_0.npz", "member_1.npz"]
+    assert (run / "seed_1" / "member_0.npz").is_file() and (run / "climbs.npz").is_file()
+    assert not list(run.rglob("manifest.json")) and not (run / "report.md").exists()
