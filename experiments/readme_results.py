@@ -38,6 +38,11 @@ generated, never typed:
     python experiments/train_interrogator.py --out runs/interrogator_procguard --climbs procedural=8000 --fit-only
     python experiments/crest_tradeoff.py --run cof_gym/agents/policies/interrogator runs/interrogator_more/ensemble \
         --guards runs/interrogator_procguard/ensemble --targets 0.1 --out out/crest_tradeoff_procguard.md
+    mkdir -p runs/interrogator_mixguard && cp runs/interrogator_more/climbs.npz \
+        runs/interrogator_procguard/climbs_procedural.npz runs/interrogator_mixguard/
+    python experiments/train_interrogator.py --out runs/interrogator_mixguard --climbs env=8000 procedural=8000 --fit-only
+    python experiments/crest_tradeoff.py --run cof_gym/agents/policies/interrogator runs/interrogator_more/ensemble \
+        --guards runs/interrogator_mixguard/ensemble --targets 0.1 --out out/crest_tradeoff_mixguard.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -83,6 +88,7 @@ SOURCES = {
     "crest_tradeoff_data_guard": ROOT / "out" / "crest_tradeoff_data_guard.md",
     "crest_tradeoff_own_guard": ROOT / "out" / "crest_tradeoff_own_guard.md",
     "crest_tradeoff_procguard": ROOT / "out" / "crest_tradeoff_procguard.md",
+    "crest_tradeoff_mixguard": ROOT / "out" / "crest_tradeoff_mixguard.md",
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
 TARGET_SUITES = {"v2 default suite (`cof-gym evaluate`)": ROOT / "out" / "evaluate" / "summary.json",
