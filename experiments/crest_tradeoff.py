@@ -31,7 +31,6 @@ macro-slips, and the mean episode return (the task's own trade of error against 
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict
@@ -42,10 +41,10 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from train_interrogator import (  # noqa: E402
-    CONFIGS, PROCEDURAL_VALIDATION, STEEP_VALIDATION, VALIDATION, episodes, score,
+    CONFIGS, PROCEDURAL_VALIDATION, STEEP_VALIDATION, VALIDATION, episodes, require_networks, score,
 )
 
-from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR, ClimbParameters  # noqa: E402
+from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR, ClimbParameters, read_manifest  # noqa: E402
 
 GRIDS = {"family": VALIDATION, "procedural": PROCEDURAL_VALIDATION, "steep": STEEP_VALIDATION}
 
@@ -91,9 +90,9 @@ def climb_settings(run: Path, shipped: dict, targets: list[float], cautions: lis
     """(label, climb) of every setting a run is played with: the shipped climb x caution x spread caution x
     target, or (``own_climb``) the climb its manifest names, labelled by what differs from the shipped one."""
     if own_climb:
-        climb = {**shipped, **json.loads((run / "manifest.json").read_text())["climb"]}
-        default = asdict(ClimbParameters())
-        changed = ", ".join(f"{k} {v}" for k, v in climb.items() if {**default, **shipped}.get(k) != v) or "the shipped climb"
+        climb = {**shipped, **read_manifest(run)["climb"]}
+        base = {**asdict(ClimbParameters()), **shipped}  # the shipped climb with every default it leaves out
+        changed = ", ".join(f"{k} {v}" for k, v in climb.items() if base.get(k) != v) or "the shipped climb"
         return [(f"{run} ({changed})", climb)]
     return [(str(run), {**climb_at(shipped, t), "caution": c, "spread_caution": k})
             for c in cautions or [shipped["caution"]] for k in spread_cautions or [shipped.get("spread_caution", 0.0)]
@@ -106,7 +105,7 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
     """The table (markdown) of every run's networks x caution x spread caution x target x guards (with and
     without), each row on the three validation grids; several runs (or ``own_climb``: each with its
     manifest's climb, unchanged): a first column names the networks."""
-    shipped = json.loads((SHIPPED_INTERROGATOR / "manifest.json").read_text())["climb"]
+    shipped = read_manifest(SHIPPED_INTERROGATOR)["climb"]
     guard_sets = [[], [str(g) for g in guards]] if guards else [[]]
     named = len(networks) > 1 or own_climb
     rows = [(n, label, climb, gs) for n in networks
@@ -182,12 +181,8 @@ def main() -> None:
         parser.error("--cautions must lie in [0, 10] (standard deviations)")
     if args.spread_cautions is not None and any(not 0.0 <= k <= 10.0 for k in args.spread_cautions):
         parser.error("--spread-cautions must lie in [0, 10] (member spreads)")
-    for run in args.run:
-        if not sorted(run.glob("member_*.npz")):
-            parser.error(f"--run: no networks (member_*.npz) in {run}")
-    for guard in args.guards or []:
-        if not sorted(guard.glob("member_*.npz")):
-            parser.error(f"--guards: no networks (member_*.npz) in {guard}")
+    require_networks(parser, "--run", args.run)
+    require_networks(parser, "--guards", args.guards or [])
     text = table(args.targets, args.workers, args.run, args.cautions, args.spread_cautions, args.guards, args.stops,
                  args.own_climb)
     args.out.parent.mkdir(parents=True, exist_ok=True)

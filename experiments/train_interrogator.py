@@ -247,6 +247,14 @@ def select_climb(ensemble_dir: Path, workers: int, criterion: str = "pooled",
     return {k: table[0][k] for k in (*grid_columns(climbs), *ESTIMATES[0]) if k in table[0]}, table
 
 
+def require_networks(parser: argparse.ArgumentParser, option: str, directories: list[Path]) -> None:
+    """A one-line usage error (exit 2) naming ``option`` for the first directory without networks
+    (``member_*.npz``)."""
+    for directory in directories:
+        if not sorted(directory.glob("member_*.npz")):
+            parser.error(f"{option}: no networks (member_*.npz) in {directory}")
+
+
 def install_guards(run: Path, guards: list[Path]) -> list[str]:
     """Copies the guard networks ``guards`` into ``run`` (``guard_K``, replacing any there) and returns
     their names, relative to ``run`` as its manifest names them."""
@@ -319,9 +327,7 @@ def main() -> None:
                     help="networks (DIR/member_*.npz, e.g. another run's ensemble) that steer the climb beside the "
                          "filter as its guards: copied into every run directory, named in the manifest")
     args = ap.parse_args()
-    for guard in args.guards:
-        if not sorted(guard.glob("member_*.npz")):
-            ap.error(f"--guards: no networks (member_*.npz) in {guard}")
+    require_networks(ap, "--guards", args.guards)
     out = args.out
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.time()
