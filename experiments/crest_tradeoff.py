@@ -24,7 +24,8 @@ stays the filter's), with ``--stops`` also how the climbs ended (the stop reason
 their errors, in both vehicle configurations, on the three
 validation grids (model selection data, never reported elsewhere as results): the family draws, the
 procedural curves and the procedural curves with steep falling branches
-(``experiments/suites/v2_validation_steep_grid.json``). Per grid: median / P90 relative CoF error,
+(``experiments/suites/v2_validation_steep_grid.json``), or with ``--grids confirmation`` on the three
+confirmation grids of the same kinds (``experiments/suites/v2_confirmation*_grid.json``). Per grid: median / P90 relative CoF error,
 macro-slips, and the mean episode return (the task's own trade of error against slip, comfort and time).
 """
 
@@ -46,7 +47,15 @@ from train_interrogator import (  # noqa: E402
 
 from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR, ClimbParameters, read_manifest  # noqa: E402
 
-GRIDS = {"family": VALIDATION, "procedural": PROCEDURAL_VALIDATION, "steep": STEEP_VALIDATION}
+SUITES = Path(__file__).resolve().parent / "suites"
+# the grid sets a table plays: validation (model selection) and confirmation (session 16: the same three
+# kinds on other seeds, CoF values and speeds, to confirm a choice taken on the first by a rule written before)
+GRID_SETS = {
+    "validation": {"family": VALIDATION, "procedural": PROCEDURAL_VALIDATION, "steep": STEEP_VALIDATION},
+    "confirmation": {kind: SUITES / f"v2_confirmation{'' if kind == 'family' else '_' + kind}_grid.json"
+                     for kind in ("family", "procedural", "steep")},
+}
+GRIDS = GRID_SETS["validation"]
 
 
 def climb_at(climb: dict, target: float) -> dict:
@@ -101,25 +110,26 @@ def climb_settings(run: Path, shipped: dict, targets: list[float], cautions: lis
 
 def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_INTERROGATOR,),
           cautions: list[float] | None = None, spread_cautions: list[float] | None = None,
-          guards: list[Path] | None = None, stops: bool = False, own_climb: bool = False) -> str:
+          guards: list[Path] | None = None, stops: bool = False, own_climb: bool = False,
+          grids: dict[str, Path] = GRIDS) -> str:
     """The table (markdown) of every run's networks x caution x spread caution x target x guards (with and
-    without), each row on the three validation grids; several runs (or ``own_climb``: each with its
-    manifest's climb, unchanged): a first column names the networks."""
+    without), each row on the three ``grids`` (the validation grids unless told); several runs (or
+    ``own_climb``: each with its manifest's climb, unchanged): a first column names the networks."""
     shipped = read_manifest(SHIPPED_INTERROGATOR)["climb"]
     guard_sets = [[], [str(g) for g in guards]] if guards else [[]]
     named = len(networks) > 1 or own_climb
     rows = [(n, label, climb, gs) for n in networks
             for label, climb in climb_settings(n, shipped, targets, cautions, spread_cautions, own_climb)
             for gs in guard_sets]
-    jobs = [(str(n), climb, str(g), cfg, gs) for n, _, climb, gs in rows for g in GRIDS.values() for cfg in CONFIGS]
+    jobs = [(str(n), climb, str(g), cfg, gs) for n, _, climb, gs in rows for g in grids.values() for cfg in CONFIGS]
     with ProcessPoolExecutor(workers) as pool:
         results = iter(list(pool.map(_play, *zip(*jobs))))
-    head = " | ".join(f"{name}: median / P90 / macro-slips / return" for name in GRIDS)
+    head = " | ".join(f"{name}: median / P90 / macro-slips / return" for name in grids)
     spread_head = "spread caution | " if spread_cautions else ""
     guard_head = "guards | " if guards else ""
     lines = [f"| {'networks | ' if named else ''}caution | {spread_head}target headroom | {guard_head}{head} | "
              "all: macro-slips / return |",
-             "|---|---|" + "---|" * (len(GRIDS) + 1 + named + bool(spread_cautions) + bool(guards))]
+             "|---|---|" + "---|" * (len(grids) + 1 + named + bool(spread_cautions) + bool(guards))]
     ends = ["", "Where the climbs ended (both configurations; peak torque: the median over the episodes of "
             "the largest true torque, crest included, over the saturation torque):", "",
             "| setting, grid | ended | episodes | median | P90 | peak torque |", "|---|---|---|---|---|---|"]
@@ -129,7 +139,7 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
         setting = (f"{label}, " if named else "") + f"caution {c:g}, " + \
             (f"spread caution {k:g}, " if spread_cautions else "") + f"target {t:g}, " + \
             (f"guards {', '.join(gs) or '-'}, " if guards else "")
-        for grid in GRIDS:
+        for grid in grids:
             runs = [r for _ in CONFIGS for r in next(results)]
             pooled += runs
             ends += _ends(setting, grid, runs)
@@ -163,6 +173,9 @@ def main() -> None:
                              "--spread-cautions)")
     parser.add_argument("--stops", action="store_true",
                         help="also a table of how the climbs ended (the agent's stop reason or a macro-slip), per grid")
+    parser.add_argument("--grids", choices=sorted(GRID_SETS), default="validation",
+                        help="the three grids played: validation (model selection) or confirmation (session 16: other "
+                             "episodes of the same kinds, to confirm a choice taken on the first)")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--out", type=Path, default=Path("out/crest_tradeoff.md"))
     args = parser.parse_args()
@@ -184,7 +197,7 @@ def main() -> None:
     require_networks(parser, "--run", args.run)
     require_networks(parser, "--guards", args.guards or [])
     text = table(args.targets, args.workers, args.run, args.cautions, args.spread_cautions, args.guards, args.stops,
-                 args.own_climb)
+                 args.own_climb, GRID_SETS[args.grids])
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)
     print(text, end="")

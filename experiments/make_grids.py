@@ -14,6 +14,11 @@
   procedural creep curves whose falling branch is steep (20-60 % within 0.03-0.3 peak creepages), where
   a modulation crest that passes the peak makes the wheel run away; neither other validation grid has
   such curves, and no held-out shape was used to write it.
+- ``suites/v2_confirmation_grid.json``, ``suites/v2_confirmation_procedural_grid.json`` and
+  ``suites/v2_confirmation_steep_grid.json`` (session 16): the three validation grids' kinds with other
+  seeds, CoF fractions and speeds (the procedural curves drawn afresh), written before any agent played
+  them, to confirm a choice taken on the validation grids on episodes that took no part in it (a rule
+  written before they are played decides); model selection data, never reported as results.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -221,7 +226,7 @@ def v2_heldout_grid(fractions=(0.21, 0.74), speeds=(9.0, 26.0), first_seed: int 
 
 
 def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.0, 36.0),
-                                  first_seed: int = 65_000, steep: bool = False) -> dict:
+                                  first_seed: int = 65_000, steep: bool = False, kind: str = "model selection") -> dict:
     """Procedural creep curves (:func:`cof_gym.agents.interrogator_training.procedural_shape`, tables
     beyond every family, none of the held-out shapes) x conditions x CoF x speed x both loads; the
     env draws the systematic sensor errors. Model selection only: it asks a climb to survive creep
@@ -239,9 +244,9 @@ def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.
                    "load_case": load_case, "noise_level": 1.0, "motor_lag_s": 0.02,
                    "creep_law": procedural_shape(np.random.default_rng([first_seed + k, 13]), fall)}
         episodes.append({"seed": first_seed + k, "options": options})
-    kind = "procedural creep curves with steep falling branches" if steep else "procedural creep curves"
+    curves = "procedural creep curves with steep falling branches" if steep else "procedural creep curves"
     return {"env_id": cof_gym.WAGON_ENV_ID, "env_kwargs": {},
-            "description": f"v2 model selection only (never reported): {kind} beyond every family",
+            "description": f"v2 {kind} only (never reported): {curves} beyond every family",
             "episodes": episodes}
 
 
@@ -254,6 +259,13 @@ def all_grids() -> dict[str, dict]:
                  v2_heldout_grid=v2_heldout_grid(), v2_validation_procedural_grid=v2_validation_procedural_grid(),
                  v2_validation_steep_grid=v2_validation_procedural_grid((0.23, 0.61, 0.94), (6.0, 16.0, 30.0),
                                                                         67_000, steep=True),
+                 v2_confirmation_grid=grid((0.05, 0.29, 0.53, 0.78), (5.5, 15.0, 27.0), 62_000,
+                                           "v2 confirmation only (never reported): shapes and sensor errors "
+                                           "from the v2 draws", env_id=cof_gym.WAGON_ENV_ID),
+                 v2_confirmation_procedural_grid=v2_validation_procedural_grid((0.08, 0.44, 0.71), (11.0, 25.0, 38.0),
+                                                                               69_000, kind="confirmation"),
+                 v2_confirmation_steep_grid=v2_validation_procedural_grid((0.13, 0.48, 0.79), (9.0, 20.0, 35.0),
+                                                                          71_000, steep=True, kind="confirmation"),
                  v2_heldout2_grid=v2_heldout_grid(
                      (0.33, 0.63), (6.0, 17.0, 31.0), 97_000, HELDOUT2_SHAPES, HELDOUT2_ERRORS,
                      "v2 reporting only, a second set written after every decision on the first: creep curves "

@@ -93,6 +93,7 @@ COLLECTIONS = {
     "two_tone": ("climbs_two_tone.npz", TRAINING_SEED + 700_000, ClimbDraws(tone2_hz=(10.0, 20.0))),
 }
 EPISODES = {"env": 8000}  # the shipped recipe (procedural and high_frequency lost on validation: README)
+GUARD_EPISODES: dict[str, int] = {}  # the shipped recipe's guard (--guard-climbs): none
 VALIDATION = HERE / "suites" / "v2_validation_grid.json"  # the v2 draws (families, sensor errors)
 # procedural creep curves beyond every family, none of the held-out shapes: the selection's robustness data
 PROCEDURAL_VALIDATION = HERE / "suites" / "v2_validation_procedural_grid.json"
@@ -163,17 +164,22 @@ def load_or_collect(out: Path, name: str, episodes: int, workers: int) -> Datase
     return data
 
 
-def parse_climbs(parser: argparse.ArgumentParser, items: list[str]) -> dict[str, int]:
-    """``NAME=N`` items as {collection: climbs}; a bad item is a one-line usage error (exit 2)."""
+def parse_climbs(parser: argparse.ArgumentParser, items: list[str], option: str = "--climbs") -> dict[str, int]:
+    """``NAME=N`` items as {collection: climbs}; a bad item is a one-line usage error (exit 2) naming ``option``."""
     out = {}
     for item in items:
         name, _, n = item.partition("=")
         if name not in COLLECTIONS or not n.isdigit():
-            parser.error(f"--climbs: expected NAME=N with NAME one of {', '.join(COLLECTIONS)} and N >= 0, got {item!r}")
+            parser.error(f"{option}: expected NAME=N with NAME one of {', '.join(COLLECTIONS)} and N >= 0, got {item!r}")
         out[name] = int(n)
     if not any(out.values()):
-        parser.error("--climbs: at least one collection needs N > 0")
+        parser.error(f"{option}: at least one collection needs N > 0")
     return out
+
+
+def collect(out: Path, climbs: dict[str, int], workers: int) -> Dataset:
+    """The training climbs of ``climbs`` ({collection: climbs}), in that order, from OUT's caches or collected."""
+    return Dataset.concatenate([load_or_collect(out, name, n, workers) for name, n in climbs.items() if n])
 
 
 def split(data: Dataset, every: int = 10) -> tuple[Dataset, Dataset]:
@@ -245,6 +251,34 @@ def select_climb(ensemble_dir: Path, workers: int, criterion: str = "pooled",
                           "pooled_p90": failed["p90"], "pooled_median": failed["median"]})
     table.sort(key=CRITERIA[criterion])
     return {k: table[0][k] for k in (*grid_columns(climbs), *ESTIMATES[0]) if k in table[0]}, table
+
+
+def fit_networks(out: Path, data: Dataset, seeds: list[int], settings: FitSettings, reuse: bool) -> dict:
+    """One filter network per seed on ``data`` (every tenth climb held apart) in OUT/seed_K/member_0.npz,
+    all of them in OUT/ensemble/member_K.npz; ``reuse``: a seed's network that exists is kept. Returns the
+    held-apart likelihood per seed and of the ensemble."""
+    train, held = split(data)
+    ensemble_dir = out / "ensemble"
+    ensemble_dir.mkdir(parents=True, exist_ok=True)
+    fit_report = {}
+    for seed in seeds:
+        t = time.time()
+        seed_dir = out / f"seed_{seed}"
+        if reuse and (seed_dir / "member_0.npz").is_file():
+            member = FilterNetwork.load(seed_dir / "member_0.npz")
+        else:
+            member = fit_member(train, seed, settings)
+            seed_dir.mkdir(parents=True, exist_ok=True)
+            member.save(seed_dir / "member_0.npz")
+            print(f"{out.name} seed {seed}: fitted in {time.time() - t:.0f} s", flush=True)
+        member.save(ensemble_dir / f"member_{seed}.npz")
+        fit_report[f"seed_{seed}"] = nll(member, held)
+    fit_report["ensemble"] = nll(FilterEnsemble.load(ensemble_dir), held)
+    print(f"{out.name} held-out {fit_report}", flush=True)
+    for stale in ensemble_dir.glob("member_*.npz"):
+        if int(stale.stem.split("_")[1]) not in seeds:
+            stale.unlink()
+    return fit_report
 
 
 def require_networks(parser: argparse.ArgumentParser, option: str, directories: list[Path]) -> None:
@@ -323,44 +357,32 @@ def main() -> None:
     ap.add_argument("--fit-only", action="store_true",
                     help="fit the networks and stop (no selection, report or manifest): networks for another run's "
                          "--guards or crest_tradeoff.py --run")
+    ap.add_argument("--guard-climbs", nargs="+", default=[f"{k}={v}" for k, v in GUARD_EPISODES.items()] or ["none"],
+                    metavar="NAME=N",
+                    help="training climbs per collection of a guard fitted in OUT/guard/ (same seeds and fit) that steers "
+                         "the climb beside the filter; 'none': no guard fitted (default: %(default)s)")
     ap.add_argument("--guards", type=Path, nargs="+", default=[], metavar="DIR",
                     help="networks (DIR/member_*.npz, e.g. another run's ensemble) that steer the climb beside the "
                          "filter as its guards: copied into every run directory, named in the manifest")
     args = ap.parse_args()
     require_networks(ap, "--guards", args.guards)
+    climbs = parse_climbs(ap, args.climbs)
+    guard_climbs = {} if args.guard_climbs == ["none"] else parse_climbs(ap, args.guard_climbs, "--guard-climbs")
     out = args.out
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.time()
-    climbs = parse_climbs(ap, args.climbs)
-    data = Dataset.concatenate([load_or_collect(out, name, n, args.workers) for name, n in climbs.items() if n])
-    train, held = split(data)
     settings = replace(FitSettings(), epochs=args.epochs, features=tuple(args.features))
     ensemble_dir = out / "ensemble"
-    ensemble_dir.mkdir(exist_ok=True)
-    fit_report = {}
-    for seed in args.seeds:
-        t = time.time()
-        if args.reuse and (out / f"seed_{seed}" / "member_0.npz").is_file():
-            member = FilterNetwork.load(out / f"seed_{seed}" / "member_0.npz")
-            fit_report[f"seed_{seed}"] = nll(member, held)
-            member.save(ensemble_dir / f"member_{seed}.npz")
-            continue
-        member = fit_member(train, seed, settings)
-        seed_dir = out / f"seed_{seed}"
-        seed_dir.mkdir(exist_ok=True)
-        member.save(seed_dir / "member_0.npz")
-        member.save(ensemble_dir / f"member_{seed}.npz")
-        fit_report[f"seed_{seed}"] = nll(member, held)
-        print(f"seed {seed}: fitted in {time.time() - t:.0f} s, held-out {fit_report[f'seed_{seed}']}", flush=True)
-    fit_report["ensemble"] = nll(FilterEnsemble.load(ensemble_dir), held)
-    print(f"ensemble held-out {fit_report['ensemble']}", flush=True)
-    for stale in ensemble_dir.glob("member_*.npz"):
-        if int(stale.stem.split("_")[1]) not in args.seeds:
-            stale.unlink()
+    fit_report = fit_networks(out, collect(out, climbs, args.workers), args.seeds, settings, args.reuse)
+    guards = list(args.guards)
+    if guard_climbs:  # the guard: networks of their own, fitted alike on other climbs (OUT/guard/)
+        fit_report["guard"] = fit_networks(out / "guard", collect(out, guard_climbs, args.workers), args.seeds,
+                                           settings, args.reuse)
+        guards.append(out / "guard" / "ensemble")
     if args.fit_only:
         return
     t = time.time()
-    guard_names = install_guards(ensemble_dir, args.guards)
+    guard_names = install_guards(ensemble_dir, guards)
     chosen, table = select_climb(ensemble_dir, args.workers, args.criterion, args.grid,
                                  [str(ensemble_dir / g) for g in guard_names])
     print(f"climb selected on validation in {time.time() - t:.0f} s: {chosen}", flush=True)
@@ -369,10 +391,12 @@ def main() -> None:
                 "training": {"climbs": climbs, "seeds": args.seeds, "fit": asdict(settings)}}
     if guard_names:
         manifest["guards"] = guard_names
+    if guard_climbs:
+        manifest["training"]["guard_climbs"] = guard_climbs
     columns = grid_columns(GRIDS[args.grid])  # the climb parameters the grid varies
     runs = [out / f"seed_{s}" for s in args.seeds] + [ensemble_dir]
     for r in runs:
-        install_guards(r, args.guards)
+        install_guards(r, guards)
         (r / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n")
     report = report_runs(runs, args.workers)
     text = ["# Learned interrogator: seeds, selection and report", "",

@@ -19,7 +19,8 @@ SHIPPED = Path(__file__).resolve().parent.parent / "cof_gym" / "agents" / "polic
                                           (["--spread-cautions", "nan"], "--spread-cautions"),
                                           (["--guards", "no/such/guard"], "--guards"),
                                           (["--own-climb", "--targets", "0.1"], "--targets"),
-                                          (["--own-climb", "--cautions", "2"], "--cautions")])
+                                          (["--own-climb", "--cautions", "2"], "--cautions"),
+                                          (["--grids", "heldout"], "--grids")])
 def test_bad_options_exit_2_naming_the_option(args: list[str], option: str, tmp_path: Path) -> None:
     done = subprocess.run([sys.executable, str(SCRIPT), *args, "--out", str(tmp_path / "t.md")],
                           capture_output=True, text=True, timeout=120)

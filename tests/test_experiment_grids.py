@@ -33,3 +33,19 @@ def test_every_v2_heldout_file_is_reported_in_the_order_written():
     assert list(listed)[:2] == ["v2_heldout_grid", "v2_heldout2_grid"]
     assert list(listed.values())[:2] == ["v2 held-out grid", "v2 second held-out grid"]
     assert len(set(listed.values())) == len(listed)
+
+
+def test_confirmation_grids_share_no_episode_with_any_other_v2_grid():
+    """A choice confirmed on the confirmation grids is confirmed on episodes that took no part in it:
+    no seed and no tabulated creep curve of theirs is on a validation or reporting grid."""
+    v2 = {name: spec for name, spec in GRIDS.items() if name.startswith("v2_")}
+    confirmation = {name for name in v2 if name.startswith("v2_confirmation")}
+    assert len(confirmation) == 3
+
+    def seeds_and_curves(names):
+        episodes = [e for name in names for e in v2[name]["episodes"]]
+        return ({e["seed"] for e in episodes},
+                {repr(e["options"]["creep_law"]) for e in episodes if "creep_law" in e["options"]})
+
+    mine, others = seeds_and_curves(confirmation), seeds_and_curves(set(v2) - confirmation)
+    assert mine[0] and mine[1] and not mine[0] & others[0] and not mine[1] & others[1]

@@ -1,6 +1,6 @@
 """experiments/train_interrogator.py's guards: copied into a run directory as its manifest names them,
-and a bad ``--guards`` exits 2 with one line before any climb is collected; ``--fit-only`` fits the
-networks and stops before the selection."""
+and a bad ``--guards`` or ``--guard-climbs`` exits 2 with one line before any climb is collected; ``--fit-only``
+fits the networks (and a guard's, from ``--guard-climbs``) and stops before the selection."""
 
 from __future__ import annotations
 
@@ -10,6 +10,7 @@ from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
+import pytest
 
 import cof_gym
 from cof_gym.agents.interrogator import FEATURE_NAMES, TARGET_NAMES, FilterNetwork, interrogator_for
@@ -49,12 +50,26 @@ def test_bad_guards_exit_2_naming_the_option(tmp_path: Path) -> None:
     assert not (tmp_path / "run").exists()
 
 
+@pytest.mark.parametrize("climbs", [["bad=3"], ["env=x"], ["env=0"]])
+def test_bad_guard_climbs_exit_2_naming_the_option(tmp_path: Path, climbs: list[str]) -> None:
+    done = subprocess.run([sys.executable, str(EXPERIMENTS / "train_interrogator.py"), "--out", str(tmp_path / "run"),
+                           "--guard-climbs", *climbs], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2
+    assert done.stderr.strip().splitlines()[-1].startswith("train_interrogator.py: error: --guard-climbs:")
+    assert not (tmp_path / "run").exists()
+
+
 def test_fit_only_leaves_the_networks_and_no_selection(tmp_path: Path) -> None:
     run = tmp_path / "run"
     done = subprocess.run([sys.executable, str(EXPERIMENTS / "train_interrogator.py"), "--out", str(run), "--climbs",
-                           "env=10", "--seeds", "0", "1", "--epochs", "1", "--workers", "1", "--fit-only"],
-                          capture_output=True, text=True, timeout=300)
+                           "env=10", "--guard-climbs", "env=10", "procedural=6", "--seeds", "0", "1", "--epochs", "1",
+                           "--workers", "1", "--fit-only"], capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
-    assert sorted(p.name for p in (run / "ensemble").iterdir()) == ["member_0.npz", "member_1.npz"]
-    assert (run / "seed_1" / "member_0.npz").is_file() and (run / "climbs.npz").is_file()
+    for networks in (run, run / "guard"):
+        assert sorted(p.name for p in (networks / "ensemble").iterdir()) == ["member_0.npz", "member_1.npz"]
+        assert (networks / "seed_1" / "member_0.npz").is_file()
+    # the guard's climbs share OUT's caches with the filter's; it learns from the procedural climbs too
+    assert sorted(p.name for p in run.glob("climbs*.npz")) == ["climbs.npz", "climbs_procedural.npz"]
+    filter_0, guard_0 = (FilterNetwork.load(d / "seed_0" / "member_0.npz") for d in (run, run / "guard"))
+    assert not np.array_equal(filter_0.weights[0], guard_0.weights[0])
     assert not list(run.rglob("manifest.json")) and not (run / "report.md").exists()
