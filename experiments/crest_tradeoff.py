@@ -18,7 +18,8 @@ target headroom (and the end of its slow probe) changed, and with ``--cautions``
 factors in turn (the standard deviations taken off the predicted headroom), with ``--spread-cautions``
 each of these further multiples of the members' spread alone (their disagreement), with ``--run`` other runs'
 networks (directories of ``member_*.npz``; several: each in turn) under the shipped climb
-(``--own-climb``: each with the climb its own manifest names, unchanged), with ``--guards`` every row also with
+(``--own-climb``: each with the climb its own manifest names, unchanged, and its manifest's guards unless
+``--guards`` is given), with ``--guards`` every row also with
 these networks as the climb's guards (it steers by the lowest cautious headroom of all; the estimate
 stays the filter's), with ``--stops`` also how the climbs ended (the stop reason or a macro-slip) and
 their errors, in both vehicle configurations, on the three
@@ -74,9 +75,9 @@ class Played(NamedTuple):
     peak_torque_fraction: float  # the largest true torque over the saturation torque
 
 
-def _play(run: str, params: dict, grid: str, config: dict, guards: list[str]) -> list[Played]:
+def _play(run: str, params: dict, grid: str, config: dict, guards: list[str] | None) -> list[Played]:
     """Every episode of ``grid`` in ``config``, the filter of ``run`` with the climb ``params`` and the guard
-    networks ``guards``."""
+    networks ``guards`` (None: those its manifest names)."""
     return [Played(r.relative_error if r.scored else 1.0, r.macro_slip, r.episode_return,
                    "macro-slip" if r.macro_slip else agent.stop_reason, r.peak_torque_fraction)
             for r, agent in episodes(run, grid, config, params, guards)]
@@ -99,10 +100,12 @@ def climb_settings(run: Path, shipped: dict, targets: list[float], cautions: lis
     """(label, climb) of every setting a run is played with: the shipped climb x caution x spread caution x
     target, or (``own_climb``) the climb its manifest names, labelled by what differs from the shipped one."""
     if own_climb:
-        climb = {**shipped, **read_manifest(run)["climb"]}
+        manifest = read_manifest(run)
+        climb = {**shipped, **manifest["climb"]}
         base = {**asdict(ClimbParameters()), **shipped}  # the shipped climb with every default it leaves out
         changed = ", ".join(f"{k} {v}" for k, v in climb.items() if base.get(k) != v) or "the shipped climb"
-        return [(f"{run} ({changed})", climb)]
+        guarded = f"; guards {', '.join(manifest['guards'])}" if manifest.get("guards") else ""
+        return [(f"{run} ({changed}{guarded})", climb)]
     return [(str(run), {**climb_at(shipped, t), "caution": c, "spread_caution": k})
             for c in cautions or [shipped["caution"]] for k in spread_cautions or [shipped.get("spread_caution", 0.0)]
             for t in targets]
@@ -116,7 +119,8 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
     without), each row on the three ``grids`` (the validation grids unless told); several runs (or
     ``own_climb``: each with its manifest's climb, unchanged): a first column names the networks."""
     shipped = read_manifest(SHIPPED_INTERROGATOR)["climb"]
-    guard_sets = [[], [str(g) for g in guards]] if guards else [[]]
+    # None: the guards the run's manifest names (with own_climb: the climb as shipped), [] none
+    guard_sets = [[], [str(g) for g in guards]] if guards else [None if own_climb else []]
     named = len(networks) > 1 or own_climb
     rows = [(n, label, climb, gs) for n in networks
             for label, climb in climb_settings(n, shipped, targets, cautions, spread_cautions, own_climb)
@@ -138,7 +142,7 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
         cells, pooled = [], []
         setting = (f"{label}, " if named else "") + f"caution {c:g}, " + \
             (f"spread caution {k:g}, " if spread_cautions else "") + f"target {t:g}, " + \
-            (f"guards {', '.join(gs) or '-'}, " if guards else "")
+            (f"guards {', '.join(gs or []) or '-'}, " if guards else "")
         for grid in grids:
             runs = [r for _ in CONFIGS for r in next(results)]
             pooled += runs
@@ -146,7 +150,7 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
             s = score([(r.error, r.macro_slip) for r in runs])
             cells.append(f"{100 * s['median']:.1f} % / {100 * s['p90']:.1f} % / {s['macro_slips']} of {len(runs)} / "
                          f"{np.mean([r.episode_return for r in runs]):.2f}")
-        guard_cell = f"{', '.join(gs) or '-'} | " if guards else ""
+        guard_cell = f"{', '.join(gs or []) or '-'} | " if guards else ""
         lines.append(f"| {f'{label} | ' if named else ''}{c:g} | {f'{k:g} | ' if spread_cautions else ''}{t:g} | "
                      f"{guard_cell}{' | '.join(cells)} | "
                      f"{sum(r.macro_slip for r in pooled)} of {len(pooled)} / "

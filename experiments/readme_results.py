@@ -22,8 +22,8 @@ generated, never typed:
     python experiments/crest_tradeoff.py --guards runs/interrogator_cm/ensemble --cautions 1.5 2 --targets 0.07 0.1 0.15 \
         --out out/crest_tradeoff_guard.md
     python experiments/crest_tradeoff.py --targets 0.1 --stops --out out/crest_tradeoff_stops.md
-    python experiments/train_interrogator.py --out runs/interrogator_more --climbs env=8000 env_more=8000
-    python experiments/train_interrogator.py --out runs/interrogator_32k --climbs env=8000 env_more=24000
+    python experiments/train_interrogator.py --out runs/interrogator_more --climbs env=8000 env_more=8000 --guard-climbs none
+    python experiments/train_interrogator.py --out runs/interrogator_32k --climbs env=8000 env_more=24000 --guard-climbs none
     python experiments/learning_curve.py --run runs/interrogator_more --climbs env=8000 env_more=8000 \
         --sizes 2000 4000 8000 16000 --ensembles cof_gym/agents/policies/interrogator \
         runs/interrogator_more/ensemble runs/interrogator_32k/ensemble --out out/learning_curve.md
@@ -35,14 +35,23 @@ generated, never typed:
         --guards cof_gym/agents/policies/interrogator --targets 0.1 --out out/crest_tradeoff_data_guard.md
     python experiments/crest_tradeoff.py --own-climb --run runs/interrogator_more/ensemble \
         --guards cof_gym/agents/policies/interrogator --out out/crest_tradeoff_own_guard.md
-    python experiments/train_interrogator.py --out runs/interrogator_procguard --climbs procedural=8000 --fit-only
+    python experiments/train_interrogator.py --out runs/interrogator_procguard --climbs procedural=8000 --fit-only \
+        --guard-climbs none
     python experiments/crest_tradeoff.py --run cof_gym/agents/policies/interrogator runs/interrogator_more/ensemble \
         --guards runs/interrogator_procguard/ensemble --targets 0.1 --out out/crest_tradeoff_procguard.md
     mkdir -p runs/interrogator_mixguard && cp runs/interrogator_more/climbs.npz \
         runs/interrogator_procguard/climbs_procedural.npz runs/interrogator_mixguard/
-    python experiments/train_interrogator.py --out runs/interrogator_mixguard --climbs env=8000 procedural=8000 --fit-only
+    python experiments/train_interrogator.py --out runs/interrogator_mixguard --climbs env=8000 procedural=8000 --fit-only \
+        --guard-climbs none
     python experiments/crest_tradeoff.py --run cof_gym/agents/policies/interrogator runs/interrogator_more/ensemble \
         --guards runs/interrogator_mixguard/ensemble --targets 0.1 --out out/crest_tradeoff_mixguard.md
+    python experiments/make_grids.py    # adds the confirmation grids (session 16); every other grid unchanged
+    python experiments/train_interrogator.py --out runs/interrogator_s16 --reuse --guards runs/interrogator_mixguard/ensemble \
+        --guard-climbs none   # the shipped networks copied to runs/interrogator_s16/seed_K first
+    python experiments/crest_tradeoff.py --own-climb --run cof_gym/agents/policies/interrogator \
+        runs/interrogator_s16/ensemble --grids confirmation --out out/crest_tradeoff_confirmation.md  # before session 16's ship
+    python experiments/crest_tradeoff.py --run cof_gym/agents/policies/interrogator --guards runs/interrogator_mixguard/ensemble \
+        --targets 0.1 --grids confirmation --out out/crest_tradeoff_confirmation_guard.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -91,6 +100,8 @@ SOURCES = {
         "crest_tradeoff_own_guard",
         "crest_tradeoff_procguard",
         "crest_tradeoff_mixguard",
+        "crest_tradeoff_confirmation",
+        "crest_tradeoff_confirmation_guard",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about

@@ -15,7 +15,12 @@
    draws (``env_more``, from 1 800 000 on; lost on validation in session 15); far from every evaluation
    seed; cached in OUT/climbs*.npz.
 2. **Seeds**: one filter network per seed (bootstrap resample of the training episodes, its own
-   initialisation), OUT/seed_K/; the ensemble of all seeds in OUT/ensemble/.
+   initialisation), OUT/seed_K/; the ensemble of all seeds in OUT/ensemble/. **The guard**
+   (``--guard-climbs``; the recipe, session 16: ``env=8000 procedural=8000``): networks fitted alike
+   (same seeds and fit) on the family climbs and the procedural ones together, OUT/guard/seed_K/ and
+   OUT/guard/ensemble/; it steers the chosen climb beside the filter and may only slow it (the climb
+   follows the lowest cautious headroom of all; the estimate stays the filter's). Adopted by a rule
+   written before the confirmation grids were played (docs/interrogator.md, session 16).
 3. **Selection, validation only**: the climb's parameters (modulation ratio, target headroom,
    caution, largest step, a slow probe while the headroom is uncertain, whether it stays slow and where
    it ends, the jump to the lowest CoF the task admits: GRIDS;
@@ -26,7 +31,8 @@
    episodes) and experiments/suites/v2_validation_procedural_grid.json (procedural creep curves beyond
    every family, none of the held-out shapes; 108 episodes). Ranking: fewest macro-slips on the family
    grid, then, over both grids pooled with a macro-slip counted as a failed measurement (100 % error),
-   the lowest P90, then median relative error. Written to every OUT/*/manifest.json.
+   the lowest P90, then median relative error. The selection plays the filter alone (with ``--guards``
+   networks, if given); the recipe's guard joins the chosen climb. Written to every OUT/*/manifest.json.
 4. **Report** (nothing is chosen here): every seed and the ensemble on the default suite (60 episodes),
    on the held-out grids (experiments/suites/v2_heldout*_grid.json) and on the procedural
    validation grid (traction balance;
@@ -35,7 +41,8 @@
    95 % CI (runs resampled within each scenario; Agarwal et al. 2021). OUT/report.md, OUT/report.json.
 5. ``--ship`` copies OUT/ensemble into cof_gym/agents/policies/interrogator (the ``interrogator`` agent).
 
-``--fit-only`` stops after step 2: networks for another run's ``--guards`` or crest_tradeoff.py's ``--run``.
+``--fit-only`` stops after step 2: networks for another run's ``--guards`` or crest_tradeoff.py's ``--run``;
+``--guard-climbs none`` fits no guard (the recipe before session 16).
 """
 
 from __future__ import annotations
@@ -93,7 +100,8 @@ COLLECTIONS = {
     "two_tone": ("climbs_two_tone.npz", TRAINING_SEED + 700_000, ClimbDraws(tone2_hz=(10.0, 20.0))),
 }
 EPISODES = {"env": 8000}  # the shipped recipe (procedural and high_frequency lost on validation: README)
-GUARD_EPISODES: dict[str, int] = {}  # the shipped recipe's guard (--guard-climbs): none
+# the shipped recipe's guard (--guard-climbs; session 16): the family climbs and the procedural ones together
+GUARD_EPISODES = {"env": 8000, "procedural": 8000}
 VALIDATION = HERE / "suites" / "v2_validation_grid.json"  # the v2 draws (families, sensor errors)
 # procedural creep curves beyond every family, none of the held-out shapes: the selection's robustness data
 PROCEDURAL_VALIDATION = HERE / "suites" / "v2_validation_procedural_grid.json"
@@ -375,17 +383,19 @@ def main() -> None:
     ensemble_dir = out / "ensemble"
     fit_report = fit_networks(out, collect(out, climbs, args.workers), args.seeds, settings, args.reuse)
     guards = list(args.guards)
-    if guard_climbs:  # the guard: networks of their own, fitted alike on other climbs (OUT/guard/)
+    if guard_climbs:  # the recipe's guard: networks of their own, fitted alike on other climbs (OUT/guard/)
         fit_report["guard"] = fit_networks(out / "guard", collect(out, guard_climbs, args.workers), args.seeds,
                                            settings, args.reuse)
         guards.append(out / "guard" / "ensemble")
     if args.fit_only:
         return
     t = time.time()
-    guard_names = install_guards(ensemble_dir, guards)
+    # the selection plays the filter with the --guards networks only; the recipe's guard joins the chosen climb
+    played = install_guards(ensemble_dir, args.guards)
     chosen, table = select_climb(ensemble_dir, args.workers, args.criterion, args.grid,
-                                 [str(ensemble_dir / g) for g in guard_names])
+                                 [str(ensemble_dir / g) for g in played])
     print(f"climb selected on validation in {time.time() - t:.0f} s: {chosen}", flush=True)
+    guard_names = install_guards(ensemble_dir, guards)
     manifest = {"climb": {**asdict(ClimbParameters()), **chosen},
                 "trained_on": {"env_id": ENV_ID, "configs": CONFIGS},
                 "training": {"climbs": climbs, "seeds": args.seeds, "fit": asdict(settings)}}

@@ -46,9 +46,14 @@ def test_own_climb_labels_a_run_by_what_its_climb_changes(tmp_path: Path) -> Non
 
     shipped = json.loads((SHIPPED / "manifest.json").read_text())["climb"]
     (tmp_path / "manifest.json").write_text(json.dumps({"climb": {**shipped, "max_log_step": 0.25}}))
-    assert climb_settings(SHIPPED, shipped, [0.3], None, None, True) == [(f"{SHIPPED} (the shipped climb)", shipped)]
+    [(label, climb)] = climb_settings(SHIPPED, shipped, [0.3], None, None, True)
+    assert label.startswith(f"{SHIPPED} (the shipped climb") and climb == shipped
     [(label, climb)] = climb_settings(tmp_path, shipped, [0.3], None, None, True)
     assert label == f"{tmp_path} (max_log_step 0.25)" and climb == {**shipped, "max_log_step": 0.25}
+    # a run whose manifest names guards plays with them (table: guards None) and says so
+    (tmp_path / "manifest.json").write_text(json.dumps({"climb": shipped, "guards": ["guard_0"]}))
+    [(label, _)] = climb_settings(tmp_path, shipped, [0.3], None, None, True)
+    assert label == f"{tmp_path} (the shipped climb; guards guard_0)"
     # without it: the shipped climb at each target and caution
     rows = climb_settings(tmp_path, shipped, [0.1, 0.3], [1.5], None, False)
     assert [(c["target_headroom"], c["caution"], c["max_log_step"]) for _, c in rows] == [
