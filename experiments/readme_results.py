@@ -52,6 +52,8 @@ generated, never typed:
         runs/interrogator_s16/ensemble --grids confirmation --out out/crest_tradeoff_confirmation.md  # before session 16's ship
     python experiments/crest_tradeoff.py --run cof_gym/agents/policies/interrogator --guards runs/interrogator_mixguard/ensemble \
         --targets 0.1 --grids confirmation --out out/crest_tradeoff_confirmation_guard.md
+    python experiments/crest_tradeoff.py --run cof_gym/agents/policies/interrogator --guards runs/interrogator_mixguard/ensemble \
+        --cautions 1.5 2 --targets 0.07 0.1 --out out/crest_tradeoff_guarded_cautions.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -102,6 +104,7 @@ SOURCES = {
         "crest_tradeoff_mixguard",
         "crest_tradeoff_confirmation",
         "crest_tradeoff_confirmation_guard",
+        "crest_tradeoff_guarded_cautions",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about
