@@ -54,7 +54,8 @@ validation scenarios only (``experiments/train_interrogator.py``).
 on the measured creepage's modulation) the climb steers by the lowest cautious headroom of the filter
 and its guards, each with its own std and spread: a guard can only slow the climb, and the estimate stays
 the filter's. A directory's ``manifest.json`` names its guards (``"guards"``: directories of
-``member_*.npz``, relative to it); the shipped interrogator has none.
+``member_*.npz``, relative to it); the shipped interrogator has one (session 16: the same networks fitted
+on the family climbs and on procedural creep curves together, ``guard_0``).
 
 **Two tones.** With ``tone2_frequency_hz`` set, the modulation is two sines (the env's
 ``excitation="multitone"``, ``tones=2``; :attr:`LearnedInterrogator.env_options`, which
