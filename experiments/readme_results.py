@@ -54,6 +54,12 @@ generated, never typed:
         --targets 0.1 --grids confirmation --out out/crest_tradeoff_confirmation_guard.md
     python experiments/crest_tradeoff.py --run cof_gym/agents/policies/interrogator --guards runs/interrogator_mixguard/ensemble \
         --cautions 1.5 2 --targets 0.07 0.1 --out out/crest_tradeoff_guarded_cautions.md
+    mkdir -p runs/interrogator_steepguard && cp runs/interrogator/climbs.npz runs/interrogator/climbs_procedural.npz \
+        runs/interrogator_steepguard/
+    python experiments/train_interrogator.py --out runs/interrogator_steepguard \
+        --climbs env=8000 procedural=8000 procedural_steep=8000 --fit-only --guard-climbs none
+    python experiments/crest_tradeoff.py --run cof_gym/agents/policies/interrogator --guards runs/interrogator_steepguard/ensemble \
+        --targets 0.1 --out out/crest_tradeoff_steepguard.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -105,6 +111,7 @@ SOURCES = {
         "crest_tradeoff_confirmation",
         "crest_tradeoff_confirmation_guard",
         "crest_tradeoff_guarded_cautions",
+        "crest_tradeoff_steepguard",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
