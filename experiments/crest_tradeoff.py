@@ -46,17 +46,18 @@ from train_interrogator import (  # noqa: E402
     CONFIGS, PROCEDURAL_VALIDATION, STEEP_VALIDATION, VALIDATION, episodes, require_networks, score,
 )
 
+from make_grids import SUITES  # noqa: E402
+
 from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR, ClimbParameters, read_manifest  # noqa: E402
 
-SUITES = Path(__file__).resolve().parent / "suites"
 # the grid sets a table plays: validation (model selection) and confirmation (session 16: the same three
 # kinds on other seeds, CoF values and speeds, to confirm a choice taken on the first by a rule written before)
 GRID_SETS = {
     "validation": {"family": VALIDATION, "procedural": PROCEDURAL_VALIDATION, "steep": STEEP_VALIDATION},
-    "confirmation": {kind: SUITES / f"v2_confirmation{'' if kind == 'family' else '_' + kind}_grid.json"
-                     for kind in ("family", "procedural", "steep")},
+    "confirmation": {"family": SUITES / "v2_confirmation_grid.json",
+                     "procedural": SUITES / "v2_confirmation_procedural_grid.json",
+                     "steep": SUITES / "v2_confirmation_steep_grid.json"},
 }
-GRIDS = GRID_SETS["validation"]
 
 
 def climb_at(climb: dict, target: float) -> dict:
@@ -114,7 +115,7 @@ def climb_settings(run: Path, shipped: dict, targets: list[float], cautions: lis
 def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_INTERROGATOR,),
           cautions: list[float] | None = None, spread_cautions: list[float] | None = None,
           guards: list[Path] | None = None, stops: bool = False, own_climb: bool = False,
-          grids: dict[str, Path] = GRIDS) -> str:
+          grids: dict[str, Path] = GRID_SETS["validation"]) -> str:
     """The table (markdown) of every run's networks x caution x spread caution x target x guards (with and
     without), each row on the three ``grids`` (the validation grids unless told); several runs (or
     ``own_climb``: each with its manifest's climb, unchanged): a first column names the networks."""
@@ -139,10 +140,11 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
             "| setting, grid | ended | episodes | median | P90 | peak torque |", "|---|---|---|---|---|---|"]
     for _, label, climb, gs in rows:
         c, k, t = climb["caution"], climb.get("spread_caution", 0.0), climb["target_headroom"]
+        guard_text = ", ".join(gs or []) or "-"
         cells, pooled = [], []
         setting = (f"{label}, " if named else "") + f"caution {c:g}, " + \
             (f"spread caution {k:g}, " if spread_cautions else "") + f"target {t:g}, " + \
-            (f"guards {', '.join(gs or []) or '-'}, " if guards else "")
+            (f"guards {guard_text}, " if guards else "")
         for grid in grids:
             runs = [r for _ in CONFIGS for r in next(results)]
             pooled += runs
@@ -150,7 +152,7 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
             s = score([(r.error, r.macro_slip) for r in runs])
             cells.append(f"{100 * s['median']:.1f} % / {100 * s['p90']:.1f} % / {s['macro_slips']} of {len(runs)} / "
                          f"{np.mean([r.episode_return for r in runs]):.2f}")
-        guard_cell = f"{', '.join(gs or []) or '-'} | " if guards else ""
+        guard_cell = f"{guard_text} | " if guards else ""
         lines.append(f"| {f'{label} | ' if named else ''}{c:g} | {f'{k:g} | ' if spread_cautions else ''}{t:g} | "
                      f"{guard_cell}{' | '.join(cells)} | "
                      f"{sum(r.macro_slip for r in pooled)} of {len(pooled)} / "

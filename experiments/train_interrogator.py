@@ -395,7 +395,8 @@ def main() -> None:
     chosen, table = select_climb(ensemble_dir, args.workers, args.criterion, args.grid,
                                  [str(ensemble_dir / g) for g in played])
     print(f"climb selected on validation in {time.time() - t:.0f} s: {chosen}", flush=True)
-    guard_names = install_guards(ensemble_dir, guards)
+    runs = [out / f"seed_{s}" for s in args.seeds] + [ensemble_dir]
+    guard_names = [install_guards(r, guards) for r in runs][-1]  # the same names in every run
     manifest = {"climb": {**asdict(ClimbParameters()), **chosen},
                 "trained_on": {"env_id": ENV_ID, "configs": CONFIGS},
                 "training": {"climbs": climbs, "seeds": args.seeds, "fit": asdict(settings)}}
@@ -404,9 +405,7 @@ def main() -> None:
     if guard_climbs:
         manifest["training"]["guard_climbs"] = guard_climbs
     columns = grid_columns(GRIDS[args.grid])  # the climb parameters the grid varies
-    runs = [out / f"seed_{s}" for s in args.seeds] + [ensemble_dir]
     for r in runs:
-        install_guards(r, guards)
         (r / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n")
     report = report_runs(runs, args.workers)
     text = ["# Learned interrogator: seeds, selection and report", "",
