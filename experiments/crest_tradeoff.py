@@ -6,6 +6,8 @@
     python experiments/crest_tradeoff.py --spread-cautions 0 1 2 4 --targets 0.1 --out out/crest_tradeoff_spread.md
     python experiments/crest_tradeoff.py --guards runs/interrogator_cm/ensemble --cautions 1.5 2 --targets 0.07 0.1 0.15
     python experiments/crest_tradeoff.py --targets 0.1 --stops --out out/crest_tradeoff_stops.md
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 \
+        --crest-fractions none 0.5 1 2 --targets 0.1 --stops --out out/crest_tradeoff_crest.md
     python experiments/crest_tradeoff.py --run cof_gym/agents/policies/interrogator runs/interrogator_more/ensemble \
         runs/interrogator_32k/ensemble --targets 0.1 --stops --out out/crest_tradeoff_data.md
     python experiments/crest_tradeoff.py --own-climb --run cof_gym/agents/policies/interrogator \
@@ -26,13 +28,17 @@ their errors, in both vehicle configurations, on the three
 validation grids (model selection data, never reported elsewhere as results): the family draws, the
 procedural curves and the procedural curves with steep falling branches
 (``experiments/suites/v2_validation_steep_grid.json``), or with ``--grids confirmation`` on the three
-confirmation grids of the same kinds (``experiments/suites/v2_confirmation*_grid.json``). Per grid: median / P90 relative CoF error,
+confirmation grids of the same kinds (``experiments/suites/v2_confirmation_*grid.json``; ``--grids
+confirmation2``: the second such set, session 17). With ``--crest-fractions`` each row also with each of these
+crest caps (``ClimbParameters.crest_fraction``: the modulation shrinks so that its crest stays within
+that fraction of the cautious headroom; ``none``: uncapped). Per grid: median / P90 relative CoF error,
 macro-slips, and the mean episode return (the task's own trade of error against slip, comfort and time).
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict
@@ -57,6 +63,10 @@ GRID_SETS = {
     "confirmation": {"family": SUITES / "v2_confirmation_grid.json",
                      "procedural": SUITES / "v2_confirmation_procedural_grid.json",
                      "steep": SUITES / "v2_confirmation_steep_grid.json"},
+    # session 17: a second confirmation set (the first had judged two candidates)
+    "confirmation2": {"family": SUITES / "v2_confirmation2_grid.json",
+                      "procedural": SUITES / "v2_confirmation2_procedural_grid.json",
+                      "steep": SUITES / "v2_confirmation2_steep_grid.json"},
 }
 
 
@@ -97,9 +107,10 @@ def _ends(setting: str, grid: str, runs: list[Played]) -> list[str]:
 
 
 def climb_settings(run: Path, shipped: dict, targets: list[float], cautions: list[float] | None,
-                   spread_cautions: list[float] | None, own_climb: bool) -> list[tuple[str, dict]]:
+                   spread_cautions: list[float] | None, own_climb: bool,
+                   crest_fractions: list[float | None] | None = None) -> list[tuple[str, dict]]:
     """(label, climb) of every setting a run is played with: the shipped climb x caution x spread caution x
-    target, or (``own_climb``) the climb its manifest names, labelled by what differs from the shipped one."""
+    crest fraction x target, or (``own_climb``) the climb its manifest names, labelled by what differs from the shipped one."""
     if own_climb:
         manifest = read_manifest(run)
         climb = {**shipped, **manifest["climb"]}
@@ -107,15 +118,15 @@ def climb_settings(run: Path, shipped: dict, targets: list[float], cautions: lis
         changed = ", ".join(f"{k} {v}" for k, v in climb.items() if base.get(k) != v) or "the shipped climb"
         guarded = f"; guards {', '.join(manifest['guards'])}" if manifest.get("guards") else ""
         return [(f"{run} ({changed}{guarded})", climb)]
-    return [(str(run), {**climb_at(shipped, t), "caution": c, "spread_caution": k})
+    return [(str(run), {**climb_at(shipped, t), "caution": c, "spread_caution": k, "crest_fraction": f})
             for c in cautions or [shipped["caution"]] for k in spread_cautions or [shipped.get("spread_caution", 0.0)]
-            for t in targets]
+            for f in crest_fractions or [shipped.get("crest_fraction")] for t in targets]
 
 
 def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_INTERROGATOR,),
           cautions: list[float] | None = None, spread_cautions: list[float] | None = None,
           guards: list[Path] | None = None, stops: bool = False, own_climb: bool = False,
-          grids: dict[str, Path] = GRID_SETS["validation"]) -> str:
+          grids: dict[str, Path] = GRID_SETS["validation"], crest_fractions: list[float | None] | None = None) -> str:
     """The table (markdown) of every run's networks x caution x spread caution x target x guards (with and
     without), each row on the three ``grids`` (the validation grids unless told); several runs (or
     ``own_climb``: each with its manifest's climb, unchanged): a first column names the networks."""
@@ -124,26 +135,29 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
     guard_sets = [[], [str(g) for g in guards]] if guards else [None if own_climb else []]
     named = len(networks) > 1 or own_climb
     rows = [(n, label, climb, gs) for n in networks
-            for label, climb in climb_settings(n, shipped, targets, cautions, spread_cautions, own_climb)
+            for label, climb in climb_settings(n, shipped, targets, cautions, spread_cautions, own_climb, crest_fractions)
             for gs in guard_sets]
     jobs = [(str(n), climb, str(g), cfg, gs) for n, _, climb, gs in rows for g in grids.values() for cfg in CONFIGS]
     with ProcessPoolExecutor(workers) as pool:
         results = iter(list(pool.map(_play, *zip(*jobs))))
     head = " | ".join(f"{name}: median / P90 / macro-slips / return" for name in grids)
     spread_head = "spread caution | " if spread_cautions else ""
+    crest_head = "crest fraction | " if crest_fractions else ""
     guard_head = "guards | " if guards else ""
-    lines = [f"| {'networks | ' if named else ''}caution | {spread_head}target headroom | {guard_head}{head} | "
+    lines = [f"| {'networks | ' if named else ''}caution | {spread_head}{crest_head}target headroom | {guard_head}{head} | "
              "all: macro-slips / return |",
-             "|---|---|" + "---|" * (len(grids) + 1 + named + bool(spread_cautions) + bool(guards))]
+             "|---|---|" + "---|" * (len(grids) + 1 + named + bool(spread_cautions) + bool(crest_fractions) + bool(guards))]
     ends = ["", "Where the climbs ended (both configurations; peak torque: the median over the episodes of "
             "the largest true torque, crest included, over the saturation torque):", "",
             "| setting, grid | ended | episodes | median | P90 | peak torque |", "|---|---|---|---|---|---|"]
     for _, label, climb, gs in rows:
         c, k, t = climb["caution"], climb.get("spread_caution", 0.0), climb["target_headroom"]
+        crest_text = "-" if climb.get("crest_fraction") is None else f"{climb['crest_fraction']:g}"
         guard_text = ", ".join(gs or []) or "-"
         cells, pooled = [], []
         setting = (f"{label}, " if named else "") + f"caution {c:g}, " + \
-            (f"spread caution {k:g}, " if spread_cautions else "") + f"target {t:g}, " + \
+            (f"spread caution {k:g}, " if spread_cautions else "") + \
+            (f"crest fraction {crest_text}, " if crest_fractions else "") + f"target {t:g}, " + \
             (f"guards {guard_text}, " if guards else "")
         for grid in grids:
             runs = [r for _ in CONFIGS for r in next(results)]
@@ -153,13 +167,27 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
             cells.append(f"{100 * s['median']:.1f} % / {100 * s['p90']:.1f} % / {s['macro_slips']} of {len(runs)} / "
                          f"{np.mean([r.episode_return for r in runs]):.2f}")
         guard_cell = f"{guard_text} | " if guards else ""
-        lines.append(f"| {f'{label} | ' if named else ''}{c:g} | {f'{k:g} | ' if spread_cautions else ''}{t:g} | "
+        lines.append(f"| {f'{label} | ' if named else ''}{c:g} | {f'{k:g} | ' if spread_cautions else ''}"
+                     f"{f'{crest_text} | ' if crest_fractions else ''}{t:g} | "
                      f"{guard_cell}{' | '.join(cells)} | "
                      f"{sum(r.macro_slip for r in pooled)} of {len(pooled)} / "
                      f"{np.mean([r.episode_return for r in pooled]):.2f} |")
     if stops:
         lines += ends
     return "\n".join(lines) + "\n"
+
+
+def crest_fraction(text: str) -> float | None:
+    """A ``--crest-fractions`` value: a number in [0, 4] or ``none`` (uncapped)."""
+    if text.lower() == "none":
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not 0.0 <= value <= 4.0:
+        raise argparse.ArgumentTypeError(f"must be a number in [0, 4] or none, got {text!r}")
+    return value
 
 
 def main() -> None:
@@ -170,6 +198,9 @@ def main() -> None:
                         help="caution factors to try (default: the shipped climb's)")
     parser.add_argument("--spread-cautions", type=float, nargs="+", default=None,
                         help="multiples of the members' spread also taken off the headroom (default: the shipped climb's)")
+    parser.add_argument("--crest-fractions", type=crest_fraction, nargs="+", default=None,
+                        help="crest fractions to try (the modulation's crest stays within that fraction of the cautious "
+                             "headroom; 'none': uncapped, the shipped climb's default)")
     parser.add_argument("--run", type=Path, nargs="+", default=[SHIPPED_INTERROGATOR],
                         help="directories of networks (member_*.npz) played with the shipped climb, each in turn")
     parser.add_argument("--guards", type=Path, nargs="+", default=None,
@@ -181,13 +212,14 @@ def main() -> None:
                         help="also a table of how the climbs ended (the agent's stop reason or a macro-slip), per grid")
     parser.add_argument("--grids", choices=sorted(GRID_SETS), default="validation",
                         help="the three grids played: validation (model selection) or confirmation (session 16: other "
-                             "episodes of the same kinds, to confirm a choice taken on the first)")
+                             "episodes of the same kinds, to confirm a choice taken on the first; confirmation2: a "
+                             "second such set, session 17)")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--out", type=Path, default=Path("out/crest_tradeoff.md"))
     args = parser.parse_args()
     if args.own_climb:
         for option, value in (("--targets", args.targets), ("--cautions", args.cautions),
-                              ("--spread-cautions", args.spread_cautions)):
+                              ("--spread-cautions", args.spread_cautions), ("--crest-fractions", args.crest_fractions)):
             if value is not None:
                 parser.error(f"{option}: not with --own-climb (each run plays its own manifest's climb)")
         for run in args.run:
@@ -203,7 +235,7 @@ def main() -> None:
     require_networks(parser, "--run", args.run)
     require_networks(parser, "--guards", args.guards or [])
     text = table(args.targets, args.workers, args.run, args.cautions, args.spread_cautions, args.guards, args.stops,
-                 args.own_climb, GRID_SETS[args.grids])
+                 args.own_climb, GRID_SETS[args.grids], args.crest_fractions)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)
     print(text, end="")

@@ -19,6 +19,10 @@
   seeds, CoF fractions and speeds (the procedural curves drawn afresh), written before any agent played
   them, to confirm a choice taken on the validation grids on episodes that took no part in it (a rule
   written before they are played decides); model selection data, never reported as results.
+- ``suites/v2_confirmation2_grid.json``, ``suites/v2_confirmation2_procedural_grid.json`` and
+  ``suites/v2_confirmation2_steep_grid.json`` (session 17): a second confirmation set of the same three
+  kinds on other seeds, CoF fractions and speeds, written before any agent played them, because the
+  first set had judged two candidates (session 16).
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -266,6 +270,13 @@ def all_grids() -> dict[str, dict]:
                                                                                69_000, kind="confirmation"),
                  v2_confirmation_steep_grid=v2_validation_procedural_grid((0.13, 0.48, 0.79), (9.0, 20.0, 35.0),
                                                                           71_000, steep=True, kind="confirmation"),
+                 v2_confirmation2_grid=grid((0.02, 0.21, 0.46, 0.71, 0.93), (6.0, 23.0, 39.0), 73_000,
+                                            "v2 confirmation only, a second set (never reported): shapes and "
+                                            "sensor errors from the v2 draws", env_id=cof_gym.WAGON_ENV_ID),
+                 v2_confirmation2_procedural_grid=v2_validation_procedural_grid(
+                     (0.03, 0.36, 0.66, 0.97), (13.0, 28.0), 75_000, kind="confirmation (second set)"),
+                 v2_confirmation2_steep_grid=v2_validation_procedural_grid(
+                     (0.04, 0.31, 0.57, 0.91), (7.0, 26.0), 77_000, steep=True, kind="confirmation (second set)"),
                  v2_heldout2_grid=v2_heldout_grid(
                      (0.33, 0.63), (6.0, 17.0, 31.0), 97_000, HELDOUT2_SHAPES, HELDOUT2_ERRORS,
                      "v2 reporting only, a second set written after every decision on the first: creep curves "

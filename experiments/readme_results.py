@@ -60,6 +60,9 @@ generated, never typed:
         --climbs env=8000 procedural=8000 procedural_steep=8000 --fit-only --guard-climbs none
     python experiments/crest_tradeoff.py --run cof_gym/agents/policies/interrogator --guards runs/interrogator_steepguard/ensemble \
         --targets 0.1 --out out/crest_tradeoff_steepguard.md
+    python experiments/make_grids.py    # adds the second confirmation set (session 17); every other grid unchanged
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 \
+        --crest-fractions none 0.5 1 2 --targets 0.1 --stops --out out/crest_tradeoff_crest.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -108,6 +111,7 @@ SOURCES = {
         "crest_tradeoff_own_guard",
         "crest_tradeoff_procguard",
         "crest_tradeoff_mixguard",
+        "crest_tradeoff_crest",
         "crest_tradeoff_confirmation",
         "crest_tradeoff_confirmation_guard",
         "crest_tradeoff_guarded_cautions",

@@ -98,6 +98,11 @@ COLLECTIONS = {
                          ClimbDraws(shapes="procedural", fall=STEEP_FALL)),
     # the env's draws with a two-tone excitation: tone 2 at 10-20 Hz, weight 0.5-1.5 (a filter of its own)
     "two_tone": ("climbs_two_tone.npz", TRAINING_SEED + 700_000, ClimbDraws(tone2_hz=(10.0, 20.0))),
+    # the env's draws with a modulation that shrinks as the slope falls (power 0.5-2, down to 3 %): the
+    # readings of a crest-capped climb (ClimbParameters.crest_fraction; session 17)
+    "crest_shrink": ("climbs_crest_shrink.npz", TRAINING_SEED + 900_000, ClimbDraws(crest_powers=(0.5, 2.0))),
+    "procedural_crest_shrink": ("climbs_procedural_crest_shrink.npz", TRAINING_SEED + 1_000_000,
+                                ClimbDraws(shapes="procedural", crest_powers=(0.5, 2.0))),
 }
 EPISODES = {"env": 8000}  # the shipped recipe (procedural and high_frequency lost on validation: README)
 # the shipped recipe's guard (--guard-climbs; session 16): the family climbs and the procedural ones together

@@ -20,7 +20,10 @@ SHIPPED = Path(__file__).resolve().parent.parent / "cof_gym" / "agents" / "polic
                                           (["--guards", "no/such/guard"], "--guards"),
                                           (["--own-climb", "--targets", "0.1"], "--targets"),
                                           (["--own-climb", "--cautions", "2"], "--cautions"),
-                                          (["--grids", "heldout"], "--grids")])
+                                          (["--grids", "heldout"], "--grids"),
+                                          (["--crest-fractions", "-0.5"], "--crest-fractions"),
+                                          (["--crest-fractions", "abc"], "--crest-fractions"),
+                                          (["--own-climb", "--crest-fractions", "1"], "--crest-fractions")])
 def test_bad_options_exit_2_naming_the_option(args: list[str], option: str, tmp_path: Path) -> None:
     done = subprocess.run([sys.executable, str(SCRIPT), *args, "--out", str(tmp_path / "t.md")],
                           capture_output=True, text=True, timeout=120)
@@ -58,6 +61,11 @@ def test_own_climb_labels_a_run_by_what_its_climb_changes(tmp_path: Path) -> Non
     rows = climb_settings(tmp_path, shipped, [0.1, 0.3], [1.5], None, False)
     assert [(c["target_headroom"], c["caution"], c["max_log_step"]) for _, c in rows] == [
         (0.1, 1.5, shipped["max_log_step"]), (0.3, 1.5, shipped["max_log_step"])]
+    # crest fractions: each row with each cap (None: uncapped), the manifest's default when not given
+    rows = climb_settings(tmp_path, shipped, [0.1], None, None, False, [None, 0.5])
+    assert [c["crest_fraction"] for _, c in rows] == [None, 0.5]
+    assert all(c["crest_fraction"] == shipped.get("crest_fraction") for _, c in
+               climb_settings(tmp_path, shipped, [0.1], None, None, False))
 
 
 def test_how_the_climbs_ended_is_one_row_per_reason_with_its_errors() -> None:

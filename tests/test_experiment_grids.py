@@ -35,11 +35,13 @@ def test_every_v2_heldout_file_is_reported_in_the_order_written():
     assert len(set(listed.values())) == len(listed)
 
 
-def test_confirmation_grids_share_no_episode_with_any_other_v2_grid():
-    """A choice confirmed on the confirmation grids is confirmed on episodes that took no part in it:
-    no seed and no tabulated creep curve of theirs is on a validation or reporting grid."""
+@pytest.mark.parametrize("prefix", ["v2_confirmation_", "v2_confirmation2_"])
+def test_confirmation_grids_share_no_episode_with_any_other_v2_grid(prefix):
+    """A choice confirmed on a confirmation set is confirmed on episodes that took no part in it: no
+    seed and no tabulated creep curve of its three grids is on any other v2 grid (validation, reporting
+    or the other confirmation set)."""
     v2 = {name: spec for name, spec in GRIDS.items() if name.startswith("v2_")}
-    confirmation = {name for name in v2 if name.startswith("v2_confirmation")}
+    confirmation = {name for name in v2 if name.startswith(prefix)}
     assert len(confirmation) == 3
 
     def seeds_and_curves(names):

@@ -16,7 +16,7 @@ from cof_gym.commands.suites import make_suite
 from cof_gym.task.scenarios import COF_ENVELOPE, ScenarioRanges
 from cof_gym.agents import registry
 from cof_gym.agents.interrogator import (
-    CREEPAGE_MODULATION_FEATURE_NAMES, CREEPAGE_RISE_FEATURE_NAMES, CREEPAGE_RISE_FLOORS, FEATURE_NAMES, blocks_of, feature_names, SHIPPED_INTERROGATOR, TARGET_NAMES, ClimbParameters, EpisodeFeatures, FilterEnsemble, FilterNetwork,
+    CREEPAGE_MODULATION_FEATURE_NAMES, CREST_RATIO_FLOOR, CREEPAGE_RISE_FEATURE_NAMES, CREEPAGE_RISE_FLOORS, FEATURE_NAMES, blocks_of, feature_names, SHIPPED_INTERROGATOR, TARGET_NAMES, ClimbParameters, EpisodeFeatures, FilterEnsemble, FilterNetwork,
     PEAK_GAP_CLIP, LearnedInterrogator, Reading, floor_headroom, interrogator_for, peak_gap, slope_from_phase, slope_index,
 )
 from cof_gym.agents.interrogator_training import (
@@ -25,7 +25,7 @@ from cof_gym.agents.interrogator_training import (
 )
 from cof_gym.physics.creep_laws import creep_law_from_spec
 from cof_gym.commands.evaluate import run_episode
-from cof_gym.task.interface import OBSERVATION_NAMES
+from cof_gym.task.interface import OBSERVATION_NAMES, decode_action
 
 SHIPPED = (SHIPPED_INTERROGATOR / "manifest.json").is_file()
 CREEPAGE = OBSERVATION_NAMES.index("creepage_measured")
@@ -527,6 +527,35 @@ def test_a_cautious_guard_stops_the_climb_and_the_estimate_stays_the_filters():
     assert len(actions) == 2 and guarded.stop_reason == "headroom"  # the first window, then the stop
     coa = guarded.features.readings[-1].coa
     assert info["cof_estimate"] == pytest.approx(coa * math.exp(0.2), rel=1e-6)  # the filter's correction
+
+
+def test_the_crest_ratio_keeps_the_crest_below_the_cautious_saturation_torque():
+    """With crest_fraction f the modulation ratio is at most exp(f h) - 1 for the cautious headroom h
+    after the step, at least CREST_RATIO_FLOOR, at most amplitude_ratio; unset, always amplitude_ratio."""
+    capped = ClimbParameters(amplitude_ratio=0.4, crest_fraction=1.0)
+    assert capped.crest_ratio(0.1) == pytest.approx(math.expm1(0.1), rel=1e-12)  # crest at the cautious M_sat
+    assert ClimbParameters(amplitude_ratio=0.4, crest_fraction=0.5).crest_ratio(0.1) == pytest.approx(math.expm1(0.05))
+    assert capped.crest_ratio(2.0) == 0.4 and capped.crest_ratio(-0.3) == CREST_RATIO_FLOOR
+    assert ClimbParameters(amplitude_ratio=0.4).crest_ratio(0.1) == 0.4
+    with pytest.raises(ValueError, match="crest_fraction"):
+        ClimbParameters(crest_fraction=-0.1)
+
+
+def test_a_crest_capped_climb_shrinks_its_modulation_as_the_headroom_closes():
+    """The same climb (same DC torques) with crest_fraction: each window's amplitude is the ratio its
+    cautious headroom after the step allows, times its DC; the first window's is amplitude_ratio's."""
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    limits = env.unwrapped.limits
+    ensemble = FilterEnsemble((constant_network(0.3, 0.0, log_variance=math.log(0.05**2)),))
+    plain = ClimbParameters(amplitude_ratio=0.4, target_headroom=0.05, max_log_step=0.1, caution=1.0)
+    free, _ = play(LearnedInterrogator(limits, ensemble, params=plain), 8)
+    capped, _ = play(LearnedInterrogator(limits, ensemble, params=replace(plain, crest_fraction=1.0)), 8)
+    np.testing.assert_array_equal(capped[:, 0], free[:, 0])  # the DC torques
+    amplitudes = [decode_action(a, limits).drive.amplitude_nm for a in capped]
+    dcs = [decode_action(a, limits).drive.dc_torque_nm for a in capped]
+    assert amplitudes[0] == pytest.approx(0.4 * dcs[0], rel=1e-4)
+    assert amplitudes[1] == pytest.approx(math.expm1(0.25 - math.log(dcs[1] / dcs[0])) * dcs[1], rel=1e-4)
+    assert amplitudes[1] < 0.4 * dcs[1]
 
 
 def test_guards_come_from_the_manifest_and_must_drive_the_climbs_tones(tmp_path):

@@ -57,6 +57,14 @@ the filter's. A directory's ``manifest.json`` names its guards (``"guards"``: di
 ``member_*.npz``, relative to it); the shipped interrogator has one (session 16: the same networks fitted
 on the family climbs and on procedural creep curves together, ``guard_0``).
 
+**A crest cap.** With ``crest_fraction`` set, the modulation shrinks as the climb nears the peak: the
+ratio of each window is at most ``exp(crest_fraction x h) - 1`` for the cautious headroom ``h`` left
+after the step (:meth:`ClimbParameters.crest_ratio`, at least :data:`CREST_RATIO_FLOOR`), so that the
+crest ``DC (1 + ratio)`` stays that fraction of the way to the cautiously predicted saturation torque: on
+a creep curve that falls steeply past its peak, a 40 % crest passing the peak lets the wheel run away
+before any reading shows the peak (the paper's outlook: interrogation at lower magnitudes of torque). Its
+networks should be fitted on climbs whose modulation shrinks too (``ClimbDraws.crest_powers``).
+
 **Two tones.** With ``tone2_frequency_hz`` set, the modulation is two sines (the env's
 ``excitation="multitone"``, ``tones=2``; :attr:`LearnedInterrogator.env_options`, which
 ``cof-gym evaluate`` applies to the agent's own env): tone 1 at ``frequency_hz`` and tone 2 with
@@ -154,6 +162,7 @@ def blocks_of(names: Iterable[str]) -> tuple[str, ...]:
 FLEXIBILITY_CLIP = 5.0  # |ln| of the secant/chord flexibility ratio: beyond it, the step went past the peak
 PEAK_GAP_CLIP = 0.5  # ln(peak CoA / CoA) of the quadratic-peak extrapolation: beyond it, "far from the peak"
 COMPLIANCE_CLIP = (1e-3, 0.999)  # the slope from the compliance, sqrt(1 / C^2 - 1), is finite within these
+CREST_RATIO_FLOOR = 0.03  # the lowest modulation ratio a crest-capped climb uses (and training climbs draw)
 
 
 def flexibility_ratio(readings: list["Reading"], k: int) -> float:
@@ -497,6 +506,7 @@ class ClimbParameters:
     floor_margin: float | None = None  # not None: a step may close the gap to the task's lowest CoF less this
     tone2_frequency_hz: float | None = None  # not None: a second tone at this frequency (a two-tone excitation)
     tone2_weight: float = 1.0  # its weight against tone 1's 1 (the env's share_2 + 1, in [0, 2])
+    crest_fraction: float | None = None  # not None: the crest stays within this fraction of the cautious headroom
 
     def __post_init__(self) -> None:
         if self.estimate_from not in ESTIMATE_SOURCES:
@@ -508,7 +518,7 @@ class ClimbParameters:
                 raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
         if not (isinstance(self.approach_fraction, (int, float)) and 0.0 <= self.approach_fraction < 1.0):
             raise ValueError(f"approach_fraction must be in [0, 1), got {self.approach_fraction!r}")
-        for name, low in (("floor_margin", 0.0), ("creep_until", -math.inf)):  # None: not used
+        for name, low in (("floor_margin", 0.0), ("creep_until", -math.inf), ("crest_fraction", 0.0)):  # None: unused
             if getattr(self, name) is not None:
                 check_number(name, getattr(self, name), low, math.inf)
         if self.tone2_frequency_hz is not None:
@@ -554,10 +564,22 @@ class ClimbParameters:
             return 0.0
         return floor_headroom(coa) - self.target_headroom - self.floor_margin
 
-    def amplitude(self, dc_nm: float, limits: MotorLimits) -> float:
-        """The modulation amplitude (N m) at DC torque ``dc_nm``, within the drive's range (with two tones
-        the total: ``tone2_weight / (1 + tone2_weight)`` of it is tone 2's)."""
-        return probe_amplitude(self.amplitude_ratio, dc_nm, self.min_amplitude_nm, limits)
+    def amplitude(self, dc_nm: float, limits: MotorLimits, ratio: float | None = None) -> float:
+        """The modulation amplitude (N m) at DC torque ``dc_nm``: ``ratio`` (default ``amplitude_ratio``) of
+        it, within the drive's range (with two tones the total: ``tone2_weight / (1 + tone2_weight)`` of it
+        is tone 2's)."""
+        return probe_amplitude(self.amplitude_ratio if ratio is None else ratio, dc_nm, self.min_amplitude_nm, limits)
+
+    def crest_ratio(self, cautious_headroom_after: float) -> float:
+        """The modulation ratio at a DC torque whose cautious headroom is ``cautious_headroom_after``:
+        ``amplitude_ratio``, or with ``crest_fraction`` at most ``exp(crest_fraction x headroom) - 1``, so
+        that the crest ``DC (1 + ratio)`` stays that fraction (in log units) of the way from the DC to the
+        cautiously predicted saturation torque, and at least :data:`CREST_RATIO_FLOOR` (the lowest ratio
+        of the training climbs: below it the lock-in reads noise)."""
+        if self.crest_fraction is None:
+            return self.amplitude_ratio
+        cap = math.expm1(self.crest_fraction * max(cautious_headroom_after, 0.0))
+        return min(self.amplitude_ratio, max(cap, CREST_RATIO_FLOOR))
 
     @property
     def tones(self) -> int:
@@ -568,9 +590,11 @@ class ClimbParameters:
         """The env options the climb's excitation needs (none for the sine)."""
         return dict(TWO_TONE_ENV_OPTIONS) if self.tones == 2 else {}
 
-    def action(self, dc_nm: float, estimate: float, stop: bool, limits: MotorLimits) -> np.ndarray:
-        """The env action: the window action, and tone 2's frequency and weight with two tones."""
-        base = encode_action(dc_nm, self.amplitude(dc_nm, limits), self.frequency_hz, estimate, stop, limits)
+    def action(self, dc_nm: float, estimate: float, stop: bool, limits: MotorLimits,
+               ratio: float | None = None) -> np.ndarray:
+        """The env action (modulation ``ratio`` of the DC, default ``amplitude_ratio``): the window action,
+        and tone 2's frequency and weight with two tones."""
+        base = encode_action(dc_nm, self.amplitude(dc_nm, limits, ratio), self.frequency_hz, estimate, stop, limits)
         if self.tones == 1:
             return base
         extra = encode_extra_tones([(self.tone2_frequency_hz, self.tone2_weight)], limits.min_frequency_hz,
@@ -601,6 +625,7 @@ class LearnedInterrogator:
     _best_coa: float = 0.0
     _driven: int = 0
     _crept: bool = False
+    _ratio: float | None = None  # the modulation ratio of the next window (None: the climb's amplitude_ratio)
 
     def __post_init__(self) -> None:
         if self.ensemble.tones != self.params.tones:
@@ -642,6 +667,7 @@ class LearnedInterrogator:
         self._dc = 0.0
         self._driven = 0
         self._crept = False
+        self._ratio = None
         self._best_coa = 0.0
         self.filter_estimate = 0.0
         self._estimate = self.limits.min_cof_estimate
@@ -679,11 +705,13 @@ class LearnedInterrogator:
                 self.stop_reason = ("falling" if falling else "limit" if at_limit else "horizon" if last
                                     else "headroom")
             else:
-                self._dc = min(self._dc * math.exp(step), self.limits.max_dc_torque_nm)
+                new_dc = min(self._dc * math.exp(step), self.limits.max_dc_torque_nm)
+                self._ratio = p.crest_ratio(headroom - math.log(new_dc / self._dc))
+                self._dc = new_dc
         else:
             self._dc = self.climb.first_dc(self.limits)
         estimate = min(max(self._estimate, self.limits.min_cof_estimate), self.limits.max_cof_estimate)
-        return p.action(self._dc, estimate, stop, self.limits)
+        return p.action(self._dc, estimate, stop, self.limits, self._ratio)
 
 
     def _steering_headroom(self, mean: np.ndarray, std: np.ndarray, spread: np.ndarray) -> tuple[float, float, float]:

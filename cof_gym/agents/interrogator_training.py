@@ -4,7 +4,8 @@
 systematic sensor errors, CoF, speed, load, noise, motor lag), in every vehicle configuration listed,
 with training seeds that no evaluation uses. Each climb starts at the shared safe first step and
 probes upwards with a modulation ratio log-uniform in 3-40 % and a frequency of 5 Hz or log-uniform
-in 3-10 Hz (or in given ranges: :class:`ClimbDraws`); each log step is the climb's largest step
+in 3-10 Hz (or in given ranges: :class:`ClimbDraws`; with ``crest_powers`` the ratio shrinks as the
+slope falls); each log step is the climb's largest step
 (log-uniform 0.15-0.6) times the local slope relative to the first window's (from the phase) to a
 drawn power (1-3), floored at a drawn 2-15 % of the largest step, times a random factor: the climb
 slows as the creep curve flattens, the way a cautious probe does, until a macro-slip, the horizon or
@@ -34,7 +35,7 @@ import gymnasium as gym
 import numpy as np
 
 from cof_gym.agents.interrogator import (
-    FEATURE_BLOCKS, TARGET_NAMES, TWO_TONE_ENV_OPTIONS, ClimbParameters, EpisodeFeatures, FilterNetwork, Reading,
+    CREST_RATIO_FLOOR, FEATURE_BLOCKS, TARGET_NAMES, TWO_TONE_ENV_OPTIONS, ClimbParameters, EpisodeFeatures, FilterNetwork, Reading,
     feature_names, floor_headroom, slope_from_phase,
 )
 from cof_gym.agents.staircase import ElasticityClimb
@@ -134,8 +135,21 @@ def _probing_step(rng: np.random.Generator, readings: list[Reading], sigma: floa
     window's (from the phase, :func:`~cof_gym.agents.interrogator.slope_from_phase`) to the ``power``,
     floored, times a random factor in ``exp(+-0.5)``. A function of the readings and ``rng`` only,
     never of the truth."""
-    ratio = slope_from_phase(readings[-1]) / slope_from_phase(readings[0])
-    return sigma * min(max(ratio**power, floor), 1.0) * math.exp(rng.uniform(-0.5, 0.5))
+    return sigma * min(max(_slope_ratio(readings)**power, floor), 1.0) * math.exp(rng.uniform(-0.5, 0.5))
+
+
+def _slope_ratio(readings: list[Reading]) -> float:
+    """The local slope of the creep curve relative to the first window's, from the phase (falls from
+    about 1 towards 0 as the climb nears the peak)."""
+    return slope_from_phase(readings[-1]) / slope_from_phase(readings[0])
+
+
+def _shrunk_ratio(readings: list[Reading], amplitude_ratio: float, power: float) -> float:
+    """A crest-shrinking training climb's next modulation ratio: ``amplitude_ratio`` times the slope ratio
+    (:func:`_slope_ratio`) to the ``power``, between :data:`~cof_gym.agents.interrogator.CREST_RATIO_FLOOR`
+    and ``amplitude_ratio``: the modulation shrinks as the slope falls, as a crest-capped climb's does
+    (``ClimbParameters.crest_fraction``), from the readings only."""
+    return min(amplitude_ratio, max(CREST_RATIO_FLOOR, amplitude_ratio * _slope_ratio(readings)**power))
 
 
 SHAPE_SOURCES = ("env", "procedural")  # the env's own creep-law draw, or :func:`procedural_shape`
@@ -214,11 +228,12 @@ class ClimbDraws:
 
     shapes: str = "env"
     frequencies_hz: tuple[float, float] | None = None
-    amplitude_ratios: tuple[float, float] = (0.03, 0.4)
+    amplitude_ratios: tuple[float, float] = (CREST_RATIO_FLOOR, 0.4)
     floor_margins: tuple[float, float] | None = None  # a step may close the gap to the lowest CoF less this
     fall: FallingBranch = GENTLE_FALL
     tone2_hz: tuple[float, float] | None = None
     tone2_weights: tuple[float, float] = (0.5, 1.5)
+    crest_powers: tuple[float, float] | None = None  # a shrinking modulation (:func:`_shrunk_ratio`)
 
     @property
     def env_options(self) -> dict[str, Any]:
@@ -230,7 +245,7 @@ class ClimbDraws:
         check_range("ClimbDraws.tone2_weights", self.tone2_weights, 0.0, 2.0)
         if self.shapes not in SHAPE_SOURCES:
             raise ValueError(f"shapes must be one of {SHAPE_SOURCES}, got {self.shapes!r}")
-        for name in ("frequencies_hz", "amplitude_ratios", "floor_margins"):
+        for name in ("frequencies_hz", "amplitude_ratios", "floor_margins", "crest_powers"):
             value = getattr(self, name)
             if value is not None and not (len(value) == 2 and 0.0 < value[0] <= value[1]):
                 raise ValueError(f"{name} must be a (low, high) pair with 0 < low <= high, got {value!r}")
@@ -260,10 +275,11 @@ def _climb_episode(env, seed: int, draws: ClimbDraws = ClimbDraws()) -> tuple[li
     sigma = float(math.exp(rng.uniform(*np.log(PROBING_SIGMA))))
     power, floor = float(rng.uniform(*PROBING_POWER)), float(rng.uniform(*PROBING_FLOOR))
     margin = float(rng.uniform(*draws.floor_margins)) if draws.floor_margins else None
+    crest_power = float(np.random.default_rng([seed, 17]).uniform(*draws.crest_powers)) if draws.crest_powers else None
     dc = ElasticityClimb().first_dc(limits)
-    xs, ys = [], []
+    xs, ys, ratio = [], [], None
     for _ in range(base.task.max_windows):
-        obs, _, terminated, truncated, info = env.step(p.action(dc, 0.1, False, limits))
+        obs, _, terminated, truncated, info = env.step(p.action(dc, 0.1, False, limits, ratio))
         reading = Reading.of(obs, limits, info)
         xs.append(reading)
         ys.append((math.log(m_sat / dc), math.log(cof / reading.coa)))
@@ -273,6 +289,8 @@ def _climb_episode(env, seed: int, draws: ClimbDraws = ClimbDraws()) -> tuple[li
         if margin is not None:
             step = max(step, floor_headroom(reading.coa) - margin)
         dc = min(dc * math.exp(step), limits.max_dc_torque_nm)
+        if crest_power is not None:  # never grows again: a crest-capped climb's ratio falls as its headroom closes
+            ratio = min(ratio or amplitude_ratio, _shrunk_ratio(xs, amplitude_ratio, crest_power))
     return xs, ys
 
 
