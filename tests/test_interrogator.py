@@ -405,6 +405,23 @@ def test_floor_jump_training_climbs_take_the_floor_step():
         ClimbDraws(floor_margins=(0.5, 0.1))
 
 
+def test_crest_shrink_training_climbs_shrink_their_modulation_and_never_grow_it():
+    """With crest_powers the modulation ratio (amplitude / DC) falls as the slope falls and never rises
+    again, down to no less than CREST_RATIO_FLOOR; the first window is the plain climb's."""
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    options = {"condition": "wet", "cof": 0.12, "load_case": "empty"}  # the crest stays within the drive's range
+    draws = ClimbDraws(amplitude_ratios=(0.4, 0.4), crest_powers=(2.0, 2.0))
+    shrunk, _ = _climb_episode(_Fixed(env, options), 2_000_300, draws)
+    plain, _ = _climb_episode(_Fixed(env, options), 2_000_300, ClimbDraws(amplitude_ratios=(0.4, 0.4)))
+    assert shrunk[0] == plain[0]
+    # the readings come from the float32 observation: a ratio carries a relative error of a few 1.2e-7
+    ratios = np.array([r.amplitude_nm / r.dc_nm for r in shrunk])
+    assert np.all(np.diff(ratios) <= 1e-5) and ratios[-1] < 0.2 and ratios.min() >= CREST_RATIO_FLOOR * (1 - 1e-5)
+    assert [r.amplitude_nm / r.dc_nm for r in plain] == pytest.approx([0.4] * len(plain), rel=1e-5)
+    with pytest.raises(ValueError, match="crest_powers"):
+        ClimbDraws(crest_powers=(2.0, 0.5))
+
+
 class _Fixed(gym.Wrapper):
     """An env whose every reset takes the given options (a training climb resets with none)."""
 
