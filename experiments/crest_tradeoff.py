@@ -23,7 +23,8 @@ networks (directories of ``member_*.npz``; several: each in turn) under the ship
 (``--own-climb``: each with the climb its own manifest names, unchanged, and its manifest's guards unless
 ``--guards`` is given), with ``--guards`` every row also with
 these networks as the climb's guards (it steers by the lowest cautious headroom of all; the estimate
-stays the filter's), with ``--stops`` also how the climbs ended (the stop reason or a macro-slip) and
+stays the filter's), with ``--stops`` also how the climbs ended (the stop reason or a macro-slip, before or after the climb's
+first slow probe) and
 their errors, in both vehicle configurations, on the three
 validation grids (model selection data, never reported elsewhere as results): the family draws, the
 procedural curves and the procedural curves with steep falling branches
@@ -82,7 +83,7 @@ class Played(NamedTuple):
     error: float  # relative CoF error (1.0 when unscored)
     macro_slip: bool
     episode_return: float
-    ended: str  # why the climb ended: the agent's stop reason, or "macro-slip"
+    ended: str  # why the climb ended: the agent's stop reason, or "macro-slip" (", slow probe": once crept)
     peak_torque_fraction: float  # the largest true torque over the saturation torque
 
 
@@ -90,7 +91,8 @@ def _play(run: str, params: dict, grid: str, config: dict, guards: list[str] | N
     """Every episode of ``grid`` in ``config``, the filter of ``run`` with the climb ``params`` and the guard
     networks ``guards`` (None: those its manifest names)."""
     return [Played(r.relative_error if r.scored else 1.0, r.macro_slip, r.episode_return,
-                   "macro-slip" if r.macro_slip else agent.stop_reason, r.peak_torque_fraction)
+                   ("macro-slip, slow probe" if agent.crept else "macro-slip") if r.macro_slip else agent.stop_reason,
+                   r.peak_torque_fraction)
             for r, agent in episodes(run, grid, config, params, guards)]
 
 
@@ -108,7 +110,8 @@ def _ends(setting: str, grid: str, runs: list[Played]) -> list[str]:
 
 def climb_settings(run: Path, shipped: dict, targets: list[float], cautions: list[float] | None,
                    spread_cautions: list[float] | None, own_climb: bool,
-                   crest_fractions: list[float | None] | None = None) -> list[tuple[str, dict]]:
+                   crest_fractions: list[float | None] | None = None,
+                   crest_once_crept: bool = False) -> list[tuple[str, dict]]:
     """(label, climb) of every setting a run is played with: the shipped climb x caution x spread caution x
     crest fraction x target, or (``own_climb``) the climb its manifest names, labelled by what differs from the shipped one."""
     if own_climb:
@@ -118,7 +121,8 @@ def climb_settings(run: Path, shipped: dict, targets: list[float], cautions: lis
         changed = ", ".join(f"{k} {v}" for k, v in climb.items() if base.get(k) != v) or "the shipped climb"
         guarded = f"; guards {', '.join(manifest['guards'])}" if manifest.get("guards") else ""
         return [(f"{run} ({changed}{guarded})", climb)]
-    return [(str(run), {**climb_at(shipped, t), "caution": c, "spread_caution": k, "crest_fraction": f})
+    once = {"crest_once_crept": True} if crest_once_crept else {}
+    return [(str(run), {**climb_at(shipped, t), "caution": c, "spread_caution": k, "crest_fraction": f, **once})
             for c in cautions or [shipped["caution"]] for k in spread_cautions or [shipped.get("spread_caution", 0.0)]
             for f in crest_fractions or [shipped.get("crest_fraction")] for t in targets]
 
@@ -126,7 +130,8 @@ def climb_settings(run: Path, shipped: dict, targets: list[float], cautions: lis
 def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_INTERROGATOR,),
           cautions: list[float] | None = None, spread_cautions: list[float] | None = None,
           guards: list[Path] | None = None, stops: bool = False, own_climb: bool = False,
-          grids: dict[str, Path] = GRID_SETS["validation"], crest_fractions: list[float | None] | None = None) -> str:
+          grids: dict[str, Path] = GRID_SETS["validation"], crest_fractions: list[float | None] | None = None,
+          crest_once_crept: bool = False) -> str:
     """The table (markdown) of every run's networks x caution x spread caution x target x guards (with and
     without), each row on the three ``grids`` (the validation grids unless told); several runs (or
     ``own_climb``: each with its manifest's climb, unchanged): a first column names the networks."""
@@ -135,7 +140,8 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
     guard_sets = [[], [str(g) for g in guards]] if guards else [None if own_climb else []]
     named = len(networks) > 1 or own_climb
     rows = [(n, label, climb, gs) for n in networks
-            for label, climb in climb_settings(n, shipped, targets, cautions, spread_cautions, own_climb, crest_fractions)
+            for label, climb in climb_settings(n, shipped, targets, cautions, spread_cautions, own_climb, crest_fractions,
+                                               crest_once_crept)
             for gs in guard_sets]
     jobs = [(str(n), climb, str(g), cfg, gs) for n, _, climb, gs in rows for g in grids.values() for cfg in CONFIGS]
     with ProcessPoolExecutor(workers) as pool:
@@ -152,7 +158,8 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
             "| setting, grid | ended | episodes | median | P90 | peak torque |", "|---|---|---|---|---|---|"]
     for _, label, climb, gs in rows:
         c, k, t = climb["caution"], climb.get("spread_caution", 0.0), climb["target_headroom"]
-        crest_text = "-" if climb.get("crest_fraction") is None else f"{climb['crest_fraction']:g}"
+        crest_text = "-" if climb.get("crest_fraction") is None else \
+            f"{climb['crest_fraction']:g}{' once crept' if climb.get('crest_once_crept') else ''}"
         guard_text = ", ".join(gs or []) or "-"
         cells, pooled = [], []
         setting = (f"{label}, " if named else "") + f"caution {c:g}, " + \
@@ -201,6 +208,8 @@ def main() -> None:
     parser.add_argument("--crest-fractions", type=crest_fraction, nargs="+", default=None,
                         help="crest fractions to try (the modulation's crest stays within that fraction of the cautious "
                              "headroom; 'none': uncapped, the shipped climb's default)")
+    parser.add_argument("--crest-once-crept", action="store_true",
+                        help="the crest cap (--crest-fractions) only from the climb's first slow probe on")
     parser.add_argument("--run", type=Path, nargs="+", default=[SHIPPED_INTERROGATOR],
                         help="directories of networks (member_*.npz) played with the shipped climb, each in turn")
     parser.add_argument("--guards", type=Path, nargs="+", default=None,
@@ -209,7 +218,8 @@ def main() -> None:
                         help="play each run with the climb its manifest.json names, unchanged (no --targets, --cautions, "
                              "--spread-cautions)")
     parser.add_argument("--stops", action="store_true",
-                        help="also a table of how the climbs ended (the agent's stop reason or a macro-slip), per grid")
+                        help="also a table of how the climbs ended (the agent's stop reason or a macro-slip, before or after "
+                             "its first slow probe), per grid")
     parser.add_argument("--grids", choices=sorted(GRID_SETS), default="validation",
                         help="the three grids played: validation (model selection) or confirmation (session 16: other "
                              "episodes of the same kinds, to confirm a choice taken on the first; confirmation2: a "
@@ -219,7 +229,8 @@ def main() -> None:
     args = parser.parse_args()
     if args.own_climb:
         for option, value in (("--targets", args.targets), ("--cautions", args.cautions),
-                              ("--spread-cautions", args.spread_cautions), ("--crest-fractions", args.crest_fractions)):
+                              ("--spread-cautions", args.spread_cautions), ("--crest-fractions", args.crest_fractions),
+                              ("--crest-once-crept", args.crest_once_crept or None)):
             if value is not None:
                 parser.error(f"{option}: not with --own-climb (each run plays its own manifest's climb)")
         for run in args.run:
@@ -228,6 +239,8 @@ def main() -> None:
     args.targets = args.targets or [0.1, 0.15, 0.2, 0.3]
     if any(not 0.0 < t < 1.0 for t in args.targets):
         parser.error("--targets must lie in (0, 1) (a headroom ln(M_sat / DC))")
+    if args.crest_once_crept and not args.crest_fractions:
+        parser.error("--crest-once-crept: needs --crest-fractions (the cap it delays)")
     if args.cautions is not None and any(not 0.0 <= c <= 10.0 for c in args.cautions):
         parser.error("--cautions must lie in [0, 10] (standard deviations)")
     if args.spread_cautions is not None and any(not 0.0 <= k <= 10.0 for k in args.spread_cautions):
@@ -235,7 +248,7 @@ def main() -> None:
     require_networks(parser, "--run", args.run)
     require_networks(parser, "--guards", args.guards or [])
     text = table(args.targets, args.workers, args.run, args.cautions, args.spread_cautions, args.guards, args.stops,
-                 args.own_climb, GRID_SETS[args.grids], args.crest_fractions)
+                 args.own_climb, GRID_SETS[args.grids], args.crest_fractions, args.crest_once_crept)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)
     print(text, end="")

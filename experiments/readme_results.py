@@ -63,6 +63,17 @@ generated, never typed:
     python experiments/make_grids.py    # adds the second confirmation set (session 17); every other grid unchanged
     python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 \
         --crest-fractions none 0.5 1 2 --targets 0.1 --stops --out out/crest_tradeoff_crest.md
+    mkdir -p runs/interrogator_crest && cp runs/interrogator/climbs.npz runs/interrogator_crest/
+    python experiments/train_interrogator.py --out runs/interrogator_crest --climbs env=8000 crest_shrink=8000 \
+        --fit-only --guard-climbs none
+    python experiments/crest_tradeoff.py --run runs/interrogator_crest/ensemble \
+        --guards cof_gym/agents/policies/interrogator/guard_0 --crest-fractions none 0.5 1 2 --targets 0.1 \
+        --out out/crest_tradeoff_crestnet.md
+    python experiments/crest_tradeoff.py --run cof_gym/agents/policies/interrogator runs/interrogator_crest/ensemble \
+        --guards cof_gym/agents/policies/interrogator/guard_0 --crest-fractions 1 2 3 --crest-once-crept --targets 0.1 \
+        --stops --out out/crest_tradeoff_crept.md
+    python experiments/crest_tradeoff.py --own-climb --run cof_gym/agents/policies/interrogator --stops \
+        --out out/crest_tradeoff_shipped_stops.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -112,6 +123,9 @@ SOURCES = {
         "crest_tradeoff_procguard",
         "crest_tradeoff_mixguard",
         "crest_tradeoff_crest",
+        "crest_tradeoff_crestnet",
+        "crest_tradeoff_crept",
+        "crest_tradeoff_shipped_stops",
         "crest_tradeoff_confirmation",
         "crest_tradeoff_confirmation_guard",
         "crest_tradeoff_guarded_cautions",

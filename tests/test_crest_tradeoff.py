@@ -23,7 +23,8 @@ SHIPPED = Path(__file__).resolve().parent.parent / "cof_gym" / "agents" / "polic
                                           (["--grids", "heldout"], "--grids"),
                                           (["--crest-fractions", "-0.5"], "--crest-fractions"),
                                           (["--crest-fractions", "abc"], "--crest-fractions"),
-                                          (["--own-climb", "--crest-fractions", "1"], "--crest-fractions")])
+                                          (["--own-climb", "--crest-fractions", "1"], "--crest-fractions"),
+                                          (["--crest-once-crept"], "--crest-once-crept")])
 def test_bad_options_exit_2_naming_the_option(args: list[str], option: str, tmp_path: Path) -> None:
     done = subprocess.run([sys.executable, str(SCRIPT), *args, "--out", str(tmp_path / "t.md")],
                           capture_output=True, text=True, timeout=120)

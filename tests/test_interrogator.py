@@ -575,6 +575,32 @@ def test_a_crest_capped_climb_shrinks_its_modulation_as_the_headroom_closes():
     assert amplitudes[1] < 0.4 * dcs[1]
 
 
+def test_a_crest_cap_once_crept_leaves_the_approach_alone(env):
+    """With crest_once_crept the cap bites only from the first slow probe on: a big step far from the
+    peak keeps amplitude_ratio even where the cap would shrink it; the creep's window is capped."""
+    params = ClimbParameters(amplitude_ratio=0.4, target_headroom=0.05, max_log_step=0.15, creep_log_step=0.03,
+                             creep_while_std=0.08, caution=1.0, crest_fraction=1.0, crest_once_crept=True)
+    # window 1: cautious headroom 0.39, step 0.15 (the cap would allow expm1(0.24) = 0.27 < 0.4);
+    # window 2: cautious headroom 0.06, uncertain: a creep of 0.03, capped at expm1(0.03) -> the 3 % floor
+    agent = LearnedInterrogator(env.unwrapped.limits, _ScriptedFilter([(0.40, 0.01), (0.26, 0.2)]), params=params)
+    obs, info = env.reset(seed=5)
+    agent.reset(obs, info)
+    drives = []
+    for _ in range(3):
+        action = agent.act(obs, info)
+        drives.append(decode_action(action, agent.limits).drive)
+        obs, _, _, _, info = env.step(action)
+    limits = agent.limits
+    assert drives[1].amplitude_nm == pytest.approx(params.amplitude(drives[1].dc_torque_nm, limits, 0.4), rel=1e-4)
+    assert drives[2].amplitude_nm == pytest.approx(
+        params.amplitude(drives[2].dc_torque_nm, limits, CREST_RATIO_FLOOR), rel=1e-4)
+    always = replace(params, crest_once_crept=False)
+    assert always.crest_ratio(0.24, crept=False) == pytest.approx(math.expm1(0.24))
+    assert params.crest_ratio(0.24, crept=False) == 0.4
+    with pytest.raises(ValueError, match="crest_once_crept"):
+        ClimbParameters(crest_once_crept=1)
+
+
 def test_guards_come_from_the_manifest_and_must_drive_the_climbs_tones(tmp_path):
     env = gym.make(cof_gym.WAGON_ENV_ID)
     run, guard_dir = tmp_path / "run", tmp_path / "run" / "guard"

@@ -507,6 +507,7 @@ class ClimbParameters:
     tone2_frequency_hz: float | None = None  # not None: a second tone at this frequency (a two-tone excitation)
     tone2_weight: float = 1.0  # its weight against tone 1's 1 (the env's share_2 + 1, in [0, 2])
     crest_fraction: float | None = None  # not None: the crest stays within this fraction of the cautious headroom
+    crest_once_crept: bool = False  # the crest cap only from the climb's first slow probe on
 
     def __post_init__(self) -> None:
         if self.estimate_from not in ESTIMATE_SOURCES:
@@ -526,8 +527,9 @@ class ClimbParameters:
                          MotorLimits.max_frequency_hz)
         check_number("tone2_weight", self.tone2_weight, 0.0, 2.0)
         check_number("spread_caution", self.spread_caution, 0.0, 10.0)
-        if not isinstance(self.creep_sticky, bool):
-            raise ValueError(f"creep_sticky must be True or False, got {self.creep_sticky!r}")
+        for name in ("creep_sticky", "crest_once_crept"):
+            if not isinstance(getattr(self, name), bool):
+                raise ValueError(f"{name} must be True or False, got {getattr(self, name)!r}")
         if not (isinstance(self.creep_log_step, (int, float)) and 0.0 <= self.creep_log_step <= self.max_log_step):
             raise ValueError(f"creep_log_step must be in [0, max_log_step={self.max_log_step}], got {self.creep_log_step!r}")
 
@@ -570,13 +572,14 @@ class ClimbParameters:
         is tone 2's)."""
         return probe_amplitude(self.amplitude_ratio if ratio is None else ratio, dc_nm, self.min_amplitude_nm, limits)
 
-    def crest_ratio(self, cautious_headroom_after: float) -> float:
+    def crest_ratio(self, cautious_headroom_after: float, crept: bool = True) -> float:
         """The modulation ratio at a DC torque whose cautious headroom is ``cautious_headroom_after``:
         ``amplitude_ratio``, or with ``crest_fraction`` at most ``exp(crest_fraction x headroom) - 1``, so
         that the crest ``DC (1 + ratio)`` stays that fraction (in log units) of the way from the DC to the
         cautiously predicted saturation torque, and at least :data:`CREST_RATIO_FLOOR` (the lowest ratio
-        of the training climbs: below it the lock-in reads noise)."""
-        if self.crest_fraction is None:
+        of the training climbs: below it the lock-in reads noise); with ``crest_once_crept`` only once the
+        climb has ``crept`` (its slow probe, where the filter thinks the peak may be near)."""
+        if self.crest_fraction is None or (self.crest_once_crept and not crept):
             return self.amplitude_ratio
         cap = math.expm1(self.crest_fraction * max(cautious_headroom_after, 0.0))
         return min(self.amplitude_ratio, max(cap, CREST_RATIO_FLOOR))
@@ -673,6 +676,11 @@ class LearnedInterrogator:
         self._estimate = self.limits.min_cof_estimate
         self.stop_reason = ""
 
+    @property
+    def crept(self) -> bool:
+        """Whether the climb of this episode has taken its slow probe (it may since have stopped)."""
+        return self._crept
+
     def candidate_estimates(self, best_coa_factor: float) -> dict[str, float]:
         """The estimate of each source of :data:`ESTIMATE_SOURCES` after the windows so far (the
         trajectory does not depend on which one is reported)."""
@@ -706,7 +714,7 @@ class LearnedInterrogator:
                                     else "headroom")
             else:
                 new_dc = min(self._dc * math.exp(step), self.limits.max_dc_torque_nm)
-                self._ratio = p.crest_ratio(headroom - math.log(new_dc / self._dc))
+                self._ratio = p.crest_ratio(headroom - math.log(new_dc / self._dc), self._crept)
                 self._dc = new_dc
         else:
             self._dc = self.climb.first_dc(self.limits)
