@@ -23,16 +23,16 @@ networks (directories of ``member_*.npz``; several: each in turn) under the ship
 (``--own-climb``: each with the climb its own manifest names, unchanged, and its manifest's guards unless
 ``--guards`` is given), with ``--guards`` every row also with
 these networks as the climb's guards (it steers by the lowest cautious headroom of all; the estimate
-stays the filter's), with ``--stops`` also how the climbs ended (the stop reason or a macro-slip, before or after the climb's
-first slow probe) and
-their errors, in both vehicle configurations, on the three
+stays the filter's), with ``--stops`` also how the climbs ended (the stop reason or a macro-slip, before
+or after the climb's first slow probe) and their errors, in both vehicle configurations, on the three
 validation grids (model selection data, never reported elsewhere as results): the family draws, the
 procedural curves and the procedural curves with steep falling branches
 (``experiments/suites/v2_validation_steep_grid.json``), or with ``--grids confirmation`` on the three
 confirmation grids of the same kinds (``experiments/suites/v2_confirmation_*grid.json``; ``--grids
 confirmation2``: the second such set, session 17). With ``--crest-fractions`` each row also with each of these
 crest caps (``ClimbParameters.crest_fraction``: the modulation shrinks so that its crest stays within
-that fraction of the cautious headroom; ``none``: uncapped). Per grid: median / P90 relative CoF error,
+that fraction of the cautious headroom; ``none``: uncapped; ``--crest-once-crept``: each cap from the
+climb's first slow probe on). Per grid: median / P90 relative CoF error,
 macro-slips, and the mean episode return (the task's own trade of error against slip, comfort and time).
 """
 
@@ -113,7 +113,8 @@ def climb_settings(run: Path, shipped: dict, targets: list[float], cautions: lis
                    crest_fractions: list[float | None] | None = None,
                    crest_once_crept: bool = False) -> list[tuple[str, dict]]:
     """(label, climb) of every setting a run is played with: the shipped climb x caution x spread caution x
-    crest fraction x target, or (``own_climb``) the climb its manifest names, labelled by what differs from the shipped one."""
+    crest fraction (``crest_once_crept``: each cap from the first slow probe on) x target, or (``own_climb``)
+    the climb its manifest names, labelled by what differs from the shipped one."""
     if own_climb:
         manifest = read_manifest(run)
         climb = {**shipped, **manifest["climb"]}
@@ -132,8 +133,8 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
           guards: list[Path] | None = None, stops: bool = False, own_climb: bool = False,
           grids: dict[str, Path] = GRID_SETS["validation"], crest_fractions: list[float | None] | None = None,
           crest_once_crept: bool = False) -> str:
-    """The table (markdown) of every run's networks x caution x spread caution x target x guards (with and
-    without), each row on the three ``grids`` (the validation grids unless told); several runs (or
+    """The table (markdown) of every run's networks x caution x spread caution x crest fraction x target x
+    guards (with and without), each row on the three ``grids`` (the validation grids unless told); several runs (or
     ``own_climb``: each with its manifest's climb, unchanged): a first column names the networks."""
     shipped = read_manifest(SHIPPED_INTERROGATOR)["climb"]
     # None: the guards the run's manifest names (with own_climb: the climb as shipped), [] none

@@ -35,8 +35,8 @@ import gymnasium as gym
 import numpy as np
 
 from cof_gym.agents.interrogator import (
-    CREST_RATIO_FLOOR, FEATURE_BLOCKS, TARGET_NAMES, TWO_TONE_ENV_OPTIONS, ClimbParameters, EpisodeFeatures, FilterNetwork, Reading,
-    feature_names, floor_headroom, slope_from_phase,
+    CREST_RATIO_FLOOR, FEATURE_BLOCKS, TARGET_NAMES, TWO_TONE_ENV_OPTIONS, ClimbParameters, EpisodeFeatures,
+    FilterNetwork, Reading, feature_names, floor_headroom, slope_from_phase,
 )
 from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.physics.creep_laws import below_peak
