@@ -32,13 +32,16 @@ confirmation grids of the same kinds (``experiments/suites/v2_confirmation_*grid
 confirmation2``: the second such set, session 17). With ``--crest-fractions`` each row also with each of these
 crest caps (``ClimbParameters.crest_fraction``: the modulation shrinks so that its crest stays within
 that fraction of the cautious headroom; ``none``: uncapped; ``--crest-once-crept``: each cap from the
-climb's first slow probe on). Per grid: median / P90 relative CoF error,
+climb's first slow probe on). With ``--set NAME=VALUE ...`` the shipped climb with those parameters (a
+name given several values: each in turn). Per grid: median / P90 relative CoF error,
 macro-slips, and the mean episode return (the task's own trade of error against slip, comfort and time).
 """
 
 from __future__ import annotations
 
 import argparse
+import itertools
+import json
 import math
 import sys
 from concurrent.futures import ProcessPoolExecutor
@@ -132,38 +135,43 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
           cautions: list[float] | None = None, spread_cautions: list[float] | None = None,
           guards: list[Path] | None = None, stops: bool = False, own_climb: bool = False,
           grids: dict[str, Path] = GRID_SETS["validation"], crest_fractions: list[float | None] | None = None,
-          crest_once_crept: bool = False) -> str:
-    """The table (markdown) of every run's networks x caution x spread caution x crest fraction x target x
-    guards (with and without), each row on the three ``grids`` (the validation grids unless told); several runs (or
-    ``own_climb``: each with its manifest's climb, unchanged): a first column names the networks."""
-    shipped = read_manifest(SHIPPED_INTERROGATOR)["climb"]
+          crest_once_crept: bool = False, settings: dict[str, list] | None = None) -> str:
+    """The table (markdown) of every run's networks x set climb parameters (``settings``: each value of each
+    in turn) x caution x spread caution x crest fraction x target x guards (with and without), each row on the
+    three ``grids`` (the validation grids unless told); several runs (or ``own_climb``: each with its
+    manifest's climb, unchanged): a first column names the networks."""
+    manifest_climb = read_manifest(SHIPPED_INTERROGATOR)["climb"]
+    variants = [dict(zip(settings, values)) for values in itertools.product(*settings.values())] if settings else [{}]
     # None: the guards the run's manifest names (with own_climb: the climb as shipped), [] none
     guard_sets = [[], [str(g) for g in guards]] if guards else [None if own_climb else []]
     named = len(networks) > 1 or own_climb
-    rows = [(n, label, climb, gs) for n in networks
-            for label, climb in climb_settings(n, shipped, targets, cautions, spread_cautions, own_climb, crest_fractions,
-                                               crest_once_crept)
+    rows = [(n, label, climb, gs, ", ".join(f"{k} {v}" for k, v in variant.items()))
+            for n in networks for variant in variants
+            for label, climb in climb_settings(n, {**manifest_climb, **variant}, targets, cautions, spread_cautions,
+                                               own_climb, crest_fractions, crest_once_crept)
             for gs in guard_sets]
-    jobs = [(str(n), climb, str(g), cfg, gs) for n, _, climb, gs in rows for g in grids.values() for cfg in CONFIGS]
+    jobs = [(str(n), climb, str(g), cfg, gs) for n, _, climb, gs, _ in rows for g in grids.values() for cfg in CONFIGS]
     with ProcessPoolExecutor(workers) as pool:
         results = iter(list(pool.map(_play, *zip(*jobs))))
     head = " | ".join(f"{name}: median / P90 / macro-slips / return" for name in grids)
     spread_head = "spread caution | " if spread_cautions else ""
     crest_head = "crest fraction | " if crest_fractions else ""
     guard_head = "guards | " if guards else ""
-    lines = [f"| {'networks | ' if named else ''}caution | {spread_head}{crest_head}target headroom | {guard_head}{head} | "
-             "all: macro-slips / return |",
-             "|---|---|" + "---|" * (len(grids) + 1 + named + bool(spread_cautions) + bool(crest_fractions) + bool(guards))]
+    set_head = "set | " if settings else ""
+    lines = [f"| {'networks | ' if named else ''}{set_head}caution | {spread_head}{crest_head}target headroom | "
+             f"{guard_head}{head} | all: macro-slips / return |",
+             "|---|---|" + "---|" * (len(grids) + 1 + named + bool(settings) + bool(spread_cautions) + bool(crest_fractions)
+                                     + bool(guards))]
     ends = ["", "Where the climbs ended (both configurations; peak torque: the median over the episodes of "
             "the largest true torque, crest included, over the saturation torque):", "",
             "| setting, grid | ended | episodes | median | P90 | peak torque |", "|---|---|---|---|---|---|"]
-    for _, label, climb, gs in rows:
+    for _, label, climb, gs, set_text in rows:
         c, k, t = climb["caution"], climb.get("spread_caution", 0.0), climb["target_headroom"]
         crest_text = "-" if climb.get("crest_fraction") is None else \
             f"{climb['crest_fraction']:g}{' once crept' if climb.get('crest_once_crept') else ''}"
         guard_text = ", ".join(gs or []) or "-"
         cells, pooled = [], []
-        setting = (f"{label}, " if named else "") + f"caution {c:g}, " + \
+        setting = (f"{label}, " if named else "") + (f"{set_text}, " if settings else "") + f"caution {c:g}, " + \
             (f"spread caution {k:g}, " if spread_cautions else "") + \
             (f"crest fraction {crest_text}, " if crest_fractions else "") + f"target {t:g}, " + \
             (f"guards {guard_text}, " if guards else "")
@@ -175,7 +183,8 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
             cells.append(f"{100 * s['median']:.1f} % / {100 * s['p90']:.1f} % / {s['macro_slips']} of {len(runs)} / "
                          f"{np.mean([r.episode_return for r in runs]):.2f}")
         guard_cell = f"{guard_text} | " if guards else ""
-        lines.append(f"| {f'{label} | ' if named else ''}{c:g} | {f'{k:g} | ' if spread_cautions else ''}"
+        lines.append(f"| {f'{label} | ' if named else ''}{f'{set_text} | ' if settings else ''}{c:g} | "
+                     f"{f'{k:g} | ' if spread_cautions else ''}"
                      f"{f'{crest_text} | ' if crest_fractions else ''}{t:g} | "
                      f"{guard_cell}{' | '.join(cells)} | "
                      f"{sum(r.macro_slip for r in pooled)} of {len(pooled)} / "
@@ -198,6 +207,21 @@ def crest_fraction(text: str) -> float | None:
     return value
 
 
+def climb_setting(text: str) -> tuple[str, object]:
+    """A ``--set`` item: ``NAME=VALUE`` with NAME a :class:`ClimbParameters` field and VALUE JSON that it
+    accepts (checked by building the shipped climb with it)."""
+    name, _, value = text.partition("=")
+    fields = asdict(ClimbParameters())
+    if name not in fields:
+        raise argparse.ArgumentTypeError(f"expected NAME=VALUE with NAME a climb parameter ({', '.join(fields)}), got {text!r}")
+    try:
+        parsed = json.loads(value)
+        ClimbParameters(**{**read_manifest(SHIPPED_INTERROGATOR)["climb"], name: parsed})
+    except ValueError as error:  # json.JSONDecodeError is a ValueError
+        raise argparse.ArgumentTypeError(f"{name}: {error}") from None
+    return name, parsed
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--targets", type=float, nargs="+", default=None,
@@ -211,6 +235,9 @@ def main() -> None:
                              "headroom; 'none': uncapped, the shipped climb's default)")
     parser.add_argument("--crest-once-crept", action="store_true",
                         help="the crest cap (--crest-fractions) only from the climb's first slow probe on")
+    parser.add_argument("--set", nargs="+", default=[], metavar="NAME=VALUE", type=climb_setting,
+                        help="climb parameters (ClimbParameters fields, JSON values) set in the rows; a name given "
+                             "several values: each in turn, e.g. creep_log_step=0.02 creep_log_step=0.045")
     parser.add_argument("--run", type=Path, nargs="+", default=[SHIPPED_INTERROGATOR],
                         help="directories of networks (member_*.npz) played with the shipped climb, each in turn")
     parser.add_argument("--guards", type=Path, nargs="+", default=None,
@@ -231,7 +258,7 @@ def main() -> None:
     if args.own_climb:
         for option, value in (("--targets", args.targets), ("--cautions", args.cautions),
                               ("--spread-cautions", args.spread_cautions), ("--crest-fractions", args.crest_fractions),
-                              ("--crest-once-crept", args.crest_once_crept or None)):
+                              ("--crest-once-crept", args.crest_once_crept or None), ("--set", args.set or None)):
             if value is not None:
                 parser.error(f"{option}: not with --own-climb (each run plays its own manifest's climb)")
         for run in args.run:
@@ -249,7 +276,8 @@ def main() -> None:
     require_networks(parser, "--run", args.run)
     require_networks(parser, "--guards", args.guards or [])
     text = table(args.targets, args.workers, args.run, args.cautions, args.spread_cautions, args.guards, args.stops,
-                 args.own_climb, GRID_SETS[args.grids], args.crest_fractions, args.crest_once_crept)
+                 args.own_climb, GRID_SETS[args.grids], args.crest_fractions, args.crest_once_crept,
+                 {name: [v for n, v in args.set if n == name] for name, _ in args.set})
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)
     print(text, end="")

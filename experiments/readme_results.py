@@ -74,6 +74,8 @@ generated, never typed:
         --stops --out out/crest_tradeoff_crept.md
     python experiments/crest_tradeoff.py --own-climb --run cof_gym/agents/policies/interrogator --stops \
         --out out/crest_tradeoff_shipped_stops.md
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --set creep_log_step=0.02 \
+        creep_log_step=0.03 creep_log_step=0.045 creep_log_step=0.06 --targets 0.1 --out out/crest_tradeoff_creep_steps.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -126,6 +128,7 @@ SOURCES = {
         "crest_tradeoff_crestnet",
         "crest_tradeoff_crept",
         "crest_tradeoff_shipped_stops",
+        "crest_tradeoff_creep_steps",
         "crest_tradeoff_confirmation",
         "crest_tradeoff_confirmation_guard",
         "crest_tradeoff_guarded_cautions",

@@ -24,7 +24,11 @@ SHIPPED = Path(__file__).resolve().parent.parent / "cof_gym" / "agents" / "polic
                                           (["--crest-fractions", "-0.5"], "--crest-fractions"),
                                           (["--crest-fractions", "abc"], "--crest-fractions"),
                                           (["--own-climb", "--crest-fractions", "1"], "--crest-fractions"),
-                                          (["--crest-once-crept"], "--crest-once-crept")])
+                                          (["--crest-once-crept"], "--crest-once-crept"),
+                                          (["--set", "no_such_field=1"], "--set"),
+                                          (["--set", "creep_log_step=0.5"], "--set"),
+                                          (["--set", "creep_sticky=maybe"], "--set"),
+                                          (["--own-climb", "--set", "caution=2"], "--set")])
 def test_bad_options_exit_2_naming_the_option(args: list[str], option: str, tmp_path: Path) -> None:
     done = subprocess.run([sys.executable, str(SCRIPT), *args, "--out", str(tmp_path / "t.md")],
                           capture_output=True, text=True, timeout=120)
@@ -79,3 +83,12 @@ def test_how_the_climbs_ended_is_one_row_per_reason_with_its_errors() -> None:
     assert rows == ["| caution 2, target 0.1, family | headroom | 2 of 4 | 3.0 % | 3.8 % | 115 % |",
                     "| caution 2, target 0.1, family | horizon | 1 of 4 | 30.0 % | 30.0 % | 80 % |",
                     "| caution 2, target 0.1, family | macro-slip | 1 of 4 | 100.0 % | 100.0 % | 130 % |"]
+
+
+def test_set_items_are_climb_parameters_with_json_values() -> None:
+    sys.path.insert(0, str(SCRIPT.parent))
+    from crest_tradeoff import climb_setting
+
+    assert climb_setting("creep_log_step=0.05") == ("creep_log_step", 0.05)
+    assert climb_setting("creep_sticky=false") == ("creep_sticky", False)
+    assert climb_setting("creep_until=null") == ("creep_until", None)
