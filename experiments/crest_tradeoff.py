@@ -111,13 +111,23 @@ def _ends(setting: str, grid: str, runs: list[Played]) -> list[str]:
     return rows
 
 
+def row_variants(settings: dict[str, list] | None = None, crest_fractions: list[float | None] | None = None,
+                 crest_once_crept: bool = False) -> list[dict]:
+    """The climb parameters each row sets over the shipped climb: every combination of the values of
+    ``settings`` ({name: values}) and of ``crest_fractions`` (each cap from the first slow probe on with
+    ``crest_once_crept``); ``[{}]`` (the shipped climb) when neither is given."""
+    axes = dict(settings or {})
+    if crest_fractions:
+        axes["crest_fraction"] = list(crest_fractions)
+        if crest_once_crept:
+            axes["crest_once_crept"] = [True]
+    return [dict(zip(axes, values)) for values in itertools.product(*axes.values())]
+
+
 def climb_settings(run: Path, shipped: dict, targets: list[float], cautions: list[float] | None,
-                   spread_cautions: list[float] | None, own_climb: bool,
-                   crest_fractions: list[float | None] | None = None,
-                   crest_once_crept: bool = False) -> list[tuple[str, dict]]:
+                   spread_cautions: list[float] | None, own_climb: bool) -> list[tuple[str, dict]]:
     """(label, climb) of every setting a run is played with: the shipped climb x caution x spread caution x
-    crest fraction (``crest_once_crept``: each cap from the first slow probe on) x target, or (``own_climb``)
-    the climb its manifest names, labelled by what differs from the shipped one."""
+    target, or (``own_climb``) the climb its manifest names, labelled by what differs from the shipped one."""
     if own_climb:
         manifest = read_manifest(run)
         climb = {**shipped, **manifest["climb"]}
@@ -125,10 +135,9 @@ def climb_settings(run: Path, shipped: dict, targets: list[float], cautions: lis
         changed = ", ".join(f"{k} {v}" for k, v in climb.items() if base.get(k) != v) or "the shipped climb"
         guarded = f"; guards {', '.join(manifest['guards'])}" if manifest.get("guards") else ""
         return [(f"{run} ({changed}{guarded})", climb)]
-    once = {"crest_once_crept": True} if crest_once_crept else {}
-    return [(str(run), {**climb_at(shipped, t), "caution": c, "spread_caution": k, "crest_fraction": f, **once})
+    return [(str(run), {**climb_at(shipped, t), "caution": c, "spread_caution": k})
             for c in cautions or [shipped["caution"]] for k in spread_cautions or [shipped.get("spread_caution", 0.0)]
-            for f in crest_fractions or [shipped.get("crest_fraction")] for t in targets]
+            for t in targets]
 
 
 def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_INTERROGATOR,),
@@ -141,14 +150,13 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
     three ``grids`` (the validation grids unless told); several runs (or ``own_climb``: each with its
     manifest's climb, unchanged): a first column names the networks."""
     manifest_climb = read_manifest(SHIPPED_INTERROGATOR)["climb"]
-    variants = [dict(zip(settings, values)) for values in itertools.product(*settings.values())] if settings else [{}]
     # None: the guards the run's manifest names (with own_climb: the climb as shipped), [] none
     guard_sets = [[], [str(g) for g in guards]] if guards else [None if own_climb else []]
     named = len(networks) > 1 or own_climb
-    rows = [(n, label, climb, gs, ", ".join(f"{k} {v}" for k, v in variant.items()))
-            for n in networks for variant in variants
+    rows = [(n, label, climb, gs, ", ".join(f"{k} {v}" for k, v in variant.items() if k in (settings or {})))
+            for n in networks for variant in row_variants(settings, crest_fractions, crest_once_crept)
             for label, climb in climb_settings(n, {**manifest_climb, **variant}, targets, cautions, spread_cautions,
-                                               own_climb, crest_fractions, crest_once_crept)
+                                               own_climb)
             for gs in guard_sets]
     jobs = [(str(n), climb, str(g), cfg, gs) for n, _, climb, gs, _ in rows for g in grids.values() for cfg in CONFIGS]
     with ProcessPoolExecutor(workers) as pool:

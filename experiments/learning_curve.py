@@ -22,7 +22,7 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from train_interrogator import load_or_collect, parse_climbs, require_networks, split  # noqa: E402
+from train_interrogator import collect, parse_climbs, require_networks, split  # noqa: E402
 
 from cof_gym.agents.interrogator import FilterEnsemble, read_manifest  # noqa: E402
 from cof_gym.agents.interrogator_training import Dataset, FitSettings, fit_member, nll  # noqa: E402
@@ -83,7 +83,7 @@ def main() -> None:
         parser.error("--epochs must be >= 1")
     require_networks(parser, "--ensembles", args.ensembles)
     args.run.mkdir(parents=True, exist_ok=True)
-    data = Dataset.concatenate([load_or_collect(args.run, name, n, args.workers) for name, n in climbs.items() if n])
+    data = collect(args.run, climbs, args.workers)
     text = table(data, args.sizes, args.seed, args.ensembles, args.epochs)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)

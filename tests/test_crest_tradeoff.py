@@ -50,7 +50,7 @@ def test_own_climb_needs_each_runs_manifest(tmp_path: Path) -> None:
 
 def test_own_climb_labels_a_run_by_what_its_climb_changes(tmp_path: Path) -> None:
     sys.path.insert(0, str(SCRIPT.parent))
-    from crest_tradeoff import climb_settings
+    from crest_tradeoff import climb_settings, row_variants
 
     shipped = json.loads((SHIPPED / "manifest.json").read_text())["climb"]
     (tmp_path / "manifest.json").write_text(json.dumps({"climb": {**shipped, "max_log_step": 0.25}}))
@@ -67,10 +67,15 @@ def test_own_climb_labels_a_run_by_what_its_climb_changes(tmp_path: Path) -> Non
     assert [(c["target_headroom"], c["caution"], c["max_log_step"]) for _, c in rows] == [
         (0.1, 1.5, shipped["max_log_step"]), (0.3, 1.5, shipped["max_log_step"])]
     # crest fractions: each row with each cap (None: uncapped), the manifest's default when not given
-    rows = climb_settings(tmp_path, shipped, [0.1], None, None, False, [None, 0.5])
-    assert [c["crest_fraction"] for _, c in rows] == [None, 0.5]
-    assert all(c["crest_fraction"] == shipped.get("crest_fraction") for _, c in
-               climb_settings(tmp_path, shipped, [0.1], None, None, False))
+    rows = [climb for variant in row_variants(None, [None, 0.5])
+            for _, climb in climb_settings(tmp_path, {**shipped, **variant}, [0.1], None, None, False)]
+    assert [c["crest_fraction"] for c in rows] == [None, 0.5]
+    assert all(c.get("crest_fraction") == shipped.get("crest_fraction") for variant in row_variants()
+               for _, c in climb_settings(tmp_path, {**shipped, **variant}, [0.1], None, None, False))
+    # --set values and crest caps combine, each cap from the first slow probe on with crest_once_crept
+    assert row_variants({"creep_log_step": [0.02, 0.045]}, [1.0], True) == [
+        {"creep_log_step": 0.02, "crest_fraction": 1.0, "crest_once_crept": True},
+        {"creep_log_step": 0.045, "crest_fraction": 1.0, "crest_once_crept": True}]
 
 
 def test_how_the_climbs_ended_is_one_row_per_reason_with_its_errors() -> None:
