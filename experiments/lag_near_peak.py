@@ -20,12 +20,28 @@ KEY=VALUE`` overrides a reset option of every chosen episode (numbers as JSON, e
 three times the modulation frequency: the torque is the same sine, and their lock-ins read the wheelset
 speed's second and third harmonics, printed relative to the fundamental (H2, H3): the distortion a
 curved or kinked creep curve puts on the response.
+
+``--hold-dc F`` runs a held-DC amplitude probe instead of the staircase: the DC torque stays at ``F`` of
+the saturation torque and ``--levels`` are the modulation's crest (DC + amplitude) over it, the amplitude
+at most the drive's (:class:`~cof_gym.task.interface.MotorLimits`; a row marks where that limit cut it).
+Below the peak the crest reaches into the knee while the trough pulls the wheel back; past it, the DC
+is below the falling branch for longer than a DC climb's is. ``--summary`` prints one table over the
+chosen episodes (``--all-episodes``: every episode of the suite; ``--counter-torque``: in the paper's
+configuration) instead of one per episode: per level, the episodes that reached it, the macro-slips at
+it, the windows whose amplitude the drive cut, and over the episodes the drive did not cut the median
+lag, its median rise since the first level and the median of the measured creepage's swing per torque
+over the first level's (``--out FILE``: also written there):
+
+    python experiments/lag_near_peak.py --suite experiments/suites/v2_validation_steep_grid.json \
+        --all-episodes --summary --levels 0.9 0.95 1 1.05 1.1 1.15 1.2 1.3 --hold-dc 0.7
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+from pathlib import Path
+from typing import NamedTuple
 
 import gymnasium as gym
 
@@ -47,30 +63,83 @@ def _harmonics(measurement: dict) -> str:
     return " | ".join(f"{measurement[f'tone{k}_omega_amplitude_rad_s'] / fundamental:.3f}" for k in (2, 3))
 
 
-def trace(env, seed: int, options: dict, levels, amplitude_ratio: float, frequency_hz: float,
-          harmonics: bool = False) -> list[str]:
-    """Markdown rows, one per window of the staircase."""
+class Window(NamedTuple):
+    """One window of a staircase or an amplitude probe, as the tables print it."""
+
+    level: float  # the DC (staircase) or the crest (held-DC probe) over the true saturation torque
+    reading: Reading
+    info: dict
+    clipped: bool  # the drive's amplitude limit cut the modulation
+
+
+def _swing(window: "Window") -> float:
+    """The measured creepage's modulation amplitude per N m of torque amplitude (a sensor reading)."""
+    m = window.info["measurement"]
+    return m["creepage_modulation_amplitude"] / max(m["torque_amplitude_nm"], 1e-9)
+
+
+def drive(dc_fraction: float, level: float, hold_dc: float | None, amplitude_ratio: float) -> tuple[float, float]:
+    """(DC, amplitude) over the saturation torque at ``level``: the staircase's DC and ``amplitude_ratio`` of
+    it, or with ``hold_dc`` the held DC and the amplitude that puts the crest at ``level``."""
+    if hold_dc is None:
+        return dc_fraction, amplitude_ratio * dc_fraction
+    return hold_dc, level - hold_dc
+
+
+def windows(env, seed: int, options: dict, levels, amplitude_ratio: float, frequency_hz: float,
+            harmonics: bool = False, hold_dc: float | None = None) -> tuple[dict, list[Window]]:
+    """(the episode's ground truth, its windows): one window per level, until the episode ends."""
     limits = env.unwrapped.limits
     _, info = env.reset(seed=seed, options=options)
     truth = info["ground_truth"]
+    m_sat = truth["saturation_torque_nm"]
     silent = encode_extra_tones([(2 * frequency_hz, 0.0), (3 * frequency_hz, 0.0)], limits.min_frequency_hz,
                                 limits.max_frequency_hz) if harmonics else np.zeros(0, dtype=np.float32)
-    rows, first_swing = [], None
+    out = []
     for u in levels:
-        dc = u * truth["saturation_torque_nm"]
-        action = np.concatenate([encode_action(dc, amplitude_ratio * dc, frequency_hz, 0.1, False, limits), silent])
+        dc, amplitude = (m_sat * x for x in drive(u, u, hold_dc, amplitude_ratio))
+        action = np.concatenate([encode_action(dc, amplitude, frequency_hz, 0.1, False, limits), silent])
         obs, _, terminated, truncated, info = env.step(action)
-        r = Reading.of(obs, limits)
-        m = info["measurement"]
-        swing = m["creepage_modulation_amplitude"] / max(m["torque_amplitude_nm"], 1e-9)
-        first_swing = first_swing or swing
-        rows.append(f"| {u:.2f} | {r.phase_deg:.1f} +- {r.se_deg:.1f} | {r.compliance:.3f} | "
-                    f"{r.coa / truth['cof']:.3f} | {info['ground_truth']['creepage_mean'] / truth['peak_creepage']:.2f} | "
-                    + (f"{_harmonics(m)} | " if harmonics else "")
-                    + f"{swing / first_swing:.2f} | {m['creepage_modulation_lag_deg']:.1f} +- "
-                    f"{m['creepage_modulation_lag_se_deg']:.1f} | {'yes' if info['macro_slip'] else ''} |")
+        out.append(Window(u, Reading.of(obs, limits), info, amplitude > limits.max_amplitude_nm))
         if terminated or truncated:
             break
+    return truth, out
+
+
+def trace(env, seed: int, options: dict, levels, amplitude_ratio: float, frequency_hz: float,
+          harmonics: bool = False, hold_dc: float | None = None) -> list[str]:
+    """Markdown rows, one per window of the staircase (or of the held-DC probe)."""
+    truth, played = windows(env, seed, options, levels, amplitude_ratio, frequency_hz, harmonics, hold_dc)
+    rows, first_swing = [], None
+    for w in played:
+        r, m = w.reading, w.info["measurement"]
+        swing = _swing(w)
+        first_swing = first_swing or swing
+        rows.append(f"| {w.level:.2f}{' (cut)' if w.clipped else ''} | {r.phase_deg:.1f} +- {r.se_deg:.1f} | "
+                    f"{r.compliance:.3f} | {r.coa / truth['cof']:.3f} | "
+                    f"{w.info['ground_truth']['creepage_mean'] / truth['peak_creepage']:.2f} | "
+                    + (f"{_harmonics(m)} | " if harmonics else "")
+                    + f"{swing / first_swing:.2f} | {m['creepage_modulation_lag_deg']:.1f} +- "
+                    f"{m['creepage_modulation_lag_se_deg']:.1f} | {'yes' if w.info['macro_slip'] else ''} |")
+    return rows
+
+
+def summary(episodes: list[list[Window]], levels) -> list[str]:
+    """Markdown rows over many episodes, one per level: episodes that reached it, macro-slips at it,
+    windows the drive's amplitude limit cut, and over the episodes it never cut up to that level the
+    median lag, the median rise of the lag since the first level (deg) and the median of the measured
+    creepage's swing per torque over the first level's."""
+    rows = []
+    for k, level in enumerate(levels):
+        reached = [e for e in episodes if len(e) > k]
+        uncut = [e for e in reached if not any(w.clipped for w in e[:k + 1])]
+        lags = [e[k].reading.phase_deg for e in uncut]
+        rises = [e[k].reading.phase_deg - e[0].reading.phase_deg for e in uncut]
+        median = lambda xs: f"{float(np.median(xs)):.1f}" if xs else "-"  # noqa: E731
+        swings = [_swing(e[k]) / _swing(e[0]) for e in uncut]
+        rows.append(f"| {level:.2f} | {len(reached)} | {sum(bool(e[k].info['macro_slip']) for e in reached)} | "
+                    f"{sum(e[k].clipped for e in reached)} | {len(uncut)} | {median(lags)} | {median(rises)} | "
+                    f"{median(swings)} |")
     return rows
 
 
@@ -84,7 +153,21 @@ def main() -> None:
     ap.add_argument("--env", default=None, help="play the episodes in this env id instead of the suite's")
     ap.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE", help="override a reset option")
     ap.add_argument("--harmonics", action="store_true", help="also read the speed's 2nd and 3rd harmonics")
+    ap.add_argument("--hold-dc", type=float, default=None, metavar="F",
+                    help="a held-DC amplitude probe: DC at F x M_sat, --levels the crest / M_sat")
+    ap.add_argument("--summary", action="store_true", help="one table over the chosen episodes")
+    ap.add_argument("--all-episodes", action="store_true", help="every episode of the suite")
+    ap.add_argument("--counter-torque", action="store_true", help="the paper's vehicle configuration")
+    ap.add_argument("--out", type=Path, default=None, help="with --summary: also write the table here")
     args = ap.parse_args()
+    if args.hold_dc is not None:
+        if not 0.0 < args.hold_dc <= 1.5:
+            ap.error(f"--hold-dc must be in (0, 1.5] (a fraction of the saturation torque), got {args.hold_dc:g}")
+        if min(args.levels) <= args.hold_dc:
+            ap.error(f"--levels are crests with --hold-dc: each must exceed the held DC {args.hold_dc:g}, "
+                     f"got {min(args.levels):g}")
+    if args.out is not None and not args.summary:
+        ap.error("--out writes the --summary table: give --summary")
     if args.harmonics and not 3 * args.frequency <= MotorLimits.max_frequency_hz:
         ap.error(f"--harmonics reads 3 x --frequency, which must be <= {MotorLimits.max_frequency_hz:g} Hz "
                  f"(the drive's range), got {args.frequency:g} Hz")
@@ -98,19 +181,35 @@ def main() -> None:
         except json.JSONDecodeError:
             overrides[key] = value
     suite = make_suite(args.suite, 60, 0)
-    for k in args.episodes:
+    chosen = range(len(suite.episodes)) if args.all_episodes else args.episodes
+    for k in chosen:
         if not 0 <= k < len(suite.episodes):
             ap.error(f"--episodes: {k} is not an index of the suite (0 to {len(suite.episodes) - 1})")
-    env = gym.make(args.env or suite.env_id, **suite.env_kwargs, **(HARMONIC_OPTIONS if args.harmonics else {}))
-    for k in args.episodes:
+    env = gym.make(args.env or suite.env_id, **suite.env_kwargs, **(HARMONIC_OPTIONS if args.harmonics else {}),
+                   **({"counter_torque": True} if args.counter_torque else {}))
+    level_name = "DC / M_sat" if args.hold_dc is None else f"crest / M_sat (DC {args.hold_dc:g} M_sat)"
+    played = []
+    for k in chosen:
         seed, options = suite.episodes[k]
         options = {**options, **overrides}
+        if args.summary:
+            played.append(windows(env, seed, options, args.levels, args.amplitude_ratio, args.frequency,
+                                  args.harmonics, args.hold_dc)[1])
+            continue
         print(f"\n### episode {k} (seed {seed}): {options.get('condition')}, CoF {options.get('cof')}\n")
         extra = " H2 | H3 |" if args.harmonics else ""
-        print(f"| DC / M_sat | lag [deg] | compliance | CoA / CoF | creepage / peak creepage |{extra} "
+        print(f"| {level_name} | lag [deg] | compliance | CoA / CoF | creepage / peak creepage |{extra} "
               "creepage swing / first | creepage lag [deg] | macro-slip |")
         print("|---" * (8 + 2 * args.harmonics) + "|")
-        print("\n".join(trace(env, seed, options, args.levels, args.amplitude_ratio, args.frequency, args.harmonics)))
+        print("\n".join(trace(env, seed, options, args.levels, args.amplitude_ratio, args.frequency, args.harmonics,
+                               args.hold_dc)))
+    if args.summary:
+        table = "\n".join([f"| {level_name} | episodes | macro-slips | amplitude cut | not cut | median lag [deg] | "
+                           "median lag rise [deg] | median creepage swing / first |", "|---" * 8 + "|", *summary(played, args.levels)])
+        print(table)
+        if args.out is not None:
+            args.out.parent.mkdir(parents=True, exist_ok=True)
+            args.out.write_text(table + "\n")
 
 
 if __name__ == "__main__":

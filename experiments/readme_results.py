@@ -76,6 +76,15 @@ generated, never typed:
         --out out/crest_tradeoff_shipped_stops.md
     python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --set creep_log_step=0.02 \
         creep_log_step=0.03 creep_log_step=0.045 creep_log_step=0.06 --targets 0.1 --out out/crest_tradeoff_creep_steps.md
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --set approach_fraction=0.25 \
+        approach_fraction=0.5 creep_log_step=0.02 creep_log_step=0.03 --targets 0.1 --stops --out out/crest_tradeoff_approach.md
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --set max_log_step=0.25 \
+        --targets 0.1 --stops --out out/crest_tradeoff_max_step.md
+    python experiments/lag_near_peak.py --suite experiments/suites/v2_validation_steep_grid.json --all-episodes --summary \
+        --levels 0.9 0.95 1 1.05 1.1 1.15 1.2 1.3 --hold-dc 0.7 [--counter-torque] --out out/amplitude_probe_held[_ct].md
+    python experiments/lag_near_peak.py --suite experiments/suites/v2_validation_steep_grid.json --all-episodes --summary \
+        --levels 0.643 0.679 0.714 0.75 0.786 0.821 0.857 0.929 --amplitude-ratio 0.4 [--counter-torque] \
+        --out out/amplitude_probe_staircase[_ct].md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -110,7 +119,7 @@ SOURCES = {
     "heldout": ROOT / "out" / "evaluate-heldout" / "summary.md",
     "ppo_seeds": ROOT / "out" / "ppo_seeds" / "report.md",
     "interrogator_seeds": ROOT / "runs" / "interrogator" / "report.md",
-    # experiments/crest_tradeoff.py and learning_curve.py: out/NAME.md for the block NAME
+    # experiments/crest_tradeoff.py, learning_curve.py and lag_near_peak.py: out/NAME.md for the block NAME
     **{name: ROOT / "out" / f"{name}.md" for name in (
         "crest_tradeoff",
         "crest_tradeoff_cm",
@@ -133,6 +142,12 @@ SOURCES = {
         "crest_tradeoff_confirmation_guard",
         "crest_tradeoff_guarded_cautions",
         "crest_tradeoff_steepguard",
+        "crest_tradeoff_approach",
+        "crest_tradeoff_max_step",
+        "amplitude_probe_held",
+        "amplitude_probe_held_ct",
+        "amplitude_probe_staircase",
+        "amplitude_probe_staircase_ct",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about

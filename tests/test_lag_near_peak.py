@@ -4,11 +4,13 @@ in the env it is given, and refuses a malformed override before simulating."""
 import sys
 from pathlib import Path
 
+import gymnasium as gym
 import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
 import lag_near_peak  # noqa: E402
 
+STEEP = Path(__file__).resolve().parents[1] / "experiments" / "suites" / "v2_validation_steep_grid.json"
 ARGS = ["lag_near_peak.py", "--episodes", "6", "--levels", "0.3", "0.8", "--amplitude-ratio", "0.4"]
 
 
@@ -50,3 +52,36 @@ def test_harmonics_read_silent_tones_without_changing_the_drive(monkeypatch, cap
     with pytest.raises(SystemExit) as e:
         lag_near_peak.main()
     assert e.value.code == 2
+
+
+def test_held_dc_probe_grows_the_amplitude_at_a_fixed_dc():
+    """--hold-dc: the drive keeps the DC at the held fraction of M_sat and puts the crest at each level
+    (exact arithmetic), and the env's measured torque shows it: a twice larger amplitude at the same mean
+    (the sensor's gain error and the motor's lag are the same in both windows, so only noise differs)."""
+    assert lag_near_peak.drive(0.8, 0.8, None, 0.4) == (0.8, 0.8 * 0.4)
+    assert lag_near_peak.drive(0.9, 0.9, 0.7, 0.4) == (0.7, 0.9 - 0.7)
+    suite = lag_near_peak.make_suite(str(STEEP), 60, 0)
+    k = min(range(len(suite.episodes)), key=lambda i: suite.episodes[i][1]["cof"])  # the smallest torques
+    seed, options = suite.episodes[k]
+    env = gym.make(suite.env_id, **suite.env_kwargs)
+    _, played = lag_near_peak.windows(env, seed, options, [0.8, 0.9], 0.4, 5.0, hold_dc=0.7)
+    env.close()
+    assert len(played) == 2 and not any(w.clipped for w in played)
+    first, second = (w.info["measurement"] for w in played)
+    assert second["torque_amplitude_nm"] / first["torque_amplitude_nm"] == pytest.approx(2.0, rel=0.1)
+    assert second["torque_mean_nm"] / first["torque_mean_nm"] == pytest.approx(1.0, rel=0.02)
+
+
+def test_summary_table_and_its_refusals(monkeypatch, capsys, tmp_path):
+    out = tmp_path / "probe.md"
+    monkeypatch.setattr(sys, "argv", ["lag_near_peak.py", "--suite", str(STEEP), "--episodes", "0", "1",
+                                      "--summary", "--levels", "0.9", "1.0", "--hold-dc", "0.7", "--out", str(out)])
+    lag_near_peak.main()
+    rows = [line for line in out.read_text().splitlines() if line.startswith("| 0.90") or line.startswith("| 1.00")]
+    assert len(rows) == 2 and all(row.split("|")[2].strip() in ("1", "2") for row in rows)  # episodes reached
+    assert out.read_text() in capsys.readouterr().out + "\n"
+    for bad in (["--hold-dc", "0"], ["--hold-dc", "0.95"], ["--out", str(out)]):  # crest <= DC; --out alone
+        monkeypatch.setattr(sys, "argv", ["lag_near_peak.py", "--episodes", "0", "--levels", "0.9", *bad])
+        with pytest.raises(SystemExit) as e:
+            lag_near_peak.main()
+        assert e.value.code == 2
