@@ -78,11 +78,12 @@ def _swing(window: "Window") -> float:
     return m["creepage_modulation_amplitude"] / max(m["torque_amplitude_nm"], 1e-9)
 
 
-def drive(dc_fraction: float, level: float, hold_dc: float | None, amplitude_ratio: float) -> tuple[float, float]:
-    """(DC, amplitude) over the saturation torque at ``level``: the staircase's DC and ``amplitude_ratio`` of
-    it, or with ``hold_dc`` the held DC and the amplitude that puts the crest at ``level``."""
+def drive(level: float, hold_dc: float | None, amplitude_ratio: float) -> tuple[float, float]:
+    """(DC, amplitude) over the saturation torque at ``level``: the staircase's DC ``level`` and
+    ``amplitude_ratio`` of it, or with ``hold_dc`` the held DC and the amplitude that puts the crest at
+    ``level``."""
     if hold_dc is None:
-        return dc_fraction, amplitude_ratio * dc_fraction
+        return level, amplitude_ratio * level
     return hold_dc, level - hold_dc
 
 
@@ -97,7 +98,7 @@ def windows(env, seed: int, options: dict, levels, amplitude_ratio: float, frequ
                                 limits.max_frequency_hz) if harmonics else np.zeros(0, dtype=np.float32)
     out = []
     for u in levels:
-        dc, amplitude = (m_sat * x for x in drive(u, u, hold_dc, amplitude_ratio))
+        dc, amplitude = (m_sat * x for x in drive(u, hold_dc, amplitude_ratio))
         action = np.concatenate([encode_action(dc, amplitude, frequency_hz, 0.1, False, limits), silent])
         obs, _, terminated, truncated, info = env.step(action)
         out.append(Window(u, Reading.of(obs, limits), info, amplitude > limits.max_amplitude_nm))

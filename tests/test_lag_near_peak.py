@@ -58,8 +58,8 @@ def test_held_dc_probe_grows_the_amplitude_at_a_fixed_dc():
     """--hold-dc: the drive keeps the DC at the held fraction of M_sat and puts the crest at each level
     (exact arithmetic), and the env's measured torque shows it: a twice larger amplitude at the same mean
     (the sensor's gain error and the motor's lag are the same in both windows, so only noise differs)."""
-    assert lag_near_peak.drive(0.8, 0.8, None, 0.4) == (0.8, 0.8 * 0.4)
-    assert lag_near_peak.drive(0.9, 0.9, 0.7, 0.4) == (0.7, 0.9 - 0.7)
+    assert lag_near_peak.drive(0.8, None, 0.4) == (0.8, 0.8 * 0.4)
+    assert lag_near_peak.drive(0.9, 0.7, 0.4) == (0.7, 0.9 - 0.7)
     suite = lag_near_peak.make_suite(str(STEEP), 60, 0)
     k = min(range(len(suite.episodes)), key=lambda i: suite.episodes[i][1]["cof"])  # the smallest torques
     seed, options = suite.episodes[k]
