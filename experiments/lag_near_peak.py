@@ -28,9 +28,10 @@ Below the peak the crest reaches into the knee while the trough pulls the wheel 
 is below the falling branch for longer than a DC climb's is. ``--summary`` prints one table over the
 chosen episodes (``--all-episodes``: every episode of the suite; ``--counter-torque``: in the paper's
 configuration) instead of one per episode: per level, the episodes that reached it, the macro-slips at
-it, the windows whose amplitude the drive cut, and over the episodes the drive did not cut the median
-lag, its median rise since the first level and the median of the measured creepage's swing per torque
-over the first level's (``--out FILE``: also written there):
+it, the windows whose amplitude the drive cut, and over the episodes the drive did not cut their number,
+their macro-slips, the median lag, its median rise since the first level and the median of the measured
+creepage's swing per torque over the first level's; then how many episodes the drive never cut, and how
+many of those ran away (``--out FILE``: also written there):
 
     python experiments/lag_near_peak.py --suite experiments/suites/v2_validation_steep_grid.json \
         --all-episodes --summary --levels 0.9 0.95 1 1.05 1.1 1.15 1.2 1.3 --hold-dc 0.7
@@ -127,8 +128,8 @@ def trace(env, seed: int, options: dict, levels, amplitude_ratio: float, frequen
 
 def summary(episodes: list[list[Window]], levels) -> list[str]:
     """Markdown rows over many episodes, one per level: episodes that reached it, macro-slips at it,
-    windows the drive's amplitude limit cut, and over the episodes it never cut up to that level the
-    median lag, the median rise of the lag since the first level (deg) and the median of the measured
+    windows the drive's amplitude limit cut, and over the episodes it never cut up to that level their
+    number, their macro-slips at it, the median lag, the median rise of the lag since the first level (deg) and the median of the measured
     creepage's swing per torque over the first level's."""
     rows = []
     for k, level in enumerate(levels):
@@ -139,9 +140,17 @@ def summary(episodes: list[list[Window]], levels) -> list[str]:
         median = lambda xs: f"{float(np.median(xs)):.1f}" if xs else "-"  # noqa: E731
         swings = [_swing(e[k]) / _swing(e[0]) for e in uncut]
         rows.append(f"| {level:.2f} | {len(reached)} | {sum(bool(e[k].info['macro_slip']) for e in reached)} | "
-                    f"{sum(e[k].clipped for e in reached)} | {len(uncut)} | {median(lags)} | {median(rises)} | "
+                    f"{sum(e[k].clipped for e in reached)} | {len(uncut)} | "
+                    f"{sum(bool(e[k].info['macro_slip']) for e in uncut)} | {median(lags)} | {median(rises)} | "
                     f"{median(swings)} |")
     return rows
+
+
+def never_cut(episodes: list[list[Window]]) -> str:
+    """A line: the episodes whose amplitude the drive never cut, and how many of them ran away."""
+    uncut = [e for e in episodes if not any(w.clipped for w in e)]
+    slips = sum(bool(e[-1].info["macro_slip"]) for e in uncut)
+    return f"Episodes whose amplitude the drive never cut: {len(uncut)} of {len(episodes)}; macro-slips among them: {slips}."
 
 
 def main() -> None:
@@ -205,8 +214,10 @@ def main() -> None:
         print("\n".join(trace(env, seed, options, args.levels, args.amplitude_ratio, args.frequency, args.harmonics,
                                args.hold_dc)))
     if args.summary:
-        table = "\n".join([f"| {level_name} | episodes | macro-slips | amplitude cut | not cut | median lag [deg] | "
-                           "median lag rise [deg] | median creepage swing / first |", "|---" * 8 + "|", *summary(played, args.levels)])
+        table = "\n".join([f"| {level_name} | episodes | macro-slips | amplitude cut | not cut | macro-slips not cut | "
+                           "median lag [deg] | "
+                           "median lag rise [deg] | median creepage swing / first |", "|---" * 9 + "|", *summary(played, args.levels), "",
+                           never_cut(played)])
         print(table)
         if args.out is not None:
             args.out.parent.mkdir(parents=True, exist_ok=True)

@@ -80,6 +80,7 @@ def test_summary_table_and_its_refusals(monkeypatch, capsys, tmp_path):
     rows = [line for line in out.read_text().splitlines() if line.startswith("| 0.90") or line.startswith("| 1.00")]
     assert len(rows) == 2 and all(row.split("|")[2].strip() in ("1", "2") for row in rows)  # episodes reached
     assert out.read_text() in capsys.readouterr().out + "\n"
+    assert "never cut: " in out.read_text().splitlines()[-1]  # the count of uncut episodes closes the table
     for bad in (["--hold-dc", "0"], ["--hold-dc", "0.95"], ["--out", str(out)]):  # crest <= DC; --out alone
         monkeypatch.setattr(sys, "argv", ["lag_near_peak.py", "--episodes", "0", "--levels", "0.9", *bad])
         with pytest.raises(SystemExit) as e:
