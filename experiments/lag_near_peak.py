@@ -73,10 +73,24 @@ class Window(NamedTuple):
     clipped: bool  # the drive's amplitude limit cut the modulation
 
 
-def _swing(window: "Window") -> float:
+def _swing(window: Window) -> float:
     """The measured creepage's modulation amplitude per N m of torque amplitude (a sensor reading)."""
     m = window.info["measurement"]
     return m["creepage_modulation_amplitude"] / max(m["torque_amplitude_nm"], 1e-9)
+
+
+def _uncut(episode: list[Window], upto: int | None = None) -> bool:
+    """Whether the drive's amplitude limit cut none of the episode's windows (up to index ``upto``)."""
+    return not any(w.clipped for w in episode[:None if upto is None else upto + 1])
+
+
+def _slips(episodes: list[list[Window]], k: int) -> int:
+    """How many of ``episodes`` ran away in their window ``k``."""
+    return sum(bool(e[k].info["macro_slip"]) for e in episodes)
+
+
+def _median(values: list[float]) -> str:
+    return f"{float(np.median(values)):.1f}" if values else "-"
 
 
 def drive(level: float, hold_dc: float | None, amplitude_ratio: float) -> tuple[float, float]:
@@ -129,28 +143,25 @@ def trace(env, seed: int, options: dict, levels, amplitude_ratio: float, frequen
 def summary(episodes: list[list[Window]], levels) -> list[str]:
     """Markdown rows over many episodes, one per level: episodes that reached it, macro-slips at it,
     windows the drive's amplitude limit cut, and over the episodes it never cut up to that level their
-    number, their macro-slips at it, the median lag, the median rise of the lag since the first level (deg) and the median of the measured
-    creepage's swing per torque over the first level's."""
+    number, their macro-slips at it, the median lag, the median rise of the lag since the first level
+    (deg) and the median of the measured creepage's swing per torque over the first level's."""
     rows = []
     for k, level in enumerate(levels):
         reached = [e for e in episodes if len(e) > k]
-        uncut = [e for e in reached if not any(w.clipped for w in e[:k + 1])]
+        uncut = [e for e in reached if _uncut(e, k)]
         lags = [e[k].reading.phase_deg for e in uncut]
         rises = [e[k].reading.phase_deg - e[0].reading.phase_deg for e in uncut]
-        median = lambda xs: f"{float(np.median(xs)):.1f}" if xs else "-"  # noqa: E731
         swings = [_swing(e[k]) / _swing(e[0]) for e in uncut]
-        rows.append(f"| {level:.2f} | {len(reached)} | {sum(bool(e[k].info['macro_slip']) for e in reached)} | "
-                    f"{sum(e[k].clipped for e in reached)} | {len(uncut)} | "
-                    f"{sum(bool(e[k].info['macro_slip']) for e in uncut)} | {median(lags)} | {median(rises)} | "
-                    f"{median(swings)} |")
+        rows.append(f"| {level:.2f} | {len(reached)} | {_slips(reached, k)} | {sum(e[k].clipped for e in reached)} | "
+                    f"{len(uncut)} | {_slips(uncut, k)} | {_median(lags)} | {_median(rises)} | {_median(swings)} |")
     return rows
 
 
 def never_cut(episodes: list[list[Window]]) -> str:
     """A line: the episodes whose amplitude the drive never cut, and how many of them ran away."""
-    uncut = [e for e in episodes if not any(w.clipped for w in e)]
-    slips = sum(bool(e[-1].info["macro_slip"]) for e in uncut)
-    return f"Episodes whose amplitude the drive never cut: {len(uncut)} of {len(episodes)}; macro-slips among them: {slips}."
+    uncut = [e for e in episodes if _uncut(e)]
+    return (f"Episodes whose amplitude the drive never cut: {len(uncut)} of {len(episodes)}; "
+            f"macro-slips among them: {_slips(uncut, -1)}.")
 
 
 def main() -> None:
@@ -214,10 +225,9 @@ def main() -> None:
         print("\n".join(trace(env, seed, options, args.levels, args.amplitude_ratio, args.frequency, args.harmonics,
                                args.hold_dc)))
     if args.summary:
-        table = "\n".join([f"| {level_name} | episodes | macro-slips | amplitude cut | not cut | macro-slips not cut | "
-                           "median lag [deg] | "
-                           "median lag rise [deg] | median creepage swing / first |", "|---" * 9 + "|", *summary(played, args.levels), "",
-                           never_cut(played)])
+        head = (f"| {level_name} | episodes | macro-slips | amplitude cut | not cut | macro-slips not cut | "
+                "median lag [deg] | median lag rise [deg] | median creepage swing / first |")
+        table = "\n".join([head, "|---" * 9 + "|", *summary(played, args.levels), "", never_cut(played)])
         print(table)
         if args.out is not None:
             args.out.parent.mkdir(parents=True, exist_ok=True)
