@@ -30,8 +30,11 @@ chosen episodes (``--all-episodes``: every episode of the suite; ``--counter-tor
 configuration) instead of one per episode: per level, the episodes that reached it, the macro-slips at
 it, the windows whose amplitude the drive cut, and over the episodes the drive did not cut their number,
 their macro-slips, the median lag, its median rise since the first level and the median of the measured
-creepage's swing per torque over the first level's; then how many episodes the drive never cut, and how
-many of those ran away (``--out FILE``: also written there):
+creepage's swing per torque over the first level's and, over those not running away at that level, the
+median shift of the measured mean creepage since the first level in peak creepages (a held DC's mean
+force is fixed, so a crest that clips at a rounded peak must raise the mean creepage); then how many
+episodes the drive never cut, how many of those ran away, and the mean creepage's shift in the window
+before each runaway (``--out FILE``: also written there):
 
     python experiments/lag_near_peak.py --suite experiments/suites/v2_validation_steep_grid.json \
         --all-episodes --summary --levels 0.9 0.95 1 1.05 1.1 1.15 1.2 1.3 --hold-dc 0.7
@@ -79,6 +82,15 @@ def _swing(window: Window) -> float:
     return m["creepage_modulation_amplitude"] / max(m["torque_amplitude_nm"], 1e-9)
 
 
+def _creepage_shift(episode: list[Window], k: int) -> float:
+    """The measured mean creepage's change from the first window to window ``k``, in peak creepages (the
+    sensors' offset cancels in the difference; the peak creepage is the truth's). At a held DC the mean
+    force stays DC / R, so a force that clips at the peak must be made up below it: the mean creepage
+    rises (Jensen's inequality) once the crest passes a rounded peak."""
+    first, m = episode[0].info["measurement"], episode[k].info["measurement"]
+    return (m["creepage_measured"] - first["creepage_measured"]) / episode[k].info["ground_truth"]["peak_creepage"]
+
+
 def _uncut(episode: list[Window], upto: int | None = None) -> bool:
     """Whether the drive's amplitude limit cut none of the episode's windows (up to index ``upto``)."""
     return not any(w.clipped for w in episode[:None if upto is None else upto + 1])
@@ -89,8 +101,8 @@ def _slips(episodes: list[list[Window]], k: int) -> int:
     return sum(bool(e[k].info["macro_slip"]) for e in episodes)
 
 
-def _median(values: list[float]) -> str:
-    return f"{float(np.median(values)):.1f}" if values else "-"
+def _median(values: list[float], digits: int = 1) -> str:
+    return f"{float(np.median(values)):.{digits}f}" if values else "-"
 
 
 def drive(level: float, hold_dc: float | None, amplitude_ratio: float) -> tuple[float, float]:
@@ -152,9 +164,21 @@ def summary(episodes: list[list[Window]], levels) -> list[str]:
         lags = [e[k].reading.phase_deg for e in uncut]
         rises = [e[k].reading.phase_deg - e[0].reading.phase_deg for e in uncut]
         swings = [_swing(e[k]) / _swing(e[0]) for e in uncut]
+        shifts = [_creepage_shift(e, k) for e in uncut if not e[k].info["macro_slip"]]
         rows.append(f"| {level:.2f} | {len(reached)} | {_slips(reached, k)} | {sum(e[k].clipped for e in reached)} | "
-                    f"{len(uncut)} | {_slips(uncut, k)} | {_median(lags)} | {_median(rises)} | {_median(swings)} |")
+                    f"{len(uncut)} | {_slips(uncut, k)} | {_median(lags)} | {_median(rises)} | {_median(swings)} | "
+                    f"{_median(shifts, 2)} |")
     return rows
+
+
+def before_runaway(episodes: list[list[Window]]) -> str:
+    """A line: the episodes that ran away after their first window, and the measured mean creepage's shift
+    (:func:`_creepage_shift`) in the window before the runaway: the warning a held probe would have had."""
+    shifts = [_creepage_shift(e, len(e) - 2) for e in episodes if len(e) > 1 and e[-1].info["macro_slip"]]
+    if not shifts:
+        return "No episode ran away after its first window."
+    return (f"Episodes that ran away after their first window: {len(shifts)}; the measured mean creepage's shift "
+            f"in the window before, in peak creepages: median {_median(shifts, 2)}, largest {max(shifts):.2f}.")
 
 
 def never_cut(episodes: list[list[Window]]) -> str:
@@ -226,8 +250,10 @@ def main() -> None:
                                args.hold_dc)))
     if args.summary:
         head = (f"| {level_name} | episodes | macro-slips | amplitude cut | not cut | macro-slips not cut | "
-                "median lag [deg] | median lag rise [deg] | median creepage swing / first |")
-        table = "\n".join([head, "|---" * 9 + "|", *summary(played, args.levels), "", never_cut(played)])
+                "median lag [deg] | median lag rise [deg] | median creepage swing / first | "
+                "median creepage shift [peak creepages] |")
+        table = "\n".join([head, "|---" * 10 + "|", *summary(played, args.levels), "", never_cut(played),
+                           before_runaway(played)])
         print(table)
         if args.out is not None:
             args.out.parent.mkdir(parents=True, exist_ok=True)

@@ -85,6 +85,13 @@ generated, never typed:
     python experiments/lag_near_peak.py --suite experiments/suites/v2_validation_steep_grid.json --all-episodes --summary \
         --levels 0.643 0.679 0.714 0.75 0.786 0.821 0.857 0.929 --amplitude-ratio 0.4 [--counter-torque] \
         --out out/amplitude_probe_staircase[_ct].md
+    mkdir -p runs/interrogator_cm && cp runs/interrogator/climbs.npz runs/interrogator_cm/
+    python experiments/train_interrogator.py --out runs/interrogator_cm --features creepage_modulation \
+        --guard-climbs none --fit-only
+    python experiments/crest_tradeoff.py --run runs/interrogator_cm/ensemble \
+        --guards cof_gym/agents/policies/interrogator/guard_0 --targets 0.1 --stops --out out/crest_tradeoff_cm_guard.md
+    python experiments/lag_near_peak.py --suite experiments/suites/v2_validation_steep_grid.json --all-episodes --summary \
+        --levels 0.9 0.95 0.98 1 1.02 1.05 1.08 1.1 1.15 1.2 --hold-dc 0.85 --out out/amplitude_probe_held85.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -148,6 +155,8 @@ SOURCES = {
         "amplitude_probe_held_ct",
         "amplitude_probe_staircase",
         "amplitude_probe_staircase_ct",
+        "crest_tradeoff_cm_guard",
+        "amplitude_probe_held85",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about

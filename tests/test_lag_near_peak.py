@@ -80,9 +80,30 @@ def test_summary_table_and_its_refusals(monkeypatch, capsys, tmp_path):
     rows = [line for line in out.read_text().splitlines() if line.startswith("| 0.90") or line.startswith("| 1.00")]
     assert len(rows) == 2 and all(row.split("|")[2].strip() in ("1", "2") for row in rows)  # episodes reached
     assert out.read_text() in capsys.readouterr().out + "\n"
-    assert "never cut: " in out.read_text().splitlines()[-1]  # the count of uncut episodes closes the table
+    assert "never cut: " in out.read_text().splitlines()[-2]  # the count of uncut episodes, then the runaways
+    assert "ran away after" in out.read_text().splitlines()[-1]
+    assert rows[0].split("|")[-2].strip() in ("0.00", "-0.00")  # the first level's creepage shift is itself
     for bad in (["--hold-dc", "0"], ["--hold-dc", "0.95"], ["--out", str(out)]):  # crest <= DC; --out alone
         monkeypatch.setattr(sys, "argv", ["lag_near_peak.py", "--episodes", "0", "--levels", "0.9", *bad])
         with pytest.raises(SystemExit) as e:
             lag_near_peak.main()
         assert e.value.code == 2
+
+
+def _window(creepage: float, peak: float, slip: bool = False) -> "lag_near_peak.Window":
+    info = {"measurement": {"creepage_measured": creepage}, "ground_truth": {"peak_creepage": peak},
+            "macro_slip": slip}
+    return lag_near_peak.Window(1.0, None, info, False)
+
+
+def test_creepage_shift_before_a_runaway():
+    """The mean creepage's shift is the measured difference from the first window in peak creepages (a
+    sensor offset cancels), and the runaway line reads it in the window before each runaway."""
+    offset = 0.013  # a systematic creepage error: the same in every window of an episode
+    calm = [_window(offset + 0.002, 0.004), _window(offset + 0.0024, 0.004)]
+    runaway = [_window(offset + 0.002, 0.004), _window(offset + 0.003, 0.004), _window(0.5, 0.004, slip=True)]
+    assert lag_near_peak._creepage_shift(calm, 1) == pytest.approx(0.1, abs=1e-9)
+    assert lag_near_peak.before_runaway([calm, runaway]) == (
+        "Episodes that ran away after their first window: 1; the measured mean creepage's shift in the window "
+        "before, in peak creepages: median 0.25, largest 0.25.")
+    assert lag_near_peak.before_runaway([calm]) == "No episode ran away after its first window."
