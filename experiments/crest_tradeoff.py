@@ -60,17 +60,20 @@ from make_grids import SUITES  # noqa: E402
 
 from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR, ClimbParameters, read_manifest  # noqa: E402
 
+
+def confirmation_set(name: str) -> dict[str, Path]:
+    """The three grids of a confirmation set, by kind: ``v2_NAME_grid.json`` (family draws) and
+    ``v2_NAME_procedural_grid.json`` / ``v2_NAME_steep_grid.json`` (experiments/make_grids.py writes them)."""
+    return {kind: SUITES / f"v2_{name}{'' if kind == 'family' else '_' + kind}_grid.json"
+            for kind in ("family", "procedural", "steep")}
+
+
 # the grid sets a table plays: validation (model selection) and confirmation (session 16: the same three
-# kinds on other seeds, CoF values and speeds, to confirm a choice taken on the first by a rule written before)
+# kinds on other seeds, CoF values and speeds, to confirm a choice taken on the first by a rule written
+# before; confirmation2, session 17: a second such set, because the first had judged two candidates)
 GRID_SETS = {
     "validation": {"family": VALIDATION, "procedural": PROCEDURAL_VALIDATION, "steep": STEEP_VALIDATION},
-    "confirmation": {"family": SUITES / "v2_confirmation_grid.json",
-                     "procedural": SUITES / "v2_confirmation_procedural_grid.json",
-                     "steep": SUITES / "v2_confirmation_steep_grid.json"},
-    # session 17: a second confirmation set (the first had judged two candidates)
-    "confirmation2": {"family": SUITES / "v2_confirmation2_grid.json",
-                      "procedural": SUITES / "v2_confirmation2_procedural_grid.json",
-                      "steep": SUITES / "v2_confirmation2_steep_grid.json"},
+    **{name: confirmation_set(name) for name in ("confirmation", "confirmation2")},
 }
 
 
