@@ -23,7 +23,7 @@ networks (directories of ``member_*.npz``; several: each in turn) under the ship
 (``--own-climb``: each with the climb its own manifest names, unchanged, and its manifest's guards unless
 ``--guards`` is given), with ``--guards`` every row also with
 these networks as the climb's guards (it steers by the lowest cautious headroom of all; the estimate
-stays the filter's), with ``--stops`` also how the climbs ended (the stop reason or a macro-slip, before
+stays the filter's unless ``--set estimate_from=...`` names the guards'; ``--guards-only``: only with them), with ``--stops`` also how the climbs ended (the stop reason or a macro-slip, before
 or after the climb's first slow probe) and their errors, in both vehicle configurations, on the three
 validation grids (model selection data, never reported elsewhere as results): the family draws, the
 procedural curves and the procedural curves with steep falling branches
@@ -147,14 +147,14 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
           cautions: list[float] | None = None, spread_cautions: list[float] | None = None,
           guards: list[Path] | None = None, stops: bool = False, own_climb: bool = False,
           grids: dict[str, Path] = GRID_SETS["validation"], crest_fractions: list[float | None] | None = None,
-          crest_once_crept: bool = False, settings: dict[str, list] | None = None) -> str:
+          crest_once_crept: bool = False, settings: dict[str, list] | None = None, guards_only: bool = False) -> str:
     """The table (markdown) of every run's networks x set climb parameters (``settings``: each value of each
     in turn) x caution x spread caution x crest fraction x target x guards (with and without), each row on the
-    three ``grids`` (the validation grids unless told); several runs (or ``own_climb``: each with its
+    three ``grids`` (the validation grids unless told; ``guards_only``: only with the guards); several runs (or ``own_climb``: each with its
     manifest's climb, unchanged): a first column names the networks."""
     manifest_climb = read_manifest(SHIPPED_INTERROGATOR)["climb"]
     # None: the guards the run's manifest names (with own_climb: the climb as shipped), [] none
-    guard_sets = [[], [str(g) for g in guards]] if guards else [None if own_climb else []]
+    guard_sets = (([] if guards_only else [[]]) + [[str(g) for g in guards]]) if guards else [None if own_climb else []]
     named = len(networks) > 1 or own_climb
     rows = [(n, label, climb, gs, ", ".join(f"{k} {v}" for k, v in variant.items() if k in (settings or {})))
             for n in networks for variant in row_variants(settings, crest_fractions, crest_once_crept)
@@ -253,6 +253,8 @@ def main() -> None:
                         help="directories of networks (member_*.npz) played with the shipped climb, each in turn")
     parser.add_argument("--guards", type=Path, nargs="+", default=None,
                         help="directories of networks (member_*.npz) that also steer the climb, as guards (each row with and without)")
+    parser.add_argument("--guards-only", action="store_true",
+                        help="play every row with the --guards only, not also without them")
     parser.add_argument("--own-climb", action="store_true",
                         help="play each run with the climb its manifest.json names, unchanged (no --targets, --cautions, "
                              "--spread-cautions)")
@@ -278,6 +280,8 @@ def main() -> None:
     args.targets = args.targets or [0.1, 0.15, 0.2, 0.3]
     if any(not 0.0 < t < 1.0 for t in args.targets):
         parser.error("--targets must lie in (0, 1) (a headroom ln(M_sat / DC))")
+    if args.guards_only and not args.guards:
+        parser.error("--guards-only: needs --guards (the guards every row is played with)")
     if args.crest_once_crept and not args.crest_fractions:
         parser.error("--crest-once-crept: needs --crest-fractions (the cap it delays)")
     if args.cautions is not None and any(not 0.0 <= c <= 10.0 for c in args.cautions):
@@ -288,7 +292,7 @@ def main() -> None:
     require_networks(parser, "--guards", args.guards or [])
     text = table(args.targets, args.workers, args.run, args.cautions, args.spread_cautions, args.guards, args.stops,
                  args.own_climb, GRID_SETS[args.grids], args.crest_fractions, args.crest_once_crept,
-                 {name: [v for n, v in args.set if n == name] for name, _ in args.set})
+                 {name: [v for n, v in args.set if n == name] for name, _ in args.set}, args.guards_only)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)
     print(text, end="")

@@ -45,15 +45,16 @@ the CoF, so ``ln(CoF_min / CoA)`` bounds the headroom from below whatever the cr
 starts far below a high CoF's peak crosses that range in one step instead of spending windows there.
 It stops (and reports ``CoA x exp(correction)``) when the next step would be smaller than
 ``min_log_step``, when the CoA falls although the torque rose (past the peak), at the drive's limit,
-or one window before the horizon. The estimate is either the
-filter's (the last rising window's CoA times its predicted correction) or the best CoA of the climb
-times a factor, whichever the validation chose. The parameters are chosen on
+or one window before the horizon. The estimate is the filter's (the last rising window's CoA times its predicted correction), or
+the best CoA of the climb times a factor, or the same CoA times the guards' correction or the filter's
+and the guards' corrections pooled (inverse-variance weighted, :func:`pooled_correction`), whichever the
+validation chose. The parameters are chosen on
 validation scenarios only (``experiments/train_interrogator.py``).
 
 **Guards.** With ``guards`` (further ensembles that read their own feature blocks, e.g. networks fitted
 on the measured creepage's modulation) the climb steers by the lowest cautious headroom of the filter
 and its guards, each with its own std and spread: a guard can only slow the climb, and the estimate stays
-the filter's. A directory's ``manifest.json`` names its guards (``"guards"``: directories of
+the filter's unless ``estimate_from`` names the guards' (``"guard"``, ``"pooled"``). A directory's ``manifest.json`` names its guards (``"guards"``: directories of
 ``member_*.npz``, relative to it); the shipped interrogator has one (session 16: the same networks fitted
 on the family climbs and on procedural creep curves together, ``guard_0``).
 
@@ -108,7 +109,8 @@ SE_CLIP_DEG = 30.0
 HISTORY = 2  # previous windows in the features
 WORLD_KWARGS = ("vehicle", "counter_torque", "traction_balance", "window_s", "settle_fraction", "ramp_fraction",
                 "timestep")  # constructor arguments that change what the sensors see
-ESTIMATE_SOURCES = ("filter", "best_coa")
+ESTIMATE_SOURCES = ("filter", "best_coa", "guard", "pooled")
+GUARDED_ESTIMATES = ("guard", "pooled")  # estimate sources that read the guards' corrections
 TARGET_NAMES = ("headroom", "correction")  # ln(M_sat / DC), ln(CoF / CoA measured)
 
 FEATURE_NAMES = (
@@ -190,6 +192,15 @@ def _se_clipped(se_deg: float) -> float:
 def _tan_clipped(phase_deg: float) -> float:
     """``tan(phase)`` with the phase clipped to :data:`PHASE_CLIP_DEG` (finite and > 0)."""
     return math.tan(math.radians(min(max(phase_deg, PHASE_CLIP_DEG[0]), PHASE_CLIP_DEG[1])))
+
+
+def pooled_correction(predictions: Iterable[tuple[float, float]]) -> float:
+    """The inverse-variance weighted mean of Gaussian predictions ``(mean, std)`` of one quantity (stds
+    floored at 1e-6)."""
+    weights_means = [(1.0 / max(std, 1e-6) ** 2, mean) for mean, std in predictions]
+    if not weights_means:
+        raise ValueError("pooled_correction: no predictions to pool")
+    return sum(w * m for w, m in weights_means) / sum(w for w, _ in weights_means)
 
 
 def floor_headroom(coa: float) -> float:
@@ -501,7 +512,8 @@ class ClimbParameters:
     creep_while_std: float = 0.1  # ... predicted headroom's std still exceeds this (more readings, not a stop)
     creep_sticky: bool = False  # once it has crept, no later step exceeds creep_log_step
     creep_until: float | None = None  # not None: no creep once the predicted (mean) headroom is this low
-    estimate_from: str = "filter"  # "filter": CoA x exp(predicted correction); "best_coa": best CoA x factor
+    estimate_from: str = "filter"  # "filter": CoA x exp(predicted correction); "best_coa": best CoA x factor;
+    # "guard": CoA x exp(the guards' correction); "pooled": CoA x exp(the filter's and the guards' together)
     best_coa_factor: float = 1.0
     floor_margin: float | None = None  # not None: a step may close the gap to the task's lowest CoF less this
     tone2_frequency_hz: float | None = None  # not None: a second tone at this frequency (a two-tone excitation)
@@ -623,7 +635,7 @@ class LearnedInterrogator:
     guards: tuple[FilterEnsemble, ...] = ()  # further filters that may only slow the climb (module docstring)
     _guard_features: tuple[EpisodeFeatures, ...] = field(default=(), repr=False)
     _dc: float = 0.0
-    filter_estimate: float = field(default=0.0, repr=False)
+    _source_estimates: dict[str, float] = field(default_factory=dict, repr=False)  # per guarded/filter source
     _estimate: float = 0.0
     _best_coa: float = 0.0
     _driven: int = 0
@@ -637,6 +649,9 @@ class LearnedInterrogator:
         if any(g.tones != self.params.tones for g in self.guards):
             raise ValueError(f"a guard reads another excitation than the climb's {self.params.tones} tone(s): "
                              "use guard networks fitted on that excitation")
+        if self.params.estimate_from in GUARDED_ESTIMATES and not self.guards:
+            raise ValueError(f"estimate_from={self.params.estimate_from!r} reads the guards' corrections, "
+                             "but the interrogator has no guards")
 
     @property
     def env_options(self) -> dict[str, Any]:
@@ -672,7 +687,7 @@ class LearnedInterrogator:
         self._crept = False
         self._ratio = None
         self._best_coa = 0.0
-        self.filter_estimate = 0.0
+        self._source_estimates = {}
         self._estimate = self.limits.min_cof_estimate
         self.stop_reason = ""
 
@@ -681,10 +696,27 @@ class LearnedInterrogator:
         """Whether the climb of this episode has taken its slow probe (it may since have stopped)."""
         return self._crept
 
+    @property
+    def filter_estimate(self) -> float:
+        """The filter's estimate after the windows so far (0 before the first driven window)."""
+        return self._source_estimates.get("filter", 0.0)
+
     def candidate_estimates(self, best_coa_factor: float) -> dict[str, float]:
         """The estimate of each source of :data:`ESTIMATE_SOURCES` after the windows so far (the
-        trajectory does not depend on which one is reported)."""
-        return {"filter": self.filter_estimate, "best_coa": self._best_coa * best_coa_factor}
+        trajectory does not depend on which one is reported; the guarded sources are 0 without guards)."""
+        return {**dict.fromkeys(ESTIMATE_SOURCES, 0.0), **self._source_estimates,
+                "best_coa": self._best_coa * best_coa_factor}
+
+    @staticmethod
+    def _estimates_at(coa: float, filter_prediction: tuple[float, float],
+                      guard_predictions: list[tuple[float, float]]) -> dict[str, float]:
+        """The CoA times ``exp`` of each source's correction ``ln(CoF / CoA)``, from the filter's and each
+        guard's (mean, std) of it."""
+        corrections = {"filter": filter_prediction[0]}
+        if guard_predictions:
+            corrections["guard"] = pooled_correction(guard_predictions)
+            corrections["pooled"] = pooled_correction([filter_prediction, *guard_predictions])
+        return {source: coa * math.exp(c) for source, c in corrections.items()}
 
     def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
         p = self.params
@@ -696,10 +728,13 @@ class LearnedInterrogator:
             for features in (self.features, *self._guard_features):
                 features.push(reading)
             mean, std, spread = self.ensemble.predict_with_spread(self.features.vector())
-            headroom, headroom_std, headroom_spread = self._steering_headroom(mean, std, spread)
+            guard_outputs = [g.predict_with_spread(f.vector()) for g, f in zip(self.guards, self._guard_features)]
+            headroom, headroom_std, headroom_spread = self._steering_headroom(mean, std, spread, guard_outputs)
             if not falling:
                 self._best_coa = max(self._best_coa, reading.coa)
-                self.filter_estimate = reading.coa * math.exp(float(mean[0, 1]))
+                self._source_estimates = self._estimates_at(
+                    reading.coa, (float(mean[0, 1]), float(std[0, 1])),
+                    [(float(g_mean[0, 1]), float(g_std[0, 1])) for g_mean, g_std, _ in guard_outputs])
                 self._estimate = self.candidate_estimates(p.best_coa_factor)[p.estimate_from]
             step = p.log_step(headroom, headroom_std, headroom_spread)
             if p.creep_sticky and self._crept:  # the peak may be near: no big step again
@@ -722,14 +757,14 @@ class LearnedInterrogator:
         return p.action(self._dc, estimate, stop, self.limits, self._ratio)
 
 
-    def _steering_headroom(self, mean: np.ndarray, std: np.ndarray, spread: np.ndarray) -> tuple[float, float, float]:
+    def _steering_headroom(self, mean: np.ndarray, std: np.ndarray, spread: np.ndarray,
+                           guard_outputs: list[tuple[np.ndarray, np.ndarray, np.ndarray]]) -> tuple[float, float, float]:
         """(cautious headroom, its std, its members' spread) that steers the climb: the filter's (its
-        prediction ``mean``, ``std``, ``spread``), or a guard's where that is lower (each guard reads the
-        windows through its own features)."""
+        prediction ``mean``, ``std``, ``spread``), or a guard's where that is lower (``guard_outputs``: each
+        guard's prediction, read through its own features)."""
         p = self.params
         best = (float(p.cautious_headroom(mean[0, 0], std[0, 0], spread[0, 0])), float(std[0, 0]), float(spread[0, 0]))
-        for guard, features in zip(self.guards, self._guard_features):
-            g_mean, g_std, g_spread = guard.predict_with_spread(features.vector())
+        for g_mean, g_std, g_spread in guard_outputs:
             cautious = float(p.cautious_headroom(g_mean[0, 0], g_std[0, 0], g_spread[0, 0]))
             if cautious < best[0]:
                 best = (cautious, float(g_std[0, 0]), float(g_spread[0, 0]))
