@@ -92,6 +92,9 @@ generated, never typed:
         --guards cof_gym/agents/policies/interrogator/guard_0 --targets 0.1 --stops --out out/crest_tradeoff_cm_guard.md
     python experiments/lag_near_peak.py --suite experiments/suites/v2_validation_steep_grid.json --all-episodes --summary \
         --levels 0.9 0.95 0.98 1 1.02 1.05 1.08 1.1 1.15 1.2 --hold-dc 0.85 --out out/amplitude_probe_held85.md
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
+        --targets 0.1 --stops --set 'estimate_from="filter"' 'estimate_from="guard"' 'estimate_from="pooled"' \
+        --out out/crest_tradeoff_estimate.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -157,6 +160,7 @@ SOURCES = {
         "amplitude_probe_staircase_ct",
         "crest_tradeoff_cm_guard",
         "amplitude_probe_held85",
+        "crest_tradeoff_estimate",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
