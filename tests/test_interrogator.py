@@ -17,7 +17,7 @@ from cof_gym.task.scenarios import COF_ENVELOPE, ScenarioRanges
 from cof_gym.agents import registry
 from cof_gym.agents.interrogator import (
     CREEPAGE_MODULATION_FEATURE_NAMES, CREST_RATIO_FLOOR, CREEPAGE_RISE_FEATURE_NAMES, CREEPAGE_RISE_FLOORS, FEATURE_NAMES, blocks_of, feature_names, SHIPPED_INTERROGATOR, TARGET_NAMES, ClimbParameters, EpisodeFeatures, FilterEnsemble, FilterNetwork,
-    PEAK_GAP_CLIP, LearnedInterrogator, Reading, floor_headroom, interrogator_for, peak_gap, slope_from_phase, slope_index,
+    PEAK_GAP_CLIP, LearnedInterrogator, Reading, floor_headroom, pooled_correction, interrogator_for, peak_gap, slope_from_phase, slope_index,
 )
 from cof_gym.agents.interrogator_training import (
     GENTLE_FALL, PROCEDURAL_PEAK_CREEPAGE, STEEP_FALL, ClimbDraws, Dataset, FallingBranch, FitSettings, _climb_episode,
@@ -544,6 +544,39 @@ def test_a_cautious_guard_stops_the_climb_and_the_estimate_stays_the_filters():
     assert len(actions) == 2 and guarded.stop_reason == "headroom"  # the first window, then the stop
     coa = guarded.features.readings[-1].coa
     assert info["cof_estimate"] == pytest.approx(coa * math.exp(0.2), rel=1e-6)  # the filter's correction
+
+
+def test_pooled_correction_is_the_inverse_variance_mean():
+    assert pooled_correction([(0.2, 0.1), (0.5, 0.2)]) == pytest.approx((0.2 / 0.01 + 0.5 / 0.04) / 125.0, rel=1e-12)
+    assert pooled_correction([(0.3, 0.05)]) == 0.3
+    with pytest.raises(ValueError, match="no predictions"):
+        pooled_correction([])
+
+
+@pytest.mark.parametrize("source", ["guard", "pooled"])
+def test_the_guarded_estimates_read_the_guards_correction_and_leave_the_climb_alone(source):
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    limits = env.unwrapped.limits
+    primary = FilterEnsemble((constant_network(1.0, 0.2, log_variance=-6.0),))
+    guard = FilterEnsemble((constant_network(5.0, -0.1, log_variance=-4.0),))  # bolder: it never steers
+    shipped_like = LearnedInterrogator(limits, primary, guards=(guard,))
+    reference, _ = play(shipped_like, 8)
+    agent = LearnedInterrogator(limits, primary, params=ClimbParameters(estimate_from=source), guards=(guard,))
+    actions, info = play(agent, 8)
+    estimate = 3  # ACTION_NAMES index of cof_estimate
+    np.testing.assert_array_equal(np.delete(actions, estimate, axis=1), np.delete(reference, estimate, axis=1))
+    coa = agent.features.readings[-1].coa
+    # each member's std is exp(log_variance / 2): e^-3 for the filter, e^-2 for the guard
+    correction = -0.1 if source == "guard" else pooled_correction([(0.2, math.exp(-3.0)), (-0.1, math.exp(-2.0))])
+    assert info["cof_estimate"] == pytest.approx(coa * math.exp(correction), rel=1e-6)
+    assert agent.candidate_estimates(1.0)["filter"] == pytest.approx(coa * math.exp(0.2), rel=1e-12)
+
+
+def test_a_guarded_estimate_without_guards_names_the_field():
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    with pytest.raises(ValueError, match="estimate_from"):
+        LearnedInterrogator(env.unwrapped.limits, FilterEnsemble((random_network(5),)),
+                            params=ClimbParameters(estimate_from="pooled"))
 
 
 def test_the_crest_ratio_keeps_the_crest_below_the_cautious_saturation_torque():
