@@ -553,7 +553,7 @@ def test_pooled_correction_is_the_inverse_variance_mean():
         pooled_correction([])
 
 
-@pytest.mark.parametrize("source", ["guard", "pooled"])
+@pytest.mark.parametrize("source", ["guard", "pooled", "pooled_at_headroom"])
 def test_the_guarded_estimates_read_the_guards_correction_and_leave_the_climb_alone(source):
     env = gym.make(cof_gym.WAGON_ENV_ID)
     limits = env.unwrapped.limits
@@ -567,9 +567,24 @@ def test_the_guarded_estimates_read_the_guards_correction_and_leave_the_climb_al
     np.testing.assert_array_equal(np.delete(actions, estimate, axis=1), np.delete(reference, estimate, axis=1))
     coa = agent.features.readings[-1].coa
     # each member's std is exp(log_variance / 2): e^-3 for the filter, e^-2 for the guard
-    correction = -0.1 if source == "guard" else pooled_correction([(0.2, math.exp(-3.0)), (-0.1, math.exp(-2.0))])
+    pooled = pooled_correction([(0.2, math.exp(-3.0)), (-0.1, math.exp(-2.0))])
+    correction = {"guard": -0.1, "pooled": pooled, "pooled_at_headroom": 0.2}[source]  # not a headroom stop here
+    assert agent.stop_reason != "headroom"
     assert info["cof_estimate"] == pytest.approx(coa * math.exp(correction), rel=1e-6)
     assert agent.candidate_estimates(1.0)["filter"] == pytest.approx(coa * math.exp(0.2), rel=1e-12)
+
+
+def test_the_pooled_estimate_at_a_headroom_stop_and_the_filters_before_it():
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    primary = FilterEnsemble((constant_network(1.0, 0.2, log_variance=-6.0),))
+    guard = FilterEnsemble((constant_network(-0.5, -0.1, log_variance=-4.0),))  # past the target: it stops the climb
+    agent = LearnedInterrogator(env.unwrapped.limits, primary, params=ClimbParameters(estimate_from="pooled_at_headroom"),
+                                guards=(guard,))
+    actions, info = play(agent, 8)
+    assert len(actions) == 2 and agent.stop_reason == "headroom"
+    coa = agent.features.readings[-1].coa
+    pooled = pooled_correction([(0.2, math.exp(-3.0)), (-0.1, math.exp(-2.0))])
+    assert info["cof_estimate"] == pytest.approx(coa * math.exp(pooled), rel=1e-6)
 
 
 def test_a_guarded_estimate_without_guards_names_the_field():

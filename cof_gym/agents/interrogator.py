@@ -47,8 +47,8 @@ It stops (and reports ``CoA x exp(correction)``) when the next step would be sma
 ``min_log_step``, when the CoA falls although the torque rose (past the peak), at the drive's limit,
 or one window before the horizon. The estimate is the filter's (the last rising window's CoA times its predicted correction), or
 the best CoA of the climb times a factor, or the same CoA times the guards' correction or the filter's
-and the guards' corrections pooled (inverse-variance weighted, :func:`pooled_correction`), whichever the
-validation chose. The parameters are chosen on
+and the guards' corrections pooled (inverse-variance weighted, :func:`pooled_correction`), or the pooled
+one where the climb stops on its headroom and the filter's otherwise, whichever the validation chose. The parameters are chosen on
 validation scenarios only (``experiments/train_interrogator.py``).
 
 **Guards.** With ``guards`` (further ensembles that read their own feature blocks, e.g. networks fitted
@@ -109,8 +109,8 @@ SE_CLIP_DEG = 30.0
 HISTORY = 2  # previous windows in the features
 WORLD_KWARGS = ("vehicle", "counter_torque", "traction_balance", "window_s", "settle_fraction", "ramp_fraction",
                 "timestep")  # constructor arguments that change what the sensors see
-ESTIMATE_SOURCES = ("filter", "best_coa", "guard", "pooled")
-GUARDED_ESTIMATES = ("guard", "pooled")  # estimate sources that read the guards' corrections
+ESTIMATE_SOURCES = ("filter", "best_coa", "guard", "pooled", "pooled_at_headroom")
+GUARDED_ESTIMATES = ("guard", "pooled", "pooled_at_headroom")  # estimate sources that read the guards' corrections
 TARGET_NAMES = ("headroom", "correction")  # ln(M_sat / DC), ln(CoF / CoA measured)
 
 FEATURE_NAMES = (
@@ -513,7 +513,8 @@ class ClimbParameters:
     creep_sticky: bool = False  # once it has crept, no later step exceeds creep_log_step
     creep_until: float | None = None  # not None: no creep once the predicted (mean) headroom is this low
     estimate_from: str = "filter"  # "filter": CoA x exp(predicted correction); "best_coa": best CoA x factor;
-    # "guard": CoA x exp(the guards' correction); "pooled": CoA x exp(the filter's and the guards' together)
+    # "guard": CoA x exp(the guards' correction); "pooled": CoA x exp(the filter's and the guards' together);
+    # "pooled_at_headroom": "pooled" once the climb stops on its headroom, "filter" before and otherwise
     best_coa_factor: float = 1.0
     floor_margin: float | None = None  # not None: a step may close the gap to the task's lowest CoF less this
     tone2_frequency_hz: float | None = None  # not None: a second tone at this frequency (a two-tone excitation)
@@ -704,8 +705,10 @@ class LearnedInterrogator:
     def candidate_estimates(self, best_coa_factor: float) -> dict[str, float]:
         """The estimate of each source of :data:`ESTIMATE_SOURCES` after the windows so far (the
         trajectory does not depend on which one is reported; the guarded sources are 0 without guards)."""
-        return {**dict.fromkeys(ESTIMATE_SOURCES, 0.0), **self._source_estimates,
-                "best_coa": self._best_coa * best_coa_factor}
+        estimates = {**dict.fromkeys(ESTIMATE_SOURCES, 0.0), **self._source_estimates,
+                     "best_coa": self._best_coa * best_coa_factor}
+        estimates["pooled_at_headroom"] = estimates["pooled" if self.stop_reason == "headroom" else "filter"]
+        return estimates
 
     @staticmethod
     def _estimates_at(coa: float, filter_prediction: tuple[float, float],
@@ -735,7 +738,6 @@ class LearnedInterrogator:
                 self._source_estimates = self._estimates_at(
                     reading.coa, (float(mean[0, 1]), float(std[0, 1])),
                     [(float(g_mean[0, 1]), float(g_std[0, 1])) for g_mean, g_std, _ in guard_outputs])
-                self._estimate = self.candidate_estimates(p.best_coa_factor)[p.estimate_from]
             step = p.log_step(headroom, headroom_std, headroom_spread)
             if p.creep_sticky and self._crept:  # the peak may be near: no big step again
                 step = min(step, p.creep_log_step)
@@ -751,6 +753,7 @@ class LearnedInterrogator:
                 new_dc = min(self._dc * math.exp(step), self.limits.max_dc_torque_nm)
                 self._ratio = p.crest_ratio(headroom - math.log(new_dc / self._dc), self._crept)
                 self._dc = new_dc
+            self._estimate = self.candidate_estimates(p.best_coa_factor)[p.estimate_from]  # the stop's reason known
         else:
             self._dc = self.climb.first_dc(self.limits)
         estimate = min(max(self._estimate, self.limits.min_cof_estimate), self.limits.max_cof_estimate)
