@@ -23,7 +23,8 @@ networks (directories of ``member_*.npz``; several: each in turn) under the ship
 (``--own-climb``: each with the climb its own manifest names, unchanged, and its manifest's guards unless
 ``--guards`` is given), with ``--guards`` every row also with
 these networks as the climb's guards (it steers by the lowest cautious headroom of all; the estimate
-stays the filter's unless ``--set estimate_from=...`` names the guards'; ``--guards-only``: only with them), with ``--stops`` also how the climbs ended (the stop reason or a macro-slip, before
+reads the guards' as the shipped climb's does since session 20, or as ``--set estimate_from=...`` names it; a row
+without guards reports the filter's unless ``--set`` names another; ``--guards-only``: only with them), with ``--stops`` also how the climbs ended (the stop reason or a macro-slip, before
 or after the climb's first slow probe) and their errors, in both vehicle configurations, on the three
 validation grids (model selection data, never reported elsewhere as results): the family draws, the
 procedural curves and the procedural curves with steep falling branches
@@ -58,7 +59,7 @@ from train_interrogator import (  # noqa: E402
 
 from make_grids import SUITES  # noqa: E402
 
-from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR, ClimbParameters, read_manifest  # noqa: E402
+from cof_gym.agents.interrogator import GUARDED_ESTIMATES, SHIPPED_INTERROGATOR, ClimbParameters, read_manifest  # noqa: E402
 
 
 def confirmation_set(name: str) -> dict[str, Path]:
@@ -114,6 +115,15 @@ def _ends(setting: str, grid: str, runs: list[Played]) -> list[str]:
     return rows
 
 
+def unguarded_estimate(climb: dict, guards: list[str] | None, settings: dict[str, list] | None) -> dict:
+    """The climb a row plays: one played without guards (``guards == []``) reports the filter's estimate where
+    the shipped climb's reads the guards' (as the recipe ships a climb without a guard), unless ``--set`` names
+    the estimate."""
+    if guards == [] and climb.get("estimate_from") in GUARDED_ESTIMATES and "estimate_from" not in (settings or {}):
+        return {**climb, "estimate_from": "filter"}
+    return climb
+
+
 def row_variants(settings: dict[str, list] | None = None, crest_fractions: list[float | None] | None = None,
                  crest_once_crept: bool = False) -> list[dict]:
     """The climb parameters each row sets over the shipped climb: every combination of the values of
@@ -161,6 +171,7 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
             for label, climb in climb_settings(n, {**manifest_climb, **variant}, targets, cautions, spread_cautions,
                                                own_climb)
             for gs in guard_sets]
+    rows = [(n, label, unguarded_estimate(climb, gs, settings), gs, set_text) for n, label, climb, gs, set_text in rows]
     jobs = [(str(n), climb, str(g), cfg, gs) for n, _, climb, gs, _ in rows for g in grids.values() for cfg in CONFIGS]
     with ProcessPoolExecutor(workers) as pool:
         results = iter(list(pool.map(_play, *zip(*jobs))))

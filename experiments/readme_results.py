@@ -95,6 +95,13 @@ generated, never typed:
     python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
         --targets 0.1 --stops --set 'estimate_from="filter"' 'estimate_from="guard"' 'estimate_from="pooled"' \
         --out out/crest_tradeoff_estimate.md
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
+        --targets 0.1 --stops --set 'estimate_from="pooled_at_headroom"' --out out/crest_tradeoff_estimate_headroom.md
+    python experiments/crest_tradeoff.py --grids confirmation2 --guards cof_gym/agents/policies/interrogator/guard_0 \
+        --guards-only --targets 0.1 --stops --set 'estimate_from="filter"' 'estimate_from="pooled_at_headroom"' \
+        --out out/crest_tradeoff_estimate_confirmation2.md
+    python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rule 16: the shipped estimate
+    (then every cof-gym evaluate command above again)
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -161,6 +168,8 @@ SOURCES = {
         "crest_tradeoff_cm_guard",
         "amplitude_probe_held85",
         "crest_tradeoff_estimate",
+        "crest_tradeoff_estimate_headroom",
+        "crest_tradeoff_estimate_confirmation2",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about

@@ -19,8 +19,10 @@
    (``--guard-climbs``; the recipe, session 16: ``env=8000 procedural=8000``): networks fitted alike
    (same seeds and fit) on the family climbs and the procedural ones together, OUT/guard/seed_K/ and
    OUT/guard/ensemble/; it steers the chosen climb beside the filter and may only slow it (the climb
-   follows the lowest cautious headroom of all; the estimate stays the filter's). Adopted by a rule
-   written before the confirmation grids were played (docs/interrogator.md, session 16).
+   follows the lowest cautious headroom of all). Adopted by a rule written before the confirmation grids
+   were played (docs/interrogator.md, session 16). With the guard, a chosen filter estimate becomes
+   GUARDED_ESTIMATE: the filter's and the guard's corrections pooled where the climb stops on its
+   headroom, the filter's otherwise (rule 16, session 20; it changes no step of the climb).
 3. **Selection, validation only**: the climb's parameters (modulation ratio, target headroom,
    caution, largest step, a slow probe while the headroom is uncertain, whether it stays slow and where
    it ends, the jump to the lowest CoF the task admits: GRIDS;
@@ -234,6 +236,7 @@ def score(results: list[tuple[float, bool]]) -> dict:
     return error_summary([e for e, _ in results], [s for _, s in results])
 
 
+GUARDED_ESTIMATE = "pooled_at_headroom"  # the estimate source of a guarded filter (rule 16, session 20)
 CRITERIA = {  # how the selection ranks the climbs (sort keys of a table row)
     "pooled": lambda r: (r["macro_slips"], r["pooled_p90"], r["pooled_median"]),  # the recipe
     "family": lambda r: (r["macro_slips"], r["p90"], r["median"]),  # the family grid alone
@@ -402,6 +405,8 @@ def main() -> None:
     print(f"climb selected on validation in {time.time() - t:.0f} s: {chosen}", flush=True)
     runs = [out / f"seed_{s}" for s in args.seeds] + [ensemble_dir]
     guard_names = [install_guards(r, guards) for r in runs][-1]  # the same names in every run
+    if guard_names and chosen.get("estimate_from") == "filter":
+        chosen = {**chosen, "estimate_from": GUARDED_ESTIMATE}
     manifest = {"climb": {**asdict(ClimbParameters()), **chosen},
                 "trained_on": {"env_id": ENV_ID, "configs": CONFIGS},
                 "training": {"climbs": climbs, "seeds": args.seeds, "fit": asdict(settings)}}
@@ -428,7 +433,9 @@ def main() -> None:
              f"{100 * r['median']:.1f} % / {100 * r['p90']:.1f} % / {r['macro_slips']} | "
              f"{100 * r['procedural_median']:.1f} % / {100 * r['procedural_p90']:.1f} % / {r['procedural_macro_slips']} | "
              f"{100 * r['pooled_p90']:.1f} % |" for r in table[:10]]
-    text += ["", "## Report (nothing chosen here)", "", markdown(report, [f"seed_{s}" for s in args.seeds])]
+    text += ["", f"Shipped estimate: `{chosen['estimate_from']}`" + (" (the guard's and the filter's corrections "
+             "pooled at a headroom stop, the filter's otherwise: rule 16)" if chosen["estimate_from"] == GUARDED_ESTIMATE
+             else "") + ".", "", "## Report (nothing chosen here)", "", markdown(report, [f"seed_{s}" for s in args.seeds])]
     (out / "report.md").write_text("\n".join(text) + "\n")
     (out / "report.json").write_text(json.dumps({"fit": fit_report, "selection": table, "report": report}, indent=1))
     print("\n".join(text))

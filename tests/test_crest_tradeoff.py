@@ -28,7 +28,8 @@ SHIPPED = Path(__file__).resolve().parent.parent / "cof_gym" / "agents" / "polic
                                           (["--set", "no_such_field=1"], "--set"),
                                           (["--set", "creep_log_step=0.5"], "--set"),
                                           (["--set", "creep_sticky=maybe"], "--set"),
-                                          (["--own-climb", "--set", "caution=2"], "--set")])
+                                          (["--own-climb", "--set", "caution=2"], "--set"),
+                                          (["--guards-only"], "--guards-only")])
 def test_bad_options_exit_2_naming_the_option(args: list[str], option: str, tmp_path: Path) -> None:
     done = subprocess.run([sys.executable, str(SCRIPT), *args, "--out", str(tmp_path / "t.md")],
                           capture_output=True, text=True, timeout=120)
@@ -97,3 +98,16 @@ def test_set_items_are_climb_parameters_with_json_values() -> None:
     assert climb_setting("creep_log_step=0.05") == ("creep_log_step", 0.05)
     assert climb_setting("creep_sticky=false") == ("creep_sticky", False)
     assert climb_setting("creep_until=null") == ("creep_until", None)
+
+
+def test_a_row_without_guards_reports_the_filters_estimate_unless_set() -> None:
+    sys.path.insert(0, str(SCRIPT.parent))
+    from crest_tradeoff import unguarded_estimate
+
+    shipped = json.loads((SHIPPED / "manifest.json").read_text())["climb"]
+    guarded = {**shipped, "estimate_from": "pooled_at_headroom"}
+    assert unguarded_estimate(guarded, [], None)["estimate_from"] == "filter"
+    assert unguarded_estimate(guarded, ["g"], None) == guarded  # with guards: as shipped
+    assert unguarded_estimate(guarded, None, None) == guarded  # the run's manifest names its guards
+    assert unguarded_estimate(guarded, [], {"estimate_from": ["pooled_at_headroom"]}) == guarded  # --set: as named
+    assert unguarded_estimate({**shipped, "estimate_from": "best_coa"}, [], None)["estimate_from"] == "best_coa"
