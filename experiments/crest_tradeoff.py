@@ -176,27 +176,29 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
     with ProcessPoolExecutor(workers) as pool:
         results = iter(list(pool.map(_play, *zip(*jobs))))
     head = " | ".join(f"{name}: median / P90 / macro-slips / return" for name in grids)
-    spread_head = "spread caution | " if spread_cautions else ""
-    crest_head = "crest fraction | " if crest_fractions else ""
-    guard_head = "guards | " if guards else ""
-    set_head = "set | " if settings else ""
-    lines = [f"| {'networks | ' if named else ''}{set_head}caution | {spread_head}{crest_head}target headroom | "
-             f"{guard_head}{head} | all: macro-slips / return |",
-             "|---|---|" + "---|" * (len(grids) + 1 + named + bool(settings) + bool(spread_cautions) + bool(crest_fractions)
-                                     + bool(guards))]
+
+    def columns(label: str, climb: dict, gs: list[str] | None, set_text: str) -> list[tuple[str, str, str]]:
+        """(header, cell, prefix in the setting's label) of the columns that say what a row sets."""
+        crest_text = "-" if climb.get("crest_fraction") is None else \
+            f"{climb['crest_fraction']:g}{' once crept' if climb.get('crest_once_crept') else ''}"
+        optional = [("networks", label, "", named), ("set", set_text, "", bool(settings)),
+                    ("caution", f"{climb['caution']:g}", "caution ", True),
+                    ("spread caution", f"{climb.get('spread_caution', 0.0):g}", "spread caution ", bool(spread_cautions)),
+                    ("crest fraction", crest_text, "crest fraction ", bool(crest_fractions)),
+                    ("target headroom", f"{climb['target_headroom']:g}", "target ", True),
+                    ("guards", ", ".join(gs or []) or "-", "guards ", bool(guards))]
+        return [(header, cell, prefix) for header, cell, prefix, shown in optional if shown]
+
+    first = columns(*rows[0][1:]) if rows else []
+    lines = ["| " + " | ".join([h for h, _, _ in first] + [head, "all: macro-slips / return"]) + " |",
+             "|---" * (len(first) + len(grids) + 1) + "|"]
     ends = ["", "Where the climbs ended (both configurations; peak torque: the median over the episodes of "
             "the largest true torque, crest included, over the saturation torque):", "",
             "| setting, grid | ended | episodes | median | P90 | peak torque |", "|---|---|---|---|---|---|"]
     for _, label, climb, gs, set_text in rows:
-        c, k, t = climb["caution"], climb.get("spread_caution", 0.0), climb["target_headroom"]
-        crest_text = "-" if climb.get("crest_fraction") is None else \
-            f"{climb['crest_fraction']:g}{' once crept' if climb.get('crest_once_crept') else ''}"
-        guard_text = ", ".join(gs or []) or "-"
+        row_columns = columns(label, climb, gs, set_text)
+        setting = "".join(f"{prefix}{cell}, " for _, cell, prefix in row_columns)
         cells, pooled = [], []
-        setting = (f"{label}, " if named else "") + (f"{set_text}, " if settings else "") + f"caution {c:g}, " + \
-            (f"spread caution {k:g}, " if spread_cautions else "") + \
-            (f"crest fraction {crest_text}, " if crest_fractions else "") + f"target {t:g}, " + \
-            (f"guards {guard_text}, " if guards else "")
         for grid in grids:
             runs = [r for _ in CONFIGS for r in next(results)]
             pooled += runs
@@ -204,12 +206,8 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
             s = score([(r.error, r.macro_slip) for r in runs])
             cells.append(f"{100 * s['median']:.1f} % / {100 * s['p90']:.1f} % / {s['macro_slips']} of {len(runs)} / "
                          f"{np.mean([r.episode_return for r in runs]):.2f}")
-        guard_cell = f"{guard_text} | " if guards else ""
-        lines.append(f"| {f'{label} | ' if named else ''}{f'{set_text} | ' if settings else ''}{c:g} | "
-                     f"{f'{k:g} | ' if spread_cautions else ''}"
-                     f"{f'{crest_text} | ' if crest_fractions else ''}{t:g} | "
-                     f"{guard_cell}{' | '.join(cells)} | "
-                     f"{sum(r.macro_slip for r in pooled)} of {len(pooled)} / "
+        lines.append("| " + " | ".join([cell for _, cell, _ in row_columns] + cells) +
+                     f" | {sum(r.macro_slip for r in pooled)} of {len(pooled)} / "
                      f"{np.mean([r.episode_return for r in pooled]):.2f} |")
     if stops:
         lines += ends
