@@ -23,9 +23,10 @@ networks (directories of ``member_*.npz``; several: each in turn) under the ship
 (``--own-climb``: each with the climb its own manifest names, unchanged, and its manifest's guards unless
 ``--guards`` is given), with ``--guards`` every row also with
 these networks as the climb's guards (it steers by the lowest cautious headroom of all; the estimate
-reads the guards' as the shipped climb's does since session 20, or as ``--set estimate_from=...`` names it; a row
-without guards reports the filter's unless ``--set`` names another; ``--guards-only``: only with them), with ``--stops`` also how the climbs ended (the stop reason or a macro-slip, before
-or after the climb's first slow probe) and their errors, in both vehicle configurations, on the three
+reads the guards' as the shipped climb's does since session 20, or as ``--set estimate_from=...`` names
+it; a row without guards reports the filter's unless ``--set`` names another; ``--guards-only``: only
+with them), with ``--stops`` also how the climbs ended (the stop reason or a macro-slip, before or after
+the climb's first slow probe) and their errors, in both vehicle configurations, on the three
 validation grids (model selection data, never reported elsewhere as results): the family draws, the
 procedural curves and the procedural curves with steep falling branches
 (``experiments/suites/v2_validation_steep_grid.json``), or with ``--grids confirmation`` on the three
@@ -159,9 +160,9 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
           grids: dict[str, Path] = GRID_SETS["validation"], crest_fractions: list[float | None] | None = None,
           crest_once_crept: bool = False, settings: dict[str, list] | None = None, guards_only: bool = False) -> str:
     """The table (markdown) of every run's networks x set climb parameters (``settings``: each value of each
-    in turn) x caution x spread caution x crest fraction x target x guards (with and without), each row on the
-    three ``grids`` (the validation grids unless told; ``guards_only``: only with the guards); several runs (or ``own_climb``: each with its
-    manifest's climb, unchanged): a first column names the networks."""
+    in turn) x caution x spread caution x crest fraction x target x guards (with and without; ``guards_only``:
+    only with), each row on the three ``grids`` (the validation grids unless told); several runs (or
+    ``own_climb``: each with its manifest's climb, unchanged): a first column names the networks."""
     manifest_climb = read_manifest(SHIPPED_INTERROGATOR)["climb"]
     # None: the guards the run's manifest names (with own_climb: the climb as shipped), [] none
     guard_sets = (([] if guards_only else [[]]) + [[str(g) for g in guards]]) if guards else [None if own_climb else []]

@@ -433,9 +433,10 @@ def main() -> None:
              f"{100 * r['median']:.1f} % / {100 * r['p90']:.1f} % / {r['macro_slips']} | "
              f"{100 * r['procedural_median']:.1f} % / {100 * r['procedural_p90']:.1f} % / {r['procedural_macro_slips']} | "
              f"{100 * r['pooled_p90']:.1f} % |" for r in table[:10]]
-    text += ["", f"Shipped estimate: `{chosen['estimate_from']}`" + (" (the guard's and the filter's corrections "
-             "pooled at a headroom stop, the filter's otherwise: rule 16)" if chosen["estimate_from"] == GUARDED_ESTIMATE
-             else "") + ".", "", "## Report (nothing chosen here)", "", markdown(report, [f"seed_{s}" for s in args.seeds])]
+    why = (" (the guard's and the filter's corrections pooled at a headroom stop, the filter's otherwise: rule 16)"
+           if chosen["estimate_from"] == GUARDED_ESTIMATE else "")
+    text += ["", f"Shipped estimate: `{chosen['estimate_from']}`{why}.", "",
+             "## Report (nothing chosen here)", "", markdown(report, [f"seed_{s}" for s in args.seeds])]
     (out / "report.md").write_text("\n".join(text) + "\n")
     (out / "report.json").write_text(json.dumps({"fit": fit_report, "selection": table, "report": report}, indent=1))
     print("\n".join(text))

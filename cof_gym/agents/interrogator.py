@@ -45,17 +45,18 @@ the CoF, so ``ln(CoF_min / CoA)`` bounds the headroom from below whatever the cr
 starts far below a high CoF's peak crosses that range in one step instead of spending windows there.
 It stops (and reports ``CoA x exp(correction)``) when the next step would be smaller than
 ``min_log_step``, when the CoA falls although the torque rose (past the peak), at the drive's limit,
-or one window before the horizon. The estimate is the filter's (the last rising window's CoA times its predicted correction), or
-the best CoA of the climb times a factor, or the same CoA times the guards' correction or the filter's
-and the guards' corrections pooled (inverse-variance weighted, :func:`pooled_correction`), or the pooled
-one where the climb stops on its headroom and the filter's otherwise, whichever the validation chose. The parameters are chosen on
-validation scenarios only (``experiments/train_interrogator.py``).
+or one window before the horizon. The estimate is the filter's (the last rising window's CoA times its
+predicted correction), or the best CoA of the climb times a factor, or the same CoA times the guards'
+correction or the filter's and the guards' corrections pooled (inverse-variance weighted,
+:func:`pooled_correction`), or the pooled one where the climb stops on its headroom and the filter's
+otherwise, whichever the validation chose. The parameters are chosen on validation scenarios only
+(``experiments/train_interrogator.py``).
 
 **Guards.** With ``guards`` (further ensembles that read their own feature blocks, e.g. networks fitted
 on the measured creepage's modulation) the climb steers by the lowest cautious headroom of the filter
 and its guards, each with its own std and spread: a guard can only slow the climb, and the estimate stays
-the filter's unless ``estimate_from`` names the guards' (``"guard"``, ``"pooled"``). A directory's ``manifest.json`` names its guards (``"guards"``: directories of
-``member_*.npz``, relative to it); the shipped interrogator has one (session 16: the same networks fitted
+the filter's unless ``estimate_from`` reads the guards' (:data:`GUARDED_ESTIMATES`). A directory's
+``manifest.json`` names its guards (``"guards"``: directories of ``member_*.npz``, relative to it); the shipped interrogator has one (session 16: the same networks fitted
 on the family climbs and on procedural creep curves together, ``guard_0``).
 
 **A crest cap.** With ``crest_fraction`` set, the modulation shrinks as the climb nears the peak: the
@@ -696,11 +697,6 @@ class LearnedInterrogator:
     def crept(self) -> bool:
         """Whether the climb of this episode has taken its slow probe (it may since have stopped)."""
         return self._crept
-
-    @property
-    def filter_estimate(self) -> float:
-        """The filter's estimate after the windows so far (0 before the first driven window)."""
-        return self._source_estimates.get("filter", 0.0)
 
     def candidate_estimates(self, best_coa_factor: float) -> dict[str, float]:
         """The estimate of each source of :data:`ESTIMATE_SOURCES` after the windows so far (the
