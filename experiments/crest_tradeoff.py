@@ -24,7 +24,9 @@ networks (directories of ``member_*.npz``; several: each in turn) under the ship
 ``--guards`` is given), with ``--guards`` every row also with
 these networks as the climb's guards (it steers by the lowest cautious headroom of all; the estimate
 reads the guards' as the shipped climb's does since session 20, or as ``--set estimate_from=...`` names
-it; a row without guards reports the filter's unless ``--set`` names another; ``--guards-only``: only
+it; a row without guards reports the filter's unless ``--set`` names another; ``--estimators``: every row
+with these on-policy estimator networks, whose correction ``--set estimate_from=estimator`` or
+``estimator_pooled`` reads; ``--guards-only``: only
 with them), with ``--stops`` also how the climbs ended (the stop reason or a macro-slip, before or after
 the climb's first slow probe) and their errors, in both vehicle configurations, on the three
 validation grids (model selection data, never reported elsewhere as results): the family draws, the
@@ -96,13 +98,14 @@ class Played(NamedTuple):
     peak_torque_fraction: float  # the largest true torque over the saturation torque
 
 
-def _play(run: str, params: dict, grid: str, config: dict, guards: list[str] | None) -> list[Played]:
-    """Every episode of ``grid`` in ``config``, the filter of ``run`` with the climb ``params`` and the guard
-    networks ``guards`` (None: those its manifest names)."""
+def _play(run: str, params: dict, grid: str, config: dict, guards: list[str] | None,
+          estimators: list[str] | None = None) -> list[Played]:
+    """Every episode of ``grid`` in ``config``, the filter of ``run`` with the climb ``params``, the guard
+    networks ``guards`` and the estimator networks ``estimators`` (None: those its manifest names)."""
     return [Played(r.relative_error if r.scored else 1.0, r.macro_slip, r.episode_return,
                    ("macro-slip, slow probe" if agent.crept else "macro-slip") if r.macro_slip else agent.stop_reason,
                    r.peak_torque_fraction)
-            for r, agent in episodes(run, grid, config, params, guards)]
+            for r, agent in episodes(run, grid, config, params, guards, estimators)]
 
 
 def _ends(setting: str, grid: str, runs: list[Played]) -> list[str]:
@@ -159,10 +162,11 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
           cautions: list[float] | None = None, spread_cautions: list[float] | None = None,
           guards: list[Path] | None = None, stops: bool = False, own_climb: bool = False,
           grids: dict[str, Path] = GRID_SETS["validation"], crest_fractions: list[float | None] | None = None,
-          crest_once_crept: bool = False, settings: dict[str, list] | None = None, guards_only: bool = False) -> str:
+          crest_once_crept: bool = False, settings: dict[str, list] | None = None, guards_only: bool = False,
+          estimators: list[Path] | None = None) -> str:
     """The table (markdown) of every run's networks x set climb parameters (``settings``: each value of each
     in turn) x caution x spread caution x crest fraction x target x guards (with and without; ``guards_only``:
-    only with), each row on the three ``grids`` (the validation grids unless told); several runs (or
+    only with; ``estimators``: every row with these estimator networks), each row on the three ``grids`` (the validation grids unless told); several runs (or
     ``own_climb``: each with its manifest's climb, unchanged): a first column names the networks."""
     manifest_climb = read_manifest(SHIPPED_INTERROGATOR)["climb"]
     # None: the guards the run's manifest names (with own_climb: the climb as shipped), [] none
@@ -174,7 +178,9 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
                                                own_climb)
             for gs in guard_sets]
     rows = [(n, label, unguarded_estimate(climb, gs, settings), gs, set_text) for n, label, climb, gs, set_text in rows]
-    jobs = [(str(n), climb, str(g), cfg, gs) for n, _, climb, gs, _ in rows for g in grids.values() for cfg in CONFIGS]
+    estimator_dirs = [str(e) for e in estimators] if estimators else None  # None: the manifest's
+    jobs = [(str(n), climb, str(g), cfg, gs, estimator_dirs) for n, _, climb, gs, _ in rows
+            for g in grids.values() for cfg in CONFIGS]
     with ProcessPoolExecutor(workers) as pool:
         results = iter(list(pool.map(_play, *zip(*jobs))))
     head = " | ".join(f"{name}: median / P90 / macro-slips / return" for name in grids)
@@ -188,7 +194,8 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
                     ("spread caution", f"{climb.get('spread_caution', 0.0):g}", "spread caution ", bool(spread_cautions)),
                     ("crest fraction", crest_text, "crest fraction ", bool(crest_fractions)),
                     ("target headroom", f"{climb['target_headroom']:g}", "target ", True),
-                    ("guards", ", ".join(gs or []) or "-", "guards ", bool(guards))]
+                    ("guards", ", ".join(gs or []) or "-", "guards ", bool(guards)),
+                    ("estimators", ", ".join(estimator_dirs or []), "estimators ", bool(estimators))]
         return [(header, cell, prefix) for header, cell, prefix, shown in optional if shown]
 
     first = columns(*rows[0][1:]) if rows else []
@@ -264,6 +271,9 @@ def main() -> None:
                         help="directories of networks (member_*.npz) played with the shipped climb, each in turn")
     parser.add_argument("--guards", type=Path, nargs="+", default=None,
                         help="directories of networks (member_*.npz) that also steer the climb, as guards (each row with and without)")
+    parser.add_argument("--estimators", type=Path, nargs="+", default=None,
+                        help="directories of networks (member_*.npz) whose correction the estimate may read "
+                             "(estimate_from estimator or estimator_pooled), in every row; they never steer")
     parser.add_argument("--guards-only", action="store_true",
                         help="play every row with the --guards only, not also without them")
     parser.add_argument("--own-climb", action="store_true",
@@ -301,9 +311,11 @@ def main() -> None:
         parser.error("--spread-cautions must lie in [0, 10] (member spreads)")
     require_networks(parser, "--run", args.run)
     require_networks(parser, "--guards", args.guards or [])
+    require_networks(parser, "--estimators", args.estimators or [])
     text = table(args.targets, args.workers, args.run, args.cautions, args.spread_cautions, args.guards, args.stops,
                  args.own_climb, GRID_SETS[args.grids], args.crest_fractions, args.crest_once_crept,
-                 {name: [v for n, v in args.set if n == name] for name, _ in args.set}, args.guards_only)
+                 {name: [v for n, v in args.set if n == name] for name, _ in args.set}, args.guards_only,
+                 args.estimators)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)
     print(text, end="")

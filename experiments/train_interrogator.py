@@ -179,13 +179,15 @@ def load_or_collect(out: Path, name: str, episodes: int, workers: int) -> Datase
     return data
 
 
-def parse_climbs(parser: argparse.ArgumentParser, items: list[str], option: str = "--climbs") -> dict[str, int]:
-    """``NAME=N`` items as {collection: climbs}; a bad item is a one-line usage error (exit 2) naming ``option``."""
+def parse_climbs(parser: argparse.ArgumentParser, items: list[str], option: str = "--climbs",
+                 collections: dict = COLLECTIONS) -> dict[str, int]:
+    """``NAME=N`` items as {collection: climbs} (NAME a key of ``collections``); a bad item is a one-line usage
+    error (exit 2) naming ``option``."""
     out = {}
     for item in items:
         name, _, n = item.partition("=")
-        if name not in COLLECTIONS or not n.isdigit():
-            parser.error(f"{option}: expected NAME=N with NAME one of {', '.join(COLLECTIONS)} and N >= 0, got {item!r}")
+        if name not in collections or not n.isdigit():
+            parser.error(f"{option}: expected NAME=N with NAME one of {', '.join(collections)} and N >= 0, got {item!r}")
         out[name] = int(n)
     if not any(out.values()):
         parser.error(f"{option}: at least one collection needs N > 0")
@@ -204,15 +206,16 @@ def split(data: Dataset, every: int = 10) -> tuple[Dataset, Dataset]:
 
 
 def episodes(run_dir: str, suite_path: str, env_kwargs: dict, params: dict | None = None,
-             guards: list[str] | None = None):
+             guards: list[str] | None = None, estimators: list[str] | None = None):
     """(record, agent after the episode) of every episode of a suite (the default suite: 60 episodes)
     in a vehicle configuration, played by the interrogator of ``run_dir`` (``params``: another climb,
-    ``guards``: other guard directories than its manifest's)."""
+    ``guards`` / ``estimators``: other guard / estimator directories than its manifest's)."""
     suite = make_suite(suite_path, 60, 0)
     climb = ClimbParameters(**params) if params else None
     options = (climb or manifest_climb(Path(run_dir))).env_options
     env = gym.make(suite.env_id, **{**suite.env_kwargs, **env_kwargs, **options})
-    agent = interrogator_for(env, Path(run_dir), climb, None if guards is None else [Path(g) for g in guards])
+    agent = interrogator_for(env, Path(run_dir), climb, None if guards is None else [Path(g) for g in guards],
+                             None if estimators is None else [Path(e) for e in estimators])
     for i, (seed, options) in enumerate(suite.episodes):
         yield run_episode(env, agent, seed, options, i), agent
     env.close()

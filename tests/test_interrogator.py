@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import astuple
 import subprocess
 from dataclasses import replace
 import sys
@@ -25,6 +26,7 @@ from cof_gym.agents.interrogator_training import (
 )
 from cof_gym.physics.creep_laws import creep_law_from_spec
 from cof_gym.commands.evaluate import run_episode
+from cof_gym.agents.base import agent_view
 from cof_gym.task.interface import OBSERVATION_NAMES, decode_action
 
 SHIPPED = (SHIPPED_INTERROGATOR / "manifest.json").is_file()
@@ -265,6 +267,33 @@ def test_training_climbs_are_steered_by_readings_not_by_the_truth():
         assert n >= 3
         np.testing.assert_array_equal(np.asarray(plain.actions[:n]), np.asarray(scrambled.actions[:n]))
         assert labels[0][0] > 0.0
+
+
+def test_on_policy_climbs_are_the_deployed_interrogators_own_with_the_truths_labels():
+    """``collect(..., policy=DIR)`` records the interrogator of DIR acting as it is deployed: the same
+    readings window by window as the agent played by hand on the same episodes (it never sees the truth),
+    each labelled ``ln(M_sat / DC)`` and ``ln(CoF / CoA)`` from the episode's truth."""
+    seeds = (2_000_700, 2_000_701)
+    data = collect(cof_gym.WAGON_ENV_ID, [{}], len(seeds), first_seed=seeds[0], policy=str(SHIPPED_INTERROGATOR))
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    agent = interrogator_for(env, SHIPPED_INTERROGATOR)
+    for k, seed in enumerate(seeds):
+        obs, info = env.reset(seed=seed)
+        truth = info["ground_truth"]
+        agent.reset(obs, agent_view(info, oracle=False))
+        readings, labels = [], []
+        while True:
+            action = agent.act(obs, agent_view(info, oracle=False))
+            dc = agent.dc_nm
+            obs, _, terminated, truncated, info = env.step(action)
+            readings.append(astuple(Reading.of(obs, env.unwrapped.limits, info)))
+            labels.append((math.log(truth["saturation_torque_nm"] / dc), math.log(truth["cof"] / readings[-1][3])))
+            if terminated or truncated:
+                break
+        rows = data.episode == k
+        assert rows.sum() == len(readings) >= 3
+        np.testing.assert_array_equal(data.readings[rows], np.asarray(readings))
+        np.testing.assert_allclose(data.targets[rows], np.asarray(labels), rtol=1e-12)
 
 
 def test_procedural_shapes_are_valid_creep_laws_with_their_peak_where_drawn():
@@ -592,6 +621,45 @@ def test_a_guarded_estimate_without_guards_names_the_field():
     with pytest.raises(ValueError, match="estimate_from"):
         LearnedInterrogator(env.unwrapped.limits, FilterEnsemble((random_network(5),)),
                             params=ClimbParameters(estimate_from="pooled"))
+
+
+@pytest.mark.parametrize("source", ["estimator", "estimator_pooled"])
+def test_the_estimators_corrections_change_the_estimate_and_never_the_climb(source):
+    """An estimator never steers: every action component but the estimate is byte-identical with and without
+    it, even where its predicted headroom would stop the climb at once; the estimate reads its correction
+    alone, or pooled with the filter's and the guards' (inverse-variance)."""
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    limits = env.unwrapped.limits
+    primary = FilterEnsemble((constant_network(1.0, 0.2, log_variance=-6.0),))
+    guard = FilterEnsemble((constant_network(5.0, -0.1, log_variance=-4.0),))
+    estimator = FilterEnsemble((constant_network(-0.5, 0.05, log_variance=-5.0),))  # it would stop: it must not
+    reference, _ = play(LearnedInterrogator(limits, primary, guards=(guard,)), 8)
+    agent = LearnedInterrogator(limits, primary, params=ClimbParameters(estimate_from=source), guards=(guard,),
+                                estimators=(estimator,))
+    actions, info = play(agent, 8)
+    estimate = 3  # ACTION_NAMES index of cof_estimate
+    np.testing.assert_array_equal(np.delete(actions, estimate, axis=1), np.delete(reference, estimate, axis=1))
+    coa = agent.features.readings[-1].coa
+    pooled = pooled_correction([(0.2, math.exp(-3.0)), (-0.1, math.exp(-2.0)), (0.05, math.exp(-2.5))])
+    correction = {"estimator": 0.05, "estimator_pooled": pooled}[source]
+    assert info["cof_estimate"] == pytest.approx(coa * math.exp(correction), rel=1e-6)
+    assert agent.candidate_estimates(1.0)["pooled"] == pytest.approx(
+        coa * math.exp(pooled_correction([(0.2, math.exp(-3.0)), (-0.1, math.exp(-2.0))])), rel=1e-12)
+
+
+def test_an_estimators_estimate_without_estimators_names_the_field(tmp_path):
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    with pytest.raises(ValueError, match="estimate_from='estimator'.*no estimators"):
+        LearnedInterrogator(env.unwrapped.limits, FilterEnsemble((random_network(5),)),
+                            params=ClimbParameters(estimate_from="estimator"))
+    run = tmp_path / "run"
+    (run / "est").mkdir(parents=True)
+    random_network(1).save(run / "member_0.npz")
+    constant_network(0.0, 0.1).save(run / "est" / "member_0.npz")
+    (run / "manifest.json").write_text('{"estimators": ["est"], "climb": {"estimate_from": "estimator"}}')
+    agent = interrogator_for(env, run)
+    assert len(agent.estimators) == 1 and not agent.guards and agent.params.estimate_from == "estimator"
+    assert not interrogator_for(env, run, params=ClimbParameters(), estimators=[]).estimators
 
 
 def test_the_crest_ratio_keeps_the_crest_below_the_cautious_saturation_torque():

@@ -49,7 +49,7 @@ or one window before the horizon. The estimate is the filter's (the last rising 
 predicted correction), or the best CoA of the climb times a factor, or the same CoA times the guards'
 correction or the filter's and the guards' corrections pooled (inverse-variance weighted,
 :func:`pooled_correction`), or the pooled one where the climb stops on its headroom and the filter's
-otherwise, whichever the validation chose. The parameters are chosen on validation scenarios only
+otherwise, or an estimator's (below), whichever the validation chose. The parameters are chosen on validation scenarios only
 (``experiments/train_interrogator.py``).
 
 **Guards.** With ``guards`` (further ensembles that read their own feature blocks, e.g. networks fitted
@@ -58,6 +58,14 @@ and its guards, each with its own std and spread: a guard can only slow the clim
 the filter's unless ``estimate_from`` reads the guards' (:data:`GUARDED_ESTIMATES`). A directory's
 ``manifest.json`` names its guards (``"guards"``: directories of ``member_*.npz``, relative to it); the shipped interrogator has one (session 16: the same networks fitted
 on the family climbs and on procedural creep curves together, ``guard_0``).
+
+**Estimators.** With ``estimators`` (further ensembles fitted on the deployed climb's own windows, on
+policy: :func:`~cof_gym.agents.interrogator_training.collect` with a ``policy``) the estimate may read
+their correction (``estimate_from="estimator"``), or theirs, the filter's and the guards' pooled
+(``"estimator_pooled"``; :data:`ESTIMATOR_ESTIMATES`). They never steer: the climb, and every
+macro-slip, is the same with or without them. The filter and the guards learn from random probing
+climbs, so that no schedule leaks the truth into their features; an estimator learns the correction
+where the deployed climb actually stops. A manifest names them under ``"estimators"``.
 
 **A crest cap.** With ``crest_fraction`` set, the modulation shrinks as the climb nears the peak: the
 ratio of each window is at most ``exp(crest_fraction x h) - 1`` for the cautious headroom ``h`` left
@@ -110,8 +118,9 @@ SE_CLIP_DEG = 30.0
 HISTORY = 2  # previous windows in the features
 WORLD_KWARGS = ("vehicle", "counter_torque", "traction_balance", "window_s", "settle_fraction", "ramp_fraction",
                 "timestep")  # constructor arguments that change what the sensors see
-ESTIMATE_SOURCES = ("filter", "best_coa", "guard", "pooled", "pooled_at_headroom")
+ESTIMATE_SOURCES = ("filter", "best_coa", "guard", "pooled", "pooled_at_headroom", "estimator", "estimator_pooled")
 GUARDED_ESTIMATES = ("guard", "pooled", "pooled_at_headroom")  # estimate sources that read the guards' corrections
+ESTIMATOR_ESTIMATES = ("estimator", "estimator_pooled")  # estimate sources that read the estimators' corrections
 TARGET_NAMES = ("headroom", "correction")  # ln(M_sat / DC), ln(CoF / CoA measured)
 
 FEATURE_NAMES = (
@@ -515,7 +524,8 @@ class ClimbParameters:
     creep_until: float | None = None  # not None: no creep once the predicted (mean) headroom is this low
     estimate_from: str = "filter"  # "filter": CoA x exp(predicted correction); "best_coa": best CoA x factor;
     # "guard": CoA x exp(the guards' correction); "pooled": CoA x exp(the filter's and the guards' together);
-    # "pooled_at_headroom": "pooled" once the climb stops on its headroom, "filter" before and otherwise
+    # "pooled_at_headroom": "pooled" once the climb stops on its headroom, "filter" before and otherwise;
+    # "estimator": CoA x exp(the estimators' correction); "estimator_pooled": the filter's, guards' and estimators'
     best_coa_factor: float = 1.0
     floor_margin: float | None = None  # not None: a step may close the gap to the task's lowest CoF less this
     tone2_frequency_hz: float | None = None  # not None: a second tone at this frequency (a two-tone excitation)
@@ -635,7 +645,9 @@ class LearnedInterrogator:
     stop_reason: str = field(default="", repr=False)
     trained_on: tuple[str, tuple[dict[str, Any], ...]] | None = None  # (env id, vehicle configurations)
     guards: tuple[FilterEnsemble, ...] = ()  # further filters that may only slow the climb (module docstring)
+    estimators: tuple[FilterEnsemble, ...] = ()  # further filters whose correction the estimate may read
     _guard_features: tuple[EpisodeFeatures, ...] = field(default=(), repr=False)
+    _estimator_features: tuple[EpisodeFeatures, ...] = field(default=(), repr=False)
     _dc: float = 0.0
     _source_estimates: dict[str, float] = field(default_factory=dict, repr=False)  # per guarded/filter source
     _estimate: float = 0.0
@@ -648,12 +660,15 @@ class LearnedInterrogator:
         if self.ensemble.tones != self.params.tones:
             raise ValueError(f"the climb drives {self.params.tones} tone(s) but the networks read "
                              f"{self.ensemble.tones}: use networks fitted on that excitation")
-        if any(g.tones != self.params.tones for g in self.guards):
-            raise ValueError(f"a guard reads another excitation than the climb's {self.params.tones} tone(s): "
-                             "use guard networks fitted on that excitation")
-        if self.params.estimate_from in GUARDED_ESTIMATES and not self.guards:
-            raise ValueError(f"estimate_from={self.params.estimate_from!r} reads the guards' corrections, "
-                             "but the interrogator has no guards")
+        for role, networks in (("guard", self.guards), ("estimator", self.estimators)):
+            if any(g.tones != self.params.tones for g in networks):
+                raise ValueError(f"a {role} reads another excitation than the climb's {self.params.tones} tone(s): "
+                                 f"use {role} networks fitted on that excitation")
+        for role, sources, networks in (("guards", GUARDED_ESTIMATES, self.guards),
+                                        ("estimators", ESTIMATOR_ESTIMATES, self.estimators)):
+            if self.params.estimate_from in sources and not networks:
+                raise ValueError(f"estimate_from={self.params.estimate_from!r} reads the {role}' corrections, "
+                                 f"but the interrogator has no {role}")
 
     @property
     def env_options(self) -> dict[str, Any]:
@@ -684,6 +699,7 @@ class LearnedInterrogator:
                              "(cof-gym evaluate does that itself)")
         self.features = EpisodeFeatures(self.counter_torque, blocks=self.ensemble.blocks)
         self._guard_features = tuple(EpisodeFeatures(self.counter_torque, blocks=g.blocks) for g in self.guards)
+        self._estimator_features = tuple(EpisodeFeatures(self.counter_torque, blocks=e.blocks) for e in self.estimators)
         self._dc = 0.0
         self._driven = 0
         self._crept = False
@@ -694,13 +710,19 @@ class LearnedInterrogator:
         self.stop_reason = ""
 
     @property
+    def dc_nm(self) -> float:
+        """The DC torque (N m) of the window the last action drives (0 before the first)."""
+        return self._dc
+
+    @property
     def crept(self) -> bool:
         """Whether the climb of this episode has taken its slow probe (it may since have stopped)."""
         return self._crept
 
     def candidate_estimates(self, best_coa_factor: float) -> dict[str, float]:
         """The estimate of each source of :data:`ESTIMATE_SOURCES` after the windows so far (the
-        trajectory does not depend on which one is reported; the guarded sources are 0 without guards)."""
+        trajectory does not depend on which one is reported; the guarded sources are 0 without guards, the
+        estimators' without estimators)."""
         estimates = {**dict.fromkeys(ESTIMATE_SOURCES, 0.0), **self._source_estimates,
                      "best_coa": self._best_coa * best_coa_factor}
         estimates["pooled_at_headroom"] = estimates["pooled" if self.stop_reason == "headroom" else "filter"]
@@ -708,14 +730,25 @@ class LearnedInterrogator:
 
     @staticmethod
     def _estimates_at(coa: float, filter_prediction: tuple[float, float],
-                      guard_predictions: list[tuple[float, float]]) -> dict[str, float]:
-        """The CoA times ``exp`` of each source's correction ``ln(CoF / CoA)``, from the filter's and each
-        guard's (mean, std) of it."""
+                      guard_predictions: list[tuple[float, float]],
+                      estimator_predictions: list[tuple[float, float]] = ()) -> dict[str, float]:
+        """The CoA times ``exp`` of each source's correction ``ln(CoF / CoA)``, from the filter's, each
+        guard's and each estimator's (mean, std) of it."""
         corrections = {"filter": filter_prediction[0]}
         if guard_predictions:
             corrections["guard"] = pooled_correction(guard_predictions)
             corrections["pooled"] = pooled_correction([filter_prediction, *guard_predictions])
+        if estimator_predictions:
+            corrections["estimator"] = pooled_correction(estimator_predictions)
+            corrections["estimator_pooled"] = pooled_correction(
+                [filter_prediction, *guard_predictions, *estimator_predictions])
         return {source: coa * math.exp(c) for source, c in corrections.items()}
+
+    @staticmethod
+    def _corrections(networks: tuple[FilterEnsemble, ...], features: tuple[EpisodeFeatures, ...]) -> list[tuple[float, float]]:
+        """Each network's (mean, std) of the correction ``ln(CoF / CoA)`` at the newest window."""
+        outputs = [n.predict(f.vector()) for n, f in zip(networks, features)]
+        return [(float(mean[0, 1]), float(std[0, 1])) for mean, std in outputs]
 
     def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
         p = self.params
@@ -724,7 +757,7 @@ class LearnedInterrogator:
             self._driven += 1
             reading = Reading.of(observation, self.limits, info)
             falling = bool(self.features.readings) and reading.coa < self.features.readings[-1].coa * 0.995
-            for features in (self.features, *self._guard_features):
+            for features in (self.features, *self._guard_features, *self._estimator_features):
                 features.push(reading)
             mean, std, spread = self.ensemble.predict_with_spread(self.features.vector())
             guard_outputs = [g.predict_with_spread(f.vector()) for g, f in zip(self.guards, self._guard_features)]
@@ -733,7 +766,8 @@ class LearnedInterrogator:
                 self._best_coa = max(self._best_coa, reading.coa)
                 self._source_estimates = self._estimates_at(
                     reading.coa, (float(mean[0, 1]), float(std[0, 1])),
-                    [(float(g_mean[0, 1]), float(g_std[0, 1])) for g_mean, g_std, _ in guard_outputs])
+                    [(float(g_mean[0, 1]), float(g_std[0, 1])) for g_mean, g_std, _ in guard_outputs],
+                    self._corrections(self.estimators, self._estimator_features))
             step = p.log_step(headroom, headroom_std, headroom_spread)
             if p.creep_sticky and self._crept:  # the peak may be near: no big step again
                 step = min(step, p.creep_log_step)
@@ -781,27 +815,30 @@ def manifest_climb(directory: Path) -> ClimbParameters:
     return ClimbParameters(**read_manifest(directory).get("climb", {}))
 
 
-def manifest_guards(directory: Path) -> tuple[Path, ...]:
-    """The guard directories ``directory``'s manifest names (relative to it), none where it names none."""
-    return tuple(Path(directory) / g for g in read_manifest(directory).get("guards", []))
+def manifest_guards(directory: Path, role: str = "guards") -> tuple[Path, ...]:
+    """The guard directories ``directory``'s manifest names (relative to it; ``role="estimators"``: its
+    estimators'), none where it names none."""
+    return tuple(Path(directory) / g for g in read_manifest(directory).get(role, []))
 
 
 def interrogator_for(env, directory: Path, params: ClimbParameters | None = None,
-                     guards: Iterable[Path] | None = None) -> LearnedInterrogator:
+                     guards: Iterable[Path] | None = None, estimators: Iterable[Path] | None = None) -> LearnedInterrogator:
     """The interrogator of ``directory`` (``member_*.npz`` and a ``manifest.json`` with the climb's
-    parameters, the training distribution and any guards) for ``env``'s drive and vehicle configuration;
-    ``params`` replaces the manifest's climb, ``guards`` (directories of ``member_*.npz``) its guards.
-    A two-tone climb acts in the env made with its ``env_options``."""
+    parameters, the training distribution and any guards and estimators) for ``env``'s drive and vehicle
+    configuration; ``params`` replaces the manifest's climb, ``guards`` and ``estimators`` (directories of
+    ``member_*.npz``) its guards and estimators. A two-tone climb acts in the env made with its ``env_options``."""
     directory = Path(directory)
     ensemble = FilterEnsemble.load(directory)
     trained = read_manifest(directory).get("trained_on")
     guard_dirs = manifest_guards(directory) if guards is None else tuple(guards)
+    estimator_dirs = manifest_guards(directory, "estimators") if estimators is None else tuple(estimators)
     base = env.unwrapped
     return LearnedInterrogator(base.limits, ensemble, counter_torque=bool(base.task.counter_torque),
                                params=params or manifest_climb(directory),
                                max_windows=int(base.task.max_windows),
                                trained_on=(trained["env_id"], tuple(trained["configs"])) if trained else None,
-                               guards=tuple(FilterEnsemble.load(g) for g in guard_dirs))
+                               guards=tuple(FilterEnsemble.load(g) for g in guard_dirs),
+                               estimators=tuple(FilterEnsemble.load(e) for e in estimator_dirs))
 
 
 def load_interrogator(env, argument: str | None = None) -> LearnedInterrogator:

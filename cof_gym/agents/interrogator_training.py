@@ -14,7 +14,11 @@ creep curves are the env's own draws or procedural tables beyond every family
 (:func:`procedural_shape`). **The DC torques depend on the readings and the climb's
 own random draws only, never on the truth**: a schedule steered by the saturation torque would leak
 it into the torque-step features (a network then learns the schedule, not the creep curve). The
-labels (``ln(M_sat / DC)``, ``ln(CoF / CoA measured)``) are the episode's ground truth. The readings
+labels (``ln(M_sat / DC)``, ``ln(CoF / CoA measured)``) are the episode's ground truth. **On policy**
+(``collect(..., policy=DIR)``): the same episodes climbed by a deployed interrogator instead, its
+torques chosen by its own networks from the readings, for an estimator that learns the correction
+where that climb actually stops (:class:`~cof_gym.agents.interrogator.LearnedInterrogator`'s
+``estimators``). The readings
 of every window are kept (:class:`Dataset`); the features are rebuilt from them through the same
 :class:`~cof_gym.agents.interrogator.EpisodeFeatures` the agent runs.
 
@@ -29,14 +33,16 @@ import math
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import astuple, dataclass, fields
 from functools import cached_property
+from pathlib import Path
 from typing import Any
 
 import gymnasium as gym
 import numpy as np
 
+from cof_gym.agents.base import agent_view
 from cof_gym.agents.interrogator import (
     CREST_RATIO_FLOOR, FEATURE_BLOCKS, TARGET_NAMES, TWO_TONE_ENV_OPTIONS, ClimbParameters, EpisodeFeatures,
-    FilterNetwork, Reading, feature_names, floor_headroom, slope_from_phase,
+    FilterNetwork, Reading, feature_names, floor_headroom, interrogator_for, manifest_climb, slope_from_phase,
 )
 from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.physics.creep_laws import below_peak
@@ -251,16 +257,42 @@ class ClimbDraws:
                 raise ValueError(f"{name} must be a (low, high) pair with 0 < low <= high, got {value!r}")
 
 
+def _reset(env, seed: int, draws: ClimbDraws) -> tuple[np.ndarray, dict[str, Any]]:
+    """The env reset for training episode ``seed``: the env's own creep curve, or a procedural one."""
+    procedural = draws.shapes == "procedural"
+    options = {"creep_law": procedural_shape(np.random.default_rng([seed, 11]), draws.fall)} if procedural else None
+    return env.reset(seed=seed, options=options)
+
+
+def _labels(truth: dict[str, Any], dc_nm: float, reading: Reading) -> tuple[float, float]:
+    """A window's targets: ``ln(M_sat / DC)`` and ``ln(CoF / CoA measured)``."""
+    return math.log(truth["saturation_torque_nm"] / dc_nm), math.log(truth["cof"] / reading.coa)
+
+
+def _policy_episode(env, agent, seed: int, draws: ClimbDraws) -> tuple[list[Reading], list[tuple[float, float]]]:
+    """One episode of a deployed ``agent`` (the interrogator: it never reads the truth), on the training
+    episode ``seed``: every driven window's reading and labels, as the agent's own climb chose its torques."""
+    obs, info = _reset(env, seed, draws)
+    truth = info["ground_truth"]
+    agent.reset(obs, agent_view(info, oracle=False))
+    xs, ys = [], []
+    while True:
+        action = agent.act(obs, agent_view(info, oracle=False))
+        dc = agent.dc_nm
+        obs, _, terminated, truncated, info = env.step(action)
+        xs.append(Reading.of(obs, env.unwrapped.limits, info))
+        ys.append(_labels(truth, dc, xs[-1]))
+        if terminated or truncated:
+            return xs, ys
+
+
 def _climb_episode(env, seed: int, draws: ClimbDraws = ClimbDraws()) -> tuple[list[Reading], list[tuple[float, float]]]:
     """One training climb (module docstring): its readings and their labels."""
     rng = np.random.default_rng([seed, 7])
-    procedural = draws.shapes == "procedural"
-    options = {"creep_law": procedural_shape(np.random.default_rng([seed, 11]), draws.fall)} if procedural else None
-    obs, info = env.reset(seed=seed, options=options)
+    obs, info = _reset(env, seed, draws)
     base = env.unwrapped
     limits = base.limits
     truth = info["ground_truth"]
-    m_sat, cof = truth["saturation_torque_nm"], truth["cof"]
     amplitude_ratio = float(math.exp(rng.uniform(*np.log(draws.amplitude_ratios))))
     if draws.frequencies_hz is None:
         frequency = 5.0 if rng.random() < 0.5 else float(math.exp(rng.uniform(math.log(3), math.log(10))))
@@ -282,8 +314,8 @@ def _climb_episode(env, seed: int, draws: ClimbDraws = ClimbDraws()) -> tuple[li
         obs, _, terminated, truncated, info = env.step(p.action(dc, 0.1, False, limits, ratio))
         reading = Reading.of(obs, limits, info)
         xs.append(reading)
-        ys.append((math.log(m_sat / dc), math.log(cof / reading.coa)))
-        if terminated or truncated or dc > STOP_UTILISATION * m_sat:
+        ys.append(_labels(truth, dc, reading))
+        if terminated or truncated or dc > STOP_UTILISATION * truth["saturation_torque_nm"]:
             break
         step = _probing_step(rng, xs, sigma, power, floor)
         if margin is not None:
@@ -295,13 +327,22 @@ def _climb_episode(env, seed: int, draws: ClimbDraws = ClimbDraws()) -> tuple[li
 
 
 def collect(env_id: str, configs: list[dict[str, Any]], episodes: int, first_seed: int = TRAINING_SEED,
-            draws: ClimbDraws = ClimbDraws()) -> Dataset:
-    """``episodes`` training climbs (seeds ``first_seed...``), the configurations in turn."""
-    envs = [gym.make(env_id, **c, **draws.env_options) for c in configs]
+            draws: ClimbDraws = ClimbDraws(), policy: str | None = None) -> Dataset:
+    """``episodes`` training climbs (seeds ``first_seed...``), the configurations in turn; with ``policy`` (an
+    interrogator's directory) that interrogator's own climbs on the same episodes (on policy: only
+    ``draws.shapes`` and ``draws.fall`` are read, the climb is the policy's)."""
+    if policy is None:
+        envs = [gym.make(env_id, **c, **draws.env_options) for c in configs]
+        play = lambda k, seed: _climb_episode(envs[k], seed, draws)  # noqa: E731
+    else:
+        options = manifest_climb(Path(policy)).env_options
+        envs = [gym.make(env_id, **c, **options) for c in configs]
+        agents = [interrogator_for(e, Path(policy)) for e in envs]
+        play = lambda k, seed: _policy_episode(envs[k], agents[k], seed, draws)  # noqa: E731
     xs, cts, ys, eps = [], [], [], []
     for i in range(episodes):
         k = i % len(configs)
-        x, y = _climb_episode(envs[k], first_seed + i, draws)
+        x, y = play(k, first_seed + i)
         xs += [astuple(r) for r in x]
         ys += y
         cts += [bool(envs[k].unwrapped.task.counter_torque)] * len(x)
@@ -313,17 +354,18 @@ def collect(env_id: str, configs: list[dict[str, Any]], episodes: int, first_see
 
 
 def collect_parallel(env_id: str, configs: list[dict[str, Any]], episodes: int, workers: int,
-                     first_seed: int = TRAINING_SEED, draws: ClimbDraws = ClimbDraws()) -> Dataset:
+                     first_seed: int = TRAINING_SEED, draws: ClimbDraws = ClimbDraws(),
+                     policy: str | None = None) -> Dataset:
     """:func:`collect` split over ``workers`` processes (the same episodes, in the same order)."""
     if workers <= 1:
-        return collect(env_id, configs, episodes, first_seed, draws)
+        return collect(env_id, configs, episodes, first_seed, draws, policy)
     n_configs = len(configs)
     chunk = math.ceil(episodes / workers / n_configs) * n_configs  # keeps the configuration rotation aligned
     starts = list(range(0, episodes, chunk))
     with ProcessPoolExecutor(workers) as pool:
         parts = list(pool.map(collect, [env_id] * len(starts), [configs] * len(starts),
                               [min(chunk, episodes - s) for s in starts], [first_seed + s for s in starts],
-                              [draws] * len(starts)))
+                              [draws] * len(starts), [policy] * len(starts)))
     return Dataset.concatenate(parts)
 
 

@@ -1,0 +1,151 @@
+"""Fit an interrogator's on-policy estimator (cof_gym/agents/interrogator.py, "Estimators"). 2 cores, CPU.
+
+    python experiments/train_estimator.py --policy cof_gym/agents/policies/interrogator --out runs/estimator
+
+1. **Data, on policy**: the interrogator of ``--policy`` (its networks, guards and climb, unchanged)
+   climbs training episodes of the v2 wagon's randomisation, half with the paper's counter torque
+   (:func:`cof_gym.agents.interrogator_training.collect` with ``policy``): the env's creep-law draws
+   (seeds from 2 100 000 on) and procedural creep curves beyond every family (from 2 200 000 on), far
+   from every evaluation seed and from the probing climbs' (ON_POLICY; ``--climbs NAME=N``, default
+   4000 each). Every window is kept with its labels from the episode's truth. Cached in
+   OUT/onpolicy_NAME_DIGEST.npz, the digest naming the policy's networks and climb.
+2. **Networks**: one per seed, fitted as the policy's filter was (its manifest's fit settings: a
+   bootstrap resample of the episodes, Gaussian NLL), every tenth episode held apart; OUT/seed_K/ and
+   the ensemble OUT/ensemble/. The held-apart correction RMSE at the window each climb's estimate reads
+   (its last rising window) is printed beside the policy's filter's and guards' on the same windows.
+
+The estimator never steers: it can change the reported estimate only, never a torque. Which estimate
+source ships (``estimate_from``) is decided by a rule on the validation grids and a confirmation set
+(docs/interrogator.md).
+"""
+
+from __future__ import annotations
+
+import argparse
+import hashlib
+import json
+import sys
+import time
+from dataclasses import asdict
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+from train_interrogator import CONFIGS, ENV_ID, fit_networks, parse_climbs, require_networks, split  # noqa: E402
+
+from cof_gym.agents.interrogator import (  # noqa: E402
+    SHIPPED_INTERROGATOR, FilterEnsemble, manifest_guards, read_manifest,
+)
+from cof_gym.agents.interrogator_training import (  # noqa: E402
+    READING_FIELDS, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel,
+)
+
+# the on-policy collections: name -> (first seed, what the episodes draw beyond the env's own)
+ON_POLICY = {"env": (TRAINING_SEED + 1_100_000, ClimbDraws()),
+             "procedural": (TRAINING_SEED + 1_200_000, ClimbDraws(shapes="procedural"))}
+EPISODES = {"env": 4000, "procedural": 4000}
+
+
+REPORTING_ONLY = ("estimate_from", "best_coa_factor")  # climb parameters that change no torque of the climb
+
+
+def policy_digest(policy: Path) -> str:
+    """A short digest of what steers ``policy``'s climb: its manifest's climb (less what only picks the
+    reported estimate) and every network that steers (filter and guards), so that a cache of its climbs is
+    never read for another policy, and is read again where only the estimate changed."""
+    climb = {k: v for k, v in read_manifest(policy).get("climb", {}).items() if k not in REPORTING_ONLY}
+    h = hashlib.sha1(json.dumps(climb, sort_keys=True).encode())
+    for directory in (policy, *manifest_guards(policy)):
+        for member in sorted(Path(directory).glob("member_*.npz")):
+            h.update(member.read_bytes())
+    return h.hexdigest()[:12]
+
+
+def collect_on_policy(policy: Path, out: Path, climbs: dict[str, int], workers: int) -> Dataset:
+    """``policy``'s own climbs of the :data:`ON_POLICY` collections (``climbs``: {name: episodes}), from OUT's
+    cache when it holds them."""
+    digest, parts = policy_digest(policy), []
+    for name, episodes in climbs.items():
+        path = out / f"onpolicy_{name}_{digest}.npz"
+        if path.is_file() and int(Dataset.load(path).episode.max()) + 1 >= episodes:
+            data = Dataset.load(path)
+            parts.append(data.subset(data.episode < episodes))
+            continue
+        first_seed, draws = ON_POLICY[name]
+        t0 = time.time()
+        data = collect_parallel(ENV_ID, CONFIGS, episodes, workers, first_seed, draws, str(policy))
+        out.mkdir(parents=True, exist_ok=True)
+        data.save(path)
+        print(f"collected {episodes} on-policy {name} climbs ({len(data)} windows) in {time.time() - t0:.0f} s", flush=True)
+        parts.append(data)
+    return Dataset.concatenate(parts)
+
+
+def estimate_windows(data: Dataset) -> np.ndarray:
+    """The row of each episode whose correction the climb's estimate reads: its last window whose CoA did
+    not fall by more than 0.5 % below the one before (the agent's rule), the final window excluded (the
+    window after the stop)."""
+    coa = data.readings[:, READING_FIELDS.index("coa")]
+    rows = []
+    for e in np.unique(data.episode):
+        idx = np.flatnonzero(data.episode == e)
+        idx = idx[:-1] if len(idx) > 1 else idx
+        rising = [i for k, i in enumerate(idx) if k == 0 or coa[i] >= coa[idx[k - 1]] * 0.995]
+        rows.append(rising[-1])
+    return np.asarray(rows)
+
+
+def correction_rmse(networks: dict[str, Path], data: Dataset) -> dict[str, float]:
+    """Each ensemble's correction RMSE (log units) on ``data``'s estimate windows."""
+    rows = estimate_windows(data)
+    out = {}
+    for name, directory in networks.items():
+        ensemble = FilterEnsemble.load(directory)
+        mean, _ = ensemble.predict(data.features_for(ensemble.blocks)[rows])
+        out[name] = float(np.sqrt(np.mean((data.targets[rows, 1] - mean[:, 1]) ** 2)))
+    return out
+
+
+def fit_estimator(policy: Path, out: Path, climbs: dict[str, int], seeds: list[int], workers: int,
+                  reuse: bool) -> dict:
+    """Collect ``policy``'s climbs, fit one network per seed with its manifest's fit settings (OUT/seed_K,
+    OUT/ensemble) and return the fit's held-apart report, the estimate windows' correction RMSE included."""
+    settings = FitSettings(**{k: tuple(v) if isinstance(v, list) else v
+                              for k, v in read_manifest(policy).get("training", {}).get("fit", {}).items()})
+    data = collect_on_policy(policy, out, climbs, workers)
+    report = fit_networks(out, data, seeds, settings, reuse)
+    _, held = split(data)
+    networks = {"estimator": out / "ensemble", "filter": policy,
+                **{g.name: g for g in manifest_guards(policy)}}
+    report["estimate_window_correction_rmse"] = correction_rmse(networks, held)
+    report["settings"] = asdict(settings)
+    print(f"held-apart correction RMSE at the estimate windows: {report['estimate_window_correction_rmse']}", flush=True)
+    return report
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--policy", type=Path, default=SHIPPED_INTERROGATOR,
+                    help="the interrogator whose climbs the estimator learns (a directory with member_*.npz and manifest.json)")
+    ap.add_argument("--out", type=Path, default=Path("runs/estimator"))
+    ap.add_argument("--climbs", nargs="+", default=[f"{k}={v}" for k, v in EPISODES.items()], metavar="NAME=N",
+                    help=f"on-policy episodes per collection ({', '.join(ON_POLICY)}; default: %(default)s)")
+    ap.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2, 3, 4])
+    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--reuse", action="store_true", help="keep OUT/seed_K networks that exist")
+    args = ap.parse_args()
+    require_networks(ap, "--policy", [args.policy])
+    if not (args.policy / "manifest.json").is_file():
+        ap.error(f"--policy: no manifest.json in {args.policy} (the climb the estimator learns)")
+    climbs = parse_climbs(ap, args.climbs, "--climbs", ON_POLICY)
+    t0 = time.time()
+    report = fit_estimator(args.policy, args.out, climbs, args.seeds, args.workers, args.reuse)
+    (args.out / "report.json").write_text(json.dumps(report, indent=1) + "\n")
+    print(f"done in {time.time() - t0:.0f} s")
+
+
+if __name__ == "__main__":
+    main()
