@@ -226,7 +226,7 @@ def play(ensemble_dir: str, params: dict, suite_path: str, env_kwargs: dict,
     """(relative error, macro-slip) of every episode of a suite file, in a vehicle configuration, for
     each estimate source of ESTIMATES (``guards``: the climb's guard directories, None: the manifest's)."""
     out: list[list[tuple[float, bool]]] = [[] for _ in ESTIMATES]
-    for r, agent in episodes(ensemble_dir, suite_path, env_kwargs, params, guards):
+    for r, agent in episodes(ensemble_dir, suite_path, env_kwargs, params, guards, []):  # no estimator: ESTIMATES
         lim = agent.limits
         for k, e in enumerate(ESTIMATES):
             est = agent.candidate_estimates(e["best_coa_factor"])[e["estimate_from"]]
@@ -401,10 +401,9 @@ def main() -> None:
     if args.fit_only:
         return
     t = time.time()
-    # the selection plays the filter with the --guards networks only; the recipe's guard joins the chosen climb
-    played = install_guards(ensemble_dir, args.guards)
-    chosen, table = select_climb(ensemble_dir, args.workers, args.criterion, args.grid,
-                                 [str(ensemble_dir / g) for g in played])
+    # the selection plays the filter with the --guards networks only (read where they are); the recipe's guard
+    # joins the chosen climb, and every guard is copied into every run below
+    chosen, table = select_climb(ensemble_dir, args.workers, args.criterion, args.grid, [str(g) for g in args.guards])
     print(f"climb selected on validation in {time.time() - t:.0f} s: {chosen}", flush=True)
     runs = [out / f"seed_{s}" for s in args.seeds] + [ensemble_dir]
     guard_names = [install_guards(r, guards) for r in runs][-1]  # the same names in every run

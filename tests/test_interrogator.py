@@ -22,7 +22,7 @@ from cof_gym.agents.interrogator import (
 )
 from cof_gym.agents.interrogator_training import (
     GENTLE_FALL, PROCEDURAL_PEAK_CREEPAGE, STEEP_FALL, ClimbDraws, Dataset, FallingBranch, FitSettings, _climb_episode,
-    collect, fit_member, procedural_shape,
+    READING_FIELDS, collect, fit_member, procedural_shape,
 )
 from cof_gym.physics.creep_laws import creep_law_from_spec
 from cof_gym.commands.evaluate import run_episode
@@ -287,7 +287,7 @@ def test_on_policy_climbs_are_the_deployed_interrogators_own_with_the_truths_lab
             dc = agent.dc_nm
             obs, _, terminated, truncated, info = env.step(action)
             readings.append(astuple(Reading.of(obs, env.unwrapped.limits, info)))
-            labels.append((math.log(truth["saturation_torque_nm"] / dc), math.log(truth["cof"] / readings[-1][3])))
+            labels.append((math.log(truth["saturation_torque_nm"] / dc), math.log(truth["cof"] / readings[-1][READING_FIELDS.index("coa")])))
             if terminated or truncated:
                 break
         rows = data.episode == k

@@ -1,0 +1,59 @@
+"""experiments/train_estimator.py: the on-policy estimator's recipe. A bad ``--policy`` or ``--climbs`` exits 2
+with one line before any climb; the cache of a policy's climbs is keyed by what steers them (not by the
+reported estimate); a small run writes the networks and the held-apart report."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR
+
+EXPERIMENTS = Path(__file__).resolve().parents[1] / "experiments"
+sys.path.insert(0, str(EXPERIMENTS))
+from train_estimator import policy_digest  # noqa: E402
+
+SCRIPT = str(EXPERIMENTS / "train_estimator.py")
+
+
+@pytest.mark.parametrize("args, option", [(["--policy", "nowhere"], "--policy"), (["--climbs", "bad=3"], "--climbs"),
+                                          (["--climbs", "env=0"], "--climbs")])
+def test_bad_options_exit_2_naming_the_option(tmp_path: Path, args: list[str], option: str) -> None:
+    done = subprocess.run([sys.executable, SCRIPT, "--out", str(tmp_path / "run"), *args],
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2
+    assert done.stderr.strip().splitlines()[-1].startswith(f"train_estimator.py: error: {option}")
+    assert not (tmp_path / "run").exists()
+
+
+def test_the_cache_key_follows_what_steers_the_climb_not_the_reported_estimate(tmp_path: Path) -> None:
+    policy = tmp_path / "policy"
+    shutil.copytree(SHIPPED_INTERROGATOR, policy)
+    manifest = json.loads((policy / "manifest.json").read_text())
+    digest = policy_digest(policy)
+
+    def digest_with(**climb) -> str:
+        (policy / "manifest.json").write_text(json.dumps({**manifest, "climb": {**manifest["climb"], **climb}}))
+        return policy_digest(policy)
+
+    assert digest_with(estimate_from="filter") == digest
+    assert digest_with(caution=1.5) != digest
+    digest_with()
+    (policy / "guard_0" / "member_0.npz").write_bytes((policy / "guard_0" / "member_1.npz").read_bytes())
+    assert policy_digest(policy) != digest
+
+
+def test_a_small_run_writes_the_estimator_and_its_report(tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    done = subprocess.run([sys.executable, SCRIPT, "--out", str(out), "--climbs", "env=12", "procedural=8",
+                           "--seeds", "0", "1", "--workers", "1"], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert sorted(p.name for p in (out / "ensemble").iterdir()) == ["member_0.npz", "member_1.npz"]
+    assert len(list(out.glob("onpolicy_env_*.npz"))) == len(list(out.glob("onpolicy_procedural_*.npz"))) == 1
+    report = json.loads((out / "report.json").read_text())
+    assert set(report["estimate_window_correction_rmse"]) == {"estimator", "filter", "guard_0"}
