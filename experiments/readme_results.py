@@ -102,6 +102,11 @@ generated, never typed:
         --out out/crest_tradeoff_estimate_confirmation2.md
     python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rule 16: the shipped estimate
     (then every cof-gym evaluate command above again)
+    python experiments/make_grids.py    # adds the third confirmation set (session 21); every other grid unchanged
+    python experiments/train_estimator.py --policy cof_gym/agents/policies/interrogator --out runs/estimator
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
+        --estimators runs/estimator/ensemble --targets 0.1 --stops --set 'estimate_from="pooled_at_headroom"' \
+        'estimate_from="estimator"' 'estimate_from="estimator_pooled"' --out out/crest_tradeoff_estimator.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -170,6 +175,7 @@ SOURCES = {
         "crest_tradeoff_estimate",
         "crest_tradeoff_estimate_headroom",
         "crest_tradeoff_estimate_confirmation2",
+        "crest_tradeoff_estimator",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
