@@ -70,17 +70,20 @@ def collect_on_policy(policy: Path, out: Path, climbs: dict[str, int], workers: 
     digest, parts = policy_digest(policy), []
     for name, episodes in climbs.items():
         path = out / f"onpolicy_{name}_{digest}.npz"
-        if path.is_file() and int(Dataset.load(path).episode.max()) + 1 >= episodes:
-            data = Dataset.load(path)
-            parts.append(data.subset(data.episode < episodes))
-            continue
-        first_seed, draws = ON_POLICY[name]
-        t0 = time.time()
-        data = collect_parallel(ENV_ID, CONFIGS, episodes, workers, first_seed, draws, str(policy))
-        out.mkdir(parents=True, exist_ok=True)
-        data.save(path)
-        print(f"collected {episodes} on-policy {name} climbs ({len(data)} windows) in {time.time() - t0:.0f} s", flush=True)
-        parts.append(data)
+        cached = Dataset.load(path) if path.is_file() else None
+        held = int(cached.episode.max()) + 1 if cached is not None and len(cached) else 0
+        if held % len(CONFIGS):  # a cache that ends mid-rotation of the configurations is not extended
+            cached, held = None, 0
+        if held < episodes:  # the missing episodes only, in the same order (seeds, configurations)
+            first_seed, draws = ON_POLICY[name]
+            t0 = time.time()
+            more = collect_parallel(ENV_ID, CONFIGS, episodes - held, workers, first_seed + held, draws, str(policy))
+            cached = Dataset.concatenate([cached, more]) if held else more
+            out.mkdir(parents=True, exist_ok=True)
+            cached.save(path)
+            print(f"collected {episodes - held} on-policy {name} climbs ({len(more)} windows) in {time.time() - t0:.0f} s",
+                  flush=True)
+        parts.append(cached.subset(cached.episode < episodes))
     return Dataset.concatenate(parts)
 
 

@@ -57,3 +57,16 @@ def test_a_small_run_writes_the_estimator_and_its_report(tmp_path: Path) -> None
     assert len(list(out.glob("onpolicy_env_*.npz"))) == len(list(out.glob("onpolicy_procedural_*.npz"))) == 1
     report = json.loads((out / "report.json").read_text())
     assert set(report["estimate_window_correction_rmse"]) == {"estimator", "filter", "guard_0"}
+
+
+def test_a_cache_extended_holds_the_climbs_collected_at_once(tmp_path: Path) -> None:
+    """Asking for more on-policy climbs than a cache holds collects only the missing ones, and the data are
+    those of one collection of them all (same seeds, configurations and order)."""
+    from train_estimator import collect_on_policy
+
+    at_once = collect_on_policy(SHIPPED_INTERROGATOR, tmp_path / "a", {"env": 4}, 1)
+    collect_on_policy(SHIPPED_INTERROGATOR, tmp_path / "b", {"env": 2}, 1)
+    extended = collect_on_policy(SHIPPED_INTERROGATOR, tmp_path / "b", {"env": 4}, 1)
+    for field in ("readings", "counter_torque", "targets", "episode"):
+        assert (getattr(extended, field) == getattr(at_once, field)).all(), field
+    assert len(list((tmp_path / "b").glob("onpolicy_env_*.npz"))) == 1
