@@ -107,6 +107,11 @@ generated, never typed:
     python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
         --estimators runs/estimator/ensemble --targets 0.1 --stops --set 'estimate_from="pooled_at_headroom"' \
         'estimate_from="estimator"' 'estimate_from="estimator_pooled"' --out out/crest_tradeoff_estimator.md
+    python experiments/train_estimator.py --policy cof_gym/agents/policies/interrogator --out runs/estimator_family \
+        --climbs env=8000
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
+        --estimators runs/estimator_family/ensemble --targets 0.1 --stops --set 'estimate_from="pooled_at_headroom"' \
+        'estimate_from="estimator"' 'estimate_from="estimator_pooled"' --out out/crest_tradeoff_estimator_family.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -176,6 +181,7 @@ SOURCES = {
         "crest_tradeoff_estimate_headroom",
         "crest_tradeoff_estimate_confirmation2",
         "crest_tradeoff_estimator",
+        "crest_tradeoff_estimator_family",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
