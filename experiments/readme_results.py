@@ -112,6 +112,14 @@ generated, never typed:
     python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
         --estimators runs/estimator_family/ensemble --targets 0.1 --stops --set 'estimate_from="pooled_at_headroom"' \
         'estimate_from="estimator"' 'estimate_from="estimator_pooled"' --out out/crest_tradeoff_estimator_family.md
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
+        --estimators runs/estimator_family/ensemble runs/estimator/ensemble --targets 0.1 --stops \
+        --set 'estimate_from="pooled_at_headroom"' 'estimate_from="estimator_pooled_at_headroom"' \
+        --out out/crest_tradeoff_estimator_headroom.md
+    python experiments/crest_tradeoff.py --grids confirmation3 --guards cof_gym/agents/policies/interrogator/guard_0 \
+        --guards-only --estimators runs/estimator_family/ensemble runs/estimator/ensemble --targets 0.1 --stops \
+        --set 'estimate_from="pooled_at_headroom"' 'estimate_from="estimator_pooled_at_headroom"' \
+        --out out/crest_tradeoff_estimator_confirmation3.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -182,6 +190,8 @@ SOURCES = {
         "crest_tradeoff_estimate_confirmation2",
         "crest_tradeoff_estimator",
         "crest_tradeoff_estimator_family",
+        "crest_tradeoff_estimator_headroom",
+        "crest_tradeoff_estimator_confirmation3",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
