@@ -33,7 +33,8 @@ validation grids (model selection data, never reported elsewhere as results): th
 procedural curves and the procedural curves with steep falling branches
 (``experiments/suites/v2_validation_steep_grid.json``), or with ``--grids confirmation`` on the three
 confirmation grids of the same kinds (``experiments/suites/v2_confirmation_*grid.json``; ``--grids
-confirmation2``: the second such set, session 17; ``confirmation3``: the third, session 21). With ``--crest-fractions`` each row also with each of these
+confirmation2``: the second such set, session 17; ``confirmation3`` and ``confirmation4``: the third and fourth,
+session 21). With ``--crest-fractions`` each row also with each of these
 crest caps (``ClimbParameters.crest_fraction``: the modulation shrinks so that its crest stays within
 that fraction of the cautious headroom; ``none``: uncapped; ``--crest-once-crept``: each cap from the
 climb's first slow probe on). With ``--set NAME=VALUE ...`` the shipped climb with those parameters (a
@@ -75,10 +76,10 @@ def confirmation_set(name: str) -> dict[str, Path]:
 # the grid sets a table plays: validation (model selection) and confirmation (session 16: the same three
 # kinds on other seeds, CoF values and speeds, to confirm a choice taken on the first by a rule written
 # before; confirmation2, session 17: a second such set, because the first had judged two candidates;
-# confirmation3, session 21: a third, because the second had judged one)
+# confirmation3, session 21: a third, because the second had judged one; confirmation4, session 21: a fourth)
 GRID_SETS = {
     "validation": {"family": VALIDATION, "procedural": PROCEDURAL_VALIDATION, "steep": STEEP_VALIDATION},
-    **{name: confirmation_set(name) for name in ("confirmation", "confirmation2", "confirmation3")},
+    **{name: confirmation_set(name) for name in ("confirmation", "confirmation2", "confirmation3", "confirmation4")},
 }
 
 
@@ -285,7 +286,7 @@ def main() -> None:
     parser.add_argument("--grids", choices=sorted(GRID_SETS), default="validation",
                         help="the three grids played: validation (model selection) or confirmation (session 16: other "
                              "episodes of the same kinds, to confirm a choice taken on the first; confirmation2: a "
-                             "second such set, session 17; confirmation3: a third, session 21)")
+                             "second such set, session 17; confirmation3 and confirmation4: a third and a fourth, session 21)")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--out", type=Path, default=Path("out/crest_tradeoff.md"))
     args = parser.parse_args()

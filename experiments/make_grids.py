@@ -27,6 +27,9 @@
   ``suites/v2_confirmation3_steep_grid.json`` (session 21): a third confirmation set of the same three
   kinds on other seeds, CoF fractions and speeds, written before any agent played them and before the
   rule they judge was written, because the second set had judged a candidate (session 20).
+- ``suites/v2_confirmation4_grid.json``, ``suites/v2_confirmation4_procedural_grid.json`` and
+  ``suites/v2_confirmation4_steep_grid.json`` (session 21): a fourth such set, written before any agent
+  played them and before the rule they judge was written, because the third had judged a candidate.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -288,6 +291,13 @@ def all_grids() -> dict[str, dict]:
                      (0.06, 0.39, 0.68, 0.95), (9.5, 31.0), 81_000, kind="confirmation (third set)"),
                  v2_confirmation3_steep_grid=v2_validation_procedural_grid(
                      (0.09, 0.42, 0.64, 0.88), (12.0, 29.0), 83_000, steep=True, kind="confirmation (third set)"),
+                 v2_confirmation4_grid=grid((0.03, 0.26, 0.49, 0.76, 0.97), (7.5, 18.0, 34.0), 85_000,
+                                            "v2 confirmation only, a fourth set (never reported): shapes and "
+                                            "sensor errors from the v2 draws", env_id=cof_gym.WAGON_ENV_ID),
+                 v2_confirmation4_procedural_grid=v2_validation_procedural_grid(
+                     (0.12, 0.47, 0.73), (8.0, 22.0, 37.0), 87_000, kind="confirmation (fourth set)"),
+                 v2_confirmation4_steep_grid=v2_validation_procedural_grid(
+                     (0.16, 0.52, 0.82), (10.5, 24.0, 38.5), 89_000, steep=True, kind="confirmation (fourth set)"),
                  v2_heldout2_grid=v2_heldout_grid(
                      (0.33, 0.63), (6.0, 17.0, 31.0), 97_000, HELDOUT2_SHAPES, HELDOUT2_ERRORS,
                      "v2 reporting only, a second set written after every decision on the first: creep curves "

@@ -35,7 +35,7 @@ def test_every_v2_heldout_file_is_reported_in_the_order_written():
     assert len(set(listed.values())) == len(listed)
 
 
-@pytest.mark.parametrize("prefix", ["v2_confirmation_", "v2_confirmation2_", "v2_confirmation3_"])
+@pytest.mark.parametrize("prefix", ["v2_confirmation_", "v2_confirmation2_", "v2_confirmation3_", "v2_confirmation4_"])
 def test_confirmation_grids_share_no_episode_with_any_other_v2_grid(prefix):
     """A choice confirmed on a confirmation set is confirmed on episodes that took no part in it: no
     seed and no tabulated creep curve of its three grids is on any other v2 grid (validation, reporting

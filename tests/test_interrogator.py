@@ -387,6 +387,26 @@ def test_a_sticky_creep_takes_no_big_step_after_it_crept(env, sticky):
         ClimbParameters(creep_sticky=1)
 
 
+@pytest.mark.parametrize("release, big_step", [(None, False), (0.9, True), (0.995, False)])
+def test_a_sticky_creep_lets_go_once_the_cautious_headroom_is_above_its_release(env, release, big_step):
+    """creep_release: a sticky climb takes max_log_step again only where the cautious headroom (here
+    1 - 0.01 = 0.99 after the creep) is above the release; below it, or unset, it stays slow."""
+    params = ClimbParameters(target_headroom=0.05, max_log_step=0.15, creep_log_step=0.03, creep_while_std=0.08,
+                             caution=1.0, creep_sticky=True, creep_release=release)
+    agent = LearnedInterrogator(env.unwrapped.limits, _ScriptedFilter([(0.26, 0.2), (1.0, 0.01)]), params=params)
+    obs, info = env.reset(seed=5)
+    agent.reset(obs, info)
+    dcs = []
+    for _ in range(3):
+        obs, _, _, _, info = env.step(agent.act(obs, info))
+        dcs.append(agent.dc_nm)
+    assert math.log(dcs[1] / dcs[0]) == pytest.approx(0.03, rel=1e-9)  # the creep
+    assert math.log(dcs[2] / dcs[1]) == pytest.approx(0.15 if big_step else 0.03, rel=1e-9)
+    assert params.sticks(True, 0.5) and not params.sticks(False, 0.5)
+    with pytest.raises(ValueError, match="creep_release"):
+        ClimbParameters(creep_release=-0.1)
+
+
 @pytest.mark.parametrize("cof, condition, load_case", [(0.02, "low_adhesion", "empty"), (0.02, "low_adhesion", "laden"),
                                                        (0.6, "dry", "laden")])
 def test_the_floor_step_jumps_to_the_lowest_cof_and_never_past_its_peak(env, cof, condition, load_case):

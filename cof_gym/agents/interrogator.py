@@ -36,7 +36,9 @@ the readings are unlike the training climbs'; ``spread_caution`` 0 unless chosen
 headroom is still uncertain (its std above ``creep_while_std``), it creeps by ``creep_log_step``: a
 stop there would report a poorly known estimate, and a slow probe buys the readings that settle it;
 with ``creep_sticky`` no later step is larger (the filter thought the peak might be near: a big step
-after that passes the peak on a curve unlike its training curves). With ``creep_until`` the probe ends
+after that passes the peak on a curve unlike its training curves), and with ``creep_release`` too
+unless the cautious headroom has grown above it again (a false alarm: a climb held to the slow probe
+from its second window on ends at the horizon far below the peak). With ``creep_until`` the probe ends
 once the predicted (mean) headroom is that low: the filter expects the peak within it, and each further
 window there risks the modulation's crest passing the peak for readings the estimate no longer needs.
 With ``floor_margin`` set, a step is at least the one that the lowest CoF the task admits
@@ -524,6 +526,7 @@ class ClimbParameters:
     creep_log_step: float = 0.0  # > 0: a step this small where the cautious gap is closed but the
     creep_while_std: float = 0.1  # ... predicted headroom's std still exceeds this (more readings, not a stop)
     creep_sticky: bool = False  # once it has crept, no later step exceeds creep_log_step
+    creep_release: float | None = None  # not None: ... unless the cautious headroom is above this again
     creep_until: float | None = None  # not None: no creep once the predicted (mean) headroom is this low
     estimate_from: str = "filter"  # "filter": CoA x exp(predicted correction); "best_coa": best CoA x factor;
     # "guard": CoA x exp(the guards' correction); "pooled": CoA x exp(the filter's and the guards' together);
@@ -547,7 +550,8 @@ class ClimbParameters:
                 raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
         if not (isinstance(self.approach_fraction, (int, float)) and 0.0 <= self.approach_fraction < 1.0):
             raise ValueError(f"approach_fraction must be in [0, 1), got {self.approach_fraction!r}")
-        for name, low in (("floor_margin", 0.0), ("creep_until", -math.inf), ("crest_fraction", 0.0)):  # None: unused
+        for name, low in (("floor_margin", 0.0), ("creep_until", -math.inf), ("crest_fraction", 0.0),
+                          ("creep_release", 0.0)):  # None: unused
             if getattr(self, name) is not None:
                 check_number(name, getattr(self, name), low, math.inf)
         if self.tone2_frequency_hz is not None:
@@ -584,6 +588,13 @@ class ClimbParameters:
         return (self.creep_log_step > 0.0 and headroom_std > self.creep_while_std
                 and self._gap_step(cautious_headroom) < self.min_log_step
                 and (self.creep_until is None or mean_headroom > self.creep_until))
+
+    def sticks(self, crept: bool, cautious_headroom: float) -> bool:
+        """Whether a climb that has ``crept`` is held to ``creep_log_step``: with ``creep_sticky``, unless
+        ``creep_release`` is set and the cautious headroom is above it again (the slow probe's alarm was
+        false: the filters now place the peak far above even after their caution)."""
+        return (self.creep_sticky and crept
+                and (self.creep_release is None or cautious_headroom <= self.creep_release))
 
     def floor_step(self, coa: float) -> float:
         """The step that the task's lowest CoF (:data:`~cof_gym.task.scenarios.COF_ENVELOPE`) guarantees
@@ -775,7 +786,7 @@ class LearnedInterrogator:
                     [(float(g_mean[0, 1]), float(g_std[0, 1])) for g_mean, g_std, _ in guard_outputs],
                     self._corrections(self.estimators, self._estimator_features))
             step = p.log_step(headroom, headroom_std, headroom_spread)
-            if p.creep_sticky and self._crept:  # the peak may be near: no big step again
+            if p.sticks(self._crept, headroom):  # the peak may be near: no big step again
                 step = min(step, p.creep_log_step)
             self._crept |= p.creeps(headroom, headroom_std, headroom_spread)
             step = max(step, p.floor_step(reading.coa))  # safe whatever the filter predicts
