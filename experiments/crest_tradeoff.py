@@ -164,10 +164,11 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
           guards: list[Path] | None = None, stops: bool = False, own_climb: bool = False,
           grids: dict[str, Path] = GRID_SETS["validation"], crest_fractions: list[float | None] | None = None,
           crest_once_crept: bool = False, settings: dict[str, list] | None = None, guards_only: bool = False,
-          estimators: list[Path] | None = None) -> str:
+          estimators: list[Path] | None = None, return_digits: int = 2) -> str:
     """The table (markdown) of every run's networks x set climb parameters (``settings``: each value of each
     in turn) x caution x spread caution x crest fraction x target x guards (with and without; ``guards_only``:
-    only with; ``estimators``: every row with these estimator networks), each row on the three ``grids`` (the validation grids unless told); several runs (or
+    only with; ``estimators``: every row with these estimator networks; ``return_digits``: the mean returns'
+    decimals), each row on the three ``grids`` (the validation grids unless told); several runs (or
     ``own_climb``: each with its manifest's climb, unchanged): a first column names the networks."""
     manifest_climb = read_manifest(SHIPPED_INTERROGATOR)["climb"]
     # None: the guards the run's manifest names (with own_climb: the climb as shipped), [] none
@@ -215,10 +216,10 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
             ends += _ends(setting, grid, runs)
             s = score([(r.error, r.macro_slip) for r in runs])
             cells.append(f"{100 * s['median']:.1f} % / {100 * s['p90']:.1f} % / {s['macro_slips']} of {len(runs)} / "
-                         f"{np.mean([r.episode_return for r in runs]):.2f}")
+                         f"{np.mean([r.episode_return for r in runs]):.{return_digits}f}")
         lines.append("| " + " | ".join([cell for _, cell, _ in row_columns] + cells) +
                      f" | {sum(r.macro_slip for r in pooled)} of {len(pooled)} / "
-                     f"{np.mean([r.episode_return for r in pooled]):.2f} |")
+                     f"{np.mean([r.episode_return for r in pooled]):.{return_digits}f} |")
     if stops:
         lines += ends
     return "\n".join(lines) + "\n"
@@ -287,6 +288,8 @@ def main() -> None:
                         help="the three grids played: validation (model selection) or confirmation (session 16: other "
                              "episodes of the same kinds, to confirm a choice taken on the first; confirmation2: a "
                              "second such set, session 17; confirmation3 and confirmation4: a third and a fourth, session 21)")
+    parser.add_argument("--return-digits", type=int, default=2, choices=range(1, 7), metavar="{1..6}",
+                        help="decimals of the mean returns (default: 2); more where two rows round alike")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--out", type=Path, default=Path("out/crest_tradeoff.md"))
     args = parser.parse_args()
@@ -316,7 +319,7 @@ def main() -> None:
     text = table(args.targets, args.workers, args.run, args.cautions, args.spread_cautions, args.guards, args.stops,
                  args.own_climb, GRID_SETS[args.grids], args.crest_fractions, args.crest_once_crept,
                  {name: [v for n, v in args.set if n == name] for name, _ in args.set}, args.guards_only,
-                 args.estimators)
+                 args.estimators, args.return_digits)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)
     print(text, end="")

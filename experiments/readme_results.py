@@ -120,6 +120,12 @@ generated, never typed:
         --guards-only --estimators runs/estimator_family/ensemble runs/estimator/ensemble --targets 0.1 --stops \
         --set 'estimate_from="pooled_at_headroom"' 'estimate_from="estimator_pooled_at_headroom"' \
         --out out/crest_tradeoff_estimator_confirmation3.md
+    python experiments/make_grids.py    # adds the fourth confirmation set (session 21); every other grid unchanged
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
+        --targets 0.1 --stops --set creep_release=null creep_release=0.3 creep_release=0.6 --out out/crest_tradeoff_release.md
+    python experiments/crest_tradeoff.py --grids confirmation4 --guards cof_gym/agents/policies/interrogator/guard_0 \
+        --guards-only --targets 0.1 --stops --set creep_release=null creep_release=0.6 --return-digits 4 \
+        --out out/crest_tradeoff_release_confirmation4.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -192,6 +198,8 @@ SOURCES = {
         "crest_tradeoff_estimator_family",
         "crest_tradeoff_estimator_headroom",
         "crest_tradeoff_estimator_confirmation3",
+        "crest_tradeoff_release",
+        "crest_tradeoff_release_confirmation4",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
