@@ -167,8 +167,8 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
           estimators: list[Path] | None = None, return_digits: int = 2) -> str:
     """The table (markdown) of every run's networks x set climb parameters (``settings``: each value of each
     in turn) x caution x spread caution x crest fraction x target x guards (with and without; ``guards_only``:
-    only with; ``estimators``: every row with these estimator networks; ``return_digits``: the mean returns'
-    decimals), each row on the three ``grids`` (the validation grids unless told); several runs (or
+    only with; ``estimators``: every row with these estimator networks; ``return_digits``: the decimals of
+    the mean returns), each row on the three ``grids`` (the validation grids unless told); several runs (or
     ``own_climb``: each with its manifest's climb, unchanged): a first column names the networks."""
     manifest_climb = read_manifest(SHIPPED_INTERROGATOR)["climb"]
     # None: the guards the run's manifest names (with own_climb: the climb as shipped), [] none
