@@ -126,6 +126,9 @@ generated, never typed:
     python experiments/crest_tradeoff.py --grids confirmation4 --guards cof_gym/agents/policies/interrogator/guard_0 \
         --guards-only --targets 0.1 --stops --set creep_release=null creep_release=0.6 --return-digits 4 \
         --out out/crest_tradeoff_release_confirmation4.md
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
+        --targets 0.1 --set approach_fraction=0.25 creep_until=0.12 creep_until=0.16 creep_until=0.2 creep_until=0.25 \
+        --out out/crest_tradeoff_approach_until.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -200,6 +203,7 @@ SOURCES = {
         "crest_tradeoff_estimator_confirmation3",
         "crest_tradeoff_release",
         "crest_tradeoff_release_confirmation4",
+        "crest_tradeoff_approach_until",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
