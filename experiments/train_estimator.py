@@ -37,7 +37,7 @@ sys.path.insert(0, str(HERE))
 from train_interrogator import CONFIGS, ENV_ID, fit_networks, parse_climbs, require_networks, split  # noqa: E402
 
 from cof_gym.agents.interrogator import (  # noqa: E402
-    SHIPPED_INTERROGATOR, FilterEnsemble, manifest_guards, read_manifest,
+    SHIPPED_INTERROGATOR, FilterEnsemble, manifest_climb, manifest_guards, read_manifest,
 )
 from cof_gym.agents.interrogator_training import (  # noqa: E402
     READING_FIELDS, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel,
@@ -47,8 +47,6 @@ from cof_gym.agents.interrogator_training import (  # noqa: E402
 ON_POLICY = {"env": (TRAINING_SEED + 1_100_000, ClimbDraws()),
              "procedural": (TRAINING_SEED + 1_200_000, ClimbDraws(shapes="procedural"))}
 EPISODES = {"env": 4000, "procedural": 4000}
-
-
 REPORTING_ONLY = ("estimate_from", "best_coa_factor")  # climb parameters that change no torque of the climb
 
 
@@ -56,7 +54,7 @@ def policy_digest(policy: Path) -> str:
     """A short digest of what steers ``policy``'s climb: its manifest's climb (less what only picks the
     reported estimate) and every network that steers (filter and guards), so that a cache of its climbs is
     never read for another policy, and is read again where only the estimate changed."""
-    climb = {k: v for k, v in read_manifest(policy).get("climb", {}).items() if k not in REPORTING_ONLY}
+    climb = {k: v for k, v in asdict(manifest_climb(policy)).items() if k not in REPORTING_ONLY}  # defaults filled in
     h = hashlib.sha1(json.dumps(climb, sort_keys=True).encode())
     for directory in (policy, *manifest_guards(policy)):
         for member in sorted(Path(directory).glob("member_*.npz")):

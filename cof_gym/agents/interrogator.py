@@ -832,10 +832,15 @@ def manifest_climb(directory: Path) -> ClimbParameters:
     return ClimbParameters(**read_manifest(directory).get("climb", {}))
 
 
-def manifest_guards(directory: Path, role: str = "guards") -> tuple[Path, ...]:
-    """The guard directories ``directory``'s manifest names (relative to it; ``role="estimators"``: its
-    estimators'), none where it names none."""
+def manifest_networks(directory: Path, role: str) -> tuple[Path, ...]:
+    """The network directories ``directory``'s manifest names under ``role`` (``"guards"`` or
+    ``"estimators"``; relative to it), none where it names none."""
     return tuple(Path(directory) / g for g in read_manifest(directory).get(role, []))
+
+
+def manifest_guards(directory: Path) -> tuple[Path, ...]:
+    """The guard directories ``directory``'s manifest names."""
+    return manifest_networks(directory, "guards")
 
 
 def interrogator_for(env, directory: Path, params: ClimbParameters | None = None,
@@ -848,7 +853,7 @@ def interrogator_for(env, directory: Path, params: ClimbParameters | None = None
     ensemble = FilterEnsemble.load(directory)
     trained = read_manifest(directory).get("trained_on")
     guard_dirs = manifest_guards(directory) if guards is None else tuple(guards)
-    estimator_dirs = manifest_guards(directory, "estimators") if estimators is None else tuple(estimators)
+    estimator_dirs = manifest_networks(directory, "estimators") if estimators is None else tuple(estimators)
     base = env.unwrapped
     return LearnedInterrogator(base.limits, ensemble, counter_torque=bool(base.task.counter_torque),
                                params=params or manifest_climb(directory),
