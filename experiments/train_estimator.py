@@ -39,6 +39,7 @@ from train_interrogator import CONFIGS, ENV_ID, fit_networks, parse_climbs, requ
 from cof_gym.agents.interrogator import (  # noqa: E402
     SHIPPED_INTERROGATOR, FilterEnsemble, manifest_climb, manifest_guards, read_manifest,
 )
+from cof_gym.task.creep_fit import coa_fell  # noqa: E402
 from cof_gym.agents.interrogator_training import (  # noqa: E402
     READING_FIELDS, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel,
 )
@@ -87,14 +88,14 @@ def collect_on_policy(policy: Path, out: Path, climbs: dict[str, int], workers: 
 
 def estimate_windows(data: Dataset) -> np.ndarray:
     """The row of each episode whose correction the climb's estimate reads: its last window whose CoA did
-    not fall by more than 0.5 % below the one before (the agent's rule), the final window excluded (the
+    not fall (:func:`~cof_gym.task.creep_fit.coa_fell`, the agent's rule), the final window excluded (the
     window after the stop)."""
     coa = data.readings[:, READING_FIELDS.index("coa")]
     rows = []
     for e in np.unique(data.episode):
         idx = np.flatnonzero(data.episode == e)
         idx = idx[:-1] if len(idx) > 1 else idx
-        rising = [i for k, i in enumerate(idx) if k == 0 or coa[i] >= coa[idx[k - 1]] * 0.995]
+        rising = [i for k, i in enumerate(idx) if k == 0 or not coa_fell(coa[i], coa[idx[k - 1]])]
         rows.append(rising[-1])
     return np.asarray(rows)
 

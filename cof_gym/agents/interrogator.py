@@ -110,6 +110,7 @@ from cof_gym.agents.base import configuration_note, outside_training_note, regis
 from cof_gym.agents.phase_rule import probe_amplitude
 from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.task.excitation import encode_extra_tones
+from cof_gym.task.creep_fit import coa_fell
 from cof_gym.task.scenarios import COF_ENVELOPE
 from cof_gym.task.validation import check_number
 from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES, SPEED_SCALE_M_S, MotorLimits, encode_action
@@ -773,7 +774,7 @@ class LearnedInterrogator:
         if self._dc > 0.0:
             self._driven += 1
             reading = Reading.of(observation, self.limits, info)
-            falling = bool(self.features.readings) and reading.coa < self.features.readings[-1].coa * 0.995
+            falling = bool(self.features.readings) and coa_fell(reading.coa, self.features.readings[-1].coa)
             for features in (self.features, *self._guard_features, *self._estimator_features):
                 features.push(reading)
             mean, std, spread = self.ensemble.predict_with_spread(self.features.vector())

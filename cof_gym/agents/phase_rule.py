@@ -43,6 +43,7 @@ from typing import Any
 import numpy as np
 
 from cof_gym.agents.staircase import COA, PHASE, ElasticityClimb
+from cof_gym.task.creep_fit import coa_fell
 from cof_gym.task.interface import OBSERVATION_NAMES, MotorLimits, encode_action
 
 PHASE_SE = OBSERVATION_NAMES.index("phase_lag_se")
@@ -195,7 +196,7 @@ class PhaseRule:
         stop = False
         if self._dc > 0.0:
             self._driven += 1
-            falling = self._driven > 1 and coa < self._last_coa * 0.995
+            falling = self._driven > 1 and coa_fell(coa, self._last_coa)
             self._last_coa = coa
             self._best_crest = max(self._best_crest, coa * (1.0 + self._amp / self._dc))
             if self._driven <= self.baseline_windows:

@@ -40,6 +40,7 @@ import numpy as np
 
 from cof_gym.agents.phase_rule import UNKNOWN_SE_DEG, phase_of, phase_rise, probe_amplitude, probe_next_dc
 from cof_gym.agents.staircase import COA, ElasticityClimb
+from cof_gym.task.creep_fit import coa_fell
 from cof_gym.task.interface import OBSERVATION_NAMES, MotorLimits, encode_action
 
 COMPLIANCE = OBSERVATION_NAMES.index("compliance")
@@ -200,7 +201,7 @@ class RobustModel:
             left = self._windows_left(elapsed)
             if self._mode == "climb":
                 knee = self._driven > self.baseline_windows and self._jumped(now, prev, self.jump_deg)
-                falling = self._driven > 1 and coa < prev.coa * 0.995
+                falling = self._driven > 1 and coa_fell(coa, prev.coa)
                 if knee:
                     self._ref = prev
                     self._lo, self._hi = prev.crest, now.crest

@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from cof_gym.analysis.theory import paper_schedule
-from cof_gym.task.creep_fit import elasticity_between
+from cof_gym.task.creep_fit import coa_fell, elasticity_between
 from cof_gym.task.interface import OBSERVATION_NAMES, MotorLimits, encode_action
 
 PHASE = OBSERVATION_NAMES.index("phase_lag")
@@ -169,7 +169,7 @@ class PracticalStaircase:
         coa = float(observation[COA])
         creepage = float(observation[CREEPAGE]) / 10.0
         if self._dc > 0:
-            falling = bool(self._points) and coa < self._points[-1][0] * 0.995
+            falling = bool(self._points) and coa_fell(coa, self._points[-1][0])
             self._falls = self._falls + 1 if falling else 0
             self._points.append((coa, creepage))
             self._best_coa = max(self._best_coa, coa)

@@ -126,6 +126,13 @@ def elasticity_between(lower: tuple[float, float], upper: tuple[float, float]) -
 
 
 FALL_TOLERANCE = 0.995  # a window whose CoA is below 0.995 x the previous point's has passed the peak
+
+
+def coa_fell(coa: float, previous: float) -> bool:
+    """Whether the measured CoA fell from ``previous`` to ``coa`` (below ``FALL_TOLERANCE`` x it): the stop
+    rule every climbing agent shares, since past the creep curve's peak the CoA falls although the torque
+    rose."""
+    return coa < previous * FALL_TOLERANCE
 MIN_FIT_POINTS = 3
 ELASTICITY_SPAN = 0.03  # the elasticity's baseline: back to a point >= 3 % lower in CoA
 
@@ -150,7 +157,7 @@ class ClimbRecord:
         """Record one driven window (measured CoA, creepage, speed in m/s, and the applied DC torque in
         any fixed unit); returns ``falling``: the CoA fell although the torque did not (past the peak).
         A window whose torque was lowered is still on the rising branch and is recorded."""
-        self.falling = bool(self.points) and coa < self.points[-1][0] * FALL_TOLERANCE and dc_torque >= self._last_dc
+        self.falling = bool(self.points) and coa_fell(coa, self.points[-1][0]) and dc_torque >= self._last_dc
         if not self.falling:
             self.points.append((coa, creepage))
             self.speeds.append(speed_m_s)
