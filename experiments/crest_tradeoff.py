@@ -40,6 +40,9 @@ that fraction of the cautious headroom; ``none``: uncapped; ``--crest-once-crept
 climb's first slow probe on). With ``--set NAME=VALUE ...`` the shipped climb with those parameters (a
 name given several values: each in turn). Per grid: median / P90 relative CoF error,
 macro-slips, and the mean episode return (the task's own trade of error against slip, comfort and time).
+With ``--records FILE`` every episode also goes to a JSON file, with the error each estimate source the
+agent computes would have had (the climb does not depend on it), so that a question about the estimate is
+answered from the played episodes by a named command rather than a throwaway script.
 """
 
 from __future__ import annotations
@@ -59,11 +62,14 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from train_interrogator import (  # noqa: E402
     CONFIGS, PROCEDURAL_VALIDATION, STEEP_VALIDATION, VALIDATION, episodes, require_networks, score,
+    source_error,
 )
 
 from make_grids import SUITES  # noqa: E402
 
-from cof_gym.agents.interrogator import GUARDED_ESTIMATES, SHIPPED_INTERROGATOR, ClimbParameters, read_manifest  # noqa: E402
+from cof_gym.agents.interrogator import (  # noqa: E402
+    ESTIMATE_SOURCES, ESTIMATOR_ESTIMATES, GUARDED_ESTIMATES, SHIPPED_INTERROGATOR, ClimbParameters, read_manifest,
+)
 
 
 def confirmation_set(name: str) -> dict[str, Path]:
@@ -97,6 +103,13 @@ class Played(NamedTuple):
     episode_return: float
     ended: str  # why the climb ended: the agent's stop reason, or "macro-slip" (", slow probe": once crept)
     peak_torque_fraction: float  # the largest true torque over the saturation torque
+    source_errors: dict[str, float] | None = None  # the error of each estimate source the agent could report
+
+
+def available_sources(agent) -> tuple[str, ...]:
+    """The estimate sources ``agent`` computes: the guarded ones with guards, the estimators' with estimators."""
+    return tuple(s for s in ESTIMATE_SOURCES if (s not in GUARDED_ESTIMATES or agent.guards)
+                 and (s not in ESTIMATOR_ESTIMATES or agent.estimators))
 
 
 def _play(run: str, params: dict, grid: str, config: dict, guards: list[str] | None,
@@ -105,7 +118,8 @@ def _play(run: str, params: dict, grid: str, config: dict, guards: list[str] | N
     networks ``guards`` and the estimator networks ``estimators`` (None: those its manifest names)."""
     return [Played(r.relative_error if r.scored else 1.0, r.macro_slip, r.episode_return,
                    ("macro-slip, slow probe" if agent.crept else "macro-slip") if r.macro_slip else agent.stop_reason,
-                   r.peak_torque_fraction)
+                   r.peak_torque_fraction,
+                   {s: source_error(agent, r, s, params.get("best_coa_factor", 1.0)) for s in available_sources(agent)})
             for r, agent in episodes(run, grid, config, params, guards, estimators)]
 
 
@@ -164,11 +178,11 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
           guards: list[Path] | None = None, stops: bool = False, own_climb: bool = False,
           grids: dict[str, Path] = GRID_SETS["validation"], crest_fractions: list[float | None] | None = None,
           crest_once_crept: bool = False, settings: dict[str, list] | None = None, guards_only: bool = False,
-          estimators: list[Path] | None = None, return_digits: int = 2) -> str:
+          estimators: list[Path] | None = None, return_digits: int = 2, records: list | None = None) -> str:
     """The table (markdown) of every run's networks x set climb parameters (``settings``: each value of each
     in turn) x caution x spread caution x crest fraction x target x guards (with and without; ``guards_only``:
     only with; ``estimators``: every row with these estimator networks; ``return_digits``: the decimals of
-    the mean returns), each row on the three ``grids`` (the validation grids unless told); several runs (or
+    the mean returns; ``records``: a list that receives every episode as a dict), each row on the three ``grids`` (the validation grids unless told); several runs (or
     ``own_climb``: each with its manifest's climb, unchanged): a first column names the networks."""
     manifest_climb = read_manifest(SHIPPED_INTERROGATOR)["climb"]
     # None: the guards the run's manifest names (with own_climb: the climb as shipped), [] none
@@ -211,7 +225,11 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
         setting = "".join(f"{prefix}{cell}, " for _, cell, prefix in row_columns)
         cells, pooled = [], []
         for grid in grids:
-            runs = [r for _ in CONFIGS for r in next(results)]
+            per_config = [next(results) for _ in CONFIGS]
+            runs = [r for part in per_config for r in part]
+            if records is not None:
+                records += [{"setting": setting.rstrip(", "), "grid": grid, "config": config, "episode": i, **r._asdict()}
+                            for config, part in zip(CONFIGS, per_config) for i, r in enumerate(part)]
             pooled += runs
             ends += _ends(setting, grid, runs)
             s = score([(r.error, r.macro_slip) for r in runs])
@@ -290,6 +308,10 @@ def main() -> None:
                              "second such set, session 17; confirmation3 and confirmation4: a third and a fourth, session 21)")
     parser.add_argument("--return-digits", type=int, default=2, choices=range(1, 7), metavar="{1..6}",
                         help="decimals of the mean returns (default: 2); more where two rows round alike")
+    parser.add_argument("--records", type=Path, default=None, metavar="FILE",
+                        help="also write every episode (its setting, grid, configuration, error, macro-slip, return, how "
+                             "the climb ended, and the error of every estimate source the agent could have reported) "
+                             "to this JSON file")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--out", type=Path, default=Path("out/crest_tradeoff.md"))
     args = parser.parse_args()
@@ -316,12 +338,16 @@ def main() -> None:
     require_networks(parser, "--run", args.run)
     require_networks(parser, "--guards", args.guards or [])
     require_networks(parser, "--estimators", args.estimators or [])
+    records = [] if args.records else None
     text = table(args.targets, args.workers, args.run, args.cautions, args.spread_cautions, args.guards, args.stops,
                  args.own_climb, GRID_SETS[args.grids], args.crest_fractions, args.crest_once_crept,
                  {name: [v for n, v in args.set if n == name] for name, _ in args.set}, args.guards_only,
-                 args.estimators, args.return_digits)
+                 args.estimators, args.return_digits, records)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)
+    if args.records:
+        args.records.parent.mkdir(parents=True, exist_ok=True)
+        args.records.write_text(json.dumps(records, indent=1) + "\n")
     print(text, end="")
 
 

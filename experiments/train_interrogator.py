@@ -227,12 +227,19 @@ def play(ensemble_dir: str, params: dict, suite_path: str, env_kwargs: dict,
     each estimate source of ESTIMATES (``guards``: the climb's guard directories, None: the manifest's)."""
     out: list[list[tuple[float, bool]]] = [[] for _ in ESTIMATES]
     for r, agent in episodes(ensemble_dir, suite_path, env_kwargs, params, guards, []):  # no estimator: ESTIMATES
-        lim = agent.limits
         for k, e in enumerate(ESTIMATES):
-            est = agent.candidate_estimates(e["best_coa_factor"])[e["estimate_from"]]
-            est = min(max(est, lim.min_cof_estimate), lim.max_cof_estimate)
-            out[k].append((abs(est / r.cof - 1.0) if r.scored else 1.0, r.macro_slip))
+            out[k].append((source_error(agent, r, e["estimate_from"], e["best_coa_factor"]), r.macro_slip))
     return out
+
+
+def source_error(agent, record, estimate_from: str, best_coa_factor: float = 1.0) -> float:
+    """The relative CoF error the episode ``record`` of ``agent`` would have had with the estimate from
+    ``estimate_from`` (the trajectory does not depend on it), clipped as the agent clips its action; 1.0
+    where the episode is unscored."""
+    limits = agent.limits
+    estimate = agent.candidate_estimates(best_coa_factor)[estimate_from]
+    estimate = min(max(estimate, limits.min_cof_estimate), limits.max_cof_estimate)
+    return abs(estimate / record.cof - 1.0) if record.scored else 1.0
 
 
 def score(results: list[tuple[float, bool]]) -> dict:

@@ -18,6 +18,8 @@ SHIPPED = Path(__file__).resolve().parent.parent / "cof_gym" / "agents" / "polic
                                           (["--run", "no/such/run"], "--run"),
                                           (["--spread-cautions", "nan"], "--spread-cautions"),
                                           (["--guards", "no/such/guard"], "--guards"),
+                                          (["--estimators", "no/such/estimator"], "--estimators"),
+                                          (["--return-digits", "9"], "--return-digits"),
                                           (["--own-climb", "--targets", "0.1"], "--targets"),
                                           (["--own-climb", "--cautions", "2"], "--cautions"),
                                           (["--grids", "heldout"], "--grids"),
@@ -111,3 +113,23 @@ def test_a_row_without_guards_reports_the_filters_estimate_unless_set() -> None:
     assert unguarded_estimate(guarded, None, None) == guarded  # the run's manifest names its guards
     assert unguarded_estimate(guarded, [], {"estimate_from": ["pooled_at_headroom"]}) == guarded  # --set: as named
     assert unguarded_estimate({**shipped, "estimate_from": "best_coa"}, [], None)["estimate_from"] == "best_coa"
+
+
+def test_records_hold_every_episode_and_each_sources_error(tmp_path: Path) -> None:
+    """--records (here through ``table(records=...)``): one dict per episode and configuration, whose reported
+    error is its estimate source's (the shipped ``pooled_at_headroom``) as recomputed from the agent's
+    candidates; they differ only by the float32 action that carries the estimate (log-mapped over a
+    factor of 100 or less: a relative rounding of at most ln(100) / 2 x 2^-24 < 1.4e-7)."""
+    sys.path.insert(0, str(SCRIPT.parent))
+    from crest_tradeoff import CONFIGS, table
+
+    suite = json.loads((SCRIPT.parent / "suites" / "v2_validation_grid.json").read_text())
+    tiny = tmp_path / "tiny.json"
+    tiny.write_text(json.dumps({**suite, "episodes": suite["episodes"][:2]}))
+    records: list = []
+    text = table([0.1], 1, guards=[SHIPPED / "guard_0"], grids={"tiny": tiny}, guards_only=True, records=records)
+    assert text.count("\n") == 3 and len(records) == 2 * len(CONFIGS)
+    assert [(r["config"], r["episode"]) for r in records] == [(c, i) for c in CONFIGS for i in range(2)]
+    for r in records:
+        assert set(r["source_errors"]) == {"filter", "best_coa", "guard", "pooled", "pooled_at_headroom"}
+        assert r["error"] == pytest.approx(r["source_errors"]["pooled_at_headroom"], abs=1e-6)
