@@ -65,7 +65,7 @@ from train_interrogator import (  # noqa: E402
     source_error,
 )
 
-from make_grids import SUITES  # noqa: E402
+from make_grids import CONFIRMATION_SETS, SUITES  # noqa: E402
 
 from cof_gym.agents.interrogator import (  # noqa: E402
     ESTIMATE_SOURCES, ESTIMATOR_ESTIMATES, GUARDED_ESTIMATES, SHIPPED_INTERROGATOR, ClimbParameters, read_manifest,
@@ -79,13 +79,12 @@ def confirmation_set(name: str) -> dict[str, Path]:
             for kind in ("family", "procedural", "steep")}
 
 
-# the grid sets a table plays: validation (model selection) and confirmation (session 16: the same three
-# kinds on other seeds, CoF values and speeds, to confirm a choice taken on the first by a rule written
-# before; confirmation2, session 17: a second such set, because the first had judged two candidates;
-# confirmation3, session 21: a third, because the second had judged one; confirmation4, session 21: a fourth)
+# the grid sets a table plays: validation (model selection) and every confirmation set of make_grids.py (the
+# same three kinds on other seeds, CoF values and speeds, to confirm a choice taken on the first by a rule
+# written before; a new set for each candidate judged)
 GRID_SETS = {
     "validation": {"family": VALIDATION, "procedural": PROCEDURAL_VALIDATION, "steep": STEEP_VALIDATION},
-    **{name: confirmation_set(name) for name in ("confirmation", "confirmation2", "confirmation3", "confirmation4")},
+    **{name: confirmation_set(name) for name in CONFIRMATION_SETS},
 }
 
 
@@ -182,8 +181,9 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
     """The table (markdown) of every run's networks x set climb parameters (``settings``: each value of each
     in turn) x caution x spread caution x crest fraction x target x guards (with and without; ``guards_only``:
     only with; ``estimators``: every row with these estimator networks; ``return_digits``: the decimals of
-    the mean returns; ``records``: a list that receives every episode as a dict), each row on the three ``grids`` (the validation grids unless told); several runs (or
-    ``own_climb``: each with its manifest's climb, unchanged): a first column names the networks."""
+    the mean returns; ``records``: a list that receives every episode as a dict), each row on the three
+    ``grids`` (the validation grids unless told); several runs (or ``own_climb``: each with its manifest's
+    climb, unchanged): a first column names the networks."""
     manifest_climb = read_manifest(SHIPPED_INTERROGATOR)["climb"]
     # None: the guards the run's manifest names (with own_climb: the climb as shipped), [] none
     guard_sets = (([] if guards_only else [[]]) + [[str(g) for g in guards]]) if guards else [None if own_climb else []]

@@ -261,6 +261,35 @@ def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.
             "episodes": episodes}
 
 
+ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ")
+
+# the confirmation sets, in the order they were written (the first in session 16, the second in 17, the
+# third and fourth in 21): name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and
+# steep grids; each was written before any agent played it, and judges one rule's candidate
+CONFIRMATION_SETS = {
+    "confirmation": (((0.05, 0.29, 0.53, 0.78), (5.5, 15.0, 27.0), 62_000),
+                     ((0.08, 0.44, 0.71), (11.0, 25.0, 38.0), 69_000), ((0.13, 0.48, 0.79), (9.0, 20.0, 35.0), 71_000)),
+    "confirmation2": (((0.02, 0.21, 0.46, 0.71, 0.93), (6.0, 23.0, 39.0), 73_000),
+                      ((0.03, 0.36, 0.66, 0.97), (13.0, 28.0), 75_000), ((0.04, 0.31, 0.57, 0.91), (7.0, 26.0), 77_000)),
+    "confirmation3": (((0.07, 0.34, 0.58, 0.84), (8.5, 21.0, 36.0), 79_000),
+                      ((0.06, 0.39, 0.68, 0.95), (9.5, 31.0), 81_000), ((0.09, 0.42, 0.64, 0.88), (12.0, 29.0), 83_000)),
+    "confirmation4": (((0.03, 0.26, 0.49, 0.76, 0.97), (7.5, 18.0, 34.0), 85_000),
+                      ((0.12, 0.47, 0.73), (8.0, 22.0, 37.0), 87_000), ((0.16, 0.52, 0.82), (10.5, 24.0, 38.5), 89_000)),
+}
+
+
+def confirmation_grids(name: str, ordinal: str, family: tuple, procedural: tuple, steep: tuple) -> dict[str, dict]:
+    """The three grids of confirmation set ``name`` (``ordinal``: "" for the first, "second " ...), by file name:
+    the v2 draws, procedural creep curves and procedural curves with steep falling branches, each from its
+    (CoF fractions, speeds, first seed)."""
+    nth = f", a {ordinal}set" if ordinal else ""
+    kind = f"confirmation ({ordinal}set)" if ordinal else "confirmation"
+    return {f"v2_{name}_grid": grid(*family, f"v2 confirmation only{nth} (never reported): shapes and sensor errors "
+                                             "from the v2 draws", env_id=cof_gym.WAGON_ENV_ID),
+            f"v2_{name}_procedural_grid": v2_validation_procedural_grid(*procedural, kind=kind),
+            f"v2_{name}_steep_grid": v2_validation_procedural_grid(*steep, steep=True, kind=kind)}
+
+
 def all_grids() -> dict[str, dict]:
     """Every grid this script writes, by file name (without ``.json``)."""
     grids = {name: grid(*spec) for name, spec in GRIDS.items()}
@@ -270,34 +299,8 @@ def all_grids() -> dict[str, dict]:
                  v2_heldout_grid=v2_heldout_grid(), v2_validation_procedural_grid=v2_validation_procedural_grid(),
                  v2_validation_steep_grid=v2_validation_procedural_grid((0.23, 0.61, 0.94), (6.0, 16.0, 30.0),
                                                                         67_000, steep=True),
-                 v2_confirmation_grid=grid((0.05, 0.29, 0.53, 0.78), (5.5, 15.0, 27.0), 62_000,
-                                           "v2 confirmation only (never reported): shapes and sensor errors "
-                                           "from the v2 draws", env_id=cof_gym.WAGON_ENV_ID),
-                 v2_confirmation_procedural_grid=v2_validation_procedural_grid((0.08, 0.44, 0.71), (11.0, 25.0, 38.0),
-                                                                               69_000, kind="confirmation"),
-                 v2_confirmation_steep_grid=v2_validation_procedural_grid((0.13, 0.48, 0.79), (9.0, 20.0, 35.0),
-                                                                          71_000, steep=True, kind="confirmation"),
-                 v2_confirmation2_grid=grid((0.02, 0.21, 0.46, 0.71, 0.93), (6.0, 23.0, 39.0), 73_000,
-                                            "v2 confirmation only, a second set (never reported): shapes and "
-                                            "sensor errors from the v2 draws", env_id=cof_gym.WAGON_ENV_ID),
-                 v2_confirmation2_procedural_grid=v2_validation_procedural_grid(
-                     (0.03, 0.36, 0.66, 0.97), (13.0, 28.0), 75_000, kind="confirmation (second set)"),
-                 v2_confirmation2_steep_grid=v2_validation_procedural_grid(
-                     (0.04, 0.31, 0.57, 0.91), (7.0, 26.0), 77_000, steep=True, kind="confirmation (second set)"),
-                 v2_confirmation3_grid=grid((0.07, 0.34, 0.58, 0.84), (8.5, 21.0, 36.0), 79_000,
-                                            "v2 confirmation only, a third set (never reported): shapes and "
-                                            "sensor errors from the v2 draws", env_id=cof_gym.WAGON_ENV_ID),
-                 v2_confirmation3_procedural_grid=v2_validation_procedural_grid(
-                     (0.06, 0.39, 0.68, 0.95), (9.5, 31.0), 81_000, kind="confirmation (third set)"),
-                 v2_confirmation3_steep_grid=v2_validation_procedural_grid(
-                     (0.09, 0.42, 0.64, 0.88), (12.0, 29.0), 83_000, steep=True, kind="confirmation (third set)"),
-                 v2_confirmation4_grid=grid((0.03, 0.26, 0.49, 0.76, 0.97), (7.5, 18.0, 34.0), 85_000,
-                                            "v2 confirmation only, a fourth set (never reported): shapes and "
-                                            "sensor errors from the v2 draws", env_id=cof_gym.WAGON_ENV_ID),
-                 v2_confirmation4_procedural_grid=v2_validation_procedural_grid(
-                     (0.12, 0.47, 0.73), (8.0, 22.0, 37.0), 87_000, kind="confirmation (fourth set)"),
-                 v2_confirmation4_steep_grid=v2_validation_procedural_grid(
-                     (0.16, 0.52, 0.82), (10.5, 24.0, 38.5), 89_000, steep=True, kind="confirmation (fourth set)"),
+                 **{grid_name: spec for k, (name, kinds) in enumerate(CONFIRMATION_SETS.items())
+                    for grid_name, spec in confirmation_grids(name, ORDINALS[k], *kinds).items()},
                  v2_heldout2_grid=v2_heldout_grid(
                      (0.33, 0.63), (6.0, 17.0, 31.0), 97_000, HELDOUT2_SHAPES, HELDOUT2_ERRORS,
                      "v2 reporting only, a second set written after every decision on the first: creep curves "
@@ -319,9 +322,6 @@ def all_grids() -> dict[str, dict]:
                      "v2 reporting only, a sixth set written before any change of session 12 was measured: "
                      "creep curves outside every family and the five earlier sets, other sensor errors"))
     return grids
-
-
-ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ")
 
 
 def v2_heldout_grids() -> dict[str, str]:

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
-from make_grids import SUITES, all_grids, grid_text, v2_heldout_grids  # noqa: E402
+from make_grids import CONFIRMATION_SETS, SUITES, all_grids, grid_text, v2_heldout_grids  # noqa: E402
 
 GRIDS = all_grids()
 
@@ -35,7 +35,14 @@ def test_every_v2_heldout_file_is_reported_in_the_order_written():
     assert len(set(listed.values())) == len(listed)
 
 
-@pytest.mark.parametrize("prefix", ["v2_confirmation_", "v2_confirmation2_", "v2_confirmation3_", "v2_confirmation4_"])
+def test_every_confirmation_grid_file_belongs_to_a_listed_set():
+    """The committed confirmation grids are the three of each set in CONFIRMATION_SETS (the four written so far)."""
+    files = {p.stem for p in SUITES.glob("v2_confirmation*_grid.json")}
+    listed = {f"v2_{name}{kind}_grid" for name in CONFIRMATION_SETS for kind in ("", "_procedural", "_steep")}
+    assert files == listed and len(CONFIRMATION_SETS) >= 4
+
+
+@pytest.mark.parametrize("prefix", [f"v2_{name}_" for name in CONFIRMATION_SETS])
 def test_confirmation_grids_share_no_episode_with_any_other_v2_grid(prefix):
     """A choice confirmed on a confirmation set is confirmed on episodes that took no part in it: no
     seed and no tabulated creep curve of its three grids is on any other v2 grid (validation, reporting
