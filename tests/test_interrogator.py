@@ -367,22 +367,29 @@ class _ScriptedFilter:
         return *self.predict(x), np.zeros((1, 2))
 
 
-@pytest.mark.parametrize("sticky", [False, True])
-def test_a_sticky_creep_takes_no_big_step_after_it_crept(env, sticky):
-    """After an uncertain, closed gap (a creep), a confident, open gap allows max_log_step again, unless
-    creep_sticky holds the climb to creep_log_step from then on."""
+def _creep_then_open_gap_steps(env, **climb) -> tuple[float, float]:
+    """The log steps of the DC torque after window 1 (mean headroom 0.26, std 0.2: a cautious gap of 0.01,
+    closed and uncertain: a creep) and window 2 (mean 1, std 0.01: an open gap), with max_log_step 0.15,
+    creep_log_step 0.03 and ``climb``."""
     params = ClimbParameters(target_headroom=0.05, max_log_step=0.15, creep_log_step=0.03, creep_while_std=0.08,
-                             caution=1.0, creep_sticky=sticky)
-    # window 1: mean 0.26, std 0.2 -> cautious gap 0.01: creep; window 2: mean 1, std 0.01 -> open gap
+                             caution=1.0, **climb)
     agent = LearnedInterrogator(env.unwrapped.limits, _ScriptedFilter([(0.26, 0.2), (1.0, 0.01)]), params=params)
     obs, info = env.reset(seed=5)
     agent.reset(obs, info)
     dcs = []
     for _ in range(3):
         obs, _, _, _, info = env.step(agent.act(obs, info))
-        dcs.append(agent._dc)
-    assert math.log(dcs[1] / dcs[0]) == pytest.approx(0.03, rel=1e-9)  # the creep
-    assert math.log(dcs[2] / dcs[1]) == pytest.approx(0.03 if sticky else 0.15, rel=1e-9)
+        dcs.append(agent.dc_nm)
+    return math.log(dcs[1] / dcs[0]), math.log(dcs[2] / dcs[1])
+
+
+@pytest.mark.parametrize("sticky", [False, True])
+def test_a_sticky_creep_takes_no_big_step_after_it_crept(env, sticky):
+    """After an uncertain, closed gap (a creep), a confident, open gap allows max_log_step again, unless
+    creep_sticky holds the climb to creep_log_step from then on."""
+    creep, after = _creep_then_open_gap_steps(env, creep_sticky=sticky)
+    assert creep == pytest.approx(0.03, rel=1e-9)
+    assert after == pytest.approx(0.03 if sticky else 0.15, rel=1e-9)
     with pytest.raises(ValueError, match="creep_sticky"):
         ClimbParameters(creep_sticky=1)
 
@@ -391,17 +398,10 @@ def test_a_sticky_creep_takes_no_big_step_after_it_crept(env, sticky):
 def test_a_sticky_creep_lets_go_once_the_cautious_headroom_is_above_its_release(env, release, big_step):
     """creep_release: a sticky climb takes max_log_step again only where the cautious headroom (here
     1 - 0.01 = 0.99 after the creep) is above the release; below it, or unset, it stays slow."""
-    params = ClimbParameters(target_headroom=0.05, max_log_step=0.15, creep_log_step=0.03, creep_while_std=0.08,
-                             caution=1.0, creep_sticky=True, creep_release=release)
-    agent = LearnedInterrogator(env.unwrapped.limits, _ScriptedFilter([(0.26, 0.2), (1.0, 0.01)]), params=params)
-    obs, info = env.reset(seed=5)
-    agent.reset(obs, info)
-    dcs = []
-    for _ in range(3):
-        obs, _, _, _, info = env.step(agent.act(obs, info))
-        dcs.append(agent.dc_nm)
-    assert math.log(dcs[1] / dcs[0]) == pytest.approx(0.03, rel=1e-9)  # the creep
-    assert math.log(dcs[2] / dcs[1]) == pytest.approx(0.15 if big_step else 0.03, rel=1e-9)
+    creep, after = _creep_then_open_gap_steps(env, creep_sticky=True, creep_release=release)
+    assert creep == pytest.approx(0.03, rel=1e-9)
+    assert after == pytest.approx(0.15 if big_step else 0.03, rel=1e-9)
+    params = ClimbParameters(creep_log_step=0.03, creep_sticky=True, creep_release=release)
     assert params.sticks(True, 0.5) and not params.sticks(False, 0.5)
     with pytest.raises(ValueError, match="creep_release"):
         ClimbParameters(creep_release=-0.1)
