@@ -6,9 +6,10 @@ For each chosen episode of a suite file it steps the DC torque through fixed fra
 true saturation torque (``--levels``) with a modulation of ``--amplitude-ratio`` x DC at
 ``--frequency`` Hz, and prints per window the measured phase lag (deg, with its standard error), the
 compliance (speed/torque amplitude ratio x I w: 1 for a free wheel), the measured CoA over the CoF and
-the true mean creepage over the peak creepage, and the measured creepage's own modulation (a sensor
-reading: its swing per torque over the first window's, and its lag behind the torque with its standard
-error). It shows how late the lag rises on sharp-kneed curves,
+the crest of the measured CoA's synchronous average over the cycle (``coa_cycle_max``, a sensor reading)
+over the CoF with its bin's standard error, the true mean creepage over the peak creepage, and the
+measured creepage's own modulation (a sensor reading: its swing per torque over the first window's, and
+its lag behind the torque with its standard error). It shows how late the lag rises on sharp-kneed curves,
 the reason the learned interrogator and the phase rule commit below the peak. ``--env`` plays the same
 episodes in another env (e.g. ``CofGym/HalfWheelset-v2``, the wheelset without the wagon) and ``--set
 KEY=VALUE`` overrides a reset option of every chosen episode (numbers as JSON, e.g. ``motor_lag_s=0``):
@@ -144,7 +145,8 @@ def trace(env, seed: int, options: dict, levels, amplitude_ratio: float, frequen
         swing = _swing(w)
         first_swing = first_swing or swing
         rows.append(f"| {w.level:.2f}{' (cut)' if w.clipped else ''} | {r.phase_deg:.1f} +- {r.se_deg:.1f} | "
-                    f"{r.compliance:.3f} | {r.coa / truth['cof']:.3f} | "
+                    f"{r.compliance:.3f} | {r.coa / truth['cof']:.3f} | {m['coa_cycle_max'] / truth['cof']:.3f} +- "
+                    f"{m['coa_cycle_bin_se'] / truth['cof']:.3f} | "
                     f"{w.info['ground_truth']['creepage_mean'] / truth['peak_creepage']:.2f} | "
                     + (f"{_harmonics(m)} | " if harmonics else "")
                     + f"{swing / first_swing:.2f} | {m['creepage_modulation_lag_deg']:.1f} +- "
@@ -243,9 +245,9 @@ def main() -> None:
             continue
         print(f"\n### episode {k} (seed {seed}): {options.get('condition')}, CoF {options.get('cof')}\n")
         extra = " H2 | H3 |" if args.harmonics else ""
-        print(f"| {level_name} | lag [deg] | compliance | CoA / CoF | creepage / peak creepage |{extra} "
-              "creepage swing / first | creepage lag [deg] | macro-slip |")
-        print("|---" * (8 + 2 * args.harmonics) + "|")
+        print(f"| {level_name} | lag [deg] | compliance | CoA / CoF | cycle crest / CoF | creepage / peak creepage |"
+              f"{extra} creepage swing / first | creepage lag [deg] | macro-slip |")
+        print("|---" * (9 + 2 * args.harmonics) + "|")
         print("\n".join(trace(env, seed, options, args.levels, args.amplitude_ratio, args.frequency, args.harmonics,
                                args.hold_dc)))
     if args.summary:

@@ -774,3 +774,31 @@ def test_guards_come_from_the_manifest_and_must_drive_the_climbs_tones(tmp_path)
     with pytest.raises(ValueError, match="guard reads another excitation"):
         LearnedInterrogator(env.unwrapped.limits, FilterEnsemble((random_network(1),)),
                             guards=(FilterEnsemble((two_tone,)),))
+
+
+def test_the_crest_floor_raises_the_estimate_to_the_best_crest_bound_and_leaves_the_climb_alone():
+    """With ``crest_floor`` every source's estimate is at least the largest crest bound of the windows so
+    far (the cycle crest of the measured CoA less a bin's standard error, read from info["measurement"]);
+    the actions differ in the estimate component only."""
+    ensemble = FilterEnsemble((random_network(5), random_network(6)))
+    envs = [gym.make(cof_gym.WAGON_ENV_ID) for _ in range(2)]
+    agents = [LearnedInterrogator(envs[0].unwrapped.limits, ensemble, params=ClimbParameters(crest_floor=floor))
+              for floor in (False, True)]
+    observed = [env.reset(seed=8) for env in envs]
+    for agent, (obs, info) in zip(agents, observed):
+        agent.reset(obs, info)
+    best_bound, raised, done = 0.0, 0, False
+    while not done:
+        actions = [agent.act(obs, info) for agent, (obs, info) in zip(agents, observed)]
+        np.testing.assert_array_equal(np.delete(actions[0], 3), np.delete(actions[1], 3))
+        plain, floored = (agent.candidate_estimates(1.0) for agent in agents)
+        assert floored == {source: max(value, best_bound) for source, value in plain.items()}
+        raised += floored["filter"] > plain["filter"]
+        steps = [env.step(action) for env, action in zip(envs, actions)]
+        observed = [(obs, info) for obs, _, _, _, info in steps]
+        m = observed[0][1]["measurement"]
+        assert Reading.of(observed[0][0], agents[0].limits, observed[0][1]).crest_bound == \
+            max(m["coa_cycle_max"] - m["coa_cycle_bin_se"], 0.0) > 0.0
+        best_bound = max(best_bound, m["coa_cycle_max"] - m["coa_cycle_bin_se"])
+        done = steps[0][2] or steps[0][3]
+    assert raised > 0  # random networks' corrections: the floor binds somewhere, so the test can fail

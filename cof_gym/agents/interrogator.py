@@ -70,6 +70,13 @@ macro-slip, is the same with or without them. The filter and the guards learn fr
 climbs, so that no schedule leaks the truth into their features; an estimator learns the correction
 where the deployed climb actually stops. A manifest names them under ``"estimators"``.
 
+**A crest floor.** With ``crest_floor`` the reported estimate is at least the climb's best crest bound:
+over its windows, the largest crest of the measured CoA's synchronous average over the modulation cycle
+(``info["measurement"]["coa_cycle_max"]``) less one phase bin's standard error
+(:attr:`Reading.crest_bound`). The crest is the adhesion at the torque's crest; it cannot exceed the
+creep curve's peak, the CoF, and where the crest of a 40 % modulation has reached into the knee it is
+much nearer the CoF than the window's mean CoA. It changes no step of the climb.
+
 **A crest cap.** With ``crest_fraction`` set, the modulation shrinks as the climb nears the peak: the
 ratio of each window is at most ``exp(crest_fraction x h) - 1`` for the cautious headroom ``h`` left
 after the step (:meth:`ClimbParameters.crest_ratio`, at least :data:`CREST_RATIO_FLOOR`), so that the
@@ -285,12 +292,21 @@ class Reading:
     creepage_modulation: float = 0.0  # the measured creepage's amplitude at the modulation (0: not read)
     creepage_modulation_lag_deg: float = 0.0  # its lag behind the torque
     creepage_modulation_se_deg: float = SE_CLIP_DEG
+    coa_cycle_max: float = 0.0  # the crest of the measured CoA's synchronous average over the cycle (0: not read)
+    coa_cycle_bin_se: float = 0.0  # the standard error of one of its phase bins
+
+    @property
+    def crest_bound(self) -> float:
+        """A lower bound on the CoF from this window: its CoA's cycle crest less one bin's standard error
+        (the crest never exceeds the creep curve's peak; 0 when the crest was not read)."""
+        return max(self.coa_cycle_max - self.coa_cycle_bin_se, 0.0)
 
     @classmethod
     def of(cls, observation: np.ndarray, limits: MotorLimits, info: Mapping[str, Any] | None = None) -> "Reading":
         """The window observation's reading; with a two-tone excitation (the observation's per-tone block
         after the window observation) also tone 2's, its applied frequency and amplitude from
-        ``info["measurement"]``, and from there the measured creepage's modulation (its lock-in)."""
+        ``info["measurement"]``, and from there the measured creepage's modulation (its lock-in) and the
+        crest of the measured CoA's synchronous average."""
         full = np.nan_to_num(np.asarray(observation, dtype=np.float64), nan=0.0)
         o = full[: len(OBSERVATION_NAMES)]
         tone2 = {}
@@ -306,6 +322,9 @@ class Reading:
             tone2.update(creepage_modulation=float(measurement["creepage_modulation_amplitude"]),
                          creepage_modulation_lag_deg=float(measurement["creepage_modulation_lag_deg"]),
                          creepage_modulation_se_deg=float(_se_clipped(measurement["creepage_modulation_lag_se_deg"])))
+        if "coa_cycle_max" in measurement:
+            tone2.update(coa_cycle_max=float(measurement["coa_cycle_max"]),
+                         coa_cycle_bin_se=float(measurement["coa_cycle_bin_se"]))
         return cls(
             phase_deg=float(o[_INDEX["phase_lag"]] * 90.0),
             se_deg=float(_se_clipped(o[_INDEX["phase_lag_se"]] * 90.0)),
@@ -540,6 +559,7 @@ class ClimbParameters:
     tone2_weight: float = 1.0  # its weight against tone 1's 1 (the env's share_2 + 1, in [0, 2])
     crest_fraction: float | None = None  # not None: the crest stays within this fraction of the cautious headroom
     crest_once_crept: bool = False  # the crest cap only from the climb's first slow probe on
+    crest_floor: bool = False  # the estimate at least the climb's best crest bound (Reading.crest_bound)
 
     def __post_init__(self) -> None:
         if self.estimate_from not in ESTIMATE_SOURCES:
@@ -721,6 +741,7 @@ class LearnedInterrogator:
         self._crept = False
         self._ratio = None
         self._best_coa = 0.0
+        self._best_crest = 0.0
         self._source_estimates = {}
         self._estimate = self.limits.min_cof_estimate
         self.stop_reason = ""
@@ -738,12 +759,14 @@ class LearnedInterrogator:
     def candidate_estimates(self, best_coa_factor: float) -> dict[str, float]:
         """The estimate of each source of :data:`ESTIMATE_SOURCES` after the windows so far (the
         trajectory does not depend on which one is reported; the guarded sources are 0 without guards, the
-        estimators' without estimators)."""
+        estimators' without estimators; with ``crest_floor`` each at least the climb's best crest bound)."""
         estimates = {**dict.fromkeys(ESTIMATE_SOURCES, 0.0), **self._source_estimates,
                      "best_coa": self._best_coa * best_coa_factor}
         at_headroom = self.stop_reason == "headroom"
         estimates["pooled_at_headroom"] = estimates["pooled" if at_headroom else "filter"]
         estimates["estimator_pooled_at_headroom"] = estimates["estimator_pooled" if at_headroom else "filter"]
+        if self.params.crest_floor:
+            estimates = {source: max(value, self._best_crest) for source, value in estimates.items()}
         return estimates
 
     @staticmethod
@@ -775,6 +798,7 @@ class LearnedInterrogator:
             self._driven += 1
             reading = Reading.of(observation, self.limits, info)
             falling = bool(self.features.readings) and coa_fell(reading.coa, self.features.readings[-1].coa)
+            self._best_crest = max(self._best_crest, reading.crest_bound)
             for features in (self.features, *self._guard_features, *self._estimator_features):
                 features.push(reading)
             mean, std, spread = self.ensemble.predict_with_spread(self.features.vector())

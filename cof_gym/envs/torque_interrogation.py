@@ -211,7 +211,11 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     constraint costs (slip, discomfort, macro_slip). ``info["measurement"]`` holds only sensor readings
     (among them the measured creepage's own modulation, ``creepage_modulation_amplitude``,
     ``creepage_modulation_lag_deg`` behind the torque and its SE: a lock-in of ``R omega / v - 1`` from the
-    noisy encoder and speed sensor, the creepage's offset gone with its DC level);
+    noisy encoder and speed sensor, the creepage's offset gone with its DC level; and the measured CoA's
+    synchronous average over the modulation cycle, ``coa_cycle_max``, ``coa_cycle_min`` and
+    ``coa_cycle_bin_se``: the window's samples of the force sensors' CoA averaged in 16 bins of the
+    modulation's phase over its cycles, their largest and smallest bin means and one bin's standard
+    error, :mod:`cof_gym.measurement.synchronous_average`);
     every privileged quantity (the CoF, the saturation torque, true creepage and CoA, anything relative
     to the creep peak) is under ``info["ground_truth"]``, for evaluation only. With ``shaping=True`` a
     potential-based term ``reward_shaping = 0.95 Phi' - Phi``, ``Phi = w_error (ln 100 - |ln(estimate /
@@ -279,6 +283,9 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     - v2: creep-law families (Polach with drawn shapes, Shen-Hedrick-Elkins saturation, tables) and
       systematic sensor errors (reference speed, wheel radius, force and torque gains) drawn per
       episode; the horizon on the spec; no ``None`` in ``info``. v1 stays registered with its numbers.
+      Later additions to ``info["measurement"]`` (v1 and v2 alike) add readings and change no number
+      of the observation, reward or ground truth: the measured creepage's modulation (session 12), the
+      measured CoA's synchronous average over the cycle (``coa_cycle_*``, session 22).
     - v1: ground truth from the simulated physics (load transfer, controlled speed); PI cruise control
       and traction balance; a traction rod; CoF ranges per condition; macro-slip relative to the peak;
       log-ratio error, no slip cost below the peak, comfort over the whole window; sensors apart from

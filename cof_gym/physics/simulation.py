@@ -18,6 +18,7 @@ import numpy as np
 
 from cof_gym.measurement.comfort import band_limiting_sos, wd_weighting_sos
 from cof_gym.measurement.sine_fit import SineFit, fit_from_sums, fit_tones_from_sums, wrap_deg
+from cof_gym.measurement.synchronous_average import cycle_extremes
 from cof_gym.physics.creep import OperatingConditions, creep_peak
 from cof_gym.physics.models import BuiltModel
 from cof_gym.physics.native import layout
@@ -290,6 +291,12 @@ class WindowMeasurement:
     creepage_modulation_amplitude: float = 0.0
     creepage_modulation_lag_deg: float = 0.0
     creepage_modulation_lag_se_deg: float = 180.0
+    # the measured CoA's synchronous average over tone 1's cycle (PHASE_BINS phase bins, each averaged over
+    # the window's cycles): its largest and smallest bin means (the crest and trough of the adhesion the
+    # force sensors read) and the standard error of one bin's mean
+    coa_cycle_max: float = 0.0
+    coa_cycle_min: float = 0.0
+    coa_cycle_bin_se: float = 0.0
 
 
 TONE_FIELDS = ("phase_lag_deg", "phase_lag_se_deg", "amplitude_ratio", "torque_amplitude_nm", "omega_amplitude_rad_s")
@@ -325,6 +332,13 @@ def _lag(torque: SineFit, omega: SineFit, commanded: bool) -> tuple[float, float
     lag = wrap_deg(math.degrees(torque.phase_rad - omega.phase_rad))
     lag_se = min(math.degrees(math.hypot(torque.phase_se_rad, omega.phase_se_rad)), 180.0)
     return lag, lag_se, omega.amplitude / torque.amplitude
+
+
+def _coa_cycle(ud: np.ndarray) -> dict[str, float]:
+    """The measured CoA's synchronous-average fields of :class:`WindowMeasurement`."""
+    bins = [ud[I[f"{name}_0"]: I[f"{name}_0"] + layout.PHASE_BINS] for name in ("COA_BIN_N", "COA_BIN_SUM", "COA_BIN_SUM2")]
+    extremes = cycle_extremes(*bins)
+    return {"coa_cycle_max": extremes.maximum, "coa_cycle_min": extremes.minimum, "coa_cycle_bin_se": extremes.bin_se}
 
 
 def read_window(ud: np.ndarray) -> WindowMeasurement:
@@ -386,6 +400,7 @@ def read_window(ud: np.ndarray) -> WindowMeasurement:
         creepage_modulation_amplitude=creep_measured.amplitude,
         creepage_modulation_lag_deg=creep_lag,
         creepage_modulation_lag_se_deg=creep_lag_se,
+        **_coa_cycle(ud),
         n_tones=ntones,
         **(tones or {"tone1_phase_lag_deg": lag, "tone1_phase_lag_se_deg": lag_se,
                      "tone1_amplitude_ratio": ratio,

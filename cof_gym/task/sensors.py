@@ -30,11 +30,12 @@ field                        drawn (v2)  accepted   what it models, source
 
 How each reading changes (``s`` the creepage the sensors would read without systematic error):
 creepage ``(1 + s)(1 + e_R) / (1 + e_v) - 1`` (the train computes ``R Omega / v - 1`` with the assumed
-radius and the reference speed), speed ``(1 + e_v) v``, tangential force and measured CoA
-``(1 + e_F)``, torque readings ``(1 + e_T)`` and the speed/torque amplitude ratio ``/ (1 + e_T)``.
-The phase lag is a ratio of two fitted phases and no gain changes it: the paper's point about the
-phase method. Every map is affine in the window's mean, so applying it to the window's averages is
-exactly what applying it to every sample would give.
+radius and the reference speed), speed ``(1 + e_v) v``, tangential force and measured CoA (its window
+mean and its cycle's synchronous average) ``(1 + e_F)``, torque readings ``(1 + e_T)`` and the
+speed/torque amplitude ratio ``/ (1 + e_T)``. The phase lag is a ratio of two fitted phases and no
+gain changes it: the paper's point about the phase method. Every map is affine in the window's mean
+(and a gain on a phase bin's mean), so applying it to the window's averages is exactly what applying
+it to every sample would give.
 """
 
 from __future__ import annotations
@@ -102,6 +103,9 @@ class SensorErrors:
             speed_measured_m_s=m.speed_measured_m_s * (1.0 + self.speed_sensor_error),
             tangential_force_measured_n=m.tangential_force_measured_n * force_gain,
             coa_measured=m.coa_measured * force_gain,
+            coa_cycle_max=m.coa_cycle_max * force_gain,
+            coa_cycle_min=m.coa_cycle_min * force_gain,
+            coa_cycle_bin_se=m.coa_cycle_bin_se * force_gain,
             torque_amplitude_nm=m.torque_amplitude_nm * torque_gain,
             torque_mean_nm=m.torque_mean_nm * torque_gain,
             torque_peak_nm=m.torque_peak_nm * torque_gain,

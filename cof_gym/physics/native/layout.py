@@ -26,6 +26,10 @@ TONE_FIELDS: tuple[str, ...] = ("AMPLITUDE", "OMEGA", "THETA_BASE")
 TONE_STRIDE = len(TONE_FIELDS)
 MT_MAX_BASIS = 2 * MAX_TONES + 2
 MT_MAX_BTB = MT_MAX_BASIS * (MT_MAX_BASIS + 1) // 2
+# Synchronous (phase-binned) average of the measured CoA over tone 1's modulation cycle: the window's
+# samples of the force sensors' CoA are summed in PHASE_BINS equal bins of tone 1's phase (COA_BIN_*),
+# which averages the sensor noise over the cycles of a window while keeping the cycle's shape (its crest).
+PHASE_BINS = 16
 
 # Per-contact configuration block (model constants, copied into every simulation's userdata).
 CONTACT_FIELDS: tuple[str, ...] = (
@@ -161,6 +165,11 @@ ACCUMULATORS: tuple[str, ...] = (
     *(f"MT_BTY_OMEGA_{i}" for i in range(MT_MAX_BASIS)),
     *(f"MT_BTY_CREEP_{i}" for i in range(MT_MAX_BASIS)),
     *(f"MT_BTY_CREEP_MEASURED_{i}" for i in range(MT_MAX_BASIS)),
+    # synchronous average of the measured CoA (PHASE_BINS bins of tone 1's phase at the step's start, bin k
+    # centred on -pi + 2 pi k / PHASE_BINS, so one bin is centred on the torque's crest): samples, sum, sum of squares
+    *(f"COA_BIN_N_{k}" for k in range(PHASE_BINS)),
+    *(f"COA_BIN_SUM_{k}" for k in range(PHASE_BINS)),
+    *(f"COA_BIN_SUM2_{k}" for k in range(PHASE_BINS)),
 )
 
 
@@ -217,6 +226,7 @@ def c_header() -> str:
     for i, f in enumerate(TONE_FIELDS):
         lines.append(f"#define TONE_{f} {i}")
     lines.append(f"#define UD_MT_MAX_BASIS {MT_MAX_BASIS}")
+    lines.append(f"#define UD_PHASE_BINS {PHASE_BINS}")
     lines.append(f"#define UD_ACC_COUNT {ACC_COUNT}")
     for name in ("WD_SOS_0", "WD_STATE_0", "WD_NSECT", "BAND_SOS_0", "BAND_STATE_0", "BAND_NSECT"):
         lines.append(f"#define UD_{name} {OFFSETS[name]}")
