@@ -33,6 +33,9 @@
 - ``suites/v2_confirmation5_grid.json``, ``suites/v2_confirmation5_procedural_grid.json`` and
   ``suites/v2_confirmation5_steep_grid.json`` (session 22, seeds 91 000, 93 000, 109 000): a fifth such set,
   written before any agent played them and before rule 21 (the crest floor) was written.
+- ``suites/v2_confirmation6_grid.json``, ``suites/v2_confirmation6_procedural_grid.json`` and
+  ``suites/v2_confirmation6_steep_grid.json`` (session 22, seeds 111 000, 113 000, 115 000): a sixth such
+  set, written before any agent played them and before rule 22 (the cycle-crest networks) was written.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -267,7 +270,7 @@ def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.
 ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ")
 
 # the confirmation sets, in the order they were written (the first in session 16, the second in 17, the
-# third and fourth in 21, the fifth in 22): name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and
+# third and fourth in 21, the fifth and sixth in 22): name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and
 # steep grids; each was written before any agent played it, and judges one rule's candidate
 CONFIRMATION_SETS = {
     "confirmation": (((0.05, 0.29, 0.53, 0.78), (5.5, 15.0, 27.0), 62_000),
@@ -280,6 +283,8 @@ CONFIRMATION_SETS = {
                       ((0.12, 0.47, 0.73), (8.0, 22.0, 37.0), 87_000), ((0.16, 0.52, 0.82), (10.5, 24.0, 38.5), 89_000)),
     "confirmation5": (((0.04, 0.31, 0.55, 0.81, 0.96), (6.5, 16.5, 32.5), 91_000),
                       ((0.1, 0.43, 0.77), (7.0, 19.5, 35.5), 93_000), ((0.14, 0.45, 0.74), (9.0, 27.5, 39.5), 109_000)),
+    "confirmation6": (((0.06, 0.33, 0.61, 0.86), (5.0, 14.5, 30.5), 111_000),
+                      ((0.05, 0.38, 0.69, 0.92), (8.5, 23.5, 36.5), 113_000), ((0.11, 0.5, 0.79), (6.0, 21.5, 33.0), 115_000)),
 }
 
 

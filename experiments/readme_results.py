@@ -129,6 +129,16 @@ generated, never typed:
     python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
         --targets 0.1 --set approach_fraction=0.25 creep_until=0.12 creep_until=0.16 creep_until=0.2 creep_until=0.25 \
         --out out/crest_tradeoff_approach_until.md
+    (the commands above ran before session 22's ship: rerun now, those without ``--set crest_floor=...`` play the
+    shipped climb with its crest floor)
+    python experiments/make_grids.py    # adds the fifth confirmation set (session 22); every other grid unchanged
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
+        --targets 0.1 --stops --return-digits 4 --set crest_floor=false crest_floor=true --out out/crest_tradeoff_crest_floor.md
+    python experiments/crest_tradeoff.py --grids confirmation5 --guards cof_gym/agents/policies/interrogator/guard_0 \
+        --guards-only --targets 0.1 --stops --return-digits 4 --set crest_floor=false crest_floor=true \
+        --out out/crest_tradeoff_crest_floor_confirmation5.md
+    python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rule 21: the crest floor
+    (then every cof-gym evaluate command above again)
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -204,6 +214,8 @@ SOURCES = {
         "crest_tradeoff_release",
         "crest_tradeoff_release_confirmation4",
         "crest_tradeoff_approach_until",
+        "crest_tradeoff_crest_floor",
+        "crest_tradeoff_crest_floor_confirmation5",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about

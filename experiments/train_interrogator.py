@@ -22,7 +22,9 @@
    follows the lowest cautious headroom of all). Adopted by a rule written before the confirmation grids
    were played (docs/interrogator.md, session 16). With the guard, a chosen filter estimate becomes
    GUARDED_ESTIMATE: the filter's and the guard's corrections pooled where the climb stops on its
-   headroom, the filter's otherwise (rule 16, session 20; it changes no step of the climb).
+   headroom, the filter's otherwise (rule 16, session 20; it changes no step of the climb). Every chosen
+   climb's estimate is at least its best crest bound (CREST_FLOOR: the measured CoA's cycle crest less one
+   phase bin's standard error; rule 21, session 22; it changes no step of the climb either).
 3. **Selection, validation only**: the climb's parameters (modulation ratio, target headroom,
    caution, largest step, a slow probe while the headroom is uncertain, whether it stays slow and where
    it ends, the jump to the lowest CoF the task admits: GRIDS;
@@ -247,6 +249,7 @@ def score(results: list[tuple[float, bool]]) -> dict:
 
 
 GUARDED_ESTIMATE = "pooled_at_headroom"  # the estimate source of a guarded filter (rule 16, session 20)
+CREST_FLOOR = True  # the chosen climb's estimate at least its best crest bound (rule 21, session 22)
 CRITERIA = {  # how the selection ranks the climbs (sort keys of a table row)
     "pooled": lambda r: (r["macro_slips"], r["pooled_p90"], r["pooled_median"]),  # the recipe
     "family": lambda r: (r["macro_slips"], r["p90"], r["median"]),  # the family grid alone
@@ -416,6 +419,7 @@ def main() -> None:
     guard_names = [install_guards(r, guards) for r in runs][-1]  # the same names in every run
     if guard_names and chosen.get("estimate_from") == "filter":
         chosen = {**chosen, "estimate_from": GUARDED_ESTIMATE}
+    chosen = {**chosen, "crest_floor": CREST_FLOOR}
     manifest = {"climb": {**asdict(ClimbParameters()), **chosen},
                 "trained_on": {"env_id": ENV_ID, "configs": CONFIGS},
                 "training": {"climbs": climbs, "seeds": args.seeds, "fit": asdict(settings)}}
@@ -444,6 +448,8 @@ def main() -> None:
              f"{100 * r['pooled_p90']:.1f} % |" for r in table[:10]]
     why = (" (the guard's and the filter's corrections pooled at a headroom stop, the filter's otherwise: rule 16)"
            if chosen["estimate_from"] == GUARDED_ESTIMATE else "")
+    why += (", at least the climb's best crest bound (the measured CoA's cycle crest less a bin's standard error: "
+            "rule 21)" if chosen["crest_floor"] else "")
     text += ["", f"Shipped estimate: `{chosen['estimate_from']}`{why}.", "",
              "## Report (nothing chosen here)", "", markdown(report, [f"seed_{s}" for s in args.seeds])]
     (out / "report.md").write_text("\n".join(text) + "\n")

@@ -17,7 +17,7 @@ from cof_gym.commands.suites import make_suite
 from cof_gym.task.scenarios import COF_ENVELOPE, ScenarioRanges
 from cof_gym.agents import registry
 from cof_gym.agents.interrogator import (
-    CREEPAGE_MODULATION_FEATURE_NAMES, CREST_RATIO_FLOOR, CREEPAGE_RISE_FEATURE_NAMES, CREEPAGE_RISE_FLOORS, FEATURE_NAMES, blocks_of, feature_names, SHIPPED_INTERROGATOR, TARGET_NAMES, ClimbParameters, EpisodeFeatures, FilterEnsemble, FilterNetwork,
+    CREEPAGE_MODULATION_FEATURE_NAMES, CREST_RATIO_FLOOR, CYCLE_CREST_FEATURE_NAMES, CREEPAGE_RISE_FEATURE_NAMES, CREEPAGE_RISE_FLOORS, FEATURE_NAMES, blocks_of, feature_names, SHIPPED_INTERROGATOR, TARGET_NAMES, ClimbParameters, EpisodeFeatures, FilterEnsemble, FilterNetwork,
     PEAK_GAP_CLIP, LearnedInterrogator, Reading, floor_headroom, pooled_correction, interrogator_for, peak_gap, slope_from_phase, slope_index,
 )
 from cof_gym.agents.interrogator_training import (
@@ -543,9 +543,37 @@ def test_creepage_modulation_block_reads_the_tangent_flexibility_and_its_noise()
     np.testing.assert_allclose(w[n + 3:n + 5], v[n + 3:n + 5], rtol=0, atol=1e-12)  # the scale error cancels
 
 
+def test_cycle_crest_block_reads_the_crests_lift_its_clipping_and_the_climbs_best_bound():
+    """The cycle_crest block: ln of the crest over the mean CoA and of the mean over the trough, their ratio
+    (0 for a symmetric cycle, below 0 for a clipped crest), the crest's lift per lift of the torque's crest,
+    ln of the best crest bound so far over the CoA, a bin's SE over the CoA and the crest's step; ratios of
+    force readings, so a force gain cancels. A reading without the crest is refused, naming it."""
+    def reading(k: int, coa: float, crest: float, trough: float, gain: float = 1.0) -> Reading:
+        return replace(_readings([0.001], [0.1])[0], dc_nm=1000.0 * (1 + k), amplitude_nm=400.0 * (1 + k),
+                       coa=gain * coa, coa_cycle_max=gain * crest, coa_cycle_min=gain * trough,
+                       coa_cycle_bin_se=gain * 0.001)
+    windows = [(0.10, 0.13, 0.07), (0.20, 0.26, 0.14), (0.25, 0.28, 0.19)]  # the last one's crest clipped
+    feats, scaled = (EpisodeFeatures(False, blocks=("cycle_crest",)) for _ in range(2))
+    for k, (coa, crest, trough) in enumerate(windows):
+        feats.push(reading(k, coa, crest, trough))
+        scaled.push(reading(k, coa, crest, trough, gain=1.03))
+    v, w = feats.vector(), scaled.vector()
+    n = len(FEATURE_NAMES)
+    assert v.shape == (n + len(CYCLE_CREST_FEATURE_NAMES),)
+    lift, drop = math.log(0.28 / 0.25), math.log(0.25 / 0.19)
+    np.testing.assert_allclose(v[n:], [lift, drop, math.log(lift / drop), lift / math.log1p(0.4),
+                                       math.log((0.28 - 0.001) / 0.25), 0.001 / 0.25, math.log(0.28 / 0.26)],
+                               rtol=1e-12)
+    assert v[n + 2] < 0.0  # the clipped crest lifts less than the trough drops
+    np.testing.assert_allclose(w[n:], v[n:], rtol=0, atol=1e-12)
+    with pytest.raises(ValueError, match="coa_cycle_max"):
+        EpisodeFeatures(False, blocks=("cycle_crest",)).push(reading(0, 0.1, 0.0, 0.0))
+
+
 def test_feature_blocks_name_themselves_in_the_networks_file(tmp_path):
     for blocks in ((), ("tone2",), ("creepage_rise",), ("tone2", "creepage_rise"), ("creepage_modulation",),
-                   ("tone2", "creepage_rise", "creepage_modulation")):
+                   ("tone2", "creepage_rise", "creepage_modulation"), ("cycle_crest",),
+                   ("creepage_modulation", "cycle_crest")):
         assert blocks_of(feature_names(blocks)) == blocks
     assert feature_names(("creepage_rise", "tone2")) == feature_names(("tone2", "creepage_rise"))  # one order
     with pytest.raises(ValueError, match="feature blocks must be among"):
@@ -802,3 +830,23 @@ def test_the_crest_floor_raises_the_estimate_to_the_best_crest_bound_and_leaves_
         best_bound = max(best_bound, m["coa_cycle_max"] - m["coa_cycle_bin_se"])
         done = steps[0][2] or steps[0][3]
     assert raised > 0  # random networks' corrections: the floor binds somewhere, so the test can fail
+
+
+def test_training_climbs_record_the_cycle_crest_and_a_cycle_crest_filter_fits_on_them(tmp_path):
+    """Climbs collected now carry the CoA's cycle crest, trough and bin SE (read from info["measurement"]),
+    so a filter reading the cycle_crest block fits on them and plays."""
+    data = collect(cof_gym.WAGON_ENV_ID, [{}], 3, first_seed=2_000_700)
+    crest, trough, coa = (data.readings[:, READING_FIELDS.index(f)] for f in ("coa_cycle_max", "coa_cycle_min", "coa"))
+    assert (crest > coa).all() and (trough < coa).all() and (data.readings[:, READING_FIELDS.index("coa_cycle_bin_se")] > 0).all()
+    member = fit_member(data, seed=0, settings=FitSettings(hidden=(8,), epochs=2, features=("cycle_crest",)))
+    member.save(tmp_path / "member_0.npz")
+    loaded = FilterNetwork.load(tmp_path / "member_0.npz")
+    assert loaded.blocks == ("cycle_crest",)
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    agent = LearnedInterrogator(env.unwrapped.limits, FilterEnsemble((loaded,)))
+    obs, info = env.reset(seed=3)
+    agent.reset(obs, info)
+    for _ in range(3):
+        obs, _, terminated, truncated, info = env.step(agent.act(obs, info))
+        if terminated or truncated:
+            break

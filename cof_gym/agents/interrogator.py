@@ -99,7 +99,12 @@ ratio tells the wheel's first-order response from the drive's and suspension's; 
 ``creepage_rise``, the measured creepage's rise since the first driven window itself, not only in
 ratio (:data:`CREEPAGE_RISE_FEATURE_NAMES`): the offset cancels in the difference, and a scale error of a
 percent or two moves its ``ln`` by 0.01-0.02, so the rise tells a long, flat knee (wet and
-low-adhesion curves peak at large creepages) from a peak that is near.
+low-adhesion curves peak at large creepages) from a peak that is near. ``cycle_crest`` reads the measured
+CoA's synchronous average over the cycle (:data:`CYCLE_CREST_FEATURE_NAMES`): how far its crest and
+trough lie from the mean, their asymmetry (a crest that reaches the knee is clipped, the trough is not),
+the crest's lift per lift of the torque's crest, the climb's best crest bound over the CoA (a lower bound
+on the correction) and the crest's step since the previous window; a filter that reads it must be
+fitted on climbs collected with that reading (session 22 on).
 """
 
 from __future__ import annotations
@@ -159,9 +164,13 @@ CREEPAGE_MODULATION_FEATURE_NAMES = (
     "tangent_flexibility_step", "creepage_modulation_lag_1",
 )
 CREEPAGE_SWING_FLOOR = 1e-6  # the creepage swing per relative torque modulation reads at least ln(this)
+# the measured CoA's synchronous average over the cycle (:meth:`EpisodeFeatures._cycle_crest_values`)
+CYCLE_CREST_FEATURE_NAMES = ("crest_lift", "trough_drop", "crest_asymmetry", "crest_compression",
+                             "crest_bound_lift", "crest_se", "crest_step")
+CYCLE_LIFT_FLOOR = 1e-5  # a crest lift or trough drop (ln of a CoA ratio) reads at least this
 # optional feature blocks appended to FEATURE_NAMES, in this order (a network's file names the ones it reads)
 FEATURE_BLOCKS = {"tone2": TONE2_FEATURE_NAMES, "creepage_rise": CREEPAGE_RISE_FEATURE_NAMES,
-                  "creepage_modulation": CREEPAGE_MODULATION_FEATURE_NAMES}
+                  "creepage_modulation": CREEPAGE_MODULATION_FEATURE_NAMES, "cycle_crest": CYCLE_CREST_FEATURE_NAMES}
 TWO_TONE_ENV_OPTIONS = {"excitation": "multitone", "tones": 2}  # the env options a two-tone climb needs
 
 
@@ -294,6 +303,7 @@ class Reading:
     creepage_modulation_se_deg: float = SE_CLIP_DEG
     coa_cycle_max: float = 0.0  # the crest of the measured CoA's synchronous average over the cycle (0: not read)
     coa_cycle_bin_se: float = 0.0  # the standard error of one of its phase bins
+    coa_cycle_min: float = 0.0  # the trough of that synchronous average
 
     @property
     def crest_bound(self) -> float:
@@ -324,7 +334,8 @@ class Reading:
                          creepage_modulation_se_deg=float(_se_clipped(measurement["creepage_modulation_lag_se_deg"])))
         if "coa_cycle_max" in measurement:
             tone2.update(coa_cycle_max=float(measurement["coa_cycle_max"]),
-                         coa_cycle_bin_se=float(measurement["coa_cycle_bin_se"]))
+                         coa_cycle_bin_se=float(measurement["coa_cycle_bin_se"]),
+                         coa_cycle_min=float(measurement["coa_cycle_min"]))
         return cls(
             phase_deg=float(o[_INDEX["phase_lag"]] * 90.0),
             se_deg=float(_se_clipped(o[_INDEX["phase_lag_se"]] * 90.0)),
@@ -362,6 +373,9 @@ class EpisodeFeatures:
             raise ValueError("EpisodeFeatures.push takes driven windows (DC torque > 0)")
         if "tone2" in self.blocks and reading.tone2_frequency_hz <= 0.0:
             raise ValueError("EpisodeFeatures with the tone2 block takes two-tone readings (tone2_frequency_hz > 0)")
+        if "cycle_crest" in self.blocks and not reading.coa_cycle_max > 0.0:
+            raise ValueError("EpisodeFeatures with the cycle_crest block takes readings of the CoA's cycle crest "
+                             "(coa_cycle_max > 0): climbs recorded before that reading must be collected again")
         self.readings.append(reading)
 
     def _creepage_rise_values(self) -> list[float]:
@@ -389,6 +403,23 @@ class EpisodeFeatures:
         return [now.creepage_modulation_lag_deg / 90.0, now.creepage_modulation_se_deg / SE_CLIP_DEG,
                 math.log(max(swing, CREEPAGE_SWING_FLOOR)), math.log(tangent(now) / tangent(first)),
                 math.log(tangent(now) / tangent(prev)), prev.creepage_modulation_lag_deg / 90.0]
+
+    def _cycle_crest_values(self) -> list[float]:
+        """:data:`CYCLE_CREST_FEATURE_NAMES`: ``ln`` of the cycle crest over the window's mean CoA and of the
+        mean over the trough (each at least :data:`CYCLE_LIFT_FLOOR`), ``ln`` of their ratio (0 for a
+        response as linear as the torque's sine, below 0 once the crest is clipped at the peak), the crest's
+        lift over the torque crest's ``ln(1 + amplitude / DC)``, ``ln`` of the climb's best crest bound over
+        the CoA (:attr:`Reading.crest_bound`: the correction ``ln(CoF / CoA)`` is at least about this),
+        a bin's standard error over the CoA, and ``ln`` of the crest over the previous window's. Every one
+        is a ratio of force readings: the force gain's error cancels."""
+        now, prev = self.readings[-1], self.readings[max(len(self.readings) - 2, 0)]
+        crest, trough = max(now.coa_cycle_max, now.coa), min(now.coa_cycle_min, now.coa)
+        lift = max(math.log(crest / now.coa), CYCLE_LIFT_FLOOR)
+        drop = max(math.log(now.coa / trough), CYCLE_LIFT_FLOOR) if trough > 0.0 else 1.0
+        best = max(max(r.crest_bound for r in self.readings), now.coa)
+        return [lift, drop, math.log(lift / drop), lift / math.log1p(now.amplitude_nm / now.dc_nm),
+                math.log(best / now.coa), now.coa_cycle_bin_se / now.coa,
+                math.log(crest / max(prev.coa_cycle_max, prev.coa))]
 
     def _tone2_values(self) -> list[float]:
         """Tone 2's features (:data:`TONE2_FEATURE_NAMES`): its lag, SE, compliance, slope index and
@@ -439,6 +470,8 @@ class EpisodeFeatures:
             values += self._creepage_rise_values()
         if "creepage_modulation" in self.blocks:
             values += self._creepage_modulation_values()
+        if "cycle_crest" in self.blocks:
+            values += self._cycle_crest_values()
         return np.nan_to_num(np.asarray(values, dtype=np.float64), nan=0.0, posinf=0.0, neginf=0.0)
 
 
