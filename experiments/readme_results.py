@@ -139,6 +139,13 @@ generated, never typed:
         --out out/crest_tradeoff_crest_floor_confirmation5.md
     python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rule 21: the crest floor
     (then every cof-gym evaluate command above again)
+    python experiments/make_grids.py    # adds the sixth confirmation set (session 22); every other grid unchanged
+    python experiments/train_interrogator.py --out runs/interrogator_cc --climbs env=8000 \
+        --guard-climbs env=8000 procedural=8000 --features cycle_crest --fit-only
+    cp cof_gym/agents/policies/interrogator/manifest.json runs/interrogator_cc/ensemble/
+    cp -r runs/interrogator_cc/guard/ensemble runs/interrogator_cc/ensemble/guard_0
+    python experiments/crest_tradeoff.py --own-climb --run cof_gym/agents/policies/interrogator \
+        runs/interrogator_cc/ensemble --stops --return-digits 4 --out out/crest_tradeoff_cycle_crest.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -216,6 +223,7 @@ SOURCES = {
         "crest_tradeoff_approach_until",
         "crest_tradeoff_crest_floor",
         "crest_tradeoff_crest_floor_confirmation5",
+        "crest_tradeoff_cycle_crest",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
