@@ -192,7 +192,9 @@ def test_shipped_interrogator_is_a_default_agent_and_measures():
 @pytest.mark.parametrize("kwargs, field", [({"estimate_from": "median"}, "estimate_from"),
                                             ({"amplitude_ratio": float("nan")}, "amplitude_ratio"),
                                             ({"best_coa_factor": -1.0}, "best_coa_factor"),
-                                            ({"spread_caution": -0.5}, "spread_caution")])
+                                            ({"spread_caution": -0.5}, "spread_caution"),
+                                            ({"crest_floor": "yes"}, "crest_floor"),
+                                            ({"creep_sticky": 1}, "creep_sticky")])
 def test_bad_climb_parameters_name_the_field(kwargs, field):
     with pytest.raises(ValueError, match=field):
         ClimbParameters(**kwargs)

@@ -608,6 +608,9 @@ class ClimbParameters:
                           ("creep_release", 0.0)):  # None: unused
             if getattr(self, name) is not None:
                 check_number(name, getattr(self, name), low, math.inf)
+        for name in ("creep_sticky", "crest_once_crept", "crest_floor"):
+            if not isinstance(getattr(self, name), bool):
+                raise ValueError(f"{name} must be true or false, got {getattr(self, name)!r}")
         if self.tone2_frequency_hz is not None:
             check_number("tone2_frequency_hz", self.tone2_frequency_hz, MotorLimits.min_frequency_hz,
                          MotorLimits.max_frequency_hz)
