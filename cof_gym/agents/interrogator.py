@@ -121,6 +121,7 @@ import numpy as np
 from cof_gym.agents.base import configuration_note, outside_training_note, registered_ranges
 from cof_gym.agents.phase_rule import probe_amplitude
 from cof_gym.agents.staircase import ElasticityClimb
+from cof_gym.physics.simulation import COA_CYCLE_FIELDS
 from cof_gym.task.excitation import encode_extra_tones
 from cof_gym.task.creep_fit import coa_fell
 from cof_gym.task.scenarios import COF_ENVELOPE
@@ -332,10 +333,8 @@ class Reading:
             tone2.update(creepage_modulation=float(measurement["creepage_modulation_amplitude"]),
                          creepage_modulation_lag_deg=float(measurement["creepage_modulation_lag_deg"]),
                          creepage_modulation_se_deg=float(_se_clipped(measurement["creepage_modulation_lag_se_deg"])))
-        if "coa_cycle_max" in measurement:
-            tone2.update(coa_cycle_max=float(measurement["coa_cycle_max"]),
-                         coa_cycle_bin_se=float(measurement["coa_cycle_bin_se"]),
-                         coa_cycle_min=float(measurement["coa_cycle_min"]))
+        if "coa_cycle_max" in measurement:  # the same names as the sensor fields
+            tone2.update({name: float(measurement[name]) for name in COA_CYCLE_FIELDS})
         return cls(
             phase_deg=float(o[_INDEX["phase_lag"]] * 90.0),
             se_deg=float(_se_clipped(o[_INDEX["phase_lag_se"]] * 90.0)),

@@ -299,6 +299,8 @@ class WindowMeasurement:
     coa_cycle_bin_se: float = 0.0
 
 
+# the measured CoA's synchronous-average fields of WindowMeasurement, in CycleExtremes' order
+COA_CYCLE_FIELDS = ("coa_cycle_max", "coa_cycle_min", "coa_cycle_bin_se")
 TONE_FIELDS = ("phase_lag_deg", "phase_lag_se_deg", "amplitude_ratio", "torque_amplitude_nm", "omega_amplitude_rad_s")
 
 
@@ -338,7 +340,7 @@ def _coa_cycle(ud: np.ndarray) -> dict[str, float]:
     """The measured CoA's synchronous-average fields of :class:`WindowMeasurement`."""
     bins = [ud[I[f"{name}_0"]: I[f"{name}_0"] + layout.PHASE_BINS] for name in ("COA_BIN_N", "COA_BIN_SUM", "COA_BIN_SUM2")]
     extremes = cycle_extremes(*bins)
-    return {"coa_cycle_max": extremes.maximum, "coa_cycle_min": extremes.minimum, "coa_cycle_bin_se": extremes.bin_se}
+    return dict(zip(COA_CYCLE_FIELDS, (extremes.maximum, extremes.minimum, extremes.bin_se)))
 
 
 def read_window(ud: np.ndarray) -> WindowMeasurement:

@@ -14,7 +14,7 @@ import numpy as np
 from gymnasium import spaces
 
 from cof_gym.task.creep_fit import ELASTICITY_SPAN, ClimbRecord
-from cof_gym.physics.simulation import DriveCommand, WindowMeasurement
+from cof_gym.physics.simulation import COA_CYCLE_FIELDS, DriveCommand, WindowMeasurement
 
 ACTION_NAMES = ("dc_torque", "amplitude", "frequency", "cof_estimate", "stop")
 OBSERVATION_NAMES = (
@@ -34,7 +34,7 @@ SENSOR_FIELDS = (
     "coa_measured", "creepage_measured", "speed_measured_m_s", "normal_load_measured_n",
     "tangential_force_measured_n", "torque_mean_nm", "torque_peak_nm", "wd_rms_m_s2", "jerk_rms_m_s3",
     "wd_peak_m_s2", "samples", "creepage_modulation_amplitude", "creepage_modulation_lag_deg",
-    "creepage_modulation_lag_se_deg", "coa_cycle_max", "coa_cycle_min", "coa_cycle_bin_se",
+    "creepage_modulation_lag_se_deg", *COA_CYCLE_FIELDS,
 )
 
 

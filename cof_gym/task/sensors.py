@@ -44,7 +44,7 @@ from dataclasses import dataclass, fields, replace
 from types import MappingProxyType
 from typing import Mapping
 
-from cof_gym.physics.simulation import WindowMeasurement, tone_field
+from cof_gym.physics.simulation import COA_CYCLE_FIELDS, WindowMeasurement, tone_field
 
 
 @dataclass(frozen=True)
@@ -103,9 +103,7 @@ class SensorErrors:
             speed_measured_m_s=m.speed_measured_m_s * (1.0 + self.speed_sensor_error),
             tangential_force_measured_n=m.tangential_force_measured_n * force_gain,
             coa_measured=m.coa_measured * force_gain,
-            coa_cycle_max=m.coa_cycle_max * force_gain,
-            coa_cycle_min=m.coa_cycle_min * force_gain,
-            coa_cycle_bin_se=m.coa_cycle_bin_se * force_gain,
+            **{name: getattr(m, name) * force_gain for name in COA_CYCLE_FIELDS},
             torque_amplitude_nm=m.torque_amplitude_nm * torque_gain,
             torque_mean_nm=m.torque_mean_nm * torque_gain,
             torque_peak_nm=m.torque_peak_nm * torque_gain,

@@ -565,7 +565,6 @@ void cofgym_passive(const mjModel* m, mjData* d) {
       {
         /* synchronous average of the measured CoA: its bin of tone 1's phase at the step's start */
         int bin = (int)floor((atan2(b_now[1], b_now[0]) + PI) * (UD_PHASE_BINS / (2.0 * PI)) + 0.5);
-        if (bin < 0) bin = 0;
         if (bin >= UD_PHASE_BINS) bin -= UD_PHASE_BINS;  /* the bin centred on -pi wraps round */
         ud[UD_COA_BIN_N_0 + bin] += 1.0;
         ud[UD_COA_BIN_SUM_0 + bin] += coa_meas;
