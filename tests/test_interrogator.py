@@ -18,7 +18,7 @@ from cof_gym.task.scenarios import COF_ENVELOPE, ScenarioRanges
 from cof_gym.agents import registry
 from cof_gym.agents.interrogator import (
     CREEPAGE_MODULATION_FEATURE_NAMES, CREST_RATIO_FLOOR, CYCLE_CREST_FEATURE_NAMES, CREEPAGE_RISE_FEATURE_NAMES, CREEPAGE_RISE_FLOORS, FEATURE_NAMES, blocks_of, feature_names, SHIPPED_INTERROGATOR, TARGET_NAMES, ClimbParameters, EpisodeFeatures, FilterEnsemble, FilterNetwork,
-    PEAK_GAP_CLIP, LearnedInterrogator, Reading, floor_headroom, pooled_correction, interrogator_for, peak_gap, slope_from_phase, slope_index,
+    PEAK_GAP_CLIP, LearnedInterrogator, Reading, RunawayBracket, floor_headroom, pooled_correction, interrogator_for, peak_gap, slope_from_phase, slope_index,
 )
 from cof_gym.agents.interrogator_training import (
     GENTLE_FALL, PROCEDURAL_PEAK_CREEPAGE, STEEP_FALL, ClimbDraws, Dataset, FallingBranch, FitSettings, _climb_episode,
@@ -194,6 +194,7 @@ def test_shipped_interrogator_is_a_default_agent_and_measures():
                                             ({"best_coa_factor": -1.0}, "best_coa_factor"),
                                             ({"spread_caution": -0.5}, "spread_caution"),
                                             ({"crest_floor": "yes"}, "crest_floor"),
+                                            ({"runaway_estimate": 1}, "runaway_estimate"),
                                             ({"creep_sticky": 1}, "creep_sticky")])
 def test_bad_climb_parameters_name_the_field(kwargs, field):
     with pytest.raises(ValueError, match=field):
@@ -832,6 +833,67 @@ def test_the_crest_floor_raises_the_estimate_to_the_best_crest_bound_and_leaves_
         best_bound = max(best_bound, m["coa_cycle_max"] - m["coa_cycle_bin_se"])
         done = steps[0][2] or steps[0][3]
     assert raised > 0  # random networks' corrections: the floor binds somewhere, so the test can fail
+
+
+def _crest_reading(crest: float, se: float, dc_nm: float, amplitude_nm: float) -> Reading:
+    return Reading(phase_deg=10.0, se_deg=0.1, compliance=0.1, coa=0.1, creepage=0.0, dc_nm=dc_nm,
+                   amplitude_nm=amplitude_nm, frequency_hz=5.0, speed_m_s=10.0, normal_load=1.0,
+                   coa_cycle_max=crest, coa_cycle_bin_se=se)
+
+
+def test_the_runaway_bracket_is_the_geometric_middle_of_what_was_survived_and_what_is_demanded():
+    bracket = RunawayBracket()
+    assert bracket.estimate(1000.0) is None  # no crest read yet
+    bracket.observe(_crest_reading(0.2, 0.01, 1000.0, 400.0))
+    bracket.observe(_crest_reading(0.15, 0.01, 1100.0, 440.0))  # a lower crest later: the best one stays
+    assert (bracket.crest_bound, bracket.crest_torque_nm) == (pytest.approx(0.19, rel=1e-15), 1400.0)
+    rho = 1.1
+    middle = bracket.estimate(1400.0 * rho)
+    assert middle == pytest.approx(0.19 * math.sqrt(rho), rel=1e-15)
+    assert bracket.estimate(1200.0) == pytest.approx(0.19, rel=1e-15)  # a lower crest than survived: the bound
+    # the middle's log error is at most half the bracket's width for a CoF anywhere in it, and that at its ends
+    for cof in np.linspace(0.19, 0.19 * rho, 11):
+        assert abs(math.log(middle / cof)) <= 0.5 * math.log(rho) + 1e-15
+    assert abs(math.log(middle / 0.19)) == pytest.approx(0.5 * math.log(rho), rel=1e-12)
+
+
+def test_the_runaway_estimate_is_reported_between_stops_and_scored_when_the_wheel_runs_away():
+    """With ``runaway_estimate`` the actions differ from the plain climb's in the estimate component only;
+    after an action that is not a stop every source reads the bracket's middle for that action's
+    commanded crest; a bold climb that runs away is scored on it, and its lower end (the survived crest
+    bound, noise off) is below the CoF within the ground truth's 0.3 %."""
+    quiet = dict(noise_level=0.0, motor_lag_s=0.0, speed_sensor_error=0.0, wheel_radius_error=0.0,
+                 force_gain_error=0.0, torque_gain_error=0.0)
+    bold = FilterEnsemble((constant_network(3.0, 0.3),))  # far from the peak whatever it reads: big steps
+    envs = [gym.make(cof_gym.WAGON_ENV_ID, **quiet) for _ in range(2)]
+    limits = envs[0].unwrapped.limits
+    agents = [LearnedInterrogator(limits, bold, params=ClimbParameters(amplitude_ratio=0.4, max_log_step=0.2,
+                                                                       runaway_estimate=runaway))
+              for runaway in (False, True)]
+    observed = [env.reset(seed=4, options={"creep_law": "dry"}) for env in envs]
+    for agent, (obs, info) in zip(agents, observed):
+        agent.reset(obs, agent_view(info, False))
+    bracket, done, reported = RunawayBracket(), False, 0
+    while not done:
+        actions = [agent.act(obs, agent_view(info, False)) for agent, (obs, info) in zip(agents, observed)]
+        np.testing.assert_array_equal(np.delete(actions[0], 3), np.delete(actions[1], 3))
+        plain, runaway = (agent.candidate_estimates(1.0) for agent in agents)
+        command = decode_action(actions[1], limits)
+        expected = bracket.estimate(command.drive.dc_torque_nm + command.drive.total_amplitude_nm)
+        if command.stop or expected is None:
+            assert runaway == plain
+        else:
+            assert len(set(runaway.values())) == 1 and runaway["filter"] == pytest.approx(expected, rel=1e-5)
+            reported += 1
+        steps = [env.step(action) for env, action in zip(envs, actions)]
+        observed = [(obs, info) for obs, _, _, _, info in steps]
+        bracket.observe(Reading.of(observed[1][0], limits, observed[1][1]))
+        done = steps[1][2] or steps[1][3]
+    info = observed[1][1]
+    assert reported > 0 and info["macro_slip"] and info["scored"]
+    assert info["cof_estimate"] == pytest.approx(expected, rel=1e-5)
+    assert agents[1].candidate_estimates(1.0)["filter"] == pytest.approx(info["cof_estimate"], rel=1e-5)
+    assert agents[1]._bracket.crest_bound <= info["ground_truth"]["cof"] * 1.003
 
 
 def test_training_climbs_record_the_cycle_crest_and_a_cycle_crest_filter_fits_on_them(tmp_path):

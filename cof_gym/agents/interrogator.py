@@ -77,6 +77,15 @@ over its windows, the largest crest of the measured CoA's synchronous average ov
 creep curve's peak, the CoF, and where the crest of a 40 % modulation has reached into the knee it is
 much nearer the CoF than the window's mean CoA. It changes no step of the climb.
 
+**The estimate a runaway would report.** The env scores the estimate of a window that is not a stop
+only if the wheel runs away in it (a macro-slip). With ``runaway_estimate`` that estimate is what such a
+runaway measures (:class:`RunawayBracket`): the creep curve's peak lies above the climb's best crest
+bound ``c`` (survived) and below what the coming window's torque crest demands, about ``c x rho`` for
+``rho`` the ratio of that crest to the crest of the window that gave ``c`` (commanded torques: the torque
+gain error cancels); the reported estimate is the bracket's geometric middle ``c sqrt(rho)``, whose
+largest log error over the bracket is the smallest. A stop reports the estimate of ``estimate_from`` as
+before. It changes no step of the climb, and no estimate of an episode that does not run away.
+
 **A crest cap.** With ``crest_fraction`` set, the modulation shrinks as the climb nears the peak: the
 ratio of each window is at most ``exp(crest_fraction x h) - 1`` for the cautious headroom ``h`` left
 after the step (:meth:`ClimbParameters.crest_ratio`, at least :data:`CREST_RATIO_FLOOR`), so that the
@@ -356,6 +365,30 @@ class Reading:
 
 
 @dataclass
+class RunawayBracket:
+    """The CoF a wheel that runs away in the coming window would show: above the best crest bound the
+    climb has survived (:attr:`Reading.crest_bound`, a CoA), below the adhesion the coming window's
+    torque crest demands (that bound scaled by the ratio of the two windows' commanded torque crests,
+    DC + amplitude in N m)."""
+
+    crest_bound: float = 0.0  # the climb's best crest bound (CoA; 0: none read yet)
+    crest_torque_nm: float = 0.0  # the commanded torque crest of the window that read it
+
+    def observe(self, reading: "Reading") -> None:
+        """Take a driven window's reading (its crest bound and commanded crest ``dc_nm + amplitude_nm``)."""
+        if reading.crest_bound > self.crest_bound:
+            self.crest_bound = reading.crest_bound
+            self.crest_torque_nm = reading.dc_nm + reading.amplitude_nm
+
+    def estimate(self, next_crest_torque_nm: float) -> float | None:
+        """``c sqrt(rho)``: the geometric middle of ``[c, c rho]`` for the best crest bound ``c`` and the
+        coming window's crest over that window's, ``rho`` (at least 1); None before a crest was read."""
+        if self.crest_bound <= 0.0 or self.crest_torque_nm <= 0.0:
+            return None
+        return self.crest_bound * math.sqrt(max(next_crest_torque_nm / self.crest_torque_nm, 1.0))
+
+
+@dataclass
 class EpisodeFeatures:
     """The driven windows of an episode, and the filter's feature vector of the newest one
     (:data:`FEATURE_NAMES`). The same class builds the training data and runs on board."""
@@ -592,6 +625,7 @@ class ClimbParameters:
     crest_fraction: float | None = None  # not None: the crest stays within this fraction of the cautious headroom
     crest_once_crept: bool = False  # the crest cap only from the climb's first slow probe on
     crest_floor: bool = False  # the estimate at least the climb's best crest bound (Reading.crest_bound)
+    runaway_estimate: bool = False  # a window that is not a stop reports what a runaway in it would (RunawayBracket)
 
     def __post_init__(self) -> None:
         if self.estimate_from not in ESTIMATE_SOURCES:
@@ -607,7 +641,7 @@ class ClimbParameters:
                           ("creep_release", 0.0)):  # None: unused
             if getattr(self, name) is not None:
                 check_number(name, getattr(self, name), low, math.inf)
-        for name in ("creep_sticky", "crest_once_crept", "crest_floor"):
+        for name in ("creep_sticky", "crest_once_crept", "crest_floor", "runaway_estimate"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"{name} must be true or false, got {getattr(self, name)!r}")
         if self.tone2_frequency_hz is not None:
@@ -615,9 +649,6 @@ class ClimbParameters:
                          MotorLimits.max_frequency_hz)
         check_number("tone2_weight", self.tone2_weight, 0.0, 2.0)
         check_number("spread_caution", self.spread_caution, 0.0, 10.0)
-        for name in ("creep_sticky", "crest_once_crept"):
-            if not isinstance(getattr(self, name), bool):
-                raise ValueError(f"{name} must be True or False, got {getattr(self, name)!r}")
         if not (isinstance(self.creep_log_step, (int, float)) and 0.0 <= self.creep_log_step <= self.max_log_step):
             raise ValueError(f"creep_log_step must be in [0, max_log_step={self.max_log_step}], got {self.creep_log_step!r}")
 
@@ -726,6 +757,8 @@ class LearnedInterrogator:
     _driven: int = 0
     _crept: bool = False
     _ratio: float | None = None  # the modulation ratio of the next window (None: the climb's amplitude_ratio)
+    _bracket: RunawayBracket = field(default_factory=RunawayBracket, repr=False)
+    _runaway: float | None = None  # what a runaway in the coming window would report (None: a stop, or no crest yet)
 
     def __post_init__(self) -> None:
         if self.ensemble.tones != self.params.tones:
@@ -776,7 +809,8 @@ class LearnedInterrogator:
         self._crept = False
         self._ratio = None
         self._best_coa = 0.0
-        self._best_crest = 0.0
+        self._bracket = RunawayBracket()
+        self._runaway = None
         self._source_estimates = {}
         self._estimate = self.limits.min_cof_estimate
         self.stop_reason = ""
@@ -794,14 +828,17 @@ class LearnedInterrogator:
     def candidate_estimates(self, best_coa_factor: float) -> dict[str, float]:
         """The estimate of each source of :data:`ESTIMATE_SOURCES` after the windows so far (the
         trajectory does not depend on which one is reported; the guarded sources are 0 without guards, the
-        estimators' without estimators; with ``crest_floor`` each at least the climb's best crest bound)."""
+        estimators' without estimators; with ``crest_floor`` each at least the climb's best crest bound;
+        with ``runaway_estimate``, after an action that is not a stop, each the runaway's estimate)."""
         estimates = {**dict.fromkeys(ESTIMATE_SOURCES, 0.0), **self._source_estimates,
                      "best_coa": self._best_coa * best_coa_factor}
         at_headroom = self.stop_reason == "headroom"
         estimates["pooled_at_headroom"] = estimates["pooled" if at_headroom else "filter"]
         estimates["estimator_pooled_at_headroom"] = estimates["estimator_pooled" if at_headroom else "filter"]
         if self.params.crest_floor:
-            estimates = {source: max(value, self._best_crest) for source, value in estimates.items()}
+            estimates = {source: max(value, self._bracket.crest_bound) for source, value in estimates.items()}
+        if self.params.runaway_estimate and self._runaway is not None:
+            estimates = dict.fromkeys(estimates, self._runaway)
         return estimates
 
     @staticmethod
@@ -833,7 +870,7 @@ class LearnedInterrogator:
             self._driven += 1
             reading = Reading.of(observation, self.limits, info)
             falling = bool(self.features.readings) and coa_fell(reading.coa, self.features.readings[-1].coa)
-            self._best_crest = max(self._best_crest, reading.crest_bound)
+            self._bracket.observe(reading)  # the best crest bound (the floor's) and its torque crest
             for features in (self.features, *self._guard_features, *self._estimator_features):
                 features.push(reading)
             mean, std, spread = self.ensemble.predict_with_spread(self.features.vector())
@@ -860,6 +897,8 @@ class LearnedInterrogator:
                 new_dc = min(self._dc * math.exp(step), self.limits.max_dc_torque_nm)
                 self._ratio = p.crest_ratio(headroom - math.log(new_dc / self._dc), self._crept)
                 self._dc = new_dc
+            self._runaway = None if stop else self._bracket.estimate(
+                self._dc + p.amplitude(self._dc, self.limits, self._ratio))
             self._estimate = self.candidate_estimates(p.best_coa_factor)[p.estimate_from]  # the stop's reason known
         else:
             self._dc = self.climb.first_dc(self.limits)
