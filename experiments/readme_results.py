@@ -146,6 +146,18 @@ generated, never typed:
     cp -r runs/interrogator_cc/guard/ensemble runs/interrogator_cc/ensemble/guard_0
     python experiments/crest_tradeoff.py --own-climb --run cof_gym/agents/policies/interrogator \
         runs/interrogator_cc/ensemble --stops --return-digits 4 --out out/crest_tradeoff_cycle_crest.md
+    (session 23: every command above ran before its ship; rerun now, those without ``--set runaway_estimate=...``
+    play the shipped climb with its runaway estimate)
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
+        --targets 0.1 --stops --return-digits 4 --set runaway_estimate=false runaway_estimate=true \
+        --out out/crest_tradeoff_runaway.md
+    python experiments/crest_tradeoff.py --grids confirmation6 --guards cof_gym/agents/policies/interrogator/guard_0 \
+        --guards-only --targets 0.1 --stops --return-digits 4 --set runaway_estimate=false runaway_estimate=true \
+        --out out/crest_tradeoff_runaway_confirmation6.md
+    python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rule 23: the runaway estimate
+        # (the shipped networks copied to runs/interrogator/seed_K and guard/seed_K first: member_K.npz of
+        # cof_gym/agents/policies/interrogator and of its guard_0; with every network there no climb is collected)
+    (then every cof-gym evaluate command above again)
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -224,6 +236,8 @@ SOURCES = {
         "crest_tradeoff_crest_floor",
         "crest_tradeoff_crest_floor_confirmation5",
         "crest_tradeoff_cycle_crest",
+        "crest_tradeoff_runaway",
+        "crest_tradeoff_runaway_confirmation6",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about

@@ -48,7 +48,7 @@ from cof_gym.agents.interrogator_training import (  # noqa: E402
 ON_POLICY = {"env": (TRAINING_SEED + 1_100_000, ClimbDraws()),
              "procedural": (TRAINING_SEED + 1_200_000, ClimbDraws(shapes="procedural"))}
 EPISODES = {"env": 4000, "procedural": 4000}
-REPORTING_ONLY = ("estimate_from", "best_coa_factor")  # climb parameters that change no torque of the climb
+REPORTING_ONLY = ("estimate_from", "best_coa_factor", "crest_floor", "runaway_estimate")  # change no torque of the climb
 
 
 def policy_digest(policy: Path) -> str:
@@ -118,7 +118,7 @@ def fit_estimator(policy: Path, out: Path, climbs: dict[str, int], seeds: list[i
     settings = FitSettings(**{k: tuple(v) if isinstance(v, list) else v
                               for k, v in read_manifest(policy).get("training", {}).get("fit", {}).items()})
     data = collect_on_policy(policy, out, climbs, workers)
-    report = fit_networks(out, data, seeds, settings, reuse)
+    report = fit_networks(out, lambda: data, seeds, settings, reuse)
     _, held = split(data)
     networks = {"estimator": out / "ensemble", "filter": policy,
                 **{g.name: g for g in manifest_guards(policy)}}

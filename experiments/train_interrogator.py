@@ -24,7 +24,9 @@
    GUARDED_ESTIMATE: the filter's and the guard's corrections pooled where the climb stops on its
    headroom, the filter's otherwise (rule 16, session 20; it changes no step of the climb). Every chosen
    climb's estimate is at least its best crest bound (CREST_FLOOR: the measured CoA's cycle crest less one
-   phase bin's standard error; rule 21, session 22; it changes no step of the climb either).
+   phase bin's standard error; rule 21, session 22; it changes no step of the climb either), and between
+   stops it reports what a runaway in the coming window would measure (RUNAWAY_ESTIMATE: rule 23, session
+   23; no step changes, nor the estimate of an episode that does not run away).
 3. **Selection, validation only**: the climb's parameters (modulation ratio, target headroom,
    caution, largest step, a slow probe while the headroom is uncertain, whether it stays slow and where
    it ends, the jump to the lowest CoF the task admits: GRIDS;
@@ -60,6 +62,7 @@ import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict, replace
 from pathlib import Path
+from typing import Callable
 
 import gymnasium as gym
 import numpy as np
@@ -250,6 +253,7 @@ def score(results: list[tuple[float, bool]]) -> dict:
 
 GUARDED_ESTIMATE = "pooled_at_headroom"  # the estimate source of a guarded filter (rule 16, session 20)
 CREST_FLOOR = True  # the chosen climb's estimate at least its best crest bound (rule 21, session 22)
+RUNAWAY_ESTIMATE = True  # between stops, the chosen climb reports what a runaway would (rule 23, session 23)
 CRITERIA = {  # how the selection ranks the climbs (sort keys of a table row)
     "pooled": lambda r: (r["macro_slips"], r["pooled_p90"], r["pooled_median"]),  # the recipe
     "family": lambda r: (r["macro_slips"], r["p90"], r["median"]),  # the family grid alone
@@ -282,27 +286,36 @@ def select_climb(ensemble_dir: Path, workers: int, criterion: str = "pooled",
     return {k: table[0][k] for k in (*grid_columns(climbs), *ESTIMATES[0]) if k in table[0]}, table
 
 
-def fit_networks(out: Path, data: Dataset, seeds: list[int], settings: FitSettings, reuse: bool) -> dict:
-    """One filter network per seed on ``data`` (every tenth climb held apart) in OUT/seed_K/member_0.npz,
-    all of them in OUT/ensemble/member_K.npz; ``reuse``: a seed's network that exists is kept. Returns the
-    held-apart likelihood per seed and of the ensemble."""
-    train, held = split(data)
+def fit_networks(out: Path, load_data: Callable[[], Dataset], seeds: list[int], settings: FitSettings,
+                 reuse: bool) -> dict:
+    """One filter network per seed on the climbs ``load_data()`` returns (every tenth climb held apart) in
+    OUT/seed_K/member_0.npz, all of them in OUT/ensemble/member_K.npz; ``reuse``: a seed's network that
+    exists is kept, and where every seed's exists no climb is loaded or collected (selection and report
+    only: the held-apart likelihoods are not recomputed). Returns the held-apart likelihood per seed and
+    of the ensemble."""
     ensemble_dir = out / "ensemble"
     ensemble_dir.mkdir(parents=True, exist_ok=True)
-    fit_report = {}
-    for seed in seeds:
-        t = time.time()
-        seed_dir = out / f"seed_{seed}"
-        if reuse and (seed_dir / "member_0.npz").is_file():
-            member = FilterNetwork.load(seed_dir / "member_0.npz")
-        else:
-            member = fit_member(train, seed, settings)
-            seed_dir.mkdir(parents=True, exist_ok=True)
-            member.save(seed_dir / "member_0.npz")
-            print(f"{out.name} seed {seed}: fitted in {time.time() - t:.0f} s", flush=True)
+    kept = {seed: out / f"seed_{seed}" / "member_0.npz" for seed in seeds}
+    if reuse and all(path.is_file() for path in kept.values()):
+        members = {seed: FilterNetwork.load(path) for seed, path in kept.items()}
+        fit_report = {"reused": "every seed's network kept; no climbs loaded, held-apart likelihoods not recomputed"}
+    else:
+        train, held = split(load_data())
+        members, fit_report = {}, {}
+        for seed in seeds:
+            t = time.time()
+            if reuse and kept[seed].is_file():
+                members[seed] = FilterNetwork.load(kept[seed])
+            else:
+                members[seed] = fit_member(train, seed, settings)
+                kept[seed].parent.mkdir(parents=True, exist_ok=True)
+                members[seed].save(kept[seed])
+                print(f"{out.name} seed {seed}: fitted in {time.time() - t:.0f} s", flush=True)
+            fit_report[f"seed_{seed}"] = nll(members[seed], held)
+    for seed, member in members.items():
         member.save(ensemble_dir / f"member_{seed}.npz")
-        fit_report[f"seed_{seed}"] = nll(member, held)
-    fit_report["ensemble"] = nll(FilterEnsemble.load(ensemble_dir), held)
+    if "reused" not in fit_report:
+        fit_report["ensemble"] = nll(FilterEnsemble.load(ensemble_dir), held)
     print(f"{out.name} held-out {fit_report}", flush=True)
     for stale in ensemble_dir.glob("member_*.npz"):
         if int(stale.stem.split("_")[1]) not in seeds:
@@ -382,7 +395,9 @@ def main() -> None:
     ap.add_argument("--criterion", choices=sorted(CRITERIA), default="pooled",
                     help="how the climb is ranked on validation (pooled: both grids, the recipe; family: the family grid alone)")
     ap.add_argument("--grid", choices=sorted(GRIDS), default="recipe", help="the climbs tried (recipe: the shipped recipe's)")
-    ap.add_argument("--reuse", action="store_true", help="keep OUT/seed_K networks that exist (selection and report only)")
+    ap.add_argument("--reuse", action="store_true",
+                    help="keep OUT/seed_K networks that exist (selection and report only; where every seed's network "
+                         "exists, filter's and guard's, no climb is loaded or collected)")
     ap.add_argument("--fit-only", action="store_true",
                     help="fit the networks and stop (no selection, report or manifest): networks for another run's "
                          "--guards or crest_tradeoff.py --run")
@@ -402,10 +417,10 @@ def main() -> None:
     t0 = time.time()
     settings = replace(FitSettings(), epochs=args.epochs, features=tuple(args.features))
     ensemble_dir = out / "ensemble"
-    fit_report = fit_networks(out, collect(out, climbs, args.workers), args.seeds, settings, args.reuse)
+    fit_report = fit_networks(out, lambda: collect(out, climbs, args.workers), args.seeds, settings, args.reuse)
     guards = list(args.guards)
     if guard_climbs:  # the recipe's guard: networks of their own, fitted alike on other climbs (OUT/guard/)
-        fit_report["guard"] = fit_networks(out / "guard", collect(out, guard_climbs, args.workers), args.seeds,
+        fit_report["guard"] = fit_networks(out / "guard", lambda: collect(out, guard_climbs, args.workers), args.seeds,
                                            settings, args.reuse)
         guards.append(out / "guard" / "ensemble")
     if args.fit_only:
@@ -419,7 +434,7 @@ def main() -> None:
     guard_names = [install_guards(r, guards) for r in runs][-1]  # the same names in every run
     if guard_names and chosen.get("estimate_from") == "filter":
         chosen = {**chosen, "estimate_from": GUARDED_ESTIMATE}
-    chosen = {**chosen, "crest_floor": CREST_FLOOR}
+    chosen = {**chosen, "crest_floor": CREST_FLOOR, "runaway_estimate": RUNAWAY_ESTIMATE}
     manifest = {"climb": {**asdict(ClimbParameters()), **chosen},
                 "trained_on": {"env_id": ENV_ID, "configs": CONFIGS},
                 "training": {"climbs": climbs, "seeds": args.seeds, "fit": asdict(settings)}}
@@ -450,6 +465,8 @@ def main() -> None:
            if chosen["estimate_from"] == GUARDED_ESTIMATE else "")
     why += (", at least the climb's best crest bound (the measured CoA's cycle crest less a bin's standard error: "
             "rule 21)" if chosen["crest_floor"] else "")
+    why += ("; between stops, what a runaway in the coming window would measure (the middle of the best crest bound "
+            "and the bound scaled by the coming torque crest: rule 23)" if chosen["runaway_estimate"] else "")
     text += ["", f"Shipped estimate: `{chosen['estimate_from']}`{why}.", "",
              "## Report (nothing chosen here)", "", markdown(report, [f"seed_{s}" for s in args.seeds])]
     (out / "report.md").write_text("\n".join(text) + "\n")
