@@ -18,7 +18,7 @@ from cof_gym.task.scenarios import COF_ENVELOPE, ScenarioRanges
 from cof_gym.agents import registry
 from cof_gym.agents.interrogator import (
     CREEPAGE_MODULATION_FEATURE_NAMES, CREST_RATIO_FLOOR, CYCLE_CREST_FEATURE_NAMES, CREEPAGE_RISE_FEATURE_NAMES, CREEPAGE_RISE_FLOORS, FEATURE_NAMES, blocks_of, feature_names, SHIPPED_INTERROGATOR, TARGET_NAMES, ClimbParameters, EpisodeFeatures, FilterEnsemble, FilterNetwork,
-    PEAK_GAP_CLIP, LearnedInterrogator, Reading, RunawayBracket, floor_headroom, pooled_correction, interrogator_for, peak_gap, slope_from_phase, slope_index,
+    PEAK_GAP_CLIP, LearnedInterrogator, Reading, floor_headroom, pooled_correction, interrogator_for, peak_gap, slope_from_phase, slope_index,
 )
 from cof_gym.agents.interrogator_training import (
     GENTLE_FALL, PROCEDURAL_PEAK_CREEPAGE, STEEP_FALL, ClimbDraws, Dataset, FallingBranch, FitSettings, _climb_episode,
@@ -27,6 +27,7 @@ from cof_gym.agents.interrogator_training import (
 from cof_gym.physics.creep_laws import creep_law_from_spec
 from cof_gym.commands.evaluate import run_episode
 from cof_gym.agents.base import agent_view
+from cof_gym.agents.runaway import RunawayBracket
 from cof_gym.task.interface import OBSERVATION_NAMES, decode_action
 
 SHIPPED = (SHIPPED_INTERROGATOR / "manifest.json").is_file()
@@ -835,28 +836,6 @@ def test_the_crest_floor_raises_the_estimate_to_the_best_crest_bound_and_leaves_
     assert raised > 0  # random networks' corrections: the floor binds somewhere, so the test can fail
 
 
-def _crest_reading(crest: float, se: float, dc_nm: float, amplitude_nm: float) -> Reading:
-    return Reading(phase_deg=10.0, se_deg=0.1, compliance=0.1, coa=0.1, creepage=0.0, dc_nm=dc_nm,
-                   amplitude_nm=amplitude_nm, frequency_hz=5.0, speed_m_s=10.0, normal_load=1.0,
-                   coa_cycle_max=crest, coa_cycle_bin_se=se)
-
-
-def test_the_runaway_bracket_is_the_geometric_middle_of_what_was_survived_and_what_is_demanded():
-    bracket = RunawayBracket()
-    assert bracket.estimate(1000.0) is None  # no crest read yet
-    bracket.observe(_crest_reading(0.2, 0.01, 1000.0, 400.0))
-    bracket.observe(_crest_reading(0.15, 0.01, 1100.0, 440.0))  # a lower crest later: the best one stays
-    assert (bracket.crest_bound, bracket.crest_torque_nm) == (pytest.approx(0.19, rel=1e-15), 1400.0)
-    rho = 1.1
-    middle = bracket.estimate(1400.0 * rho)
-    assert middle == pytest.approx(0.19 * math.sqrt(rho), rel=1e-15)
-    assert bracket.estimate(1200.0) == pytest.approx(0.19, rel=1e-15)  # a lower crest than survived: the bound
-    # the middle's log error is at most half the bracket's width for a CoF anywhere in it, and that at its ends
-    for cof in np.linspace(0.19, 0.19 * rho, 11):
-        assert abs(math.log(middle / cof)) <= 0.5 * math.log(rho) + 1e-15
-    assert abs(math.log(middle / 0.19)) == pytest.approx(0.5 * math.log(rho), rel=1e-12)
-
-
 def test_the_runaway_estimate_is_reported_between_stops_and_scored_when_the_wheel_runs_away():
     """With ``runaway_estimate`` the actions differ from the plain climb's in the estimate component only;
     after an action that is not a stop every source reads the bracket's middle for that action's
@@ -887,7 +866,8 @@ def test_the_runaway_estimate_is_reported_between_stops_and_scored_when_the_whee
             reported += 1
         steps = [env.step(action) for env, action in zip(envs, actions)]
         observed = [(obs, info) for obs, _, _, _, info in steps]
-        bracket.observe(Reading.of(observed[1][0], limits, observed[1][1]))
+        reading = Reading.of(observed[1][0], limits, observed[1][1])
+        bracket.observe(reading.crest_bound, reading.dc_nm + reading.amplitude_nm)
         done = steps[1][2] or steps[1][3]
     info = observed[1][1]
     assert reported > 0 and info["macro_slip"] and info["scored"]

@@ -79,10 +79,10 @@ much nearer the CoF than the window's mean CoA. It changes no step of the climb.
 
 **The estimate a runaway would report.** The env scores the estimate of a window that is not a stop
 only if the wheel runs away in it (a macro-slip). With ``runaway_estimate`` that estimate is what such a
-runaway measures (:class:`RunawayBracket`): the creep curve's peak lies above the climb's best crest
-bound ``c`` (survived) and below what the coming window's torque crest demands, about ``c x rho`` for
-``rho`` the ratio of that crest to the crest of the window that gave ``c`` (commanded torques: the torque
-gain error cancels); the reported estimate is the bracket's geometric middle ``c sqrt(rho)``, whose
+runaway measures (:class:`~cof_gym.agents.runaway.RunawayBracket`): the creep curve's peak lies above the
+climb's best crest bound ``c`` (survived) and below what the coming window's torque crest demands, about
+``c x rho`` for ``rho`` the ratio of that crest to the crest of the window that gave ``c`` (commanded
+torques: the torque gain error cancels); the reported estimate is the bracket's geometric middle ``c sqrt(rho)``, whose
 largest log error over the bracket is the smallest. A stop reports the estimate of ``estimate_from`` as
 before. It changes no step of the climb, and no estimate of an episode that does not run away.
 
@@ -129,6 +129,7 @@ import numpy as np
 
 from cof_gym.agents.base import configuration_note, outside_training_note, registered_ranges
 from cof_gym.agents.phase_rule import probe_amplitude
+from cof_gym.agents.runaway import RunawayBracket
 from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.physics.simulation import COA_CYCLE_FIELDS
 from cof_gym.task.excitation import encode_extra_tones
@@ -362,30 +363,6 @@ class Reading:
         """This window as tone 2 alone sees it (its phase, SE, compliance and frequency in tone 1's place)."""
         return replace(self, phase_deg=self.tone2_phase_deg, se_deg=self.tone2_se_deg,
                        compliance=self.tone2_compliance, frequency_hz=self.tone2_frequency_hz)
-
-
-@dataclass
-class RunawayBracket:
-    """The CoF a wheel that runs away in the coming window would show: above the best crest bound the
-    climb has survived (:attr:`Reading.crest_bound`, a CoA), below the adhesion the coming window's
-    torque crest demands (that bound scaled by the ratio of the two windows' commanded torque crests,
-    DC + amplitude in N m)."""
-
-    crest_bound: float = 0.0  # the climb's best crest bound (CoA; 0: none read yet)
-    crest_torque_nm: float = 0.0  # the commanded torque crest of the window that read it
-
-    def observe(self, reading: "Reading") -> None:
-        """Take a driven window's reading (its crest bound and commanded crest ``dc_nm + amplitude_nm``)."""
-        if reading.crest_bound > self.crest_bound:
-            self.crest_bound = reading.crest_bound
-            self.crest_torque_nm = reading.dc_nm + reading.amplitude_nm
-
-    def estimate(self, next_crest_torque_nm: float) -> float | None:
-        """``c sqrt(rho)``: the geometric middle of ``[c, c rho]`` for the best crest bound ``c`` and the
-        coming window's crest over that window's, ``rho`` (at least 1); None before a crest was read."""
-        if self.crest_bound <= 0.0 or self.crest_torque_nm <= 0.0:
-            return None
-        return self.crest_bound * math.sqrt(max(next_crest_torque_nm / self.crest_torque_nm, 1.0))
 
 
 @dataclass
@@ -870,7 +847,7 @@ class LearnedInterrogator:
             self._driven += 1
             reading = Reading.of(observation, self.limits, info)
             falling = bool(self.features.readings) and coa_fell(reading.coa, self.features.readings[-1].coa)
-            self._bracket.observe(reading)  # the best crest bound (the floor's) and its torque crest
+            self._bracket.observe(reading.crest_bound, reading.dc_nm + reading.amplitude_nm)  # the floor's bound too
             for features in (self.features, *self._guard_features, *self._estimator_features):
                 features.push(reading)
             mean, std, spread = self.ensemble.predict_with_spread(self.features.vector())

@@ -7,6 +7,9 @@ convention), or as ``factory(env, argument)`` when registered with ``takes_env=T
 registered with ``argument="PATH"`` is named ``name:PATH`` on the command line.
 
 Only agents registered with ``oracle=True`` receive ``info["ground_truth"]`` from the evaluator.
+
+``NAME+runaway`` is the single-tone agent ``NAME`` reporting between its stops what a runaway in the
+coming window would measure (:class:`~cof_gym.agents.runaway.RunawayEstimate`).
 """
 
 from __future__ import annotations
@@ -105,7 +108,8 @@ def names(available_only: bool = True) -> list[str]:
 
 def describe() -> str:
     """``a, b, c or ppo:PATH`` for messages."""
-    parts = [n for n in names()] + [f"{n}:{e.argument}" for n, e in AGENTS.items() if e.argument and e.available()]
+    parts = ([n for n in names()] + [f"{n}:{e.argument}" for n, e in AGENTS.items() if e.argument and e.available()]
+             + ["any of them +runaway"])
     return ", ".join(parts[:-1]) + f" or {parts[-1]}" if len(parts) > 1 else "".join(parts)
 
 
@@ -120,9 +124,18 @@ def default_agents() -> list[str]:
     return out
 
 
+def split_modifier(spec: str) -> tuple[str, bool]:
+    """``NAME[:ARG]+runaway`` -> (``NAME[:ARG]``, True); any other spec -> (spec, False)."""
+    from cof_gym.agents.runaway import MODIFIER
+
+    spec, suffix = spec.strip(), f"+{MODIFIER}"
+    return (spec[: -len(suffix)], True) if spec.endswith(suffix) else (spec, False)
+
+
 def parse(spec: str) -> tuple[AgentEntry, str | None]:
-    """``name`` or ``name:ARG`` -> (entry, ARG or None); :class:`AgentSpecError` for anything else."""
-    name, sep, argument = spec.strip().partition(":")
+    """``name`` or ``name:ARG`` (either with ``+runaway``) -> (entry, ARG or None); :class:`AgentSpecError`
+    for anything else."""
+    name, sep, argument = split_modifier(spec)[0].partition(":")
     entry = AGENTS.get(name)
     if entry is None or not entry.available():
         raise AgentSpecError(f"unknown agent {spec.strip()!r}; allowed: {describe()}")
@@ -137,12 +150,16 @@ def parse(spec: str) -> tuple[AgentEntry, str | None]:
 
 
 def make_agent(spec: str, env: Any):
-    """Build the agent named by ``spec`` for ``env``."""
+    """Build the agent named by ``spec`` for ``env`` (with ``+runaway``: wrapped in
+    :class:`~cof_gym.agents.runaway.RunawayEstimate`)."""
     entry, argument = parse(spec)
     factory = entry.load()
-    if entry.takes_env:
-        return factory(env, argument)
-    return factory(env.unwrapped.limits)
+    agent = factory(env, argument) if entry.takes_env else factory(env.unwrapped.limits)
+    if split_modifier(spec)[1]:
+        from cof_gym.agents.runaway import RunawayEstimate
+
+        return RunawayEstimate(agent, env.unwrapped.limits)
+    return agent
 
 
 def is_oracle(agent: Any) -> bool:

@@ -1,0 +1,99 @@
+"""What a wheel that runs away measures, reported by an agent between its stops.
+
+The env scores the estimate of a window that is not a stop only if the wheel runs away in it (a
+macro-slip: the episode ends there). Such a runaway is itself a measurement of the CoF: the creep
+curve's peak lies above the best crest bound ``c`` the climb has survived (the crest of the measured CoA's
+synchronous average over the modulation cycle less one phase bin's standard error,
+``info["measurement"]["coa_cycle_max"] - ["coa_cycle_bin_se"]``: no creep curve lets the crest exceed
+its peak) and below what the coming window's torque crest demands, about ``c rho`` for ``rho`` the ratio
+of that crest to the crest of the window that read ``c`` (commanded torques, DC + amplitude: the torque
+gain error cancels). :class:`RunawayBracket` reports the bracket's geometric middle ``c sqrt(rho)``, whose
+largest log error over the bracket is the smallest.
+
+:class:`RunawayEstimate` gives any single-tone agent that estimate between its stops (``cof-gym evaluate
+--agents NAME+runaway``): its torques, its stops and the estimate it reports at a stop stay its own, so
+no macro-slip changes and no estimate of an episode that does not run away. The learned interrogator
+reports it itself (``ClimbParameters.runaway_estimate``, rule 23 in docs/interrogator.md).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Mapping
+
+import numpy as np
+
+from cof_gym.task.interface import MotorLimits, decode_action, encode_action
+
+MODIFIER = "runaway"  # the agent-name suffix ``+runaway`` of the registry
+
+
+def crest_bound(measurement: Mapping[str, Any]) -> float:
+    """A lower bound on the CoF from one window's readings: the measured CoA's cycle crest less one phase
+    bin's standard error (0 where the window has no such reading)."""
+    return max(float(measurement.get("coa_cycle_max", 0.0)) - float(measurement.get("coa_cycle_bin_se", 0.0)), 0.0)
+
+
+@dataclass
+class RunawayBracket:
+    """The CoF a wheel that runs away in the coming window would show: above the best crest bound the
+    climb has survived, below the adhesion the coming window's torque crest demands (that bound scaled by
+    the ratio of the two windows' commanded torque crests, DC + amplitude in N m)."""
+
+    crest_bound: float = 0.0  # the climb's best crest bound (CoA; 0: none read yet)
+    crest_torque_nm: float = 0.0  # the commanded torque crest of the window that read it
+
+    def observe(self, bound: float, crest_torque_nm: float) -> None:
+        """Take a driven window's crest bound and its commanded torque crest (N m)."""
+        if bound > self.crest_bound:
+            self.crest_bound, self.crest_torque_nm = bound, crest_torque_nm
+
+    def estimate(self, next_crest_torque_nm: float) -> float | None:
+        """``c sqrt(rho)``: the geometric middle of ``[c, c rho]`` for the best crest bound ``c`` and the
+        coming window's crest over that window's, ``rho`` (at least 1); None before a crest was read."""
+        if self.crest_bound <= 0.0 or self.crest_torque_nm <= 0.0:
+            return None
+        return self.crest_bound * math.sqrt(max(next_crest_torque_nm / self.crest_torque_nm, 1.0))
+
+
+@dataclass
+class RunawayEstimate:
+    """``agent`` (a single-tone agent acting with absolute actions) that reports, in every action that is
+    not a stop, :class:`RunawayBracket`'s estimate instead of its own; every other component of its
+    action, and every stop's estimate, is the agent's."""
+
+    agent: Any
+    limits: MotorLimits
+    _bracket: RunawayBracket = field(default_factory=RunawayBracket, repr=False)
+    _crest_nm: float = 0.0  # the commanded torque crest of the window the last action drives (0: none yet)
+
+    def __post_init__(self) -> None:
+        self.name = f"{self.agent.name}+{MODIFIER}"
+        self.oracle = bool(getattr(self.agent, "oracle", False))
+
+    def __getattr__(self, attribute: str) -> Any:  # distribution_note, env_options, ...: the agent's
+        if attribute.startswith("_") or attribute == "agent":
+            raise AttributeError(attribute)
+        return getattr(self.agent, attribute)
+
+    def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
+        self.agent.reset(observation, info)
+        self._bracket = RunawayBracket()
+        self._crest_nm = 0.0
+
+    def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
+        if self._crest_nm > 0.0:
+            self._bracket.observe(crest_bound(info.get("measurement", {})), self._crest_nm)
+        action = np.array(self.agent.act(observation, info), dtype=np.float32)
+        if action.shape != (5,):
+            raise ValueError(f"{self.name}: the runaway estimate wraps single-tone agents (an action of 5 "
+                             f"values), got an action of shape {action.shape}")
+        command = decode_action(action, self.limits)
+        drive = command.drive
+        self._crest_nm = drive.dc_torque_nm + drive.amplitude_nm
+        estimate = None if command.stop else self._bracket.estimate(self._crest_nm)
+        if estimate is not None:
+            action[3] = encode_action(drive.dc_torque_nm, drive.amplitude_nm, drive.frequency_hz, estimate, False,
+                                      self.limits)[3]
+        return action

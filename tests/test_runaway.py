@@ -1,0 +1,97 @@
+"""The runaway estimate: its bracket's arithmetic, and any agent reporting it between its stops."""
+
+import math
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import cof_gym
+from cof_gym.agents import registry
+from cof_gym.agents.base import agent_view
+from cof_gym.agents.runaway import RunawayBracket, RunawayEstimate, crest_bound
+from cof_gym.agents.staircase import PracticalStaircase
+from cof_gym.task.interface import decode_action
+
+
+def test_the_bracket_is_the_geometric_middle_of_what_was_survived_and_what_is_demanded():
+    bracket = RunawayBracket()
+    assert bracket.estimate(1000.0) is None  # no crest read yet
+    bracket.observe(0.19, 1400.0)
+    bracket.observe(0.14, 1540.0)  # a lower crest later: the best one stays
+    assert (bracket.crest_bound, bracket.crest_torque_nm) == (0.19, 1400.0)
+    rho = 1.1
+    middle = bracket.estimate(1400.0 * rho)
+    assert middle == pytest.approx(0.19 * math.sqrt(rho), rel=1e-15)
+    assert bracket.estimate(1200.0) == 0.19  # a lower crest than survived: the bound itself
+    # the middle's log error is at most half the bracket's width for a CoF anywhere in it, and that at its ends
+    for cof in np.linspace(0.19, 0.19 * rho, 11):
+        assert abs(math.log(middle / cof)) <= 0.5 * math.log(rho) + 1e-15
+    assert abs(math.log(middle / 0.19)) == pytest.approx(0.5 * math.log(rho), rel=1e-12)
+
+
+def test_the_crest_bound_is_the_cycle_crest_less_a_bins_error_and_zero_unread():
+    assert crest_bound({"coa_cycle_max": 0.2, "coa_cycle_bin_se": 0.01}) == pytest.approx(0.19, rel=1e-15)
+    assert crest_bound({"coa_cycle_max": 0.005, "coa_cycle_bin_se": 0.01}) == 0.0
+    assert crest_bound({}) == 0.0
+
+
+def test_a_wrapped_agent_keeps_its_torques_and_stops_and_reports_the_bracket_between_them():
+    """The staircase and the same staircase +runaway in twin envs: every action the same but the estimate
+    of an action that is not a stop, which is the bracket's middle for that action's commanded crest; with
+    its speed reference 1 % off the staircase misreads the creepage and runs away on a dry rail, and the
+    runaway is scored on that estimate."""
+    quiet = dict(noise_level=0.0, motor_lag_s=0.0, speed_sensor_error=0.01, wheel_radius_error=0.0,
+                 force_gain_error=0.0, torque_gain_error=0.0)
+    envs = [gym.make(cof_gym.WAGON_ENV_ID, **quiet) for _ in range(2)]
+    limits = envs[0].unwrapped.limits
+    plain, wrapped = PracticalStaircase(limits), RunawayEstimate(PracticalStaircase(limits), limits)
+    assert wrapped.name == "staircase+runaway" and wrapped.oracle is False
+    observed = [env.reset(seed=2, options={"creep_law": "dry"}) for env in envs]
+    for agent, (obs, info) in zip((plain, wrapped), observed):
+        agent.reset(obs, agent_view(info, False))
+    bracket, reported, done = RunawayBracket(), 0, False
+    while not done:
+        actions = [agent.act(obs, agent_view(info, False)) for agent, (obs, info) in zip((plain, wrapped), observed)]
+        np.testing.assert_array_equal(np.delete(actions[0], 3), np.delete(actions[1], 3))
+        command = decode_action(actions[1], limits)
+        crest = command.drive.dc_torque_nm + command.drive.amplitude_nm
+        expected = None if command.stop else bracket.estimate(crest)
+        if expected is None:
+            assert actions[1][3] == actions[0][3]
+        else:
+            assert command.cof_estimate == pytest.approx(expected, rel=1e-5)
+            reported += 1
+        steps = [env.step(action) for env, action in zip(envs, actions)]
+        observed = [(obs, info) for obs, _, _, _, info in steps]
+        bracket.observe(crest_bound(observed[1][1]["measurement"]), crest)
+        done = steps[1][2] or steps[1][3]
+    info = observed[1][1]
+    assert reported > 0 and info["macro_slip"] and info["cof_estimate"] == pytest.approx(expected, rel=1e-5)
+    assert bracket.crest_bound <= info["ground_truth"]["cof"] * 1.003  # the survived crest: below the peak
+
+
+def test_the_registry_builds_name_plus_runaway_and_refuses_other_suffixes():
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    agent = registry.make_agent("phase-rule+runaway", env)
+    assert isinstance(agent, RunawayEstimate) and agent.name == "phase-rule+runaway"
+    assert registry.parse("phase-rule+runaway") == registry.parse("phase-rule")
+    with pytest.raises(registry.AgentSpecError, match="phase-rule\\+slip"):
+        registry.parse("phase-rule+slip")
+
+
+def test_a_multitone_action_is_refused_naming_the_agent():
+    class ThreeTones:
+        name, oracle = "three", False
+
+        def reset(self, observation, info):
+            pass
+
+        def act(self, observation, info):
+            return np.zeros(9, dtype=np.float32)
+
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    agent = RunawayEstimate(ThreeTones(), env.unwrapped.limits)
+    agent.reset(None, {})
+    with pytest.raises(ValueError, match="three\\+runaway.*single-tone"):
+        agent.act(None, {})
