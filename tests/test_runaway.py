@@ -76,8 +76,19 @@ def test_the_registry_builds_name_plus_runaway_and_refuses_other_suffixes():
     agent = registry.make_agent("phase-rule+runaway", env)
     assert isinstance(agent, RunawayEstimate) and agent.name == "phase-rule+runaway"
     assert registry.parse("phase-rule+runaway") == registry.parse("phase-rule")
+    assert not isinstance(registry.make_agent("phase-rule", env), RunawayEstimate)
     with pytest.raises(registry.AgentSpecError, match="phase-rule\\+slip"):
         registry.parse("phase-rule+slip")
+
+
+@pytest.mark.parametrize("name", ["staircase", "model-based", "robust-model"])
+def test_the_agents_rule_24_chose_report_it_under_their_own_names(name):
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    agent = registry.make_agent(name, env)
+    assert isinstance(agent, RunawayEstimate) and agent.name == name
+    assert not isinstance(registry.make_agent(name, env, registered_runaway=False), RunawayEstimate)
+    with pytest.raises(ValueError, match="'\\+'"):
+        registry.register(f"{name}+x", "cof_gym.agents.staircase:PracticalStaircase", oracle=False)
 
 
 def test_a_multitone_action_is_refused_naming_the_agent():

@@ -40,7 +40,7 @@ def collect_demonstrations(env_id: str, env_kwargs: dict, episodes: int, seed: i
     env = gym.make(f"cof_gym:{env_id}", **make_kwargs(env_kwargs))
     base = env.unwrapped
     limits = limits_of(env)
-    agent = make_agent(expert, env)
+    agent = make_agent(expert, env, registered_runaway=False)  # the demonstrations of the shipped PPO recipe
     window = len(OBSERVATION_NAMES)
     obs_list, act_list, ret_list = [], [], []
     rng = np.random.default_rng(seed)

@@ -9,7 +9,8 @@ registered with ``argument="PATH"`` is named ``name:PATH`` on the command line.
 Only agents registered with ``oracle=True`` receive ``info["ground_truth"]`` from the evaluator.
 
 ``NAME+runaway`` is the single-tone agent ``NAME`` reporting between its stops what a runaway in the
-coming window would measure (:class:`~cof_gym.agents.runaway.RunawayEstimate`).
+coming window would measure (:class:`~cof_gym.agents.runaway.RunawayEstimate`); an agent registered with
+``runaway=True`` reports it under its own name (rule 24 in docs/interrogator.md chose which, on validation).
 """
 
 from __future__ import annotations
@@ -38,6 +39,7 @@ class AgentEntry:
     argument: str | None = None  # metavar of an optional ":ARG" (e.g. "PATH"), None: no argument
     default: bool = True  # part of the default --agents list when available
     shipped: Path | None = None  # a file the agent needs when named without ":ARG" (a shipped policy)
+    runaway: bool = False  # reports the runaway estimate between its stops, under its own name
 
     def shipped_available(self) -> bool:
         return self.shipped is None or self.shipped.is_file()
@@ -58,11 +60,12 @@ AGENTS: dict[str, AgentEntry] = {}
 
 
 def register(name: str, factory: str, *, oracle: bool, help: str = "", takes_env: bool = False,
-             argument: str | None = None, default: bool = True, shipped: Path | None = None) -> None:
+             argument: str | None = None, default: bool = True, shipped: Path | None = None,
+             runaway: bool = False) -> None:
     """Register an agent under ``name`` (later registrations of the same name replace earlier ones)."""
-    if not name or ":" in name or "," in name:
-        raise ValueError(f"agent names must be non-empty without ':' or ',', got {name!r}")
-    AGENTS[name] = AgentEntry(name, factory, oracle, help, takes_env, argument, default, shipped)
+    if not name or any(c in name for c in ":,+"):
+        raise ValueError(f"agent names must be non-empty without ':', ',' or '+', got {name!r}")
+    AGENTS[name] = AgentEntry(name, factory, oracle, help, takes_env, argument, default, shipped, runaway)
 
 
 def _ppo(env, argument: str | None):
@@ -84,13 +87,14 @@ register("oracle", "cof_gym.agents.oracle:SaturationOracle", oracle=True,
          help="holds 98.5 % of the true saturation torque, its 1 % crest below it, and reports the CoA there (the physics' floor)")
 register("staircase-paper", "cof_gym.agents.staircase:PaperStaircase", oracle=True,
          help="the paper's rule on the true saturation torque (oracle)")
-register("staircase", "cof_gym.agents.staircase:PracticalStaircase", oracle=False,
+# runaway=True: rule 24 (session 23) on the validation grids; the phase rule's procedural median rose with it
+register("staircase", "cof_gym.agents.staircase:PracticalStaircase", oracle=False, runaway=True,
          help="a staircase that knows no ground truth")
 register("phase-rule", "cof_gym.agents.phase_rule:PhaseRule", oracle=False,
          help="the paper's phase rule without ground truth or creepage: the modulation probes ahead of the DC level, stop on a phase jump (validation-chosen)")
-register("model-based", "cof_gym.agents.model_based:ModelBasedAgent", oracle=False,
+register("model-based", "cof_gym.agents.model_based:ModelBasedAgent", oracle=False, runaway=True,
          help="creep-curve fit from windows below the peak")
-register("robust-model", "cof_gym.agents.robust_model:RobustModel", oracle=False,
+register("robust-model", "cof_gym.agents.robust_model:RobustModel", oracle=False, runaway=True,
          help="the phase rule's probing climb, the knee bracketed by bisecting the probe's crest at a held DC, no creepage read (validation-chosen)")
 register("interrogator", "cof_gym.agents.interrogator:load_interrogator", oracle=False, takes_env=True,
          argument="DIR", shipped=PACKAGE_DIR / "policies" / "interrogator" / "manifest.json",
@@ -149,16 +153,17 @@ def parse(spec: str) -> tuple[AgentEntry, str | None]:
     return entry, (argument if sep else None)
 
 
-def make_agent(spec: str, env: Any):
-    """Build the agent named by ``spec`` for ``env`` (with ``+runaway``: wrapped in
-    :class:`~cof_gym.agents.runaway.RunawayEstimate`)."""
+def make_agent(spec: str, env: Any, registered_runaway: bool = True):
+    """Build the agent named by ``spec`` for ``env`` (with ``+runaway``, or registered with ``runaway``
+    unless ``registered_runaway`` is false: wrapped in :class:`~cof_gym.agents.runaway.RunawayEstimate`)."""
     entry, argument = parse(spec)
     factory = entry.load()
     agent = factory(env, argument) if entry.takes_env else factory(env.unwrapped.limits)
-    if split_modifier(spec)[1]:
+    suffixed = split_modifier(spec)[1]
+    if suffixed or (entry.runaway and registered_runaway):
         from cof_gym.agents.runaway import RunawayEstimate
 
-        return RunawayEstimate(agent, env.unwrapped.limits)
+        return RunawayEstimate(agent, env.unwrapped.limits, name=None if suffixed else agent.name)
     return agent
 
 

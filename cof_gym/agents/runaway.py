@@ -11,7 +11,8 @@ gain error cancels). :class:`RunawayBracket` reports the bracket's geometric mid
 largest log error over the bracket is the smallest.
 
 :class:`RunawayEstimate` gives any single-tone agent that estimate between its stops (``cof-gym evaluate
---agents NAME+runaway``): its torques, its stops and the estimate it reports at a stop stay its own, so
+--agents NAME+runaway``; the staircase, the model-based agent and the robust model report it under their
+own names, rule 24 in docs/interrogator.md): its torques, its stops and the estimate it reports at a stop stay its own, so
 no macro-slip changes and no estimate of an episode that does not run away. The learned interrogator
 reports it itself (``ClimbParameters.runaway_estimate``, rule 23 in docs/interrogator.md).
 """
@@ -65,11 +66,12 @@ class RunawayEstimate:
 
     agent: Any
     limits: MotorLimits
+    name: str | None = None  # default: the agent's name + "+runaway"
     _bracket: RunawayBracket = field(default_factory=RunawayBracket, repr=False)
     _crest_nm: float = 0.0  # the commanded torque crest of the window the last action drives (0: none yet)
 
     def __post_init__(self) -> None:
-        self.name = f"{self.agent.name}+{MODIFIER}"
+        self.name = self.name or f"{self.agent.name}+{MODIFIER}"
         self.oracle = bool(getattr(self.agent, "oracle", False))
 
     def __getattr__(self, attribute: str) -> Any:  # distribution_note, env_options, ...: the agent's
