@@ -154,6 +154,10 @@ generated, never typed:
     python experiments/crest_tradeoff.py --grids confirmation6 --guards cof_gym/agents/policies/interrogator/guard_0 \
         --guards-only --targets 0.1 --stops --return-digits 4 --set runaway_estimate=false runaway_estimate=true \
         --out out/crest_tradeoff_runaway_confirmation6.md
+    cof-gym evaluate --suite experiments/suites/v2_validation_grid.json --out out/runaway-validation \
+        --agents staircase,staircase+runaway,phase-rule,phase-rule+runaway,model-based,model-based+runaway,robust-model,robust-model+runaway
+    (the same with v2_validation_procedural_grid.json into out/runaway-validation-procedural and with
+    v2_validation_steep_grid.json into out/runaway-validation-steep: rule 24, before its registration)
     python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rule 23: the runaway estimate
         # (the shipped networks copied to runs/interrogator/seed_K and guard/seed_K first: member_K.npz of
         # cof_gym/agents/policies/interrogator and of its guard_0; with every network there no climb is collected)
@@ -332,7 +336,30 @@ def heldout_overview(runs: dict[str, tuple[str, Path]] = HELDOUT_RUNS, learned: 
     return "\n".join(rows)
 
 
-GENERATED = {"targets": targets, "heldout_overview": heldout_overview}  # block -> its generator
+# rule 24 (session 23): the scripted agents with and without the runaway estimate on the validation grids
+RUNAWAY_VALIDATION = {"family": ROOT / "out" / "runaway-validation", "procedural": ROOT / "out" / "runaway-validation-procedural",
+                      "steep": ROOT / "out" / "runaway-validation-steep"}
+RUNAWAY_AGENTS = ("staircase", "phase-rule", "model-based", "robust-model")
+
+
+def runaway_validation(runs: dict[str, Path] = RUNAWAY_VALIDATION, agents: tuple[str, ...] = RUNAWAY_AGENTS) -> str | None:
+    """Rule 24's table: median / P90 / macro-slips of each scripted agent with and without ``+runaway`` on
+    each validation grid (its cof-gym evaluate summary); None when a summary is missing."""
+    summaries = {}
+    for grid, out in runs.items():
+        if not (out / "summary.json").is_file():
+            return None
+        summaries[grid] = json.loads((out / "summary.json").read_text())["summary"]
+    rows = ["| agent | " + " | ".join(f"{grid} ({summaries[grid][agents[0]]['episodes']}): median / P90 / macro-slips"
+                                      for grid in runs) + " |", "|---" * (len(runs) + 1) + "|"]
+    for agent in agents:
+        for name in (agent, f"{agent}+runaway"):
+            rows.append(f"| {name} | " + " | ".join(_cell(summaries[grid], name) for grid in runs) + " |")
+    return "\n".join(rows)
+
+
+GENERATED = {"targets": targets, "heldout_overview": heldout_overview,
+             "runaway_validation": runaway_validation}  # block -> its generator
 
 
 def _shown(path: Path) -> str:
