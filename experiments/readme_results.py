@@ -155,9 +155,9 @@ generated, never typed:
         --guards-only --targets 0.1 --stops --return-digits 4 --set runaway_estimate=false runaway_estimate=true \
         --out out/crest_tradeoff_runaway_confirmation6.md
     cof-gym evaluate --suite experiments/suites/v2_validation_grid.json --out out/runaway-validation \
-        --agents staircase,staircase+runaway,phase-rule,phase-rule+runaway,model-based,model-based+runaway,robust-model,robust-model+runaway
+        --agents staircase+plain,staircase+runaway,phase-rule+plain,phase-rule+runaway,model-based+plain,model-based+runaway,robust-model+plain,robust-model+runaway
     (the same with v2_validation_procedural_grid.json into out/runaway-validation-procedural and with
-    v2_validation_steep_grid.json into out/runaway-validation-steep: rule 24, before its registration)
+    v2_validation_steep_grid.json into out/runaway-validation-steep: rule 24)
     python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rule 23: the runaway estimate
         # (the shipped networks copied to runs/interrogator/seed_K and guard/seed_K first: member_K.npz of
         # cof_gym/agents/policies/interrogator and of its guard_0; with every network there no climb is collected)
@@ -350,10 +350,10 @@ def runaway_validation(runs: dict[str, Path] = RUNAWAY_VALIDATION, agents: tuple
         if not (out / "summary.json").is_file():
             return None
         summaries[grid] = json.loads((out / "summary.json").read_text())["summary"]
-    rows = ["| agent | " + " | ".join(f"{grid} ({summaries[grid][agents[0]]['episodes']}): median / P90 / macro-slips"
+    rows = ["| agent | " + " | ".join(f"{grid} ({summaries[grid][agents[0] + '+plain']['episodes']}): median / P90 / macro-slips"
                                       for grid in runs) + " |", "|---" * (len(runs) + 1) + "|"]
     for agent in agents:
-        for name in (agent, f"{agent}+runaway"):
+        for name in (f"{agent}+plain", f"{agent}+runaway"):
             rows.append(f"| {name} | " + " | ".join(_cell(summaries[grid], name) for grid in runs) + " |")
     return "\n".join(rows)
 

@@ -40,7 +40,7 @@ def collect_demonstrations(env_id: str, env_kwargs: dict, episodes: int, seed: i
     env = gym.make(f"cof_gym:{env_id}", **make_kwargs(env_kwargs))
     base = env.unwrapped
     limits = limits_of(env)
-    agent = make_agent(expert, env, registered_runaway=False)  # the demonstrations of the shipped PPO recipe
+    agent = make_agent(f"{expert}+plain", env)  # no runaway estimate: the shipped PPO recipe's demonstrations
     window = len(OBSERVATION_NAMES)
     obs_list, act_list, ret_list = [], [], []
     rng = np.random.default_rng(seed)

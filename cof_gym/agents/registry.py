@@ -10,7 +10,8 @@ Only agents registered with ``oracle=True`` receive ``info["ground_truth"]`` fro
 
 ``NAME+runaway`` is the single-tone agent ``NAME`` reporting between its stops what a runaway in the
 coming window would measure (:class:`~cof_gym.agents.runaway.RunawayEstimate`); an agent registered with
-``runaway=True`` reports it under its own name (rule 24 in docs/interrogator.md chose which, on validation).
+``runaway=True`` reports it under its own name (rule 24 in docs/interrogator.md chose which, on validation),
+and ``NAME+plain`` is the agent without it.
 """
 
 from __future__ import annotations
@@ -113,7 +114,7 @@ def names(available_only: bool = True) -> list[str]:
 def describe() -> str:
     """``a, b, c or ppo:PATH`` for messages."""
     parts = ([n for n in names()] + [f"{n}:{e.argument}" for n, e in AGENTS.items() if e.argument and e.available()]
-             + ["any of them +runaway"])
+             + ["any of them +runaway or +plain"])
     return ", ".join(parts[:-1]) + f" or {parts[-1]}" if len(parts) > 1 else "".join(parts)
 
 
@@ -128,12 +129,16 @@ def default_agents() -> list[str]:
     return out
 
 
-def split_modifier(spec: str) -> tuple[str, bool]:
-    """``NAME[:ARG]+runaway`` -> (``NAME[:ARG]``, True); any other spec -> (spec, False)."""
-    from cof_gym.agents.runaway import MODIFIER
+MODIFIERS = ("runaway", "plain")  # agent-name suffixes: +runaway wraps the agent, +plain never does
 
-    spec, suffix = spec.strip(), f"+{MODIFIER}"
-    return (spec[: -len(suffix)], True) if spec.endswith(suffix) else (spec, False)
+
+def split_modifier(spec: str) -> tuple[str, str | None]:
+    """``NAME[:ARG]+runaway`` or ``+plain`` -> (``NAME[:ARG]``, the modifier); any other spec -> (spec, None)."""
+    spec = spec.strip()
+    for modifier in MODIFIERS:
+        if spec.endswith(f"+{modifier}"):
+            return spec[: -len(modifier) - 1], modifier
+    return spec, None
 
 
 def parse(spec: str) -> tuple[AgentEntry, str | None]:
@@ -153,17 +158,20 @@ def parse(spec: str) -> tuple[AgentEntry, str | None]:
     return entry, (argument if sep else None)
 
 
-def make_agent(spec: str, env: Any, registered_runaway: bool = True):
-    """Build the agent named by ``spec`` for ``env`` (with ``+runaway``, or registered with ``runaway``
-    unless ``registered_runaway`` is false: wrapped in :class:`~cof_gym.agents.runaway.RunawayEstimate`)."""
+def make_agent(spec: str, env: Any):
+    """Build the agent named by ``spec`` for ``env``: with ``+runaway``, or registered with ``runaway`` and
+    no modifier, wrapped in :class:`~cof_gym.agents.runaway.RunawayEstimate`; with ``+plain`` as its
+    factory builds it (named so)."""
     entry, argument = parse(spec)
     factory = entry.load()
     agent = factory(env, argument) if entry.takes_env else factory(env.unwrapped.limits)
-    suffixed = split_modifier(spec)[1]
-    if suffixed or (entry.runaway and registered_runaway):
+    modifier = split_modifier(spec)[1]
+    if modifier == "plain":
+        agent.name = f"{agent.name}+plain"
+    elif modifier == "runaway" or entry.runaway:
         from cof_gym.agents.runaway import RunawayEstimate
 
-        return RunawayEstimate(agent, env.unwrapped.limits, name=None if suffixed else agent.name)
+        return RunawayEstimate(agent, env.unwrapped.limits, name=None if modifier else agent.name)
     return agent
 
 
