@@ -12,14 +12,16 @@ from cof_gym.agents.model_based import ModelBasedAgent
 from cof_gym.task.creep_fit import SHAPE_GRID, creep_shapes, fit_peak
 from cof_gym.agents.registry import make_agent
 from cof_gym.agents.staircase import limits_of
+from cof_gym.agents.runaway import RunawayEstimate
 
 WORST = {"noise_level": 3.0, "motor_lag_s": 0.1}
 ENV_ID = cof_gym.WAGON_V1_ENV_ID  # the wagon of the conftest's env fixture
 
 
 def test_registered_as_a_non_oracle(env) -> None:
-    agent = make_agent("model-based", env)
-    assert isinstance(agent, ModelBasedAgent) and agent.name == "model-based" and not agent.oracle
+    agent = make_agent("model-based", env)  # it reports the runaway estimate between its stops (rule 24)
+    assert isinstance(agent, RunawayEstimate) and isinstance(agent.agent, ModelBasedAgent)
+    assert agent.name == "model-based" and not agent.oracle
 
 
 @pytest.mark.parametrize("options", [

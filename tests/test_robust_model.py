@@ -15,13 +15,15 @@ from cof_gym.agents.robust_model import RobustModel
 from cof_gym.agents.staircase import limits_of
 from cof_gym.commands.evaluate import agent_view, run_episode
 from cof_gym.task.interface import OBSERVATION_NAMES, decode_action
+from cof_gym.agents.runaway import RunawayEstimate
 
 CREEPAGE = OBSERVATION_NAMES.index("creepage_measured")
 
 
 def test_registered_without_ground_truth(env) -> None:
-    agent = make_agent("robust-model", env)
-    assert isinstance(agent, RobustModel) and not agent.oracle and agent.name == "robust-model"
+    agent = make_agent("robust-model", env)  # it reports the runaway estimate between its stops (rule 24)
+    assert isinstance(agent, RunawayEstimate) and isinstance(agent.agent, RobustModel)
+    assert not agent.oracle and agent.name == "robust-model"
 
 
 def _wrong_truth(info: dict) -> dict:
