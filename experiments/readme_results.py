@@ -337,7 +337,8 @@ def heldout_overview(runs: dict[str, tuple[str, Path]] = HELDOUT_RUNS, learned: 
 
 
 # rule 24 (session 23): the scripted agents with and without the runaway estimate on the validation grids
-RUNAWAY_VALIDATION = {"family": ROOT / "out" / "runaway-validation", "procedural": ROOT / "out" / "runaway-validation-procedural",
+RUNAWAY_VALIDATION = {"family": ROOT / "out" / "runaway-validation",
+                      "procedural": ROOT / "out" / "runaway-validation-procedural",
                       "steep": ROOT / "out" / "runaway-validation-steep"}
 RUNAWAY_AGENTS = ("staircase", "phase-rule", "model-based", "robust-model")
 
@@ -350,8 +351,9 @@ def runaway_validation(runs: dict[str, Path] = RUNAWAY_VALIDATION, agents: tuple
         if not (out / "summary.json").is_file():
             return None
         summaries[grid] = json.loads((out / "summary.json").read_text())["summary"]
-    rows = ["| agent | " + " | ".join(f"{grid} ({summaries[grid][agents[0] + '+plain']['episodes']}): median / P90 / macro-slips"
-                                      for grid in runs) + " |", "|---" * (len(runs) + 1) + "|"]
+    episodes = {grid: summaries[grid][f"{agents[0]}+plain"]["episodes"] for grid in runs}
+    rows = ["| agent | " + " | ".join(f"{grid} ({episodes[grid]}): median / P90 / macro-slips" for grid in runs) + " |",
+            "|---" * (len(runs) + 1) + "|"]
     for agent in agents:
         for name in (f"{agent}+plain", f"{agent}+runaway"):
             rows.append(f"| {name} | " + " | ".join(_cell(summaries[grid], name) for grid in runs) + " |")

@@ -82,8 +82,8 @@ only if the wheel runs away in it (a macro-slip). With ``runaway_estimate`` that
 runaway measures (:class:`~cof_gym.agents.runaway.RunawayBracket`): the creep curve's peak lies above the
 climb's best crest bound ``c`` (survived) and below what the coming window's torque crest demands, about
 ``c x rho`` for ``rho`` the ratio of that crest to the crest of the window that gave ``c`` (commanded
-torques: the torque gain error cancels); the reported estimate is the bracket's geometric middle ``c sqrt(rho)``, whose
-largest log error over the bracket is the smallest. A stop reports the estimate of ``estimate_from`` as
+torques: the torque gain error cancels); the reported estimate is the bracket's geometric middle
+``c sqrt(rho)``, whose largest log error over the bracket is the smallest. A stop reports the estimate of ``estimate_from`` as
 before. It changes no step of the climb, and no estimate of an episode that does not run away.
 
 **A crest cap.** With ``crest_fraction`` set, the modulation shrinks as the climb nears the peak: the
@@ -129,7 +129,7 @@ import numpy as np
 
 from cof_gym.agents.base import configuration_note, outside_training_note, registered_ranges
 from cof_gym.agents.phase_rule import probe_amplitude
-from cof_gym.agents.runaway import RunawayBracket
+from cof_gym.agents.runaway import RunawayBracket, crest_lower_bound
 from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.physics.simulation import COA_CYCLE_FIELDS
 from cof_gym.task.excitation import encode_extra_tones
@@ -319,8 +319,8 @@ class Reading:
     @property
     def crest_bound(self) -> float:
         """A lower bound on the CoF from this window: its CoA's cycle crest less one bin's standard error
-        (the crest never exceeds the creep curve's peak; 0 when the crest was not read)."""
-        return max(self.coa_cycle_max - self.coa_cycle_bin_se, 0.0)
+        (:func:`~cof_gym.agents.runaway.crest_lower_bound`; 0 when the crest was not read)."""
+        return crest_lower_bound(self.coa_cycle_max, self.coa_cycle_bin_se)
 
     @classmethod
     def of(cls, observation: np.ndarray, limits: MotorLimits, info: Mapping[str, Any] | None = None) -> "Reading":

@@ -129,21 +129,23 @@ def default_agents() -> list[str]:
     return out
 
 
-MODIFIERS = ("runaway", "plain")  # agent-name suffixes: +runaway wraps the agent, +plain never does
+PLAIN = "plain"  # the agent-name suffix of an agent without the runaway estimate (+runaway: runaway.MODIFIER)
 
 
 def split_modifier(spec: str) -> tuple[str, str | None]:
     """``NAME[:ARG]+runaway`` or ``+plain`` -> (``NAME[:ARG]``, the modifier); any other spec -> (spec, None)."""
+    from cof_gym.agents.runaway import MODIFIER
+
     spec = spec.strip()
-    for modifier in MODIFIERS:
+    for modifier in (MODIFIER, PLAIN):
         if spec.endswith(f"+{modifier}"):
             return spec[: -len(modifier) - 1], modifier
     return spec, None
 
 
 def parse(spec: str) -> tuple[AgentEntry, str | None]:
-    """``name`` or ``name:ARG`` (either with ``+runaway``) -> (entry, ARG or None); :class:`AgentSpecError`
-    for anything else."""
+    """``name`` or ``name:ARG`` (either with ``+runaway`` or ``+plain``) -> (entry, ARG or None);
+    :class:`AgentSpecError` for anything else."""
     name, sep, argument = split_modifier(spec)[0].partition(":")
     entry = AGENTS.get(name)
     if entry is None or not entry.available():
@@ -166,9 +168,9 @@ def make_agent(spec: str, env: Any):
     factory = entry.load()
     agent = factory(env, argument) if entry.takes_env else factory(env.unwrapped.limits)
     modifier = split_modifier(spec)[1]
-    if modifier == "plain":
-        agent.name = f"{agent.name}+plain"
-    elif modifier == "runaway" or entry.runaway:
+    if modifier == PLAIN:
+        agent.name = f"{agent.name}+{PLAIN}"
+    elif modifier or entry.runaway:
         from cof_gym.agents.runaway import RunawayEstimate
 
         return RunawayEstimate(agent, env.unwrapped.limits, name=None if modifier else agent.name)

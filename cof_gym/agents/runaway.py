@@ -30,10 +30,17 @@ from cof_gym.task.interface import MotorLimits, decode_action, encode_action
 MODIFIER = "runaway"  # the agent-name suffix ``+runaway`` of the registry
 
 
+def crest_lower_bound(crest: float, bin_se: float) -> float:
+    """A lower bound on the CoF from one window: the measured CoA's cycle crest less one phase bin's
+    standard error (the crest never exceeds the creep curve's peak), at least 0."""
+    return max(crest - bin_se, 0.0)
+
+
 def crest_bound(measurement: Mapping[str, Any]) -> float:
-    """A lower bound on the CoF from one window's readings: the measured CoA's cycle crest less one phase
-    bin's standard error (0 where the window has no such reading)."""
-    return max(float(measurement.get("coa_cycle_max", 0.0)) - float(measurement.get("coa_cycle_bin_se", 0.0)), 0.0)
+    """:func:`crest_lower_bound` of one window's readings (``info["measurement"]``; 0 where the window has
+    no such reading)."""
+    return crest_lower_bound(float(measurement.get("coa_cycle_max", 0.0)),
+                             float(measurement.get("coa_cycle_bin_se", 0.0)))
 
 
 @dataclass
