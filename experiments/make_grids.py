@@ -36,6 +36,9 @@
 - ``suites/v2_confirmation6_grid.json``, ``suites/v2_confirmation6_procedural_grid.json`` and
   ``suites/v2_confirmation6_steep_grid.json`` (session 22, seeds 111 000, 113 000, 115 000): a sixth such
   set, written before any agent played them and before rule 22 (the cycle-crest networks) was written.
+- ``suites/v2_confirmation7_grid.json``, ``suites/v2_confirmation7_procedural_grid.json`` and
+  ``suites/v2_confirmation7_steep_grid.json`` (session 24, seeds 117 000, 119 000, 121 000): a seventh such
+  set, written before any agent played them and before rule 25 was written (the sixth had judged rule 23).
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -267,10 +270,10 @@ def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.
             "episodes": episodes}
 
 
-ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ")
+ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ")
 
 # the confirmation sets, in the order they were written (the first in session 16, the second in 17, the
-# third and fourth in 21, the fifth and sixth in 22): name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and
+# third and fourth in 21, the fifth and sixth in 22, the seventh in 24): name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and
 # steep grids; each was written before any agent played it, and judges one rule's candidate
 CONFIRMATION_SETS = {
     "confirmation": (((0.05, 0.29, 0.53, 0.78), (5.5, 15.0, 27.0), 62_000),
@@ -285,6 +288,8 @@ CONFIRMATION_SETS = {
                       ((0.1, 0.43, 0.77), (7.0, 19.5, 35.5), 93_000), ((0.14, 0.45, 0.74), (9.0, 27.5, 39.5), 109_000)),
     "confirmation6": (((0.06, 0.33, 0.61, 0.86), (5.0, 14.5, 30.5), 111_000),
                       ((0.05, 0.38, 0.69, 0.92), (8.5, 23.5, 36.5), 113_000), ((0.11, 0.5, 0.79), (6.0, 21.5, 33.0), 115_000)),
+    "confirmation7": (((0.04, 0.28, 0.57, 0.83, 0.95), (6.0, 16.0, 31.5), 117_000),
+                      ((0.07, 0.41, 0.72, 0.94), (7.5, 20.5, 37.5), 119_000), ((0.09, 0.46, 0.76), (5.5, 19.0, 34.5), 121_000)),
 }
 
 
