@@ -41,6 +41,10 @@ unless the cautious headroom has grown above it again (a false alarm: a climb he
 from its second window on ends at the horizon far below the peak). With ``creep_until`` the probe ends
 once the predicted (mean) headroom is that low: the filter expects the peak within it, and each further
 window there risks the modulation's crest passing the peak for readings the estimate no longer needs.
+With ``pace_caution`` set, a slow-probe step (never a stop) is at least the horizon pace
+(:meth:`ClimbParameters.pace_step`): the predicted headroom less that many stds, spread over the windows
+left before the horizon; a probe that starts far below the peak of a curve the filter reads poorly (low
+speeds, where Eq. 3's lag is small) otherwise ends at the horizon a factor of two or more below it.
 With ``floor_margin`` set, a step is at least the one that the lowest CoF the task admits
 guarantees safe (:func:`floor_headroom`: the CoA is the DC's fraction of the saturation torque times
 the CoF, so ``ln(CoF_min / CoA)`` bounds the headroom from below whatever the creep curve): a climb that
@@ -603,6 +607,7 @@ class ClimbParameters:
     crest_once_crept: bool = False  # the crest cap only from the climb's first slow probe on
     crest_floor: bool = False  # the estimate at least the climb's best crest bound (Reading.crest_bound)
     runaway_estimate: bool = False  # a window that is not a stop reports what a runaway in it would (RunawayBracket)
+    pace_caution: float | None = None  # not None: a slow-probe step at least the horizon pace (pace_step)
 
     def __post_init__(self) -> None:
         if self.estimate_from not in ESTIMATE_SOURCES:
@@ -626,6 +631,8 @@ class ClimbParameters:
                          MotorLimits.max_frequency_hz)
         check_number("tone2_weight", self.tone2_weight, 0.0, 2.0)
         check_number("spread_caution", self.spread_caution, 0.0, 10.0)
+        if self.pace_caution is not None:
+            check_number("pace_caution", self.pace_caution, 0.0, 10.0)
         if not (isinstance(self.creep_log_step, (int, float)) and 0.0 <= self.creep_log_step <= self.max_log_step):
             raise ValueError(f"creep_log_step must be in [0, max_log_step={self.max_log_step}], got {self.creep_log_step!r}")
 
@@ -659,6 +666,19 @@ class ClimbParameters:
         false: the filters now place the peak far above even after their caution)."""
         return (self.creep_sticky and crept
                 and (self.creep_release is None or cautious_headroom <= self.creep_release))
+
+    def pace_step(self, cautious_headroom: float, headroom_std: float, spread: float, windows_left: int) -> float:
+        """With ``pace_caution`` set, the step that reaches the target headroom in the ``windows_left`` windows
+        before the horizon if the headroom is the predicted mean less ``pace_caution`` stds:
+        ``(mean - pace_caution x std - target_headroom) / windows_left``, at most ``max_log_step``; 0 when
+        unused. A slow probe that starts far below the peak (the filter uncertain, its cautious gap closed)
+        at 3 % a window spends the horizon there; paced, it spreads the predicted distance over the windows
+        it has."""
+        if self.pace_caution is None:
+            return 0.0
+        mean_headroom = cautious_headroom + self.caution * headroom_std + self.spread_caution * spread
+        gap = mean_headroom - self.pace_caution * headroom_std - self.target_headroom
+        return min(gap / max(windows_left, 1), self.max_log_step)
 
     def floor_step(self, coa: float) -> float:
         """The step that the task's lowest CoF (:data:`~cof_gym.task.scenarios.COF_ENVELOPE`) guarantees
@@ -863,9 +883,12 @@ class LearnedInterrogator:
             if p.sticks(self._crept, headroom):  # the peak may be near: no big step again
                 step = min(step, p.creep_log_step)
             self._crept |= p.creeps(headroom, headroom_std, headroom_spread)
+            windows_left = self.max_windows - 1 - self._driven  # windows before the horizon's stop
+            if self._crept and step >= p.min_log_step:  # pacing sizes a slow-probe step, never turns a stop into one
+                step = max(step, p.pace_step(headroom, headroom_std, headroom_spread, windows_left))
             step = max(step, p.floor_step(reading.coa))  # safe whatever the filter predicts
             at_limit = self._dc >= self.limits.max_dc_torque_nm
-            last = self._driven >= self.max_windows - 1
+            last = windows_left <= 0
             stop = falling or at_limit or last or step < p.min_log_step
             if stop:
                 self.stop_reason = ("falling" if falling else "limit" if at_limit else "horizon" if last
