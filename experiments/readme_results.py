@@ -158,6 +158,10 @@ generated, never typed:
         --agents staircase+plain,staircase+runaway,phase-rule+plain,phase-rule+runaway,model-based+plain,model-based+runaway,robust-model+plain,robust-model+runaway
     (the same with v2_validation_procedural_grid.json into out/runaway-validation-procedural and with
     v2_validation_steep_grid.json into out/runaway-validation-steep: rule 24)
+    python experiments/make_grids.py    # adds the seventh confirmation set (session 24); every other grid unchanged
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
+        --targets 0.1 --stops --return-digits 4 --set pace_caution=null pace_caution=0 pace_caution=0.5 \
+        pace_caution=1 --out out/crest_tradeoff_pace.md    # rule 25
     python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rule 23: the runaway estimate
         # (the shipped networks copied to runs/interrogator/seed_K and guard/seed_K first: member_K.npz of
         # cof_gym/agents/policies/interrogator and of its guard_0; with every network there no climb is collected)
@@ -242,6 +246,7 @@ SOURCES = {
         "crest_tradeoff_cycle_crest",
         "crest_tradeoff_runaway",
         "crest_tradeoff_runaway_confirmation6",
+        "crest_tradeoff_pace",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about

@@ -411,6 +411,45 @@ def test_a_sticky_creep_lets_go_once_the_cautious_headroom_is_above_its_release(
         ClimbParameters(creep_release=-0.1)
 
 
+@pytest.mark.parametrize("pace, after", [(None, 0.03), (0.0, 0.95 / 27), (1.0, 0.03)])
+def test_a_paced_slow_probe_spreads_the_predicted_headroom_over_the_windows_left(env, pace, after):
+    """pace_caution: after its creep, a sticky climb's step is at least (mean - pace_caution x std - target)
+    over the windows left before the horizon (here (1 - 0.05) / 27 = 0.035 with pace_caution 0; with 1,
+    (1 - 0.2 - 0.05) / 27 = 0.028 is below the creep step, which stands)."""
+    params = ClimbParameters(target_headroom=0.05, max_log_step=0.15, creep_log_step=0.03, creep_while_std=0.08,
+                             caution=1.0, creep_sticky=True, pace_caution=pace)
+    agent = LearnedInterrogator(env.unwrapped.limits, _ScriptedFilter([(0.26, 0.2), (1.0, 0.2)]), params=params)
+    obs, info = env.reset(seed=5)
+    agent.reset(obs, info)
+    dcs = []
+    for _ in range(3):
+        obs, _, _, _, info = env.step(agent.act(obs, info))
+        dcs.append(agent.dc_nm)
+    assert math.log(dcs[1] / dcs[0]) == pytest.approx(0.03, rel=1e-9)
+    assert math.log(dcs[2] / dcs[1]) == pytest.approx(after, rel=1e-9)
+    assert ClimbParameters(pace_caution=0.0, max_log_step=0.15).pace_step(3.0, 0.0, 0.0, 2) == 0.15  # capped
+    with pytest.raises(ValueError, match="pace_caution"):
+        ClimbParameters(pace_caution=-0.5)
+
+
+def test_pacing_never_turns_a_stop_into_a_step(env):
+    """With one window left before the horizon, a certain headroom (std 0.05 < creep_while_std) whose cautious
+    gap is closed stops the paced climb on its headroom, although the pace (0.06) exceeds min_log_step."""
+    params = ClimbParameters(target_headroom=0.05, max_log_step=0.15, creep_log_step=0.03, creep_while_std=0.08,
+                             caution=1.0, creep_sticky=True, pace_caution=0.0)
+    agent = LearnedInterrogator(env.unwrapped.limits, _ScriptedFilter([(0.26, 0.2), (0.11, 0.05)]), params=params,
+                                max_windows=4)
+    obs, info = env.reset(seed=5)
+    agent.reset(obs, info)
+    for _ in range(3):
+        action = agent.act(obs, info)
+        if decode_action(action, agent.limits).stop:
+            break
+        obs, _, _, _, info = env.step(action)
+    assert agent.stop_reason == "headroom" and agent.crept
+    assert params.pace_step(0.06, 0.05, 0.0, 1) == pytest.approx(0.06, rel=1e-12)
+
+
 @pytest.mark.parametrize("cof, condition, load_case", [(0.02, "low_adhesion", "empty"), (0.02, "low_adhesion", "laden"),
                                                        (0.6, "dry", "laden")])
 def test_the_floor_step_jumps_to_the_lowest_cof_and_never_past_its_peak(env, cof, condition, load_case):
