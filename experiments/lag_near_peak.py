@@ -33,7 +33,9 @@ it, the windows whose amplitude the drive cut, and over the episodes the drive d
 their macro-slips, the median lag, its median rise since the first level and the median of the measured
 creepage's swing per torque over the first level's and, over those not running away at that level, the
 median shift of the measured mean creepage since the first level in peak creepages (a held DC's mean
-force is fixed, so a crest that clips at a rounded peak must raise the mean creepage); then how many
+force is fixed, so a crest that clips at a rounded peak must raise the mean creepage) and the crest bound
+(the measured CoA's cycle crest less a bin's standard error) over the CoF, its median and 10th percentile
+(how near a crest past the knee reads the peak: session 24); then how many
 episodes the drive never cut, how many of those ran away, and the mean creepage's shift in the window
 before each runaway (``--out FILE``: also written there):
 
@@ -53,6 +55,7 @@ import gymnasium as gym
 import numpy as np
 
 from cof_gym.agents.interrogator import Reading
+from cof_gym.agents.runaway import crest_lower_bound
 from cof_gym.commands.suites import make_suite
 from cof_gym.task.excitation import encode_extra_tones
 from cof_gym.task.interface import MotorLimits, encode_action
@@ -92,6 +95,14 @@ def _creepage_shift(episode: list[Window], k: int) -> float:
     return (m["creepage_measured"] - first["creepage_measured"]) / episode[k].info["ground_truth"]["peak_creepage"]
 
 
+def _crest_bound_over_cof(window: Window) -> float:
+    """The window's crest bound (the measured CoA's cycle crest less a bin's standard error, a sensor reading:
+    :func:`~cof_gym.agents.runaway.crest_lower_bound`) over the true CoF: how near a crest that reaches into
+    the knee reads the peak."""
+    m = window.info["measurement"]
+    return crest_lower_bound(m["coa_cycle_max"], m["coa_cycle_bin_se"]) / window.info["ground_truth"]["cof"]
+
+
 def _uncut(episode: list[Window], upto: int | None = None) -> bool:
     """Whether the drive's amplitude limit cut none of the episode's windows (up to index ``upto``)."""
     return not any(w.clipped for w in episode[:None if upto is None else upto + 1])
@@ -100,6 +111,11 @@ def _uncut(episode: list[Window], upto: int | None = None) -> bool:
 def _slips(episodes: list[list[Window]], k: int) -> int:
     """How many of ``episodes`` ran away in their window ``k``."""
     return sum(bool(e[k].info["macro_slip"]) for e in episodes)
+
+
+def _percentile(values: list[float], q: float, digits: int = 3) -> str:
+    """The ``q`` th percentile of ``values`` to ``digits`` decimals, "-" for none."""
+    return f"{np.percentile(values, q):.{digits}f}" if values else "-"
 
 
 def _median(values: list[float], digits: int = 1) -> str:
@@ -158,7 +174,9 @@ def summary(episodes: list[list[Window]], levels) -> list[str]:
     """Markdown rows over many episodes, one per level: episodes that reached it, macro-slips at it,
     windows the drive's amplitude limit cut, and over the episodes it never cut up to that level their
     number, their macro-slips at it, the median lag, the median rise of the lag since the first level
-    (deg) and the median of the measured creepage's swing per torque over the first level's."""
+    (deg), the median of the measured creepage's swing per torque over the first level's and, over those not
+    running away at it, the median shift of the mean creepage and the crest bound over the CoF (its median
+    and 10th percentile)."""
     rows = []
     for k, level in enumerate(levels):
         reached = [e for e in episodes if len(e) > k]
@@ -167,9 +185,10 @@ def summary(episodes: list[list[Window]], levels) -> list[str]:
         rises = [e[k].reading.phase_deg - e[0].reading.phase_deg for e in uncut]
         swings = [_swing(e[k]) / _swing(e[0]) for e in uncut]
         shifts = [_creepage_shift(e, k) for e in uncut if not e[k].info["macro_slip"]]
+        bounds = [_crest_bound_over_cof(e[k]) for e in uncut if not e[k].info["macro_slip"]]
         rows.append(f"| {level:.2f} | {len(reached)} | {_slips(reached, k)} | {sum(e[k].clipped for e in reached)} | "
                     f"{len(uncut)} | {_slips(uncut, k)} | {_median(lags)} | {_median(rises)} | {_median(swings)} | "
-                    f"{_median(shifts, 2)} |")
+                    f"{_median(shifts, 2)} | {_median(bounds, 3)} / {_percentile(bounds, 10)} |")
     return rows
 
 
@@ -253,8 +272,8 @@ def main() -> None:
     if args.summary:
         head = (f"| {level_name} | episodes | macro-slips | amplitude cut | not cut | macro-slips not cut | "
                 "median lag [deg] | median lag rise [deg] | median creepage swing / first | "
-                "median creepage shift [peak creepages] |")
-        table = "\n".join([head, "|---" * 10 + "|", *summary(played, args.levels), "", never_cut(played),
+                "median creepage shift [peak creepages] | crest bound / CoF: median / P10 |")
+        table = "\n".join([head, "|---" * 11 + "|", *summary(played, args.levels), "", never_cut(played),
                            before_runaway(played)])
         print(table)
         if args.out is not None:
