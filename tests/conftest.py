@@ -22,3 +22,27 @@ def env(request):
     e = gym.make(getattr(request.module, "ENV_ID", cof_gym.WAGON_ENV_ID))
     yield e
     e.close()
+
+
+EXPERIMENTS = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "experiments")
+
+
+@pytest.fixture
+def experiment_exit(monkeypatch, capsys):
+    """Run ``experiments/SCRIPT.py``'s ``main()`` in-process with command-line ``args``; returns (exit code,
+    the last line of stderr). For the bad-input checks of the experiment scripts: an option rejected before
+    any work exits through argparse, as on the command line, without a Python start-up per case (each
+    script keeps one subprocess test of its real command line)."""
+    import importlib
+    import sys
+
+    def run(script: str, args: list[str]) -> tuple[int | str | None, str]:
+        monkeypatch.syspath_prepend(EXPERIMENTS)
+        module = importlib.import_module(script)
+        monkeypatch.setattr(sys, "argv", [os.path.join(EXPERIMENTS, f"{script}.py"), *args])
+        with pytest.raises(SystemExit) as exit_:
+            module.main()
+        lines = capsys.readouterr().err.strip().splitlines()
+        return exit_.value.code, lines[-1] if lines else ""
+
+    return run

@@ -32,11 +32,18 @@ SHIPPED = Path(__file__).resolve().parent.parent / "cof_gym" / "agents" / "polic
                                           (["--set", "creep_sticky=maybe"], "--set"),
                                           (["--own-climb", "--set", "caution=2"], "--set"),
                                           (["--guards-only"], "--guards-only")])
-def test_bad_options_exit_2_naming_the_option(args: list[str], option: str, tmp_path: Path) -> None:
-    done = subprocess.run([sys.executable, str(SCRIPT), *args, "--out", str(tmp_path / "t.md")],
+def test_bad_options_exit_2_naming_the_option(args: list[str], option: str, tmp_path: Path, experiment_exit) -> None:
+    code, last = experiment_exit("crest_tradeoff", [*args, "--out", str(tmp_path / "t.md")])
+    assert code == 2 and option in last
+    assert not (tmp_path / "t.md").exists()
+
+
+def test_a_bad_option_on_the_command_line_exits_2_naming_it(tmp_path: Path) -> None:
+    done = subprocess.run([sys.executable, str(SCRIPT), "--cautions", "-1", "--out", str(tmp_path / "t.md")],
                           capture_output=True, text=True, timeout=120)
     assert done.returncode == 2
-    assert option in done.stderr.strip().splitlines()[-1]
+    assert "--cautions" in done.stderr.strip().splitlines()[-1]
+    assert "Traceback" not in done.stderr
     assert not (tmp_path / "t.md").exists()
 
 

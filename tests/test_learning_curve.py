@@ -38,9 +38,14 @@ def test_each_size_is_the_recipes_member_scored_on_the_windows_held_apart(tmp_pa
 @pytest.mark.parametrize("args, option", [(["--sizes", "9000"], "--sizes"), (["--sizes", "0"], "--sizes"),
                                           (["--ensembles", "no/such/run"], "--ensembles"),
                                           (["--climbs", "nothing=5"], "--climbs"), (["--epochs", "0"], "--epochs")])
-def test_bad_options_exit_2_naming_the_option(args: list[str], option: str, tmp_path: Path) -> None:
-    done = subprocess.run([sys.executable, str(EXPERIMENTS / "learning_curve.py"), "--run", str(tmp_path / "run"),
-                           *args, "--out", str(tmp_path / "t.md")], capture_output=True, text=True, timeout=120)
-    assert done.returncode == 2
-    assert option in done.stderr.strip().splitlines()[-1]
+def test_bad_options_exit_2_naming_the_option(args: list[str], option: str, tmp_path: Path, experiment_exit) -> None:
+    code, last = experiment_exit("learning_curve", ["--run", str(tmp_path / "run"), *args, "--out", str(tmp_path / "t.md")])
+    assert code == 2 and option in last
     assert not (tmp_path / "run").exists() and not (tmp_path / "t.md").exists()
+
+
+def test_a_bad_option_on_the_command_line_exits_2_naming_it(tmp_path: Path) -> None:
+    done = subprocess.run([sys.executable, str(EXPERIMENTS / "learning_curve.py"), "--run", str(tmp_path / "run"),
+                           "--sizes", "0", "--out", str(tmp_path / "t.md")], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2 and "--sizes" in done.stderr.strip().splitlines()[-1]
+    assert "Traceback" not in done.stderr

@@ -23,11 +23,9 @@ SCRIPT = str(EXPERIMENTS / "train_estimator.py")
 
 @pytest.mark.parametrize("args, option", [(["--policy", "nowhere"], "--policy"), (["--climbs", "bad=3"], "--climbs"),
                                           (["--climbs", "env=0"], "--climbs")])
-def test_bad_options_exit_2_naming_the_option(tmp_path: Path, args: list[str], option: str) -> None:
-    done = subprocess.run([sys.executable, SCRIPT, "--out", str(tmp_path / "run"), *args],
-                          capture_output=True, text=True, timeout=120)
-    assert done.returncode == 2
-    assert done.stderr.strip().splitlines()[-1].startswith(f"train_estimator.py: error: {option}")
+def test_bad_options_exit_2_naming_the_option(tmp_path: Path, args: list[str], option: str, experiment_exit) -> None:
+    code, last = experiment_exit("train_estimator", ["--out", str(tmp_path / "run"), *args])
+    assert code == 2 and last.startswith(f"train_estimator.py: error: {option}")
     assert not (tmp_path / "run").exists()
 
 

@@ -51,11 +51,9 @@ def test_bad_guards_exit_2_naming_the_option(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize("climbs", [["bad=3"], ["env=x"], ["env=0"]])
-def test_bad_guard_climbs_exit_2_naming_the_option(tmp_path: Path, climbs: list[str]) -> None:
-    done = subprocess.run([sys.executable, str(EXPERIMENTS / "train_interrogator.py"), "--out", str(tmp_path / "run"),
-                           "--guard-climbs", *climbs], capture_output=True, text=True, timeout=120)
-    assert done.returncode == 2
-    assert done.stderr.strip().splitlines()[-1].startswith("train_interrogator.py: error: --guard-climbs:")
+def test_bad_guard_climbs_exit_2_naming_the_option(tmp_path: Path, climbs: list[str], experiment_exit) -> None:
+    code, last = experiment_exit("train_interrogator", ["--out", str(tmp_path / "run"), "--guard-climbs", *climbs])
+    assert code == 2 and last.startswith("train_interrogator.py: error: --guard-climbs:")
     assert not (tmp_path / "run").exists()
 
 
