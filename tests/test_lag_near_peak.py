@@ -82,7 +82,9 @@ def test_summary_table_and_its_refusals(monkeypatch, capsys, tmp_path):
     assert out.read_text() in capsys.readouterr().out + "\n"
     assert "never cut: " in out.read_text().splitlines()[-2]  # the count of uncut episodes, then the runaways
     assert "ran away after" in out.read_text().splitlines()[-1]
-    assert rows[0].split("|")[-2].strip() in ("0.00", "-0.00")  # the first level's creepage shift is itself
+    assert rows[0].split("|")[-3].strip() in ("0.00", "-0.00")  # the first level's creepage shift is itself
+    median, p10 = (float(x) for x in rows[0].split("|")[-2].split("/"))  # the crest bound over the CoF
+    assert 0.0 < p10 <= median < 1.1
     for bad in (["--hold-dc", "0"], ["--hold-dc", "0.95"], ["--out", str(out)]):  # crest <= DC; --out alone
         monkeypatch.setattr(sys, "argv", ["lag_near_peak.py", "--episodes", "0", "--levels", "0.9", *bad])
         with pytest.raises(SystemExit) as e:
@@ -94,6 +96,13 @@ def _window(creepage: float, peak: float, slip: bool = False) -> "lag_near_peak.
     info = {"measurement": {"creepage_measured": creepage}, "ground_truth": {"peak_creepage": peak},
             "macro_slip": slip}
     return lag_near_peak.Window(1.0, None, info, False)
+
+
+def test_the_crest_bound_over_the_cof_is_the_crest_less_a_bins_se():
+    """The summary's crest column: (cycle crest - one bin's standard error) / the true CoF."""
+    window = lag_near_peak.Window(1.0, None, {"measurement": {"coa_cycle_max": 0.30, "coa_cycle_bin_se": 0.01},
+                                              "ground_truth": {"cof": 0.32}}, False)
+    assert lag_near_peak._crest_bound_over_cof(window) == pytest.approx(0.29 / 0.32, rel=1e-12)
 
 
 def test_creepage_shift_before_a_runaway():
