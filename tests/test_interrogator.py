@@ -371,13 +371,13 @@ class _ScriptedFilter:
         return *self.predict(x), np.zeros((1, 2))
 
 
-def _creep_then_open_gap_steps(env, **climb) -> tuple[float, float]:
+def _creep_then_open_gap_steps(env, second_std: float = 0.01, **climb) -> tuple[float, float]:
     """The log steps of the DC torque after window 1 (mean headroom 0.26, std 0.2: a cautious gap of 0.01,
-    closed and uncertain: a creep) and window 2 (mean 1, std 0.01: an open gap), with max_log_step 0.15,
-    creep_log_step 0.03 and ``climb``."""
+    closed and uncertain: a creep) and window 2 (mean 1, std ``second_std``: an open gap), with max_log_step
+    0.15, creep_log_step 0.03 and ``climb``."""
     params = ClimbParameters(target_headroom=0.05, max_log_step=0.15, creep_log_step=0.03, creep_while_std=0.08,
                              caution=1.0, **climb)
-    agent = LearnedInterrogator(env.unwrapped.limits, _ScriptedFilter([(0.26, 0.2), (1.0, 0.01)]), params=params)
+    agent = LearnedInterrogator(env.unwrapped.limits, _ScriptedFilter([(0.26, 0.2), (1.0, second_std)]), params=params)
     obs, info = env.reset(seed=5)
     agent.reset(obs, info)
     dcs = []
@@ -416,17 +416,9 @@ def test_a_paced_slow_probe_spreads_the_predicted_headroom_over_the_windows_left
     """pace_caution: after its creep, a sticky climb's step is at least (mean - pace_caution x std - target)
     over the windows left before the horizon (here (1 - 0.05) / 27 = 0.035 with pace_caution 0; with 1,
     (1 - 0.2 - 0.05) / 27 = 0.028 is below the creep step, which stands)."""
-    params = ClimbParameters(target_headroom=0.05, max_log_step=0.15, creep_log_step=0.03, creep_while_std=0.08,
-                             caution=1.0, creep_sticky=True, pace_caution=pace)
-    agent = LearnedInterrogator(env.unwrapped.limits, _ScriptedFilter([(0.26, 0.2), (1.0, 0.2)]), params=params)
-    obs, info = env.reset(seed=5)
-    agent.reset(obs, info)
-    dcs = []
-    for _ in range(3):
-        obs, _, _, _, info = env.step(agent.act(obs, info))
-        dcs.append(agent.dc_nm)
-    assert math.log(dcs[1] / dcs[0]) == pytest.approx(0.03, rel=1e-9)
-    assert math.log(dcs[2] / dcs[1]) == pytest.approx(after, rel=1e-9)
+    creep, step = _creep_then_open_gap_steps(env, second_std=0.2, creep_sticky=True, pace_caution=pace)
+    assert creep == pytest.approx(0.03, rel=1e-9)
+    assert step == pytest.approx(after, rel=1e-9)
     assert ClimbParameters(pace_caution=0.0, max_log_step=0.15).pace_step(3.0, 0.0, 0.0, 2) == 0.15  # capped
     with pytest.raises(ValueError, match="pace_caution"):
         ClimbParameters(pace_caution=-0.5)
