@@ -165,7 +165,7 @@ generated, never typed:
     python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
         --targets 0.1 --stops --return-digits 4 --set frequency_hz=5 frequency_hz=7.5 frequency_hz=10 \
         --out out/crest_tradeoff_frequency.md    # rule 26
-    python experiments/indistinguishable_peaks.py --out out/indistinguishable_peaks.md
+    python experiments/indistinguishable_peaks.py --counter-torque --out out/indistinguishable_peaks.md
     python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rule 23: the runaway estimate
         # (the shipped networks copied to runs/interrogator/seed_K and guard/seed_K first: member_K.npz of
         # cof_gym/agents/policies/interrogator and of its guard_0; with every network there no climb is collected)
