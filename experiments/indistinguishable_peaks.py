@@ -1,19 +1,19 @@
 """Why no agent that does not read the truth can be both safe and accurate on a peak that gives no warning.
 
-    python experiments/indistinguishable_peaks.py --out out/indistinguishable_peaks.md
+    python experiments/indistinguishable_peaks.py --counter-torque --out out/indistinguishable_peaks.md
 
 For each episode of a suite whose creep curve is a table (default: the steep validation grid, whose curves
-fall steeply past a kinked peak) and whose twin's CoF stays in the task's range, it builds a twin: the same episode (seed, speed, load, sensors) with a
-curve that is the same in force up to the table point before the peak and then keeps rising, to a CoF
-``--ratio`` times higher (:func:`twin_law`). Below that point the wheel meets the same creep force on both,
-so an agent that reads only the sensors drives both alike until its torque passes the original peak. Each
-agent plays every pair (both vehicle configurations with ``--counter-torque`` twice: once as given, once
-with counter torque; default: as given); the table shows, per agent, how many pairs it played, in how
-many it drove both members alike (to 1e-6 in every action component) for the whole of the shorter episode, its macro-slips on the original,
-its median error on the original and on the twin, and in how many pairs it measured both within
-``--tolerance`` without running away on the original (at most the pairs where its actions differed:
-with a twin CoF ``R`` times the original's, one estimate is within ``t`` of both only if
-``R <= (1 + t) / (1 - t)``).
+fall steeply past a kinked peak) and whose twin's CoF stays in the task's range, it builds a twin: the same
+episode (seed, speed, load, sensors) with a curve that is the same in force up to the table point before the
+peak and then keeps rising, to a CoF ``--ratio`` times higher (:func:`twin_law`). Below that point the wheel
+meets the same creep force on both, so an agent that reads only the sensors drives both alike until its
+torque passes the original peak. Each agent plays every pair (with ``--counter-torque`` twice: in the
+suite's vehicle configuration and with counter torque); the table shows, per agent, how many pairs it
+played, in how many it drove both members alike (to 1e-6 in every action component) for the whole of the
+shorter episode, its macro-slips on the original, its median error on the original and on the twin, and in
+how many pairs it measured both within ``--tolerance`` without running away on the original (at most the
+pairs where its actions differed: with a twin CoF ``R`` times the original's, one estimate is within ``t``
+of both only if ``R <= (1 + t) / (1 - t)``).
 
 This reads the truth only to build the twins and to score, like every evaluation; no agent sees it.
 """
