@@ -78,7 +78,9 @@ class ActionLog:
     def __init__(self, agent):
         self.agent, self.actions = agent, []
 
-    def __getattr__(self, name):
+    def __getattr__(self, name):  # oracle, name, ...: the agent's
+        if name.startswith("_") or name == "agent":
+            raise AttributeError(name)
         return getattr(self.agent, name)
 
     def reset(self, observation, info) -> None:
@@ -113,8 +115,8 @@ def table(agents: list[str], suite_path: Path, ratio: float, tolerance: float, c
         raise SuiteError(f"{suite_path}: no episode with a tabulated creep law whose CoF x {ratio:g} is at most "
                          f"{COF_ENVELOPE[1]:g}")
     configs = [{}, {"counter_torque": True}] if counter_torque else [{}]
+    shared = [last_shared_fraction(options["creep_law"]["table"]) for _, _, options in episodes]
     rows = []
-    shared = []
     for spec in agents:
         pairs = []
         for config in configs:
@@ -122,7 +124,6 @@ def table(agents: list[str], suite_path: Path, ratio: float, tolerance: float, c
             agent = ActionLog(registry.make_agent(spec, env))
             pairs += [play_pair(env, agent, seed, options, ratio, i) for i, seed, options in episodes]
             env.close()
-        shared = [p["shared"] for p in pairs]
         both = sum(not p["original"].macro_slip and p["original"].relative_error <= tolerance
                    and p["twin"].relative_error <= tolerance for p in pairs)
         rows.append(f"| {spec} | {len(pairs)} | {sum(p['alike'] for p in pairs)} | "

@@ -55,7 +55,7 @@ import gymnasium as gym
 import numpy as np
 
 from cof_gym.agents.interrogator import Reading
-from cof_gym.agents.runaway import crest_lower_bound
+from cof_gym.agents.runaway import crest_bound
 from cof_gym.commands.suites import make_suite
 from cof_gym.task.excitation import encode_extra_tones
 from cof_gym.task.interface import MotorLimits, encode_action
@@ -97,10 +97,9 @@ def _creepage_shift(episode: list[Window], k: int) -> float:
 
 def _crest_bound_over_cof(window: Window) -> float:
     """The window's crest bound (the measured CoA's cycle crest less a bin's standard error, a sensor reading:
-    :func:`~cof_gym.agents.runaway.crest_lower_bound`) over the true CoF: how near a crest that reaches into
+    :func:`~cof_gym.agents.runaway.crest_bound`) over the true CoF: how near a crest that reaches into
     the knee reads the peak."""
-    m = window.info["measurement"]
-    return crest_lower_bound(m["coa_cycle_max"], m["coa_cycle_bin_se"]) / window.info["ground_truth"]["cof"]
+    return crest_bound(window.info["measurement"]) / window.info["ground_truth"]["cof"]
 
 
 def _uncut(episode: list[Window], upto: int | None = None) -> bool:

@@ -640,6 +640,10 @@ class ClimbParameters:
         """The predicted headroom less ``caution`` stds and ``spread_caution`` member spreads."""
         return mean - self.caution * std - self.spread_caution * spread
 
+    def mean_headroom(self, cautious_headroom: float, std: float, spread: float = 0.0) -> float:
+        """The predicted (mean) headroom back from its cautious value (:meth:`cautious_headroom`)."""
+        return cautious_headroom + self.caution * std + self.spread_caution * spread
+
     def log_step(self, cautious_headroom: float, headroom_std: float = 0.0, spread: float = 0.0) -> float:
         """The next DC step in log units: the cautious gap to the target, at most ``max_log_step`` or,
         when larger, ``approach_fraction`` of that gap (big steps far from the peak, small ones near it);
@@ -655,10 +659,10 @@ class ClimbParameters:
     def creeps(self, cautious_headroom: float, headroom_std: float, spread: float = 0.0) -> bool:
         """Whether the next step is the slow probe: the cautious gap is closed, the headroom uncertain
         and, with ``creep_until``, the predicted (mean) headroom still above it."""
-        mean_headroom = cautious_headroom + self.caution * headroom_std + self.spread_caution * spread
         return (self.creep_log_step > 0.0 and headroom_std > self.creep_while_std
                 and self._gap_step(cautious_headroom) < self.min_log_step
-                and (self.creep_until is None or mean_headroom > self.creep_until))
+                and (self.creep_until is None
+                     or self.mean_headroom(cautious_headroom, headroom_std, spread) > self.creep_until))
 
     def sticks(self, crept: bool, cautious_headroom: float) -> bool:
         """Whether a climb that has ``crept`` is held to ``creep_log_step``: with ``creep_sticky``, unless
@@ -676,8 +680,8 @@ class ClimbParameters:
         it has."""
         if self.pace_caution is None:
             return 0.0
-        mean_headroom = cautious_headroom + self.caution * headroom_std + self.spread_caution * spread
-        gap = mean_headroom - self.pace_caution * headroom_std - self.target_headroom
+        gap = (self.mean_headroom(cautious_headroom, headroom_std, spread) - self.pace_caution * headroom_std
+               - self.target_headroom)
         return min(gap / max(windows_left, 1), self.max_log_step)
 
     def floor_step(self, coa: float) -> float:
