@@ -165,6 +165,9 @@ generated, never typed:
     python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
         --targets 0.1 --stops --return-digits 4 --set frequency_hz=5 frequency_hz=7.5 frequency_hz=10 \
         --out out/crest_tradeoff_frequency.md    # rule 26
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
+        --targets 0.1 --stops --return-digits 4 --set knee_stop=null 'knee_stop="any"' 'knee_stop="slow_probe"' \
+        --out out/crest_tradeoff_knee.md    # rule 27
     python experiments/indistinguishable_peaks.py --counter-torque --out out/indistinguishable_peaks.md
     python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rule 23: the runaway estimate
         # (the shipped networks copied to runs/interrogator/seed_K and guard/seed_K first: member_K.npz of
@@ -252,6 +255,7 @@ SOURCES = {
         "crest_tradeoff_runaway_confirmation6",
         "crest_tradeoff_pace",
         "crest_tradeoff_frequency",
+        "crest_tradeoff_knee",
         "indistinguishable_peaks",
     )},
 }

@@ -442,6 +442,45 @@ def test_pacing_never_turns_a_stop_into_a_step(env):
     assert params.pace_step(0.06, 0.05, 0.0, 1) == pytest.approx(0.06, rel=1e-12)
 
 
+def _window(phase_deg: float, se_deg: float) -> Reading:
+    """A driven window with this lag and standard error (the rest does not enter the knee test)."""
+    return Reading(phase_deg=phase_deg, se_deg=se_deg, compliance=1e-4, coa=0.05, creepage=0.0, dc_nm=4000.0,
+                   amplitude_nm=1600.0, frequency_hz=5.0, speed_m_s=10.0, normal_load=1.0)
+
+
+@pytest.mark.parametrize("knee_stop, driven, crept, previous, reading, stops", [
+    (None, 5, True, (20.0, 1.0), (40.0, 1.0), False),  # unused
+    ("any", 5, False, (20.0, 1.0), (40.0, 1.0), True),  # a 20 deg jump, 2 x hypot(1, 1) = 2.8 deg of noise
+    ("any", 2, False, (20.0, 1.0), (40.0, 1.0), False),  # within the phase rule's baseline windows
+    ("any", 5, False, (20.0, 1.0), (26.0, 1.0), False),  # 6 - 2.83 = 3.2 deg: below the 4 deg jump
+    ("any", 5, False, (20.0, 1.0), (27.0, 1.0), True),  # 7 - 2.83 = 4.2 deg
+    ("any", 5, False, (20.0, 1.0), (60.0, 6.0), False),  # SE above 5 deg: uninformative
+    ("any", 5, False, (40.0, 1.0), (20.0, 1.0), False),  # a fall is no knee
+    ("slow_probe", 5, False, (20.0, 1.0), (40.0, 1.0), False),  # not crept yet
+    ("slow_probe", 5, True, (20.0, 1.0), (40.0, 1.0), True),
+])
+def test_the_knee_stop_is_the_phase_rules_jump_test(knee_stop, driven, crept, previous, reading, stops):
+    """knee_stop ends the climb where the phase rule would see its knee: the lag over the previous window's
+    by more than 4 deg beyond 2 SEs of both (SE at most 5 deg), after its 2 baseline windows; "slow_probe"
+    only once the climb has crept."""
+    params = ClimbParameters(knee_stop=knee_stop)
+    assert params.knee_stops(_window(*reading), _window(*previous), driven, crept) is stops
+    with pytest.raises(ValueError, match="knee_stop"):
+        ClimbParameters(knee_stop="always")
+
+
+def test_a_knee_stop_reports_the_headroom_stops_estimate(env):
+    """A climb ended by the knee test reports what a headroom stop reports ("pooled_at_headroom": the pooled
+    estimate), the same as its "pooled" source; before a stop it reports the filter's."""
+    agent = LearnedInterrogator(env.unwrapped.limits, _ScriptedFilter([]), params=ClimbParameters(knee_stop="any"))
+    obs, info = env.reset(seed=5)
+    agent.reset(obs, info)
+    agent._source_estimates = {"filter": 0.1, "pooled": 0.12}
+    assert agent.candidate_estimates(1.0)["pooled_at_headroom"] == 0.1
+    agent.stop_reason = "knee"
+    assert agent.candidate_estimates(1.0)["pooled_at_headroom"] == 0.12
+
+
 @pytest.mark.parametrize("cof, condition, load_case", [(0.02, "low_adhesion", "empty"), (0.02, "low_adhesion", "laden"),
                                                        (0.6, "dry", "laden")])
 def test_the_floor_step_jumps_to_the_lowest_cof_and_never_past_its_peak(env, cof, condition, load_case):

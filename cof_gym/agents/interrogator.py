@@ -51,7 +51,9 @@ the CoF, so ``ln(CoF_min / CoA)`` bounds the headroom from below whatever the cr
 starts far below a high CoF's peak crosses that range in one step instead of spending windows there.
 It stops (and reports ``CoA x exp(correction)``) when the next step would be smaller than
 ``min_log_step``, when the CoA falls although the torque rose (past the peak), at the drive's limit,
-or one window before the horizon. The estimate is the filter's (the last rising window's CoA times its
+or one window before the horizon; with ``knee_stop`` also at a window whose lag jumps over the previous
+window's as the phase rule's test has it (:meth:`ClimbParameters.knee_stops`; ``"slow_probe"``: only once
+the climb has crept), reporting there what it reports at a headroom stop. The estimate is the filter's (the last rising window's CoA times its
 predicted correction), or the best CoA of the climb times a factor, or the same CoA times the guards'
 correction or the filter's and the guards' corrections pooled (inverse-variance weighted,
 :func:`pooled_correction`), or the pooled one where the climb stops on its headroom and the filter's
@@ -132,7 +134,7 @@ from typing import Any, Iterable, Mapping
 import numpy as np
 
 from cof_gym.agents.base import configuration_note, outside_training_note, registered_ranges
-from cof_gym.agents.phase_rule import probe_amplitude
+from cof_gym.agents.phase_rule import PhaseRule, knee_seen, probe_amplitude
 from cof_gym.agents.runaway import RunawayBracket, crest_lower_bound
 from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.physics.simulation import COA_CYCLE_FIELDS
@@ -151,6 +153,8 @@ WORLD_KWARGS = ("vehicle", "counter_torque", "traction_balance", "window_s", "se
                 "timestep")  # constructor arguments that change what the sensors see
 ESTIMATE_SOURCES = ("filter", "best_coa", "guard", "pooled", "pooled_at_headroom", "estimator", "estimator_pooled",
                     "estimator_pooled_at_headroom")
+HEADROOM_STOPS = ("headroom", "knee")  # stops whose estimate is a short extrapolation ("..._at_headroom" sources)
+KNEE_STOPS = (None, "any", "slow_probe")  # ClimbParameters.knee_stop: off, at every window, in the slow probe only
 GUARDED_ESTIMATES = ("guard", "pooled", "pooled_at_headroom")  # estimate sources that read the guards' corrections
 # estimate sources that read the estimators' corrections
 ESTIMATOR_ESTIMATES = ("estimator", "estimator_pooled", "estimator_pooled_at_headroom")
@@ -608,6 +612,7 @@ class ClimbParameters:
     crest_floor: bool = False  # the estimate at least the climb's best crest bound (Reading.crest_bound)
     runaway_estimate: bool = False  # a window that is not a stop reports what a runaway in it would (RunawayBracket)
     pace_caution: float | None = None  # not None: a slow-probe step at least the horizon pace (pace_step)
+    knee_stop: str | None = None  # "any" / "slow_probe": the phase rule's jump test ends the climb (knee_stops)
 
     def __post_init__(self) -> None:
         if self.estimate_from not in ESTIMATE_SOURCES:
@@ -633,6 +638,8 @@ class ClimbParameters:
         check_number("spread_caution", self.spread_caution, 0.0, 10.0)
         if self.pace_caution is not None:
             check_number("pace_caution", self.pace_caution, 0.0, 10.0)
+        if self.knee_stop not in KNEE_STOPS:
+            raise ValueError(f"knee_stop must be one of {KNEE_STOPS}, got {self.knee_stop!r}")
         if not (isinstance(self.creep_log_step, (int, float)) and 0.0 <= self.creep_log_step <= self.max_log_step):
             raise ValueError(f"creep_log_step must be in [0, max_log_step={self.max_log_step}], got {self.creep_log_step!r}")
 
@@ -683,6 +690,18 @@ class ClimbParameters:
         gap = (self.mean_headroom(cautious_headroom, headroom_std, spread) - self.pace_caution * headroom_std
                - self.target_headroom)
         return min(gap / max(windows_left, 1), self.max_log_step)
+
+    def knee_stops(self, reading: "Reading", previous: "Reading", driven: int, crept: bool) -> bool:
+        """With ``knee_stop`` set, whether the ``driven``-th driven window (``reading``) ends the climb: the
+        phase rule's jump test (:func:`~cof_gym.agents.phase_rule.knee_seen` with :class:`PhaseRule`'s
+        validated jump, margin and SE limit; its lag over the ``previous`` window's by more than the jump
+        beyond the standard errors) after the phase rule's baseline windows, and with ``"slow_probe"`` only
+        in a climb that has ``crept`` before this window. A rounded knee raises the lag once and holds it;
+        near a sharp peak it keeps jumping from window to window."""
+        if self.knee_stop is None or driven <= PhaseRule.baseline_windows or (self.knee_stop == "slow_probe" and not crept):
+            return False
+        return bool(knee_seen(reading.phase_deg, reading.se_deg, previous.phase_deg, previous.se_deg, 0.0, 0.0,
+                              PhaseRule.jump_deg, math.inf, PhaseRule.margin_se, PhaseRule.max_se_deg))
 
     def floor_step(self, coa: float) -> float:
         """The step that the task's lowest CoF (:data:`~cof_gym.task.scenarios.COF_ENVELOPE`) guarantees
@@ -833,7 +852,7 @@ class LearnedInterrogator:
         with ``runaway_estimate``, after an action that is not a stop, each the runaway's estimate)."""
         estimates = {**dict.fromkeys(ESTIMATE_SOURCES, 0.0), **self._source_estimates,
                      "best_coa": self._best_coa * best_coa_factor}
-        at_headroom = self.stop_reason == "headroom"
+        at_headroom = self.stop_reason in HEADROOM_STOPS
         estimates["pooled_at_headroom"] = estimates["pooled" if at_headroom else "filter"]
         estimates["estimator_pooled_at_headroom"] = estimates["estimator_pooled" if at_headroom else "filter"]
         if self.params.crest_floor:
@@ -870,7 +889,9 @@ class LearnedInterrogator:
         if self._dc > 0.0:
             self._driven += 1
             reading = Reading.of(observation, self.limits, info)
-            falling = bool(self.features.readings) and coa_fell(reading.coa, self.features.readings[-1].coa)
+            previous = self.features.readings[-1] if self.features.readings else None
+            falling = previous is not None and coa_fell(reading.coa, previous.coa)
+            knee = previous is not None and p.knee_stops(reading, previous, self._driven, self._crept)
             self._bracket.observe(reading.crest_bound, reading.dc_nm + reading.amplitude_nm)  # the floor's bound too
             for features in (self.features, *self._guard_features, *self._estimator_features):
                 features.push(reading)
@@ -893,10 +914,10 @@ class LearnedInterrogator:
             step = max(step, p.floor_step(reading.coa))  # safe whatever the filter predicts
             at_limit = self._dc >= self.limits.max_dc_torque_nm
             last = windows_left <= 0
-            stop = falling or at_limit or last or step < p.min_log_step
+            stop = falling or knee or at_limit or last or step < p.min_log_step
             if stop:
-                self.stop_reason = ("falling" if falling else "limit" if at_limit else "horizon" if last
-                                    else "headroom")
+                self.stop_reason = ("falling" if falling else "knee" if knee else "limit" if at_limit
+                                    else "horizon" if last else "headroom")
             else:
                 new_dc = min(self._dc * math.exp(step), self.limits.max_dc_torque_nm)
                 self._ratio = p.crest_ratio(headroom - math.log(new_dc / self._dc), self._crept)
