@@ -168,6 +168,9 @@ generated, never typed:
     python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
         --targets 0.1 --stops --return-digits 4 --set knee_stop=null 'knee_stop="any"' 'knee_stop="slow_probe"' \
         --out out/crest_tradeoff_knee.md    # rule 27
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
+        --targets 0.1 --stops --return-digits 4 --set crest_ceiling=false crest_ceiling=true \
+        --out out/crest_tradeoff_ceiling.md    # rule 28
     python experiments/indistinguishable_peaks.py --counter-torque --out out/indistinguishable_peaks.md
     python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rule 23: the runaway estimate
         # (the shipped networks copied to runs/interrogator/seed_K and guard/seed_K first: member_K.npz of
@@ -256,6 +259,7 @@ SOURCES = {
         "crest_tradeoff_pace",
         "crest_tradeoff_frequency",
         "crest_tradeoff_knee",
+        "crest_tradeoff_ceiling",
         "indistinguishable_peaks",
     )},
 }

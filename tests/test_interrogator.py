@@ -27,7 +27,7 @@ from cof_gym.agents.interrogator_training import (
 from cof_gym.physics.creep_laws import creep_law_from_spec
 from cof_gym.commands.evaluate import run_episode
 from cof_gym.agents.base import agent_view
-from cof_gym.agents.runaway import RunawayBracket
+from cof_gym.agents.runaway import CrestCeiling, RunawayBracket
 from cof_gym.task.interface import OBSERVATION_NAMES, decode_action
 
 SHIPPED = (SHIPPED_INTERROGATOR / "manifest.json").is_file()
@@ -904,6 +904,44 @@ def test_the_crest_floor_raises_the_estimate_to_the_best_crest_bound_and_leaves_
         best_bound = max(best_bound, m["coa_cycle_max"] - m["coa_cycle_bin_se"])
         done = steps[0][2] or steps[0][3]
     assert raised > 0  # random networks' corrections: the floor binds somewhere, so the test can fail
+
+
+def test_the_crest_ceiling_caps_every_estimate_once_the_crest_falls_and_leaves_the_climb_alone():
+    """With ``crest_ceiling`` the actions differ from the plain climb's in the estimate component only; every
+    source reads the plain estimate until the crest falls under a rising torque crest (CrestCeiling fed the
+    same windows), at most the best crest plus its bin's error from then on. A bold climb on a Shen-Hedrick-
+    Elkins curve at a low CoF (noise off) holds its crest at the peak for windows before the wheel runs away:
+    the ceiling is reached and binds (the test can fail), and the runaway is scored on the capped estimate,
+    within 1 % of the CoF (at the peak the force is stationary in creepage, so the crest's phase bin
+    averages it to second order)."""
+    quiet = dict(noise_level=0.0, motor_lag_s=0.0, speed_sensor_error=0.0, wheel_radius_error=0.0,
+                 force_gain_error=0.0, torque_gain_error=0.0)
+    bold = FilterEnsemble((constant_network(3.0, 0.3),))
+    envs = [gym.make(cof_gym.WAGON_ENV_ID, **quiet) for _ in range(2)]
+    limits = envs[0].unwrapped.limits
+    agents = [LearnedInterrogator(limits, bold, params=ClimbParameters(amplitude_ratio=0.4, max_log_step=0.07,
+                                                                       runaway_estimate=True, crest_ceiling=cap))
+              for cap in (False, True)]
+    she = {"shen_hedrick_elkins": {"k_stiffness": 1.0, "friction_ratio": 0.4, "friction_decay_s_per_m": 0.6}}
+    observed = [env.reset(seed=4, options={"creep_law": she, "cof": 0.03}) for env in envs]
+    for agent, (obs, info) in zip(agents, observed):
+        agent.reset(obs, agent_view(info, False))
+    ceiling, capped, done = CrestCeiling(), 0, False
+    while not done:
+        actions = [agent.act(obs, agent_view(info, False)) for agent, (obs, info) in zip(agents, observed)]
+        np.testing.assert_array_equal(np.delete(actions[0], 3), np.delete(actions[1], 3))
+        plain, ceiled = (agent.candidate_estimates(1.0) for agent in agents)
+        bound = ceiling.bound
+        assert ceiled == (plain if bound is None else {s: min(v, bound) for s, v in plain.items()})
+        capped += bound is not None and ceiled["filter"] < plain["filter"]
+        steps = [env.step(action) for env, action in zip(envs, actions)]
+        observed = [(obs, info) for obs, _, _, _, info in steps]
+        reading = Reading.of(observed[0][0], limits, observed[0][1])
+        ceiling.observe(reading.coa_cycle_max, reading.coa_cycle_bin_se, reading.dc_nm + reading.amplitude_nm)
+        done = steps[0][2] or steps[0][3]
+    assert capped > 0
+    info = observed[1][1]
+    assert info["macro_slip"] and info["cof_estimate"] == pytest.approx(0.03, rel=0.01)
 
 
 def test_the_runaway_estimate_is_reported_between_stops_and_scored_when_the_wheel_runs_away():

@@ -9,7 +9,7 @@ import pytest
 import cof_gym
 from cof_gym.agents import registry
 from cof_gym.agents.base import agent_view
-from cof_gym.agents.runaway import RunawayBracket, RunawayEstimate, crest_bound
+from cof_gym.agents.runaway import CrestCeiling, RunawayBracket, RunawayEstimate, crest_bound
 from cof_gym.agents.staircase import PracticalStaircase
 from cof_gym.task.interface import decode_action
 
@@ -28,6 +28,22 @@ def test_the_bracket_is_the_geometric_middle_of_what_was_survived_and_what_is_de
     for cof in np.linspace(0.19, 0.19 * rho, 11):
         assert abs(math.log(middle / cof)) <= 0.5 * math.log(rho) + 1e-15
     assert abs(math.log(middle / 0.19)) == pytest.approx(0.5 * math.log(rho), rel=1e-12)
+
+
+def test_the_ceiling_holds_once_the_crest_falls_under_a_rising_torque_crest():
+    """No bound while the crest rises with the torque crest, nor when it falls with it, nor from an unread
+    window (crest 0); once it falls under a rising torque crest, the best crest plus its bin's error."""
+    ceiling = CrestCeiling()
+    for crest, se, torque in [(0.10, 0.002, 1000.0), (0.12, 0.002, 1100.0), (0.0, 0.0, 1150.0),
+                              (0.115, 0.003, 1050.0)]:  # rising, rising, unread, falling with the torque
+        ceiling.observe(crest, se, torque)
+        assert ceiling.bound is None
+    ceiling.observe(0.118, 0.004, 1200.0)  # rises again under a rising torque crest
+    assert ceiling.bound is None
+    ceiling.observe(0.117, 0.004, 1250.0)  # falls under a rising torque crest: the peak is reached
+    assert ceiling.bound == pytest.approx(0.12 + 0.002, rel=1e-15)
+    ceiling.observe(0.125, 0.001, 1300.0)  # a higher crest later raises the bound, which stays
+    assert ceiling.bound == pytest.approx(0.126, rel=1e-15)
 
 
 def test_the_crest_bound_is_the_cycle_crest_less_a_bins_error_and_zero_unread():

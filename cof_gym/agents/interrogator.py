@@ -82,6 +82,9 @@ over its windows, the largest crest of the measured CoA's synchronous average ov
 (:attr:`Reading.crest_bound`). The crest is the adhesion at the torque's crest; it cannot exceed the
 creep curve's peak, the CoF, and where the crest of a 40 % modulation has reached into the knee it is
 much nearer the CoF than the window's mean CoA. It changes no step of the climb.
+With ``crest_ceiling``, once a window's crest has fallen below the previous window's while its commanded
+torque crest rose (:class:`~cof_gym.agents.runaway.CrestCeiling`: the crest has reached the peak), every
+estimate is also at most the best crest plus one bin's standard error. It changes no step either.
 
 **The estimate a runaway would report.** The env scores the estimate of a window that is not a stop
 only if the wheel runs away in it (a macro-slip). With ``runaway_estimate`` that estimate is what such a
@@ -135,7 +138,7 @@ import numpy as np
 
 from cof_gym.agents.base import configuration_note, outside_training_note, registered_ranges
 from cof_gym.agents.phase_rule import PhaseRule, knee_seen, probe_amplitude
-from cof_gym.agents.runaway import RunawayBracket, crest_lower_bound
+from cof_gym.agents.runaway import CrestCeiling, RunawayBracket, crest_lower_bound
 from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.physics.simulation import COA_CYCLE_FIELDS
 from cof_gym.task.excitation import encode_extra_tones
@@ -613,6 +616,7 @@ class ClimbParameters:
     runaway_estimate: bool = False  # a window that is not a stop reports what a runaway in it would (RunawayBracket)
     pace_caution: float | None = None  # not None: a slow-probe step at least the horizon pace (pace_step)
     knee_stop: str | None = None  # "any" / "slow_probe": the phase rule's jump test ends the climb (knee_stops)
+    crest_ceiling: bool = False  # once the crest fell under a rising torque crest, every estimate at most CrestCeiling's
 
     def __post_init__(self) -> None:
         if self.estimate_from not in ESTIMATE_SOURCES:
@@ -628,7 +632,7 @@ class ClimbParameters:
                           ("creep_release", 0.0)):  # None: unused
             if getattr(self, name) is not None:
                 check_number(name, getattr(self, name), low, math.inf)
-        for name in ("creep_sticky", "crest_once_crept", "crest_floor", "runaway_estimate"):
+        for name in ("creep_sticky", "crest_once_crept", "crest_floor", "runaway_estimate", "crest_ceiling"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"{name} must be true or false, got {getattr(self, name)!r}")
         if self.tone2_frequency_hz is not None:
@@ -778,6 +782,7 @@ class LearnedInterrogator:
     _crept: bool = False
     _ratio: float | None = None  # the modulation ratio of the next window (None: the climb's amplitude_ratio)
     _bracket: RunawayBracket = field(default_factory=RunawayBracket, repr=False)
+    _ceiling: CrestCeiling = field(default_factory=CrestCeiling, repr=False)
     _runaway: float | None = None  # what a runaway in the coming window would report (None: a stop, or no crest yet)
 
     def __post_init__(self) -> None:
@@ -830,6 +835,7 @@ class LearnedInterrogator:
         self._ratio = None
         self._best_coa = 0.0
         self._bracket = RunawayBracket()
+        self._ceiling = CrestCeiling()
         self._runaway = None
         self._source_estimates = {}
         self._estimate = self.limits.min_cof_estimate
@@ -849,7 +855,9 @@ class LearnedInterrogator:
         """The estimate of each source of :data:`ESTIMATE_SOURCES` after the windows so far (the
         trajectory does not depend on which one is reported; the guarded sources are 0 without guards, the
         estimators' without estimators; with ``crest_floor`` each at least the climb's best crest bound;
-        with ``runaway_estimate``, after an action that is not a stop, each the runaway's estimate)."""
+        with ``runaway_estimate``, after an action that is not a stop, each the runaway's estimate; with
+        ``crest_ceiling``, once the crest has fallen under a rising torque crest, each at most
+        :class:`~cof_gym.agents.runaway.CrestCeiling`'s bound)."""
         estimates = {**dict.fromkeys(ESTIMATE_SOURCES, 0.0), **self._source_estimates,
                      "best_coa": self._best_coa * best_coa_factor}
         at_headroom = self.stop_reason in HEADROOM_STOPS
@@ -859,6 +867,9 @@ class LearnedInterrogator:
             estimates = {source: max(value, self._bracket.crest_bound) for source, value in estimates.items()}
         if self.params.runaway_estimate and self._runaway is not None:
             estimates = dict.fromkeys(estimates, self._runaway)
+        ceiling = self._ceiling.bound if self.params.crest_ceiling else None
+        if ceiling is not None:
+            estimates = {source: min(value, ceiling) for source, value in estimates.items()}
         return estimates
 
     @staticmethod
@@ -893,6 +904,7 @@ class LearnedInterrogator:
             falling = previous is not None and coa_fell(reading.coa, previous.coa)
             knee = previous is not None and p.knee_stops(reading, previous, self._driven, self._crept)
             self._bracket.observe(reading.crest_bound, reading.dc_nm + reading.amplitude_nm)  # the floor's bound too
+            self._ceiling.observe(reading.coa_cycle_max, reading.coa_cycle_bin_se, reading.dc_nm + reading.amplitude_nm)
             for features in (self.features, *self._guard_features, *self._estimator_features):
                 features.push(reading)
             mean, std, spread = self.ensemble.predict_with_spread(self.features.vector())

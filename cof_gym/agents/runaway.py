@@ -66,6 +66,38 @@ class RunawayBracket:
 
 
 @dataclass
+class CrestCeiling:
+    """An upper bound on the CoF once the modulation's crest has reached the creep curve's peak: the first
+    time a driven window's crest (the measured CoA's cycle crest, ``coa_cycle_max``) is below the previous
+    window's while its commanded torque crest (DC + amplitude, N m) is above it, more torque gave less
+    adhesion at the crest, which no creep curve does below its peak. From then on the CoF is at most the
+    climb's best crest plus one phase bin's standard error of the window that read it (rule 28 in
+    docs/interrogator.md); the crest floor is the same crest less that error."""
+
+    best_crest: float = 0.0  # the largest crest read so far (CoA; 0: none)
+    best_crest_se: float = 0.0  # the standard error of one phase bin in the window that read it
+    reached: bool = False  # whether the crest has fallen under a rising torque crest
+    _last_crest: float = 0.0
+    _last_torque_nm: float = 0.0
+
+    def observe(self, crest: float, bin_se: float, crest_torque_nm: float) -> None:
+        """Take a driven window's crest and bin standard error (CoA; crest 0: not read) and its commanded
+        torque crest (N m)."""
+        if crest <= 0.0:
+            return
+        if self._last_crest > 0.0 and crest_torque_nm > self._last_torque_nm and crest < self._last_crest:
+            self.reached = True
+        if crest > self.best_crest:
+            self.best_crest, self.best_crest_se = crest, bin_se
+        self._last_crest, self._last_torque_nm = crest, crest_torque_nm
+
+    @property
+    def bound(self) -> float | None:
+        """The upper bound on the CoF (CoA), None until the crest has fallen under a rising torque crest."""
+        return self.best_crest + self.best_crest_se if self.reached else None
+
+
+@dataclass
 class RunawayEstimate:
     """``agent`` (a single-tone agent acting with absolute actions) that reports, in every action that is
     not a stop, :class:`RunawayBracket`'s estimate instead of its own; every other component of its
