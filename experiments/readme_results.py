@@ -171,8 +171,11 @@ generated, never typed:
     python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
         --targets 0.1 --stops --return-digits 4 --set crest_ceiling=false crest_ceiling=true \
         --out out/crest_tradeoff_ceiling.md    # rule 28
+    python experiments/crest_tradeoff.py --grids confirmation7 --guards cof_gym/agents/policies/interrogator/guard_0 \
+        --guards-only --targets 0.1 --stops --return-digits 4 --set crest_ceiling=false crest_ceiling=true \
+        --out out/crest_tradeoff_ceiling_confirmation7.md    # rule 28 confirmed, adopted
     python experiments/indistinguishable_peaks.py --counter-torque --out out/indistinguishable_peaks.md
-    python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rule 23: the runaway estimate
+    python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rules 23 and 28
         # (the shipped networks copied to runs/interrogator/seed_K and guard/seed_K first: member_K.npz of
         # cof_gym/agents/policies/interrogator and of its guard_0; with every network there no climb is collected)
     (then every cof-gym evaluate command above again)
@@ -260,6 +263,7 @@ SOURCES = {
         "crest_tradeoff_frequency",
         "crest_tradeoff_knee",
         "crest_tradeoff_ceiling",
+        "crest_tradeoff_ceiling_confirmation7",
         "indistinguishable_peaks",
     )},
 }

@@ -26,7 +26,9 @@
    climb's estimate is at least its best crest bound (CREST_FLOOR: the measured CoA's cycle crest less one
    phase bin's standard error; rule 21, session 22; it changes no step of the climb either), and between
    stops it reports what a runaway in the coming window would measure (RUNAWAY_ESTIMATE: rule 23, session
-   23; no step changes, nor the estimate of an episode that does not run away).
+   23; no step changes, nor the estimate of an episode that does not run away); once the crest has fallen
+   under a rising torque crest, every estimate is at most the best crest plus one bin's standard error
+   (CREST_CEILING: rule 28, session 25; no step changes either).
 3. **Selection, validation only**: the climb's parameters (modulation ratio, target headroom,
    caution, largest step, a slow probe while the headroom is uncertain, whether it stays slow and where
    it ends, the jump to the lowest CoF the task admits: GRIDS;
@@ -254,6 +256,7 @@ def score(results: list[tuple[float, bool]]) -> dict:
 GUARDED_ESTIMATE = "pooled_at_headroom"  # the estimate source of a guarded filter (rule 16, session 20)
 CREST_FLOOR = True  # the chosen climb's estimate at least its best crest bound (rule 21, session 22)
 RUNAWAY_ESTIMATE = True  # between stops, the chosen climb reports what a runaway would (rule 23, session 23)
+CREST_CEILING = True  # once the crest falls under a rising torque crest, the estimate at most it (rule 28, session 25)
 CRITERIA = {  # how the selection ranks the climbs (sort keys of a table row)
     "pooled": lambda r: (r["macro_slips"], r["pooled_p90"], r["pooled_median"]),  # the recipe
     "family": lambda r: (r["macro_slips"], r["p90"], r["median"]),  # the family grid alone
@@ -434,7 +437,7 @@ def main() -> None:
     guard_names = [install_guards(r, guards) for r in runs][-1]  # the same names in every run
     if guard_names and chosen.get("estimate_from") == "filter":
         chosen = {**chosen, "estimate_from": GUARDED_ESTIMATE}
-    chosen = {**chosen, "crest_floor": CREST_FLOOR, "runaway_estimate": RUNAWAY_ESTIMATE}
+    chosen = {**chosen, "crest_floor": CREST_FLOOR, "runaway_estimate": RUNAWAY_ESTIMATE, "crest_ceiling": CREST_CEILING}
     manifest = {"climb": {**asdict(ClimbParameters()), **chosen},
                 "trained_on": {"env_id": ENV_ID, "configs": CONFIGS},
                 "training": {"climbs": climbs, "seeds": args.seeds, "fit": asdict(settings)}}
