@@ -48,7 +48,8 @@ from cof_gym.agents.interrogator_training import (  # noqa: E402
 ON_POLICY = {"env": (TRAINING_SEED + 1_100_000, ClimbDraws()),
              "procedural": (TRAINING_SEED + 1_200_000, ClimbDraws(shapes="procedural"))}
 EPISODES = {"env": 4000, "procedural": 4000}
-REPORTING_ONLY = ("estimate_from", "best_coa_factor", "crest_floor", "runaway_estimate")  # change no torque of the climb
+REPORTING_ONLY = ("estimate_from", "best_coa_factor", "crest_floor", "runaway_estimate",
+                  "crest_ceiling")  # change no torque of the climb
 
 
 def policy_digest(policy: Path) -> str:
