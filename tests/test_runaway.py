@@ -108,6 +108,58 @@ def test_the_agents_rule_24_chose_report_it_under_their_own_names(name):
         registry.register(f"{name}+x", "cof_gym.agents.staircase:PracticalStaircase", oracle=False)
 
 
+@pytest.mark.parametrize("spec, bracket, ceiling, name", [
+    ("staircase+ceiling", True, True, "staircase+ceiling"),  # registered with the bracket: both
+    ("phase-rule+ceiling", False, True, "phase-rule+ceiling"),  # registered without: the ceiling alone
+    ("staircase+runaway", True, False, "staircase+runaway"),
+    ("staircase", True, False, "staircase"),
+])
+def test_the_registry_builds_name_plus_ceiling_on_what_the_agent_is_registered_with(spec, bracket, ceiling, name):
+    agent = registry.make_agent(spec, gym.make(cof_gym.WAGON_ENV_ID))
+    assert isinstance(agent, RunawayEstimate) and (agent.bracket, agent.ceiling, agent.name) == (bracket, ceiling, name)
+    with pytest.raises(ValueError, match="neither"):
+        RunawayEstimate(agent.agent, agent.limits, bracket=False, ceiling=False)
+
+
+def test_a_ceiling_caps_a_wrapped_agents_estimates_once_the_crest_falls_and_keeps_its_torques():
+    """The phase rule and the same rule +ceiling in twin envs, its probe pushed far past its stop test
+    (a jump of 90 deg) so that its crest reaches the peak of a Shen-Hedrick-Elkins curve at a low CoF
+    (noise off): every action the same but the estimate, which is the rule's own until the crest falls under
+    a rising torque crest (CrestCeiling fed the same windows) and at most the best crest plus its bin's
+    error from then on, the cap binding at least once (the test can fail)."""
+    from cof_gym.agents.phase_rule import PhaseRule
+    quiet = dict(noise_level=0.0, motor_lag_s=0.0, speed_sensor_error=0.0, wheel_radius_error=0.0,
+                 force_gain_error=0.0, torque_gain_error=0.0)
+    envs = [gym.make(cof_gym.WAGON_ENV_ID, **quiet) for _ in range(2)]
+    limits = envs[0].unwrapped.limits
+    bold = dict(jump_deg=90.0, correction=1.3)  # no knee stop; an estimate well above the crest
+    plain = PhaseRule(limits, **bold)
+    wrapped = RunawayEstimate(PhaseRule(limits, **bold), limits, bracket=False, ceiling=True)
+    assert wrapped.name == "phase-rule+ceiling"
+    she = {"shen_hedrick_elkins": {"k_stiffness": 1.0, "friction_ratio": 0.4, "friction_decay_s_per_m": 0.6}}
+    observed = [env.reset(seed=4, options={"creep_law": she, "cof": 0.03}) for env in envs]
+    for agent, (obs, info) in zip((plain, wrapped), observed):
+        agent.reset(obs, agent_view(info, False))
+    ceiling, capped, done = CrestCeiling(), 0, False
+    while not done:
+        actions = [agent.act(obs, agent_view(info, False)) for agent, (obs, info) in zip((plain, wrapped), observed)]
+        np.testing.assert_array_equal(np.delete(actions[0], 3), np.delete(actions[1], 3))
+        own, reported = (decode_action(a, limits).cof_estimate for a in actions)
+        if ceiling.bound is None or own <= ceiling.bound:
+            assert actions[1][3] == actions[0][3]
+        else:
+            assert reported == pytest.approx(ceiling.bound, rel=1e-5)
+            capped += 1
+        command = decode_action(actions[1], limits)
+        crest = command.drive.dc_torque_nm + command.drive.amplitude_nm
+        steps = [env.step(action) for env, action in zip(envs, actions)]
+        observed = [(obs, info) for obs, _, _, _, info in steps]
+        m = observed[1][1]["measurement"]
+        ceiling.observe(m["coa_cycle_max"], m["coa_cycle_bin_se"], crest)
+        done = steps[1][2] or steps[1][3]
+    assert capped > 0
+
+
 def test_a_multitone_action_is_refused_naming_the_agent():
     class ThreeTones:
         name, oracle = "three", False

@@ -11,7 +11,10 @@ Only agents registered with ``oracle=True`` receive ``info["ground_truth"]`` fro
 ``NAME+runaway`` is the single-tone agent ``NAME`` reporting between its stops what a runaway in the
 coming window would measure (:class:`~cof_gym.agents.runaway.RunawayEstimate`); an agent registered with
 ``runaway=True`` reports it under its own name (rule 24 in docs/interrogator.md chose which, on validation),
-and ``NAME+plain`` is the agent without it.
+and ``NAME+plain`` is the agent without it. ``NAME+ceiling`` is the agent as registered with the crest
+ceiling too (every estimate at most the crest once it has fallen under a rising torque crest:
+:class:`~cof_gym.agents.runaway.CrestCeiling`); an agent registered with ``ceiling=True`` has it under its
+own name.
 """
 
 from __future__ import annotations
@@ -41,6 +44,7 @@ class AgentEntry:
     default: bool = True  # part of the default --agents list when available
     shipped: Path | None = None  # a file the agent needs when named without ":ARG" (a shipped policy)
     runaway: bool = False  # reports the runaway estimate between its stops, under its own name
+    ceiling: bool = False  # caps every estimate at the crest ceiling, under its own name
 
     def shipped_available(self) -> bool:
         return self.shipped is None or self.shipped.is_file()
@@ -62,11 +66,11 @@ AGENTS: dict[str, AgentEntry] = {}
 
 def register(name: str, factory: str, *, oracle: bool, help: str = "", takes_env: bool = False,
              argument: str | None = None, default: bool = True, shipped: Path | None = None,
-             runaway: bool = False) -> None:
+             runaway: bool = False, ceiling: bool = False) -> None:
     """Register an agent under ``name`` (later registrations of the same name replace earlier ones)."""
     if not name or any(c in name for c in ":,+"):
         raise ValueError(f"agent names must be non-empty without ':', ',' or '+', got {name!r}")
-    AGENTS[name] = AgentEntry(name, factory, oracle, help, takes_env, argument, default, shipped, runaway)
+    AGENTS[name] = AgentEntry(name, factory, oracle, help, takes_env, argument, default, shipped, runaway, ceiling)
 
 
 def _ppo(env, argument: str | None):
@@ -114,7 +118,7 @@ def names(available_only: bool = True) -> list[str]:
 def describe() -> str:
     """``a, b, c or ppo:PATH`` for messages."""
     parts = ([n for n in names()] + [f"{n}:{e.argument}" for n, e in AGENTS.items() if e.argument and e.available()]
-             + ["any of them +runaway or +plain"])
+             + ["any of them +runaway, +ceiling or +plain"])
     return ", ".join(parts[:-1]) + f" or {parts[-1]}" if len(parts) > 1 else "".join(parts)
 
 
@@ -133,18 +137,19 @@ PLAIN = "plain"  # the agent-name suffix of an agent without the runaway estimat
 
 
 def split_modifier(spec: str) -> tuple[str, str | None]:
-    """``NAME[:ARG]+runaway`` or ``+plain`` -> (``NAME[:ARG]``, the modifier); any other spec -> (spec, None)."""
-    from cof_gym.agents.runaway import MODIFIER
+    """``NAME[:ARG]+runaway``, ``+ceiling`` or ``+plain`` -> (``NAME[:ARG]``, the modifier); any other spec ->
+    (spec, None)."""
+    from cof_gym.agents.runaway import CEILING_MODIFIER, MODIFIER
 
     spec = spec.strip()
-    for modifier in (MODIFIER, PLAIN):
+    for modifier in (MODIFIER, CEILING_MODIFIER, PLAIN):
         if spec.endswith(f"+{modifier}"):
             return spec[: -len(modifier) - 1], modifier
     return spec, None
 
 
 def parse(spec: str) -> tuple[AgentEntry, str | None]:
-    """``name`` or ``name:ARG`` (either with ``+runaway`` or ``+plain``) -> (entry, ARG or None);
+    """``name`` or ``name:ARG`` (either with ``+runaway``, ``+ceiling`` or ``+plain``) -> (entry, ARG or None);
     :class:`AgentSpecError` for anything else."""
     name, sep, argument = split_modifier(spec)[0].partition(":")
     entry = AGENTS.get(name)
@@ -161,20 +166,26 @@ def parse(spec: str) -> tuple[AgentEntry, str | None]:
 
 
 def make_agent(spec: str, env: Any):
-    """Build the agent named by ``spec`` for ``env``: with ``+runaway``, or registered with ``runaway`` and
-    no modifier, wrapped in :class:`~cof_gym.agents.runaway.RunawayEstimate`; with ``+plain`` as its
-    factory builds it (named so)."""
+    """Build the agent named by ``spec`` for ``env``, wrapped in
+    :class:`~cof_gym.agents.runaway.RunawayEstimate` where it reports the runaway bracket or the crest
+    ceiling: with ``+runaway`` the bracket alone; with ``+ceiling`` the ceiling and, registered with
+    ``runaway``, the bracket; without a modifier what it is registered with; with ``+plain`` as its factory
+    builds it (named so)."""
+    from cof_gym.agents.runaway import CEILING_MODIFIER, MODIFIER, RunawayEstimate
+
     entry, argument = parse(spec)
     factory = entry.load()
     agent = factory(env, argument) if entry.takes_env else factory(env.unwrapped.limits)
     modifier = split_modifier(spec)[1]
     if modifier == PLAIN:
         agent.name = f"{agent.name}+{PLAIN}"
-    elif modifier or entry.runaway:
-        from cof_gym.agents.runaway import RunawayEstimate
-
-        return RunawayEstimate(agent, env.unwrapped.limits, name=None if modifier else agent.name)
-    return agent
+        return agent
+    bracket = modifier == MODIFIER or entry.runaway
+    ceiling = modifier == CEILING_MODIFIER or (modifier is None and entry.ceiling)
+    if not (bracket or ceiling):
+        return agent
+    return RunawayEstimate(agent, env.unwrapped.limits, name=f"{agent.name}+{modifier}" if modifier else agent.name,
+                           bracket=bracket, ceiling=ceiling)
 
 
 def is_oracle(agent: Any) -> bool:

@@ -15,6 +15,12 @@ largest log error over the bracket is the smallest.
 own names, rule 24 in docs/interrogator.md): its torques, its stops and the estimate it reports at a stop stay its own, so
 no macro-slip changes and no estimate of an episode that does not run away. The learned interrogator
 reports it itself (``ClimbParameters.runaway_estimate``, rule 23 in docs/interrogator.md).
+
+Once the crest has *fallen* from one window to the next under a rising torque crest, it has reached the
+peak, and the best crest plus one bin's standard error bounds the CoF from above (:class:`CrestCeiling`).
+The learned interrogator caps every estimate there (``ClimbParameters.crest_ceiling``, rule 28);
+``NAME+ceiling`` is the agent as registered with that cap too (its stops' estimates included), which no
+torque of its climb changes either.
 """
 
 from __future__ import annotations
@@ -28,6 +34,7 @@ import numpy as np
 from cof_gym.task.interface import MotorLimits, decode_action, encode_action
 
 MODIFIER = "runaway"  # the agent-name suffix ``+runaway`` of the registry
+CEILING_MODIFIER = "ceiling"  # ``+ceiling``: the agent as registered with the crest ceiling too
 
 
 def crest_lower_bound(crest: float, bin_se: float) -> float:
@@ -99,18 +106,24 @@ class CrestCeiling:
 
 @dataclass
 class RunawayEstimate:
-    """``agent`` (a single-tone agent acting with absolute actions) that reports, in every action that is
-    not a stop, :class:`RunawayBracket`'s estimate instead of its own; every other component of its
-    action, and every stop's estimate, is the agent's."""
+    """``agent`` (a single-tone agent acting with absolute actions) that reports, with ``bracket``, in every
+    action that is not a stop, :class:`RunawayBracket`'s estimate instead of its own, and with ``ceiling``
+    every estimate (a stop's too) at most :class:`CrestCeiling`'s bound once the crest has fallen under a
+    rising torque crest; every other component of its action is the agent's."""
 
     agent: Any
     limits: MotorLimits
-    name: str | None = None  # default: the agent's name + "+runaway"
+    name: str | None = None  # default: the agent's name + "+runaway" (+ "+ceiling" with the ceiling alone)
+    bracket: bool = True
+    ceiling: bool = False
     _bracket: RunawayBracket = field(default_factory=RunawayBracket, repr=False)
+    _ceiling: CrestCeiling = field(default_factory=CrestCeiling, repr=False)
     _crest_nm: float = 0.0  # the commanded torque crest of the window the last action drives (0: none yet)
 
     def __post_init__(self) -> None:
-        self.name = self.name or f"{self.agent.name}+{MODIFIER}"
+        if not (self.bracket or self.ceiling):
+            raise ValueError("a RunawayEstimate reports the bracket, the ceiling or both: got neither")
+        self.name = self.name or f"{self.agent.name}+{MODIFIER if self.bracket else CEILING_MODIFIER}"
         self.oracle = bool(getattr(self.agent, "oracle", False))
 
     def __getattr__(self, attribute: str) -> Any:  # distribution_note, env_options, ...: the agent's
@@ -121,11 +134,15 @@ class RunawayEstimate:
     def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
         self.agent.reset(observation, info)
         self._bracket = RunawayBracket()
+        self._ceiling = CrestCeiling()
         self._crest_nm = 0.0
 
     def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
         if self._crest_nm > 0.0:
-            self._bracket.observe(crest_bound(info.get("measurement", {})), self._crest_nm)
+            measurement = info.get("measurement", {})
+            self._bracket.observe(crest_bound(measurement), self._crest_nm)
+            self._ceiling.observe(float(measurement.get("coa_cycle_max", 0.0)),
+                                  float(measurement.get("coa_cycle_bin_se", 0.0)), self._crest_nm)
         action = np.array(self.agent.act(observation, info), dtype=np.float32)
         if action.shape != (5,):
             raise ValueError(f"{self.name}: the runaway estimate wraps single-tone agents (an action of 5 "
@@ -133,7 +150,11 @@ class RunawayEstimate:
         command = decode_action(action, self.limits)
         drive = command.drive
         self._crest_nm = drive.dc_torque_nm + drive.amplitude_nm
-        estimate = None if command.stop else self._bracket.estimate(self._crest_nm)
+        estimate = None if command.stop or not self.bracket else self._bracket.estimate(self._crest_nm)
+        bound = self._ceiling.bound if self.ceiling else None
+        reported = command.cof_estimate if estimate is None else estimate
+        if bound is not None and reported > bound:
+            estimate = bound  # only where the ceiling binds: an agent's estimate it leaves is not re-encoded
         if estimate is not None:
             action[3] = encode_action(drive.dc_torque_nm, drive.amplitude_nm, drive.frequency_hz, estimate, False,
                                       self.limits)[3]
