@@ -174,6 +174,10 @@ generated, never typed:
     python experiments/crest_tradeoff.py --grids confirmation7 --guards cof_gym/agents/policies/interrogator/guard_0 \
         --guards-only --targets 0.1 --stops --return-digits 4 --set crest_ceiling=false crest_ceiling=true \
         --out out/crest_tradeoff_ceiling_confirmation7.md    # rule 28 confirmed, adopted
+    cof-gym evaluate --suite experiments/suites/v2_validation_grid.json --out out/ceiling-validation \
+        --agents staircase,staircase+ceiling,phase-rule,phase-rule+ceiling,model-based,model-based+ceiling,robust-model,robust-model+ceiling
+    (the same with v2_validation_procedural_grid.json into out/ceiling-validation-procedural and with
+    v2_validation_steep_grid.json into out/ceiling-validation-steep: rule 29)
     python experiments/indistinguishable_peaks.py --counter-torque --out out/indistinguishable_peaks.md
     python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rules 23 and 28
         # (the shipped networks copied to runs/interrogator/seed_K and guard/seed_K first: member_K.npz of
@@ -359,32 +363,47 @@ def heldout_overview(runs: dict[str, tuple[str, Path]] = HELDOUT_RUNS, learned: 
     return "\n".join(rows)
 
 
-# rule 24 (session 23): the scripted agents with and without the runaway estimate on the validation grids
-RUNAWAY_VALIDATION = {"family": ROOT / "out" / "runaway-validation",
-                      "procedural": ROOT / "out" / "runaway-validation-procedural",
-                      "steep": ROOT / "out" / "runaway-validation-steep"}
-RUNAWAY_AGENTS = ("staircase", "phase-rule", "model-based", "robust-model")
+def validation_runs(prefix: str) -> dict[str, Path]:
+    """The three validation grids' evaluate outputs ``out/PREFIX``, ``out/PREFIX-procedural``, ``-steep``."""
+    return {grid: ROOT / "out" / (prefix + suffix)
+            for grid, suffix in (("family", ""), ("procedural", "-procedural"), ("steep", "-steep"))}
 
 
-def runaway_validation(runs: dict[str, Path] = RUNAWAY_VALIDATION, agents: tuple[str, ...] = RUNAWAY_AGENTS) -> str | None:
-    """Rule 24's table: median / P90 / macro-slips of each scripted agent with and without ``+runaway`` on
-    each validation grid (its cof-gym evaluate summary); None when a summary is missing."""
+SCRIPTED_AGENTS = ("staircase", "phase-rule", "model-based", "robust-model")  # the agents rules 24 and 29 judged
+RUNAWAY_VALIDATION = validation_runs("runaway-validation")  # rule 24 (session 23): with and without +runaway
+CEILING_VALIDATION = validation_runs("ceiling-validation")  # rule 29 (session 25): as registered and +ceiling
+
+
+def variant_validation(runs: dict[str, Path], suffixes: tuple[str, str],
+                       agents: tuple[str, ...] = SCRIPTED_AGENTS) -> str | None:
+    """Median / P90 / macro-slips of each scripted agent under both name ``suffixes`` (``""``: as registered)
+    on each validation grid (its cof-gym evaluate summary); None when a summary is missing."""
     summaries = {}
     for grid, out in runs.items():
         if not (out / "summary.json").is_file():
             return None
         summaries[grid] = json.loads((out / "summary.json").read_text())["summary"]
-    episodes = {grid: summaries[grid][f"{agents[0]}+plain"]["episodes"] for grid in runs}
+    episodes = {grid: summaries[grid][agents[0] + suffixes[0]]["episodes"] for grid in runs}
     rows = ["| agent | " + " | ".join(f"{grid} ({episodes[grid]}): median / P90 / macro-slips" for grid in runs) + " |",
             "|---" * (len(runs) + 1) + "|"]
     for agent in agents:
-        for name in (f"{agent}+plain", f"{agent}+runaway"):
+        for name in (agent + suffix for suffix in suffixes):
             rows.append(f"| {name} | " + " | ".join(_cell(summaries[grid], name) for grid in runs) + " |")
     return "\n".join(rows)
 
 
+def runaway_validation(runs: dict[str, Path] = RUNAWAY_VALIDATION) -> str | None:
+    """Rule 24's table: each scripted agent with and without ``+runaway``."""
+    return variant_validation(runs, ("+plain", "+runaway"))
+
+
+def ceiling_validation(runs: dict[str, Path] = CEILING_VALIDATION) -> str | None:
+    """Rule 29's table: each scripted agent as registered and with ``+ceiling``."""
+    return variant_validation(runs, ("", "+ceiling"))
+
+
 GENERATED = {"targets": targets, "heldout_overview": heldout_overview,
-             "runaway_validation": runaway_validation}  # block -> its generator
+             "runaway_validation": runaway_validation, "ceiling_validation": ceiling_validation}  # block -> its generator
 
 
 def _shown(path: Path) -> str:

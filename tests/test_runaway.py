@@ -92,7 +92,7 @@ def test_the_registry_builds_name_plus_runaway_and_refuses_other_suffixes():
     agent = registry.make_agent("phase-rule+runaway", env)
     assert isinstance(agent, RunawayEstimate) and agent.name == "phase-rule+runaway"
     assert registry.parse("phase-rule+runaway") == registry.parse("phase-rule")
-    assert not isinstance(registry.make_agent("phase-rule", env), RunawayEstimate)
+    assert not isinstance(registry.make_agent("phase-rule+plain", env), RunawayEstimate)
     with pytest.raises(registry.AgentSpecError, match="phase-rule\\+slip"):
         registry.parse("phase-rule+slip")
 
@@ -112,7 +112,8 @@ def test_the_agents_rule_24_chose_report_it_under_their_own_names(name):
     ("staircase+ceiling", True, True, "staircase+ceiling"),  # registered with the bracket: both
     ("phase-rule+ceiling", False, True, "phase-rule+ceiling"),  # registered without: the ceiling alone
     ("staircase+runaway", True, False, "staircase+runaway"),
-    ("staircase", True, False, "staircase"),
+    ("staircase", True, True, "staircase"),  # rules 24 and 29: both under its own name
+    ("phase-rule", False, True, "phase-rule"),  # rule 29 only
 ])
 def test_the_registry_builds_name_plus_ceiling_on_what_the_agent_is_registered_with(spec, bracket, ceiling, name):
     agent = registry.make_agent(spec, gym.make(cof_gym.WAGON_ENV_ID))

@@ -92,14 +92,15 @@ register("oracle", "cof_gym.agents.oracle:SaturationOracle", oracle=True,
          help="holds 98.5 % of the true saturation torque, its 1 % crest below it, and reports the CoA there (the physics' floor)")
 register("staircase-paper", "cof_gym.agents.staircase:PaperStaircase", oracle=True,
          help="the paper's rule on the true saturation torque (oracle)")
-# runaway=True: rule 24 (session 23) on the validation grids; the phase rule's procedural median rose with it
-register("staircase", "cof_gym.agents.staircase:PracticalStaircase", oracle=False, runaway=True,
+# runaway=True: rule 24 (session 23) on the validation grids; the phase rule's procedural median rose with it;
+# ceiling=True: rule 29 (session 25) on the validation grids, no median or P90 higher for any of the four
+register("staircase", "cof_gym.agents.staircase:PracticalStaircase", oracle=False, runaway=True, ceiling=True,
          help="a staircase that knows no ground truth")
-register("phase-rule", "cof_gym.agents.phase_rule:PhaseRule", oracle=False,
+register("phase-rule", "cof_gym.agents.phase_rule:PhaseRule", oracle=False, ceiling=True,
          help="the paper's phase rule without ground truth or creepage: the modulation probes ahead of the DC level, stop on a phase jump (validation-chosen)")
-register("model-based", "cof_gym.agents.model_based:ModelBasedAgent", oracle=False, runaway=True,
+register("model-based", "cof_gym.agents.model_based:ModelBasedAgent", oracle=False, runaway=True, ceiling=True,
          help="creep-curve fit from windows below the peak")
-register("robust-model", "cof_gym.agents.robust_model:RobustModel", oracle=False, runaway=True,
+register("robust-model", "cof_gym.agents.robust_model:RobustModel", oracle=False, runaway=True, ceiling=True,
          help="the phase rule's probing climb, the knee bracketed by bisecting the probe's crest at a held DC, no creepage read (validation-chosen)")
 register("interrogator", "cof_gym.agents.interrogator:load_interrogator", oracle=False, takes_env=True,
          argument="DIR", shipped=PACKAGE_DIR / "policies" / "interrogator" / "manifest.json",
