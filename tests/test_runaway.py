@@ -52,20 +52,29 @@ def test_the_crest_bound_is_the_cycle_crest_less_a_bins_error_and_zero_unread():
     assert crest_bound({}) == 0.0
 
 
+QUIET = dict(noise_level=0.0, motor_lag_s=0.0, speed_sensor_error=0.0, wheel_radius_error=0.0,
+             force_gain_error=0.0, torque_gain_error=0.0)  # every noise and sensor error off
+
+
+def _twin_envs(agents, seed: int, options: dict, **sensors):
+    """One quiet wagon env per agent (``sensors`` overriding QUIET), reset alike, each agent reset on its
+    own: (envs, [(observation, info), ...])."""
+    envs = [gym.make(cof_gym.WAGON_ENV_ID, **{**QUIET, **sensors}) for _ in agents]
+    observed = [env.reset(seed=seed, options=options) for env in envs]
+    for agent, (obs, info) in zip(agents, observed):
+        agent.reset(obs, agent_view(info, False))
+    return envs, observed
+
+
 def test_a_wrapped_agent_keeps_its_torques_and_stops_and_reports_the_bracket_between_them():
     """The staircase and the same staircase +runaway in twin envs: every action the same but the estimate
     of an action that is not a stop, which is the bracket's middle for that action's commanded crest; with
     its speed reference 1 % off the staircase misreads the creepage and runs away on a dry rail, and the
     runaway is scored on that estimate."""
-    quiet = dict(noise_level=0.0, motor_lag_s=0.0, speed_sensor_error=0.01, wheel_radius_error=0.0,
-                 force_gain_error=0.0, torque_gain_error=0.0)
-    envs = [gym.make(cof_gym.WAGON_ENV_ID, **quiet) for _ in range(2)]
-    limits = envs[0].unwrapped.limits
+    limits = gym.make(cof_gym.WAGON_ENV_ID).unwrapped.limits
     plain, wrapped = PracticalStaircase(limits), RunawayEstimate(PracticalStaircase(limits), limits)
     assert wrapped.name == "staircase+runaway" and wrapped.oracle is False
-    observed = [env.reset(seed=2, options={"creep_law": "dry"}) for env in envs]
-    for agent, (obs, info) in zip((plain, wrapped), observed):
-        agent.reset(obs, agent_view(info, False))
+    envs, observed = _twin_envs((plain, wrapped), 2, {"creep_law": "dry"}, speed_sensor_error=0.01)
     bracket, reported, done = RunawayBracket(), 0, False
     while not done:
         actions = [agent.act(obs, agent_view(info, False)) for agent, (obs, info) in zip((plain, wrapped), observed)]
@@ -129,18 +138,13 @@ def test_a_ceiling_caps_a_wrapped_agents_estimates_once_the_crest_falls_and_keep
     a rising torque crest (CrestCeiling fed the same windows) and at most the best crest plus its bin's
     error from then on, the cap binding at least once (the test can fail)."""
     from cof_gym.agents.phase_rule import PhaseRule
-    quiet = dict(noise_level=0.0, motor_lag_s=0.0, speed_sensor_error=0.0, wheel_radius_error=0.0,
-                 force_gain_error=0.0, torque_gain_error=0.0)
-    envs = [gym.make(cof_gym.WAGON_ENV_ID, **quiet) for _ in range(2)]
-    limits = envs[0].unwrapped.limits
+    limits = gym.make(cof_gym.WAGON_ENV_ID).unwrapped.limits
     bold = dict(jump_deg=90.0, correction=1.3)  # no knee stop; an estimate well above the crest
     plain = PhaseRule(limits, **bold)
     wrapped = RunawayEstimate(PhaseRule(limits, **bold), limits, bracket=False, ceiling=True)
     assert wrapped.name == "phase-rule+ceiling"
     she = {"shen_hedrick_elkins": {"k_stiffness": 1.0, "friction_ratio": 0.4, "friction_decay_s_per_m": 0.6}}
-    observed = [env.reset(seed=4, options={"creep_law": she, "cof": 0.03}) for env in envs]
-    for agent, (obs, info) in zip((plain, wrapped), observed):
-        agent.reset(obs, agent_view(info, False))
+    envs, observed = _twin_envs((plain, wrapped), 4, {"creep_law": she, "cof": 0.03})
     ceiling, capped, done = CrestCeiling(), 0, False
     while not done:
         actions = [agent.act(obs, agent_view(info, False)) for agent, (obs, info) in zip((plain, wrapped), observed)]
