@@ -39,6 +39,9 @@
 - ``suites/v2_confirmation7_grid.json``, ``suites/v2_confirmation7_procedural_grid.json`` and
   ``suites/v2_confirmation7_steep_grid.json`` (session 24, seeds 117 000, 119 000, 121 000): a seventh such
   set, written before any agent played them and before rule 25 was written (the sixth had judged rule 23).
+- ``suites/v2_confirmation8_grid.json``, ``suites/v2_confirmation8_procedural_grid.json`` and
+  ``suites/v2_confirmation8_steep_grid.json`` (session 25, seeds 123 000, 125 000, 127 000): an eighth such
+  set, written before any agent played them, after the seventh had judged rule 28, for the next rule.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -64,6 +67,7 @@ from __future__ import annotations
 
 import itertools
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -270,10 +274,10 @@ def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.
             "episodes": episodes}
 
 
-ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ")
+ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", "eighth ")
 
 # the confirmation sets, in the order they were written (the first in session 16, the second in 17, the
-# third and fourth in 21, the fifth and sixth in 22, the seventh in 24): name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and
+# third and fourth in 21, the fifth and sixth in 22, the seventh in 24, the eighth in 25): name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and
 # steep grids; each was written before any agent played it, and judges one rule's candidate
 CONFIRMATION_SETS = {
     "confirmation": (((0.05, 0.29, 0.53, 0.78), (5.5, 15.0, 27.0), 62_000),
@@ -290,6 +294,8 @@ CONFIRMATION_SETS = {
                       ((0.05, 0.38, 0.69, 0.92), (8.5, 23.5, 36.5), 113_000), ((0.11, 0.5, 0.79), (6.0, 21.5, 33.0), 115_000)),
     "confirmation7": (((0.04, 0.28, 0.57, 0.83, 0.95), (6.0, 16.0, 31.5), 117_000),
                       ((0.07, 0.41, 0.72, 0.94), (7.5, 20.5, 37.5), 119_000), ((0.09, 0.46, 0.76), (5.5, 19.0, 34.5), 121_000)),
+    "confirmation8": (((0.03, 0.24, 0.52, 0.79, 0.94), (5.5, 17.5, 33.0), 123_000),
+                      ((0.06, 0.37, 0.67, 0.91), (9.0, 24.5, 38.0), 125_000), ((0.12, 0.49, 0.8), (7.0, 22.5, 36.0), 127_000)),
 }
 
 
@@ -350,11 +356,38 @@ def grid_text(spec: dict) -> str:
     return json.dumps(spec, indent=1) + "\n"
 
 
+# The grids' curve ordinates come from exp, pow and friends, whose last bit differs between CPUs (numpy's
+# SIMD paths: AVX-512 or AVX2), and some are differences of numbers of order 1 (a curve's foot), which
+# carry that last bit of 1 (2.2e-16) as an absolute error: a file written on one machine is the generator's
+# output on another up to a few units in the last place of the value (relative) or of 1 (absolute). These
+# tolerances are far above that and far below any change of a grid (its ordinates move by 1e-6 or more).
+FLOAT_RTOL = 1e-12
+FLOAT_ATOL = 1e-14
+
+
+def same_grid(written, generated) -> bool:
+    """Whether two parsed grids are the same: every key, string, integer and boolean exactly (an integer
+    is not a float), every float within :data:`FLOAT_RTOL` (relative) or :data:`FLOAT_ATOL` (absolute)."""
+    if isinstance(written, float) or isinstance(generated, float):
+        return (isinstance(written, float) and isinstance(generated, float)
+                and math.isclose(written, generated, rel_tol=FLOAT_RTOL, abs_tol=FLOAT_ATOL))
+    if isinstance(written, dict) and isinstance(generated, dict):
+        return written.keys() == generated.keys() and all(same_grid(written[k], generated[k]) for k in written)
+    if isinstance(written, list) and isinstance(generated, list):
+        return len(written) == len(generated) and all(same_grid(a, b) for a, b in zip(written, generated))
+    return type(written) is type(generated) and written == generated
+
+
 def main() -> None:
+    """Write every grid whose file is missing or differs from the generator's output (:func:`same_grid`: a
+    file that differs only in the last places another CPU writes is left as it was published)."""
     for name, spec in all_grids().items():
         path = SUITES / f"{name}.json"
+        if path.is_file() and same_grid(json.loads(path.read_text()), json.loads(grid_text(spec))):
+            print(f"{path}: {len(spec['episodes'])} episodes, unchanged")
+            continue
         path.write_text(grid_text(spec))
-        print(f"{path}: {len(spec['episodes'])} episodes")
+        print(f"{path}: {len(spec['episodes'])} episodes, written")
 
 
 if __name__ == "__main__":

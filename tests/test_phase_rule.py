@@ -12,6 +12,7 @@ import pytest
 import cof_gym
 from cof_gym.agents.phase_rule import PAPER_CORRECTION, PhaseRule
 from cof_gym.agents.registry import make_agent
+from cof_gym.agents.runaway import RunawayEstimate
 from cof_gym.agents.staircase import ElasticityClimb, limits_of
 from cof_gym.commands.evaluate import agent_view, run_episode
 from cof_gym.task.interface import OBSERVATION_NAMES, decode_action
@@ -21,8 +22,9 @@ WORST = {"noise_level": 3.0, "motor_lag_s": 0.1}  # the most sensor noise and mo
 
 
 def test_registered_without_ground_truth(env) -> None:
-    agent = make_agent("phase-rule", env)
-    assert isinstance(agent, PhaseRule) and not agent.oracle and agent.name == "phase-rule"
+    agent = make_agent("phase-rule", env)  # its estimates capped at the crest ceiling (rule 29)
+    assert isinstance(agent, RunawayEstimate) and isinstance(agent.agent, PhaseRule)
+    assert (agent.bracket, agent.ceiling) == (False, True) and not agent.oracle and agent.name == "phase-rule"
 
 
 @pytest.mark.parametrize("garbage", [np.nan, 123.0, -7.5])
