@@ -470,6 +470,8 @@ def main() -> None:
             "rule 21)" if chosen["crest_floor"] else "")
     why += ("; between stops, what a runaway in the coming window would measure (the middle of the best crest bound "
             "and the bound scaled by the coming torque crest: rule 23)" if chosen["runaway_estimate"] else "")
+    why += ("; every estimate at most the best crest plus a bin's standard error once the crest has fallen under a "
+            "rising torque crest (rule 28)" if chosen["crest_ceiling"] else "")
     text += ["", f"Shipped estimate: `{chosen['estimate_from']}`{why}.", "",
              "## Report (nothing chosen here)", "", markdown(report, [f"seed_{s}" for s in args.seeds])]
     (out / "report.md").write_text("\n".join(text) + "\n")
