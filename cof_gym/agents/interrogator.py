@@ -53,7 +53,9 @@ It stops (and reports ``CoA x exp(correction)``) when the next step would be sma
 ``min_log_step``, when the CoA falls although the torque rose (past the peak), at the drive's limit,
 or one window before the horizon; with ``knee_stop`` also at a window whose lag jumps over the previous
 window's as the phase rule's test has it (:meth:`ClimbParameters.knee_stops`; ``"slow_probe"``: only once
-the climb has crept), reporting there what it reports at a headroom stop. The estimate is the filter's (the last rising window's CoA times its
+the climb has crept), reporting there what it reports at a headroom stop; with ``ceiling_stop`` also at the
+window where the crest falls under a rising torque crest (:class:`~cof_gym.agents.runaway.CrestCeiling`),
+reporting the same. The estimate is the filter's (the last rising window's CoA times its
 predicted correction), or the best CoA of the climb times a factor, or the same CoA times the guards'
 correction or the filter's and the guards' corrections pooled (inverse-variance weighted,
 :func:`pooled_correction`), or the pooled one where the climb stops on its headroom and the filter's
@@ -156,7 +158,7 @@ WORLD_KWARGS = ("vehicle", "counter_torque", "traction_balance", "window_s", "se
                 "timestep")  # constructor arguments that change what the sensors see
 ESTIMATE_SOURCES = ("filter", "best_coa", "guard", "pooled", "pooled_at_headroom", "estimator", "estimator_pooled",
                     "estimator_pooled_at_headroom")
-HEADROOM_STOPS = ("headroom", "knee")  # stops whose estimate is a short extrapolation ("..._at_headroom" sources)
+HEADROOM_STOPS = ("headroom", "knee", "ceiling")  # stops whose estimate is a short extrapolation ("..._at_headroom" sources)
 KNEE_STOPS = (None, "any", "slow_probe")  # ClimbParameters.knee_stop: off, at every window, in the slow probe only
 GUARDED_ESTIMATES = ("guard", "pooled", "pooled_at_headroom")  # estimate sources that read the guards' corrections
 # estimate sources that read the estimators' corrections
@@ -617,6 +619,7 @@ class ClimbParameters:
     pace_caution: float | None = None  # not None: a slow-probe step at least the horizon pace (pace_step)
     knee_stop: str | None = None  # "any" / "slow_probe": the phase rule's jump test ends the climb (knee_stops)
     crest_ceiling: bool = False  # once the crest fell under a rising torque crest, every estimate at most CrestCeiling's
+    ceiling_stop: bool = False  # the climb ends at the window where the crest falls under a rising torque crest
 
     def __post_init__(self) -> None:
         if self.estimate_from not in ESTIMATE_SOURCES:
@@ -632,7 +635,8 @@ class ClimbParameters:
                           ("creep_release", 0.0)):  # None: unused
             if getattr(self, name) is not None:
                 check_number(name, getattr(self, name), low, math.inf)
-        for name in ("creep_sticky", "crest_once_crept", "crest_floor", "runaway_estimate", "crest_ceiling"):
+        for name in ("creep_sticky", "crest_once_crept", "crest_floor", "runaway_estimate", "crest_ceiling",
+                     "ceiling_stop"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"{name} must be true or false, got {getattr(self, name)!r}")
         if self.tone2_frequency_hz is not None:
@@ -926,10 +930,11 @@ class LearnedInterrogator:
             step = max(step, p.floor_step(reading.coa))  # safe whatever the filter predicts
             at_limit = self._dc >= self.limits.max_dc_torque_nm
             last = windows_left <= 0
-            stop = falling or knee or at_limit or last or step < p.min_log_step
+            crest_fell = p.ceiling_stop and self._ceiling.reached
+            stop = falling or knee or crest_fell or at_limit or last or step < p.min_log_step
             if stop:
-                self.stop_reason = ("falling" if falling else "knee" if knee else "limit" if at_limit
-                                    else "horizon" if last else "headroom")
+                self.stop_reason = ("falling" if falling else "knee" if knee else "ceiling" if crest_fell
+                                    else "limit" if at_limit else "horizon" if last else "headroom")
             else:
                 new_dc = min(self._dc * math.exp(step), self.limits.max_dc_torque_nm)
                 self._ratio = p.crest_ratio(headroom - math.log(new_dc / self._dc), self._crept)
