@@ -906,6 +906,13 @@ def test_the_crest_floor_raises_the_estimate_to_the_best_crest_bound_and_leaves_
     assert raised > 0  # random networks' corrections: the floor binds somewhere, so the test can fail
 
 
+QUIET = dict(noise_level=0.0, motor_lag_s=0.0, speed_sensor_error=0.0, wheel_radius_error=0.0,
+             force_gain_error=0.0, torque_gain_error=0.0)  # every noise and sensor error off
+# a Shen-Hedrick-Elkins curve at a low CoF: a bold climb's crest holds at its peak for windows before the runaway
+SHARP_LOW_COF = {"creep_law": {"shen_hedrick_elkins": {"k_stiffness": 1.0, "friction_ratio": 0.4,
+                                                       "friction_decay_s_per_m": 0.6}}, "cof": 0.03}
+
+
 def test_the_crest_ceiling_caps_every_estimate_once_the_crest_falls_and_leaves_the_climb_alone():
     """With ``crest_ceiling`` the actions differ from the plain climb's in the estimate component only; every
     source reads the plain estimate until the crest falls under a rising torque crest (CrestCeiling fed the
@@ -914,16 +921,13 @@ def test_the_crest_ceiling_caps_every_estimate_once_the_crest_falls_and_leaves_t
     the ceiling is reached and binds (the test can fail), and the runaway is scored on the capped estimate,
     within 1 % of the CoF (at the peak the force is stationary in creepage, so the crest's phase bin
     averages it to second order)."""
-    quiet = dict(noise_level=0.0, motor_lag_s=0.0, speed_sensor_error=0.0, wheel_radius_error=0.0,
-                 force_gain_error=0.0, torque_gain_error=0.0)
     bold = FilterEnsemble((constant_network(3.0, 0.3),))
-    envs = [gym.make(cof_gym.WAGON_ENV_ID, **quiet) for _ in range(2)]
+    envs = [gym.make(cof_gym.WAGON_ENV_ID, **QUIET) for _ in range(2)]
     limits = envs[0].unwrapped.limits
     agents = [LearnedInterrogator(limits, bold, params=ClimbParameters(amplitude_ratio=0.4, max_log_step=0.07,
                                                                        runaway_estimate=True, crest_ceiling=cap))
               for cap in (False, True)]
-    she = {"shen_hedrick_elkins": {"k_stiffness": 1.0, "friction_ratio": 0.4, "friction_decay_s_per_m": 0.6}}
-    observed = [env.reset(seed=4, options={"creep_law": she, "cof": 0.03}) for env in envs]
+    observed = [env.reset(seed=4, options=SHARP_LOW_COF) for env in envs]
     for agent, (obs, info) in zip(agents, observed):
         agent.reset(obs, agent_view(info, False))
     ceiling, capped, done = CrestCeiling(), 0, False
@@ -944,15 +948,28 @@ def test_the_crest_ceiling_caps_every_estimate_once_the_crest_falls_and_leaves_t
     assert info["macro_slip"] and info["cof_estimate"] == pytest.approx(0.03, rel=0.01)
 
 
+def test_a_ceiling_stop_ends_the_climb_where_the_crest_falls_and_reports_the_crest():
+    """With ``ceiling_stop`` the bold climb of the crest-ceiling test stops at the window where its crest
+    falls under a rising torque crest, instead of running away, and reports within 1 % of the CoF (the
+    crest held at the peak; noise off)."""
+    env = gym.make(cof_gym.WAGON_ENV_ID, **QUIET)
+    params = ClimbParameters(amplitude_ratio=0.4, max_log_step=0.07, runaway_estimate=True, crest_ceiling=True,
+                             ceiling_stop=True)
+    agent = LearnedInterrogator(env.unwrapped.limits, FilterEnsemble((constant_network(3.0, 0.3),)), params=params)
+    record = run_episode(env, agent, 4, SHARP_LOW_COF, 0)
+    assert agent.stop_reason == "ceiling" and not record.macro_slip
+    assert record.estimate == pytest.approx(0.03, rel=0.01)
+    with pytest.raises(ValueError, match="ceiling_stop"):
+        ClimbParameters(ceiling_stop="yes")
+
+
 def test_the_runaway_estimate_is_reported_between_stops_and_scored_when_the_wheel_runs_away():
     """With ``runaway_estimate`` the actions differ from the plain climb's in the estimate component only;
     after an action that is not a stop every source reads the bracket's middle for that action's
     commanded crest; a bold climb that runs away is scored on it, and its lower end (the survived crest
     bound, noise off) is below the CoF within the ground truth's 0.3 %."""
-    quiet = dict(noise_level=0.0, motor_lag_s=0.0, speed_sensor_error=0.0, wheel_radius_error=0.0,
-                 force_gain_error=0.0, torque_gain_error=0.0)
     bold = FilterEnsemble((constant_network(3.0, 0.3),))  # far from the peak whatever it reads: big steps
-    envs = [gym.make(cof_gym.WAGON_ENV_ID, **quiet) for _ in range(2)]
+    envs = [gym.make(cof_gym.WAGON_ENV_ID, **QUIET) for _ in range(2)]
     limits = envs[0].unwrapped.limits
     agents = [LearnedInterrogator(limits, bold, params=ClimbParameters(amplitude_ratio=0.4, max_log_step=0.2,
                                                                        runaway_estimate=runaway))
