@@ -178,6 +178,9 @@ generated, never typed:
         --agents staircase,staircase+ceiling,phase-rule,phase-rule+ceiling,model-based,model-based+ceiling,robust-model,robust-model+ceiling
     (the same with v2_validation_procedural_grid.json into out/ceiling-validation-procedural and with
     v2_validation_steep_grid.json into out/ceiling-validation-steep: rule 29)
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
+        --targets 0.1 --stops --return-digits 4 --set ceiling_stop=false ceiling_stop=true \
+        --out out/crest_tradeoff_ceiling_stop.md    # rule 30
     python experiments/indistinguishable_peaks.py --counter-torque --out out/indistinguishable_peaks.md
     python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rules 23 and 28
         # (the shipped networks copied to runs/interrogator/seed_K and guard/seed_K first: member_K.npz of
@@ -268,6 +271,7 @@ SOURCES = {
         "crest_tradeoff_knee",
         "crest_tradeoff_ceiling",
         "crest_tradeoff_ceiling_confirmation7",
+        "crest_tradeoff_ceiling_stop",
         "indistinguishable_peaks",
     )},
 }
