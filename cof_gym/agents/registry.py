@@ -134,7 +134,7 @@ def default_agents() -> list[str]:
     return out
 
 
-PLAIN = "plain"  # the agent-name suffix of an agent without the runaway estimate (+runaway: runaway.MODIFIER)
+PLAIN = "plain"  # the agent-name suffix of an agent without the runaway estimate or the crest ceiling
 
 
 def split_modifier(spec: str) -> tuple[str, str | None]:
