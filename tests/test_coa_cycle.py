@@ -15,12 +15,11 @@ from cof_gym.measurement.synchronous_average import bin_sums, cycle_extremes
 from cof_gym.physics.native.layout import PHASE_BINS
 from cof_gym.physics.vehicle import HalfWheelsetParameters
 from cof_gym.task.interface import encode_action
+from exact_sensors import QUIET
 
 P = HalfWheelsetParameters()
 R, N, J = P.wheel_radius_m, P.normal_load_n, P.spin_inertia_kg_m2
 HALF = "CofGym/HalfWheelset-v2"
-QUIET = dict(noise_level=0.0, motor_lag_s=0.0, speed_sensor_error=0.0, wheel_radius_error=0.0,
-             force_gain_error=0.0, torque_gain_error=0.0)
 # a bin of width 2 pi / B averages a sine over it: at the crest's bin sin(pi / B) / (pi / B) of the amplitude
 BIN_AVERAGE = math.sin(math.pi / PHASE_BINS) / (math.pi / PHASE_BINS)
 

@@ -18,12 +18,11 @@ from cof_gym.physics.vehicle import HalfWheelsetParameters
 from cof_gym.task.excitation import encode_extra_tones
 from cof_gym.task.interface import encode_action
 from cof_gym.task.sensors import SensorErrors
+from exact_sensors import QUIET
 
 P = HalfWheelsetParameters()
 R, N = P.wheel_radius_m, P.normal_load_n
 HALF = "CofGym/HalfWheelset-v2"
-QUIET = dict(noise_level=0.0, motor_lag_s=0.0, speed_sensor_error=0.0, wheel_radius_error=0.0,
-             force_gain_error=0.0, torque_gain_error=0.0)
 # the lock-in's least squares is linear in its signal: R omega / v - 1 with v held gives R / v times omega's
 # coefficients up to rounding (a few ulps of sums over ~10^3 samples)
 LINEAR_RTOL = 1e-9

@@ -29,6 +29,7 @@ from cof_gym.commands.evaluate import run_episode
 from cof_gym.agents.base import agent_view
 from cof_gym.agents.runaway import CrestCeiling, RunawayBracket
 from cof_gym.task.interface import OBSERVATION_NAMES, decode_action
+from exact_sensors import QUIET
 
 SHIPPED = (SHIPPED_INTERROGATOR / "manifest.json").is_file()
 CREEPAGE = OBSERVATION_NAMES.index("creepage_measured")
@@ -906,8 +907,6 @@ def test_the_crest_floor_raises_the_estimate_to_the_best_crest_bound_and_leaves_
     assert raised > 0  # random networks' corrections: the floor binds somewhere, so the test can fail
 
 
-QUIET = dict(noise_level=0.0, motor_lag_s=0.0, speed_sensor_error=0.0, wheel_radius_error=0.0,
-             force_gain_error=0.0, torque_gain_error=0.0)  # every noise and sensor error off
 # a Shen-Hedrick-Elkins curve at a low CoF: a bold climb's crest holds at its peak for windows before the runaway
 SHARP_LOW_COF = {"creep_law": {"shen_hedrick_elkins": {"k_stiffness": 1.0, "friction_ratio": 0.4,
                                                        "friction_decay_s_per_m": 0.6}}, "cof": 0.03}

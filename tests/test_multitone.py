@@ -19,6 +19,7 @@ from cof_gym.physics.simulation import DriveCommand
 from cof_gym.physics.vehicle import HalfWheelsetParameters
 from cof_gym.task.excitation import Excitation, separate
 from cof_gym.task.interface import _log_unmap
+from exact_sensors import QUIET
 
 P = HalfWheelsetParameters()
 IW, R, N = P.spin_inertia_kg_m2, P.wheel_radius_m, P.normal_load_n
@@ -26,8 +27,6 @@ HALF = "CofGym/HalfWheelset-v2"
 WAGON = "CofGym/TorqueInterrogation-v1"
 # the half wheelset's Eq. 3 window (tests/test_half_wheelset_eq3.py): 2 s, 1 s settling, 0.5 s DC ramp
 EQ3_WINDOW = dict(window_s=2.0, settle_fraction=0.5, ramp_fraction=0.25)
-QUIET = dict(noise_level=0.0, motor_lag_s=0.0, speed_sensor_error=0.0, wheel_radius_error=0.0,
-             force_gain_error=0.0, torque_gain_error=0.0)
 
 
 def _action(env, dc: float, total_amp: float, freqs: tuple[float, ...], shares: tuple[float, ...] = ()) -> np.ndarray:

@@ -12,6 +12,7 @@ from cof_gym.agents.base import agent_view
 from cof_gym.agents.runaway import CrestCeiling, RunawayBracket, RunawayEstimate, crest_bound
 from cof_gym.agents.staircase import PracticalStaircase
 from cof_gym.task.interface import decode_action
+from exact_sensors import QUIET
 
 
 def test_the_bracket_is_the_geometric_middle_of_what_was_survived_and_what_is_demanded():
@@ -50,10 +51,6 @@ def test_the_crest_bound_is_the_cycle_crest_less_a_bins_error_and_zero_unread():
     assert crest_bound({"coa_cycle_max": 0.2, "coa_cycle_bin_se": 0.01}) == pytest.approx(0.19, rel=1e-15)
     assert crest_bound({"coa_cycle_max": 0.005, "coa_cycle_bin_se": 0.01}) == 0.0
     assert crest_bound({}) == 0.0
-
-
-QUIET = dict(noise_level=0.0, motor_lag_s=0.0, speed_sensor_error=0.0, wheel_radius_error=0.0,
-             force_gain_error=0.0, torque_gain_error=0.0)  # every noise and sensor error off
 
 
 def _twin_envs(agents, seed: int, options: dict, **sensors):
