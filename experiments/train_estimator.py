@@ -10,9 +10,11 @@
    4000 each). Every window is kept with its labels from the episode's truth. Cached in
    OUT/onpolicy_NAME_DIGEST.npz, the digest naming the policy's networks and climb.
 2. **Networks**: one per seed, fitted as the policy's filter was (its manifest's fit settings: a
-   bootstrap resample of the episodes, Gaussian NLL), every tenth episode held apart; OUT/seed_K/ and
-   the ensemble OUT/ensemble/. The held-apart correction RMSE at the window each climb's estimate reads
-   (its last rising window) is printed beside the policy's filter's and guards' on the same windows.
+   bootstrap resample of the episodes, Gaussian NLL, or with ``--loss laplace`` the Laplace NLL, whose
+   location is the conditional median), every tenth episode held apart; OUT/seed_K/ and the ensemble
+   OUT/ensemble/. The held-apart correction RMSE and mean absolute error at the window each climb's
+   estimate reads (its last rising window) are printed beside the policy's filter's and guards' on the
+   same windows.
 
 The estimator never steers: it can change the reported estimate only, never a torque. Which estimate
 source ships (``estimate_from``) is decided by a rule on the validation grids and a confirmation set
@@ -41,7 +43,7 @@ from cof_gym.agents.interrogator import (  # noqa: E402
 )
 from cof_gym.task.creep_fit import coa_fell  # noqa: E402
 from cof_gym.agents.interrogator_training import (  # noqa: E402
-    READING_FIELDS, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel,
+    FIT_LOSSES, READING_FIELDS, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel,
 )
 
 # the on-policy collections: name -> (first seed, what the episodes draw beyond the env's own)
@@ -101,31 +103,36 @@ def estimate_windows(data: Dataset) -> np.ndarray:
     return np.asarray(rows)
 
 
-def correction_rmse(networks: dict[str, Path], data: Dataset) -> dict[str, float]:
-    """Each ensemble's correction RMSE (log units) on ``data``'s estimate windows."""
+def correction_residuals(networks: dict[str, Path], data: Dataset) -> dict[str, np.ndarray]:
+    """Each ensemble's correction residual (target - prediction, log units) at ``data``'s estimate windows."""
     rows = estimate_windows(data)
     out = {}
     for name, directory in networks.items():
         ensemble = FilterEnsemble.load(directory)
         mean, _ = ensemble.predict(data.features_for(ensemble.blocks)[rows])
-        out[name] = float(np.sqrt(np.mean((data.targets[rows, 1] - mean[:, 1]) ** 2)))
+        out[name] = data.targets[rows, 1] - mean[:, 1]
     return out
 
 
 def fit_estimator(policy: Path, out: Path, climbs: dict[str, int], seeds: list[int], workers: int,
-                  reuse: bool) -> dict:
-    """Collect ``policy``'s climbs, fit one network per seed with its manifest's fit settings (OUT/seed_K,
-    OUT/ensemble) and return the fit's held-apart report, the estimate windows' correction RMSE included."""
-    settings = FitSettings(**{k: tuple(v) if isinstance(v, list) else v
-                              for k, v in read_manifest(policy).get("training", {}).get("fit", {}).items()})
+                  reuse: bool, loss: str = "gaussian") -> dict:
+    """Collect ``policy``'s climbs, fit one network per seed with its manifest's fit settings under
+    ``loss`` (:data:`~cof_gym.agents.interrogator_training.FIT_LOSSES`; OUT/seed_K, OUT/ensemble) and return
+    the fit's held-apart report, the estimate windows' correction RMSE and mean absolute error included."""
+    fit = {k: tuple(v) if isinstance(v, list) else v
+           for k, v in read_manifest(policy).get("training", {}).get("fit", {}).items()}
+    settings = FitSettings(**{**fit, "loss": loss})
     data = collect_on_policy(policy, out, climbs, workers)
     report = fit_networks(out, lambda: data, seeds, settings, reuse)
     _, held = split(data)
     networks = {"estimator": out / "ensemble", "filter": policy,
                 **{g.name: g for g in manifest_guards(policy)}}
-    report["estimate_window_correction_rmse"] = correction_rmse(networks, held)
+    residuals = correction_residuals(networks, held)
+    report["estimate_window_correction_rmse"] = {k: float(np.sqrt(np.mean(r**2))) for k, r in residuals.items()}
+    report["estimate_window_correction_mae"] = {k: float(np.mean(np.abs(r))) for k, r in residuals.items()}
     report["settings"] = asdict(settings)
-    print(f"held-apart correction RMSE at the estimate windows: {report['estimate_window_correction_rmse']}", flush=True)
+    print(f"held-apart correction RMSE and mean absolute error at the estimate windows: "
+          f"{report['estimate_window_correction_rmse']}, {report['estimate_window_correction_mae']}", flush=True)
     return report
 
 
@@ -139,13 +146,16 @@ def main() -> None:
     ap.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2, 3, 4])
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--reuse", action="store_true", help="keep OUT/seed_K networks that exist")
+    ap.add_argument("--loss", choices=FIT_LOSSES, default="gaussian",
+                    help="the likelihood the networks are fitted under: gaussian (the conditional mean of the "
+                         "correction) or laplace (its conditional median); default: %(default)s")
     args = ap.parse_args()
     require_networks(ap, "--policy", [args.policy])
     if not (args.policy / "manifest.json").is_file():
         ap.error(f"--policy: no manifest.json in {args.policy} (the climb the estimator learns)")
     climbs = parse_climbs(ap, args.climbs, "--climbs", ON_POLICY)
     t0 = time.time()
-    report = fit_estimator(args.policy, args.out, climbs, args.seeds, args.workers, args.reuse)
+    report = fit_estimator(args.policy, args.out, climbs, args.seeds, args.workers, args.reuse, args.loss)
     (args.out / "report.json").write_text(json.dumps(report, indent=1) + "\n")
     print(f"done in {time.time() - t0:.0f} s")
 

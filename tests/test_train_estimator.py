@@ -22,7 +22,7 @@ SCRIPT = str(EXPERIMENTS / "train_estimator.py")
 
 
 @pytest.mark.parametrize("args, option", [(["--policy", "nowhere"], "--policy"), (["--climbs", "bad=3"], "--climbs"),
-                                          (["--climbs", "env=0"], "--climbs")])
+                                          (["--climbs", "env=0"], "--climbs"), (["--loss", "l2"], "argument --loss")])
 def test_bad_options_exit_2_naming_the_option(tmp_path: Path, args: list[str], option: str, experiment_exit) -> None:
     code, last = experiment_exit("train_estimator", ["--out", str(tmp_path / "run"), *args])
     assert code == 2 and last.startswith(f"train_estimator.py: error: {option}")
@@ -50,14 +50,18 @@ def test_the_cache_key_follows_what_steers_the_climb_not_the_reported_estimate(t
 
 
 def test_a_small_run_writes_the_estimator_and_its_report(tmp_path: Path) -> None:
+    """A run under the Laplace loss (the Gaussian's fit is the recipe's, tested with it)."""
     out = tmp_path / "run"
     done = subprocess.run([sys.executable, SCRIPT, "--out", str(out), "--climbs", "env=12", "procedural=8",
-                           "--seeds", "0", "1", "--workers", "1"], capture_output=True, text=True, timeout=300)
+                           "--seeds", "0", "1", "--workers", "1", "--loss", "laplace"],
+                          capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
     assert sorted(p.name for p in (out / "ensemble").iterdir()) == ["member_0.npz", "member_1.npz"]
     assert len(list(out.glob("onpolicy_env_*.npz"))) == len(list(out.glob("onpolicy_procedural_*.npz"))) == 1
     report = json.loads((out / "report.json").read_text())
-    assert set(report["estimate_window_correction_rmse"]) == {"estimator", "filter", "guard_0"}
+    for metric in ("rmse", "mae"):
+        assert set(report[f"estimate_window_correction_{metric}"]) == {"estimator", "filter", "guard_0"}
+    assert report["settings"]["loss"] == "laplace"
 
 
 def test_a_cache_extended_holds_the_climbs_collected_at_once(tmp_path: Path) -> None:

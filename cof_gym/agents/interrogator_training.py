@@ -369,6 +369,22 @@ def collect_parallel(env_id: str, configs: list[dict[str, Any]], episodes: int, 
     return Dataset.concatenate(parts)
 
 
+FIT_LOSSES = ("gaussian", "laplace")  # FitSettings.loss: the likelihood each member's outputs are fitted under
+
+
+def negative_log_likelihood(loss: str, residual, log_var, exp=np.exp):
+    """The per-element NLL (up to a constant) of ``residual`` (target - location) under ``loss`` with
+    variance ``exp(log_var)``: Gaussian, whose location is the conditional mean, or Laplace (scale
+    ``b = sqrt(var / 2)``, NLL ``|r| / b + ln b``), whose location is the conditional median: the point
+    that minimises the expected absolute error, the log-ratio's version of the relative CoF error the
+    task scores (where the readings leave two creep curves possible, the mean falls between them, the
+    median on the likelier). The network stores the variance either way, so its std means the same.
+    ``exp``: ``np.exp`` for arrays, ``torch.exp`` for tensors."""
+    if loss == "gaussian":
+        return 0.5 * (log_var + residual**2 * exp(-log_var))
+    return abs(residual) * math.sqrt(2.0) * exp(-0.5 * log_var) + 0.5 * log_var
+
+
 @dataclass(frozen=True)
 class FitSettings:
     hidden: tuple[int, ...] = (64, 64)
@@ -377,6 +393,11 @@ class FitSettings:
     learning_rate: float = 2e-3
     weight_decay: float = 1e-5
     features: tuple[str, ...] = ()  # optional feature blocks besides tone 2's (which follows the data)
+    loss: str = "gaussian"  # "gaussian": each output's mean (Gaussian NLL); "laplace": its median (Laplace NLL)
+
+    def __post_init__(self) -> None:
+        if self.loss not in FIT_LOSSES:
+            raise ValueError(f"loss must be one of {FIT_LOSSES}, got {self.loss!r}")
 
     def blocks(self, data: "Dataset") -> tuple[str, ...]:
         """The feature blocks a member fitted on ``data`` reads, in :data:`FEATURE_BLOCKS` order."""
@@ -388,7 +409,7 @@ class FitSettings:
 
 
 def fit_member(data: Dataset, seed: int, settings: FitSettings = FitSettings()) -> FilterNetwork:
-    """One member: a bootstrap resample of ``data``'s episodes (``seed``), Gaussian NLL, Adam."""
+    """One member: a bootstrap resample of ``data``'s episodes (``seed``), the NLL of ``settings.loss``, Adam."""
     import torch
 
     rng = np.random.default_rng(seed)
@@ -419,7 +440,7 @@ def fit_member(data: Dataset, seed: int, settings: FitSettings = FitSettings()) 
         for idx in torch.randperm(len(xt), generator=gen).split(settings.batch_size):
             out = net(xt[idx])
             mu, log_var = out[:, :n_out], out[:, n_out:].clamp(-12.0, 4.0)
-            loss = (0.5 * (log_var + (yt[idx] - mu) ** 2 * torch.exp(-log_var))).mean()
+            loss = negative_log_likelihood(settings.loss, yt[idx] - mu, log_var, torch.exp).mean()
             opt.zero_grad()
             loss.backward()
             opt.step()
