@@ -181,6 +181,14 @@ generated, never typed:
     python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
         --targets 0.1 --stops --return-digits 4 --set ceiling_stop=false ceiling_stop=true \
         --out out/crest_tradeoff_ceiling_stop.md    # rule 30
+    python experiments/train_estimator.py --out runs/estimator_env --climbs env=8000    # rule 31 (rule 18's)
+    python experiments/train_estimator.py --out runs/estimator_env_laplace --climbs env=8000 --loss laplace
+        # (the on-policy climbs of runs/estimator_env/onpolicy_env_*.npz copied there first: the same climbs)
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
+        --estimators runs/estimator_env_laplace/ensemble --targets 0.1 --stops --return-digits 4 \
+        --set 'estimate_from="pooled_at_headroom"' 'estimate_from="estimator"' \
+        --out out/crest_tradeoff_median_estimator.md    # rule 31
+    (the same with --estimators runs/estimator_env/ensemble into out/crest_tradeoff_mean_estimator.md)
     python experiments/indistinguishable_peaks.py --counter-torque --out out/indistinguishable_peaks.md
     python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rules 23 and 28
         # (the shipped networks copied to runs/interrogator/seed_K and guard/seed_K first: member_K.npz of
@@ -272,6 +280,8 @@ SOURCES = {
         "crest_tradeoff_ceiling",
         "crest_tradeoff_ceiling_confirmation7",
         "crest_tradeoff_ceiling_stop",
+        "crest_tradeoff_median_estimator",
+        "crest_tradeoff_mean_estimator",
         "indistinguishable_peaks",
     )},
 }

@@ -770,21 +770,25 @@ def test_the_estimators_corrections_change_the_estimate_and_never_the_climb(sour
         coa * math.exp(pooled_correction([(0.2, math.exp(-3.0)), (-0.1, math.exp(-2.0))])), rel=1e-12)
 
 
-def test_the_estimators_pool_at_a_headroom_stop_and_the_filters_before_it():
+@pytest.mark.parametrize("source", ["estimator_pooled_at_headroom", "estimator_at_headroom"])
+def test_the_estimators_read_at_a_headroom_stop_and_the_filters_before_it(source):
+    """At a headroom stop the estimators' corrections, pooled with the filter's and the guard's or alone
+    (inverse-variance); at any other stop the filter's."""
     env = gym.make(cof_gym.WAGON_ENV_ID)
     primary = FilterEnsemble((constant_network(1.0, 0.2, log_variance=-6.0),))
     guard = FilterEnsemble((constant_network(-0.5, -0.1, log_variance=-4.0),))  # past the target: it stops the climb
     estimators = tuple(FilterEnsemble((constant_network(5.0, c, log_variance=-5.0),)) for c in (0.3, 0.4))
     agent = LearnedInterrogator(env.unwrapped.limits, primary, guards=(guard,), estimators=estimators,
-                                params=ClimbParameters(estimate_from="estimator_pooled_at_headroom"))
+                                params=ClimbParameters(estimate_from=source))
     actions, info = play(agent, 8)
     assert len(actions) == 2 and agent.stop_reason == "headroom"
     coa = agent.features.readings[-1].coa
-    pooled = pooled_correction([(0.2, math.exp(-3.0)), (-0.1, math.exp(-2.0)), (0.3, math.exp(-2.5)),
-                                (0.4, math.exp(-2.5))])
-    assert info["cof_estimate"] == pytest.approx(coa * math.exp(pooled), rel=1e-6)
+    theirs = [(0.3, math.exp(-2.5)), (0.4, math.exp(-2.5))]
+    pooled = pooled_correction([(0.2, math.exp(-3.0)), (-0.1, math.exp(-2.0)), *theirs])
+    correction = pooled if source == "estimator_pooled_at_headroom" else pooled_correction(theirs)
+    assert info["cof_estimate"] == pytest.approx(coa * math.exp(correction), rel=1e-6)
     free = LearnedInterrogator(env.unwrapped.limits, primary, estimators=estimators,  # no guard: no headroom stop
-                               params=ClimbParameters(estimate_from="estimator_pooled_at_headroom"))
+                               params=ClimbParameters(estimate_from=source))
     _, info = play(free, 8)
     assert free.stop_reason != "headroom"
     assert info["cof_estimate"] == pytest.approx(free.features.readings[-1].coa * math.exp(0.2), rel=1e-6)

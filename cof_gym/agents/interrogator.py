@@ -73,7 +73,7 @@ on the family climbs and on procedural creep curves together, ``guard_0``).
 policy: :func:`~cof_gym.agents.interrogator_training.collect` with a ``policy``) the estimate may read
 their correction (``estimate_from="estimator"``), or theirs, the filter's and the guards' pooled
 (``"estimator_pooled"``), or that pool where the climb stops on its headroom and the filter's otherwise
-(``"estimator_pooled_at_headroom"``; :data:`ESTIMATOR_ESTIMATES`). They never steer: the climb, and every
+(``"estimator_pooled_at_headroom"``), or theirs alone there (``"estimator_at_headroom"``; :data:`ESTIMATOR_ESTIMATES`). They never steer: the climb, and every
 macro-slip, is the same with or without them. The filter and the guards learn from random probing
 climbs, so that no schedule leaks the truth into their features; an estimator learns the correction
 where the deployed climb actually stops. A manifest names them under ``"estimators"``.
@@ -157,12 +157,12 @@ HISTORY = 2  # previous windows in the features
 WORLD_KWARGS = ("vehicle", "counter_torque", "traction_balance", "window_s", "settle_fraction", "ramp_fraction",
                 "timestep")  # constructor arguments that change what the sensors see
 ESTIMATE_SOURCES = ("filter", "best_coa", "guard", "pooled", "pooled_at_headroom", "estimator", "estimator_pooled",
-                    "estimator_pooled_at_headroom")
+                    "estimator_pooled_at_headroom", "estimator_at_headroom")
 HEADROOM_STOPS = ("headroom", "knee", "ceiling")  # stops whose estimate is a short extrapolation ("..._at_headroom" sources)
 KNEE_STOPS = (None, "any", "slow_probe")  # ClimbParameters.knee_stop: off, at every window, in the slow probe only
 GUARDED_ESTIMATES = ("guard", "pooled", "pooled_at_headroom")  # estimate sources that read the guards' corrections
 # estimate sources that read the estimators' corrections
-ESTIMATOR_ESTIMATES = ("estimator", "estimator_pooled", "estimator_pooled_at_headroom")
+ESTIMATOR_ESTIMATES = ("estimator", "estimator_pooled", "estimator_pooled_at_headroom", "estimator_at_headroom")
 TARGET_NAMES = ("headroom", "correction")  # ln(M_sat / DC), ln(CoF / CoA measured)
 
 FEATURE_NAMES = (
@@ -607,7 +607,8 @@ class ClimbParameters:
     # "guard": CoA x exp(the guards' correction); "pooled": CoA x exp(the filter's and the guards' together);
     # "pooled_at_headroom": "pooled" once the climb stops on its headroom, "filter" before and otherwise;
     # "estimator": CoA x exp(the estimators' correction); "estimator_pooled": the filter's, guards' and estimators'
-    # pooled; "estimator_pooled_at_headroom": that pool at a headroom stop, "filter" before and otherwise
+    # pooled; "estimator_pooled_at_headroom": that pool at a headroom stop, "filter" before and otherwise;
+    # "estimator_at_headroom": the estimators' correction alone at a headroom stop, "filter" before and otherwise
     best_coa_factor: float = 1.0
     floor_margin: float | None = None  # not None: a step may close the gap to the task's lowest CoF less this
     tone2_frequency_hz: float | None = None  # not None: a second tone at this frequency (a two-tone excitation)
@@ -867,6 +868,7 @@ class LearnedInterrogator:
         at_headroom = self.stop_reason in HEADROOM_STOPS
         estimates["pooled_at_headroom"] = estimates["pooled" if at_headroom else "filter"]
         estimates["estimator_pooled_at_headroom"] = estimates["estimator_pooled" if at_headroom else "filter"]
+        estimates["estimator_at_headroom"] = estimates["estimator" if at_headroom else "filter"]
         if self.params.crest_floor:
             estimates = {source: max(value, self._bracket.crest_bound) for source, value in estimates.items()}
         if self.params.runaway_estimate and self._runaway is not None:
