@@ -189,6 +189,10 @@ generated, never typed:
         --set 'estimate_from="pooled_at_headroom"' 'estimate_from="estimator"' \
         --out out/crest_tradeoff_median_estimator.md    # rule 31
     (the same with --estimators runs/estimator_env/ensemble into out/crest_tradeoff_mean_estimator.md)
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
+        --estimators runs/estimator_env_laplace/ensemble --targets 0.1 --stops --return-digits 4 \
+        --set 'estimate_from="pooled_at_headroom"' 'estimate_from="estimator_at_headroom"' \
+        --out out/crest_tradeoff_median_at_headroom.md    # rule 32
     python experiments/indistinguishable_peaks.py --counter-torque --out out/indistinguishable_peaks.md
     python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rules 23 and 28
         # (the shipped networks copied to runs/interrogator/seed_K and guard/seed_K first: member_K.npz of
@@ -282,6 +286,7 @@ SOURCES = {
         "crest_tradeoff_ceiling_stop",
         "crest_tradeoff_median_estimator",
         "crest_tradeoff_mean_estimator",
+        "crest_tradeoff_median_at_headroom",
         "indistinguishable_peaks",
     )},
 }
