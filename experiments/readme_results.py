@@ -193,6 +193,13 @@ generated, never typed:
         --estimators runs/estimator_env_laplace/ensemble --targets 0.1 --stops --return-digits 4 \
         --set 'estimate_from="pooled_at_headroom"' 'estimate_from="estimator_at_headroom"' \
         --out out/crest_tradeoff_median_at_headroom.md    # rule 32
+    python experiments/train_estimator.py --out runs/estimator_mixed_laplace --climbs env=8000 procedural=4000 \
+        --loss laplace    # (the family climbs of runs/estimator_env copied there first)
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
+        --estimators runs/estimator_mixed_laplace/ensemble --targets 0.1 --stops --return-digits 4 \
+        --set 'estimate_from="pooled_at_headroom"' 'estimate_from="estimator_at_headroom"' \
+        --out out/crest_tradeoff_mixed_median_at_headroom.md    # rule 33
+    (the same with --grids confirmation8 into out/crest_tradeoff_mixed_median_at_headroom_confirmation8.md)
     python experiments/indistinguishable_peaks.py --counter-torque --out out/indistinguishable_peaks.md
     python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rules 23 and 28
         # (the shipped networks copied to runs/interrogator/seed_K and guard/seed_K first: member_K.npz of
@@ -287,6 +294,8 @@ SOURCES = {
         "crest_tradeoff_median_estimator",
         "crest_tradeoff_mean_estimator",
         "crest_tradeoff_median_at_headroom",
+        "crest_tradeoff_mixed_median_at_headroom",
+        "crest_tradeoff_mixed_median_at_headroom_confirmation8",
         "indistinguishable_peaks",
     )},
 }
