@@ -1,0 +1,104 @@
+"""Paired bootstrap of each setting against a baseline, per grid, from crest_tradeoff.py's ``--records``.
+
+    python experiments/crest_tradeoff.py ... --set A B --records out/records.json
+    python experiments/paired_comparison.py out/records.json [--baseline SETTING] [--out FILE]
+
+The rows of a crest_tradeoff table differ by a tenth of a point where a handful of episodes move: a
+median of 108-180 episodes and, more so, their 90th percentile, move by that much when a few episodes
+change. Every setting plays the same episodes (grid, vehicle configuration, seed), so the comparison is
+paired: for each setting after the baseline (the first setting of the file unless ``--baseline`` names
+one) and each grid, the difference setting - baseline of the median and P90 relative CoF error (points)
+and of the mean episode return, each with a 95 % CI from resampling the episodes (the same resample for
+both: :data:`N_BOOTSTRAP` draws, seeded), and both macro-slip counts. Nothing is decided here: a rule
+written before its candidate is played says how these numbers are read.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+N_BOOTSTRAP = 2000
+STATISTICS = {"median": lambda e: np.median(e, axis=-1), "P90": lambda e: np.percentile(e, 90, axis=-1)}
+
+
+def paired(records: list[dict], setting: str) -> dict[str, dict[tuple, dict]]:
+    """``setting``'s episodes per grid, keyed by (vehicle configuration, episode)."""
+    out: dict[str, dict[tuple, dict]] = {}
+    for r in records:
+        if r["setting"] == setting:
+            out.setdefault(r["grid"], {})[(json.dumps(r["config"], sort_keys=True), r["episode"])] = r
+    return out
+
+
+def differences(base: dict[tuple, dict], other: dict[tuple, dict], seed: int = 0) -> dict[str, tuple[float, float, float]]:
+    """(difference, CI low, CI high) of ``other`` - ``base`` on their common episodes: the median and P90
+    relative error (percentage points) and the mean return, resampled in pairs."""
+    keys = sorted(set(base) & set(other))
+    if len(keys) != len(base) or len(keys) != len(other):
+        raise ValueError("the two settings did not play the same episodes")
+    b_err, o_err = (np.array([s[k]["error"] for k in keys]) for s in (base, other))
+    b_ret, o_ret = (np.array([s[k]["episode_return"] for k in keys]) for s in (base, other))
+    draws = np.random.default_rng(seed).integers(0, len(keys), size=(N_BOOTSTRAP, len(keys)))
+    result = {}
+    for name, stat in STATISTICS.items():
+        point = 100.0 * float(stat(o_err) - stat(b_err))
+        boot = 100.0 * (stat(o_err[draws]) - stat(b_err[draws]))
+        result[name] = (point, float(np.percentile(boot, 2.5)), float(np.percentile(boot, 97.5)))
+    boot = o_ret[draws].mean(axis=1) - b_ret[draws].mean(axis=1)
+    result["return"] = (float(o_ret.mean() - b_ret.mean()), float(np.percentile(boot, 2.5)), float(np.percentile(boot, 97.5)))
+    return result
+
+
+def table(records: list[dict], baseline: str | None = None) -> str:
+    """The markdown table of every setting against ``baseline`` (default: the first setting), per grid."""
+    settings = list(dict.fromkeys(r["setting"] for r in records))
+    baseline = baseline or settings[0]
+    if baseline not in settings:
+        raise ValueError(f"--baseline: no setting {baseline!r} in the records (settings: {settings})")
+    base = paired(records, baseline)
+    lines = [f"Against `{baseline}` (paired over the same episodes; 95 % CIs from {N_BOOTSTRAP} resamples):", "",
+             "| setting | grid | episodes | median error: difference [95 % CI] (points) | P90 error: difference [95 % CI] "
+             "(points) | mean return: difference [95 % CI] | macro-slips (baseline -> setting) |",
+             "|---|---|---|---|---|---|---|"]
+    for setting in settings:
+        if setting == baseline:
+            continue
+        other = paired(records, setting)
+        for grid, episodes in base.items():
+            d = differences(episodes, other[grid])
+            cell = lambda v, digits=1: f"{v[0]:+.{digits}f} [{v[1]:+.{digits}f}, {v[2]:+.{digits}f}]"  # noqa: E731
+            slips = (sum(r["macro_slip"] for r in episodes.values()), sum(r["macro_slip"] for r in other[grid].values()))
+            lines.append(f"| {setting} | {grid} | {len(episodes)} | {cell(d['median'])} | {cell(d['P90'])} | "
+                         f"{cell(d['return'], 4)} | {slips[0]} -> {slips[1]} |")
+    return "\n".join(lines) + "\n"
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("records", type=Path, help="a crest_tradeoff.py --records file")
+    parser.add_argument("--baseline", default=None, help="the setting compared against (default: the file's first)")
+    parser.add_argument("--out", type=Path, default=None, help="also write the table to this markdown file")
+    args = parser.parse_args()
+    try:
+        records = json.loads(args.records.read_text())
+        if not isinstance(records, list) or not records or not all(isinstance(r, dict) and "setting" in r for r in records):
+            raise ValueError("not a crest_tradeoff.py --records file (a list of episodes with their setting)")
+        text = table(records, args.baseline)
+    except KeyError as e:
+        parser.error(f"records: an episode of {args.records} has no {e}")
+    except (OSError, ValueError) as e:
+        parser.error(str(e) if str(e).startswith("--") else f"records: {args.records}: {e}")
+    print(text, end="")
+    if args.out is not None:
+        args.out.parent.mkdir(parents=True, exist_ok=True)
+        args.out.write_text(f"# Paired comparison of {args.records}\n\n{text}")
+    sys.stdout.flush()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,75 @@
+"""experiments/paired_comparison.py: paired differences of a setting against the baseline over the same
+episodes, with bootstrap CIs; a bad records file or baseline exits 2 with one line."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
+from paired_comparison import differences, paired, table  # noqa: E402
+
+
+def records(settings: dict[str, np.ndarray], slips=()) -> list[dict]:
+    """Episodes of one grid in two vehicle configurations, one error array per setting."""
+    out = []
+    for setting, errors in settings.items():
+        for i, e in enumerate(errors):
+            config = {} if i % 2 else {"counter_torque": True}
+            out.append({"setting": setting, "grid": "family", "config": config, "episode": i // 2, "error": float(e),
+                        "macro_slip": i in slips, "episode_return": -float(e)})
+    return out
+
+
+def test_the_same_errors_differ_by_nothing_and_halved_errors_by_half_their_statistics():
+    errors = np.random.default_rng(1).uniform(0.0, 0.3, 40)
+    recs = records({"shipped": errors, "same": errors, "halved": errors / 2})
+    base = paired(recs, "shipped")["family"]
+    assert differences(base, paired(recs, "same")["family"]) == {k: (0.0, 0.0, 0.0) for k in ("median", "P90", "return")}
+    d = differences(base, paired(recs, "halved")["family"])
+    assert d["median"][0] == pytest.approx(-50.0 * np.median(errors), abs=1e-9)
+    assert d["P90"][0] == pytest.approx(-50.0 * np.percentile(errors, 90), abs=1e-9)
+    assert d["median"][2] < 0.0 and d["P90"][2] < 0.0  # every resample: halved errors have a lower median and P90
+    assert d["return"][0] == pytest.approx(np.mean(errors) / 2, abs=1e-12) and d["return"][1] > 0.0
+
+
+def test_the_table_names_every_setting_against_the_baseline_and_refuses_unpaired_episodes():
+    errors = np.linspace(0.01, 0.2, 20)
+    text = table(records({"shipped": errors, "candidate": errors * 1.1}, slips=(3,)))
+    assert "| candidate | family | 20 |" in text and "| 1 -> 1 |" in text and "| shipped | family" not in text
+    with pytest.raises(ValueError, match="--baseline"):
+        table(records({"shipped": errors}), baseline="nowhere")
+    short = [r for r in records({"shipped": errors, "candidate": errors}) if not (r["setting"] == "candidate" and r["episode"] == 0)]
+    with pytest.raises(ValueError, match="same episodes"):
+        table(short)
+
+
+@pytest.mark.parametrize("content, option", [("[]", "records"), ('[{"x": 1}]', "records"), ("{", "records")])
+def test_a_bad_records_file_exits_2_naming_it(tmp_path: Path, content: str, option: str, experiment_exit) -> None:
+    path = tmp_path / "records.json"
+    path.write_text(content)
+    code, last = experiment_exit("paired_comparison", [str(path)])
+    assert code == 2 and last.startswith(f"paired_comparison.py: error: {option}")
+
+
+def test_a_missing_baseline_exits_2_naming_the_option(tmp_path: Path, experiment_exit) -> None:
+    path = tmp_path / "records.json"
+    path.write_text(json.dumps(records({"shipped": np.ones(4)})))
+    code, last = experiment_exit("paired_comparison", [str(path), "--baseline", "other"])
+    assert code == 2 and last.startswith("paired_comparison.py: error: --baseline")
+
+
+def test_the_command_prints_and_writes_the_table(tmp_path: Path) -> None:
+    import subprocess
+
+    path, out = tmp_path / "records.json", tmp_path / "paired.md"
+    path.write_text(json.dumps(records({"shipped": np.linspace(0.0, 0.1, 10), "candidate": np.linspace(0.0, 0.2, 10)})))
+    script = Path(__file__).resolve().parents[1] / "experiments" / "paired_comparison.py"
+    done = subprocess.run([sys.executable, str(script), str(path), "--out", str(out)], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert "| candidate | family | 10 |" in done.stdout and done.stdout in out.read_text()
