@@ -200,6 +200,12 @@ generated, never typed:
         --set 'estimate_from="pooled_at_headroom"' 'estimate_from="estimator_at_headroom"' \
         --out out/crest_tradeoff_mixed_median_at_headroom.md    # rule 33
     (the same with --grids confirmation8 into out/crest_tradeoff_mixed_median_at_headroom_confirmation8.md)
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
+        --estimators runs/estimator_mixed_laplace/ensemble --targets 0.1 --return-digits 4 \
+        --set 'estimate_from="pooled_at_headroom"' 'estimate_from="estimator_at_headroom"' \
+        --out /tmp/rule33_validation.md --records out/records_rule33_validation.json
+    python experiments/paired_comparison.py out/records_rule33_validation.json --out out/paired_rule33_validation.md
+    (the same two with --grids confirmation8, records_rule33_confirmation8.json and paired_rule33_confirmation8.md)
     python experiments/indistinguishable_peaks.py --counter-torque --out out/indistinguishable_peaks.md
     python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rules 23 and 28
         # (the shipped networks copied to runs/interrogator/seed_K and guard/seed_K first: member_K.npz of
@@ -296,6 +302,8 @@ SOURCES = {
         "crest_tradeoff_median_at_headroom",
         "crest_tradeoff_mixed_median_at_headroom",
         "crest_tradeoff_mixed_median_at_headroom_confirmation8",
+        "paired_rule33_validation",
+        "paired_rule33_confirmation8",
         "indistinguishable_peaks",
     )},
 }
