@@ -49,7 +49,8 @@
    95 % CI (runs resampled within each scenario; Agarwal et al. 2021). OUT/report.md, OUT/report.json.
 5. ``--ship`` copies OUT/ensemble into cof_gym/agents/policies/interrogator (the ``interrogator`` agent).
 
-``--fit-only`` stops after step 2: networks for another run's ``--guards`` or crest_tradeoff.py's ``--run``;
+``--fit-only`` stops after step 2: networks for another run's ``--guards`` or crest_tradeoff.py's ``--run``
+(``--loss laplace``: fitted under the Laplace likelihood, each output the conditional median; session 26);
 ``--guard-climbs none`` fits no guard (the recipe before session 16).
 """
 
@@ -74,7 +75,7 @@ from cof_gym.agents.interrogator import (
     FEATURE_BLOCKS, SHIPPED_INTERROGATOR, ClimbParameters, FilterEnsemble, FilterNetwork, interrogator_for, manifest_climb,
 )
 from cof_gym.agents.interrogator_training import (
-    STEEP_FALL, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel, fit_member, nll,
+    FIT_LOSSES, STEEP_FALL, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel, fit_member, nll,
 )
 from cof_gym.commands.evaluate import run_episode
 from cof_gym.commands.suites import make_suite
@@ -392,6 +393,9 @@ def main() -> None:
     ap.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2, 3, 4])
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--epochs", type=int, default=FitSettings.epochs)
+    ap.add_argument("--loss", choices=FIT_LOSSES, default=FitSettings.loss,
+                    help="the likelihood the networks are fitted under: gaussian (the recipe: each output's conditional "
+                         "mean) or laplace (its conditional median); default: %(default)s")
     ap.add_argument("--features", nargs="*", default=[], choices=[b for b in FEATURE_BLOCKS if b != "tone2"],
                     help="optional feature blocks the networks read (tone 2's follow two-tone climbs)")
     ap.add_argument("--ship", action="store_true")
@@ -418,7 +422,7 @@ def main() -> None:
     out = args.out
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.time()
-    settings = replace(FitSettings(), epochs=args.epochs, features=tuple(args.features))
+    settings = replace(FitSettings(), epochs=args.epochs, features=tuple(args.features), loss=args.loss)
     ensemble_dir = out / "ensemble"
     fit_report = fit_networks(out, lambda: collect(out, climbs, args.workers), args.seeds, settings, args.reuse)
     guards = list(args.guards)

@@ -71,3 +71,9 @@ def test_fit_only_leaves_the_networks_and_no_selection(tmp_path: Path) -> None:
     filter_0, guard_0 = (FilterNetwork.load(d / "seed_0" / "member_0.npz") for d in (run, run / "guard"))
     assert not np.array_equal(filter_0.weights[0], guard_0.weights[0])
     assert not list(run.rglob("manifest.json")) and not (run / "report.md").exists()
+
+
+def test_a_bad_loss_exits_2_naming_the_option(tmp_path: Path, experiment_exit) -> None:
+    code, last = experiment_exit("train_interrogator", ["--out", str(tmp_path / "run"), "--loss", "squared"])
+    assert code == 2 and last.startswith("train_interrogator.py: error: argument --loss")
+    assert not (tmp_path / "run").exists()
