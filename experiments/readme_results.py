@@ -206,6 +206,11 @@ generated, never typed:
         --out /tmp/rule33_validation.md --records out/records_rule33_validation.json
     python experiments/paired_comparison.py out/records_rule33_validation.json --out out/paired_rule33_validation.md
     (the same two with --grids confirmation8, records_rule33_confirmation8.json and paired_rule33_confirmation8.md)
+    python experiments/train_interrogator.py --out runs/filter_laplace --climbs env=8000 --guard-climbs none \
+        --loss laplace --fit-only
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
+        --estimators runs/filter_laplace/ensemble --targets 0.1 --stops --return-digits 4 \
+        --set 'estimate_from="pooled_at_headroom"' 'estimate_from="estimator"' --out out/crest_tradeoff_laplace_filter.md
     python experiments/indistinguishable_peaks.py --counter-torque --out out/indistinguishable_peaks.md
     python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rules 23 and 28
         # (the shipped networks copied to runs/interrogator/seed_K and guard/seed_K first: member_K.npz of
@@ -304,6 +309,7 @@ SOURCES = {
         "crest_tradeoff_mixed_median_at_headroom_confirmation8",
         "paired_rule33_validation",
         "paired_rule33_confirmation8",
+        "crest_tradeoff_laplace_filter",
         "indistinguishable_peaks",
     )},
 }
