@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -97,7 +96,6 @@ def main() -> None:
     if args.out is not None:
         args.out.parent.mkdir(parents=True, exist_ok=True)
         args.out.write_text(f"# Paired comparison of {args.records}\n\n{text}")
-    sys.stdout.flush()
 
 
 if __name__ == "__main__":

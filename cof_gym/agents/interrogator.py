@@ -159,6 +159,9 @@ WORLD_KWARGS = ("vehicle", "counter_torque", "traction_balance", "window_s", "se
 ESTIMATE_SOURCES = ("filter", "best_coa", "guard", "pooled", "pooled_at_headroom", "estimator", "estimator_pooled",
                     "estimator_pooled_at_headroom", "estimator_at_headroom")
 HEADROOM_STOPS = ("headroom", "knee", "ceiling")  # stops whose estimate is a short extrapolation ("..._at_headroom" sources)
+# the "..._at_headroom" sources: the source each reads at a headroom stop (the filter's before and at every other stop)
+AT_HEADROOM = {"pooled_at_headroom": "pooled", "estimator_pooled_at_headroom": "estimator_pooled",
+               "estimator_at_headroom": "estimator"}
 KNEE_STOPS = (None, "any", "slow_probe")  # ClimbParameters.knee_stop: off, at every window, in the slow probe only
 GUARDED_ESTIMATES = ("guard", "pooled", "pooled_at_headroom")  # estimate sources that read the guards' corrections
 # estimate sources that read the estimators' corrections
@@ -866,9 +869,8 @@ class LearnedInterrogator:
         estimates = {**dict.fromkeys(ESTIMATE_SOURCES, 0.0), **self._source_estimates,
                      "best_coa": self._best_coa * best_coa_factor}
         at_headroom = self.stop_reason in HEADROOM_STOPS
-        estimates["pooled_at_headroom"] = estimates["pooled" if at_headroom else "filter"]
-        estimates["estimator_pooled_at_headroom"] = estimates["estimator_pooled" if at_headroom else "filter"]
-        estimates["estimator_at_headroom"] = estimates["estimator" if at_headroom else "filter"]
+        for source, at_stop in AT_HEADROOM.items():
+            estimates[source] = estimates[at_stop if at_headroom else "filter"]
         if self.params.crest_floor:
             estimates = {source: max(value, self._bracket.crest_bound) for source, value in estimates.items()}
         if self.params.runaway_estimate and self._runaway is not None:
