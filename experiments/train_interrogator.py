@@ -113,6 +113,12 @@ COLLECTIONS = {
     "crest_shrink": ("climbs_crest_shrink.npz", TRAINING_SEED + 900_000, ClimbDraws(crest_powers=(0.5, 2.0))),
     "procedural_crest_shrink": ("climbs_procedural_crest_shrink.npz", TRAINING_SEED + 1_000_000,
                                 ClimbDraws(shapes="procedural", crest_powers=(0.5, 2.0))),
+    # the env's draws and procedural curves with the frequency raised as 1 / speed below a reference speed of
+    # 10-40 m/s (a speed-scheduled climb's readings: ClimbParameters.frequency_reference_m_s; session 27)
+    "speed_scaled": ("climbs_speed_scaled.npz", TRAINING_SEED + 1_300_000,
+                     ClimbDraws(frequency_references_m_s=(10.0, 40.0))),
+    "procedural_speed_scaled": ("climbs_procedural_speed_scaled.npz", TRAINING_SEED + 1_400_000,
+                                ClimbDraws(shapes="procedural", frequency_references_m_s=(10.0, 40.0))),
 }
 EPISODES = {"env": 8000}  # the shipped recipe (procedural and high_frequency lost on validation: README)
 # the shipped recipe's guard (--guard-climbs; session 16): the family climbs and the procedural ones together

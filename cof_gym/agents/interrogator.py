@@ -262,6 +262,15 @@ def pooled_correction(predictions: Iterable[tuple[float, float]]) -> float:
     return sum(w * m for w, m in weights_means) / sum(w for w, _ in weights_means)
 
 
+def speed_scaled_frequency(frequency_hz: float, reference_m_s: float, speed_m_s: float, limits: MotorLimits) -> float:
+    """``frequency_hz x max(1, reference_m_s / speed_m_s)`` (Hz) within the drive's frequency range: the
+    modulation frequency that keeps Eq. 3's ``w v`` at least the reference speed's (ValueError for a speed
+    that is not a positive finite number)."""
+    check_number("speed_m_s", speed_m_s, 0.0, math.inf, low_open=True, unit=" m/s")
+    scaled = frequency_hz * max(1.0, reference_m_s / speed_m_s)
+    return min(max(scaled, limits.min_frequency_hz), limits.max_frequency_hz)
+
+
 def floor_headroom(coa: float) -> float:
     """``ln(CoF_min / CoA)``: a lower bound of the headroom ``ln(M_sat / DC)`` at the measured CoA
     ``coa``, from the lowest CoF the task admits (:data:`~cof_gym.task.scenarios.COF_ENVELOPE`): at
@@ -595,6 +604,8 @@ class ClimbParameters:
     amplitude_ratio: float = 0.1  # modulation amplitude / DC torque
     min_amplitude_nm: float = 50.0
     frequency_hz: float = 5.0
+    # not None: below this speed (m/s) the frequency rises as 1 / speed (frequency_at), up to the drive's
+    frequency_reference_m_s: float | None = None
     target_headroom: float = 0.05  # ln(M_sat / DC) the climb aims at (0.05: DC at 95 % of M_sat)
     caution: float = 1.0  # standard deviations taken off the predicted headroom
     spread_caution: float = 0.0  # and this many more of the members' spread alone (their disagreement)
@@ -650,6 +661,8 @@ class ClimbParameters:
         check_number("spread_caution", self.spread_caution, 0.0, 10.0)
         if self.pace_caution is not None:
             check_number("pace_caution", self.pace_caution, 0.0, 10.0)
+        if self.frequency_reference_m_s is not None:
+            check_number("frequency_reference_m_s", self.frequency_reference_m_s, 0.0, 100.0, low_open=True, unit=" m/s")
         if self.knee_stop not in KNEE_STOPS:
             raise ValueError(f"knee_stop must be one of {KNEE_STOPS}, got {self.knee_stop!r}")
         if not (isinstance(self.creep_log_step, (int, float)) and 0.0 <= self.creep_log_step <= self.max_log_step):
@@ -724,6 +737,16 @@ class ClimbParameters:
             return 0.0
         return floor_headroom(coa) - self.target_headroom - self.floor_margin
 
+    def frequency_at(self, speed_m_s: float, limits: MotorLimits) -> float:
+        """The modulation frequency (Hz) of a climb at the measured speed ``speed_m_s``: ``frequency_hz``, or
+        with ``frequency_reference_m_s`` that times ``max(1, reference / speed)``, within the drive's range.
+        Eq. 3's lag is ``atan(I w v / (k r^2))``: at a low speed it stays small and flat until the slope
+        ``k`` has nearly vanished; a frequency rising as ``1 / v`` keeps ``w v`` (the lag's sensitivity to
+        the slope) at least the reference speed's."""
+        if self.frequency_reference_m_s is None:
+            return self.frequency_hz
+        return speed_scaled_frequency(self.frequency_hz, self.frequency_reference_m_s, speed_m_s, limits)
+
     def amplitude(self, dc_nm: float, limits: MotorLimits, ratio: float | None = None) -> float:
         """The modulation amplitude (N m) at DC torque ``dc_nm``: ``ratio`` (default ``amplitude_ratio``) of
         it, within the drive's range (with two tones the total: ``tone2_weight / (1 + tone2_weight)`` of it
@@ -752,10 +775,11 @@ class ClimbParameters:
         return dict(TWO_TONE_ENV_OPTIONS) if self.tones == 2 else {}
 
     def action(self, dc_nm: float, estimate: float, stop: bool, limits: MotorLimits,
-               ratio: float | None = None) -> np.ndarray:
-        """The env action (modulation ``ratio`` of the DC, default ``amplitude_ratio``): the window action,
-        and tone 2's frequency and weight with two tones."""
-        base = encode_action(dc_nm, self.amplitude(dc_nm, limits, ratio), self.frequency_hz, estimate, stop, limits)
+               ratio: float | None = None, frequency_hz: float | None = None) -> np.ndarray:
+        """The env action (modulation ``ratio`` of the DC, default ``amplitude_ratio``, at ``frequency_hz``,
+        default ``self.frequency_hz``): the window action, and tone 2's frequency and weight with two tones."""
+        frequency = self.frequency_hz if frequency_hz is None else frequency_hz
+        base = encode_action(dc_nm, self.amplitude(dc_nm, limits, ratio), frequency, estimate, stop, limits)
         if self.tones == 1:
             return base
         extra = encode_extra_tones([(self.tone2_frequency_hz, self.tone2_weight)], limits.min_frequency_hz,
@@ -789,6 +813,7 @@ class LearnedInterrogator:
     _driven: int = 0
     _crept: bool = False
     _ratio: float | None = None  # the modulation ratio of the next window (None: the climb's amplitude_ratio)
+    _frequency: float | None = None  # the episode's modulation frequency (Hz), from the first observation's speed
     _bracket: RunawayBracket = field(default_factory=RunawayBracket, repr=False)
     _ceiling: CrestCeiling = field(default_factory=CrestCeiling, repr=False)
     _runaway: float | None = None  # what a runaway in the coming window would report (None: a stop, or no crest yet)
@@ -841,6 +866,7 @@ class LearnedInterrogator:
         self._driven = 0
         self._crept = False
         self._ratio = None
+        self._frequency = None
         self._best_coa = 0.0
         self._bracket = RunawayBracket()
         self._ceiling = CrestCeiling()
@@ -948,8 +974,9 @@ class LearnedInterrogator:
             self._estimate = self.candidate_estimates(p.best_coa_factor)[p.estimate_from]  # the stop's reason known
         else:
             self._dc = self.climb.first_dc(self.limits)
+            self._frequency = p.frequency_at(Reading.of(observation, self.limits, info).speed_m_s, self.limits)
         estimate = min(max(self._estimate, self.limits.min_cof_estimate), self.limits.max_cof_estimate)
-        return p.action(self._dc, estimate, stop, self.limits, self._ratio)
+        return p.action(self._dc, estimate, stop, self.limits, self._ratio, self._frequency)
 
 
     def _steering_headroom(self, mean: np.ndarray, std: np.ndarray, spread: np.ndarray,

@@ -43,6 +43,7 @@ from cof_gym.agents.base import agent_view
 from cof_gym.agents.interrogator import (
     CREST_RATIO_FLOOR, FEATURE_BLOCKS, TARGET_NAMES, TWO_TONE_ENV_OPTIONS, ClimbParameters, EpisodeFeatures,
     FilterNetwork, Reading, feature_names, floor_headroom, interrogator_for, manifest_climb, slope_from_phase,
+    speed_scaled_frequency,
 )
 from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.physics.creep_laws import below_peak
@@ -230,7 +231,10 @@ class ClimbDraws:
     least :func:`~cof_gym.agents.interrogator.floor_headroom` less a margin drawn uniform in that range;
     ``fall``: how procedural curves fall past their peak; ``tone2_hz``: a two-tone excitation (the env's
     ``excitation="multitone"``), tone 2 log-uniform in that range with a weight (its share against tone 1's
-    1) uniform in ``tone2_weights``, drawn from their own generator (the other draws unchanged)."""
+    1) uniform in ``tone2_weights``, drawn from their own generator (the other draws unchanged);
+    ``frequency_references_m_s``: the drawn frequency raised below a reference speed log-uniform in that
+    range as a speed-scheduled climb raises it (:func:`~cof_gym.agents.interrogator.speed_scaled_frequency`,
+    from the first observation's measured speed; the reference from its own generator)."""
 
     shapes: str = "env"
     frequencies_hz: tuple[float, float] | None = None
@@ -240,6 +244,7 @@ class ClimbDraws:
     tone2_hz: tuple[float, float] | None = None
     tone2_weights: tuple[float, float] = (0.5, 1.5)
     crest_powers: tuple[float, float] | None = None  # a shrinking modulation (:func:`_shrunk_ratio`)
+    frequency_references_m_s: tuple[float, float] | None = None  # a speed-scheduled frequency (m/s)
 
     @property
     def env_options(self) -> dict[str, Any]:
@@ -251,7 +256,7 @@ class ClimbDraws:
         check_range("ClimbDraws.tone2_weights", self.tone2_weights, 0.0, 2.0)
         if self.shapes not in SHAPE_SOURCES:
             raise ValueError(f"shapes must be one of {SHAPE_SOURCES}, got {self.shapes!r}")
-        for name in ("frequencies_hz", "amplitude_ratios", "floor_margins", "crest_powers"):
+        for name in ("frequencies_hz", "amplitude_ratios", "floor_margins", "crest_powers", "frequency_references_m_s"):
             value = getattr(self, name)
             if value is not None and not (len(value) == 2 and 0.0 < value[0] <= value[1]):
                 raise ValueError(f"{name} must be a (low, high) pair with 0 < low <= high, got {value!r}")
@@ -298,6 +303,9 @@ def _climb_episode(env, seed: int, draws: ClimbDraws = ClimbDraws()) -> tuple[li
         frequency = 5.0 if rng.random() < 0.5 else float(math.exp(rng.uniform(math.log(3), math.log(10))))
     else:
         frequency = float(math.exp(rng.uniform(*np.log(draws.frequencies_hz))))
+    if draws.frequency_references_m_s is not None:
+        reference = float(math.exp(np.random.default_rng([seed, 19]).uniform(*np.log(draws.frequency_references_m_s))))
+        frequency = speed_scaled_frequency(frequency, reference, Reading.of(obs, limits, info).speed_m_s, limits)
     tone2 = {}
     if draws.tone2_hz:
         tone_rng = np.random.default_rng([seed, 13])
