@@ -30,6 +30,7 @@ from cof_gym.agents.base import agent_view
 from cof_gym.agents.runaway import CrestCeiling, RunawayBracket
 from cof_gym.task.interface import OBSERVATION_NAMES, decode_action
 from exact_sensors import QUIET
+from fixed_options import FixedOptions
 
 SHIPPED = (SHIPPED_INTERROGATOR / "manifest.json").is_file()
 CREEPAGE = OBSERVATION_NAMES.index("creepage_measured")
@@ -520,8 +521,8 @@ def test_floor_jump_training_climbs_take_the_floor_step():
     second window lands within the largest margin of the floor); without it, the same first window."""
     env = gym.make(cof_gym.WAGON_ENV_ID)
     options = {"condition": "dry", "cof": 0.55, "load_case": "laden"}
-    jumped, _ = _climb_episode(_Fixed(env, options), 2_000_200, ClimbDraws(floor_margins=(0.1, 0.5)))
-    plain, _ = _climb_episode(_Fixed(env, options), 2_000_200)
+    jumped, _ = _climb_episode(FixedOptions(env, options), 2_000_200, ClimbDraws(floor_margins=(0.1, 0.5)))
+    plain, _ = _climb_episode(FixedOptions(env, options), 2_000_200)
     assert jumped[0] == plain[0]
     assert jumped[1].coa > plain[1].coa
     assert floor_headroom(jumped[1].coa) < 0.5 + 0.05  # landed within the largest margin of the floor
@@ -535,8 +536,8 @@ def test_crest_shrink_training_climbs_shrink_their_modulation_and_never_grow_it(
     env = gym.make(cof_gym.WAGON_ENV_ID)
     options = {"condition": "wet", "cof": 0.12, "load_case": "empty"}  # the crest stays within the drive's range
     draws = ClimbDraws(amplitude_ratios=(0.4, 0.4), crest_powers=(2.0, 2.0))
-    shrunk, _ = _climb_episode(_Fixed(env, options), 2_000_300, draws)
-    plain, _ = _climb_episode(_Fixed(env, options), 2_000_300, ClimbDraws(amplitude_ratios=(0.4, 0.4)))
+    shrunk, _ = _climb_episode(FixedOptions(env, options), 2_000_300, draws)
+    plain, _ = _climb_episode(FixedOptions(env, options), 2_000_300, ClimbDraws(amplitude_ratios=(0.4, 0.4)))
     assert shrunk[0] == plain[0]
     # the readings come from the float32 observation: a ratio carries a relative error of a few 1.2e-7
     ratios = np.array([r.amplitude_nm / r.dc_nm for r in shrunk])
@@ -544,17 +545,6 @@ def test_crest_shrink_training_climbs_shrink_their_modulation_and_never_grow_it(
     assert [r.amplitude_nm / r.dc_nm for r in plain] == pytest.approx([0.4] * len(plain), rel=1e-5)
     with pytest.raises(ValueError, match="crest_powers"):
         ClimbDraws(crest_powers=(2.0, 0.5))
-
-
-class _Fixed(gym.Wrapper):
-    """An env whose every reset takes the given options (a training climb resets with none)."""
-
-    def __init__(self, env, options):
-        super().__init__(env)
-        self._options = options
-
-    def reset(self, *, seed=None, options=None):
-        return self.env.reset(seed=seed, options={**self._options, **(options or {})})
 
 
 def test_the_slow_probe_ends_where_the_predicted_headroom_reaches_creep_until():

@@ -45,6 +45,9 @@ With ``pace_caution`` set, a slow-probe step (never a stop) is at least the hori
 (:meth:`ClimbParameters.pace_step`): the predicted headroom less that many stds, spread over the windows
 left before the horizon; a probe that starts far below the peak of a curve the filter reads poorly (low
 speeds, where Eq. 3's lag is small) otherwise ends at the horizon a factor of two or more below it.
+With ``frequency_reference_m_s`` set, the modulation runs at ``frequency_hz x max(1, reference / v)`` (within the
+drive's range; ``v`` the speed measured at the episode's start): Eq. 3's lag scales with ``w v``, and at a low
+speed it stays flat until the slope has nearly vanished (:func:`speed_scaled_frequency`).
 With ``floor_margin`` set, a step is at least the one that the lowest CoF the task admits
 guarantees safe (:func:`floor_headroom`: the CoA is the DC's fraction of the saturation torque times
 the CoF, so ``ln(CoF_min / CoA)`` bounds the headroom from below whatever the creep curve): a climb that
