@@ -1,13 +1,14 @@
 """Paired bootstrap of each setting against a baseline, per grid, from crest_tradeoff.py's ``--records``.
 
     python experiments/crest_tradeoff.py ... --set A B --records out/records.json
-    python experiments/paired_comparison.py out/records.json [--baseline SETTING] [--out FILE]
+    python experiments/paired_comparison.py out/records.json [more.json ...] [--baseline SETTING] [--out FILE]
 
 The rows of a crest_tradeoff table differ by a tenth of a point where a handful of episodes move: a
 median of 108-180 episodes and, more so, their 90th percentile, move by that much when a few episodes
 change. Every setting plays the same episodes (grid, vehicle configuration, seed), so the comparison is
 paired: for each setting after the baseline (the first setting of the file unless ``--baseline`` names
-one) and each grid, the difference setting - baseline of the median and P90 relative CoF error (points)
+one) and each grid (several files: their episodes together, e.g. the shipped agent's from one command and
+a candidate's, other networks, from another; a setting named in two files is refused), the difference setting - baseline of the median and P90 relative CoF error (points)
 and of the mean episode return, each with a 95 % CI from resampling the episodes (the same resample for
 both: :data:`N_BOOTSTRAP` draws, seeded), and both macro-slip counts. Nothing is decided here: a rule
 written before its candidate is played says how these numbers are read.
@@ -77,25 +78,37 @@ def table(records: list[dict], baseline: str | None = None) -> str:
     return "\n".join(lines) + "\n"
 
 
+def read_records(path: Path, seen: set[str]) -> list[dict]:
+    """The episodes of one ``--records`` file; ValueError if it is not one or names a setting in ``seen``."""
+    records = json.loads(path.read_text())
+    if not isinstance(records, list) or not records or not all(isinstance(r, dict) and "setting" in r for r in records):
+        raise ValueError("not a crest_tradeoff.py --records file (a list of episodes with their setting)")
+    twice = sorted({r["setting"] for r in records} & seen)
+    if twice:
+        raise ValueError(f"setting {twice[0]!r} is also in an earlier file")
+    return records
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("records", type=Path, help="a crest_tradeoff.py --records file")
+    parser.add_argument("records", type=Path, nargs="+", help="crest_tradeoff.py --records files (their episodes together)")
     parser.add_argument("--baseline", default=None, help="the setting compared against (default: the file's first)")
     parser.add_argument("--out", type=Path, default=None, help="also write the table to this markdown file")
     args = parser.parse_args()
+    records, path = [], None
     try:
-        records = json.loads(args.records.read_text())
-        if not isinstance(records, list) or not records or not all(isinstance(r, dict) and "setting" in r for r in records):
-            raise ValueError("not a crest_tradeoff.py --records file (a list of episodes with their setting)")
+        for path in args.records:
+            records += read_records(path, {r["setting"] for r in records})
+        path = None
         text = table(records, args.baseline)
     except KeyError as e:
-        parser.error(f"records: an episode of {args.records} has no {e}")
+        parser.error(f"records: an episode of {path or ', '.join(map(str, args.records))} has no {e}")
     except (OSError, ValueError) as e:
-        parser.error(str(e) if str(e).startswith("--") else f"records: {args.records}: {e}")
+        parser.error(str(e) if str(e).startswith("--") else f"records: {path or ', '.join(map(str, args.records))}: {e}")
     print(text, end="")
     if args.out is not None:
         args.out.parent.mkdir(parents=True, exist_ok=True)
-        args.out.write_text(f"# Paired comparison of {args.records}\n\n{text}")
+        args.out.write_text(f"# Paired comparison of {', '.join(map(str, args.records))}\n\n{text}")
 
 
 if __name__ == "__main__":

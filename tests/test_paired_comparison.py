@@ -4,6 +4,7 @@ episodes, with bootstrap CIs; a bad records file or baseline exits 2 with one li
 from __future__ import annotations
 
 import json
+import subprocess
 import sys
 from pathlib import Path
 
@@ -63,13 +64,30 @@ def test_a_missing_baseline_exits_2_naming_the_option(tmp_path: Path, experiment
     assert code == 2 and last.startswith("paired_comparison.py: error: --baseline")
 
 
-def test_the_command_prints_and_writes_the_table(tmp_path: Path) -> None:
-    import subprocess
+def run_command(*args) -> subprocess.CompletedProcess:
+    """``python experiments/paired_comparison.py ARGS``."""
+    script = Path(__file__).resolve().parents[1] / "experiments" / "paired_comparison.py"
+    return subprocess.run([sys.executable, str(script), *map(str, args)], capture_output=True, text=True, timeout=120)
 
+
+def test_the_command_prints_and_writes_the_table(tmp_path: Path) -> None:
     path, out = tmp_path / "records.json", tmp_path / "paired.md"
     path.write_text(json.dumps(records({"shipped": np.linspace(0.0, 0.1, 10), "candidate": np.linspace(0.0, 0.2, 10)})))
-    script = Path(__file__).resolve().parents[1] / "experiments" / "paired_comparison.py"
-    done = subprocess.run([sys.executable, str(script), str(path), "--out", str(out)], capture_output=True, text=True,
-                          timeout=120)
+    done = run_command(path, "--out", out)
     assert done.returncode == 0, done.stderr
     assert "| candidate | family | 10 |" in done.stdout and done.stdout in out.read_text()
+
+
+def test_several_files_are_paired_together_and_a_setting_in_two_is_refused(tmp_path: Path, experiment_exit) -> None:
+    """The baseline from one file and a candidate from another compare as if one command wrote both."""
+    errors = np.linspace(0.0, 0.1, 10)
+    one, two = tmp_path / "shipped.json", tmp_path / "candidate.json"
+    one.write_text(json.dumps(records({"shipped": errors})))
+    two.write_text(json.dumps(records({"candidate": errors / 2})))
+    both = tmp_path / "both.json"
+    both.write_text(json.dumps(records({"shipped": errors, "candidate": errors / 2})))
+    split, joined = run_command(one, two), run_command(both)
+    assert split.returncode == 0, split.stderr
+    assert split.stdout == joined.stdout
+    code, last = experiment_exit("paired_comparison", [str(one), str(one)])
+    assert code == 2 and last.startswith("paired_comparison.py: error: records:") and "also in an earlier file" in last
