@@ -211,6 +211,12 @@ generated, never typed:
     python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
         --estimators runs/filter_laplace/ensemble --targets 0.1 --stops --return-digits 4 \
         --set 'estimate_from="pooled_at_headroom"' 'estimate_from="estimator"' --out out/crest_tradeoff_laplace_filter.md
+    python experiments/train_interrogator.py --out runs/speed_scaled --climbs speed_scaled=8000 \
+        --guard-climbs speed_scaled=8000 procedural_speed_scaled=8000 --fit-only   # rule 34
+    python experiments/crest_tradeoff.py --run runs/speed_scaled/ensemble --guards runs/speed_scaled/guard/ensemble \
+        --guards-only --targets 0.1 --stops --return-digits 4 --set frequency_reference_m_s=null \
+        frequency_reference_m_s=15 frequency_reference_m_s=20 --records out/records_rule34_validation.json \
+        --out out/crest_tradeoff_speed_scaled.md
     python experiments/indistinguishable_peaks.py --counter-torque --out out/indistinguishable_peaks.md
     python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rules 23 and 28
         # (the shipped networks copied to runs/interrogator/seed_K and guard/seed_K first: member_K.npz of
@@ -310,6 +316,7 @@ SOURCES = {
         "paired_rule33_validation",
         "paired_rule33_confirmation8",
         "crest_tradeoff_laplace_filter",
+        "crest_tradeoff_speed_scaled",
         "indistinguishable_peaks",
     )},
 }
