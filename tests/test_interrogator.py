@@ -196,6 +196,8 @@ def test_shipped_interrogator_is_a_default_agent_and_measures():
                                             ({"amplitude_ratio": float("nan")}, "amplitude_ratio"),
                                             ({"best_coa_factor": -1.0}, "best_coa_factor"),
                                             ({"spread_caution": -0.5}, "spread_caution"),
+                                            ({"caution": -1.0}, "caution"),
+                                            ({"target_headroom": float("inf")}, "target_headroom"),
                                             ({"crest_floor": "yes"}, "crest_floor"),
                                             ({"runaway_estimate": 1}, "runaway_estimate"),
                                             ({"creep_sticky": 1}, "creep_sticky")])

@@ -662,6 +662,8 @@ class ClimbParameters:
                          MotorLimits.max_frequency_hz)
         check_number("tone2_weight", self.tone2_weight, 0.0, 2.0)
         check_number("spread_caution", self.spread_caution, 0.0, 10.0)
+        check_number("caution", self.caution, 0.0, 10.0)
+        check_number("target_headroom", self.target_headroom, 0.0, 5.0)
         if self.pace_caution is not None:
             check_number("pace_caution", self.pace_caution, 0.0, 10.0)
         if self.frequency_reference_m_s is not None:
@@ -790,6 +792,22 @@ class ClimbParameters:
         return np.concatenate([base, extra]).astype(np.float32)
 
 
+@dataclass(frozen=True)
+class WindowDecision:
+    """What the climb decided after one driven window (log units; a diagnostic, :attr:`LearnedInterrogator.decisions`):
+    the filter's predicted headroom ``ln(M_sat / DC)`` and its std, the cautious headroom that steered
+    (the filter's or a guard's, whichever is lower) and its std, the log step taken (0 at the stop), whether
+    the climb has crept, and the stop's reason ("" before it). The drive's limit may cap the step's torque."""
+
+    filter_headroom: float
+    filter_std: float
+    steering_headroom: float
+    steering_std: float
+    log_step: float
+    crept: bool
+    stop_reason: str
+
+
 @dataclass
 class LearnedInterrogator:
     """The agent (see the module docstring)."""
@@ -820,6 +838,7 @@ class LearnedInterrogator:
     _bracket: RunawayBracket = field(default_factory=RunawayBracket, repr=False)
     _ceiling: CrestCeiling = field(default_factory=CrestCeiling, repr=False)
     _runaway: float | None = None  # what a runaway in the coming window would report (None: a stop, or no crest yet)
+    decisions: list[WindowDecision] = field(default_factory=list, repr=False)  # this episode's, one per driven window
 
     def __post_init__(self) -> None:
         if self.ensemble.tones != self.params.tones:
@@ -875,6 +894,7 @@ class LearnedInterrogator:
         self._ceiling = CrestCeiling()
         self._runaway = None
         self._source_estimates = {}
+        self.decisions = []
         self._estimate = self.limits.min_cof_estimate
         self.stop_reason = ""
 
@@ -972,6 +992,8 @@ class LearnedInterrogator:
                 new_dc = min(self._dc * math.exp(step), self.limits.max_dc_torque_nm)
                 self._ratio = p.crest_ratio(headroom - math.log(new_dc / self._dc), self._crept)
                 self._dc = new_dc
+            self.decisions.append(WindowDecision(float(mean[0, 0]), float(std[0, 0]), headroom, headroom_std,
+                                                 0.0 if stop else step, self._crept, self.stop_reason))
             self._runaway = None if stop else self._bracket.estimate(
                 self._dc + p.amplitude(self._dc, self.limits, self._ratio))
             self._estimate = self.candidate_estimates(p.best_coa_factor)[p.estimate_from]  # the stop's reason known

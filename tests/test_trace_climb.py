@@ -1,0 +1,62 @@
+"""The interrogator's per-window decisions (LearnedInterrogator.decisions) and experiments/trace_climb.py,
+which prints them beside the truth; bad input exits 2 with one line."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import gymnasium as gym
+import pytest
+
+import cof_gym
+from cof_gym.agents.base import agent_view
+from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR, Reading, load_interrogator
+
+SHIPPED = (SHIPPED_INTERROGATOR / "manifest.json").is_file()
+# the DC torque is read back from the float32 observation: a relative error of a few float32 epsilons (1.2e-7)
+DC_RTOL = 1e-5
+
+
+@pytest.mark.skipif(not SHIPPED, reason="no shipped interrogator in this checkout")
+def test_each_decision_is_the_step_the_next_window_takes_and_the_last_is_the_stop():
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    agent = load_interrogator(env)
+    obs, info = env.reset(seed=12)
+    agent.reset(obs, agent_view(info, oracle=False))
+    dcs = []
+    while True:
+        obs, _, terminated, truncated, info = env.step(agent.act(obs, agent_view(info, oracle=False)))
+        dcs.append(Reading.of(obs, env.unwrapped.limits, info).dc_nm)
+        if terminated or truncated:
+            break
+    decisions = agent.decisions
+    assert len(decisions) == len(dcs) - 1  # one per driven window read, the last window is the stop's
+    assert decisions[-1].stop_reason == agent.stop_reason != "" and decisions[-1].log_step == 0.0
+    assert all(d.stop_reason == "" for d in decisions[:-1])
+    for k, d in enumerate(decisions[:-1]):
+        capped = dcs[k + 1] >= env.unwrapped.limits.max_dc_torque_nm * (1 - DC_RTOL)
+        assert capped or dcs[k + 1] / dcs[k] == pytest.approx(math.exp(d.log_step), rel=2 * DC_RTOL)
+        assert d.steering_headroom <= d.filter_headroom  # a guard may only lower it, caution only lowers it
+    crept = [d.crept for d in decisions]
+    assert crept == sorted(crept)  # once crept, always crept
+
+
+@pytest.mark.parametrize("args, option", [(["--episodes", "60"], "--episodes"), (["--set", "nothing=1"], "--set"),
+                                          (["--set", "caution=-1"], "--set"), (["--agent", "/nonexistent"], "--agent")])
+def test_bad_input_exits_2_naming_the_option(args, option, experiment_exit):
+    code, last = experiment_exit("trace_climb", args)
+    assert code == 2 and last.startswith(f"trace_climb.py: error: {option}")
+
+
+@pytest.mark.skipif(not SHIPPED, reason="no shipped interrogator in this checkout")
+def test_the_command_prints_a_row_per_decision_and_how_the_climb_ended():
+    script = Path(__file__).resolve().parents[1] / "experiments" / "trace_climb.py"
+    done = subprocess.run([sys.executable, str(script), "--episodes", "2"], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    lines = done.stdout.splitlines()
+    rows = [line for line in lines if line.startswith("| ") and line[2].isdigit()]
+    ended = [line for line in lines if line.startswith("ended: ")]
+    assert len(ended) == 1 and f"after {len(rows) + 1} windows" in ended[0]
