@@ -95,20 +95,22 @@ def main() -> None:
     parser.add_argument("--baseline", default=None, help="the setting compared against (default: the file's first)")
     parser.add_argument("--out", type=Path, default=None, help="also write the table to this markdown file")
     args = parser.parse_args()
-    records, path = [], None
-    try:
-        for path in args.records:
+    records, files = [], ", ".join(map(str, args.records))
+    for path in args.records:
+        try:
             records += read_records(path, {r["setting"] for r in records})
-        path = None
+        except (OSError, ValueError) as e:  # json.JSONDecodeError is a ValueError
+            parser.error(f"records: {path}: {e}")
+    try:
         text = table(records, args.baseline)
     except KeyError as e:
-        parser.error(f"records: an episode of {path or ', '.join(map(str, args.records))} has no {e}")
-    except (OSError, ValueError) as e:
-        parser.error(str(e) if str(e).startswith("--") else f"records: {path or ', '.join(map(str, args.records))}: {e}")
+        parser.error(f"records: an episode of {files} has no {e}")
+    except ValueError as e:
+        parser.error(str(e) if str(e).startswith("--") else f"records: {files}: {e}")
     print(text, end="")
     if args.out is not None:
         args.out.parent.mkdir(parents=True, exist_ok=True)
-        args.out.write_text(f"# Paired comparison of {', '.join(map(str, args.records))}\n\n{text}")
+        args.out.write_text(f"# Paired comparison of {files}\n\n{text}")
 
 
 if __name__ == "__main__":

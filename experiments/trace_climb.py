@@ -19,16 +19,19 @@ how far below the peak the slow probe began (docs/interrogator.md, rule 34's tra
 from __future__ import annotations
 
 import argparse
-import json
 import math
+import sys
 from dataclasses import replace
 from pathlib import Path
 
 import gymnasium as gym
 
-from cof_gym.agents.base import agent_view
-from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR, Reading, interrogator_for, manifest_climb
-from cof_gym.commands.suites import make_suite
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from crest_tradeoff import climb_setting  # noqa: E402
+
+from cof_gym.agents.base import agent_view  # noqa: E402
+from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR, Reading, interrogator_for, manifest_climb  # noqa: E402
+from cof_gym.commands.suites import make_suite  # noqa: E402
 
 HEADER = ("| window | DC / M_sat | true headroom | lag [deg] | filter headroom +- std | steering headroom +- std "
           "| log step | crept |")
@@ -70,14 +73,10 @@ def main() -> None:
     if not sorted(args.agent.glob("member_*.npz")):
         ap.error(f"--agent: {args.agent} holds no member_*.npz")
     params = manifest_climb(args.agent)
-    for item in args.set:
-        name, sep, value = item.partition("=")
-        if not sep or name not in params.__dataclass_fields__:
-            ap.error(f"--set: expected NAME=VALUE with NAME a ClimbParameters field, got {item!r}")
-        try:
-            params = replace(params, **{name: json.loads(value)})
-        except (json.JSONDecodeError, ValueError) as e:
-            ap.error(f"--set {item}: {e}")
+    try:  # crest_tradeoff.py's --set items, on the agent's own climb
+        params = replace(params, **dict(map(climb_setting, args.set)))
+    except (argparse.ArgumentTypeError, ValueError) as e:
+        ap.error(f"--set: {e}")
     try:
         suite = make_suite(args.suite, 60, 0)
     except (OSError, ValueError) as e:
