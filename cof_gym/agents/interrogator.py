@@ -127,7 +127,10 @@ CoA's synchronous average over the cycle (:data:`CYCLE_CREST_FEATURE_NAMES`): ho
 trough lie from the mean, their asymmetry (a crest that reaches the knee is clipped, the trough is not),
 the crest's lift per lift of the torque's crest, the climb's best crest bound over the CoA (a lower bound
 on the correction) and the crest's step since the previous window; a filter that reads it must be
-fitted on climbs collected with that reading (session 22 on).
+fitted on climbs collected with that reading (session 22 on). ``climb_fit`` regresses over the climb's
+newest windows (:data:`CLIMB_FIT_FEATURE_NAMES`): the slope's fall per log torque, the quadratic-peak
+gap and the creep curve's flexibility fitted over up to :data:`CLIMB_FIT_WINDOWS` windows rather than
+read from two, so that a slow probe's many readings of nearly one slope average out.
 """
 
 from __future__ import annotations
@@ -198,9 +201,16 @@ CREEPAGE_SWING_FLOOR = 1e-6  # the creepage swing per relative torque modulation
 CYCLE_CREST_FEATURE_NAMES = ("crest_lift", "trough_drop", "crest_asymmetry", "crest_compression",
                              "crest_bound_lift", "crest_se", "crest_step")
 CYCLE_LIFT_FLOOR = 1e-5  # a crest lift or trough drop (ln of a CoA ratio) reads at least this
+# regressions over the climb's newest windows (:meth:`EpisodeFeatures._climb_fit_values`)
+CLIMB_FIT_FEATURE_NAMES = ("fit_slope_fall_phase", "fit_slope_fall_compliance", "fit_peak_gap_phase",
+                           "fit_peak_gap_compliance", "fit_flexibility", "fit_phase_residual", "fit_windows")
+CLIMB_FIT_WINDOWS = 8  # the newest driven windows the climb_fit block regresses over
+CLIMB_FIT_MIN_SPAN = 1e-3  # a regressor whose spread (std) is below this reads "no fit" (ln DC, CoA / CoA now)
+SLOPE_FALL_CLIP = 20.0  # |d ln slope / d ln DC| beyond this reads this
 # optional feature blocks appended to FEATURE_NAMES, in this order (a network's file names the ones it reads)
 FEATURE_BLOCKS = {"tone2": TONE2_FEATURE_NAMES, "creepage_rise": CREEPAGE_RISE_FEATURE_NAMES,
-                  "creepage_modulation": CREEPAGE_MODULATION_FEATURE_NAMES, "cycle_crest": CYCLE_CREST_FEATURE_NAMES}
+                  "creepage_modulation": CREEPAGE_MODULATION_FEATURE_NAMES, "cycle_crest": CYCLE_CREST_FEATURE_NAMES,
+                  "climb_fit": CLIMB_FIT_FEATURE_NAMES}
 TWO_TONE_ENV_OPTIONS = {"excitation": "multitone", "tones": 2}  # the env options a two-tone climb needs
 
 
@@ -298,6 +308,57 @@ def slope_from_compliance(r: "Reading") -> float:
     ``f sqrt(1 / C^2 - 1)`` (the torque gain error scales it; the phase does not see that error)."""
     c = min(max(r.compliance, COMPLIANCE_CLIP[0]), COMPLIANCE_CLIP[1])
     return r.frequency_hz * math.sqrt(1.0 / c**2 - 1.0)
+
+
+def _regression_slope(x: np.ndarray, y: np.ndarray) -> tuple[float, float, float] | None:
+    """Least-squares line ``y = a + b x``: ``(a, b, residual std)``, or None where ``x`` spreads less than
+    :data:`CLIMB_FIT_MIN_SPAN` (no line is determined)."""
+    dx = x - x.mean()
+    if dx.std() < CLIMB_FIT_MIN_SPAN:
+        return None
+    b = float(dx @ (y - y.mean()) / (dx @ dx))
+    a = float(y.mean() - b * x.mean())
+    return a, b, float(np.std(y - a - b * x))
+
+
+def slope_fall(readings: list["Reading"], slope) -> float:
+    """``-d ln(slope) / d ln(DC)`` fitted over ``readings`` (least squares, within
+    :data:`SLOPE_FALL_CLIP`): 0 on the creep curve's linear part, growing as the slope falls towards the
+    peak; every window of the fit reads, so the lock-in's noise averages out where two windows'
+    difference (:func:`peak_gap`) does not. 0 where the DC torques do not spread."""
+    fit = _regression_slope(np.log([r.dc_nm for r in readings]), np.log([slope(r) for r in readings]))
+    return 0.0 if fit is None else float(np.clip(-fit[1], -SLOPE_FALL_CLIP, SLOPE_FALL_CLIP))
+
+
+def fitted_peak_gap(readings: list["Reading"], slope) -> float:
+    """``ln(peak CoA / CoA)`` of the newest window by the quadratic-peak law fitted over ``readings``:
+    near a smooth maximum ``mu = mu_peak - c k^2`` (``k`` the local slope), a line in ``k^2`` whose
+    intercept is the peak CoA (slope ratios to the newest window's only: no inertia, radius, load or
+    speed). :data:`PEAK_GAP_CLIP` where the slope did not fall as the CoA rose (``c <= 0``: the linear
+    part) or beyond it, 0 where the intercept lies below the newest CoA."""
+    now = readings[-1]
+    k_now = slope(now)
+    fit = _regression_slope(np.array([(slope(r) / k_now) ** 2 for r in readings]), np.array([r.coa / now.coa for r in readings]))
+    if fit is None or fit[1] >= 0.0:
+        return PEAK_GAP_CLIP
+    return float(np.clip(math.log(max(fit[0], 1e-9)), 0.0, PEAK_GAP_CLIP))
+
+
+def fitted_flexibility(readings: list["Reading"], first: "Reading") -> float:
+    """``ln`` of the creep curve's flexibility ``d creepage / d CoA`` fitted over ``readings`` (least
+    squares) relative to its chord from the first driven window ``first`` to the newest: 0 on the
+    linear part, rising as the curve flattens. Offset-free (a slope) and scale-free (a ratio) in the
+    creepage, as :func:`flexibility_ratio`; 0 where the CoAs do not spread or the chord is not positive,
+    :data:`FLEXIBILITY_CLIP` where the fitted flexibility is not positive while the chord is."""
+    now = readings[-1]
+    chord_coa, chord_s = now.coa - first.coa, now.creepage - first.creepage
+    fit = _regression_slope(np.array([r.coa / now.coa for r in readings]), np.array([r.creepage for r in readings]))
+    if fit is None or chord_coa <= 0.0 or chord_s <= 0.0:
+        return 0.0
+    tangent = fit[1] / now.coa
+    if tangent <= 0.0:
+        return FLEXIBILITY_CLIP
+    return float(np.clip(math.log(tangent / (chord_s / chord_coa)), -FLEXIBILITY_CLIP, FLEXIBILITY_CLIP))
 
 
 def peak_gap(readings: list["Reading"], i: int, j: int, slope) -> float:
@@ -458,6 +519,21 @@ class EpisodeFeatures:
                 math.log(best / now.coa), now.coa_cycle_bin_se / now.coa,
                 math.log(crest / max(prev.coa_cycle_max, prev.coa))]
 
+    def _climb_fit_values(self) -> list[float]:
+        """:data:`CLIMB_FIT_FEATURE_NAMES`: regressions over the newest :data:`CLIMB_FIT_WINDOWS` driven
+        windows, where the base features read one, two or three windows: the slope's fall per log torque
+        from the phase and from the compliance (:func:`slope_fall`), the quadratic-peak gap fitted over
+        all of them (:func:`fitted_peak_gap`, both slopes), the creep curve's fitted flexibility over its
+        chord (:func:`fitted_flexibility`), the slope index's residual about its line (the lock-in's
+        scatter, in the units of ``ln cot(phase)``) and the share of the windows read. A slow probe's
+        many windows at nearly one torque each add a reading of the same slope: the fit averages them."""
+        newest = self.readings[-CLIMB_FIT_WINDOWS:]
+        fit = _regression_slope(np.log([r.dc_nm for r in newest]), np.array([slope_index(r.phase_deg) for r in newest]))
+        return [slope_fall(newest, slope_from_phase), slope_fall(newest, slope_from_compliance),
+                fitted_peak_gap(newest, slope_from_phase), fitted_peak_gap(newest, slope_from_compliance),
+                fitted_flexibility(newest, self.readings[0]), 0.0 if fit is None else fit[2],
+                len(newest) / CLIMB_FIT_WINDOWS]
+
     def _tone2_values(self) -> list[float]:
         """Tone 2's features (:data:`TONE2_FEATURE_NAMES`): its lag, SE, compliance, slope index and
         their change, its quadratic-peak gap, the lag's dispersion ``ln(tan lag_2 / tan lag_1) /
@@ -509,6 +585,8 @@ class EpisodeFeatures:
             values += self._creepage_modulation_values()
         if "cycle_crest" in self.blocks:
             values += self._cycle_crest_values()
+        if "climb_fit" in self.blocks:
+            values += self._climb_fit_values()
         return np.nan_to_num(np.asarray(values, dtype=np.float64), nan=0.0, posinf=0.0, neginf=0.0)
 
 
