@@ -218,6 +218,13 @@ generated, never typed:
         frequency_reference_m_s=15 frequency_reference_m_s=20 --records out/records_rule34_validation.json \
         --out out/crest_tradeoff_speed_scaled.md
     python experiments/indistinguishable_peaks.py --counter-torque --out out/indistinguishable_peaks.md
+    python experiments/train_interrogator.py --out runs/climb_fit --climbs env=8000 --features climb_fit \
+        --guard-climbs none --fit-only   # rule 35
+    python experiments/feature_block_nll.py --climbs runs/climb_fit/climbs.npz --blocks none climb_fit \
+        --out out/feature_block_nll.md
+    python experiments/crest_tradeoff.py --run runs/climb_fit/ensemble --guards cof_gym/agents/policies/interrogator/guard_0 \
+        --guards-only --targets 0.1 --stops --return-digits 4 --records out/records_rule35_validation.json \
+        --out out/crest_tradeoff_climb_fit.md
     python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rules 23 and 28
         # (the shipped networks copied to runs/interrogator/seed_K and guard/seed_K first: member_K.npz of
         # cof_gym/agents/policies/interrogator and of its guard_0; with every network there no climb is collected)
@@ -318,6 +325,8 @@ SOURCES = {
         "crest_tradeoff_laplace_filter",
         "crest_tradeoff_speed_scaled",
         "indistinguishable_peaks",
+        "feature_block_nll",
+        "crest_tradeoff_climb_fit",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
