@@ -97,11 +97,12 @@ def test_bad_agent_and_suite_names_raise(tmp_path: Path) -> None:
         make_suite("no-such-suite", 1, 0)
 
 
-def test_a_2048_step_training_run_loads_in_evaluate(tmp_path: Path) -> None:
+def test_a_one_rollout_training_run_loads_in_evaluate(tmp_path: Path) -> None:
+    """One rollout of the shipped hyperparameters' n_steps (512) and its update, saved and played."""
     from cof_gym.commands.train import build_parser, run
 
     out = tmp_path / "run"
-    args = build_parser().parse_args(["--env", WAGON, "--timesteps", "2048", "--n-envs", "1", "--seed", "1",
+    args = build_parser().parse_args(["--env", WAGON, "--timesteps", "512", "--n-envs", "1", "--seed", "1",
                                       "--action-adapter", "incremental", "--eval-freq", "0", "--save-freq", "0",
                                       "--no-progress", "--out", str(out)])
     assert run(args) == 0
