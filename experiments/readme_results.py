@@ -225,6 +225,11 @@ generated, never typed:
     python experiments/crest_tradeoff.py --run runs/climb_fit/ensemble --guards cof_gym/agents/policies/interrogator/guard_0 \
         --guards-only --targets 0.1 --stops --return-digits 4 --records out/records_rule35_validation.json \
         --out out/crest_tradeoff_climb_fit.md
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
+        --estimators runs/climb_fit/ensemble --targets 0.1 --stops --return-digits 4 \
+        --set 'estimate_from="pooled_at_headroom"' 'estimate_from="estimator_pooled_at_headroom"' \
+        'estimate_from="estimator_at_headroom"' --records out/records_rule36_validation.json \
+        --out out/crest_tradeoff_climb_fit_estimator.md   # rule 36
     python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rules 23 and 28
         # (the shipped networks copied to runs/interrogator/seed_K and guard/seed_K first: member_K.npz of
         # cof_gym/agents/policies/interrogator and of its guard_0; with every network there no climb is collected)
@@ -327,6 +332,7 @@ SOURCES = {
         "indistinguishable_peaks",
         "feature_block_nll",
         "crest_tradeoff_climb_fit",
+        "crest_tradeoff_climb_fit_estimator",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
