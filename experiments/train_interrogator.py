@@ -51,7 +51,10 @@
 
 ``--fit-only`` stops after step 2: networks for another run's ``--guards`` or crest_tradeoff.py's ``--run``
 (``--loss laplace``: fitted under the Laplace likelihood, each output the conditional median; session 26);
-``--guard-climbs none`` fits no guard (the recipe before session 16).
+``--guard-climbs none`` fits no guard (the recipe before session 16). ``--add-climbs FILE ...`` adds climbs
+recorded elsewhere to the filter's (not the guard's): e.g. ``train_estimator.py``'s cache of a deployed
+interrogator's own climbs (``OUT/onpolicy_env_DIGEST.npz``), so that the filter also learns the readings of
+the climb it steers (session 28, rule 37); the manifest names the files.
 """
 
 from __future__ import annotations
@@ -211,6 +214,18 @@ def parse_climbs(parser: argparse.ArgumentParser, items: list[str], option: str 
 def collect(out: Path, climbs: dict[str, int], workers: int) -> Dataset:
     """The training climbs of ``climbs`` ({collection: climbs}), in that order, from OUT's caches or collected."""
     return Dataset.concatenate([load_or_collect(out, name, n, workers) for name, n in climbs.items() if n])
+
+
+def load_added_climbs(parser: argparse.ArgumentParser, files: list[Path]) -> list[Dataset]:
+    """The climbs of ``--add-climbs`` (files a ``Dataset.save`` wrote); a missing or unreadable file is a
+    one-line usage error (exit 2) naming the option, before any climb is collected or fitted."""
+    added = []
+    for file in files:
+        try:
+            added.append(Dataset.load(file))
+        except (OSError, ValueError, KeyError) as error:
+            parser.error(f"--add-climbs: {file} is not a climbs file ({error.__class__.__name__}: {error})")
+    return added
 
 
 def split(data: Dataset, every: int = 10) -> tuple[Dataset, Dataset]:
@@ -418,6 +433,9 @@ def main() -> None:
                     metavar="NAME=N",
                     help="training climbs per collection of a guard fitted in OUT/guard/ (same seeds and fit) that steers "
                          "the climb beside the filter; 'none': no guard fitted (default: %(default)s)")
+    ap.add_argument("--add-climbs", type=Path, nargs="+", default=[], metavar="FILE",
+                    help="climbs recorded elsewhere (a Dataset file, e.g. train_estimator.py's on-policy cache) added "
+                         "to the filter's training climbs (not the guard's)")
     ap.add_argument("--guards", type=Path, nargs="+", default=[], metavar="DIR",
                     help="networks (DIR/member_*.npz, e.g. another run's ensemble) that steer the climb beside the "
                          "filter as its guards: copied into every run directory, named in the manifest")
@@ -425,12 +443,14 @@ def main() -> None:
     require_networks(ap, "--guards", args.guards)
     climbs = parse_climbs(ap, args.climbs)
     guard_climbs = {} if args.guard_climbs == ["none"] else parse_climbs(ap, args.guard_climbs, "--guard-climbs")
+    added = load_added_climbs(ap, args.add_climbs)
     out = args.out
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.time()
     settings = replace(FitSettings(), epochs=args.epochs, features=tuple(args.features), loss=args.loss)
     ensemble_dir = out / "ensemble"
-    fit_report = fit_networks(out, lambda: collect(out, climbs, args.workers), args.seeds, settings, args.reuse)
+    fit_report = fit_networks(out, lambda: Dataset.concatenate([collect(out, climbs, args.workers), *added]), args.seeds,
+                              settings, args.reuse)
     guards = list(args.guards)
     if guard_climbs:  # the recipe's guard: networks of their own, fitted alike on other climbs (OUT/guard/)
         fit_report["guard"] = fit_networks(out / "guard", lambda: collect(out, guard_climbs, args.workers), args.seeds,
@@ -455,6 +475,8 @@ def main() -> None:
         manifest["guards"] = guard_names
     if guard_climbs:
         manifest["training"]["guard_climbs"] = guard_climbs
+    if args.add_climbs:
+        manifest["training"]["added_climbs"] = [str(f) for f in args.add_climbs]
     columns = grid_columns(GRIDS[args.grid])  # the climb parameters the grid varies
     for r in runs:
         (r / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n")

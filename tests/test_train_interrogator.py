@@ -77,3 +77,37 @@ def test_a_bad_loss_exits_2_naming_the_option(tmp_path: Path, experiment_exit) -
     code, last = experiment_exit("train_interrogator", ["--out", str(tmp_path / "run"), "--loss", "squared"])
     assert code == 2 and last.startswith("train_interrogator.py: error: argument --loss")
     assert not (tmp_path / "run").exists()
+
+
+@pytest.mark.parametrize("content", [None, b"not a climbs file"])
+def test_bad_added_climbs_exit_2_naming_the_option(tmp_path: Path, content, experiment_exit) -> None:
+    file = tmp_path / "climbs.npz"
+    if content is not None:
+        file.write_bytes(content)
+    code, last = experiment_exit("train_interrogator", ["--out", str(tmp_path / "run"), "--add-climbs", str(file)])
+    assert code == 2 and last.startswith("train_interrogator.py: error: --add-climbs")
+    assert not (tmp_path / "run").exists()  # checked before any climb is collected
+
+
+def test_added_climbs_join_the_filters_training_climbs_not_the_guards(tmp_path: Path, monkeypatch) -> None:
+    """The filter's member is standardised on a bootstrap resample of the collected climbs and the added
+    ones together (the same episodes, resample and arithmetic give the same mean, bit for bit)."""
+    import train_interrogator
+    from cof_gym.agents.interrogator_training import Dataset, collect
+
+    added_file = tmp_path / "onpolicy.npz"
+    collect(cof_gym.WAGON_ENV_ID, [{}], 3, first_seed=2_000_900).save(added_file)
+    run = tmp_path / "run"
+    monkeypatch.setattr(sys, "argv", ["train_interrogator.py", "--out", str(run), "--climbs", "env=4", "--guard-climbs",
+                                      "env=4", "--add-climbs", str(added_file), "--seeds", "0", "--epochs", "1",
+                                      "--workers", "1", "--fit-only"])
+    train_interrogator.main()
+    collected = Dataset.load(run / "climbs.npz")
+    union = Dataset.concatenate([collected, Dataset.load(added_file)])
+    for networks, data in ((run, union), (run / "guard", collected)):
+        train, _ = train_interrogator.split(data)
+        rng = np.random.default_rng(0)  # fit_member's bootstrap of the episodes (seed 0)
+        episodes = np.unique(train.episode)
+        rows = np.concatenate([np.flatnonzero(train.episode == e) for e in rng.choice(episodes, len(episodes))])
+        member = FilterNetwork.load(networks / "seed_0" / "member_0.npz")
+        np.testing.assert_array_equal(member.feature_mean, train.features[rows].mean(axis=0))
