@@ -45,6 +45,9 @@
 - ``suites/v2_confirmation9_grid.json``, ``suites/v2_confirmation9_procedural_grid.json`` and
   ``suites/v2_confirmation9_steep_grid.json`` (session 26, seeds 129 000, 131 000, 133 000): a ninth such
   set, written before any agent played them, after the eighth had judged rule 33, for the next rule.
+- ``suites/v2_confirmation10_grid.json``, ``suites/v2_confirmation10_procedural_grid.json`` and
+  ``suites/v2_confirmation10_steep_grid.json`` (session 28, seeds 135 000, 137 000, 139 000): a tenth such
+  set, written before any agent played them, after the ninth had judged rule 37, for rule 38.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -277,10 +280,10 @@ def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.
             "episodes": episodes}
 
 
-ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", "eighth ", "ninth ")
+ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", "eighth ", "ninth ", "tenth ")
 
 # the confirmation sets, in the order they were written (the first in session 16, the second in 17, the
-# third and fourth in 21, the fifth and sixth in 22, the seventh in 24, the eighth in 25, the ninth in 26): name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and
+# third and fourth in 21, the fifth and sixth in 22, the seventh in 24, the eighth in 25, the ninth in 26, the tenth in 28): name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and
 # steep grids; each was written before any agent played it, and judges one rule's candidate
 CONFIRMATION_SETS = {
     "confirmation": (((0.05, 0.29, 0.53, 0.78), (5.5, 15.0, 27.0), 62_000),
@@ -301,6 +304,8 @@ CONFIRMATION_SETS = {
                       ((0.06, 0.37, 0.67, 0.91), (9.0, 24.5, 38.0), 125_000), ((0.12, 0.49, 0.8), (7.0, 22.5, 36.0), 127_000)),
     "confirmation9": (((0.05, 0.27, 0.54, 0.81, 0.96), (6.5, 18.5, 34.0), 129_000),
                       ((0.09, 0.4, 0.7, 0.93), (8.0, 21.0, 36.5), 131_000), ((0.1, 0.47, 0.78), (5.5, 20.0, 37.0), 133_000)),
+    "confirmation10": (((0.04, 0.3, 0.56, 0.8, 0.95), (7.5, 17.0, 32.0), 135_000),
+                       ((0.08, 0.42, 0.69, 0.9), (6.5, 19.5, 35.0), 137_000), ((0.13, 0.44, 0.77), (8.5, 23.0, 38.5), 139_000)),
 }
 
 
