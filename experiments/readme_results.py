@@ -230,6 +230,16 @@ generated, never typed:
         --set 'estimate_from="pooled_at_headroom"' 'estimate_from="estimator_pooled_at_headroom"' \
         'estimate_from="estimator_at_headroom"' --records out/records_rule36_validation.json \
         --out out/crest_tradeoff_climb_fit_estimator.md   # rule 36
+    python experiments/train_interrogator.py --out runs/filter_onpolicy --climbs env=8000 \
+        --add-climbs runs/estimator_env/onpolicy_env_56d6d6f9b007.npz --guard-climbs none --fit-only   # rule 37
+    python experiments/crest_tradeoff.py --run runs/filter_onpolicy/ensemble --guards cof_gym/agents/policies/interrogator/guard_0 \
+        --guards-only --targets 0.1 --stops --return-digits 4 --records out/records_rule37_validation.json \
+        --out out/crest_tradeoff_filter_onpolicy.md
+    python experiments/crest_tradeoff.py --run cof_gym/agents/policies/interrogator runs/filter_onpolicy/ensemble \
+        --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only --targets 0.1 --stops --return-digits 4 \
+        --grids confirmation9 --records out/records_rule37_confirmation9.json \
+        --out out/crest_tradeoff_filter_onpolicy_confirmation9.md
+    python experiments/paired_comparison.py out/records_rule37_confirmation9.json --out out/paired_rule37_confirmation9.md
     python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rules 23 and 28
         # (the shipped networks copied to runs/interrogator/seed_K and guard/seed_K first: member_K.npz of
         # cof_gym/agents/policies/interrogator and of its guard_0; with every network there no climb is collected)
@@ -333,6 +343,9 @@ SOURCES = {
         "feature_block_nll",
         "crest_tradeoff_climb_fit",
         "crest_tradeoff_climb_fit_estimator",
+        "crest_tradeoff_filter_onpolicy",
+        "crest_tradeoff_filter_onpolicy_confirmation9",
+        "paired_rule37_confirmation9",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
