@@ -240,6 +240,13 @@ generated, never typed:
         --grids confirmation9 --records out/records_rule37_confirmation9.json \
         --out out/crest_tradeoff_filter_onpolicy_confirmation9.md
     python experiments/paired_comparison.py out/records_rule37_confirmation9.json --out out/paired_rule37_confirmation9.md
+    python experiments/make_grids.py   # adds the tenth confirmation set (session 28); every other grid unchanged
+    python experiments/train_interrogator.py --out runs/filter_onpolicy_mixed --climbs env=8000 --add-climbs \
+        runs/estimator_env/onpolicy_env_56d6d6f9b007.npz runs/estimator_mixed_laplace/onpolicy_procedural_56d6d6f9b007.npz \
+        --guard-climbs none --fit-only   # rule 38
+    python experiments/crest_tradeoff.py --run runs/filter_onpolicy_mixed/ensemble \
+        --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only --targets 0.1 --stops --return-digits 4 \
+        --records out/records_rule38_validation.json --out out/crest_tradeoff_filter_onpolicy_mixed.md
     python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rules 23 and 28
         # (the shipped networks copied to runs/interrogator/seed_K and guard/seed_K first: member_K.npz of
         # cof_gym/agents/policies/interrogator and of its guard_0; with every network there no climb is collected)
@@ -346,6 +353,7 @@ SOURCES = {
         "crest_tradeoff_filter_onpolicy",
         "crest_tradeoff_filter_onpolicy_confirmation9",
         "paired_rule37_confirmation9",
+        "crest_tradeoff_filter_onpolicy_mixed",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
