@@ -22,8 +22,10 @@ from pathlib import Path
 
 import numpy as np
 
-from cof_gym.agents.interrogator import FEATURE_BLOCKS, TARGET_NAMES
-from cof_gym.agents.interrogator_training import READING_FIELDS, Dataset, FitSettings, fit_member
+from cof_gym.agents.interrogator import TARGET_NAMES
+from cof_gym.agents.interrogator_training import (
+    FITTABLE_BLOCKS, READING_FIELDS, Dataset, FitSettings, fit_member, negative_log_likelihood,
+)
 
 NEAR_PEAK = 0.3  # true headroom ln(M_sat / DC) at most this: the windows where a climb decides to stop
 SPEED_BANDS_M_S = ((0.0, 10.0), (10.0, 20.0), (20.0, float("inf")))
@@ -34,10 +36,10 @@ def block_set(text: str) -> tuple[str, ...]:
     if text == "none":
         return ()
     blocks = tuple(text.split("+"))
-    unknown = [b for b in blocks if b not in FEATURE_BLOCKS or b == "tone2"]
+    unknown = [b for b in blocks if b not in FITTABLE_BLOCKS]
     if unknown:
         raise argparse.ArgumentTypeError(f"unknown feature block {unknown[0]!r}; blocks are "
-                                         f"{[b for b in FEATURE_BLOCKS if b != 'tone2']} (joined by +) or none")
+                                         f"{list(FITTABLE_BLOCKS)} (joined by +) or none")
     return blocks
 
 
@@ -60,8 +62,9 @@ def scores(mu: np.ndarray, log_var: np.ndarray, targets: np.ndarray) -> list[flo
     """RMSE and mean Gaussian NLL (with its constant) of each target, in TARGET_NAMES order."""
     out = []
     for k in range(len(TARGET_NAMES)):
-        err, var = targets[:, k] - mu[:, k], np.exp(log_var[:, k])
-        out += [float(np.sqrt(np.mean(err**2))), float(np.mean(0.5 * (np.log(2 * np.pi * var) + err**2 / var)))]
+        err = targets[:, k] - mu[:, k]
+        nll = negative_log_likelihood("gaussian", err, log_var[:, k]) + 0.5 * np.log(2 * np.pi)
+        out += [float(np.sqrt(np.mean(err**2))), float(np.mean(nll))]
     return out
 
 

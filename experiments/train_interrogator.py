@@ -75,10 +75,10 @@ import numpy as np
 
 import cof_gym
 from cof_gym.agents.interrogator import (
-    FEATURE_BLOCKS, SHIPPED_INTERROGATOR, ClimbParameters, FilterEnsemble, FilterNetwork, interrogator_for, manifest_climb,
+    SHIPPED_INTERROGATOR, ClimbParameters, FilterEnsemble, FilterNetwork, interrogator_for, manifest_climb,
 )
 from cof_gym.agents.interrogator_training import (
-    FIT_LOSSES, STEEP_FALL, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel, fit_member, nll,
+    FIT_LOSSES, FITTABLE_BLOCKS, STEEP_FALL, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel, fit_member, nll,
 )
 from cof_gym.commands.evaluate import run_episode
 from cof_gym.commands.suites import make_suite
@@ -417,7 +417,7 @@ def main() -> None:
     ap.add_argument("--loss", choices=FIT_LOSSES, default=FitSettings.loss,
                     help="the likelihood the networks are fitted under: gaussian (the recipe: each output's conditional "
                          "mean) or laplace (its conditional median); default: %(default)s")
-    ap.add_argument("--features", nargs="*", default=[], choices=[b for b in FEATURE_BLOCKS if b != "tone2"],
+    ap.add_argument("--features", nargs="*", default=[], choices=FITTABLE_BLOCKS,
                     help="optional feature blocks the networks read (tone 2's follow two-tone climbs)")
     ap.add_argument("--ship", action="store_true")
     ap.add_argument("--criterion", choices=sorted(CRITERIA), default="pooled",

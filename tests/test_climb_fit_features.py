@@ -69,6 +69,7 @@ def test_the_fitted_flexibility_is_offset_free_and_scale_free_in_the_creepage():
     receding = [replace(r, creepage=0.012 - 0.001 * i) for i, r in enumerate(bent)][2:]  # above the first, falling
     assert fitted_flexibility(receding, bent[0]) == FLEXIBILITY_CLIP  # a CoA rise without a creepage rise
 
+
 def test_the_block_regresses_over_the_newest_windows_only_and_names_itself():
     """The block appends its names; only the newest CLIMB_FIT_WINDOWS windows enter it (a window
     older than those changes nothing but the base features' own first-window terms)."""

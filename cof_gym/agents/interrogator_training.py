@@ -378,6 +378,9 @@ def collect_parallel(env_id: str, configs: list[dict[str, Any]], episodes: int, 
 
 
 FIT_LOSSES = ("gaussian", "laplace")  # FitSettings.loss: the likelihood each member's outputs are fitted under
+# the feature blocks a fit may be asked for (FitSettings.features): every optional block but tone 2's, which
+# follows the data (two-tone climbs)
+FITTABLE_BLOCKS = tuple(b for b in FEATURE_BLOCKS if b != "tone2")
 
 
 def negative_log_likelihood(loss: str, residual, log_var, exp=np.exp):
