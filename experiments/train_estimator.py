@@ -8,7 +8,8 @@
    (seeds from 2 100 000 on) and procedural creep curves beyond every family (from 2 200 000 on), far
    from every evaluation seed and from the probing climbs' (ON_POLICY; ``--climbs NAME=N``, default
    4000 each). Every window is kept with its labels from the episode's truth. Cached in
-   OUT/onpolicy_NAME_DIGEST.npz, the digest naming the policy's networks and climb.
+   OUT/onpolicy_NAME_DIGEST.npz, the digest naming the policy's networks and climb. ``--collect-only``
+   stops here (a policy's own climbs for another fit: ``train_interrogator.py --add-climbs``).
 2. **Networks**: one per seed, fitted as the policy's filter was (its manifest's fit settings: a
    bootstrap resample of the episodes, Gaussian NLL, or with ``--loss laplace`` the Laplace NLL, whose
    location is the conditional median), every tenth episode held apart; OUT/seed_K/ and the ensemble
@@ -146,6 +147,8 @@ def main() -> None:
     ap.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2, 3, 4])
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--reuse", action="store_true", help="keep OUT/seed_K networks that exist")
+    ap.add_argument("--collect-only", action="store_true",
+                    help="collect the policy's climbs into OUT's cache and stop (no networks, no report)")
     ap.add_argument("--loss", choices=FIT_LOSSES, default="gaussian",
                     help="the likelihood the networks are fitted under: gaussian (the conditional mean of the "
                          "correction) or laplace (its conditional median); default: %(default)s")
@@ -155,6 +158,10 @@ def main() -> None:
         ap.error(f"--policy: no manifest.json in {args.policy} (the climb the estimator learns)")
     climbs = parse_climbs(ap, args.climbs, "--climbs", ON_POLICY)
     t0 = time.time()
+    if args.collect_only:
+        data = collect_on_policy(args.policy, args.out, climbs, args.workers)
+        print(f"{len(data)} windows of {len(np.unique(data.episode))} climbs in {args.out} in {time.time() - t0:.0f} s")
+        return
     report = fit_estimator(args.policy, args.out, climbs, args.seeds, args.workers, args.reuse, args.loss)
     (args.out / "report.json").write_text(json.dumps(report, indent=1) + "\n")
     print(f"done in {time.time() - t0:.0f} s")

@@ -1,6 +1,6 @@
 """experiments/train_estimator.py: the on-policy estimator's recipe. A bad ``--policy`` or ``--climbs`` exits 2
 with one line before any climb; the cache of a policy's climbs is keyed by what steers them (not by the
-reported estimate); a small run writes the networks and the held-apart report."""
+reported estimate); a small run writes the networks and the held-apart report; ``--collect-only`` the climbs alone."""
 
 from __future__ import annotations
 
@@ -75,3 +75,17 @@ def test_a_cache_extended_holds_the_climbs_collected_at_once(tmp_path: Path) -> 
     for field in ("readings", "counter_torque", "targets", "episode"):
         assert (getattr(extended, field) == getattr(at_once, field)).all(), field
     assert len(list((tmp_path / "b").glob("onpolicy_env_*.npz"))) == 1
+
+
+def test_collect_only_writes_the_cache_and_fits_nothing(tmp_path: Path) -> None:
+    """``--collect-only`` leaves the policy's climbs in OUT's cache (what ``train_interrogator.py --add-climbs``
+    reads) and fits no network."""
+    from cof_gym.agents.interrogator_training import Dataset
+
+    out = tmp_path / "run"
+    done = subprocess.run([sys.executable, SCRIPT, "--out", str(out), "--climbs", "env=2", "--workers", "1",
+                           "--collect-only"], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert [p.name for p in out.iterdir()] == [f"onpolicy_env_{policy_digest(SHIPPED_INTERROGATOR)}.npz"]
+    assert sorted(set(Dataset.load(next(out.iterdir())).episode.tolist())) == [0, 1]
+    assert f"of 2 climbs in {out}" in done.stdout
