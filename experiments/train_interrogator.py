@@ -54,7 +54,8 @@
 ``--guard-climbs none`` fits no guard (the recipe before session 16). ``--add-climbs FILE ...`` adds climbs
 recorded elsewhere to the filter's (not the guard's): e.g. ``train_estimator.py``'s cache of a deployed
 interrogator's own climbs (``OUT/onpolicy_env_DIGEST.npz``), so that the filter also learns the readings of
-the climb it steers (session 28, rule 37); the manifest names the files.
+the climb it steers (session 28, rule 37); ``--add-guard-climbs FILE ...`` adds them to the guard's; the
+manifest names the files.
 """
 
 from __future__ import annotations
@@ -216,15 +217,15 @@ def collect(out: Path, climbs: dict[str, int], workers: int) -> Dataset:
     return Dataset.concatenate([load_or_collect(out, name, n, workers) for name, n in climbs.items() if n])
 
 
-def load_added_climbs(parser: argparse.ArgumentParser, files: list[Path]) -> list[Dataset]:
-    """The climbs of ``--add-climbs`` (files a ``Dataset.save`` wrote); a missing or unreadable file is a
-    one-line usage error (exit 2) naming the option, before any climb is collected or fitted."""
+def load_added_climbs(parser: argparse.ArgumentParser, files: list[Path], option: str = "--add-climbs") -> list[Dataset]:
+    """The climbs of ``option`` (files a ``Dataset.save`` wrote); a missing or unreadable file is a one-line
+    usage error (exit 2) naming the option, before any climb is collected or fitted."""
     added = []
     for file in files:
         try:
             added.append(Dataset.load(file))
         except (OSError, ValueError, KeyError) as error:
-            parser.error(f"--add-climbs: {file} is not a climbs file ({error.__class__.__name__}: {error})")
+            parser.error(f"{option}: {file} is not a climbs file ({error.__class__.__name__}: {error})")
     return added
 
 
@@ -311,6 +312,9 @@ def select_climb(ensemble_dir: Path, workers: int, criterion: str = "pooled",
     return {k: table[0][k] for k in (*grid_columns(climbs), *ESTIMATES[0]) if k in table[0]}, table
 
 
+NOTHING_HELD_APART = "no climb held apart (fewer than 10 climbs)"  # a held-apart report of no window, not NaN
+
+
 def fit_networks(out: Path, load_data: Callable[[], Dataset], seeds: list[int], settings: FitSettings,
                  reuse: bool) -> dict:
     """One filter network per seed on the climbs ``load_data()`` returns (every tenth climb held apart) in
@@ -326,6 +330,7 @@ def fit_networks(out: Path, load_data: Callable[[], Dataset], seeds: list[int], 
         fit_report = {"reused": "every seed's network kept; no climbs loaded, held-apart likelihoods not recomputed"}
     else:
         train, held = split(load_data())
+        score = (lambda networks: nll(networks, held)) if len(held) else (lambda networks: NOTHING_HELD_APART)
         members, fit_report = {}, {}
         for seed in seeds:
             t = time.time()
@@ -336,11 +341,11 @@ def fit_networks(out: Path, load_data: Callable[[], Dataset], seeds: list[int], 
                 kept[seed].parent.mkdir(parents=True, exist_ok=True)
                 members[seed].save(kept[seed])
                 print(f"{out.name} seed {seed}: fitted in {time.time() - t:.0f} s", flush=True)
-            fit_report[f"seed_{seed}"] = nll(members[seed], held)
+            fit_report[f"seed_{seed}"] = score(members[seed])
     for seed, member in members.items():
         member.save(ensemble_dir / f"member_{seed}.npz")
     if "reused" not in fit_report:
-        fit_report["ensemble"] = nll(FilterEnsemble.load(ensemble_dir), held)
+        fit_report["ensemble"] = score(FilterEnsemble.load(ensemble_dir))
     print(f"{out.name} held-out {fit_report}", flush=True)
     for stale in ensemble_dir.glob("member_*.npz"):
         if int(stale.stem.split("_")[1]) not in seeds:
@@ -436,6 +441,8 @@ def main() -> None:
     ap.add_argument("--add-climbs", type=Path, nargs="+", default=[], metavar="FILE",
                     help="climbs recorded elsewhere (a Dataset file, e.g. train_estimator.py's on-policy cache) added "
                          "to the filter's training climbs (not the guard's)")
+    ap.add_argument("--add-guard-climbs", type=Path, nargs="+", default=[], metavar="FILE",
+                    help="climbs recorded elsewhere added to the guard's training climbs (with --guard-climbs)")
     ap.add_argument("--guards", type=Path, nargs="+", default=[], metavar="DIR",
                     help="networks (DIR/member_*.npz, e.g. another run's ensemble) that steer the climb beside the "
                          "filter as its guards: copied into every run directory, named in the manifest")
@@ -444,6 +451,9 @@ def main() -> None:
     climbs = parse_climbs(ap, args.climbs)
     guard_climbs = {} if args.guard_climbs == ["none"] else parse_climbs(ap, args.guard_climbs, "--guard-climbs")
     added = load_added_climbs(ap, args.add_climbs)
+    if args.add_guard_climbs and not guard_climbs:
+        ap.error("--add-guard-climbs: no guard is fitted (--guard-climbs none)")
+    added_to_guard = load_added_climbs(ap, args.add_guard_climbs, "--add-guard-climbs")
     out = args.out
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.time()
@@ -453,8 +463,9 @@ def main() -> None:
                               settings, args.reuse)
     guards = list(args.guards)
     if guard_climbs:  # the recipe's guard: networks of their own, fitted alike on other climbs (OUT/guard/)
-        fit_report["guard"] = fit_networks(out / "guard", lambda: collect(out, guard_climbs, args.workers), args.seeds,
-                                           settings, args.reuse)
+        fit_report["guard"] = fit_networks(
+            out / "guard", lambda: Dataset.concatenate([collect(out, guard_climbs, args.workers), *added_to_guard]),
+            args.seeds, settings, args.reuse)
         guards.append(out / "guard" / "ensemble")
     if args.fit_only:
         return
@@ -477,6 +488,8 @@ def main() -> None:
         manifest["training"]["guard_climbs"] = guard_climbs
     if args.add_climbs:
         manifest["training"]["added_climbs"] = [str(f) for f in args.add_climbs]
+    if args.add_guard_climbs:
+        manifest["training"]["added_guard_climbs"] = [str(f) for f in args.add_guard_climbs]
     columns = grid_columns(GRIDS[args.grid])  # the climb parameters the grid varies
     for r in runs:
         (r / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n")

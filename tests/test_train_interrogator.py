@@ -79,32 +79,44 @@ def test_a_bad_loss_exits_2_naming_the_option(tmp_path: Path, experiment_exit) -
     assert not (tmp_path / "run").exists()
 
 
+@pytest.mark.parametrize("option", ["--add-climbs", "--add-guard-climbs"])
 @pytest.mark.parametrize("content", [None, b"not a climbs file"])
-def test_bad_added_climbs_exit_2_naming_the_option(tmp_path: Path, content, experiment_exit) -> None:
+def test_bad_added_climbs_exit_2_naming_the_option(tmp_path: Path, option: str, content, experiment_exit) -> None:
     file = tmp_path / "climbs.npz"
     if content is not None:
         file.write_bytes(content)
-    code, last = experiment_exit("train_interrogator", ["--out", str(tmp_path / "run"), "--add-climbs", str(file)])
-    assert code == 2 and last.startswith("train_interrogator.py: error: --add-climbs")
+    code, last = experiment_exit("train_interrogator", ["--out", str(tmp_path / "run"), option, str(file)])
+    assert code == 2 and last.startswith(f"train_interrogator.py: error: {option}")
     assert not (tmp_path / "run").exists()  # checked before any climb is collected
 
 
-def test_added_climbs_join_the_filters_training_climbs_not_the_guards(tmp_path: Path, monkeypatch) -> None:
-    """The filter's member is standardised on a bootstrap resample of the collected climbs and the added
-    ones together (the same episodes, resample and arithmetic give the same mean, bit for bit)."""
+def test_guard_climbs_added_without_a_guard_exit_2(tmp_path: Path, experiment_exit) -> None:
+    code, last = experiment_exit("train_interrogator", ["--out", str(tmp_path / "run"), "--guard-climbs", "none",
+                                                        "--add-guard-climbs", str(tmp_path / "climbs.npz")])
+    assert code == 2 and last == ("train_interrogator.py: error: --add-guard-climbs: no guard is fitted "
+                                  "(--guard-climbs none)")
+    assert not (tmp_path / "run").exists()
+
+
+@pytest.mark.filterwarnings("error::RuntimeWarning")  # fewer than 10 climbs: no held-apart score, not a NaN one
+def test_added_climbs_join_the_training_climbs_of_the_networks_named(tmp_path: Path, monkeypatch) -> None:
+    """The filter's member is standardised on a bootstrap resample of the collected climbs and those of
+    ``--add-climbs`` together, the guard's on the collected ones and those of ``--add-guard-climbs`` (the same
+    episodes, resample and arithmetic give the same mean, bit for bit)."""
     import train_interrogator
     from cof_gym.agents.interrogator_training import Dataset, collect
 
-    added_file = tmp_path / "onpolicy.npz"
+    added_file, guard_file = tmp_path / "onpolicy.npz", tmp_path / "onpolicy_guard.npz"
     collect(cof_gym.WAGON_ENV_ID, [{}], 3, first_seed=2_000_900).save(added_file)
+    collect(cof_gym.WAGON_ENV_ID, [{}], 2, first_seed=2_000_950).save(guard_file)
     run = tmp_path / "run"
     monkeypatch.setattr(sys, "argv", ["train_interrogator.py", "--out", str(run), "--climbs", "env=4", "--guard-climbs",
-                                      "env=4", "--add-climbs", str(added_file), "--seeds", "0", "--epochs", "1",
-                                      "--workers", "1", "--fit-only"])
+                                      "env=4", "--add-climbs", str(added_file), "--add-guard-climbs", str(guard_file),
+                                      "--seeds", "0", "--epochs", "1", "--workers", "1", "--fit-only"])
     train_interrogator.main()
     collected = Dataset.load(run / "climbs.npz")
-    union = Dataset.concatenate([collected, Dataset.load(added_file)])
-    for networks, data in ((run, union), (run / "guard", collected)):
+    for networks, added in ((run, added_file), (run / "guard", guard_file)):
+        data = Dataset.concatenate([collected, Dataset.load(added)])
         train, _ = train_interrogator.split(data)
         rng = np.random.default_rng(0)  # fit_member's bootstrap of the episodes (seed 0)
         episodes = np.unique(train.episode)

@@ -462,7 +462,9 @@ def fit_member(data: Dataset, seed: int, settings: FitSettings = FitSettings()) 
 
 
 def nll(member_or_ensemble, data: Dataset) -> dict[str, float]:
-    """Per-target RMSE and mean Gaussian NLL of a member's predictions on ``data``."""
+    """Per-target RMSE and mean Gaussian NLL of a member's predictions on ``data`` (at least one window)."""
+    if not len(data):
+        raise ValueError("nll: data holds no window to score")
     x = data.features_for(member_or_ensemble.blocks)
     if isinstance(member_or_ensemble, FilterNetwork):
         mu, log_var = member_or_ensemble(x)
