@@ -247,6 +247,15 @@ generated, never typed:
     python experiments/crest_tradeoff.py --run runs/filter_onpolicy_mixed/ensemble \
         --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only --targets 0.1 --stops --return-digits 4 \
         --records out/records_rule38_validation.json --out out/crest_tradeoff_filter_onpolicy_mixed.md
+    mkdir -p runs/dagger1 && cp -r cof_gym/agents/policies/interrogator runs/dagger1/policy \
+        && cp runs/filter_onpolicy/ensemble/member_*.npz runs/dagger1/policy/   # rule 39: rule 37's filter, shipped guard
+    python experiments/train_estimator.py --policy runs/dagger1/policy --out runs/dagger1 --climbs env=8000 --collect-only
+    python experiments/train_interrogator.py --out runs/dagger1/fit --climbs env=8000 --add-climbs \
+        runs/estimator_env/onpolicy_env_56d6d6f9b007.npz runs/dagger1/onpolicy_env_89f7136d2b1d.npz \
+        --guard-climbs none --fit-only
+    python experiments/crest_tradeoff.py --run runs/dagger1/fit/ensemble \
+        --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only --targets 0.1 --stops --return-digits 4 \
+        --records out/records_rule39_validation.json --out out/crest_tradeoff_dagger1.md
     python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rules 23 and 28
         # (the shipped networks copied to runs/interrogator/seed_K and guard/seed_K first: member_K.npz of
         # cof_gym/agents/policies/interrogator and of its guard_0; with every network there no climb is collected)
@@ -354,6 +363,7 @@ SOURCES = {
         "crest_tradeoff_filter_onpolicy_confirmation9",
         "paired_rule37_confirmation9",
         "crest_tradeoff_filter_onpolicy_mixed",
+        "crest_tradeoff_dagger1",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about
