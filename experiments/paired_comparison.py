@@ -1,7 +1,8 @@
 """Paired bootstrap of each setting against a baseline, per grid, from crest_tradeoff.py's ``--records``.
 
     python experiments/crest_tradeoff.py ... --set A B --records out/records.json
-    python experiments/paired_comparison.py out/records.json [more.json ...] [--baseline SETTING] [--out FILE]
+    python experiments/paired_comparison.py out/records.json [more.json ...] [--baseline SETTING] [--settings S ...]
+        [--out FILE]
 
 The rows of a crest_tradeoff table differ by a tenth of a point where a handful of episodes move: a
 median of 108-180 episodes and, more so, their 90th percentile, move by that much when a few episodes
@@ -54,12 +55,17 @@ def differences(base: dict[tuple, dict], other: dict[tuple, dict], seed: int = 0
     return result
 
 
-def table(records: list[dict], baseline: str | None = None) -> str:
-    """The markdown table of every setting against ``baseline`` (default: the first setting), per grid."""
+def table(records: list[dict], baseline: str | None = None, compared: list[str] | None = None) -> str:
+    """The markdown table of every setting (or of ``compared`` alone) against ``baseline`` (default: the
+    first setting), per grid."""
     settings = list(dict.fromkeys(r["setting"] for r in records))
     baseline = baseline or settings[0]
     if baseline not in settings:
         raise ValueError(f"--baseline: no setting {baseline!r} in the records (settings: {settings})")
+    missing = [s for s in compared or [] if s not in settings]
+    if missing:
+        raise ValueError(f"--settings: no setting {missing[0]!r} in the records (settings: {settings})")
+    settings = compared or settings
     base = paired(records, baseline)
     lines = [f"Against `{baseline}` (paired over the same episodes; 95 % CIs from {N_BOOTSTRAP} resamples):", "",
              "| setting | grid | episodes | median error: difference [95 % CI] (points) | P90 error: difference [95 % CI] "
@@ -93,6 +99,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("records", type=Path, nargs="+", help="crest_tradeoff.py --records files (their episodes together)")
     parser.add_argument("--baseline", default=None, help="the setting compared against (default: the file's first)")
+    parser.add_argument("--settings", nargs="+", default=None, metavar="SETTING",
+                        help="compare these settings only (default: every setting of the records)")
     parser.add_argument("--out", type=Path, default=None, help="also write the table to this markdown file")
     args = parser.parse_args()
     records, files = [], ", ".join(map(str, args.records))
@@ -102,7 +110,7 @@ def main() -> None:
         except (OSError, ValueError) as e:  # json.JSONDecodeError is a ValueError
             parser.error(f"records: {path}: {e}")
     try:
-        text = table(records, args.baseline)
+        text = table(records, args.baseline, args.settings)
     except KeyError as e:
         parser.error(f"records: an episode of {files} has no {e}")
     except ValueError as e:

@@ -256,6 +256,19 @@ generated, never typed:
     python experiments/crest_tradeoff.py --run runs/dagger1/fit/ensemble \
         --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only --targets 0.1 --stops --return-digits 4 \
         --records out/records_rule39_validation.json --out out/crest_tradeoff_dagger1.md
+    python experiments/train_interrogator.py --out runs/guard_onpolicy --climbs env=8000 \
+        --guard-climbs env=8000 procedural=8000 --add-guard-climbs runs/estimator_env/onpolicy_env_56d6d6f9b007.npz \
+        runs/estimator_mixed_laplace/onpolicy_procedural_56d6d6f9b007.npz --fit-only --reuse   # rule 40
+        # (the shipped filter's member_K.npz copied to runs/guard_onpolicy/seed_K/member_0.npz first)
+    python experiments/crest_tradeoff.py --run cof_gym/agents/policies/interrogator runs/filter_onpolicy/ensemble \
+        --guards runs/guard_onpolicy/guard/ensemble --guards-only --targets 0.1 --stops --return-digits 4 \
+        --records out/records_rule40_validation.json --out out/crest_tradeoff_guard_onpolicy.md
+    python experiments/paired_comparison.py out/records_rule33_validation.json out/records_rule40_validation.json \
+        --baseline "estimate_from pooled_at_headroom, caution 2, target 0.1, guards \
+    cof_gym/agents/policies/interrogator/guard_0, estimators runs/estimator_mixed_laplace/ensemble" \
+        --settings "cof_gym/agents/policies/interrogator, caution 2, target 0.1, guards runs/guard_onpolicy/guard/ensemble" \
+        "runs/filter_onpolicy/ensemble, caution 2, target 0.1, guards runs/guard_onpolicy/guard/ensemble" \
+        --out out/paired_rule40_validation.md   # (each setting on one line)
     python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rules 23 and 28
         # (the shipped networks copied to runs/interrogator/seed_K and guard/seed_K first: member_K.npz of
         # cof_gym/agents/policies/interrogator and of its guard_0; with every network there no climb is collected)
@@ -364,6 +377,8 @@ SOURCES = {
         "paired_rule37_confirmation9",
         "crest_tradeoff_filter_onpolicy_mixed",
         "crest_tradeoff_dagger1",
+        "crest_tradeoff_guard_onpolicy",
+        "paired_rule40_validation",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about

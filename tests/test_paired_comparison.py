@@ -49,6 +49,16 @@ def test_the_table_names_every_setting_against_the_baseline_and_refuses_unpaired
         table(short)
 
 
+def test_settings_limits_the_table_to_the_settings_named():
+    errors = np.linspace(0.01, 0.2, 20)
+    recs = records({"shipped": errors, "other": errors * 0.9, "candidate": errors * 1.1})
+    text = table(recs, compared=["candidate"])
+    assert "| candidate | family |" in text and "| other |" not in text
+    assert text == table([r for r in recs if r["setting"] != "other"])
+    with pytest.raises(ValueError, match="--settings: no setting 'nowhere'"):
+        table(recs, compared=["nowhere"])
+
+
 @pytest.mark.parametrize("content, option", [("[]", "records"), ('[{"x": 1}]', "records"), ("{", "records")])
 def test_a_bad_records_file_exits_2_naming_it(tmp_path: Path, content: str, option: str, experiment_exit) -> None:
     path = tmp_path / "records.json"
@@ -62,6 +72,13 @@ def test_a_missing_baseline_exits_2_naming_the_option(tmp_path: Path, experiment
     path.write_text(json.dumps(records({"shipped": np.ones(4)})))
     code, last = experiment_exit("paired_comparison", [str(path), "--baseline", "other"])
     assert code == 2 and last.startswith("paired_comparison.py: error: --baseline")
+
+
+def test_an_unknown_setting_exits_2_naming_the_option(tmp_path: Path, experiment_exit) -> None:
+    path = tmp_path / "records.json"
+    path.write_text(json.dumps(records({"shipped": np.ones(4), "candidate": np.ones(4)})))
+    code, last = experiment_exit("paired_comparison", [str(path), "--settings", "other"])
+    assert code == 2 and last.startswith("paired_comparison.py: error: --settings")
 
 
 def run_command(*args) -> subprocess.CompletedProcess:
