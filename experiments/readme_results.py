@@ -263,12 +263,10 @@ generated, never typed:
     python experiments/crest_tradeoff.py --run cof_gym/agents/policies/interrogator runs/filter_onpolicy/ensemble \
         --guards runs/guard_onpolicy/guard/ensemble --guards-only --targets 0.1 --stops --return-digits 4 \
         --records out/records_rule40_validation.json --out out/crest_tradeoff_guard_onpolicy.md
+    S=cof_gym/agents/policies/interrogator; C="caution 2, target 0.1, guards"; G=runs/guard_onpolicy/guard/ensemble
     python experiments/paired_comparison.py out/records_rule33_validation.json out/records_rule40_validation.json \
-        --baseline "estimate_from pooled_at_headroom, caution 2, target 0.1, guards \
-    cof_gym/agents/policies/interrogator/guard_0, estimators runs/estimator_mixed_laplace/ensemble" \
-        --settings "cof_gym/agents/policies/interrogator, caution 2, target 0.1, guards runs/guard_onpolicy/guard/ensemble" \
-        "runs/filter_onpolicy/ensemble, caution 2, target 0.1, guards runs/guard_onpolicy/guard/ensemble" \
-        --out out/paired_rule40_validation.md   # (each setting on one line)
+        --baseline "estimate_from pooled_at_headroom, $C $S/guard_0, estimators runs/estimator_mixed_laplace/ensemble" \
+        --settings "$S, $C $G" "runs/filter_onpolicy/ensemble, $C $G" --out out/paired_rule40_validation.md
     python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rules 23 and 28
         # (the shipped networks copied to runs/interrogator/seed_K and guard/seed_K first: member_K.npz of
         # cof_gym/agents/policies/interrogator and of its guard_0; with every network there no climb is collected)
