@@ -267,6 +267,20 @@ generated, never typed:
     python experiments/paired_comparison.py out/records_rule33_validation.json out/records_rule40_validation.json \
         --baseline "estimate_from pooled_at_headroom, $C $S/guard_0, estimators runs/estimator_mixed_laplace/ensemble" \
         --settings "$S, $C $G" "runs/filter_onpolicy/ensemble, $C $G" --out out/paired_rule40_validation.md
+    python experiments/train_interrogator.py --out runs/guard_onpolicy_env --climbs env=8000 \
+        --guard-climbs env=8000 procedural=8000 --add-guard-climbs runs/estimator_env/onpolicy_env_56d6d6f9b007.npz \
+        --fit-only --reuse   # rule 41 (the shipped filter's member_K.npz in seed_K/member_0.npz first)
+    python experiments/crest_tradeoff.py --run cof_gym/agents/policies/interrogator runs/filter_onpolicy/ensemble \
+        --guards runs/guard_onpolicy_env/guard/ensemble --guards-only --targets 0.1 --stops --return-digits 4 \
+        --records out/records_rule41_validation.json --out out/crest_tradeoff_guard_onpolicy_env.md
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only --targets 0.1 \
+        --stops --return-digits 4 --grids confirmation10 --records out/records_rule41_confirmation10_shipped.json \
+        --out out/crest_tradeoff_shipped_confirmation10.md
+    python experiments/crest_tradeoff.py --guards runs/guard_onpolicy_env/guard/ensemble --guards-only --targets 0.1 \
+        --stops --return-digits 4 --grids confirmation10 --records out/records_rule41_confirmation10.json \
+        --out out/crest_tradeoff_guard_onpolicy_env_confirmation10.md
+    python experiments/paired_comparison.py out/records_rule41_confirmation10_shipped.json \
+        out/records_rule41_confirmation10.json --out out/paired_rule41_confirmation10.md
     python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rules 23 and 28
         # (the shipped networks copied to runs/interrogator/seed_K and guard/seed_K first: member_K.npz of
         # cof_gym/agents/policies/interrogator and of its guard_0; with every network there no climb is collected)
@@ -377,6 +391,10 @@ SOURCES = {
         "crest_tradeoff_dagger1",
         "crest_tradeoff_guard_onpolicy",
         "paired_rule40_validation",
+        "crest_tradeoff_guard_onpolicy_env",
+        "crest_tradeoff_shipped_confirmation10",
+        "crest_tradeoff_guard_onpolicy_env_confirmation10",
+        "paired_rule41_confirmation10",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
