@@ -48,6 +48,9 @@
 - ``suites/v2_confirmation10_grid.json``, ``suites/v2_confirmation10_procedural_grid.json`` and
   ``suites/v2_confirmation10_steep_grid.json`` (session 28, seeds 135 000, 137 000, 139 000): a tenth such
   set, written before any agent played them, after the ninth had judged rule 37, for rule 38.
+- ``suites/v2_confirmation11_grid.json``, ``suites/v2_confirmation11_procedural_grid.json`` and
+  ``suites/v2_confirmation11_steep_grid.json`` (session 29, seeds 141 000, 143 000, 145 000): an eleventh such
+  set, written before any agent played them, after the tenth had judged rule 41, for the next rule.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -280,10 +283,11 @@ def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.
             "episodes": episodes}
 
 
-ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", "eighth ", "ninth ", "tenth ")
+ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", "eighth ", "ninth ", "tenth ",
+            "eleventh ")
 
 # the confirmation sets, in the order they were written (the first in session 16, the second in 17, the
-# third and fourth in 21, the fifth and sixth in 22, the seventh in 24, the eighth in 25, the ninth in 26, the tenth in 28): name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and
+# third and fourth in 21, the fifth and sixth in 22, the seventh in 24, the eighth in 25, the ninth in 26, the tenth in 28, the eleventh in 29): name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and
 # steep grids; each was written before any agent played it, and judges one rule's candidate
 CONFIRMATION_SETS = {
     "confirmation": (((0.05, 0.29, 0.53, 0.78), (5.5, 15.0, 27.0), 62_000),
@@ -306,6 +310,8 @@ CONFIRMATION_SETS = {
                       ((0.09, 0.4, 0.7, 0.93), (8.0, 21.0, 36.5), 131_000), ((0.1, 0.47, 0.78), (5.5, 20.0, 37.0), 133_000)),
     "confirmation10": (((0.04, 0.3, 0.56, 0.8, 0.95), (7.5, 17.0, 32.0), 135_000),
                        ((0.08, 0.42, 0.69, 0.9), (6.5, 19.5, 35.0), 137_000), ((0.13, 0.44, 0.77), (8.5, 23.0, 38.5), 139_000)),
+    "confirmation11": (((0.03, 0.29, 0.53, 0.82, 0.97), (6.0, 18.0, 33.5), 141_000),
+                       ((0.07, 0.36, 0.64, 0.89), (9.5, 22.5, 37.5), 143_000), ((0.11, 0.43, 0.75), (6.5, 21.0, 34.0), 145_000)),
 }
 
 
