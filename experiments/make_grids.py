@@ -319,7 +319,7 @@ def confirmation_grids(name: str, ordinal: str, family: tuple, procedural: tuple
     """The three grids of confirmation set ``name`` (``ordinal``: "" for the first, "second " ...), by file name:
     the v2 draws, procedural creep curves and procedural curves with steep falling branches, each from its
     (CoF fractions, speeds, first seed)."""
-    nth = f", a {ordinal}set" if ordinal else ""
+    nth = f", {'an' if ordinal[0] in 'aeiou' else 'a'} {ordinal}set" if ordinal else ""
     kind = f"confirmation ({ordinal}set)" if ordinal else "confirmation"
     return {f"v2_{name}_grid": grid(*family, f"v2 confirmation only{nth} (never reported): shapes and sensor errors "
                                              "from the v2 draws", env_id=cof_gym.WAGON_ENV_ID),
