@@ -284,6 +284,27 @@ generated, never typed:
     python experiments/train_interrogator.py --out runs/interrogator --reuse --ship   # rules 23 and 28
         # (the shipped networks copied to runs/interrogator/seed_K and guard/seed_K first: member_K.npz of
         # cof_gym/agents/policies/interrogator and of its guard_0; with every network there no climb is collected)
+    python experiments/crest_tradeoff.py --guards runs/guard_onpolicy_env/guard/ensemble \
+        runs/guard_onpolicy/guard/ensemble --guards-only --targets 0.1 --stops --return-digits 4 --set ceiling_stop=true \
+        --records out/records_rule42_both_guards.json --out out/crest_tradeoff_rule42_both_guards.md   # rule 42 as written
+    python experiments/crest_tradeoff.py --guards runs/guard_onpolicy_env/guard/ensemble --guards-only --targets 0.1 \
+        --stops --return-digits 4 --set ceiling_stop=true --records out/records_rule42_validation_A.json \
+        --out out/crest_tradeoff_rule42_A.md
+    python experiments/crest_tradeoff.py --guards runs/guard_onpolicy/guard/ensemble --guards-only --targets 0.1 \
+        --stops --return-digits 4 --set ceiling_stop=true --records out/records_rule42_validation_B.json \
+        --out out/crest_tradeoff_rule42_B.md
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only --targets 0.1 \
+        --stops --return-digits 4 --grids confirmation11 --records out/records_rule42_confirmation11_shipped.json \
+        --out out/crest_tradeoff_shipped_confirmation11.md   # with the shipped directory of commit f634051
+    python experiments/crest_tradeoff.py --guards runs/guard_onpolicy_env/guard/ensemble --guards-only --targets 0.1 \
+        --stops --return-digits 4 --set ceiling_stop=true --grids confirmation11 \
+        --records out/records_rule42_confirmation11.json --out out/crest_tradeoff_rule42_confirmation11.md
+    python experiments/paired_comparison.py out/records_rule42_confirmation11_shipped.json \
+        out/records_rule42_confirmation11.json --out out/paired_rule42_confirmation11.md
+    python experiments/train_interrogator.py --out runs/interrogator --reuse \
+        --add-guard-climbs runs/estimator_env/onpolicy_env_56d6d6f9b007.npz --ship   # rule 42 adopted
+        # (rule 41's guard, runs/guard_onpolicy_env/guard/seed_K/member_0.npz, copied to runs/interrogator/guard/seed_K
+        # first with the guard/training.json that this command writes; the filter's training.json likewise)
     (then every cof-gym evaluate command above again)
     python experiments/readme_results.py
 
@@ -395,6 +416,12 @@ SOURCES = {
         "crest_tradeoff_shipped_confirmation10",
         "crest_tradeoff_guard_onpolicy_env_confirmation10",
         "paired_rule41_confirmation10",
+        "crest_tradeoff_rule42_both_guards",
+        "crest_tradeoff_rule42_A",
+        "crest_tradeoff_rule42_B",
+        "crest_tradeoff_shipped_confirmation11",
+        "crest_tradeoff_rule42_confirmation11",
+        "paired_rule42_confirmation11",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about

@@ -9,7 +9,10 @@
    from every evaluation seed and from the probing climbs' (ON_POLICY; ``--climbs NAME=N``, default
    4000 each). Every window is kept with its labels from the episode's truth. Cached in
    OUT/onpolicy_NAME_DIGEST.npz, the digest naming the policy's networks and climb. ``--collect-only``
-   stops here (a policy's own climbs for another fit: ``train_interrogator.py --add-climbs``).
+   stops here (a policy's own climbs for another fit: ``train_interrogator.py --add-climbs``). With
+   ``--set NAME=VALUE ...`` the policy climbs with those climb parameters changed (a copy of it in
+   OUT/policy/ whose manifest says so, e.g. ``--set ceiling_stop=false``: the recipe's first agent as it
+   was shipped until session 30, whose climbs its guard learns; train_interrogator.py's docstring).
 2. **Networks**: one per seed, fitted as the policy's filter was (its manifest's fit settings: a
    bootstrap resample of the episodes, Gaussian NLL, or with ``--loss laplace`` the Laplace NLL, whose
    location is the conditional median), every tenth episode held apart; OUT/seed_K/ and the ensemble
@@ -27,6 +30,7 @@ from __future__ import annotations
 import argparse
 import hashlib
 import json
+import shutil
 import sys
 import time
 from dataclasses import asdict
@@ -37,6 +41,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
+from crest_tradeoff import climb_setting  # noqa: E402
 from train_interrogator import CONFIGS, ENV_ID, fit_networks, parse_climbs, require_networks, split  # noqa: E402
 
 from cof_gym.agents.interrogator import (  # noqa: E402
@@ -65,6 +70,21 @@ def policy_digest(policy: Path) -> str:
         for member in sorted(Path(directory).glob("member_*.npz")):
             h.update(member.read_bytes())
     return h.hexdigest()[:12]
+
+
+def policy_with(policy: Path, changes: dict, out: Path) -> Path:
+    """A copy of ``policy`` (networks, guards, manifest) in OUT/policy/, replacing any there, whose manifest's
+    climb has the parameters ``changes``; ``policy`` itself where there are none."""
+    if not changes:
+        return policy
+    copy = out / "policy"
+    if copy.exists():
+        shutil.rmtree(copy)
+    shutil.copytree(policy, copy)
+    manifest = read_manifest(copy)
+    manifest["climb"] = {**manifest.get("climb", {}), **changes}
+    (copy / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n")
+    return copy
 
 
 def collect_on_policy(policy: Path, out: Path, climbs: dict[str, int], workers: int) -> Dataset:
@@ -149,6 +169,9 @@ def main() -> None:
     ap.add_argument("--reuse", action="store_true", help="keep OUT/seed_K networks that exist")
     ap.add_argument("--collect-only", action="store_true",
                     help="collect the policy's climbs into OUT's cache and stop (no networks, no report)")
+    ap.add_argument("--set", nargs="+", default=[], metavar="NAME=VALUE", type=climb_setting,
+                    help="the policy climbs with these climb parameters (ClimbParameters fields, JSON values) changed: "
+                         "a copy of it in OUT/policy/")
     ap.add_argument("--loss", choices=FIT_LOSSES, default="gaussian",
                     help="the likelihood the networks are fitted under: gaussian (the conditional mean of the "
                          "correction) or laplace (its conditional median); default: %(default)s")
@@ -158,11 +181,12 @@ def main() -> None:
         ap.error(f"--policy: no manifest.json in {args.policy} (the climb the estimator learns)")
     climbs = parse_climbs(ap, args.climbs, "--climbs", ON_POLICY)
     t0 = time.time()
+    policy = policy_with(args.policy, dict(args.set), args.out)
     if args.collect_only:
-        data = collect_on_policy(args.policy, args.out, climbs, args.workers)
+        data = collect_on_policy(policy, args.out, climbs, args.workers)
         print(f"{len(data)} windows of {len(np.unique(data.episode))} climbs in {args.out} in {time.time() - t0:.0f} s")
         return
-    report = fit_estimator(args.policy, args.out, climbs, args.seeds, args.workers, args.reuse, args.loss)
+    report = fit_estimator(policy, args.out, climbs, args.seeds, args.workers, args.reuse, args.loss)
     (args.out / "report.json").write_text(json.dumps(report, indent=1) + "\n")
     print(f"done in {time.time() - t0:.0f} s")
 

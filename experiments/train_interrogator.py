@@ -2,6 +2,21 @@
 
     python experiments/train_interrogator.py --out runs/interrogator [--ship]
 
+The recipe since session 30 (rule 42: the guard also learns the climb it slows) runs in three steps:
+
+    python experiments/train_interrogator.py --out runs/interrogator
+    python experiments/train_estimator.py --policy runs/interrogator/ensemble --out runs/estimator_env \
+        --climbs env=8000 --collect-only
+    python experiments/train_interrogator.py --out runs/interrogator --reuse \
+        --add-guard-climbs runs/estimator_env/onpolicy_env_DIGEST.npz --ship
+
+The first fits the filter and the probing guard and selects the climb; the second has that agent climb
+the recipe's 8000 training episodes on the env's draws (its own climbs, ``DIGEST`` naming its networks and
+climb: session 26's file ``onpolicy_env_56d6d6f9b007.npz`` for the agent shipped until session 30, whose
+climb had no crest stop); the third keeps the filter (fitted on the same climbs: OUT/training.json) and
+fits the guard again on its climbs and those (OUT/guard/training.json differs), selects the same climb
+(the selection plays the filter alone) and ships.
+
 1. **Data**: training climbs on the v2 wagon's randomisation, half with the paper's counter torque
    (cof_gym/agents/interrogator_training.py): probing climbs steered by their own readings, never by
    the truth, from the collections of COLLECTIONS (``--climbs NAME=N``; the recipe: ``env=8000``): on
@@ -20,7 +35,8 @@
    (same seeds and fit) on the family climbs and the procedural ones together, OUT/guard/seed_K/ and
    OUT/guard/ensemble/; it steers the chosen climb beside the filter and may only slow it (the climb
    follows the lowest cautious headroom of all). Adopted by a rule written before the confirmation grids
-   were played (docs/interrogator.md, session 16). With the guard, a chosen filter estimate becomes
+   were played (docs/interrogator.md, session 16); since session 30 (rule 42) it also learns the climbs of
+   the agent the first two steps ship (``--add-guard-climbs``, above). With the guard, a chosen filter estimate becomes
    GUARDED_ESTIMATE: the filter's and the guard's corrections pooled where the climb stops on its
    headroom, the filter's otherwise (rule 16, session 20; it changes no step of the climb). Every chosen
    climb's estimate is at least its best crest bound (CREST_FLOOR: the measured CoA's cycle crest less one
@@ -28,7 +44,8 @@
    stops it reports what a runaway in the coming window would measure (RUNAWAY_ESTIMATE: rule 23, session
    23; no step changes, nor the estimate of an episode that does not run away); once the crest has fallen
    under a rising torque crest, every estimate is at most the best crest plus one bin's standard error
-   (CREST_CEILING: rule 28, session 25; no step changes either).
+   (CREST_CEILING: rule 28, session 25; no step changes either), and the climb ends at that window
+   (CEILING_STOP: rule 30's stop, adopted with rule 42, session 30).
 3. **Selection, validation only**: the climb's parameters (modulation ratio, target headroom,
    caution, largest step, a slow probe while the headroom is uncertain, whether it stays slow and where
    it ends, the jump to the lowest CoF the task admits: GRIDS;
@@ -61,6 +78,7 @@ manifest names the files.
 from __future__ import annotations
 
 import argparse
+import hashlib
 import itertools
 import json
 import shutil
@@ -280,6 +298,7 @@ GUARDED_ESTIMATE = "pooled_at_headroom"  # the estimate source of a guarded filt
 CREST_FLOOR = True  # the chosen climb's estimate at least its best crest bound (rule 21, session 22)
 RUNAWAY_ESTIMATE = True  # between stops, the chosen climb reports what a runaway would (rule 23, session 23)
 CREST_CEILING = True  # once the crest falls under a rising torque crest, the estimate at most it (rule 28, session 25)
+CEILING_STOP = True  # ... and the climb ends at that window (rule 30's stop, adopted with rule 42, session 30)
 CRITERIA = {  # how the selection ranks the climbs (sort keys of a table row)
     "pooled": lambda r: (r["macro_slips"], r["pooled_p90"], r["pooled_median"]),  # the recipe
     "family": lambda r: (r["macro_slips"], r["p90"], r["median"]),  # the family grid alone
@@ -315,15 +334,42 @@ def select_climb(ensemble_dir: Path, workers: int, criterion: str = "pooled",
 NOTHING_HELD_APART = "no climb held apart (fewer than 10 climbs)"  # a held-apart report of no window, not NaN
 
 
+TRAINING_RECORD = "training.json"  # what a directory's networks were fitted on (training_record)
+
+
+def file_digest(path: Path) -> str:
+    """The first 12 hex digits of the SHA-256 of a file's bytes."""
+    return hashlib.sha256(path.read_bytes()).hexdigest()[:12]
+
+
+def training_record(climbs: dict[str, int], added: list[Path], settings: FitSettings) -> dict:
+    """What networks are fitted on, as JSON: the collections' climbs, each added climbs file's digest
+    (its bytes, whatever its name or place) and the fit settings."""
+    record = {"climbs": climbs, "added_sha256": [file_digest(f) for f in added], "fit": asdict(settings)}
+    return json.loads(json.dumps(record))  # tuples as lists, as the file holds them
+
+
+def stale_networks(out: Path, record: dict) -> bool:
+    """Whether OUT's networks were fitted on other climbs or settings than ``record`` (OUT/training.json says
+    so; a directory without it, from before session 30, counts as fitted on them)."""
+    path = out / TRAINING_RECORD
+    return path.is_file() and json.loads(path.read_text()) != record
+
+
 def fit_networks(out: Path, load_data: Callable[[], Dataset], seeds: list[int], settings: FitSettings,
-                 reuse: bool) -> dict:
+                 reuse: bool, record: dict | None = None) -> dict:
     """One filter network per seed on the climbs ``load_data()`` returns (every tenth climb held apart) in
     OUT/seed_K/member_0.npz, all of them in OUT/ensemble/member_K.npz; ``reuse``: a seed's network that
     exists is kept, and where every seed's exists no climb is loaded or collected (selection and report
-    only: the held-apart likelihoods are not recomputed). Returns the held-apart likelihood per seed and
-    of the ensemble."""
+    only: the held-apart likelihoods are not recomputed), unless OUT's ``record`` of what they were fitted
+    on (:func:`training_record`, written to OUT/training.json) differs: then every seed is fitted again.
+    Returns the held-apart likelihood per seed and of the ensemble."""
     ensemble_dir = out / "ensemble"
     ensemble_dir.mkdir(parents=True, exist_ok=True)
+    if reuse and record is not None and stale_networks(out, record):
+        print(f"{out.name}: its networks were fitted on other climbs or settings ({out / TRAINING_RECORD}): "
+              "fitted again", flush=True)
+        reuse = False
     kept = {seed: out / f"seed_{seed}" / "member_0.npz" for seed in seeds}
     if reuse and all(path.is_file() for path in kept.values()):
         members = {seed: FilterNetwork.load(path) for seed, path in kept.items()}
@@ -342,6 +388,8 @@ def fit_networks(out: Path, load_data: Callable[[], Dataset], seeds: list[int], 
                 members[seed].save(kept[seed])
                 print(f"{out.name} seed {seed}: fitted in {time.time() - t:.0f} s", flush=True)
             fit_report[f"seed_{seed}"] = score(members[seed])
+    if record is not None:
+        (out / TRAINING_RECORD).write_text(json.dumps(record, indent=1) + "\n")
     for seed, member in members.items():
         member.save(ensemble_dir / f"member_{seed}.npz")
     if "reused" not in fit_report:
@@ -460,12 +508,12 @@ def main() -> None:
     settings = replace(FitSettings(), epochs=args.epochs, features=tuple(args.features), loss=args.loss)
     ensemble_dir = out / "ensemble"
     fit_report = fit_networks(out, lambda: Dataset.concatenate([collect(out, climbs, args.workers), *added]), args.seeds,
-                              settings, args.reuse)
+                              settings, args.reuse, training_record(climbs, args.add_climbs, settings))
     guards = list(args.guards)
     if guard_climbs:  # the recipe's guard: networks of their own, fitted alike on other climbs (OUT/guard/)
         fit_report["guard"] = fit_networks(
             out / "guard", lambda: Dataset.concatenate([collect(out, guard_climbs, args.workers), *added_to_guard]),
-            args.seeds, settings, args.reuse)
+            args.seeds, settings, args.reuse, training_record(guard_climbs, args.add_guard_climbs, settings))
         guards.append(out / "guard" / "ensemble")
     if args.fit_only:
         return
@@ -478,7 +526,8 @@ def main() -> None:
     guard_names = [install_guards(r, guards) for r in runs][-1]  # the same names in every run
     if guard_names and chosen.get("estimate_from") == "filter":
         chosen = {**chosen, "estimate_from": GUARDED_ESTIMATE}
-    chosen = {**chosen, "crest_floor": CREST_FLOOR, "runaway_estimate": RUNAWAY_ESTIMATE, "crest_ceiling": CREST_CEILING}
+    chosen = {**chosen, "crest_floor": CREST_FLOOR, "runaway_estimate": RUNAWAY_ESTIMATE, "crest_ceiling": CREST_CEILING,
+              "ceiling_stop": CEILING_STOP}
     manifest = {"climb": {**asdict(ClimbParameters()), **chosen},
                 "trained_on": {"env_id": ENV_ID, "configs": CONFIGS},
                 "training": {"climbs": climbs, "seeds": args.seeds, "fit": asdict(settings)}}
@@ -517,6 +566,8 @@ def main() -> None:
             "and the bound scaled by the coming torque crest: rule 23)" if chosen["runaway_estimate"] else "")
     why += ("; every estimate at most the best crest plus a bin's standard error once the crest has fallen under a "
             "rising torque crest (rule 28)" if chosen["crest_ceiling"] else "")
+    why += ("; the climb ends at the window where the crest falls under a rising torque crest (rule 30's stop, "
+            "rule 42)" if chosen["ceiling_stop"] else "")
     text += ["", f"Shipped estimate: `{chosen['estimate_from']}`{why}.", "",
              "## Report (nothing chosen here)", "", markdown(report, [f"seed_{s}" for s in args.seeds])]
     (out / "report.md").write_text("\n".join(text) + "\n")

@@ -16,13 +16,15 @@ from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR
 
 EXPERIMENTS = Path(__file__).resolve().parents[1] / "experiments"
 sys.path.insert(0, str(EXPERIMENTS))
-from train_estimator import policy_digest  # noqa: E402
+from train_estimator import policy_digest, policy_with  # noqa: E402
 
 SCRIPT = str(EXPERIMENTS / "train_estimator.py")
 
 
 @pytest.mark.parametrize("args, option", [(["--policy", "nowhere"], "--policy"), (["--climbs", "bad=3"], "--climbs"),
-                                          (["--climbs", "env=0"], "--climbs"), (["--loss", "l2"], "argument --loss")])
+                                          (["--climbs", "env=0"], "--climbs"), (["--loss", "l2"], "argument --loss"),
+                                          (["--set", "no_such_field=1"], "argument --set"),
+                                          (["--set", "caution=-1"], "argument --set")])
 def test_bad_options_exit_2_naming_the_option(tmp_path: Path, args: list[str], option: str, experiment_exit) -> None:
     code, last = experiment_exit("train_estimator", ["--out", str(tmp_path / "run"), *args])
     assert code == 2 and last.startswith(f"train_estimator.py: error: {option}")
@@ -89,3 +91,18 @@ def test_collect_only_writes_the_cache_and_fits_nothing(tmp_path: Path) -> None:
     assert [p.name for p in out.iterdir()] == [f"onpolicy_env_{policy_digest(SHIPPED_INTERROGATOR)}.npz"]
     assert sorted(set(Dataset.load(next(out.iterdir())).episode.tolist())) == [0, 1]
     assert f"of 2 climbs in {out}" in done.stdout
+
+
+def test_set_climbs_a_copy_of_the_policy_with_those_parameters(tmp_path: Path) -> None:
+    """``--set`` collects with a copy of the policy (OUT/policy/) whose manifest's climb has the parameters
+    changed, its networks and guards unchanged; the cache key follows the change where it steers the climb."""
+    shipped = json.loads((SHIPPED_INTERROGATOR / "manifest.json").read_text())
+    assert policy_with(SHIPPED_INTERROGATOR, {}, tmp_path) == SHIPPED_INTERROGATOR
+    stop = not shipped["climb"].get("ceiling_stop", False)
+    copy = policy_with(SHIPPED_INTERROGATOR, {"ceiling_stop": stop}, tmp_path)
+    assert copy == tmp_path / "policy"
+    manifest = json.loads((copy / "manifest.json").read_text())
+    assert manifest == {**shipped, "climb": {**shipped["climb"], "ceiling_stop": stop}}
+    for member in SHIPPED_INTERROGATOR.rglob("member_*.npz"):
+        assert (copy / member.relative_to(SHIPPED_INTERROGATOR)).read_bytes() == member.read_bytes()
+    assert policy_digest(copy) != policy_digest(SHIPPED_INTERROGATOR)

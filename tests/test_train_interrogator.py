@@ -4,6 +4,7 @@ fits the networks (and a guard's, from ``--guard-climbs``) and stops before the 
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 from pathlib import Path
@@ -123,3 +124,29 @@ def test_added_climbs_join_the_training_climbs_of_the_networks_named(tmp_path: P
         rows = np.concatenate([np.flatnonzero(train.episode == e) for e in rng.choice(episodes, len(episodes))])
         member = FilterNetwork.load(networks / "seed_0" / "member_0.npz")
         np.testing.assert_array_equal(member.feature_mean, train.features[rows].mean(axis=0))
+
+
+def test_reuse_refits_only_the_networks_whose_climbs_changed(tmp_path: Path, monkeypatch) -> None:
+    """``--reuse`` keeps networks fitted on the same climbs and settings (OUT/training.json) and fits again
+    those whose climbs changed: the recipe's third step keeps the filter and refits the guard on its added
+    climbs."""
+    import train_interrogator
+    from cof_gym.agents.interrogator_training import collect
+
+    guard_file = tmp_path / "onpolicy_guard.npz"
+    collect(cof_gym.WAGON_ENV_ID, [{}], 2, first_seed=2_000_950).save(guard_file)
+    run = tmp_path / "run"
+    base = ["train_interrogator.py", "--out", str(run), "--climbs", "env=4", "--guard-climbs", "env=4", "--seeds", "0",
+            "--epochs", "1", "--workers", "1", "--fit-only", "--reuse"]
+
+    def fit(*extra: str) -> tuple[bytes, bytes]:
+        monkeypatch.setattr(sys, "argv", [*base, *extra])
+        train_interrogator.main()
+        return tuple((d / "seed_0" / "member_0.npz").read_bytes() for d in (run, run / "guard"))
+
+    filter_1, guard_1 = fit()
+    filter_2, guard_2 = fit("--add-guard-climbs", str(guard_file))
+    assert filter_2 == filter_1 and guard_2 != guard_1
+    record = json.loads((run / "guard" / "training.json").read_text())
+    assert record["added_sha256"] == [train_interrogator.file_digest(guard_file)]
+    assert fit("--add-guard-climbs", str(guard_file)) == (filter_2, guard_2)  # the same climbs: both kept

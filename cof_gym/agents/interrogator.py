@@ -70,7 +70,8 @@ on the measured creepage's modulation) the climb steers by the lowest cautious h
 and its guards, each with its own std and spread: a guard can only slow the climb, and the estimate stays
 the filter's unless ``estimate_from`` reads the guards' (:data:`GUARDED_ESTIMATES`). A directory's
 ``manifest.json`` names its guards (``"guards"``: directories of ``member_*.npz``, relative to it); the shipped interrogator has one (session 16: the same networks fitted
-on the family climbs and on procedural creep curves together, ``guard_0``).
+on the family climbs and on procedural creep curves together, ``guard_0``; since session 30 also on the
+climbs of the agent shipped before it, on the env's draws).
 
 **Estimators.** With ``estimators`` (further ensembles fitted on the deployed climb's own windows, on
 policy: :func:`~cof_gym.agents.interrogator_training.collect` with a ``policy``) the estimate may read
