@@ -35,7 +35,7 @@ procedural curves and the procedural curves with steep falling branches
 confirmation grids of the same kinds (``experiments/suites/v2_confirmation_*grid.json``; ``--grids
 confirmation2``: the second such set, session 17; ``confirmation3`` and ``confirmation4``: the third and fourth,
 session 21; ``confirmation5`` and ``confirmation6``: the fifth and sixth, session 22; ``confirmation7``: the
-seventh, session 24; ``confirmation8``: the eighth, session 25; ``confirmation9``: the ninth, session 26; ``confirmation10``: the tenth, session 28; ``confirmation11``: the eleventh, session 29). With ``--crest-fractions`` each row also with each of these
+seventh, session 24; ``confirmation8``: the eighth, session 25; ``confirmation9``: the ninth, session 26; ``confirmation10``: the tenth, session 28; ``confirmation11``: the eleventh, session 29; ``confirmation12``: the twelfth, session 30). With ``--crest-fractions`` each row also with each of these
 crest caps (``ClimbParameters.crest_fraction``: the modulation shrinks so that its crest stays within
 that fraction of the cautious headroom; ``none``: uncapped; ``--crest-once-crept``: each cap from the
 climb's first slow probe on). With ``--set NAME=VALUE ...`` the shipped climb with those parameters (a
@@ -308,7 +308,7 @@ def main() -> None:
                              "episodes of the same kinds, to confirm a choice taken on the first; confirmation2: a "
                              "second such set, session 17; confirmation3 and confirmation4: a third and a fourth, session 21; "
                              "confirmation5 and confirmation6: a fifth and a sixth, session 22; confirmation7: a seventh, session 24; "
-                             "confirmation8: an eighth, session 25; confirmation9: a ninth, session 26; confirmation10: a tenth, session 28; confirmation11: an eleventh, session 29)")
+                             "confirmation8: an eighth, session 25; confirmation9: a ninth, session 26; confirmation10: a tenth, session 28; confirmation11: an eleventh, session 29; confirmation12: a twelfth, session 30)")
     parser.add_argument("--return-digits", type=int, default=2, choices=range(1, 7), metavar="{1..6}",
                         help="decimals of the mean returns (default: 2); more where two rows round alike")
     parser.add_argument("--records", type=Path, default=None, metavar="FILE",

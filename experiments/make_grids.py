@@ -51,6 +51,9 @@
 - ``suites/v2_confirmation11_grid.json``, ``suites/v2_confirmation11_procedural_grid.json`` and
   ``suites/v2_confirmation11_steep_grid.json`` (session 29, seeds 141 000, 143 000, 145 000): an eleventh such
   set, written before any agent played them, after the tenth had judged rule 41, for the next rule.
+- ``suites/v2_confirmation12_grid.json``, ``suites/v2_confirmation12_procedural_grid.json`` and
+  ``suites/v2_confirmation12_steep_grid.json`` (session 30, seeds 147 000, 149 000, 151 000): a twelfth such
+  set, written before any agent played them, after the eleventh had judged rule 42, for the next rule.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -284,10 +287,10 @@ def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.
 
 
 ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", "eighth ", "ninth ", "tenth ",
-            "eleventh ")
+            "eleventh ", "twelfth ")
 
 # the confirmation sets, in the order they were written (the first in session 16, the second in 17, the
-# third and fourth in 21, the fifth and sixth in 22, the seventh in 24, the eighth in 25, the ninth in 26, the tenth in 28, the eleventh in 29): name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and
+# third and fourth in 21, the fifth and sixth in 22, the seventh in 24, the eighth in 25, the ninth in 26, the tenth in 28, the eleventh in 29, the twelfth in 30): name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and
 # steep grids; each was written before any agent played it, and judges one rule's candidate
 CONFIRMATION_SETS = {
     "confirmation": (((0.05, 0.29, 0.53, 0.78), (5.5, 15.0, 27.0), 62_000),
@@ -312,6 +315,8 @@ CONFIRMATION_SETS = {
                        ((0.08, 0.42, 0.69, 0.9), (6.5, 19.5, 35.0), 137_000), ((0.13, 0.44, 0.77), (8.5, 23.0, 38.5), 139_000)),
     "confirmation11": (((0.03, 0.29, 0.53, 0.82, 0.97), (6.0, 18.0, 33.5), 141_000),
                        ((0.07, 0.36, 0.64, 0.89), (9.5, 22.5, 37.5), 143_000), ((0.11, 0.43, 0.75), (6.5, 21.0, 34.0), 145_000)),
+    "confirmation12": (((0.02, 0.27, 0.55, 0.8, 0.94), (7.0, 19.0, 32.5), 147_000),
+                       ((0.05, 0.4, 0.66, 0.93), (8.5, 21.5, 36.0), 149_000), ((0.14, 0.47, 0.79), (7.5, 20.5, 35.5), 151_000)),
 }
 
 
