@@ -5,17 +5,18 @@
 The recipe since session 30 (rule 42: the guard also learns the climb it slows) runs in three steps:
 
     python experiments/train_interrogator.py --out runs/interrogator
-    python experiments/train_estimator.py --policy runs/interrogator/ensemble --out runs/estimator_env \
-        --climbs env=8000 --collect-only
+    python experiments/train_estimator.py --policy runs/interrogator/ensemble --set ceiling_stop=false \
+        --out runs/estimator_env --climbs env=8000 --collect-only
     python experiments/train_interrogator.py --out runs/interrogator --reuse \
         --add-guard-climbs runs/estimator_env/onpolicy_env_DIGEST.npz --ship
 
-The first fits the filter and the probing guard and selects the climb; the second has that agent climb
-the recipe's 8000 training episodes on the env's draws (its own climbs, ``DIGEST`` naming its networks and
-climb: session 26's file ``onpolicy_env_56d6d6f9b007.npz`` for the agent shipped until session 30, whose
-climb had no crest stop); the third keeps the filter (fitted on the same climbs: OUT/training.json) and
-fits the guard again on its climbs and those (OUT/guard/training.json differs), selects the same climb
-(the selection plays the filter alone) and ships.
+The first fits the filter and the probing guard and selects the climb; the second has that agent, without
+the crest stop (CEILING_STOP, below; the agent shipped until session 30), climb the recipe's 8000 training
+episodes on the env's draws (its own climbs, ``DIGEST`` naming its networks and climb; session 26 collected
+the same climbs as ``onpolicy_env_56d6d6f9b007.npz``, the digest since changed by a field's default);
+the third keeps the filter (fitted on the same climbs: OUT/training.json) and fits the guard again on its
+climbs and those (OUT/guard/training.json differs), selects the same climb (the selection plays the
+filter alone) and ships.
 
 1. **Data**: training climbs on the v2 wagon's randomisation, half with the paper's counter torque
    (cof_gym/agents/interrogator_training.py): probing climbs steered by their own readings, never by
