@@ -305,6 +305,9 @@ generated, never typed:
         --add-guard-climbs runs/estimator_env/onpolicy_env_56d6d6f9b007.npz --ship   # rule 42 adopted
         # (rule 41's guard, runs/guard_onpolicy_env/guard/seed_K/member_0.npz, copied to runs/interrogator/guard/seed_K
         # first with the guard/training.json that this command writes; the filter's training.json likewise)
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only --targets 0.1 \
+        --stops --return-digits 4 --records out/records_shipped_validation_session30.json \
+        --out out/crest_tradeoff_shipped_validation_session30.md   # the shipped agent since rule 42
     (then every cof-gym evaluate command above again)
     python experiments/readme_results.py
 
@@ -422,6 +425,7 @@ SOURCES = {
         "crest_tradeoff_shipped_confirmation11",
         "crest_tradeoff_rule42_confirmation11",
         "paired_rule42_confirmation11",
+        "crest_tradeoff_shipped_validation_session30",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about
