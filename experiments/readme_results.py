@@ -308,6 +308,12 @@ generated, never typed:
     python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only --targets 0.1 \
         --stops --return-digits 4 --records out/records_shipped_validation_session30.json \
         --out out/crest_tradeoff_shipped_validation_session30.md   # the shipped agent since rule 42
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 \
+        runs/interrogator_probing_guard_backup/ensemble --guards-only --targets 0.1 --stops --return-digits 4 \
+        --records out/records_rule43_validation.json --out out/crest_tradeoff_rule43.md   # rule 43
+        # (runs/interrogator_probing_guard_backup/ensemble: commit f634051's guard_0 networks)
+    python experiments/paired_comparison.py out/records_shipped_validation_session30.json \
+        out/records_rule43_validation.json --out out/paired_rule43_validation.md
     (then every cof-gym evaluate command above again)
     python experiments/readme_results.py
 
@@ -426,6 +432,8 @@ SOURCES = {
         "crest_tradeoff_rule42_confirmation11",
         "paired_rule42_confirmation11",
         "crest_tradeoff_shipped_validation_session30",
+        "crest_tradeoff_rule43",
+        "paired_rule43_validation",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about
