@@ -33,9 +33,8 @@ validation grids (model selection data, never reported elsewhere as results): th
 procedural curves and the procedural curves with steep falling branches
 (``experiments/suites/v2_validation_steep_grid.json``), or with ``--grids confirmation`` on the three
 confirmation grids of the same kinds (``experiments/suites/v2_confirmation_*grid.json``; ``--grids
-confirmation2``: the second such set, session 17; ``confirmation3`` and ``confirmation4``: the third and fourth,
-session 21; ``confirmation5`` and ``confirmation6``: the fifth and sixth, session 22; ``confirmation7``: the
-seventh, session 24; ``confirmation8``: the eighth, session 25; ``confirmation9``: the ninth, session 26; ``confirmation10``: the tenth, session 28; ``confirmation11``: the eleventh, session 29; ``confirmation12``: the twelfth, session 30). With ``--crest-fractions`` each row also with each of these
+confirmationN``: the N-th such set, one for each of make_grids.CONFIRMATION_SETS, whose docstring says when
+each was written and which rule it judged). With ``--crest-fractions`` each row also with each of these
 crest caps (``ClimbParameters.crest_fraction``: the modulation shrinks so that its crest stays within
 that fraction of the cautious headroom; ``none``: uncapped; ``--crest-once-crept``: each cap from the
 climb's first slow probe on). With ``--set NAME=VALUE ...`` the shipped climb with those parameters (a
@@ -291,7 +290,8 @@ def main() -> None:
     parser.add_argument("--run", type=Path, nargs="+", default=[SHIPPED_INTERROGATOR],
                         help="directories of networks (member_*.npz) played with the shipped climb, each in turn")
     parser.add_argument("--guards", type=Path, nargs="+", default=None,
-                        help="directories of networks (member_*.npz) that also steer the climb, as guards (each row with and without)")
+                        help="directories of networks (member_*.npz) that also steer the climb, all of them together as guards of "
+                             "one climb (each row with and without them)")
     parser.add_argument("--estimators", type=Path, nargs="+", default=None,
                         help="directories of networks (member_*.npz) whose correction the estimate may read "
                              "(estimate_from estimator or estimator_pooled), in every row; they never steer")
@@ -304,11 +304,9 @@ def main() -> None:
                         help="also a table of how the climbs ended (the agent's stop reason or a macro-slip, before or after "
                              "its first slow probe), per grid")
     parser.add_argument("--grids", choices=sorted(GRID_SETS), default="validation",
-                        help="the three grids played: validation (model selection) or confirmation (session 16: other "
-                             "episodes of the same kinds, to confirm a choice taken on the first; confirmation2: a "
-                             "second such set, session 17; confirmation3 and confirmation4: a third and a fourth, session 21; "
-                             "confirmation5 and confirmation6: a fifth and a sixth, session 22; confirmation7: a seventh, session 24; "
-                             "confirmation8: an eighth, session 25; confirmation9: a ninth, session 26; confirmation10: a tenth, session 28; confirmation11: an eleventh, session 29; confirmation12: a twelfth, session 30)")
+                        help="the three grids played: validation (model selection) or a confirmation set (other episodes "
+                             "of the same kinds, to confirm a choice taken on the first; confirmationN: the N-th set, "
+                             "experiments/make_grids.py's docstring says when each was written)")
     parser.add_argument("--return-digits", type=int, default=2, choices=range(1, 7), metavar="{1..6}",
                         help="decimals of the mean returns (default: 2); more where two rows round alike")
     parser.add_argument("--records", type=Path, default=None, metavar="FILE",

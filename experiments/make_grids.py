@@ -289,9 +289,9 @@ def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.
 ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", "eighth ", "ninth ", "tenth ",
             "eleventh ", "twelfth ")
 
-# the confirmation sets, in the order they were written (the first in session 16, the second in 17, the
-# third and fourth in 21, the fifth and sixth in 22, the seventh in 24, the eighth in 25, the ninth in 26, the tenth in 28, the eleventh in 29, the twelfth in 30): name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and
-# steep grids; each was written before any agent played it, and judges one rule's candidate
+# the confirmation sets, in the order they were written (the module docstring says when, and for which rule):
+# name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and steep grids; each was written
+# before any agent played it, and judges one rule's candidate
 CONFIRMATION_SETS = {
     "confirmation": (((0.05, 0.29, 0.53, 0.78), (5.5, 15.0, 27.0), 62_000),
                      ((0.08, 0.44, 0.71), (11.0, 25.0, 38.0), 69_000), ((0.13, 0.48, 0.79), (9.0, 20.0, 35.0), 71_000)),
