@@ -54,6 +54,9 @@
 - ``suites/v2_confirmation12_grid.json``, ``suites/v2_confirmation12_procedural_grid.json`` and
   ``suites/v2_confirmation12_steep_grid.json`` (session 30, seeds 147 000, 149 000, 151 000): a twelfth such
   set, written before any agent played them, after the eleventh had judged rule 42, for the next rule.
+- ``suites/v2_confirmation13_grid.json``, ``suites/v2_confirmation13_procedural_grid.json`` and
+  ``suites/v2_confirmation13_steep_grid.json`` (session 31, seeds 153 000, 155 000, 157 000): a thirteenth
+  such set, written before any agent played them, after the twelfth had judged rule 44, for the next rule.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -287,7 +290,7 @@ def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.
 
 
 ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", "eighth ", "ninth ", "tenth ",
-            "eleventh ", "twelfth ")
+            "eleventh ", "twelfth ", "thirteenth ")
 
 # the confirmation sets, in the order they were written (the module docstring says when, and for which rule):
 # name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and steep grids; each was written
@@ -317,6 +320,8 @@ CONFIRMATION_SETS = {
                        ((0.07, 0.36, 0.64, 0.89), (9.5, 22.5, 37.5), 143_000), ((0.11, 0.43, 0.75), (6.5, 21.0, 34.0), 145_000)),
     "confirmation12": (((0.02, 0.27, 0.55, 0.8, 0.94), (7.0, 19.0, 32.5), 147_000),
                        ((0.05, 0.4, 0.66, 0.93), (8.5, 21.5, 36.0), 149_000), ((0.14, 0.47, 0.79), (7.5, 20.5, 35.5), 151_000)),
+    "confirmation13": (((0.04, 0.26, 0.51, 0.78, 0.93), (5.5, 17.5, 31.0), 153_000),
+                       ((0.06, 0.39, 0.71, 0.95), (7.0, 20.0, 34.5), 155_000), ((0.12, 0.45, 0.81), (6.0, 22.0, 37.0), 157_000)),
 }
 
 
