@@ -314,6 +314,42 @@ generated, never typed:
         # (runs/interrogator_probing_guard_backup/ensemble: commit f634051's guard_0 networks)
     python experiments/paired_comparison.py out/records_shipped_validation_session30.json \
         out/records_rule43_validation.json --out out/paired_rule43_validation.md
+        # (every command above that plays cof_gym/agents/policies/interrogator without setting estimate_from: with
+        # that directory as of commit af9b230, before rules 44 and 45; the commands below name what they change)
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only --targets 0.1 \
+        --stops --return-digits 4 --set 'estimate_from="pooled"' 'estimate_from="guard"' \
+        --records out/records_rule44_validation.json --out out/crest_tradeoff_rule44.md   # rule 44
+    python experiments/paired_comparison.py out/records_shipped_validation_session30.json \
+        out/records_rule44_validation.json --out out/paired_rule44_validation.md
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only --targets 0.1 \
+        --stops --return-digits 4 --set 'estimate_from="pooled_at_headroom"' 'estimate_from="pooled"' \
+        --grids confirmation12 --records out/records_rule44_confirmation12.json \
+        --out out/crest_tradeoff_rule44_confirmation12.md
+    python experiments/paired_comparison.py out/records_rule44_confirmation12.json \
+        --out out/paired_rule44_confirmation12.md
+    G2="cof_gym/agents/policies/interrogator/guard_0 runs/interrogator_probing_guard_backup/ensemble"
+    python experiments/crest_tradeoff.py --guards $G2 --guards-only --targets 0.1 --stops --return-digits 4 \
+        --set 'estimate_from="pooled"' --records out/records_rule45_validation.json \
+        --out out/crest_tradeoff_rule45.md   # rule 45 (before its adoption: guard_0 the on-policy guard alone)
+    B="estimate_from pooled, caution 2, target 0.1, guards cof_gym/agents/policies/interrogator/guard_0"
+    python experiments/paired_comparison.py out/records_rule44_validation.json out/records_rule45_validation.json \
+        --baseline "$B" --settings "$B, runs/interrogator_probing_guard_backup/ensemble" \
+        --out out/paired_rule45_validation.md
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only --targets 0.1 \
+        --stops --return-digits 4 --set 'estimate_from="pooled"' --grids confirmation13 \
+        --records out/records_rule45_confirmation13_shipped.json --out out/crest_tradeoff_shipped_confirmation13.md
+    python experiments/crest_tradeoff.py --guards $G2 --guards-only --targets 0.1 --stops --return-digits 4 \
+        --set 'estimate_from="pooled"' --grids confirmation13 --records out/records_rule45_confirmation13.json \
+        --out out/crest_tradeoff_rule45_confirmation13.md
+    python experiments/paired_comparison.py out/records_rule45_confirmation13_shipped.json \
+        out/records_rule45_confirmation13.json --out out/paired_rule45_confirmation13.md
+    python experiments/train_interrogator.py --out runs/interrogator --reuse \
+        --add-guard-climbs runs/estimator_env/onpolicy_env_56d6d6f9b007.npz --probing-guard --ship   # rules 44, 45
+        # (runs/interrogator_probing_guard_backup/seed_K copied to runs/interrogator/probing_guard/seed_K first)
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 \
+        cof_gym/agents/policies/interrogator/guard_1 --guards-only --targets 0.1 --stops --return-digits 4 \
+        --records out/records_shipped_validation_session31.json \
+        --out out/crest_tradeoff_shipped_validation_session31.md   # the shipped agent since rule 45
     (then every cof-gym evaluate command above again)
     python experiments/readme_results.py
 
@@ -434,6 +470,16 @@ SOURCES = {
         "crest_tradeoff_shipped_validation_session30",
         "crest_tradeoff_rule43",
         "paired_rule43_validation",
+        "crest_tradeoff_rule44",
+        "paired_rule44_validation",
+        "crest_tradeoff_rule44_confirmation12",
+        "paired_rule44_confirmation12",
+        "crest_tradeoff_rule45",
+        "paired_rule45_validation",
+        "crest_tradeoff_shipped_confirmation13",
+        "crest_tradeoff_rule45_confirmation13",
+        "paired_rule45_confirmation13",
+        "crest_tradeoff_shipped_validation_session31",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about

@@ -2,21 +2,22 @@
 
     python experiments/train_interrogator.py --out runs/interrogator [--ship]
 
-The recipe since session 30 (rule 42: the guard also learns the climb it slows) runs in three steps:
+The recipe since session 30 (rule 42: the guard also learns the climb it slows; rule 45, session 31: the
+probing guard steers beside it) runs in three steps:
 
     python experiments/train_interrogator.py --out runs/interrogator
     python experiments/train_estimator.py --policy runs/interrogator/ensemble --set ceiling_stop=false \
         --out runs/estimator_env --climbs env=8000 --collect-only
     python experiments/train_interrogator.py --out runs/interrogator --reuse \
-        --add-guard-climbs runs/estimator_env/onpolicy_env_DIGEST.npz --ship
+        --add-guard-climbs runs/estimator_env/onpolicy_env_DIGEST.npz --probing-guard --ship
 
 The first fits the filter and the probing guard and selects the climb; the second has that agent, without
 the crest stop (CEILING_STOP, below; the agent shipped until session 30), climb the recipe's 8000 training
 episodes on the env's draws (its own climbs, ``DIGEST`` naming its networks and climb; session 26 collected
 the same climbs as ``onpolicy_env_56d6d6f9b007.npz``, the digest since changed by a field's default);
-the third keeps the filter (fitted on the same climbs: OUT/training.json) and fits the guard again on its
-climbs and those (OUT/guard/training.json differs), selects the same climb (the selection plays the
-filter alone) and ships.
+the third keeps the filter (fitted on the same climbs: OUT/training.json), fits the guard again on its
+climbs and those (OUT/guard/training.json differs), fits the first step's guard again as a second guard
+(``--probing-guard``: OUT/probing_guard/, on the probing climbs alone; or keeps it where it is there), selects the same climb (the selection plays the filter alone) and ships.
 
 1. **Data**: training climbs on the v2 wagon's randomisation, half with the paper's counter torque
    (cof_gym/agents/interrogator_training.py): probing climbs steered by their own readings, never by
@@ -37,9 +38,11 @@ filter alone) and ships.
    OUT/guard/ensemble/; it steers the chosen climb beside the filter and may only slow it (the climb
    follows the lowest cautious headroom of all). Adopted by a rule written before the confirmation grids
    were played (docs/interrogator.md, session 16); since session 30 (rule 42) it also learns the climbs of
-   the agent the first two steps ship (``--add-guard-climbs``, above). With the guard, a chosen filter estimate becomes
-   GUARDED_ESTIMATE: the filter's and the guard's corrections pooled where the climb stops on its
-   headroom, the filter's otherwise (rule 16, session 20; it changes no step of the climb). Every chosen
+   the agent the first two steps ship (``--add-guard-climbs``, above), and since session 31 (rule 45) the
+   first step's guard steers beside it (``--probing-guard``). With a guard, a chosen filter estimate becomes
+   GUARDED_ESTIMATE: the filter's and the guards' corrections pooled at every window (rule 44, session 31;
+   from session 20's rule 16 on, only where the climb stopped on its headroom; it changes no step of the
+   climb). Every chosen
    climb's estimate is at least its best crest bound (CREST_FLOOR: the measured CoA's cycle crest less one
    phase bin's standard error; rule 21, session 22; it changes no step of the climb either), and between
    stops it reports what a runaway in the coming window would measure (RUNAWAY_ESTIMATE: rule 23, session
@@ -295,7 +298,7 @@ def score(results: list[tuple[float, bool]]) -> dict:
     return error_summary([e for e, _ in results], [s for _, s in results])
 
 
-GUARDED_ESTIMATE = "pooled_at_headroom"  # the estimate source of a guarded filter (rule 16, session 20)
+GUARDED_ESTIMATE = "pooled"  # the estimate source of a guarded filter (rule 44, session 31; rule 16 before)
 CREST_FLOOR = True  # the chosen climb's estimate at least its best crest bound (rule 21, session 22)
 RUNAWAY_ESTIMATE = True  # between stops, the chosen climb reports what a runaway would (rule 23, session 23)
 CREST_CEILING = True  # once the crest falls under a rising torque crest, the estimate at most it (rule 28, session 25)
@@ -492,6 +495,9 @@ def main() -> None:
                          "to the filter's training climbs (not the guard's)")
     ap.add_argument("--add-guard-climbs", type=Path, nargs="+", default=[], metavar="FILE",
                     help="climbs recorded elsewhere added to the guard's training climbs (with --guard-climbs)")
+    ap.add_argument("--probing-guard", action="store_true",
+                    help="with --add-guard-climbs, also a guard fitted on the --guard-climbs alone (OUT/probing_guard/: "
+                         "the first step's guard), steering beside the one that learns the added climbs (rule 45)")
     ap.add_argument("--guards", type=Path, nargs="+", default=[], metavar="DIR",
                     help="networks (DIR/member_*.npz, e.g. another run's ensemble) that steer the climb beside the "
                          "filter as its guards: copied into every run directory, named in the manifest")
@@ -502,6 +508,8 @@ def main() -> None:
     added = load_added_climbs(ap, args.add_climbs)
     if args.add_guard_climbs and not guard_climbs:
         ap.error("--add-guard-climbs: no guard is fitted (--guard-climbs none)")
+    if args.probing_guard and not args.add_guard_climbs:
+        ap.error("--probing-guard: needs --add-guard-climbs (without them OUT/guard/ is the probing guard)")
     added_to_guard = load_added_climbs(ap, args.add_guard_climbs, "--add-guard-climbs")
     out = args.out
     out.mkdir(parents=True, exist_ok=True)
@@ -516,6 +524,11 @@ def main() -> None:
             out / "guard", lambda: Dataset.concatenate([collect(out, guard_climbs, args.workers), *added_to_guard]),
             args.seeds, settings, args.reuse, training_record(guard_climbs, args.add_guard_climbs, settings))
         guards.append(out / "guard" / "ensemble")
+    if args.probing_guard:  # the first step's guard beside it (rule 45): fitted on the guard's climbs alone
+        fit_report["probing_guard"] = fit_networks(
+            out / "probing_guard", lambda: Dataset.concatenate([collect(out, guard_climbs, args.workers)]),
+            args.seeds, settings, args.reuse, training_record(guard_climbs, [], settings))
+        guards.append(out / "probing_guard" / "ensemble")
     if args.fit_only:
         return
     t = time.time()
@@ -540,6 +553,8 @@ def main() -> None:
         manifest["training"]["added_climbs"] = [str(f) for f in args.add_climbs]
     if args.add_guard_climbs:
         manifest["training"]["added_guard_climbs"] = [str(f) for f in args.add_guard_climbs]
+    if args.probing_guard:
+        manifest["training"]["probing_guard"] = guard_names[-1]  # fitted on the guard climbs alone
     columns = grid_columns(GRIDS[args.grid])  # the climb parameters the grid varies
     for r in runs:
         (r / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n")
@@ -559,7 +574,7 @@ def main() -> None:
              f"{100 * r['median']:.1f} % / {100 * r['p90']:.1f} % / {r['macro_slips']} | "
              f"{100 * r['procedural_median']:.1f} % / {100 * r['procedural_p90']:.1f} % / {r['procedural_macro_slips']} | "
              f"{100 * r['pooled_p90']:.1f} % |" for r in table[:10]]
-    why = (" (the guard's and the filter's corrections pooled at a headroom stop, the filter's otherwise: rule 16)"
+    why = (" (the guards' and the filter's corrections pooled at every window: rule 44)"
            if chosen["estimate_from"] == GUARDED_ESTIMATE else "")
     why += (", at least the climb's best crest bound (the measured CoA's cycle crest less a bin's standard error: "
             "rule 21)" if chosen["crest_floor"] else "")

@@ -124,7 +124,7 @@ def test_a_row_without_guards_reports_the_filters_estimate_unless_set() -> None:
 
 def test_records_hold_every_episode_and_each_sources_error(tmp_path: Path) -> None:
     """--records (here through ``table(records=...)``): one dict per episode and configuration, whose reported
-    error is its estimate source's (the shipped ``pooled_at_headroom``) as recomputed from the agent's
+    error is its estimate source's (the shipped manifest's) as recomputed from the agent's
     candidates; they differ only by the float32 action that carries the estimate (log-mapped over a
     factor of 100 or less: a relative rounding of at most ln(100) / 2 x 2^-24 < 1.4e-7)."""
     sys.path.insert(0, str(SCRIPT.parent))
@@ -135,8 +135,9 @@ def test_records_hold_every_episode_and_each_sources_error(tmp_path: Path) -> No
     tiny.write_text(json.dumps({**suite, "episodes": suite["episodes"][:2]}))
     records: list = []
     text = table([0.1], 1, guards=[SHIPPED / "guard_0"], grids={"tiny": tiny}, guards_only=True, records=records)
+    source = json.loads((SHIPPED / "manifest.json").read_text())["climb"]["estimate_from"]
     assert text.count("\n") == 3 and len(records) == 2 * len(CONFIGS)
     assert [(r["config"], r["episode"]) for r in records] == [(c, i) for c in CONFIGS for i in range(2)]
     for r in records:
         assert set(r["source_errors"]) == {"filter", "best_coa", "guard", "pooled", "pooled_at_headroom"}
-        assert r["error"] == pytest.approx(r["source_errors"]["pooled_at_headroom"], abs=1e-6)
+        assert r["error"] == pytest.approx(r["source_errors"][source], abs=1e-6)

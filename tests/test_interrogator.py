@@ -186,7 +186,8 @@ def test_shipped_interrogator_is_a_default_agent_and_measures():
     env = gym.make(cof_gym.WAGON_ENV_ID)
     agent = registry.make_agent("interrogator", env)
     assert agent.distribution_note(cof_gym.WAGON_ENV_ID, {}) is None
-    assert len(agent.guards) == 1 and len(agent.guards[0].members) == 5  # the recipe's guard (session 16)
+    # the recipe's guards: the one that learns the shipped climb (session 30) and the probing guard (session 31)
+    assert len(agent.guards) == 2 and all(len(g.members) == 5 for g in agent.guards)
     records = [run_episode(env, agent, seed, {}, i) for i, seed in enumerate((11, 12, 13))]
     assert not any(r.macro_slip for r in records)
     assert all(r.scored and r.relative_error < 0.5 for r in records)

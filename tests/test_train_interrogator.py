@@ -150,3 +150,33 @@ def test_reuse_refits_only_the_networks_whose_climbs_changed(tmp_path: Path, mon
     record = json.loads((run / "guard" / "training.json").read_text())
     assert record["added_sha256"] == [train_interrogator.file_digest(guard_file)]
     assert fit("--add-guard-climbs", str(guard_file)) == (filter_2, guard_2)  # the same climbs: both kept
+
+
+def test_a_probing_guard_without_added_climbs_exits_2(tmp_path: Path, experiment_exit) -> None:
+    code, last = experiment_exit("train_interrogator", ["--out", str(tmp_path / "run"), "--probing-guard"])
+    assert code == 2 and last.startswith("train_interrogator.py: error: --probing-guard: needs --add-guard-climbs")
+    assert not (tmp_path / "run").exists()
+
+
+def test_the_probing_guard_is_the_first_steps_guard(tmp_path: Path, monkeypatch) -> None:
+    """``--probing-guard`` (the recipe's third step, rule 45) fits beside the guard that learns the added climbs
+    the networks the first step fitted as its guard, byte for byte, and keeps them on a repeat."""
+    import train_interrogator
+    from cof_gym.agents.interrogator_training import collect
+
+    guard_file = tmp_path / "onpolicy_guard.npz"
+    collect(cof_gym.WAGON_ENV_ID, [{}], 2, first_seed=2_000_950).save(guard_file)
+    base = ["--climbs", "env=5", "--guard-climbs", "env=4", "--seeds", "0", "--epochs", "1", "--workers", "1",
+            "--fit-only", "--reuse"]  # the filter on other climbs than the guards
+
+    def fit(run: Path, *extra: str) -> dict[str, bytes]:
+        monkeypatch.setattr(sys, "argv", ["train_interrogator.py", "--out", str(run), *base, *extra])
+        train_interrogator.main()
+        return {d.name: (d / "seed_0" / "member_0.npz").read_bytes()
+                for d in (run, run / "guard", run / "probing_guard") if d.is_dir()}
+
+    first = fit(tmp_path / "first")
+    third = fit(tmp_path / "third", "--add-guard-climbs", str(guard_file), "--probing-guard")
+    assert "probing_guard" not in first and first["guard"] != first["first"]
+    assert third["probing_guard"] == first["guard"] != third["guard"]
+    assert fit(tmp_path / "third", "--add-guard-climbs", str(guard_file), "--probing-guard") == third

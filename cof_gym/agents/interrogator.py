@@ -69,9 +69,11 @@ otherwise, or an estimator's (below), whichever the validation chose. The parame
 on the measured creepage's modulation) the climb steers by the lowest cautious headroom of the filter
 and its guards, each with its own std and spread: a guard can only slow the climb, and the estimate stays
 the filter's unless ``estimate_from`` reads the guards' (:data:`GUARDED_ESTIMATES`). A directory's
-``manifest.json`` names its guards (``"guards"``: directories of ``member_*.npz``, relative to it); the shipped interrogator has one (session 16: the same networks fitted
-on the family climbs and on procedural creep curves together, ``guard_0``; since session 30 also on the
-climbs of the agent shipped before it, on the env's draws).
+``manifest.json`` names its guards (``"guards"``: directories of ``member_*.npz``, relative to it); the shipped
+interrogator has two since session 31: ``guard_0``, the same networks fitted on the family climbs, on
+procedural creep curves and on the climbs of the agent shipped before session 30, on the env's draws; and
+``guard_1``, fitted on the first two alone (the probing guard, its only guard from session 16 to 30).
+Since session 31 the shipped estimate pools the filter's and both guards' corrections at every window.
 
 **Estimators.** With ``estimators`` (further ensembles fitted on the deployed climb's own windows, on
 policy: :func:`~cof_gym.agents.interrogator_training.collect` with a ``policy``) the estimate may read
