@@ -17,7 +17,8 @@ episodes on the env's draws (its own climbs, ``DIGEST`` naming its networks and 
 the same climbs as ``onpolicy_env_56d6d6f9b007.npz``, the digest since changed by a field's default);
 the third keeps the filter (fitted on the same climbs: OUT/training.json), fits the guard again on its
 climbs and those (OUT/guard/training.json differs), fits the first step's guard again as a second guard
-(``--probing-guard``: OUT/probing_guard/, on the probing climbs alone; or keeps it where it is there), selects the same climb (the selection plays the filter alone) and ships.
+(``--probing-guard``: OUT/probing_guard/, on the probing climbs alone; or keeps it where it is there),
+selects the same climb (the selection plays the filter alone) and ships.
 
 1. **Data**: training climbs on the v2 wagon's randomisation, half with the paper's counter torque
    (cof_gym/agents/interrogator_training.py): probing climbs steered by their own readings, never by
@@ -42,9 +43,9 @@ climbs and those (OUT/guard/training.json differs), fits the first step's guard 
    first step's guard steers beside it (``--probing-guard``). With a guard, a chosen filter estimate becomes
    GUARDED_ESTIMATE: the filter's and the guards' corrections pooled at every window (rule 44, session 31;
    from session 20's rule 16 on, only where the climb stopped on its headroom; it changes no step of the
-   climb). Every chosen
-   climb's estimate is at least its best crest bound (CREST_FLOOR: the measured CoA's cycle crest less one
-   phase bin's standard error; rule 21, session 22; it changes no step of the climb either), and between
+   climb). Every chosen climb's estimate is at least its best crest bound (CREST_FLOOR: the measured CoA's
+   cycle crest less one phase bin's standard error; rule 21, session 22; it changes no step of the climb
+   either), and between
    stops it reports what a runaway in the coming window would measure (RUNAWAY_ESTIMATE: rule 23, session
    23; no step changes, nor the estimate of an episode that does not run away); once the crest has fallen
    under a rising torque crest, every estimate is at most the best crest plus one bin's standard error
