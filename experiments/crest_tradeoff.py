@@ -256,17 +256,30 @@ def crest_fraction(text: str) -> float | None:
     return value
 
 
-def climb_setting(text: str) -> tuple[str, object]:
-    """A ``--set`` item: ``NAME=VALUE`` with NAME a :class:`ClimbParameters` field and VALUE JSON that it
-    accepts (checked by building the shipped climb with it)."""
+def climb_item(text: str) -> tuple[str, object]:
+    """``NAME=VALUE`` with NAME a :class:`ClimbParameters` field and VALUE JSON, as (name, value); the value
+    is checked against a climb by :func:`checked_climb`."""
     name, _, value = text.partition("=")
     fields = asdict(ClimbParameters())
     if name not in fields:
         raise argparse.ArgumentTypeError(f"expected NAME=VALUE with NAME a climb parameter ({', '.join(fields)}), got {text!r}")
     try:
-        parsed = json.loads(value)
-        ClimbParameters(**{**read_manifest(SHIPPED_INTERROGATOR)["climb"], name: parsed})
+        return name, json.loads(value)
     except ValueError as error:  # json.JSONDecodeError is a ValueError
+        raise argparse.ArgumentTypeError(f"{name}: {error}") from None
+
+
+def checked_climb(climb: dict, changes: dict) -> None:
+    """Raises ValueError naming the parameter where ``climb`` with ``changes`` is no valid climb."""
+    ClimbParameters(**{**climb, **changes})
+
+
+def climb_setting(text: str) -> tuple[str, object]:
+    """A ``--set`` item (:func:`climb_item`) whose value the shipped climb accepts."""
+    name, parsed = climb_item(text)
+    try:
+        checked_climb(read_manifest(SHIPPED_INTERROGATOR)["climb"], {name: parsed})
+    except ValueError as error:
         raise argparse.ArgumentTypeError(f"{name}: {error}") from None
     return name, parsed
 

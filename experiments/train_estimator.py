@@ -41,7 +41,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from crest_tradeoff import climb_setting  # noqa: E402
+from crest_tradeoff import checked_climb, climb_item  # noqa: E402
 from train_interrogator import CONFIGS, ENV_ID, fit_networks, parse_climbs, require_networks, split  # noqa: E402
 
 from cof_gym.agents.interrogator import (  # noqa: E402
@@ -169,7 +169,7 @@ def main() -> None:
     ap.add_argument("--reuse", action="store_true", help="keep OUT/seed_K networks that exist")
     ap.add_argument("--collect-only", action="store_true",
                     help="collect the policy's climbs into OUT's cache and stop (no networks, no report)")
-    ap.add_argument("--set", nargs="+", default=[], metavar="NAME=VALUE", type=climb_setting,
+    ap.add_argument("--set", nargs="+", default=[], metavar="NAME=VALUE", type=climb_item,
                     help="the policy climbs with these climb parameters (ClimbParameters fields, JSON values) changed: "
                          "a copy of it in OUT/policy/")
     ap.add_argument("--loss", choices=FIT_LOSSES, default="gaussian",
@@ -179,6 +179,10 @@ def main() -> None:
     require_networks(ap, "--policy", [args.policy])
     if not (args.policy / "manifest.json").is_file():
         ap.error(f"--policy: no manifest.json in {args.policy} (the climb the estimator learns)")
+    try:  # the --set values against the policy's own climb
+        checked_climb(read_manifest(args.policy).get("climb", {}), dict(args.set))
+    except ValueError as error:
+        ap.error(f"--set: {error}")
     climbs = parse_climbs(ap, args.climbs, "--climbs", ON_POLICY)
     t0 = time.time()
     policy = policy_with(args.policy, dict(args.set), args.out)

@@ -24,7 +24,9 @@ SCRIPT = str(EXPERIMENTS / "train_estimator.py")
 @pytest.mark.parametrize("args, option", [(["--policy", "nowhere"], "--policy"), (["--climbs", "bad=3"], "--climbs"),
                                           (["--climbs", "env=0"], "--climbs"), (["--loss", "l2"], "argument --loss"),
                                           (["--set", "no_such_field=1"], "argument --set"),
-                                          (["--set", "caution=-1"], "argument --set")])
+                                          (["--set", "caution=x"], "argument --set"),
+                                          (["--set", "caution=-1"], "--set: caution"),
+                                          (["--set", "creep_log_step=0.2"], "--set: creep_log_step")])
 def test_bad_options_exit_2_naming_the_option(tmp_path: Path, args: list[str], option: str, experiment_exit) -> None:
     code, last = experiment_exit("train_estimator", ["--out", str(tmp_path / "run"), *args])
     assert code == 2 and last.startswith(f"train_estimator.py: error: {option}")
@@ -107,3 +109,19 @@ def test_set_climbs_a_copy_of_the_policy_with_those_parameters(tmp_path: Path) -
     for member in SHIPPED_INTERROGATOR.rglob("member_*.npz"):
         assert (copy / member.relative_to(SHIPPED_INTERROGATOR)).read_bytes() == member.read_bytes()
     assert policy_digest(copy) != policy_digest(SHIPPED_INTERROGATOR)
+
+
+def test_set_is_checked_against_the_policys_own_climb(tmp_path: Path, experiment_exit) -> None:
+    """A ``--set`` value that the shipped climb refuses (a slow-probe step above its largest step) but the
+    ``--policy``'s climb accepts collects with that policy."""
+    policy = tmp_path / "policy"
+    shutil.copytree(SHIPPED_INTERROGATOR, policy)
+    manifest = json.loads((policy / "manifest.json").read_text())
+    manifest["climb"]["max_log_step"] = 0.3
+    (policy / "manifest.json").write_text(json.dumps(manifest))
+    out = tmp_path / "run"
+    done = subprocess.run([sys.executable, SCRIPT, "--policy", str(policy), "--out", str(out), "--set",
+                           "creep_log_step=0.2", "--climbs", "env=2", "--workers", "1", "--collect-only"],
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert read_manifest(out / "policy")["climb"]["creep_log_step"] == 0.2
