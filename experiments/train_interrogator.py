@@ -517,18 +517,20 @@ def main() -> None:
     t0 = time.time()
     settings = replace(FitSettings(), epochs=args.epochs, features=tuple(args.features), loss=args.loss)
     ensemble_dir = out / "ensemble"
-    fit_report = fit_networks(out, lambda: Dataset.concatenate([collect(out, climbs, args.workers), *added]), args.seeds,
-                              settings, args.reuse, training_record(climbs, args.add_climbs, settings))
+
+    def fit(directory: Path, collections: dict[str, int], files: list[Path], data: list[Dataset]) -> dict:
+        """fit_networks in ``directory`` on the climbs of ``collections`` and those of ``files`` (``data``, read
+        from them), recorded as such."""
+        return fit_networks(directory, lambda: Dataset.concatenate([collect(out, collections, args.workers), *data]),
+                            args.seeds, settings, args.reuse, training_record(collections, files, settings))
+
+    fit_report = fit(out, climbs, args.add_climbs, added)
     guards = list(args.guards)
     if guard_climbs:  # the recipe's guard: networks of their own, fitted alike on other climbs (OUT/guard/)
-        fit_report["guard"] = fit_networks(
-            out / "guard", lambda: Dataset.concatenate([collect(out, guard_climbs, args.workers), *added_to_guard]),
-            args.seeds, settings, args.reuse, training_record(guard_climbs, args.add_guard_climbs, settings))
+        fit_report["guard"] = fit(out / "guard", guard_climbs, args.add_guard_climbs, added_to_guard)
         guards.append(out / "guard" / "ensemble")
     if args.probing_guard:  # the first step's guard beside it (rule 45): fitted on the guard's climbs alone
-        fit_report["probing_guard"] = fit_networks(
-            out / "probing_guard", lambda: Dataset.concatenate([collect(out, guard_climbs, args.workers)]),
-            args.seeds, settings, args.reuse, training_record(guard_climbs, [], settings))
+        fit_report["probing_guard"] = fit(out / "probing_guard", guard_climbs, [], [])
         guards.append(out / "probing_guard" / "ensemble")
     if args.fit_only:
         return
