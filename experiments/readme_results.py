@@ -351,6 +351,20 @@ generated, never typed:
         --records out/records_shipped_validation_session31.json \
         --out out/crest_tradeoff_shipped_validation_session31.md   # the shipped agent since rule 45
     (then every cof-gym evaluate command above again)
+    G="cof_gym/agents/policies/interrogator/guard_0 cof_gym/agents/policies/interrogator/guard_1"
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
+        --set 'estimate_from="guard"' --records out/records_rule46_validation.json --out out/crest_tradeoff_rule46.md
+    python experiments/paired_comparison.py out/records_shipped_validation_session31.json \
+        out/records_rule46_validation.json --out out/paired_rule46_validation.md
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
+        --set 'estimate_from="pooled"' 'estimate_from="guard"' --grids confirmation14 \
+        --records out/records_rule46_confirmation14.json --out out/crest_tradeoff_rule46_confirmation14.md
+    python experiments/paired_comparison.py out/records_rule46_confirmation14.json \
+        --baseline "estimate_from pooled, caution 2, target 0.1, guards ${G/ /, }" \
+        --out out/paired_rule46_confirmation14.md
+    python experiments/train_interrogator.py --out runs/interrogator --reuse \
+        --add-guard-climbs runs/estimator_env/onpolicy_env_56d6d6f9b007.npz --probing-guard --ship   # rule 46
+    (then every cof-gym evaluate command above again)
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -480,6 +494,10 @@ SOURCES = {
         "crest_tradeoff_rule45_confirmation13",
         "paired_rule45_confirmation13",
         "crest_tradeoff_shipped_validation_session31",
+        "crest_tradeoff_rule46",
+        "paired_rule46_validation",
+        "crest_tradeoff_rule46_confirmation14",
+        "paired_rule46_confirmation14",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about

@@ -41,9 +41,9 @@ selects the same climb (the selection plays the filter alone) and ships.
    were played (docs/interrogator.md, session 16); since session 30 (rule 42) it also learns the climbs of
    the agent the first two steps ship (``--add-guard-climbs``, above), and since session 31 (rule 45) the
    first step's guard steers beside it (``--probing-guard``). With a guard, a chosen filter estimate becomes
-   GUARDED_ESTIMATE: the filter's and the guards' corrections pooled at every window (rule 44, session 31;
-   from session 20's rule 16 on, only where the climb stopped on its headroom; it changes no step of the
-   climb). Every chosen climb's estimate is at least its best crest bound (CREST_FLOOR: the measured CoA's
+   GUARDED_ESTIMATE: the guards' corrections pooled at every window, without the filter's (rule 46, session
+   32; the filter's and the guards' pooled from rule 44, session 31, and from session 20's rule 16 on only
+   where the climb stopped on its headroom; it changes no step of the climb). Every chosen climb's estimate is at least its best crest bound (CREST_FLOOR: the measured CoA's
    cycle crest less one phase bin's standard error; rule 21, session 22; it changes no step of the climb
    either), and between
    stops it reports what a runaway in the coming window would measure (RUNAWAY_ESTIMATE: rule 23, session
@@ -299,7 +299,7 @@ def score(results: list[tuple[float, bool]]) -> dict:
     return error_summary([e for e, _ in results], [s for _, s in results])
 
 
-GUARDED_ESTIMATE = "pooled"  # the estimate source of a guarded filter (rule 44, session 31; rule 16 before)
+GUARDED_ESTIMATE = "guard"  # the estimate source of a guarded filter (rule 46, session 32; rules 44 and 16 before)
 CREST_FLOOR = True  # the chosen climb's estimate at least its best crest bound (rule 21, session 22)
 RUNAWAY_ESTIMATE = True  # between stops, the chosen climb reports what a runaway would (rule 23, session 23)
 CREST_CEILING = True  # once the crest falls under a rising torque crest, the estimate at most it (rule 28, session 25)
@@ -577,7 +577,7 @@ def main() -> None:
              f"{100 * r['median']:.1f} % / {100 * r['p90']:.1f} % / {r['macro_slips']} | "
              f"{100 * r['procedural_median']:.1f} % / {100 * r['procedural_p90']:.1f} % / {r['procedural_macro_slips']} | "
              f"{100 * r['pooled_p90']:.1f} % |" for r in table[:10]]
-    why = (" (the guards' and the filter's corrections pooled at every window: rule 44)"
+    why = (" (the guards' corrections pooled at every window: rule 46)"
            if chosen["estimate_from"] == GUARDED_ESTIMATE else "")
     why += (", at least the climb's best crest bound (the measured CoA's cycle crest less a bin's standard error: "
             "rule 21)" if chosen["crest_floor"] else "")
