@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+import json
 import math
-from dataclasses import astuple
+from dataclasses import asdict, astuple
 import subprocess
 from dataclasses import replace
 import sys
@@ -201,7 +202,11 @@ def test_shipped_interrogator_is_a_default_agent_and_measures():
                                             ({"target_headroom": float("inf")}, "target_headroom"),
                                             ({"crest_floor": "yes"}, "crest_floor"),
                                             ({"runaway_estimate": 1}, "runaway_estimate"),
-                                            ({"creep_sticky": 1}, "creep_sticky")])
+                                            ({"creep_sticky": 1}, "creep_sticky"),
+                                            ({"guard_cautions": [2.0, -1.0]}, r"guard_cautions\[1\]"),
+                                            ({"guard_cautions": []}, "guard_cautions"),
+                                            ({"guard_cautions": 2.0}, "guard_cautions"),
+                                            ({"guard_cautions": ["2"]}, r"guard_cautions\[0\]")])
 def test_bad_climb_parameters_name_the_field(kwargs, field):
     with pytest.raises(ValueError, match=field):
         ClimbParameters(**kwargs)
@@ -689,6 +694,31 @@ def test_a_cautious_guard_stops_the_climb_and_the_estimate_stays_the_filters():
     assert len(actions) == 2 and guarded.stop_reason == "headroom"  # the first window, then the stop
     coa = guarded.features.readings[-1].coa
     assert info["cof_estimate"] == pytest.approx(coa * math.exp(0.2), rel=1e-6)  # the filter's correction
+
+
+def test_guard_cautions_give_each_guard_its_own_caution_and_the_climbs_caution_changes_nothing():
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    limits = env.unwrapped.limits
+    ensemble = FilterEnsemble((random_network(5), random_network(6)))
+    params = ClimbParameters(caution=2.0, guard_cautions=[1.0, 3.0])
+    assert params.guard_cautions == (1.0, 3.0) and params.guard_caution(1) == 3.0
+    assert ClimbParameters(**json.loads(json.dumps(asdict(params)))) == params  # a manifest's list reads back
+    assert ClimbParameters(caution=2.0).guard_caution(1) == 2.0
+    agent = LearnedInterrogator(limits, ensemble, params=params, guards=(ensemble, ensemble))
+    column = lambda v: np.array([[v, 0.0]])  # noqa: E731 (headroom, correction) outputs
+    guard = (column(0.9), column(0.1), column(0.0))
+    # the filter: 1.0 - 2 x 0.1 = 0.8; guard 0: 0.9 - 1 x 0.1 = 0.8, not lower; guard 1: 0.9 - 3 x 0.1 = 0.6
+    steering = agent._steering_headroom(column(1.0), column(0.1), column(0.0), [guard, guard])
+    assert steering == pytest.approx((0.6, 0.1, 0.0, 3.0), abs=1e-15)
+    assert params.mean_headroom(steering[0], 0.1, 0.0, steering[3]) == pytest.approx(0.9, abs=1e-15)  # the guard's mean
+    with pytest.raises(ValueError, match="guard_cautions names 2 caution.*1 guard"):
+        LearnedInterrogator(limits, ensemble, params=params, guards=(ensemble,))
+    primary = FilterEnsemble((constant_network(1.0, 0.2),))  # far from the peak and sure of it: steps on
+    unsure = (FilterEnsemble((constant_network(0.5, 0.2, log_variance=-2.0),)),)  # std e^-1: 0.5 - 2 x 0.37 < 0
+    climbs = {cautions: play(LearnedInterrogator(limits, primary, params=replace(params, guard_cautions=cautions),
+                                                 guards=unsure), 8)[0] for cautions in (None, (2.0,), (0.0,))}
+    np.testing.assert_array_equal(climbs[(2.0,)], climbs[None])  # the climb's own caution: nothing changes
+    assert len(climbs[None]) == 2 and len(climbs[(0.0,)]) > 3  # the unsure guard stops it, or not at caution 0
 
 
 def test_pooled_correction_is_the_inverse_variance_mean():

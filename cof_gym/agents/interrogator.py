@@ -67,13 +67,15 @@ otherwise, or an estimator's (below), whichever the validation chose. The parame
 
 **Guards.** With ``guards`` (further ensembles that read their own feature blocks, e.g. networks fitted
 on the measured creepage's modulation) the climb steers by the lowest cautious headroom of the filter
-and its guards, each with its own std and spread: a guard can only slow the climb, and the estimate stays
+and its guards, each with its own std and spread (and, with ``guard_cautions``, its own caution in place of
+``caution``): a guard can only slow the climb, and the estimate stays
 the filter's unless ``estimate_from`` reads the guards' (:data:`GUARDED_ESTIMATES`). A directory's
 ``manifest.json`` names its guards (``"guards"``: directories of ``member_*.npz``, relative to it); the shipped
 interrogator has two since session 31: ``guard_0``, the same networks fitted on the family climbs, on
 procedural creep curves and on the climbs of the agent shipped before session 30, on the env's draws; and
 ``guard_1``, fitted on the first two alone (the probing guard, its only guard from session 16 to 30).
-Since session 31 the shipped estimate pools the filter's and both guards' corrections at every window.
+Since session 32 the shipped estimate pools both guards' corrections at every window, without the filter's
+(session 31: the filter's and both guards').
 
 **Estimators.** With ``estimators`` (further ensembles fitted on the deployed climb's own windows, on
 policy: :func:`~cof_gym.agents.interrogator_training.collect` with a ``policy``) the estimate may read
@@ -693,6 +695,7 @@ class ClimbParameters:
     target_headroom: float = 0.05  # ln(M_sat / DC) the climb aims at (0.05: DC at 95 % of M_sat)
     caution: float = 1.0  # standard deviations taken off the predicted headroom
     spread_caution: float = 0.0  # and this many more of the members' spread alone (their disagreement)
+    guard_cautions: tuple[float, ...] | None = None  # not None: each guard's caution, in the guards' order
     max_log_step: float = 0.4
     approach_fraction: float = 0.0  # far from the peak a step may close this fraction of the cautious gap
     min_log_step: float = 0.02
@@ -743,6 +746,12 @@ class ClimbParameters:
                          MotorLimits.max_frequency_hz)
         check_number("tone2_weight", self.tone2_weight, 0.0, 2.0)
         check_number("spread_caution", self.spread_caution, 0.0, 10.0)
+        if self.guard_cautions is not None:
+            if not isinstance(self.guard_cautions, (list, tuple)) or not self.guard_cautions:
+                raise ValueError("guard_cautions must be null or a non-empty list of numbers in [0, 10] (one per "
+                                 f"guard), got {self.guard_cautions!r}")
+            object.__setattr__(self, "guard_cautions", tuple(
+                check_number(f"guard_cautions[{i}]", c, 0.0, 10.0) for i, c in enumerate(self.guard_cautions)))
         check_number("caution", self.caution, 0.0, 10.0)
         check_number("target_headroom", self.target_headroom, 0.0, 5.0)
         if self.pace_caution is not None:
@@ -754,33 +763,43 @@ class ClimbParameters:
         if not (isinstance(self.creep_log_step, (int, float)) and 0.0 <= self.creep_log_step <= self.max_log_step):
             raise ValueError(f"creep_log_step must be in [0, max_log_step={self.max_log_step}], got {self.creep_log_step!r}")
 
-    def cautious_headroom(self, mean: float, std: float, spread: float = 0.0) -> float:
-        """The predicted headroom less ``caution`` stds and ``spread_caution`` member spreads."""
-        return mean - self.caution * std - self.spread_caution * spread
+    def guard_caution(self, index: int) -> float:
+        """The caution of guard ``index`` (0-based, the guards' order): its ``guard_cautions`` entry, else
+        ``caution``."""
+        return self.caution if self.guard_cautions is None else self.guard_cautions[index]
 
-    def mean_headroom(self, cautious_headroom: float, std: float, spread: float = 0.0) -> float:
-        """The predicted (mean) headroom back from its cautious value (:meth:`cautious_headroom`)."""
-        return cautious_headroom + self.caution * std + self.spread_caution * spread
+    def cautious_headroom(self, mean: float, std: float, spread: float = 0.0, caution: float | None = None) -> float:
+        """The predicted headroom less ``caution`` stds (the climb's unless given: a guard's,
+        :meth:`guard_caution`) and ``spread_caution`` member spreads."""
+        return mean - (self.caution if caution is None else caution) * std - self.spread_caution * spread
 
-    def log_step(self, cautious_headroom: float, headroom_std: float = 0.0, spread: float = 0.0) -> float:
+    def mean_headroom(self, cautious_headroom: float, std: float, spread: float = 0.0,
+                      caution: float | None = None) -> float:
+        """The predicted (mean) headroom back from its cautious value (:meth:`cautious_headroom` with the
+        same ``caution``)."""
+        return cautious_headroom + (self.caution if caution is None else caution) * std + self.spread_caution * spread
+
+    def log_step(self, cautious_headroom: float, headroom_std: float = 0.0, spread: float = 0.0,
+                 caution: float | None = None) -> float:
         """The next DC step in log units: the cautious gap to the target, at most ``max_log_step`` or,
         when larger, ``approach_fraction`` of that gap (big steps far from the peak, small ones near it);
         where that gap is closed but the headroom is still uncertain (std above ``creep_while_std``),
         ``creep_log_step`` (0: none): a slow probe that gathers readings rather than a stop."""
         step = self._gap_step(cautious_headroom)
-        return max(step, self.creep_log_step) if self.creeps(cautious_headroom, headroom_std, spread) else step
+        return max(step, self.creep_log_step) if self.creeps(cautious_headroom, headroom_std, spread, caution) else step
 
     def _gap_step(self, cautious_headroom: float) -> float:
         gap = cautious_headroom - self.target_headroom
         return min(gap, max(self.max_log_step, self.approach_fraction * gap))
 
-    def creeps(self, cautious_headroom: float, headroom_std: float, spread: float = 0.0) -> bool:
+    def creeps(self, cautious_headroom: float, headroom_std: float, spread: float = 0.0,
+               caution: float | None = None) -> bool:
         """Whether the next step is the slow probe: the cautious gap is closed, the headroom uncertain
         and, with ``creep_until``, the predicted (mean) headroom still above it."""
         return (self.creep_log_step > 0.0 and headroom_std > self.creep_while_std
                 and self._gap_step(cautious_headroom) < self.min_log_step
                 and (self.creep_until is None
-                     or self.mean_headroom(cautious_headroom, headroom_std, spread) > self.creep_until))
+                     or self.mean_headroom(cautious_headroom, headroom_std, spread, caution) > self.creep_until))
 
     def sticks(self, crept: bool, cautious_headroom: float) -> bool:
         """Whether a climb that has ``crept`` is held to ``creep_log_step``: with ``creep_sticky``, unless
@@ -789,7 +808,8 @@ class ClimbParameters:
         return (self.creep_sticky and crept
                 and (self.creep_release is None or cautious_headroom <= self.creep_release))
 
-    def pace_step(self, cautious_headroom: float, headroom_std: float, spread: float, windows_left: int) -> float:
+    def pace_step(self, cautious_headroom: float, headroom_std: float, spread: float, windows_left: int,
+                  caution: float | None = None) -> float:
         """With ``pace_caution`` set, the step that reaches the target headroom in the ``windows_left`` windows
         before the horizon if the headroom is the predicted mean less ``pace_caution`` stds:
         ``(mean - pace_caution x std - target_headroom) / windows_left``, at most ``max_log_step``; 0 when
@@ -798,7 +818,7 @@ class ClimbParameters:
         it has."""
         if self.pace_caution is None:
             return 0.0
-        gap = (self.mean_headroom(cautious_headroom, headroom_std, spread) - self.pace_caution * headroom_std
+        gap = (self.mean_headroom(cautious_headroom, headroom_std, spread, caution) - self.pace_caution * headroom_std
                - self.target_headroom)
         return min(gap / max(windows_left, 1), self.max_log_step)
 
@@ -929,6 +949,10 @@ class LearnedInterrogator:
             if any(g.tones != self.params.tones for g in networks):
                 raise ValueError(f"a {role} reads another excitation than the climb's {self.params.tones} tone(s): "
                                  f"use {role} networks fitted on that excitation")
+        cautions = self.params.guard_cautions
+        if cautions is not None and len(cautions) != len(self.guards):
+            raise ValueError(f"guard_cautions names {len(cautions)} caution(s) but the interrogator has "
+                             f"{len(self.guards)} guard(s): one per guard, in the guards' order")
         for role, sources, networks in (("guards", GUARDED_ESTIMATES, self.guards),
                                         ("estimators", ESTIMATOR_ESTIMATES, self.estimators)):
             if self.params.estimate_from in sources and not networks:
@@ -1047,20 +1071,20 @@ class LearnedInterrogator:
                 features.push(reading)
             mean, std, spread = self.ensemble.predict_with_spread(self.features.vector())
             guard_outputs = [g.predict_with_spread(f.vector()) for g, f in zip(self.guards, self._guard_features)]
-            headroom, headroom_std, headroom_spread = self._steering_headroom(mean, std, spread, guard_outputs)
+            headroom, headroom_std, headroom_spread, caution = self._steering_headroom(mean, std, spread, guard_outputs)
             if not falling:
                 self._best_coa = max(self._best_coa, reading.coa)
                 self._source_estimates = self._estimates_at(
                     reading.coa, (float(mean[0, 1]), float(std[0, 1])),
                     [(float(g_mean[0, 1]), float(g_std[0, 1])) for g_mean, g_std, _ in guard_outputs],
                     self._corrections(self.estimators, self._estimator_features))
-            step = p.log_step(headroom, headroom_std, headroom_spread)
+            step = p.log_step(headroom, headroom_std, headroom_spread, caution)
             if p.sticks(self._crept, headroom):  # the peak may be near: no big step again
                 step = min(step, p.creep_log_step)
-            self._crept |= p.creeps(headroom, headroom_std, headroom_spread)
+            self._crept |= p.creeps(headroom, headroom_std, headroom_spread, caution)
             windows_left = self.max_windows - 1 - self._driven  # windows before the horizon's stop
             if self._crept and step >= p.min_log_step:  # pacing sizes a slow-probe step, never turns a stop into one
-                step = max(step, p.pace_step(headroom, headroom_std, headroom_spread, windows_left))
+                step = max(step, p.pace_step(headroom, headroom_std, headroom_spread, windows_left, caution))
             step = max(step, p.floor_step(reading.coa))  # safe whatever the filter predicts
             at_limit = self._dc >= self.limits.max_dc_torque_nm
             last = windows_left <= 0
@@ -1086,16 +1110,20 @@ class LearnedInterrogator:
 
 
     def _steering_headroom(self, mean: np.ndarray, std: np.ndarray, spread: np.ndarray,
-                           guard_outputs: list[tuple[np.ndarray, np.ndarray, np.ndarray]]) -> tuple[float, float, float]:
-        """(cautious headroom, its std, its members' spread) that steers the climb: the filter's (its
-        prediction ``mean``, ``std``, ``spread``), or a guard's where that is lower (``guard_outputs``: each
-        guard's prediction, read through its own features)."""
+                           guard_outputs: list[tuple[np.ndarray, np.ndarray, np.ndarray]]
+                           ) -> tuple[float, float, float, float]:
+        """(cautious headroom, its std, its members' spread, the caution it was taken with) that steers the
+        climb: the filter's (its prediction ``mean``, ``std``, ``spread``, the climb's ``caution``), or a
+        guard's where that is lower (``guard_outputs``: each guard's prediction, read through its own
+        features, with its :meth:`ClimbParameters.guard_caution`)."""
         p = self.params
-        best = (float(p.cautious_headroom(mean[0, 0], std[0, 0], spread[0, 0])), float(std[0, 0]), float(spread[0, 0]))
-        for g_mean, g_std, g_spread in guard_outputs:
-            cautious = float(p.cautious_headroom(g_mean[0, 0], g_std[0, 0], g_spread[0, 0]))
+        best = (float(p.cautious_headroom(mean[0, 0], std[0, 0], spread[0, 0])), float(std[0, 0]), float(spread[0, 0]),
+                p.caution)
+        for i, (g_mean, g_std, g_spread) in enumerate(guard_outputs):
+            caution = p.guard_caution(i)
+            cautious = float(p.cautious_headroom(g_mean[0, 0], g_std[0, 0], g_spread[0, 0], caution))
             if cautious < best[0]:
-                best = (cautious, float(g_std[0, 0]), float(g_spread[0, 0]))
+                best = (cautious, float(g_std[0, 0]), float(g_spread[0, 0]), caution)
         return best
 
 
