@@ -365,6 +365,11 @@ generated, never typed:
     python experiments/train_interrogator.py --out runs/interrogator --reuse \
         --add-guard-climbs runs/estimator_env/onpolicy_env_56d6d6f9b007.npz --probing-guard --ship   # rule 46
     (then every cof-gym evaluate command above again)
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
+        --set 'estimate_from="guard"' 'guard_cautions=[2, 1.5]' 'guard_cautions=[2, 2.5]' 'guard_cautions=[2, 3]' \
+        --records out/records_rule47_validation.json --out out/crest_tradeoff_rule47.md
+    python experiments/paired_comparison.py out/records_rule46_validation.json out/records_rule47_validation.json \
+        --baseline "estimate_from guard, caution 2, target 0.1, guards ${G/ /, }" --out out/paired_rule47_validation.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -498,6 +503,8 @@ SOURCES = {
         "paired_rule46_validation",
         "crest_tradeoff_rule46_confirmation14",
         "paired_rule46_confirmation14",
+        "crest_tradeoff_rule47",
+        "paired_rule47_validation",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
