@@ -364,6 +364,9 @@ generated, never typed:
         --out out/paired_rule46_confirmation14.md
     python experiments/train_interrogator.py --out runs/interrogator --reuse \
         --add-guard-climbs runs/estimator_env/onpolicy_env_56d6d6f9b007.npz --probing-guard --ship   # rule 46
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
+        --records out/records_shipped_validation_session32.json \
+        --out out/crest_tradeoff_shipped_validation_session32.md   # the shipped agent since rule 46
     (then every cof-gym evaluate command above again)
     python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
         --set 'estimate_from="guard"' 'guard_cautions=[2, 1.5]' 'guard_cautions=[2, 2.5]' 'guard_cautions=[2, 3]' \
@@ -505,6 +508,7 @@ SOURCES = {
         "paired_rule46_confirmation14",
         "crest_tradeoff_rule47",
         "paired_rule47_validation",
+        "crest_tradeoff_shipped_validation_session32",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
