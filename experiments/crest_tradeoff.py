@@ -349,6 +349,10 @@ def main() -> None:
         parser.error("--cautions must lie in [0, 10] (standard deviations)")
     if args.spread_cautions is not None and any(not 0.0 <= k <= 10.0 for k in args.spread_cautions):
         parser.error("--spread-cautions must lie in [0, 10] (member spreads)")
+    for cautions in (v for n, v in args.set if n == "guard_cautions" and v is not None):
+        if not (args.guards and args.guards_only and len(cautions) == len(args.guards)):
+            parser.error(f"--set: guard_cautions names {len(cautions)} caution(s); it needs --guards-only and one "
+                         f"caution per --guards directory ({len(args.guards or [])} given)")
     require_networks(parser, "--run", args.run)
     require_networks(parser, "--guards", args.guards or [])
     require_networks(parser, "--estimators", args.estimators or [])

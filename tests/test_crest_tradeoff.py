@@ -31,7 +31,11 @@ SHIPPED = Path(__file__).resolve().parent.parent / "cof_gym" / "agents" / "polic
                                           (["--set", "creep_log_step=0.5"], "--set"),
                                           (["--set", "creep_sticky=maybe"], "--set"),
                                           (["--own-climb", "--set", "caution=2"], "--set"),
-                                          (["--guards-only"], "--guards-only")])
+                                          (["--guards-only"], "--guards-only"),
+                                          (["--guards", str(SHIPPED / "guard_0"), "--guards-only", "--set",
+                                            "guard_cautions=[2, 3]"], "--set: guard_cautions names 2"),
+                                          (["--guards", str(SHIPPED / "guard_0"), "--set", "guard_cautions=[2]"],
+                                           "--guards-only")])
 def test_bad_options_exit_2_naming_the_option(args: list[str], option: str, tmp_path: Path, experiment_exit) -> None:
     code, last = experiment_exit("crest_tradeoff", [*args, "--out", str(tmp_path / "t.md")])
     assert code == 2 and option in last
