@@ -28,7 +28,8 @@ it; a row without guards reports the filter's unless ``--set`` names another; ``
 with these on-policy estimator networks, whose correction ``--set estimate_from=estimator`` or
 ``estimator_pooled`` reads; ``--guards-only``: only
 with them), with ``--stops`` also how the climbs ended (the stop reason or a macro-slip, before or after
-the climb's first slow probe) and their errors, in both vehicle configurations, on the three
+the climb's first slow probe) and their errors (median, P90 and the median signed error), in both vehicle
+configurations, on the three
 validation grids (model selection data, never reported elsewhere as results): the family draws, the
 procedural curves and the procedural curves with steep falling branches
 (``experiments/suites/v2_validation_steep_grid.json``), or with ``--grids confirmation`` on the three
@@ -103,6 +104,7 @@ class Played(NamedTuple):
     ended: str  # why the climb ended: the agent's stop reason, or "macro-slip" (", slow probe": once crept)
     peak_torque_fraction: float  # the largest true torque over the saturation torque
     source_errors: dict[str, float] | None = None  # the error of each estimate source the agent could report
+    signed_error: float | None = None  # estimate / CoF - 1 (None when unscored): below the CoF < 0
 
 
 def available_sources(agent) -> tuple[str, ...]:
@@ -118,19 +120,24 @@ def _play(run: str, params: dict, grid: str, config: dict, guards: list[str] | N
     return [Played(r.relative_error if r.scored else 1.0, r.macro_slip, r.episode_return,
                    ("macro-slip, slow probe" if agent.crept else "macro-slip") if r.macro_slip else agent.stop_reason,
                    r.peak_torque_fraction,
-                   {s: source_error(agent, r, s, params.get("best_coa_factor", 1.0)) for s in available_sources(agent)})
+                   {s: source_error(agent, r, s, params.get("best_coa_factor", 1.0)) for s in available_sources(agent)},
+                   r.estimate / r.cof - 1.0 if r.scored else None)
             for r, agent in episodes(run, grid, config, params, guards, estimators)]
 
 
 def _ends(setting: str, grid: str, runs: list[Played]) -> list[str]:
-    """Rows of the table of how the climbs ended: per reason, the episodes, median / P90 error and the
+    """Rows of the table of how the climbs ended: per reason, the episodes, median / P90 error, the median
+    signed error (the estimate over the CoF less 1, scored episodes; "-" where none was scored) and the
     median peak torque."""
     rows = []
     for ended in sorted({r.ended for r in runs}):
         these = [r for r in runs if r.ended == ended]
         s = score([(r.error, r.macro_slip) for r in these])
+        signed = [r.signed_error for r in these if r.signed_error is not None]
+        signed_text = f"{100 * float(np.median(signed)):+.1f} %" if signed else "-"
         rows.append(f"| {setting}{grid} | {ended} | {len(these)} of {len(runs)} | {100 * s['median']:.1f} % | "
-                    f"{100 * s['p90']:.1f} % | {100 * float(np.median([r.peak_torque_fraction for r in these])):.0f} % |")
+                    f"{100 * s['p90']:.1f} % | {signed_text} | "
+                    f"{100 * float(np.median([r.peak_torque_fraction for r in these])):.0f} % |")
     return rows
 
 
@@ -217,9 +224,11 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
     first = columns(*rows[0][1:]) if rows else []
     lines = ["| " + " | ".join([h for h, _, _ in first] + [head, "all: macro-slips / return"]) + " |",
              "|---" * (len(first) + len(grids) + 1) + "|"]
-    ends = ["", "Where the climbs ended (both configurations; peak torque: the median over the episodes of "
-            "the largest true torque, crest included, over the saturation torque):", "",
-            "| setting, grid | ended | episodes | median | P90 | peak torque |", "|---|---|---|---|---|---|"]
+    ends = ["", "Where the climbs ended (both configurations; median signed: the median of the estimate over the "
+            "CoF less 1, below the CoF negative; peak torque: the median over the episodes of the largest true "
+            "torque, crest included, over the saturation torque):", "",
+            "| setting, grid | ended | episodes | median | P90 | median signed | peak torque |",
+            "|---|---|---|---|---|---|---|"]
     for _, label, climb, gs, set_text in rows:
         row_columns = columns(label, climb, gs, set_text)
         setting = "".join(f"{prefix}{cell}, " for _, cell, prefix in row_columns)

@@ -96,12 +96,12 @@ def test_how_the_climbs_ended_is_one_row_per_reason_with_its_errors() -> None:
     sys.path.insert(0, str(SCRIPT.parent))
     from crest_tradeoff import Played, _ends
 
-    runs = [Played(0.02, False, -1.0, "headroom", 1.1), Played(0.04, False, -1.2, "headroom", 1.2),
-            Played(0.30, False, -3.0, "horizon", 0.8), Played(1.0, True, -11.0, "macro-slip", 1.3)]
+    runs = [Played(0.02, False, -1.0, "headroom", 1.1, None, -0.02), Played(0.04, False, -1.2, "headroom", 1.2, None, 0.04),
+            Played(0.30, False, -3.0, "horizon", 0.8, None, -0.30), Played(1.0, True, -11.0, "macro-slip", 1.3)]
     rows = _ends("caution 2, target 0.1, ", "family", runs)
-    assert rows == ["| caution 2, target 0.1, family | headroom | 2 of 4 | 3.0 % | 3.8 % | 115 % |",
-                    "| caution 2, target 0.1, family | horizon | 1 of 4 | 30.0 % | 30.0 % | 80 % |",
-                    "| caution 2, target 0.1, family | macro-slip | 1 of 4 | 100.0 % | 100.0 % | 130 % |"]
+    assert rows == ["| caution 2, target 0.1, family | headroom | 2 of 4 | 3.0 % | 3.8 % | +1.0 % | 115 % |",
+                    "| caution 2, target 0.1, family | horizon | 1 of 4 | 30.0 % | 30.0 % | -30.0 % | 80 % |",
+                    "| caution 2, target 0.1, family | macro-slip | 1 of 4 | 100.0 % | 100.0 % | - | 130 % |"]
 
 
 def test_set_items_are_climb_parameters_with_json_values() -> None:
@@ -145,3 +145,5 @@ def test_records_hold_every_episode_and_each_sources_error(tmp_path: Path) -> No
     for r in records:
         assert set(r["source_errors"]) == {"filter", "best_coa", "guard", "pooled", "pooled_at_headroom"}
         assert r["error"] == pytest.approx(r["source_errors"][source], abs=1e-6)
+        signed = r["signed_error"]  # None: unscored, the error counted as 1
+        assert (r["error"] == 1.0) if signed is None else abs(signed) == pytest.approx(r["error"], abs=1e-12)
