@@ -771,13 +771,16 @@ class ClimbParameters:
     def cautious_headroom(self, mean: float, std: float, spread: float = 0.0, caution: float | None = None) -> float:
         """The predicted headroom less ``caution`` stds (the climb's unless given: a guard's,
         :meth:`guard_caution`) and ``spread_caution`` member spreads."""
-        return mean - (self.caution if caution is None else caution) * std - self.spread_caution * spread
+        return mean - self._caution(caution) * std - self.spread_caution * spread
 
     def mean_headroom(self, cautious_headroom: float, std: float, spread: float = 0.0,
                       caution: float | None = None) -> float:
         """The predicted (mean) headroom back from its cautious value (:meth:`cautious_headroom` with the
         same ``caution``)."""
-        return cautious_headroom + (self.caution if caution is None else caution) * std + self.spread_caution * spread
+        return cautious_headroom + self._caution(caution) * std + self.spread_caution * spread
+
+    def _caution(self, caution: float | None) -> float:
+        return self.caution if caution is None else caution
 
     def log_step(self, cautious_headroom: float, headroom_std: float = 0.0, spread: float = 0.0,
                  caution: float | None = None) -> float:
