@@ -278,9 +278,12 @@ def climb_item(text: str) -> tuple[str, object]:
         raise argparse.ArgumentTypeError(f"{name}: {error}") from None
 
 
-def checked_climb(climb: dict, changes: dict) -> None:
-    """Raises ValueError naming the parameter where ``climb`` with ``changes`` is no valid climb."""
-    ClimbParameters(**{**climb, **changes})
+def checked_climb(climb: dict, changes: dict, guards: int | None = None) -> None:
+    """Raises ValueError naming the parameter where ``climb`` with ``changes`` is no valid climb (with ``guards``:
+    for an interrogator with that many guards)."""
+    params = ClimbParameters(**{**climb, **changes})
+    if guards is not None:
+        params.check_guard_count(guards)
 
 
 def climb_setting(text: str) -> tuple[str, object]:
@@ -358,10 +361,13 @@ def main() -> None:
         parser.error("--cautions must lie in [0, 10] (standard deviations)")
     if args.spread_cautions is not None and any(not 0.0 <= k <= 10.0 for k in args.spread_cautions):
         parser.error("--spread-cautions must lie in [0, 10] (member spreads)")
-    for cautions in (v for n, v in args.set if n == "guard_cautions" and v is not None):
-        if not (args.guards and args.guards_only and len(cautions) == len(args.guards)):
-            parser.error(f"--set: guard_cautions names {len(cautions)} caution(s); it needs --guards-only and one "
-                         f"caution per --guards directory ({len(args.guards or [])} given)")
+    for cautions in (v for n, v in args.set if n == "guard_cautions" and v is not None):  # the rows' guards: here
+        if not args.guards_only:
+            parser.error("--set: guard_cautions needs --guards-only (every row then plays the --guards)")
+        try:
+            checked_climb(read_manifest(SHIPPED_INTERROGATOR)["climb"], {"guard_cautions": cautions}, len(args.guards))
+        except ValueError as error:
+            parser.error(f"--set: {error}")
     require_networks(parser, "--run", args.run)
     require_networks(parser, "--guards", args.guards or [])
     require_networks(parser, "--estimators", args.estimators or [])

@@ -180,7 +180,7 @@ def main() -> None:
     if not (args.policy / "manifest.json").is_file():
         ap.error(f"--policy: no manifest.json in {args.policy} (the climb the estimator learns)")
     try:  # the --set values against the policy's own climb
-        checked_climb(read_manifest(args.policy).get("climb", {}), dict(args.set))
+        checked_climb(read_manifest(args.policy).get("climb", {}), dict(args.set), len(manifest_guards(args.policy)))
     except ValueError as error:
         ap.error(f"--set: {error}")
     climbs = parse_climbs(ap, args.climbs, "--climbs", ON_POLICY)

@@ -43,14 +43,14 @@ selects the same climb (the selection plays the filter alone) and ships.
    first step's guard steers beside it (``--probing-guard``). With a guard, a chosen filter estimate becomes
    GUARDED_ESTIMATE: the guards' corrections pooled at every window, without the filter's (rule 46, session
    32; the filter's and the guards' pooled from rule 44, session 31, and from session 20's rule 16 on only
-   where the climb stopped on its headroom; it changes no step of the climb). Every chosen climb's estimate is at least its best crest bound (CREST_FLOOR: the measured CoA's
-   cycle crest less one phase bin's standard error; rule 21, session 22; it changes no step of the climb
-   either), and between
-   stops it reports what a runaway in the coming window would measure (RUNAWAY_ESTIMATE: rule 23, session
-   23; no step changes, nor the estimate of an episode that does not run away); once the crest has fallen
-   under a rising torque crest, every estimate is at most the best crest plus one bin's standard error
-   (CREST_CEILING: rule 28, session 25; no step changes either), and the climb ends at that window
-   (CEILING_STOP: rule 30's stop, adopted with rule 42, session 30).
+   where the climb stopped on its headroom; it changes no step of the climb). Every chosen climb's estimate
+   is at least its best crest bound (CREST_FLOOR: the measured CoA's cycle crest less one phase bin's
+   standard error; rule 21, session 22; it changes no step of the climb either), and between stops it
+   reports what a runaway in the coming window would measure (RUNAWAY_ESTIMATE: rule 23, session 23; no step
+   changes, nor the estimate of an episode that does not run away); once the crest has fallen under a rising
+   torque crest, every estimate is at most the best crest plus one bin's standard error (CREST_CEILING: rule
+   28, session 25; no step changes either), and the climb ends at that window (CEILING_STOP: rule 30's stop,
+   adopted with rule 42, session 30).
 3. **Selection, validation only**: the climb's parameters (modulation ratio, target headroom,
    caution, largest step, a slow probe while the headroom is uncertain, whether it stays slow and where
    it ends, the jump to the lowest CoF the task admits: GRIDS;

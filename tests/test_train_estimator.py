@@ -26,7 +26,8 @@ SCRIPT = str(EXPERIMENTS / "train_estimator.py")
                                           (["--set", "no_such_field=1"], "argument --set"),
                                           (["--set", "caution=x"], "argument --set"),
                                           (["--set", "caution=-1"], "--set: caution"),
-                                          (["--set", "creep_log_step=0.2"], "--set: creep_log_step")])
+                                          (["--set", "creep_log_step=0.2"], "--set: creep_log_step"),
+                                          (["--set", "guard_cautions=[2]"], "--set: guard_cautions names 1")])
 def test_bad_options_exit_2_naming_the_option(tmp_path: Path, args: list[str], option: str, experiment_exit) -> None:
     code, last = experiment_exit("train_estimator", ["--out", str(tmp_path / "run"), *args])
     assert code == 2 and last.startswith(f"train_estimator.py: error: {option}")

@@ -763,6 +763,12 @@ class ClimbParameters:
         if not (isinstance(self.creep_log_step, (int, float)) and 0.0 <= self.creep_log_step <= self.max_log_step):
             raise ValueError(f"creep_log_step must be in [0, max_log_step={self.max_log_step}], got {self.creep_log_step!r}")
 
+    def check_guard_count(self, guards: int) -> None:
+        """ValueError unless ``guard_cautions`` is unset or names one caution per guard (``guards`` of them)."""
+        if self.guard_cautions is not None and len(self.guard_cautions) != guards:
+            raise ValueError(f"guard_cautions names {len(self.guard_cautions)} caution(s) but the interrogator has "
+                             f"{guards} guard(s): one per guard, in the guards' order")
+
     def guard_caution(self, index: int) -> float:
         """The caution of guard ``index`` (0-based, the guards' order): its ``guard_cautions`` entry, else
         ``caution``."""
@@ -952,10 +958,7 @@ class LearnedInterrogator:
             if any(g.tones != self.params.tones for g in networks):
                 raise ValueError(f"a {role} reads another excitation than the climb's {self.params.tones} tone(s): "
                                  f"use {role} networks fitted on that excitation")
-        cautions = self.params.guard_cautions
-        if cautions is not None and len(cautions) != len(self.guards):
-            raise ValueError(f"guard_cautions names {len(cautions)} caution(s) but the interrogator has "
-                             f"{len(self.guards)} guard(s): one per guard, in the guards' order")
+        self.params.check_guard_count(len(self.guards))
         for role, sources, networks in (("guards", GUARDED_ESTIMATES, self.guards),
                                         ("estimators", ESTIMATOR_ESTIMATES, self.estimators)):
             if self.params.estimate_from in sources and not networks:
