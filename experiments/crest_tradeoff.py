@@ -71,6 +71,7 @@ from make_grids import CONFIRMATION_SETS, SUITES  # noqa: E402
 from cof_gym.agents.interrogator import (  # noqa: E402
     ESTIMATE_SOURCES, ESTIMATOR_ESTIMATES, GUARDED_ESTIMATES, SHIPPED_INTERROGATOR, ClimbParameters, read_manifest,
 )
+from cof_gym.task.scenarios import check_fixed  # noqa: E402
 
 
 def confirmation_set(name: str) -> dict[str, Path]:
@@ -114,15 +115,16 @@ def available_sources(agent) -> tuple[str, ...]:
 
 
 def _play(run: str, params: dict, grid: str, config: dict, guards: list[str] | None,
-          estimators: list[str] | None = None) -> list[Played]:
+          estimators: list[str] | None = None, scenario: dict | None = None) -> list[Played]:
     """Every episode of ``grid`` in ``config``, the filter of ``run`` with the climb ``params``, the guard
-    networks ``guards`` and the estimator networks ``estimators`` (None: those its manifest names)."""
+    networks ``guards`` and the estimator networks ``estimators`` (None: those its manifest names), with the
+    reset options ``scenario`` over every episode's own."""
     return [Played(r.relative_error if r.scored else 1.0, r.macro_slip, r.episode_return,
                    ("macro-slip, slow probe" if agent.crept else "macro-slip") if r.macro_slip else agent.stop_reason,
                    r.peak_torque_fraction,
                    {s: source_error(agent, r, s, params.get("best_coa_factor", 1.0)) for s in available_sources(agent)},
                    r.estimate / r.cof - 1.0 if r.scored else None)
-            for r, agent in episodes(run, grid, config, params, guards, estimators)]
+            for r, agent in episodes(run, grid, config, params, guards, estimators, scenario)]
 
 
 def _ends(setting: str, grid: str, runs: list[Played]) -> list[str]:
@@ -184,13 +186,15 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
           guards: list[Path] | None = None, stops: bool = False, own_climb: bool = False,
           grids: dict[str, Path] = GRID_SETS["validation"], crest_fractions: list[float | None] | None = None,
           crest_once_crept: bool = False, settings: dict[str, list] | None = None, guards_only: bool = False,
-          estimators: list[Path] | None = None, return_digits: int = 2, records: list | None = None) -> str:
+          estimators: list[Path] | None = None, return_digits: int = 2, records: list | None = None,
+          scenario: dict | None = None) -> str:
     """The table (markdown) of every run's networks x set climb parameters (``settings``: each value of each
     in turn) x caution x spread caution x crest fraction x target x guards (with and without; ``guards_only``:
     only with; ``estimators``: every row with these estimator networks; ``return_digits``: the decimals of
     the mean returns; ``records``: a list that receives every episode as a dict), each row on the three
-    ``grids`` (the validation grids unless told); several runs (or ``own_climb``: each with its manifest's
-    climb, unchanged): a first column names the networks."""
+    ``grids`` (the validation grids unless told; ``scenario``: reset options over every episode's own, said in
+    a line above the table); several runs (or ``own_climb``: each with its manifest's climb, unchanged): a first
+    column names the networks."""
     manifest_climb = read_manifest(SHIPPED_INTERROGATOR)["climb"]
     # None: the guards the run's manifest names (with own_climb: the climb as shipped), [] none
     guard_sets = (([] if guards_only else [[]]) + [[str(g) for g in guards]]) if guards else [None if own_climb else []]
@@ -202,7 +206,7 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
             for gs in guard_sets]
     rows = [(n, label, unguarded_estimate(climb, gs, settings), gs, set_text) for n, label, climb, gs, set_text in rows]
     estimator_dirs = [str(e) for e in estimators] if estimators else None  # None: the manifest's
-    jobs = [(str(n), climb, str(g), cfg, gs, estimator_dirs) for n, _, climb, gs, _ in rows
+    jobs = [(str(n), climb, str(g), cfg, gs, estimator_dirs, scenario) for n, _, climb, gs, _ in rows
             for g in grids.values() for cfg in CONFIGS]
     with ProcessPoolExecutor(workers) as pool:
         results = iter(list(pool.map(_play, *zip(*jobs))))
@@ -222,7 +226,8 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
         return [(header, cell, prefix) for header, cell, prefix, shown in optional if shown]
 
     first = columns(*rows[0][1:]) if rows else []
-    lines = ["| " + " | ".join([h for h, _, _ in first] + [head, "all: macro-slips / return"]) + " |",
+    lines = [f"Every episode with {scenario_text(scenario)} over its own options.", ""] if scenario else []
+    lines += ["| " + " | ".join([h for h, _, _ in first] + [head, "all: macro-slips / return"]) + " |",
              "|---" * (len(first) + len(grids) + 1) + "|"]
     ends = ["", "Where the climbs ended (both configurations; median signed: the median of the estimate over the "
             "CoF less 1, below the CoF negative; peak torque: the median over the episodes of the largest true "
@@ -250,6 +255,25 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
     if stops:
         lines += ends
     return "\n".join(lines) + "\n"
+
+
+def scenario_text(scenario: dict) -> str:
+    """``name value, ...`` of the reset options ``--scenario`` sets."""
+    return ", ".join(f"{name} {value}" for name, value in scenario.items())
+
+
+def scenario_item(text: str) -> tuple[str, object]:
+    """A ``--scenario`` item: ``NAME=VALUE`` with NAME a scenario field a suite may fix and VALUE JSON that the
+    env accepts for it (:func:`~cof_gym.task.scenarios.check_fixed`), as (name, value)."""
+    name, sep, value = text.partition("=")
+    try:
+        parsed = json.loads(value) if sep else None
+        if parsed is None:
+            raise ValueError("expected NAME=VALUE with a value (JSON, not null)")
+        check_fixed({name: parsed})
+    except ValueError as error:  # json.JSONDecodeError is a ValueError
+        raise argparse.ArgumentTypeError(f"{text!r}: {error}") from None
+    return name, parsed
 
 
 def crest_fraction(text: str) -> float | None:
@@ -338,6 +362,9 @@ def main() -> None:
                         help="also write every episode (its setting, grid, configuration, error, macro-slip, return, how "
                              "the climb ended, and the error of every estimate source the agent could have reported) "
                              "to this JSON file")
+    parser.add_argument("--scenario", nargs="+", default=[], metavar="NAME=VALUE", type=scenario_item,
+                        help="reset options over every episode's own (scenario fields, JSON values), e.g. noise_level=3 "
+                             "motor_lag_s=0.1: the grids' episodes with a sensor or drive outside the training draws")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--out", type=Path, default=Path("out/crest_tradeoff.md"))
     args = parser.parse_args()
@@ -375,7 +402,7 @@ def main() -> None:
     text = table(args.targets, args.workers, args.run, args.cautions, args.spread_cautions, args.guards, args.stops,
                  args.own_climb, GRID_SETS[args.grids], args.crest_fractions, args.crest_once_crept,
                  {name: [v for n, v in args.set if n == name] for name, _ in args.set}, args.guards_only,
-                 args.estimators, args.return_digits, records)
+                 args.estimators, args.return_digits, records, dict(args.scenario))
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)
     if args.records:

@@ -79,6 +79,11 @@
 - ``suites/v2_heldout6_grid.json``: a sixth v2 reporting set (:data:`HELDOUT6_SHAPES`: an error-function
   rise, a bilinear knee, a Weibull rise into a cliff, a hyperbolic-cosine dome), written before any change
   of session 12 was measured.
+- ``suites/v2_heldout7_grid.json`` (session 33): a seventh v2 reporting set that holds out the sensors' noise
+  and the drive's lag rather than the creep curve (:data:`HELDOUT7_NOISE_LAG`: 2-3 times the full-scale noise,
+  a 0.1 s motor lag, both past the v2 draws and within what the env accepts; the env draws the creep curves and
+  systematic errors as v2 does), written before any agent played it (after the learned agent had been seen to
+  lose accuracy with the noise tripled on the default suite's draws).
 
 Each grid crosses every condition, CoF values at off-round fractions of that condition's range, speeds
 across 5-40 m/s and both load cases, with full sensor noise and a motor lag; the ranges come from
@@ -270,6 +275,26 @@ def v2_heldout_grid(fractions=(0.21, 0.74), speeds=(9.0, 26.0), first_seed: int 
     return {"env_id": cof_gym.WAGON_ENV_ID, "env_kwargs": {}, "description": description, "episodes": episodes}
 
 
+# the seventh held-out grid's sensor noise (multiples of the full-scale noise) and drive lag (s): past the v2 draws
+# (noise 0-1, lag 0-0.03 s) up to what the env accepts (NOISE_LEVEL_MAX, MOTOR_LAG_MAX_S)
+HELDOUT7_NOISE_LAG = ((2.0, 0.02), (3.0, 0.02), (1.0, 0.1), (3.0, 0.1))
+
+
+def v2_heldout_noise_grid(fractions=(0.3, 0.8), speeds=(8.0, 20.0, 35.0), first_seed: int = 175_000,
+                          noise_lag=HELDOUT7_NOISE_LAG, description: str = "v2 reporting only") -> dict:
+    """Noisier sensors and a slower drive than the v2 draws x conditions x CoF x speed, loads alternating; the
+    env draws each episode's creep-law shape and systematic sensor errors from the v2 distribution, so the
+    grid holds out the sensors' noise and the drive's lag alone (the note names them)."""
+    episodes = []
+    combos = itertools.product(noise_lag, DEFAULT_CONDITIONS, fractions, speeds)
+    for k, ((noise, lag), condition, fraction, speed) in enumerate(combos):
+        lo, hi = COF_BY_CONDITION[condition]
+        options = {"condition": condition, "cof": round(lo + fraction * (hi - lo), 4), "speed_m_s": speed,
+                   "load_case": ("empty", "laden")[k % 2], "noise_level": noise, "motor_lag_s": lag}
+        episodes.append({"seed": first_seed + k, "options": options, "note": f"noise {noise:g}, lag {lag:g} s"})
+    return {"env_id": cof_gym.WAGON_ENV_ID, "env_kwargs": {}, "description": description, "episodes": episodes}
+
+
 def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.0, 36.0),
                                   first_seed: int = 65_000, steep: bool = False, kind: str = "model selection") -> dict:
     """Procedural creep curves (:func:`cof_gym.agents.interrogator_training.procedural_shape`, tables
@@ -377,7 +402,11 @@ def all_grids() -> dict[str, dict]:
                  v2_heldout6_grid=v2_heldout_grid(
                      (0.24, 0.77), (5.0, 18.5, 33.5), 105_000, HELDOUT6_SHAPES, HELDOUT6_ERRORS,
                      "v2 reporting only, a sixth set written before any change of session 12 was measured: "
-                     "creep curves outside every family and the five earlier sets, other sensor errors"))
+                     "creep curves outside every family and the five earlier sets, other sensor errors"),
+                 v2_heldout7_grid=v2_heldout_noise_grid(
+                     description="v2 reporting only, a seventh set written in session 33 before any agent played it: "
+                     "the v2 draws' creep curves and systematic errors with sensor noise (2-3 x full scale) and a drive "
+                     "lag (0.1 s) past the v2 draws"))
     return grids
 
 

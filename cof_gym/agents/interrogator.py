@@ -58,7 +58,8 @@ or one window before the horizon; with ``knee_stop`` also at a window whose lag 
 window's as the phase rule's test has it (:meth:`ClimbParameters.knee_stops`; ``"slow_probe"``: only once
 the climb has crept), reporting there what it reports at a headroom stop; with ``ceiling_stop`` also at the
 window where the crest falls under a rising torque crest (:class:`~cof_gym.agents.runaway.CrestCeiling`),
-reporting the same. The estimate is the filter's (the last rising window's CoA times its
+reporting the same (with ``ceiling_fall_z`` a crest fall counts for both only beyond that many standard errors of
+the two crests' difference: :attr:`~cof_gym.agents.runaway.CrestCeiling.fall_z`). The estimate is the filter's (the last rising window's CoA times its
 predicted correction), or the best CoA of the climb times a factor, or the same CoA times the guards'
 correction or the filter's and the guards' corrections pooled (inverse-variance weighted,
 :func:`pooled_correction`), or the pooled one where the climb stops on its headroom and the filter's
@@ -722,6 +723,7 @@ class ClimbParameters:
     knee_stop: str | None = None  # "any" / "slow_probe": the phase rule's jump test ends the climb (knee_stops)
     crest_ceiling: bool = False  # once the crest fell under a rising torque crest, every estimate at most CrestCeiling's
     ceiling_stop: bool = False  # the climb ends at the window where the crest falls under a rising torque crest
+    ceiling_fall_z: float = 0.0  # a crest fall counts (crest_ceiling, ceiling_stop) beyond this many SEs (CrestCeiling.fall_z)
 
     def __post_init__(self) -> None:
         if self.estimate_from not in ESTIMATE_SOURCES:
@@ -746,6 +748,7 @@ class ClimbParameters:
                          MotorLimits.max_frequency_hz)
         check_number("tone2_weight", self.tone2_weight, 0.0, 2.0)
         check_number("spread_caution", self.spread_caution, 0.0, 10.0)
+        check_number("ceiling_fall_z", self.ceiling_fall_z, 0.0, 10.0)
         if self.guard_cautions is not None:
             if not isinstance(self.guard_cautions, (list, tuple)) or not self.guard_cautions:
                 raise ValueError("guard_cautions must be null or a non-empty list of numbers in [0, 10] (one per "
@@ -1002,7 +1005,7 @@ class LearnedInterrogator:
         self._frequency = None
         self._best_coa = 0.0
         self._bracket = RunawayBracket()
-        self._ceiling = CrestCeiling()
+        self._ceiling = CrestCeiling(fall_z=self.params.ceiling_fall_z)
         self._runaway = None
         self._source_estimates = {}
         self.decisions = []

@@ -32,6 +32,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from cof_gym.task.interface import MotorLimits, decode_action, encode_action
+from cof_gym.task.validation import check_number
 
 MODIFIER = "runaway"  # the agent-name suffix ``+runaway`` of the registry
 CEILING_MODIFIER = "ceiling"  # ``+ceiling``: the agent as registered with the crest ceiling too
@@ -79,24 +80,39 @@ class CrestCeiling:
     window's while its commanded torque crest (DC + amplitude, N m) is above it, more torque gave less
     adhesion at the crest, which no creep curve does below its peak. From then on the CoF is at most the
     climb's best crest plus one phase bin's standard error of the window that read it (rule 28 in
-    docs/interrogator.md); the crest floor is the same crest less that error."""
+    docs/interrogator.md); the crest floor is the same crest less that error.
 
+    With ``fall_z`` > 0 a fall counts only where it exceeds ``fall_z`` standard errors of the difference of
+    the two crests (``sqrt(se_1^2 + se_2^2)``, each window's bin standard error): the sensors' noise moves a
+    crest by about its bin's error, and a noisier force reading (a larger ``noise_level``) lets a crest that
+    still rises read lower than the last one far below the peak."""
+
+    fall_z: float = 0.0  # the standard errors of the two crests' difference a fall must exceed (0: any fall)
     best_crest: float = 0.0  # the largest crest read so far (CoA; 0: none)
     best_crest_se: float = 0.0  # the standard error of one phase bin in the window that read it
     reached: bool = False  # whether the crest has fallen under a rising torque crest
     _last_crest: float = 0.0
+    _last_se: float = 0.0
     _last_torque_nm: float = 0.0
+
+    def __post_init__(self) -> None:
+        check_number("fall_z", self.fall_z, 0.0, 10.0)
 
     def observe(self, crest: float, bin_se: float, crest_torque_nm: float) -> None:
         """Take a driven window's crest and bin standard error (CoA; crest 0: not read) and its commanded
         torque crest (N m)."""
         if crest <= 0.0:
             return
-        if self._last_crest > 0.0 and crest_torque_nm > self._last_torque_nm and crest < self._last_crest:
+        if self._last_crest > 0.0 and crest_torque_nm > self._last_torque_nm and self._fell(crest, bin_se):
             self.reached = True
         if crest > self.best_crest:
             self.best_crest, self.best_crest_se = crest, bin_se
-        self._last_crest, self._last_torque_nm = crest, crest_torque_nm
+        self._last_crest, self._last_se, self._last_torque_nm = crest, bin_se, crest_torque_nm
+
+    def _fell(self, crest: float, bin_se: float) -> bool:
+        """Whether ``crest`` lies below the last window's by more than ``fall_z`` standard errors of their
+        difference (any amount with ``fall_z`` 0)."""
+        return crest < self._last_crest - self.fall_z * math.hypot(bin_se, self._last_se)
 
     @property
     def bound(self) -> float | None:
