@@ -10,6 +10,7 @@ generated, never typed:
     cof-gym evaluate --suite experiments/suites/v2_heldout4_grid.json --out out/evaluate-v2-heldout4
     cof-gym evaluate --suite experiments/suites/v2_heldout5_grid.json --out out/evaluate-v2-heldout5
     cof-gym evaluate --suite experiments/suites/v2_heldout6_grid.json --out out/evaluate-v2-heldout6
+    cof-gym evaluate --suite experiments/suites/v2_heldout7_grid.json --out out/evaluate-v2-heldout7
     cof-gym evaluate --suite experiments/suites/v1_default.json --episodes 60 --out out/evaluate-v1
     cof-gym evaluate --suite experiments/suites/heldout_grid.json --out out/evaluate-heldout   # v1 held-out
     cof-gym bench --seconds 10 --markdown out/bench.md
@@ -373,6 +374,17 @@ generated, never typed:
         --records out/records_rule47_validation.json --out out/crest_tradeoff_rule47.md
     python experiments/paired_comparison.py out/records_rule46_validation.json out/records_rule47_validation.json \
         --baseline "estimate_from guard, caution 2, target 0.1, guards ${G/ /, }" --out out/paired_rule47_validation.md
+    cof-gym evaluate --suite experiments/suites/v2_heldout7_grid.json --out out/evaluate-v2-heldout7   # session 33
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
+        --set ceiling_fall_z=0 ceiling_fall_z=0.5 ceiling_fall_z=1 ceiling_fall_z=2 \
+        --records out/records_rule48_validation.json --out out/crest_tradeoff_rule48.md
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
+        --set ceiling_fall_z=0 ceiling_fall_z=0.5 ceiling_fall_z=1 ceiling_fall_z=2 --scenario noise_level=3 \
+        --records out/records_rule48_validation_noise3.json --out out/crest_tradeoff_rule48_noise3.md
+    python experiments/paired_comparison.py out/records_rule48_validation.json \
+        --baseline "ceiling_fall_z 0, caution 2, target 0.1, guards ${G/ /, }" --out out/paired_rule48_validation.md
+    python experiments/paired_comparison.py out/records_rule48_validation_noise3.json \
+        --baseline "ceiling_fall_z 0, caution 2, target 0.1, guards ${G/ /, }" --out out/paired_rule48_validation_noise3.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -509,6 +521,10 @@ SOURCES = {
         "crest_tradeoff_rule47",
         "paired_rule47_validation",
         "crest_tradeoff_shipped_validation_session32",
+        "crest_tradeoff_rule48",
+        "crest_tradeoff_rule48_noise3",
+        "paired_rule48_validation",
+        "paired_rule48_validation_noise3",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about

@@ -5,7 +5,7 @@
         --agent runs/speed_scaled/ensemble --set frequency_reference_m_s=20
 
 For each chosen episode of a suite (``--suite``: ``default``, ``paper`` or a suite file; ``--episodes``:
-indices into it) the interrogator of ``--agent`` (default: the shipped one, its manifest's climb with
+indices into it; ``--counter-torque``: in the paper's vehicle configuration, crest_tradeoff.py's second) the interrogator of ``--agent`` (default: the shipped one, its manifest's climb with
 ``--set NAME=VALUE`` fields of :class:`~cof_gym.agents.interrogator.ClimbParameters` replaced, values as JSON)
 plays the episode as ``cof-gym evaluate`` would, and the table lists per driven window what the climb
 decided (:class:`~cof_gym.agents.interrogator.WindowDecision`) beside the truth: the DC torque over the
@@ -69,6 +69,9 @@ def main() -> None:
     ap.add_argument("--agent", type=Path, default=SHIPPED_INTERROGATOR,
                     help="an interrogator's directory (member_*.npz; its manifest's climb and guards, where it has one)")
     ap.add_argument("--set", nargs="*", default=[], metavar="NAME=VALUE", help="a ClimbParameters field (JSON value)")
+    ap.add_argument("--counter-torque", action="store_true",
+                    help="the paper's vehicle configuration (counter torque on the other wheelset), as crest_tradeoff.py's "
+                         "second configuration plays every grid")
     args = ap.parse_args()
     if not sorted(args.agent.glob("member_*.npz")):
         ap.error(f"--agent: {args.agent} holds no member_*.npz")
@@ -84,7 +87,8 @@ def main() -> None:
     for k in args.episodes:
         if not 0 <= k < len(suite.episodes):
             ap.error(f"--episodes: {k} is not an index of the suite (0 to {len(suite.episodes) - 1})")
-    env = gym.make(suite.env_id, **suite.env_kwargs, **params.env_options)
+    configuration = {"counter_torque": True} if args.counter_torque else {}
+    env = gym.make(suite.env_id, **{**suite.env_kwargs, **configuration, **params.env_options})
     try:
         agent = interrogator_for(env, args.agent, params)
     except ValueError as e:
@@ -92,7 +96,7 @@ def main() -> None:
     for k in args.episodes:
         seed, options = suite.episodes[k]
         title, rows, last = trace(env, agent, seed, options)
-        print(f"\n### episode {k} (seed {seed}): {title}\n")
+        print(f"\n### episode {k} (seed {seed}){', counter torque' if args.counter_torque else ''}: {title}\n")
         print("\n".join([HEADER, "|---" * 8 + "|", *rows, "", last]))
 
 

@@ -146,6 +146,11 @@ COLLECTIONS = {
                      ClimbDraws(frequency_references_m_s=(10.0, 40.0))),
     "procedural_speed_scaled": ("climbs_procedural_speed_scaled.npz", TRAINING_SEED + 1_400_000,
                                 ClimbDraws(shapes="procedural", frequency_references_m_s=(10.0, 40.0))),
+    # the env's draws and procedural curves with the sensors' noise at 0-3 times the full scale and the drive's
+    # lag at 0-0.1 s (the env's draws: 0-1 and 0-0.03 s), what the env accepts (session 33)
+    "noisy": ("climbs_noisy.npz", TRAINING_SEED + 1_500_000, ClimbDraws(noise_levels=(0.0, 3.0), motor_lags_s=(0.0, 0.1))),
+    "procedural_noisy": ("climbs_procedural_noisy.npz", TRAINING_SEED + 1_600_000,
+                         ClimbDraws(shapes="procedural", noise_levels=(0.0, 3.0), motor_lags_s=(0.0, 0.1))),
 }
 EPISODES = {"env": 8000}  # the shipped recipe (procedural and high_frequency lost on validation: README)
 # the shipped recipe's guard (--guard-climbs; session 16): the family climbs and the procedural ones together

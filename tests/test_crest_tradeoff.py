@@ -35,7 +35,12 @@ SHIPPED = Path(__file__).resolve().parent.parent / "cof_gym" / "agents" / "polic
                                           (["--guards", str(SHIPPED / "guard_0"), "--guards-only", "--set",
                                             "guard_cautions=[2, 3]"], "--set: guard_cautions names 2"),
                                           (["--guards", str(SHIPPED / "guard_0"), "--set", "guard_cautions=[2]"],
-                                           "--guards-only")])
+                                           "--guards-only"),
+                                          (["--set", "ceiling_fall_z=-1"], "--set: ceiling_fall_z"),
+                                          (["--scenario", "noise_level=4"], "--scenario"),
+                                          (["--scenario", "no_such_field=1"], "--scenario"),
+                                          (["--scenario", "noise_level"], "--scenario"),
+                                          (["--scenario", "motor_lag_s=null"], "--scenario")])
 def test_bad_options_exit_2_naming_the_option(args: list[str], option: str, tmp_path: Path, experiment_exit) -> None:
     code, last = experiment_exit("crest_tradeoff", [*args, "--out", str(tmp_path / "t.md")])
     assert code == 2 and option in last
@@ -147,3 +152,21 @@ def test_records_hold_every_episode_and_each_sources_error(tmp_path: Path) -> No
         assert r["error"] == pytest.approx(r["source_errors"][source], abs=1e-6)
         signed = r["signed_error"]  # None: unscored, the error counted as 1
         assert (r["error"] == 1.0) if signed is None else abs(signed) == pytest.approx(r["error"], abs=1e-12)
+
+
+def test_a_scenario_option_is_played_in_every_episode_and_said_above_the_table(tmp_path: Path) -> None:
+    """``--scenario`` (here ``table(scenario=...)``) sets reset options over every episode's own: the same two
+    episodes with a drive lag of 0.1 s instead of the grid's 0.02 s play other climbs (the env reads the
+    option: the records differ), and the table says so in its first line."""
+    sys.path.insert(0, str(SCRIPT.parent))
+    from crest_tradeoff import scenario_item, table
+
+    suite = json.loads((SCRIPT.parent / "suites" / "v2_validation_grid.json").read_text())
+    tiny = tmp_path / "tiny.json"
+    tiny.write_text(json.dumps({**suite, "episodes": suite["episodes"][:2]}))
+    plain, slow = [], []
+    table([0.1], 1, guards=[SHIPPED / "guard_0"], grids={"tiny": tiny}, guards_only=True, records=plain)
+    text = table([0.1], 1, guards=[SHIPPED / "guard_0"], grids={"tiny": tiny}, guards_only=True, records=slow,
+                 scenario=dict([scenario_item("motor_lag_s=0.1")]))
+    assert text.splitlines()[0] == "Every episode with motor_lag_s 0.1 over its own options."
+    assert len(plain) == len(slow) and [r["error"] for r in plain] != [r["error"] for r in slow]

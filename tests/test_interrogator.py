@@ -555,6 +555,34 @@ def test_crest_shrink_training_climbs_shrink_their_modulation_and_never_grow_it(
         ClimbDraws(crest_powers=(2.0, 0.5))
 
 
+def test_noisy_training_climbs_draw_the_sensors_noise_and_the_drives_lag_in_their_ranges():
+    """With noise_levels and motor_lags_s a training climb's episode plays a noise level and a motor lag drawn in
+    those ranges (from a generator of the seed's own, the same for the same seed), set as reset options that
+    the env plays (its ground truth says so); without them the reset leaves both to the env; ranges beyond
+    what the env accepts are refused naming the field."""
+    class Recorder(gym.Wrapper):
+        def reset(self, **kwargs):
+            self.options = kwargs.get("options")
+            obs, info = self.env.reset(**kwargs)
+            self.truth = info["ground_truth"]
+            return obs, info
+
+    draws = ClimbDraws(noise_levels=(2.0, 3.0), motor_lags_s=(0.05, 0.1))
+    env = Recorder(gym.make(cof_gym.WAGON_ENV_ID))
+    drawn = []
+    for seed in (2_000_500, 2_000_501, 2_000_500):
+        _climb_episode(env, seed, draws)
+        assert 2.0 <= env.options["noise_level"] <= 3.0 and 0.05 <= env.options["motor_lag_s"] <= 0.1
+        assert env.truth["noise_level"] == env.options["noise_level"]
+        drawn.append(env.options)
+    assert drawn[0] == drawn[2] != drawn[1]
+    _climb_episode(env, 2_000_500)
+    assert env.options is None and env.truth["noise_level"] <= 1.0
+    for field, bad in (("noise_levels", (0.0, 4.0)), ("motor_lags_s", (0.0, 0.2))):
+        with pytest.raises(ValueError, match=field):
+            ClimbDraws(**{field: bad})
+
+
 def test_the_slow_probe_ends_where_the_predicted_headroom_reaches_creep_until():
     """creep_until stops the creep once the mean headroom (cautious + caution x std) is that low."""
     params = ClimbParameters(target_headroom=0.1, caution=2.0, creep_log_step=0.03, creep_while_std=0.08,
@@ -988,6 +1016,25 @@ def test_a_ceiling_stop_ends_the_climb_where_the_crest_falls_and_reports_the_cre
     with pytest.raises(ValueError, match="ceiling_stop"):
         ClimbParameters(ceiling_stop="yes")
 
+
+def test_ceiling_fall_z_holds_the_crest_stop_to_a_fall_beyond_the_crests_noise():
+    """``ceiling_fall_z`` is the agent's CrestCeiling.fall_z. On the sharp peak of the crest-stop test above
+    the crest that reached the peak falls by less than half a standard error of two windows' crests (it
+    stops rising there): with any fall counted the climb stops on it, with ``ceiling_fall_z`` 0.5 it climbs
+    on and the wheel runs away: the trade rule 48 measures. The field is checked."""
+    env = gym.make(cof_gym.WAGON_ENV_ID, **QUIET)
+    base = dict(amplitude_ratio=0.4, max_log_step=0.07, runaway_estimate=True, crest_ceiling=True, ceiling_stop=True)
+    ended = {}
+    for fall_z in (0.0, 0.5):
+        agent = LearnedInterrogator(env.unwrapped.limits, FilterEnsemble((constant_network(3.0, 0.3),)),
+                                    params=ClimbParameters(**base, ceiling_fall_z=fall_z))
+        record = run_episode(env, agent, 4, SHARP_LOW_COF, 0)
+        assert agent._ceiling.fall_z == fall_z
+        ended[fall_z] = ("macro-slip" if record.macro_slip else agent.stop_reason,
+                         len(agent.decisions))
+    assert ended[0.0][0] == "ceiling" and ended[0.5][0] == "macro-slip" and ended[0.5][1] > ended[0.0][1]
+    with pytest.raises(ValueError, match="ceiling_fall_z"):
+        ClimbParameters(ceiling_fall_z=-1)
 
 def test_the_runaway_estimate_is_reported_between_stops_and_scored_when_the_wheel_runs_away():
     """With ``runaway_estimate`` the actions differ from the plain climb's in the estimate component only;

@@ -47,6 +47,22 @@ def test_the_ceiling_holds_once_the_crest_falls_under_a_rising_torque_crest():
     assert ceiling.bound == pytest.approx(0.126, rel=1e-15)
 
 
+
+def test_with_fall_z_only_a_fall_beyond_the_crests_noise_reaches_the_ceiling():
+    """With ``fall_z`` a crest below the last one counts only where the fall exceeds ``fall_z`` standard
+    errors of the two crests' difference, ``hypot(se_1, se_2)``; any fall with 0; the field is checked."""
+    for fall_z, small_fall_counts in ((0.0, True), (1.0, False)):
+        ceiling = CrestCeiling(fall_z=fall_z)
+        ceiling.observe(0.120, 0.003, 1000.0)
+        ceiling.observe(0.117, 0.004, 1100.0)  # 0.003 below: 0.6 of hypot(0.003, 0.004) = 0.005
+        assert ceiling.reached is small_fall_counts
+    ceiling = CrestCeiling(fall_z=1.0)
+    ceiling.observe(0.120, 0.003, 1000.0)
+    ceiling.observe(0.114, 0.004, 1100.0)  # 0.006 below: 1.2 of the difference's standard error
+    assert ceiling.reached and ceiling.bound == pytest.approx(0.123, rel=1e-15)
+    with pytest.raises(ValueError, match="fall_z"):
+        CrestCeiling(fall_z=-0.5)
+
 def test_the_crest_bound_is_the_cycle_crest_less_a_bins_error_and_zero_unread():
     assert crest_bound({"coa_cycle_max": 0.2, "coa_cycle_bin_se": 0.01}) == pytest.approx(0.19, rel=1e-15)
     assert crest_bound({"coa_cycle_max": 0.005, "coa_cycle_bin_se": 0.01}) == 0.0

@@ -60,3 +60,17 @@ def test_the_command_prints_a_row_per_decision_and_how_the_climb_ended():
     rows = [line for line in lines if line.startswith("| ") and line[2].isdigit()]
     ended = [line for line in lines if line.startswith("ended: ")]
     assert len(ended) == 1 and f"after {len(rows) + 1} windows" in ended[0]
+
+
+@pytest.mark.skipif(not SHIPPED, reason="no shipped interrogator in this checkout")
+def test_counter_torque_traces_the_episode_in_the_papers_configuration():
+    """--counter-torque plays the episode with the counter torque on (crest_tradeoff.py's second configuration):
+    its title says so, and the climb differs from the same episode's without it."""
+    script = Path(__file__).resolve().parents[1] / "experiments" / "trace_climb.py"
+    runs = [subprocess.run([sys.executable, str(script), "--episodes", "2", *flag], capture_output=True, text=True,
+                           timeout=300) for flag in ([], ["--counter-torque"])]
+    assert all(done.returncode == 0 for done in runs), [done.stderr for done in runs]
+    titles = [[line for line in done.stdout.splitlines() if line.startswith("### episode")] for done in runs]
+    assert titles[1][0].startswith("### episode 2 (seed 2), counter torque: ") and "counter torque" not in titles[0][0]
+    rows = [[line for line in done.stdout.splitlines() if line.startswith("| ") and line[2].isdigit()] for done in runs]
+    assert rows[0] != rows[1]

@@ -48,6 +48,7 @@ from cof_gym.agents.interrogator import (
 from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.physics.creep_laws import below_peak
 from cof_gym.task.interface import MotorLimits
+from cof_gym.task.scenarios import MOTOR_LAG_MAX_S, NOISE_LEVEL_MAX
 from cof_gym.task.validation import check_number, check_range
 
 TRAINING_SEED = 1_000_000  # first training seed: far from every evaluation and validation seed
@@ -234,7 +235,10 @@ class ClimbDraws:
     1) uniform in ``tone2_weights``, drawn from their own generator (the other draws unchanged);
     ``frequency_references_m_s``: the drawn frequency raised below a reference speed log-uniform in that
     range as a speed-scheduled climb raises it (:func:`~cof_gym.agents.interrogator.speed_scaled_frequency`,
-    from the first observation's measured speed; the reference from its own generator)."""
+    from the first observation's measured speed; the reference from its own generator); ``noise_levels`` and
+    ``motor_lags_s``: the sensors' noise (multiples of the full-scale noise) and the drive's lag (s) uniform in
+    these ranges, set as the episode's reset options from their own generator in place of the env's draws
+    (0-1 and 0-0.03 s), up to what the env accepts: noisier sensors and a slower drive than the v2 draws."""
 
     shapes: str = "env"
     frequencies_hz: tuple[float, float] | None = None
@@ -245,6 +249,8 @@ class ClimbDraws:
     tone2_weights: tuple[float, float] = (0.5, 1.5)
     crest_powers: tuple[float, float] | None = None  # a shrinking modulation (:func:`_shrunk_ratio`)
     frequency_references_m_s: tuple[float, float] | None = None  # a speed-scheduled frequency (m/s)
+    noise_levels: tuple[float, float] | None = None  # the sensors' noise drawn in this range (None: the env's draw)
+    motor_lags_s: tuple[float, float] | None = None  # the drive's lag (s) drawn in this range (None: the env's draw)
 
     @property
     def env_options(self) -> dict[str, Any]:
@@ -256,6 +262,9 @@ class ClimbDraws:
         check_range("ClimbDraws.tone2_weights", self.tone2_weights, 0.0, 2.0)
         if self.shapes not in SHAPE_SOURCES:
             raise ValueError(f"shapes must be one of {SHAPE_SOURCES}, got {self.shapes!r}")
+        for name, high in (("noise_levels", NOISE_LEVEL_MAX), ("motor_lags_s", MOTOR_LAG_MAX_S)):
+            if getattr(self, name) is not None:
+                check_range(f"ClimbDraws.{name}", getattr(self, name), 0.0, high)
         for name in ("frequencies_hz", "amplitude_ratios", "floor_margins", "crest_powers", "frequency_references_m_s"):
             value = getattr(self, name)
             if value is not None and not (len(value) == 2 and 0.0 < value[0] <= value[1]):
@@ -263,10 +272,20 @@ class ClimbDraws:
 
 
 def _reset(env, seed: int, draws: ClimbDraws) -> tuple[np.ndarray, dict[str, Any]]:
-    """The env reset for training episode ``seed``: the env's own creep curve, or a procedural one."""
-    procedural = draws.shapes == "procedural"
-    options = {"creep_law": procedural_shape(np.random.default_rng([seed, 11]), draws.fall)} if procedural else None
-    return env.reset(seed=seed, options=options)
+    """The env reset for training episode ``seed``: the env's own creep curve, or a procedural one; the env's
+    sensor noise and drive lag, or ``draws``' (:func:`_sensor_options`)."""
+    options = _sensor_options(seed, draws)
+    if draws.shapes == "procedural":
+        options["creep_law"] = procedural_shape(np.random.default_rng([seed, 11]), draws.fall)
+    return env.reset(seed=seed, options=options or None)
+
+
+def _sensor_options(seed: int, draws: ClimbDraws) -> dict[str, float]:
+    """Training episode ``seed``'s noise level and motor lag where ``draws`` names their ranges (uniform, from
+    a generator of their own), as reset options; none where it leaves them to the env."""
+    rng = np.random.default_rng([seed, 23])
+    return {name: float(rng.uniform(*span)) for name, span in (("noise_level", draws.noise_levels),
+                                                               ("motor_lag_s", draws.motor_lags_s)) if span}
 
 
 def _labels(truth: dict[str, Any], dc_nm: float, reading: Reading) -> tuple[float, float]:
