@@ -1036,6 +1036,28 @@ def test_ceiling_fall_z_holds_the_crest_stop_to_a_fall_beyond_the_crests_noise()
     with pytest.raises(ValueError, match="ceiling_fall_z"):
         ClimbParameters(ceiling_fall_z=-1)
 
+
+def test_ceiling_near_headroom_counts_any_fall_where_the_climb_expects_the_peak():
+    """With ``ceiling_near_headroom`` the margin is 0 at a window whose predicted (mean) headroom is at most it and
+    ``ceiling_fall_z`` beyond it (fall_margin); on the sharp peak of the crest-stop test, where the constant
+    filter predicts a headroom of 3, a gate above 3 restores the stop that ``ceiling_fall_z`` 0.5 alone misses
+    (the same windows as with any fall counted), and a gate below it does not. The field is checked."""
+    gated = ClimbParameters(ceiling_fall_z=2.0, ceiling_near_headroom=0.3)
+    assert (gated.fall_margin(0.3), gated.fall_margin(0.31), ClimbParameters(ceiling_fall_z=2.0).fall_margin(0.1),
+            ClimbParameters().fall_margin(5.0)) == (0.0, 2.0, 2.0, 0.0)
+    env = gym.make(cof_gym.WAGON_ENV_ID, **QUIET)
+    base = dict(amplitude_ratio=0.4, max_log_step=0.07, runaway_estimate=True, crest_ceiling=True, ceiling_stop=True)
+    ended = {}
+    for setting in ({}, {"ceiling_fall_z": 0.5, "ceiling_near_headroom": 3.5},
+                    {"ceiling_fall_z": 0.5, "ceiling_near_headroom": 2.5}):
+        agent = LearnedInterrogator(env.unwrapped.limits, FilterEnsemble((constant_network(3.0, 0.3),)),
+                                    params=ClimbParameters(**base, **setting))
+        record = run_episode(env, agent, 4, SHARP_LOW_COF, 0)
+        ended[len(ended)] = ("macro-slip" if record.macro_slip else agent.stop_reason, len(agent.decisions))
+    assert ended[0] == ended[1] and ended[0][0] == "ceiling" and ended[2][0] == "macro-slip"
+    with pytest.raises(ValueError, match="ceiling_near_headroom"):
+        ClimbParameters(ceiling_near_headroom=-0.1)
+
 def test_the_runaway_estimate_is_reported_between_stops_and_scored_when_the_wheel_runs_away():
     """With ``runaway_estimate`` the actions differ from the plain climb's in the estimate component only;
     after an action that is not a stop every source reads the bracket's middle for that action's

@@ -59,7 +59,9 @@ window's as the phase rule's test has it (:meth:`ClimbParameters.knee_stops`; ``
 the climb has crept), reporting there what it reports at a headroom stop; with ``ceiling_stop`` also at the
 window where the crest falls under a rising torque crest (:class:`~cof_gym.agents.runaway.CrestCeiling`),
 reporting the same (with ``ceiling_fall_z`` a crest fall counts for both only beyond that many standard errors of
-the two crests' difference: :attr:`~cof_gym.agents.runaway.CrestCeiling.fall_z`). The estimate is the filter's (the last rising window's CoA times its
+the two crests' difference: :attr:`~cof_gym.agents.runaway.CrestCeiling.fall_z`; with ``ceiling_near_headroom``
+too, any fall counts where the predicted headroom is at most that: :meth:`ClimbParameters.fall_margin`). The
+estimate is the filter's (the last rising window's CoA times its
 predicted correction), or the best CoA of the climb times a factor, or the same CoA times the guards'
 correction or the filter's and the guards' corrections pooled (inverse-variance weighted,
 :func:`pooled_correction`), or the pooled one where the climb stops on its headroom and the filter's
@@ -724,6 +726,7 @@ class ClimbParameters:
     crest_ceiling: bool = False  # once the crest fell under a rising torque crest, every estimate at most CrestCeiling's
     ceiling_stop: bool = False  # the climb ends at the window where the crest falls under a rising torque crest
     ceiling_fall_z: float = 0.0  # a crest fall counts (crest_ceiling, ceiling_stop) beyond this many SEs (CrestCeiling.fall_z)
+    ceiling_near_headroom: float | None = None  # not None: ... only where the predicted headroom is above this
 
     def __post_init__(self) -> None:
         if self.estimate_from not in ESTIMATE_SOURCES:
@@ -736,7 +739,7 @@ class ClimbParameters:
         if not (isinstance(self.approach_fraction, (int, float)) and 0.0 <= self.approach_fraction < 1.0):
             raise ValueError(f"approach_fraction must be in [0, 1), got {self.approach_fraction!r}")
         for name, low in (("floor_margin", 0.0), ("creep_until", -math.inf), ("crest_fraction", 0.0),
-                          ("creep_release", 0.0)):  # None: unused
+                          ("creep_release", 0.0), ("ceiling_near_headroom", 0.0)):  # None: unused
             if getattr(self, name) is not None:
                 check_number(name, getattr(self, name), low, math.inf)
         for name in ("creep_sticky", "crest_once_crept", "crest_floor", "runaway_estimate", "crest_ceiling",
@@ -765,6 +768,15 @@ class ClimbParameters:
             raise ValueError(f"knee_stop must be one of {KNEE_STOPS}, got {self.knee_stop!r}")
         if not (isinstance(self.creep_log_step, (int, float)) and 0.0 <= self.creep_log_step <= self.max_log_step):
             raise ValueError(f"creep_log_step must be in [0, max_log_step={self.max_log_step}], got {self.creep_log_step!r}")
+
+    def fall_margin(self, mean_headroom: float) -> float:
+        """The standard errors a crest fall must exceed to count (:class:`~cof_gym.agents.runaway.CrestCeiling`)
+        at a window whose predicted (mean) headroom is ``mean_headroom``: ``ceiling_fall_z``, or with
+        ``ceiling_near_headroom`` 0 where that headroom is at most it (the climb expects the peak: a crest that
+        stops rising there is the peak's) and ``ceiling_fall_z`` beyond it (far from the expected peak a small
+        fall is more likely the sensors' noise)."""
+        near = self.ceiling_near_headroom is not None and mean_headroom <= self.ceiling_near_headroom
+        return 0.0 if near else self.ceiling_fall_z
 
     def check_guard_count(self, guards: int) -> None:
         """ValueError unless ``guard_cautions`` is unset or names one caution per guard (``guards`` of them)."""
@@ -1075,12 +1087,13 @@ class LearnedInterrogator:
             falling = previous is not None and coa_fell(reading.coa, previous.coa)
             knee = previous is not None and p.knee_stops(reading, previous, self._driven, self._crept)
             self._bracket.observe(reading.crest_bound, reading.dc_nm + reading.amplitude_nm)  # the floor's bound too
-            self._ceiling.observe(reading.coa_cycle_max, reading.coa_cycle_bin_se, reading.dc_nm + reading.amplitude_nm)
             for features in (self.features, *self._guard_features, *self._estimator_features):
                 features.push(reading)
             mean, std, spread = self.ensemble.predict_with_spread(self.features.vector())
             guard_outputs = [g.predict_with_spread(f.vector()) for g, f in zip(self.guards, self._guard_features)]
             headroom, headroom_std, headroom_spread, caution = self._steering_headroom(mean, std, spread, guard_outputs)
+            self._ceiling.observe(reading.coa_cycle_max, reading.coa_cycle_bin_se, reading.dc_nm + reading.amplitude_nm,
+                                  p.fall_margin(p.mean_headroom(headroom, headroom_std, headroom_spread, caution)))
             if not falling:
                 self._best_coa = max(self._best_coa, reading.coa)
                 self._source_estimates = self._estimates_at(

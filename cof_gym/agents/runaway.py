@@ -98,21 +98,23 @@ class CrestCeiling:
     def __post_init__(self) -> None:
         check_number("fall_z", self.fall_z, 0.0, 10.0)
 
-    def observe(self, crest: float, bin_se: float, crest_torque_nm: float) -> None:
+    def observe(self, crest: float, bin_se: float, crest_torque_nm: float, fall_z: float | None = None) -> None:
         """Take a driven window's crest and bin standard error (CoA; crest 0: not read) and its commanded
-        torque crest (N m)."""
+        torque crest (N m); ``fall_z``: this window's margin in place of the field's (e.g. 0 where the climb
+        expects the peak)."""
         if crest <= 0.0:
             return
-        if self._last_crest > 0.0 and crest_torque_nm > self._last_torque_nm and self._fell(crest, bin_se):
+        margin = self.fall_z if fall_z is None else fall_z
+        if self._last_crest > 0.0 and crest_torque_nm > self._last_torque_nm and self._fell(crest, bin_se, margin):
             self.reached = True
         if crest > self.best_crest:
             self.best_crest, self.best_crest_se = crest, bin_se
         self._last_crest, self._last_se, self._last_torque_nm = crest, bin_se, crest_torque_nm
 
-    def _fell(self, crest: float, bin_se: float) -> bool:
+    def _fell(self, crest: float, bin_se: float, fall_z: float) -> bool:
         """Whether ``crest`` lies below the last window's by more than ``fall_z`` standard errors of their
         difference (any amount with ``fall_z`` 0)."""
-        return crest < self._last_crest - self.fall_z * math.hypot(bin_se, self._last_se)
+        return crest < self._last_crest - fall_z * math.hypot(bin_se, self._last_se)
 
     @property
     def bound(self) -> float | None:
