@@ -385,6 +385,21 @@ generated, never typed:
         --baseline "ceiling_fall_z 0, caution 2, target 0.1, guards ${G/ /, }" --out out/paired_rule48_validation.md
     python experiments/paired_comparison.py out/records_rule48_validation_noise3.json \
         --baseline "ceiling_fall_z 0, caution 2, target 0.1, guards ${G/ /, }" --out out/paired_rule48_validation_noise3.md
+    S49="ceiling_fall_z=0 ceiling_fall_z=1 ceiling_fall_z=2 ceiling_near_headroom=0.3 ceiling_near_headroom=0.5"
+    B49="ceiling_fall_z 0, ceiling_near_headroom 0.3, caution 2, target 0.1, guards ${G/ /, }"
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 --set $S49 \
+        --records out/records_rule49_validation.json --out out/crest_tradeoff_rule49.md
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 --set $S49 \
+        --scenario noise_level=3 --records out/records_rule49_validation_noise3.json --out out/crest_tradeoff_rule49_noise3.md
+    python experiments/paired_comparison.py out/records_rule49_validation.json --baseline "$B49" \
+        --out out/paired_rule49_validation.md   # and the same for _noise3
+    C49="ceiling_fall_z=0 ceiling_fall_z=2 ceiling_near_headroom=0.5"
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 --set $C49 \
+        --grids confirmation15 --records out/records_rule49_confirmation15.json \
+        --out out/crest_tradeoff_rule49_confirmation15.md   # and with --scenario noise_level=3: ..._noise3
+    python experiments/paired_comparison.py out/records_rule49_confirmation15.json \
+        --baseline "ceiling_fall_z 0, ceiling_near_headroom 0.5, caution 2, target 0.1, guards ${G/ /, }" \
+        --out out/paired_rule49_confirmation15.md   # and the same for _noise3
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -525,6 +540,14 @@ SOURCES = {
         "crest_tradeoff_rule48_noise3",
         "paired_rule48_validation",
         "paired_rule48_validation_noise3",
+        "crest_tradeoff_rule49",
+        "crest_tradeoff_rule49_noise3",
+        "paired_rule49_validation",
+        "paired_rule49_validation_noise3",
+        "crest_tradeoff_rule49_confirmation15",
+        "crest_tradeoff_rule49_confirmation15_noise3",
+        "paired_rule49_confirmation15",
+        "paired_rule49_confirmation15_noise3",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
