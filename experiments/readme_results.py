@@ -400,6 +400,19 @@ generated, never typed:
     python experiments/paired_comparison.py out/records_rule49_confirmation15.json \
         --baseline "ceiling_fall_z 0, ceiling_near_headroom 0.5, caution 2, target 0.1, guards ${G/ /, }" \
         --out out/paired_rule49_confirmation15.md   # and the same for _noise3
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 --set $C49 \
+        --grids confirmation16 --records out/records_rule50_confirmation16.json \
+        --out out/crest_tradeoff_rule50_confirmation16.md   # and with --scenario noise_level=3: ..._noise3
+    python experiments/paired_comparison.py out/records_rule50_confirmation16.json \
+        --baseline "ceiling_fall_z 0, ceiling_near_headroom 0.5, caution 2, target 0.1, guards ${G/ /, }" \
+        --out out/paired_rule50_confirmation16.md   # and the same for _noise3
+    python experiments/train_interrogator.py --out runs/interrogator --reuse \
+        --add-guard-climbs runs/estimator_env/onpolicy_env_56d6d6f9b007.npz --probing-guard --ship   # rule 50
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
+        --records out/records_shipped_validation_session33.json \
+        --out out/crest_tradeoff_shipped_validation_session33.md   # the shipped agent since rule 50 (and with
+        # --scenario noise_level=3: records_shipped_validation_session33_noise3, ..._session33_noise3.md)
+    (then every cof-gym evaluate command above again)
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -548,6 +561,12 @@ SOURCES = {
         "crest_tradeoff_rule49_confirmation15_noise3",
         "paired_rule49_confirmation15",
         "paired_rule49_confirmation15_noise3",
+        "crest_tradeoff_rule50_confirmation16",
+        "crest_tradeoff_rule50_confirmation16_noise3",
+        "paired_rule50_confirmation16",
+        "paired_rule50_confirmation16_noise3",
+        "crest_tradeoff_shipped_validation_session33",
+        "crest_tradeoff_shipped_validation_session33_noise3",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about

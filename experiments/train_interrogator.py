@@ -50,7 +50,9 @@ selects the same climb (the selection plays the filter alone) and ships.
    changes, nor the estimate of an episode that does not run away); once the crest has fallen under a rising
    torque crest, every estimate is at most the best crest plus one bin's standard error (CREST_CEILING: rule
    28, session 25; no step changes either), and the climb ends at that window (CEILING_STOP: rule 30's stop,
-   adopted with rule 42, session 30).
+   adopted with rule 42, session 30); where the predicted headroom is above CEILING_NEAR_HEADROOM, only a fall
+   beyond CEILING_FALL_Z standard errors of the two crests counts (rule 50, session 33: a noisier sensor's
+   chance falls far below the peak no longer stop the climb; at the draws' noise no validation climb changed).
 3. **Selection, validation only**: the climb's parameters (modulation ratio, target headroom,
    caution, largest step, a slow probe while the headroom is uncertain, whether it stays slow and where
    it ends, the jump to the lowest CoF the task admits: GRIDS;
@@ -310,6 +312,8 @@ CREST_FLOOR = True  # the chosen climb's estimate at least its best crest bound 
 RUNAWAY_ESTIMATE = True  # between stops, the chosen climb reports what a runaway would (rule 23, session 23)
 CREST_CEILING = True  # once the crest falls under a rising torque crest, the estimate at most it (rule 28, session 25)
 CEILING_STOP = True  # ... and the climb ends at that window (rule 30's stop, adopted with rule 42, session 30)
+# ... a fall counting only beyond 2 standard errors where the predicted headroom is above 0.5 (rule 50, session 33)
+CEILING_FALL_Z, CEILING_NEAR_HEADROOM = 2.0, 0.5
 CRITERIA = {  # how the selection ranks the climbs (sort keys of a table row)
     "pooled": lambda r: (r["macro_slips"], r["pooled_p90"], r["pooled_median"]),  # the recipe
     "family": lambda r: (r["macro_slips"], r["p90"], r["median"]),  # the family grid alone
@@ -550,7 +554,7 @@ def main() -> None:
     if guard_names and chosen.get("estimate_from") == "filter":
         chosen = {**chosen, "estimate_from": GUARDED_ESTIMATE}
     chosen = {**chosen, "crest_floor": CREST_FLOOR, "runaway_estimate": RUNAWAY_ESTIMATE, "crest_ceiling": CREST_CEILING,
-              "ceiling_stop": CEILING_STOP}
+              "ceiling_stop": CEILING_STOP, "ceiling_fall_z": CEILING_FALL_Z, "ceiling_near_headroom": CEILING_NEAR_HEADROOM}
     manifest = {"climb": {**asdict(ClimbParameters()), **chosen},
                 "trained_on": {"env_id": ENV_ID, "configs": CONFIGS},
                 "training": {"climbs": climbs, "seeds": args.seeds, "fit": asdict(settings)}}
@@ -593,6 +597,9 @@ def main() -> None:
             "rising torque crest (rule 28)" if chosen["crest_ceiling"] else "")
     why += ("; the climb ends at the window where the crest falls under a rising torque crest (rule 30's stop, "
             "rule 42)" if chosen["ceiling_stop"] else "")
+    why += (f"; where the predicted headroom is above {chosen['ceiling_near_headroom']:g} a crest fall counts only beyond "
+            f"{chosen['ceiling_fall_z']:g} standard errors of the two crests (rule 50)"
+            if chosen["ceiling_near_headroom"] is not None and chosen["ceiling_fall_z"] > 0 else "")
     text += ["", f"Shipped estimate: `{chosen['estimate_from']}`{why}.", "",
              "## Report (nothing chosen here)", "", markdown(report, [f"seed_{s}" for s in args.seeds])]
     (out / "report.md").write_text("\n".join(text) + "\n")

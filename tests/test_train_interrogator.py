@@ -180,3 +180,17 @@ def test_the_probing_guard_is_the_first_steps_guard(tmp_path: Path, monkeypatch)
     assert "probing_guard" not in first and first["guard"] != first["first"]
     assert third["probing_guard"] == first["guard"] != third["guard"]
     assert fit(tmp_path / "third", "--add-guard-climbs", str(guard_file), "--probing-guard") == third
+
+
+def test_the_shipped_climb_carries_the_recipes_fixed_parts() -> None:
+    """The parts of the climb the recipe sets after its selection (the adopted rules' constants in
+    train_interrogator.py) are the shipped manifest's: a rule adopted in one place and not the other fails here."""
+    import train_interrogator as recipe
+    from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR
+
+    climb = json.loads((SHIPPED_INTERROGATOR / "manifest.json").read_text())["climb"]
+    fixed = {"estimate_from": recipe.GUARDED_ESTIMATE, "crest_floor": recipe.CREST_FLOOR,
+             "runaway_estimate": recipe.RUNAWAY_ESTIMATE, "crest_ceiling": recipe.CREST_CEILING,
+             "ceiling_stop": recipe.CEILING_STOP, "ceiling_fall_z": recipe.CEILING_FALL_Z,
+             "ceiling_near_headroom": recipe.CEILING_NEAR_HEADROOM}
+    assert {name: climb[name] for name in fixed} == fixed
