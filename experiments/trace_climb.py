@@ -5,7 +5,8 @@
         --agent runs/speed_scaled/ensemble --set frequency_reference_m_s=20
 
 For each chosen episode of a suite (``--suite``: ``default``, ``paper`` or a suite file; ``--episodes``:
-indices into it; ``--counter-torque``: in the paper's vehicle configuration, crest_tradeoff.py's second) the interrogator of ``--agent`` (default: the shipped one, its manifest's climb with
+indices into it; ``--counter-torque``: in the paper's vehicle configuration, crest_tradeoff.py's second) the
+interrogator of ``--agent`` (default: the shipped one, its manifest's climb with
 ``--set NAME=VALUE`` fields of :class:`~cof_gym.agents.interrogator.ClimbParameters` replaced, values as JSON)
 plays the episode as ``cof-gym evaluate`` would, and the table lists per driven window what the climb
 decided (:class:`~cof_gym.agents.interrogator.WindowDecision`) beside the truth: the DC torque over the

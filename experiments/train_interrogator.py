@@ -150,7 +150,8 @@ COLLECTIONS = {
                                 ClimbDraws(shapes="procedural", frequency_references_m_s=(10.0, 40.0))),
     # the env's draws and procedural curves with the sensors' noise at 0-3 times the full scale and the drive's
     # lag at 0-0.1 s (the env's draws: 0-1 and 0-0.03 s), what the env accepts (session 33)
-    "noisy": ("climbs_noisy.npz", TRAINING_SEED + 1_500_000, ClimbDraws(noise_levels=(0.0, 3.0), motor_lags_s=(0.0, 0.1))),
+    "noisy": ("climbs_noisy.npz", TRAINING_SEED + 1_500_000,
+              ClimbDraws(noise_levels=(0.0, 3.0), motor_lags_s=(0.0, 0.1))),
     "procedural_noisy": ("climbs_procedural_noisy.npz", TRAINING_SEED + 1_600_000,
                          ClimbDraws(shapes="procedural", noise_levels=(0.0, 3.0), motor_lags_s=(0.0, 0.1))),
 }
