@@ -71,7 +71,8 @@ from make_grids import CONFIRMATION_SETS, SUITES  # noqa: E402
 from cof_gym.agents.interrogator import (  # noqa: E402
     ESTIMATE_SOURCES, ESTIMATOR_ESTIMATES, GUARDED_ESTIMATES, SHIPPED_INTERROGATOR, ClimbParameters, read_manifest,
 )
-from cof_gym.task.scenarios import check_fixed  # noqa: E402
+from cof_gym.commands.args import name_value  # noqa: E402
+from cof_gym.commands.suites import scenario_option  # noqa: E402
 
 
 def confirmation_set(name: str) -> dict[str, Path]:
@@ -262,20 +263,6 @@ def scenario_text(scenario: dict) -> str:
     return ", ".join(f"{name} {value}" for name, value in scenario.items())
 
 
-def scenario_item(text: str) -> tuple[str, object]:
-    """A ``--scenario`` item: ``NAME=VALUE`` with NAME a scenario field a suite may fix and VALUE JSON that the
-    env accepts for it (:func:`~cof_gym.task.scenarios.check_fixed`), as (name, value)."""
-    name, sep, value = text.partition("=")
-    try:
-        parsed = json.loads(value) if sep else None
-        if parsed is None:
-            raise ValueError("expected NAME=VALUE with a value (JSON, not null)")
-        check_fixed({name: parsed})
-    except ValueError as error:  # json.JSONDecodeError is a ValueError
-        raise argparse.ArgumentTypeError(f"{text!r}: {error}") from None
-    return name, parsed
-
-
 def crest_fraction(text: str) -> float | None:
     """A ``--crest-fractions`` value: a number in [0, 4] or ``none`` (uncapped)."""
     if text.lower() == "none":
@@ -290,16 +277,13 @@ def crest_fraction(text: str) -> float | None:
 
 
 def climb_item(text: str) -> tuple[str, object]:
-    """``NAME=VALUE`` with NAME a :class:`ClimbParameters` field and VALUE JSON, as (name, value); the value
-    is checked against a climb by :func:`checked_climb`."""
-    name, _, value = text.partition("=")
+    """``NAME=VALUE`` (:func:`~cof_gym.commands.args.name_value`) with NAME a :class:`ClimbParameters` field, as
+    (name, value); the value is checked against a climb by :func:`checked_climb`."""
+    name, value = name_value(text)
     fields = asdict(ClimbParameters())
     if name not in fields:
         raise argparse.ArgumentTypeError(f"expected NAME=VALUE with NAME a climb parameter ({', '.join(fields)}), got {text!r}")
-    try:
-        return name, json.loads(value)
-    except ValueError as error:  # json.JSONDecodeError is a ValueError
-        raise argparse.ArgumentTypeError(f"{name}: {error}") from None
+    return name, value
 
 
 def checked_climb(climb: dict, changes: dict, guards: int | None = None) -> None:
@@ -362,7 +346,7 @@ def main() -> None:
                         help="also write every episode (its setting, grid, configuration, error, macro-slip, return, how "
                              "the climb ended, and the error of every estimate source the agent could have reported) "
                              "to this JSON file")
-    parser.add_argument("--scenario", nargs="+", default=[], metavar="NAME=VALUE", type=scenario_item,
+    parser.add_argument("--scenario", nargs="+", default=[], metavar="NAME=VALUE", type=scenario_option,
                         help="reset options over every episode's own (scenario fields, JSON values), e.g. noise_level=3 "
                              "motor_lag_s=0.1: the grids' episodes with a sensor or drive outside the training draws")
     parser.add_argument("--workers", type=int, default=2)

@@ -46,7 +46,6 @@ before each runaway (``--out FILE``: also written there):
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 from typing import NamedTuple
 
@@ -56,7 +55,7 @@ import numpy as np
 
 from cof_gym.agents.interrogator import Reading
 from cof_gym.agents.runaway import crest_bound
-from cof_gym.commands.suites import make_suite
+from cof_gym.commands.suites import make_suite, scenario_option
 from cof_gym.task.excitation import encode_extra_tones
 from cof_gym.task.interface import MotorLimits, encode_action
 
@@ -216,7 +215,8 @@ def main() -> None:
     ap.add_argument("--amplitude-ratio", type=float, default=0.05)
     ap.add_argument("--frequency", type=float, default=5.0, help="Hz")
     ap.add_argument("--env", default=None, help="play the episodes in this env id instead of the suite's")
-    ap.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE", help="override a reset option")
+    ap.add_argument("--set", nargs="*", default=[], metavar="NAME=VALUE", type=scenario_option,
+                    help="a reset option over every episode's own (a scenario field and a value the env accepts)")
     ap.add_argument("--harmonics", action="store_true", help="also read the speed's 2nd and 3rd harmonics")
     ap.add_argument("--hold-dc", type=float, default=None, metavar="F",
                     help="a held-DC amplitude probe: DC at F x M_sat, --levels the crest / M_sat")
@@ -236,15 +236,7 @@ def main() -> None:
     if args.harmonics and not 3 * args.frequency <= MotorLimits.max_frequency_hz:
         ap.error(f"--harmonics reads 3 x --frequency, which must be <= {MotorLimits.max_frequency_hz:g} Hz "
                  f"(the drive's range), got {args.frequency:g} Hz")
-    overrides = {}
-    for item in args.set:
-        key, sep, value = item.partition("=")
-        if not sep or not key:
-            ap.error(f"--set: expected KEY=VALUE, got {item!r}")
-        try:
-            overrides[key] = json.loads(value)
-        except json.JSONDecodeError:
-            overrides[key] = value
+    overrides = dict(args.set)
     suite = make_suite(args.suite, 60, 0)
     chosen = range(len(suite.episodes)) if args.all_episodes else args.episodes
     for k in chosen:

@@ -10,6 +10,8 @@ from pathlib import Path
 
 import pytest
 
+from cof_gym.commands.suites import scenario_option
+
 SCRIPT = Path(__file__).resolve().parent.parent / "experiments" / "crest_tradeoff.py"
 SHIPPED = Path(__file__).resolve().parent.parent / "cof_gym" / "agents" / "policies" / "interrogator"
 
@@ -159,7 +161,7 @@ def test_a_scenario_option_is_played_in_every_episode_and_said_above_the_table(t
     episodes with a drive lag of 0.1 s instead of the grid's 0.02 s play other climbs (the env reads the
     option: the records differ), and the table says so in its first line."""
     sys.path.insert(0, str(SCRIPT.parent))
-    from crest_tradeoff import scenario_item, table
+    from crest_tradeoff import table
 
     suite = json.loads((SCRIPT.parent / "suites" / "v2_validation_grid.json").read_text())
     tiny = tmp_path / "tiny.json"
@@ -167,6 +169,6 @@ def test_a_scenario_option_is_played_in_every_episode_and_said_above_the_table(t
     plain, slow = [], []
     table([0.1], 1, guards=[SHIPPED / "guard_0"], grids={"tiny": tiny}, guards_only=True, records=plain)
     text = table([0.1], 1, guards=[SHIPPED / "guard_0"], grids={"tiny": tiny}, guards_only=True, records=slow,
-                 scenario=dict([scenario_item("motor_lag_s=0.1")]))
+                 scenario=dict([scenario_option("motor_lag_s=0.1")]))
     assert text.splitlines()[0] == "Every episode with motor_lag_s 0.1 over its own options."
     assert len(plain) == len(slow) and [r["error"] for r in plain] != [r["error"] for r in slow]

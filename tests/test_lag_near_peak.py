@@ -27,9 +27,11 @@ def test_overrides_and_env_reach_the_episode(monkeypatch, capsys):
     half = _lags(monkeypatch, capsys, ["--set", "load_case=laden", "motor_lag_s=0", "--env", "CofGym/HalfWheelset-v2"])
     assert len(wagon) == len(half) == 2
     assert wagon != half  # another env, another response to the same drive
-    with pytest.raises(SystemExit) as e:
-        _lags(monkeypatch, capsys, ["--set", "motor_lag_s"])
-    assert e.value.code == 2
+    for bad in ("motor_lag_s", "motor_lag_s=0.5", "lag=0", "load_case=null"):  # refused before any simulation
+        with pytest.raises(SystemExit) as e:
+            _lags(monkeypatch, capsys, ["--set", bad])
+        assert e.value.code == 2
+        assert "argument --set" in capsys.readouterr().err
 
 
 def test_harmonics_read_silent_tones_without_changing_the_drive(monkeypatch, capsys):

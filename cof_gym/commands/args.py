@@ -5,6 +5,7 @@ checks. Imports nothing of cof_gym, so every command (and the CLI above them) ma
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import os
 from pathlib import Path
@@ -90,6 +91,19 @@ def positive_float(text: str) -> float:
 
 def non_negative_float(text: str) -> float:
     return _float_above(text, 0.0, inclusive=True)
+
+
+def name_value(text: str) -> tuple[str, object]:
+    """An argparse type: ``NAME=VALUE`` as (name, value), VALUE read as JSON (a number, true/false, null, a list
+    or an object) or, where it is no JSON, as the text itself (``condition=dry``); the caller checks both."""
+    name, sep, value = text.partition("=")
+    if not sep or not name or not value:
+        raise argparse.ArgumentTypeError(f"expected NAME=VALUE, got {text!r}")
+    try:
+        parsed = json.loads(value)
+    except ValueError:  # json.JSONDecodeError is a ValueError
+        parsed = value
+    return name, parsed
 
 
 def check_output_dir(path: Path, flag: str = "--out") -> Path:

@@ -22,6 +22,7 @@ results down by note, e.g. a grid's creep-curve shapes). Anything else is refuse
 
 from __future__ import annotations
 
+import argparse
 import json
 import numbers
 from collections.abc import Sequence
@@ -30,6 +31,8 @@ from pathlib import Path
 from typing import Any, Callable, Iterator
 
 import cof_gym
+from cof_gym.commands.args import name_value
+from cof_gym.task.scenarios import check_fixed
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 
 PAPER_COFS = (0.1, 0.2, 0.3, 0.4, 0.5)
@@ -38,6 +41,20 @@ FILE_KEYS = ("env_id", "env_kwargs", "options", "episodes", "description")
 EPISODE_KEYS = ("seed", "options", "note")  # note: a free-text label (evaluate's breakdown groups by it)
 MAX_SEED = 2**63 - 1
 MAX_EPISODES = 100_000  # episodes per agent (--episodes and a file's episode list): hours of simulation
+
+
+def scenario_option(text: str) -> tuple[str, object]:
+    """An argparse type: ``NAME=VALUE`` (:func:`~cof_gym.commands.args.name_value`) with NAME a scenario field a
+    suite may fix and VALUE one the env accepts for it (:func:`~cof_gym.task.scenarios.check_fixed`), as
+    (name, value): a reset option for every episode, checked before any simulation."""
+    name, value = name_value(text)
+    if value is None:  # check_fixed reads None as "drawn"
+        raise argparse.ArgumentTypeError(f"{text!r}: {name} needs a value, not null")
+    try:
+        check_fixed({name: value})
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(f"{text!r}: {error}") from None
+    return name, value
 
 
 class SeededEpisodes(Sequence):
