@@ -194,12 +194,13 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
     only with; ``estimators``: every row with these estimator networks; ``return_digits``: the decimals of
     the mean returns; ``records``: a list that receives every episode as a dict), each row on the three
     ``grids`` (the validation grids unless told; ``scenario``: reset options over every episode's own, said in
-    a line above the table); several runs (or ``own_climb``: each with its manifest's climb, unchanged): a first
-    column names the networks."""
+    a line above the table); other networks than the shipped agent's, several runs or ``own_climb`` (each with its
+    manifest's climb, unchanged): a first column names the networks."""
     manifest_climb = read_manifest(SHIPPED_INTERROGATOR)["climb"]
     # None: the guards the run's manifest names (with own_climb: the climb as shipped), [] none
     guard_sets = (([] if guards_only else [[]]) + [[str(g) for g in guards]]) if guards else [None if own_climb else []]
-    named = len(networks) > 1 or own_climb
+    # a first column (and the records' setting) names the networks unless they are the shipped agent's alone
+    named = own_climb or [Path(n).resolve() for n in networks] != [SHIPPED_INTERROGATOR.resolve()]
     rows = [(n, label, climb, gs, ", ".join(f"{k} {v}" for k, v in variant.items() if k in (settings or {})))
             for n in networks for variant in row_variants(settings, crest_fractions, crest_once_crept)
             for label, climb in climb_settings(n, {**manifest_climb, **variant}, targets, cautions, spread_cautions,

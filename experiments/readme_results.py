@@ -412,6 +412,18 @@ generated, never typed:
         --records out/records_shipped_validation_session33.json \
         --out out/crest_tradeoff_shipped_validation_session33.md   # the shipped agent since rule 50 (and with
         # --scenario noise_level=3: records_shipped_validation_session33_noise3, ..._session33_noise3.md)
+    python experiments/train_interrogator.py --out runs/noise_guard --climbs noisy=8000 procedural_noisy=8000 \
+        --guard-climbs none --fit-only   # rule 51's networks
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
+        --records out/records_shipped_validation_session34.json \
+        --out out/crest_tradeoff_shipped_validation_session34.md   # and with --scenario noise_level=3 (_noise3)
+        # or --scenario motor_lag_s=0.1 (_lag01) in both file names
+    python experiments/crest_tradeoff.py --guards $G runs/noise_guard/ensemble --guards-only --targets 0.1 --stops \
+        --return-digits 4 --records out/records_rule51A_validation.json \
+        --out out/crest_tradeoff_rule51A_validation.md   # and _noise3, _lag01 as above; B: --run runs/noise_guard/ensemble
+        # --guards $G ..., records_rule51B_validation*.json, crest_tradeoff_rule51B_validation*.md
+    python experiments/paired_comparison.py out/records_shipped_validation_session34.json \
+        out/records_rule51A_validation.json --out out/paired_rule51A_validation.md   # each scenario, A and B
     (then every cof-gym evaluate command above again)
     python experiments/readme_results.py
 
@@ -567,6 +579,16 @@ SOURCES = {
         "paired_rule50_confirmation16_noise3",
         "crest_tradeoff_shipped_validation_session33",
         "crest_tradeoff_shipped_validation_session33_noise3",
+        "crest_tradeoff_rule51A_validation",
+        "paired_rule51A_validation",
+        "crest_tradeoff_rule51A_validation_noise3",
+        "paired_rule51A_validation_noise3",
+        "crest_tradeoff_rule51B_validation",
+        "paired_rule51B_validation",
+        "crest_tradeoff_rule51B_validation_noise3",
+        "paired_rule51B_validation_noise3",
+        "paired_rule51A_validation_lag01",
+        "paired_rule51B_validation_lag01",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about

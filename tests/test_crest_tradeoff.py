@@ -172,3 +172,30 @@ def test_a_scenario_option_is_played_in_every_episode_and_said_above_the_table(t
                  scenario=dict([scenario_option("motor_lag_s=0.1")]))
     assert text.splitlines()[0] == "Every episode with motor_lag_s 0.1 over its own options."
     assert len(plain) == len(slow) and [r["error"] for r in plain] != [r["error"] for r in slow]
+
+
+def test_other_networks_than_the_shipped_are_named_in_the_table_and_the_records(tmp_path: Path) -> None:
+    """``--run`` with one directory that is not the shipped agent's (here a copy of its filter): the table's first
+    column and every record's setting name it, so that paired_comparison.py can tell its rows from the shipped
+    agent's with the same guards and climb; the shipped agent alone keeps its unnamed row."""
+    sys.path.insert(0, str(SCRIPT.parent))
+    import shutil
+
+    from crest_tradeoff import table
+
+    suite = json.loads((SCRIPT.parent / "suites" / "v2_validation_grid.json").read_text())
+    tiny = tmp_path / "tiny.json"
+    tiny.write_text(json.dumps({**suite, "episodes": suite["episodes"][:1]}))
+    other = tmp_path / "other"
+    other.mkdir()
+    for member in SHIPPED.glob("member_*.npz"):
+        shutil.copy(member, other)
+    shipped_records, other_records = [], []
+    shipped_text = table([0.1], 1, guards=[SHIPPED / "guard_0"], grids={"tiny": tiny}, guards_only=True,
+                         records=shipped_records)
+    other_text = table([0.1], 1, networks=[other], guards=[SHIPPED / "guard_0"], grids={"tiny": tiny},
+                       guards_only=True, records=other_records)
+    assert shipped_text.startswith("| caution |") and other_text.startswith("| networks |")
+    assert {r["setting"] for r in other_records} == {f"{other}, " + shipped_records[0]["setting"]}
+    # the same networks and climb: the same episodes
+    assert [r["error"] for r in other_records] == [r["error"] for r in shipped_records]
