@@ -424,6 +424,9 @@ generated, never typed:
         # --guards $G ..., records_rule51B_validation*.json, crest_tradeoff_rule51B_validation*.md
     python experiments/paired_comparison.py out/records_shipped_validation_session34.json \
         out/records_rule51A_validation.json --out out/paired_rule51A_validation.md   # each scenario, A and B
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
+        --set creep_while_std=0.08 creep_while_std=0.16 --cautions 1.5 2 --records out/records_noise_pace_session34.json \
+        --out out/crest_tradeoff_noise_pace_session34.md   # and with --scenario noise_level=3 (_noise3)
     (then every cof-gym evaluate command above again)
     python experiments/readme_results.py
 
@@ -589,6 +592,8 @@ SOURCES = {
         "paired_rule51B_validation_noise3",
         "paired_rule51A_validation_lag01",
         "paired_rule51B_validation_lag01",
+        "crest_tradeoff_noise_pace_session34",
+        "crest_tradeoff_noise_pace_session34_noise3",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
