@@ -319,8 +319,8 @@ def main() -> None:
     parser.add_argument("--crest-once-crept", action="store_true",
                         help="the crest cap (--crest-fractions) only from the climb's first slow probe on")
     parser.add_argument("--set", nargs="+", default=[], metavar="NAME=VALUE", type=climb_setting,
-                        help="climb parameters (ClimbParameters fields, JSON values) set in the rows; a name given "
-                             "several values: each in turn, e.g. creep_log_step=0.02 creep_log_step=0.045")
+                        help="climb parameters (ClimbParameters fields; values JSON or plain text) set in the rows; a "
+                             "name given several values: each in turn, e.g. creep_log_step=0.02 creep_log_step=0.045")
     parser.add_argument("--run", type=Path, nargs="+", default=[SHIPPED_INTERROGATOR],
                         help="directories of networks (member_*.npz) played with the shipped climb, each in turn")
     parser.add_argument("--guards", type=Path, nargs="+", default=None,
@@ -348,8 +348,9 @@ def main() -> None:
                              "the climb ended, and the error of every estimate source the agent could have reported) "
                              "to this JSON file")
     parser.add_argument("--scenario", nargs="+", default=[], metavar="NAME=VALUE", type=scenario_option,
-                        help="reset options over every episode's own (scenario fields, JSON values), e.g. noise_level=3 "
-                             "motor_lag_s=0.1: the grids' episodes with a sensor or drive outside the training draws")
+                        help="reset options over every episode's own (scenario fields; values JSON or plain text), e.g. "
+                             "noise_level=3 motor_lag_s=0.1: the grids' episodes with a sensor or drive outside the "
+                             "training draws")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--out", type=Path, default=Path("out/crest_tradeoff.md"))
     args = parser.parse_args()

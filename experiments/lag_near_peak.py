@@ -12,7 +12,7 @@ measured creepage's own modulation (a sensor reading: its swing per torque over 
 its lag behind the torque with its standard error). It shows how late the lag rises on sharp-kneed curves,
 the reason the learned interrogator and the phase rule commit below the peak. ``--env`` plays the same
 episodes in another env (e.g. ``CofGym/HalfWheelset-v2``, the wheelset without the wagon) and ``--set
-KEY=VALUE`` overrides a reset option of every chosen episode (numbers as JSON, e.g. ``motor_lag_s=0``):
+NAME=VALUE`` overrides a reset option of every chosen episode (checked before any simulation, e.g. ``motor_lag_s=0``):
 
     python experiments/lag_near_peak.py --episodes 6 --levels 0.3 0.6 0.8 0.85 0.88 --amplitude-ratio 0.4 \
         --set load_case=laden motor_lag_s=0 [--env CofGym/HalfWheelset-v2]

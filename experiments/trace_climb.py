@@ -7,7 +7,8 @@
 For each chosen episode of a suite (``--suite``: ``default``, ``paper`` or a suite file; ``--episodes``:
 indices into it; ``--counter-torque``: in the paper's vehicle configuration, crest_tradeoff.py's second) the
 interrogator of ``--agent`` (default: the shipped one, its manifest's climb with
-``--set NAME=VALUE`` fields of :class:`~cof_gym.agents.interrogator.ClimbParameters` replaced, values as JSON)
+``--set NAME=VALUE`` fields of :class:`~cof_gym.agents.interrogator.ClimbParameters` replaced, values as JSON or
+plain text)
 plays the episode as ``cof-gym evaluate`` would, and the table lists per driven window what the climb
 decided (:class:`~cof_gym.agents.interrogator.WindowDecision`) beside the truth: the DC torque over the
 true saturation torque and the true headroom ``ln(M_sat / DC)``, the measured lag, the filter's predicted
@@ -69,7 +70,8 @@ def main() -> None:
     ap.add_argument("--episodes", type=int, nargs="+", default=[0], help="indices into the suite")
     ap.add_argument("--agent", type=Path, default=SHIPPED_INTERROGATOR,
                     help="an interrogator's directory (member_*.npz; its manifest's climb and guards, where it has one)")
-    ap.add_argument("--set", nargs="*", default=[], metavar="NAME=VALUE", help="a ClimbParameters field (JSON value)")
+    ap.add_argument("--set", nargs="*", default=[], metavar="NAME=VALUE",
+                    help="a ClimbParameters field (a JSON or plain-text value)")
     ap.add_argument("--counter-torque", action="store_true",
                     help="the paper's vehicle configuration (counter torque on the other wheelset), as crest_tradeoff.py's "
                          "second configuration plays every grid")

@@ -170,8 +170,8 @@ def main() -> None:
     ap.add_argument("--collect-only", action="store_true",
                     help="collect the policy's climbs into OUT's cache and stop (no networks, no report)")
     ap.add_argument("--set", nargs="+", default=[], metavar="NAME=VALUE", type=climb_item,
-                    help="the policy climbs with these climb parameters (ClimbParameters fields, JSON values) changed: "
-                         "a copy of it in OUT/policy/")
+                    help="the policy climbs with these climb parameters (ClimbParameters fields; values JSON or plain "
+                         "text) changed: a copy of it in OUT/policy/")
     ap.add_argument("--loss", choices=FIT_LOSSES, default="gaussian",
                     help="the likelihood the networks are fitted under: gaussian (the conditional mean of the "
                          "correction) or laplace (its conditional median); default: %(default)s")
