@@ -181,6 +181,7 @@ GUARDED_ESTIMATES = ("guard", "pooled", "pooled_at_headroom")  # estimate source
 # estimate sources that read the estimators' corrections
 ESTIMATOR_ESTIMATES = ("estimator", "estimator_pooled", "estimator_pooled_at_headroom", "estimator_at_headroom")
 TARGET_NAMES = ("headroom", "correction")  # ln(M_sat / DC), ln(CoF / CoA measured)
+NOISE_WINDOWS = 3  # the climb's first driven windows whose lock-in noise (Reading.lockin_noise_nms) it follows
 
 FEATURE_NAMES = (
     "phase", "phase_se", "compliance", "slope_index", "slope_drop", "phase_rise", "compliance_rise",
@@ -418,6 +419,16 @@ class Reading:
         """A lower bound on the CoF from this window: its CoA's cycle crest less one bin's standard error
         (:func:`~cof_gym.agents.runaway.crest_lower_bound`; 0 when the crest was not read)."""
         return crest_lower_bound(self.coa_cycle_max, self.coa_cycle_bin_se)
+
+    @property
+    def lockin_noise_nms(self) -> float:
+        """The wheel-speed noise this window's lock-in fit reads, as angular momentum (N m s): the phase's
+        standard error (rad) times the response amplitude ``compliance x amplitude / (2 pi f)``, the
+        wheelset's inertia times the speed amplitude (``compliance`` is that amplitude over the torque's,
+        times ``I w``). A least-squares sine fit's phase error is the residual noise over the amplitude times
+        ``sqrt(2 / samples)`` (IEEE Std 1057), so this is ``I x sigma_w x sqrt(2 / samples)``: it follows the
+        speed sensor's noise ``sigma_w`` and not the operating point. A clipped standard error reads low."""
+        return math.radians(self.se_deg) * self.compliance * self.amplitude_nm / (2.0 * math.pi * self.frequency_hz)
 
     @classmethod
     def of(cls, observation: np.ndarray, limits: MotorLimits, info: Mapping[str, Any] | None = None) -> "Reading":
@@ -727,6 +738,10 @@ class ClimbParameters:
     ceiling_stop: bool = False  # the climb ends at the window where the crest falls under a rising torque crest
     ceiling_fall_z: float = 0.0  # a crest fall counts (crest_ceiling, ceiling_stop) beyond this many SEs (CrestCeiling.fall_z)
     ceiling_near_headroom: float | None = None  # not None: ... only where the predicted headroom is above this
+    # not None: where the climb's first windows read more noise than this (N m s, noise_ratio), it follows it (at_noise)
+    noise_reference_nms: float | None = None
+    noise_caution_exponent: float = 0.0  # ... its cautions scale as (noise ratio) ** -this
+    noise_creep_exponent: float = 0.0  # ... and creep_while_std as (noise ratio) ** this
 
     def __post_init__(self) -> None:
         if self.estimate_from not in ESTIMATE_SOURCES:
@@ -752,6 +767,10 @@ class ClimbParameters:
         check_number("tone2_weight", self.tone2_weight, 0.0, 2.0)
         check_number("spread_caution", self.spread_caution, 0.0, 10.0)
         check_number("ceiling_fall_z", self.ceiling_fall_z, 0.0, 10.0)
+        if self.noise_reference_nms is not None:
+            check_number("noise_reference_nms", self.noise_reference_nms, 0.0, math.inf, low_open=True, unit=" N m s")
+        check_number("noise_caution_exponent", self.noise_caution_exponent, 0.0, 2.0)
+        check_number("noise_creep_exponent", self.noise_creep_exponent, 0.0, 2.0)
         if self.guard_cautions is not None:
             if not isinstance(self.guard_cautions, (list, tuple)) or not self.guard_cautions:
                 raise ValueError("guard_cautions must be null or a non-empty list of numbers in [0, 10] (one per "
@@ -777,6 +796,28 @@ class ClimbParameters:
         fall is more likely the sensors' noise)."""
         near = self.ceiling_near_headroom is not None and mean_headroom <= self.ceiling_near_headroom
         return 0.0 if near else self.ceiling_fall_z
+
+    def noise_ratio(self, readings: list["Reading"]) -> float:
+        """How far the noise read over the climb's first :data:`NOISE_WINDOWS` driven ``readings`` (the median
+        of their :attr:`Reading.lockin_noise_nms`) is above ``noise_reference_nms``: that ratio, at least 1;
+        1 without a reference or a reading."""
+        if self.noise_reference_nms is None or not readings:
+            return 1.0
+        noise = float(np.median([r.lockin_noise_nms for r in readings[:NOISE_WINDOWS]]))
+        return max(1.0, noise / self.noise_reference_nms)
+
+    def at_noise(self, ratio: float) -> "ClimbParameters":
+        """The climb at a read noise ``ratio`` times the reference (:meth:`noise_ratio`): ``caution`` and every
+        ``guard_cautions`` entry times ``ratio ** -noise_caution_exponent``, ``creep_while_std`` times ``ratio **
+        noise_creep_exponent``; itself at a ratio of 1. Networks fitted on sensors up to the reference's noise
+        predict a wider headroom spread from noisier readings than they were fitted on; a constant caution
+        turns that spread into a slower climb, which ends at the horizon far below the peak."""
+        if ratio <= 1.0:
+            return self
+        lower = ratio ** -self.noise_caution_exponent
+        return replace(self, caution=self.caution * lower,
+                       guard_cautions=None if self.guard_cautions is None else tuple(c * lower for c in self.guard_cautions),
+                       creep_while_std=self.creep_while_std * ratio ** self.noise_creep_exponent)
 
     def check_guard_count(self, guards: int) -> None:
         """ValueError unless ``guard_cautions`` is unset or names one caution per guard (``guards`` of them)."""
@@ -1089,9 +1130,10 @@ class LearnedInterrogator:
             self._bracket.observe(reading.crest_bound, reading.dc_nm + reading.amplitude_nm)  # the floor's bound too
             for features in (self.features, *self._guard_features, *self._estimator_features):
                 features.push(reading)
+            p = p.at_noise(p.noise_ratio(self.features.readings))  # the climb at the noise its first windows read
             mean, std, spread = self.ensemble.predict_with_spread(self.features.vector())
             guard_outputs = [g.predict_with_spread(f.vector()) for g, f in zip(self.guards, self._guard_features)]
-            headroom, headroom_std, headroom_spread, caution = self._steering_headroom(mean, std, spread, guard_outputs)
+            headroom, headroom_std, headroom_spread, caution = self._steering_headroom(p, mean, std, spread, guard_outputs)
             self._ceiling.observe(reading.coa_cycle_max, reading.coa_cycle_bin_se, reading.dc_nm + reading.amplitude_nm,
                                   p.fall_margin(p.mean_headroom(headroom, headroom_std, headroom_spread, caution)))
             if not falling:
@@ -1131,14 +1173,14 @@ class LearnedInterrogator:
         return p.action(self._dc, estimate, stop, self.limits, self._ratio, self._frequency)
 
 
-    def _steering_headroom(self, mean: np.ndarray, std: np.ndarray, spread: np.ndarray,
+    @staticmethod
+    def _steering_headroom(p: ClimbParameters, mean: np.ndarray, std: np.ndarray, spread: np.ndarray,
                            guard_outputs: list[tuple[np.ndarray, np.ndarray, np.ndarray]]
                            ) -> tuple[float, float, float, float]:
         """(cautious headroom, its std, its members' spread, the caution it was taken with) that steers the
-        climb: the filter's (its prediction ``mean``, ``std``, ``spread``, the climb's ``caution``), or a
+        climb ``p``: the filter's (its prediction ``mean``, ``std``, ``spread``, the climb's ``caution``), or a
         guard's where that is lower (``guard_outputs``: each guard's prediction, read through its own
         features, with its :meth:`ClimbParameters.guard_caution`)."""
-        p = self.params
         best = (float(p.cautious_headroom(mean[0, 0], std[0, 0], spread[0, 0])), float(std[0, 0]), float(spread[0, 0]),
                 p.caution)
         for i, (g_mean, g_std, g_spread) in enumerate(guard_outputs):
