@@ -427,6 +427,7 @@ generated, never typed:
     python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
         --set creep_while_std=0.08 creep_while_std=0.16 --cautions 1.5 2 --records out/records_noise_pace_session34.json \
         --out out/crest_tradeoff_noise_pace_session34.md   # and with --scenario noise_level=3 (_noise3)
+    python experiments/noise_reading.py --levels 0 0.5 1 1.5 2 3 --episodes 48   # rule 52's noise reference
     (then every cof-gym evaluate command above again)
     python experiments/readme_results.py
 
@@ -594,6 +595,7 @@ SOURCES = {
         "paired_rule51B_validation_lag01",
         "crest_tradeoff_noise_pace_session34",
         "crest_tradeoff_noise_pace_session34_noise3",
+        "noise_reading",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about

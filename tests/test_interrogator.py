@@ -206,7 +206,10 @@ def test_shipped_interrogator_is_a_default_agent_and_measures():
                                             ({"guard_cautions": [2.0, -1.0]}, r"guard_cautions\[1\]"),
                                             ({"guard_cautions": []}, "guard_cautions"),
                                             ({"guard_cautions": 2.0}, "guard_cautions"),
-                                            ({"guard_cautions": ["2"]}, r"guard_cautions\[0\]")])
+                                            ({"guard_cautions": ["2"]}, r"guard_cautions\[0\]"),
+                                            ({"noise_reference_nms": 0.0}, "noise_reference_nms"),
+                                            ({"noise_caution_exponent": 3.0}, "noise_caution_exponent"),
+                                            ({"noise_creep_exponent": -1.0}, "noise_creep_exponent")])
 def test_bad_climb_parameters_name_the_field(kwargs, field):
     with pytest.raises(ValueError, match=field):
         ClimbParameters(**kwargs)
@@ -736,7 +739,7 @@ def test_guard_cautions_give_each_guard_its_own_caution_and_the_climbs_caution_c
     column = lambda v: np.array([[v, 0.0]])  # noqa: E731 (headroom, correction) outputs
     guard = (column(0.9), column(0.1), column(0.0))
     # the filter: 1.0 - 2 x 0.1 = 0.8; guard 0: 0.9 - 1 x 0.1 = 0.8, not lower; guard 1: 0.9 - 3 x 0.1 = 0.6
-    steering = agent._steering_headroom(column(1.0), column(0.1), column(0.0), [guard, guard])
+    steering = agent._steering_headroom(params, column(1.0), column(0.1), column(0.0), [guard, guard])
     assert steering == pytest.approx((0.6, 0.1, 0.0, 3.0), abs=1e-15)
     assert params.mean_headroom(steering[0], 0.1, 0.0, steering[3]) == pytest.approx(0.9, abs=1e-15)  # the guard's mean
     with pytest.raises(ValueError, match="guard_cautions names 2 caution.*1 guard"):
@@ -747,6 +750,49 @@ def test_guard_cautions_give_each_guard_its_own_caution_and_the_climbs_caution_c
                                                  guards=unsure), 8)[0] for cautions in (None, (2.0,), (0.0,))}
     np.testing.assert_array_equal(climbs[(2.0,)], climbs[None])  # the climb's own caution: nothing changes
     assert len(climbs[None]) == 2 and len(climbs[(0.0,)]) > 3  # the unsure guard stops it, or not at caution 0
+
+
+def test_the_lockin_noise_reading_follows_the_sensors_noise(env):
+    """Reading.lockin_noise_nms (the phase SE times the response amplitude) of one episode's first window,
+    driven alike at every noise level, is the fit's residual: in proportion to the sensors' noise level (the
+    same noise samples, scaled), and without noise only what a sine does not fit (under 2 % of level 1's)."""
+    agent = LearnedInterrogator(env.unwrapped.limits, FilterEnsemble((random_network(5),)))
+    noise = {}
+    for level in (0.0, 1.0, 2.0):
+        run_episode(env, agent, 8, {"noise_level": level}, 0)
+        noise[level] = agent.features.readings[0].lockin_noise_nms
+    assert noise[1.0] > 0.0 and noise[0.0] < 0.02 * noise[1.0]
+    assert noise[2.0] / noise[1.0] == pytest.approx(2.0, rel=0.03)  # the level-0 residual adds in quadrature
+
+
+def test_the_noise_ratio_is_the_median_of_the_first_windows_over_the_reference():
+    def noisy(se_deg: float) -> Reading:
+        return replace(_window(10.0, se_deg), compliance=0.2)  # noise: rad(se) x 0.2 x 1600 N m / (2 pi 5 Hz)
+
+    noise = [noisy(se).lockin_noise_nms for se in (2.0, 8.0, 4.0, 30.0)]
+    assert noise[0] == pytest.approx(math.radians(2.0) * 0.2 * 1600.0 / (2.0 * math.pi * 5.0), rel=1e-12)
+    params = ClimbParameters(noise_reference_nms=noise[0])
+    readings = [noisy(se) for se in (2.0, 8.0, 4.0, 30.0)]  # the fourth window is past NOISE_WINDOWS
+    assert params.noise_ratio(readings) == pytest.approx(2.0, rel=1e-12)  # the median 4 deg over 2 deg
+    assert params.noise_ratio(readings[:2]) == pytest.approx(2.5, rel=1e-12)  # the mean of two
+    assert ClimbParameters(noise_reference_nms=noise[3]).noise_ratio(readings) == 1.0  # never below 1
+    assert ClimbParameters().noise_ratio(readings) == 1.0 and params.noise_ratio([]) == 1.0
+
+
+def test_a_noisier_reading_lowers_the_cautions_and_raises_the_slow_probes_threshold():
+    params = ClimbParameters(caution=2.0, guard_cautions=[1.0, 3.0], creep_while_std=0.1, noise_reference_nms=0.4,
+                             noise_caution_exponent=0.5, noise_creep_exponent=1.0)
+    assert params.at_noise(1.0) is params
+    noisy = params.at_noise(4.0)
+    assert (noisy.caution, noisy.guard_cautions) == pytest.approx((1.0, (0.5, 1.5)), rel=1e-12)
+    assert noisy.creep_while_std == pytest.approx(0.4, rel=1e-12)
+    assert replace(noisy, caution=2.0, guard_cautions=(1.0, 3.0), creep_while_std=0.1) == params  # nothing else
+    limits = gym.make(cof_gym.WAGON_ENV_ID).unwrapped.limits
+    unsure = FilterEnsemble((constant_network(0.5, 0.2, log_variance=-2.0),))  # std e^-1: 0.5 - 2 x 0.37 < 0
+    climbs = {reference: play(LearnedInterrogator(limits, unsure, params=ClimbParameters(
+        caution=2.0, noise_reference_nms=reference, noise_caution_exponent=1.0)), 8)[0] for reference in (None, 1e6, 1e-6)}
+    np.testing.assert_array_equal(climbs[1e6], climbs[None])  # never above the reference: nothing changes
+    assert len(climbs[None]) == 2 and len(climbs[1e-6]) > 3  # far above it the caution vanishes and it climbs
 
 
 def test_pooled_correction_is_the_inverse_variance_mean():

@@ -61,6 +61,12 @@ window where the crest falls under a rising torque crest (:class:`~cof_gym.agent
 reporting the same (with ``ceiling_fall_z`` a crest fall counts for both only beyond that many standard errors of
 the two crests' difference: :attr:`~cof_gym.agents.runaway.CrestCeiling.fall_z`; with ``ceiling_near_headroom``
 too, any fall counts where the predicted headroom is at most that: :meth:`ClimbParameters.fall_margin`). The
+climb follows the noise its sensors read with ``noise_reference_nms`` set: where the median of
+:attr:`Reading.lockin_noise_nms` over its first :data:`NOISE_WINDOWS` driven windows (the wheel-speed noise the
+lock-in fit reads, whatever the operating point) is ``r`` times that reference with ``r`` above 1, its cautions
+are ``r ** -noise_caution_exponent`` and its slow probe's ``creep_while_std`` ``r ** noise_creep_exponent``
+times the climb's (:meth:`ClimbParameters.at_noise`): networks fitted on sensors up to the reference's noise
+predict a wider headroom spread from noisier readings, and a constant caution spends it in slowness. The
 estimate is the filter's (the last rising window's CoA times its
 predicted correction), or the best CoA of the climb times a factor, or the same CoA times the guards'
 correction or the filter's and the guards' corrections pooled (inverse-variance weighted,
