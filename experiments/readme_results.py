@@ -428,6 +428,20 @@ generated, never typed:
         --set creep_while_std=0.08 creep_while_std=0.16 --cautions 1.5 2 --records out/records_noise_pace_session34.json \
         --out out/crest_tradeoff_noise_pace_session34.md   # and with --scenario noise_level=3 (_noise3)
     python experiments/noise_reading.py --levels 0 0.5 1 1.5 2 3 --episodes 48   # rule 52's noise reference
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
+        --set noise_reference_nms=0.4 noise_caution_exponent=0 noise_caution_exponent=0.35 \
+        noise_caution_exponent=0.7 noise_creep_exponent=0 noise_creep_exponent=0.85 --scenario noise_level=3 \
+        --records out/records_rule52_validation_noise3.json \
+        --out out/crest_tradeoff_rule52_validation_noise3.md   # rule 52; and without --scenario and _noise3
+    python experiments/paired_comparison.py out/records_shipped_validation_session34_noise3.json \
+        out/records_rule52_validation_noise3.json --out out/paired_rule52_validation_noise3.md   # and without _noise3
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
+        --set noise_reference_nms=0.4 noise_caution_exponent=0.1 noise_caution_exponent=0.2 \
+        noise_creep_exponent=0.5 noise_creep_exponent=0.85 --scenario noise_level=3 \
+        --records out/records_rule53_validation_noise3.json \
+        --out out/crest_tradeoff_rule53_validation_noise3.md   # rule 53; and without --scenario and _noise3
+    python experiments/paired_comparison.py out/records_shipped_validation_session34_noise3.json \
+        out/records_rule53_validation_noise3.json --out out/paired_rule53_validation_noise3.md   # and without _noise3
     (then every cof-gym evaluate command above again)
     python experiments/readme_results.py
 
@@ -596,6 +610,10 @@ SOURCES = {
         "crest_tradeoff_noise_pace_session34",
         "crest_tradeoff_noise_pace_session34_noise3",
         "noise_reading",
+        "crest_tradeoff_rule52_validation_noise3",
+        "paired_rule52_validation_noise3",
+        "crest_tradeoff_rule53_validation_noise3",
+        "paired_rule53_validation_noise3",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about
