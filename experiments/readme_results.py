@@ -442,6 +442,13 @@ generated, never typed:
         --out out/crest_tradeoff_rule53_validation_noise3.md   # rule 53; and without --scenario and _noise3
     python experiments/paired_comparison.py out/records_shipped_validation_session34_noise3.json \
         out/records_rule53_validation_noise3.json --out out/paired_rule53_validation_noise3.md   # and without _noise3
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
+        --set noise_reference_nms=null noise_reference_nms=0.4 noise_caution_exponent=0.2 noise_creep_exponent=0.85 \
+        --grids confirmation17 --scenario noise_level=3 --records out/records_rule53_confirmation17_noise3.json \
+        --out out/crest_tradeoff_rule53_confirmation17_noise3.md   # and without --scenario and _noise3
+    python experiments/paired_comparison.py out/records_rule53_confirmation17_noise3.json \
+        --baseline "noise_reference_nms None, noise_caution_exponent 0.2, noise_creep_exponent 0.85, caution 2, target 0.1, guards ${G/ /, }" \
+        --out out/paired_rule53_confirmation17_noise3.md   # and the same without _noise3
     (then every cof-gym evaluate command above again)
     python experiments/readme_results.py
 
@@ -614,6 +621,9 @@ SOURCES = {
         "paired_rule52_validation_noise3",
         "crest_tradeoff_rule53_validation_noise3",
         "paired_rule53_validation_noise3",
+        "crest_tradeoff_rule53_confirmation17_noise3",
+        "paired_rule53_confirmation17_noise3",
+        "crest_tradeoff_rule53_confirmation17",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about

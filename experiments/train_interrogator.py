@@ -52,7 +52,12 @@ selects the same climb (the selection plays the filter alone) and ships.
    28, session 25; no step changes either), and the climb ends at that window (CEILING_STOP: rule 30's stop,
    adopted with rule 42, session 30); where the predicted headroom is above CEILING_NEAR_HEADROOM, only a fall
    beyond CEILING_FALL_Z standard errors of the two crests counts (rule 50, session 33: a noisier sensor's
-   chance falls far below the peak no longer stop the climb; at the draws' noise no validation climb changed).
+   chance falls far below the peak no longer stop the climb; at the draws' noise no validation climb changed);
+   where the climb's first three windows read more speed noise than NOISE_REFERENCE_NMS (``r`` times: the lock-in
+   fit's phase error times the response amplitude, ``Reading.lockin_noise_nms``), its cautions are ``r **
+   -NOISE_CAUTION_EXPONENT`` and its slow probe's threshold ``r ** NOISE_CREEP_EXPONENT`` times the chosen ones
+   (rule 53, session 35: with three times the draws' noise the climb ends fewer climbs far below the peak; at the
+   draws' noise no validation climb changed).
 3. **Selection, validation only**: the climb's parameters (modulation ratio, target headroom,
    caution, largest step, a slow probe while the headroom is uncertain, whether it stays slow and where
    it ends, the jump to the lowest CoF the task admits: GRIDS;
@@ -315,6 +320,8 @@ CREST_CEILING = True  # once the crest falls under a rising torque crest, the es
 CEILING_STOP = True  # ... and the climb ends at that window (rule 30's stop, adopted with rule 42, session 30)
 # ... a fall counting only beyond 2 standard errors where the predicted headroom is above 0.5 (rule 50, session 33)
 CEILING_FALL_Z, CEILING_NEAR_HEADROOM = 2.0, 0.5
+# ... and the climb following the speed noise its first windows read beyond 0.4 N m s (rule 53, session 35)
+NOISE_REFERENCE_NMS, NOISE_CAUTION_EXPONENT, NOISE_CREEP_EXPONENT = 0.4, 0.2, 0.85
 CRITERIA = {  # how the selection ranks the climbs (sort keys of a table row)
     "pooled": lambda r: (r["macro_slips"], r["pooled_p90"], r["pooled_median"]),  # the recipe
     "family": lambda r: (r["macro_slips"], r["p90"], r["median"]),  # the family grid alone
@@ -555,7 +562,9 @@ def main() -> None:
     if guard_names and chosen.get("estimate_from") == "filter":
         chosen = {**chosen, "estimate_from": GUARDED_ESTIMATE}
     chosen = {**chosen, "crest_floor": CREST_FLOOR, "runaway_estimate": RUNAWAY_ESTIMATE, "crest_ceiling": CREST_CEILING,
-              "ceiling_stop": CEILING_STOP, "ceiling_fall_z": CEILING_FALL_Z, "ceiling_near_headroom": CEILING_NEAR_HEADROOM}
+              "ceiling_stop": CEILING_STOP, "ceiling_fall_z": CEILING_FALL_Z, "ceiling_near_headroom": CEILING_NEAR_HEADROOM,
+              "noise_reference_nms": NOISE_REFERENCE_NMS, "noise_caution_exponent": NOISE_CAUTION_EXPONENT,
+              "noise_creep_exponent": NOISE_CREEP_EXPONENT}
     manifest = {"climb": {**asdict(ClimbParameters()), **chosen},
                 "trained_on": {"env_id": ENV_ID, "configs": CONFIGS},
                 "training": {"climbs": climbs, "seeds": args.seeds, "fit": asdict(settings)}}
@@ -601,6 +610,10 @@ def main() -> None:
     why += (f"; where the predicted headroom is above {chosen['ceiling_near_headroom']:g} a crest fall counts only beyond "
             f"{chosen['ceiling_fall_z']:g} standard errors of the two crests (rule 50)"
             if chosen["ceiling_near_headroom"] is not None and chosen["ceiling_fall_z"] > 0 else "")
+    why += (f"; where the first windows read r times more speed noise than {chosen['noise_reference_nms']:g} N m s, the "
+            f"cautions r^-{chosen['noise_caution_exponent']:g} and the slow probe's threshold "
+            f"r^{chosen['noise_creep_exponent']:g} times the chosen ones (rule 53)"
+            if chosen["noise_reference_nms"] is not None else "")
     text += ["", f"Shipped estimate: `{chosen['estimate_from']}`{why}.", "",
              "## Report (nothing chosen here)", "", markdown(report, [f"seed_{s}" for s in args.seeds])]
     (out / "report.md").write_text("\n".join(text) + "\n")

@@ -192,5 +192,6 @@ def test_the_shipped_climb_carries_the_recipes_fixed_parts() -> None:
     fixed = {"estimate_from": recipe.GUARDED_ESTIMATE, "crest_floor": recipe.CREST_FLOOR,
              "runaway_estimate": recipe.RUNAWAY_ESTIMATE, "crest_ceiling": recipe.CREST_CEILING,
              "ceiling_stop": recipe.CEILING_STOP, "ceiling_fall_z": recipe.CEILING_FALL_Z,
-             "ceiling_near_headroom": recipe.CEILING_NEAR_HEADROOM}
+             "ceiling_near_headroom": recipe.CEILING_NEAR_HEADROOM, "noise_reference_nms": recipe.NOISE_REFERENCE_NMS,
+             "noise_caution_exponent": recipe.NOISE_CAUTION_EXPONENT, "noise_creep_exponent": recipe.NOISE_CREEP_EXPONENT}
     assert {name: climb[name] for name in fixed} == fixed
