@@ -68,7 +68,11 @@
   such set, written before any agent played them, after the fifteenth had judged rule 49, for rule 50.
 - ``suites/v2_confirmation17_grid.json``, ``suites/v2_confirmation17_procedural_grid.json`` and
   ``suites/v2_confirmation17_steep_grid.json`` (session 34, seeds 185 000, 187 000, 189 000): a seventeenth
-  such set, written before any agent played them, after the sixteenth had judged rule 50, for rule 51.
+  such set, written before any agent played them, after the sixteenth had judged rule 50, for rule 51 (which
+  did not reach it); it judged rule 53 (session 35).
+- ``suites/v2_confirmation18_grid.json``, ``suites/v2_confirmation18_procedural_grid.json`` and
+  ``suites/v2_confirmation18_steep_grid.json`` (session 35, seeds 191 000, 193 000, 195 000): an eighteenth
+  such set, written before any agent played them, after the seventeenth had judged rule 53, for the next rule.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -327,7 +331,8 @@ def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.
 
 
 ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", "eighth ", "ninth ", "tenth ",
-            "eleventh ", "twelfth ", "thirteenth ", "fourteenth ", "fifteenth ", "sixteenth ", "seventeenth ")
+            "eleventh ", "twelfth ", "thirteenth ", "fourteenth ", "fifteenth ", "sixteenth ", "seventeenth ",
+            "eighteenth ")
 
 # the confirmation sets, in the order they were written (the module docstring says when, and for which rule):
 # name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and steep grids; each was written
@@ -367,6 +372,8 @@ CONFIRMATION_SETS = {
                        ((0.06, 0.38, 0.67, 0.91), (8.5, 21.5, 37.0), 181_000), ((0.11, 0.46, 0.79), (7.5, 19.5, 36.0), 183_000)),
     "confirmation17": (((0.05, 0.28, 0.51, 0.77, 0.94), (6.5, 17.5, 32.5), 185_000),
                        ((0.09, 0.39, 0.7, 0.93), (7.5, 22.0, 36.5), 187_000), ((0.12, 0.44, 0.8), (8.0, 20.0, 35.5), 189_000)),
+    "confirmation18": (((0.04, 0.26, 0.52, 0.76, 0.93), (7.5, 16.5, 31.5), 191_000),
+                       ((0.07, 0.4, 0.69, 0.94), (8.5, 20.5, 37.5), 193_000), ((0.11, 0.45, 0.81), (6.5, 21.5, 34.5), 195_000)),
 }
 
 
