@@ -784,7 +784,7 @@ def test_a_noisier_reading_lowers_the_cautions_and_raises_the_slow_probes_thresh
                              noise_caution_exponent=0.5, noise_creep_exponent=1.0)
     assert params.at_noise(1.0) is params
     noisy = params.at_noise(4.0)
-    assert (noisy.caution, noisy.guard_cautions) == pytest.approx((1.0, (0.5, 1.5)), rel=1e-12)
+    assert (noisy.caution, *noisy.guard_cautions) == pytest.approx((1.0, 0.5, 1.5), rel=1e-12)
     assert noisy.creep_while_std == pytest.approx(0.4, rel=1e-12)
     assert replace(noisy, caution=2.0, guard_cautions=(1.0, 3.0), creep_while_std=0.1) == params  # nothing else
     limits = gym.make(cof_gym.WAGON_ENV_ID).unwrapped.limits
