@@ -433,7 +433,9 @@ class Reading:
         wheelset's inertia times the speed amplitude (``compliance`` is that amplitude over the torque's,
         times ``I w``). A least-squares sine fit's phase error is the residual noise over the amplitude times
         ``sqrt(2 / samples)`` (IEEE Std 1057), so this is ``I x sigma_w x sqrt(2 / samples)``: it follows the
-        speed sensor's noise ``sigma_w`` and not the operating point. A clipped standard error reads low."""
+        speed sensor's noise ``sigma_w`` and not the operating point. ``amplitude`` is the commanded modulation:
+        a drive that applies less of it (a lag) reads as that much more noise, as the fit's signal-to-noise ratio
+        has it. A clipped standard error reads low."""
         return math.radians(self.se_deg) * self.compliance * self.amplitude_nm / (2.0 * math.pi * self.frequency_hz)
 
     @classmethod
