@@ -769,10 +769,10 @@ def test_the_noise_ratio_is_the_median_of_the_first_windows_over_the_reference()
     def noisy(se_deg: float) -> Reading:
         return replace(_window(10.0, se_deg), compliance=0.2)  # noise: rad(se) x 0.2 x 1600 N m / (2 pi 5 Hz)
 
-    noise = [noisy(se).lockin_noise_nms for se in (2.0, 8.0, 4.0, 30.0)]
+    readings = [noisy(se) for se in (2.0, 8.0, 4.0, 30.0)]  # the fourth window is past NOISE_WINDOWS
+    noise = [r.lockin_noise_nms for r in readings]
     assert noise[0] == pytest.approx(math.radians(2.0) * 0.2 * 1600.0 / (2.0 * math.pi * 5.0), rel=1e-12)
     params = ClimbParameters(noise_reference_nms=noise[0])
-    readings = [noisy(se) for se in (2.0, 8.0, 4.0, 30.0)]  # the fourth window is past NOISE_WINDOWS
     assert params.noise_ratio(readings) == pytest.approx(2.0, rel=1e-12)  # the median 4 deg over 2 deg
     assert params.noise_ratio(readings[:2]) == pytest.approx(2.5, rel=1e-12)  # the mean of two
     assert ClimbParameters(noise_reference_nms=noise[3]).noise_ratio(readings) == 1.0  # never below 1

@@ -11,8 +11,9 @@ import noise_reading  # noqa: E402
 
 
 def test_the_first_windows_read_noise_in_proportion_to_its_level():
-    """The same episodes driven alike read the same noise samples scaled by the level (the fit's residual at
-    level 0 adds in quadrature and is under 2 % of level 1's)."""
+    """The same episodes read the same noise samples scaled by the level: each window's fit residual is that noise
+    whatever torque the climb drove there (the residual at level 0, what a sine does not fit, adds in quadrature
+    and is under 2 % of level 1's)."""
     quiet, _ = noise_reading.read_noise(1.0, {}, 2)
     loud, windows = noise_reading.read_noise(2.0, {}, 2)
     assert len(quiet) == len(loud) == 2 and len(windows) >= 2
