@@ -9,7 +9,8 @@ every episode's ``noise_level`` replaced by each of ``--levels`` in turn (1: the
 draw it uniformly from 0 to 1; the env admits up to 3), and tabulates per level the noise the climb reads
 (``ClimbParameters.noise_ratio``'s input: the median of :attr:`~cof_gym.agents.interrogator.Reading.lockin_noise_nms`
 over the climb's first ``NOISE_WINDOWS`` driven windows, N m s) over the episodes: median, P10, P90 and
-the largest, and the same over every driven window of the climbs (the largest single window). A reading
+the largest; the same from the lock-in's reported standard errors (``Reading.lockin_noise_reported_nms``: not
+clipped at the filter's 30 deg); and over every driven window of the climbs (the largest single window). A reading
 that follows the speed sensor's noise and not the operating point grows in proportion to the level with a
 narrow spread at each; ``ClimbParameters.noise_reference_nms`` is chosen from this table.
 """
@@ -32,22 +33,23 @@ from cof_gym.task.scenarios import NOISE_LEVEL_MAX  # noqa: E402
 from cof_gym.task.validation import check_number  # noqa: E402
 
 
-def read_noise(level: float, config: dict, count: int) -> tuple[list[float], list[float]]:
-    """(per episode the median lock-in noise of its first windows, every driven window's) of the first
-    ``count`` family validation episodes at noise ``level`` in the vehicle configuration ``config``."""
-    firsts, windows = [], []
+def read_noise(level: float, config: dict, count: int) -> tuple[list[float], list[float], list[float]]:
+    """(per episode the median lock-in noise of its first windows, the same from the reported standard errors,
+    every driven window's) of the first ``count`` family validation episodes at noise ``level`` in the vehicle
+    configuration ``config``."""
+    firsts, reported, windows = [], [], []
     played = episodes(str(SHIPPED_INTERROGATOR), str(VALIDATION), config, scenario={"noise_level": level})
     for _, (_, agent) in zip(range(count), played):
         noise = [r.lockin_noise_nms for r in agent.features.readings]
         firsts.append(float(np.median(noise[:NOISE_WINDOWS])))
+        reported.append(float(np.median([r.lockin_noise_reported_nms for r in agent.features.readings[:NOISE_WINDOWS]])))
         windows += noise
-    return firsts, windows
+    return firsts, reported, windows
 
 
-def row(level: float, firsts: list[float], windows: list[float]) -> str:
-    p10, median, p90 = np.percentile(firsts, [10, 50, 90])
-    return (f"| {level:g} | {len(firsts)} | {median:.4f} | {p10:.4f} | {p90:.4f} | {max(firsts):.4f} | "
-            f"{np.median(windows):.4f} | {max(windows):.4f} |")
+def row(level: float, firsts: list[float], reported: list[float], windows: list[float]) -> str:
+    cells = [f"{v:.4f}" for values in (firsts, reported) for v in (*np.percentile(values, [50, 10, 90]), max(values))]
+    return f"| {level:g} | {len(firsts)} | {' | '.join(cells)} | {np.median(windows):.4f} | {max(windows):.4f} |"
 
 
 def level(text: str) -> float:
@@ -69,10 +71,10 @@ def main() -> None:
     with ProcessPoolExecutor(args.workers) as pool:
         results = list(pool.map(read_noise, *zip(*jobs), [args.episodes] * len(jobs)))
     lines = [f"| noise level | episodes | first {NOISE_WINDOWS} windows: median (N m s) | P10 | P90 | largest | "
-             "every window: median | largest |", "|---|---|---|---|---|---|---|---|"]
+             "reported SE: median | P10 | P90 | largest | every window: median | largest |", "|---" * 12 + "|"]
     for i, lv in enumerate(args.levels):
         parts = results[i * len(CONFIGS):(i + 1) * len(CONFIGS)]
-        lines.append(row(lv, [x for f, _ in parts for x in f], [x for _, w in parts for x in w]))
+        lines.append(row(lv, *([x for part in parts for x in part[k]] for k in range(3))))
     text = "\n".join(lines) + "\n"
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)

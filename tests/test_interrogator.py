@@ -19,7 +19,7 @@ from cof_gym.task.scenarios import COF_ENVELOPE, ScenarioRanges
 from cof_gym.agents import registry
 from cof_gym.agents.interrogator import (
     CREEPAGE_MODULATION_FEATURE_NAMES, CREST_RATIO_FLOOR, CYCLE_CREST_FEATURE_NAMES, CREEPAGE_RISE_FEATURE_NAMES, CREEPAGE_RISE_FLOORS, FEATURE_NAMES, blocks_of, feature_names, SHIPPED_INTERROGATOR, TARGET_NAMES, ClimbParameters, EpisodeFeatures, FilterEnsemble, FilterNetwork,
-    PEAK_GAP_CLIP, LearnedInterrogator, Reading, floor_headroom, pooled_correction, interrogator_for, peak_gap, slope_from_phase, slope_index,
+    PEAK_GAP_CLIP, SE_CLIP_DEG, LearnedInterrogator, Reading, floor_headroom, pooled_correction, interrogator_for, peak_gap, slope_from_phase, slope_index,
 )
 from cof_gym.agents.interrogator_training import (
     GENTLE_FALL, PROCEDURAL_PEAK_CREEPAGE, STEEP_FALL, ClimbDraws, Dataset, FallingBranch, FitSettings, _climb_episode,
@@ -777,6 +777,32 @@ def test_the_noise_ratio_is_the_median_of_the_first_windows_over_the_reference()
     assert params.noise_ratio(readings[:2]) == pytest.approx(2.5, rel=1e-12)  # the mean of two
     assert ClimbParameters(noise_reference_nms=noise[3]).noise_ratio(readings) == 1.0  # never below 1
     assert ClimbParameters().noise_ratio(readings) == 1.0 and params.noise_ratio([]) == 1.0
+
+
+def test_the_reported_standard_error_reads_noise_the_clip_hides():
+    window = replace(_window(10.0, SE_CLIP_DEG), compliance=0.2)  # the filter's clip: 30 deg
+    scale = 0.2 * 1600.0 / (2.0 * math.pi * 5.0)  # the response amplitude, N m s per rad
+    readings = [replace(window, se_reported_deg=se) for se in (60.0, 90.0, 20.0)]
+    assert [r.lockin_noise_nms for r in readings] == pytest.approx([math.radians(30.0) * scale] * 3, rel=1e-12)
+    assert [r.lockin_noise_reported_nms for r in readings] == pytest.approx(
+        [math.radians(se) * scale for se in (60.0, 90.0, 20.0)], rel=1e-12)
+    assert window.lockin_noise_reported_nms == window.lockin_noise_nms  # not read (0): the clipped one
+    reference = math.radians(30.0) * scale
+    assert ClimbParameters(noise_reference_nms=reference).noise_ratio(readings) == 1.0  # clipped: 30 / 30
+    reported = ClimbParameters(noise_reference_nms=reference, noise_se_reported=True)
+    assert reported.noise_ratio(readings) == pytest.approx(2.0, rel=1e-12)  # the median 60 deg over 30 deg
+    with pytest.raises(ValueError, match="noise_se_reported"):
+        ClimbParameters(noise_se_reported=1)
+
+
+def test_a_window_observation_keeps_the_lock_ins_standard_error_up_to_its_no_information_value():
+    limits = gym.make(cof_gym.WAGON_ENV_ID).unwrapped.limits
+    observation = np.zeros(len(OBSERVATION_NAMES))
+    observation[[OBSERVATION_NAMES.index("amplitude"), OBSERVATION_NAMES.index("frequency")]] = 0.1, 0.25
+    for se_deg, clipped, reported in ((10.0, 10.0, 10.0), (45.0, SE_CLIP_DEG, 45.0), (400.0, SE_CLIP_DEG, 180.0)):
+        observation[OBSERVATION_NAMES.index("phase_lag_se")] = se_deg / 90.0
+        reading = Reading.of(observation, limits)
+        assert (reading.se_deg, reading.se_reported_deg) == pytest.approx((clipped, reported), rel=1e-12)
 
 
 def test_a_noisier_reading_lowers_the_cautions_and_raises_the_slow_probes_threshold():

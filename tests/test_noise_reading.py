@@ -14,11 +14,13 @@ def test_the_first_windows_read_noise_in_proportion_to_its_level():
     """The same episodes read the same noise samples scaled by the level: each window's fit residual is that noise
     whatever torque the climb drove there (the residual at level 0, what a sine does not fit, adds in quadrature
     and is under 2 % of level 1's)."""
-    quiet, _ = noise_reading.read_noise(1.0, {}, 2)
-    loud, windows = noise_reading.read_noise(2.0, {}, 2)
+    quiet, quiet_reported, _ = noise_reading.read_noise(1.0, {}, 2)
+    loud, loud_reported, windows = noise_reading.read_noise(2.0, {}, 2)
     assert len(quiet) == len(loud) == 2 and len(windows) >= 2
-    for a, b in zip(quiet, loud):
+    for a, b in [*zip(quiet, loud), *zip(quiet_reported, loud_reported)]:
         assert a > 0.0 and b / a == pytest.approx(2.0, rel=0.03)
+    for clipped, reported in zip(quiet + loud, quiet_reported + loud_reported):
+        assert reported >= clipped  # the clip only lowers a standard error
 
 
 @pytest.mark.parametrize("bad, option", [(["--levels", "4"], "--levels"), (["--levels", "x"], "--levels"),

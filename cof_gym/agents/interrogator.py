@@ -173,6 +173,7 @@ SHIPPED_INTERROGATOR = Path(__file__).resolve().parent / "policies" / "interroga
 _INDEX = {name: OBSERVATION_NAMES.index(name) for name in OBSERVATION_NAMES}
 PHASE_CLIP_DEG = (1.0, 89.0)  # the slope index ln cot(phase) is finite within these
 SE_CLIP_DEG = 30.0
+SE_REPORTED_MAX_DEG = 180.0  # the lock-in's standard error of no information (pi: cof_gym.measurement.sine_fit)
 HISTORY = 2  # previous windows in the features
 WORLD_KWARGS = ("vehicle", "counter_torque", "traction_balance", "window_s", "settle_fraction", "ramp_fraction",
                 "timestep")  # constructor arguments that change what the sensors see
@@ -419,6 +420,8 @@ class Reading:
     coa_cycle_max: float = 0.0  # the crest of the measured CoA's synchronous average over the cycle (0: not read)
     coa_cycle_bin_se: float = 0.0  # the standard error of one of its phase bins
     coa_cycle_min: float = 0.0  # the trough of that synchronous average
+    # the lag's standard error as the lock-in reports it (deg, up to 180: not clipped at SE_CLIP_DEG; 0: not read)
+    se_reported_deg: float = 0.0
 
     @property
     def crest_bound(self) -> float:
@@ -435,8 +438,20 @@ class Reading:
         ``sqrt(2 / samples)`` (IEEE Std 1057), so this is ``I x sigma_w x sqrt(2 / samples)``: it follows the
         speed sensor's noise ``sigma_w`` and not the operating point. ``amplitude`` is the commanded modulation:
         a drive that applies less of it (a lag) reads as that much more noise, as the fit's signal-to-noise ratio
-        has it. A clipped standard error reads low."""
-        return math.radians(self.se_deg) * self.compliance * self.amplitude_nm / (2.0 * math.pi * self.frequency_hz)
+        has it. A clipped standard error reads low (:attr:`lockin_noise_reported_nms` does not clip it)."""
+        return self._noise_at(self.se_deg)
+
+    @property
+    def lockin_noise_reported_nms(self) -> float:
+        """:attr:`lockin_noise_nms` from the standard error the lock-in reports (:attr:`se_reported_deg`, up to
+        180 deg) rather than the filter's clipped one: ``sigma_w sqrt(2 / samples)`` over the fitted amplitude
+        times that amplitude, so a window whose fit is poor reads its noise as well as one whose fit is good
+        (from the clipped one where it was not read)."""
+        return self._noise_at(self.se_reported_deg if self.se_reported_deg > 0.0 else self.se_deg)
+
+    def _noise_at(self, se_deg: float) -> float:
+        """The lock-in noise (N m s) of this window's response amplitude at a phase standard error ``se_deg``."""
+        return math.radians(se_deg) * self.compliance * self.amplitude_nm / (2.0 * math.pi * self.frequency_hz)
 
     @classmethod
     def of(cls, observation: np.ndarray, limits: MotorLimits, info: Mapping[str, Any] | None = None) -> "Reading":
@@ -464,6 +479,7 @@ class Reading:
         return cls(
             phase_deg=float(o[_INDEX["phase_lag"]] * 90.0),
             se_deg=float(_se_clipped(o[_INDEX["phase_lag_se"]] * 90.0)),
+            se_reported_deg=float(min(max(o[_INDEX["phase_lag_se"]] * 90.0, 0.0), SE_REPORTED_MAX_DEG)),
             compliance=float(o[_INDEX["compliance"]]),
             coa=float(max(o[_INDEX["coa_measured"]], 1e-4)),
             creepage=float(o[_INDEX["creepage_measured"]] / CREEPAGE_SCALE),
@@ -750,6 +766,7 @@ class ClimbParameters:
     noise_reference_nms: float | None = None
     noise_caution_exponent: float = 0.0  # ... its cautions scale as (noise ratio) ** -this
     noise_creep_exponent: float = 0.0  # ... and creep_while_std as (noise ratio) ** this
+    noise_se_reported: bool = False  # the noise reading from the lock-in's reported SE (lockin_noise_reported_nms)
 
     def __post_init__(self) -> None:
         if self.estimate_from not in ESTIMATE_SOURCES:
@@ -766,7 +783,7 @@ class ClimbParameters:
             if getattr(self, name) is not None:
                 check_number(name, getattr(self, name), low, math.inf)
         for name in ("creep_sticky", "crest_once_crept", "crest_floor", "runaway_estimate", "crest_ceiling",
-                     "ceiling_stop"):
+                     "ceiling_stop", "noise_se_reported"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"{name} must be true or false, got {getattr(self, name)!r}")
         if self.tone2_frequency_hz is not None:
@@ -807,11 +824,13 @@ class ClimbParameters:
 
     def noise_ratio(self, readings: list["Reading"]) -> float:
         """How far the noise read over the climb's first :data:`NOISE_WINDOWS` driven ``readings`` (the median
-        of their :attr:`Reading.lockin_noise_nms`) is above ``noise_reference_nms``: that ratio, at least 1;
+        of their :attr:`Reading.lockin_noise_nms`, or with ``noise_se_reported`` their
+        :attr:`Reading.lockin_noise_reported_nms`) is above ``noise_reference_nms``: that ratio, at least 1;
         1 without a reference or a reading."""
         if self.noise_reference_nms is None or not readings:
             return 1.0
-        noise = float(np.median([r.lockin_noise_nms for r in readings[:NOISE_WINDOWS]]))
+        noise = float(np.median([r.lockin_noise_reported_nms if self.noise_se_reported else r.lockin_noise_nms
+                                 for r in readings[:NOISE_WINDOWS]]))
         return max(1.0, noise / self.noise_reference_nms)
 
     def at_noise(self, ratio: float) -> "ClimbParameters":
