@@ -449,6 +449,14 @@ generated, never typed:
     python experiments/paired_comparison.py out/records_rule53_confirmation17_noise3.json \
         --baseline "noise_reference_nms None, noise_caution_exponent 0.2, noise_creep_exponent 0.85, caution 2, target 0.1, guards ${G/ /, }" \
         --out out/paired_rule53_confirmation17_noise3.md   # and the same without _noise3
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
+        --set noise_se_reported=false noise_se_reported=true --scenario noise_level=2 \
+        --records out/records_rule54_validation_noise2.json \
+        --out out/crest_tradeoff_rule54_validation_noise2.md   # rule 54; and noise_level=3 (_noise3),
+        # motor_lag_s=0.1 (_lag01), without --scenario (no suffix)
+    python experiments/paired_comparison.py out/records_rule54_validation_noise2.json \
+        --baseline "noise_se_reported False, caution 2, target 0.1, guards ${G/ /, }" \
+        --out out/paired_rule54_validation_noise2.md   # and _noise3, _lag01, no suffix
     (then every cof-gym evaluate command above again)
     python experiments/readme_results.py
 
@@ -624,6 +632,10 @@ SOURCES = {
         "crest_tradeoff_rule53_confirmation17_noise3",
         "paired_rule53_confirmation17_noise3",
         "crest_tradeoff_rule53_confirmation17",
+        "crest_tradeoff_rule54_validation_noise2",
+        "paired_rule54_validation_noise2",
+        "paired_rule54_validation_noise3",
+        "paired_rule54_validation_lag01",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
