@@ -457,6 +457,17 @@ generated, never typed:
     python experiments/paired_comparison.py out/records_rule54_validation_noise2.json \
         --baseline "noise_se_reported False, caution 2, target 0.1, guards ${G/ /, }" \
         --out out/paired_rule54_validation_noise2.md   # and _noise3, _lag01, no suffix
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
+        --set noise_se_reported=true noise_caution_exponent=0.1 noise_caution_exponent=0.2 \
+        noise_creep_exponent=0.5 noise_creep_exponent=0.85 --scenario noise_level=2 \
+        --records out/records_rule55_validation_noise2.json \
+        --out out/crest_tradeoff_rule55_validation_noise2.md   # rule 55; and _noise3, _lag01, no suffix as above
+    python experiments/paired_comparison.py out/records_rule54_validation_noise2.json \
+        out/records_rule55_validation_noise2.json --baseline "noise_se_reported False, caution 2, target 0.1, guards ${G/ /, }" \
+        --settings "noise_se_reported True, noise_caution_exponent 0.1, noise_creep_exponent 0.5, caution 2, target 0.1, guards ${G/ /, }" \
+        "noise_se_reported True, noise_caution_exponent 0.1, noise_creep_exponent 0.85, caution 2, target 0.1, guards ${G/ /, }" \
+        "noise_se_reported True, noise_caution_exponent 0.2, noise_creep_exponent 0.5, caution 2, target 0.1, guards ${G/ /, }" \
+        --out out/paired_rule55_validation_noise2.md   # and _noise3
     (then every cof-gym evaluate command above again)
     python experiments/readme_results.py
 
@@ -636,6 +647,9 @@ SOURCES = {
         "paired_rule54_validation_noise2",
         "paired_rule54_validation_noise3",
         "paired_rule54_validation_lag01",
+        "crest_tradeoff_rule55_validation_noise2",
+        "paired_rule55_validation_noise2",
+        "paired_rule55_validation_noise3",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
