@@ -13,8 +13,9 @@ import pytest
 
 import cof_gym  # noqa: F401
 from cof_gym.agents.adapters import incremental_to_env
+from cof_gym.agents import registry
 from cof_gym.agents.base import Agent
-from cof_gym.commands.evaluate import GROUPINGS, evaluate, run_episode, utilisation_band
+from cof_gym.commands.evaluate import GROUPINGS, evaluate, peak_creepage_band, run_episode, utilisation_band
 from cof_gym.agents.staircase import PaperStaircase, PracticalStaircase, limits_of
 from cof_gym.commands.suites import SuiteError, make_suite, paper_suite
 from cof_gym.task.interface import OBSERVATION_NAMES, decode_action
@@ -166,9 +167,12 @@ def test_a_new_agent_is_one_registry_line() -> None:
 
 def _records(path: Path) -> list:
     """episodes.csv rows with the fields the breakdown groups by, as numbers where they are numbers."""
+    from dataclasses import fields
     from types import SimpleNamespace
 
-    numeric = ("cof", "creepage_offset", "peak_torque_fraction")
+    from cof_gym.commands.evaluate import EpisodeRecord
+
+    numeric = {f.name for f in fields(EpisodeRecord) if f.type in ("float", float)}
     return [SimpleNamespace(**{k: float(v) if k in numeric else v for k, v in row.items()})
             for row in csv.DictReader(open(path))]
 
@@ -189,6 +193,19 @@ def test_summary_has_the_breakdown_and_the_intrusiveness_figure(tmp_path: Path) 
     assert "By condition, CoF band, creep-law family" in (tmp_path / "ev" / "summary.md").read_text()
     assert 0.0 < result["summary"]["staircase"]["peak_torque_fraction"]["value"] < 5.0
     assert (tmp_path / "ev" / "error_vs_peak_torque.png").stat().st_size > 1000
+
+
+def test_peak_creepage_bands_cover_every_creepage_once() -> None:
+    assert [peak_creepage_band(c) for c in (0.0, 0.0099, 0.01, 0.03, 0.04, 0.5)] == [
+        "peak creepage < 1 %", "peak creepage < 1 %", "peak creepage 1-2 %", "peak creepage 2-4 %",
+        "peak creepage 4+ %", "peak creepage 4+ %"]
+
+
+def test_a_record_carries_the_true_curves_peak_creepage() -> None:
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    _, info = env.reset(seed=5, options={"cof": 0.1})
+    record = run_episode(env, registry.make_agent("staircase", env), 5, {"cof": 0.1}, 0)
+    assert record.peak_creepage == info["ground_truth"]["peak_creepage"] > 0.0  # the same draw: seeded
 
 
 def test_breakdown_groups_by_the_suite_files_episode_notes(tmp_path: Path) -> None:

@@ -26,15 +26,19 @@ Play every agent on the same seeded scenarios (same CoF, condition, speed, load,
 write OUT/episodes.csv, OUT/summary.md, OUT/summary.json (median and P90 relative CoF error,
 macro-slips, slip energy, Wd comfort, measurement time and peak torque as a fraction of the real
 saturation torque, each with a bootstrap 95 % CI, and a breakdown by condition, CoF band, creep-law
-family, systematic creepage-error band and the utilisation at which the estimate was committed) and
-figures. The outputs appear all at once when the run completes (an interrupted run leaves the
-previous OUT as it was). Only agents marked as oracles see info["ground_truth"]."""
+family, the creep curve's peak creepage, systematic creepage-error band and the utilisation at which
+the estimate was committed) and figures. The outputs appear all at once when the run completes (an
+interrupted run leaves the previous OUT as it was). Only agents marked as oracles see
+info["ground_truth"]."""
 
 N_BOOTSTRAP = 2000
 DEFAULT_OUT = Path("out") / "evaluate"
 COF_BANDS = (0.0, 0.1, 0.2, 0.3, 0.4, math.inf)  # CoF band edges of the breakdown
 # |systematic creepage error| band edges (the sensors' (1 + e_R)/(1 + e_v) - 1; 0 in v1)
 CREEPAGE_ERROR_BANDS = (0.0, 1e-9, 0.002, 0.005, 0.01, math.inf)
+# the creepage of the true creep curve's peak: the lag reaches 90 deg there, and a curve that still rises slowly past
+# its knee (a peak at several % creepage) reads a large lag well below its peak's adhesion
+PEAK_CREEPAGE_BANDS = (0.0, 0.01, 0.02, 0.04, math.inf)
 # "how early can you know": peak torque at the committed estimate, as a fraction of the true M_sat
 UTILISATION_BANDS = (0.0, 0.8, 0.9, 0.95, math.inf)
 OUTPUT_MARKER = "summary.json"  # what makes an existing --out directory a previous evaluate output
@@ -60,6 +64,7 @@ class ScenarioColumns:
     motor_lag_s: float
     creep_family: str
     creepage_offset: float  # the sensors' systematic creepage error (1 + e_R)/(1 + e_v) - 1
+    peak_creepage: float  # the creepage of the true creep curve's peak at the episode's speed and load
 
     @classmethod
     def read(cls, ground_truth: dict[str, Any]) -> dict[str, Any]:
@@ -194,6 +199,13 @@ def creepage_error_band(offset: float) -> str:
                  f"|creepage error| {100 * lo:.1f}-{100 * hi:.1f} %")
 
 
+def peak_creepage_band(creepage: float) -> str:
+    """The band of the true creep curve's peak creepage (where its adhesion is the CoF)."""
+    return _band(creepage, PEAK_CREEPAGE_BANDS,
+                 lambda lo, hi: f"peak creepage {100 * lo:.0f}+ %" if math.isinf(hi) else
+                 f"peak creepage < {100 * hi:.0f} %" if lo == 0 else f"peak creepage {100 * lo:.0f}-{100 * hi:.0f} %")
+
+
 def utilisation_band(fraction: float) -> str:
     """The band of the peak torque (fraction of the true saturation torque) at the committed estimate."""
     return _band(fraction, UTILISATION_BANDS,
@@ -207,6 +219,7 @@ GROUPINGS = (
     ("condition", lambda r: r.condition, lambda r: r.condition),
     ("CoF band", lambda r: cof_band(r.cof), lambda r: r.cof),
     ("creep-law family", lambda r: f"law {r.creep_family}", lambda r: r.creep_family),
+    ("peak-creepage band", lambda r: peak_creepage_band(r.peak_creepage), lambda r: r.peak_creepage),
     ("creepage-error band", lambda r: creepage_error_band(r.creepage_offset), lambda r: abs(r.creepage_offset)),
     ("utilisation at commitment", lambda r: utilisation_band(r.peak_torque_fraction),
      lambda r: r.peak_torque_fraction),
@@ -514,7 +527,7 @@ def _play_and_write(envs: dict[str, Any], agents, agent_specs, suite: Suite, out
     (out / "summary.md").write_text(
         f"# cof-gym evaluate: suite {suite.name}, seed {seed}, {suite.env_id}\n\n"
         + "".join(f"Note: {n}.\n\n" for n in notes) + f"{markdown_table(summary)}\n\n"
-        f"## By condition, CoF band, creep-law family, creepage-error band, utilisation and note\n\n{markdown_breakdown(summary)}\n")
+        f"## By condition, CoF band, creep-law family, peak creepage, creepage-error band, utilisation and note\n\n{markdown_breakdown(summary)}\n")
     from cof_gym.commands.evaluate_figures import plot_all
 
     figures = [Path(p).name for p in plot_all(records, summary, traces, out)]
