@@ -27,7 +27,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from train_interrogator import CONFIGS, VALIDATION, episodes  # noqa: E402
 
-from cof_gym.agents.interrogator import NOISE_WINDOWS, SHIPPED_INTERROGATOR  # noqa: E402
+from cof_gym.agents.interrogator import NOISE_WINDOWS, SHIPPED_INTERROGATOR, first_windows_noise_nms  # noqa: E402
 from cof_gym.commands.args import positive_int  # noqa: E402
 from cof_gym.task.scenarios import NOISE_LEVEL_MAX  # noqa: E402
 from cof_gym.task.validation import check_number  # noqa: E402
@@ -40,10 +40,10 @@ def read_noise(level: float, config: dict, count: int) -> tuple[list[float], lis
     firsts, reported, windows = [], [], []
     played = episodes(str(SHIPPED_INTERROGATOR), str(VALIDATION), config, scenario={"noise_level": level})
     for _, (_, agent) in zip(range(count), played):
-        noise = [r.lockin_noise_nms for r in agent.features.readings]
-        firsts.append(float(np.median(noise[:NOISE_WINDOWS])))
-        reported.append(float(np.median([r.lockin_noise_reported_nms for r in agent.features.readings[:NOISE_WINDOWS]])))
-        windows += noise
+        readings = agent.features.readings
+        firsts.append(first_windows_noise_nms(readings))
+        reported.append(first_windows_noise_nms(readings, reported=True))
+        windows += [r.lockin_noise_nms for r in readings]
     return firsts, reported, windows
 
 

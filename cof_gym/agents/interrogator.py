@@ -461,6 +461,7 @@ class Reading:
         crest of the measured CoA's synchronous average."""
         full = np.nan_to_num(np.asarray(observation, dtype=np.float64), nan=0.0)
         o = full[: len(OBSERVATION_NAMES)]
+        se_deg = o[_INDEX["phase_lag_se"]] * 90.0
         tone2 = {}
         measurement = (info or {}).get("measurement", {})
         if len(full) >= len(OBSERVATION_NAMES) + 6 and "tone2_frequency_hz" in measurement:
@@ -478,8 +479,8 @@ class Reading:
             tone2.update({name: float(measurement[name]) for name in COA_CYCLE_FIELDS})
         return cls(
             phase_deg=float(o[_INDEX["phase_lag"]] * 90.0),
-            se_deg=float(_se_clipped(o[_INDEX["phase_lag_se"]] * 90.0)),
-            se_reported_deg=float(min(max(o[_INDEX["phase_lag_se"]] * 90.0, 0.0), SE_REPORTED_MAX_DEG)),
+            se_deg=float(_se_clipped(se_deg)),
+            se_reported_deg=float(min(max(se_deg, 0.0), SE_REPORTED_MAX_DEG)),
             compliance=float(o[_INDEX["compliance"]]),
             coa=float(max(o[_INDEX["coa_measured"]], 1e-4)),
             creepage=float(o[_INDEX["creepage_measured"]] / CREEPAGE_SCALE),
@@ -721,6 +722,13 @@ class FilterEnsemble:
         return cls(tuple(FilterNetwork.load(f) for f in files))
 
 
+def first_windows_noise_nms(readings: list[Reading], reported: bool = False) -> float:
+    """The noise a climb reads from its first :data:`NOISE_WINDOWS` driven ``readings`` (N m s): the median of their
+    :attr:`Reading.lockin_noise_nms`, or with ``reported`` of their :attr:`Reading.lockin_noise_reported_nms`."""
+    return float(np.median([r.lockin_noise_reported_nms if reported else r.lockin_noise_nms
+                            for r in readings[:NOISE_WINDOWS]]))
+
+
 @dataclass(frozen=True)
 class ClimbParameters:
     """The climb's settings (chosen on validation; see the module docstring)."""
@@ -829,9 +837,7 @@ class ClimbParameters:
         1 without a reference or a reading."""
         if self.noise_reference_nms is None or not readings:
             return 1.0
-        noise = float(np.median([r.lockin_noise_reported_nms if self.noise_se_reported else r.lockin_noise_nms
-                                 for r in readings[:NOISE_WINDOWS]]))
-        return max(1.0, noise / self.noise_reference_nms)
+        return max(1.0, first_windows_noise_nms(readings, self.noise_se_reported) / self.noise_reference_nms)
 
     def at_noise(self, ratio: float) -> "ClimbParameters":
         """The climb at a read noise ``ratio`` times the reference (:meth:`noise_ratio`): ``caution`` and every
