@@ -744,6 +744,29 @@ def heldout_overview(runs: dict[str, tuple[str, Path]] = HELDOUT_RUNS, learned: 
     return "\n".join(rows)
 
 
+def _lowest(mine: float, best: float) -> str:
+    return "yes" if mine < best else "tied" if mine == best else "no"
+
+
+def slip_failed(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNED) -> str | None:
+    """Per suite of the targets: the learned agent's median and P90 error with a macro-slip counted as a failed
+    measurement (100 %) beside the lowest of the agents that do not read the truth, and whether the learned
+    agent's is lower (``tied`` where equal, e.g. two P90s at 100 %); None when a summary is missing or predates
+    those metrics."""
+    keys = ("median_error_slip_failed", "p90_error_slip_failed")
+    rows = [f"| suite | {learned}: median / P90 (episodes) | lowest other median | lowest other P90 | "
+            "lowest median | lowest P90 |", "|---|---|---|---|---|---|"]
+    for label, path in paths.items():
+        summary = _load(path, learned)
+        if summary is None or any(k not in summary[learned] for k in keys):
+            return None
+        (med, p90), rivals = ([100 * _stat(summary, learned, k) for k in keys], [_best(summary, learned, k) for k in keys])
+        best = [100 * _stat(summary, rival, k) for rival, k in zip(rivals, keys)]
+        rows.append(f"| {label} | {med:.1f} % / {p90:.1f} % ({summary[learned]['episodes']}) | {rivals[0]} {best[0]:.1f} % | "
+                    f"{rivals[1]} {best[1]:.1f} % | {_lowest(med, best[0])} | {_lowest(p90, best[1])} |")
+    return "\n".join(rows)
+
+
 def validation_runs(prefix: str) -> dict[str, Path]:
     """The three validation grids' evaluate outputs ``out/PREFIX``, ``out/PREFIX-procedural``, ``-steep``."""
     return {grid: ROOT / "out" / (prefix + suffix)
@@ -783,7 +806,7 @@ def ceiling_validation(runs: dict[str, Path] = CEILING_VALIDATION) -> str | None
     return variant_validation(runs, ("", "+ceiling"))
 
 
-GENERATED = {"targets": targets, "heldout_overview": heldout_overview,
+GENERATED = {"targets": targets, "heldout_overview": heldout_overview, "slip_failed": slip_failed,
              "runaway_validation": runaway_validation, "ceiling_validation": ceiling_validation}  # block -> its generator
 
 

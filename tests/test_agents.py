@@ -259,3 +259,32 @@ def test_saturation_oracle_keeps_its_crest_below_the_peak_and_refuses_a_crest_pa
         SaturationOracle(limits_of(env), levels=(0.5, 0.995))
     with pytest.raises(ValueError, match="amplitude_fraction"):
         SaturationOracle(limits_of(env), amplitude_fraction=0.0)
+
+
+def _record(episode: int, error: float, macro_slip: bool = False, scored: bool = True):
+    from cof_gym.commands.evaluate import EpisodeRecord
+
+    return EpisodeRecord(cof=0.2, condition="dry", speed_m_s=10.0, load_case="laden", noise_level=1.0, motor_lag_s=0.0,
+                         creep_family="polach", creepage_offset=0.0, peak_creepage=0.01, agent="a", oracle=False,
+                         episode=episode, seed=episode, estimate=0.2 * (1 + error), relative_error=error, scored=scored,
+                         macro_slip=macro_slip, slip_energy_j=0.0, friction_energy_j=0.0, wd_rms_m_s2=0.01,
+                         measurement_time_s=10.0, peak_torque_fraction=0.9, episode_return=-1.0, steps=10)
+
+
+def test_a_macro_slip_counts_as_a_failed_measurement_in_its_own_metrics_only() -> None:
+    from cof_gym.commands.evaluate import METRICS, bootstrap_ci, summarize
+
+    # a runaway's estimate can be accurate (0.5 %): as a measurement it failed
+    records = [_record(0, 0.02), _record(1, 0.04), _record(2, 0.005, macro_slip=True), _record(3, 1.0, scored=False)]
+    assert [r.error_slip_failed for r in records] == [0.02, 0.04, 1.0, 1.0]
+    entry = summarize(records, seed=7)["a"]
+    assert entry["median_error_slip_failed"]["value"] == np.median([0.02, 0.04, 1.0, 1.0])
+    assert entry["p90_error_slip_failed"]["value"] == np.percentile([0.02, 0.04, 1.0, 1.0], 90)
+    assert entry["median_error"]["value"] == np.median([0.02, 0.04, 0.005, 1.0])  # the measure, as before
+    # the new metrics come last: every earlier metric's CI is the one drawn without them, in the same order
+    rng = np.random.default_rng(7)
+    earlier = [m for m in METRICS if not m[0].endswith("_slip_failed")]
+    assert [m[0] for m in METRICS[:len(earlier)]] == [m[0] for m in earlier]
+    for key, _, column, stat, _ in earlier:
+        values = np.array([getattr(r, column) for r in records], dtype=float)
+        assert entry[key]["ci95"] == list(bootstrap_ci(values, stat, rng)), key

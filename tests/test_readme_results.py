@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
-from readme_results import DOCUMENTS, SOURCES, fill, heldout_overview, targets  # noqa: E402
+from readme_results import DOCUMENTS, GENERATED, SOURCES, fill, heldout_overview, slip_failed, targets  # noqa: E402
 
 
 def _summary(path: Path, agents: dict[str, tuple[bool, float, float, int]], episodes: int = 50,
@@ -46,6 +46,20 @@ def test_heldout_overview_names_the_best_other_agent_per_column(tmp_path):
     assert rows[2] == "| a held-out grid (72) | 4.0 % / 30.0 % / 5 | fit 5.0 % | rule 25.0 % | fit 2 |"
 
 
+def test_slip_failed_compares_each_measure_with_the_lowest_other_and_says_ties(tmp_path):
+    path = _summary(tmp_path / "a.json", {"oracle": (True, 0.001, 0.002, 0), "learned": (False, 0.04, 0.3, 5),
+                                          "rule": (False, 0.06, 0.25, 7), "fit": (False, 0.05, 0.5, 2)}, episodes=72)
+    assert slip_failed({"suite": path}, learned="learned") is None  # a summary from before the metrics
+    summary = json.loads(path.read_text())
+    failed = {"oracle": (0.001, 0.002), "learned": (0.05, 1.0), "rule": (0.2, 1.0), "fit": (0.04, 1.0)}
+    for name, (med, p90) in failed.items():
+        summary["summary"][name] |= {"median_error_slip_failed": {"value": med}, "p90_error_slip_failed": {"value": p90}}
+    path.write_text(json.dumps(summary))
+    rows = slip_failed({"suite": path}, learned="learned").splitlines()
+    # the oracle is never the rival; of equal rivals the first is named
+    assert rows[2] == "| suite | 5.0 % / 100.0 % (72) | fit 4.0 % | rule 100.0 % | no | tied |"
+
+
 def test_a_block_is_filled_in_the_document_that_holds_it_and_nowhere_else(tmp_path, capsys):
     a, b = tmp_path / "a.md", tmp_path / "b.md"
     texts = {a: "x\n<!-- results:one:begin -->\nold\n<!-- results:one:end -->\n", b: "no blocks\n"}
@@ -58,6 +72,6 @@ def test_a_block_is_filled_in_the_document_that_holds_it_and_nowhere_else(tmp_pa
 
 def test_every_result_block_has_exactly_one_place_in_the_shipped_documents():
     text = "".join(doc.read_text() for doc in DOCUMENTS)
-    for name in [*SOURCES, "targets", "heldout_overview"]:
+    for name in [*SOURCES, *GENERATED]:
         assert text.count(f"<!-- results:{name}:begin -->") == 1, name
         assert text.count(f"<!-- results:{name}:end -->") == 1, name

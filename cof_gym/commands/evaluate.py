@@ -25,7 +25,8 @@ DESCRIPTION = """\
 Play every agent on the same seeded scenarios (same CoF, condition, speed, load, noise streams) and
 write OUT/episodes.csv, OUT/summary.md, OUT/summary.json (median and P90 relative CoF error,
 macro-slips, slip energy, Wd comfort, measurement time and peak torque as a fraction of the real
-saturation torque, each with a bootstrap 95 % CI, and a breakdown by condition, CoF band, creep-law
+saturation torque, and the median and P90 error with a macro-slip counted as a failed measurement (100 %),
+each with a bootstrap 95 % CI, and a breakdown by condition, CoF band, creep-law
 family, the creep curve's peak creepage, systematic creepage-error band and the utilisation at which
 the estimate was committed) and figures. The outputs appear all at once when the run completes (an
 interrupted run leaves the previous OUT as it was). Only agents marked as oracles see
@@ -92,6 +93,13 @@ class EpisodeRecord(ScenarioColumns):
     episode_return: float
     steps: int
     note: str = ""  # the suite's label of the episode (e.g. a held-out grid's creep-curve shape)
+
+    @property
+    def error_slip_failed(self) -> float:
+        """The relative error with a macro-slip counted as a failed measurement (1.0, as an unscored episode):
+        a measurement that spun the wheel past its peak is one a train would not make, however accurate the
+        estimate the runaway gave."""
+        return 1.0 if self.macro_slip or not self.scored else self.relative_error
 
 
 def _field(info: dict, key: str, default: float = 0.0) -> float:
@@ -167,6 +175,9 @@ METRICS = (
     ("wd_rms_m_s2", "Wd comfort [m/s^2]", "wd_rms_m_s2", np.mean, "g3"),
     ("measurement_time_s", "measurement time [s]", "measurement_time_s", np.mean, "g3"),
     ("peak_torque_fraction", "peak torque [% of real M_sat]", "peak_torque_fraction", np.mean, "pct"),
+    # last, so that adding them left every bootstrap CI above as it was (one generator per agent, drawn in this order)
+    ("median_error_slip_failed", "median rel. CoF error, macro-slip = 100 % [%]", "error_slip_failed", np.median, "pct"),
+    ("p90_error_slip_failed", "P90 rel. CoF error, macro-slip = 100 % [%]", "error_slip_failed", _p90, "pct"),
 )
 
 
