@@ -468,7 +468,9 @@ generated, never typed:
         "noise_se_reported True, noise_caution_exponent 0.1, noise_creep_exponent 0.85, caution 2, target 0.1, guards ${G/ /, }" \
         "noise_se_reported True, noise_caution_exponent 0.2, noise_creep_exponent 0.5, caution 2, target 0.1, guards ${G/ /, }" \
         --out out/paired_rule55_validation_noise2.md   # and _noise3
-    (then every cof-gym evaluate command above again)
+    (then every cof-gym evaluate command above again)   # session 37: the macro-slip = 100 % rows
+    python experiments/knee_twins.py --counter-torque --out out/knee_twins.md   # session 37
+    python experiments/knee_twins.py --counter-torque --ratio 1.25 --out out/knee_twins_125.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -650,6 +652,8 @@ SOURCES = {
         "crest_tradeoff_rule55_validation_noise2",
         "paired_rule55_validation_noise2",
         "paired_rule55_validation_noise3",
+        "knee_twins",
+        "knee_twins_125",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
