@@ -61,6 +61,8 @@ window where the crest falls under a rising torque crest (:class:`~cof_gym.agent
 reporting the same (with ``ceiling_fall_z`` a crest fall counts for both only beyond that many standard errors of
 the two crests' difference: :attr:`~cof_gym.agents.runaway.CrestCeiling.fall_z`; with ``ceiling_near_headroom``
 too, any fall counts where the predicted headroom is at most that: :meth:`ClimbParameters.fall_margin`). The
+climb probes on past a headroom stop with ``crest_probe_lag_rise_deg`` set, at ``creep_log_step``, while its lag has
+risen that much since its first driven window and its crest still rises (:meth:`ClimbParameters.probes_on`). The
 climb follows the noise its sensors read with ``noise_reference_nms`` set: where the median of
 :attr:`Reading.lockin_noise_nms` over its first :data:`NOISE_WINDOWS` driven windows (the wheel-speed noise the
 lock-in fit reads, whatever the operating point) is ``r`` times that reference with ``r`` above 1, its cautions
@@ -775,6 +777,9 @@ class ClimbParameters:
     noise_caution_exponent: float = 0.0  # ... its cautions scale as (noise ratio) ** -this
     noise_creep_exponent: float = 0.0  # ... and creep_while_std as (noise ratio) ** this
     noise_se_reported: bool = False  # the noise reading from the lock-in's reported SE (lockin_noise_reported_nms)
+    # not None: a headroom stop is deferred by a slow-probe step while the lag has risen this much (deg) since the
+    # first driven window and the crest still rises (probes_on)
+    crest_probe_lag_rise_deg: float | None = None
 
     def __post_init__(self) -> None:
         if self.estimate_from not in ESTIMATE_SOURCES:
@@ -820,6 +825,11 @@ class ClimbParameters:
             raise ValueError(f"knee_stop must be one of {KNEE_STOPS}, got {self.knee_stop!r}")
         if not (isinstance(self.creep_log_step, (int, float)) and 0.0 <= self.creep_log_step <= self.max_log_step):
             raise ValueError(f"creep_log_step must be in [0, max_log_step={self.max_log_step}], got {self.creep_log_step!r}")
+        if self.crest_probe_lag_rise_deg is not None:
+            check_number("crest_probe_lag_rise_deg", self.crest_probe_lag_rise_deg, 0.0, 180.0, unit=" deg")
+            if self.creep_log_step < self.min_log_step:
+                raise ValueError(f"crest_probe_lag_rise_deg probes at creep_log_step, which must then be at least "
+                                 f"min_log_step={self.min_log_step}, got {self.creep_log_step!r}")
 
     def fall_margin(self, mean_headroom: float) -> float:
         """The standard errors a crest fall must exceed to count (:class:`~cof_gym.agents.runaway.CrestCeiling`)
@@ -931,6 +941,20 @@ class ClimbParameters:
             return False
         return bool(knee_seen(reading.phase_deg, reading.se_deg, previous.phase_deg, previous.se_deg, 0.0, 0.0,
                               PhaseRule.jump_deg, math.inf, PhaseRule.margin_se, PhaseRule.max_se_deg))
+
+    def probes_on(self, readings: list["Reading"]) -> bool:
+        """With ``crest_probe_lag_rise_deg`` set, whether a climb that would stop on its headroom after the driven
+        windows ``readings`` takes one more slow-probe step instead: its lag has risen at least that much since
+        the first of them (the slope has fallen: the knee is passed; the drive's own lag cancels in the rise) and
+        the newest window's crest is above the one before (:attr:`Reading.coa_cycle_max`). A curve that rises
+        slowly past its knee keeps a large lag under a crest that still rises, and its peak lies far above
+        (experiments/knee_twins.py); at a rounded peak the crest falls under a rising torque crest and the
+        ceiling stop ends the climb."""
+        if self.crest_probe_lag_rise_deg is None or len(readings) < 2:
+            return False
+        first, previous, now = readings[0], readings[-2], readings[-1]
+        return (now.phase_deg - first.phase_deg >= self.crest_probe_lag_rise_deg
+                and now.coa_cycle_max > previous.coa_cycle_max > 0.0)
 
     def floor_step(self, coa: float) -> float:
         """The step that the task's lowest CoF (:data:`~cof_gym.task.scenarios.COF_ENVELOPE`) guarantees
@@ -1183,6 +1207,9 @@ class LearnedInterrogator:
             if self._crept and step >= p.min_log_step:  # pacing sizes a slow-probe step, never turns a stop into one
                 step = max(step, p.pace_step(headroom, headroom_std, headroom_spread, windows_left, caution))
             step = max(step, p.floor_step(reading.coa))  # safe whatever the filter predicts
+            if step < p.min_log_step and p.probes_on(self.features.readings):  # a headroom stop the crest defers
+                step = p.creep_log_step
+                self._crept = True
             at_limit = self._dc >= self.limits.max_dc_torque_nm
             last = windows_left <= 0
             crest_fell = p.ceiling_stop and self._ceiling.reached
