@@ -19,7 +19,7 @@ from cof_gym.task.scenarios import COF_ENVELOPE, ScenarioRanges
 from cof_gym.agents import registry
 from cof_gym.agents.interrogator import (
     CREEPAGE_MODULATION_FEATURE_NAMES, CREST_RATIO_FLOOR, CYCLE_CREST_FEATURE_NAMES, CREEPAGE_RISE_FEATURE_NAMES, CREEPAGE_RISE_FLOORS, FEATURE_NAMES, blocks_of, feature_names, SHIPPED_INTERROGATOR, TARGET_NAMES, ClimbParameters, EpisodeFeatures, FilterEnsemble, FilterNetwork,
-    PEAK_GAP_CLIP, SE_CLIP_DEG, LearnedInterrogator, Reading, floor_headroom, pooled_correction, interrogator_for, peak_gap, slope_from_phase, slope_index,
+    PEAK_GAP_CLIP, SE_CLIP_DEG, LearnedInterrogator, Reading, floor_headroom, pooled_correction, interrogator_for, manifest_climb, peak_gap, slope_from_phase, slope_index,
 )
 from cof_gym.agents.interrogator_training import (
     GENTLE_FALL, PROCEDURAL_PEAK_CREEPAGE, STEEP_FALL, ClimbDraws, Dataset, FallingBranch, FitSettings, _climb_episode,
@@ -1186,3 +1186,39 @@ def test_training_climbs_record_the_cycle_crest_and_a_cycle_crest_filter_fits_on
         obs, _, terminated, truncated, info = env.step(agent.act(obs, info))
         if terminated or truncated:
             break
+
+
+def _probe_reading(phase_deg: float, crest: float) -> Reading:
+    return Reading(phase_deg, 1.0, 0.5, 0.05, 0.01, 1000.0, 400.0, 5.0, 20.0, 1.0, coa_cycle_max=crest)
+
+
+def test_probes_on_needs_the_lags_rise_since_the_first_window_and_a_rising_crest():
+    probe = ClimbParameters(creep_log_step=0.03, crest_probe_lag_rise_deg=30.0)
+    first = _probe_reading(40.0, 0.04)  # a drive lag of 40 deg: the first window's lag, which the rise cancels
+    assert probe.probes_on([first, _probe_reading(69.0, 0.060), _probe_reading(70.0, 0.061)])
+    assert not probe.probes_on([first, _probe_reading(69.0, 0.060), _probe_reading(69.9, 0.061)])  # risen < 30 deg
+    assert not probe.probes_on([first, _probe_reading(69.0, 0.060), _probe_reading(75.0, 0.060)])  # crest not above
+    assert not probe.probes_on([first, _probe_reading(75.0, 0.060), _probe_reading(80.0, 0.0)])  # no crest read
+    assert not probe.probes_on([first]) and not ClimbParameters().probes_on([first, _probe_reading(90.0, 0.1)])
+    for bad, match in (({"crest_probe_lag_rise_deg": -1.0}, "crest_probe_lag_rise_deg"),
+                       ({"crest_probe_lag_rise_deg": 30.0, "creep_log_step": 0.01}, "min_log_step")):
+        with pytest.raises(ValueError, match=match):
+            ClimbParameters(**bad)
+
+
+@pytest.mark.skipif(not SHIPPED, reason="the shipped interrogator is not built")
+def test_a_far_peak_climb_probes_on_past_its_headroom_stop_and_is_the_same_climb_before_it():
+    """Default-suite episode 4 (Polach, low adhesion, 39 m/s, its peak at 5.1 % creepage): the shipped climb stops on
+    its headroom with the crest still rising; with the probe it takes every earlier step alike and then climbs on."""
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    seed, options = make_suite("default", 60, 0).episodes[4]
+    decisions = {}
+    for threshold in (None, 30.0):
+        params = replace(manifest_climb(SHIPPED_INTERROGATOR), crest_probe_lag_rise_deg=threshold)
+        agent = interrogator_for(env, SHIPPED_INTERROGATOR, params)
+        run_episode(env, agent, seed, options, 4)
+        decisions[threshold] = (agent.stop_reason, [d.log_step for d in agent.decisions])
+    (stop, steps), (_, probed) = decisions[None], decisions[30.0]
+    assert stop == "headroom" and len(probed) > len(steps)
+    assert probed[:len(steps) - 1] == steps[:-1] and steps[-1] == 0.0 and probed[len(steps) - 1] == 0.03
+    env.close()
