@@ -471,6 +471,13 @@ generated, never typed:
     (then every cof-gym evaluate command above again)   # session 37: the macro-slip = 100 % rows
     python experiments/knee_twins.py --counter-torque --out out/knee_twins.md   # session 37
     python experiments/knee_twins.py --counter-torque --ratio 1.25 --out out/knee_twins_125.md
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
+        --set crest_probe_lag_rise_deg=null crest_probe_lag_rise_deg=30 crest_probe_lag_rise_deg=45 \
+        crest_probe_lag_rise_deg=60 --records out/records_rule56_validation.json \
+        --out out/crest_tradeoff_rule56_validation.md   # rule 56; and --scenario noise_level=2 (_noise2)
+    python experiments/paired_comparison.py out/records_rule56_validation.json \
+        --baseline "crest_probe_lag_rise_deg None, caution 2, target 0.1, guards ${G/ /, }" \
+        --out out/paired_rule56_validation.md   # and _noise2
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -654,6 +661,9 @@ SOURCES = {
         "paired_rule55_validation_noise3",
         "knee_twins",
         "knee_twins_125",
+        "crest_tradeoff_rule56_validation",
+        "paired_rule56_validation",
+        "paired_rule56_validation_noise2",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
