@@ -1200,8 +1200,14 @@ def test_probes_on_needs_the_lags_rise_since_the_first_window_and_a_rising_crest
     assert not probe.probes_on([first, _probe_reading(69.0, 0.060), _probe_reading(75.0, 0.060)])  # crest not above
     assert not probe.probes_on([first, _probe_reading(75.0, 0.060), _probe_reading(80.0, 0.0)])  # no crest read
     assert not probe.probes_on([first]) and not ClimbParameters().probes_on([first, _probe_reading(90.0, 0.1)])
+    capped = replace(probe, crest_probe_max_lag_deg=85.0, crest_probe_max_lag_step_deg=10.0)
+    assert capped.probes_on([first, _probe_reading(75.0, 0.060), _probe_reading(85.0, 0.061)])
+    assert not capped.probes_on([first, _probe_reading(76.0, 0.060), _probe_reading(85.5, 0.061)])  # above 85 deg
+    assert not capped.probes_on([first, _probe_reading(70.0, 0.060), _probe_reading(80.5, 0.061)])  # a 10.5 deg jump
     for bad, match in (({"crest_probe_lag_rise_deg": -1.0}, "crest_probe_lag_rise_deg"),
-                       ({"crest_probe_lag_rise_deg": 30.0, "creep_log_step": 0.01}, "min_log_step")):
+                       ({"crest_probe_lag_rise_deg": 30.0, "creep_log_step": 0.01}, "min_log_step"),
+                       ({"crest_probe_max_lag_deg": 181.0}, "crest_probe_max_lag_deg"),
+                       ({"crest_probe_max_lag_step_deg": -1.0}, "crest_probe_max_lag_step_deg")):
         with pytest.raises(ValueError, match=match):
             ClimbParameters(**bad)
 

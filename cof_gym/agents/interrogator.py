@@ -62,7 +62,8 @@ reporting the same (with ``ceiling_fall_z`` a crest fall counts for both only be
 the two crests' difference: :attr:`~cof_gym.agents.runaway.CrestCeiling.fall_z`; with ``ceiling_near_headroom``
 too, any fall counts where the predicted headroom is at most that: :meth:`ClimbParameters.fall_margin`). The
 climb probes on past a headroom stop with ``crest_probe_lag_rise_deg`` set, at ``creep_log_step``, while its lag has
-risen that much since its first driven window and its crest still rises (:meth:`ClimbParameters.probes_on`). The
+risen that much since its first driven window and its crest still rises (:meth:`ClimbParameters.probes_on`; with
+``crest_probe_max_lag_deg`` and ``crest_probe_max_lag_step_deg`` only below that lag and that lag's step). The
 climb follows the noise its sensors read with ``noise_reference_nms`` set: where the median of
 :attr:`Reading.lockin_noise_nms` over its first :data:`NOISE_WINDOWS` driven windows (the wheel-speed noise the
 lock-in fit reads, whatever the operating point) is ``r`` times that reference with ``r`` above 1, its cautions
@@ -780,6 +781,8 @@ class ClimbParameters:
     # not None: a headroom stop is deferred by a slow-probe step while the lag has risen this much (deg) since the
     # first driven window and the crest still rises (probes_on)
     crest_probe_lag_rise_deg: float | None = None
+    crest_probe_max_lag_deg: float | None = None  # not None: ... and the window's lag is at most this (deg)
+    crest_probe_max_lag_step_deg: float | None = None  # not None: ... and its lag rose at most this over the last (deg)
 
     def __post_init__(self) -> None:
         if self.estimate_from not in ESTIMATE_SOURCES:
@@ -825,6 +828,9 @@ class ClimbParameters:
             raise ValueError(f"knee_stop must be one of {KNEE_STOPS}, got {self.knee_stop!r}")
         if not (isinstance(self.creep_log_step, (int, float)) and 0.0 <= self.creep_log_step <= self.max_log_step):
             raise ValueError(f"creep_log_step must be in [0, max_log_step={self.max_log_step}], got {self.creep_log_step!r}")
+        for name in ("crest_probe_max_lag_deg", "crest_probe_max_lag_step_deg"):
+            if getattr(self, name) is not None:
+                check_number(name, getattr(self, name), 0.0, 180.0, unit=" deg")
         if self.crest_probe_lag_rise_deg is not None:
             check_number("crest_probe_lag_rise_deg", self.crest_probe_lag_rise_deg, 0.0, 180.0, unit=" deg")
             if self.creep_log_step < self.min_log_step:
@@ -949,12 +955,18 @@ class ClimbParameters:
         the newest window's crest is above the one before (:attr:`Reading.coa_cycle_max`). A curve that rises
         slowly past its knee keeps a large lag under a crest that still rises, and its peak lies far above
         (experiments/knee_twins.py); at a rounded peak the crest falls under a rising torque crest and the
-        ceiling stop ends the climb."""
+        ceiling stop ends the climb. With ``crest_probe_max_lag_deg`` the window's lag must also be at most that (near
+        90 deg the slope has vanished and the crest's rise is the sensors' noise), and with
+        ``crest_probe_max_lag_step_deg`` its rise over the previous window's at most that (a lag that jumps from
+        window to window is a sharp knee's, not a slow rise's)."""
         if self.crest_probe_lag_rise_deg is None or len(readings) < 2:
             return False
         first, previous, now = readings[0], readings[-2], readings[-1]
         return (now.phase_deg - first.phase_deg >= self.crest_probe_lag_rise_deg
-                and now.coa_cycle_max > previous.coa_cycle_max > 0.0)
+                and now.coa_cycle_max > previous.coa_cycle_max > 0.0
+                and (self.crest_probe_max_lag_deg is None or now.phase_deg <= self.crest_probe_max_lag_deg)
+                and (self.crest_probe_max_lag_step_deg is None
+                     or now.phase_deg - previous.phase_deg <= self.crest_probe_max_lag_step_deg))
 
     def floor_step(self, coa: float) -> float:
         """The step that the task's lowest CoF (:data:`~cof_gym.task.scenarios.COF_ENVELOPE`) guarantees
