@@ -138,27 +138,46 @@ def table(agents: list[str], suite_path: Path, ratio: float, tolerance: float, c
     return "\n".join([head, "|---" * 7 + "|", *rows, "", note])
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--suite", type=Path, default=DEFAULT_SUITE, help="a suite file with tabulated creep curves")
+def add_pair_arguments(ap: argparse.ArgumentParser, ratio: float, ratio_help: str) -> None:
+    """The options every twin experiment takes: ``--agents``, ``--ratio`` (default ``ratio``), ``--tolerance``,
+    ``--counter-torque`` and ``--out``."""
     ap.add_argument("--agents", default=",".join(DEFAULT_AGENTS), help="comma-separated agents that read no truth")
-    ap.add_argument("--ratio", type=float, default=1.25, help="the twin's CoF over the original's (> 1)")
+    ap.add_argument("--ratio", type=float, default=ratio, help=ratio_help)
     ap.add_argument("--tolerance", type=float, default=0.08, help="the error counted as measured (0-1)")
     ap.add_argument("--counter-torque", action="store_true", help="also play every pair with counter torque")
     ap.add_argument("--out", type=Path, default=None, help="also write the table here")
-    args = ap.parse_args()
+
+
+def checked_pair_arguments(ap: argparse.ArgumentParser, args: argparse.Namespace) -> list[str]:
+    """The agents of :func:`add_pair_arguments`'s options once ``--ratio`` and ``--tolerance`` are in range
+    (``ap.error`` otherwise: one line, exit code 2)."""
     if not 1.0 < args.ratio <= 4.0:
         ap.error(f"--ratio must be in (1, 4], got {args.ratio:g}")
     if not 0.0 < args.tolerance < 1.0:
         ap.error(f"--tolerance must be in (0, 1), got {args.tolerance:g}")
-    agents = [a.strip() for a in args.agents.split(",") if a.strip()]
+    return sensor_only_agents(ap, args.agents)
+
+
+def sensor_only_agents(ap: argparse.ArgumentParser, text: str) -> list[str]:
+    """The comma-separated agents of ``--agents`` (``text``), each registered and none an oracle: twins read alike
+    only to agents that do not read the truth (``ap.error`` otherwise: one line, exit code 2)."""
+    agents = [a.strip() for a in text.split(",") if a.strip()]
     for spec in agents:
         try:
             entry, _ = registry.parse(spec)
         except registry.AgentSpecError as error:
             ap.error(f"--agents: {error}")
         if entry.oracle:
-            ap.error(f"--agents: {spec} reads the truth; the twins are indistinguishable only to agents that do not")
+            ap.error(f"--agents: {spec} reads the truth; the twins read alike only to agents that do not")
+    return agents
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--suite", type=Path, default=DEFAULT_SUITE, help="a suite file with tabulated creep curves")
+    add_pair_arguments(ap, 1.25, "the twin's CoF over the original's (> 1)")
+    args = ap.parse_args()
+    agents = checked_pair_arguments(ap, args)
     try:
         text = table(agents, args.suite, args.ratio, args.tolerance, args.counter_torque)
     except (SuiteError, OSError, json.JSONDecodeError) as error:

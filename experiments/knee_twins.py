@@ -34,7 +34,7 @@ import gymnasium as gym
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from indistinguishable_peaks import ACTION_ATOL, DEFAULT_AGENTS, ActionLog  # noqa: E402
+from indistinguishable_peaks import ACTION_ATOL, ActionLog, add_pair_arguments, checked_pair_arguments  # noqa: E402
 
 import cof_gym  # noqa: E402,F401  (registers the envs)
 from cof_gym.agents import registry  # noqa: E402
@@ -180,28 +180,14 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--suite", default="default", help="default or a suite file (default: %(default)s)")
     ap.add_argument("--episodes", type=int, default=60, help="episodes of a suite without a list (default: %(default)s)")
-    ap.add_argument("--agents", default=",".join(DEFAULT_AGENTS), help="comma-separated agents that read no truth")
     ap.add_argument("--min-peak-creepage", type=float, default=0.04, help="the far curves' least peak creepage (0-1)")
-    ap.add_argument("--ratio", type=float, default=1.5, help="the far curve's CoF over its near twin's (> 1)")
-    ap.add_argument("--tolerance", type=float, default=0.08, help="the error counted as measured (0-1)")
-    ap.add_argument("--counter-torque", action="store_true", help="also play every pair with counter torque")
-    ap.add_argument("--out", type=Path, default=None, help="also write the table here")
+    add_pair_arguments(ap, 1.5, "the far curve's CoF over its near twin's (> 1)")
     args = ap.parse_args()
-    if not 1.0 < args.ratio <= 4.0:
-        ap.error(f"--ratio must be in (1, 4], got {args.ratio:g}")
-    for name, value in (("--min-peak-creepage", args.min_peak_creepage), ("--tolerance", args.tolerance)):
-        if not 0.0 < value < 1.0:
-            ap.error(f"{name} must be in (0, 1), got {value:g}")
+    if not 0.0 < args.min_peak_creepage < 1.0:
+        ap.error(f"--min-peak-creepage must be in (0, 1), got {args.min_peak_creepage:g}")
     if not 1 <= args.episodes <= 10_000:
         ap.error(f"--episodes must be in [1, 10000], got {args.episodes}")
-    agents = [a.strip() for a in args.agents.split(",") if a.strip()]
-    for spec in agents:
-        try:
-            entry, _ = registry.parse(spec)
-        except registry.AgentSpecError as error:
-            ap.error(f"--agents: {error}")
-        if entry.oracle:
-            ap.error(f"--agents: {spec} reads the truth; the twins read alike only to agents that do not")
+    agents = checked_pair_arguments(ap, args)
     try:
         text = table(agents, args.suite, args.episodes, args.min_peak_creepage, args.ratio, args.tolerance,
                      args.counter_torque)
