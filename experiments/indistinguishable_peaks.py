@@ -56,14 +56,28 @@ def twin_law(table: dict, ratio: float) -> dict:
     if peak < 1:
         raise ValueError("the table has no rising interval before its peak")
     slope = (r[peak] - r[peak - 1]) / (s[peak] - s[peak - 1]) / ratio  # in the twin's ratio units
-    rise = 1.0 - 1.0 / ratio
-    span = 2.0 * rise / slope  # the quadratic 1/ratio + slope x - slope^2 x^2 / (4 rise) reaches 1 here
-    x = span * np.arange(1, CONTINUATION_POINTS + 1) / CONTINUATION_POINTS
-    above = 1.0 / ratio + slope * x - slope**2 * x**2 / (4.0 * rise)
-    above[-1] = 1.0
-    creepage = np.concatenate([s[:peak + 1], s[peak] + x, [s[peak] + 2.0 * span]])
-    adhesion = np.concatenate([r[:peak + 1] / ratio, above, [1.0]])
+    top_creepage, top_adhesion = rounded_top(s[peak], 1.0 / ratio, slope, CONTINUATION_POINTS)
+    creepage = np.concatenate([s[:peak + 1], top_creepage])
+    adhesion = np.concatenate([r[:peak + 1] / ratio, top_adhesion])
     return {"table": {"creepage": creepage.tolist(), "adhesion_ratio": adhesion.tolist()}}
+
+
+def rounded_top(creepage: float, adhesion: float, slope: float, points: int) -> tuple[np.ndarray, np.ndarray]:
+    """The points of a twin's curve past (``creepage``, ``adhesion`` < 1; adhesion over the twin's CoF) where it
+    leaves the original with ``slope``: ``points`` points of the quadratic ``adhesion + slope x - slope^2 x^2 /
+    (4 rise)`` (``rise = 1 - adhesion``), which reaches 1 with zero slope at ``x = 2 rise / slope`` (its last point
+    exactly 1), then a flat point at twice that span; (creepages, adhesion ratios)."""
+    rise = 1.0 - adhesion
+    span = 2.0 * rise / slope
+    x = span * np.arange(1, points + 1) / points
+    above = adhesion + slope * x - slope**2 * x**2 / (4.0 * rise)
+    above[-1] = 1.0
+    return np.concatenate([creepage + x, [creepage + 2.0 * span]]), np.concatenate([above, [1.0]])
+
+
+def acted_alike(first: list[np.ndarray], second: list[np.ndarray]) -> bool:
+    """Whether two episodes' actions agree to :data:`ACTION_ATOL` in every component over the shorter one."""
+    return all(np.allclose(a, b, rtol=0.0, atol=ACTION_ATOL) for a, b in zip(first, second))
 
 
 def last_shared_fraction(table: dict) -> float:
@@ -100,9 +114,8 @@ def play_pair(env, agent: ActionLog, seed: int, options: dict, ratio: float, epi
     law = options["creep_law"]["table"]
     twin_options = {**options, "cof": options["cof"] * ratio, "creep_law": twin_law(law, ratio)}
     twin = run_episode(env, agent, seed, twin_options, episode)
-    n = min(len(first), len(agent.actions))
-    alike = all(np.allclose(a, b, rtol=0.0, atol=ACTION_ATOL) for a, b in zip(first[:n], agent.actions[:n]))
-    return {"original": original, "twin": twin, "alike": alike, "shared": last_shared_fraction(law)}
+    return {"original": original, "twin": twin, "alike": acted_alike(first, agent.actions),
+            "shared": last_shared_fraction(law)}
 
 
 def table(agents: list[str], suite_path: Path, ratio: float, tolerance: float, counter_torque: bool) -> str:

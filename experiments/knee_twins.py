@@ -34,7 +34,8 @@ import gymnasium as gym
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from indistinguishable_peaks import ACTION_ATOL, ActionLog, add_pair_arguments, checked_pair_arguments  # noqa: E402
+from indistinguishable_peaks import (  # noqa: E402
+    ActionLog, acted_alike, add_pair_arguments, checked_pair_arguments, rounded_top)
 
 import cof_gym  # noqa: E402,F401  (registers the envs)
 from cof_gym.agents import registry  # noqa: E402
@@ -80,7 +81,7 @@ def near_twin(table: dict, ratio: float) -> dict:
     below ``1 / ratio`` (in the twin's units, times ``ratio``), then a quadratic from the last of them with the slope
     of the last interval, rising to 1 (the twin's CoF) with zero slope, and flat past it. Monotone
     interpolation (PCHIP) sets each knot's slope from its neighbours, so the two coincide up to the point before
-    the last shared one."""
+    the last shared one (:func:`~indistinguishable_peaks.rounded_top`)."""
     if not ratio > 1.0:
         raise ValueError(f"ratio must be > 1, got {ratio!r}")
     s, r = np.asarray(table["creepage"], dtype=float), np.asarray(table["adhesion_ratio"], dtype=float)
@@ -89,18 +90,15 @@ def near_twin(table: dict, ratio: float) -> dict:
     if below < 2:
         raise ValueError("the curve has fewer than two points below the twin's top")
     last = below - 1
-    slope = (r[last] - r[last - 1]) / (s[last] - s[last - 1])
-    rise = top - r[last]
-    span = 2.0 * rise / slope  # the quadratic r_last + slope x - slope^2 x^2 / (4 rise) reaches top here
-    x = span * np.arange(1, TOP_POINTS + 1) / TOP_POINTS
-    above = (r[last] + slope * x - slope**2 * x**2 / (4.0 * rise)) * ratio
-    above[-1] = 1.0
-    creepage = np.concatenate([s[:last + 1], s[last] + x, [s[last] + 2.0 * span]])
-    adhesion = np.concatenate([r[:last + 1] * ratio, above, [1.0]])
+    slope = (r[last] - r[last - 1]) / (s[last] - s[last - 1]) * ratio  # in the twin's ratio units
+    top_creepage, top_adhesion = rounded_top(s[last], r[last] * ratio, slope, TOP_POINTS)
+    creepage = np.concatenate([s[:last + 1], top_creepage])
+    adhesion = np.concatenate([r[:last + 1] * ratio, top_adhesion])
     return {"creepage": creepage.tolist(), "adhesion_ratio": adhesion.tolist()}
 
 
-DIPS, LOW_TWIN = "the curve dips before its peak", "the twin's CoF would lie below the task's lowest"  # why a far curve has no pair
+# why a far curve has no pair
+DIPS, LOW_TWIN = "the curve dips before its peak", "the twin's CoF would lie below the task's lowest"
 
 
 def pair_options(env, seed: int, options: dict, ratio: float, min_peak: float) -> tuple[dict, dict] | str | None:
@@ -126,9 +124,7 @@ def play_pair(env, agent: ActionLog, seed: int, options: tuple[dict, dict], epis
     far = run_episode(env, agent, seed, options[0], episode)
     first = agent.actions
     near = run_episode(env, agent, seed, options[1], episode)
-    n = min(len(first), len(agent.actions))
-    alike = all(np.allclose(a, b, rtol=0.0, atol=ACTION_ATOL) for a, b in zip(first[:n], agent.actions[:n]))
-    return {"far": far, "near": near, "alike": alike}
+    return {"far": far, "near": near, "alike": acted_alike(first, agent.actions)}
 
 
 def _signed(record) -> float:
