@@ -784,7 +784,8 @@ def slip_failed(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNED) 
         summary = _load(path, learned)
         if summary is None or any(k not in summary[learned] for k in keys):
             return None
-        (med, p90), rivals = ([100 * _stat(summary, learned, k) for k in keys], [_best(summary, learned, k) for k in keys])
+        med, p90 = (100 * _stat(summary, learned, k) for k in keys)
+        rivals = [_best(summary, learned, k) for k in keys]
         best = [100 * _stat(summary, rival, k) for rival, k in zip(rivals, keys)]
         rows.append(f"| {label} | {med:.1f} % / {p90:.1f} % ({summary[learned]['episodes']}) | {rivals[0]} {best[0]:.1f} % | "
                     f"{rivals[1]} {best[1]:.1f} % | {_lowest(med, best[0])} | {_lowest(p90, best[1])} |")
