@@ -462,6 +462,26 @@ def report_runs(runs: list[Path], workers: int) -> dict:
     return report
 
 
+def shipped_runs(out: Path, package: Path = SHIPPED_INTERROGATOR) -> list[Path]:
+    """The shipped agent laid out as the recipe's runs (step 4's input): OUT/seed_K holds the package's
+    ``member_J.npz`` of the manifest's J-th training seed K alone, OUT/ensemble every member; each has the
+    package's guards (every member: the recipe copies the guards' ensembles into every run) and manifest."""
+    seeds = json.loads((package / "manifest.json").read_text())["training"]["seeds"]
+    members = sorted(package.glob("member_*.npz"))
+    if len(members) != len(seeds):
+        raise ValueError(f"{package}: {len(members)} member_*.npz for the manifest's {len(seeds)} training seeds")
+    runs = [out / f"seed_{s}" for s in seeds] + [out / "ensemble"]
+    for run in runs:
+        if run.exists():
+            shutil.rmtree(run)
+    shutil.copytree(package, runs[-1])
+    for k, run in enumerate(runs[:-1]):
+        shutil.copytree(package, run, ignore=lambda folder, names: [n for n in names if Path(folder) == package
+                                                                     and n.startswith("member_")])
+        shutil.copy2(package / f"member_{k}.npz", run / "member_0.npz")
+    return runs
+
+
 def _play_shipped_climb(run_dir: str, suite_path: str) -> list[tuple[float, bool]]:
     return [(r.relative_error if r.scored else 1.0, r.macro_slip) for r, _ in episodes(run_dir, suite_path, {})]
 
@@ -480,6 +500,28 @@ def markdown(report: dict, seeds: list[str]) -> str:
                   f"[{100 * lo:.1f}, {100 * hi:.1f}], median {100 * np.median(scores):.1f} % "
                   f"[{100 * mlo:.1f}, {100 * mhi:.1f}] (stratified bootstrap 95 % CI).", ""]
     return "\n".join(lines)
+
+
+def report_only(parser: argparse.ArgumentParser, args: argparse.Namespace) -> None:
+    """``--report-only``: the report (step 4) of the shipped agent, every seed and the ensemble, written to
+    OUT/report.md and OUT/report.json; every option that fits, selects or ships is refused."""
+    for option in ("ship", "reuse", "fit_only", "probing_guard"):
+        if getattr(args, option):
+            parser.error(f"--report-only: plays the shipped agent as it is, without --{option.replace('_', '-')}")
+    for option in ("add_climbs", "add_guard_climbs", "guards"):
+        if getattr(args, option):
+            parser.error(f"--report-only: plays the shipped agent's own networks, without --{option.replace('_', '-')}")
+    t0 = time.time()
+    args.out.mkdir(parents=True, exist_ok=True)
+    runs = shipped_runs(args.out)
+    report = report_runs(runs, args.workers)
+    text = ["# Learned interrogator: the shipped agent per seed", "",
+            f"Command: `python experiments/train_interrogator.py {' '.join(sys.argv[1:])}` ({time.time() - t0:.0f} s on "
+            "this machine; the shipped networks, guards and climb, nothing fitted or selected).", "",
+            markdown(report, [r.name for r in runs[:-1]])]
+    (args.out / "report.md").write_text("\n".join(text) + "\n")
+    (args.out / "report.json").write_text(json.dumps({"report": report}, indent=1))
+    print("\n".join(text))
 
 
 def main() -> None:
@@ -520,7 +562,13 @@ def main() -> None:
     ap.add_argument("--guards", type=Path, nargs="+", default=[], metavar="DIR",
                     help="networks (DIR/member_*.npz, e.g. another run's ensemble) that steer the climb beside the "
                          "filter as its guards: copied into every run directory, named in the manifest")
+    ap.add_argument("--report-only", action="store_true",
+                    help="step 4 alone, on the shipped agent as it is (its networks, guards and climb; OUT/seed_K: "
+                         "member K alone): no climbs, no fit, no selection")
     args = ap.parse_args()
+    if args.report_only:
+        report_only(ap, args)
+        return
     require_networks(ap, "--guards", args.guards)
     climbs = parse_climbs(ap, args.climbs)
     guard_climbs = {} if args.guard_climbs == ["none"] else parse_climbs(ap, args.guard_climbs, "--guard-climbs")

@@ -195,3 +195,32 @@ def test_the_shipped_climb_carries_the_recipes_fixed_parts() -> None:
              "ceiling_near_headroom": recipe.CEILING_NEAR_HEADROOM, "noise_reference_nms": recipe.NOISE_REFERENCE_NMS,
              "noise_caution_exponent": recipe.NOISE_CAUTION_EXPONENT, "noise_creep_exponent": recipe.NOISE_CREEP_EXPONENT}
     assert {name: climb[name] for name in fixed} == fixed
+
+
+def test_the_report_only_runs_are_the_shipped_agent_member_by_member(tmp_path: Path) -> None:
+    """``--report-only`` plays seed K as the shipped package's member K alone, with the package's guards and
+    manifest, and the ensemble as the package; a stale run directory is replaced."""
+    from train_interrogator import shipped_runs
+
+    from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR
+
+    (tmp_path / "seed_0" / "guard_9").mkdir(parents=True)  # a stale run
+    runs = shipped_runs(tmp_path)
+    members = sorted(SHIPPED_INTERROGATOR.glob("member_*.npz"))
+    assert [r.name for r in runs] == [f"seed_{k}" for k in range(len(members))] + ["ensemble"]
+    for k, run in enumerate(runs[:-1]):
+        assert sorted(p.name for p in run.glob("member_*.npz")) == ["member_0.npz"]
+        assert (run / "member_0.npz").read_bytes() == members[k].read_bytes()
+        assert not (run / "guard_9").exists()
+    for run in runs:
+        assert (run / "manifest.json").read_text() == (SHIPPED_INTERROGATOR / "manifest.json").read_text()
+    assert [p.read_bytes() for p in sorted(runs[-1].glob("member_*.npz"))] == [p.read_bytes() for p in members]
+    agent = interrogator_for(gym.make(cof_gym.WAGON_ENV_ID), runs[0])
+    assert len(agent.ensemble.members) == 1 and [len(g.members) for g in agent.guards] == [len(members)] * 2
+
+
+@pytest.mark.parametrize("options", [["--ship"], ["--reuse"], ["--fit-only"], ["--guards", "x"]])
+def test_report_only_refuses_what_fits_selects_or_ships(tmp_path: Path, options: list[str], experiment_exit) -> None:
+    code, last = experiment_exit("train_interrogator", ["--out", str(tmp_path / "run"), "--report-only", *options])
+    assert code == 2 and last.startswith("train_interrogator.py: error: --report-only: plays the shipped agent")
+    assert not (tmp_path / "run").exists()
