@@ -16,6 +16,7 @@ generated, never typed:
     cof-gym bench --seconds 10 --markdown out/bench.md
     python experiments/ppo_seeds.py --runs runs/ppo_lo_s0 runs/ppo_lo_s1 runs/ppo_lo_s2 --out out/ppo_seeds
     python experiments/train_interrogator.py --out runs/interrogator --ship
+    python experiments/train_interrogator.py --out runs/interrogator_shipped --report-only   # the shipped agent per seed
     python experiments/crest_tradeoff.py --out out/crest_tradeoff.md
     python experiments/crest_tradeoff.py --run runs/interrogator_cm/ensemble --cautions 2 2.5 3 --targets 0.1 0.15 \
         --out out/crest_tradeoff_cm.md
@@ -519,6 +520,7 @@ SOURCES = {
     "heldout": ROOT / "out" / "evaluate-heldout" / "summary.md",
     "ppo_seeds": ROOT / "out" / "ppo_seeds" / "report.md",
     "interrogator_seeds": ROOT / "runs" / "interrogator" / "report.md",
+    "interrogator_seeds_shipped": ROOT / "runs" / "interrogator_shipped" / "report.md",
     # experiments/crest_tradeoff.py, learning_curve.py and lag_near_peak.py: out/NAME.md for the block NAME
     **{name: ROOT / "out" / f"{name}.md" for name in (
         "crest_tradeoff",

@@ -78,6 +78,8 @@ selects the same climb (the selection plays the filter alone) and ships.
    95 % CI (runs resampled within each scenario; Agarwal et al. 2021). OUT/report.md, OUT/report.json.
 5. ``--ship`` copies OUT/ensemble into cof_gym/agents/policies/interrogator (the ``interrogator`` agent).
 
+``--report-only`` plays step 4 alone on the shipped agent as it is (no climb cache: seed K is the package's member K
+alone beside the shipped guards, the ensemble the package), e.g. after a rule changed the shipped climb and no network.
 ``--fit-only`` stops after step 2: networks for another run's ``--guards`` or crest_tradeoff.py's ``--run``
 (``--loss laplace``: fitted under the Laplace likelihood, each output the conditional median; session 26);
 ``--guard-climbs none`` fits no guard (the recipe before session 16). ``--add-climbs FILE ...`` adds climbs
