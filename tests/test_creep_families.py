@@ -13,7 +13,9 @@ from scipy.interpolate import CubicHermiteSpline, PchipInterpolator
 
 from cof_gym.physics.creep import (
     CONDITIONS,
+    MAX_CREEPAGE,
     ContactPatch,
+    NoPeakError,
     OperatingConditions,
     creep_curve,
     creep_peak,
@@ -126,6 +128,17 @@ def test_she_without_falling_friction_has_a_cof_and_a_peak_creepage() -> None:
     below = creep_curve(np.geomspace(1e-6, peak.creepage, 200)[:-1], op)[0]
     assert np.all(np.diff(below) > 0) and np.all(below < cof)
     assert creepage_at_coa(0.99 * cof, op) < peak.creepage
+
+
+def test_she_with_no_adhesion_at_all_has_no_peak() -> None:
+    """k_stiffness = 1e-20: the curve is 0 at every scanned creepage (it rises only far beyond
+    MAX_CREEPAGE), so it has no maximum there and its CoF is undefined, as for 1e-10 (never a peak at
+    the scan's first point with CoA 0)."""
+    for k in (1e-20, 1e-10):
+        op = _op(ShenHedrickElkinsShape(k_stiffness=k))
+        with pytest.raises(NoPeakError, match=r"no maximum below creepage 2"):
+            creep_peak(op)
+        assert not has_maximum(op)
 
 
 def test_she_with_falling_friction_has_an_interior_peak_at_the_cof() -> None:
@@ -330,13 +343,31 @@ BAD_SPECS = {
                  r"creep_law\.table\.creepage must have 3 to 64 points"),
     "lengths": (_table(adhesion_ratio=[0.0, 1.0, 0.9]), r"creep_law\.table\.adhesion_ratio must have one value per creepage"),
     "missing-table-key": ({"table": {"creepage": [0.0, 0.001, 0.01]}}, r"creep_law\.table\.adhesion_ratio is missing"),
+    "beyond-max-creepage": (_table(creepage=[0.0, 0.001, 0.003, MAX_CREEPAGE * (1 + EPS)]),
+                            r"creep_law\.table\.creepage must be in \[0, 2\].*at index 3"),
+    "huge-creepage": ({"table": {"creepage": [0, 1e300, 1.7e308], "adhesion_ratio": [0.0, 0.5, 1.0]}},
+                      r"creep_law\.table\.creepage must be in \[0, 2\]"),
+    "too-close": ({"table": {"creepage": [0.0, 1e-300, 2e-300], "adhesion_ratio": [0.0, 0.5, 1.0]}},
+                  r"creep_law\.table\.creepage points must lie far enough apart .* finite \(at most 1\.8e\+308\)"),
+    "too-close-secant": ({"table": {"creepage": [0.0, 1e-300, 1e-300 + 1e-316, 0.01],
+                                    "adhesion_ratio": [0.0, 0.3, 0.5, 1.0]}},
+                         r"creep_law\.table\.creepage points must lie far enough apart"),
+    "huge-int": ({"polach": {**POLACH, "k_adhesion": 10**400}}, r"creep_law\.polach\.k_adhesion must be a finite"),
+    "huge-int-table": (_table(creepage=[0, 0.001, -10**400, 0.01]),
+                       r"creep_law\.table\.creepage must be a list of finite numbers, got -1000.* at index 2"),
 }
 
 
 @pytest.mark.parametrize(("spec", "message"), list(BAD_SPECS.values()), ids=list(BAD_SPECS))
+@pytest.mark.filterwarnings("error")  # one ValueError, no numpy or scipy warning on the way
 def test_bad_specs_name_the_field(spec, message: str) -> None:
     with pytest.raises(ValueError, match=message):
         creep_law_from_spec(spec)
+
+
+def test_a_table_may_reach_max_creepage() -> None:
+    shape = creep_law_from_spec(_table(creepage=[0.0, 0.001, 0.003, MAX_CREEPAGE]))
+    assert shape.creepage[-1] == MAX_CREEPAGE and creep_peak(_op(shape)).creepage == 0.003
 
 
 # ---------------------------------------------------------------- draws

@@ -56,6 +56,18 @@ def test_falling_friction_mu0_above_cof(condition: str, cof: float, speed: float
     assert far.max() < cof
 
 
+def test_a_curve_peaking_above_mu0_is_calibrated_with_mu0_below_the_cof() -> None:
+    """k_slip > k_adhesion: the atan (slip) term outgrows the adhesion term, the curve peaks above mu0,
+    so mu0 < CoF (the calibration's bracket reaches below the CoF); the peak is still the CoF."""
+    cof = 0.2
+    op = OperatingConditions(cof=cof, condition=PolachShape(0.1, 1.0, 0.4, 0.6), speed_m_s=10.0)
+    assert op.law().mu0 < cof
+    peak = creep_peak(op)
+    assert peak.coa == pytest.approx(cof, rel=1e-6)
+    coa, _ = creep_curve(np.geomspace(1e-7, 5.0, 4000), op)
+    assert cof * (1 - 1e-6) <= coa.max() <= cof * (1 + 1e-9)
+
+
 @pytest.mark.parametrize("condition", sorted(CONDITIONS))
 def test_curve_is_odd_in_creepage(condition: str) -> None:
     op = OperatingConditions(cof=0.3, condition=condition, speed_m_s=10.0)

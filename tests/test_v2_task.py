@@ -56,6 +56,20 @@ def test_a_bad_creep_law_is_one_value_error_naming_the_field(env, creep_law, fie
     env.step(QUIET)
 
 
+@pytest.mark.parametrize("creep_law,field", [
+    ({"polach": {"k_adhesion": 1.0, "k_slip": 0.4, "friction_ratio": 0.4, "friction_decay_s_per_m": 1e-9}},
+     "creep_law.polach"),
+    ({"shen_hedrick_elkins": {"k_stiffness": 1e-20}}, "creep_law.shen_hedrick_elkins"),  # CoA 0 at every creepage
+])
+def test_a_given_creep_law_without_a_cof_is_one_value_error_naming_the_field(env, creep_law, field):
+    """A well-formed law whose curve has no maximum at the episode's speed and load: the reset refuses
+    it naming the field (never a CoF the curve does not reach)."""
+    with pytest.raises(ValueError, match=field.replace(".", r"\.") + ": the creep curve has no maximum"):
+        env.reset(seed=1, options={"creep_law": creep_law, "cof": 0.3})
+    env.reset(seed=0)  # and the env is usable afterwards
+    env.step(QUIET)
+
+
 @pytest.mark.parametrize("name", sorted(SYSTEMATIC_ERRORS))
 def test_a_systematic_error_out_of_range_names_the_field(env, name):
     bound = SYSTEMATIC_ERRORS[name].accepted

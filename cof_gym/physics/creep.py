@@ -46,6 +46,7 @@ from cof_gym.physics.contact_geometry import ContactGeometry, hertz_semi_axes, k
 from cof_gym.physics.creep_laws import (  # noqa: F401  (re-exported: the shapes and presets live there)
     CONDITIONS,
     FAMILIES,
+    MAX_CREEPAGE,
     CreepPeak,
     CreepShape,
     PolachShape,
@@ -59,7 +60,6 @@ from cof_gym.physics.native import layout
 from cof_gym.physics.native.build import native
 
 COF_RANGE = (1e-3, 1.5)
-MAX_CREEPAGE = 2.0  # the creep-curve maximum (the CoF) must lie below this creepage
 """Accepted CoF values (the environments draw from 0.02-0.6)."""
 
 
@@ -158,15 +158,15 @@ def _peak(law: CreepLaw, patch: ContactPatch, wheel_load_n: float, speed_m_s: fl
     grid = np.geomspace(1e-6, MAX_CREEPAGE, 600)
     coa, _ = _curve(law, patch, wheel_load_n, speed_m_s, grid)
     i = int(np.argmax(coa))
-    if i >= grid.size - 2:
+    if i >= grid.size - 2 or not coa[i] > 0.0:  # rising to the scan's edge, or no adhesion at all (zero, NaN)
         raise NoPeakError(
             f"the creep curve has no maximum below creepage {MAX_CREEPAGE} at speed_m_s={speed_m_s} for this "
             "condition, so its CoF (the curve's maximum) is undefined; use a lower speed or a condition with "
             "stronger falling friction"
         )
     if coa[i + 1] == coa[i]:  # saturated: the maximum is held from its first point on
-        return CreepPeak(_first_reach(law, patch, wheel_load_n, speed_m_s, float(coa[i]), float(grid[i - 1]),
-                                      float(grid[i])),
+        below = float(grid[i - 1]) if i > 0 else 0.0  # CoA(0) = 0 < coa[i]: never wrap round to grid[-1]
+        return CreepPeak(_first_reach(law, patch, wheel_load_n, speed_m_s, float(coa[i]), below, float(grid[i])),
                          float(coa[i]))
     lo, hi = np.log(grid[max(i - 1, 0)]), np.log(grid[min(i + 1, grid.size - 1)])
     res = minimize_scalar(
@@ -226,7 +226,10 @@ def _mu0_cached(cof: float, shape: CreepShape, load: float, speed: float, geomet
     hi = shape.mu0_upper(cof)
     while excess(hi) < 0.0:
         hi *= 2.0
-    return float(brentq(excess, cof, hi, xtol=1e-12, rtol=1e-10))
+    lo = cof  # mu0 >= cof for every curve that peaks at or below mu0 (the bracket is then exactly [cof, hi])
+    while excess(lo) > 0.0:  # a curve that peaks above mu0 (e.g. Polach with k_slip > k_adhesion): mu0 < cof
+        lo *= 0.5
+    return float(brentq(excess, lo, hi, xtol=1e-12, rtol=1e-10))
 
 
 def creep_curve(creepage: np.ndarray | float, op: OperatingConditions) -> tuple[np.ndarray, np.ndarray]:

@@ -85,6 +85,7 @@ import numpy as np
 from cof_gym.physics.native import layout
 
 PRESET_FAMILY = "polach"  # the presets (CONDITIONS) are named points of this family
+MAX_CREEPAGE = 2.0  # the creep-curve maximum (the CoF) must lie below this creepage; a table stays within it
 
 
 @dataclass(frozen=True)
@@ -233,7 +234,8 @@ def pchip_slopes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """Knot slopes dy/dx of the monotone PCHIP interpolant (Fritsch & Carlson 1980), as scipy's."""
     from scipy.interpolate import PchipInterpolator
 
-    return PchipInterpolator(x, y)(x, 1)
+    with np.errstate(all="ignore"):  # points too close overflow: scipy refuses the non-finite slopes, silently
+        return PchipInterpolator(x, y)(x, 1)
 
 
 def below_peak(rise: np.ndarray, margin: float = 1e-6) -> np.ndarray:
@@ -248,7 +250,8 @@ def below_peak(rise: np.ndarray, margin: float = 1e-6) -> np.ndarray:
 @dataclass(frozen=True)
 class TableShape(CreepShape):
     """A tabulated curve: ``adhesion_ratio`` (CoA / CoF) at ``creepage`` (tuples; lists are
-    converted). Creepage >= 0 strictly increasing from exactly 0; the ratio starts at 0, rises
+    converted). Creepage strictly increasing from exactly 0 to at most :data:`MAX_CREEPAGE`, its
+    points far enough apart that the slopes are finite; the ratio starts at 0, rises
     strictly to its maximum, exactly 1 (to 1e-9, stored as 1), and is anything in [0, 1] after it;
     3 to ``layout.MAX_TABLE_POINTS`` points."""
 
@@ -269,6 +272,9 @@ class TableShape(CreepShape):
             raise ValueError(f"adhesion_ratio must have one value per creepage ({len(s)}), got {len(r)}")
         if s[0] != 0.0 or any(b <= a for a, b in zip(s, s[1:])):
             raise ValueError(f"creepage must be strictly increasing from exactly 0 (finite values >= 0), got {list(s)}")
+        if s[-1] > MAX_CREEPAGE:
+            raise ValueError(f"creepage must be in [0, {MAX_CREEPAGE:g}] (where every creep law's maximum lies), "
+                             f"got {s[-1]!r} at index {len(s) - 1}")
         if r[0] != 0.0 or min(r) < 0.0:
             raise ValueError(f"adhesion_ratio must start at exactly 0 and stay >= 0, got {list(r)}")
         peak = int(np.argmax(r))
@@ -278,6 +284,9 @@ class TableShape(CreepShape):
         if any(b <= a for a, b in zip(r[:peak + 1], r[1:peak + 1])):
             raise ValueError(f"adhesion_ratio must rise strictly from 0 to its maximum 1, got {list(r[:peak + 1])}")
         r = tuple(1.0 if abs(v - 1.0) <= self.MAX_TOLERANCE else v for v in r)
+        if not _finite_slopes(np.array(s), np.array(r)):
+            raise ValueError(f"creepage points must lie far enough apart that the slopes d(adhesion_ratio)/d(creepage) "
+                             f"are finite (at most {np.finfo(float).max:.3g}), got {list(s)}")
         object.__setattr__(self, "creepage", s)
         object.__setattr__(self, "adhesion_ratio", r)
 
@@ -312,13 +321,34 @@ class TableShape(CreepShape):
         return CreepPeak(self.creepage[self.peak_index], mu0)
 
 
+def _finite_real(value: Any) -> bool:
+    """A real number (not a bool) that is finite as a float (an int too large for a float is not)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        return False
+    try:
+        return math.isfinite(float(value))
+    except OverflowError:
+        return False
+
+
+def _finite_slopes(s: np.ndarray, r: np.ndarray) -> bool:
+    """Whether a table's secant slopes and PCHIP knot slopes are all finite (points not too close)."""
+    with np.errstate(all="ignore"):
+        if not np.all(np.isfinite(np.diff(r) / np.diff(s))):
+            return False
+    try:
+        return bool(np.all(np.isfinite(pchip_slopes(s, r))))
+    except ValueError:  # scipy refuses non-finite knot slopes
+        return False
+
+
 def _float_tuple(name: str, values: Any) -> tuple[float, ...]:
     """A sequence of finite real numbers as a tuple of floats (ValueError naming ``name``)."""
     if isinstance(values, (str, bytes, Mapping)) or not hasattr(values, "__len__"):
         raise ValueError(f"{name} must be a list of finite numbers, got {values!r}")
     out = []
     for i, v in enumerate(values):
-        if isinstance(v, bool) or not isinstance(v, numbers.Real) or not math.isfinite(float(v)):
+        if not _finite_real(v):
             raise ValueError(f"{name} must be a list of finite numbers, got {v!r} at index {i}")
         out.append(float(v))
     return tuple(out)
@@ -386,7 +416,7 @@ def preset(name: Any) -> CreepShape:
 def _spec_value(path: str, value: Any, is_table: bool) -> Any:
     if is_table:
         return _float_tuple(path, value)
-    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(float(value)):
+    if not _finite_real(value):
         raise ValueError(f"{path} must be a finite number, got {value!r}")
     return float(value)
 

@@ -311,7 +311,13 @@ class InterrogationTask:
                 return False
             return not redraw or truths[shape][0].peak_creepage <= MAX_DRAWN_PEAK_CREEPAGE
 
-        if not usable(scenario.shape):
+        try:
+            ok = usable(scenario.shape)
+        except (ValueError, RuntimeError) as e:  # no peak, or mu0 not solvable: name the law the user fixed
+            if not (shape_fixed and scenario.creep_law is not None):
+                raise
+            raise NoPeakError(f"creep_law.{scenario.creep_family}: {e}") from None
+        if not ok:
             shape = draw_shape(rng, scenario.creep_family, scenario.condition, accept=usable)
             scenario = replace(scenario, creep_law=shape)
         truth, wheel_load = truths[scenario.shape]

@@ -22,7 +22,10 @@ def check_number(name: str, value: Any, low: float, high: float, *, low_open: bo
     if isinstance(value, bool) or type(value).__name__ == "bool_" or not isinstance(value, numbers.Real):
         raise ValueError(f"{name} must be a number in {_interval(low, high, low_open)}{unit}, "
                          f"got {value!r} ({type(value).__name__})")
-    v = float(value)
+    try:
+        v = float(value)
+    except OverflowError:  # an int too large for a float: out of range, on its side
+        v = math.inf if value > 0 else -math.inf
     if not math.isfinite(v) or v < low or v > high or (low_open and v == low):
         raise ValueError(f"{name} must be a finite number in {_interval(low, high, low_open)}{unit}, got {value!r}")
     return v
