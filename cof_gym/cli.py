@@ -11,11 +11,14 @@ interrupted.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import warnings
 from pathlib import Path
 
-from cof_gym.commands.args import PROG, Parser, UsageError, check_output_dir, positive_float
+from cof_gym.commands.args import PROG, Parser, UsageError, check_output_dir, float_at_least
+
+BENCH_MIN_SECONDS = 0.01  # bench --seconds: ten physics steps of the wagon (dt = 1 ms), the shortest timing
 
 
 # ---------------------------------------------------------------------------- commands
@@ -51,8 +54,15 @@ def _reproduce(args: argparse.Namespace) -> int:
 def _bench(args: argparse.Namespace) -> int:
     from cof_gym.commands.bench import main as bench_main
 
-    if args.markdown is not None and not Path(args.markdown).resolve().parent.is_dir():
-        raise UsageError("--markdown", f"{args.markdown}: its directory does not exist")
+    if args.markdown is not None:  # checked before the benchmark runs
+        markdown = Path(args.markdown)
+        if markdown.is_dir():
+            raise UsageError("--markdown", f"{args.markdown!r} is a directory; give a file path")
+        if not markdown.resolve().parent.is_dir():
+            raise UsageError("--markdown", f"{args.markdown}: its directory does not exist")
+        if not os.access(markdown.resolve().parent, os.W_OK | os.X_OK) or (
+                markdown.exists() and not os.access(markdown, os.W_OK)):
+            raise UsageError("--markdown", f"{args.markdown}: not writable")
     bench_main(args.seconds, args.markdown)
     return 0
 
@@ -97,8 +107,9 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("bench", help="simulation speed: native callback vs bare MuJoCo, 1 vs 2 threads",
                        description="Simulation speed of the wagon with and without the native callback, and "
                                    "agent steps per second of the single and the vector env.")
-    p.add_argument("--seconds", type=positive_float, default=5.0,
-                   help="simulated seconds per physics timing (also sets the env timings' length)")
+    p.add_argument("--seconds", type=float_at_least(BENCH_MIN_SECONDS), default=5.0,
+                   help=f"simulated seconds per physics timing, at least {BENCH_MIN_SECONDS:g} (also sets the env "
+                        "timings' length)")
     p.add_argument("--markdown", metavar="PATH", default=None,
                    help="also write the table there as Markdown (experiments/readme_results.py copies it into the README)")
     p.set_defaults(func=_bench)

@@ -228,6 +228,40 @@ def test_a_suite_note_that_is_not_a_string_is_named(tmp_path: Path) -> None:
         make_suite(str(tmp_path / "s.json"), 60, 0)
 
 
+def test_a_suite_keeps_the_interface_the_agents_act_through(tmp_path: Path) -> None:
+    """env_kwargs that would change the agents' actions or info, or end episodes before the task's horizon
+    scores them, are refused when the file is read; the env's defaults, no TimeLimit (-1) and a TimeLimit at
+    or beyond the horizon are not."""
+    def suite(env_kwargs):
+        (tmp_path / "s.json").write_text(json.dumps({"env_kwargs": env_kwargs}))
+        return make_suite(str(tmp_path / "s.json"), 2, 0)
+
+    for env_kwargs in ({"action_type": "absolute", "excitation": "sine", "info_layout": "nested"},
+                       {"max_episode_steps": -1}, {"max_episode_steps": 30}, {"max_episode_steps": 50},
+                       {"max_windows": 40}, {"max_windows": 10, "max_episode_steps": 10}):
+        assert suite(env_kwargs).env_kwargs == env_kwargs
+    for env_kwargs, message in (
+            ({"action_type": "relative"}, "env_kwargs.action_type must be 'absolute' (.*), got 'relative'"),
+            ({"excitation": "multitone"}, "env_kwargs.excitation must be 'sine' (.*), got 'multitone'"),
+            ({"info_layout": "flat"}, "env_kwargs.info_layout must be 'nested' (.*), got 'flat'"),
+            ({"max_episode_steps": 3}, "env_kwargs.max_episode_steps must be -1 .* max_windows=30 .*, got 3$"),
+            ({"max_windows": 40, "max_episode_steps": None}, "max_windows=40 .*, got None$"),  # the spec's 30
+            ({"max_episode_steps": True}, "env_kwargs.max_episode_steps must be an integer, got True")):
+        with pytest.raises(SuiteError, match=message):
+            suite(env_kwargs)
+
+
+def test_a_suite_files_options_are_checked_before_any_env_is_built(tmp_path: Path, monkeypatch) -> None:
+    monkeypatch.setattr(gym, "make", lambda *a, **k: pytest.fail("an env was built"))
+    episodes = [{"seed": i, "options": {"cof": 0.3}} for i in range(60)] + [{"seed": 60, "options": {"cof": "0.2"}}]
+    (tmp_path / "s.json").write_text(json.dumps({"episodes": episodes}))
+    with pytest.raises(SuiteError, match=r"s\.json: episode 60 \(options \{'cof': '0\.2'\}\): cof must be a number"):
+        make_suite(str(tmp_path / "s.json"), 2, 0)
+    (tmp_path / "s.json").write_text(json.dumps({"options": {"noise_level": -1}}))
+    with pytest.raises(SuiteError, match=r"options \{'noise_level': -1\}: noise_level must be a finite number"):
+        make_suite(str(tmp_path / "s.json"), 2, 0)
+
+
 def test_configuration_note_names_each_difference_from_the_nearest_trained_world() -> None:
     from cof_gym.agents.base import configuration_note
 

@@ -30,6 +30,12 @@ SUITE_FILES = {
         "creepage": [0.0, 0.01, 0.005, 0.02], "adhesion_ratio": [0.0, 0.5, 1.0, 0.9]}}}}),
     "polach_missing.json": json.dumps({"options": {"creep_law": {"polach": {"k_adhesion": 1.0}}}}),
     "speed_error_too_large.json": json.dumps({"options": {"speed_sensor_error": 0.5}}),
+    # env_kwargs that change the interface the agents act through, or cut episodes before the task scores them
+    "relative_actions.json": json.dumps({"env_kwargs": {"action_type": "relative"}}),
+    "short_time_limit.json": json.dumps({"env_kwargs": {"max_episode_steps": 3}}),
+    "multitone.json": json.dumps({"env_kwargs": {"excitation": "multitone"}}),
+    "flat_info.json": json.dumps({"env_kwargs": {"info_layout": "flat"}}),
+    "deep_nesting.json": "[" * 100_000 + "]" * 100_000,
 }
 SHIPPED = str(Path(cli.__file__).parent / "agents" / "policies" / "ppo_wagon")  # observation (38,)
 
@@ -38,6 +44,13 @@ BAD = [
     (["evaluate", "--agents", "staircase", "--suite", "table_not_increasing.json"], "creep_law.table.creepage"),
     (["evaluate", "--agents", "staircase", "--suite", "polach_missing.json"], "creep_law.polach.k_slip"),
     (["evaluate", "--agents", "staircase", "--suite", "speed_error_too_large.json"], "speed_sensor_error"),
+    (["evaluate", "--agents", "staircase", "--suite", "relative_actions.json"],
+     "env_kwargs.action_type must be 'absolute' (the evaluated agents act through it), got 'relative'"),
+    (["evaluate", "--agents", "staircase", "--suite", "short_time_limit.json"],
+     "env_kwargs.max_episode_steps must be -1 (no TimeLimit) or at least the task's horizon max_windows=30"),
+    (["evaluate", "--agents", "staircase", "--suite", "multitone.json"], "env_kwargs.excitation must be 'sine'"),
+    (["evaluate", "--agents", "staircase", "--suite", "flat_info.json"], "env_kwargs.info_layout must be 'nested'"),
+    (["evaluate", "--agents", "staircase", "--suite", "deep_nesting.json"], "deep_nesting.json: JSON nested too deeply"),
     (["evaluate", "--agents", "nonexistent"], "--agents"),
     (["evaluate", "--agents", "staircase-paper,staircase,pp0"], "pp0"),
     (["evaluate", "--agents", "staircase,,staircase-paper"], "--agents"),
@@ -61,6 +74,9 @@ BAD = [
     (["evaluate", "--no-such-flag"], "--no-such-flag"),
     (["bench", "--seconds", "0"], "--seconds"),
     (["bench", "--seconds", "nan"], "--seconds"),
+    (["bench", "--seconds", "1e-300"], "must be a finite number >= 0.01"),  # no physics step: ZeroDivisionError
+    (["bench", "--seconds", "0.02", "--markdown", "."], "'.' is a directory"),  # refused before the benchmark
+    (["bench", "--seconds", "0.02", "--markdown", "no_such_dir/speed.md"], "its directory does not exist"),
     (["train", "--out", "run", "--timesteps", "0"], "--timesteps"),
     (["train", "--out", "run", "--env", "CofGym/Nope-v0"], "--env"),
     (["train", "--out", "run", "--resume", "/no/such/model.zip"], "--resume"),

@@ -155,6 +155,26 @@ def test_distribution_note_names_untrained_settings():
     assert "traction_balance" in agent.distribution_note(cof_gym.WAGON_ENV_ID, {"traction_balance": False})
 
 
+def test_distribution_note_reads_constructor_defaults_and_scenario_fields_as_the_env_does():
+    """An argument equal to the env's default is the env made without it (no note); scenario fields given
+    as constructor arguments fix every episode's scenario, so they count as its options (an episode's own
+    option over them, as in the env)."""
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    agent = LearnedInterrogator(env.unwrapped.limits, FilterEnsemble((random_network(),)),
+                                trained_on=(cof_gym.WAGON_ENV_ID, ({}, {"counter_torque": True})))
+    for defaults in ({"counter_torque": False}, {"vehicle": "wagon", "window_s": 1.0, "traction_balance": None}):
+        assert agent.distribution_note(cof_gym.WAGON_ENV_ID, defaults, [{}]) is None, defaults
+    assert "counter_torque=0" in agent.distribution_note(cof_gym.WAGON_ENV_ID, {"counter_torque": 0})  # 0 is no False
+    kwargs = {"noise_level": 3.0, "speed_sensor_error": 0.05, "motor_lag_s": 0.1}
+    note = agent.distribution_note(cof_gym.WAGON_ENV_ID, kwargs, [{}, {"cof": 0.3}])
+    assert note.startswith("interrogator: 2 of 2 episodes") and "noise_level in 2 (e.g. 3, drawn: 0-1)" in note
+    assert "motor_lag_s in 2" in note and "speed_sensor_error in 2" in note
+    inside = {"noise_level": 0.5, "speed_sensor_error": 0.0, "motor_lag_s": 0.01}
+    assert agent.distribution_note(cof_gym.WAGON_ENV_ID, kwargs, [inside, {**inside, "noise_level": None}]) == (
+        "interrogator: 1 of 2 episodes lie outside the scenario draws it was trained on, out of its training "
+        "distribution: noise_level in 1 (e.g. 3, drawn: 0-1)")  # None: the constructor's value stays
+
+
 def test_distribution_note_counts_episodes_beyond_the_training_draws(env):
     """The held-out grid (tables, larger sensor errors) lies wholly outside the v2 draws; the paper suite
     has one CoF below the dry draws; the default suite's seeded draws lie inside."""

@@ -7,7 +7,7 @@ from typing import Any, Iterable, Mapping, Protocol, Sequence, runtime_checkable
 
 import numpy as np
 
-from cof_gym.task.scenarios import ScenarioRanges, outside_draws
+from cof_gym.task.scenarios import SCENARIO_KEYS, ScenarioRanges, outside_draws
 
 
 @runtime_checkable
@@ -47,6 +47,48 @@ def registered_ranges(env_id: str, env_kwargs: Mapping[str, Any] | None = None) 
 
     kwargs = {**gym.spec(env_id).kwargs, **(env_kwargs or {})}
     return kwargs["ranges"] if kwargs.get("ranges") is not None else default_ranges(kwargs.get("task_version", 2))
+
+
+def env_defaults(env_id: str) -> dict[str, Any]:
+    """The constructor arguments a registered cof_gym env id is made with by default: its spec's kwargs
+    over the constructor's defaults (the constructor's alone for an id that is not registered)."""
+    import inspect
+
+    import gymnasium as gym
+
+    from cof_gym.envs.torque_interrogation import TorqueInterrogationEnv
+
+    defaults = {name: p.default for name, p in inspect.signature(TorqueInterrogationEnv.__init__).parameters.items()
+                if p.default is not inspect.Parameter.empty}
+    try:
+        defaults.update(gym.spec(env_id).kwargs)
+    except gym.error.Error:
+        pass
+    return defaults
+
+
+def without_defaults(env_id: str, kwargs: Mapping[str, Any]) -> dict[str, Any]:
+    """``kwargs`` less the arguments equal to ``env_id``'s defaults (:func:`env_defaults`): the env made with
+    ``counter_torque=False`` is the env made without it (a bool never equals a number here)."""
+    defaults = env_defaults(env_id)
+
+    def default(name: str, value: Any) -> bool:
+        if name not in defaults or isinstance(value, bool) != isinstance(defaults[name], bool):
+            return False
+        try:
+            return bool(value == defaults[name])
+        except (TypeError, ValueError):  # e.g. an array's elementwise comparison
+            return False
+
+    return {k: v for k, v in kwargs.items() if not default(k, v)}
+
+
+def episode_scenarios(env_kwargs: Mapping[str, Any], episodes: Iterable[Mapping[str, Any]]) -> list[dict[str, Any]]:
+    """Each episode's fixed scenario fields as the env applies them: the scenario fields given as constructor
+    arguments (``env_kwargs``, e.g. ``noise_level``), with an episode's reset options over them (an option
+    None leaves the constructor's value, as the env does)."""
+    fixed = {k: v for k, v in env_kwargs.items() if k in SCENARIO_KEYS and v is not None}
+    return [{**fixed, **{k: v for k, v in options.items() if v is not None}} for options in episodes]
 
 
 def configuration_note(name: str, env_id: str, world: Mapping[str, Any], trained_id: str,

@@ -161,7 +161,8 @@ from typing import Any, Iterable, Mapping
 
 import numpy as np
 
-from cof_gym.agents.base import configuration_note, outside_training_note, registered_ranges
+from cof_gym.agents.base import (configuration_note, episode_scenarios, outside_training_note, registered_ranges,
+                                 without_defaults)
 from cof_gym.agents.phase_rule import PhaseRule, knee_seen, probe_amplitude
 from cof_gym.agents.runaway import CrestCeiling, RunawayBracket, crest_lower_bound
 from cof_gym.agents.staircase import ElasticityClimb
@@ -1104,14 +1105,17 @@ class LearnedInterrogator:
         if self.trained_on is None:
             return None
         trained_id, configs = self.trained_on
-        world = lambda kw: {k: v for k, v in kw.items() if k in WORLD_KWARGS}  # noqa: E731
-        note = configuration_note(self.name, env_id, world(env_kwargs), trained_id, [world(c) for c in configs])
+        # an argument equal to the env's default is the env made without it
+        world = lambda env, kw: without_defaults(env, {k: v for k, v in kw.items() if k in WORLD_KWARGS})  # noqa: E731
+        note = configuration_note(self.name, env_id, world(env_id, env_kwargs), trained_id,
+                                  [world(trained_id, c) for c in configs])
         if note:
             return note
         trained = registered_ranges(trained_id)
         if registered_ranges(env_id, env_kwargs) != trained:
             return f"{self.name}: the suite's scenario draws (ranges) are not its training draws: out of its training distribution"
-        return outside_training_note(self.name, trained, episodes)
+        # scenario fields fixed as constructor arguments count as every episode's options
+        return outside_training_note(self.name, trained, episode_scenarios(env_kwargs, episodes))
 
     def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
         if self.params.tones == 2 and "tone2_frequency_hz" not in info.get("measurement", {}):

@@ -85,6 +85,16 @@ def _float_above(text: str, low: float, inclusive: bool) -> float:
     return value
 
 
+def float_at_least(low: float):
+    """An argparse type: a finite number >= low."""
+
+    def parse(text: str) -> float:
+        return _float_above(text, low, inclusive=True)
+
+    parse.__name__ = f"number >= {low:g}"
+    return parse
+
+
 def positive_float(text: str) -> float:
     return _float_above(text, 0.0, inclusive=False)
 

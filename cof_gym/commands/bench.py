@@ -74,6 +74,8 @@ def _bench_laws(conditions: dict[str, str | CreepShape], seconds: float, repeats
         bare.qpos[:], bare.qvel[:] = sim.data.qpos, sim.data.qvel
     timestep = built.model.opt.timestep
     steps = int(seconds / timestep)
+    if steps < 1:
+        raise ValueError(f"seconds must be at least one physics step ({timestep:g} s), got {seconds!r}")
     callback = native().cofgym_passive
     native_best, bare_best = dict.fromkeys(conditions, 0.0), dict.fromkeys(conditions, 0.0)
     for _ in range(repeats):

@@ -4,7 +4,8 @@ A suite file is JSON::
 
     {
       "env_id": "CofGym/TorqueInterrogation-v1",        (optional; default: the wagon)
-      "env_kwargs": {"counter_torque": true},            (optional; constructor arguments)
+      "env_kwargs": {"counter_torque": true},            (optional; constructor arguments, not ones that
+                          change the agents' interface (INTERFACE_KWARGS) or a max_episode_steps below the horizon)
       "options": {"condition": "wet"},                   (optional; reset options of every episode)
       "episodes": [{"seed": 1, "options": {"cof": 0.2}, "note": "..."}, ...],
                           (options: any scenario field, e.g. "creep_law": "wet",
@@ -40,6 +41,14 @@ SUITE_NAMES = ("default", "paper")
 FILE_KEYS = ("env_id", "env_kwargs", "options", "episodes", "description")
 EPISODE_KEYS = ("seed", "options", "note")  # note: a free-text label (evaluate's breakdown groups by it)
 MAX_SEED = 2**63 - 1
+# env_kwargs that change the interface the evaluated agents act through: what every agent needs (the env's
+# default). An agent that acts in another excitation gets an env of its own (its ``env_options``,
+# cof_gym.commands.evaluate.agent_envs); the PPO agent applies its action type agent-side.
+INTERFACE_KWARGS = {
+    "action_type": "absolute",  # the agents encode absolute actions (cof_gym.task.interface.encode_action)
+    "excitation": "sine",  # the agents send the sine's 5-value action
+    "info_layout": "nested",  # the evaluator and the oracles read info["measurement"] and info["ground_truth"]
+}
 MAX_EPISODES = 100_000  # episodes per agent (--episodes and a file's episode list): hours of simulation
 
 
@@ -128,6 +137,43 @@ def _check_seed(value: Any, where: str, path: Path) -> int:
     return int(value)
 
 
+def _check_interface(env_id: str, env_kwargs: dict[str, Any], path: Path) -> None:
+    """env_kwargs that would change what the evaluated agents act through (:data:`INTERFACE_KWARGS`) or cut
+    episodes short: the registered TimeLimit (``max_episode_steps``) must not end an episode before the task's
+    horizon (``max_windows``) scores it; -1 (no TimeLimit) or a value at or beyond the horizon is harmless."""
+    import gymnasium as gym
+
+    from cof_gym.envs.torque_interrogation import make_kwargs
+
+    for key, needed in INTERFACE_KWARGS.items():
+        if key in env_kwargs and env_kwargs[key] != needed:
+            raise SuiteError(f"{path}: env_kwargs.{key} must be {needed!r} (the evaluated agents act through it), "
+                             f"got {env_kwargs[key]!r}")
+    kwargs = make_kwargs(env_kwargs)
+    spec = gym.spec(env_id)
+    horizon = kwargs.get("max_windows", spec.kwargs.get("max_windows", cof_gym.MAX_EPISODE_STEPS))
+    steps = kwargs.get("max_episode_steps", spec.max_episode_steps)
+    if steps is None:  # gym.make applies the registered TimeLimit
+        steps = spec.max_episode_steps
+    if isinstance(steps, bool):
+        raise SuiteError(f"{path}: env_kwargs.max_episode_steps must be an integer, got {steps!r}")
+    if (isinstance(horizon, numbers.Integral) and not isinstance(horizon, bool) and isinstance(steps, numbers.Integral)
+            and steps != -1 and 0 < steps < horizon):
+        raise SuiteError(f"{path}: env_kwargs.max_episode_steps must be -1 (no TimeLimit) or at least the task's "
+                         f"horizon max_windows={horizon} (a shorter TimeLimit ends every episode unscored), "
+                         f"got {env_kwargs.get('max_episode_steps', steps)!r}")
+
+
+def _check_options(options: dict[str, Any], where: str, path: Path) -> None:
+    """Reset options checked by type and range (:func:`~cof_gym.task.scenarios.check_fixed`, the env's own check)
+    before any env is built; what only an env can tell (e.g. a load case its vehicle lacks) is left to its reset
+    (cof_gym.commands.evaluate.check_suite_runs)."""
+    try:
+        check_fixed(options)
+    except (ValueError, TypeError, KeyError) as e:
+        raise SuiteError(f"{path}: {where}: {e}") from None
+
+
 def file_suite(path: Path, n_episodes: int, seed: int) -> Suite:
     """A suite read from a JSON file (schema in the module docstring)."""
     path = Path(path)
@@ -143,6 +189,8 @@ def file_suite(path: Path, n_episodes: int, seed: int) -> Suite:
         spec = json.loads(text)
     except json.JSONDecodeError as e:
         raise SuiteError(f"{path}: invalid JSON at line {e.lineno} column {e.colno}: {e.msg}") from None
+    except RecursionError:
+        raise SuiteError(f"{path}: JSON nested too deeply") from None
     spec = _check_dict(spec, "the top level", path)
     unknown = sorted(set(spec) - set(FILE_KEYS))
     if unknown:
@@ -151,6 +199,7 @@ def file_suite(path: Path, n_episodes: int, seed: int) -> Suite:
     if env_id not in cof_gym.ENV_IDS:
         raise SuiteError(f"{path}: env_id must be a cof_gym id, one of {list(cof_gym.ENV_IDS)}; got {env_id!r}")
     env_kwargs = _check_dict(spec.get("env_kwargs", {}), "env_kwargs", path)
+    _check_interface(env_id, env_kwargs, path)
     options = _check_dict(spec.get("options", {}), "options", path)
     if "description" in spec and not isinstance(spec["description"], str):
         raise SuiteError(f"{path}: description must be a string")
@@ -171,7 +220,14 @@ def file_suite(path: Path, n_episodes: int, seed: int) -> Suite:
                 raise SuiteError(f"{path}: episodes[{i}].note must be a string, got {note!r:.60}")
             notes.append(note)
             episodes.append((ep_seed, {**options, **_check_dict(e.get("options", {}), f"episodes[{i}].options", path)}))
+        checked = set()
+        for i, (_, ep_options) in enumerate(episodes):
+            key = json.dumps(ep_options, sort_keys=True, default=repr)
+            if key not in checked:
+                checked.add(key)
+                _check_options(ep_options, f"episode {i} (options {ep_options})", path)
         return Suite(str(path), env_id, env_kwargs, episodes, tuple(notes) if any(notes) else ())
+    _check_options(options, f"options {options}", path)
     return Suite(str(path), env_id, env_kwargs, SeededEpisodes(seed, n_episodes, lambda i: dict(options)))
 
 
