@@ -64,6 +64,10 @@ BAD = [
     (["evaluate", "--agents", "ppo:corrupt.zip"], "corrupt.zip"),
     (["evaluate", "--agents", "staircase", "--out", "/proc/cof_gym_out"], "--out"),
     (["evaluate", "--seed", "-1"], "--seed"),
+    (["evaluate", "--seed", str(2**63)], "must be an integer in [0, 9223372036854775807]"),  # one bound, args.MAX_SEED
+    (["evaluate", "--seed", str(2**63 - 1), "--episodes", "2"], "the last episode's seed 9223372036854775808"),
+    (["watch", "--seed", str(2**63), "--out", "e.gif"], "--seed"),  # the seed of the episode evaluate plays
+    (["train", "--out", "run", "--seed", str(2**32)], "must be an integer in [0, 4294967295]"),  # numpy's legacy seeding
     (["evaluate", "--suite", "/no/such/file.json"], "no such suite file"),
     (["evaluate", "--suite", "nonsense"], "--suite"),
     *[(["evaluate", "--suite", name, "--agents", "staircase"], name) for name in SUITE_FILES],

@@ -66,6 +66,20 @@ def int_in_range(low: int, high: int):
     return parse
 
 
+MAX_SEED = 2**63 - 1  # an episode seed: a signed 64-bit integer (episodes.csv's seed column, numpy's int64)
+MAX_TRAIN_SEED = 2**32 - 1  # a training seed: SB3's set_random_seed seeds numpy's legacy generator (32 bits)
+
+
+def seed_int(text: str) -> int:
+    """An argparse type: an episode seed, an integer in [0, MAX_SEED]."""
+    return _int_at_least(text, 0, MAX_SEED)
+
+
+def train_seed_int(text: str) -> int:
+    """An argparse type: a training seed, an integer in [0, MAX_TRAIN_SEED]."""
+    return _int_at_least(text, 0, MAX_TRAIN_SEED)
+
+
 def positive_int(text: str) -> int:
     return _int_at_least(text, 1)
 

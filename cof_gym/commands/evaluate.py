@@ -553,7 +553,7 @@ def _play_and_write(envs: dict[str, Any], agents, agent_specs, suite: Suite, out
 
 # ---------------------------------------------------------------------------- command line
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    from cof_gym.commands.args import int_in_range, non_negative_int
+    from cof_gym.commands.args import MAX_SEED, int_in_range, seed_int
 
     parser.add_argument("--agents", default=None, metavar="A,B,...",
                         help=f"comma-separated agents: {registry.describe()} (default: "
@@ -564,8 +564,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--suite", default="default", metavar="SUITE",
                         help="scenarios: 'default' (the env's distribution), 'paper' (the paper's setting) or a "
                              "JSON suite file (see cof_gym/commands/suites.py)")
-    parser.add_argument("--seed", type=non_negative_int, default=0,
-                        help="seed of the first episode (episode i uses seed + i) and of the bootstrap CIs")
+    parser.add_argument("--seed", type=seed_int, default=0,
+                        help=f"seed of the first episode (episode i uses seed + i) and of the bootstrap CIs; the "
+                             f"last episode's at most {MAX_SEED}")
     parser.add_argument("--out", default=None, metavar="DIR",
                         help="output directory, replaced when the run completes (default: out/evaluate, or "
                              "out/evaluate-SUITE for another suite)")
@@ -574,7 +575,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
     """Check the whole command line before anything runs or is written (UsageError naming the flag)."""
-    from cof_gym.commands.args import UsageError
+    from cof_gym.commands.args import MAX_SEED, UsageError
 
     specs = [s.strip() for s in args.agents.split(",")] if args.agents is not None else registry.default_agents()
     if not specs or any(not s for s in specs):
@@ -597,6 +598,10 @@ def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
         suite = make_suite(args.suite, args.episodes, args.seed)
     except SuiteError as e:
         raise UsageError("--suite", str(e)) from None
+    last_seed = max(seed for seed, _ in suite.episodes)
+    if last_seed > MAX_SEED:  # seeded episodes: seed + i
+        raise UsageError("--seed", f"the last episode's seed {last_seed} is beyond {MAX_SEED}; give at most "
+                                   f"{MAX_SEED - len(suite.episodes) + 1} for {len(suite.episodes)} episodes")
     out = check_out(Path(args.out) if args.out is not None else default_out(args.suite))
     return specs, suite, out
 

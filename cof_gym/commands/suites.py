@@ -32,7 +32,7 @@ from pathlib import Path
 from typing import Any, Callable, Iterator
 
 import cof_gym
-from cof_gym.commands.args import name_value
+from cof_gym.commands.args import MAX_SEED, name_value
 from cof_gym.task.scenarios import check_fixed
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 
@@ -40,7 +40,6 @@ PAPER_COFS = (0.1, 0.2, 0.3, 0.4, 0.5)
 SUITE_NAMES = ("default", "paper")
 FILE_KEYS = ("env_id", "env_kwargs", "options", "episodes", "description")
 EPISODE_KEYS = ("seed", "options", "note")  # note: a free-text label (evaluate's breakdown groups by it)
-MAX_SEED = 2**63 - 1
 # env_kwargs that change the interface the evaluated agents act through: what every agent needs (the env's
 # default). An agent that acts in another excitation gets an env of its own (its ``env_options``,
 # cof_gym.commands.evaluate.agent_envs); the PPO agent applies its action type agent-side.

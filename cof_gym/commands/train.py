@@ -319,7 +319,7 @@ def save_warm_start(model, train_env, out: Path, env_id: str) -> Path:
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The options of ``cof-gym train``."""
     from cof_gym.agents.pretrain import EXPERTS
-    from cof_gym.commands.args import non_negative_float, non_negative_int, positive_int
+    from cof_gym.commands.args import MAX_TRAIN_SEED, non_negative_float, non_negative_int, positive_int, train_seed_int
 
     parser.add_argument("--algo", choices=ALGOS, default="ppo", help="RL algorithm")
     parser.add_argument("--env", default=None, choices=cof_gym.ENV_IDS, metavar="ENV_ID",
@@ -332,8 +332,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "steps added to the loaded model's")
     parser.add_argument("--n-envs", type=positive_int, default=None,
                         help="parallel environments (default: n_envs of the YAML)")
-    parser.add_argument("--seed", type=non_negative_int, default=None,
-                        help="random seed (default: 0; with --resume: the run's seed + its timesteps)")
+    parser.add_argument("--seed", type=train_seed_int, default=None,
+                        help=f"random seed, at most {MAX_TRAIN_SEED} (default: 0; with --resume: the run's seed + "
+                             f"its timesteps, modulo {MAX_TRAIN_SEED + 1})")
     parser.add_argument("--resume", default=None, metavar="PATH",
                         help="continue training a saved model zip (or output directory); the "
                              "vecnormalize.pkl beside it is loaded too")
@@ -574,7 +575,7 @@ def _train(args: argparse.Namespace, out: Path, resume_path: Path | None, prev_m
     previous_steps = 0
     if resume_path is not None:
         previous_steps = int(PPO.load(resume_path, device=args.device).num_timesteps)
-    seed = args.seed if args.seed is not None else (int(prev_meta.get("seed", 0)) + previous_steps
+    seed = args.seed if args.seed is not None else ((int(prev_meta.get("seed", 0)) + previous_steps) % (MAX_TRAIN_SEED + 1)
                                                     if resume_path is not None else 0)
     set_random_seed(seed)
     out.mkdir(parents=True, exist_ok=True)

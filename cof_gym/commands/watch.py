@@ -26,7 +26,7 @@ import numpy as np
 import cof_gym
 from cof_gym.agents import registry
 from cof_gym.agents.base import own_env_options
-from cof_gym.commands.args import UsageError, positive_float
+from cof_gym.commands.args import UsageError, int_in_range, positive_float, seed_int
 from cof_gym.physics.creep import creep_curve
 from cof_gym.physics.native import layout
 from cof_gym.physics.simulation import DriveCommand, Simulation, begin_window, dc_torque_at
@@ -49,18 +49,6 @@ DRIVEN = "orange spokes: the driven wheelset"
 
 
 # ---------------------------------------------------------------------------- checks
-def _int_in(low: int, high: int):
-    def parse(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            value = low - 1
-        if not low <= value <= high:
-            raise argparse.ArgumentTypeError(f"must be an integer in [{low}, {high}], got {text!r}")
-        return value
-    return parse
-
-
 def check_video_path(path: Path, flag: str = "--out") -> Path:
     """A video file that can be written: a known extension, not a directory, in a writable folder
     (created when missing, so its nearest existing ancestor must be writable). Creates nothing."""
@@ -147,14 +135,14 @@ def prepare(args: argparse.Namespace) -> WatchRequest:
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--agent", default="model-based", metavar="AGENT",
                         help=f"the agent: {registry.describe()}")
-    parser.add_argument("--seed", type=_int_in(0, 2**31 - 1), default=0,
+    parser.add_argument("--seed", type=seed_int, default=0,
                         help="episode seed (the scenario cof-gym evaluate plays as its episode with this seed)")
     parser.add_argument("--env", default=cof_gym.WAGON_ENV_ID, metavar="ENV_ID",
                         help=f"environment id: {', '.join(cof_gym.ENV_IDS)}")
     parser.add_argument("--out", default="episode.mp4", metavar="FILE", help="the video, .mp4 or .gif")
-    parser.add_argument("--fps", type=_int_in(1, 60), default=None,
+    parser.add_argument("--fps", type=int_in_range(1, 60), default=None,
                         help="frames per video second (default: 25 for MP4, 12 for GIF)")
-    parser.add_argument("--width", type=_int_in(320, 3840), default=None,
+    parser.add_argument("--width", type=int_in_range(320, 3840), default=None,
                         help="frame width in pixels, height 9/16 of it (default: 1280 for MP4, 960 for GIF)")
     parser.add_argument("--speed", type=positive_float, default=1.0,
                         help="simulated seconds per video second, in [0.05, 10] (0.5: slow motion)")
