@@ -272,6 +272,15 @@ def test_configuration_note_names_each_difference_from_the_nearest_trained_world
         "a is out of its training distribution here: env Y (trained: X), vehicle='v' (trained: 'default')")
 
 
+def test_the_ppo_note_reads_an_argument_equal_to_the_default_as_the_default() -> None:
+    """``counter_torque=False`` is the env made without it: no note for the shipped v1 policy; True is a world it
+    was not trained in."""
+    env = gym.make(cof_gym.WAGON_V1_ENV_ID)
+    agent = registry.make_agent("ppo", env)
+    assert agent.distribution_note(cof_gym.WAGON_V1_ENV_ID, {"counter_torque": False}, [{}]) is None
+    assert "counter_torque=True" in agent.distribution_note(cof_gym.WAGON_V1_ENV_ID, {"counter_torque": True}, [{}])
+
+
 def test_saturation_oracle_keeps_its_crest_below_the_peak_and_refuses_a_crest_past_it() -> None:
     """The oracle's hold plus its modulation stays below the true saturation torque, so it survives creep
     curves that fall steeply past their peak (there a crest past the peak runs the wheel away); levels

@@ -16,7 +16,7 @@ from typing import Any, Iterable, Mapping
 import numpy as np
 
 import cof_gym
-from cof_gym.agents.base import configuration_note, outside_training_note, registered_ranges
+from cof_gym.agents.base import configuration_note, outside_training_note, registered_ranges, without_defaults
 
 DEFAULT_ENV_ID = cof_gym.WAGON_V1_ENV_ID  # the shipped policy was trained on v1
 MODEL_NAMES = ("model.zip", "best_model.zip")  # looked for, in this order, when given a directory
@@ -188,9 +188,13 @@ class PPOAgent:
         if self.trained_on is None:
             return None
         trained_id, trained_kwargs = self.trained_on
-        world = lambda kw: {k: v for k, v in kw.items() if k not in self.INTERFACE_KWARGS}  # noqa: E731
-        note = configuration_note(self.name, env_id, world(env_kwargs), trained_id, (world(trained_kwargs),))
-        return note or outside_training_note(self.name, registered_ranges(trained_id, world(trained_kwargs)), episodes)
+        # an argument equal to the env's default is the env made without it (as the interrogator's note)
+        world = lambda env, kw: without_defaults(env, {k: v for k, v in kw.items()  # noqa: E731
+                                                       if k not in self.INTERFACE_KWARGS})
+        note = configuration_note(self.name, env_id, world(env_id, env_kwargs), trained_id,
+                                  (world(trained_id, trained_kwargs),))
+        return note or outside_training_note(self.name, registered_ranges(trained_id, world(trained_id, trained_kwargs)),
+                                             episodes)
     _pending: np.ndarray | None = None
 
     def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
