@@ -557,6 +557,8 @@ def _train(args: argparse.Namespace, out: Path, resume_path: Path | None, prev_m
     from stable_baselines3.common.utils import set_random_seed
     from stable_baselines3.common.vec_env import VecNormalize
 
+    from cof_gym.commands.args import MAX_TRAIN_SEED
+
     EpisodeTermsCallback, SaveVecNormalizeCallback = _callbacks()
     if args.progress:
         import warnings
