@@ -1,15 +1,20 @@
 """Strict arguments: booleans are booleans, numbers are finite real numbers, options of the wrong type
-get a ValueError naming field, type and range; actions of the wrong shape or dtype are refused; the
-timestep range is stable; an env whose reset failed refuses to step."""
+get a ValueError naming field, type and range; numpy scalars are stored as the Python numbers they hold;
+actions of the wrong shape or dtype are refused; the timestep range is stable; an env whose reset failed
+refuses to step."""
 
 from __future__ import annotations
+
+import json
 
 import gymnasium as gym
 import numpy as np
 import pytest
 
 import cof_gym
-from cof_gym.task.task import TIMESTEP_RANGE_S
+from cof_gym.task.scenarios import ScenarioRanges, draw_scenario
+from cof_gym.task.task import TIMESTEP_RANGE_S, InterrogationTask
+from cof_gym.task.validation import check_bool, check_int, check_number
 
 WAGON, HALF = cof_gym.WAGON_ENV_ID, cof_gym.HALF_WHEELSET_ENV_ID
 SHORT = {"max_windows": 3, "window_s": 0.5}
@@ -46,14 +51,97 @@ def test_wrong_typed_or_out_of_range_options_name_the_field(field: str, value, f
 
 
 @pytest.mark.parametrize("field,value", [
-    ("window_s", "1"), ("window_s", True), ("max_windows", 3.0), ("max_windows", True), ("w_error", -1.0),
-    ("w_time", float("inf")), ("width", 8), ("ranges", "x"), ("timestep", 5e-3), ("macro_slip_ratio", 1.0),
-    ("vehicle", "tram"), ("render_mode", "video"),
+    ("window_s", "1"), ("window_s", True), ("window_s", np.True_), ("max_windows", 3.0), ("max_windows", True),
+    ("max_windows", np.True_), ("w_error", -1.0), ("w_time", float("inf")), ("width", 8), ("ranges", "x"),
+    ("timestep", 5e-3), ("macro_slip_ratio", 1.0), ("macro_slip_ratio", 0.5), ("macro_slip_floor", -1.0),
+    ("macro_slip_floor", np.False_), ("vehicle", "tram"), ("render_mode", "video"),
 ])
 def test_bad_constructor_arguments_raise_naming_them(field: str, value) -> None:
-    with pytest.raises(ValueError, match=field if field not in ("w_error", "w_time", "macro_slip_ratio") else
-                       {"w_error": "w_error", "w_time": "w_time", "macro_slip_ratio": "macro_slip ratio"}[field]):
+    with pytest.raises(ValueError, match=f"^{field} must be"):  # the argument's own name, first
         gym.make(WAGON, **{field: value})
+
+
+def test_numpy_booleans_are_booleans_and_never_numbers() -> None:
+    assert check_bool("x", np.True_) is True and check_bool("x", np.False_) is False
+    for check in (lambda v: check_number("x", v, 0.0, 2.0), lambda v: check_int("x", v, 0, 2)):
+        for value in (True, np.True_, np.False_):
+            with pytest.raises(ValueError, match="x must be"):
+                check(value)
+    task = gym.make(WAGON, counter_torque=np.True_, shaping=np.False_, traction_balance=np.False_).unwrapped.task
+    assert (task.counter_torque, task.shaping, task.traction_balance) == (True, False, False)
+    assert all(type(v) is bool for v in (task.counter_torque, task.shaping, task.traction_balance))
+
+
+@pytest.mark.parametrize("env_id", [HALF, cof_gym.HALF_WHEELSET_V1_ENV_ID])
+@pytest.mark.parametrize("value", [True, np.True_])
+def test_counter_torque_needs_a_second_wheelset(env_id: str, value) -> None:
+    """The half wheelset has no other wheelset to take the counter torque: refused, as traction_balance is."""
+    with pytest.raises(ValueError, match=r"^counter_torque=True needs the wagon"):
+        gym.make(env_id, counter_torque=value)
+    with pytest.raises(ValueError, match=r"^counter_torque=True needs the wagon"):
+        gym.make_vec(env_id, num_envs=1, vectorization_mode="vector_entry_point", counter_torque=value)
+    assert gym.make(env_id, counter_torque=False).unwrapped.task.counter_torque is False
+
+
+def _run(**kwargs):
+    """Reset and one scored step (max_windows=1) of the half wheelset: observations, reward, info, task."""
+    env = gym.make(HALF, max_windows=1, **kwargs)
+    obs, info0 = env.reset(seed=3)
+    obs1, reward, terminated, truncated, info = env.step(np.array([-0.5, 0.1, 0.0, 0.0, -1.0], np.float32))
+    assert (terminated or truncated) and info["scored"]
+    return obs.tobytes() + obs1.tobytes(), reward, (info0, info), env.unwrapped.task
+
+
+def test_numpy_scalars_compute_as_the_python_numbers_they_hold() -> None:
+    """np.float32(0.3) is stored as float(np.float32(0.3)): the same episode, bit for bit, and a JSON info;
+    a numpy int as the int. (Stored unconverted, a float32 made settle_s 0.120000005 and other rewards.)"""
+    numpy_args = {"window_s": np.float32(0.3), "settle_fraction": np.float32(0.4), "ramp_fraction": np.float16(0.25),
+                  "timestep": np.float32(1e-3), "w_error": np.float32(10.1), "w_slip": np.float32(1.5),
+                  "w_comfort": np.float32(0.05), "w_time": np.float32(0.02), "macro_slip_penalty": np.float32(10.0),
+                  "macro_slip_ratio": np.float32(2.5), "macro_slip_floor": np.float32(0.03),
+                  "tones": np.int32(3), "width": np.int64(64), "task_version": np.int64(2)}
+    a_obs, a_reward, a_infos, task = _run(**numpy_args)
+    b_obs, b_reward, b_infos, _ = _run(**{k: v.item() for k, v in numpy_args.items()})
+    assert a_obs == b_obs and np.float64(a_reward).tobytes() == np.float64(b_reward).tobytes()
+    assert json.dumps(a_infos) == json.dumps(b_infos)  # JSON-ready, and the same numbers
+    for name in ("window_s", "settle_fraction", "ramp_fraction", "timestep"):
+        assert type(getattr(task, name)) is float and getattr(task, name) == float(numpy_args[name])
+    for name in ("w_error", "w_slip", "w_comfort", "w_time", "macro_slip_penalty"):
+        assert type(getattr(task.reward, name)) is float
+    assert type(task.macro_slip.ratio) is float and type(task.macro_slip.floor) is float
+    assert type(task.tones) is int and type(task.signal.tones) is int
+    assert task.settle_s == float(np.float32(0.4)) * float(np.float32(0.3))
+    horizon = InterrogationTask(max_windows=np.int16(7)).max_windows
+    assert type(horizon) is int and horizon == 7
+
+
+def test_python_numbers_are_stored_unchanged() -> None:
+    task = InterrogationTask(window_s=0.3, settle_fraction=0.1 + 0.2, max_windows=5)
+    assert task.window_s == 0.3 and task.settle_fraction == 0.1 + 0.2 and type(task.max_windows) is int
+    ranges = ScenarioRanges(speed_m_s=(5.5, 39.0))
+    assert ranges.speed_m_s == (5.5, 39.0) and ranges.cof["wet"] == (0.05, 0.25)
+
+
+def test_numpy_scalars_in_the_ranges_draw_as_the_python_numbers_they_hold() -> None:
+    f32 = np.float32
+    as_numpy = ScenarioRanges(cof={"dry": (f32(0.15), f32(0.55))}, conditions=("dry",), speed_m_s=(f32(5), f32(40)),
+                              noise_level=[f32(0.0), f32(1.0)], motor_lag_s=(f32(0.0), f32(0.03)),
+                              sensor_error_scale=f32(1.0))
+    as_python = ScenarioRanges(cof={"dry": (float(f32(0.15)), float(f32(0.55)))}, conditions=("dry",),
+                               speed_m_s=(5.0, 40.0), noise_level=(0.0, 1.0), motor_lag_s=(0.0, float(f32(0.03))),
+                               sensor_error_scale=1.0)
+    assert as_numpy.cof == as_python.cof and as_numpy.speed_m_s == as_python.speed_m_s
+    a = draw_scenario(np.random.default_rng(1), as_numpy, {}).to_dict()
+    b = draw_scenario(np.random.default_rng(1), as_python, {}).to_dict()
+    assert all(type(a[k]) is type(b[k]) for k in a) and json.dumps(a) == json.dumps(b)
+    assert type(a["cof"]) is float  # (a float32 range drew a float32 CoF)
+
+
+@pytest.mark.parametrize("options", ["dry", "", [], 0, ["cof"]])
+def test_reset_options_must_be_a_dict(options) -> None:
+    env = gym.make(WAGON, **SHORT)
+    with pytest.raises(ValueError, match="options must be a dict"):
+        env.reset(seed=0, options=options)
 
 
 @pytest.mark.parametrize("action", [

@@ -179,3 +179,60 @@ def test_a_corrupted_simulation_diverges_alone_and_autoresets():
         assert not terminated.any() and not info["diverged"].any() and np.isfinite(obs).all()
     finally:
         envs.close()
+
+
+@pytest.mark.parametrize("field,value", [
+    ("num_envs", True), ("num_envs", 0), ("num_envs", 2.0), ("num_envs", 4097), ("num_envs", "2"),
+    ("num_threads", True), ("num_threads", np.True_), ("num_threads", 0), ("num_threads", 2**40), ("num_threads", 1.0),
+    ("max_episode_steps", True), ("max_episode_steps", 0), ("max_episode_steps", 1.5), ("max_episode_steps", "3"),
+])
+def test_bad_vector_arguments_raise_naming_them(field, value):
+    """Ints, not bools (True was taken as 1), in their ranges (2**40 threads was a pybind TypeError)."""
+    kwargs = {"num_envs": 1, field: value}
+    with pytest.raises(ValueError, match=f"^{field} must be an int in \\[1, "):
+        gym.make_vec(ENV_ID, vectorization_mode="vector_entry_point", **kwargs)
+
+
+def test_numpy_integer_vector_arguments_are_stored_as_ints():
+    envs = gym.make_vec(ENV_ID, num_envs=np.int64(2), vectorization_mode="vector_entry_point",
+                        num_threads=np.int32(1), max_episode_steps=np.int16(5))
+    try:
+        assert (envs.num_envs, envs.num_threads, envs.max_episode_steps) == (2, 1, 5)
+        assert all(type(v) is int for v in (envs.num_envs, envs.num_threads, envs.max_episode_steps))
+    finally:
+        envs.close()
+
+
+@pytest.fixture(scope="module")
+def pair_env():
+    envs = gym.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point", max_windows=2, window_s=0.5)
+    yield envs
+    envs.close()
+
+
+@pytest.mark.parametrize("seed,fragment", [
+    ("3", r"^seed must be None, an int >= 0"), (1.5, r"^seed must be None, an int >= 0"),
+    (True, r"^seed must be None, an int >= 0"), (-1, r"^seed must be None, an int >= 0"),
+    (np.float64(3.0), r"^seed must be None, an int >= 0"), ({0: 1, 1: 2}, r"^seed must be None, an int >= 0"),
+    ([0, "1"], r"^seed\[1\] must be an int >= 0 or None"), ([1.5, 2], r"^seed\[0\] must be an int >= 0 or None"),
+    ([0, True], r"^seed\[1\] must be an int >= 0 or None"), ([0, -2], r"^seed\[1\] must be an int >= 0 or None"),
+    ([0], "must match num_envs=2"),
+])
+def test_a_bad_seed_is_one_value_error_naming_it(pair_env, seed, fragment):
+    with pytest.raises(ValueError, match=fragment):
+        pair_env.reset(seed=seed)
+
+
+@pytest.mark.parametrize("options", ["dry", ["cof"], 5, ("cof", 0.3)])
+def test_reset_options_must_be_a_mapping(pair_env, options):
+    """(A string was read as a dict's items: "dictionary update sequence element #0".)"""
+    with pytest.raises(ValueError, match=r"^options must be a dict"):
+        pair_env.reset(seed=0, options=options)
+
+
+def test_numpy_integer_seeds_seed_as_the_ints_they_hold(pair_env):
+    expected = pair_env.reset(seed=3)[0]
+    for seed in (np.int64(3), [3, 4], (np.int32(3), np.uint8(4)), np.array([3, 4])):
+        assert pair_env.reset(seed=seed)[0].tobytes() == expected.tobytes()
+    first = pair_env.reset(seed=[3, None])[0]  # None: that sub-env draws unseeded (its stream goes on)
+    assert first[0].tobytes() == expected[0].tobytes()

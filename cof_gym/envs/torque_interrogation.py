@@ -256,7 +256,7 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | settle_fraction | 0.4 | part of the window not measured (transient after a change), in [0, 0.8] |
     | ramp_fraction | 0.3 | part of the window over which the DC torque is ramped, <= settle_fraction |
     | max_windows | 30 | horizon in steps, int in [1, 10000] |
-    | counter_torque | False | the paper's equal-and-opposite torque on the bogie's other wheelset |
+    | counter_torque | False | the paper's equal-and-opposite torque on the bogie's other wheelset (the wagon only: refused on the half wheelset) |
     | traction_balance | None | the rest of the train cancels the DC torque (None: on for the wagon without counter torque) |
     | timestep | 0.001 | physics step, s, in [1e-4, 2e-3] |
     | ranges | ScenarioRanges() | per-episode draw ranges |
@@ -275,9 +275,10 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | render_mode | None | "rgb_array" or "human" |
     | width, height | 480, 240 | rgb_array frame size, pixels |
 
-    Booleans must be ``bool``, numbers finite real numbers (not bool or str): anything else raises a
-    ``ValueError`` naming the argument, the type and the range; an unknown argument name raises
-    ``TypeError``.
+    Booleans must be ``bool`` (or numpy booleans), numbers finite real numbers (not bool or str): anything
+    else raises a ``ValueError`` naming the argument, the type and the range; an unknown argument name
+    raises ``TypeError``. A numpy scalar is stored as the Python number it holds (``np.float32(0.3)`` runs
+    exactly as ``float(np.float32(0.3))``).
 
     ## Version History
     - v2: creep-law families (Polach with drawn shapes, Shen-Hedrick-Elkins saturation, tables) and

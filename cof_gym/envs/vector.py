@@ -17,9 +17,10 @@ laden wagons are compiled from one structure, so they share the batch's state la
 
 from __future__ import annotations
 
+import numbers
 import os
 import time
-from typing import Any, Sequence
+from typing import Any, Mapping, Sequence
 
 import gymnasium as gym
 import mujoco
@@ -35,6 +36,7 @@ from cof_gym.task.interface import DecodedAction
 from cof_gym.physics.native import layout
 from cof_gym.physics.native.build import install_callback
 from cof_gym.physics.simulation import begin_window, initial_state, initial_userdata, read_window, state_is_finite
+from cof_gym.task.validation import check_int
 
 _BADQACC = int(mujoco.mjtWarning.mjWARN_BADQACC)
 _MAGIC = layout.OFFSETS["MAGIC"]
@@ -42,6 +44,9 @@ _MAGIC = layout.OFFSETS["MAGIC"]
 # one sub-env's result: obs, reward, terminated, truncated, info
 StepResult = tuple[np.ndarray, float, bool, bool, dict]
 AUTORESET_MODES = (AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP, AutoresetMode.DISABLED)
+MAX_NUM_ENVS = 4096  # simulations in one batch
+MAX_NUM_THREADS = 256  # threads of the batch
+MAX_EPISODE_STEPS_LIMIT = 2**31 - 1  # the largest max_episode_steps (a TimeLimit; the task's horizon is shorter)
 
 
 def _autoreset_mode(value: AutoresetMode | str) -> AutoresetMode:
@@ -56,14 +61,20 @@ def _autoreset_mode(value: AutoresetMode | str) -> AutoresetMode:
     return mode
 
 
+def _is_seed(value: Any) -> bool:
+    """An int >= 0 (a numpy integer too), not a bool: what ``gymnasium.utils.seeding.np_random`` takes."""
+    return isinstance(value, numbers.Integral) and not isinstance(value, (bool, np.bool_)) and value >= 0
+
+
 class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
     """``num_envs`` torque-interrogation environments on one ``mujoco.batch.Batch``.
 
     Args:
-        num_envs: number of sub-environments (simulations).
-        num_threads: threads of the batch; default ``min(num_envs, os.cpu_count())``.
-        max_episode_steps: a ``TimeLimit`` (``gym.make_vec`` passes the spec's), applied per sub-env
-            exactly as ``gymnasium.wrappers.TimeLimit`` does; None (the registered ids): the task's
+        num_envs: number of sub-environments (simulations), an int in [1, 4096] (:data:`MAX_NUM_ENVS`).
+        num_threads: threads of the batch, an int in [1, 256] (:data:`MAX_NUM_THREADS`); default
+            ``min(num_envs, os.cpu_count(), 256)``.
+        max_episode_steps: a ``TimeLimit`` (``gym.make_vec`` passes the spec's), an int in [1, 2**31 - 1],
+            applied per sub-env exactly as ``gymnasium.wrappers.TimeLimit`` does; None: the task's
             horizon ``max_windows`` ends episodes.
         **kwargs: the arguments of :class:`TorqueInterrogationEnv` (vehicle, window_s, scenario fields...).
 
@@ -74,7 +85,11 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
     ``info["final_obs"]`` / ``info["final_info"]``, masked by ``info["_final_obs"]``); ``DISABLED``
     never resets by itself (``reset(options={"reset_mask": ...})``).
     ``reset(options={"reset_mask": mask, ...})`` resets only the masked sub-envs; other options are
-    passed to every reset sub-env (scenario fields, as for the single env).
+    passed to every reset sub-env (scenario fields, as for the single env). ``options`` is a mapping or
+    None; ``seed`` None, an int >= 0 (sub-env i seeded ``seed + i``) or a sequence of ``num_envs`` ints
+    >= 0 or None (a bool is no seed).
+    Integer arguments are ints (a numpy integer too), never bools; anything else raises ``ValueError``
+    naming the argument and its range.
 
     torchrl's ``GymWrapper`` takes this env (or the sync one) with ``autoreset_mode=SAME_STEP`` and
     ``info_layout="flat"`` (its reader stacks each info key into a tensor: nested dicts and strings
@@ -92,22 +107,18 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
                  render_mode: str | None = None, autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP,
                  **kwargs: Any) -> None:
         self.autoreset_mode = _autoreset_mode(autoreset_mode)
-        if not (isinstance(num_envs, (int, np.integer)) and num_envs >= 1):
-            raise ValueError(f"num_envs must be an int >= 1, got {num_envs!r}")
-        num_envs = int(num_envs)
+        num_envs = check_int("num_envs", num_envs, 1, MAX_NUM_ENVS)
         if num_threads is None:
-            num_threads = min(num_envs, os.cpu_count() or 1)
-        if not (isinstance(num_threads, (int, np.integer)) and num_threads >= 1):
-            raise ValueError(f"num_threads must be an int >= 1, got {num_threads!r}")
-        if max_episode_steps is not None and not (isinstance(max_episode_steps, (int, np.integer))
-                                                  and max_episode_steps >= 1):
-            raise ValueError(f"max_episode_steps must be an int >= 1 or None, got {max_episode_steps!r}")
+            num_threads = min(num_envs, os.cpu_count() or 1, MAX_NUM_THREADS)
+        num_threads = check_int("num_threads", num_threads, 1, MAX_NUM_THREADS)
+        if max_episode_steps is not None:
+            max_episode_steps = check_int("max_episode_steps", max_episode_steps, 1, MAX_EPISODE_STEPS_LIMIT)
         if render_mode is not None:
             raise ValueError("the batched vector env does not render; use gym.make_vec(..., "
                              "vectorization_mode='sync', render_mode=...) to render sub-environments")
         self.num_envs = num_envs
-        self.num_threads = int(num_threads)
-        self.max_episode_steps = None if max_episode_steps is None else int(max_episode_steps)
+        self.num_threads = num_threads
+        self.max_episode_steps = max_episode_steps
         self.render_mode = None
         self.task = make_task(**kwargs)
         self.metadata = {**type(self).metadata, "render_fps": max(1, int(round(1.0 / self.task.window_s))),
@@ -229,20 +240,30 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
 
     @staticmethod
     def _seeds(seed: int | Sequence[int | None] | None, n: int) -> list[int | None]:
+        """Each sub-env's seed: None, ``seed + i``, or the sequence's i-th (``ValueError`` for anything else)."""
         if seed is None:
             return [None] * n
-        if isinstance(seed, (int, np.integer)):
+        if _is_seed(seed):
             return [int(seed) + i for i in range(n)]
+        if isinstance(seed, (str, bytes)) or not isinstance(seed, (Sequence, np.ndarray)):
+            raise ValueError(f"seed must be None, an int >= 0 or a sequence of num_envs={n} ints >= 0 (or None), "
+                             f"got {seed!r} ({type(seed).__name__})")
         seeds = list(seed)
         if len(seeds) != n:
             raise ValueError(f"If seeds are passed as a list the length must match num_envs={n} "
                              f"but got length={len(seeds)}.")
-        return seeds
+        for i, s in enumerate(seeds):
+            if s is not None and not _is_seed(s):
+                raise ValueError(f"seed[{i}] must be an int >= 0 or None, got {s!r} ({type(s).__name__})")
+        return [None if s is None else int(s) for s in seeds]
 
     # ------------------------------------------------------------------ gymnasium API
     def reset(self, *, seed: int | Sequence[int | None] | None = None, options: dict[str, Any] | None = None):
         """Reset all sub-envs (or ``options["reset_mask"]``'s); sub-env i is seeded ``seed + i``."""
         seeds = self._seeds(seed, self.num_envs)
+        if options is not None and not isinstance(options, Mapping):
+            raise ValueError(f"options must be a dict (a mapping of scenario fields, and 'reset_mask') or None, "
+                             f"got {options!r} ({type(options).__name__})")
         options = dict(options) if options is not None else None
         mask = np.ones(self.num_envs, dtype=np.bool_)
         if options is not None and "reset_mask" in options:

@@ -89,7 +89,7 @@ class Excitation:
 
     def __post_init__(self) -> None:
         check_choice("excitation", self.kind, EXCITATIONS)
-        check_int("tones", self.tones, *TONES_RANGE)
+        object.__setattr__(self, "tones", check_int("tones", self.tones, *TONES_RANGE))  # stored as a Python int
         if self.multitone:
             span = self.max_frequency_hz - self.min_frequency_hz
             need = 2 * (self.tones - 1) * self.separation_hz

@@ -72,8 +72,8 @@ class Reward:
     macro_slip_penalty: float = 10.0
 
     def __post_init__(self) -> None:
-        for name in ("w_error", "w_slip", "w_comfort", "w_time", "macro_slip_penalty"):
-            check_number(name, getattr(self, name), 0.0, 1e6)
+        for name in ("w_error", "w_slip", "w_comfort", "w_time", "macro_slip_penalty"):  # stored as checked (floats)
+            object.__setattr__(self, name, check_number(name, getattr(self, name), 0.0, 1e6))
 
     def terms(self, m: WindowMeasurement, contact_load_n: float, speed_m_s: float, window_s: float,
               scored_log_error: float | None, macro_slip: bool) -> dict[str, float]:
@@ -103,8 +103,9 @@ class MacroSlipLimit:
     floor: float = 0.02
 
     def __post_init__(self) -> None:
-        check_number("macro_slip ratio", self.ratio, 1.0, 100.0, low_open=True)
-        check_number("macro_slip floor", self.floor, 0.0, 1.0)
+        # named as the environment's arguments; stored as checked (floats)
+        object.__setattr__(self, "ratio", check_number("macro_slip_ratio", self.ratio, 1.0, 100.0, low_open=True))
+        object.__setattr__(self, "floor", check_number("macro_slip_floor", self.floor, 0.0, 1.0))
 
     def limit(self, peak_creepage: float) -> float:
         return max(self.ratio * peak_creepage, peak_creepage + self.floor)

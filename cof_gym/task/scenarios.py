@@ -77,17 +77,23 @@ class ScenarioRanges:
     def __post_init__(self) -> None:
         if not isinstance(self.cof, Mapping):
             raise ValueError(f"ranges.cof must map condition -> (min, max), got {self.cof!r}")
+        # the numbers are stored as checked: (min, max) tuples of Python floats, so a numpy scalar draws
+        # exactly what the float it holds would (a pair of Python floats draws as before, bit for bit)
+        set_ = object.__setattr__
+        cof = {}
         for cond, rng in self.cof.items():
             check_choice("ranges.cof condition", cond, CONDITIONS)
-            check_range(f"ranges.cof[{cond!r}]", rng, *COF_ENVELOPE)
+            cof[cond] = check_range(f"ranges.cof[{cond!r}]", rng, *COF_ENVELOPE)
+        set_(self, "cof", cof)
         _choices("ranges.conditions", self.conditions, tuple(self.cof))
-        check_range("ranges.speed_m_s", self.speed_m_s, *SPEED_ENVELOPE_M_S)
-        check_range("ranges.noise_level", self.noise_level, 0.0, NOISE_LEVEL_MAX)
-        check_range("ranges.motor_lag_s", self.motor_lag_s, 0.0, MOTOR_LAG_MAX_S)
+        set_(self, "speed_m_s", check_range("ranges.speed_m_s", self.speed_m_s, *SPEED_ENVELOPE_M_S))
+        set_(self, "noise_level", check_range("ranges.noise_level", self.noise_level, 0.0, NOISE_LEVEL_MAX))
+        set_(self, "motor_lag_s", check_range("ranges.motor_lag_s", self.motor_lag_s, 0.0, MOTOR_LAG_MAX_S))
         _choices("ranges.load_cases", self.load_cases, LOAD_CASES)
         if self.creep_families is not None:
             _choices("ranges.creep_families", self.creep_families, tuple(CREEP_RANGES))
-        check_number("ranges.sensor_error_scale", self.sensor_error_scale, 0.0, SENSOR_ERROR_SCALE_MAX)
+        set_(self, "sensor_error_scale", check_number("ranges.sensor_error_scale", self.sensor_error_scale, 0.0,
+                                                      SENSOR_ERROR_SCALE_MAX))
 
     @property
     def draws_v2(self) -> bool:

@@ -110,15 +110,21 @@ class InterrogationTask:
         check_choice("observation_type", self.observation_type, tuple(OBSERVATION_TYPES))
         check_choice("info_layout", self.info_layout, INFO_LAYOUTS)
         check_choice("vehicle", self.vehicle, VEHICLES)
-        check_number("window_s", self.window_s, 0.2, 10.0, unit=" s")
-        check_number("settle_fraction", self.settle_fraction, 0.0, 0.8)
-        check_number("ramp_fraction", self.ramp_fraction, 0.0, self.settle_fraction)
-        check_int("max_windows", self.max_windows, 1, 10_000)
-        check_bool("counter_torque", self.counter_torque)
-        check_bool("shaping", self.shaping)
-        check_number("timestep", self.timestep, *TIMESTEP_RANGE_S, unit=" s")
+        # the checked values are stored (a numpy scalar as the Python number it holds, so that it computes
+        # exactly as that number would; a Python float is stored unchanged)
+        set_ = object.__setattr__
+        set_(self, "window_s", check_number("window_s", self.window_s, 0.2, 10.0, unit=" s"))
+        set_(self, "settle_fraction", check_number("settle_fraction", self.settle_fraction, 0.0, 0.8))
+        set_(self, "ramp_fraction", check_number("ramp_fraction", self.ramp_fraction, 0.0, self.settle_fraction))
+        set_(self, "max_windows", check_int("max_windows", self.max_windows, 1, 10_000))
+        set_(self, "counter_torque", check_bool("counter_torque", self.counter_torque))
+        set_(self, "shaping", check_bool("shaping", self.shaping))
+        set_(self, "timestep", check_number("timestep", self.timestep, *TIMESTEP_RANGE_S, unit=" s"))
+        if self.counter_torque and self.vehicle != "wagon":
+            raise ValueError(f"counter_torque=True needs the wagon (vehicle='wagon'): the counter torque acts on the "
+                             f"bogie's other wheelset, which vehicle={self.vehicle!r} does not have")
         if self.traction_balance is not None:
-            check_bool("traction_balance", self.traction_balance)
+            set_(self, "traction_balance", check_bool("traction_balance", self.traction_balance))
             if self.traction_balance and (self.counter_torque or self.vehicle != "wagon"):
                 raise ValueError("traction_balance=True needs the wagon without counter_torque (the counter torque "
                                  "already cancels the traction; the half wheelset has no train)")
@@ -130,6 +136,7 @@ class InterrogationTask:
         object.__setattr__(self, "fixed", check_fixed(self.fixed, self.ranges.load_cases))
         # the interrogation signal (checks excitation and tones against the measured span)
         object.__setattr__(self, "_signal", Excitation(self.excitation, self.tones, self.window_s - self.settle_s))
+        set_(self, "tones", self._signal.tones)  # as checked there (a Python int)
 
     @property
     def signal(self) -> Excitation:
@@ -206,7 +213,7 @@ class InterrogationTask:
     # ------------------------------------------------------------------ episode
     def new_episode(self, rng: np.random.Generator, options: Mapping[str, Any] | None) -> Episode:
         """Draw a scenario (``options`` fix fields for this episode) and its ground truth."""
-        fixed = {**self.fixed, **check_fixed(options or {}, self.ranges.load_cases)}
+        fixed = {**self.fixed, **check_fixed({} if options is None else options, self.ranges.load_cases)}
         scenario = draw_scenario(rng, self.ranges, fixed)
         built = self.model(scenario.load_case)
         truth, wheel_load, scenario = self._truth(built, scenario, rng, shape_fixed="creep_law" in fixed)

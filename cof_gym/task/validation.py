@@ -8,18 +8,21 @@ import math
 import numbers
 from typing import Any, Iterable
 
+import numpy as np
+
 
 def check_bool(name: str, value: Any) -> bool:
-    """A real boolean (``True``/``False`` or a numpy bool), nothing else."""
-    if isinstance(value, bool) or type(value).__name__ == "bool_":
+    """A real boolean (``True``/``False`` or a numpy bool), nothing else; returned as a Python ``bool``."""
+    if isinstance(value, (bool, np.bool_)):
         return bool(value)
     raise ValueError(f"{name} must be a bool (True or False), got {value!r} ({type(value).__name__})")
 
 
 def check_number(name: str, value: Any, low: float, high: float, *, low_open: bool = False,
                  unit: str = "") -> float:
-    """A finite real number (not a bool, not a string) in [low, high] (or (low, high])."""
-    if isinstance(value, bool) or type(value).__name__ == "bool_" or not isinstance(value, numbers.Real):
+    """A finite real number (not a bool, not a string) in [low, high] (or (low, high]), returned as a Python
+    ``float`` (``float(value)``: a Python float is returned unchanged, a numpy scalar as the float it holds)."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
         raise ValueError(f"{name} must be a number in {_interval(low, high, low_open)}{unit}, "
                          f"got {value!r} ({type(value).__name__})")
     try:
@@ -43,8 +46,8 @@ def check_range(name: str, value: Any, low: float, high: float) -> tuple[float, 
 
 
 def check_int(name: str, value: Any, low: int, high: int) -> int:
-    """An integer (not a bool) in [low, high]."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not (low <= int(value) <= high):
+    """An integer (not a bool) in [low, high], returned as a Python ``int``."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral) or not (low <= int(value) <= high):
         raise ValueError(f"{name} must be an int in [{low}, {high}], got {value!r} ({type(value).__name__})")
     return int(value)
 
