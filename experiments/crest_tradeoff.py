@@ -67,11 +67,12 @@ from train_interrogator import (  # noqa: E402
 )
 
 from make_grids import CONFIRMATION_SETS, SUITES  # noqa: E402
+from script_checks import check_out_file  # noqa: E402
 
 from cof_gym.agents.interrogator import (  # noqa: E402
     ESTIMATE_SOURCES, ESTIMATOR_ESTIMATES, GUARDED_ESTIMATES, SHIPPED_INTERROGATOR, ClimbParameters, read_manifest,
 )
-from cof_gym.commands.args import name_value  # noqa: E402
+from cof_gym.commands.args import name_value, positive_int  # noqa: E402
 from cof_gym.commands.suites import scenario_option  # noqa: E402
 
 
@@ -351,9 +352,11 @@ def main() -> None:
                         help="reset options over every episode's own (scenario fields; values JSON or plain text), e.g. "
                              "noise_level=3 motor_lag_s=0.1: the grids' episodes with a sensor or drive outside the "
                              "training draws")
-    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--workers", type=positive_int, default=2)
     parser.add_argument("--out", type=Path, default=Path("out/crest_tradeoff.md"))
     args = parser.parse_args()
+    check_out_file(parser, "--out", args.out)
+    check_out_file(parser, "--records", args.records)
     if args.own_climb:
         for option, value in (("--targets", args.targets), ("--cautions", args.cautions),
                               ("--spread-cautions", args.spread_cautions), ("--crest-fractions", args.crest_fractions),

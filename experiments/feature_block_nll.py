@@ -18,14 +18,19 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+import zipfile
 from pathlib import Path
 
 import numpy as np
 
 from cof_gym.agents.interrogator import TARGET_NAMES
+from cof_gym.commands.args import seed_int
 from cof_gym.agents.interrogator_training import (
     FITTABLE_BLOCKS, READING_FIELDS, Dataset, FitSettings, fit_member, negative_log_likelihood,
 )
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from script_checks import check_out_file  # noqa: E402
 
 NEAR_PEAK = 0.3  # true headroom ln(M_sat / DC) at most this: the windows where a climb decides to stop
 SPEED_BANDS_M_S = ((0.0, 10.0), (10.0, 20.0), (20.0, float("inf")))
@@ -83,15 +88,19 @@ def main() -> None:
     ap.add_argument("--climbs", type=Path, required=True, help="a climbs file written by train_interrogator.py")
     ap.add_argument("--blocks", type=block_set, nargs="+", default=[(), ("climb_fit",)], metavar="SET")
     ap.add_argument("--holdout", type=fraction, default=0.2)
-    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--seed", type=seed_int, default=0)
     ap.add_argument("--epochs", type=int, default=FitSettings.epochs)
     ap.add_argument("--out", type=Path, default=Path("out/feature_block_nll.md"))
     args = ap.parse_args()
+    check_out_file(ap, "--out", args.out)
     if not args.climbs.is_file():
         ap.error(f"--climbs: no file {args.climbs}")
     if args.epochs < 1:
         ap.error(f"--epochs must be at least 1, got {args.epochs}")
-    data = Dataset.load(args.climbs)
+    try:
+        data = Dataset.load(args.climbs)
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as error:
+        ap.error(f"--climbs: {args.climbs} is not a climbs file ({error.__class__.__name__}: {' '.join(str(error).split())})")
     held = split_episodes(data, args.holdout, args.seed)
     train = data.subset(np.flatnonzero(~held))
     masks = {name: mask[held] for name, mask in bands(data).items()}

@@ -34,6 +34,9 @@ from cof_gym.commands.evaluate import run_episode
 from cof_gym.commands.suites import SuiteError, make_suite
 from cof_gym.task.scenarios import COF_ENVELOPE
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from script_checks import check_out_file  # noqa: E402
+
 DEFAULT_SUITE = Path(__file__).resolve().parent / "suites" / "v2_validation_steep_grid.json"
 DEFAULT_AGENTS = ("interrogator", "phase-rule", "staircase", "model-based", "robust-model")
 CONTINUATION_POINTS = 8  # points of the twin's rise above the original peak
@@ -163,7 +166,8 @@ def add_pair_arguments(ap: argparse.ArgumentParser, ratio: float, ratio_help: st
 
 def checked_pair_arguments(ap: argparse.ArgumentParser, args: argparse.Namespace) -> list[str]:
     """The agents of :func:`add_pair_arguments`'s options once ``--ratio`` and ``--tolerance`` are in range
-    (``ap.error`` otherwise: one line, exit code 2)."""
+    and ``--out`` can be written (``ap.error`` otherwise: one line, exit code 2)."""
+    check_out_file(ap, "--out", args.out)
     if not 1.0 < args.ratio <= 4.0:
         ap.error(f"--ratio must be in (1, 4], got {args.ratio:g}")
     if not 0.0 < args.tolerance < 1.0:

@@ -46,6 +46,8 @@ before each runaway (``--out FILE``: also written there):
 from __future__ import annotations
 
 import argparse
+import math
+import sys
 from pathlib import Path
 from typing import NamedTuple
 
@@ -53,15 +55,21 @@ import gymnasium as gym
 
 import numpy as np
 
+from cof_gym import ENV_IDS
 from cof_gym.agents.interrogator import Reading
 from cof_gym.agents.runaway import crest_bound
-from cof_gym.commands.suites import make_suite, scenario_option
+from cof_gym.commands.suites import SuiteError, make_suite, scenario_option
 from cof_gym.task.excitation import encode_extra_tones
 from cof_gym.task.interface import MotorLimits, encode_action
 
 HARMONIC_OPTIONS = {"excitation": "multitone", "tones": 3}  # tones 2 and 3 silent at 2 f and 3 f
 
 LEVELS = (0.3, 0.5, 0.7, 0.8, 0.85, 0.9, 0.93, 0.95, 0.97, 0.98, 0.99)
+MAX_LEVEL = 1.5  # a DC or crest at most this many saturation torques (--levels, --hold-dc)
+DEFAULT_SUITE = Path(__file__).resolve().parent / "suites" / "v2_validation_grid.json"  # wherever run from
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from script_checks import check_out_file  # noqa: E402
 
 
 def _harmonics(measurement: dict) -> str:
@@ -207,14 +215,35 @@ def never_cut(episodes: list[list[Window]]) -> str:
             f"macro-slips among them: {_slips(uncut, -1)}.")
 
 
+def _number_in(low: float, high: float, low_inclusive: bool = False):
+    """An argparse type: a finite number in (low, high] (``low_inclusive``: [low, high])."""
+    bound = f"{'[' if low_inclusive else '('}{low:g}, {high:g}]"
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            value = math.nan
+        if not (math.isfinite(value) and (low <= value if low_inclusive else low < value) and value <= high):
+            raise argparse.ArgumentTypeError(f"must be a finite number in {bound}, got {text!r}")
+        return value
+
+    parse.__name__ = f"number in {bound}"
+    return parse
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--suite", default="experiments/suites/v2_validation_grid.json")
+    ap.add_argument("--suite", default=str(DEFAULT_SUITE))
     ap.add_argument("--episodes", type=int, nargs="+", default=[12, 18, 27], help="indices into the suite")
-    ap.add_argument("--levels", type=float, nargs="+", default=list(LEVELS), help="DC / true M_sat per window")
-    ap.add_argument("--amplitude-ratio", type=float, default=0.05)
-    ap.add_argument("--frequency", type=float, default=5.0, help="Hz")
-    ap.add_argument("--env", default=None, help="play the episodes in this env id instead of the suite's")
+    ap.add_argument("--levels", type=_number_in(0.0, MAX_LEVEL), nargs="+", default=list(LEVELS),
+                    help=f"DC / true M_sat per window, each in (0, {MAX_LEVEL:g}]")
+    ap.add_argument("--amplitude-ratio", type=_number_in(0.0, 1.0), default=0.05,
+                    help="the modulation's amplitude over the DC, in (0, 1]")
+    ap.add_argument("--frequency", type=_number_in(MotorLimits.min_frequency_hz, MotorLimits.max_frequency_hz, True),
+                    default=5.0, help=f"Hz, within the drive's range [{MotorLimits.min_frequency_hz:g}, "
+                                      f"{MotorLimits.max_frequency_hz:g}]")
+    ap.add_argument("--env", default=None, choices=ENV_IDS, help="play the episodes in this env id instead of the suite's")
     ap.add_argument("--set", nargs="*", default=[], metavar="NAME=VALUE", type=scenario_option,
                     help="a reset option over every episode's own (a scenario field and a value the env accepts)")
     ap.add_argument("--harmonics", action="store_true", help="also read the speed's 2nd and 3rd harmonics")
@@ -225,8 +254,9 @@ def main() -> None:
     ap.add_argument("--counter-torque", action="store_true", help="the paper's vehicle configuration")
     ap.add_argument("--out", type=Path, default=None, help="with --summary: also write the table here")
     args = ap.parse_args()
+    check_out_file(ap, "--out", args.out)
     if args.hold_dc is not None:
-        if not 0.0 < args.hold_dc <= 1.5:
+        if not 0.0 < args.hold_dc <= MAX_LEVEL:
             ap.error(f"--hold-dc must be in (0, 1.5] (a fraction of the saturation torque), got {args.hold_dc:g}")
         if min(args.levels) <= args.hold_dc:
             ap.error(f"--levels are crests with --hold-dc: each must exceed the held DC {args.hold_dc:g}, "
@@ -237,7 +267,10 @@ def main() -> None:
         ap.error(f"--harmonics reads 3 x --frequency, which must be <= {MotorLimits.max_frequency_hz:g} Hz "
                  f"(the drive's range), got {args.frequency:g} Hz")
     overrides = dict(args.set)
-    suite = make_suite(args.suite, 60, 0)
+    try:
+        suite = make_suite(args.suite, 60, 0)
+    except SuiteError as error:
+        ap.error(f"--suite: {' '.join(str(error).split())}")
     chosen = range(len(suite.episodes)) if args.all_episodes else args.episodes
     for k in chosen:
         if not 0 <= k < len(suite.episodes):

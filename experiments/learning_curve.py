@@ -22,10 +22,12 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+from script_checks import check_out_dir, check_out_file  # noqa: E402
 from train_interrogator import collect, parse_climbs, require_networks, split  # noqa: E402
 
 from cof_gym.agents.interrogator import FilterEnsemble, read_manifest  # noqa: E402
 from cof_gym.agents.interrogator_training import Dataset, FitSettings, fit_member, nll  # noqa: E402
+from cof_gym.commands.args import positive_int, seed_int  # noqa: E402
 
 COLUMNS = ("headroom_rmse", "headroom_nll", "correction_rmse", "correction_nll")
 
@@ -68,19 +70,21 @@ def main() -> None:
                         help="the training climbs, as train_interrogator.py's --climbs (in order)")
     parser.add_argument("--sizes", type=int, nargs="+", default=[2000, 4000, 8000],
                         help="numbers of climbs (the first N of --climbs) a member is fitted on")
-    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--seed", type=seed_int, default=0)
     parser.add_argument("--epochs", type=int, default=FitSettings.epochs)
     parser.add_argument("--ensembles", type=Path, nargs="*", default=[],
                         help="directories of networks (member_*.npz) scored on the same windows")
-    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--workers", type=positive_int, default=2)
     parser.add_argument("--out", type=Path, default=Path("out/learning_curve.md"))
     args = parser.parse_args()
+    check_out_dir(parser, "--run", args.run)
+    check_out_file(parser, "--out", args.out)
     climbs = parse_climbs(parser, args.climbs)
     total = sum(climbs.values())
     if any(not 10 <= n <= total for n in args.sizes):
         parser.error(f"--sizes must lie in [10, {total}] (the climbs of --climbs)")
     if args.epochs < 1:
-        parser.error("--epochs must be >= 1")
+        parser.error(f"--epochs must be at least 1, got {args.epochs}")
     require_networks(parser, "--ensembles", args.ensembles)
     args.run.mkdir(parents=True, exist_ok=True)
     data = collect(args.run, climbs, args.workers)

@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+from script_checks import check_out_file  # noqa: E402
 from train_interrogator import CONFIGS, VALIDATION, episodes  # noqa: E402
 
 from cof_gym.agents.interrogator import NOISE_WINDOWS, SHIPPED_INTERROGATOR, first_windows_noise_nms  # noqa: E402
@@ -67,6 +68,7 @@ def main() -> None:
     parser.add_argument("--workers", type=positive_int, default=2)
     parser.add_argument("--out", type=Path, default=Path("out/noise_reading.md"))
     args = parser.parse_args()
+    check_out_file(parser, "--out", args.out)
     jobs = [(lv, c) for lv in args.levels for c in CONFIGS]
     with ProcessPoolExecutor(args.workers) as pool:
         results = list(pool.map(read_noise, *zip(*jobs), [args.episodes] * len(jobs)))

@@ -19,9 +19,13 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 from pathlib import Path
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from script_checks import check_out_file  # noqa: E402
 
 N_BOOTSTRAP = 2000
 STATISTICS = {"median": lambda e: np.median(e, axis=-1), "P90": lambda e: np.percentile(e, 90, axis=-1)}
@@ -103,6 +107,7 @@ def main() -> None:
                         help="compare these settings only (default: every setting of the records)")
     parser.add_argument("--out", type=Path, default=None, help="also write the table to this markdown file")
     args = parser.parse_args()
+    check_out_file(parser, "--out", args.out)
     records, files = [], ", ".join(map(str, args.records))
     for path in args.records:
         try:

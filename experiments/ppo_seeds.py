@@ -26,17 +26,22 @@ import argparse
 import csv
 import json
 import shutil
+import sys
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
 
+from cof_gym.commands.args import positive_int
 from cof_gym.commands.evaluate import evaluate
-from cof_gym.agents.ppo import vecnormalize_path
+from cof_gym.agents.ppo import model_spaces, vecnormalize_path
 from cof_gym.agents.registry import SHIPPED_PPO
 from cof_gym.commands.suites import make_suite
 
 HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+from script_checks import check_out_dir  # noqa: E402
+
 VALIDATION = HERE / "suites" / "validation_grid.json"
 HELDOUT = HERE / "suites" / "heldout_grid.json"
 DEFAULT_EPISODES = 100
@@ -84,13 +89,32 @@ def candidates(run: Path) -> list[Path]:
     return [p for p in (*warm_start, *checkpoints, run / "best" / "best_model.zip", run / "model.zip") if p.is_file()]
 
 
+def check_runs(parser: argparse.ArgumentParser, runs: list[Path]) -> None:
+    """Each of ``runs`` a directory holding at least one candidate (:func:`candidates`), every one a readable
+    Stable-Baselines3 model; otherwise a one-line usage error naming --runs, before anything is played."""
+    for run in runs:
+        if not run.is_dir():
+            parser.error(f"--runs: no directory {run}")
+        found = candidates(run)
+        if not found:
+            parser.error(f"--runs: {run} holds no model (model.zip, best/best_model.zip, checkpoints/ppo_*_steps.zip "
+                         "or warm_start/*.zip)")
+        for model in found:
+            try:
+                model_spaces(model)
+            except ValueError as error:
+                parser.error(f"--runs: {' '.join(str(error).split())}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--runs", nargs="+", required=True, type=Path, help="cof-gym train output directories")
     parser.add_argument("--out", type=Path, default=Path("out/ppo_seeds"))
     parser.add_argument("--ship", action="store_true", help="copy the best-on-validation policy into the package")
-    parser.add_argument("--jobs", type=int, default=2, help="evaluations run in parallel (processes)")
+    parser.add_argument("--jobs", type=positive_int, default=2, help="evaluations run in parallel (processes)")
     args = parser.parse_args()
+    check_out_dir(parser, "--out", args.out)
+    check_runs(parser, args.runs)
     args.out.mkdir(parents=True, exist_ok=True)
     jobs = [(run, k, model) for run in args.runs for k, model in enumerate(candidates(run))]
     results = play_all([(f"ppo:{m}", str(VALIDATION), args.out / f"val_{run.name}_{k}") for run, k, m in jobs],

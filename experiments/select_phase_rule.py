@@ -33,6 +33,9 @@ from typing import Any
 import numpy as np
 
 from selection import best_per_group, error_summary, group_line
+from script_checks import check_out_file
+
+from cof_gym.commands.args import positive_int
 
 # (label, env id, env kwargs, first seed, number of seeds)
 SETTINGS: tuple[tuple[str, str, dict[str, Any], int, int], ...] = (
@@ -148,10 +151,11 @@ def score(job: tuple[dict[str, float], list[Recording]]) -> list[dict[str, Any]]
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--workers", type=positive_int, default=2)
     parser.add_argument("--quick", action="store_true", help="a fifth of the seeds (smoke test)")
     parser.add_argument("--out", type=Path, default=Path("experiments/results/select_phase_rule.json"))
     args = parser.parse_args()
+    check_out_file(parser, "--out", args.out)
     t0 = time.time()
     settings = [(lab, eid, kw, first, max(n // 5, 4) if args.quick else n) for lab, eid, kw, first, n in SETTINGS]
     with ProcessPoolExecutor(args.workers) as pool:

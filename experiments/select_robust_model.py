@@ -29,8 +29,11 @@ from pathlib import Path
 from typing import Any
 
 from selection import best_per_group, error_summary, group_line
+from script_checks import check_out_file
 
-VALIDATION_GRID = "experiments/suites/v2_validation_grid.json"
+from cof_gym.commands.args import positive_int
+
+VALIDATION_GRID = Path(__file__).resolve().parent / "suites" / "v2_validation_grid.json"  # wherever run from
 DEFAULT_SEEDS = (100000, 120)  # first seed, count, of the default v2 distribution
 # (probe amplitude / DC, largest step / DC, largest step / amplitude)
 CLIMBS: tuple[dict[str, float], ...] = tuple(
@@ -49,7 +52,7 @@ CORRECTIONS = tuple(round(0.9 + 0.025 * i, 3) for i in range(11))  # 0.9 ... 1.1
 
 def episodes(quick: bool) -> list[tuple[str, int, dict[str, Any]]]:
     """(label, seed, reset options) of every validation episode."""
-    grid = json.loads(Path(VALIDATION_GRID).read_text())["episodes"]
+    grid = json.loads(VALIDATION_GRID.read_text())["episodes"]
     first, n = DEFAULT_SEEDS
     out = [("v2 validation grid", e["seed"], e.get("options") or {}) for e in grid]
     out += [("v2 seeds 100000+", s, {}) for s in range(first, first + n)]
@@ -100,10 +103,11 @@ def summary(rows: list[dict[str, Any]], key=None) -> dict[str, Any]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--workers", type=positive_int, default=2)
     parser.add_argument("--quick", action="store_true", help="a fifth of the episodes (smoke test)")
     parser.add_argument("--out", type=Path, default=Path("experiments/results/select_robust_model.json"))
     args = parser.parse_args()
+    check_out_file(parser, "--out", args.out)
     t0 = time.time()
     eps = episodes(args.quick)
     configs = [{**c, **k, **r} for c, k, r in itertools.product(CLIMBS, KNEES, REFINES)]

@@ -42,11 +42,13 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 from crest_tradeoff import checked_climb, climb_item  # noqa: E402
+from script_checks import check_out_dir  # noqa: E402
 from train_interrogator import CONFIGS, ENV_ID, fit_networks, parse_climbs, require_networks, split  # noqa: E402
 
 from cof_gym.agents.interrogator import (  # noqa: E402
     SHIPPED_INTERROGATOR, FilterEnsemble, manifest_climb, manifest_guards, read_manifest,
 )
+from cof_gym.commands.args import positive_int, seed_int  # noqa: E402
 from cof_gym.task.creep_fit import coa_fell  # noqa: E402
 from cof_gym.agents.interrogator_training import (  # noqa: E402
     FIT_LOSSES, READING_FIELDS, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel,
@@ -164,8 +166,8 @@ def main() -> None:
     ap.add_argument("--out", type=Path, default=Path("runs/estimator"))
     ap.add_argument("--climbs", nargs="+", default=[f"{k}={v}" for k, v in EPISODES.items()], metavar="NAME=N",
                     help=f"on-policy episodes per collection ({', '.join(ON_POLICY)}; default: %(default)s)")
-    ap.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2, 3, 4])
-    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--seeds", type=seed_int, nargs="+", default=[0, 1, 2, 3, 4])
+    ap.add_argument("--workers", type=positive_int, default=2)
     ap.add_argument("--reuse", action="store_true", help="keep OUT/seed_K networks that exist")
     ap.add_argument("--collect-only", action="store_true",
                     help="collect the policy's climbs into OUT's cache and stop (no networks, no report)")
@@ -176,6 +178,7 @@ def main() -> None:
                     help="the likelihood the networks are fitted under: gaussian (the conditional mean of the "
                          "correction) or laplace (its conditional median); default: %(default)s")
     args = ap.parse_args()
+    check_out_dir(ap, "--out", args.out)
     require_networks(ap, "--policy", [args.policy])
     if not (args.policy / "manifest.json").is_file():
         ap.error(f"--policy: no manifest.json in {args.policy} (the climb the estimator learns)")

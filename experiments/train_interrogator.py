@@ -98,6 +98,7 @@ import json
 import shutil
 import sys
 import time
+import zipfile
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict, replace
 from pathlib import Path
@@ -113,6 +114,7 @@ from cof_gym.agents.interrogator import (
 from cof_gym.agents.interrogator_training import (
     FIT_LOSSES, FITTABLE_BLOCKS, STEEP_FALL, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel, fit_member, nll,
 )
+from cof_gym.commands.args import positive_int, seed_int
 from cof_gym.commands.evaluate import run_episode
 from cof_gym.commands.suites import make_suite
 
@@ -121,6 +123,7 @@ sys.path.insert(0, str(HERE))
 from make_grids import v2_heldout_grids  # noqa: E402
 from ppo_seeds import iqm, stratified_bootstrap_ci  # noqa: E402
 from selection import error_summary  # noqa: E402
+from script_checks import check_out_dir  # noqa: E402
 
 ENV_ID = cof_gym.WAGON_ENV_ID
 CONFIGS = [{}, {"counter_torque": True}]  # the two vehicle configurations trained on
@@ -262,7 +265,7 @@ def load_added_climbs(parser: argparse.ArgumentParser, files: list[Path], option
     for file in files:
         try:
             added.append(Dataset.load(file))
-        except (OSError, ValueError, KeyError) as error:
+        except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as error:
             parser.error(f"{option}: {file} is not a climbs file ({error.__class__.__name__}: {error})")
     return added
 
@@ -531,8 +534,8 @@ def main() -> None:
     ap.add_argument("--out", type=Path, default=Path("runs/interrogator"))
     ap.add_argument("--climbs", nargs="+", default=[f"{k}={v}" for k, v in EPISODES.items()], metavar="NAME=N",
                     help=f"training climbs per collection ({', '.join(COLLECTIONS)}; 0 or absent: none)")
-    ap.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2, 3, 4])
-    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--seeds", type=seed_int, nargs="+", default=[0, 1, 2, 3, 4])
+    ap.add_argument("--workers", type=positive_int, default=2)
     ap.add_argument("--epochs", type=int, default=FitSettings.epochs)
     ap.add_argument("--loss", choices=FIT_LOSSES, default=FitSettings.loss,
                     help="the likelihood the networks are fitted under: gaussian (the recipe: each output's conditional "
@@ -568,6 +571,9 @@ def main() -> None:
                     help="step 4 alone, on the shipped agent as it is (its networks, guards and climb; OUT/seed_K: "
                          "member K alone): no climbs, no fit, no selection")
     args = ap.parse_args()
+    check_out_dir(ap, "--out", args.out)
+    if args.epochs < 1:
+        ap.error(f"--epochs must be at least 1, got {args.epochs}")
     if args.report_only:
         report_only(ap, args)
         return

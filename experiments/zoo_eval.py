@@ -16,8 +16,9 @@ import gymnasium as gym
 import numpy as np
 
 import cof_gym
+from cof_gym.commands.args import positive_int
 from cof_gym.commands.evaluate import run_episode
-from cof_gym.agents.ppo import PPOAgent
+from cof_gym.agents.ppo import PPOAgent, model_spaces, resolve_model_path
 from cof_gym.commands.train import load_hyperparams
 
 FIRST_SEED = 10_000
@@ -26,11 +27,15 @@ FIRST_SEED = 10_000
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("model", help="the RL Zoo model zip")
-    parser.add_argument("--episodes", type=int, default=40)
+    parser.add_argument("--episodes", type=positive_int, default=40)
     args = parser.parse_args()
     env_kwargs = {k: v for k, v in load_hyperparams(cof_gym.WAGON_ENV_ID).get("env_kwargs", {}).items()
                   if k != "shaping"}
-    agent = PPOAgent.load(args.model, env_id=cof_gym.WAGON_ENV_ID, env_kwargs=env_kwargs)
+    try:  # a missing file, one that is no model, or a model of other spaces: one line naming the argument
+        model_spaces(resolve_model_path(args.model))
+        agent = PPOAgent.load(args.model, env_id=cof_gym.WAGON_ENV_ID, env_kwargs=env_kwargs)
+    except (FileNotFoundError, ValueError) as error:
+        parser.error(f"model: {' '.join(str(error).split())}")
     env = gym.make(cof_gym.WAGON_ENV_ID)
     records = [run_episode(env, agent, FIRST_SEED + i, {}, i) for i in range(args.episodes)]
     lengths = [r.steps for r in records]

@@ -1,0 +1,97 @@
+"""Bad command lines of the experiment scripts: one usage line naming the option (exit code 2), checked
+before any simulation and before any output is created (experiments/script_checks.py and each script's
+argument types)."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import pytest
+
+EXPERIMENTS = Path(__file__).resolve().parents[1] / "experiments"
+sys.path.insert(0, str(EXPERIMENTS))
+
+# {dir}: an existing directory, {file}: an existing plain file, {text}: a file that is no climbs file or model,
+# {corrupt}: a zip file that is no model, {new}: a path that does not exist (inside tmp_path)
+CASES = [
+    ("crest_tradeoff", ["--workers", "0"], "--workers"),
+    ("crest_tradeoff", ["--workers", "-1"], "--workers"),
+    ("crest_tradeoff", ["--out", "{dir}"], "--out"),
+    ("crest_tradeoff", ["--out", "{file}/t.md"], "--out"),
+    ("crest_tradeoff", ["--records", "{dir}", "--out", "{new}/t.md"], "--records"),
+    ("select_phase_rule", ["--workers", "0"], "--workers"),
+    ("select_phase_rule", ["--out", "{dir}"], "--out"),
+    ("select_robust_model", ["--workers", "-1"], "--workers"),
+    ("select_robust_model", ["--out", "{dir}"], "--out"),
+    ("feature_block_nll", ["--climbs", "{text}", "--out", "{new}/t.md"], "--climbs"),
+    ("feature_block_nll", ["--climbs", "{corrupt}", "--out", "{new}/t.md"], "--climbs"),
+    ("feature_block_nll", ["--climbs", "{text}", "--seed", "-1", "--out", "{new}/t.md"], "--seed"),
+    ("feature_block_nll", ["--climbs", "{text}", "--out", "{dir}"], "--out"),
+    ("train_estimator", ["--seeds", "-1", "--out", "{new}"], "--seeds"),
+    ("train_estimator", ["--workers", "0", "--out", "{new}"], "--workers"),
+    ("train_estimator", ["--out", "{file}"], "--out"),
+    ("train_interrogator", ["--seeds", "0", "-1", "--out", "{new}"], "--seeds"),
+    ("train_interrogator", ["--epochs", "0", "--out", "{new}"], "--epochs"),
+    ("train_interrogator", ["--epochs", "0", "--report-only", "--out", "{new}"], "--epochs"),
+    ("train_interrogator", ["--workers", "0", "--out", "{new}"], "--workers"),
+    ("train_interrogator", ["--out", "{file}"], "--out"),
+    ("train_interrogator", ["--report-only", "--out", "{file}"], "--out"),
+    ("learning_curve", ["--run", "{file}", "--out", "{new}/t.md"], "--run"),
+    ("learning_curve", ["--run", "{new}", "--out", "{dir}"], "--out"),
+    ("learning_curve", ["--run", "{new}", "--workers", "0", "--out", "{new}/t.md"], "--workers"),
+    ("learning_curve", ["--run", "{new}", "--seed", "-1", "--out", "{new}/t.md"], "--seed"),
+    ("lag_near_peak", ["--suite", "{new}.json"], "--suite"),
+    ("lag_near_peak", ["--suite", "{text}"], "--suite"),
+    ("lag_near_peak", ["--env", "CartPole-v1"], "--env"),
+    ("lag_near_peak", ["--levels", "nan"], "--levels"),
+    ("lag_near_peak", ["--levels", "0.5", "-1"], "--levels"),
+    ("lag_near_peak", ["--levels", "2"], "--levels"),
+    ("lag_near_peak", ["--levels", "0"], "--levels"),
+    ("lag_near_peak", ["--frequency", "nan"], "--frequency"),
+    ("lag_near_peak", ["--frequency", "0"], "--frequency"),
+    ("lag_near_peak", ["--frequency", "21"], "--frequency"),
+    ("lag_near_peak", ["--amplitude-ratio", "-1"], "--amplitude-ratio"),
+    ("lag_near_peak", ["--amplitude-ratio", "0"], "--amplitude-ratio"),
+    ("lag_near_peak", ["--amplitude-ratio", "inf"], "--amplitude-ratio"),
+    ("lag_near_peak", ["--summary", "--out", "{dir}"], "--out"),
+    ("ppo_seeds", ["--runs", "{new}", "--out", "{new}"], "--runs"),
+    ("ppo_seeds", ["--runs", "{dir}", "--out", "{new}"], "--runs"),
+    ("ppo_seeds", ["--runs", "{run_corrupt}", "--out", "{new}"], "--runs"),
+    ("ppo_seeds", ["--runs", "{run_corrupt}", "--out", "{file}"], "--out"),
+    ("ppo_seeds", ["--runs", "{run_corrupt}", "--jobs", "0", "--out", "{new}"], "--jobs"),
+    ("zoo_eval", ["{new}.zip"], "model"),
+    ("zoo_eval", ["{corrupt}"], "model"),
+    ("zoo_eval", ["{text}"], "model"),
+    ("zoo_eval", ["{corrupt}", "--episodes", "0"], "--episodes"),
+    ("noise_reading", ["--episodes", "1", "--out", "{dir}"], "--out"),
+    ("noise_reading", ["--episodes", "1", "--out", "{file}/t.md"], "--out"),
+    ("indistinguishable_peaks", ["--out", "{dir}"], "--out"),
+    ("knee_twins", ["--out", "{dir}"], "--out"),
+    ("paired_comparison", ["{text}", "--out", "{dir}"], "--out"),
+]
+
+
+@pytest.mark.parametrize("script, args, option", CASES, ids=[f"{s}{' '.join(a)}" for s, a, _ in CASES])
+def test_a_bad_option_exits_2_naming_it_before_any_output(script: str, args: list[str], option: str, tmp_path: Path,
+                                                          experiment_exit) -> None:
+    (tmp_path / "dir").mkdir()
+    (tmp_path / "file").write_text("a file\n")
+    (tmp_path / "text").write_text('{"not": "climbs"}\n')
+    (tmp_path / "corrupt.zip").write_bytes(b"PK\x03\x04garbage")
+    (tmp_path / "run").mkdir()
+    (tmp_path / "run" / "model.zip").write_bytes(b"PK\x03\x04garbage")
+    names = {"dir": tmp_path / "dir", "file": tmp_path / "file", "text": tmp_path / "text",
+             "corrupt": tmp_path / "corrupt.zip", "run_corrupt": tmp_path / "run", "new": tmp_path / "new"}
+    before = sorted(tmp_path.rglob("*"))
+    code, last = experiment_exit(script, [a.format(**{k: str(v) for k, v in names.items()}) for a in args])
+    assert code == 2
+    assert option in last, last
+    assert sorted(tmp_path.rglob("*")) == before  # nothing created, not even --out's directory
+
+
+def test_the_robust_model_selection_reads_its_grid_from_any_directory(tmp_path: Path, monkeypatch) -> None:
+    import select_robust_model
+
+    monkeypatch.chdir(tmp_path)
+    assert len(select_robust_model.episodes(quick=True)) > 0
