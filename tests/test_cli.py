@@ -3,9 +3,12 @@ traceback, and nothing created; evaluate writes complete outputs only, and --hel
 
 from __future__ import annotations
 
+import functools
+import io
 import json
 import subprocess
 import sys
+import tempfile
 import zipfile
 from pathlib import Path
 
@@ -38,6 +41,8 @@ SUITE_FILES = {
     "deep_nesting.json": "[" * 100_000 + "]" * 100_000,
 }
 SHIPPED = str(Path(cli.__file__).parent / "agents" / "policies" / "ppo_wagon")  # observation (38,)
+# model directories beside the shipped model.zip (a link) whose statistics or train_meta.json are broken
+BROKEN_MODELS = ("bad_stats", "other_stats", "bad_meta")
 
 # (argv, a fragment the one-line message must contain)
 BAD = [
@@ -95,6 +100,37 @@ BAD = [
     (["train", "--out", "run", "--resume", "corrupt.zip"], "--resume"),
     (["train", "--out", "run", "--resume", "not_a_model.zip"], "--resume"),
     (["train", "--out", "/proc/cof_gym_run"], "--out"),
+    # PPO arguments the command sets itself: refused before anything is written
+    *[(["train", "--out", "run", "--timesteps", "10", "--n-envs", "1", "--hyperparams", f"{key}:{value}"],
+       f"--hyperparams: '{key}' is set by cof-gym train itself")
+      for key, value in (("seed", "3"), ("verbose", "1"), ("tensorboard_log", "'tb'"), ("_init_setup_model", "False"),
+                         ("device", "'cpu'"))],
+    # values that passed the check, then failed in training or became something else
+    (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "n_epochs:2.5"], "n_epochs must be an integer"),
+    (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "batch_size:2.5"], "batch_size must be an integer"),
+    (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "n_steps:True"], "n_steps must be an integer"),
+    (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "n_envs:2.7"], "n_envs must be an integer >= 1"),
+    (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "normalize:5"], "normalize must be True, False"),
+    (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "normalize:dict(foo=1)"], "['foo']"),
+    (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "normalize:dict(clip_obs=-1)"],
+     "normalize.clip_obs must be a finite number in (0, 1e+12]"),
+    (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "normalize:dict(norm_obs=1)"], "normalize.norm_obs"),
+    (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "clip_range:lin_-0.1"], "clip_range (the start of"),
+    (["train", "--out", "run", "--timesteps", "10", "--device", "meta"], "--device: must be auto, cpu, cuda or cuda:N"),
+    (["train", "--out", "run", "--timesteps", "10", "--device", "mkldnn"], "--device"),
+    (["train", "--out", "run", "--timesteps", "10", "--device", "cuda:x"], "--device"),
+    (["train", "--out", "run", "--torch-threads", "100000000000"], "must be an integer in [0, 1024]"),
+    (["train", "--out", "not_an_output", "--timesteps", "10"], "not a cof-gym train output"),
+    (["train", "--out", "run", "--resume", "bad_meta"], "--resume: bad_meta/train_meta.json cannot be read"),
+    # broken VecNormalize statistics beside a valid model: one line naming the file, from each command
+    *[(argv, f"{name}/vecnormalize.pkl is not usable VecNormalize statistics")
+      for name in ("bad_stats", "other_stats")
+      for argv in (["train", "--out", "run", "--timesteps", "10", "--resume", name],
+                   ["evaluate", "--agents", f"ppo:{name}", "--episodes", "1"],
+                   ["watch", "--agent", f"ppo:{name}", "--out", "a.gif"])],
+    (["watch", "--agent", "ppo:bad_policy.zip", "--out", "a.gif"], "bad_policy.zip is not a readable"),
+    (["evaluate", "--agents", "ppo:bad_meta", "--episodes", "1"], "bad_meta/train_meta.json"),
+    (["reproduce-paper", "--quick", "--readme", "docs_is_a_file/README.md"], "docs exists and is not a directory"),
     (["reproduce-paper", "--quick", "--readme", "/nonexistent/README.md"], "--readme"),
     (["reproduce-paper", "--quick", "--readme", "a_file.txt"], "markers"),
     (["reproduce-paper", "--quick", "--out", "/proc/cof_gym_paper"], "--out"),
@@ -102,6 +138,23 @@ BAD = [
     ([], "COMMAND"),
     (["no-such-command"], "no-such-command"),
 ]
+
+
+@functools.lru_cache(maxsize=None)
+def _broken_bytes() -> dict[str, bytes]:
+    """Statistics for another observation shape (4,), and the shipped zip with a garbage policy.pth."""
+    import gymnasium as gym
+    from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
+
+    with tempfile.TemporaryDirectory() as tmp:
+        stats = Path(tmp) / "vecnormalize.pkl"
+        VecNormalize(DummyVecEnv([lambda: gym.make("CartPole-v1")])).save(str(stats))
+        other = stats.read_bytes()
+        buffer = io.BytesIO()
+        with zipfile.ZipFile(Path(SHIPPED) / "model.zip") as z, zipfile.ZipFile(buffer, "w") as w:
+            for name in z.namelist():
+                w.writestr(name, b"garbage" if name == "policy.pth" else z.read(name))
+    return {"other_stats": other, "bad_policy": buffer.getvalue()}
 
 
 @pytest.fixture()
@@ -115,6 +168,18 @@ def workdir(tmp_path: Path, monkeypatch) -> Path:
     with zipfile.ZipFile(tmp_path / "not_a_model.zip", "w") as z:  # a valid zip, not a model
         z.writestr("notes.txt", "not a model\n")
     (tmp_path / "corrupt.zip").write_bytes(b"PK\x03\x04" + b"\x00garbage" * 8)
+    for name in BROKEN_MODELS:
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "model.zip").symlink_to(Path(SHIPPED) / "model.zip")
+    (tmp_path / "bad_stats" / "vecnormalize.pkl").write_bytes(b"garbage\n")
+    (tmp_path / "other_stats" / "vecnormalize.pkl").write_bytes(_broken_bytes()["other_stats"])
+    (tmp_path / "bad_meta" / "vecnormalize.pkl").symlink_to(Path(SHIPPED) / "vecnormalize.pkl")
+    (tmp_path / "bad_meta" / "train_meta.json").write_text("{not json")
+    (tmp_path / "bad_policy.zip").write_bytes(_broken_bytes()["bad_policy"])
+    (tmp_path / "docs_is_a_file").mkdir()
+    (tmp_path / "docs_is_a_file" / "README.md").write_text("# x\n<!-- reproduce-paper:begin -->\n"
+                                                          "<!-- reproduce-paper:end -->\n")
+    (tmp_path / "docs_is_a_file" / "docs").write_text("a file where the figures' directory should be\n")
     return tmp_path
 
 
@@ -196,4 +261,5 @@ def test_an_interrupted_evaluate_leaves_nothing(workdir: Path, monkeypatch) -> N
     monkeypatch.setattr(ev, "run_episode", interrupted)
     assert cli.main(["evaluate", "--agents", "staircase", "--episodes", "3", "--out", "deep/res", "--quiet"]) == 130
     assert sorted(p.name for p in workdir.iterdir()) == sorted(["a_file.txt", "not_an_output", "not_a_model.zip",
-                                                               "corrupt.zip", *SUITE_FILES])
+                                                               "corrupt.zip", *SUITE_FILES, *BROKEN_MODELS,
+                                                               "bad_policy.zip", "docs_is_a_file"])

@@ -13,6 +13,7 @@ import re
 from pathlib import Path
 from typing import Any, Iterable, Mapping
 
+import gymnasium as gym
 import numpy as np
 
 import cof_gym
@@ -70,18 +71,70 @@ def vecnormalize_path(model_path: str | Path) -> Path:
     return zoo if not beside.is_file() and zoo.is_file() else beside
 
 
-def find_train_meta(model_path: str | Path) -> dict[str, Any] | None:
+def find_train_meta(model_path: str | Path, strict: bool = False) -> dict[str, Any] | None:
     """``train_meta.json`` of the run that produced ``model_path`` (beside it, or one directory up
-    for ``OUT/best`` and ``OUT/checkpoints``), or None."""
+    for ``OUT/best`` and ``OUT/checkpoints``), or None when there is none. A file that cannot be read or
+    holds no JSON object: None, or with ``strict`` a ``ValueError`` (one line) naming the file."""
     model_path = Path(model_path)
     for d in (model_path.parent, model_path.parent.parent):
         f = d / META_NAME
         if f.is_file():
             try:
-                return json.loads(f.read_text())
-            except (OSError, ValueError):
+                meta = json.loads(f.read_text())
+            except (OSError, ValueError) as e:  # json.JSONDecodeError and UnicodeDecodeError are ValueErrors
+                if strict:
+                    raise ValueError(f"{f} cannot be read as JSON ({' '.join(str(e).split())})") from None
                 return None
+            if not isinstance(meta, dict):
+                if strict:
+                    raise ValueError(f"{f} holds {type(meta).__name__}, not a JSON object")
+                return None
+            return meta
     return None
+
+
+class _SpacesOnly(gym.Env):
+    """A stand-in env with given spaces, never reset or stepped (hosts statistics for a check)."""
+
+    def __init__(self, observation_space: Any, action_space: Any) -> None:
+        self.observation_space, self.action_space = observation_space, action_space
+
+
+def load_vecnormalize(stats: str | Path, venv: Any) -> Any:
+    """``VecNormalize.load(stats, venv)``, with the statistics checked against ``venv``'s observation
+    space. ``ValueError`` (one line) naming ``stats`` for a file that is not readable VecNormalize
+    statistics or that does not fit ``venv`` (SB3 raises EOFError, pickle errors, AssertionError...)."""
+    from stable_baselines3.common.vec_env import VecNormalize
+
+    try:
+        vec_normalize = VecNormalize.load(str(stats), venv)
+    except Exception as e:  # noqa: BLE001 - pickle, EOF, attribute and assertion errors alike
+        raise ValueError(f"{stats} is not usable VecNormalize statistics for this model "
+                         f"({type(e).__name__}: {' '.join(str(e).split())})") from None
+    if not isinstance(vec_normalize, VecNormalize):
+        raise ValueError(f"{stats} holds a {type(vec_normalize).__name__}, not VecNormalize statistics")
+    obs_rms = getattr(vec_normalize, "obs_rms", None)
+    shape = getattr(venv.observation_space, "shape", None)
+    if vec_normalize.norm_obs and shape is not None and getattr(getattr(obs_rms, "mean", None), "shape", None) != shape:
+        raise ValueError(f"{stats}: its observation statistics do not have the model's observation shape {shape}")
+    return vec_normalize
+
+
+def check_model(path: str | Path) -> tuple[Any, Any]:
+    """Everything :meth:`PPOAgent.load` and ``cof-gym train --resume`` read from a model zip, checked without
+    building an env: the zip (:func:`model_spaces`), its VecNormalize statistics (when present, loaded on a
+    stand-in of the model's spaces) and its ``train_meta.json`` (when present). Returns the model's
+    (observation space, action space); ``ValueError`` (one line, naming the file) otherwise."""
+    from stable_baselines3.common.vec_env import DummyVecEnv
+
+    path = Path(path)
+    spaces = model_spaces(path)
+    stats = vecnormalize_path(path)
+    if stats.is_file():
+        venv = DummyVecEnv([lambda: _SpacesOnly(*spaces)])
+        load_vecnormalize(stats, venv).close()
+    find_train_meta(path, strict=True)
+    return spaces
 
 
 def _make_env(full_id: str, adapter: str, **kwargs: Any):
@@ -129,7 +182,7 @@ class PPOAgent:
         beside it. ``env_id`` defaults to the one recorded in ``train_meta.json``; the env is only
         built to check the spaces and to host the (frozen) statistics, it is never stepped."""
         from stable_baselines3 import PPO
-        from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
+        from stable_baselines3.common.vec_env import DummyVecEnv
 
         model_path = resolve_model_path(path)
         meta = find_train_meta(model_path) or {}
@@ -151,7 +204,11 @@ class PPOAgent:
         stats = vecnormalize_path(model_path)
         vec_normalize = None
         if stats.is_file():
-            vec_normalize = VecNormalize.load(str(stats), venv)
+            try:
+                vec_normalize = load_vecnormalize(stats, venv)
+            except ValueError:
+                venv.close()
+                raise
             vec_normalize.training = False
             vec_normalize.norm_reward = False
         else:

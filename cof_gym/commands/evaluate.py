@@ -586,10 +586,10 @@ def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
         except registry.AgentSpecError as e:
             raise UsageError("--agents", str(e)) from None
         if argument is not None and spec.startswith("ppo:"):
-            from cof_gym.agents.ppo import model_spaces, resolve_model_path
+            from cof_gym.agents.ppo import check_model, resolve_model_path
 
             try:
-                model_spaces(resolve_model_path(argument))
+                check_model(resolve_model_path(argument))
             except (FileNotFoundError, ValueError) as e:
                 raise UsageError("--agents", f"{spec}: {e}") from None
     if len(set(specs)) != len(specs):

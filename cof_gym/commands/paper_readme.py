@@ -217,6 +217,8 @@ def check_readme(readme: Path) -> str:
     if BEGIN not in text or END not in text or text.index(BEGIN) > text.index(END):
         raise ValueError(f"{readme} lacks the markers {BEGIN} ... {END}")
     docs = readme.parent / "docs"
+    if (docs.exists() or docs.is_symlink()) and not docs.is_dir():  # a file, or a dangling link
+        raise ValueError(f"{docs} exists and is not a directory; the README's figures are copied into {docs}/")
     if not os.access(readme, os.W_OK) or not os.access(docs if docs.is_dir() else readme.parent, os.W_OK):
         raise ValueError(f"{readme} or {docs} is not writable")
     return text

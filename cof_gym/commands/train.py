@@ -62,6 +62,15 @@ REWARD_TERMS = ("reward_error", "reward_slip", "reward_comfort", "reward_time", 
 # keys of the YAML that are not PPO constructor arguments
 _ZOO_KEYS = ("n_envs", "n_timesteps", "policy", "normalize", "env_kwargs")
 _SCHEDULED = ("learning_rate", "clip_range", "clip_range_vf")
+# PPO arguments the command sets itself (-> the option that sets it, or None)
+SET_BY_COMMAND: dict[str, str | None] = {"seed": "--seed", "device": "--device", "verbose": "--verbose",
+                                         "tensorboard_log": None, "env": "--env", "_init_setup_model": None}
+# integer hyperparameters: name -> (low, high); high None: no upper bound
+INT_BOUNDS: dict[str, tuple[int, int | None]] = {"n_steps": (1, 10**7), "batch_size": (1, 10**7), "n_epochs": (1, 10**6),
+                                                 "n_envs": (1, None)}
+# VecNormalize arguments (of ``normalize``) that must be booleans / numbers in (low, high]
+_NORMALIZE_BOOLS = ("training", "norm_obs", "norm_reward")
+_NORMALIZE_BOUNDS = {"clip_obs": (0.0, 1e12), "clip_reward": (0.0, 1e12), "gamma": (0.0, 1.0), "epsilon": (0.0, 1.0)}
 
 
 # ---------------------------------------------------------------------------- hyperparameters
@@ -111,15 +120,58 @@ def _eval_kwargs(text: str) -> dict[str, Any]:
     return value
 
 
+def _check_int(key: str, value: Any, low: int, high: int | None = None) -> int:
+    """An integer (not a bool, not a float) in [low, high]; ``ValueError`` naming ``key`` otherwise."""
+    import numbers
+
+    bound = f">= {low}" if high is None else f"in [{low}, {high}]"
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral) or value < low or \
+            (high is not None and value > high):
+        raise ValueError(f"{key} must be an integer {bound}, got {value!r} ({type(value).__name__})")
+    return int(value)
+
+
+def check_normalize(normalize: dict[str, Any]) -> None:
+    """``normalize`` as a dict: VecNormalize's keyword arguments only (its signature), booleans as booleans,
+    clip_obs / clip_reward / epsilon > 0, gamma in (0, 1]; ``ValueError`` naming the key otherwise."""
+    import inspect
+
+    from stable_baselines3.common.vec_env import VecNormalize
+
+    from cof_gym.task.validation import check_number
+
+    allowed = set(inspect.signature(VecNormalize.__init__).parameters) - {"self", "venv"}
+    unknown = sorted(str(k) for k in set(normalize) - allowed)
+    if unknown:
+        raise ValueError(f"normalize: unknown VecNormalize argument(s) {unknown}; allowed: {sorted(allowed)}")
+    for key, value in normalize.items():
+        if key in _NORMALIZE_BOOLS and not isinstance(value, bool):
+            raise ValueError(f"normalize.{key} must be True or False, got {value!r} ({type(value).__name__})")
+        if key in _NORMALIZE_BOUNDS:
+            check_number(f"normalize.{key}", value, *_NORMALIZE_BOUNDS[key], low_open=True)
+        if key == "norm_obs_keys" and value is not None:
+            raise ValueError(f"normalize.norm_obs_keys must be None (the observation is not a dict), got {value!r}")
+
+
 def _schedule(key: str, value: Any) -> Any:
-    """RL Zoo's ``lin_<x>`` strings into linear schedules (``x`` at the start, 0 at the end)."""
+    """RL Zoo's ``lin_<x>`` strings into linear schedules (``x`` at the start, 0 at the end); the start value
+    is checked against the constant's bounds (:data:`PPO_BOUNDS`)."""
     if isinstance(value, str):
         kind, _, initial = value.partition("_")
-        if kind != "lin" or not initial:
-            raise ValueError(f"{key}: expected a number or 'lin_<value>', got {value!r}")
+        try:
+            start = float(initial)
+        except ValueError:
+            start = None
+        if kind != "lin" or start is None:
+            raise ValueError(f"{key}: expected a number or 'lin_<number>', got {value!r}")
+        if key in PPO_BOUNDS:
+            from cof_gym.task.validation import check_number
+
+            low, high, low_open = PPO_BOUNDS[key]
+            check_number(f"{key} (the start of {value!r})", start, low, high, low_open=low_open)
         from stable_baselines3.common.utils import LinearSchedule
 
-        return LinearSchedule(float(initial), 0.0, 1.0)
+        return LinearSchedule(start, 0.0, 1.0)
     return float(value) if isinstance(value, (int, float)) and not isinstance(value, bool) else value
 
 
@@ -127,9 +179,17 @@ def split_hyperparams(raw: dict[str, Any]) -> tuple[dict[str, Any], dict[str, An
     """``(run settings, PPO kwargs)`` from a YAML entry. Run settings: n_envs, n_timesteps, policy,
     normalize (VecNormalize kwargs, always obs-only by default), env_kwargs."""
     raw = dict(raw)
+    n_timesteps = raw.pop("n_timesteps", 100_000)
+    if isinstance(n_timesteps, str):  # '1e5'
+        try:
+            n_timesteps = float(n_timesteps)
+        except ValueError:
+            pass
+    if isinstance(n_timesteps, float) and n_timesteps.is_integer() and n_timesteps >= 1:  # the YAML's !!float 4e4
+        n_timesteps = int(n_timesteps)
     settings: dict[str, Any] = {
-        "n_envs": int(raw.pop("n_envs", 1)),
-        "n_timesteps": int(float(raw.pop("n_timesteps", 100_000))),
+        "n_envs": _check_int("n_envs", raw.pop("n_envs", 1), *INT_BOUNDS["n_envs"]),
+        "n_timesteps": _check_int("n_timesteps", n_timesteps, 1),
         "policy": raw.pop("policy", "MlpPolicy"),
         "env_kwargs": dict(raw.pop("env_kwargs", None) or {}),
     }
@@ -137,9 +197,13 @@ def split_hyperparams(raw: dict[str, Any]) -> tuple[dict[str, Any], dict[str, An
     if isinstance(normalize, str):
         normalize = _eval_kwargs(normalize)
     if isinstance(normalize, dict):
+        check_normalize(normalize)
         norm = {"norm_obs": True, "norm_reward": False, **normalize}
-    else:  # a bool: observations only (the reward scale is meaningful)
-        norm = {"norm_obs": bool(normalize), "norm_reward": False}
+    elif isinstance(normalize, bool):  # observations only (the reward scale is meaningful)
+        norm = {"norm_obs": normalize, "norm_reward": False}
+    else:
+        raise ValueError(f"normalize must be True, False or a dict of VecNormalize arguments, got {normalize!r} "
+                         f"({type(normalize).__name__})")
     if "gamma" in raw:
         norm.setdefault("gamma", float(raw["gamma"]))
     settings["normalize"] = norm
@@ -286,6 +350,7 @@ def _make_venv(env_id: str, env_kwargs: dict[str, Any], n_envs: int, seed: int, 
 
 
 WARM_START_DIR = "warm_start"
+MAX_TORCH_THREADS = 1024
 
 
 def _log_std_list(text: str) -> list[float]:
@@ -319,7 +384,8 @@ def save_warm_start(model, train_env, out: Path, env_id: str) -> Path:
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The options of ``cof-gym train``."""
     from cof_gym.agents.pretrain import EXPERTS
-    from cof_gym.commands.args import MAX_TRAIN_SEED, non_negative_float, non_negative_int, positive_int, train_seed_int
+    from cof_gym.commands.args import (MAX_TRAIN_SEED, int_in_range, non_negative_float, non_negative_int, positive_int,
+                                       train_seed_int)
 
     parser.add_argument("--algo", choices=ALGOS, default="ppo", help="RL algorithm")
     parser.add_argument("--env", default=None, choices=cof_gym.ENV_IDS, metavar="ENV_ID",
@@ -352,8 +418,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--eval-episodes", type=positive_int, default=10, help="episodes per evaluation")
     parser.add_argument("--save-freq", type=int, default=50_000,
                         help="checkpoint every N environment steps to OUT/checkpoints (<= 0: off)")
-    parser.add_argument("--device", default="cpu", help="torch device (PPO with an MLP is faster on the CPU)")
-    parser.add_argument("--torch-threads", type=non_negative_int, default=1,
+    parser.add_argument("--device", default="cpu",
+                        help="torch device: cpu, cuda, cuda:N or auto (cuda when there is one; PPO with an MLP is "
+                             "faster on the CPU)")
+    parser.add_argument("--torch-threads", type=int_in_range(0, MAX_TORCH_THREADS), default=1,
                         help="torch CPU threads of the learner (the MLP is tiny and OpenMP threads competing with "
                              "the simulation for the cores slow it down many-fold; 0: torch's default)")
     parser.add_argument("--progress", action=argparse.BooleanOptionalAction, default=True,
@@ -392,7 +460,7 @@ def main(argv: list[str] | None = None) -> int:
 PPO_BOUNDS: dict[str, tuple[float, float, bool]] = {
     "gamma": (0.0, 1.0, True), "gae_lambda": (0.0, 1.0, False), "n_epochs": (1, 1e6, False),
     "ent_coef": (0.0, 1e6, False), "vf_coef": (0.0, 1e6, False), "max_grad_norm": (0.0, 1e12, True),
-    "clip_range": (0.0, 1e6, True), "target_kl": (0.0, 1e6, True),
+    "clip_range": (0.0, 1e6, True), "clip_range_vf": (0.0, 1e6, True), "target_kl": (0.0, 1e6, True),
 }
 
 
@@ -413,6 +481,9 @@ def check_ppo_kwargs(policy: str, ppo_kwargs: dict[str, Any], observation_space:
 
     from cof_gym.task.validation import check_number
 
+    for key in ("n_steps", "batch_size", "n_epochs"):
+        if key in ppo_kwargs:
+            _check_int(key, ppo_kwargs[key], *INT_BOUNDS[key])
     for key, (low, high, low_open) in PPO_BOUNDS.items():
         if ppo_kwargs.get(key) is not None and not callable(ppo_kwargs[key]):
             check_number(key, ppo_kwargs[key], low, high, low_open=low_open)
@@ -421,6 +492,39 @@ def check_ppo_kwargs(policy: str, ppo_kwargs: dict[str, Any], observation_space:
         PPO(policy, venv, device="cpu", **ppo_kwargs)
     except Exception as e:  # noqa: BLE001 - SB3 reports bad values as AssertionError, TypeError or ValueError
         raise ValueError(" ".join(str(e).split()) or type(e).__name__) from None
+
+
+def check_normalize_env(normalize: dict[str, Any], observation_space: gym.Space, action_space: gym.Space) -> None:
+    """VecNormalize built with ``normalize`` on a stand-in env with the training env's spaces (nothing is
+    simulated); ``ValueError`` in one line."""
+    from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
+
+    venv = DummyVecEnv([lambda: _SpacesOnly(observation_space, action_space)])
+    try:
+        VecNormalize(venv, **normalize)
+    except Exception as e:  # noqa: BLE001 - SB3 reports bad values as AssertionError, TypeError or ValueError
+        raise ValueError(f"normalize {normalize}: " + (" ".join(str(e).split()) or type(e).__name__)) from None
+
+
+def check_device(device: str) -> None:
+    """``--device``: exactly ``auto``, ``cpu``, ``cuda`` or ``cuda:N`` (N an integer), CUDA only where there is
+    such a device; :class:`UsageError` otherwise."""
+    import re
+
+    from cof_gym.commands.args import UsageError
+
+    m = re.fullmatch(r"cuda(?::(\d+))?", device)
+    if device in ("auto", "cpu"):
+        return
+    if m is None:
+        raise UsageError("--device", f"must be auto, cpu, cuda or cuda:N (N an integer >= 0), got {device!r}")
+    import torch
+
+    if not torch.cuda.is_available():
+        raise UsageError("--device", f"{device!r}: no CUDA device here; use cpu")
+    count = torch.cuda.device_count()
+    if m[1] is not None and int(m[1]) >= count:
+        raise UsageError("--device", f"{device!r}: there are {count} CUDA device(s) here, cuda:0 to cuda:{count - 1}")
 
 
 def _check_resume_spaces(path: Path, saved: tuple[Any, Any], env: tuple[Any, Any], env_id: str,
@@ -452,20 +556,23 @@ def _check(args: argparse.Namespace) -> dict[str, Any]:
     """Everything on the command line, before anything is written; :class:`UsageError` naming the flag."""
     import gymnasium as gym
 
-    from cof_gym.agents.ppo import META_NAME, find_train_meta, make_env_fn, model_spaces, resolve_model_path
+    from cof_gym.agents.ppo import META_NAME, check_model, find_train_meta, make_env_fn, resolve_model_path
     from cof_gym.commands.args import UsageError, check_output_dir
 
     out = check_output_dir(Path(args.out))
     resume_path = None
     prev_meta: dict[str, Any] = {}
     if args.resume:
-        try:
+        try:  # the zip, its VecNormalize statistics and its train_meta.json
             resume_path = resolve_model_path(args.resume)
-            resume_spaces = model_spaces(resume_path)
+            resume_spaces = check_model(resume_path)
+            prev_meta = find_train_meta(resume_path, strict=True) or {}
         except (FileNotFoundError, ValueError) as e:
             raise UsageError("--resume", str(e)) from None
-        prev_meta = find_train_meta(resume_path) or {}
     same_out = resume_path is not None and resume_path.resolve() == (out / "model.zip").resolve()
+    if out.is_dir() and not same_out and not (out / META_NAME).is_file() and any(out.iterdir()):
+        raise UsageError("--out", f"{out} exists and is not a cof-gym train output (no {META_NAME}); "
+                         "give a new or empty directory")
     if (out / "model.zip").exists() and not args.overwrite and not same_out:
         raise UsageError("--out", f"{out / 'model.zip'} exists; use --overwrite, another --out or "
                          f"--resume {out}")
@@ -482,6 +589,13 @@ def _check(args: argparse.Namespace) -> dict[str, Any]:
         raise UsageError("--conf-file", str(e.args[0])) from None
     except Exception as e:  # yaml.YAMLError and friends
         raise UsageError("--conf-file", f"{conf}: {' '.join(str(e).split())}") from None
+    for key, flag in SET_BY_COMMAND.items():
+        if key in (args.hyperparams or {}) or key in raw:
+            source = "--hyperparams" if key in (args.hyperparams or {}) else "--conf-file"
+            raise UsageError(source, f"{key!r} is set by cof-gym train itself"
+                             + (f"; use {flag}" if flag else "") + " (not a hyperparameter)")
+    if resume_path is not None and "policy" in (args.hyperparams or {}):
+        raise UsageError("--hyperparams", "'policy' cannot change when resuming (the saved model keeps its policy)")
     raw.update(args.hyperparams or {})
     try:
         settings, ppo_kwargs = split_hyperparams(raw)
@@ -511,16 +625,10 @@ def _check(args: argparse.Namespace) -> dict[str, Any]:
         raise UsageError("--n-envs" if n_envs < 1 else "--timesteps", "must be >= 1 (the YAML says otherwise)")
     try:
         check_ppo_kwargs(settings["policy"], ppo_kwargs, *spaces, n_envs)
+        check_normalize_env(settings["normalize"], *spaces)
     except ValueError as e:
         raise UsageError("--hyperparams", str(e)) from None
-    try:
-        import torch
-
-        device = torch.device(args.device)
-    except (RuntimeError, ValueError) as e:
-        raise UsageError("--device", f"{args.device!r}: {e}") from None
-    if device.type == "cuda" and not torch.cuda.is_available():
-        raise UsageError("--device", f"{args.device!r}: no CUDA device here; use cpu")
+    check_device(args.device)
     history = []
     if same_out and (out / META_NAME).is_file():
         previous = json.loads((out / META_NAME).read_text())

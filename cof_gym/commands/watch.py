@@ -114,11 +114,11 @@ def prepare(args: argparse.Namespace) -> WatchRequest:
     except registry.AgentSpecError as e:
         raise UsageError("--agent", str(e)) from None
     if argument is not None and entry.name == "ppo":
-        from cof_gym.agents.ppo import resolve_model_path
+        from cof_gym.agents.ppo import check_model, resolve_model_path
 
-        try:
-            resolve_model_path(argument)
-        except FileNotFoundError as e:
+        try:  # the checks evaluate makes: the zip, its statistics and its train_meta.json
+            check_model(resolve_model_path(argument))
+        except (FileNotFoundError, ValueError) as e:
             raise UsageError("--agent", f"{spec}: {e}") from None
     if args.env not in cof_gym.ENV_IDS:
         raise UsageError("--env", f"unknown env {args.env!r}; allowed: {', '.join(cof_gym.ENV_IDS)}")
