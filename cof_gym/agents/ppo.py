@@ -93,10 +93,11 @@ def find_train_meta(model_path: str | Path, strict: bool = False) -> dict[str, A
     return None
 
 
-class _SpacesOnly(gym.Env):
-    """A stand-in env with given spaces, never reset or stepped (hosts statistics for a check)."""
+class SpacesOnly(gym.Env):
+    """A stand-in env with given spaces, never reset or stepped: SB3 builds a model or loads statistics on it
+    without simulating (the checks of ``cof-gym train``, :func:`check_model`)."""
 
-    def __init__(self, observation_space: Any, action_space: Any) -> None:
+    def __init__(self, observation_space: gym.Space, action_space: gym.Space) -> None:
         self.observation_space, self.action_space = observation_space, action_space
 
 
@@ -131,7 +132,7 @@ def check_model(path: str | Path) -> tuple[Any, Any]:
     spaces = model_spaces(path)
     stats = vecnormalize_path(path)
     if stats.is_file():
-        venv = DummyVecEnv([lambda: _SpacesOnly(*spaces)])
+        venv = DummyVecEnv([lambda: SpacesOnly(*spaces)])
         load_vecnormalize(stats, venv).close()
     find_train_meta(path, strict=True)
     return spaces

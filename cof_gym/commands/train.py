@@ -464,13 +464,6 @@ PPO_BOUNDS: dict[str, tuple[float, float, bool]] = {
 }
 
 
-class _SpacesOnly(gym.Env):
-    """A stand-in env with the training env's spaces: SB3 builds a model on it without simulating."""
-
-    def __init__(self, observation_space: gym.Space, action_space: gym.Space) -> None:
-        self.observation_space, self.action_space = observation_space, action_space
-
-
 def check_ppo_kwargs(policy: str, ppo_kwargs: dict[str, Any], observation_space: gym.Space, action_space: gym.Space,
                      n_envs: int) -> None:
     """PPO's hyperparameters, as SB3 checks them when it builds the model (on a stand-in env with the
@@ -479,6 +472,7 @@ def check_ppo_kwargs(policy: str, ppo_kwargs: dict[str, Any], observation_space:
     from stable_baselines3 import PPO
     from stable_baselines3.common.vec_env import DummyVecEnv
 
+    from cof_gym.agents.ppo import SpacesOnly
     from cof_gym.task.validation import check_number
 
     for key in ("n_steps", "batch_size", "n_epochs"):
@@ -487,7 +481,7 @@ def check_ppo_kwargs(policy: str, ppo_kwargs: dict[str, Any], observation_space:
     for key, (low, high, low_open) in PPO_BOUNDS.items():
         if ppo_kwargs.get(key) is not None and not callable(ppo_kwargs[key]):
             check_number(key, ppo_kwargs[key], low, high, low_open=low_open)
-    venv = DummyVecEnv([lambda: _SpacesOnly(observation_space, action_space)] * n_envs)
+    venv = DummyVecEnv([lambda: SpacesOnly(observation_space, action_space)] * n_envs)
     try:
         PPO(policy, venv, device="cpu", **ppo_kwargs)
     except Exception as e:  # noqa: BLE001 - SB3 reports bad values as AssertionError, TypeError or ValueError
@@ -499,7 +493,9 @@ def check_normalize_env(normalize: dict[str, Any], observation_space: gym.Space,
     simulated); ``ValueError`` in one line."""
     from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
 
-    venv = DummyVecEnv([lambda: _SpacesOnly(observation_space, action_space)])
+    from cof_gym.agents.ppo import SpacesOnly
+
+    venv = DummyVecEnv([lambda: SpacesOnly(observation_space, action_space)])
     try:
         VecNormalize(venv, **normalize)
     except Exception as e:  # noqa: BLE001 - SB3 reports bad values as AssertionError, TypeError or ValueError
