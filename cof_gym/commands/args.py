@@ -140,17 +140,36 @@ def check_output_dir(path: Path, flag: str = "--out") -> Path:
     cwd = Path.cwd().resolve()
     if resolved == cwd or resolved in cwd.parents:
         raise UsageError(flag, f"{path} is the current directory or one of its parents; give a subdirectory")
-    ancestor = resolved
+    _check_nearest_ancestor(path, resolved, flag, "directory")
+    return path
+
+
+def check_output_file(path: Path, flag: str = "--out") -> Path:
+    """An output file that can be written: not a directory, writable if it exists, below no file, its nearest
+    existing ancestor (missing folders are created by the writer) writable unless the file is there already,
+    not on a pseudo-filesystem. Creates nothing."""
+    path = Path(path)
+    if path.is_dir():
+        raise UsageError(flag, f"{path} is a directory; give a file")
+    if path.exists() and not os.access(path, os.W_OK):
+        raise UsageError(flag, f"{path} is not writable")
+    _check_nearest_ancestor(path, path.resolve().parent, flag, "file", writable=not path.exists())
+    return path
+
+
+def _check_nearest_ancestor(path: Path, start: Path, flag: str, kind: str, writable: bool = True) -> None:
+    """The nearest existing folder at or above ``start`` (where ``path``, a ``kind`` of output, will be made) is a
+    directory, writable (where ``writable``) and on disk; :class:`UsageError` naming ``flag`` otherwise."""
+    ancestor = start
     while not ancestor.exists():
         ancestor = ancestor.parent
     if not ancestor.is_dir():
         raise UsageError(flag, f"{path}: {ancestor} is a file, not a directory")
-    if not os.access(ancestor, os.W_OK | os.X_OK) or os.statvfs(ancestor).f_flag & os.ST_RDONLY:
+    if writable and (not os.access(ancestor, os.W_OK | os.X_OK) or os.statvfs(ancestor).f_flag & os.ST_RDONLY):
         raise UsageError(flag, f"{path}: {ancestor} is not writable")
     fs_type = filesystem_type(ancestor)
     if fs_type in PSEUDO_FILESYSTEMS:
-        raise UsageError(flag, f"{path}: {ancestor} is on a {fs_type} pseudo-filesystem; give a directory on disk")
-    return path
+        raise UsageError(flag, f"{path}: {ancestor} is on a {fs_type} pseudo-filesystem; give a {kind} on disk")
 
 
 # kernel filesystems that hold no files (writes fail even as root, where os.access says yes)
