@@ -11,12 +11,11 @@ interrupted.
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 import warnings
 from pathlib import Path
 
-from cof_gym.commands.args import PROG, Parser, UsageError, check_output_dir, float_at_least
+from cof_gym.commands.args import PROG, Parser, UsageError, check_output_dir, check_output_file, float_at_least
 
 BENCH_MIN_SECONDS = 0.01  # bench --seconds: ten physics steps of the wagon (dt = 1 ms), the shortest timing
 
@@ -55,14 +54,7 @@ def _bench(args: argparse.Namespace) -> int:
     from cof_gym.commands.bench import main as bench_main
 
     if args.markdown is not None:  # checked before the benchmark runs
-        markdown = Path(args.markdown)
-        if markdown.is_dir():
-            raise UsageError("--markdown", f"{args.markdown!r} is a directory; give a file path")
-        if not markdown.resolve().parent.is_dir():
-            raise UsageError("--markdown", f"{args.markdown}: its directory does not exist")
-        if not os.access(markdown.resolve().parent, os.W_OK | os.X_OK) or (
-                markdown.exists() and not os.access(markdown, os.W_OK)):
-            raise UsageError("--markdown", f"{args.markdown}: not writable")
+        check_output_file(Path(args.markdown), "--markdown")  # missing folders are made by the bench
     bench_main(args.seconds, args.markdown)
     return 0
 

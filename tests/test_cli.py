@@ -84,8 +84,8 @@ BAD = [
     (["bench", "--seconds", "0"], "--seconds"),
     (["bench", "--seconds", "nan"], "--seconds"),
     (["bench", "--seconds", "1e-300"], "must be a finite number >= 0.01"),  # no physics step: ZeroDivisionError
-    (["bench", "--seconds", "0.02", "--markdown", "."], "'.' is a directory"),  # refused before the benchmark
-    (["bench", "--seconds", "0.02", "--markdown", "no_such_dir/speed.md"], "its directory does not exist"),
+    (["bench", "--seconds", "0.02", "--markdown", "."], ". is a directory; give a file"),  # refused before the benchmark
+    (["bench", "--seconds", "0.02", "--markdown", "a_file.txt/speed.md"], "a_file.txt is a file, not a directory"),
     (["train", "--out", "run", "--timesteps", "0"], "--timesteps"),
     (["train", "--out", "run", "--env", "CofGym/Nope-v0"], "--env"),
     (["train", "--out", "run", "--resume", "/no/such/model.zip"], "--resume"),
@@ -202,6 +202,14 @@ def test_usage_errors_are_one_line_exit_2_and_create_nothing(argv, fragment, wor
     assert err.startswith("cof-gym") and "error:" in err and fragment in err, err
     assert _tree(workdir) == before, "a usage error created or changed files"
     assert not Path("out").exists()
+
+
+def test_bench_writes_its_markdown_table_into_a_new_folder(tmp_path: Path, monkeypatch, capsys) -> None:
+    monkeypatch.chdir(tmp_path)
+    cli.main(["bench", "--seconds", "0.01", "--markdown", "new/speed.md"])  # the folder is made, as --out's are
+    table = (tmp_path / "new" / "speed.md").read_text()
+    assert table.startswith("# cof-gym bench") and "| ratio native / bare" in table
+    assert "ratio native / bare" in capsys.readouterr().out
 
 
 def test_at_least_15_bad_invocations() -> None:

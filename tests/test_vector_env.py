@@ -189,7 +189,7 @@ def test_a_corrupted_simulation_diverges_alone_and_autoresets():
 def test_bad_vector_arguments_raise_naming_them(field, value):
     """Ints, not bools (True was taken as 1), in their ranges (2**40 threads was a pybind TypeError)."""
     kwargs = {"num_envs": 1, field: value}
-    with pytest.raises(ValueError, match=f"^{field} must be an int in \\[1, "):
+    with pytest.raises(ValueError, match=f"^{field} must be an integer in \\[1, "):
         gym.make_vec(ENV_ID, vectorization_mode="vector_entry_point", **kwargs)
 
 

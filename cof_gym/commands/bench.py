@@ -215,4 +215,5 @@ def main(seconds: float = 5.0, markdown: str | None = None) -> None:
     Console().print(table)
     if markdown:
         lines = [f"# {title}", "", "| measure | value |", "|---|---|", *(f"| {a} | {b} |" for a, b in rows + agent_rows)]
+        Path(markdown).parent.mkdir(parents=True, exist_ok=True)
         Path(markdown).write_text("\n".join(lines) + "\n")

@@ -42,6 +42,7 @@ import gymnasium as gym
 import numpy as np
 
 import cof_gym
+from cof_gym.task.validation import check_int
 
 ALGOS = ("ppo",)
 PRETRAIN_SEED_OFFSET = 200_000  # demonstration episodes draw seeds from here (not the suites' seeds)
@@ -120,17 +121,6 @@ def _eval_kwargs(text: str) -> dict[str, Any]:
     return value
 
 
-def _check_int(key: str, value: Any, low: int, high: int | None = None) -> int:
-    """An integer (not a bool, not a float) in [low, high]; ``ValueError`` naming ``key`` otherwise."""
-    import numbers
-
-    bound = f">= {low}" if high is None else f"in [{low}, {high}]"
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral) or value < low or \
-            (high is not None and value > high):
-        raise ValueError(f"{key} must be an integer {bound}, got {value!r} ({type(value).__name__})")
-    return int(value)
-
-
 def check_normalize(normalize: dict[str, Any]) -> None:
     """``normalize`` as a dict: VecNormalize's keyword arguments only (its signature), booleans as booleans,
     clip_obs / clip_reward / epsilon > 0, gamma in (0, 1]; ``ValueError`` naming the key otherwise."""
@@ -188,8 +178,8 @@ def split_hyperparams(raw: dict[str, Any]) -> tuple[dict[str, Any], dict[str, An
     if isinstance(n_timesteps, float) and n_timesteps.is_integer() and n_timesteps >= 1:  # the YAML's !!float 4e4
         n_timesteps = int(n_timesteps)
     settings: dict[str, Any] = {
-        "n_envs": _check_int("n_envs", raw.pop("n_envs", 1), *INT_BOUNDS["n_envs"]),
-        "n_timesteps": _check_int("n_timesteps", n_timesteps, 1),
+        "n_envs": check_int("n_envs", raw.pop("n_envs", 1), *INT_BOUNDS["n_envs"]),
+        "n_timesteps": check_int("n_timesteps", n_timesteps, 1),
         "policy": raw.pop("policy", "MlpPolicy"),
         "env_kwargs": dict(raw.pop("env_kwargs", None) or {}),
     }
@@ -477,7 +467,7 @@ def check_ppo_kwargs(policy: str, ppo_kwargs: dict[str, Any], observation_space:
 
     for key in ("n_steps", "batch_size", "n_epochs"):
         if key in ppo_kwargs:
-            _check_int(key, ppo_kwargs[key], *INT_BOUNDS[key])
+            check_int(key, ppo_kwargs[key], *INT_BOUNDS[key])
     for key, (low, high, low_open) in PPO_BOUNDS.items():
         if ppo_kwargs.get(key) is not None and not callable(ppo_kwargs[key]):
             check_number(key, ppo_kwargs[key], low, high, low_open=low_open)

@@ -13,7 +13,6 @@ import argparse
 import math
 import os
 import sys
-import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -26,7 +25,7 @@ import numpy as np
 import cof_gym
 from cof_gym.agents import registry
 from cof_gym.agents.base import own_env_options
-from cof_gym.commands.args import UsageError, int_in_range, positive_float, seed_int
+from cof_gym.commands.args import UsageError, check_output_file, int_in_range, positive_float, seed_int
 from cof_gym.physics.creep import creep_curve
 from cof_gym.physics.native import layout
 from cof_gym.physics.simulation import DriveCommand, Simulation, begin_window, dc_torque_at
@@ -50,25 +49,15 @@ DRIVEN = "orange spokes: the driven wheelset"
 
 # ---------------------------------------------------------------------------- checks
 def check_video_path(path: Path, flag: str = "--out") -> Path:
-    """A video file that can be written: a known extension, not a directory, in a writable folder
-    (created when missing, so its nearest existing ancestor must be writable). Creates nothing."""
+    """A video file that can be written: a known extension, not a directory, in a writable folder on disk
+    (created when missing, so its nearest existing ancestor must be writable: :func:`check_output_file`).
+    Creates nothing."""
     path = Path(path)
     if path.is_dir():
         raise UsageError(flag, f"{path} is a directory; give a file name ending in {' or '.join(EXTENSIONS)}")
     if path.suffix.lower() not in EXTENSIONS:
         raise UsageError(flag, f"{path}: the extension must be one of {', '.join(EXTENSIONS)}")
-    if path.exists() and not os.access(path, os.W_OK):
-        raise UsageError(flag, f"{path} exists and is not writable")
-    ancestor = path.resolve().parent
-    while not ancestor.exists():
-        ancestor = ancestor.parent
-    if not ancestor.is_dir():
-        raise UsageError(flag, f"{path}: {ancestor} is a file, not a directory")
-    try:  # a probe, removed at once: permissions alone do not tell (e.g. /proc for root)
-        with tempfile.TemporaryFile(dir=ancestor, prefix=".cof-gym-probe-"):
-            pass
-    except OSError as e:
-        raise UsageError(flag, f"{path}: cannot write in {ancestor} ({e.strerror or e})") from None
+    check_output_file(path, flag)  # writable, below no file, on disk
     return path
 
 
