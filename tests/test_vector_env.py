@@ -193,6 +193,17 @@ def test_bad_vector_arguments_raise_naming_them(field, value):
         gym.make_vec(ENV_ID, vectorization_mode="vector_entry_point", **kwargs)
 
 
+@pytest.mark.parametrize("value", [-1, np.int8(-1)])
+def test_max_episode_steps_minus_one_applies_no_time_limit_as_gym_make_does(value):
+    single = gym.make(ENV_ID, max_episode_steps=-1)
+    envs = gym.make_vec(ENV_ID, num_envs=1, vectorization_mode="vector_entry_point", max_episode_steps=value)
+    try:
+        assert envs.max_episode_steps is None and "TimeLimit" not in str(single)
+    finally:
+        envs.close()
+        single.close()
+
+
 def test_numpy_integer_vector_arguments_are_stored_as_ints():
     envs = gym.make_vec(ENV_ID, num_envs=np.int64(2), vectorization_mode="vector_entry_point",
                         num_threads=np.int32(1), max_episode_steps=np.int16(5))

@@ -47,6 +47,7 @@ AUTORESET_MODES = (AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP, AutoresetMo
 MAX_NUM_ENVS = 4096  # simulations in one batch
 MAX_NUM_THREADS = 256  # threads of the batch
 MAX_EPISODE_STEPS_LIMIT = 2**31 - 1  # the largest max_episode_steps (a TimeLimit; the task's horizon is shorter)
+NO_TIME_LIMIT = -1  # max_episode_steps that applies no TimeLimit (gymnasium's make and make_vec read it so)
 
 
 def _autoreset_mode(value: AutoresetMode | str) -> AutoresetMode:
@@ -61,9 +62,14 @@ def _autoreset_mode(value: AutoresetMode | str) -> AutoresetMode:
     return mode
 
 
+def _is_int(value: Any) -> bool:
+    """An integer, not a bool (numpy's included)."""
+    return isinstance(value, numbers.Integral) and not isinstance(value, (bool, np.bool_))
+
+
 def _is_seed(value: Any) -> bool:
     """An int >= 0 (a numpy integer too), not a bool: what ``gymnasium.utils.seeding.np_random`` takes."""
-    return isinstance(value, numbers.Integral) and not isinstance(value, (bool, np.bool_)) and value >= 0
+    return _is_int(value) and value >= 0
 
 
 class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
@@ -74,8 +80,8 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
         num_threads: threads of the batch, an int in [1, 256] (:data:`MAX_NUM_THREADS`); default
             ``min(num_envs, os.cpu_count(), 256)``.
         max_episode_steps: a ``TimeLimit`` (``gym.make_vec`` passes the spec's), an int in [1, 2**31 - 1],
-            applied per sub-env exactly as ``gymnasium.wrappers.TimeLimit`` does; None: the task's
-            horizon ``max_windows`` ends episodes.
+            applied per sub-env exactly as ``gymnasium.wrappers.TimeLimit`` does; None or -1 (as
+            ``gym.make(..., max_episode_steps=-1)``): the task's horizon ``max_windows`` ends episodes.
         **kwargs: the arguments of :class:`TorqueInterrogationEnv` (vehicle, window_s, scenario fields...).
 
     ``autoreset_mode`` (:data:`AUTORESET_MODES`, declared in ``metadata["autoreset_mode"]``), as
@@ -111,7 +117,9 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
         if num_threads is None:
             num_threads = min(num_envs, os.cpu_count() or 1, MAX_NUM_THREADS)
         num_threads = check_int("num_threads", num_threads, 1, MAX_NUM_THREADS)
-        if max_episode_steps is not None:
+        if _is_int(max_episode_steps) and max_episode_steps == NO_TIME_LIMIT:
+            max_episode_steps = None  # as gym.make(..., max_episode_steps=-1): the task's horizon alone
+        elif max_episode_steps is not None:
             max_episode_steps = check_int("max_episode_steps", max_episode_steps, 1, MAX_EPISODE_STEPS_LIMIT)
         if render_mode is not None:
             raise ValueError("the batched vector env does not render; use gym.make_vec(..., "
