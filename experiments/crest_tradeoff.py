@@ -72,7 +72,7 @@ from script_checks import check_out_file  # noqa: E402
 from cof_gym.agents.interrogator import (  # noqa: E402
     ESTIMATE_SOURCES, ESTIMATOR_ESTIMATES, GUARDED_ESTIMATES, SHIPPED_INTERROGATOR, ClimbParameters, read_manifest,
 )
-from cof_gym.commands.args import name_value, positive_int  # noqa: E402
+from cof_gym.commands.args import Parser, name_value, positive_int  # noqa: E402
 from cof_gym.commands.suites import scenario_option  # noqa: E402
 
 
@@ -307,7 +307,7 @@ def climb_setting(text: str) -> tuple[str, object]:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser = Parser(description=__doc__.split("\n")[0], formatter_class=argparse.HelpFormatter)
     parser.add_argument("--targets", type=float, nargs="+", default=None,
                         help="target headrooms of the shipped climb to try (default: 0.1 0.15 0.2 0.3)")
     parser.add_argument("--cautions", type=float, nargs="+", default=None,

@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from cof_gym.agents.interrogator import TARGET_NAMES
-from cof_gym.commands.args import seed_int
+from cof_gym.commands.args import Parser, seed_int
 from cof_gym.agents.interrogator_training import (
     FITTABLE_BLOCKS, READING_FIELDS, Dataset, FitSettings, fit_member, negative_log_likelihood,
 )
@@ -84,7 +84,7 @@ def bands(data: Dataset) -> dict[str, np.ndarray]:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = Parser(description=__doc__.splitlines()[0], formatter_class=argparse.HelpFormatter)
     ap.add_argument("--climbs", type=Path, required=True, help="a climbs file written by train_interrogator.py")
     ap.add_argument("--blocks", type=block_set, nargs="+", default=[(), ("climb_fit",)], metavar="SET")
     ap.add_argument("--holdout", type=fraction, default=0.2)

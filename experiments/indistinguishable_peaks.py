@@ -30,6 +30,7 @@ import numpy as np
 
 import cof_gym  # noqa: F401  (registers the envs)
 from cof_gym.agents import registry
+from cof_gym.commands.args import Parser
 from cof_gym.commands.evaluate import run_episode
 from cof_gym.commands.suites import SuiteError, make_suite
 from cof_gym.task.scenarios import COF_ENVELOPE
@@ -190,7 +191,7 @@ def sensor_only_agents(ap: argparse.ArgumentParser, text: str) -> list[str]:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = Parser(description=__doc__.splitlines()[0], formatter_class=argparse.HelpFormatter)
     ap.add_argument("--suite", type=Path, default=DEFAULT_SUITE, help="a suite file with tabulated creep curves")
     add_pair_arguments(ap, 1.25, "the twin's CoF over the original's (> 1)")
     args = ap.parse_args()

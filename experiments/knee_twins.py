@@ -39,6 +39,7 @@ from indistinguishable_peaks import (  # noqa: E402
 
 import cof_gym  # noqa: E402,F401  (registers the envs)
 from cof_gym.agents import registry  # noqa: E402
+from cof_gym.commands.args import Parser  # noqa: E402
 from cof_gym.commands.evaluate import run_episode  # noqa: E402
 from cof_gym.commands.suites import SuiteError, make_suite  # noqa: E402
 from cof_gym.physics.creep import OperatingConditions, creep_curve  # noqa: E402
@@ -173,7 +174,7 @@ def table(agents: list[str], suite_name: str, episodes: int, min_peak: float, ra
 
 
 def main() -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = Parser(description=__doc__.splitlines()[0], formatter_class=argparse.HelpFormatter)
     ap.add_argument("--suite", default="default", help="default or a suite file (default: %(default)s)")
     ap.add_argument("--episodes", type=int, default=60, help="episodes of a suite without a list (default: %(default)s)")
     ap.add_argument("--min-peak-creepage", type=float, default=0.04, help="the far curves' least peak creepage (0-1)")

@@ -58,6 +58,7 @@ import numpy as np
 from cof_gym import ENV_IDS
 from cof_gym.agents.interrogator import Reading
 from cof_gym.agents.runaway import crest_bound
+from cof_gym.commands.args import Parser
 from cof_gym.commands.suites import SuiteError, make_suite, scenario_option
 from cof_gym.task.excitation import encode_extra_tones
 from cof_gym.task.interface import MotorLimits, encode_action
@@ -233,7 +234,7 @@ def _number_in(low: float, high: float, low_inclusive: bool = False):
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = Parser(description=__doc__.splitlines()[0], formatter_class=argparse.HelpFormatter)
     ap.add_argument("--suite", default=str(DEFAULT_SUITE))
     ap.add_argument("--episodes", type=int, nargs="+", default=[12, 18, 27], help="indices into the suite")
     ap.add_argument("--levels", type=_number_in(0.0, MAX_LEVEL), nargs="+", default=list(LEVELS),

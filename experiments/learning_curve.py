@@ -27,7 +27,7 @@ from train_interrogator import collect, parse_climbs, require_networks, split  #
 
 from cof_gym.agents.interrogator import FilterEnsemble, read_manifest  # noqa: E402
 from cof_gym.agents.interrogator_training import Dataset, FitSettings, fit_member, nll  # noqa: E402
-from cof_gym.commands.args import positive_int, seed_int  # noqa: E402
+from cof_gym.commands.args import Parser, positive_int, seed_int  # noqa: E402
 
 COLUMNS = ("headroom_rmse", "headroom_nll", "correction_rmse", "correction_nll")
 
@@ -63,7 +63,7 @@ def table(data: Dataset, sizes: list[int], seed: int, ensembles: list[Path], epo
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser = Parser(description=__doc__.split("\n")[0], formatter_class=argparse.HelpFormatter)
     parser.add_argument("--run", type=Path, default=Path("runs/interrogator"),
                         help="the directory whose climb caches (climbs*.npz) are read, or written when missing")
     parser.add_argument("--climbs", nargs="+", default=["env=8000"], metavar="NAME=N",

@@ -29,7 +29,7 @@ from script_checks import check_out_file  # noqa: E402
 from train_interrogator import CONFIGS, VALIDATION, episodes  # noqa: E402
 
 from cof_gym.agents.interrogator import NOISE_WINDOWS, SHIPPED_INTERROGATOR, first_windows_noise_nms  # noqa: E402
-from cof_gym.commands.args import positive_int  # noqa: E402
+from cof_gym.commands.args import Parser, positive_int  # noqa: E402
 from cof_gym.task.scenarios import NOISE_LEVEL_MAX  # noqa: E402
 from cof_gym.task.validation import check_number  # noqa: E402
 
@@ -62,7 +62,7 @@ def level(text: str) -> float:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser = Parser(description=__doc__.split("\n")[0], formatter_class=argparse.HelpFormatter)
     parser.add_argument("--levels", type=level, nargs="+", default=[0.0, 0.5, 1.0, 2.0, 3.0])
     parser.add_argument("--episodes", type=positive_int, default=48, help="family validation episodes per configuration")
     parser.add_argument("--workers", type=positive_int, default=2)

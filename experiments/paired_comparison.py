@@ -24,6 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
+from cof_gym.commands.args import Parser
+
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from script_checks import check_out_file  # noqa: E402
 
@@ -100,7 +102,7 @@ def read_records(path: Path, seen: set[str]) -> list[dict]:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = Parser(description=__doc__.splitlines()[0], formatter_class=argparse.HelpFormatter)
     parser.add_argument("records", type=Path, nargs="+", help="crest_tradeoff.py --records files (their episodes together)")
     parser.add_argument("--baseline", default=None, help="the setting compared against (default: the file's first)")
     parser.add_argument("--settings", nargs="+", default=None, metavar="SETTING",

@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from cof_gym.commands.args import positive_int
+from cof_gym.commands.args import Parser, positive_int
 from cof_gym.commands.evaluate import evaluate
 from cof_gym.agents.ppo import model_spaces, vecnormalize_path
 from cof_gym.agents.registry import SHIPPED_PPO
@@ -107,7 +107,7 @@ def check_runs(parser: argparse.ArgumentParser, runs: list[Path]) -> None:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = Parser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--runs", nargs="+", required=True, type=Path, help="cof-gym train output directories")
     parser.add_argument("--out", type=Path, default=Path("out/ppo_seeds"))
     parser.add_argument("--ship", action="store_true", help="copy the best-on-validation policy into the package")

@@ -35,7 +35,7 @@ import numpy as np
 from selection import best_per_group, error_summary, group_line
 from script_checks import check_out_file
 
-from cof_gym.commands.args import positive_int
+from cof_gym.commands.args import Parser, positive_int
 
 # (label, env id, env kwargs, first seed, number of seeds)
 SETTINGS: tuple[tuple[str, str, dict[str, Any], int, int], ...] = (
@@ -150,7 +150,7 @@ def score(job: tuple[dict[str, float], list[Recording]]) -> list[dict[str, Any]]
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = Parser(description=__doc__.splitlines()[0], formatter_class=argparse.HelpFormatter)
     parser.add_argument("--workers", type=positive_int, default=2)
     parser.add_argument("--quick", action="store_true", help="a fifth of the seeds (smoke test)")
     parser.add_argument("--out", type=Path, default=Path("experiments/results/select_phase_rule.json"))

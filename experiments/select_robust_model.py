@@ -31,7 +31,7 @@ from typing import Any
 from selection import best_per_group, error_summary, group_line
 from script_checks import check_out_file
 
-from cof_gym.commands.args import positive_int
+from cof_gym.commands.args import Parser, positive_int
 
 VALIDATION_GRID = Path(__file__).resolve().parent / "suites" / "v2_validation_grid.json"  # wherever run from
 DEFAULT_SEEDS = (100000, 120)  # first seed, count, of the default v2 distribution
@@ -102,7 +102,7 @@ def summary(rows: list[dict[str, Any]], key=None) -> dict[str, Any]:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = Parser(description=__doc__.splitlines()[0], formatter_class=argparse.HelpFormatter)
     parser.add_argument("--workers", type=positive_int, default=2)
     parser.add_argument("--quick", action="store_true", help="a fifth of the episodes (smoke test)")
     parser.add_argument("--out", type=Path, default=Path("experiments/results/select_robust_model.json"))

@@ -33,6 +33,7 @@ from crest_tradeoff import climb_setting  # noqa: E402
 
 from cof_gym.agents.base import agent_view  # noqa: E402
 from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR, Reading, interrogator_for, manifest_climb  # noqa: E402
+from cof_gym.commands.args import Parser  # noqa: E402
 from cof_gym.commands.suites import make_suite  # noqa: E402
 
 HEADER = ("| window | DC / M_sat | true headroom | lag [deg] | filter headroom +- std | steering headroom +- std "
@@ -65,7 +66,7 @@ def trace(env, agent, seed: int, options: dict) -> tuple[str, list[str], str]:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = Parser(description=__doc__.splitlines()[0], formatter_class=argparse.HelpFormatter)
     ap.add_argument("--suite", default="default", help="default, paper or a suite file (default: %(default)s)")
     ap.add_argument("--episodes", type=int, nargs="+", default=[0], help="indices into the suite")
     ap.add_argument("--agent", type=Path, default=SHIPPED_INTERROGATOR,

@@ -48,7 +48,7 @@ from train_interrogator import CONFIGS, ENV_ID, fit_networks, parse_climbs, requ
 from cof_gym.agents.interrogator import (  # noqa: E402
     SHIPPED_INTERROGATOR, FilterEnsemble, manifest_climb, manifest_guards, read_manifest,
 )
-from cof_gym.commands.args import positive_int, seed_int  # noqa: E402
+from cof_gym.commands.args import Parser, positive_int, seed_int  # noqa: E402
 from cof_gym.task.creep_fit import coa_fell  # noqa: E402
 from cof_gym.agents.interrogator_training import (  # noqa: E402
     FIT_LOSSES, READING_FIELDS, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel,
@@ -160,7 +160,7 @@ def fit_estimator(policy: Path, out: Path, climbs: dict[str, int], seeds: list[i
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = Parser(description=__doc__.splitlines()[0], formatter_class=argparse.HelpFormatter)
     ap.add_argument("--policy", type=Path, default=SHIPPED_INTERROGATOR,
                     help="the interrogator whose climbs the estimator learns (a directory with member_*.npz and manifest.json)")
     ap.add_argument("--out", type=Path, default=Path("runs/estimator"))

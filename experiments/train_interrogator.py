@@ -114,7 +114,7 @@ from cof_gym.agents.interrogator import (
 from cof_gym.agents.interrogator_training import (
     FIT_LOSSES, FITTABLE_BLOCKS, STEEP_FALL, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel, fit_member, nll,
 )
-from cof_gym.commands.args import positive_int, seed_int
+from cof_gym.commands.args import Parser, positive_int, seed_int
 from cof_gym.commands.evaluate import run_episode
 from cof_gym.commands.suites import make_suite
 
@@ -530,7 +530,7 @@ def report_only(parser: argparse.ArgumentParser, args: argparse.Namespace) -> No
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = Parser(description=__doc__.splitlines()[0], formatter_class=argparse.HelpFormatter)
     ap.add_argument("--out", type=Path, default=Path("runs/interrogator"))
     ap.add_argument("--climbs", nargs="+", default=[f"{k}={v}" for k, v in EPISODES.items()], metavar="NAME=N",
                     help=f"training climbs per collection ({', '.join(COLLECTIONS)}; 0 or absent: none)")

@@ -16,7 +16,7 @@ import gymnasium as gym
 import numpy as np
 
 import cof_gym
-from cof_gym.commands.args import positive_int
+from cof_gym.commands.args import Parser, positive_int
 from cof_gym.commands.evaluate import run_episode
 from cof_gym.agents.ppo import PPOAgent, model_spaces, resolve_model_path
 from cof_gym.commands.train import load_hyperparams
@@ -25,7 +25,7 @@ FIRST_SEED = 10_000
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = Parser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("model", help="the RL Zoo model zip")
     parser.add_argument("--episodes", type=positive_int, default=40)
     args = parser.parse_args()

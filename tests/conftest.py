@@ -30,9 +30,11 @@ EXPERIMENTS = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__fil
 @pytest.fixture
 def experiment_exit(monkeypatch, capsys):
     """Run ``experiments/SCRIPT.py``'s ``main()`` in-process with command-line ``args``; returns (exit code,
-    the last line of stderr). For the bad-input checks of the experiment scripts: an option rejected before
+    the line of stderr). For the bad-input checks of the experiment scripts: an option rejected before
     any work exits through argparse, as on the command line, without a Python start-up per case (each
-    script keeps one subprocess test of its real command line)."""
+    script keeps one subprocess test of its real command line). Checks the one-line form of
+    :class:`cof_gym.commands.args.Parser`: stderr is exactly one line, ``SCRIPT.py: error: ...`` (no usage
+    block)."""
     import importlib
     import sys
 
@@ -40,9 +42,13 @@ def experiment_exit(monkeypatch, capsys):
         monkeypatch.syspath_prepend(EXPERIMENTS)
         module = importlib.import_module(script)
         monkeypatch.setattr(sys, "argv", [os.path.join(EXPERIMENTS, f"{script}.py"), *args])
+        capsys.readouterr()  # only what main() writes
         with pytest.raises(SystemExit) as exit_:
             module.main()
-        lines = capsys.readouterr().err.strip().splitlines()
-        return exit_.value.code, lines[-1] if lines else ""
+        err = capsys.readouterr().err
+        lines = err.splitlines()
+        assert len(lines) == 1 and err.endswith("\n"), f"stderr is not one line: {err!r}"
+        assert lines[0].startswith(f"{script}.py: error: "), lines[0]
+        return exit_.value.code, lines[0]
 
     return run

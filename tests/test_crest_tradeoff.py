@@ -53,8 +53,7 @@ def test_a_bad_option_on_the_command_line_exits_2_naming_it(tmp_path: Path) -> N
     done = subprocess.run([sys.executable, str(SCRIPT), "--cautions", "-1", "--out", str(tmp_path / "t.md")],
                           capture_output=True, text=True, timeout=120)
     assert done.returncode == 2
-    assert "--cautions" in done.stderr.strip().splitlines()[-1]
-    assert "Traceback" not in done.stderr
+    assert done.stderr.count("\n") == 1 and done.stderr.startswith("crest_tradeoff.py: error: --cautions"), done.stderr
     assert not (tmp_path / "t.md").exists()
 
 
@@ -65,7 +64,8 @@ def test_own_climb_needs_each_runs_manifest(tmp_path: Path) -> None:
     done = subprocess.run([sys.executable, str(SCRIPT), "--own-climb", "--run", str(run), "--out", str(tmp_path / "t.md")],
                           capture_output=True, text=True, timeout=120)
     assert done.returncode == 2
-    assert "--run: no manifest.json" in done.stderr.strip().splitlines()[-1]
+    assert done.stderr.count("\n") == 1, done.stderr
+    assert done.stderr.startswith("crest_tradeoff.py: error: --run: no manifest.json"), done.stderr
     assert not (tmp_path / "t.md").exists()
 
 

@@ -1,9 +1,12 @@
 """Bad command lines of the experiment scripts: one usage line naming the option (exit code 2), checked
 before any simulation and before any output is created (experiments/script_checks.py and each script's
-argument types)."""
+argument types). Every script parses with :class:`cof_gym.commands.args.Parser`: an error is the single
+line ``SCRIPT.py: error: MESSAGE (see SCRIPT.py --help)``, no usage block."""
 
 from __future__ import annotations
 
+import importlib
+import subprocess
 import sys
 from pathlib import Path
 
@@ -86,8 +89,52 @@ def test_a_bad_option_exits_2_naming_it_before_any_output(script: str, args: lis
     before = sorted(tmp_path.rglob("*"))
     code, last = experiment_exit(script, [a.format(**{k: str(v) for k, v in names.items()}) for a in args])
     assert code == 2
-    assert option in last, last
+    assert last.startswith(f"{script}.py: error: ") and option in last, last  # the one line (experiment_exit)
     assert sorted(tmp_path.rglob("*")) == before  # nothing created, not even --out's directory
+
+
+# every experiments script with a command line (a main() that adds arguments), found rather than listed so
+# that a new script is checked too
+SCRIPTS = sorted(path.stem for path in EXPERIMENTS.glob("*.py")
+                 if "def main(" in (text := path.read_text()) and ".add_argument(" in text)
+# what a script requires, so that the unknown option (not a missing argument) is the error; plain paths,
+# never read: the command line is refused before anything is opened
+REQUIRED = {"feature_block_nll": ["--climbs", "climbs.npz"], "paired_comparison": ["records.jsonl"],
+            "ppo_seeds": ["--runs", "run"], "zoo_eval": ["model.zip"]}
+
+
+def test_every_script_parses_with_the_one_line_parser() -> None:
+    assert len(SCRIPTS) >= 15, SCRIPTS
+    for script in SCRIPTS:
+        text = (EXPERIMENTS / f"{script}.py").read_text()
+        assert "argparse.ArgumentParser(" not in text and " Parser(" in text, script
+
+
+@pytest.mark.parametrize("script", SCRIPTS)
+def test_an_unknown_option_is_one_line_exit_2_and_help_exits_0(script: str, tmp_path: Path, monkeypatch,
+                                                               capsys) -> None:
+    """The unknown option on the real command line (a subprocess: what a user sees, start-up warnings
+    included); --help in-process, through the same main(). Each start-up imports numpy, gymnasium and torch
+    (a couple of seconds), so one subprocess per script keeps the whole check within about half a minute on
+    two cores; the modules are imported once here (most already are, by the cases above)."""
+    path = EXPERIMENTS / f"{script}.py"
+    done = subprocess.run([sys.executable, str(path), "--no-such-option", *REQUIRED.get(script, [])], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2, done.stderr
+    assert done.stdout == ""
+    lines = done.stderr.splitlines()
+    assert len(lines) == 1, done.stderr
+    assert lines[0] == f"{script}.py: error: unrecognized arguments: --no-such-option (see {script}.py --help)"
+    assert list(tmp_path.iterdir()) == []  # nothing written
+
+    monkeypatch.syspath_prepend(str(EXPERIMENTS))
+    module = importlib.import_module(script)
+    monkeypatch.setattr(sys, "argv", [str(path), "--help"])
+    with pytest.raises(SystemExit) as exit_:
+        module.main()
+    assert exit_.value.code == 0
+    out, err = capsys.readouterr()
+    assert out.startswith(f"usage: {script}.py ") and err == ""
 
 
 def test_the_robust_model_selection_reads_its_grid_from_any_directory(tmp_path: Path, monkeypatch) -> None:

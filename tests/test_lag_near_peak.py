@@ -31,7 +31,8 @@ def test_overrides_and_env_reach_the_episode(monkeypatch, capsys):
         with pytest.raises(SystemExit) as e:
             _lags(monkeypatch, capsys, ["--set", bad])
         assert e.value.code == 2
-        assert "argument --set" in capsys.readouterr().err
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and err.startswith("lag_near_peak.py: error: argument --set"), err
 
 
 def test_harmonics_read_silent_tones_without_changing_the_drive(monkeypatch, capsys):

@@ -30,5 +30,5 @@ def test_a_malformed_option_is_one_line_and_exit_2(monkeypatch, capsys, bad, opt
     with pytest.raises(SystemExit) as e:
         noise_reading.main()
     assert e.value.code == 2
-    err = capsys.readouterr().err.strip().splitlines()[-1]
-    assert option in err
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("noise_reading.py: error: ") and option in err, err

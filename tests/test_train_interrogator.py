@@ -47,7 +47,7 @@ def test_bad_guards_exit_2_naming_the_option(tmp_path: Path) -> None:
     done = subprocess.run([sys.executable, str(EXPERIMENTS / "train_interrogator.py"), "--out", str(tmp_path / "run"),
                            "--guards", str(tmp_path / "none")], capture_output=True, text=True, timeout=120)
     assert done.returncode == 2
-    assert "--guards" in done.stderr.strip().splitlines()[-1]
+    assert done.stderr.count("\n") == 1 and done.stderr.startswith("train_interrogator.py: error: --guards"), done.stderr
     assert not (tmp_path / "run").exists()
 
 
@@ -95,7 +95,7 @@ def test_guard_climbs_added_without_a_guard_exit_2(tmp_path: Path, experiment_ex
     code, last = experiment_exit("train_interrogator", ["--out", str(tmp_path / "run"), "--guard-climbs", "none",
                                                         "--add-guard-climbs", str(tmp_path / "climbs.npz")])
     assert code == 2 and last == ("train_interrogator.py: error: --add-guard-climbs: no guard is fitted "
-                                  "(--guard-climbs none)")
+                                  "(--guard-climbs none) (see train_interrogator.py --help)")
     assert not (tmp_path / "run").exists()
 
 
