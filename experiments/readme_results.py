@@ -486,6 +486,13 @@ generated, never typed:
     python experiments/paired_comparison.py out/records_rule57_validation.json --baseline "crest_probe_lag_rise_deg \
         None, crest_probe_max_lag_deg 85, crest_probe_max_lag_step_deg 10, caution 2, target 0.1, guards ${G/ /, }" \
         --out out/paired_rule57_validation.md   # and _noise2
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
+        --set crest_probe_lag_rise_deg=null crest_probe_lag_rise_deg=40 crest_probe_lag_rise_deg=45 \
+        crest_probe_max_lag_deg=85 crest_probe_max_lag_step_deg=10 --records out/records_rule58_validation.json \
+        --out out/crest_tradeoff_rule58_validation.md   # rule 58 (session 39); and --scenario noise_level=2 (_noise2)
+    python experiments/paired_comparison.py out/records_rule58_validation.json --baseline "crest_probe_lag_rise_deg \
+        None, crest_probe_max_lag_deg 85, crest_probe_max_lag_step_deg 10, caution 2, target 0.1, guards ${G/ /, }" \
+        --out out/paired_rule58_validation.md   # and _noise2
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -676,6 +683,10 @@ SOURCES = {
         "crest_tradeoff_rule57_validation",
         "paired_rule57_validation",
         "paired_rule57_validation_noise2",
+        "crest_tradeoff_rule58_validation",
+        "crest_tradeoff_rule58_validation_noise2",
+        "paired_rule58_validation",
+        "paired_rule58_validation_noise2",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about

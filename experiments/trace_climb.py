@@ -34,7 +34,7 @@ from crest_tradeoff import climb_setting  # noqa: E402
 from cof_gym.agents.base import agent_view  # noqa: E402
 from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR, Reading, interrogator_for, manifest_climb  # noqa: E402
 from cof_gym.commands.args import Parser  # noqa: E402
-from cof_gym.commands.suites import make_suite  # noqa: E402
+from cof_gym.commands.suites import make_suite, scenario_option  # noqa: E402
 
 HEADER = ("| window | DC / M_sat | true headroom | lag [deg] | filter headroom +- std | steering headroom +- std "
           "| log step | crept |")
@@ -76,6 +76,8 @@ def main() -> None:
     ap.add_argument("--counter-torque", action="store_true",
                     help="the paper's vehicle configuration (counter torque on the other wheelset), as crest_tradeoff.py's "
                          "second configuration plays every grid")
+    ap.add_argument("--scenario", nargs="+", default=[], metavar="NAME=VALUE", type=scenario_option,
+                    help="reset options over every episode's own, as crest_tradeoff.py's --scenario (e.g. noise_level=2)")
     args = ap.parse_args()
     if not sorted(args.agent.glob("member_*.npz")):
         ap.error(f"--agent: {args.agent} holds no member_*.npz")
@@ -99,8 +101,9 @@ def main() -> None:
         ap.error(f"--agent: {e}")
     for k in args.episodes:
         seed, options = suite.episodes[k]
-        title, rows, last = trace(env, agent, seed, options)
-        print(f"\n### episode {k} (seed {seed}){', counter torque' if args.counter_torque else ''}: {title}\n")
+        title, rows, last = trace(env, agent, seed, {**options, **dict(args.scenario)})
+        over = "".join(f", {name} {value}" for name, value in args.scenario)
+        print(f"\n### episode {k} (seed {seed}){', counter torque' if args.counter_torque else ''}{over}: {title}\n")
         print("\n".join([HEADER, "|---" * 8 + "|", *rows, "", last]))
 
 

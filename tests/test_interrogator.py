@@ -1232,6 +1232,22 @@ def test_probes_on_needs_the_lags_rise_since_the_first_window_and_a_rising_crest
             ClimbParameters(**bad)
 
 
+def test_the_probe_stays_off_where_the_first_windows_read_more_noise_than_the_ratio_allows():
+    quiet = [_probe_reading(40.0, 0.04), _probe_reading(69.0, 0.060), _probe_reading(70.0, 0.061)]
+    noisy = [replace(r, se_deg=2.0 * r.se_deg) for r in quiet]  # the lock-in reads twice the speed noise
+    reference = quiet[0].lockin_noise_nms  # every quiet window reads it (the same se, compliance and amplitude)
+    probe = ClimbParameters(creep_log_step=0.03, crest_probe_lag_rise_deg=30.0, noise_reference_nms=reference)
+    gated = replace(probe, crest_probe_max_noise_ratio=1.5)
+    assert gated.noise_ratio(quiet) == 1.0 and gated.noise_ratio(noisy) == pytest.approx(2.0, rel=1e-12)
+    assert probe.probes_on(quiet) and probe.probes_on(noisy)  # ungated: the noise is not read
+    assert gated.probes_on(quiet) and not gated.probes_on(noisy)
+    assert replace(gated, crest_probe_max_noise_ratio=2.5).probes_on(noisy)
+    for bad, match in (({"crest_probe_max_noise_ratio": 0.5, "noise_reference_nms": 0.4}, "crest_probe_max_noise_ratio"),
+                       ({"crest_probe_max_noise_ratio": 1.5}, "needs noise_reference_nms")):
+        with pytest.raises(ValueError, match=match):
+            ClimbParameters(**bad)
+
+
 @pytest.mark.skipif(not SHIPPED, reason="the shipped interrogator is not built")
 def test_a_far_peak_climb_probes_on_past_its_headroom_stop_and_is_the_same_climb_before_it():
     """Default-suite episode 4 (Polach, low adhesion, 39 m/s, its peak at 5.1 % creepage): the shipped climb stops on

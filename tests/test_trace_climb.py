@@ -74,3 +74,22 @@ def test_counter_torque_traces_the_episode_in_the_papers_configuration():
     assert titles[1][0].startswith("### episode 2 (seed 2), counter torque: ") and "counter torque" not in titles[0][0]
     rows = [[line for line in done.stdout.splitlines() if line.startswith("| ") and line[2].isdigit()] for done in runs]
     assert rows[0] != rows[1]
+
+
+@pytest.mark.skipif(not SHIPPED, reason="no shipped interrogator in this checkout")
+def test_scenario_traces_the_episode_with_those_reset_options_over_its_own():
+    """--scenario sets reset options over the episode's own (crest_tradeoff.py's --scenario): its title says so,
+    and twice the noise changes the windows' lags."""
+    script = Path(__file__).resolve().parents[1] / "experiments" / "trace_climb.py"
+    runs = [subprocess.run([sys.executable, str(script), "--episodes", "2", *flag], capture_output=True, text=True,
+                           timeout=300) for flag in ([], ["--scenario", "noise_level=2"])]
+    assert all(done.returncode == 0 for done in runs), [done.stderr for done in runs]
+    titles = [[line for line in done.stdout.splitlines() if line.startswith("### episode")] for done in runs]
+    assert titles[1][0].startswith("### episode 2 (seed 2), noise_level 2: ") and "noise_level" not in titles[0][0]
+    rows = [[line for line in done.stdout.splitlines() if line.startswith("| ") and line[2].isdigit()] for done in runs]
+    assert rows[0] != rows[1]
+
+
+def test_a_bad_scenario_exits_2_naming_the_option(experiment_exit):
+    code, last = experiment_exit("trace_climb", ["--scenario", "noise_level=-1"])
+    assert code == 2 and last.startswith("trace_climb.py: error: argument --scenario: 'noise_level=-1': noise_level")

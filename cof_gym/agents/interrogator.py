@@ -63,7 +63,8 @@ the two crests' difference: :attr:`~cof_gym.agents.runaway.CrestCeiling.fall_z`;
 too, any fall counts where the predicted headroom is at most that: :meth:`ClimbParameters.fall_margin`). The
 climb probes on past a headroom stop with ``crest_probe_lag_rise_deg`` set, at ``creep_log_step``, while its lag has
 risen that much since its first driven window and its crest still rises (:meth:`ClimbParameters.probes_on`; with
-``crest_probe_max_lag_deg`` and ``crest_probe_max_lag_step_deg`` only below that lag and that lag's step). The
+``crest_probe_max_lag_deg`` and ``crest_probe_max_lag_step_deg`` only below that lag and that lag's step; with
+``crest_probe_max_noise_ratio`` only where its first windows read at most that ratio of the reference noise). The
 climb follows the noise its sensors read with ``noise_reference_nms`` set: where the median of
 :attr:`Reading.lockin_noise_nms` over its first :data:`NOISE_WINDOWS` driven windows (the wheel-speed noise the
 lock-in fit reads, whatever the operating point) is ``r`` times that reference with ``r`` above 1, its cautions
@@ -784,6 +785,8 @@ class ClimbParameters:
     crest_probe_lag_rise_deg: float | None = None
     crest_probe_max_lag_deg: float | None = None  # not None: ... and the window's lag is at most this (deg)
     crest_probe_max_lag_step_deg: float | None = None  # not None: ... and its lag rose at most this over the last (deg)
+    # not None: ... and only where the climb's first windows read at most this noise ratio (noise_ratio, >= 1)
+    crest_probe_max_noise_ratio: float | None = None
 
     def __post_init__(self) -> None:
         if self.estimate_from not in ESTIMATE_SOURCES:
@@ -832,6 +835,10 @@ class ClimbParameters:
         for name in ("crest_probe_max_lag_deg", "crest_probe_max_lag_step_deg"):
             if getattr(self, name) is not None:
                 check_number(name, getattr(self, name), 0.0, 180.0, unit=" deg")
+        if self.crest_probe_max_noise_ratio is not None:
+            check_number("crest_probe_max_noise_ratio", self.crest_probe_max_noise_ratio, 1.0, math.inf)
+            if self.noise_reference_nms is None:
+                raise ValueError("crest_probe_max_noise_ratio reads the noise ratio, which needs noise_reference_nms")
         if self.crest_probe_lag_rise_deg is not None:
             check_number("crest_probe_lag_rise_deg", self.crest_probe_lag_rise_deg, 0.0, 180.0, unit=" deg")
             if self.creep_log_step < self.min_log_step:
@@ -959,8 +966,12 @@ class ClimbParameters:
         ceiling stop ends the climb. With ``crest_probe_max_lag_deg`` the window's lag must also be at most that (near
         90 deg the slope has vanished and the crest's rise is the sensors' noise), and with
         ``crest_probe_max_lag_step_deg`` its rise over the previous window's at most that (a lag that jumps from
-        window to window is a sharp knee's, not a slow rise's)."""
+        window to window is a sharp knee's, not a slow rise's). With ``crest_probe_max_noise_ratio`` only where the
+        climb's first windows read at most that ratio of ``noise_reference_nms`` (:meth:`noise_ratio`): the lag's
+        and the crest's rises are read against the noise of the sensors the networks were fitted on."""
         if self.crest_probe_lag_rise_deg is None or len(readings) < 2:
+            return False
+        if self.crest_probe_max_noise_ratio is not None and self.noise_ratio(readings) > self.crest_probe_max_noise_ratio:
             return False
         first, previous, now = readings[0], readings[-2], readings[-1]
         return (now.phase_deg - first.phase_deg >= self.crest_probe_lag_rise_deg
