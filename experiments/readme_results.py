@@ -493,6 +493,14 @@ generated, never typed:
     python experiments/paired_comparison.py out/records_rule58_validation.json --baseline "crest_probe_lag_rise_deg \
         None, crest_probe_max_lag_deg 85, crest_probe_max_lag_step_deg 10, caution 2, target 0.1, guards ${G/ /, }" \
         --out out/paired_rule58_validation.md   # and _noise2
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
+        --set crest_probe_lag_rise_deg=null crest_probe_lag_rise_deg=40 crest_probe_max_lag_deg=85 \
+        crest_probe_max_lag_step_deg=10 crest_probe_max_noise_ratio=1 --records out/records_rule59_validation.json \
+        --out out/crest_tradeoff_rule59_validation.md   # rule 59; --scenario noise_level=2 (_noise2); --grids
+        # confirmation18 (_confirmation18)
+    python experiments/paired_comparison.py out/records_rule59_validation.json --baseline "crest_probe_lag_rise_deg \
+        None, crest_probe_max_lag_deg 85, crest_probe_max_lag_step_deg 10, crest_probe_max_noise_ratio 1, caution 2, \
+        target 0.1, guards ${G/ /, }" --out out/paired_rule59_validation.md   # and _noise2, _confirmation18
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -687,6 +695,10 @@ SOURCES = {
         "crest_tradeoff_rule58_validation_noise2",
         "paired_rule58_validation",
         "paired_rule58_validation_noise2",
+        "paired_rule59_validation",
+        "paired_rule59_validation_noise2",
+        "crest_tradeoff_rule59_confirmation18",
+        "paired_rule59_confirmation18",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about
