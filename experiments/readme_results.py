@@ -486,13 +486,8 @@ generated, never typed:
     python experiments/paired_comparison.py out/records_rule57_validation.json --baseline "crest_probe_lag_rise_deg \
         None, crest_probe_max_lag_deg 85, crest_probe_max_lag_step_deg 10, caution 2, target 0.1, guards ${G/ /, }" \
         --out out/paired_rule57_validation.md   # and _noise2
-    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
-        --set crest_probe_lag_rise_deg=null crest_probe_lag_rise_deg=40 crest_probe_lag_rise_deg=45 \
-        crest_probe_max_lag_deg=85 crest_probe_max_lag_step_deg=10 --records out/records_rule58_validation.json \
-        --out out/crest_tradeoff_rule58_validation.md   # rule 58 (session 39); and --scenario noise_level=2 (_noise2)
-    python experiments/paired_comparison.py out/records_rule58_validation.json --baseline "crest_probe_lag_rise_deg \
-        None, crest_probe_max_lag_deg 85, crest_probe_max_lag_step_deg 10, caution 2, target 0.1, guards ${G/ /, }" \
-        --out out/paired_rule58_validation.md   # and _noise2
+    (rule 57's two commands again with --set ... crest_probe_lag_rise_deg=40 crest_probe_lag_rise_deg=45 in place of
+        crest_probe_lag_rise_deg=30, and _rule58 in place of _rule57)   # rule 58 (session 39); and _noise2
     python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
         --set crest_probe_lag_rise_deg=null crest_probe_lag_rise_deg=40 crest_probe_max_lag_deg=85 \
         crest_probe_max_lag_step_deg=10 crest_probe_max_noise_ratio=1 --records out/records_rule59_validation.json \
