@@ -72,7 +72,11 @@
   did not reach it); it judged rule 53 (session 35).
 - ``suites/v2_confirmation18_grid.json``, ``suites/v2_confirmation18_procedural_grid.json`` and
   ``suites/v2_confirmation18_steep_grid.json`` (session 35, seeds 191 000, 193 000, 195 000): an eighteenth
-  such set, written before any agent played them, after the seventeenth had judged rule 53, for the next rule.
+  such set, written before any agent played them, after the seventeenth had judged rule 53, for the next rule;
+  it judged rule 59 (session 39).
+- ``suites/v2_confirmation19_grid.json``, ``suites/v2_confirmation19_procedural_grid.json`` and
+  ``suites/v2_confirmation19_steep_grid.json`` (session 39, seeds 197 000, 199 000, 201 000): a nineteenth
+  such set, written before any agent played them, after the eighteenth had judged rule 59, for rule 60.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -332,7 +336,7 @@ def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.
 
 ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", "eighth ", "ninth ", "tenth ",
             "eleventh ", "twelfth ", "thirteenth ", "fourteenth ", "fifteenth ", "sixteenth ", "seventeenth ",
-            "eighteenth ")
+            "eighteenth ", "nineteenth ")
 
 # the confirmation sets, in the order they were written (the module docstring says when, and for which rule):
 # name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and steep grids; each was written
@@ -374,6 +378,8 @@ CONFIRMATION_SETS = {
                        ((0.09, 0.39, 0.7, 0.93), (7.5, 22.0, 36.5), 187_000), ((0.12, 0.44, 0.8), (8.0, 20.0, 35.5), 189_000)),
     "confirmation18": (((0.04, 0.26, 0.52, 0.76, 0.93), (7.5, 16.5, 31.5), 191_000),
                        ((0.07, 0.4, 0.69, 0.94), (8.5, 20.5, 37.5), 193_000), ((0.11, 0.45, 0.81), (6.5, 21.5, 34.5), 195_000)),
+    "confirmation19": (((0.05, 0.27, 0.54, 0.79, 0.95), (6.0, 18.5, 32.0), 197_000),
+                       ((0.08, 0.38, 0.66, 0.92), (9.0, 21.0, 36.5), 199_000), ((0.12, 0.43, 0.78), (7.0, 20.0, 37.0), 201_000)),
 }
 
 
