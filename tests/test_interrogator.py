@@ -1264,3 +1264,50 @@ def test_a_far_peak_climb_probes_on_past_its_headroom_stop_and_is_the_same_climb
     assert stop == "headroom" and len(probed) > len(steps)
     assert probed[:len(steps) - 1] == steps[:-1] and steps[-1] == 0.0 and probed[len(steps) - 1] == 0.03
     env.close()
+
+
+def test_held_crest_ratio_keeps_the_crest_at_most_the_held_one_down_to_the_floor():
+    limits = gym.make(cof_gym.WAGON_ENV_ID).unwrapped.limits
+    p = ClimbParameters(amplitude_ratio=0.4, min_amplitude_nm=50.0)
+    assert p.held_crest_ratio(6_000.0, 4_000.0, limits) == 0.4  # the climb's own ratio fits under it
+    ratio = p.held_crest_ratio(5_600.0, 4_800.0, limits)
+    assert ratio == pytest.approx(5_600.0 / 4_800.0 - 1.0, rel=1e-12)
+    assert 4_800.0 + p.amplitude(4_800.0, limits, ratio) <= 5_600.0 * (1 + 1e-12)
+    assert p.held_crest_ratio(5_600.0, 5_600.0 / 1.029, limits) is None  # below CREST_RATIO_FLOOR (0.03)
+    assert p.held_crest_ratio(1_000.0, 960.0, limits) is None  # the 50 N m least amplitude would pass it
+    with pytest.raises(ValueError, match="crest_probe_hold_crest"):
+        ClimbParameters(crest_probe_hold_crest=1)
+
+
+@pytest.mark.skipif(not SHIPPED, reason="the shipped interrogator is not built")
+def test_a_held_crest_probe_never_commands_a_crest_above_the_one_it_started_under():
+    """Default-suite episode 4 (a far peak: the probe defers its headroom stop, above): with the crest held, every
+    window after the probe began is commanded under that window's crest while the DC still rises, and every window
+    before it is the unheld probe's."""
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    seed, options = make_suite("default", 60, 0).episodes[4]
+    windows = {}
+    for hold in (False, True):
+        params = replace(manifest_climb(SHIPPED_INTERROGATOR), crest_probe_lag_rise_deg=30.0,
+                         crest_probe_hold_crest=hold)
+        agent = interrogator_for(env, SHIPPED_INTERROGATOR, params)
+        obs, info = env.reset(seed=seed, options=options)
+        agent.reset(obs, agent_view(info, oracle=False))
+        commanded = []  # (DC, crest) of each window, as the action decodes
+        while True:
+            action = agent.act(obs, agent_view(info, oracle=False))
+            decoded = decode_action(action, env.unwrapped.limits)
+            drive = decoded.drive
+            commanded.append((drive.dc_torque_nm, drive.dc_torque_nm + drive.amplitude_nm))
+            obs, _, terminated, truncated, info = env.step(action)
+            if terminated or truncated:
+                break
+        windows[hold] = (commanded, [d.crept for d in agent.decisions], agent._held_crest)
+    env.close()
+    (free, _, _), (held, crept, crest) = windows[False], windows[True]
+    start = next(k for k, (dc, c) in enumerate(held) if c == pytest.approx(crest, rel=1e-6))  # the probe's first
+    assert crest is not None and held[:start + 1] == free[:start + 1]
+    later = held[start + 1:]
+    assert later and all(c <= crest * (1 + 1e-6) for _, c in later)  # float32 actions: a few epsilons
+    assert all(b[0] > a[0] for a, b in zip(held[start:], later[:-1]))  # the DC rises under it (the last: the stop's)
+

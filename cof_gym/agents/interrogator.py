@@ -64,7 +64,9 @@ too, any fall counts where the predicted headroom is at most that: :meth:`ClimbP
 climb probes on past a headroom stop with ``crest_probe_lag_rise_deg`` set, at ``creep_log_step``, while its lag has
 risen that much since its first driven window and its crest still rises (:meth:`ClimbParameters.probes_on`; with
 ``crest_probe_max_lag_deg`` and ``crest_probe_max_lag_step_deg`` only below that lag and that lag's step; with
-``crest_probe_max_noise_ratio`` only where its first windows read at most that ratio of the reference noise). The
+``crest_probe_max_noise_ratio`` only where its first windows read at most that ratio of the reference noise; with
+``crest_probe_hold_crest`` under the torque crest of the window it started from, its modulation shrinking as the DC
+rises: :meth:`ClimbParameters.held_crest_ratio`). The
 climb follows the noise its sensors read with ``noise_reference_nms`` set: where the median of
 :attr:`Reading.lockin_noise_nms` over its first :data:`NOISE_WINDOWS` driven windows (the wheel-speed noise the
 lock-in fit reads, whatever the operating point) is ``r`` times that reference with ``r`` above 1, its cautions
@@ -787,6 +789,8 @@ class ClimbParameters:
     crest_probe_max_lag_step_deg: float | None = None  # not None: ... and its lag rose at most this over the last (deg)
     # not None: ... and only where the climb's first windows read at most this noise ratio (noise_ratio, >= 1)
     crest_probe_max_noise_ratio: float | None = None
+    # true: from the window the probe starts at, no later window's torque crest above that window's (held_crest_ratio)
+    crest_probe_hold_crest: bool = False
 
     def __post_init__(self) -> None:
         if self.estimate_from not in ESTIMATE_SOURCES:
@@ -803,7 +807,7 @@ class ClimbParameters:
             if getattr(self, name) is not None:
                 check_number(name, getattr(self, name), low, math.inf)
         for name in ("creep_sticky", "crest_once_crept", "crest_floor", "runaway_estimate", "crest_ceiling",
-                     "ceiling_stop", "noise_se_reported"):
+                     "ceiling_stop", "noise_se_reported", "crest_probe_hold_crest"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"{name} must be true or false, got {getattr(self, name)!r}")
         if self.tone2_frequency_hz is not None:
@@ -980,6 +984,16 @@ class ClimbParameters:
                 and (self.crest_probe_max_lag_step_deg is None
                      or now.phase_deg - previous.phase_deg <= self.crest_probe_max_lag_step_deg))
 
+    def held_crest_ratio(self, held_crest_nm: float, dc_nm: float, limits: MotorLimits) -> float | None:
+        """The modulation ratio at DC torque ``dc_nm`` whose torque crest (DC plus :meth:`amplitude`) stays at most
+        ``held_crest_nm``: the climb's ratio, or less, down to :data:`CREST_RATIO_FLOOR`; None where even that floor
+        (or the drive's least amplitude) would put the crest above it (``crest_probe_hold_crest``: the probe raises
+        the mean torque under the largest crest the wheel has carried, never that crest)."""
+        ratio = min(self.amplitude_ratio, held_crest_nm / dc_nm - 1.0)
+        if ratio < CREST_RATIO_FLOOR or dc_nm + self.amplitude(dc_nm, limits, ratio) > held_crest_nm * (1.0 + 1e-12):
+            return None
+        return ratio
+
     def floor_step(self, coa: float) -> float:
         """The step that the task's lowest CoF (:data:`~cof_gym.task.scenarios.COF_ENVELOPE`) guarantees
         safe at the measured CoA ``coa``: ``ln(CoF_min / CoA) - target_headroom - floor_margin`` (the CoA
@@ -1081,6 +1095,7 @@ class LearnedInterrogator:
     _driven: int = 0
     _crept: bool = False
     _ratio: float | None = None  # the modulation ratio of the next window (None: the climb's amplitude_ratio)
+    _held_crest: float | None = None  # the torque crest the probe holds (N m; crest_probe_hold_crest)
     _frequency: float | None = None  # the episode's modulation frequency (Hz), from the first observation's speed
     _bracket: RunawayBracket = field(default_factory=RunawayBracket, repr=False)
     _ceiling: CrestCeiling = field(default_factory=CrestCeiling, repr=False)
@@ -1139,6 +1154,7 @@ class LearnedInterrogator:
         self._driven = 0
         self._crept = False
         self._ratio = None
+        self._held_crest = None
         self._frequency = None
         self._best_coa = 0.0
         self._bracket = RunawayBracket()
@@ -1237,16 +1253,22 @@ class LearnedInterrogator:
             if step < p.min_log_step and p.probes_on(self.features.readings):  # a headroom stop the crest defers
                 step = p.creep_log_step
                 self._crept = True
+                if p.crest_probe_hold_crest and self._held_crest is None:  # the crest of the window just read
+                    self._held_crest = self._dc + p.amplitude(self._dc, self.limits, self._ratio)
             at_limit = self._dc >= self.limits.max_dc_torque_nm
             last = windows_left <= 0
             crest_fell = p.ceiling_stop and self._ceiling.reached
-            stop = falling or knee or crest_fell or at_limit or last or step < p.min_log_step
+            new_dc = min(self._dc * math.exp(step), self.limits.max_dc_torque_nm)
+            held_ratio = None if self._held_crest is None else p.held_crest_ratio(self._held_crest, new_dc, self.limits)
+            under_crest = self._held_crest is None or held_ratio is not None  # no DC step the held crest cannot carry
+            stop = falling or knee or crest_fell or at_limit or last or step < p.min_log_step or not under_crest
             if stop:
                 self.stop_reason = ("falling" if falling else "knee" if knee else "ceiling" if crest_fell
                                     else "limit" if at_limit else "horizon" if last else "headroom")
             else:
-                new_dc = min(self._dc * math.exp(step), self.limits.max_dc_torque_nm)
                 self._ratio = p.crest_ratio(headroom - math.log(new_dc / self._dc), self._crept)
+                if held_ratio is not None:
+                    self._ratio = min(self._ratio, held_ratio)
                 self._dc = new_dc
             self.decisions.append(WindowDecision(float(mean[0, 0]), float(std[0, 0]), headroom, headroom_std,
                                                  0.0 if stop else step, self._crept, self.stop_reason))
