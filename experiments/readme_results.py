@@ -496,6 +496,9 @@ generated, never typed:
     python experiments/paired_comparison.py out/records_rule59_validation.json --baseline "crest_probe_lag_rise_deg \
         None, crest_probe_max_lag_deg 85, crest_probe_max_lag_step_deg 10, crest_probe_max_noise_ratio 1, caution 2, \
         target 0.1, guards ${G/ /, }" --out out/paired_rule59_validation.md   # and _noise2, _confirmation18
+    (rule 59's two commands again with --set ... crest_probe_max_noise_ratio=1 crest_probe_max_noise_ratio=null
+        ... crest_probe_hold_crest=true, the baseline "... crest_probe_hold_crest True, ...", _rule60 in place of
+        _rule59, --grids confirmation19 and _confirmation19 in place of the eighteenth)   # rule 60; and _noise2
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -694,6 +697,11 @@ SOURCES = {
         "paired_rule59_validation_noise2",
         "crest_tradeoff_rule59_confirmation18",
         "paired_rule59_confirmation18",
+        "crest_tradeoff_rule60_validation",
+        "paired_rule60_validation",
+        "paired_rule60_validation_noise2",
+        "crest_tradeoff_rule60_confirmation19",
+        "paired_rule60_confirmation19",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about
