@@ -11,7 +11,8 @@ interrogator of ``--agent`` (default: the shipped one, its manifest's climb with
 plain text)
 plays the episode as ``cof-gym evaluate`` would, and the table lists per driven window what the climb
 decided (:class:`~cof_gym.agents.interrogator.WindowDecision`) beside the truth: the DC torque over the
-true saturation torque and the true headroom ``ln(M_sat / DC)``, the measured lag, the filter's predicted
+true saturation torque and the true headroom ``ln(M_sat / DC)``, the measured lag, the crest asymmetry of the measured CoA's cycle
+(:func:`crest_asymmetry`), the filter's predicted
 headroom and std, the cautious headroom that steered and its std (the filter's or a guard's), the log step
 and whether the climb has crept. A last line gives how the climb ended, the estimate, the CoF and the
 error. It shows where a climb's windows went: how long the approach took, where the cautious gap closed,
@@ -36,8 +37,15 @@ from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR, Reading, interroga
 from cof_gym.commands.args import Parser  # noqa: E402
 from cof_gym.commands.suites import make_suite, scenario_option  # noqa: E402
 
-HEADER = ("| window | DC / M_sat | true headroom | lag [deg] | filter headroom +- std | steering headroom +- std "
-          "| log step | crept |")
+HEADER = ("| window | DC / M_sat | true headroom | lag [deg] | crest asymmetry | filter headroom +- std "
+          "| steering headroom +- std | log step | crept |")
+
+
+def crest_asymmetry(reading: Reading) -> float:
+    """How far the measured CoA's cycle rises above its window mean over how far it falls below it (1 for a wave
+    the creep curve passes on unbent; below 1 where the crest flattens against the curve's top; NaN unread)."""
+    below = reading.coa - reading.coa_cycle_min
+    return (reading.coa_cycle_max - reading.coa) / below if reading.coa_cycle_max > 0.0 and below > 0.0 else math.nan
 
 
 def trace(env, agent, seed: int, options: dict) -> tuple[str, list[str], str]:
@@ -45,15 +53,17 @@ def trace(env, agent, seed: int, options: dict) -> tuple[str, list[str], str]:
     obs, info = env.reset(seed=seed, options=options)
     truth = info["ground_truth"]
     agent.reset(obs, agent_view(info, oracle=False))
-    rows, fractions, lags = [], [], []
+    rows, fractions, lags, asymmetries = [], [], [], []
     while True:
         obs, _, terminated, truncated, info = env.step(agent.act(obs, agent_view(info, oracle=False)))
         fractions.append(info["ground_truth"]["torque_fraction"])
-        lags.append(Reading.of(obs, env.unwrapped.limits, info).phase_deg)
+        reading = Reading.of(obs, env.unwrapped.limits, info)
+        lags.append(reading.phase_deg)
+        asymmetries.append(crest_asymmetry(reading))
         if terminated or truncated:
             break
     for k, d in enumerate(agent.decisions):  # decision k follows driven window k
-        rows.append(f"| {k} | {fractions[k]:.3f} | {-math.log(fractions[k]):.3f} | {lags[k]:.1f} | "
+        rows.append(f"| {k} | {fractions[k]:.3f} | {-math.log(fractions[k]):.3f} | {lags[k]:.1f} | {asymmetries[k]:.3f} | "
                     f"{d.filter_headroom:.3f} +- {d.filter_std:.3f} | {d.steering_headroom:.3f} +- {d.steering_std:.3f} | "
                     f"{d.log_step:.3f} | {'yes' if d.crept else ''} |")
     estimate, cof = info["cof_estimate"], truth["cof"]
@@ -104,7 +114,7 @@ def main() -> None:
         title, rows, last = trace(env, agent, seed, {**options, **dict(args.scenario)})
         over = "".join(f", {name} {value}" for name, value in args.scenario)
         print(f"\n### episode {k} (seed {seed}){', counter torque' if args.counter_torque else ''}{over}: {title}\n")
-        print("\n".join([HEADER, "|---" * 8 + "|", *rows, "", last]))
+        print("\n".join([HEADER, "|---" * 9 + "|", *rows, "", last]))
 
 
 if __name__ == "__main__":
