@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 import subprocess
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 import gymnasium as gym
@@ -93,3 +94,13 @@ def test_scenario_traces_the_episode_with_those_reset_options_over_its_own():
 def test_a_bad_scenario_exits_2_naming_the_option(experiment_exit):
     code, last = experiment_exit("trace_climb", ["--scenario", "noise_level=-1"])
     assert code == 2 and last.startswith("trace_climb.py: error: argument --scenario: 'noise_level=-1': noise_level")
+
+
+def test_crest_asymmetry_is_the_cycles_rise_over_its_fall_and_nan_unread(monkeypatch):
+    monkeypatch.syspath_prepend(str(Path(__file__).resolve().parents[1] / "experiments"))
+    from trace_climb import crest_asymmetry
+
+    window = Reading(60.0, 1.0, 0.5, 0.1, 0.01, 1000.0, 400.0, 5.0, 20.0, 1.0)
+    assert crest_asymmetry(replace(window, coa_cycle_max=0.12, coa_cycle_min=0.07)) == pytest.approx(2 / 3, rel=1e-12)
+    assert math.isnan(crest_asymmetry(window))  # no cycle read
+    assert math.isnan(crest_asymmetry(replace(window, coa_cycle_max=0.12, coa_cycle_min=0.1)))  # no fall below
