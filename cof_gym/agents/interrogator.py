@@ -1258,10 +1258,13 @@ class LearnedInterrogator:
             at_limit = self._dc >= self.limits.max_dc_torque_nm
             last = windows_left <= 0
             crest_fell = p.ceiling_stop and self._ceiling.reached
-            new_dc = min(self._dc * math.exp(step), self.limits.max_dc_torque_nm)
-            held_ratio = None if self._held_crest is None else p.held_crest_ratio(self._held_crest, new_dc, self.limits)
-            under_crest = self._held_crest is None or held_ratio is not None  # no DC step the held crest cannot carry
-            stop = falling or knee or crest_fell or at_limit or last or step < p.min_log_step or not under_crest
+            stop = falling or knee or crest_fell or at_limit or last or step < p.min_log_step
+            held_ratio = None
+            if not stop:
+                new_dc = min(self._dc * math.exp(step), self.limits.max_dc_torque_nm)
+                if self._held_crest is not None:  # no DC step the held crest cannot carry: a headroom stop
+                    held_ratio = p.held_crest_ratio(self._held_crest, new_dc, self.limits)
+                    stop = held_ratio is None
             if stop:
                 self.stop_reason = ("falling" if falling else "knee" if knee else "ceiling" if crest_fell
                                     else "limit" if at_limit else "horizon" if last else "headroom")
