@@ -42,7 +42,7 @@ import gymnasium as gym
 import numpy as np
 
 import cof_gym
-from cof_gym.task.validation import check_int
+from cof_gym.task.validation import check_int, check_number
 
 ALGOS = ("ppo",)
 PRETRAIN_SEED_OFFSET = 200_000  # demonstration episodes draw seeds from here (not the suites' seeds)
@@ -128,8 +128,6 @@ def check_normalize(normalize: dict[str, Any]) -> None:
 
     from stable_baselines3.common.vec_env import VecNormalize
 
-    from cof_gym.task.validation import check_number
-
     allowed = set(inspect.signature(VecNormalize.__init__).parameters) - {"self", "venv"}
     unknown = sorted(str(k) for k in set(normalize) - allowed)
     if unknown:
@@ -155,8 +153,6 @@ def _schedule(key: str, value: Any) -> Any:
         if kind != "lin" or start is None:
             raise ValueError(f"{key}: expected a number or 'lin_<number>', got {value!r}")
         if key in PPO_BOUNDS:
-            from cof_gym.task.validation import check_number
-
             low, high, low_open = PPO_BOUNDS[key]
             check_number(f"{key} (the start of {value!r})", start, low, high, low_open=low_open)
         from stable_baselines3.common.utils import LinearSchedule
@@ -448,7 +444,7 @@ def main(argv: list[str] | None = None) -> int:
 
 # PPO hyperparameters that Stable-Baselines3 takes unchecked: name -> (low, high, low_open)
 PPO_BOUNDS: dict[str, tuple[float, float, bool]] = {
-    "gamma": (0.0, 1.0, True), "gae_lambda": (0.0, 1.0, False), "n_epochs": (1, 1e6, False),
+    "gamma": (0.0, 1.0, True), "gae_lambda": (0.0, 1.0, False),
     "ent_coef": (0.0, 1e6, False), "vf_coef": (0.0, 1e6, False), "max_grad_norm": (0.0, 1e12, True),
     "clip_range": (0.0, 1e6, True), "clip_range_vf": (0.0, 1e6, True), "target_kl": (0.0, 1e6, True),
 }
@@ -463,7 +459,6 @@ def check_ppo_kwargs(policy: str, ppo_kwargs: dict[str, Any], observation_space:
     from stable_baselines3.common.vec_env import DummyVecEnv
 
     from cof_gym.agents.ppo import SpacesOnly
-    from cof_gym.task.validation import check_number
 
     for key in ("n_steps", "batch_size", "n_epochs"):
         if key in ppo_kwargs:
@@ -499,9 +494,9 @@ def check_device(device: str) -> None:
 
     from cof_gym.commands.args import UsageError
 
-    m = re.fullmatch(r"cuda(?::(\d+))?", device)
     if device in ("auto", "cpu"):
         return
+    m = re.fullmatch(r"cuda(?::(\d+))?", device)
     if m is None:
         raise UsageError("--device", f"must be auto, cpu, cuda or cuda:N (N an integer >= 0), got {device!r}")
     import torch
