@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import numbers
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -34,6 +33,7 @@ from typing import Any, Callable, Iterator
 import cof_gym
 from cof_gym.commands.args import MAX_SEED, name_value
 from cof_gym.task.scenarios import check_fixed
+from cof_gym.task.validation import is_int
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 
 PAPER_COFS = (0.1, 0.2, 0.3, 0.4, 0.5)
@@ -131,7 +131,7 @@ def _check_dict(value: Any, where: str, path: Path) -> dict[str, Any]:
 
 
 def _check_seed(value: Any, where: str, path: Path) -> int:
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not 0 <= value <= MAX_SEED:
+    if not is_int(value) or not 0 <= value <= MAX_SEED:
         raise SuiteError(f"{path}: {where} must be an integer >= 0, got {value!r}")
     return int(value)
 
@@ -156,8 +156,7 @@ def _check_interface(env_id: str, env_kwargs: dict[str, Any], path: Path) -> Non
         steps = spec.max_episode_steps
     if isinstance(steps, bool):
         raise SuiteError(f"{path}: env_kwargs.max_episode_steps must be an integer, got {steps!r}")
-    if (isinstance(horizon, numbers.Integral) and not isinstance(horizon, bool) and isinstance(steps, numbers.Integral)
-            and steps != -1 and 0 < steps < horizon):
+    if is_int(horizon) and is_int(steps) and steps != -1 and 0 < steps < horizon:
         raise SuiteError(f"{path}: env_kwargs.max_episode_steps must be -1 (no TimeLimit) or at least the task's "
                          f"horizon max_windows={horizon} (a shorter TimeLimit ends every episode unscored), "
                          f"got {env_kwargs.get('max_episode_steps', steps)!r}")

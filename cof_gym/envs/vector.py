@@ -17,7 +17,6 @@ laden wagons are compiled from one structure, so they share the batch's state la
 
 from __future__ import annotations
 
-import numbers
 import os
 import time
 from typing import Any, Mapping, Sequence
@@ -36,7 +35,7 @@ from cof_gym.task.interface import DecodedAction
 from cof_gym.physics.native import layout
 from cof_gym.physics.native.build import install_callback
 from cof_gym.physics.simulation import begin_window, initial_state, initial_userdata, read_window, state_is_finite
-from cof_gym.task.validation import check_int
+from cof_gym.task.validation import check_int, is_int
 
 _BADQACC = int(mujoco.mjtWarning.mjWARN_BADQACC)
 _MAGIC = layout.OFFSETS["MAGIC"]
@@ -62,14 +61,9 @@ def _autoreset_mode(value: AutoresetMode | str) -> AutoresetMode:
     return mode
 
 
-def _is_int(value: Any) -> bool:
-    """An integer, not a bool (numpy's included)."""
-    return isinstance(value, numbers.Integral) and not isinstance(value, (bool, np.bool_))
-
-
 def _is_seed(value: Any) -> bool:
     """An int >= 0 (a numpy integer too), not a bool: what ``gymnasium.utils.seeding.np_random`` takes."""
-    return _is_int(value) and value >= 0
+    return is_int(value) and value >= 0
 
 
 class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
@@ -117,7 +111,7 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
         if num_threads is None:
             num_threads = min(num_envs, os.cpu_count() or 1, MAX_NUM_THREADS)
         num_threads = check_int("num_threads", num_threads, 1, MAX_NUM_THREADS)
-        if _is_int(max_episode_steps) and max_episode_steps == NO_TIME_LIMIT:
+        if is_int(max_episode_steps) and max_episode_steps == NO_TIME_LIMIT:
             max_episode_steps = None  # as gym.make(..., max_episode_steps=-1): the task's horizon alone
         elif max_episode_steps is not None:
             max_episode_steps = check_int("max_episode_steps", max_episode_steps, 1, MAX_EPISODE_STEPS_LIMIT)

@@ -45,11 +45,15 @@ def check_range(name: str, value: Any, low: float, high: float) -> tuple[float, 
     return lo, hi
 
 
+def is_int(value: Any) -> bool:
+    """An integer (a numpy integer too), never a bool (Python's or numpy's) nor a float."""
+    return isinstance(value, numbers.Integral) and not isinstance(value, (bool, np.bool_))
+
+
 def check_int(name: str, value: Any, low: int, high: int | None = None) -> int:
-    """An integer (not a bool, not a float) in [low, high] (``high`` None: no upper bound), returned as a Python
-    ``int``; ``ValueError`` naming ``name`` and the range otherwise."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral) or int(value) < low or \
-            (high is not None and int(value) > high):
+    """An integer (:func:`is_int`) in [low, high] (``high`` None: no upper bound), returned as a Python ``int``;
+    ``ValueError`` naming ``name`` and the range otherwise."""
+    if not is_int(value) or int(value) < low or (high is not None and int(value) > high):
         bound = f">= {low}" if high is None else f"in [{low}, {high}]"
         raise ValueError(f"{name} must be an integer {bound}, got {value!r} ({type(value).__name__})")
     return int(value)
