@@ -46,7 +46,6 @@ before each runaway (``--out FILE``: also written there):
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 from pathlib import Path
 from typing import NamedTuple
@@ -58,7 +57,7 @@ import numpy as np
 from cof_gym import ENV_IDS
 from cof_gym.agents.interrogator import Reading
 from cof_gym.agents.runaway import crest_bound
-from cof_gym.commands.args import Parser
+from cof_gym.commands.args import Parser, float_in_range
 from cof_gym.commands.suites import SuiteError, make_suite, scenario_option
 from cof_gym.task.excitation import encode_extra_tones
 from cof_gym.task.interface import MotorLimits, encode_action
@@ -216,32 +215,15 @@ def never_cut(episodes: list[list[Window]]) -> str:
             f"macro-slips among them: {_slips(uncut, -1)}.")
 
 
-def _number_in(low: float, high: float, low_inclusive: bool = False):
-    """An argparse type: a finite number in (low, high] (``low_inclusive``: [low, high])."""
-    bound = f"{'[' if low_inclusive else '('}{low:g}, {high:g}]"
-
-    def parse(text: str) -> float:
-        try:
-            value = float(text)
-        except ValueError:
-            value = math.nan
-        if not (math.isfinite(value) and (low <= value if low_inclusive else low < value) and value <= high):
-            raise argparse.ArgumentTypeError(f"must be a finite number in {bound}, got {text!r}")
-        return value
-
-    parse.__name__ = f"number in {bound}"
-    return parse
-
-
 def main() -> None:
     ap = Parser(description=__doc__.splitlines()[0], formatter_class=argparse.HelpFormatter)
     ap.add_argument("--suite", default=str(DEFAULT_SUITE))
     ap.add_argument("--episodes", type=int, nargs="+", default=[12, 18, 27], help="indices into the suite")
-    ap.add_argument("--levels", type=_number_in(0.0, MAX_LEVEL), nargs="+", default=list(LEVELS),
+    ap.add_argument("--levels", type=float_in_range(0.0, MAX_LEVEL), nargs="+", default=list(LEVELS),
                     help=f"DC / true M_sat per window, each in (0, {MAX_LEVEL:g}]")
-    ap.add_argument("--amplitude-ratio", type=_number_in(0.0, 1.0), default=0.05,
+    ap.add_argument("--amplitude-ratio", type=float_in_range(0.0, 1.0), default=0.05,
                     help="the modulation's amplitude over the DC, in (0, 1]")
-    ap.add_argument("--frequency", type=_number_in(MotorLimits.min_frequency_hz, MotorLimits.max_frequency_hz, True),
+    ap.add_argument("--frequency", type=float_in_range(MotorLimits.min_frequency_hz, MotorLimits.max_frequency_hz, True),
                     default=5.0, help=f"Hz, within the drive's range [{MotorLimits.min_frequency_hz:g}, "
                                       f"{MotorLimits.max_frequency_hz:g}]")
     ap.add_argument("--env", default=None, choices=ENV_IDS, help="play the episodes in this env id instead of the suite's")

@@ -109,6 +109,23 @@ def float_at_least(low: float):
     return parse
 
 
+def float_in_range(low: float, high: float, low_inclusive: bool = False):
+    """An argparse type: a finite number in (low, high] (``low_inclusive``: [low, high])."""
+    bound = f"{'[' if low_inclusive else '('}{low:g}, {high:g}]"
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            value = math.nan
+        if not (math.isfinite(value) and (low <= value if low_inclusive else low < value) and value <= high):
+            raise argparse.ArgumentTypeError(f"must be a finite number in {bound}, got {text!r}")
+        return value
+
+    parse.__name__ = f"number in {bound}"
+    return parse
+
+
 def positive_float(text: str) -> float:
     return _float_above(text, 0.0, inclusive=False)
 
