@@ -18,7 +18,7 @@ import numpy as np
 import cof_gym
 from cof_gym.commands.args import Parser, positive_int
 from cof_gym.commands.evaluate import run_episode
-from cof_gym.agents.ppo import PPOAgent, model_spaces, resolve_model_path
+from cof_gym.agents.ppo import PPOAgent, check_model, resolve_model_path
 from cof_gym.commands.train import load_hyperparams
 
 FIRST_SEED = 10_000
@@ -31,8 +31,8 @@ def main() -> None:
     args = parser.parse_args()
     env_kwargs = {k: v for k, v in load_hyperparams(cof_gym.WAGON_ENV_ID).get("env_kwargs", {}).items()
                   if k != "shaping"}
-    try:  # a missing file, one that is no model, or a model of other spaces: one line naming the argument
-        model_spaces(resolve_model_path(args.model))
+    try:  # a missing file, one that is no model, unusable statistics or metadata: one line naming the argument
+        check_model(resolve_model_path(args.model))
         agent = PPOAgent.load(args.model, env_id=cof_gym.WAGON_ENV_ID, env_kwargs=env_kwargs)
     except (FileNotFoundError, ValueError) as error:
         parser.error(f"model: {' '.join(str(error).split())}")
