@@ -18,7 +18,6 @@ from __future__ import annotations
 import argparse
 import sys
 import time
-import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -30,7 +29,7 @@ from cof_gym.agents.interrogator_training import (
 )
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from script_checks import check_out_file  # noqa: E402
+from script_checks import check_out_file, load_climbs  # noqa: E402
 
 NEAR_PEAK = 0.3  # true headroom ln(M_sat / DC) at most this: the windows where a climb decides to stop
 SPEED_BANDS_M_S = ((0.0, 10.0), (10.0, 20.0), (20.0, float("inf")))
@@ -97,10 +96,7 @@ def main() -> None:
         ap.error(f"--climbs: no file {args.climbs}")
     if args.epochs < 1:
         ap.error(f"--epochs must be at least 1, got {args.epochs}")
-    try:
-        data = Dataset.load(args.climbs)
-    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as error:
-        ap.error(f"--climbs: {args.climbs} is not a climbs file ({error.__class__.__name__}: {' '.join(str(error).split())})")
+    data = load_climbs(ap, "--climbs", args.climbs)
     held = split_episodes(data, args.holdout, args.seed)
     train = data.subset(np.flatnonzero(~held))
     masks = {name: mask[held] for name, mask in bands(data).items()}

@@ -1,12 +1,14 @@
-"""Output-path checks shared by the experiment scripts: run right after ``parse_args``, before any
-simulation and before anything is created, so a bad ``--out`` is one usage line (exit status 2) naming
-the option, not a traceback at the end of a long run (the checks of :mod:`cof_gym.commands.args`, reported
-through the script's parser)."""
+"""Checks shared by the experiment scripts: run right after ``parse_args``, before any simulation and
+before anything is created, so a bad ``--out`` (or an unreadable input file) is one usage line (exit status 2)
+naming the option, not a traceback at the end of a long run (the checks of :mod:`cof_gym.commands.args`,
+reported through the script's parser)."""
 
 from __future__ import annotations
 
 import argparse
+import zipfile
 from pathlib import Path
+from typing import Any
 
 from cof_gym.commands.args import UsageError, check_output_dir, check_output_file
 
@@ -30,3 +32,14 @@ def check_out_dir(parser: argparse.ArgumentParser, option: str, path: Path) -> N
         check_output_dir(Path(path), option)
     except UsageError as error:
         parser.error(str(error))
+
+
+def load_climbs(parser: argparse.ArgumentParser, option: str, path: Path) -> Any:
+    """The climbs ``path`` holds (a file ``Dataset.save`` wrote: :class:`~cof_gym.agents.interrogator_training.Dataset`);
+    a missing or unreadable file is ``parser.error`` naming ``option``."""
+    from cof_gym.agents.interrogator_training import Dataset  # torch: only the scripts that read climbs
+
+    try:
+        return Dataset.load(path)
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as error:
+        parser.error(f"{option}: {path} is not a climbs file ({error.__class__.__name__}: {error})")

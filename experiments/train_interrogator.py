@@ -98,7 +98,6 @@ import json
 import shutil
 import sys
 import time
-import zipfile
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict, replace
 from pathlib import Path
@@ -123,7 +122,7 @@ sys.path.insert(0, str(HERE))
 from make_grids import v2_heldout_grids  # noqa: E402
 from ppo_seeds import iqm, stratified_bootstrap_ci  # noqa: E402
 from selection import error_summary  # noqa: E402
-from script_checks import check_out_dir  # noqa: E402
+from script_checks import check_out_dir, load_climbs  # noqa: E402
 
 ENV_ID = cof_gym.WAGON_ENV_ID
 CONFIGS = [{}, {"counter_torque": True}]  # the two vehicle configurations trained on
@@ -261,13 +260,7 @@ def collect(out: Path, climbs: dict[str, int], workers: int) -> Dataset:
 def load_added_climbs(parser: argparse.ArgumentParser, files: list[Path], option: str = "--add-climbs") -> list[Dataset]:
     """The climbs of ``option`` (files a ``Dataset.save`` wrote); a missing or unreadable file is a one-line
     usage error (exit 2) naming the option, before any climb is collected or fitted."""
-    added = []
-    for file in files:
-        try:
-            added.append(Dataset.load(file))
-        except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as error:
-            parser.error(f"{option}: {file} is not a climbs file ({error.__class__.__name__}: {error})")
-    return added
+    return [load_climbs(parser, option, file) for file in files]
 
 
 def split(data: Dataset, every: int = 10) -> tuple[Dataset, Dataset]:
