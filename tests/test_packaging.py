@@ -132,12 +132,23 @@ def test_the_wheel_runs_without_a_compiler_or_a_writable_home(wheel: Path, tmp_p
     assert sorted(p.name for p in native_dir.iterdir()) == before  # nothing built, no lock file
 
 
-def test_the_readme_test_command_prints_the_summary_line() -> None:
-    """``addopts`` must not add a second -q (``-qq`` drops pytest's pass/fail summary line)."""
+def _pytest_command(text: str) -> str:
+    """The one ``python -m pytest ...`` command of a README or script (to the end of its line)."""
+    commands = [line[line.index("python -m pytest"):].strip() for line in text.splitlines()
+                if "python -m pytest" in line and not line.lstrip().startswith("#")]
+    assert len(commands) == 1, commands
+    return commands[0]
+
+
+def test_the_readme_test_command_is_what_ci_runs_and_prints_the_summary_line() -> None:
+    """CI runs the README's test command to the letter; ``addopts`` must not add a second -q (``-qq``
+    drops pytest's pass/fail summary line); the workers come from the pinned pytest-xdist."""
     import tomllib
 
     conf = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["pytest"]["ini_options"]
     assert "-q" not in str(conf.get("addopts", "")).split()
-    readme = (ROOT / "README.md").read_text()
-    ci = (ROOT / ".ci" / "run").read_text()
-    assert "python -m pytest -x -q" in readme and "python -m pytest -x -q" in ci
+    command = _pytest_command((ROOT / "README.md").read_text())
+    assert command == _pytest_command((ROOT / ".ci" / "run").read_text())
+    assert command.split()[3:5] == ["-x", "-q"] and "-n" in command.split()
+    pins = (ROOT / "constraints.txt").read_text().splitlines()
+    assert any(line.startswith("pytest-xdist==") for line in pins)
