@@ -91,6 +91,26 @@ def test_same_agents_same_seed_give_identical_tables(tmp_path: Path) -> None:
     assert lo <= summary["staircase"]["median_error"]["value"] <= hi
 
 
+def test_worker_processes_write_what_one_process_writes(tmp_path: Path) -> None:
+    """Episodes played by two spawned workers (each its own env and agents, the learned one included) give the
+    same files, byte for byte, as the episodes played in order in this process."""
+    suite = make_suite("default", 2, seed=7)
+    agents = ["staircase", "interrogator"]
+    one = evaluate(agents, suite, tmp_path / "one", seed=7, quiet=True, workers=1)
+    two = evaluate(agents, suite, tmp_path / "two", seed=7, quiet=True, workers=2)
+    assert one["summary"] == two["summary"] and one["traces"] == two["traces"]
+    for name in ("episodes.csv", "summary.md", "summary.json"):
+        assert (tmp_path / "one" / name).read_bytes() == (tmp_path / "two" / name).read_bytes(), name
+
+
+def test_default_workers_give_each_enough_episodes_and_never_exceed_the_cores() -> None:
+    from cof_gym.commands.evaluate import EPISODES_PER_WORKER, default_workers, usable_cores
+
+    assert default_workers(1) == 1 and default_workers(2 * EPISODES_PER_WORKER - 1) == 1
+    assert default_workers(2 * EPISODES_PER_WORKER) == min(2, usable_cores())
+    assert default_workers(10**6) == usable_cores()
+
+
 def test_bad_agent_and_suite_names_raise(tmp_path: Path) -> None:
     with pytest.raises(ValueError, match="agent"):
         evaluate(["oracle-of-delphi"], make_suite("default", 1, 0), tmp_path, 0, quiet=True)

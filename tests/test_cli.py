@@ -65,6 +65,8 @@ BAD = [
     (["evaluate", "--episodes", "0"], "--episodes"),
     (["evaluate", "--episodes", "many"], "--episodes"),
     (["evaluate", "--episodes", "1000000000"], "--episodes"),
+    (["evaluate", "--workers", "0"], "--workers"),
+    (["evaluate", "--workers", "two"], "--workers"),
     (["evaluate", "--agents", "ppo:not_a_model.zip"], "not a Stable-Baselines3 model"),
     (["evaluate", "--agents", "ppo:corrupt.zip"], "corrupt.zip"),
     (["evaluate", "--agents", "staircase", "--out", "/proc/cof_gym_out"], "--out"),

@@ -43,6 +43,10 @@ PEAK_CREEPAGE_BANDS = (0.0, 0.01, 0.02, 0.04, math.inf)
 # "how early can you know": peak torque at the committed estimate, as a fraction of the true M_sat
 UTILISATION_BANDS = (0.0, 0.8, 0.9, 0.95, math.inf)
 OUTPUT_MARKER = "summary.json"  # what makes an existing --out directory a previous evaluate output
+# a worker's start (imports, env, agents: a few seconds) costs about as much as this many episodes, so the default
+# number of workers gives each at least this many
+EPISODES_PER_WORKER = 40
+MAX_WORKERS = 1024
 
 
 def default_out(suite: str) -> Path:
@@ -434,13 +438,25 @@ def build_agents(agent_specs: list[str], env) -> list[tuple[Any, bool]]:
     return built
 
 
+def usable_cores() -> int:
+    """The CPU cores this process may run on."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+
+
+def default_workers(n_episodes: int) -> int:
+    """One worker a usable core, each with at least :data:`EPISODES_PER_WORKER` of the ``n_episodes``
+    (every agent's together) to play; 1: the episodes are played in this process."""
+    return max(1, min(usable_cores(), n_episodes // EPISODES_PER_WORKER))
+
+
 def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: bool = False,
-             check_suite: bool = False) -> dict[str, Any]:
+             check_suite: bool = False, workers: int | None = 1) -> dict[str, Any]:
     """Play ``agent_specs`` on ``suite``; write the outputs to ``out`` (atomically); return the results.
 
     Before the first episode every agent is built (:class:`~cof_gym.agents.registry.AgentSpecError`)
     and, with ``check_suite``, the env kwargs and every distinct reset option set of the suite are tried
-    (:class:`~cof_gym.commands.suites.SuiteError`)."""
+    (:class:`~cof_gym.commands.suites.SuiteError`). ``workers``: processes that play the episodes (None:
+    :func:`default_workers`); every episode is seeded on its own, so the outputs are the same for any number."""
     import gymnasium as gym
 
     t0 = time.perf_counter()
@@ -459,8 +475,9 @@ def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: 
         own_envs = agent_envs(agents, suite)
         staging = _Staging(out)
         try:
+            n_workers = default_workers(len(agents) * len(suite.episodes)) if workers is None else workers
             result = _play_and_write({a.name: own_envs.get(a.name, env) for a, _ in agents}, agents, agent_specs,
-                                     suite, staging.path, seed, quiet, t0)
+                                     suite, staging.path, seed, quiet, t0, n_workers)
             staging.commit()
         except BaseException:
             staging.abort()
@@ -508,27 +525,84 @@ def distribution_notes(agents, suite: Suite) -> list[str]:
     return notes
 
 
+def _play_episode(envs: dict[str, Any], agents, suite: Suite, k: int, i: int) -> tuple[EpisodeRecord, list | None]:
+    """Agent ``k`` on the suite's episode ``i``; the trace of every agent's first episode (the figures')."""
+    agent, oracle = agents[k]
+    ep_seed, options = suite.episodes[i]
+    trace = [] if i == 0 else None
+    return run_episode(envs[agent.name], agent, ep_seed, options, i, trace, oracle=oracle, note=suite.note(i)), trace
+
+
+_WORKER: dict[str, Any] = {}  # a worker process's envs, agents and suite (:func:`_start_worker`)
+
+
+def _start_worker(agent_specs: list[str], suite: Suite, warning_filters: list) -> None:
+    """A worker's own env and agents, built as the parent built them, with the parent's warning filters (one
+    torch thread: the cores are the workers')."""
+    import warnings
+
+    import gymnasium as gym
+    import torch
+
+    warnings.filters[:] = warning_filters
+    torch.set_num_threads(1)
+    env = gym.make(suite.env_id, **make_kwargs(suite.env_kwargs))
+    agents = build_agents(agent_specs, env)
+    own_envs = agent_envs(agents, suite)
+    _WORKER.update(envs={a.name: own_envs.get(a.name, env) for a, _ in agents}, agents=agents, suite=suite)
+
+
+def _worker_episode(task: tuple[int, int]) -> tuple[int, int, EpisodeRecord, list | None]:
+    k, i = task
+    return (k, i, *_play_episode(_WORKER["envs"], _WORKER["agents"], _WORKER["suite"], k, i))
+
+
+def _play(envs: dict[str, Any], agents, agent_specs, suite: Suite, workers: int, advance) -> list[tuple]:
+    """``(k, i, record, trace)`` of every agent ``k`` and episode ``i``, in that order: played here in that
+    order (``workers`` 1), or by ``workers`` spawned processes, an episode a task. ``advance(k)`` after each."""
+    tasks = [(k, i) for k in range(len(agents)) for i in range(len(suite.episodes))]
+    if workers <= 1:
+        played = []
+        for k, i in tasks:
+            played.append((k, i, *_play_episode(envs, agents, suite, k, i)))
+            advance(k)
+        return played
+    import multiprocessing
+    import warnings
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    portable = Suite(suite.name, suite.env_id, dict(suite.env_kwargs), list(suite.episodes), suite.episode_notes)
+    done = {}
+    with ProcessPoolExecutor(min(workers, len(tasks)), mp_context=multiprocessing.get_context("spawn"),
+                             initializer=_start_worker, initargs=(list(agent_specs), portable, list(warnings.filters))) as pool:
+        futures = [pool.submit(_worker_episode, task) for task in tasks]
+        try:
+            for future in as_completed(futures):
+                k, i, record, trace = future.result()
+                done[k, i] = (k, i, record, trace)
+                advance(k)
+        except BaseException:
+            for future in futures:
+                future.cancel()
+            raise
+    return [done[task] for task in tasks]
+
+
 def _play_and_write(envs: dict[str, Any], agents, agent_specs, suite: Suite, out: Path, seed: int, quiet: bool,
-                    t0: float) -> dict[str, Any]:
-    records: list[EpisodeRecord] = []
-    traces: dict[str, list] = {}
+                    t0: float, workers: int = 1) -> dict[str, Any]:
     progress = _progress(quiet)
     if progress is not None:
         progress.start()
     try:
-        tasks = {agent.name: progress.add_task(agent.name, total=len(suite.episodes)) for agent, _ in agents} \
-            if progress is not None else {}
-        for agent, oracle in agents:
-            traces[agent.name] = []
-            for i, (ep_seed, options) in enumerate(suite.episodes):
-                records.append(run_episode(envs[agent.name], agent, ep_seed, options, i,
-                                           traces[agent.name] if i == 0 else None,
-                                           oracle=oracle, note=suite.note(i)))
-                if progress is not None:
-                    progress.advance(tasks[agent.name])
+        bars = [progress.add_task(agent.name, total=len(suite.episodes)) for agent, _ in agents] \
+            if progress is not None else []
+        played = _play(envs, agents, agent_specs, suite, workers,
+                       lambda k: progress.advance(bars[k]) if progress is not None else None)
     finally:
         if progress is not None:
             progress.stop()
+    records = [record for _, _, record, _ in played]
+    traces = {agents[k][0].name: trace for k, i, _, trace in played if i == 0}
     summary = summarize(records, seed)
     notes = distribution_notes(agents, suite)
     with open(out / "episodes.csv", "w", newline="") as fh:
@@ -570,6 +644,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", default=None, metavar="DIR",
                         help="output directory, replaced when the run completes (default: out/evaluate, or "
                              "out/evaluate-SUITE for another suite)")
+    parser.add_argument("--workers", type=int_in_range(1, MAX_WORKERS), default=None, metavar="N",
+                        help=f"processes that play the episodes, at most {MAX_WORKERS} (default: one a usable core, "
+                             f"each with at least {EPISODES_PER_WORKER} episodes); the outputs are the same for any N")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress and no table on the terminal")
 
 
@@ -625,7 +702,7 @@ def run(args: argparse.Namespace) -> int:
 
     specs, suite, out = prepare(args)
     try:
-        evaluate(specs, suite, out, args.seed, quiet=args.quiet, check_suite=True)
+        evaluate(specs, suite, out, args.seed, quiet=args.quiet, check_suite=True, workers=args.workers)
     except SuiteError as e:
         raise UsageError("--suite", str(e)) from None
     except registry.AgentSpecError as e:
