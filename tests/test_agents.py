@@ -215,6 +215,24 @@ def test_summary_has_the_breakdown_and_the_intrusiveness_figure(tmp_path: Path) 
     assert (tmp_path / "ev" / "error_vs_peak_torque.png").stat().st_size > 1000
 
 
+def test_a_breakdown_row_counts_each_agents_episodes_where_they_differ() -> None:
+    """A scenario group has the same episodes for every agent (one count beside the group); a utilisation group
+    depends on what each agent did, so each cell carries its agent's own count and the group none."""
+    from cof_gym.commands.evaluate import markdown_breakdown
+
+    def stats(n: int) -> dict:
+        return {"episodes": n, "median_error": 0.01, "p90_error": 0.02, "macro_slip_events": 0,
+                "peak_torque_fraction": 0.9}
+
+    summary = {"a": {"oracle": False, "breakdown": {"dry": stats(3), "committed at <= 80 % M_sat": stats(2),
+                                                    "committed at > 95 % M_sat": stats(1)}},
+               "b": {"oracle": False, "breakdown": {"dry": stats(3), "committed at > 95 % M_sat": stats(3)}}}
+    rows = {line.split(" | ")[0]: line for line in markdown_breakdown(summary).splitlines() if line.startswith("| ")}
+    assert rows["| dry (3)"].count("(n=") == 0
+    assert rows["| committed at <= 80 % M_sat"].endswith("90.0 % (n=2) | - |")
+    assert rows["| committed at > 95 % M_sat"].endswith("90.0 % (n=1) | 1.0 % / 2.0 % / 0 / 90.0 % (n=3) |")
+
+
 def test_peak_creepage_bands_cover_every_creepage_once() -> None:
     assert [peak_creepage_band(c) for c in (0.0, 0.0099, 0.01, 0.03, 0.04, 0.5)] == [
         "peak creepage < 1 %", "peak creepage < 1 %", "peak creepage 1-2 %", "peak creepage 2-4 %",

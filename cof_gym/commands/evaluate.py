@@ -306,23 +306,39 @@ def markdown_table(summary: dict[str, dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
+def _shared_count(summary: dict[str, dict[str, Any]], group: str) -> int | None:
+    """The episodes of ``group``, where every agent has that many in it (a scenario group: every agent plays
+    the same scenarios); None where the group depends on what the agent did (the utilisation at commitment)."""
+    counts = {summary[a]["breakdown"].get(group, {}).get("episodes", 0) for a in summary}
+    return counts.pop() if len(counts) == 1 else None
+
+
+def _breakdown_rows(summary: dict[str, dict[str, Any]], cell) -> list[tuple[str, int | None, list[str]]]:
+    """``(group, shared count or None, a cell per agent)``: ``cell(stats)`` for an agent with episodes in the
+    group, followed by its own count where the count is not shared; "-" for an agent with none."""
+    rows = []
+    for g in dict.fromkeys(g for a in summary for g in summary[a]["breakdown"]):
+        n = _shared_count(summary, g)
+        cells = []
+        for a in summary:
+            s = summary[a]["breakdown"].get(g)
+            cells.append("-" if s is None else cell(s) + ("" if n is not None else f" (n={s['episodes']})"))
+        rows.append((g, n, cells))
+    return rows
+
+
 def markdown_breakdown(summary: dict[str, dict[str, Any]]) -> str:
     """Median relative error [%] / P90 [%] / macro-slips / mean peak torque [% of M_sat], per group."""
     agents = list(summary)
-    groups = list(dict.fromkeys(g for a in agents for g in summary[a]["breakdown"]))
     lines = ["| group (episodes) | " + " | ".join(_agent_label(summary, a) for a in agents) + " |",
              "|---" * (len(agents) + 1) + "|"]
-    for g in groups:
-        n = next(summary[a]["breakdown"][g]["episodes"] for a in agents if g in summary[a]["breakdown"])
-        cells = []
-        for a in agents:
-            s = summary[a]["breakdown"].get(g)
-            cells.append("-" if s is None else
-                         f"{_fmt(s['median_error'], 'pct')} % / {_fmt(s['p90_error'], 'pct')} % / "
-                         f"{s['macro_slip_events']} / {_fmt(s['peak_torque_fraction'], 'pct')} %")
-        lines.append(f"| {g} ({n}) | " + " | ".join(cells) + " |")
+    for g, n, cells in _breakdown_rows(summary, lambda s: f"{_fmt(s['median_error'], 'pct')} % / "
+                                                        f"{_fmt(s['p90_error'], 'pct')} % / {s['macro_slip_events']}"
+                                                        f" / {_fmt(s['peak_torque_fraction'], 'pct')} %"):
+        lines.append(f"| {g}{'' if n is None else f' ({n})'} | " + " | ".join(cells) + " |")
     return ("Cells: median rel. CoF error / P90 rel. CoF error / macro-slips [episodes] / mean peak torque "
-            "[% of real M_sat].\n\n" + "\n".join(lines))
+            "[% of real M_sat]; (n=...): the agent's own episodes in a group that depends on what the agent did "
+            "(the utilisation at commitment), where the agents' counts differ.\n\n" + "\n".join(lines))
 
 
 def print_table(summary: dict[str, dict[str, Any]], title: str, out=None) -> None:
@@ -338,15 +354,8 @@ def print_table(summary: dict[str, dict[str, Any]], title: str, out=None) -> Non
     rows.append(["episodes [count]", *[str(summary[a]["episodes"]) for a in summary]])
     labels = [_agent_label(summary, a).replace(" (oracle)", "\n(oracle)") for a in summary]
     terminal.print_table(title, ["metric [unit]\n(95 % CI)", *labels], rows, out)
-    groups = list(dict.fromkeys(g for a in summary for g in summary[a]["breakdown"]))
-    bd_rows = []
-    for g in groups:
-        n = next(summary[a]["breakdown"][g]["episodes"] for a in summary if g in summary[a]["breakdown"])
-        cells = []
-        for a in summary:
-            s = summary[a]["breakdown"].get(g)
-            cells.append("-" if s is None else f"{_fmt(s['median_error'], 'pct')} [{s['macro_slip_events']}]")
-        bd_rows.append([f"{g} [{n}]", *cells])
+    bd_rows = [[g if n is None else f"{g} [{n}]", *cells] for g, n, cells in
+               _breakdown_rows(summary, lambda s: f"{_fmt(s['median_error'], 'pct')} [{s['macro_slip_events']}]")]
     terminal.print_table("median rel. CoF error [%] by group (macro-slips in brackets)",
                          ["group [episodes]", *summary], bd_rows, out)
 
