@@ -704,7 +704,9 @@ def test_ppo_smoke() -> None:
 
 
 @pytest.mark.parametrize("env_id", [WAGON, HALF])
-def test_a_diverging_simulation_ends_the_episode_without_a_crash(env_id: str) -> None:
+def test_a_diverging_simulation_ends_the_episode_without_a_crash(env_id: str, tmp_path: Path,
+                                                                  monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(tmp_path)  # MuJoCo's warning writes MUJOCO_LOG.TXT into the working directory
     env = gym.make(env_id)
     obs, _ = env.reset(seed=0)
     env.unwrapped._sim.data.qvel[:] = np.nan  # a blown-up state, as an unstable integration would leave

@@ -164,7 +164,8 @@ def test_half_wheelset_vector_matches_single():
         sync.close()
 
 
-def test_a_corrupted_simulation_diverges_alone_and_autoresets():
+def test_a_corrupted_simulation_diverges_alone_and_autoresets(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # MuJoCo's warning writes MUJOCO_LOG.TXT into the working directory
     envs = gym.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point", cof=0.4, speed_m_s=20.0)
     try:
         envs.reset(seed=0)
