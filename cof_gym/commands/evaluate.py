@@ -465,7 +465,8 @@ def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: 
     Before the first episode every agent is built (:class:`~cof_gym.agents.registry.AgentSpecError`)
     and, with ``check_suite``, the env kwargs and every distinct reset option set of the suite are tried
     (:class:`~cof_gym.commands.suites.SuiteError`). ``workers``: processes that play the episodes (None:
-    :func:`default_workers`); every episode is seeded on its own, so the outputs are the same for any number."""
+    :func:`default_workers`); every episode is seeded on its own, so the outputs are the same for any number. The
+    workers are spawned: a script that asks for more than one needs the usual ``if __name__ == "__main__":`` guard."""
     import gymnasium as gym
 
     t0 = time.perf_counter()
