@@ -233,6 +233,27 @@ def test_a_breakdown_row_counts_each_agents_episodes_where_they_differ() -> None
     assert rows["| committed at > 95 % M_sat"].endswith("90.0 % (n=1) | 1.0 % / 2.0 % / 0 / 90.0 % (n=3) |")
 
 
+@pytest.mark.parametrize("block_values", [1 << 22, 7])
+def test_the_bootstrap_computes_each_resamples_statistic_as_for_that_resample_alone(block_values: int,
+                                                                                  monkeypatch) -> None:
+    """Rows of resamples reduced at once (in blocks of rows) give every resample's statistic as the resample alone
+    gives it: order statistics and counts exactly, a mean within its pairwise summation's rounding."""
+    from cof_gym.commands import evaluate as ev
+
+    monkeypatch.setattr(ev, "BOOTSTRAP_BLOCK_VALUES", block_values)
+    values = np.random.default_rng(3).lognormal(-3.0, 1.0, 37)
+    values[::5] = 1.0  # ties, as the macro-slip column's 100 % gives them
+    for _, _, _, stat, _ in ev.METRICS:
+        lo, hi = ev.bootstrap_ci(values, stat, np.random.default_rng(11), n=301)
+        idx = np.random.default_rng(11).integers(0, len(values), size=(301, len(values)))
+        alone = np.array([stat(values[i]) for i in idx])
+        expected = np.percentile(alone, 2.5), np.percentile(alone, 97.5)
+        if stat is np.mean:
+            np.testing.assert_allclose((lo, hi), expected, rtol=8 * np.finfo(float).eps)
+        else:
+            assert (lo, hi) == expected, stat
+
+
 def test_peak_creepage_bands_cover_every_creepage_once() -> None:
     assert [peak_creepage_band(c) for c in (0.0, 0.0099, 0.01, 0.03, 0.04, 0.5)] == [
         "peak creepage < 1 %", "peak creepage < 1 %", "peak creepage 1-2 %", "peak creepage 2-4 %",

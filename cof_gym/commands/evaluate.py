@@ -33,6 +33,7 @@ interrupted run leaves the previous OUT as it was). Only agents marked as oracle
 info["ground_truth"]."""
 
 N_BOOTSTRAP = 2000
+BOOTSTRAP_BLOCK_VALUES = 1 << 22  # resampled values held at once by a bootstrap (32 MiB of floats)
 DEFAULT_OUT = Path("out") / "evaluate"
 COF_BANDS = (0.0, 0.1, 0.2, 0.3, 0.4, math.inf)  # CoF band edges of the breakdown
 # |systematic creepage error| band edges (the sensors' (1 + e_R)/(1 + e_v) - 1; 0 in v1)
@@ -157,17 +158,20 @@ def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list 
 
 
 def bootstrap_ci(values: np.ndarray, stat, rng: np.random.Generator, n: int = N_BOOTSTRAP) -> tuple[float, float]:
-    """Percentile bootstrap 95 % confidence interval of ``stat``."""
+    """Percentile bootstrap 95 % confidence interval of ``stat`` (a NumPy reduction taking ``axis``: each
+    resample's statistic is a row's, computed as for the resample alone, in blocks of rows to bound memory)."""
     if len(values) < 2:
         v = float(stat(values)) if len(values) else float("nan")
         return v, v
     idx = rng.integers(0, len(values), size=(n, len(values)))
-    stats = np.array([stat(values[i]) for i in idx])
+    block = max(1, BOOTSTRAP_BLOCK_VALUES // len(values))
+    stats = np.concatenate([stat(values[idx[i:i + block]], axis=1) for i in range(0, n, block)])
     return float(np.percentile(stats, 2.5)), float(np.percentile(stats, 97.5))
 
 
-def _p90(v: np.ndarray) -> float:
-    return float(np.percentile(v, 90))
+def _p90(v: np.ndarray, axis: int | None = None):
+    """The 90th percentile (per row along ``axis``)."""
+    return np.percentile(v, 90, axis=axis) if axis is not None else float(np.percentile(v, 90))
 
 
 METRICS = (
