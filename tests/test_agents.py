@@ -91,9 +91,12 @@ def test_same_agents_same_seed_give_identical_tables(tmp_path: Path) -> None:
     assert lo <= summary["staircase"]["median_error"]["value"] <= hi
 
 
-def test_worker_processes_write_what_one_process_writes(tmp_path: Path) -> None:
-    """Episodes played by two spawned workers (each its own env and agents, the learned one included) give the
-    same files, byte for byte, as the episodes played in order in this process."""
+def test_worker_processes_write_what_one_process_writes(tmp_path: Path, monkeypatch) -> None:
+    """Episodes played by two spawned workers (each its own env and agents, the learned one included, handed an
+    episode at a time) give the same files, byte for byte, as the episodes played in order in this process."""
+    from cof_gym.commands import evaluate as ev
+
+    monkeypatch.setattr(ev, "QUEUED_PER_WORKER", 1)
     suite = make_suite("default", 2, seed=7)
     agents = ["staircase", "interrogator"]
     one = evaluate(agents, suite, tmp_path / "one", seed=7, quiet=True, workers=1)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import itertools
 import json
 import math
 import os
@@ -48,6 +49,7 @@ OUTPUT_MARKER = "summary.json"  # what makes an existing --out directory a previ
 # number of workers gives each at least this many
 EPISODES_PER_WORKER = 40
 MAX_WORKERS = 1024
+QUEUED_PER_WORKER = 4  # episodes handed to the workers at a time, per worker (however long the suite)
 
 
 def default_out(suite: str) -> Path:
@@ -583,20 +585,26 @@ def _play(envs: dict[str, Any], agents, agent_specs, suite: Suite, workers: int,
         return played
     import multiprocessing
     import warnings
-    from concurrent.futures import ProcessPoolExecutor, as_completed
+    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
     portable = Suite(suite.name, suite.env_id, dict(suite.env_kwargs), list(suite.episodes), suite.episode_notes)
-    done = {}
-    with ProcessPoolExecutor(min(workers, len(tasks)), mp_context=multiprocessing.get_context("spawn"),
-                             initializer=_start_worker, initargs=(list(agent_specs), portable, list(warnings.filters))) as pool:
-        futures = [pool.submit(_worker_episode, task) for task in tasks]
+    workers = min(workers, len(tasks))
+    done, pending, queue = {}, set(), iter(tasks)
+    with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"), initializer=_start_worker,
+                             initargs=(list(agent_specs), portable, list(warnings.filters))) as pool:
         try:
-            for future in as_completed(futures):
-                k, i, record, trace = future.result()
-                done[k, i] = (k, i, record, trace)
-                advance(k)
+            while True:
+                room = QUEUED_PER_WORKER * workers - len(pending)
+                pending |= {pool.submit(_worker_episode, task) for task in itertools.islice(queue, room)}
+                if not pending:
+                    break
+                finished, pending = wait(pending, return_when=FIRST_COMPLETED)
+                for future in finished:
+                    k, i, record, trace = future.result()
+                    done[k, i] = (k, i, record, trace)
+                    advance(k)
         except BaseException:
-            for future in futures:
+            for future in pending:
                 future.cancel()
             raise
     return [done[task] for task in tasks]
