@@ -106,6 +106,20 @@ def test_worker_processes_write_what_one_process_writes(tmp_path: Path, monkeypa
         assert (tmp_path / "one" / name).read_bytes() == (tmp_path / "two" / name).read_bytes(), name
 
 
+def test_where_no_worker_process_can_start_the_episodes_are_played_here(tmp_path: Path, monkeypatch, capsys) -> None:
+    import concurrent.futures
+
+    def unavailable(*args, **kwargs):
+        raise OSError(38, "Function not implemented")  # what a machine without /dev/shm answers
+
+    monkeypatch.setattr(concurrent.futures, "ProcessPoolExecutor", unavailable)
+    suite = make_suite("default", 2, seed=7)
+    here = evaluate(["staircase"], suite, tmp_path / "here", seed=7, quiet=True, workers=2)
+    assert "no worker processes here" in capsys.readouterr().err
+    one = evaluate(["staircase"], suite, tmp_path / "one", seed=7, quiet=True, workers=1)
+    assert here["summary"] == one["summary"]
+
+
 def test_default_workers_give_each_enough_episodes_and_never_exceed_the_cores() -> None:
     from cof_gym.commands.evaluate import EPISODES_PER_WORKER, default_workers, usable_cores
 

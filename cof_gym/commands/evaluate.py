@@ -577,6 +577,7 @@ def _play(envs: dict[str, Any], agents, agent_specs, suite: Suite, workers: int,
     """``(k, i, record, trace)`` of every agent ``k`` and episode ``i``, in that order: played here in that
     order (``workers`` 1), or by ``workers`` spawned processes, an episode a task. ``advance(k)`` after each."""
     tasks = [(k, i) for k in range(len(agents)) for i in range(len(suite.episodes))]
+    workers = min(workers, len(tasks))
     if workers <= 1:
         played = []
         for k, i in tasks:
@@ -588,10 +589,14 @@ def _play(envs: dict[str, Any], agents, agent_specs, suite: Suite, workers: int,
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
     portable = Suite(suite.name, suite.env_id, dict(suite.env_kwargs), list(suite.episodes), suite.episode_notes)
-    workers = min(workers, len(tasks))
+    try:
+        pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"), initializer=_start_worker,
+                                   initargs=(list(agent_specs), portable, list(warnings.filters)))
+    except (OSError, NotImplementedError, ImportError) as e:  # no process-shared semaphores here (no /dev/shm)
+        print(f"note: no worker processes here ({e}); the episodes are played in this process", file=sys.stderr)
+        return _play(envs, agents, agent_specs, suite, 1, advance)
     done, pending, queue = {}, set(), iter(tasks)
-    with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"), initializer=_start_worker,
-                             initargs=(list(agent_specs), portable, list(warnings.filters))) as pool:
+    with pool:
         try:
             while True:
                 room = QUEUED_PER_WORKER * workers - len(pending)
