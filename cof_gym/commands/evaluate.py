@@ -578,12 +578,19 @@ def _play(envs: dict[str, Any], agents, agent_specs, suite: Suite, workers: int,
     order (``workers`` 1), or by ``workers`` spawned processes, an episode a task. ``advance(k)`` after each."""
     tasks = [(k, i) for k in range(len(agents)) for i in range(len(suite.episodes))]
     workers = min(workers, len(tasks))
-    if workers <= 1:
-        played = []
-        for k, i in tasks:
-            played.append((k, i, *_play_episode(envs, agents, suite, k, i)))
-            advance(k)
+    played = _play_in_workers(agent_specs, suite, tasks, workers, advance) if workers > 1 else None
+    if played is not None:
         return played
+    played = []
+    for k, i in tasks:
+        played.append((k, i, *_play_episode(envs, agents, suite, k, i)))
+        advance(k)
+    return played
+
+
+def _play_in_workers(agent_specs, suite: Suite, tasks: list[tuple[int, int]], workers: int, advance) -> list | None:
+    """:func:`_play`'s tasks in ``workers`` spawned processes, a few handed to each at a time; None where no
+    worker process can start here (no process-shared semaphores, e.g. no /dev/shm: one note on stderr)."""
     import multiprocessing
     import warnings
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
@@ -592,9 +599,9 @@ def _play(envs: dict[str, Any], agents, agent_specs, suite: Suite, workers: int,
     try:
         pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"), initializer=_start_worker,
                                    initargs=(list(agent_specs), portable, list(warnings.filters)))
-    except (OSError, NotImplementedError, ImportError) as e:  # no process-shared semaphores here (no /dev/shm)
+    except (OSError, NotImplementedError, ImportError) as e:
         print(f"note: no worker processes here ({e}); the episodes are played in this process", file=sys.stderr)
-        return _play(envs, agents, agent_specs, suite, 1, advance)
+        return None
     done, pending, queue = {}, set(), iter(tasks)
     with pool:
         try:
