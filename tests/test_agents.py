@@ -120,12 +120,33 @@ def test_where_no_worker_process_can_start_the_episodes_are_played_here(tmp_path
     assert here["summary"] == one["summary"]
 
 
-def test_default_workers_give_each_enough_episodes_and_never_exceed_the_cores() -> None:
-    from cof_gym.commands.evaluate import EPISODES_PER_WORKER, default_workers, usable_cores
+def test_default_workers_give_each_enough_episodes_and_memory_and_never_exceed_the_cores(monkeypatch) -> None:
+    from cof_gym.commands import evaluate as ev
 
-    assert default_workers(1) == 1 and default_workers(2 * EPISODES_PER_WORKER - 1) == 1
-    assert default_workers(2 * EPISODES_PER_WORKER) == min(2, usable_cores())
-    assert default_workers(10**6) == usable_cores()
+    monkeypatch.setattr(ev, "usable_cores", lambda: 8)
+    monkeypatch.setattr(ev, "available_memory_bytes", lambda: 100 * ev.WORKER_MEMORY_BYTES)
+    n = ev.EPISODES_PER_WORKER
+    assert ev.default_workers(1) == 1 and ev.default_workers(2 * n - 1) == 1 and ev.default_workers(2 * n) == 2
+    assert ev.default_workers(10**6) == 8
+    monkeypatch.setattr(ev, "available_memory_bytes", lambda: 3 * ev.WORKER_MEMORY_BYTES + 1)
+    assert ev.default_workers(10**6) == 3
+    monkeypatch.setattr(ev, "available_memory_bytes", lambda: ev.WORKER_MEMORY_BYTES // 2)
+    assert ev.default_workers(10**6) == 1
+    monkeypatch.setattr(ev, "available_memory_bytes", lambda: None)  # unreadable: the cores decide
+    assert ev.default_workers(10**6) == 8
+
+
+def test_usable_cores_honour_a_containers_cpu_quota(monkeypatch) -> None:
+    from cof_gym.commands import evaluate as ev
+
+    monkeypatch.setattr(ev.os, "sched_getaffinity", lambda pid: set(range(64)), raising=False)
+    files = {"/sys/fs/cgroup/cpu.max": "250000 100000\n"}
+    monkeypatch.setattr(ev, "_read", lambda path: files.get(path, ""))
+    assert ev.usable_cores() == 3  # 2.5 cores of quota
+    files["/sys/fs/cgroup/cpu.max"] = "max 100000\n"
+    assert ev.usable_cores() == 64
+    files["/proc/meminfo"] = "MemTotal:  8000 kB\nMemAvailable:    2048 kB\n"
+    assert ev.available_memory_bytes() == 2048 * 1024
 
 
 def test_bad_agent_and_suite_names_raise(tmp_path: Path) -> None:
