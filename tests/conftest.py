@@ -15,6 +15,23 @@ import pytest  # noqa: E402
 import cof_gym  # noqa: E402
 
 
+TEST_WORKER_MEMORY_BYTES = 3 << 29  # 1.5 GiB a worker (measured: 0.53 GB peak running the training test files)
+
+
+def pytest_xdist_auto_num_workers(config):
+    """``-n auto`` (the README's test command): a pytest-xdist worker per usable core, a container's CPU quota
+    counting (xdist's own count sees every core of the host), and at most one per
+    :data:`TEST_WORKER_MEMORY_BYTES` of the available memory. ``PYTEST_XDIST_AUTO_NUM_WORKERS`` still decides where
+    it is set (None: xdist's own hook)."""
+    if os.environ.get("PYTEST_XDIST_AUTO_NUM_WORKERS"):
+        return None
+    from cof_gym.commands.evaluate import available_memory_bytes, usable_cores
+
+    memory = available_memory_bytes()
+    by_memory = usable_cores() if memory is None else memory // TEST_WORKER_MEMORY_BYTES
+    return max(1, min(usable_cores(), by_memory))
+
+
 @pytest.fixture(scope="module")
 def env(request):
     """One wagon env per test module, of the module's ``ENV_ID`` (default: the v2 wagon); a module

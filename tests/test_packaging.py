@@ -152,3 +152,21 @@ def test_the_readme_test_command_is_what_ci_runs_and_prints_the_summary_line() -
     assert command.split()[3:5] == ["-x", "-q"] and "-n" in command.split()
     pins = (ROOT / "constraints.txt").read_text().splitlines()
     assert any(line.startswith("pytest-xdist==") for line in pins)
+
+
+def test_the_test_commands_auto_workers_fit_the_cores_and_the_memory(request, monkeypatch) -> None:
+    from cof_gym.commands import evaluate as ev
+
+    def auto() -> int:
+        return request.config.hook.pytest_xdist_auto_num_workers(config=request.config)
+
+    monkeypatch.delenv("PYTEST_XDIST_AUTO_NUM_WORKERS", raising=False)
+    monkeypatch.setattr(ev, "usable_cores", lambda: 8)
+    monkeypatch.setattr(ev, "available_memory_bytes", lambda: 5 * (3 << 29) - 1)
+    assert auto() == 4
+    monkeypatch.setattr(ev, "available_memory_bytes", lambda: 1 << 20)
+    assert auto() == 1
+    monkeypatch.setattr(ev, "available_memory_bytes", lambda: None)
+    assert auto() == 8
+    monkeypatch.setenv("PYTEST_XDIST_AUTO_NUM_WORKERS", "5")  # xdist's own override still decides
+    assert auto() == 5
