@@ -25,11 +25,9 @@ def pytest_xdist_auto_num_workers(config):
     it is set (None: xdist's own hook)."""
     if os.environ.get("PYTEST_XDIST_AUTO_NUM_WORKERS"):
         return None
-    from cof_gym.commands.evaluate import available_memory_bytes, usable_cores
+    from cof_gym.commands.evaluate import fitting_workers
 
-    memory = available_memory_bytes()
-    by_memory = usable_cores() if memory is None else memory // TEST_WORKER_MEMORY_BYTES
-    return max(1, min(usable_cores(), by_memory))
+    return fitting_workers(TEST_WORKER_MEMORY_BYTES)
 
 
 @pytest.fixture(scope="module")

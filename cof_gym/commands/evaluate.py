@@ -11,7 +11,7 @@ import os
 import shutil
 import sys
 import time
-from dataclasses import asdict, dataclass, fields
+from dataclasses import asdict, dataclass, fields, replace
 from pathlib import Path
 from typing import Any
 
@@ -475,18 +475,24 @@ def available_memory_bytes() -> int | None:
     """Memory available to new processes (``MemAvailable`` of /proc/meminfo); None where it cannot be read."""
     for line in _read("/proc/meminfo").splitlines():
         name, _, value = line.partition(":")
-        if name == "MemAvailable" and value.split() and value.split()[0].isdigit():
-            return int(value.split()[0]) * 1024
+        kib = value.split()[:1]
+        if name == "MemAvailable" and kib and kib[0].isdigit():
+            return int(kib[0]) * 1024
     return None
+
+
+def fitting_workers(memory_per_worker: int) -> int:
+    """Processes this machine holds: one a usable core, at most one per ``memory_per_worker`` bytes of the
+    available memory (the cores alone where it cannot be read); at least 1."""
+    cores, memory = usable_cores(), available_memory_bytes()
+    return max(1, cores if memory is None else min(cores, memory // memory_per_worker))
 
 
 def default_workers(n_episodes: int) -> int:
     """One worker a usable core, each with at least :data:`EPISODES_PER_WORKER` of the ``n_episodes``
     (every agent's together) to play and :data:`WORKER_MEMORY_BYTES` of the available memory; 1: the episodes
     are played in this process."""
-    memory = available_memory_bytes()
-    by_memory = usable_cores() if memory is None else memory // WORKER_MEMORY_BYTES
-    return max(1, min(usable_cores(), by_memory, n_episodes // EPISODES_PER_WORKER))
+    return max(1, min(fitting_workers(WORKER_MEMORY_BYTES), n_episodes // EPISODES_PER_WORKER))
 
 
 def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: bool = False,
@@ -620,7 +626,7 @@ def _play_in_workers(agent_specs, suite: Suite, tasks: list[tuple[int, int]], wo
     import warnings
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
-    portable = Suite(suite.name, suite.env_id, dict(suite.env_kwargs), list(suite.episodes), suite.episode_notes)
+    portable = replace(suite, env_kwargs=dict(suite.env_kwargs), episodes=list(suite.episodes))  # what pickles
     try:
         pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"), initializer=_start_worker,
                                    initargs=(list(agent_specs), portable, list(warnings.filters)))
