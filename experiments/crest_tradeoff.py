@@ -307,7 +307,7 @@ def climb_setting(text: str) -> tuple[str, object]:
 
 
 def main() -> None:
-    parser = Parser(description=__doc__.split("\n")[0], formatter_class=argparse.HelpFormatter)
+    parser = Parser(description=__doc__.split("\n")[0])
     parser.add_argument("--targets", type=float, nargs="+", default=None,
                         help="target headrooms of the shipped climb to try (default: 0.1 0.15 0.2 0.3)")
     parser.add_argument("--cautions", type=float, nargs="+", default=None,

@@ -83,7 +83,7 @@ def bands(data: Dataset) -> dict[str, np.ndarray]:
 
 
 def main() -> None:
-    ap = Parser(description=__doc__.splitlines()[0], formatter_class=argparse.HelpFormatter)
+    ap = Parser(description=__doc__.splitlines()[0])
     ap.add_argument("--climbs", type=Path, required=True, help="a climbs file written by train_interrogator.py")
     ap.add_argument("--blocks", type=block_set, nargs="+", default=[(), ("climb_fit",)], metavar="SET")
     ap.add_argument("--holdout", type=fraction, default=0.2)

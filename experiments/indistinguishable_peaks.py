@@ -191,7 +191,7 @@ def sensor_only_agents(ap: argparse.ArgumentParser, text: str) -> list[str]:
 
 
 def main() -> None:
-    ap = Parser(description=__doc__.splitlines()[0], formatter_class=argparse.HelpFormatter)
+    ap = Parser(description=__doc__.splitlines()[0])
     ap.add_argument("--suite", type=Path, default=DEFAULT_SUITE, help="a suite file with tabulated creep curves")
     add_pair_arguments(ap, 1.25, "the twin's CoF over the original's (> 1)")
     args = ap.parse_args()

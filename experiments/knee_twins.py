@@ -26,7 +26,6 @@ This reads the truth only to build the curves and to score, like every evaluatio
 
 from __future__ import annotations
 
-import argparse
 import sys
 from pathlib import Path
 
@@ -174,7 +173,7 @@ def table(agents: list[str], suite_name: str, episodes: int, min_peak: float, ra
 
 
 def main() -> int:
-    ap = Parser(description=__doc__.splitlines()[0], formatter_class=argparse.HelpFormatter)
+    ap = Parser(description=__doc__.splitlines()[0])
     ap.add_argument("--suite", default="default", help="default or a suite file (default: %(default)s)")
     ap.add_argument("--episodes", type=int, default=60, help="episodes of a suite without a list (default: %(default)s)")
     ap.add_argument("--min-peak-creepage", type=float, default=0.04, help="the far curves' least peak creepage (0-1)")

@@ -45,7 +45,6 @@ before each runaway (``--out FILE``: also written there):
 
 from __future__ import annotations
 
-import argparse
 import sys
 from pathlib import Path
 from typing import NamedTuple
@@ -216,7 +215,7 @@ def never_cut(episodes: list[list[Window]]) -> str:
 
 
 def main() -> None:
-    ap = Parser(description=__doc__.splitlines()[0], formatter_class=argparse.HelpFormatter)
+    ap = Parser(description=__doc__.splitlines()[0])
     ap.add_argument("--suite", default=str(DEFAULT_SUITE))
     ap.add_argument("--episodes", type=int, nargs="+", default=[12, 18, 27], help="indices into the suite")
     ap.add_argument("--levels", type=float_in_range(0.0, MAX_LEVEL), nargs="+", default=list(LEVELS),

@@ -16,7 +16,6 @@ NLL (lower is better).
 
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 from pathlib import Path
@@ -63,7 +62,7 @@ def table(data: Dataset, sizes: list[int], seed: int, ensembles: list[Path], epo
 
 
 def main() -> None:
-    parser = Parser(description=__doc__.split("\n")[0], formatter_class=argparse.HelpFormatter)
+    parser = Parser(description=__doc__.split("\n")[0])
     parser.add_argument("--run", type=Path, default=Path("runs/interrogator"),
                         help="the directory whose climb caches (climbs*.npz) are read, or written when missing")
     parser.add_argument("--climbs", nargs="+", default=["env=8000"], metavar="NAME=N",

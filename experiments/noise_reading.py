@@ -62,7 +62,7 @@ def level(text: str) -> float:
 
 
 def main() -> None:
-    parser = Parser(description=__doc__.split("\n")[0], formatter_class=argparse.HelpFormatter)
+    parser = Parser(description=__doc__.split("\n")[0])
     parser.add_argument("--levels", type=level, nargs="+", default=[0.0, 0.5, 1.0, 2.0, 3.0])
     parser.add_argument("--episodes", type=positive_int, default=48, help="family validation episodes per configuration")
     parser.add_argument("--workers", type=positive_int, default=2)

@@ -17,7 +17,6 @@ written before its candidate is played says how these numbers are read.
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 from pathlib import Path
@@ -102,7 +101,7 @@ def read_records(path: Path, seen: set[str]) -> list[dict]:
 
 
 def main() -> None:
-    parser = Parser(description=__doc__.splitlines()[0], formatter_class=argparse.HelpFormatter)
+    parser = Parser(description=__doc__.splitlines()[0])
     parser.add_argument("records", type=Path, nargs="+", help="crest_tradeoff.py --records files (their episodes together)")
     parser.add_argument("--baseline", default=None, help="the setting compared against (default: the file's first)")
     parser.add_argument("--settings", nargs="+", default=None, metavar="SETTING",

@@ -20,7 +20,6 @@ Runs on 2 cores in about 8 minutes (``--quick``: a fifth of the seeds, for a smo
 
 from __future__ import annotations
 
-import argparse
 import itertools
 import json
 import math
@@ -150,7 +149,7 @@ def score(job: tuple[dict[str, float], list[Recording]]) -> list[dict[str, Any]]
 
 
 def main() -> None:
-    parser = Parser(description=__doc__.splitlines()[0], formatter_class=argparse.HelpFormatter)
+    parser = Parser(description=__doc__.splitlines()[0])
     parser.add_argument("--workers", type=positive_int, default=2)
     parser.add_argument("--quick", action="store_true", help="a fifth of the seeds (smoke test)")
     parser.add_argument("--out", type=Path, default=Path("experiments/results/select_phase_rule.json"))

@@ -20,7 +20,6 @@ Runs on 2 cores in about 5 minutes (``--quick``: a fifth of the seeds, for a smo
 
 from __future__ import annotations
 
-import argparse
 import itertools
 import json
 import time
@@ -102,7 +101,7 @@ def summary(rows: list[dict[str, Any]], key=None) -> dict[str, Any]:
 
 
 def main() -> None:
-    parser = Parser(description=__doc__.splitlines()[0], formatter_class=argparse.HelpFormatter)
+    parser = Parser(description=__doc__.splitlines()[0])
     parser.add_argument("--workers", type=positive_int, default=2)
     parser.add_argument("--quick", action="store_true", help="a fifth of the episodes (smoke test)")
     parser.add_argument("--out", type=Path, default=Path("experiments/results/select_robust_model.json"))

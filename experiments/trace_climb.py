@@ -76,7 +76,7 @@ def trace(env, agent, seed: int, options: dict) -> tuple[str, list[str], str]:
 
 
 def main() -> None:
-    ap = Parser(description=__doc__.splitlines()[0], formatter_class=argparse.HelpFormatter)
+    ap = Parser(description=__doc__.splitlines()[0])
     ap.add_argument("--suite", default="default", help="default, paper or a suite file (default: %(default)s)")
     ap.add_argument("--episodes", type=int, nargs="+", default=[0], help="indices into the suite")
     ap.add_argument("--agent", type=Path, default=SHIPPED_INTERROGATOR,

@@ -27,7 +27,6 @@ source ships (``estimate_from``) is decided by a rule on the validation grids an
 
 from __future__ import annotations
 
-import argparse
 import hashlib
 import json
 import shutil
@@ -160,7 +159,7 @@ def fit_estimator(policy: Path, out: Path, climbs: dict[str, int], seeds: list[i
 
 
 def main() -> None:
-    ap = Parser(description=__doc__.splitlines()[0], formatter_class=argparse.HelpFormatter)
+    ap = Parser(description=__doc__.splitlines()[0])
     ap.add_argument("--policy", type=Path, default=SHIPPED_INTERROGATOR,
                     help="the interrogator whose climbs the estimator learns (a directory with member_*.npz and manifest.json)")
     ap.add_argument("--out", type=Path, default=Path("runs/estimator"))

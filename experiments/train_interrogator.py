@@ -523,7 +523,7 @@ def report_only(parser: argparse.ArgumentParser, args: argparse.Namespace) -> No
 
 
 def main() -> None:
-    ap = Parser(description=__doc__.splitlines()[0], formatter_class=argparse.HelpFormatter)
+    ap = Parser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=Path("runs/interrogator"))
     ap.add_argument("--climbs", nargs="+", default=[f"{k}={v}" for k, v in EPISODES.items()], metavar="NAME=N",
                     help=f"training climbs per collection ({', '.join(COLLECTIONS)}; 0 or absent: none)")

@@ -241,6 +241,21 @@ def test_help_shows_defaults_and_every_flag_has_help(capsys) -> None:
     assert "``" not in (parser.description or "") and ":class:" not in (parser.description or "")
 
 
+def test_help_shows_a_default_as_it_is_typed(monkeypatch, tmp_path: Path) -> None:
+    from cof_gym.commands.args import Parser
+
+    monkeypatch.chdir(tmp_path)
+    parser = Parser(prog="x")
+    parser.add_argument("--policy", type=Path, nargs="+", default=[tmp_path / "runs" / "a", Path("/elsewhere")],
+                        help="policies")
+    parser.add_argument("--set", nargs="*", default=[], help="overrides")
+    parser.add_argument("--share", type=float, default=0.5, help="a share in %% of the total")
+    text = " ".join(parser.format_help().split())
+    assert "policies (default: runs/a /elsewhere)" in text
+    assert "overrides" in text and "overrides (default" not in text  # an empty list is no default worth showing
+    assert "a share in % of the total (default: 0.5)" in text
+
+
 def test_evaluate_writes_complete_outputs_and_replaces_its_own(workdir: Path, capsys) -> None:
     suite = workdir / "suite.json"
     suite.write_text(json.dumps({"options": {"condition": "dry", "cof": 0.3}}))

@@ -26,9 +26,24 @@ class HelpFormatter(argparse.RawDescriptionHelpFormatter, argparse.ArgumentDefau
 
     def _get_help_string(self, action: argparse.Action) -> str:
         text = action.help or ""
-        if "%(default)" in text or action.default in (None, False, argparse.SUPPRESS) or not action.option_strings:
+        default = action.default
+        if ("%(default)" in text or default in (None, False, argparse.SUPPRESS) or not action.option_strings
+                or (isinstance(default, (list, tuple)) and not default)):
             return text
-        return text + " (default: %(default)s)"
+        return text + f" (default: {default_text(default)})".replace("%", "%%")
+
+
+def default_text(value: object) -> str:
+    """A default as a user types it: a path relative to the working directory where it lies below it,
+    a list as its items separated by spaces."""
+    if isinstance(value, (list, tuple)):
+        return " ".join(default_text(v) for v in value)
+    if isinstance(value, Path):
+        try:
+            return str(value.resolve().relative_to(Path.cwd().resolve()))
+        except ValueError:
+            return str(value)
+    return str(value)
 
 
 class Parser(argparse.ArgumentParser):
