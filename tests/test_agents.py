@@ -170,6 +170,36 @@ def test_a_one_rollout_training_run_loads_in_evaluate(tmp_path: Path) -> None:
     assert name.startswith("ppo") and result["summary"][name]["episodes"] == 2
 
 
+def test_every_agent_reports_a_finite_scored_estimate_at_the_corners_of_what_the_task_accepts(tmp_path: Path) -> None:
+    """Scenarios at the ends of every accepted range (the CoF envelope, the speeds, noise 3 x full scale, a 0.1 s
+    drive lag, each systematic error at its accepted limit) on tabulated curves none of the agents was built for
+    (a peak at 0.05 % creepage falling to nothing, a peak at 150 % creepage): every default agent plays every
+    episode to a finite estimate that the task scores."""
+    from cof_gym.physics.creep_laws import MAX_CREEPAGE
+    from cof_gym.task.scenarios import COF_ENVELOPE, MOTOR_LAG_MAX_S, NOISE_LEVEL_MAX, SPEED_ENVELOPE_M_S
+    from cof_gym.task.sensors import SYSTEMATIC_ERRORS
+
+    sharp = {"table": {"creepage": [0.0, 0.0002, 0.0005, 0.002, 0.02], "adhesion_ratio": [0.0, 0.9, 1.0, 0.3, 0.0]}}
+    far = {"table": {"creepage": [0.0, 0.01, 0.75 * MAX_CREEPAGE], "adhesion_ratio": [0.0, 0.2, 1.0]}}
+    corners = [
+        dict(cof=COF_ENVELOPE[0], condition="low_adhesion", speed_m_s=SPEED_ENVELOPE_M_S[0], load_case="empty",
+             noise_level=NOISE_LEVEL_MAX, motor_lag_s=MOTOR_LAG_MAX_S, creep_law=sharp,
+             **{name: r.accepted for name, r in SYSTEMATIC_ERRORS.items()}),
+        dict(cof=COF_ENVELOPE[1], condition="dry", speed_m_s=SPEED_ENVELOPE_M_S[1], load_case="laden",
+             noise_level=0.0, motor_lag_s=0.0, creep_law=far,
+             **{name: -r.accepted for name, r in SYSTEMATIC_ERRORS.items()}),
+    ]
+    suite_file = tmp_path / "corners.json"
+    suite_file.write_text(json.dumps({"env_id": "CofGym/TorqueInterrogation-v2", "episodes": [
+        {"seed": i, "options": options} for i, options in enumerate(corners)]}))
+    agents = registry.default_agents()
+    evaluate(agents, make_suite(str(suite_file), len(corners), seed=0), tmp_path / "out", seed=0, quiet=True)
+    rows = list(csv.DictReader(open(tmp_path / "out" / "episodes.csv")))
+    assert sorted({r["agent"] for r in rows}) == sorted(agents) and len(rows) == len(agents) * len(corners)
+    for r in rows:
+        assert r["scored"] == "True" and math.isfinite(float(r["estimate"])) and float(r["estimate"]) > 0, r
+
+
 def test_run_episode_records_the_ground_truth_it_was_given() -> None:
     env = gym.make(WAGON)
     rec = run_episode(env, PracticalStaircase(limits_of(env)), 3, {"cof": 0.25, "condition": "wet"}, 0)
