@@ -207,6 +207,39 @@ def test_run_episode_records_the_ground_truth_it_was_given() -> None:
     assert 0.0 <= rec.relative_error <= 1.0 and np.isfinite(rec.episode_return)
 
 
+class _StopsAt:
+    """Holds one DC torque (the action's [-1, 1]) and asks to stop at its ``stop_step``-th step (None: never)."""
+
+    oracle = False
+
+    def __init__(self, dc: float, stop_step: int | None) -> None:
+        self.name, self.dc, self.stop_step = "stops-at", dc, stop_step
+
+    def reset(self, observation, info) -> None:
+        self.step = 0
+
+    def act(self, observation, info) -> np.ndarray:
+        self.step += 1
+        return np.array([self.dc, 0.0, 0.0, 0.0, 1.0 if self.step == self.stop_step else -1.0], dtype=np.float32)
+
+
+@pytest.mark.parametrize("dc, stop_step, cof, ended, steps", [
+    (-1.0, 1, 0.3, "stop", 1),  # asks at once
+    (-1.0, 2, 0.3, "stop", 2),  # asks before its last step
+    (-1.0, 3, 0.3, "horizon", 3),  # asks at its last step: it used every window it had
+    (-1.0, None, 0.3, "horizon", 3),  # never asks: the task's max_windows end the episode
+    (1.0, None, 0.02, "macro-slip", None),  # the drive's maximum at the lowest CoF
+])
+def test_a_record_says_how_its_episode_ended(dc: float, stop_step: int | None, cof: float, ended: str,
+                                             steps: int | None) -> None:
+    from cof_gym.commands.evaluate import ENDINGS
+
+    env = gym.make("CofGym/TorqueInterrogation-v2", max_windows=3)
+    rec = run_episode(env, _StopsAt(dc, stop_step), 0, {"cof": cof, "condition": "low_adhesion"}, 0)
+    assert rec.ended == ended and rec.ended in ENDINGS and rec.macro_slip == (ended == "macro-slip")
+    assert steps is None or rec.steps == steps
+
+
 class _InfoSpy:
     """Records the info dicts it is handed; stops at once with no DC torque."""
 
@@ -292,13 +325,17 @@ def test_a_breakdown_row_counts_each_agents_episodes_where_they_differ() -> None
         return {"episodes": n, "median_error": 0.01, "p90_error": 0.02, "macro_slip_events": 0,
                 "peak_torque_fraction": 0.9}
 
-    summary = {"a": {"oracle": False, "breakdown": {"dry": stats(3), "committed at <= 80 % M_sat": stats(2),
-                                                    "committed at > 95 % M_sat": stats(1)}},
-               "b": {"oracle": False, "breakdown": {"dry": stats(3), "committed at > 95 % M_sat": stats(3)}}}
-    rows = {line.split(" | ")[0]: line for line in markdown_breakdown(summary).splitlines() if line.startswith("| ")}
+    summary = {"b": {"oracle": False, "breakdown": {"dry": stats(3), "committed at > 95 % M_sat": stats(3)}},
+               "a": {"oracle": False, "breakdown": {"dry": stats(3), "committed at <= 80 % M_sat": stats(2),
+                                                    "committed at > 95 % M_sat": stats(1)}}}
+    lines = [line for line in markdown_breakdown(summary).splitlines() if line.startswith("| ")]
+    rows = {line.split(" | ")[0]: line for line in lines}
     assert rows["| dry (3)"].count("(n=") == 0
-    assert rows["| committed at <= 80 % M_sat"].endswith("90.0 % (n=2) | - |")
-    assert rows["| committed at > 95 % M_sat"].endswith("90.0 % (n=1) | 1.0 % / 2.0 % / 0 / 90.0 % (n=3) |")
+    assert rows["| committed at <= 80 % M_sat"].endswith("| - | 1.0 % / 2.0 % / 0 / 90.0 % (n=2) |")
+    assert rows["| committed at > 95 % M_sat"].endswith("90.0 % (n=3) | 1.0 % / 2.0 % / 0 / 90.0 % (n=1) |")
+    # the bands in their order, though the first agent has only the highest
+    assert [line.split(" | ")[0] for line in lines[1:]] == ["| dry (3)", "| committed at <= 80 % M_sat",
+                                                             "| committed at > 95 % M_sat"]
 
 
 @pytest.mark.parametrize("block_values", [1 << 22, 7])
@@ -439,7 +476,8 @@ def _record(episode: int, error: float, macro_slip: bool = False, scored: bool =
                          creep_family="polach", creepage_offset=0.0, peak_creepage=0.01, agent="a", oracle=False,
                          episode=episode, seed=episode, estimate=0.2 * (1 + error), relative_error=error, scored=scored,
                          macro_slip=macro_slip, slip_energy_j=0.0, friction_energy_j=0.0, wd_rms_m_s2=0.01,
-                         measurement_time_s=10.0, peak_torque_fraction=0.9, episode_return=-1.0, steps=10)
+                         measurement_time_s=10.0, peak_torque_fraction=0.9, episode_return=-1.0, steps=10,
+                         ended="diverged" if not scored else "macro-slip" if macro_slip else "stop")
 
 
 def test_a_macro_slip_counts_as_a_failed_measurement_in_its_own_metrics_only() -> None:

@@ -28,8 +28,9 @@ write OUT/episodes.csv, OUT/summary.md, OUT/summary.json (median and P90 relativ
 macro-slips, slip energy, Wd comfort, measurement time and peak torque as a fraction of the real
 saturation torque, and the median and P90 error with a macro-slip counted as a failed measurement (100 %),
 each with a bootstrap 95 % CI, and a breakdown by condition, CoF band, creep-law
-family, the creep curve's peak creepage, systematic creepage-error band and the utilisation at which
-the estimate was committed) and figures. The outputs appear all at once when the run completes (an
+family, the creep curve's peak creepage, systematic creepage-error band, the utilisation at which
+the estimate was committed and how the episode ended: the agent's stop, the horizon (every window
+used), a macro-slip) and figures. The outputs appear all at once when the run completes (an
 interrupted run leaves the previous OUT as it was). Only agents marked as oracles see
 info["ground_truth"]."""
 
@@ -44,6 +45,10 @@ CREEPAGE_ERROR_BANDS = (0.0, 1e-9, 0.002, 0.005, 0.01, math.inf)
 PEAK_CREEPAGE_BANDS = (0.0, 0.01, 0.02, 0.04, math.inf)
 # "how early can you know": peak torque at the committed estimate, as a fraction of the true M_sat
 UTILISATION_BANDS = (0.0, 0.8, 0.9, 0.95, math.inf)
+# how an episode ended, in the breakdown's order: the agent's stop action before its last step, the horizon (the
+# episode ran to the task's last step, max_windows: the agent used every window it had, whether it asked to stop at
+# that step or the task ended the episode there), a macro-slip (scored, penalised), a diverging simulation (unscored)
+ENDINGS = ("stop", "horizon", "macro-slip", "diverged")
 OUTPUT_MARKER = "summary.json"  # what makes an existing --out directory a previous evaluate output
 # a worker's start (imports, env, agents: a few seconds) costs about as much as this many episodes, so the default
 # number of workers gives each at least this many
@@ -100,6 +105,7 @@ class EpisodeRecord(ScenarioColumns):
     peak_torque_fraction: float  # max |torque| over the real saturation torque
     episode_return: float
     steps: int
+    ended: str  # how the episode ended: one of ENDINGS
     note: str = ""  # the suite's label of the episode (e.g. a held-out grid's creep-curve shape)
 
     @property
@@ -148,6 +154,8 @@ def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list 
             break
     gt = info["ground_truth"]
     macro_slip = bool(info.get("macro_slip", False))
+    ended = ("diverged" if info.get("diverged", False) else "macro-slip" if macro_slip else
+             "horizon" if truncated or steps >= env.unwrapped.task.max_windows else "stop")
     err = info.get("relative_error")
     scored = err is not None and bool(info.get("scored", True)) and not info.get("diverged", False)
     return EpisodeRecord(
@@ -156,7 +164,7 @@ def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list 
         relative_error=float(err) if err is not None else 1.0, scored=scored,
         macro_slip=macro_slip, slip_energy_j=slip_e, friction_energy_j=fric_e,
         wd_rms_m_s2=math.sqrt(wd2 / steps), measurement_time_s=info["elapsed_s"], peak_torque_fraction=peak,
-        episode_return=total, steps=steps, note=note,
+        episode_return=total, steps=steps, note=note, ended=ended,
     )
 
 
@@ -245,6 +253,7 @@ GROUPINGS = (
     ("creepage-error band", lambda r: creepage_error_band(r.creepage_offset), lambda r: abs(r.creepage_offset)),
     ("utilisation at commitment", lambda r: utilisation_band(r.peak_torque_fraction),
      lambda r: r.peak_torque_fraction),
+    ("how the episode ended", lambda r: f"ended: {r.ended}", lambda r: ENDINGS.index(r.ended)),
     ("the suite's episode note", lambda r: f"note {r.note}" if r.note else "no note", lambda r: r.note),
 )
 
@@ -315,16 +324,34 @@ def markdown_table(summary: dict[str, dict[str, Any]]) -> str:
 
 def _shared_count(summary: dict[str, dict[str, Any]], group: str) -> int | None:
     """The episodes of ``group``, where every agent has that many in it (a scenario group: every agent plays
-    the same scenarios); None where the group depends on what the agent did (the utilisation at commitment)."""
+    the same scenarios); None where the group depends on what the agent did (the utilisation at commitment, how
+    the episode ended)."""
     counts = {summary[a]["breakdown"].get(group, {}).get("episodes", 0) for a in summary}
     return counts.pop() if len(counts) == 1 else None
+
+
+def _group_order(summary: dict[str, dict[str, Any]]) -> list[str]:
+    """Every agent's breakdown groups in one order that keeps each agent's (the breakdown's, e.g. the utilisation
+    bands from the lowest up), where some groups belong to some agents only; ties in order of first appearance."""
+    before: dict[str, set[str]] = {}
+    for a in summary:
+        seen: set[str] = set()
+        for g in summary[a]["breakdown"]:
+            before.setdefault(g, set()).update(seen)
+            seen.add(g)
+    order: list[str] = []
+    while len(order) < len(before):
+        placed = set(order)
+        remaining = [g for g in before if g not in placed]
+        order.append(next((g for g in remaining if before[g] <= placed), remaining[0]))
+    return order
 
 
 def _breakdown_rows(summary: dict[str, dict[str, Any]], cell) -> list[tuple[str, int | None, list[str]]]:
     """``(group, shared count or None, a cell per agent)``: ``cell(stats)`` for an agent with episodes in the
     group, followed by its own count where the count is not shared; "-" for an agent with none."""
     rows = []
-    for g in dict.fromkeys(g for a in summary for g in summary[a]["breakdown"]):
+    for g in _group_order(summary):
         n = _shared_count(summary, g)
         cells = []
         for a in summary:
@@ -345,7 +372,8 @@ def markdown_breakdown(summary: dict[str, dict[str, Any]]) -> str:
         lines.append(f"| {g}{'' if n is None else f' ({n})'} | " + " | ".join(cells) + " |")
     return ("Cells: median rel. CoF error / P90 rel. CoF error / macro-slips [episodes] / mean peak torque "
             "[% of real M_sat]; (n=...): the agent's own episodes in a group that depends on what the agent did "
-            "(the utilisation at commitment), where the agents' counts differ.\n\n" + "\n".join(lines))
+            "(the utilisation at commitment, how the episode ended), where the agents' counts differ.\n\n"
+            + "\n".join(lines))
 
 
 def print_table(summary: dict[str, dict[str, Any]], title: str, out=None) -> None:
@@ -677,7 +705,8 @@ def _play_and_write(envs: dict[str, Any], agents, agent_specs, suite: Suite, out
     (out / "summary.md").write_text(
         f"# cof-gym evaluate: suite {suite.name}, seed {seed}, {suite.env_id}\n\n"
         + "".join(f"Note: {n}.\n\n" for n in notes) + f"{markdown_table(summary)}\n\n"
-        f"## By condition, CoF band, creep-law family, peak creepage, creepage-error band, utilisation and note\n\n{markdown_breakdown(summary)}\n")
+        "## By condition, CoF band, creep-law family, peak creepage, creepage-error band, utilisation, ending and "
+        f"note\n\n{markdown_breakdown(summary)}\n")
     from cof_gym.commands.evaluate_figures import plot_all
 
     figures = [Path(p).name for p in plot_all(records, summary, traces, out)]
