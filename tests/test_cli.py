@@ -3,6 +3,7 @@ traceback, and nothing created; evaluate writes complete outputs only, and --hel
 
 from __future__ import annotations
 
+import csv
 import functools
 import io
 import json
@@ -56,6 +57,12 @@ BAD = [
     (["evaluate", "--agents", "staircase", "--suite", "multitone.json"], "env_kwargs.excitation must be 'sine'"),
     (["evaluate", "--agents", "staircase", "--suite", "flat_info.json"], "env_kwargs.info_layout must be 'nested'"),
     (["evaluate", "--agents", "staircase", "--suite", "deep_nesting.json"], "deep_nesting.json: JSON nested too deeply"),
+    (["evaluate", "--agents", "staircase", "--env", "max_windows=0"], "--env: max_windows must be an integer in [1, 10000]"),
+    (["evaluate", "--agents", "staircase", "--env", "horizon=60"], "--env: unknown env argument(s) ['horizon']"),
+    (["evaluate", "--agents", "staircase", "--env", "excitation=multitone"], "--env: env_kwargs.excitation must be 'sine'"),
+    (["evaluate", "--agents", "staircase", "--env", "max_episode_steps=5"], "--env: env_kwargs.max_episode_steps must"),
+    (["evaluate", "--agents", "staircase", "--env", "noise_level=5"], "--env: noise_level must be a finite number"),
+    (["evaluate", "--agents", "staircase", "--env", "max_windows"], "argument --env: expected NAME=VALUE"),
     (["evaluate", "--agents", "nonexistent"], "--agents"),
     (["evaluate", "--agents", "staircase-paper,staircase,pp0"], "pp0"),
     (["evaluate", "--agents", "staircase,,staircase-paper"], "--agents"),
@@ -254,6 +261,22 @@ def test_help_shows_a_default_as_it_is_typed(monkeypatch, tmp_path: Path) -> Non
     assert "policies (default: runs/a /elsewhere)" in text
     assert "overrides" in text and "overrides (default" not in text  # an empty list is no default worth showing
     assert "a share in % of the total (default: 0.5)" in text
+
+
+def test_evaluate_env_arguments_play_the_suite_in_that_env_and_name_the_output(workdir: Path) -> None:
+    from cof_gym.commands.evaluate import default_out
+
+    assert cli.main(["evaluate", "--agents", "staircase", "--episodes", "2", "--env", "max_windows=3",
+                     "counter_torque=true", "--quiet"]) == 0
+    out = workdir / "out" / "evaluate-max_windows=3-counter_torque=true"  # never the default suite's out/evaluate
+    result = json.loads((out / "summary.json").read_text())
+    assert result["env_kwargs"] == {"max_windows": 3, "counter_torque": True}
+    assert result["suite"] == "default (env max_windows=3 counter_torque=true)"
+    assert "suite default (env max_windows=3 counter_torque=true)" in (out / "summary.md").read_text()
+    assert all(int(r["steps"]) <= 3 for r in csv.DictReader(open(out / "episodes.csv")))
+    assert not (workdir / "out" / "evaluate").exists()
+    assert default_out("experiments/suites/x.json", {"creep_law": {"table": [1]}}) == Path(
+        "out/evaluate-x-creep_law=__table____1__")
 
 
 def test_evaluate_writes_complete_outputs_and_replaces_its_own(workdir: Path, capsys) -> None:

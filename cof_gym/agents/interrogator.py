@@ -164,8 +164,8 @@ from typing import Any, Iterable, Mapping
 
 import numpy as np
 
-from cof_gym.agents.base import (configuration_note, episode_scenarios, outside_training_note, registered_ranges,
-                                 without_defaults)
+from cof_gym.agents.base import (configuration_note, env_defaults, episode_scenarios, outside_training_note,
+                                 registered_ranges, without_defaults)
 from cof_gym.agents.phase_rule import PhaseRule, knee_seen, probe_amplitude
 from cof_gym.agents.runaway import CrestCeiling, RunawayBracket, crest_lower_bound
 from cof_gym.agents.staircase import ElasticityClimb
@@ -1137,6 +1137,12 @@ class LearnedInterrogator:
                                   [world(trained_id, c) for c in configs])
         if note:
             return note
+        # a shorter horizon plays a prefix of the climbs it learned from; a longer one climbs past all of them
+        horizon = {**env_defaults(env_id), **env_kwargs}.get("max_windows")
+        trained_horizon = max({**env_defaults(trained_id), **c}.get("max_windows") for c in configs)
+        if horizon > trained_horizon:
+            return (f"{self.name} is out of its training distribution here: max_windows={horizon} (its training "
+                    f"climbs ran at most {trained_horizon} windows)")
         trained = registered_ranges(trained_id)
         if registered_ranges(env_id, env_kwargs) != trained:
             return f"{self.name}: the suite's scenario draws (ranges) are not its training draws: out of its training distribution"

@@ -8,18 +8,19 @@ import itertools
 import json
 import math
 import os
+import re
 import shutil
 import sys
 import time
 from dataclasses import asdict, dataclass, fields, replace
 from pathlib import Path
-from typing import Any
+from typing import Any, Mapping
 
 import numpy as np
 
 from cof_gym.agents import registry
 from cof_gym.agents.base import agent_view, own_env_options
-from cof_gym.commands.suites import MAX_EPISODES, Suite, SuiteError, make_suite
+from cof_gym.commands.suites import MAX_EPISODES, Suite, SuiteError, make_suite, with_env_kwargs
 from cof_gym.envs.torque_interrogation import make_kwargs
 
 DESCRIPTION = """\
@@ -29,8 +30,9 @@ macro-slips, slip energy, Wd comfort, measurement time and peak torque as a frac
 saturation torque, and the median and P90 error with a macro-slip counted as a failed measurement (100 %),
 each with a bootstrap 95 % CI, and a breakdown by condition, CoF band, creep-law
 family, the creep curve's peak creepage, systematic creepage-error band, the utilisation at which
-the estimate was committed and how the episode ended: the agent's stop, the horizon (every window
-used), a macro-slip) and figures. The outputs appear all at once when the run completes (an
+the estimate was committed and how the episode ended: the agent's stop, the horizon (the last of the
+task's steps), a macro-slip) and figures. --env plays the suite with other env arguments (e.g.
+max_windows=60, a longer horizon). The outputs appear all at once when the run completes (an
 interrupted run leaves the previous OUT as it was). Only agents marked as oracles see
 info["ground_truth"]."""
 
@@ -58,12 +60,14 @@ QUEUED_PER_WORKER = 4  # episodes handed to the workers at a time, per worker (h
 WORKER_MEMORY_BYTES = 1 << 30  # memory a worker may take (measured: 0.41 GB resident with every default agent)
 
 
-def default_out(suite: str) -> Path:
-    """``out/evaluate`` for the default suite, ``out/evaluate-<suite>`` for any other (so that runs on
-    different suites never overwrite each other)."""
-    if suite == "default":
-        return DEFAULT_OUT
-    return DEFAULT_OUT.with_name(f"evaluate-{Path(suite).stem if suite.endswith('.json') else suite}")
+def default_out(suite: str, env_overrides: Mapping[str, Any] | None = None) -> Path:
+    """``out/evaluate`` for the default suite, ``out/evaluate-<suite>`` for any other, each followed by
+    ``-NAME=VALUE`` per env argument given over the suite's (so that runs on different suites or envs never
+    overwrite each other)."""
+    name = "evaluate" if suite == "default" else f"evaluate-{Path(suite).stem if suite.endswith('.json') else suite}"
+    for key, value in (env_overrides or {}).items():
+        name += "-" + re.sub(r"[^A-Za-z0-9_.=+-]", "_", f"{key}={json.dumps(value)}")
+    return DEFAULT_OUT.with_name(name)
 
 
 @dataclass
@@ -721,7 +725,7 @@ def _play_and_write(envs: dict[str, Any], agents, agent_specs, suite: Suite, out
 
 # ---------------------------------------------------------------------------- command line
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    from cof_gym.commands.args import MAX_SEED, int_in_range, seed_int
+    from cof_gym.commands.args import MAX_SEED, int_in_range, name_value, seed_int
 
     parser.add_argument("--agents", default=None, metavar="A,B,...",
                         help=f"comma-separated agents: {registry.describe()} (default: "
@@ -732,6 +736,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--suite", default="default", metavar="SUITE",
                         help="scenarios: 'default' (the env's distribution), 'paper' (the paper's setting) or a "
                              "JSON suite file (see cof_gym/commands/suites.py)")
+    parser.add_argument("--env", type=name_value, nargs="+", default=[], metavar="NAME=VALUE",
+                        help="env constructor arguments over the suite's (a JSON value or text), e.g. max_windows=60 "
+                             "(a longer horizon) or counter_torque=true; not the agents' interface (action_type, "
+                             "excitation, info_layout)")
     parser.add_argument("--seed", type=seed_int, default=0,
                         help=f"seed of the first episode (episode i uses seed + i) and of the bootstrap CIs; the "
                              f"last episode's at most {MAX_SEED}")
@@ -770,12 +778,36 @@ def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
         suite = make_suite(args.suite, args.episodes, args.seed)
     except SuiteError as e:
         raise UsageError("--suite", str(e)) from None
+    env_overrides = dict(args.env)
+    if env_overrides:
+        suite = _with_env(suite, env_overrides)
     last_seed = max(seed for seed, _ in suite.episodes)
     if last_seed > MAX_SEED:  # seeded episodes: seed + i
         raise UsageError("--seed", f"the last episode's seed {last_seed} is beyond {MAX_SEED}; give at most "
                                    f"{MAX_SEED - len(suite.episodes) + 1} for {len(suite.episodes)} episodes")
-    out = check_out(Path(args.out) if args.out is not None else default_out(args.suite))
+    out = check_out(Path(args.out) if args.out is not None else default_out(args.suite, env_overrides))
     return specs, suite, out
+
+
+def _with_env(suite: Suite, overrides: dict[str, Any]) -> Suite:
+    """``--env``: the suite with these env arguments, the env built once with them (UsageError naming the flag)."""
+    import gymnasium as gym
+
+    from cof_gym.agents.base import env_defaults
+    from cof_gym.commands.args import UsageError
+    from cof_gym.task.scenarios import SCENARIO_KEYS
+
+    # the constructor's arguments (a scenario field fixes it in every episode that does not set it), not the id's own
+    allowed = sorted({*env_defaults(suite.env_id), *SCENARIO_KEYS, "max_episode_steps"} - {"vehicle", "task_version"})
+    unknown = sorted(set(overrides) - set(allowed))
+    if unknown:
+        raise UsageError("--env", f"unknown env argument(s) {unknown}; allowed: {allowed}")
+    try:
+        suite = with_env_kwargs(suite, overrides)
+        gym.make(suite.env_id, **make_kwargs(suite.env_kwargs)).close()
+    except (SuiteError, ValueError, TypeError) as e:
+        raise UsageError("--env", str(e)) from None
+    return suite
 
 
 def check_suite_runs(suite: Suite, env) -> None:

@@ -136,17 +136,31 @@ def _check_seed(value: Any, where: str, path: Path) -> int:
     return int(value)
 
 
-def _check_interface(env_id: str, env_kwargs: dict[str, Any], path: Path) -> None:
+def with_env_kwargs(suite: Suite, overrides: dict[str, Any]) -> Suite:
+    """``suite`` with the env constructor arguments ``overrides`` over its own (``cof-gym evaluate --env``), its
+    name saying so; :class:`SuiteError` where one would change the agents' interface or cut episodes short (as a
+    suite file's ``env_kwargs``)."""
+    from dataclasses import replace
+
+    env_kwargs = {**suite.env_kwargs, **overrides}
+    _check_interface(suite.env_id, env_kwargs, "")
+    shown = " ".join(f"{k}={json.dumps(v)}" for k, v in overrides.items())
+    return replace(suite, name=f"{suite.name} (env {shown})", env_kwargs=env_kwargs)
+
+
+def _check_interface(env_id: str, env_kwargs: dict[str, Any], where: Path | str) -> None:
     """env_kwargs that would change what the evaluated agents act through (:data:`INTERFACE_KWARGS`) or cut
     episodes short: the registered TimeLimit (``max_episode_steps``) must not end an episode before the task's
-    horizon (``max_windows``) scores it; -1 (no TimeLimit) or a value at or beyond the horizon is harmless."""
+    horizon (``max_windows``) scores it; -1 (no TimeLimit) or a value at or beyond the horizon is harmless.
+    ``where`` (a suite file's path) begins each message."""
     import gymnasium as gym
 
     from cof_gym.envs.torque_interrogation import make_kwargs
 
+    prefix = f"{where}: " if str(where) else ""
     for key, needed in INTERFACE_KWARGS.items():
         if key in env_kwargs and env_kwargs[key] != needed:
-            raise SuiteError(f"{path}: env_kwargs.{key} must be {needed!r} (the evaluated agents act through it), "
+            raise SuiteError(f"{prefix}env_kwargs.{key} must be {needed!r} (the evaluated agents act through it), "
                              f"got {env_kwargs[key]!r}")
     kwargs = make_kwargs(env_kwargs)
     spec = gym.spec(env_id)
@@ -155,9 +169,9 @@ def _check_interface(env_id: str, env_kwargs: dict[str, Any], path: Path) -> Non
     if steps is None:  # gym.make applies the registered TimeLimit
         steps = spec.max_episode_steps
     if isinstance(steps, bool):
-        raise SuiteError(f"{path}: env_kwargs.max_episode_steps must be an integer, got {steps!r}")
+        raise SuiteError(f"{prefix}env_kwargs.max_episode_steps must be an integer, got {steps!r}")
     if is_int(horizon) and is_int(steps) and steps != -1 and 0 < steps < horizon:
-        raise SuiteError(f"{path}: env_kwargs.max_episode_steps must be -1 (no TimeLimit) or at least the task's "
+        raise SuiteError(f"{prefix}env_kwargs.max_episode_steps must be -1 (no TimeLimit) or at least the task's "
                          f"horizon max_windows={horizon} (a shorter TimeLimit ends every episode unscored), "
                          f"got {env_kwargs.get('max_episode_steps', steps)!r}")
 
