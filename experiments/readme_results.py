@@ -14,6 +14,10 @@ generated, never typed:
     cof-gym evaluate --suite experiments/suites/v1_default.json --episodes 60 --out out/evaluate-v1
     cof-gym evaluate --suite experiments/suites/heldout_grid.json --out out/evaluate-heldout   # v1 held-out
     cof-gym bench --seconds 10 --markdown out/bench.md
+    cof-gym evaluate --env max_windows=45 --agents oracle,phase-rule,robust-model,interrogator  # the horizon's part:
+    cof-gym evaluate --env max_windows=60 --agents oracle,phase-rule,robust-model,interrogator  # the default suite and
+    cof-gym evaluate --suite experiments/suites/v2_heldoutK_grid.json --env max_windows=60 \
+        --agents oracle,phase-rule,robust-model,interrogator    # each v2 held-out grid (K: "", 2 ... 7) with more steps
     python experiments/ppo_seeds.py --runs runs/ppo_lo_s0 runs/ppo_lo_s1 runs/ppo_lo_s2 --out out/ppo_seeds
     python experiments/train_interrogator.py --out runs/interrogator --ship
     python experiments/train_interrogator.py --out runs/interrogator_shipped --report-only   # the shipped agent per seed
@@ -796,6 +800,38 @@ def heldout_overview(runs: dict[str, tuple[str, Path]] = HELDOUT_RUNS, learned: 
     return "\n".join(rows)
 
 
+HORIZON_AGENTS = ("phase-rule", "robust-model")  # the agents beside the learned one in the horizon table
+LONGER_HORIZONS = (45, 60)  # the default suite's longer horizons (steps); each held-out grid's: the last
+HORIZON_SUITES = {"default": ("v2 default suite", ROOT / "out" / "evaluate"),  # suite -> (label, its 30-step run)
+                  **{name: (label, out) for name, (label, out) in zip(v2_heldout_grids(), HELDOUT_RUNS.values())}}
+
+
+def with_horizon(suite: str, steps: int, root: Path = ROOT) -> Path:
+    """Where ``cof-gym evaluate [--suite experiments/suites/SUITE.json] --env max_windows=STEPS`` writes by default."""
+    from cof_gym.commands.evaluate import default_out
+
+    return root / default_out("default" if suite == "default" else f"experiments/suites/{suite}.json",
+                              {"max_windows": steps})
+
+
+def horizon(suites: dict[str, tuple[str, Path]] = HORIZON_SUITES, learned: str = LEARNED, root: Path = ROOT) -> str | None:
+    """The learned agent and :data:`HORIZON_AGENTS` on each suite at the task's 30 steps and with longer horizons
+    (:data:`LONGER_HORIZONS` for the default suite, the longest for the others): median / P90 / macro-slips, and
+    the learned agent's episodes that ended at the horizon; None when a summary is missing."""
+    rows = [f"| suite | steps | {learned}: median / P90 / macro-slips (episodes) | {learned} ended at the horizon | "
+            + " | ".join(HORIZON_AGENTS) + " |", "|---" * (4 + len(HORIZON_AGENTS)) + "|"]
+    for name, (label, out) in suites.items():
+        longer = LONGER_HORIZONS if name == "default" else LONGER_HORIZONS[-1:]
+        for steps, path in ((30, out), *((w, with_horizon(name, w, root)) for w in longer)):
+            summary = _load(path / "summary.json", learned)
+            if summary is None or any(a not in summary for a in HORIZON_AGENTS):
+                return None
+            ended = summary[learned]["breakdown"].get("ended: horizon", {}).get("episodes", 0)
+            rows.append(f"| {label} | {steps} | {_cell(summary, learned)} ({summary[learned]['episodes']}) | {ended} | "
+                        + " | ".join(_cell(summary, a) for a in HORIZON_AGENTS) + " |")
+    return "\n".join(rows)
+
+
 def _lowest(mine: float, best: float) -> str:
     return "yes" if mine < best else "tied" if mine == best else "no"
 
@@ -859,7 +895,7 @@ def ceiling_validation(runs: dict[str, Path] = CEILING_VALIDATION) -> str | None
     return variant_validation(runs, ("", "+ceiling"))
 
 
-GENERATED = {"targets": targets, "heldout_overview": heldout_overview, "slip_failed": slip_failed,
+GENERATED = {"targets": targets, "heldout_overview": heldout_overview, "slip_failed": slip_failed, "horizon": horizon,
              "runaway_validation": runaway_validation, "ceiling_validation": ceiling_validation}  # block -> its generator
 
 

@@ -152,7 +152,7 @@ def test_distribution_note_names_untrained_settings():
     assert agent.distribution_note(cof_gym.WAGON_ENV_ID, {}) is None
     assert agent.distribution_note(cof_gym.WAGON_ENV_ID, {"counter_torque": True, "max_windows": 20}) is None
     # a longer horizon than its training climbs had: its slow probe climbs on past where any of them went
-    assert "max_windows=60 (its training climbs ran at most 30 windows)" in agent.distribution_note(
+    assert "max_windows=60 (its training climbs had a horizon of 30)" in agent.distribution_note(
         cof_gym.WAGON_ENV_ID, {"max_windows": 60})
     assert "out of its training distribution" in agent.distribution_note(cof_gym.WAGON_V1_ENV_ID, {})
     assert "traction_balance" in agent.distribution_note(cof_gym.WAGON_ENV_ID, {"traction_balance": False})

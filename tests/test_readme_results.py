@@ -7,7 +7,8 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
-from readme_results import DOCUMENTS, GENERATED, SOURCES, fill, heldout_overview, slip_failed, targets  # noqa: E402
+from readme_results import (DOCUMENTS, GENERATED, SOURCES, fill, heldout_overview, horizon, slip_failed,  # noqa: E402
+                            targets, with_horizon)
 
 
 def _summary(path: Path, agents: dict[str, tuple[bool, float, float, int]], episodes: int = 50,
@@ -58,6 +59,28 @@ def test_slip_failed_compares_each_measure_with_the_lowest_other_and_says_ties(t
     rows = slip_failed({"suite": path}, learned="learned").splitlines()
     # the oracle is never the rival; of equal rivals the first is named
     assert rows[2] == "| suite | 5.0 % / 100.0 % (72) | fit 4.0 % | rule 100.0 % | no | tied |"
+
+
+def test_horizon_rows_read_each_run_where_the_evaluate_command_writes_it(tmp_path):
+    agents = {"learned": (False, 0.04, 0.3, 5), "phase-rule": (False, 0.06, 0.25, 7), "robust-model": (False, 0.05, 0.5, 2)}
+    suites = {"default": ("v2 default suite", tmp_path / "d30"), "v2_heldout_grid": ("v2 held-out grid", tmp_path / "h30")}
+    runs = [tmp_path / "d30", tmp_path / "h30", *(with_horizon("default", w, tmp_path) for w in (45, 60)),
+            with_horizon("v2_heldout_grid", 60, tmp_path)]
+    assert runs[-1] == tmp_path / "out" / "evaluate-v2_heldout_grid-max_windows=60"
+    for k, out in enumerate(runs):
+        out.mkdir(parents=True)
+        path = _summary(out / "summary.json", agents, episodes=72)
+        summary = json.loads(path.read_text())
+        summary["summary"]["learned"]["breakdown"] = {"ended: horizon": {"episodes": k}}
+        path.write_text(json.dumps(summary))
+    rows = horizon(suites, learned="learned", root=tmp_path).splitlines()
+    assert [row.split(" | ")[:2] for row in rows[2:]] == [["| v2 default suite", "30"], ["| v2 default suite", "45"],
+                                                           ["| v2 default suite", "60"], ["| v2 held-out grid", "30"],
+                                                           ["| v2 held-out grid", "60"]]
+    assert rows[4] == "| v2 default suite | 60 | 4.0 % / 30.0 % / 5 (72) | 3 | 6.0 % / 25.0 % / 7 | 5.0 % / 50.0 % / 2 |"
+    assert rows[5].split(" | ")[3] == "1"  # the held-out grid's 30-step run
+    (runs[-1] / "summary.json").unlink()
+    assert horizon(suites, learned="learned", root=tmp_path) is None
 
 
 def test_a_block_is_filled_in_the_document_that_holds_it_and_nowhere_else(tmp_path, capsys):

@@ -1142,7 +1142,7 @@ class LearnedInterrogator:
         trained_horizon = max({**env_defaults(trained_id), **c}.get("max_windows") for c in configs)
         if horizon > trained_horizon:
             return (f"{self.name} is out of its training distribution here: max_windows={horizon} (its training "
-                    f"climbs ran at most {trained_horizon} windows)")
+                    f"climbs had a horizon of {trained_horizon})")
         trained = registered_ranges(trained_id)
         if registered_ranges(env_id, env_kwargs) != trained:
             return f"{self.name}: the suite's scenario draws (ranges) are not its training draws: out of its training distribution"
