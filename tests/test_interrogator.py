@@ -154,6 +154,9 @@ def test_distribution_note_names_untrained_settings():
     # a longer horizon than its training climbs had: its slow probe climbs on past where any of them went
     assert "max_windows=60 (its training climbs had a horizon of 30)" in agent.distribution_note(
         cof_gym.WAGON_ENV_ID, {"max_windows": 60})
+    # every way at once: the horizon and an episode no training draw gives
+    both = agent.distribution_note(cof_gym.WAGON_ENV_ID, {"max_windows": 60}, [{"noise_level": 3.0}])
+    assert "max_windows=60" in both and "1 of 1 episodes lie outside" in both and both.count("; ") >= 1
     assert "out of its training distribution" in agent.distribution_note(cof_gym.WAGON_V1_ENV_ID, {})
     assert "traction_balance" in agent.distribution_note(cof_gym.WAGON_ENV_ID, {"traction_balance": False})
 

@@ -1124,26 +1124,35 @@ class LearnedInterrogator:
 
     def distribution_note(self, env_id: str, env_kwargs: dict[str, Any],
                           episodes: Iterable[Mapping[str, Any]] = ()) -> str | None:
-        """A line naming where an evaluation lies outside the training distribution (another env id, a
-        vehicle configuration it was not trained on, other scenario draws, or episodes whose fixed
-        options none of its training draws give: :func:`~cof_gym.task.scenarios.outside_draws`), None
-        when it does not."""
+        """A line naming every way an evaluation lies outside the training distribution (another env id or a
+        vehicle configuration it was not trained on, a longer horizon than its training climbs had, other
+        scenario draws, or episodes whose fixed options none of its training draws give:
+        :func:`~cof_gym.task.scenarios.outside_draws`), None when it does not."""
         if self.trained_on is None:
             return None
+        notes = (self._configuration_note(env_id, env_kwargs), self._horizon_note(env_id, env_kwargs),
+                 self._draws_note(env_id, env_kwargs, episodes))
+        return "; ".join(n for n in notes if n) or None
+
+    def _configuration_note(self, env_id: str, env_kwargs: dict[str, Any]) -> str | None:
         trained_id, configs = self.trained_on
         # an argument equal to the env's default is the env made without it
         world = lambda env, kw: without_defaults(env, {k: v for k, v in kw.items() if k in WORLD_KWARGS})  # noqa: E731
-        note = configuration_note(self.name, env_id, world(env_id, env_kwargs), trained_id,
+        return configuration_note(self.name, env_id, world(env_id, env_kwargs), trained_id,
                                   [world(trained_id, c) for c in configs])
-        if note:
-            return note
-        # a shorter horizon plays a prefix of the climbs it learned from; a longer one climbs past all of them
+
+    def _horizon_note(self, env_id: str, env_kwargs: dict[str, Any]) -> str | None:
+        """A shorter horizon plays a prefix of the climbs it learned from; a longer one climbs past all of them."""
+        trained_id, configs = self.trained_on
         horizon = {**env_defaults(env_id), **env_kwargs}.get("max_windows")
         trained_horizon = max({**env_defaults(trained_id), **c}.get("max_windows") for c in configs)
-        if horizon > trained_horizon:
-            return (f"{self.name} is out of its training distribution here: max_windows={horizon} (its training "
-                    f"climbs had a horizon of {trained_horizon})")
-        trained = registered_ranges(trained_id)
+        if horizon <= trained_horizon:
+            return None
+        return (f"{self.name} is out of its training distribution here: max_windows={horizon} (its training "
+                f"climbs had a horizon of {trained_horizon})")
+
+    def _draws_note(self, env_id: str, env_kwargs: dict[str, Any], episodes: Iterable[Mapping[str, Any]]) -> str | None:
+        trained = registered_ranges(self.trained_on[0])
         if registered_ranges(env_id, env_kwargs) != trained:
             return f"{self.name}: the suite's scenario draws (ranges) are not its training draws: out of its training distribution"
         # scenario fields fixed as constructor arguments count as every episode's options
