@@ -14,9 +14,9 @@ generated, never typed:
     cof-gym evaluate --suite experiments/suites/v1_default.json --episodes 60 --out out/evaluate-v1
     cof-gym evaluate --suite experiments/suites/heldout_grid.json --out out/evaluate-heldout   # v1 held-out
     cof-gym bench --seconds 10 --markdown out/bench.md
-    cof-gym evaluate --env max_windows=45 --agents oracle,phase-rule,robust-model,interrogator  # the horizon's part:
-    cof-gym evaluate --env max_windows=60 --agents oracle,phase-rule,robust-model,interrogator  # the default suite and
-    cof-gym evaluate --suite experiments/suites/v2_heldoutK_grid.json --env max_windows=60 \
+    cof-gym evaluate --env-kwargs max_windows:45 --agents oracle,phase-rule,robust-model,interrogator  # the horizon's part:
+    cof-gym evaluate --env-kwargs max_windows:60 --agents oracle,phase-rule,robust-model,interrogator  # the default suite and
+    cof-gym evaluate --suite experiments/suites/v2_heldoutK_grid.json --env-kwargs max_windows:60 \
         --agents oracle,phase-rule,robust-model,interrogator    # each v2 held-out grid (K: "", 2 ... 7) with more steps
     python experiments/ppo_seeds.py --runs runs/ppo_lo_s0 runs/ppo_lo_s1 runs/ppo_lo_s2 --out out/ppo_seeds
     python experiments/train_interrogator.py --out runs/interrogator --ship
@@ -807,7 +807,7 @@ HORIZON_SUITES = {"default": ("v2 default suite", ROOT / "out" / "evaluate"),  #
 
 
 def with_horizon(suite: str, steps: int, root: Path = ROOT) -> Path:
-    """Where ``cof-gym evaluate [--suite experiments/suites/SUITE.json] --env max_windows=STEPS`` writes by default."""
+    """Where ``cof-gym evaluate [--suite experiments/suites/SUITE.json] --env-kwargs max_windows:STEPS`` writes by default."""
     from cof_gym.commands.evaluate import default_out
 
     return root / default_out("default" if suite == "default" else f"experiments/suites/{suite}.json",

@@ -57,12 +57,12 @@ BAD = [
     (["evaluate", "--agents", "staircase", "--suite", "multitone.json"], "env_kwargs.excitation must be 'sine'"),
     (["evaluate", "--agents", "staircase", "--suite", "flat_info.json"], "env_kwargs.info_layout must be 'nested'"),
     (["evaluate", "--agents", "staircase", "--suite", "deep_nesting.json"], "deep_nesting.json: JSON nested too deeply"),
-    (["evaluate", "--agents", "staircase", "--env", "max_windows=0"], "--env: max_windows must be an integer in [1, 10000]"),
-    (["evaluate", "--agents", "staircase", "--env", "horizon=60"], "--env: unknown env argument(s) ['horizon']"),
-    (["evaluate", "--agents", "staircase", "--env", "excitation=multitone"], "--env: env_kwargs.excitation must be 'sine'"),
-    (["evaluate", "--agents", "staircase", "--env", "max_episode_steps=5"], "--env: env_kwargs.max_episode_steps must"),
-    (["evaluate", "--agents", "staircase", "--env", "noise_level=5"], "--env: noise_level must be a finite number"),
-    (["evaluate", "--agents", "staircase", "--env", "max_windows"], "argument --env: expected NAME=VALUE"),
+    (["evaluate", "--agents", "staircase", "--env-kwargs", "max_windows:0"], "--env-kwargs: max_windows must be an integer in [1"),
+    (["evaluate", "--agents", "staircase", "--env-kwargs", "horizon:60"], "--env-kwargs: unknown env argument(s) ['horizon']"),
+    (["evaluate", "--agents", "staircase", "--env-kwargs", "excitation:multitone"], "--env-kwargs: env_kwargs.excitation must"),
+    (["evaluate", "--agents", "staircase", "--env-kwargs", "max_episode_steps:5"], "env_kwargs.max_episode_steps must"),
+    (["evaluate", "--agents", "staircase", "--env-kwargs", "noise_level:5"], "--env-kwargs: noise_level must be a finite"),
+    (["evaluate", "--agents", "staircase", "--env-kwargs", "max_windows"], "--env-kwargs expects key:value pairs"),
     (["evaluate", "--agents", "nonexistent"], "--agents"),
     (["evaluate", "--agents", "staircase-paper,staircase,pp0"], "pp0"),
     (["evaluate", "--agents", "staircase,,staircase-paper"], "--agents"),
@@ -256,18 +256,20 @@ def test_help_shows_a_default_as_it_is_typed(monkeypatch, tmp_path: Path) -> Non
     parser.add_argument("--policy", type=Path, nargs="+", default=[tmp_path / "runs" / "a", Path("/elsewhere")],
                         help="policies")
     parser.add_argument("--set", nargs="*", default=[], help="overrides")
+    parser.add_argument("--kwargs", nargs="*", default={}, help="arguments")
     parser.add_argument("--share", type=float, default=0.5, help="a share in %% of the total")
     text = " ".join(parser.format_help().split())
     assert "policies (default: runs/a /elsewhere)" in text
     assert "overrides" in text and "overrides (default" not in text  # an empty list is no default worth showing
+    assert "arguments" in text and "arguments (default" not in text  # nor an empty dict
     assert "a share in % of the total (default: 0.5)" in text
 
 
 def test_evaluate_env_arguments_play_the_suite_in_that_env_and_name_the_output(workdir: Path) -> None:
     from cof_gym.commands.evaluate import default_out
 
-    assert cli.main(["evaluate", "--agents", "staircase", "--episodes", "2", "--env", "max_windows=3",
-                     "counter_torque=true", "--quiet"]) == 0
+    assert cli.main(["evaluate", "--agents", "staircase", "--episodes", "2", "--env-kwargs", "max_windows:3",
+                     "counter_torque:True", "--quiet"]) == 0
     out = workdir / "out" / "evaluate-max_windows=3-counter_torque=true"  # never the default suite's out/evaluate
     result = json.loads((out / "summary.json").read_text())
     assert result["env_kwargs"] == {"max_windows": 3, "counter_torque": True}

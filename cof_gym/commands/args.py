@@ -5,6 +5,7 @@ checks. Imports nothing of cof_gym, so every command (and the CLI above them) ma
 from __future__ import annotations
 
 import argparse
+import ast
 import json
 import math
 import os
@@ -28,7 +29,7 @@ class HelpFormatter(argparse.RawDescriptionHelpFormatter, argparse.ArgumentDefau
         text = action.help or ""
         default = action.default
         if ("%(default)" in text or default in (None, False, argparse.SUPPRESS) or not action.option_strings
-                or (isinstance(default, (list, tuple)) and not default)):
+                or (isinstance(default, (list, tuple, dict, set)) and not default)):
             return text
         return text + f" (default: {default_text(default)})".replace("%", "%%")
 
@@ -57,6 +58,27 @@ class Parser(argparse.ArgumentParser):
     def error(self, message: str):  # noqa: D102 - argparse API
         message = " ".join(message.split())
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+class StoreDict(argparse.Action):
+    """``key:value`` pairs into a dict (RL Zoo's ``--env-kwargs`` / ``--hyperparams`` syntax); values are
+    Python literals (``5``, ``0.1``, ``True``, ``'dry'``, ``[1, 2]``) or else plain strings."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        out = dict(getattr(namespace, self.dest) or {})
+        for item in values:
+            key, sep, value = item.partition(":")
+            if not sep or not key:
+                parser.error(f"{option_string} expects key:value pairs, got {item!r}")
+            out[key] = _literal_or_text(value)
+        setattr(namespace, self.dest, out)
+
+
+def _literal_or_text(text: str) -> object:
+    try:
+        return ast.literal_eval(text)
+    except (ValueError, SyntaxError):
+        return text
 
 
 # ---------------------------------------------------------------------------- argument types

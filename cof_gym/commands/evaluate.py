@@ -31,8 +31,8 @@ saturation torque, and the median and P90 error with a macro-slip counted as a f
 each with a bootstrap 95 % CI, and a breakdown by condition, CoF band, creep-law
 family, the creep curve's peak creepage, systematic creepage-error band, the utilisation at which
 the estimate was committed and how the episode ended: the agent's stop, the horizon (the last of the
-task's steps), a macro-slip) and figures. --env plays the suite with other env arguments (e.g.
-max_windows=60, a longer horizon). The outputs appear all at once when the run completes (an
+task's steps), a macro-slip) and figures. --env-kwargs plays the suite with other env arguments
+(e.g. max_windows:60, a longer horizon). The outputs appear all at once when the run completes (an
 interrupted run leaves the previous OUT as it was). Only agents marked as oracles see
 info["ground_truth"]."""
 
@@ -725,7 +725,7 @@ def _play_and_write(envs: dict[str, Any], agents, agent_specs, suite: Suite, out
 
 # ---------------------------------------------------------------------------- command line
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    from cof_gym.commands.args import MAX_SEED, int_in_range, name_value, seed_int
+    from cof_gym.commands.args import MAX_SEED, StoreDict, int_in_range, seed_int
 
     parser.add_argument("--agents", default=None, metavar="A,B,...",
                         help=f"comma-separated agents: {registry.describe()} (default: "
@@ -736,10 +736,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--suite", default="default", metavar="SUITE",
                         help="scenarios: 'default' (the env's distribution), 'paper' (the paper's setting) or a "
                              "JSON suite file (see cof_gym/commands/suites.py)")
-    parser.add_argument("--env", type=name_value, nargs="+", default=[], metavar="NAME=VALUE",
-                        help="env constructor arguments over the suite's (a JSON value or text), e.g. max_windows=60 "
-                             "(a longer horizon) or counter_torque=true; not the agents' interface (action_type, "
-                             "excitation, info_layout)")
+    parser.add_argument("--env-kwargs", nargs="+", action=StoreDict, default={}, metavar="KEY:VALUE",
+                        help="env constructor arguments over the suite's (a Python literal or text, as cof-gym train "
+                             "and RL Zoo take them), e.g. max_windows:60 (a longer horizon) or counter_torque:True; "
+                             "not the agents' interface (action_type, excitation, info_layout)")
     parser.add_argument("--seed", type=seed_int, default=0,
                         help=f"seed of the first episode (episode i uses seed + i) and of the bootstrap CIs; the "
                              f"last episode's at most {MAX_SEED}")
@@ -778,7 +778,7 @@ def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
         suite = make_suite(args.suite, args.episodes, args.seed)
     except SuiteError as e:
         raise UsageError("--suite", str(e)) from None
-    env_overrides = dict(args.env)
+    env_overrides = dict(args.env_kwargs)
     if env_overrides:
         suite = _with_env(suite, env_overrides)
     last_seed = max(seed for seed, _ in suite.episodes)
@@ -790,7 +790,8 @@ def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
 
 
 def _with_env(suite: Suite, overrides: dict[str, Any]) -> Suite:
-    """``--env``: the suite with these env arguments, the env built once with them (UsageError naming the flag)."""
+    """``--env-kwargs``: the suite with these env arguments, the env built once with them (UsageError naming the
+    flag)."""
     import gymnasium as gym
 
     from cof_gym.agents.base import env_defaults
@@ -801,12 +802,12 @@ def _with_env(suite: Suite, overrides: dict[str, Any]) -> Suite:
     allowed = sorted({*env_defaults(suite.env_id), *SCENARIO_KEYS, "max_episode_steps"} - {"vehicle", "task_version"})
     unknown = sorted(set(overrides) - set(allowed))
     if unknown:
-        raise UsageError("--env", f"unknown env argument(s) {unknown}; allowed: {allowed}")
+        raise UsageError("--env-kwargs", f"unknown env argument(s) {unknown}; allowed: {allowed}")
     try:
         suite = with_env_kwargs(suite, overrides)
         gym.make(suite.env_id, **make_kwargs(suite.env_kwargs)).close()
     except (SuiteError, ValueError, TypeError) as e:
-        raise UsageError("--env", str(e)) from None
+        raise UsageError("--env-kwargs", str(e)) from None
     return suite
 
 

@@ -137,7 +137,7 @@ def _check_seed(value: Any, where: str, path: Path) -> int:
 
 
 def with_env_kwargs(suite: Suite, overrides: dict[str, Any]) -> Suite:
-    """``suite`` with the env constructor arguments ``overrides`` over its own (``cof-gym evaluate --env``), its
+    """``suite`` with the env constructor arguments ``overrides`` over its own (``cof-gym evaluate --env-kwargs``), its
     name saying so; :class:`SuiteError` where one would change the agents' interface or cut episodes short (as a
     suite file's ``env_kwargs``)."""
     from dataclasses import replace

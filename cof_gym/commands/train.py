@@ -26,7 +26,6 @@ reads too); the command line overrides them. Writes, under ``--out DIR``:
 from __future__ import annotations
 
 import argparse
-import ast
 import json
 import os
 import platform
@@ -75,27 +74,6 @@ _NORMALIZE_BOUNDS = {"clip_obs": (0.0, 1e12), "clip_reward": (0.0, 1e12), "gamma
 
 
 # ---------------------------------------------------------------------------- hyperparameters
-def _parse_value(text: str) -> Any:
-    try:
-        return ast.literal_eval(text)
-    except (ValueError, SyntaxError):
-        return text
-
-
-class StoreDict(argparse.Action):
-    """``key:value`` pairs into a dict (RL Zoo's ``--env-kwargs`` / ``--hyperparams`` syntax); values are
-    Python literals (``5``, ``0.1``, ``True``, ``'dry'``, ``[1, 2]``) or else plain strings."""
-
-    def __call__(self, parser, namespace, values, option_string=None):
-        out = dict(getattr(namespace, self.dest) or {})
-        for item in values:
-            key, sep, value = item.partition(":")
-            if not sep or not key:
-                parser.error(f"{option_string} expects key:value pairs, got {item!r}")
-            out[key] = _parse_value(value)
-        setattr(namespace, self.dest, out)
-
-
 def load_hyperparams(env_id: str, conf_file: str | Path = DEFAULT_CONF) -> dict[str, Any]:
     """The raw YAML entry of ``env_id`` (falling back to a ``default`` entry, as RL Zoo does)."""
     import yaml
@@ -370,8 +348,8 @@ def save_warm_start(model, train_env, out: Path, env_id: str) -> Path:
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The options of ``cof-gym train``."""
     from cof_gym.agents.pretrain import EXPERTS
-    from cof_gym.commands.args import (MAX_TRAIN_SEED, int_in_range, non_negative_float, non_negative_int, positive_int,
-                                       train_seed_int)
+    from cof_gym.commands.args import (MAX_TRAIN_SEED, StoreDict, int_in_range, non_negative_float, non_negative_int,
+                                       positive_int, train_seed_int)
 
     parser.add_argument("--algo", choices=ALGOS, default="ppo", help="RL algorithm")
     parser.add_argument("--env", default=None, choices=cof_gym.ENV_IDS, metavar="ENV_ID",
