@@ -57,27 +57,43 @@ def plot_all(records, summary, traces, out: Path) -> list[Path]:
     paths.append(save(fig, out / "error_vs_discomfort.png", dpi=110))
 
     # accuracy against intrusiveness: error vs the peak torque as a fraction of the real saturation torque
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    for a in agents:
+    paths.append(plot_error_vs_peak_torque(records, agents, out))
+    paths.append(plot_traces(traces, out))
+    paths += plot_creepage_error(records, agents, out)
+    return paths
+
+
+def plot_error_vs_peak_torque(records, agents: list[str], out: Path) -> Path:
+    """Each episode's error against its peak torque (% of the real saturation torque), one colour an agent: a dot
+    where the agent stopped, a ring where the episode ran to the horizon, a cross at a macro-slip, a diamond at the
+    agent's medians; the legend beside the axes (an entry per agent, one per marker)."""
+    from matplotlib.lines import Line2D
+
+    fig, ax = plt.subplots(figsize=(9, 4.5))
+    handles = []
+    for k, a in enumerate(agents):
         rows = [r for r in records if r.agent == a]
         frac = np.array([100 * r.peak_torque_fraction for r in rows])
         err = _error_pct([r.relative_error for r in rows])
         slip = np.array([r.macro_slip for r in rows], dtype=bool)
-        points = ax.scatter(frac[~slip], err[~slip], s=12, alpha=0.45, label=f"{a} (episodes)")
-        color = points.get_facecolor()[0]
-        if slip.any():
-            ax.scatter(frac[slip], err[slip], s=30, marker="x", color=color, label=f"{a} (macro-slip)")
-        ax.plot([np.median(frac)], [np.median(err)], marker="D", ms=9, mec="k", color=color, ls="none",
-                label=f"{a} (median)")
+        horizon = np.array([r.ended == "horizon" for r in rows], dtype=bool)
+        color, stopped = f"C{k % 10}", ~slip & ~horizon
+        ax.scatter(frac[stopped], err[stopped], s=12, alpha=0.45, color=color)
+        ax.scatter(frac[horizon], err[horizon], s=16, alpha=0.7, facecolors="none", edgecolors=color)
+        ax.scatter(frac[slip], err[slip], s=30, marker="x", color=color)
+        ax.plot([np.median(frac)], [np.median(err)], marker="D", ms=9, mec="k", color=color, ls="none")
+        handles.append(Line2D([], [], marker="s", ms=7, ls="none", color=color, label=a))
+    grey = "0.45"
+    handles += [Line2D([], [], marker="o", ms=4, ls="none", color=grey, alpha=0.6, label="episode, agent's stop"),
+                Line2D([], [], marker="o", ms=5, ls="none", mfc="none", mec=grey, label="episode, at the horizon"),
+                Line2D([], [], marker="x", ms=6, ls="none", color=grey, label="episode, macro-slip"),
+                Line2D([], [], marker="D", ms=8, ls="none", mec="k", color="0.8", label="median of an agent")]
     ax.axvline(100.0, color="k", lw=0.6)
     ax.set(xlabel="peak torque [% of the real saturation torque]", title="Accuracy against intrusiveness (per episode)")
     _error_axis(ax)
-    finish(ax)
-    paths.append(save(fig, out / "error_vs_peak_torque.png", dpi=110))
-
-    paths.append(plot_traces(traces, out))
-    paths += plot_creepage_error(records, agents, out)
-    return paths
+    ax.grid(alpha=0.3)
+    ax.legend(handles=handles, fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+    return save(fig, out / "error_vs_peak_torque.png", dpi=110)
 
 
 def _final_error(trace: list[dict]) -> float:
