@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import matplotlib
 
@@ -10,10 +11,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
-def finish(ax, legend_size: int = 8) -> None:
-    """Grid and legend, the same on every panel."""
+def finish(ax, legend_size: int = 8, **legend: Any) -> None:
+    """Grid and legend, the same on every panel (``legend``: more of matplotlib's legend arguments, e.g. its
+    handles and where it sits)."""
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=legend_size)
+    ax.legend(fontsize=legend_size, **legend)
 
 
 def save(fig, path: Path, dpi: int = 120) -> Path:

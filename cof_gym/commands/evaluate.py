@@ -546,25 +546,25 @@ def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: 
             raise
         raise SuiteError(f"{suite.name}: env_kwargs {suite.env_kwargs}: {e}") from None
     agents: list[tuple[Any, bool]] = []
-    own_envs: dict[str, Any] = {}
+    envs: dict[str, Any] = {}
     try:
         if check_suite:
             check_suite_runs(suite, env)
         agents = build_agents(agent_specs, env)
-        own_envs = agent_envs(agents, suite)
+        envs = agent_envs(agents, suite, env)
         staging = _Staging(out)
         try:
             n_workers = default_workers(len(agents) * len(suite.episodes)) if workers is None else workers
-            result = _play_and_write({a.name: own_envs.get(a.name, env) for a, _ in agents}, agents, agent_specs,
-                                     suite, staging.path, seed, quiet, t0, n_workers)
+            result = _play_and_write(envs, agents, agent_specs, suite, staging.path, seed, quiet, t0, n_workers)
             staging.commit()
         except BaseException:
             staging.abort()
             raise
     finally:
         env.close()
-        for own in own_envs.values():
-            own.close()
+        for own in envs.values():
+            if own is not env:
+                own.close()
         for agent, _ in agents:
             close = getattr(agent, "close", None)
             if callable(close):
@@ -578,18 +578,18 @@ def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: 
     return result
 
 
-def agent_envs(agents, suite: Suite) -> dict[str, Any]:
-    """An env of its own for each agent whose excitation needs env options beyond the suite's
-    (``agent.env_options``, e.g. the two-tone interrogator's ``excitation="multitone"``): the suite's
-    env id and kwargs with those options; the same seeds draw the same scenarios and ground truth, and
-    only the drive and the measurement of the windows change."""
+def agent_envs(agents, suite: Suite, shared_env) -> dict[str, Any]:
+    """The env each agent plays in, by name: ``shared_env`` (the suite's), or an env of its own for an agent whose
+    excitation needs env options beyond the suite's (``agent.env_options``, e.g. the two-tone interrogator's
+    ``excitation="multitone"``): the suite's env id and kwargs with those options; the same seeds draw the same
+    scenarios and ground truth, and only the drive and the measurement of the windows change."""
     import gymnasium as gym
 
     envs = {}
     for agent, _ in agents:
         options = own_env_options(agent)
-        if options:
-            envs[agent.name] = gym.make(suite.env_id, **{**make_kwargs(suite.env_kwargs), **options})
+        envs[agent.name] = gym.make(suite.env_id, **{**make_kwargs(suite.env_kwargs), **options}) if options \
+            else shared_env
     return envs
 
 
@@ -627,8 +627,7 @@ def _start_worker(agent_specs: list[str], suite: Suite, warning_filters: list) -
     torch.set_num_threads(1)
     env = gym.make(suite.env_id, **make_kwargs(suite.env_kwargs))
     agents = build_agents(agent_specs, env)
-    own_envs = agent_envs(agents, suite)
-    _WORKER.update(envs={a.name: own_envs.get(a.name, env) for a, _ in agents}, agents=agents, suite=suite)
+    _WORKER.update(envs=agent_envs(agents, suite, env), agents=agents, suite=suite)
 
 
 def _worker_episode(task: tuple[int, int]) -> tuple[int, int, EpisodeRecord, list | None]:

@@ -91,8 +91,7 @@ def plot_error_vs_peak_torque(records, agents: list[str], out: Path) -> Path:
     ax.axvline(100.0, color="k", lw=0.6)
     ax.set(xlabel="peak torque [% of the real saturation torque]", title="Accuracy against intrusiveness (per episode)")
     _error_axis(ax)
-    ax.grid(alpha=0.3)
-    ax.legend(handles=handles, fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+    finish(ax, handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     return save(fig, out / "error_vs_peak_torque.png", dpi=110)
 
 
