@@ -24,7 +24,7 @@ import numpy as np
 
 from cof_gym.agents.interrogator import TARGET_NAMES
 from cof_gym.commands.args import Parser, seed_int
-from cof_gym.agents.interrogator_training import (
+from cof_gym.agents.interrogator.training import (
     FITTABLE_BLOCKS, READING_FIELDS, Dataset, FitSettings, fit_member, negative_log_likelihood,
 )
 

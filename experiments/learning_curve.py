@@ -25,7 +25,7 @@ from script_checks import check_out_dir, check_out_file  # noqa: E402
 from train_interrogator import collect, parse_climbs, require_networks, split  # noqa: E402
 
 from cof_gym.agents.interrogator import FilterEnsemble, read_manifest  # noqa: E402
-from cof_gym.agents.interrogator_training import Dataset, FitSettings, fit_member, nll  # noqa: E402
+from cof_gym.agents.interrogator.training import Dataset, FitSettings, fit_member, nll  # noqa: E402
 from cof_gym.commands.args import Parser, positive_int, seed_int  # noqa: E402
 
 COLUMNS = ("headroom_rmse", "headroom_nll", "correction_rmse", "correction_nll")

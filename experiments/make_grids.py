@@ -311,13 +311,13 @@ def v2_heldout_noise_grid(fractions=(0.3, 0.8), speeds=(8.0, 20.0, 35.0), first_
 
 def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.0, 36.0),
                                   first_seed: int = 65_000, steep: bool = False, kind: str = "model selection") -> dict:
-    """Procedural creep curves (:func:`cof_gym.agents.interrogator_training.procedural_shape`, tables
+    """Procedural creep curves (:func:`cof_gym.agents.interrogator.training.procedural_shape`, tables
     beyond every family, none of the held-out shapes) x conditions x CoF x speed x both loads; the
     env draws the systematic sensor errors. Model selection only: it asks a climb to survive creep
     curves it was not trained on, as the held-out grids will, without using the held-out shapes. With
-    ``steep`` the curves fall past their peak as :data:`~cof_gym.agents.interrogator_training.STEEP_FALL`
+    ``steep`` the curves fall past their peak as :data:`~cof_gym.agents.interrogator.training.STEEP_FALL`
     draws (by 20-60 % within 0.03-0.3 peak creepages): where a modulation crest past the peak runs away."""
-    from cof_gym.agents.interrogator_training import GENTLE_FALL, STEEP_FALL, procedural_shape
+    from cof_gym.agents.interrogator.training import GENTLE_FALL, STEEP_FALL, procedural_shape
 
     fall = STEEP_FALL if steep else GENTLE_FALL
     episodes = []

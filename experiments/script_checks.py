@@ -35,9 +35,9 @@ def check_out_dir(parser: argparse.ArgumentParser, option: str, path: Path) -> N
 
 
 def load_climbs(parser: argparse.ArgumentParser, option: str, path: Path) -> Any:
-    """The climbs ``path`` holds (a file ``Dataset.save`` wrote: :class:`~cof_gym.agents.interrogator_training.Dataset`);
+    """The climbs ``path`` holds (a file ``Dataset.save`` wrote: :class:`~cof_gym.agents.interrogator.training.Dataset`);
     a missing or unreadable file is ``parser.error`` naming ``option``."""
-    from cof_gym.agents.interrogator_training import Dataset  # torch: only the scripts that read climbs
+    from cof_gym.agents.interrogator.training import Dataset  # torch: only the scripts that read climbs
 
     try:
         return Dataset.load(path)

@@ -4,7 +4,7 @@
 
 1. **Data, on policy**: the interrogator of ``--policy`` (its networks, guards and climb, unchanged)
    climbs training episodes of the v2 wagon's randomisation, half with the paper's counter torque
-   (:func:`cof_gym.agents.interrogator_training.collect` with ``policy``): the env's creep-law draws
+   (:func:`cof_gym.agents.interrogator.training.collect` with ``policy``): the env's creep-law draws
    (seeds from 2 100 000 on) and procedural creep curves beyond every family (from 2 200 000 on), far
    from every evaluation seed and from the probing climbs' (ON_POLICY; ``--climbs NAME=N``, default
    4000 each). Every window is kept with its labels from the episode's truth. Cached in
@@ -49,7 +49,7 @@ from cof_gym.agents.interrogator import (  # noqa: E402
 )
 from cof_gym.commands.args import Parser, positive_int, seed_int  # noqa: E402
 from cof_gym.task.creep_fit import coa_fell  # noqa: E402
-from cof_gym.agents.interrogator_training import (  # noqa: E402
+from cof_gym.agents.interrogator.training import (  # noqa: E402
     FIT_LOSSES, READING_FIELDS, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel,
 )
 
@@ -139,7 +139,7 @@ def correction_residuals(networks: dict[str, Path], data: Dataset) -> dict[str, 
 def fit_estimator(policy: Path, out: Path, climbs: dict[str, int], seeds: list[int], workers: int,
                   reuse: bool, loss: str = "gaussian") -> dict:
     """Collect ``policy``'s climbs, fit one network per seed with its manifest's fit settings under
-    ``loss`` (:data:`~cof_gym.agents.interrogator_training.FIT_LOSSES`; OUT/seed_K, OUT/ensemble) and return
+    ``loss`` (:data:`~cof_gym.agents.interrogator.training.FIT_LOSSES`; OUT/seed_K, OUT/ensemble) and return
     the fit's held-apart report, the estimate windows' correction RMSE and mean absolute error included."""
     fit = {k: tuple(v) if isinstance(v, list) else v
            for k, v in read_manifest(policy).get("training", {}).get("fit", {}).items()}

@@ -1,4 +1,4 @@
-"""Train, select and report the learned interrogator (cof_gym/agents/interrogator.py). 2 cores, CPU.
+"""Train, select and report the learned interrogator (cof_gym/agents/interrogator/). 2 cores, CPU.
 
     python experiments/train_interrogator.py --out runs/interrogator [--ship]
 
@@ -21,7 +21,7 @@ climbs and those (OUT/guard/training.json differs), fits the first step's guard 
 selects the same climb (the selection plays the filter alone) and ships.
 
 1. **Data**: training climbs on the v2 wagon's randomisation, half with the paper's counter torque
-   (cof_gym/agents/interrogator_training.py): probing climbs steered by their own readings, never by
+   (cof_gym/agents/interrogator/training.py): probing climbs steered by their own readings, never by
    the truth, from the collections of COLLECTIONS (``--climbs NAME=N``; the recipe: ``env=8000``): on
    the env's creep-law draws (seeds from 1 000 000 on), on procedural creep curves, tables beyond every
    family (from 1 100 000 on), on the env's draws with 8-20 Hz modulations (from 1 200 000 on) and with
@@ -110,7 +110,7 @@ import cof_gym
 from cof_gym.agents.interrogator import (
     SHIPPED_INTERROGATOR, ClimbParameters, FilterEnsemble, FilterNetwork, interrogator_for, manifest_climb,
 )
-from cof_gym.agents.interrogator_training import (
+from cof_gym.agents.interrogator.training import (
     FIT_LOSSES, FITTABLE_BLOCKS, STEEP_FALL, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel, fit_member, nll,
 )
 from cof_gym.commands.args import Parser, positive_int, seed_int
@@ -127,7 +127,7 @@ from script_checks import check_out_dir, load_climbs  # noqa: E402
 ENV_ID = cof_gym.WAGON_ENV_ID
 CONFIGS = [{}, {"counter_torque": True}]  # the two vehicle configurations trained on
 # the training climbs: name -> (cache file in OUT, first seed, what the climbs draw beyond the env's own
-# randomisation (interrogator_training.ClimbDraws)), and how many of each the recipe uses
+# randomisation (cof_gym.agents.interrogator.training.ClimbDraws)), and how many of each the recipe uses
 COLLECTIONS = {
     "env": ("climbs.npz", TRAINING_SEED, ClimbDraws()),
     # more of the env's own draws (seeds from 1 800 000): sharper on the families, more macro-slips on steep
@@ -141,7 +141,7 @@ COLLECTIONS = {
                        ClimbDraws(frequencies_hz=(5.0, 5.0), amplitude_ratios=(0.3, 0.5))),
     # the env's draws, with the deployed climb's jumps to the lowest CoF the task admits (margins 0.1-0.5)
     "floor_jump": ("climbs_floor_jump.npz", TRAINING_SEED + 500_000, ClimbDraws(floor_margins=(0.1, 0.5))),
-    # procedural creep curves with steep falling branches (interrogator_training.STEEP_FALL)
+    # procedural creep curves with steep falling branches (cof_gym.agents.interrogator.training.STEEP_FALL)
     "procedural_steep": ("climbs_procedural_steep.npz", TRAINING_SEED + 600_000,
                          ClimbDraws(shapes="procedural", fall=STEEP_FALL)),
     # the env's draws with a two-tone excitation: tone 2 at 10-20 Hz, weight 0.5-1.5 (a filter of its own)

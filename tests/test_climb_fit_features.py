@@ -1,4 +1,4 @@
-"""The climb_fit feature block (cof_gym/agents/interrogator.py): regressions over the climb's newest
+"""The climb_fit feature block (cof_gym/agents/interrogator/features.py): regressions over the climb's newest
 windows. Each is checked against a creep curve whose answer is known in closed form; the tolerances are
 those of a least-squares solve on a handful of numbers of order one (1e-9)."""
 

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import cof_gym
-from cof_gym.agents.interrogator_training import collect
+from cof_gym.agents.interrogator.training import collect
 
 SCRIPT = Path(__file__).resolve().parents[1] / "experiments" / "feature_block_nll.py"
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import cof_gym
-from cof_gym.agents.interrogator_training import (
+from cof_gym.agents.interrogator.training import (
     FIT_LOSSES, Dataset, FitSettings, collect, fit_member, negative_log_likelihood,
 )
 

@@ -1,4 +1,4 @@
-"""The learned interrogator (cof_gym/agents/interrogator.py): what it reads, its files, its training."""
+"""The learned interrogator (cof_gym/agents/interrogator/): what it reads, its files, its training."""
 
 from __future__ import annotations
 
@@ -21,7 +21,7 @@ from cof_gym.agents.interrogator import (
     CREEPAGE_MODULATION_FEATURE_NAMES, CREST_RATIO_FLOOR, CYCLE_CREST_FEATURE_NAMES, CREEPAGE_RISE_FEATURE_NAMES, CREEPAGE_RISE_FLOORS, FEATURE_NAMES, blocks_of, feature_names, SHIPPED_INTERROGATOR, TARGET_NAMES, ClimbParameters, EpisodeFeatures, FilterEnsemble, FilterNetwork,
     PEAK_GAP_CLIP, SE_CLIP_DEG, LearnedInterrogator, Reading, floor_headroom, pooled_correction, interrogator_for, manifest_climb, peak_gap, slope_from_phase, slope_index,
 )
-from cof_gym.agents.interrogator_training import (
+from cof_gym.agents.interrogator.training import (
     GENTLE_FALL, PROCEDURAL_PEAK_CREEPAGE, STEEP_FALL, ClimbDraws, Dataset, FallingBranch, FitSettings, _climb_episode,
     READING_FIELDS, collect, fit_member, procedural_shape,
 )

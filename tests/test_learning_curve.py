@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import cof_gym
-from cof_gym.agents.interrogator_training import FitSettings, collect, fit_member, nll
+from cof_gym.agents.interrogator.training import FitSettings, collect, fit_member, nll
 
 EXPERIMENTS = Path(__file__).resolve().parents[1] / "experiments"
 sys.path.insert(0, str(EXPERIMENTS))

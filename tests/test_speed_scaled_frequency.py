@@ -12,7 +12,7 @@ from cof_gym.agents.interrogator import (
     FEATURE_NAMES, TARGET_NAMES, ClimbParameters, FilterEnsemble, FilterNetwork, LearnedInterrogator, Reading,
     speed_scaled_frequency,
 )
-from cof_gym.agents.interrogator_training import ClimbDraws, _climb_episode
+from cof_gym.agents.interrogator.training import ClimbDraws, _climb_episode
 from cof_gym.task.interface import MotorLimits, decode_action
 from fixed_options import FixedOptions
 

@@ -86,7 +86,7 @@ def test_a_cache_extended_holds_the_climbs_collected_at_once(tmp_path: Path) -> 
 def test_collect_only_writes_the_cache_and_fits_nothing(tmp_path: Path) -> None:
     """``--collect-only`` leaves the policy's climbs in OUT's cache (what ``train_interrogator.py --add-climbs``
     reads) and fits no network."""
-    from cof_gym.agents.interrogator_training import Dataset
+    from cof_gym.agents.interrogator.training import Dataset
 
     out = tmp_path / "run"
     done = subprocess.run([sys.executable, SCRIPT, "--out", str(out), "--climbs", "env=2", "--workers", "1",

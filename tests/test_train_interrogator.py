@@ -105,7 +105,7 @@ def test_added_climbs_join_the_training_climbs_of_the_networks_named(tmp_path: P
     ``--add-climbs`` together, the guard's on the collected ones and those of ``--add-guard-climbs`` (the same
     episodes, resample and arithmetic give the same mean, bit for bit)."""
     import train_interrogator
-    from cof_gym.agents.interrogator_training import Dataset, collect
+    from cof_gym.agents.interrogator.training import Dataset, collect
 
     added_file, guard_file = tmp_path / "onpolicy.npz", tmp_path / "onpolicy_guard.npz"
     collect(cof_gym.WAGON_ENV_ID, [{}], 3, first_seed=2_000_900).save(added_file)
@@ -131,7 +131,7 @@ def test_reuse_refits_only_the_networks_whose_climbs_changed(tmp_path: Path, mon
     those whose climbs changed: the recipe's third step keeps the filter and refits the guard on its added
     climbs."""
     import train_interrogator
-    from cof_gym.agents.interrogator_training import collect
+    from cof_gym.agents.interrogator.training import collect
 
     guard_file = tmp_path / "onpolicy_guard.npz"
     collect(cof_gym.WAGON_ENV_ID, [{}], 2, first_seed=2_000_950).save(guard_file)
@@ -162,7 +162,7 @@ def test_the_probing_guard_is_the_first_steps_guard(tmp_path: Path, monkeypatch)
     """``--probing-guard`` (the recipe's third step, rule 45) fits beside the guard that learns the added climbs
     the networks the first step fitted as its guard, byte for byte, and keeps them on a repeat."""
     import train_interrogator
-    from cof_gym.agents.interrogator_training import collect
+    from cof_gym.agents.interrogator.training import collect
 
     guard_file = tmp_path / "onpolicy_guard.npz"
     collect(cof_gym.WAGON_ENV_ID, [{}], 2, first_seed=2_000_950).save(guard_file)

@@ -19,7 +19,7 @@ from cof_gym.agents.interrogator import (
     FEATURE_NAMES, TWO_TONE_ENV_OPTIONS, ClimbParameters, EpisodeFeatures, FilterEnsemble, FilterNetwork,
     LearnedInterrogator, Reading, feature_names, interrogator_for,
 )
-from cof_gym.agents.interrogator_training import ClimbDraws, Dataset, FitSettings, collect, fit_member
+from cof_gym.agents.interrogator.training import ClimbDraws, Dataset, FitSettings, collect, fit_member
 from cof_gym.commands.evaluate import evaluate
 from cof_gym.commands.suites import make_suite
 from cof_gym.commands.watch import WatchRequest, play

@@ -1,0 +1,346 @@
+"""The learned interrogator agent (:class:`LearnedInterrogator`) and its loading from a policy directory
+(``member_*.npz`` and a ``manifest.json``: :func:`interrogator_for`)."""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Iterable, Mapping
+
+import numpy as np
+
+from cof_gym.agents.base import (
+    configuration_note, env_defaults, episode_scenarios, outside_training_note, registered_ranges, without_defaults,
+)
+from cof_gym.agents.interrogator.climb import (
+    AT_HEADROOM, ESTIMATE_SOURCES, ESTIMATOR_ESTIMATES, GUARDED_ESTIMATES, HEADROOM_STOPS, ClimbParameters,
+)
+from cof_gym.agents.interrogator.features import EpisodeFeatures
+from cof_gym.agents.interrogator.networks import FilterEnsemble, pooled_correction
+from cof_gym.agents.interrogator.readings import Reading
+from cof_gym.agents.runaway import CrestCeiling, RunawayBracket
+from cof_gym.agents.staircase import ElasticityClimb
+from cof_gym.task.creep_fit import coa_fell
+from cof_gym.task.interface import MotorLimits
+
+SHIPPED_INTERROGATOR = Path(__file__).resolve().parents[1] / "policies" / "interrogator"
+WORLD_KWARGS = ("vehicle", "counter_torque", "traction_balance", "window_s", "settle_fraction", "ramp_fraction",
+                "timestep")  # constructor arguments that change what the sensors see
+
+
+@dataclass(frozen=True)
+class WindowDecision:
+    """What the climb decided after one driven window (log units; a diagnostic, :attr:`LearnedInterrogator.decisions`):
+    the filter's predicted headroom ``ln(M_sat / DC)`` and its std, the cautious headroom that steered
+    (the filter's or a guard's, whichever is lower) and its std, the log step taken (0 at the stop), whether
+    the climb has crept, and the stop's reason ("" before it). The drive's limit may cap the step's torque."""
+
+    filter_headroom: float
+    filter_std: float
+    steering_headroom: float
+    steering_std: float
+    log_step: float
+    crept: bool
+    stop_reason: str
+
+
+@dataclass
+class LearnedInterrogator:
+    """The agent (see the module docstring)."""
+
+    limits: MotorLimits
+    ensemble: FilterEnsemble
+    counter_torque: bool = False
+    params: ClimbParameters = field(default_factory=ClimbParameters)
+    max_windows: int = 30
+    name: str = "interrogator"
+    oracle: bool = False
+    climb: ElasticityClimb = field(default_factory=ElasticityClimb, repr=False)
+    features: EpisodeFeatures = field(init=False, repr=False)
+    stop_reason: str = field(default="", repr=False)
+    trained_on: tuple[str, tuple[dict[str, Any], ...]] | None = None  # (env id, vehicle configurations)
+    guards: tuple[FilterEnsemble, ...] = ()  # further filters that may only slow the climb (module docstring)
+    estimators: tuple[FilterEnsemble, ...] = ()  # further filters whose correction the estimate may read
+    _guard_features: tuple[EpisodeFeatures, ...] = field(default=(), repr=False)
+    _estimator_features: tuple[EpisodeFeatures, ...] = field(default=(), repr=False)
+    _dc: float = 0.0
+    _source_estimates: dict[str, float] = field(default_factory=dict, repr=False)  # per guarded/filter source
+    _estimate: float = 0.0
+    _best_coa: float = 0.0
+    _driven: int = 0
+    _crept: bool = False
+    _ratio: float | None = None  # the modulation ratio of the next window (None: the climb's amplitude_ratio)
+    _held_crest: float | None = None  # the torque crest the probe holds (N m; crest_probe_hold_crest)
+    _frequency: float | None = None  # the episode's modulation frequency (Hz), from the first observation's speed
+    _bracket: RunawayBracket = field(default_factory=RunawayBracket, repr=False)
+    _ceiling: CrestCeiling = field(default_factory=CrestCeiling, repr=False)
+    _runaway: float | None = None  # what a runaway in the coming window would report (None: a stop, or no crest yet)
+    decisions: list[WindowDecision] = field(default_factory=list, repr=False)  # this episode's, one per driven window
+
+    def __post_init__(self) -> None:
+        if self.ensemble.tones != self.params.tones:
+            raise ValueError(f"the climb drives {self.params.tones} tone(s) but the networks read "
+                             f"{self.ensemble.tones}: use networks fitted on that excitation")
+        for role, networks in (("guard", self.guards), ("estimator", self.estimators)):
+            if any(g.tones != self.params.tones for g in networks):
+                raise ValueError(f"a {role} reads another excitation than the climb's {self.params.tones} tone(s): "
+                                 f"use {role} networks fitted on that excitation")
+        self.params.check_guard_count(len(self.guards))
+        for role, sources, networks in (("guards", GUARDED_ESTIMATES, self.guards),
+                                        ("estimators", ESTIMATOR_ESTIMATES, self.estimators)):
+            if self.params.estimate_from in sources and not networks:
+                raise ValueError(f"estimate_from={self.params.estimate_from!r} reads the {role}' corrections, "
+                                 f"but the interrogator has no {role}")
+
+    @property
+    def env_options(self) -> dict[str, Any]:
+        """The env options the agent acts in (its excitation), beyond the suite's."""
+        return self.params.env_options
+
+    def distribution_note(self, env_id: str, env_kwargs: dict[str, Any],
+                          episodes: Iterable[Mapping[str, Any]] = ()) -> str | None:
+        """A line naming every way an evaluation lies outside the training distribution (another env id or a
+        vehicle configuration it was not trained on, a longer horizon than its training climbs had, other
+        scenario draws, or episodes whose fixed options none of its training draws give:
+        :func:`~cof_gym.task.scenarios.outside_draws`), None when it does not."""
+        if self.trained_on is None:
+            return None
+        notes = (self._configuration_note(env_id, env_kwargs), self._horizon_note(env_id, env_kwargs),
+                 self._draws_note(env_id, env_kwargs, episodes))
+        return "; ".join(n for n in notes if n) or None
+
+    def _configuration_note(self, env_id: str, env_kwargs: dict[str, Any]) -> str | None:
+        trained_id, configs = self.trained_on
+        # an argument equal to the env's default is the env made without it
+        world = lambda env, kw: without_defaults(env, {k: v for k, v in kw.items() if k in WORLD_KWARGS})  # noqa: E731
+        return configuration_note(self.name, env_id, world(env_id, env_kwargs), trained_id,
+                                  [world(trained_id, c) for c in configs])
+
+    def _horizon_note(self, env_id: str, env_kwargs: dict[str, Any]) -> str | None:
+        """A shorter horizon plays a prefix of the climbs it learned from; a longer one climbs past all of them."""
+        trained_id, configs = self.trained_on
+        horizon = {**env_defaults(env_id), **env_kwargs}.get("max_windows")
+        trained_horizon = max({**env_defaults(trained_id), **c}.get("max_windows") for c in configs)
+        if horizon <= trained_horizon:
+            return None
+        return (f"{self.name} is out of its training distribution here: max_windows={horizon} (its training "
+                f"climbs had a horizon of {trained_horizon})")
+
+    def _draws_note(self, env_id: str, env_kwargs: dict[str, Any], episodes: Iterable[Mapping[str, Any]]) -> str | None:
+        trained = registered_ranges(self.trained_on[0])
+        if registered_ranges(env_id, env_kwargs) != trained:
+            return f"{self.name}: the suite's scenario draws (ranges) are not its training draws: out of its training distribution"
+        # scenario fields fixed as constructor arguments count as every episode's options
+        return outside_training_note(self.name, trained, episode_scenarios(env_kwargs, episodes))
+
+    def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
+        if self.params.tones == 2 and "tone2_frequency_hz" not in info.get("measurement", {}):
+            raise ValueError(f"{self.name} drives two tones: make its env with {self.env_options} "
+                             "(cof-gym evaluate does that itself)")
+        self.features = EpisodeFeatures(self.counter_torque, blocks=self.ensemble.blocks)
+        self._guard_features = tuple(EpisodeFeatures(self.counter_torque, blocks=g.blocks) for g in self.guards)
+        self._estimator_features = tuple(EpisodeFeatures(self.counter_torque, blocks=e.blocks) for e in self.estimators)
+        self._dc = 0.0
+        self._driven = 0
+        self._crept = False
+        self._ratio = None
+        self._held_crest = None
+        self._frequency = None
+        self._best_coa = 0.0
+        self._bracket = RunawayBracket()
+        self._ceiling = CrestCeiling(fall_z=self.params.ceiling_fall_z)
+        self._runaway = None
+        self._source_estimates = {}
+        self.decisions = []
+        self._estimate = self.limits.min_cof_estimate
+        self.stop_reason = ""
+
+    @property
+    def dc_nm(self) -> float:
+        """The DC torque (N m) of the window the last action drives (0 before the first)."""
+        return self._dc
+
+    @property
+    def crept(self) -> bool:
+        """Whether the climb of this episode has taken its slow probe (it may since have stopped)."""
+        return self._crept
+
+    def candidate_estimates(self, best_coa_factor: float) -> dict[str, float]:
+        """The estimate of each source of :data:`ESTIMATE_SOURCES` after the windows so far (the
+        trajectory does not depend on which one is reported; the guarded sources are 0 without guards, the
+        estimators' without estimators; with ``crest_floor`` each at least the climb's best crest bound;
+        with ``runaway_estimate``, after an action that is not a stop, each the runaway's estimate; with
+        ``crest_ceiling``, once the crest has fallen under a rising torque crest, each at most
+        :class:`~cof_gym.agents.runaway.CrestCeiling`'s bound)."""
+        estimates = {**dict.fromkeys(ESTIMATE_SOURCES, 0.0), **self._source_estimates,
+                     "best_coa": self._best_coa * best_coa_factor}
+        at_headroom = self.stop_reason in HEADROOM_STOPS
+        for source, at_stop in AT_HEADROOM.items():
+            estimates[source] = estimates[at_stop if at_headroom else "filter"]
+        if self.params.crest_floor:
+            estimates = {source: max(value, self._bracket.crest_bound) for source, value in estimates.items()}
+        if self.params.runaway_estimate and self._runaway is not None:
+            estimates = dict.fromkeys(estimates, self._runaway)
+        ceiling = self._ceiling.bound if self.params.crest_ceiling else None
+        if ceiling is not None:
+            estimates = {source: min(value, ceiling) for source, value in estimates.items()}
+        return estimates
+
+    @staticmethod
+    def _estimates_at(coa: float, filter_prediction: tuple[float, float],
+                      guard_predictions: list[tuple[float, float]],
+                      estimator_predictions: list[tuple[float, float]] = ()) -> dict[str, float]:
+        """The CoA times ``exp`` of each source's correction ``ln(CoF / CoA)``, from the filter's, each
+        guard's and each estimator's (mean, std) of it."""
+        corrections = {"filter": filter_prediction[0]}
+        if guard_predictions:
+            corrections["guard"] = pooled_correction(guard_predictions)
+            corrections["pooled"] = pooled_correction([filter_prediction, *guard_predictions])
+        if estimator_predictions:
+            corrections["estimator"] = pooled_correction(estimator_predictions)
+            corrections["estimator_pooled"] = pooled_correction(
+                [filter_prediction, *guard_predictions, *estimator_predictions])
+        return {source: coa * math.exp(c) for source, c in corrections.items()}
+
+    @staticmethod
+    def _corrections(networks: tuple[FilterEnsemble, ...], features: tuple[EpisodeFeatures, ...]) -> list[tuple[float, float]]:
+        """Each network's (mean, std) of the correction ``ln(CoF / CoA)`` at the newest window."""
+        outputs = [n.predict(f.vector()) for n, f in zip(networks, features)]
+        return [(float(mean[0, 1]), float(std[0, 1])) for mean, std in outputs]
+
+    def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
+        p = self.params
+        stop = False
+        if self._dc > 0.0:
+            self._driven += 1
+            reading = Reading.of(observation, self.limits, info)
+            previous = self.features.readings[-1] if self.features.readings else None
+            falling = previous is not None and coa_fell(reading.coa, previous.coa)
+            knee = previous is not None and p.knee_stops(reading, previous, self._driven, self._crept)
+            self._bracket.observe(reading.crest_bound, reading.dc_nm + reading.amplitude_nm)  # the floor's bound too
+            for features in (self.features, *self._guard_features, *self._estimator_features):
+                features.push(reading)
+            p = p.at_noise(p.noise_ratio(self.features.readings))  # the climb at the noise its first windows read
+            mean, std, spread = self.ensemble.predict_with_spread(self.features.vector())
+            guard_outputs = [g.predict_with_spread(f.vector()) for g, f in zip(self.guards, self._guard_features)]
+            headroom, headroom_std, headroom_spread, caution = self._steering_headroom(p, mean, std, spread, guard_outputs)
+            self._ceiling.observe(reading.coa_cycle_max, reading.coa_cycle_bin_se, reading.dc_nm + reading.amplitude_nm,
+                                  p.fall_margin(p.mean_headroom(headroom, headroom_std, headroom_spread, caution)))
+            if not falling:
+                self._best_coa = max(self._best_coa, reading.coa)
+                self._source_estimates = self._estimates_at(
+                    reading.coa, (float(mean[0, 1]), float(std[0, 1])),
+                    [(float(g_mean[0, 1]), float(g_std[0, 1])) for g_mean, g_std, _ in guard_outputs],
+                    self._corrections(self.estimators, self._estimator_features))
+            step = p.log_step(headroom, headroom_std, headroom_spread, caution)
+            if p.sticks(self._crept, headroom):  # the peak may be near: no big step again
+                step = min(step, p.creep_log_step)
+            self._crept |= p.creeps(headroom, headroom_std, headroom_spread, caution)
+            windows_left = self.max_windows - 1 - self._driven  # windows before the horizon's stop
+            if self._crept and step >= p.min_log_step:  # pacing sizes a slow-probe step, never turns a stop into one
+                step = max(step, p.pace_step(headroom, headroom_std, headroom_spread, windows_left, caution))
+            step = max(step, p.floor_step(reading.coa))  # safe whatever the filter predicts
+            if step < p.min_log_step and p.probes_on(self.features.readings):  # a headroom stop the crest defers
+                step = p.creep_log_step
+                self._crept = True
+                if p.crest_probe_hold_crest and self._held_crest is None:  # the crest of the window just read
+                    self._held_crest = self._dc + p.amplitude(self._dc, self.limits, self._ratio)
+            at_limit = self._dc >= self.limits.max_dc_torque_nm
+            last = windows_left <= 0
+            crest_fell = p.ceiling_stop and self._ceiling.reached
+            stop = falling or knee or crest_fell or at_limit or last or step < p.min_log_step
+            held_ratio = None
+            if not stop:
+                new_dc = min(self._dc * math.exp(step), self.limits.max_dc_torque_nm)
+                if self._held_crest is not None:  # no DC step the held crest cannot carry: a headroom stop
+                    held_ratio = p.held_crest_ratio(self._held_crest, new_dc, self.limits)
+                    stop = held_ratio is None
+            if stop:
+                self.stop_reason = ("falling" if falling else "knee" if knee else "ceiling" if crest_fell
+                                    else "limit" if at_limit else "horizon" if last else "headroom")
+            else:
+                self._ratio = p.crest_ratio(headroom - math.log(new_dc / self._dc), self._crept)
+                if held_ratio is not None:
+                    self._ratio = min(self._ratio, held_ratio)
+                self._dc = new_dc
+            self.decisions.append(WindowDecision(float(mean[0, 0]), float(std[0, 0]), headroom, headroom_std,
+                                                 0.0 if stop else step, self._crept, self.stop_reason))
+            self._runaway = None if stop else self._bracket.estimate(
+                self._dc + p.amplitude(self._dc, self.limits, self._ratio))
+            self._estimate = self.candidate_estimates(p.best_coa_factor)[p.estimate_from]  # the stop's reason known
+        else:
+            self._dc = self.climb.first_dc(self.limits)
+            self._frequency = p.frequency_at(Reading.of(observation, self.limits, info).speed_m_s, self.limits)
+        estimate = min(max(self._estimate, self.limits.min_cof_estimate), self.limits.max_cof_estimate)
+        return p.action(self._dc, estimate, stop, self.limits, self._ratio, self._frequency)
+
+
+    @staticmethod
+    def _steering_headroom(p: ClimbParameters, mean: np.ndarray, std: np.ndarray, spread: np.ndarray,
+                           guard_outputs: list[tuple[np.ndarray, np.ndarray, np.ndarray]]
+                           ) -> tuple[float, float, float, float]:
+        """(cautious headroom, its std, its members' spread, the caution it was taken with) that steers the
+        climb ``p``: the filter's (its prediction ``mean``, ``std``, ``spread``, the climb's ``caution``), or a
+        guard's where that is lower (``guard_outputs``: each guard's prediction, read through its own
+        features, with its :meth:`ClimbParameters.guard_caution`)."""
+        best = (float(p.cautious_headroom(mean[0, 0], std[0, 0], spread[0, 0])), float(std[0, 0]), float(spread[0, 0]),
+                p.caution)
+        for i, (g_mean, g_std, g_spread) in enumerate(guard_outputs):
+            caution = p.guard_caution(i)
+            cautious = float(p.cautious_headroom(g_mean[0, 0], g_std[0, 0], g_spread[0, 0], caution))
+            if cautious < best[0]:
+                best = (cautious, float(g_std[0, 0]), float(g_spread[0, 0]), caution)
+        return best
+
+
+def read_manifest(directory: Path) -> dict[str, Any]:
+    """``directory/manifest.json`` (the climb's parameters, the training distribution), {} if absent."""
+    manifest_file = Path(directory) / "manifest.json"
+    return json.loads(manifest_file.read_text()) if manifest_file.is_file() else {}
+
+
+def manifest_climb(directory: Path) -> ClimbParameters:
+    """The climb of ``directory``'s manifest (the defaults where it names none)."""
+    return ClimbParameters(**read_manifest(directory).get("climb", {}))
+
+
+def manifest_networks(directory: Path, role: str) -> tuple[Path, ...]:
+    """The network directories ``directory``'s manifest names under ``role`` (``"guards"`` or
+    ``"estimators"``; relative to it), none where it names none."""
+    return tuple(Path(directory) / g for g in read_manifest(directory).get(role, []))
+
+
+def manifest_guards(directory: Path) -> tuple[Path, ...]:
+    """The guard directories ``directory``'s manifest names."""
+    return manifest_networks(directory, "guards")
+
+
+def interrogator_for(env, directory: Path, params: ClimbParameters | None = None,
+                     guards: Iterable[Path] | None = None, estimators: Iterable[Path] | None = None) -> LearnedInterrogator:
+    """The interrogator of ``directory`` (``member_*.npz`` and a ``manifest.json`` with the climb's
+    parameters, the training distribution and any guards and estimators) for ``env``'s drive and vehicle
+    configuration; ``params`` replaces the manifest's climb, ``guards`` and ``estimators`` (directories of
+    ``member_*.npz``) its guards and estimators. A two-tone climb acts in the env made with its ``env_options``."""
+    directory = Path(directory)
+    ensemble = FilterEnsemble.load(directory)
+    trained = read_manifest(directory).get("trained_on")
+    guard_dirs = manifest_guards(directory) if guards is None else tuple(guards)
+    estimator_dirs = manifest_networks(directory, "estimators") if estimators is None else tuple(estimators)
+    base = env.unwrapped
+    return LearnedInterrogator(base.limits, ensemble, counter_torque=bool(base.task.counter_torque),
+                               params=params or manifest_climb(directory),
+                               max_windows=int(base.task.max_windows),
+                               trained_on=(trained["env_id"], tuple(trained["configs"])) if trained else None,
+                               guards=tuple(FilterEnsemble.load(g) for g in guard_dirs),
+                               estimators=tuple(FilterEnsemble.load(e) for e in estimator_dirs))
+
+
+def load_interrogator(env, argument: str | None = None) -> LearnedInterrogator:
+    """The shipped interrogator, or ``interrogator:DIR`` (see :func:`interrogator_for`)."""
+    directory = Path(argument) if argument else SHIPPED_INTERROGATOR
+    agent = interrogator_for(env, directory)
+    if argument:
+        agent.name = f"interrogator:{directory.name}"
+    return agent

@@ -1,0 +1,363 @@
+"""The climb's settings (:class:`ClimbParameters`): how the DC torque and the modulation move after each
+window, given the cautious headroom the networks predict, and which estimate is reported."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+
+from cof_gym.agents.interrogator.readings import Reading, first_windows_noise_nms
+from cof_gym.agents.phase_rule import PhaseRule, knee_seen, probe_amplitude
+from cof_gym.task.excitation import encode_extra_tones
+from cof_gym.task.interface import MotorLimits, encode_action
+from cof_gym.task.scenarios import COF_ENVELOPE
+from cof_gym.task.validation import check_number
+
+ESTIMATE_SOURCES = ("filter", "best_coa", "guard", "pooled", "pooled_at_headroom", "estimator", "estimator_pooled",
+                    "estimator_pooled_at_headroom", "estimator_at_headroom")
+HEADROOM_STOPS = ("headroom", "knee", "ceiling")  # stops whose estimate is a short extrapolation ("..._at_headroom" sources)
+# the "..._at_headroom" sources: the source each reads at a headroom stop (the filter's before and at every other stop)
+AT_HEADROOM = {"pooled_at_headroom": "pooled", "estimator_pooled_at_headroom": "estimator_pooled",
+               "estimator_at_headroom": "estimator"}
+KNEE_STOPS = (None, "any", "slow_probe")  # ClimbParameters.knee_stop: off, at every window, in the slow probe only
+GUARDED_ESTIMATES = ("guard", "pooled", "pooled_at_headroom")  # estimate sources that read the guards' corrections
+# estimate sources that read the estimators' corrections
+ESTIMATOR_ESTIMATES = ("estimator", "estimator_pooled", "estimator_pooled_at_headroom", "estimator_at_headroom")
+TWO_TONE_ENV_OPTIONS = {"excitation": "multitone", "tones": 2}  # the env options a two-tone climb needs
+CREST_RATIO_FLOOR = 0.03  # the lowest modulation ratio a crest-capped climb uses (and training climbs draw)
+
+
+def speed_scaled_frequency(frequency_hz: float, reference_m_s: float, speed_m_s: float, limits: MotorLimits) -> float:
+    """``frequency_hz x max(1, reference_m_s / speed_m_s)`` (Hz) within the drive's frequency range: the
+    modulation frequency that keeps Eq. 3's ``w v`` at least the reference speed's (ValueError for a speed
+    that is not a positive finite number)."""
+    check_number("speed_m_s", speed_m_s, 0.0, math.inf, low_open=True, unit=" m/s")
+    scaled = frequency_hz * max(1.0, reference_m_s / speed_m_s)
+    return min(max(scaled, limits.min_frequency_hz), limits.max_frequency_hz)
+
+
+def floor_headroom(coa: float) -> float:
+    """``ln(CoF_min / CoA)``: a lower bound of the headroom ``ln(M_sat / DC)`` at the measured CoA
+    ``coa``, from the lowest CoF the task admits (:data:`~cof_gym.task.scenarios.COF_ENVELOPE`): at
+    a steady DC torque the CoA is its fraction of the saturation torque times the CoF."""
+    return math.log(COF_ENVELOPE[0] / coa)
+
+
+@dataclass(frozen=True)
+class ClimbParameters:
+    """The climb's settings (chosen on validation; see the module docstring)."""
+
+    amplitude_ratio: float = 0.1  # modulation amplitude / DC torque
+    min_amplitude_nm: float = 50.0
+    frequency_hz: float = 5.0
+    # not None: below this speed (m/s) the frequency rises as 1 / speed (frequency_at), up to the drive's
+    frequency_reference_m_s: float | None = None
+    target_headroom: float = 0.05  # ln(M_sat / DC) the climb aims at (0.05: DC at 95 % of M_sat)
+    caution: float = 1.0  # standard deviations taken off the predicted headroom
+    spread_caution: float = 0.0  # and this many more of the members' spread alone (their disagreement)
+    guard_cautions: tuple[float, ...] | None = None  # not None: each guard's caution, in the guards' order
+    max_log_step: float = 0.4
+    approach_fraction: float = 0.0  # far from the peak a step may close this fraction of the cautious gap
+    min_log_step: float = 0.02
+    creep_log_step: float = 0.0  # > 0: a step this small where the cautious gap is closed but the
+    creep_while_std: float = 0.1  # ... predicted headroom's std still exceeds this (more readings, not a stop)
+    creep_sticky: bool = False  # once it has crept, no later step exceeds creep_log_step
+    creep_release: float | None = None  # not None: ... unless the cautious headroom is above this again
+    creep_until: float | None = None  # not None: no creep once the predicted (mean) headroom is this low
+    estimate_from: str = "filter"  # "filter": CoA x exp(predicted correction); "best_coa": best CoA x factor;
+    # "guard": CoA x exp(the guards' correction); "pooled": CoA x exp(the filter's and the guards' together);
+    # "pooled_at_headroom": "pooled" once the climb stops on its headroom, "filter" before and otherwise;
+    # "estimator": CoA x exp(the estimators' correction); "estimator_pooled": the filter's, guards' and estimators'
+    # pooled; "estimator_pooled_at_headroom": that pool at a headroom stop, "filter" before and otherwise;
+    # "estimator_at_headroom": the estimators' correction alone at a headroom stop, "filter" before and otherwise
+    best_coa_factor: float = 1.0
+    floor_margin: float | None = None  # not None: a step may close the gap to the task's lowest CoF less this
+    tone2_frequency_hz: float | None = None  # not None: a second tone at this frequency (a two-tone excitation)
+    tone2_weight: float = 1.0  # its weight against tone 1's 1 (the env's share_2 + 1, in [0, 2])
+    crest_fraction: float | None = None  # not None: the crest stays within this fraction of the cautious headroom
+    crest_once_crept: bool = False  # the crest cap only from the climb's first slow probe on
+    crest_floor: bool = False  # the estimate at least the climb's best crest bound (Reading.crest_bound)
+    runaway_estimate: bool = False  # a window that is not a stop reports what a runaway in it would (RunawayBracket)
+    pace_caution: float | None = None  # not None: a slow-probe step at least the horizon pace (pace_step)
+    knee_stop: str | None = None  # "any" / "slow_probe": the phase rule's jump test ends the climb (knee_stops)
+    crest_ceiling: bool = False  # once the crest fell under a rising torque crest, every estimate at most CrestCeiling's
+    ceiling_stop: bool = False  # the climb ends at the window where the crest falls under a rising torque crest
+    ceiling_fall_z: float = 0.0  # a crest fall counts (crest_ceiling, ceiling_stop) beyond this many SEs (CrestCeiling.fall_z)
+    ceiling_near_headroom: float | None = None  # not None: ... only where the predicted headroom is above this
+    # not None: where the climb's first windows read more noise than this (N m s, noise_ratio), it follows it (at_noise)
+    noise_reference_nms: float | None = None
+    noise_caution_exponent: float = 0.0  # ... its cautions scale as (noise ratio) ** -this
+    noise_creep_exponent: float = 0.0  # ... and creep_while_std as (noise ratio) ** this
+    noise_se_reported: bool = False  # the noise reading from the lock-in's reported SE (lockin_noise_reported_nms)
+    # not None: a headroom stop is deferred by a slow-probe step while the lag has risen this much (deg) since the
+    # first driven window and the crest still rises (probes_on)
+    crest_probe_lag_rise_deg: float | None = None
+    crest_probe_max_lag_deg: float | None = None  # not None: ... and the window's lag is at most this (deg)
+    crest_probe_max_lag_step_deg: float | None = None  # not None: ... and its lag rose at most this over the last (deg)
+    # not None: ... and only where the climb's first windows read at most this noise ratio (noise_ratio, >= 1)
+    crest_probe_max_noise_ratio: float | None = None
+    # true: from the window the probe starts at, no later window's torque crest above that window's (held_crest_ratio)
+    crest_probe_hold_crest: bool = False
+
+    def __post_init__(self) -> None:
+        if self.estimate_from not in ESTIMATE_SOURCES:
+            raise ValueError(f"estimate_from must be one of {ESTIMATE_SOURCES}, got {self.estimate_from!r}")
+        for name in ("amplitude_ratio", "min_amplitude_nm", "frequency_hz", "max_log_step", "min_log_step",
+                     "best_coa_factor", "creep_while_std"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+                raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+        if not (isinstance(self.approach_fraction, (int, float)) and 0.0 <= self.approach_fraction < 1.0):
+            raise ValueError(f"approach_fraction must be in [0, 1), got {self.approach_fraction!r}")
+        for name, low in (("floor_margin", 0.0), ("creep_until", -math.inf), ("crest_fraction", 0.0),
+                          ("creep_release", 0.0), ("ceiling_near_headroom", 0.0)):  # None: unused
+            if getattr(self, name) is not None:
+                check_number(name, getattr(self, name), low, math.inf)
+        for name in ("creep_sticky", "crest_once_crept", "crest_floor", "runaway_estimate", "crest_ceiling",
+                     "ceiling_stop", "noise_se_reported", "crest_probe_hold_crest"):
+            if not isinstance(getattr(self, name), bool):
+                raise ValueError(f"{name} must be true or false, got {getattr(self, name)!r}")
+        if self.tone2_frequency_hz is not None:
+            check_number("tone2_frequency_hz", self.tone2_frequency_hz, MotorLimits.min_frequency_hz,
+                         MotorLimits.max_frequency_hz)
+        check_number("tone2_weight", self.tone2_weight, 0.0, 2.0)
+        check_number("spread_caution", self.spread_caution, 0.0, 10.0)
+        check_number("ceiling_fall_z", self.ceiling_fall_z, 0.0, 10.0)
+        if self.noise_reference_nms is not None:
+            check_number("noise_reference_nms", self.noise_reference_nms, 0.0, math.inf, low_open=True, unit=" N m s")
+        check_number("noise_caution_exponent", self.noise_caution_exponent, 0.0, 2.0)
+        check_number("noise_creep_exponent", self.noise_creep_exponent, 0.0, 2.0)
+        if self.guard_cautions is not None:
+            if not isinstance(self.guard_cautions, (list, tuple)) or not self.guard_cautions:
+                raise ValueError("guard_cautions must be null or a non-empty list of numbers in [0, 10] (one per "
+                                 f"guard), got {self.guard_cautions!r}")
+            object.__setattr__(self, "guard_cautions", tuple(
+                check_number(f"guard_cautions[{i}]", c, 0.0, 10.0) for i, c in enumerate(self.guard_cautions)))
+        check_number("caution", self.caution, 0.0, 10.0)
+        check_number("target_headroom", self.target_headroom, 0.0, 5.0)
+        if self.pace_caution is not None:
+            check_number("pace_caution", self.pace_caution, 0.0, 10.0)
+        if self.frequency_reference_m_s is not None:
+            check_number("frequency_reference_m_s", self.frequency_reference_m_s, 0.0, 100.0, low_open=True, unit=" m/s")
+        if self.knee_stop not in KNEE_STOPS:
+            raise ValueError(f"knee_stop must be one of {KNEE_STOPS}, got {self.knee_stop!r}")
+        if not (isinstance(self.creep_log_step, (int, float)) and 0.0 <= self.creep_log_step <= self.max_log_step):
+            raise ValueError(f"creep_log_step must be in [0, max_log_step={self.max_log_step}], got {self.creep_log_step!r}")
+        for name in ("crest_probe_max_lag_deg", "crest_probe_max_lag_step_deg"):
+            if getattr(self, name) is not None:
+                check_number(name, getattr(self, name), 0.0, 180.0, unit=" deg")
+        if self.crest_probe_max_noise_ratio is not None:
+            check_number("crest_probe_max_noise_ratio", self.crest_probe_max_noise_ratio, 1.0, math.inf)
+            if self.noise_reference_nms is None:
+                raise ValueError("crest_probe_max_noise_ratio reads the noise ratio, which needs noise_reference_nms")
+        if self.crest_probe_lag_rise_deg is not None:
+            check_number("crest_probe_lag_rise_deg", self.crest_probe_lag_rise_deg, 0.0, 180.0, unit=" deg")
+            if self.creep_log_step < self.min_log_step:
+                raise ValueError(f"crest_probe_lag_rise_deg probes at creep_log_step, which must then be at least "
+                                 f"min_log_step={self.min_log_step}, got {self.creep_log_step!r}")
+
+    def fall_margin(self, mean_headroom: float) -> float:
+        """The standard errors a crest fall must exceed to count (:class:`~cof_gym.agents.runaway.CrestCeiling`)
+        at a window whose predicted (mean) headroom is ``mean_headroom``: ``ceiling_fall_z``, or with
+        ``ceiling_near_headroom`` 0 where that headroom is at most it (the climb expects the peak: a crest that
+        stops rising there is the peak's) and ``ceiling_fall_z`` beyond it (far from the expected peak a small
+        fall is more likely the sensors' noise)."""
+        near = self.ceiling_near_headroom is not None and mean_headroom <= self.ceiling_near_headroom
+        return 0.0 if near else self.ceiling_fall_z
+
+    def noise_ratio(self, readings: list["Reading"]) -> float:
+        """How far the noise read over the climb's first :data:`NOISE_WINDOWS` driven ``readings`` (the median
+        of their :attr:`Reading.lockin_noise_nms`, or with ``noise_se_reported`` their
+        :attr:`Reading.lockin_noise_reported_nms`) is above ``noise_reference_nms``: that ratio, at least 1;
+        1 without a reference or a reading."""
+        if self.noise_reference_nms is None or not readings:
+            return 1.0
+        return max(1.0, first_windows_noise_nms(readings, self.noise_se_reported) / self.noise_reference_nms)
+
+    def at_noise(self, ratio: float) -> "ClimbParameters":
+        """The climb at a read noise ``ratio`` times the reference (:meth:`noise_ratio`): ``caution`` and every
+        ``guard_cautions`` entry times ``ratio ** -noise_caution_exponent``, ``creep_while_std`` times ``ratio **
+        noise_creep_exponent``; itself at a ratio of 1. Networks fitted on sensors up to the reference's noise
+        predict a wider headroom spread from noisier readings than they were fitted on; a constant caution
+        turns that spread into a slower climb, which ends at the horizon far below the peak."""
+        if ratio <= 1.0:
+            return self
+        lower = ratio ** -self.noise_caution_exponent
+        return replace(self, caution=self.caution * lower,
+                       guard_cautions=None if self.guard_cautions is None else tuple(c * lower for c in self.guard_cautions),
+                       creep_while_std=self.creep_while_std * ratio ** self.noise_creep_exponent)
+
+    def check_guard_count(self, guards: int) -> None:
+        """ValueError unless ``guard_cautions`` is unset or names one caution per guard (``guards`` of them)."""
+        if self.guard_cautions is not None and len(self.guard_cautions) != guards:
+            raise ValueError(f"guard_cautions names {len(self.guard_cautions)} caution(s) but the interrogator has "
+                             f"{guards} guard(s): one per guard, in the guards' order")
+
+    def guard_caution(self, index: int) -> float:
+        """The caution of guard ``index`` (0-based, the guards' order): its ``guard_cautions`` entry, else
+        ``caution``."""
+        return self.caution if self.guard_cautions is None else self.guard_cautions[index]
+
+    def cautious_headroom(self, mean: float, std: float, spread: float = 0.0, caution: float | None = None) -> float:
+        """The predicted headroom less ``caution`` stds (the climb's unless given: a guard's,
+        :meth:`guard_caution`) and ``spread_caution`` member spreads."""
+        return mean - self._caution(caution) * std - self.spread_caution * spread
+
+    def mean_headroom(self, cautious_headroom: float, std: float, spread: float = 0.0,
+                      caution: float | None = None) -> float:
+        """The predicted (mean) headroom back from its cautious value (:meth:`cautious_headroom` with the
+        same ``caution``)."""
+        return cautious_headroom + self._caution(caution) * std + self.spread_caution * spread
+
+    def _caution(self, caution: float | None) -> float:
+        return self.caution if caution is None else caution
+
+    def log_step(self, cautious_headroom: float, headroom_std: float = 0.0, spread: float = 0.0,
+                 caution: float | None = None) -> float:
+        """The next DC step in log units: the cautious gap to the target, at most ``max_log_step`` or,
+        when larger, ``approach_fraction`` of that gap (big steps far from the peak, small ones near it);
+        where that gap is closed but the headroom is still uncertain (std above ``creep_while_std``),
+        ``creep_log_step`` (0: none): a slow probe that gathers readings rather than a stop."""
+        step = self._gap_step(cautious_headroom)
+        return max(step, self.creep_log_step) if self.creeps(cautious_headroom, headroom_std, spread, caution) else step
+
+    def _gap_step(self, cautious_headroom: float) -> float:
+        gap = cautious_headroom - self.target_headroom
+        return min(gap, max(self.max_log_step, self.approach_fraction * gap))
+
+    def creeps(self, cautious_headroom: float, headroom_std: float, spread: float = 0.0,
+               caution: float | None = None) -> bool:
+        """Whether the next step is the slow probe: the cautious gap is closed, the headroom uncertain
+        and, with ``creep_until``, the predicted (mean) headroom still above it."""
+        return (self.creep_log_step > 0.0 and headroom_std > self.creep_while_std
+                and self._gap_step(cautious_headroom) < self.min_log_step
+                and (self.creep_until is None
+                     or self.mean_headroom(cautious_headroom, headroom_std, spread, caution) > self.creep_until))
+
+    def sticks(self, crept: bool, cautious_headroom: float) -> bool:
+        """Whether a climb that has ``crept`` is held to ``creep_log_step``: with ``creep_sticky``, unless
+        ``creep_release`` is set and the cautious headroom is above it again (the slow probe's alarm was
+        false: the filters now place the peak far above even after their caution)."""
+        return (self.creep_sticky and crept
+                and (self.creep_release is None or cautious_headroom <= self.creep_release))
+
+    def pace_step(self, cautious_headroom: float, headroom_std: float, spread: float, windows_left: int,
+                  caution: float | None = None) -> float:
+        """With ``pace_caution`` set, the step that reaches the target headroom in the ``windows_left`` windows
+        before the horizon if the headroom is the predicted mean less ``pace_caution`` stds:
+        ``(mean - pace_caution x std - target_headroom) / windows_left``, at most ``max_log_step``; 0 when
+        unused. A slow probe that starts far below the peak (the filter uncertain, its cautious gap closed)
+        at 3 % a window spends the horizon there; paced, it spreads the predicted distance over the windows
+        it has."""
+        if self.pace_caution is None:
+            return 0.0
+        gap = (self.mean_headroom(cautious_headroom, headroom_std, spread, caution) - self.pace_caution * headroom_std
+               - self.target_headroom)
+        return min(gap / max(windows_left, 1), self.max_log_step)
+
+    def knee_stops(self, reading: "Reading", previous: "Reading", driven: int, crept: bool) -> bool:
+        """With ``knee_stop`` set, whether the ``driven``-th driven window (``reading``) ends the climb: the
+        phase rule's jump test (:func:`~cof_gym.agents.phase_rule.knee_seen` with :class:`PhaseRule`'s
+        validated jump, margin and SE limit; its lag over the ``previous`` window's by more than the jump
+        beyond the standard errors) after the phase rule's baseline windows, and with ``"slow_probe"`` only
+        in a climb that has ``crept`` before this window. A rounded knee raises the lag once and holds it;
+        near a sharp peak it keeps jumping from window to window."""
+        if self.knee_stop is None or driven <= PhaseRule.baseline_windows or (self.knee_stop == "slow_probe" and not crept):
+            return False
+        return bool(knee_seen(reading.phase_deg, reading.se_deg, previous.phase_deg, previous.se_deg, 0.0, 0.0,
+                              PhaseRule.jump_deg, math.inf, PhaseRule.margin_se, PhaseRule.max_se_deg))
+
+    def probes_on(self, readings: list["Reading"]) -> bool:
+        """With ``crest_probe_lag_rise_deg`` set, whether a climb that would stop on its headroom after the driven
+        windows ``readings`` takes one more slow-probe step instead: its lag has risen at least that much since
+        the first of them (the slope has fallen: the knee is passed; the drive's own lag cancels in the rise) and
+        the newest window's crest is above the one before (:attr:`Reading.coa_cycle_max`). A curve that rises
+        slowly past its knee keeps a large lag under a crest that still rises, and its peak lies far above
+        (experiments/knee_twins.py); at a rounded peak the crest falls under a rising torque crest and the
+        ceiling stop ends the climb. With ``crest_probe_max_lag_deg`` the window's lag must also be at most that (near
+        90 deg the slope has vanished and the crest's rise is the sensors' noise), and with
+        ``crest_probe_max_lag_step_deg`` its rise over the previous window's at most that (a lag that jumps from
+        window to window is a sharp knee's, not a slow rise's). With ``crest_probe_max_noise_ratio`` only where the
+        climb's first windows read at most that ratio of ``noise_reference_nms`` (:meth:`noise_ratio`): the lag's
+        and the crest's rises are read against the noise of the sensors the networks were fitted on."""
+        if self.crest_probe_lag_rise_deg is None or len(readings) < 2:
+            return False
+        if self.crest_probe_max_noise_ratio is not None and self.noise_ratio(readings) > self.crest_probe_max_noise_ratio:
+            return False
+        first, previous, now = readings[0], readings[-2], readings[-1]
+        return (now.phase_deg - first.phase_deg >= self.crest_probe_lag_rise_deg
+                and now.coa_cycle_max > previous.coa_cycle_max > 0.0
+                and (self.crest_probe_max_lag_deg is None or now.phase_deg <= self.crest_probe_max_lag_deg)
+                and (self.crest_probe_max_lag_step_deg is None
+                     or now.phase_deg - previous.phase_deg <= self.crest_probe_max_lag_step_deg))
+
+    def held_crest_ratio(self, held_crest_nm: float, dc_nm: float, limits: MotorLimits) -> float | None:
+        """The modulation ratio at DC torque ``dc_nm`` whose torque crest (DC plus :meth:`amplitude`) stays at most
+        ``held_crest_nm``: the climb's ratio, or less, down to :data:`CREST_RATIO_FLOOR`; None where even that floor
+        (or the drive's least amplitude) would put the crest above it (``crest_probe_hold_crest``: the probe raises
+        the mean torque under the largest crest the wheel has carried, never that crest)."""
+        ratio = min(self.amplitude_ratio, held_crest_nm / dc_nm - 1.0)
+        if ratio < CREST_RATIO_FLOOR or dc_nm + self.amplitude(dc_nm, limits, ratio) > held_crest_nm * (1.0 + 1e-12):
+            return None
+        return ratio
+
+    def floor_step(self, coa: float) -> float:
+        """The step that the task's lowest CoF (:data:`~cof_gym.task.scenarios.COF_ENVELOPE`) guarantees
+        safe at the measured CoA ``coa``: ``ln(CoF_min / CoA) - target_headroom - floor_margin`` (the CoA
+        is the DC torque's fraction of the saturation torque times the CoF, up to the sensors' gain
+        errors, which the margin covers); 0 when unused."""
+        if self.floor_margin is None:
+            return 0.0
+        return floor_headroom(coa) - self.target_headroom - self.floor_margin
+
+    def frequency_at(self, speed_m_s: float, limits: MotorLimits) -> float:
+        """The modulation frequency (Hz) of a climb at the measured speed ``speed_m_s``: ``frequency_hz``, or
+        with ``frequency_reference_m_s`` that times ``max(1, reference / speed)``, within the drive's range.
+        Eq. 3's lag is ``atan(I w v / (k r^2))``: at a low speed it stays small and flat until the slope
+        ``k`` has nearly vanished; a frequency rising as ``1 / v`` keeps ``w v`` (the lag's sensitivity to
+        the slope) at least the reference speed's."""
+        if self.frequency_reference_m_s is None:
+            return self.frequency_hz
+        return speed_scaled_frequency(self.frequency_hz, self.frequency_reference_m_s, speed_m_s, limits)
+
+    def amplitude(self, dc_nm: float, limits: MotorLimits, ratio: float | None = None) -> float:
+        """The modulation amplitude (N m) at DC torque ``dc_nm``: ``ratio`` (default ``amplitude_ratio``) of
+        it, within the drive's range (with two tones the total: ``tone2_weight / (1 + tone2_weight)`` of it
+        is tone 2's)."""
+        return probe_amplitude(self.amplitude_ratio if ratio is None else ratio, dc_nm, self.min_amplitude_nm, limits)
+
+    def crest_ratio(self, cautious_headroom_after: float, crept: bool = True) -> float:
+        """The modulation ratio at a DC torque whose cautious headroom is ``cautious_headroom_after``:
+        ``amplitude_ratio``, or with ``crest_fraction`` at most ``exp(crest_fraction x headroom) - 1``, so
+        that the crest ``DC (1 + ratio)`` stays that fraction (in log units) of the way from the DC to the
+        cautiously predicted saturation torque, and at least :data:`CREST_RATIO_FLOOR` (the lowest ratio
+        of the training climbs: below it the lock-in reads noise); with ``crest_once_crept`` only once the
+        climb has ``crept`` (its slow probe, where the filter thinks the peak may be near)."""
+        if self.crest_fraction is None or (self.crest_once_crept and not crept):
+            return self.amplitude_ratio
+        cap = math.expm1(self.crest_fraction * max(cautious_headroom_after, 0.0))
+        return min(self.amplitude_ratio, max(cap, CREST_RATIO_FLOOR))
+
+    @property
+    def tones(self) -> int:
+        return 1 if self.tone2_frequency_hz is None else 2
+
+    @property
+    def env_options(self) -> dict[str, Any]:
+        """The env options the climb's excitation needs (none for the sine)."""
+        return dict(TWO_TONE_ENV_OPTIONS) if self.tones == 2 else {}
+
+    def action(self, dc_nm: float, estimate: float, stop: bool, limits: MotorLimits,
+               ratio: float | None = None, frequency_hz: float | None = None) -> np.ndarray:
+        """The env action (modulation ``ratio`` of the DC, default ``amplitude_ratio``, at ``frequency_hz``,
+        default ``self.frequency_hz``): the window action, and tone 2's frequency and weight with two tones."""
+        frequency = self.frequency_hz if frequency_hz is None else frequency_hz
+        base = encode_action(dc_nm, self.amplitude(dc_nm, limits, ratio), frequency, estimate, stop, limits)
+        if self.tones == 1:
+            return base
+        extra = encode_extra_tones([(self.tone2_frequency_hz, self.tone2_weight)], limits.min_frequency_hz,
+                                   limits.max_frequency_hz)
+        return np.concatenate([base, extra]).astype(np.float32)

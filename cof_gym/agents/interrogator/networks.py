@@ -1,0 +1,111 @@
+"""The learned filter: small heteroscedastic networks (:class:`FilterNetwork`) and their ensemble
+(:class:`FilterEnsemble`), predicting the headroom and the correction (:data:`TARGET_NAMES`) with their std."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Iterable
+
+import numpy as np
+
+from cof_gym.agents.interrogator.features import FEATURE_NAMES, blocks_of
+
+TARGET_NAMES = ("headroom", "correction")  # ln(M_sat / DC), ln(CoF / CoA measured)
+
+
+def pooled_correction(predictions: Iterable[tuple[float, float]]) -> float:
+    """The inverse-variance weighted mean of Gaussian predictions ``(mean, std)`` of one quantity (stds
+    floored at 1e-6)."""
+    weights_means = [(1.0 / max(std, 1e-6) ** 2, mean) for mean, std in predictions]
+    if not weights_means:
+        raise ValueError("pooled_correction: no predictions to pool")
+    return sum(w * m for w, m in weights_means) / sum(w for w, _ in weights_means)
+
+
+@dataclass(frozen=True)
+class FilterNetwork:
+    """One member: a tanh MLP on standardised features giving (mean, log variance) of each target."""
+
+    feature_mean: np.ndarray
+    feature_std: np.ndarray
+    weights: tuple[np.ndarray, ...]
+    biases: tuple[np.ndarray, ...]
+    feature_names: tuple[str, ...] = FEATURE_NAMES  # :func:`feature_names` of the blocks it reads
+
+    @property
+    def blocks(self) -> tuple[str, ...]:
+        return blocks_of(self.feature_names)
+
+    @property
+    def tones(self) -> int:
+        return 2 if "tone2" in self.blocks else 1
+
+    def __call__(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        h = (np.atleast_2d(x) - self.feature_mean) / self.feature_std
+        for w, b in zip(self.weights[:-1], self.biases[:-1]):
+            h = np.tanh(h @ w + b)
+        out = h @ self.weights[-1] + self.biases[-1]
+        n = len(TARGET_NAMES)
+        return out[:, :n], np.clip(out[:, n:], -12.0, 4.0)
+
+    def save(self, path: Path) -> None:
+        arrays = {"feature_mean": self.feature_mean, "feature_std": self.feature_std}
+        arrays |= {f"w{i}": w for i, w in enumerate(self.weights)} | {f"b{i}": b for i, b in enumerate(self.biases)}
+        np.savez(path, feature_names=np.asarray(self.feature_names), **arrays)
+
+    @classmethod
+    def load(cls, path: Path) -> "FilterNetwork":
+        with np.load(path) as z:
+            names = tuple(str(n) for n in z["feature_names"])
+            try:
+                blocks_of(names)
+            except ValueError:
+                raise ValueError(f"{path}: the network was trained on other features ({len(names)} names); retrain it") from None
+            layers = sum(1 for k in z.files if k.startswith("w"))
+            return cls(z["feature_mean"], z["feature_std"], tuple(z[f"w{i}"] for i in range(layers)),
+                       tuple(z[f"b{i}"] for i in range(layers)), names)
+
+
+@dataclass(frozen=True)
+class FilterEnsemble:
+    """Members' Gaussian predictions combined: the mean of the means, the variance their spread plus
+    the mean predicted variance."""
+
+    members: tuple[FilterNetwork, ...]
+
+    def __post_init__(self) -> None:
+        if len({m.feature_names for m in self.members}) > 1:
+            raise ValueError("the ensemble's members read different features (tones or blocks); fit them alike")
+
+    @property
+    def blocks(self) -> tuple[str, ...]:
+        return self.members[0].blocks
+
+    @property
+    def tones(self) -> int:
+        return self.members[0].tones
+
+    def predict(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(mean, std) of every target, shape (n, 2) each."""
+        mean, std, _ = self.predict_with_spread(x)
+        return mean, std
+
+    def predict_with_spread(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(mean, std, spread) of every target, shape (n, 2) each: the mixture's std (the members'
+        spread and their mean predicted variance together; Lakshminarayanan et al. 2017) and the
+        members' spread alone (their disagreement: large where the readings are unlike the training
+        climbs')."""
+        outs = [m(x) for m in self.members]
+        means = np.stack([o[0] for o in outs])
+        variances = np.stack([np.exp(o[1]) for o in outs])
+        spread_var = means.var(axis=0)
+        return means.mean(axis=0), np.sqrt(spread_var + variances.mean(axis=0)), np.sqrt(spread_var)
+
+    @classmethod
+    def load(cls, directory: Path, members: list[str] | None = None) -> "FilterEnsemble":
+        directory = Path(directory)
+        files = [directory / f"{m}.npz" for m in members] if members else sorted(directory.glob("member_*.npz"))
+        if not files or not all(f.is_file() for f in files):
+            raise FileNotFoundError(f"no interrogator networks in {directory} (expected member_*.npz)")
+        return cls(tuple(FilterNetwork.load(f) for f in files))

@@ -1,0 +1,160 @@
+"""One window's sensor readings as the learned interrogator reads them (:class:`Reading`), and the creep
+curve's local slope from Eq. 3's phase lag and from the compliance."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from typing import Any, Mapping
+
+import numpy as np
+
+from cof_gym.agents.runaway import crest_lower_bound
+from cof_gym.physics.simulation import COA_CYCLE_FIELDS
+from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES, SPEED_SCALE_M_S, MotorLimits
+
+_INDEX = {name: OBSERVATION_NAMES.index(name) for name in OBSERVATION_NAMES}
+PHASE_CLIP_DEG = (1.0, 89.0)  # the slope index ln cot(phase) is finite within these
+SE_CLIP_DEG = 30.0
+SE_REPORTED_MAX_DEG = 180.0  # the lock-in's standard error of no information (pi: cof_gym.measurement.sine_fit)
+NOISE_WINDOWS = 3  # the climb's first driven windows whose lock-in noise (Reading.lockin_noise_nms) it follows
+COMPLIANCE_CLIP = (1e-3, 0.999)  # the slope from the compliance, sqrt(1 / C^2 - 1), is finite within these
+
+
+def _se_clipped(se_deg: float) -> float:
+    """A lag's standard error (deg) as the filter reads it: :data:`SE_CLIP_DEG` where it is not in (0, that)."""
+    return se_deg if 0.0 < se_deg < SE_CLIP_DEG else SE_CLIP_DEG
+
+
+def tan_clipped(phase_deg: float) -> float:
+    """``tan(phase)`` with the phase clipped to :data:`PHASE_CLIP_DEG` (finite and > 0)."""
+    return math.tan(math.radians(min(max(phase_deg, PHASE_CLIP_DEG[0]), PHASE_CLIP_DEG[1])))
+
+
+def slope_index(phase_deg: float) -> float:
+    """``ln cot(phase)``: the log of the creep curve's local slope in units of the wheel's inertial
+    impedance (Eq. 3 of the paper for the half wheelset); falls towards -inf as the phase nears 90 deg."""
+    return math.log(1.0 / tan_clipped(phase_deg))
+
+
+def slope_from_phase(r: "Reading") -> float:
+    """The creep curve's local slope up to a constant of the episode, ``f cot(phase)`` (Hz): Eq. 3 gives
+    ``cot(phase) = k r^2 / (I w v)`` for a wheel on a creep curve of slope ``k``."""
+    return r.frequency_hz / tan_clipped(r.phase_deg)
+
+
+def slope_from_compliance(r: "Reading") -> float:
+    """The same slope from the speed/torque amplitude ratio ``C = I w |speed / torque|``:
+    ``f sqrt(1 / C^2 - 1)`` (the torque gain error scales it; the phase does not see that error)."""
+    c = min(max(r.compliance, COMPLIANCE_CLIP[0]), COMPLIANCE_CLIP[1])
+    return r.frequency_hz * math.sqrt(1.0 / c**2 - 1.0)
+
+
+@dataclass(frozen=True)
+class Reading:
+    """One driven window as the filter sees it (deg, N m, Hz, m/s; CoA and load ratio dimensionless)."""
+
+    phase_deg: float
+    se_deg: float
+    compliance: float
+    coa: float
+    creepage: float  # as measured (with the sensors' offset): used only in differences
+    dc_nm: float
+    amplitude_nm: float
+    frequency_hz: float
+    speed_m_s: float
+    normal_load: float
+    tone2_phase_deg: float = 0.0  # the second tone's lock-in (a two-tone excitation); 0 Hz: none
+    tone2_se_deg: float = SE_CLIP_DEG
+    tone2_compliance: float = 0.0
+    tone2_frequency_hz: float = 0.0
+    tone2_amplitude_nm: float = 0.0
+    creepage_modulation: float = 0.0  # the measured creepage's amplitude at the modulation (0: not read)
+    creepage_modulation_lag_deg: float = 0.0  # its lag behind the torque
+    creepage_modulation_se_deg: float = SE_CLIP_DEG
+    coa_cycle_max: float = 0.0  # the crest of the measured CoA's synchronous average over the cycle (0: not read)
+    coa_cycle_bin_se: float = 0.0  # the standard error of one of its phase bins
+    coa_cycle_min: float = 0.0  # the trough of that synchronous average
+    # the lag's standard error as the lock-in reports it (deg, up to 180: not clipped at SE_CLIP_DEG; 0: not read)
+    se_reported_deg: float = 0.0
+
+    @property
+    def crest_bound(self) -> float:
+        """A lower bound on the CoF from this window: its CoA's cycle crest less one bin's standard error
+        (:func:`~cof_gym.agents.runaway.crest_lower_bound`; 0 when the crest was not read)."""
+        return crest_lower_bound(self.coa_cycle_max, self.coa_cycle_bin_se)
+
+    @property
+    def lockin_noise_nms(self) -> float:
+        """The wheel-speed noise this window's lock-in fit reads, as angular momentum (N m s): the phase's
+        standard error (rad) times the response amplitude ``compliance x amplitude / (2 pi f)``, the
+        wheelset's inertia times the speed amplitude (``compliance`` is that amplitude over the torque's,
+        times ``I w``). A least-squares sine fit's phase error is the residual noise over the amplitude times
+        ``sqrt(2 / samples)`` (IEEE Std 1057), so this is ``I x sigma_w x sqrt(2 / samples)``: it follows the
+        speed sensor's noise ``sigma_w`` and not the operating point. ``amplitude`` is the commanded modulation:
+        a drive that applies less of it (a lag) reads as that much more noise, as the fit's signal-to-noise ratio
+        has it. A clipped standard error reads low (:attr:`lockin_noise_reported_nms` does not clip it)."""
+        return self._noise_at(self.se_deg)
+
+    @property
+    def lockin_noise_reported_nms(self) -> float:
+        """:attr:`lockin_noise_nms` from the standard error the lock-in reports (:attr:`se_reported_deg`, up to
+        180 deg) rather than the filter's clipped one: ``sigma_w sqrt(2 / samples)`` over the fitted amplitude
+        times that amplitude, so a window whose fit is poor reads its noise as well as one whose fit is good
+        (from the clipped one where it was not read)."""
+        return self._noise_at(self.se_reported_deg if self.se_reported_deg > 0.0 else self.se_deg)
+
+    def _noise_at(self, se_deg: float) -> float:
+        """The lock-in noise (N m s) of this window's response amplitude at a phase standard error ``se_deg``."""
+        return math.radians(se_deg) * self.compliance * self.amplitude_nm / (2.0 * math.pi * self.frequency_hz)
+
+    @classmethod
+    def of(cls, observation: np.ndarray, limits: MotorLimits, info: Mapping[str, Any] | None = None) -> "Reading":
+        """The window observation's reading; with a two-tone excitation (the observation's per-tone block
+        after the window observation) also tone 2's, its applied frequency and amplitude from
+        ``info["measurement"]``, and from there the measured creepage's modulation (its lock-in) and the
+        crest of the measured CoA's synchronous average."""
+        full = np.nan_to_num(np.asarray(observation, dtype=np.float64), nan=0.0)
+        o = full[: len(OBSERVATION_NAMES)]
+        se_deg = o[_INDEX["phase_lag_se"]] * 90.0
+        tone2 = {}
+        measurement = (info or {}).get("measurement", {})
+        if len(full) >= len(OBSERVATION_NAMES) + 6 and "tone2_frequency_hz" in measurement:
+            phase2, se2, compliance2 = full[len(OBSERVATION_NAMES) + 3: len(OBSERVATION_NAMES) + 6]
+            tone2 = {"tone2_phase_deg": float(phase2 * 90.0),
+                     "tone2_se_deg": float(_se_clipped(se2 * 90.0)),
+                     "tone2_compliance": float(compliance2),
+                     "tone2_frequency_hz": float(measurement["tone2_frequency_hz"]),
+                     "tone2_amplitude_nm": float(measurement["tone2_amplitude_nm"])}
+        if "creepage_modulation_amplitude" in measurement:
+            tone2.update(creepage_modulation=float(measurement["creepage_modulation_amplitude"]),
+                         creepage_modulation_lag_deg=float(measurement["creepage_modulation_lag_deg"]),
+                         creepage_modulation_se_deg=float(_se_clipped(measurement["creepage_modulation_lag_se_deg"])))
+        if "coa_cycle_max" in measurement:  # the same names as the sensor fields
+            tone2.update({name: float(measurement[name]) for name in COA_CYCLE_FIELDS})
+        return cls(
+            phase_deg=float(o[_INDEX["phase_lag"]] * 90.0),
+            se_deg=float(_se_clipped(se_deg)),
+            se_reported_deg=float(min(max(se_deg, 0.0), SE_REPORTED_MAX_DEG)),
+            compliance=float(o[_INDEX["compliance"]]),
+            coa=float(max(o[_INDEX["coa_measured"]], 1e-4)),
+            creepage=float(o[_INDEX["creepage_measured"]] / CREEPAGE_SCALE),
+            dc_nm=float(o[_INDEX["dc_torque"]] * limits.max_dc_torque_nm),
+            amplitude_nm=float(o[_INDEX["amplitude"]] * limits.max_amplitude_nm),
+            frequency_hz=float(o[_INDEX["frequency"]] * limits.max_frequency_hz),
+            speed_m_s=float(o[_INDEX["speed"]] * SPEED_SCALE_M_S),
+            normal_load=float(o[_INDEX["normal_load"]]),
+            **tone2,
+        )
+
+    def tone2(self) -> "Reading":
+        """This window as tone 2 alone sees it (its phase, SE, compliance and frequency in tone 1's place)."""
+        return replace(self, phase_deg=self.tone2_phase_deg, se_deg=self.tone2_se_deg,
+                       compliance=self.tone2_compliance, frequency_hz=self.tone2_frequency_hz)
+
+
+def first_windows_noise_nms(readings: list[Reading], reported: bool = False) -> float:
+    """The noise a climb reads from its first :data:`NOISE_WINDOWS` driven ``readings`` (N m s): the median of their
+    :attr:`Reading.lockin_noise_nms`, or with ``reported`` of their :attr:`Reading.lockin_noise_reported_nms`."""
+    return float(np.median([r.lockin_noise_reported_nms if reported else r.lockin_noise_nms
+                            for r in readings[:NOISE_WINDOWS]]))
