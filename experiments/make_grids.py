@@ -77,6 +77,9 @@
 - ``suites/v2_confirmation19_grid.json``, ``suites/v2_confirmation19_procedural_grid.json`` and
   ``suites/v2_confirmation19_steep_grid.json`` (session 39, seeds 197 000, 199 000, 201 000): a nineteenth
   such set, written before any agent played them, after the eighteenth had judged rule 59, for rule 60.
+- ``suites/v2_confirmation20_grid.json``, ``suites/v2_confirmation20_procedural_grid.json`` and
+  ``suites/v2_confirmation20_steep_grid.json`` (session 42, seeds 203 000, 205 000, 207 000): a twentieth
+  such set, written before any agent played them, after the nineteenth had judged rule 60, for the next rule.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -336,7 +339,7 @@ def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.
 
 ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", "eighth ", "ninth ", "tenth ",
             "eleventh ", "twelfth ", "thirteenth ", "fourteenth ", "fifteenth ", "sixteenth ", "seventeenth ",
-            "eighteenth ", "nineteenth ")
+            "eighteenth ", "nineteenth ", "twentieth ")
 
 # the confirmation sets, in the order they were written (the module docstring says when, and for which rule):
 # name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and steep grids; each was written
@@ -380,6 +383,8 @@ CONFIRMATION_SETS = {
                        ((0.07, 0.4, 0.69, 0.94), (8.5, 20.5, 37.5), 193_000), ((0.11, 0.45, 0.81), (6.5, 21.5, 34.5), 195_000)),
     "confirmation19": (((0.05, 0.27, 0.54, 0.79, 0.95), (6.0, 18.5, 32.0), 197_000),
                        ((0.08, 0.38, 0.66, 0.92), (9.0, 21.0, 36.5), 199_000), ((0.12, 0.43, 0.78), (7.0, 20.0, 37.0), 201_000)),
+    "confirmation20": (((0.06, 0.29, 0.52, 0.78, 0.94), (6.5, 17.0, 33.5), 203_000),
+                       ((0.07, 0.41, 0.68, 0.9), (8.0, 22.5, 35.5), 205_000), ((0.13, 0.42, 0.82), (7.5, 18.5, 36.0), 207_000)),
 }
 
 
