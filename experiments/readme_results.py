@@ -503,6 +503,9 @@ generated, never typed:
     (rule 59's two commands again with --set ... crest_probe_max_noise_ratio=1 crest_probe_max_noise_ratio=null
         ... crest_probe_hold_crest=true, the baseline "... crest_probe_hold_crest True, ...", _rule60 in place of
         _rule59, --grids confirmation19 and _confirmation19 in place of the eighteenth)   # rule 60; and _noise2
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.2 0.3 0.4 --crest-fractions 0.25 0.5 \
+        --stops --return-digits 4 --records out/records_rule61_validation.json \
+        --out out/crest_tradeoff_rule61_validation.md   # rule 61
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -706,6 +709,7 @@ SOURCES = {
         "paired_rule60_validation_noise2",
         "crest_tradeoff_rule60_confirmation19",
         "paired_rule60_confirmation19",
+        "crest_tradeoff_rule61_validation",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about
