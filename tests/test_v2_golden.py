@@ -1,0 +1,51 @@
+"""Published v2 numbers never change: fixed-seed trajectories of both v2 ids (``tests/golden/make_v2_golden.py``:
+the creep-law families drawn and a user's table, drawn and given sensor errors, the counter torque, the half
+wheelset, two tones, relative actions with the history observation, stops, horizons and macro-slips) equal
+the ones the generator wrote at the commit whose v2 numbers are published (``tests/golden/v2_summary.json``).
+
+Tolerances, as for v1 (``tests/test_v1_golden.py``): the physics is deterministic for one MuJoCo build, and what
+may differ across CPUs and BLAS kernels is the lock-in's linear solve, a few ulps of float64. The float32
+observations take that as at most a rounding flip of their last bits: 1e-6 relative (8 float32 ulps) plus an
+absolute 1e-6 for values that are ~0. Every float64 reading and truth downstream of a solve is held to the same
+1e-6 relative, with an absolute floor of 1e-9 of the largest magnitude the field takes in the episode (a value
+that is ~0 by cancellation carries the rounding of its operands' scale). The reward reads no solve: 1e-9."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+GOLDEN = Path(__file__).parent / "golden"
+sys.path.insert(0, str(GOLDEN))
+from make_v2_golden import CASES, trajectory  # noqa: E402
+
+EXPECTED = json.loads((GOLDEN / "v2_summary.json").read_text())
+
+
+def assert_fields_close(got: list[dict], want: list[dict]) -> None:
+    """Every field of every window within 1e-6 relative, or 1e-9 of the field's largest magnitude."""
+    assert [sorted(g) for g in got] == [sorted(w) for w in want]
+    for key in want[0]:
+        w = np.array([row[key] for row in want])
+        g = np.array([row[key] for row in got])
+        np.testing.assert_allclose(g, w, rtol=1e-6, atol=1e-9 * float(np.max(np.abs(w))), err_msg=key)
+
+
+def test_every_case_is_in_the_golden_file() -> None:
+    assert sorted(CASES) == sorted(EXPECTED)
+
+
+@pytest.mark.parametrize("name", sorted(EXPECTED))
+def test_v2_trajectory_unchanged(name: str) -> None:
+    want, got = EXPECTED[name], trajectory(*CASES[name])
+    assert got["ended"] == want["ended"]  # the same windows, ended alike (stop, horizon, macro-slip)
+    np.testing.assert_allclose(got["reset_obs"], want["reset_obs"], rtol=1e-6, atol=1e-6)
+    np.testing.assert_allclose(got["obs"], want["obs"], rtol=1e-6, atol=1e-6)
+    np.testing.assert_allclose(got["reward"], want["reward"], rtol=1e-9, atol=1e-12)
+    assert_fields_close([got["ground_truth"]], [want["ground_truth"]])
+    assert_fields_close(got["step_truth"], want["step_truth"])
+    assert_fields_close(got["measurement"], want["measurement"])
