@@ -1,0 +1,54 @@
+"""The agents' published numbers never change: every default agent on four episodes of the default v2 suite
+plays the episodes ``tests/golden/agents_v2.json`` holds (``tests/golden/make_agents_golden.py``: the rows of
+``cof-gym evaluate``'s ``episodes.csv``, each equal to the published row of its agent and seed when written).
+
+What an agent did is compared exactly (its stop, the windows, a macro-slip, how the episode ended, the scenario's
+labels); its numbers within 1e-6 relative, with an absolute floor of 1e-9 of the column's largest magnitude. The
+tolerance is the observations' (``tests/test_v2_golden.py``): the lock-in's solve and the networks' matrix
+products may round differently on another CPU's BLAS kernels, by a few float64 ulps that every agent reads through
+the float32 observation. A decision at a threshold would flip only with a reading within those ulps of it."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+GOLDEN = Path(__file__).parent / "golden"
+sys.path.insert(0, str(GOLDEN))
+from make_agents_golden import rows  # noqa: E402
+
+EXPECTED = json.loads((GOLDEN / "agents_v2.json").read_text())
+
+
+def _number(text: str) -> float | None:
+    """The CSV cell as a float, None for a label or a flag (compared exactly)."""
+    if text in ("True", "False"):
+        return None
+    try:
+        return float(text)
+    except ValueError:
+        return None
+
+
+@pytest.fixture(scope="module")
+def played() -> list[dict[str, str]]:
+    return rows()
+
+
+def test_the_same_agents_play_the_same_episodes_alike(played) -> None:
+    assert [(r["agent"], r["seed"]) for r in played] == [(r["agent"], r["seed"]) for r in EXPECTED]
+    for got, want in zip(played, EXPECTED):
+        labels = {k: v for k, v in want.items() if _number(v) is None or k in ("steps", "episode", "seed")}
+        assert {k: got[k] for k in labels} == labels, (want["agent"], want["seed"])
+
+
+@pytest.mark.parametrize("column", sorted(k for k, v in EXPECTED[0].items()
+                                          if _number(v) is not None and k not in ("steps", "episode", "seed")))
+def test_every_agents_numbers_are_the_published_ones(played, column) -> None:
+    want = np.array([float(r[column]) for r in EXPECTED])
+    got = np.array([float(r[column]) for r in played])
+    np.testing.assert_allclose(got, want, rtol=1e-6, atol=1e-9 * float(np.max(np.abs(want))), err_msg=column)
