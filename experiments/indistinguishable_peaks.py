@@ -31,7 +31,7 @@ import numpy as np
 import cof_gym  # noqa: F401  (registers the envs)
 from cof_gym.agents import registry
 from cof_gym.commands.args import Parser
-from cof_gym.commands.evaluate import run_episode
+from cof_gym.commands.evaluate_episodes import run_episode
 from cof_gym.commands.suites import SuiteError, make_suite
 from cof_gym.task.scenarios import COF_ENVELOPE
 

@@ -39,7 +39,7 @@ from indistinguishable_peaks import (  # noqa: E402
 import cof_gym  # noqa: E402,F401  (registers the envs)
 from cof_gym.agents import registry  # noqa: E402
 from cof_gym.commands.args import Parser  # noqa: E402
-from cof_gym.commands.evaluate import run_episode  # noqa: E402
+from cof_gym.commands.evaluate_episodes import run_episode  # noqa: E402
 from cof_gym.commands.suites import SuiteError, make_suite  # noqa: E402
 from cof_gym.physics.creep import OperatingConditions, creep_curve  # noqa: E402
 from cof_gym.physics.creep_laws import creep_law_from_spec  # noqa: E402

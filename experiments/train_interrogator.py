@@ -114,7 +114,7 @@ from cof_gym.agents.interrogator.training import (
     FIT_LOSSES, FITTABLE_BLOCKS, STEEP_FALL, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel, fit_member, nll,
 )
 from cof_gym.commands.args import Parser, positive_int, seed_int
-from cof_gym.commands.evaluate import run_episode
+from cof_gym.commands.evaluate_episodes import run_episode
 from cof_gym.commands.suites import make_suite
 
 HERE = Path(__file__).resolve().parent

@@ -25,7 +25,7 @@ def pytest_xdist_auto_num_workers(config):
     it is set (None: xdist's own hook)."""
     if os.environ.get("PYTEST_XDIST_AUTO_NUM_WORKERS"):
         return None
-    from cof_gym.commands.evaluate import fitting_workers
+    from cof_gym.commands.evaluate_workers import fitting_workers
 
     return fitting_workers(TEST_WORKER_MEMORY_BYTES)
 

@@ -15,7 +15,9 @@ import cof_gym  # noqa: F401
 from cof_gym.agents.adapters import incremental_to_env
 from cof_gym.agents import registry
 from cof_gym.agents.base import Agent
-from cof_gym.commands.evaluate import GROUPINGS, evaluate, peak_creepage_band, run_episode, utilisation_band
+from cof_gym.commands.evaluate import evaluate
+from cof_gym.commands.evaluate_episodes import run_episode
+from cof_gym.commands.evaluate_stats import GROUPINGS, peak_creepage_band, utilisation_band
 from cof_gym.agents.staircase import PaperStaircase, PracticalStaircase, limits_of
 from cof_gym.commands.suites import SuiteError, make_suite, paper_suite
 from cof_gym.task.interface import OBSERVATION_NAMES, decode_action
@@ -121,7 +123,7 @@ def test_where_no_worker_process_can_start_the_episodes_are_played_here(tmp_path
 
 
 def test_default_workers_give_each_enough_episodes_and_memory_and_never_exceed_the_cores(monkeypatch) -> None:
-    from cof_gym.commands import evaluate as ev
+    from cof_gym.commands import evaluate_workers as ev
 
     monkeypatch.setattr(ev, "usable_cores", lambda: 8)
     monkeypatch.setattr(ev, "available_memory_bytes", lambda: 100 * ev.WORKER_MEMORY_BYTES)
@@ -137,7 +139,7 @@ def test_default_workers_give_each_enough_episodes_and_memory_and_never_exceed_t
 
 
 def test_usable_cores_honour_a_containers_cpu_quota(monkeypatch) -> None:
-    from cof_gym.commands import evaluate as ev
+    from cof_gym.commands import evaluate_workers as ev
 
     monkeypatch.setattr(ev.os, "sched_getaffinity", lambda pid: set(range(64)), raising=False)
     files = {"/sys/fs/cgroup/cpu.max": "250000 100000\n"}
@@ -232,7 +234,7 @@ class _StopsAt:
 ])
 def test_a_record_says_how_its_episode_ended(dc: float, stop_step: int | None, cof: float, ended: str,
                                              steps: int | None) -> None:
-    from cof_gym.commands.evaluate import ENDINGS
+    from cof_gym.commands.evaluate_episodes import ENDINGS
 
     env = gym.make("CofGym/TorqueInterrogation-v2", max_windows=3)
     rec = run_episode(env, _StopsAt(dc, stop_step), 0, {"cof": cof, "condition": "low_adhesion"}, 0)
@@ -291,7 +293,7 @@ def _records(path: Path) -> list:
     from dataclasses import fields
     from types import SimpleNamespace
 
-    from cof_gym.commands.evaluate import EpisodeRecord
+    from cof_gym.commands.evaluate_episodes import EpisodeRecord
 
     numeric = {f.name for f in fields(EpisodeRecord) if f.type in ("float", float)}
     return [SimpleNamespace(**{k: float(v) if k in numeric else v for k, v in row.items()})
@@ -319,7 +321,7 @@ def test_summary_has_the_breakdown_and_the_intrusiveness_figure(tmp_path: Path) 
 def test_a_breakdown_row_counts_each_agents_episodes_where_they_differ() -> None:
     """A scenario group has the same episodes for every agent (one count beside the group); a utilisation group
     depends on what each agent did, so each cell carries its agent's own count and the group none."""
-    from cof_gym.commands.evaluate import markdown_breakdown
+    from cof_gym.commands.evaluate_tables import markdown_breakdown
 
     def stats(n: int) -> dict:
         return {"episodes": n, "median_error": 0.01, "p90_error": 0.02, "macro_slip_events": 0,
@@ -344,7 +346,7 @@ def test_the_bootstrap_computes_each_resamples_statistic_as_for_that_resample_al
     """Rows of resamples reduced at once (in blocks of rows) give every resample's statistic as the resample alone
     gives it: order statistics exactly; a sum or a mean of these positive values within what two summation orders
     can differ by, 2 (n - 1) eps relative (each is within (n - 1) eps of the exact sum)."""
-    from cof_gym.commands import evaluate as ev
+    from cof_gym.commands import evaluate_stats as ev
 
     monkeypatch.setattr(ev, "BOOTSTRAP_BLOCK_VALUES", block_values)
     values = np.random.default_rng(3).lognormal(-3.0, 1.0, 37)
@@ -451,7 +453,7 @@ def test_saturation_oracle_keeps_its_crest_below_the_peak_and_refuses_a_crest_pa
     curves that fall steeply past their peak (there a crest past the peak runs the wheel away); levels
     that put the crest at or past the saturation torque are refused at construction."""
     from cof_gym.agents.oracle import SaturationOracle
-    from cof_gym.commands.evaluate import run_episode
+    from cof_gym.commands.evaluate_episodes import run_episode
     from cof_gym.commands.suites import make_suite
 
     suite = make_suite(str(Path(__file__).resolve().parents[1] / "experiments" / "suites"
@@ -470,7 +472,7 @@ def test_saturation_oracle_keeps_its_crest_below_the_peak_and_refuses_a_crest_pa
 
 
 def _record(episode: int, error: float, macro_slip: bool = False, scored: bool = True):
-    from cof_gym.commands.evaluate import EpisodeRecord
+    from cof_gym.commands.evaluate_episodes import EpisodeRecord
 
     return EpisodeRecord(cof=0.2, condition="dry", speed_m_s=10.0, load_case="laden", noise_level=1.0, motor_lag_s=0.0,
                          creep_family="polach", creepage_offset=0.0, peak_creepage=0.01, agent="a", oracle=False,
@@ -481,7 +483,7 @@ def _record(episode: int, error: float, macro_slip: bool = False, scored: bool =
 
 
 def test_a_macro_slip_counts_as_a_failed_measurement_in_its_own_metrics_only() -> None:
-    from cof_gym.commands.evaluate import METRICS, bootstrap_ci, summarize
+    from cof_gym.commands.evaluate_stats import METRICS, bootstrap_ci, summarize
 
     # a runaway's estimate can be accurate (0.5 %): as a measurement it failed
     records = [_record(0, 0.02), _record(1, 0.04), _record(2, 0.005, macro_slip=True), _record(3, 1.0, scored=False)]

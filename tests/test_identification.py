@@ -12,7 +12,7 @@ import pytest
 
 import cof_gym  # noqa: F401  (registers the ids)
 from cof_gym.agents.adapters import AgentSideInterface
-from cof_gym.commands.evaluate import run_episode
+from cof_gym.commands.evaluate_episodes import run_episode
 from cof_gym.agents.model_based import ModelBasedAgent
 from cof_gym.agents.pretrain import collect_demonstrations, discounted_returns
 from cof_gym.task.creep_fit import ClimbRecord, fit_peak

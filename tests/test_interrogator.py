@@ -26,7 +26,7 @@ from cof_gym.agents.interrogator.training import (
     READING_FIELDS, collect, fit_member, procedural_shape,
 )
 from cof_gym.physics.creep_laws import creep_law_from_spec
-from cof_gym.commands.evaluate import run_episode
+from cof_gym.commands.evaluate_episodes import run_episode
 from cof_gym.agents.base import agent_view
 from cof_gym.agents.runaway import CrestCeiling, RunawayBracket
 from cof_gym.task.interface import OBSERVATION_NAMES, decode_action

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import cof_gym
-from cof_gym.commands.evaluate import run_episode
+from cof_gym.commands.evaluate_episodes import run_episode
 from cof_gym.agents.model_based import ModelBasedAgent
 from cof_gym.task.creep_fit import SHAPE_GRID, creep_shapes, fit_peak
 from cof_gym.agents.registry import make_agent

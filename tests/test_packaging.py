@@ -155,7 +155,7 @@ def test_the_readme_test_command_is_what_ci_runs_and_prints_the_summary_line() -
 
 
 def test_the_test_commands_auto_workers_fit_the_cores_and_the_memory(request, monkeypatch) -> None:
-    from cof_gym.commands import evaluate as ev
+    from cof_gym.commands import evaluate_workers as ev
 
     def auto() -> int:
         return request.config.hook.pytest_xdist_auto_num_workers(config=request.config)

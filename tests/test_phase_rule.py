@@ -14,7 +14,8 @@ from cof_gym.agents.phase_rule import PAPER_CORRECTION, PhaseRule
 from cof_gym.agents.registry import make_agent
 from cof_gym.agents.runaway import RunawayEstimate
 from cof_gym.agents.staircase import ElasticityClimb, limits_of
-from cof_gym.commands.evaluate import agent_view, run_episode
+from cof_gym.agents.base import agent_view
+from cof_gym.commands.evaluate_episodes import run_episode
 from cof_gym.task.interface import OBSERVATION_NAMES, decode_action
 
 CREEPAGE = OBSERVATION_NAMES.index("creepage_measured")

@@ -13,7 +13,8 @@ import cof_gym
 from cof_gym.agents.registry import make_agent
 from cof_gym.agents.robust_model import RobustModel
 from cof_gym.agents.staircase import limits_of
-from cof_gym.commands.evaluate import agent_view, run_episode
+from cof_gym.agents.base import agent_view
+from cof_gym.commands.evaluate_episodes import run_episode
 from cof_gym.task.interface import OBSERVATION_NAMES, decode_action
 from cof_gym.agents.runaway import RunawayEstimate
 

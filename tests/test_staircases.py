@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 import cof_gym
-from cof_gym.commands.evaluate import agent_view, run_episode
+from cof_gym.agents.base import agent_view
+from cof_gym.commands.evaluate_episodes import run_episode
 from cof_gym.agents.model_based import ModelBasedAgent
 from cof_gym.agents.staircase import (
     ELASTICITY, PEAK_FRACTION_MAX, PEAK_FRACTION_MEDIAN, PracticalStaircase, limits_of, peak_fraction,

@@ -12,7 +12,9 @@ import pytest
 from rich.console import Console
 
 from cof_gym.commands import terminal
-from cof_gym.commands.evaluate import EpisodeRecord, print_table, summarize
+from cof_gym.commands.evaluate_episodes import EpisodeRecord
+from cof_gym.commands.evaluate_stats import summarize
+from cof_gym.commands.evaluate_tables import print_table
 
 AGENTS = ("staircase-paper", "staircase", "model-based", "phase-rule", "ppo")
 
@@ -44,7 +46,7 @@ def _render(width: int, agents: int = len(AGENTS)) -> tuple[str, dict]:
 
 def _words(summary: dict) -> set[str]:
     """Every word the tables print: agent names, metric and group labels, values and CIs."""
-    from cof_gym.commands.evaluate import METRICS
+    from cof_gym.commands.evaluate_stats import METRICS
 
     words = set()
     for agent, entry in summary.items():

@@ -26,7 +26,7 @@ def _episode(env_id: str, seed: int) -> tuple[bytes, bytes]:
     import gymnasium as gym
 
     from cof_gym.agents import registry
-    from cof_gym.commands.evaluate import run_episode
+    from cof_gym.commands.evaluate_episodes import run_episode
 
     env = gym.make(env_id)
     trace: list = []

@@ -1,6 +1,6 @@
 """``cof-gym watch``: a video of one agent's episode.
 
-The episode is played exactly as ``cof-gym evaluate`` plays it (:func:`~cof_gym.commands.evaluate.run_episode`
+The episode is played exactly as ``cof-gym evaluate`` plays it (:func:`~cof_gym.commands.evaluate_episodes.run_episode`
 on ``gym.make(ENV)`` with that seed); a wrapper records each window's drive and the physics state after it.
 The video then replays the same windows on a second simulation of the same model, stepping each window in
 short chunks to render ``fps`` frames per video second (the env itself steps a window in one call), and
@@ -181,7 +181,7 @@ class Recorder(gym.Wrapper):
 
 def play(request: WatchRequest):
     """Play the scored episode: (record, recorder, env). The caller closes the env."""
-    from cof_gym.commands.evaluate import run_episode
+    from cof_gym.commands.evaluate_episodes import run_episode
 
     env = Recorder(gym.make(request.env_id))
     try:

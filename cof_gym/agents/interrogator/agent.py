@@ -276,7 +276,6 @@ class LearnedInterrogator:
         estimate = min(max(self._estimate, self.limits.min_cof_estimate), self.limits.max_cof_estimate)
         return p.action(self._dc, estimate, stop, self.limits, self._ratio, self._frequency)
 
-
     @staticmethod
     def _steering_headroom(p: ClimbParameters, mean: np.ndarray, std: np.ndarray, spread: np.ndarray,
                            guard_outputs: list[tuple[np.ndarray, np.ndarray, np.ndarray]]

@@ -1,0 +1,117 @@
+"""One agent's episode as ``cof-gym evaluate`` plays and records it: :func:`run_episode` and its
+:class:`EpisodeRecord` (the scenario, what the agent did and scored, how the episode ended)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+from typing import Any
+
+from cof_gym.agents.base import agent_view
+
+# how an episode ended, in the breakdown's order: the agent's stop action before its last step, the horizon (the
+# episode ran to the task's last step, max_windows: the agent used every window it had, whether it asked to stop at
+# that step or the task ended the episode there), a macro-slip (scored, penalised), a diverging simulation (unscored)
+ENDINGS = ("stop", "horizon", "macro-slip", "diverged")
+
+
+@dataclass
+class ScenarioColumns:
+    """An episode's scenario as a record holds it: the entries of ``info["ground_truth"]`` of these names."""
+
+    cof: float
+    condition: str
+    speed_m_s: float
+    load_case: str
+    noise_level: float
+    motor_lag_s: float
+    creep_family: str
+    creepage_offset: float  # the sensors' systematic creepage error (1 + e_R)/(1 + e_v) - 1
+    peak_creepage: float  # the creepage of the true creep curve's peak at the episode's speed and load
+
+    @classmethod
+    def read(cls, ground_truth: dict[str, Any]) -> dict[str, Any]:
+        """These columns' values in an episode's ground truth."""
+        return {f.name: ground_truth[f.name] for f in fields(cls)}
+
+
+@dataclass
+class EpisodeRecord(ScenarioColumns):
+    """One agent's episode: its scenario (:class:`ScenarioColumns`), then what the agent did and scored."""
+
+    agent: str
+    oracle: bool
+    episode: int
+    seed: int
+    estimate: float
+    relative_error: float  # |estimate / CoF - 1|; 1.0 when the episode ended unscored (divergence)
+    scored: bool
+    macro_slip: bool
+    slip_energy_j: float  # energy dissipated past the creep-curve peak
+    friction_energy_j: float
+    wd_rms_m_s2: float  # time-weighted over the episode
+    measurement_time_s: float
+    peak_torque_fraction: float  # max |torque| over the real saturation torque
+    episode_return: float
+    steps: int
+    ended: str  # how the episode ended: one of ENDINGS
+    note: str = ""  # the suite's label of the episode (e.g. a held-out grid's creep-curve shape)
+
+    @property
+    def error_slip_failed(self) -> float:
+        """The relative error with a macro-slip counted as a failed measurement (1.0, as an unscored episode):
+        a measurement that spun the wheel past its peak is one a train would not make, however accurate the
+        estimate the runaway gave."""
+        return 1.0 if self.macro_slip or not self.scored else self.relative_error
+
+
+def _field(info: dict, key: str, default: float = 0.0) -> float:
+    """A window quantity wherever the env files it (ground truth first, then the sensor readings)."""
+    for group in ("ground_truth", "measurement"):
+        value = info.get(group, {}).get(key)
+        if value is not None:
+            return value
+    return default
+
+
+def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list | None = None,
+                oracle: bool | None = None, note: str = "") -> EpisodeRecord:
+    """One episode of ``agent``. ``oracle`` (default: the agent's own flag) decides whether the agent
+    sees ``info["ground_truth"]``; the evaluator always reads it for scoring."""
+    oracle = bool(getattr(agent, "oracle", False)) if oracle is None else bool(oracle)
+    obs, info = env.reset(seed=seed, options=options)
+    agent.reset(obs, agent_view(info, oracle))
+    total, steps = 0.0, 0
+    slip_e = fric_e = wd2 = 0.0
+    peak = 0.0
+    while True:
+        action = agent.act(obs, agent_view(info, oracle))
+        obs, reward, terminated, truncated, info = env.step(action)
+        total += reward
+        steps += 1
+        m = info["measurement"]
+        slip_e += _field(info, "energy_past_peak_j")
+        fric_e += _field(info, "friction_energy_j")
+        wd2 += m["wd_rms_m_s2"] ** 2
+        peak = max(peak, _field(info, "peak_torque_fraction"))  # the true torque, not the biased reading
+        if trace is not None:
+            trace.append({"t": info["elapsed_s"], "dc_torque_nm": m["torque_mean_nm"], "speed_m_s": m["speed_measured_m_s"],
+                          "wheel_speed_m_s": m["speed_measured_m_s"] * (1.0 + _field(info, "creepage_mean")),
+                          "coa": m["coa_measured"], "phase_deg": m["phase_lag_deg"],
+                          "estimate": info["cof_estimate"], "cof": info["ground_truth"]["cof"]})
+        if terminated or truncated:
+            break
+    gt = info["ground_truth"]
+    macro_slip = bool(info.get("macro_slip", False))
+    ended = ("diverged" if info.get("diverged", False) else "macro-slip" if macro_slip else
+             "horizon" if truncated or steps >= env.unwrapped.task.max_windows else "stop")
+    err = info.get("relative_error")
+    scored = err is not None and bool(info.get("scored", True)) and not info.get("diverged", False)
+    return EpisodeRecord(
+        **ScenarioColumns.read(gt), agent=agent.name, oracle=oracle, episode=episode, seed=seed,
+        estimate=info["cof_estimate"],
+        relative_error=float(err) if err is not None else 1.0, scored=scored,
+        macro_slip=macro_slip, slip_energy_j=slip_e, friction_energy_j=fric_e,
+        wd_rms_m_s2=math.sqrt(wd2 / steps), measurement_time_s=info["elapsed_s"], peak_torque_fraction=peak,
+        episode_return=total, steps=steps, note=note, ended=ended,
+    )

@@ -1,0 +1,148 @@
+"""The statistics of ``cof-gym evaluate``: each metric per agent with a bootstrap 95 % CI (:data:`METRICS`),
+and the breakdown by condition, CoF band, family, peak creepage, creepage-error band, utilisation and ending."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from cof_gym.commands.evaluate_episodes import ENDINGS, EpisodeRecord
+
+N_BOOTSTRAP = 2000
+BOOTSTRAP_BLOCK_VALUES = 1 << 22  # resampled values held at once by a bootstrap (32 MiB of floats)
+COF_BANDS = (0.0, 0.1, 0.2, 0.3, 0.4, math.inf)  # CoF band edges of the breakdown
+# |systematic creepage error| band edges (the sensors' (1 + e_R)/(1 + e_v) - 1; 0 in v1)
+CREEPAGE_ERROR_BANDS = (0.0, 1e-9, 0.002, 0.005, 0.01, math.inf)
+# the creepage of the true creep curve's peak: the lag reaches 90 deg there, and a curve that still rises slowly past
+# its knee (a peak at several % creepage) reads a large lag well below its peak's adhesion
+PEAK_CREEPAGE_BANDS = (0.0, 0.01, 0.02, 0.04, math.inf)
+# "how early can you know": peak torque at the committed estimate, as a fraction of the true M_sat
+UTILISATION_BANDS = (0.0, 0.8, 0.9, 0.95, math.inf)
+
+
+def bootstrap_ci(values: np.ndarray, stat, rng: np.random.Generator, n: int = N_BOOTSTRAP) -> tuple[float, float]:
+    """Percentile bootstrap 95 % confidence interval of ``stat`` (a NumPy reduction taking ``axis``: each
+    resample's statistic is a row's, computed as for the resample alone, in blocks of rows to bound memory)."""
+    if len(values) < 2:
+        v = float(stat(values)) if len(values) else float("nan")
+        return v, v
+    idx = rng.integers(0, len(values), size=(n, len(values)))
+    block = max(1, BOOTSTRAP_BLOCK_VALUES // len(values))
+    stats = np.concatenate([stat(values[idx[i:i + block]], axis=1) for i in range(0, n, block)])
+    return float(np.percentile(stats, 2.5)), float(np.percentile(stats, 97.5))
+
+
+def _p90(v: np.ndarray, axis: int | None = None):
+    """The 90th percentile (per row along ``axis``)."""
+    return np.percentile(v, 90, axis=axis) if axis is not None else float(np.percentile(v, 90))
+
+
+METRICS = (
+    # (key, label with unit, column, statistic, format of the value)
+    ("median_error", "median rel. CoF error [%]", "relative_error", np.median, "pct"),
+    ("p90_error", "P90 rel. CoF error [%]", "relative_error", _p90, "pct"),
+    ("macro_slip_events", "macro-slips [episodes]", "macro_slip", np.sum, "int"),
+    ("slip_energy_j", "slip energy past peak [J]", "slip_energy_j", np.mean, "g3"),
+    ("wd_rms_m_s2", "Wd comfort [m/s^2]", "wd_rms_m_s2", np.mean, "g3"),
+    ("measurement_time_s", "measurement time [s]", "measurement_time_s", np.mean, "g3"),
+    ("peak_torque_fraction", "peak torque [% of real M_sat]", "peak_torque_fraction", np.mean, "pct"),
+    # last, so that adding them left every bootstrap CI above as it was (one generator per agent, drawn in this order)
+    ("median_error_slip_failed", "median rel. CoF error, macro-slip = 100 % [%]", "error_slip_failed", np.median, "pct"),
+    ("p90_error_slip_failed", "P90 rel. CoF error, macro-slip = 100 % [%]", "error_slip_failed", _p90, "pct"),
+)
+
+
+def _band(value: float, edges: tuple[float, ...], label) -> str:
+    for lo, hi in zip(edges[:-1], edges[1:]):
+        if lo <= value < hi:
+            return label(lo, hi)
+    return label(edges[-2], edges[-1])
+
+
+def cof_band(cof: float) -> str:
+    return _band(cof, COF_BANDS, lambda lo, hi: f"CoF {lo:.2f}+" if math.isinf(hi) else f"CoF {lo:.2f}-{hi:.2f}")
+
+
+def creepage_error_band(offset: float) -> str:
+    """The band of |systematic creepage error| (0: none, as in v1)."""
+    return _band(abs(offset), CREEPAGE_ERROR_BANDS,
+                 lambda lo, hi: "creepage error 0" if hi <= 1e-9 else
+                 f"|creepage error| {100 * lo:.1f}+ %" if math.isinf(hi) else
+                 f"|creepage error| {100 * lo:.1f}-{100 * hi:.1f} %")
+
+
+def peak_creepage_band(creepage: float) -> str:
+    """The band of the true creep curve's peak creepage (where its adhesion is the CoF)."""
+    return _band(creepage, PEAK_CREEPAGE_BANDS,
+                 lambda lo, hi: f"peak creepage {100 * lo:.0f}+ %" if math.isinf(hi) else
+                 f"peak creepage < {100 * hi:.0f} %" if lo == 0 else f"peak creepage {100 * lo:.0f}-{100 * hi:.0f} %")
+
+
+def utilisation_band(fraction: float) -> str:
+    """The band of the peak torque (fraction of the true saturation torque) at the committed estimate."""
+    return _band(fraction, UTILISATION_BANDS,
+                 lambda lo, hi: f"committed at > {100 * lo:.0f} % M_sat" if math.isinf(hi) else
+                 f"committed at <= {100 * hi:.0f} % M_sat" if lo == 0 else
+                 f"committed at {100 * lo:.0f}-{100 * hi:.0f} % M_sat")
+
+
+# the breakdown's groupings, in table order: (name, group of a record, the record's order within it)
+GROUPINGS = (
+    ("condition", lambda r: r.condition, lambda r: r.condition),
+    ("CoF band", lambda r: cof_band(r.cof), lambda r: r.cof),
+    ("creep-law family", lambda r: f"law {r.creep_family}", lambda r: r.creep_family),
+    ("peak-creepage band", lambda r: peak_creepage_band(r.peak_creepage), lambda r: r.peak_creepage),
+    ("creepage-error band", lambda r: creepage_error_band(r.creepage_offset), lambda r: abs(r.creepage_offset)),
+    ("utilisation at commitment", lambda r: utilisation_band(r.peak_torque_fraction),
+     lambda r: r.peak_torque_fraction),
+    ("how the episode ended", lambda r: f"ended: {r.ended}", lambda r: ENDINGS.index(r.ended)),
+    ("the suite's episode note", lambda r: f"note {r.note}" if r.note else "no note", lambda r: r.note),
+)
+
+
+def _group_stats(rows: list[EpisodeRecord]) -> dict[str, Any]:
+    err = np.array([r.relative_error for r in rows])
+    return {"episodes": len(rows), "median_error": float(np.median(err)), "p90_error": _p90(err),
+            "macro_slip_events": int(sum(r.macro_slip for r in rows)),
+            "peak_torque_fraction": float(np.mean([r.peak_torque_fraction for r in rows]))}
+
+
+def breakdown(records: list[EpisodeRecord]) -> dict[str, dict[str, dict[str, Any]]]:
+    """Per agent: statistics by each of :data:`GROUPINGS` (groups ordered within a grouping; a grouping
+    other than condition and CoF band with a single group, e.g. one creep-law family, is left out)."""
+    out: dict[str, dict[str, dict[str, Any]]] = {}
+    keys = []
+    for k, (_, key, order) in enumerate(GROUPINGS):
+        first = {}
+        for r in sorted(records, key=order):
+            first.setdefault(key(r), len(first))
+        if len(first) > 1 or k < 2:  # condition and CoF band always; the rest where they vary
+            keys.append((key, list(first)))
+    for agent in dict.fromkeys(r.agent for r in records):
+        rows = [r for r in records if r.agent == agent]
+        groups: dict[str, dict[str, Any]] = {}
+        for key, values in keys:
+            for v in values:
+                sel = [r for r in rows if key(r) == v]
+                if sel:
+                    groups[v] = _group_stats(sel)
+        out[agent] = groups
+    return out
+
+
+def summarize(records: list[EpisodeRecord], seed: int) -> dict[str, dict[str, Any]]:
+    out: dict[str, dict[str, Any]] = {}
+    groups = breakdown(records)
+    for agent in dict.fromkeys(r.agent for r in records):
+        rows = [r for r in records if r.agent == agent]
+        rng = np.random.default_rng(seed)
+        entry: dict[str, Any] = {"episodes": len(rows), "oracle": rows[0].oracle}
+        for key, _, column, stat, _ in METRICS:
+            values = np.array([getattr(r, column) for r in rows], dtype=float)
+            lo, hi = bootstrap_ci(values, stat, rng)
+            entry[key] = {"value": float(stat(values)), "ci95": [lo, hi]}
+        entry["breakdown"] = groups[agent]
+        out[agent] = entry
+    return out

@@ -1,0 +1,110 @@
+"""The tables of ``cof-gym evaluate``: the summary and its breakdown as Markdown, and the terminal's table."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from cof_gym.commands.evaluate_stats import METRICS
+
+
+def _fmt(value: float, kind: str) -> str:
+    if not np.isfinite(value):
+        return "-"
+    if kind == "pct":
+        return f"{100 * value:.1f}"
+    if kind == "int":
+        return f"{value:.0f}"
+    return f"{value:.3g}"
+
+
+def _agent_label(summary: dict, a: str) -> str:
+    return f"{a} (oracle)" if summary[a]["oracle"] else a
+
+
+def markdown_table(summary: dict[str, dict[str, Any]]) -> str:
+    agents = list(summary)
+    lines = ["| metric [unit] (95 % CI) | " + " | ".join(_agent_label(summary, a) for a in agents) + " |",
+             "|---" * (len(agents) + 1) + "|"]
+    for key, label, _, _, kind in METRICS:
+        cells = []
+        for a in agents:
+            v = summary[a][key]
+            cells.append(f"{_fmt(v['value'], kind)} [{_fmt(v['ci95'][0], kind)}, {_fmt(v['ci95'][1], kind)}]")
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    lines.append("| episodes [count] | " + " | ".join(str(summary[a]["episodes"]) for a in agents) + " |")
+    return "\n".join(lines)
+
+
+def _shared_count(summary: dict[str, dict[str, Any]], group: str) -> int | None:
+    """The episodes of ``group``, where every agent has that many in it (a scenario group: every agent plays
+    the same scenarios); None where the group depends on what the agent did (the utilisation at commitment, how
+    the episode ended)."""
+    counts = {summary[a]["breakdown"].get(group, {}).get("episodes", 0) for a in summary}
+    return counts.pop() if len(counts) == 1 else None
+
+
+def _group_order(summary: dict[str, dict[str, Any]]) -> list[str]:
+    """Every agent's breakdown groups in one order that keeps each agent's (the breakdown's, e.g. the utilisation
+    bands from the lowest up), where some groups belong to some agents only; ties in order of first appearance."""
+    before: dict[str, set[str]] = {}
+    for a in summary:
+        seen: set[str] = set()
+        for g in summary[a]["breakdown"]:
+            before.setdefault(g, set()).update(seen)
+            seen.add(g)
+    order: list[str] = []
+    while len(order) < len(before):
+        placed = set(order)
+        remaining = [g for g in before if g not in placed]
+        order.append(next((g for g in remaining if before[g] <= placed), remaining[0]))
+    return order
+
+
+def _breakdown_rows(summary: dict[str, dict[str, Any]], cell) -> list[tuple[str, int | None, list[str]]]:
+    """``(group, shared count or None, a cell per agent)``: ``cell(stats)`` for an agent with episodes in the
+    group, followed by its own count where the count is not shared; "-" for an agent with none."""
+    rows = []
+    for g in _group_order(summary):
+        n = _shared_count(summary, g)
+        cells = []
+        for a in summary:
+            s = summary[a]["breakdown"].get(g)
+            cells.append("-" if s is None else cell(s) + ("" if n is not None else f" (n={s['episodes']})"))
+        rows.append((g, n, cells))
+    return rows
+
+
+def markdown_breakdown(summary: dict[str, dict[str, Any]]) -> str:
+    """Median relative error [%] / P90 [%] / macro-slips / mean peak torque [% of M_sat], per group."""
+    agents = list(summary)
+    lines = ["| group (episodes) | " + " | ".join(_agent_label(summary, a) for a in agents) + " |",
+             "|---" * (len(agents) + 1) + "|"]
+    for g, n, cells in _breakdown_rows(summary, lambda s: f"{_fmt(s['median_error'], 'pct')} % / "
+                                                        f"{_fmt(s['p90_error'], 'pct')} % / {s['macro_slip_events']}"
+                                                        f" / {_fmt(s['peak_torque_fraction'], 'pct')} %"):
+        lines.append(f"| {g}{'' if n is None else f' ({n})'} | " + " | ".join(cells) + " |")
+    return ("Cells: median rel. CoF error / P90 rel. CoF error / macro-slips [episodes] / mean peak torque "
+            "[% of real M_sat]; (n=...): the agent's own episodes in a group that depends on what the agent did "
+            "(the utilisation at commitment, how the episode ended), where the agents' counts differ.\n\n"
+            + "\n".join(lines))
+
+
+def print_table(summary: dict[str, dict[str, Any]], title: str, out=None) -> None:
+    """The summary (value, CI below it) and the breakdown (median error per group) on ``out`` (a rich
+    console; default: stdout at the terminal's width, or COLUMNS, or 100), splitting no word
+    (:func:`cof_gym.commands.terminal.print_table`)."""
+    from cof_gym.commands import terminal
+
+    out = out or terminal.console()
+    rows = [[label, *[f"{_fmt(summary[a][key]['value'], kind)}\n[{_fmt(summary[a][key]['ci95'][0], kind)}, "
+                      f"{_fmt(summary[a][key]['ci95'][1], kind)}]" for a in summary]]
+            for key, label, _, _, kind in METRICS]
+    rows.append(["episodes [count]", *[str(summary[a]["episodes"]) for a in summary]])
+    labels = [_agent_label(summary, a).replace(" (oracle)", "\n(oracle)") for a in summary]
+    terminal.print_table(title, ["metric [unit]\n(95 % CI)", *labels], rows, out)
+    bd_rows = [[g if n is None else f"{g} [{n}]", *cells] for g, n, cells in
+               _breakdown_rows(summary, lambda s: f"{_fmt(s['median_error'], 'pct')} [{s['macro_slip_events']}]")]
+    terminal.print_table("median rel. CoF error [%] by group (macro-slips in brackets)",
+                         ["group [episodes]", *summary], bd_rows, out)
