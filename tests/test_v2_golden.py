@@ -35,8 +35,10 @@ def assert_fields_close(got: list[dict], want: list[dict]) -> None:
         np.testing.assert_allclose(g, w, rtol=1e-6, atol=1e-9 * float(np.max(np.abs(w))), err_msg=key)
 
 
-def test_every_case_is_in_the_golden_file() -> None:
+def test_every_case_is_in_the_golden_file_and_every_ending_is_pinned() -> None:
     assert sorted(CASES) == sorted(EXPECTED)
+    last = [case["ended"][-1] for case in EXPECTED.values()]  # (terminated, truncated, macro-slip) of each last window
+    assert [True, False, False] in last and [False, True, False] in last and [True, False, True] in last
 
 
 @pytest.mark.parametrize("name", sorted(EXPECTED))
