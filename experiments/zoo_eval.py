@@ -19,7 +19,7 @@ import cof_gym
 from cof_gym.commands.args import Parser, positive_int
 from cof_gym.commands.evaluate_episodes import run_episode
 from cof_gym.agents.ppo import PPOAgent, check_model, resolve_model_path
-from cof_gym.commands.train import load_hyperparams
+from cof_gym.commands.train_hyperparams import load_hyperparams
 
 FIRST_SEED = 10_000
 

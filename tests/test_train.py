@@ -20,7 +20,8 @@ import gymnasium as gym  # noqa: E402
 import cof_gym  # noqa: E402,F401
 from cof_gym.agents.base import Agent  # noqa: E402
 from cof_gym.agents.ppo import PPOAgent, vecnormalize_path  # noqa: E402
-from cof_gym.commands.train import build_parser, load_hyperparams, run, split_hyperparams  # noqa: E402
+from cof_gym.commands.train import build_parser, run  # noqa: E402
+from cof_gym.commands.train_hyperparams import load_hyperparams, split_hyperparams  # noqa: E402
 
 ENV_ID = "CofGym/HalfWheelset-v1"
 SHORT = ["--env-kwargs", "max_windows:5", "--hyperparams", "n_steps:128", "batch_size:64", "n_epochs:2"]
