@@ -1,0 +1,70 @@
+"""What the documents name exists: every dotted ``cof_gym.…`` name in the README, docs/ and the code's docstrings
+and comments imports (a module, or an attribute chain of one), and every repository path they write
+(``cof_gym/…``, ``experiments/…``, ``tests/…``, ``docs/…``, ``agents/…``) is a file or a folder of this checkout. A
+module split or a rename that leaves a reference behind fails here."""
+
+from __future__ import annotations
+
+import importlib
+import re
+from functools import lru_cache
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCUMENTS = [ROOT / "README.md", ROOT / "agents" / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+SOURCES = sorted(p for d in ("cof_gym", "experiments") for p in (ROOT / d).rglob("*.py"))
+DOTTED = re.compile(r"(?<![\w/])(cof_gym(?:\.[A-Za-z_]\w*)+)")
+PATH = re.compile(r"(?<![\w/.])((?:cof_gym|experiments|tests|docs|agents)/[\w./-]*)")
+IMPORT_LINE = re.compile(r"^\s*(from|import) ")
+
+
+@lru_cache(maxsize=None)
+def resolves(name: str) -> bool:
+    """Whether ``name`` is a module, or an attribute chain of the longest importable module it starts with."""
+    parts = name.split(".")
+    for k in range(len(parts), 0, -1):
+        try:
+            obj = importlib.import_module(".".join(parts[:k]))
+        except ImportError:
+            continue
+        for attribute in parts[k:]:
+            if not hasattr(obj, attribute):
+                return False
+            obj = getattr(obj, attribute)
+        return True
+    return False
+
+
+def dotted_names(path: Path) -> list[tuple[int, str]]:
+    """(line, name) of every dotted ``cof_gym`` name outside import statements."""
+    return [(k, m.group(1)) for k, line in enumerate(path.read_text().splitlines(), 1)
+            if not IMPORT_LINE.match(line) for m in DOTTED.finditer(line)]
+
+
+@pytest.mark.parametrize("path", DOCUMENTS + SOURCES, ids=lambda p: str(p.relative_to(ROOT)))
+def test_every_dotted_name_resolves(path: Path) -> None:
+    missing = [(line, name) for line, name in dotted_names(path) if not resolves(name)]
+    assert not missing, f"{path.relative_to(ROOT)}: {missing}"
+
+
+def missing_paths(path: Path) -> list[str]:
+    """The repository paths ``path`` writes that are no file or folder of this checkout (a prefix of a family of
+    files, ``member_*`` or ``v2_confirmationN_*``, is written up to its underscore and not checked)."""
+    written = {m.group(1).rstrip(".,;:)") for m in PATH.finditer(path.read_text())}
+    return sorted(p for p in written if not p.endswith("_") and not (ROOT / p).exists())
+
+
+@pytest.mark.parametrize("path", DOCUMENTS, ids=lambda p: str(p.relative_to(ROOT)))
+def test_every_repository_path_exists(path: Path) -> None:
+    missing = missing_paths(path)
+    assert not missing, f"{path.relative_to(ROOT)}: {missing}"
+
+
+def test_the_checks_see_a_stale_reference(tmp_path: Path) -> None:
+    stale = tmp_path / "stale.md"
+    stale.write_text("`cof_gym.agents.interrogator.RunawayBracket` and `cof_gym.agents.runaway.RunawayBracket`, in\n"
+                     "`cof_gym/agents/interrogator.py` (moved) and `cof_gym/agents/runaway.py`\n")
+    assert [resolves(name) for _, name in dotted_names(stale)] == [False, True]
+    assert missing_paths(stale) == ["cof_gym/agents/interrogator.py"]
