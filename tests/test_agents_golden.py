@@ -4,9 +4,12 @@ plays the episodes ``tests/golden/agents_v2.json`` holds (``tests/golden/make_ag
 
 What an agent did is compared exactly (its stop, the windows, a macro-slip, how the episode ended, the scenario's
 labels); its numbers within 1e-6 relative, with an absolute floor of 1e-9 of the column's largest magnitude. The
-tolerance is the observations' (``tests/test_v2_golden.py``): the lock-in's solve and the networks' matrix
-products may round differently on another CPU's BLAS kernels, by a few float64 ulps that every agent reads through
-the float32 observation. A decision at a threshold would flip only with a reading within those ulps of it."""
+tolerance is the observations' (``tests/test_v2_golden.py``): the lock-in's solve and the interrogator's matrix
+products (float64) may round differently on another CPU's BLAS kernels, by a few float64 ulps that every agent
+reads through the float32 observation. The PPO policy is a float32 network (3 layers of 64): a kernel's summation
+order moves each layer's outputs by up to 64 float32 ulps (64 x 1.2e-7), about 2.3e-5 over three, and its
+actions steer the episode: its rows are held to 1e-4. A decision at a threshold would flip only with a reading
+within that rounding of it."""
 
 from __future__ import annotations
 
@@ -46,9 +49,15 @@ def test_the_same_agents_play_the_same_episodes_alike(played) -> None:
         assert {k: got[k] for k in labels} == labels, (want["agent"], want["seed"])
 
 
+FLOAT32_POLICIES = {"ppo": 1e-4}  # agent -> relative tolerance of its rows (the module docstring); others 1e-6
+
+
 @pytest.mark.parametrize("column", sorted(k for k, v in EXPECTED[0].items()
                                           if _number(v) is not None and k not in ("steps", "episode", "seed")))
 def test_every_agents_numbers_are_the_published_ones(played, column) -> None:
     want = np.array([float(r[column]) for r in EXPECTED])
     got = np.array([float(r[column]) for r in played])
-    np.testing.assert_allclose(got, want, rtol=1e-6, atol=1e-9 * float(np.max(np.abs(want))), err_msg=column)
+    rtol = np.array([FLOAT32_POLICIES.get(r["agent"], 1e-6) for r in EXPECTED])
+    scale = float(np.max(np.abs(want)))
+    far = np.abs(got - want) > rtol * np.abs(want) + 1e-9 * scale
+    assert not far.any(), (column, [(r["agent"], r["seed"], g, w) for r, g, w, f in zip(EXPECTED, got, want, far) if f])
