@@ -6,9 +6,9 @@ What an agent did is compared exactly (its stop, the windows, a macro-slip, how 
 labels); its numbers within 1e-6 relative, with an absolute floor of 1e-9 of the column's largest magnitude. The
 tolerance is the observations' (``tests/test_v2_golden.py``): the lock-in's solve and the interrogator's matrix
 products (float64) may round differently on another CPU's BLAS kernels, by a few float64 ulps that every agent
-reads through the float32 observation. The PPO policy is a float32 network (3 layers of 64): a kernel's summation
-order moves each layer's outputs by up to 64 float32 ulps (64 x 1.2e-7), about 2.3e-5 over three, and its
-actions steer the episode: its rows are held to 1e-4. A decision at a threshold would flip only with a reading
+reads through the float32 observation. The PPO policy is a float32 network (hidden layers of 128, three
+products): a kernel's summation order moves each product by up to 128 float32 ulps (128 x 1.2e-7), about 4.6e-5
+over three, and its actions steer the episode: its rows are held to 1e-4. A decision at a threshold would flip only with a reading
 within that rounding of it."""
 
 from __future__ import annotations
