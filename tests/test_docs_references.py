@@ -13,7 +13,8 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-DOCUMENTS = [ROOT / "README.md", ROOT / "agents" / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+DOCUMENTS = [ROOT / "README.md", ROOT / "agents" / "README.md", ROOT / "experiments" / "README.md",
+             *sorted((ROOT / "docs").glob("*.md"))]
 SOURCES = sorted(p for d in ("cof_gym", "experiments") for p in (ROOT / d).rglob("*.py"))
 DOTTED = re.compile(r"(?<![\w/])(cof_gym(?:\.[A-Za-z_]\w*)+)")
 PATH = re.compile(r"(?<![\w/.])((?:cof_gym|experiments|tests|docs|agents)/[\w./-]*)")
