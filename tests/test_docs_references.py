@@ -69,3 +69,9 @@ def test_the_checks_see_a_stale_reference(tmp_path: Path) -> None:
                      "`cof_gym/agents/interrogator.py` (moved) and `cof_gym/agents/runaway.py`\n")
     assert [resolves(name) for _, name in dotted_names(stale)] == [False, True]
     assert missing_paths(stale) == ["cof_gym/agents/interrogator.py"]
+
+
+def test_every_experiment_script_is_in_the_experiments_readme() -> None:
+    listed = (ROOT / "experiments" / "README.md").read_text()
+    scripts = sorted(p.name for p in (ROOT / "experiments").iterdir() if p.suffix in (".py", ".sh"))
+    assert [s for s in scripts if f"`{s}`" not in listed] == []
