@@ -1,7 +1,7 @@
-"""What the documents name exists: every dotted ``cof_gym.…`` name in the README, docs/ and the code's docstrings
-and comments imports (a module, or an attribute chain of one), and every repository path they write
-(``cof_gym/…``, ``experiments/…``, ``tests/…``, ``docs/…``, ``agents/…``) is a file or a folder of this checkout. A
-module split or a rename that leaves a reference behind fails here."""
+"""What the documents name exists: every dotted ``cof_gym.…`` name in the READMEs (the shipped policies' cards
+among them), docs/ and the code's docstrings and comments imports (a module, or an attribute chain of one), and
+every repository path they write (``cof_gym/…``, ``experiments/…``, ``tests/…``, ``docs/…``, ``agents/…``) is a
+file or a folder of this checkout. A module split or a rename that leaves a reference behind fails here."""
 
 from __future__ import annotations
 
@@ -14,7 +14,8 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCUMENTS = [ROOT / "README.md", ROOT / "agents" / "README.md", ROOT / "experiments" / "README.md",
-             *sorted((ROOT / "docs").glob("*.md"))]
+             *sorted((ROOT / "docs").glob("*.md")),
+             *sorted((ROOT / "cof_gym" / "agents" / "policies").glob("*/README.md"))]
 SOURCES = sorted(p for d in ("cof_gym", "experiments") for p in (ROOT / d).rglob("*.py"))
 DOTTED = re.compile(r"(?<![\w/])(cof_gym(?:\.[A-Za-z_]\w*)+)")
 PATH = re.compile(r"(?<![\w/.])((?:cof_gym|experiments|tests|docs|agents)/[\w./-]*)")
