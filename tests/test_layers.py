@@ -101,3 +101,22 @@ def test_the_walker_sees_an_upward_import(tmp_path):
     bad = tmp_path / "bad.py"
     bad.write_text("def f():\n    from cof_gym.agents.registry import make_agent\n")
     assert "cof_gym.agents.registry" in _imports(bad)
+
+
+# The learned interrogator's package has layers of its own, lowest first (its docstring names them): a module
+# imports only those before it; the package's __init__ re-exports the first five, which training reads through it.
+INTERROGATOR = "cof_gym.agents.interrogator"
+INTERROGATOR_ORDER = ("readings", "features", "networks", "climb", "agent", "training")
+
+
+def test_the_interrogators_modules_cover_its_order_and_import_only_those_before_them():
+    inside = {m for m in MODULES if m.startswith(INTERROGATOR + ".")}
+    assert inside == {f"{INTERROGATOR}.{name}" for name in INTERROGATOR_ORDER}
+    for rank, name in enumerate(INTERROGATOR_ORDER):
+        module = f"{INTERROGATOR}.{name}"
+        allowed = {f"{INTERROGATOR}.{below}" for below in INTERROGATOR_ORDER[:rank]}
+        if name == INTERROGATOR_ORDER[-1]:
+            allowed.add(INTERROGATOR)
+        reached = {m for m in GRAPH[module] if m == INTERROGATOR or m.startswith(INTERROGATOR + ".")}
+        assert reached <= allowed, f"{module} imports {sorted(reached - allowed)}"
+    assert GRAPH[INTERROGATOR] == {f"{INTERROGATOR}.{name}" for name in INTERROGATOR_ORDER[:-1]}
