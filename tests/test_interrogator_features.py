@@ -1,0 +1,215 @@
+"""The learned interrogator's readings and features (cof_gym/agents/interrogator/readings.py, features.py): the slope
+from Eq. 3, the feature blocks, the lock-in's noise as the climb reads it."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import cof_gym
+from cof_gym.agents.interrogator import (
+    CREEPAGE_MODULATION_FEATURE_NAMES, CREEPAGE_RISE_FEATURE_NAMES, CREEPAGE_RISE_FLOORS, CYCLE_CREST_FEATURE_NAMES,
+    FEATURE_NAMES, PEAK_GAP_CLIP, SE_CLIP_DEG, ClimbParameters, EpisodeFeatures, FilterEnsemble, FilterNetwork,
+    LearnedInterrogator, Reading, blocks_of, feature_names, peak_gap, slope_from_phase, slope_index,
+)
+from cof_gym.agents.interrogator.training import FitSettings, collect, fit_member
+from cof_gym.commands.evaluate_episodes import run_episode
+from cof_gym.task.interface import OBSERVATION_NAMES
+from interrogator_helpers import window_reading, play, random_network
+
+def test_slope_index_is_ln_cot_and_falls_towards_the_peak():
+    assert slope_index(45.0) == pytest.approx(0.0, abs=1e-12)
+    assert slope_index(30.0) == pytest.approx(math.log(math.sqrt(3.0)), rel=1e-12)
+    values = [slope_index(p) for p in (5, 20, 45, 70, 88, 89, 120)]
+    assert all(a > b for a, b in zip(values, values[1:-1]))
+    assert values[-1] == values[-2]  # clipped at 89 deg: finite
+
+
+def test_features_are_finite_and_reject_undriven_windows():
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    limits = env.unwrapped.limits
+    feats = EpisodeFeatures(counter_torque=False)
+    obs, _ = env.reset(seed=0)
+    with pytest.raises(ValueError, match="driven"):
+        feats.push(Reading.of(obs, limits))  # the reset window has no DC torque
+    bad = obs.copy()
+    bad[OBSERVATION_NAMES.index("dc_torque")] = 0.01
+    bad[OBSERVATION_NAMES.index("phase_lag")] = np.nan
+    feats.push(Reading.of(bad, limits))
+    v = feats.vector()
+    assert v.shape == (len(FEATURE_NAMES),) and np.all(np.isfinite(v))
+
+
+def test_peak_gap_is_exact_on_a_quadratic_peak():
+    """On mu(s) = mu_p - a (s_p - s)^2 with the phase of Eq. 3 (cot(phase) proportional to the slope
+    d mu / d s over the frequency), two windows extrapolate the peak exactly (up to rounding): the
+    quadratic-peak law the feature is built on. Off the peak law, a falling CoA gives 0 and a slope that
+    did not fall gives the clip."""
+    mu_p, a, s_p, scale = 0.3, 400.0, 0.01, 0.5
+
+    def reading(s: float, frequency: float) -> Reading:
+        slope = 2.0 * a * (s_p - s)
+        phase = math.degrees(math.atan2(frequency * scale, slope))  # cot(phase) = slope / (f scale)
+        return Reading(phase, 0.1, 0.5, mu_p - a * (s_p - s) ** 2, s, 1000.0, 50.0, frequency, 20.0, 1.0)
+
+    for s1, s2, f1, f2 in ((0.004, 0.006, 5.0, 5.0), (0.002, 0.008, 5.0, 7.0), (0.007, 0.0095, 3.0, 3.0)):
+        windows = [reading(s1, f1), reading(s2, f2)]
+        assert 1.0 < windows[1].phase_deg < 89.0
+        expected = math.log(mu_p / windows[1].coa)
+        assert peak_gap(windows, 1, 0, slope_from_phase) == pytest.approx(expected, rel=1e-9)
+    past = [reading(0.006, 5.0), reading(0.006, 5.0)]
+    assert peak_gap(past, 1, 0, slope_from_phase) == 0.0
+    linear = [reading(0.004, 5.0), replace(reading(0.004, 5.0), coa=0.29)]
+    assert peak_gap(linear, 1, 0, slope_from_phase) == PEAK_GAP_CLIP
+
+
+def _readings(creepages, coas):
+    return [Reading(20.0 + 5 * k, 0.5, 0.5, coa, s, 1000.0 * (1 + k), 400.0 * (1 + k), 5.0, 20.0, 1.0)
+            for k, (s, coa) in enumerate(zip(creepages, coas))]
+
+
+def test_creepage_rise_block_is_offset_free_and_reads_the_rise():
+    """The creepage_rise block: ln of the rise since the first window, of the rise per CoA rise and of
+    the last step's rise; a constant creepage offset (a speed-sensor bias) changes none of them."""
+    creepages, coas = [0.001, 0.003, 0.006], [0.1, 0.15, 0.2]
+    feats = EpisodeFeatures(False, blocks=("creepage_rise",))
+    shifted = EpisodeFeatures(False, blocks=("creepage_rise",))
+    for a, b in zip(_readings(creepages, coas), _readings([s + 0.013 for s in creepages], coas)):
+        feats.push(a)
+        shifted.push(b)
+    v, w = feats.vector(), shifted.vector()
+    n = len(FEATURE_NAMES)
+    assert v.shape == (len(feature_names(("creepage_rise",))),) == (n + len(CREEPAGE_RISE_FEATURE_NAMES),)
+    np.testing.assert_allclose(v[n:], [math.log(0.005), math.log(0.005 / 0.1), math.log(0.003)], rtol=1e-9)
+    np.testing.assert_allclose(v, w, rtol=0, atol=1e-12)  # differences of creepages: the offset cancels
+    falling = EpisodeFeatures(False, blocks=("creepage_rise",))
+    for r in _readings([0.004, 0.003], [0.1, 0.09]):
+        falling.push(r)
+    np.testing.assert_allclose(falling.vector()[n:], np.log(CREEPAGE_RISE_FLOORS))  # no rise: the floors
+
+
+def test_creepage_modulation_block_reads_the_tangent_flexibility_and_its_noise():
+    """The creepage_modulation block: the lag and SE of the measured creepage's modulation, ln of its
+    swing per relative torque modulation, ln of its swing per torque against the first and the previous
+    windows (a scale error of the creepage cancels in both ratios), the previous window's lag."""
+    def reading(k: int, swing: float, scale: float = 1.0) -> Reading:
+        return replace(_readings([0.001], [0.1])[0], dc_nm=1000.0 * (1 + k), amplitude_nm=400.0 * (1 + k),
+                       creepage_modulation=scale * swing, creepage_modulation_lag_deg=10.0 * (k + 1),
+                       creepage_modulation_se_deg=12.0)
+    swings = [1e-4, 3e-4, 1.2e-3]  # per 400, 800, 1200 N m of modulation
+    feats = EpisodeFeatures(False, blocks=("creepage_modulation",))
+    scaled = EpisodeFeatures(False, blocks=("creepage_modulation",))
+    for k, swing in enumerate(swings):
+        feats.push(reading(k, swing))
+        scaled.push(reading(k, swing, scale=1.02))
+    v, w = feats.vector(), scaled.vector()
+    n = len(FEATURE_NAMES)
+    assert v.shape == (n + len(CREEPAGE_MODULATION_FEATURE_NAMES),)
+    np.testing.assert_allclose(v[n:], [30.0 / 90.0, 12.0 / 30.0, math.log(1.2e-3 / 0.4),
+                                       math.log((1.2e-3 / 1200.0) / (1e-4 / 400.0)),
+                                       math.log((1.2e-3 / 1200.0) / (3e-4 / 800.0)), 20.0 / 90.0], rtol=1e-12)
+    np.testing.assert_allclose(w[n + 3:n + 5], v[n + 3:n + 5], rtol=0, atol=1e-12)  # the scale error cancels
+
+
+def test_cycle_crest_block_reads_the_crests_lift_its_clipping_and_the_climbs_best_bound():
+    """The cycle_crest block: ln of the crest over the mean CoA and of the mean over the trough, their ratio
+    (0 for a symmetric cycle, below 0 for a clipped crest), the crest's lift per lift of the torque's crest,
+    ln of the best crest bound so far over the CoA, a bin's SE over the CoA and the crest's step; ratios of
+    force readings, so a force gain cancels. A reading without the crest is refused, naming it."""
+    def reading(k: int, coa: float, crest: float, trough: float, gain: float = 1.0) -> Reading:
+        return replace(_readings([0.001], [0.1])[0], dc_nm=1000.0 * (1 + k), amplitude_nm=400.0 * (1 + k),
+                       coa=gain * coa, coa_cycle_max=gain * crest, coa_cycle_min=gain * trough,
+                       coa_cycle_bin_se=gain * 0.001)
+    windows = [(0.10, 0.13, 0.07), (0.20, 0.26, 0.14), (0.25, 0.28, 0.19)]  # the last one's crest clipped
+    feats, scaled = (EpisodeFeatures(False, blocks=("cycle_crest",)) for _ in range(2))
+    for k, (coa, crest, trough) in enumerate(windows):
+        feats.push(reading(k, coa, crest, trough))
+        scaled.push(reading(k, coa, crest, trough, gain=1.03))
+    v, w = feats.vector(), scaled.vector()
+    n = len(FEATURE_NAMES)
+    assert v.shape == (n + len(CYCLE_CREST_FEATURE_NAMES),)
+    lift, drop = math.log(0.28 / 0.25), math.log(0.25 / 0.19)
+    np.testing.assert_allclose(v[n:], [lift, drop, math.log(lift / drop), lift / math.log1p(0.4),
+                                       math.log((0.28 - 0.001) / 0.25), 0.001 / 0.25, math.log(0.28 / 0.26)],
+                               rtol=1e-12)
+    assert v[n + 2] < 0.0  # the clipped crest lifts less than the trough drops
+    np.testing.assert_allclose(w[n:], v[n:], rtol=0, atol=1e-12)
+    with pytest.raises(ValueError, match="coa_cycle_max"):
+        EpisodeFeatures(False, blocks=("cycle_crest",)).push(reading(0, 0.1, 0.0, 0.0))
+
+
+def test_feature_blocks_name_themselves_in_the_networks_file(tmp_path):
+    for blocks in ((), ("tone2",), ("creepage_rise",), ("tone2", "creepage_rise"), ("creepage_modulation",),
+                   ("tone2", "creepage_rise", "creepage_modulation"), ("cycle_crest",),
+                   ("creepage_modulation", "cycle_crest")):
+        assert blocks_of(feature_names(blocks)) == blocks
+    assert feature_names(("creepage_rise", "tone2")) == feature_names(("tone2", "creepage_rise"))  # one order
+    with pytest.raises(ValueError, match="feature blocks must be among"):
+        feature_names(("harmonics",))
+    with pytest.raises(ValueError, match="tone2 follows the data"):
+        FitSettings(features=("tone2",)).blocks(None)
+    data = collect(cof_gym.WAGON_ENV_ID, [{}], 4, first_seed=2_000_500)
+    member = fit_member(data, seed=0, settings=FitSettings(hidden=(8,), epochs=3, features=("creepage_rise",)))
+    member.save(tmp_path / "member_0.npz")
+    loaded = FilterNetwork.load(tmp_path / "member_0.npz")
+    assert loaded.blocks == ("creepage_rise",) and loaded.tones == 1
+    agent = LearnedInterrogator(gym.make(cof_gym.WAGON_ENV_ID).unwrapped.limits, FilterEnsemble((loaded,)))
+    actions, info = play(agent, 7)
+    assert agent.features.blocks == ("creepage_rise",) and np.all(np.isfinite(actions))
+
+
+def test_the_lockin_noise_reading_follows_the_sensors_noise(env):
+    """Reading.lockin_noise_nms (the phase SE times the response amplitude) of one episode's first window,
+    driven alike at every noise level, is the fit's residual: in proportion to the sensors' noise level (the
+    same noise samples, scaled), and without noise only what a sine does not fit (under 2 % of level 1's)."""
+    agent = LearnedInterrogator(env.unwrapped.limits, FilterEnsemble((random_network(5),)))
+    noise = {}
+    for level in (0.0, 1.0, 2.0):
+        run_episode(env, agent, 8, {"noise_level": level}, 0)
+        noise[level] = agent.features.readings[0].lockin_noise_nms
+    assert noise[1.0] > 0.0 and noise[0.0] < 0.02 * noise[1.0]
+    assert noise[2.0] / noise[1.0] == pytest.approx(2.0, rel=0.03)  # the level-0 residual adds in quadrature
+
+
+def test_the_noise_ratio_is_the_median_of_the_first_windows_over_the_reference():
+    def noisy(se_deg: float) -> Reading:
+        return replace(window_reading(10.0, se_deg), compliance=0.2)  # noise: rad(se) x 0.2 x 1600 N m / (2 pi 5 Hz)
+
+    readings = [noisy(se) for se in (2.0, 8.0, 4.0, 30.0)]  # the fourth window is past NOISE_WINDOWS
+    noise = [r.lockin_noise_nms for r in readings]
+    assert noise[0] == pytest.approx(math.radians(2.0) * 0.2 * 1600.0 / (2.0 * math.pi * 5.0), rel=1e-12)
+    params = ClimbParameters(noise_reference_nms=noise[0])
+    assert params.noise_ratio(readings) == pytest.approx(2.0, rel=1e-12)  # the median 4 deg over 2 deg
+    assert params.noise_ratio(readings[:2]) == pytest.approx(2.5, rel=1e-12)  # the mean of two
+    assert ClimbParameters(noise_reference_nms=noise[3]).noise_ratio(readings) == 1.0  # never below 1
+    assert ClimbParameters().noise_ratio(readings) == 1.0 and params.noise_ratio([]) == 1.0
+
+
+def test_the_reported_standard_error_reads_noise_the_clip_hides():
+    window = replace(window_reading(10.0, SE_CLIP_DEG), compliance=0.2)  # the filter's clip: 30 deg
+    scale = 0.2 * 1600.0 / (2.0 * math.pi * 5.0)  # the response amplitude, N m s per rad
+    readings = [replace(window, se_reported_deg=se) for se in (60.0, 90.0, 20.0)]
+    assert [r.lockin_noise_nms for r in readings] == pytest.approx([math.radians(30.0) * scale] * 3, rel=1e-12)
+    assert [r.lockin_noise_reported_nms for r in readings] == pytest.approx(
+        [math.radians(se) * scale for se in (60.0, 90.0, 20.0)], rel=1e-12)
+    assert window.lockin_noise_reported_nms == window.lockin_noise_nms  # not read (0): the clipped one
+    reference = math.radians(30.0) * scale
+    assert ClimbParameters(noise_reference_nms=reference).noise_ratio(readings) == 1.0  # clipped: 30 / 30
+    reported = ClimbParameters(noise_reference_nms=reference, noise_se_reported=True)
+    assert reported.noise_ratio(readings) == pytest.approx(2.0, rel=1e-12)  # the median 60 deg over 30 deg
+    with pytest.raises(ValueError, match="noise_se_reported"):
+        ClimbParameters(noise_se_reported=1)
+
+
+def test_a_window_observation_keeps_the_lock_ins_standard_error_up_to_its_no_information_value():
+    limits = gym.make(cof_gym.WAGON_ENV_ID).unwrapped.limits
+    observation = np.zeros(len(OBSERVATION_NAMES))
+    observation[[OBSERVATION_NAMES.index("amplitude"), OBSERVATION_NAMES.index("frequency")]] = 0.1, 0.25
+    for se_deg, clipped, reported in ((10.0, 10.0, 10.0), (45.0, SE_CLIP_DEG, 45.0), (400.0, SE_CLIP_DEG, 180.0)):
+        observation[OBSERVATION_NAMES.index("phase_lag_se")] = se_deg / 90.0
+        reading = Reading.of(observation, limits)
+        assert (reading.se_deg, reading.se_reported_deg) == pytest.approx((clipped, reported), rel=1e-12)

@@ -1,0 +1,210 @@
+"""The learned interrogator's training climbs and fits (cof_gym/agents/interrogator/training.py): steered by their
+readings, never by the truth; procedural shapes; noisy, floor-jump and crest-shrink draws."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import astuple
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import cof_gym
+from cof_gym.agents.interrogator import (
+    CREST_RATIO_FLOOR, FEATURE_NAMES, SHIPPED_INTERROGATOR, FilterEnsemble, FilterNetwork, LearnedInterrogator,
+    Reading, floor_headroom, interrogator_for,
+)
+from cof_gym.agents.interrogator.training import (
+    GENTLE_FALL, PROCEDURAL_PEAK_CREEPAGE, READING_FIELDS, STEEP_FALL, ClimbDraws, FallingBranch, FitSettings,
+    _climb_episode, collect, fit_member, procedural_shape,
+)
+from cof_gym.physics.creep_laws import creep_law_from_spec
+from cof_gym.agents.base import agent_view
+from fixed_options import FixedOptions
+
+def test_training_data_and_fit_learn_the_headroom():
+    """A few climbs, then a member fitted on them predicts the headroom ln(M_sat / DC) of those windows
+    better than the best constant (their mean) does: the features carry information and the fit finds it."""
+    data = collect(cof_gym.WAGON_ENV_ID, [{}, {"counter_torque": True}], 16, first_seed=2_000_000)
+    assert data.features.shape[1] == len(FEATURE_NAMES) and len(data) >= 30
+    assert np.all(np.isfinite(data.features)) and np.all(np.isfinite(data.targets))
+    member = fit_member(data, seed=0, settings=FitSettings(hidden=(16,), epochs=100, batch_size=32))
+    mean, _ = member(data.features)
+    residual = np.mean((mean[:, 0] - data.targets[:, 0]) ** 2)
+    assert residual < np.var(data.targets[:, 0])
+    again = fit_member(data, seed=0, settings=FitSettings(hidden=(16,), epochs=100, batch_size=32))
+    np.testing.assert_array_equal(again(data.features)[0], mean)  # seeded fits reproduce
+
+
+class _ScrambledTruth(gym.Wrapper):
+    """The same env, with its ground truth doubled in ``info`` and its actions recorded."""
+
+    def __init__(self, env):
+        super().__init__(env)
+        self.actions: list[np.ndarray] = []
+
+    def _scramble(self, info):
+        info["ground_truth"] = {**info["ground_truth"], "cof": 2 * info["ground_truth"]["cof"],
+                                "saturation_torque_nm": 2 * info["ground_truth"]["saturation_torque_nm"]}
+        return info
+
+    def reset(self, **kwargs):
+        obs, info = self.env.reset(**kwargs)
+        return obs, self._scramble(info)
+
+    def step(self, action):
+        self.actions.append(np.asarray(action).copy())
+        obs, reward, terminated, truncated, info = self.env.step(action)
+        return obs, reward, terminated, truncated, self._scramble(info)
+
+
+def test_training_climbs_are_steered_by_readings_not_by_the_truth():
+    """A truth-steered schedule would leak the labels into the torque-step features: the training
+    climb's actions are the same whatever the ground truth says (up to where it ends the climb)."""
+    plain, scrambled = _ScrambledTruth(gym.make(cof_gym.WAGON_ENV_ID)), _ScrambledTruth(gym.make(cof_gym.WAGON_ENV_ID))
+    plain._scramble = lambda info: info
+    for seed in (2_000_100, 2_000_101):
+        plain.actions.clear()
+        scrambled.actions.clear()
+        _climb_episode(plain, seed)
+        labels = _climb_episode(scrambled, seed)[1]
+        n = min(len(plain.actions), len(scrambled.actions))
+        assert n >= 3
+        np.testing.assert_array_equal(np.asarray(plain.actions[:n]), np.asarray(scrambled.actions[:n]))
+        assert labels[0][0] > 0.0
+
+
+def test_on_policy_climbs_are_the_deployed_interrogators_own_with_the_truths_labels():
+    """``collect(..., policy=DIR)`` records the interrogator of DIR acting as it is deployed: the same
+    readings window by window as the agent played by hand on the same episodes (it never sees the truth),
+    each labelled ``ln(M_sat / DC)`` and ``ln(CoF / CoA)`` from the episode's truth."""
+    seeds = (2_000_700, 2_000_701)
+    data = collect(cof_gym.WAGON_ENV_ID, [{}], len(seeds), first_seed=seeds[0], policy=str(SHIPPED_INTERROGATOR))
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    agent = interrogator_for(env, SHIPPED_INTERROGATOR)
+    for k, seed in enumerate(seeds):
+        obs, info = env.reset(seed=seed)
+        truth = info["ground_truth"]
+        agent.reset(obs, agent_view(info, oracle=False))
+        readings, labels = [], []
+        while True:
+            action = agent.act(obs, agent_view(info, oracle=False))
+            dc = agent.dc_nm
+            obs, _, terminated, truncated, info = env.step(action)
+            readings.append(astuple(Reading.of(obs, env.unwrapped.limits, info)))
+            labels.append((math.log(truth["saturation_torque_nm"] / dc), math.log(truth["cof"] / readings[-1][READING_FIELDS.index("coa")])))
+            if terminated or truncated:
+                break
+        rows = data.episode == k
+        assert rows.sum() == len(readings) >= 3
+        np.testing.assert_array_equal(data.readings[rows], np.asarray(readings))
+        np.testing.assert_allclose(data.targets[rows], np.asarray(labels), rtol=1e-12)
+
+
+def test_procedural_shapes_are_valid_creep_laws_with_their_peak_where_drawn():
+    """Every procedural curve is a table the env accepts (rising strictly to exactly 1, then anything
+    in [0, 1]), peaks at a creepage in PROCEDURAL_PEAK_CREEPAGE and reproduces from its seed."""
+    for seed in range(200):
+        spec = procedural_shape(np.random.default_rng([seed, 11]))
+        shape = creep_law_from_spec(spec)
+        creepage, ratio = np.asarray(shape.creepage), np.asarray(shape.adhesion_ratio)
+        lo, hi = PROCEDURAL_PEAK_CREEPAGE
+        assert lo <= creepage[shape.peak_index] <= hi
+        assert np.all(ratio[shape.peak_index:] <= 1.0) and np.all(ratio >= 0.0)
+        assert spec == procedural_shape(np.random.default_rng([seed, 11]))
+
+
+def test_steep_procedural_shapes_fall_as_drawn_and_the_default_draws_are_unchanged():
+    """STEEP_FALL curves are valid tables that lose 20-60 % of the peak adhesion, most of it within
+    0.3 peak creepages of the peak (a decay length <= 0.3); GENTLE_FALL is the default draw."""
+    for seed in range(100):
+        spec = procedural_shape(np.random.default_rng([seed, 13]), STEEP_FALL)
+        shape = creep_law_from_spec(spec)
+        x = np.asarray(shape.creepage) / shape.creepage[shape.peak_index]
+        ratio = np.asarray(shape.adhesion_ratio)
+        assert 0.4 - 1e-3 <= ratio[-1] <= 0.8 + 1e-3  # x = 4: exp(-3 / 0.3) of the drop is left
+        assert ratio[x >= 1.3][0] <= 1.0 - 0.2 * (1.0 - math.exp(-1.0))  # past one decay length
+        assert procedural_shape(np.random.default_rng([seed, 11]), GENTLE_FALL) == procedural_shape(
+            np.random.default_rng([seed, 11]))
+    with pytest.raises(ValueError, match="FallingBranch.drops"):
+        FallingBranch(drops=(0.5, 0.2))
+
+
+def test_floor_jump_training_climbs_take_the_floor_step():
+    """A collection with floor_margins takes the floor step when it is the larger (at a high CoF its
+    second window lands within the largest margin of the floor); without it, the same first window."""
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    options = {"condition": "dry", "cof": 0.55, "load_case": "laden"}
+    jumped, _ = _climb_episode(FixedOptions(env, options), 2_000_200, ClimbDraws(floor_margins=(0.1, 0.5)))
+    plain, _ = _climb_episode(FixedOptions(env, options), 2_000_200)
+    assert jumped[0] == plain[0]
+    assert jumped[1].coa > plain[1].coa
+    assert floor_headroom(jumped[1].coa) < 0.5 + 0.05  # landed within the largest margin of the floor
+    with pytest.raises(ValueError, match="floor_margins"):
+        ClimbDraws(floor_margins=(0.5, 0.1))
+
+
+def test_crest_shrink_training_climbs_shrink_their_modulation_and_never_grow_it():
+    """With crest_powers the modulation ratio (amplitude / DC) falls as the slope falls and never rises
+    again, down to no less than CREST_RATIO_FLOOR; the first window is the plain climb's."""
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    options = {"condition": "wet", "cof": 0.12, "load_case": "empty"}  # the crest stays within the drive's range
+    draws = ClimbDraws(amplitude_ratios=(0.4, 0.4), crest_powers=(2.0, 2.0))
+    shrunk, _ = _climb_episode(FixedOptions(env, options), 2_000_300, draws)
+    plain, _ = _climb_episode(FixedOptions(env, options), 2_000_300, ClimbDraws(amplitude_ratios=(0.4, 0.4)))
+    assert shrunk[0] == plain[0]
+    # the readings come from the float32 observation: a ratio carries a relative error of a few 1.2e-7
+    ratios = np.array([r.amplitude_nm / r.dc_nm for r in shrunk])
+    assert np.all(np.diff(ratios) <= 1e-5) and ratios[-1] < 0.2 and ratios.min() >= CREST_RATIO_FLOOR * (1 - 1e-5)
+    assert [r.amplitude_nm / r.dc_nm for r in plain] == pytest.approx([0.4] * len(plain), rel=1e-5)
+    with pytest.raises(ValueError, match="crest_powers"):
+        ClimbDraws(crest_powers=(2.0, 0.5))
+
+
+def test_noisy_training_climbs_draw_the_sensors_noise_and_the_drives_lag_in_their_ranges():
+    """With noise_levels and motor_lags_s a training climb's episode plays a noise level and a motor lag drawn in
+    those ranges (from a generator of the seed's own, the same for the same seed), set as reset options that
+    the env plays (its ground truth says so); without them the reset leaves both to the env; ranges beyond
+    what the env accepts are refused naming the field."""
+    class Recorder(gym.Wrapper):
+        def reset(self, **kwargs):
+            self.options = kwargs.get("options")
+            obs, info = self.env.reset(**kwargs)
+            self.truth = info["ground_truth"]
+            return obs, info
+
+    draws = ClimbDraws(noise_levels=(2.0, 3.0), motor_lags_s=(0.05, 0.1))
+    env = Recorder(gym.make(cof_gym.WAGON_ENV_ID))
+    drawn = []
+    for seed in (2_000_500, 2_000_501, 2_000_500):
+        _climb_episode(env, seed, draws)
+        assert 2.0 <= env.options["noise_level"] <= 3.0 and 0.05 <= env.options["motor_lag_s"] <= 0.1
+        assert env.truth["noise_level"] == env.options["noise_level"]
+        drawn.append(env.options)
+    assert drawn[0] == drawn[2] != drawn[1]
+    _climb_episode(env, 2_000_500)
+    assert env.options is None and env.truth["noise_level"] <= 1.0
+    for field, bad in (("noise_levels", (0.0, 4.0)), ("motor_lags_s", (0.0, 0.2))):
+        with pytest.raises(ValueError, match=field):
+            ClimbDraws(**{field: bad})
+
+
+def test_training_climbs_record_the_cycle_crest_and_a_cycle_crest_filter_fits_on_them(tmp_path):
+    """Climbs collected now carry the CoA's cycle crest, trough and bin SE (read from info["measurement"]),
+    so a filter reading the cycle_crest block fits on them and plays."""
+    data = collect(cof_gym.WAGON_ENV_ID, [{}], 3, first_seed=2_000_700)
+    crest, trough, coa = (data.readings[:, READING_FIELDS.index(f)] for f in ("coa_cycle_max", "coa_cycle_min", "coa"))
+    assert (crest > coa).all() and (trough < coa).all() and (data.readings[:, READING_FIELDS.index("coa_cycle_bin_se")] > 0).all()
+    member = fit_member(data, seed=0, settings=FitSettings(hidden=(8,), epochs=2, features=("cycle_crest",)))
+    member.save(tmp_path / "member_0.npz")
+    loaded = FilterNetwork.load(tmp_path / "member_0.npz")
+    assert loaded.blocks == ("cycle_crest",)
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    agent = LearnedInterrogator(env.unwrapped.limits, FilterEnsemble((loaded,)))
+    obs, info = env.reset(seed=3)
+    agent.reset(obs, info)
+    for _ in range(3):
+        obs, _, terminated, truncated, info = env.step(agent.act(obs, info))
+        if terminated or truncated:
+            break
