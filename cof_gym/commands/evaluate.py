@@ -22,9 +22,7 @@ from cof_gym.agents.base import own_env_options
 from cof_gym.commands.evaluate_episodes import EpisodeRecord, run_episode
 from cof_gym.commands.evaluate_stats import COF_BANDS, summarize
 from cof_gym.commands.evaluate_tables import markdown_breakdown, markdown_table, print_table
-from cof_gym.commands.evaluate_workers import (
-    EPISODES_PER_WORKER, MAX_WORKERS, QUEUED_PER_WORKER, WORKER_MEMORY_BYTES, default_workers,
-)
+from cof_gym.commands.evaluate_workers import EPISODES_PER_WORKER, MAX_WORKERS, WORKER_MEMORY_BYTES, default_workers
 from cof_gym.commands.suites import MAX_EPISODES, Suite, SuiteError, make_suite, with_env_kwargs
 from cof_gym.envs.torque_interrogation import make_kwargs
 
@@ -43,6 +41,7 @@ info["ground_truth"]."""
 
 DEFAULT_OUT = Path("out") / "evaluate"
 OUTPUT_MARKER = "summary.json"  # what makes an existing --out directory a previous evaluate output
+QUEUED_PER_WORKER = 4  # episodes handed to the workers at a time, per worker (however long the suite)
 
 
 def default_out(suite: str, env_overrides: Mapping[str, Any] | None = None) -> Path:

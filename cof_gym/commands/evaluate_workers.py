@@ -11,7 +11,6 @@ from pathlib import Path
 # number of workers gives each at least this many
 EPISODES_PER_WORKER = 40
 MAX_WORKERS = 1024
-QUEUED_PER_WORKER = 4  # episodes handed to the workers at a time, per worker (however long the suite)
 WORKER_MEMORY_BYTES = 1 << 30  # memory a worker may take (measured: 0.41 GB resident with every default agent)
 
 

@@ -26,7 +26,7 @@ from __future__ import annotations
 import argparse
 import json
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Callable, Iterator
 
@@ -140,8 +140,6 @@ def with_env_kwargs(suite: Suite, overrides: dict[str, Any]) -> Suite:
     """``suite`` with the env constructor arguments ``overrides`` over its own (``cof-gym evaluate --env-kwargs``), its
     name saying so; :class:`SuiteError` where one would change the agents' interface or cut episodes short (as a
     suite file's ``env_kwargs``)."""
-    from dataclasses import replace
-
     env_kwargs = {**suite.env_kwargs, **overrides}
     _check_interface(suite.env_id, env_kwargs, "")
     shown = " ".join(f"{k}={json.dumps(v)}" for k, v in overrides.items())
