@@ -213,3 +213,35 @@ def test_a_window_observation_keeps_the_lock_ins_standard_error_up_to_its_no_inf
         observation[OBSERVATION_NAMES.index("phase_lag_se")] = se_deg / 90.0
         reading = Reading.of(observation, limits)
         assert (reading.se_deg, reading.se_reported_deg) == pytest.approx((clipped, reported), rel=1e-12)
+
+
+def test_the_noise_read_at_the_measured_torque_leaves_out_the_drives_lag(env):
+    """With ``measured_torque`` the noise reading's response amplitude is the compliance times the torque the
+    drive measured: the inertia times the measured speed amplitude. A first-order drive lag of 0.1 s passes
+    1 / sqrt(1 + (2 pi x 5 Hz x 0.1 s)^2) = 0.30 of the commanded modulation, so the commanded reading of the
+    same window (same seed, same noise samples) grows about 3.3-fold with it while the measured one stays within
+    the 2 % the fit leaves without noise (test above) plus what the lag changes in the wheel's response."""
+    agent = LearnedInterrogator(env.unwrapped.limits, FilterEnsemble((random_network(5),)))
+    read = {}
+    for lag in (0.0, 0.1):
+        run_episode(env, agent, 8, {"noise_level": 1.0, "motor_lag_s": lag}, 0)
+        first = agent.features.readings[0]
+        assert first.torque_amplitude_measured_nm > 0.0
+        read[lag] = first.lockin_noise(), first.lockin_noise(measured_torque=True)
+    attenuation = 1.0 / math.sqrt(1.0 + (2.0 * math.pi * 5.0 * 0.1) ** 2)
+    assert read[0.1][0] / read[0.0][0] > 0.8 / attenuation
+    assert read[0.1][1] / read[0.0][1] == pytest.approx(1.0, abs=0.1)
+
+
+def test_the_noise_ratio_can_read_the_torque_the_drive_measured():
+    window = replace(window_reading(10.0, 8.0), compliance=0.2, se_reported_deg=16.0)
+    halved = replace(window, torque_amplitude_measured_nm=window.amplitude_nm / 2.0)
+    assert halved.lockin_noise(measured_torque=True) == pytest.approx(window.lockin_noise_nms / 2.0, rel=1e-12)
+    assert halved.lockin_noise(True, True) == pytest.approx(window.lockin_noise_reported_nms / 2.0, rel=1e-12)
+    assert window.lockin_noise(measured_torque=True) == window.lockin_noise_nms  # not read (0): the commanded one
+    reference = halved.lockin_noise(measured_torque=True) / 2.0
+    assert ClimbParameters(noise_reference_nms=reference).noise_ratio([halved]) == pytest.approx(4.0, rel=1e-12)
+    measured = ClimbParameters(noise_reference_nms=reference, noise_torque_measured=True)
+    assert measured.noise_ratio([halved]) == pytest.approx(2.0, rel=1e-12)
+    with pytest.raises(ValueError, match="noise_torque_measured"):
+        ClimbParameters(noise_torque_measured=1)

@@ -92,6 +92,7 @@ class ClimbParameters:
     noise_caution_exponent: float = 0.0  # ... its cautions scale as (noise ratio) ** -this
     noise_creep_exponent: float = 0.0  # ... and creep_while_std as (noise ratio) ** this
     noise_se_reported: bool = False  # the noise reading from the lock-in's reported SE (lockin_noise_reported_nms)
+    noise_torque_measured: bool = False  # ... at the torque amplitude the drive measured (Reading.lockin_noise)
     # not None: a headroom stop is deferred by a slow-probe step while the lag has risen this much (deg) since the
     # first driven window and the crest still rises (probes_on)
     crest_probe_lag_rise_deg: float | None = None
@@ -117,7 +118,8 @@ class ClimbParameters:
             if getattr(self, name) is not None:
                 check_number(name, getattr(self, name), low, math.inf)
         for name in ("creep_sticky", "crest_once_crept", "crest_floor", "runaway_estimate", "crest_ceiling",
-                     "ceiling_stop", "noise_se_reported", "crest_probe_hold_crest"):
+                     "ceiling_stop", "noise_se_reported", "noise_torque_measured",
+                     "crest_probe_hold_crest"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"{name} must be true or false, got {getattr(self, name)!r}")
         if self.tone2_frequency_hz is not None:
@@ -171,11 +173,13 @@ class ClimbParameters:
     def noise_ratio(self, readings: list["Reading"]) -> float:
         """How far the noise read over the climb's first :data:`NOISE_WINDOWS` driven ``readings`` (the median
         of their :attr:`Reading.lockin_noise_nms`, or with ``noise_se_reported`` their
-        :attr:`Reading.lockin_noise_reported_nms`) is above ``noise_reference_nms``: that ratio, at least 1;
+        :attr:`Reading.lockin_noise_reported_nms`, with ``noise_torque_measured`` read at the torque amplitude the
+        drive measured: :meth:`Reading.lockin_noise`) is above ``noise_reference_nms``: that ratio, at least 1;
         1 without a reference or a reading."""
         if self.noise_reference_nms is None or not readings:
             return 1.0
-        return max(1.0, first_windows_noise_nms(readings, self.noise_se_reported) / self.noise_reference_nms)
+        noise = first_windows_noise_nms(readings, self.noise_se_reported, self.noise_torque_measured)
+        return max(1.0, noise / self.noise_reference_nms)
 
     def at_noise(self, ratio: float) -> "ClimbParameters":
         """The climb at a read noise ``ratio`` times the reference (:meth:`noise_ratio`): ``caution`` and every

@@ -77,6 +77,9 @@ class Reading:
     coa_cycle_min: float = 0.0  # the trough of that synchronous average
     # the lag's standard error as the lock-in reports it (deg, up to 180: not clipped at SE_CLIP_DEG; 0: not read)
     se_reported_deg: float = 0.0
+    # the modulation's amplitude the drive's torque reading measured (N m, the torque gain error included; 0: not
+    # read): what the drive applied, a lag's attenuation included, where ``amplitude_nm`` is what it was asked for
+    torque_amplitude_measured_nm: float = 0.0
 
     @property
     def crest_bound(self) -> float:
@@ -93,8 +96,9 @@ class Reading:
         ``sqrt(2 / samples)`` (IEEE Std 1057), so this is ``I x sigma_w x sqrt(2 / samples)``: it follows the
         speed sensor's noise ``sigma_w`` and not the operating point. ``amplitude`` is the commanded modulation:
         a drive that applies less of it (a lag) reads as that much more noise, as the fit's signal-to-noise ratio
-        has it. A clipped standard error reads low (:attr:`lockin_noise_reported_nms` does not clip it)."""
-        return self._noise_at(self.se_deg)
+        has it (:meth:`lockin_noise` can read it from the applied amplitude instead). A clipped standard error
+        reads low (:attr:`lockin_noise_reported_nms` does not clip it)."""
+        return self.lockin_noise()
 
     @property
     def lockin_noise_reported_nms(self) -> float:
@@ -102,11 +106,19 @@ class Reading:
         180 deg) rather than the filter's clipped one: ``sigma_w sqrt(2 / samples)`` over the fitted amplitude
         times that amplitude, so a window whose fit is poor reads its noise as well as one whose fit is good
         (from the clipped one where it was not read)."""
-        return self._noise_at(self.se_reported_deg if self.se_reported_deg > 0.0 else self.se_deg)
+        return self.lockin_noise(reported=True)
 
-    def _noise_at(self, se_deg: float) -> float:
-        """The lock-in noise (N m s) of this window's response amplitude at a phase standard error ``se_deg``."""
-        return math.radians(se_deg) * self.compliance * self.amplitude_nm / (2.0 * math.pi * self.frequency_hz)
+    def lockin_noise(self, reported: bool = False, measured_torque: bool = False) -> float:
+        """The lock-in noise (N m s): :attr:`lockin_noise_nms`, or with ``reported``
+        :attr:`lockin_noise_reported_nms`; with ``measured_torque`` the response amplitude from the torque the
+        drive measured (:attr:`torque_amplitude_measured_nm`, where read) rather than the commanded one. The
+        compliance is the speed amplitude over that same measured torque amplitude (times ``I w``), so the
+        response is then the wheelset's inertia times its measured speed amplitude exactly: neither a drive lag
+        nor the torque gain error changes the reading, only the speed sensor's noise does."""
+        se_deg = self.se_reported_deg if reported and self.se_reported_deg > 0.0 else self.se_deg
+        measured = measured_torque and self.torque_amplitude_measured_nm > 0.0
+        amplitude_nm = self.torque_amplitude_measured_nm if measured else self.amplitude_nm
+        return math.radians(se_deg) * self.compliance * amplitude_nm / (2.0 * math.pi * self.frequency_hz)
 
     @classmethod
     def of(cls, observation: np.ndarray, limits: MotorLimits, info: Mapping[str, Any] | None = None) -> "Reading":
@@ -132,6 +144,8 @@ class Reading:
                          creepage_modulation_se_deg=float(_se_clipped(measurement["creepage_modulation_lag_se_deg"])))
         if "coa_cycle_max" in measurement:  # the same names as the sensor fields
             tone2.update({name: float(measurement[name]) for name in COA_CYCLE_FIELDS})
+        if "torque_amplitude_nm" in measurement:
+            tone2["torque_amplitude_measured_nm"] = float(measurement["torque_amplitude_nm"])
         return cls(
             phase_deg=float(o[_INDEX["phase_lag"]] * 90.0),
             se_deg=float(_se_clipped(se_deg)),
@@ -153,8 +167,8 @@ class Reading:
                        compliance=self.tone2_compliance, frequency_hz=self.tone2_frequency_hz)
 
 
-def first_windows_noise_nms(readings: list[Reading], reported: bool = False) -> float:
+def first_windows_noise_nms(readings: list[Reading], reported: bool = False, measured_torque: bool = False) -> float:
     """The noise a climb reads from its first :data:`NOISE_WINDOWS` driven ``readings`` (N m s): the median of their
-    :attr:`Reading.lockin_noise_nms`, or with ``reported`` of their :attr:`Reading.lockin_noise_reported_nms`."""
-    return float(np.median([r.lockin_noise_reported_nms if reported else r.lockin_noise_nms
-                            for r in readings[:NOISE_WINDOWS]]))
+    :meth:`Reading.lockin_noise` (with ``reported`` from the lock-in's reported standard errors, with
+    ``measured_torque`` at the torque amplitude the drive measured)."""
+    return float(np.median([r.lockin_noise(reported, measured_torque) for r in readings[:NOISE_WINDOWS]]))
