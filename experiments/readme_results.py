@@ -506,6 +506,11 @@ generated, never typed:
     python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.2 0.3 0.4 --crest-fractions 0.25 0.5 \
         --stops --return-digits 4 --records out/records_rule61_validation.json \
         --out out/crest_tradeoff_rule61_validation.md   # rule 61
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
+        --set noise_torque_measured=false noise_torque_measured=true --records out/records_rule62_validation.json \
+        --out out/crest_tradeoff_rule62_validation.md   # rule 62; --scenario motor_lag_s=0.1 (_lag01)
+    python experiments/paired_comparison.py out/records_rule62_validation.json --baseline "noise_torque_measured \
+        False, caution 2, target 0.1, guards ${G/ /, }" --out out/paired_rule62_validation.md   # and _lag01
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -710,6 +715,10 @@ SOURCES = {
         "crest_tradeoff_rule60_confirmation19",
         "paired_rule60_confirmation19",
         "crest_tradeoff_rule61_validation",
+        "crest_tradeoff_rule62_validation",
+        "crest_tradeoff_rule62_validation_lag01",
+        "paired_rule62_validation",
+        "paired_rule62_validation_lag01",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about
