@@ -21,7 +21,7 @@ from cof_gym.agents.interrogator import (
 from cof_gym.commands.evaluate_episodes import run_episode
 from cof_gym.agents.base import agent_view
 from cof_gym.agents.runaway import CrestCeiling, RunawayBracket
-from cof_gym.task.interface import decode_action
+from cof_gym.task.interface import MotorLimits, decode_action
 from exact_sensors import QUIET
 from interrogator_helpers import SHIPPED, window_reading, constant_network, play, random_network
 
@@ -583,3 +583,54 @@ def test_a_held_crest_probe_never_commands_a_crest_above_the_one_it_started_unde
     later = held[start + 1:]
     assert later and all(c <= crest * (1 + 1e-6) for _, c in later)  # float32 actions: a few epsilons
     assert all(b[0] > a[0] for a, b in zip(held[start:], later[:-1]))  # the DC rises under it (the last: the stop's)
+
+
+def test_the_modulation_raise_makes_up_a_lag_below_the_floor():
+    assert ClimbParameters().modulation_raise([0.3, 0.3]) == 1.0  # no floor: never raised
+    lagging = ClimbParameters(lag_floor=0.6)
+    assert lagging.modulation_raise([]) == 1.0  # nothing measured yet
+    assert lagging.modulation_raise([0.29, 0.3, 0.5]) == pytest.approx(2.0, rel=1e-12)  # the median 0.3
+    assert lagging.modulation_raise([0.7, 0.95]) == 1.0  # above the floor: as commanded
+    limits = MotorLimits(max_dc_torque_nm=20_000.0)
+    lagging = replace(lagging, amplitude_ratio=0.4)
+    assert lagging.commanded_amplitude(2000.0, limits, raise_by=2.0) == pytest.approx(1600.0, rel=1e-12)
+    assert lagging.commanded_amplitude(6000.0, limits, raise_by=2.0) == limits.max_amplitude_nm  # the drive's most
+    for bad in (0.0, 1.5, True):
+        with pytest.raises(ValueError, match="lag_floor"):
+            ClimbParameters(lag_floor=bad)
+    with pytest.raises(ValueError, match="two-tone climb has no lag_floor"):
+        ClimbParameters(lag_floor=0.6, tone2_frequency_hz=7.0)
+
+
+@pytest.mark.skipif(not SHIPPED, reason="no shipped interrogator")
+def test_a_raised_command_applies_the_floors_fraction_of_the_climbs_modulation():
+    """With a 0.1 s drive lag the drive applies 0.30 of a 5 Hz modulation (first-order gain); with ``lag_floor``
+    0.65 the climb raises every command after its first driven window (but the stop's, which is not read) by 0.65
+    over the median applied fraction
+    so far, so each window's measured over its planned modulation is 0.65 times that window's fraction over the
+    median (the fractions of one climb agree to a few per cent: the lag's transient after each DC step), and
+    the readings describe the planned modulation. At the draws' lags (at most 0.03 s: 0.73) nothing changes."""
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    floor = replace(manifest_climb(SHIPPED_INTERROGATOR), lag_floor=0.65)
+    agent = interrogator_for(env, SHIPPED_INTERROGATOR, params=floor)
+    obs, info = env.reset(seed=5, options={"motor_lag_s": 0.1})
+    agent.reset(obs, info)
+    limits = env.unwrapped.limits
+    planned, commanded, measured = [], [], []
+    while True:
+        action = agent.act(obs, info)
+        planned.append(floor.amplitude(agent.dc_nm, limits, agent._ratio))
+        commanded.append(decode_action(action, limits).drive.amplitude_nm)
+        obs, _, terminated, truncated, info = env.step(action)
+        measured.append(info["measurement"]["torque_amplitude_nm"])
+        if terminated or truncated:
+            break
+    applied = np.array(measured) / np.array(planned)
+    assert applied[0] < 0.35  # the first window as commanded: the lag's 0.30 (and the torque gain error)
+    capped = np.array(commanded) >= limits.max_amplitude_nm * (1.0 - 1e-6)  # the drive's most: raised less
+    raised = ~capped[1:-1]  # the windows after the first, but the stop's (its command is not raised)
+    assert np.all(np.abs(applied[1:-1][raised] / 0.65 - 1.0) < 0.1) and raised.sum() >= 3
+    readings = agent.features.readings
+    assert [r.amplitude_nm for r in readings] == pytest.approx(planned[:len(readings)], rel=1e-6)
+    shipped = interrogator_for(env, SHIPPED_INTERROGATOR)
+    assert np.array_equal(play(agent, 6)[0], play(shipped, 6)[0])  # the draws' lag: the same climb

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Iterable, Mapping
 
@@ -74,6 +74,8 @@ class LearnedInterrogator:
     _ratio: float | None = None  # the modulation ratio of the next window (None: the climb's amplitude_ratio)
     _held_crest: float | None = None  # the torque crest the probe holds (N m; crest_probe_hold_crest)
     _frequency: float | None = None  # the episode's modulation frequency (Hz), from the first observation's speed
+    _applied_fractions: list[float] = field(default_factory=list, repr=False)  # measured / commanded modulation
+    _raised_by: float = 1.0  # the commanded modulation of the window the last action drives over the climb's
     _bracket: RunawayBracket = field(default_factory=RunawayBracket, repr=False)
     _ceiling: CrestCeiling = field(default_factory=CrestCeiling, repr=False)
     _runaway: float | None = None  # what a runaway in the coming window would report (None: a stop, or no crest yet)
@@ -148,6 +150,8 @@ class LearnedInterrogator:
         self._ratio = None
         self._held_crest = None
         self._frequency = None
+        self._applied_fractions = []
+        self._raised_by = 1.0
         self._best_coa = 0.0
         self._bracket = RunawayBracket()
         self._ceiling = CrestCeiling(fall_z=self.params.ceiling_fall_z)
@@ -215,7 +219,7 @@ class LearnedInterrogator:
         stop = False
         if self._dc > 0.0:
             self._driven += 1
-            reading = Reading.of(observation, self.limits, info)
+            reading = self._reading(observation, info)
             previous = self.features.readings[-1] if self.features.readings else None
             falling = previous is not None and coa_fell(reading.coa, previous.coa)
             knee = previous is not None and p.knee_stops(reading, previous, self._driven, self._crept)
@@ -274,7 +278,21 @@ class LearnedInterrogator:
             self._dc = self.climb.first_dc(self.limits)
             self._frequency = p.frequency_at(Reading.of(observation, self.limits, info).speed_m_s, self.limits)
         estimate = min(max(self._estimate, self.limits.min_cof_estimate), self.limits.max_cof_estimate)
-        return p.action(self._dc, estimate, stop, self.limits, self._ratio, self._frequency)
+        raise_by = 1.0 if stop else p.modulation_raise(self._applied_fractions)
+        self._raised_by = p.commanded_amplitude(self._dc, self.limits, self._ratio, raise_by) / p.amplitude(
+            self._dc, self.limits, self._ratio)
+        return p.action(self._dc, estimate, stop, self.limits, self._ratio, self._frequency, raise_by)
+
+    def _reading(self, observation: np.ndarray, info: dict[str, Any]) -> Reading:
+        """The driven window's reading, its applied fraction of the commanded modulation kept (where the torque's
+        amplitude was measured) and, where the command was raised (``lag_floor``), its modulation described as
+        the climb's own (the command over the raise), as the networks read a window of the lags they were fitted on."""
+        reading = Reading.of(observation, self.limits, info)
+        if reading.torque_amplitude_measured_nm > 0.0 and reading.amplitude_nm > 0.0:
+            self._applied_fractions.append(reading.torque_amplitude_measured_nm / reading.amplitude_nm)
+        if self._raised_by != 1.0:
+            reading = replace(reading, amplitude_nm=reading.amplitude_nm / self._raised_by)
+        return reading
 
     @staticmethod
     def _steering_headroom(p: ClimbParameters, mean: np.ndarray, std: np.ndarray, spread: np.ndarray,

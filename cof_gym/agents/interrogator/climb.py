@@ -93,6 +93,9 @@ class ClimbParameters:
     noise_creep_exponent: float = 0.0  # ... and creep_while_std as (noise ratio) ** this
     noise_se_reported: bool = False  # the noise reading from the lock-in's reported SE (lockin_noise_reported_nms)
     noise_torque_measured: bool = False  # ... at the torque amplitude the drive measured (Reading.lockin_noise)
+    # not None: where the drive applies less than this fraction of the commanded modulation, the command is raised
+    # to make up the difference (modulation_raise)
+    lag_floor: float | None = None
     # not None: a headroom stop is deferred by a slow-probe step while the lag has risen this much (deg) since the
     # first driven window and the crest still rises (probes_on)
     crest_probe_lag_rise_deg: float | None = None
@@ -155,6 +158,10 @@ class ClimbParameters:
             check_number("crest_probe_max_noise_ratio", self.crest_probe_max_noise_ratio, 1.0, math.inf)
             if self.noise_reference_nms is None:
                 raise ValueError("crest_probe_max_noise_ratio reads the noise ratio, which needs noise_reference_nms")
+        if self.lag_floor is not None:
+            check_number("lag_floor", self.lag_floor, 0.0, 1.0, low_open=True)
+            if self.tone2_frequency_hz is not None:
+                raise ValueError("lag_floor raises the sine's modulation; a two-tone climb has no lag_floor (null)")
         if self.crest_probe_lag_rise_deg is not None:
             check_number("crest_probe_lag_rise_deg", self.crest_probe_lag_rise_deg, 0.0, 180.0, unit=" deg")
             if self.creep_log_step < self.min_log_step:
@@ -193,6 +200,19 @@ class ClimbParameters:
         return replace(self, caution=self.caution * lower,
                        guard_cautions=None if self.guard_cautions is None else tuple(c * lower for c in self.guard_cautions),
                        creep_while_std=self.creep_while_std * ratio ** self.noise_creep_exponent)
+
+    def modulation_raise(self, applied_fractions: list[float]) -> float:
+        """How much the next window's commanded modulation is raised over the climb's (at least 1): with
+        ``lag_floor`` set and the climb's driven windows so far measured to apply a median fraction ``a`` of
+        their commanded modulation (``applied_fractions``: each window's measured over its commanded torque
+        amplitude, :attr:`Reading.torque_amplitude_measured_nm`), ``lag_floor / a`` where ``a`` is below the
+        floor, so that the drive applies that floor's fraction of what the climb means; 1 otherwise. A
+        first-order drive lag ``tau`` applies ``1 / sqrt(1 + (w tau)^2)`` of a modulation at ``w`` (0.30 at 5 Hz
+        and 0.1 s), the torque gain error shifts the measured fraction by at most its own size, and a floor
+        below the fractions of the lags the networks were fitted on leaves those climbs as they were."""
+        if self.lag_floor is None or not applied_fractions:
+            return 1.0
+        return max(1.0, self.lag_floor / max(float(np.median(applied_fractions)), 1e-9))
 
     def check_guard_count(self, guards: int) -> None:
         """ValueError unless ``guard_cautions`` is unset or names one caution per guard (``guards`` of them)."""
@@ -354,12 +374,21 @@ class ClimbParameters:
         """The env options the climb's excitation needs (none for the sine)."""
         return dict(TWO_TONE_ENV_OPTIONS) if self.tones == 2 else {}
 
+    def commanded_amplitude(self, dc_nm: float, limits: MotorLimits, ratio: float | None = None,
+                            raise_by: float = 1.0) -> float:
+        """The modulation amplitude (N m) the drive is asked for: :meth:`amplitude` times ``raise_by``
+        (:meth:`modulation_raise`), at most the drive's maximum."""
+        amplitude = self.amplitude(dc_nm, limits, ratio)
+        return amplitude if raise_by == 1.0 else min(amplitude * raise_by, limits.max_amplitude_nm)
+
     def action(self, dc_nm: float, estimate: float, stop: bool, limits: MotorLimits,
-               ratio: float | None = None, frequency_hz: float | None = None) -> np.ndarray:
-        """The env action (modulation ``ratio`` of the DC, default ``amplitude_ratio``, at ``frequency_hz``,
-        default ``self.frequency_hz``): the window action, and tone 2's frequency and weight with two tones."""
+               ratio: float | None = None, frequency_hz: float | None = None, raise_by: float = 1.0) -> np.ndarray:
+        """The env action (modulation ``ratio`` of the DC, default ``amplitude_ratio``, raised by ``raise_by``
+        (:meth:`commanded_amplitude`), at ``frequency_hz``, default ``self.frequency_hz``): the window action,
+        and tone 2's frequency and weight with two tones."""
         frequency = self.frequency_hz if frequency_hz is None else frequency_hz
-        base = encode_action(dc_nm, self.amplitude(dc_nm, limits, ratio), frequency, estimate, stop, limits)
+        amplitude = self.commanded_amplitude(dc_nm, limits, ratio, raise_by)
+        base = encode_action(dc_nm, amplitude, frequency, estimate, stop, limits)
         if self.tones == 1:
             return base
         extra = encode_extra_tones([(self.tone2_frequency_hz, self.tone2_weight)], limits.min_frequency_hz,
