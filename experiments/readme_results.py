@@ -511,6 +511,8 @@ generated, never typed:
         --out out/crest_tradeoff_rule62_validation.md   # rule 62; --scenario motor_lag_s=0.1 (_lag01)
     python experiments/paired_comparison.py out/records_rule62_validation.json --baseline "noise_torque_measured \
         False, caution 2, target 0.1, guards ${G/ /, }" --out out/paired_rule62_validation.md   # and _lag01
+    (rule 62's two commands again with --set lag_floor=null lag_floor=0.65 lag_floor=0.45, the baseline "lag_floor
+        None, ...", _rule63 in place of _rule62)   # rule 63; and _lag01
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -719,6 +721,10 @@ SOURCES = {
         "crest_tradeoff_rule62_validation_lag01",
         "paired_rule62_validation",
         "paired_rule62_validation_lag01",
+        "crest_tradeoff_rule63_validation",
+        "crest_tradeoff_rule63_validation_lag01",
+        "paired_rule63_validation",
+        "paired_rule63_validation_lag01",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about
