@@ -474,6 +474,7 @@ generated, never typed:
         "noise_se_reported True, noise_caution_exponent 0.2, noise_creep_exponent 0.5, caution 2, target 0.1, guards ${G/ /, }" \
         --out out/paired_rule55_validation_noise2.md   # and _noise3
     (then every cof-gym evaluate command above again)   # session 37: the macro-slip = 100 % rows
+    python experiments/estimate_interval.py --write --out out/estimate_interval.md   # session 43
     python experiments/knee_twins.py --counter-torque --out out/knee_twins.md   # session 37
     python experiments/knee_twins.py --counter-torque --ratio 1.25 --out out/knee_twins_125.md
     python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
@@ -697,6 +698,7 @@ SOURCES = {
         "paired_rule55_validation_noise3",
         "knee_twins",
         "knee_twins_125",
+        "estimate_interval",
         "crest_tradeoff_rule56_validation",
         "paired_rule56_validation",
         "paired_rule56_validation_noise2",

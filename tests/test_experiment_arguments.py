@@ -71,6 +71,12 @@ CASES = [
     ("indistinguishable_peaks", ["--out", "{dir}"], "--out"),
     ("knee_twins", ["--out", "{dir}"], "--out"),
     ("paired_comparison", ["{text}", "--out", "{dir}"], "--out"),
+    ("estimate_interval", ["--coverage", "1"], "--coverage"),
+    ("estimate_interval", ["--coverage", "nan"], "--coverage"),
+    ("estimate_interval", ["--lower-coverage", "0"], "--lower-coverage"),
+    ("estimate_interval", ["--workers", "0"], "--workers"),
+    ("estimate_interval", ["--out", "{dir}"], "--out"),
+    ("estimate_interval", ["--policy", "{dir}"], "--policy"),
 ]
 
 

@@ -18,7 +18,8 @@ from cof_gym.agents.interrogator.climb import (
     AT_HEADROOM, ESTIMATE_SOURCES, ESTIMATOR_ESTIMATES, GUARDED_ESTIMATES, HEADROOM_STOPS, ClimbParameters,
 )
 from cof_gym.agents.interrogator.features import EpisodeFeatures
-from cof_gym.agents.interrogator.networks import FilterEnsemble, pooled_correction
+from cof_gym.agents.interrogator.interval import IntervalScales
+from cof_gym.agents.interrogator.networks import FilterEnsemble, pooled_correction, pooled_std
 from cof_gym.agents.interrogator.readings import Reading
 from cof_gym.agents.runaway import CrestCeiling, RunawayBracket
 from cof_gym.agents.staircase import ElasticityClimb
@@ -63,10 +64,12 @@ class LearnedInterrogator:
     trained_on: tuple[str, tuple[dict[str, Any], ...]] | None = None  # (env id, vehicle configurations)
     guards: tuple[FilterEnsemble, ...] = ()  # further filters that may only slow the climb (module docstring)
     estimators: tuple[FilterEnsemble, ...] = ()  # further filters whose correction the estimate may read
+    interval: IntervalScales | None = None  # the calibrated interval around the estimate (cof_interval), if any
     _guard_features: tuple[EpisodeFeatures, ...] = field(default=(), repr=False)
     _estimator_features: tuple[EpisodeFeatures, ...] = field(default=(), repr=False)
     _dc: float = 0.0
     _source_estimates: dict[str, float] = field(default_factory=dict, repr=False)  # per guarded/filter source
+    _source_stds: dict[str, float] = field(default_factory=dict, repr=False)  # their corrections' stds (log units)
     _estimate: float = 0.0
     _best_coa: float = 0.0
     _driven: int = 0
@@ -157,6 +160,7 @@ class LearnedInterrogator:
         self._ceiling = CrestCeiling(fall_z=self.params.ceiling_fall_z)
         self._runaway = None
         self._source_estimates = {}
+        self._source_stds = {}
         self.decisions = []
         self._estimate = self.limits.min_cof_estimate
         self.stop_reason = ""
@@ -192,21 +196,63 @@ class LearnedInterrogator:
             estimates = {source: min(value, ceiling) for source, value in estimates.items()}
         return estimates
 
+    @property
+    def estimate(self) -> float:
+        """The CoF estimate of the last action (within the drive's estimate range)."""
+        return min(max(self._estimate, self.limits.min_cof_estimate), self.limits.max_cof_estimate)
+
+    @property
+    def estimate_log_std(self) -> float:
+        """The std (log units) of the correction behind the estimate's source (``estimate_from``; an
+        ``..._at_headroom`` source's at a headroom stop, the filter's before and at every other stop): 0 before
+        the first driven window and for ``best_coa``. The crest floor, the crest ceiling and the runaway's
+        estimate move the estimate, not this std; the calibrated interval measures how far to trust it."""
+        source = self.params.estimate_from
+        if source in AT_HEADROOM:
+            source = AT_HEADROOM[source] if self.stop_reason in HEADROOM_STOPS else "filter"
+        return self._source_stds.get(source, 0.0)
+
+    def cof_interval(self) -> tuple[float, float] | None:
+        """The calibrated two-sided interval around :attr:`estimate` (:class:`IntervalScales`), None without
+        a calibration."""
+        return None if self.interval is None else self.interval.interval(self.estimate, self.estimate_log_std)
+
+    def cof_lower_bound(self) -> float | None:
+        """The calibrated lower bound on the CoF under :attr:`estimate`, None without a calibration."""
+        return None if self.interval is None else self.interval.lower_bound(self.estimate, self.estimate_log_std)
+
     @staticmethod
-    def _estimates_at(coa: float, filter_prediction: tuple[float, float],
+    def _pooled_predictions(filter_prediction: tuple[float, float], guard_predictions: list[tuple[float, float]],
+                            estimator_predictions: list[tuple[float, float]] = ()
+                            ) -> dict[str, list[tuple[float, float]]]:
+        """The (mean, std) predictions of the correction ``ln(CoF / CoA)`` each source pools: the filter's, the
+        guards', the filter's with the guards', the estimators', all of them (those whose networks exist)."""
+        sources = {"filter": [filter_prediction]}
+        if guard_predictions:
+            sources["guard"] = list(guard_predictions)
+            sources["pooled"] = [filter_prediction, *guard_predictions]
+        if estimator_predictions:
+            sources["estimator"] = list(estimator_predictions)
+            sources["estimator_pooled"] = [filter_prediction, *guard_predictions, *estimator_predictions]
+        return sources
+
+    @classmethod
+    def _estimates_at(cls, coa: float, filter_prediction: tuple[float, float],
                       guard_predictions: list[tuple[float, float]],
                       estimator_predictions: list[tuple[float, float]] = ()) -> dict[str, float]:
         """The CoA times ``exp`` of each source's correction ``ln(CoF / CoA)``, from the filter's, each
         guard's and each estimator's (mean, std) of it."""
-        corrections = {"filter": filter_prediction[0]}
-        if guard_predictions:
-            corrections["guard"] = pooled_correction(guard_predictions)
-            corrections["pooled"] = pooled_correction([filter_prediction, *guard_predictions])
-        if estimator_predictions:
-            corrections["estimator"] = pooled_correction(estimator_predictions)
-            corrections["estimator_pooled"] = pooled_correction(
-                [filter_prediction, *guard_predictions, *estimator_predictions])
+        sources = cls._pooled_predictions(filter_prediction, guard_predictions, estimator_predictions)
+        corrections = {source: filter_prediction[0] if source == "filter" else pooled_correction(p)
+                       for source, p in sources.items()}
         return {source: coa * math.exp(c) for source, c in corrections.items()}
+
+    @classmethod
+    def _stds_at(cls, filter_prediction: tuple[float, float], guard_predictions: list[tuple[float, float]],
+                 estimator_predictions: list[tuple[float, float]] = ()) -> dict[str, float]:
+        """Each source's std of its correction (:func:`pooled_std`; the filter's its own)."""
+        sources = cls._pooled_predictions(filter_prediction, guard_predictions, estimator_predictions)
+        return {source: filter_prediction[1] if source == "filter" else pooled_std(p) for source, p in sources.items()}
 
     @staticmethod
     def _corrections(networks: tuple[FilterEnsemble, ...], features: tuple[EpisodeFeatures, ...]) -> list[tuple[float, float]]:
@@ -234,10 +280,11 @@ class LearnedInterrogator:
                                   p.fall_margin(p.mean_headroom(headroom, headroom_std, headroom_spread, caution)))
             if not falling:
                 self._best_coa = max(self._best_coa, reading.coa)
-                self._source_estimates = self._estimates_at(
-                    reading.coa, (float(mean[0, 1]), float(std[0, 1])),
-                    [(float(g_mean[0, 1]), float(g_std[0, 1])) for g_mean, g_std, _ in guard_outputs],
-                    self._corrections(self.estimators, self._estimator_features))
+                predictions = ((float(mean[0, 1]), float(std[0, 1])),
+                               [(float(g_mean[0, 1]), float(g_std[0, 1])) for g_mean, g_std, _ in guard_outputs],
+                               self._corrections(self.estimators, self._estimator_features))
+                self._source_estimates = self._estimates_at(reading.coa, *predictions)
+                self._source_stds = self._stds_at(*predictions)
             step = p.log_step(headroom, headroom_std, headroom_spread, caution)
             if p.sticks(self._crept, headroom):  # the peak may be near: no big step again
                 step = min(step, p.creep_log_step)
@@ -277,7 +324,7 @@ class LearnedInterrogator:
         else:
             self._dc = self.climb.first_dc(self.limits)
             self._frequency = p.frequency_at(Reading.of(observation, self.limits, info).speed_m_s, self.limits)
-        estimate = min(max(self._estimate, self.limits.min_cof_estimate), self.limits.max_cof_estimate)
+        estimate = self.estimate
         raise_by = 1.0 if stop else p.modulation_raise(self._applied_fractions)
         self._raised_by = p.commanded_amplitude(self._dc, self.limits, self._ratio, raise_by) / p.amplitude(
             self._dc, self.limits, self._ratio)
@@ -336,8 +383,9 @@ def manifest_guards(directory: Path) -> tuple[Path, ...]:
 
 def interrogator_for(env, directory: Path, params: ClimbParameters | None = None,
                      guards: Iterable[Path] | None = None, estimators: Iterable[Path] | None = None) -> LearnedInterrogator:
-    """The interrogator of ``directory`` (``member_*.npz`` and a ``manifest.json`` with the climb's
-    parameters, the training distribution and any guards and estimators) for ``env``'s drive and vehicle
+    """The interrogator of ``directory`` (``member_*.npz``, a ``manifest.json`` with the climb's parameters, the
+    training distribution and any guards and estimators, and an optional calibrated interval:
+    :class:`IntervalScales`) for ``env``'s drive and vehicle
     configuration; ``params`` replaces the manifest's climb, ``guards`` and ``estimators`` (directories of
     ``member_*.npz``) its guards and estimators. A two-tone climb acts in the env made with its ``env_options``."""
     directory = Path(directory)
@@ -351,7 +399,8 @@ def interrogator_for(env, directory: Path, params: ClimbParameters | None = None
                                max_windows=int(base.task.max_windows),
                                trained_on=(trained["env_id"], tuple(trained["configs"])) if trained else None,
                                guards=tuple(FilterEnsemble.load(g) for g in guard_dirs),
-                               estimators=tuple(FilterEnsemble.load(e) for e in estimator_dirs))
+                               estimators=tuple(FilterEnsemble.load(e) for e in estimator_dirs),
+                               interval=IntervalScales.load(directory))
 
 
 def load_interrogator(env, argument: str | None = None) -> LearnedInterrogator:

@@ -23,6 +23,17 @@ def pooled_correction(predictions: Iterable[tuple[float, float]]) -> float:
     return sum(w * m for w, m in weights_means) / sum(w for w, _ in weights_means)
 
 
+def pooled_std(predictions: Iterable[tuple[float, float]]) -> float:
+    """The std that goes with :func:`pooled_correction`'s mean of Gaussian predictions ``(mean, std)``: the root
+    of their mean variance under the same inverse-variance weights, ``sqrt(n / sum(1 / std^2))`` (stds floored
+    at 1e-6). It is each one's std where they agree; it does not shrink as ``1 / sqrt(n)``, because the pooled
+    networks read the same windows and their errors are not independent."""
+    precisions = [1.0 / max(std, 1e-6) ** 2 for _, std in predictions]
+    if not precisions:
+        raise ValueError("pooled_std: no predictions to pool")
+    return (len(precisions) / sum(precisions)) ** 0.5
+
+
 @dataclass(frozen=True)
 class FilterNetwork:
     """One member: a tanh MLP on standardised features giving (mean, log variance) of each target."""

@@ -1,0 +1,113 @@
+"""An interval around the learned interrogator's CoF estimate, calibrated by split conformal prediction.
+
+The interrogator reports ``estimate = CoA x exp(c)`` with ``c`` the correction ``ln(CoF / CoA)`` its networks
+predict, each with a std ``s`` (log units: :attr:`~cof_gym.agents.interrogator.LearnedInterrogator.estimate_log_std`).
+How far that std can be trusted is measured, not assumed: on calibration climbs (the validation grids, never a
+reported suite) each scored episode gives a normalised score, and the interval's scale is a quantile of those
+scores (split conformal prediction with normalised residuals: Vovk, Gammerman and Shafer, *Algorithmic Learning
+in a Random World*, Springer 2005; Lei, G'Sell, Rinaldo, Tibshirani and Wasserman, "Distribution-free predictive
+inference for regression", J. Amer. Statist. Assoc. 113 (2018), Sect. 5.2):
+
+- two-sided: score ``|ln(CoF / estimate)| / s``; ``estimate x exp(+-q s)`` holds the CoF;
+- lower bound (what a braking planner needs: an over-estimated CoF lengthens the real braking distance): score
+  ``ln(estimate / CoF) / s``; ``estimate x exp(-q s)`` is at most the CoF.
+
+With ``n`` calibration scores, ``q`` is the ``ceil((n + 1) x coverage)``-th smallest; a new episode drawn like
+the calibration climbs is then covered with probability at least ``coverage`` (exchangeability, whatever the
+networks' errors are). Creep curves and sensors unlike the calibration climbs' carry no such guarantee: there the
+coverage is measured (``experiments/estimate_interval.py`` reports it on every held-out grid).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Iterable
+
+from cof_gym.task.validation import check_number
+
+INTERVAL_FILE = "interval.json"  # beside a policy directory's manifest.json
+LOG_STD_FLOOR = 1e-6  # a std below this (log units) scores as this: a point estimate still has a finite score
+
+
+def check_coverage(name: str, coverage: float) -> float:
+    """A coverage: a number in (0, 1) (ValueError naming ``name`` otherwise)."""
+    value = check_number(name, coverage, 0.0, 1.0, low_open=True)
+    if value == 1.0:
+        raise ValueError(f"{name} must be a number in (0, 1): a coverage of 1 needs an unbounded interval, got 1")
+    return value
+
+
+def conformal_quantile(scores: Iterable[float], coverage: float) -> float:
+    """The ``ceil((n + 1) x coverage)``-th smallest of the ``n`` calibration ``scores``: the split conformal
+    scale that covers a new exchangeable score with probability at least ``coverage`` (in (0, 1)). ValueError
+    where ``n`` is too small for that coverage (``(n + 1) x coverage > n``) or a score is not a finite number."""
+    check_coverage("coverage", coverage)
+    values = sorted(float(s) for s in scores)
+    if not all(math.isfinite(v) for v in values):
+        raise ValueError("conformal_quantile: every score must be a finite number")
+    rank = math.ceil((len(values) + 1) * coverage)
+    if rank > len(values):
+        raise ValueError(f"conformal_quantile: {len(values)} scores cannot calibrate a coverage of {coverage} "
+                         f"(at least {math.ceil(coverage / (1.0 - coverage))} are needed)")
+    return values[rank - 1]
+
+
+def two_sided_score(estimate: float, cof: float, log_std: float) -> float:
+    """``|ln(CoF / estimate)| / log_std`` (the std floored at :data:`LOG_STD_FLOOR`)."""
+    return abs(math.log(cof / estimate)) / max(log_std, LOG_STD_FLOOR)
+
+
+def lower_score(estimate: float, cof: float, log_std: float) -> float:
+    """``ln(estimate / CoF) / log_std``: positive where the estimate is above the CoF."""
+    return math.log(estimate / cof) / max(log_std, LOG_STD_FLOOR)
+
+
+@dataclass(frozen=True)
+class IntervalScales:
+    """The calibrated scales (in stds of the estimate's log) of the two-sided interval at ``coverage`` and of
+    the lower bound at ``lower_coverage``, and what they were calibrated on (``climbs`` scored episodes)."""
+
+    coverage: float
+    scale: float
+    lower_coverage: float
+    lower_scale: float
+    climbs: int
+    calibrated_on: str = ""
+
+    def __post_init__(self) -> None:
+        for name in ("coverage", "lower_coverage"):
+            check_coverage(name, getattr(self, name))
+        check_number("scale", self.scale, 0.0, math.inf)
+        check_number("lower_scale", self.lower_scale, -math.inf, math.inf)
+
+    @classmethod
+    def calibrate(cls, episodes: Iterable[tuple[float, float, float]], coverage: float = 0.9,
+                  lower_coverage: float = 0.95, calibrated_on: str = "") -> "IntervalScales":
+        """The scales from scored calibration ``episodes`` of ``(estimate, CoF, log_std)``."""
+        episodes = list(episodes)
+        return cls(coverage, conformal_quantile([two_sided_score(*e) for e in episodes], coverage),
+                   lower_coverage, conformal_quantile([lower_score(*e) for e in episodes], lower_coverage),
+                   len(episodes), calibrated_on)
+
+    def interval(self, estimate: float, log_std: float) -> tuple[float, float]:
+        """``estimate x exp(-+scale x log_std)``: the two-sided interval (CoF)."""
+        half = self.scale * max(log_std, LOG_STD_FLOOR)
+        return estimate * math.exp(-half), estimate * math.exp(half)
+
+    def lower_bound(self, estimate: float, log_std: float) -> float:
+        """``estimate x exp(-lower_scale x log_std)``: the lower bound (CoF)."""
+        return estimate * math.exp(-self.lower_scale * max(log_std, LOG_STD_FLOOR))
+
+    def save(self, directory: Path) -> Path:
+        path = Path(directory) / INTERVAL_FILE
+        path.write_text(json.dumps(asdict(self), indent=2) + "\n")
+        return path
+
+    @classmethod
+    def load(cls, directory: Path) -> "IntervalScales | None":
+        """The scales of a policy directory's :data:`INTERVAL_FILE`, None where it has none."""
+        path = Path(directory) / INTERVAL_FILE
+        return cls(**json.loads(path.read_text())) if path.is_file() else None

@@ -1,0 +1,96 @@
+"""The calibrated interval around the learned interrogator's estimate (cof_gym.agents.interrogator.interval):
+the split conformal quantile, the scales it gives, their file, and the agent's interval and lower bound."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import cof_gym
+from cof_gym.agents.interrogator import (
+    INTERVAL_FILE, SHIPPED_INTERROGATOR, IntervalScales, conformal_quantile, interrogator_for, manifest_climb,
+    pooled_std,
+)
+from interrogator_helpers import SHIPPED, play
+
+
+def test_the_conformal_quantile_is_the_finite_sample_rank():
+    scores = [float(k) for k in range(1, 20)]  # n = 19: ceil(20 x 0.9) = 18th smallest
+    assert conformal_quantile(scores, 0.9) == 18.0
+    assert conformal_quantile(reversed(scores), 0.5) == 10.0  # ceil(20 x 0.5) = 10th, whatever the order
+    with pytest.raises(ValueError, match="at least 19 are needed"):
+        conformal_quantile(scores[:18], 0.95)  # ceil(19 x 0.95) = 19 > 18
+    with pytest.raises(ValueError, match="finite"):
+        conformal_quantile([1.0, math.nan, 2.0], 0.5)
+    for bad in (0.0, 1.0, 1.5, math.nan, True):
+        with pytest.raises(ValueError, match="coverage"):
+            conformal_quantile(scores, bad)
+
+
+def test_calibrated_scales_cover_new_exchangeable_episodes_as_promised():
+    """Lognormal errors whose std each episode knows only up to a factor the calibration must find (the scores
+    are exchangeable): the interval and the lower bound calibrated on 2000 episodes cover their targets on
+    20 000 fresh ones. Given one calibration set the coverage is a Beta variable of mean at least the target and
+    standard deviation sqrt(c (1 - c) / n) (n = 2000), and the fresh count adds sqrt(c (1 - c) / 20 000): the
+    test allows three of their combined standard deviations (2.1 and 1.5 points)."""
+    rng = np.random.default_rng(7)
+
+    def draw(n: int) -> list[tuple[float, float, float]]:
+        cof = rng.uniform(0.05, 0.5, n)
+        log_std = rng.uniform(0.02, 0.3, n)
+        estimate = cof * np.exp(1.7 * log_std * rng.standard_normal(n))  # the stds read 1.7 times low
+        return list(zip(estimate, cof, log_std))
+
+    scales = IntervalScales.calibrate(draw(2000), 0.9, 0.95)
+    assert scales.climbs == 2000 and scales.scale == pytest.approx(1.7 * 1.645, rel=0.1)
+    fresh = draw(20_000)
+    inside = np.mean([scales.interval(e, s)[0] <= c <= scales.interval(e, s)[1] for e, c, s in fresh])
+    above = np.mean([scales.lower_bound(e, s) <= c for e, c, s in fresh])
+    def allowance(c: float) -> float:
+        return 3.0 * math.sqrt(c * (1.0 - c) * (1.0 / 2000 + 1.0 / 20_000))
+
+    assert inside >= 0.9 - allowance(0.9) and above >= 0.95 - allowance(0.95)
+    assert inside <= 0.9 + allowance(0.9) + 1.0 / 2001  # and no wider than it needs: at most one rank above
+
+
+def test_scales_check_their_fields_and_round_trip_through_their_file(tmp_path):
+    scales = IntervalScales(0.9, 1.5, 0.95, 1.0, 360, "validation")
+    assert scales.save(tmp_path).name == INTERVAL_FILE
+    assert IntervalScales.load(tmp_path) == scales
+    assert IntervalScales.load(tmp_path / "none") is None
+    low, high = scales.interval(0.2, 0.1)
+    assert (low, high) == pytest.approx((0.2 * math.exp(-0.15), 0.2 * math.exp(0.15)), rel=1e-12)
+    assert scales.lower_bound(0.2, 0.1) == pytest.approx(0.2 * math.exp(-0.1), rel=1e-12)
+    for field, bad in (("coverage", 1.0), ("lower_coverage", 0.0), ("scale", -1.0), ("scale", math.inf)):
+        with pytest.raises(ValueError, match=field):
+            IntervalScales(**{**scales.__dict__, field: bad})
+
+
+def test_the_pooled_std_is_each_ones_where_they_agree_and_does_not_shrink_with_their_count():
+    assert pooled_std([(0.1, 0.2), (0.3, 0.2), (-1.0, 0.2)]) == pytest.approx(0.2, rel=1e-12)
+    assert pooled_std([(0.0, 0.1), (0.0, 0.3)]) == pytest.approx(math.sqrt(2 / (100 + 100 / 9)), rel=1e-12)
+    with pytest.raises(ValueError, match="no predictions"):
+        pooled_std([])
+
+
+@pytest.mark.skipif(not SHIPPED, reason="no shipped interrogator")
+def test_the_shipped_interrogator_reports_a_calibrated_interval_around_its_estimate(tmp_path):
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    agent = interrogator_for(env, SHIPPED_INTERROGATOR)
+    assert agent.interval == IntervalScales.load(SHIPPED_INTERROGATOR) and agent.interval.climbs >= 300
+    assert agent.cof_interval() is not None  # before an episode: a point (no std yet), the estimate's floor
+    actions, _ = play(agent, 3)
+    low, high = agent.cof_interval()
+    assert agent.estimate_log_std > 0.0 and low < agent.estimate < high
+    assert math.log(high / low) == pytest.approx(2 * agent.interval.scale * agent.estimate_log_std, rel=1e-12)
+    assert agent.cof_lower_bound() == pytest.approx(
+        agent.estimate * math.exp(-agent.interval.lower_scale * agent.estimate_log_std), rel=1e-12)
+    for name in ("member_0.npz", "manifest.json"):  # the same policy without the calibration file
+        (tmp_path / name).write_bytes((SHIPPED_INTERROGATOR / name).read_bytes())
+    bare = interrogator_for(env, tmp_path, replace(manifest_climb(SHIPPED_INTERROGATOR), estimate_from="filter"),
+                            guards=[])
+    assert bare.interval is None and bare.cof_interval() is None and bare.cof_lower_bound() is None
