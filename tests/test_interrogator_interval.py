@@ -94,3 +94,44 @@ def test_the_shipped_interrogator_reports_a_calibrated_interval_around_its_estim
     bare = interrogator_for(env, tmp_path, replace(manifest_climb(SHIPPED_INTERROGATOR), estimate_from="filter"),
                             guards=[])
     assert bare.interval is None and bare.cof_interval() is None and bare.cof_lower_bound() is None
+
+
+@pytest.mark.skipif(not SHIPPED, reason="no shipped interrogator")
+def test_evaluate_records_and_summarises_the_intervals_agents_report():
+    from cof_gym.agents.registry import make_agent
+    from cof_gym.commands.evaluate_episodes import run_episode
+    from cof_gym.commands.evaluate_stats import summarize
+    from cof_gym.commands.evaluate_tables import markdown_intervals
+
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    learned, rule = make_agent("interrogator", env), make_agent("phase-rule", env)
+    records = [run_episode(env, agent, seed, {}, seed) for agent in (learned, rule) for seed in (0, 1, 2)]
+    for r in records[:3]:
+        assert 0.0 < r.lower_bound < r.estimate * 1.0001 and r.interval_low < r.estimate < r.interval_high
+        assert r.in_interval == (r.interval_low <= r.cof <= r.interval_high)
+    assert all(r.interval_low is None and r.lower_bound is None and r.in_interval is None for r in records[3:])
+    summary = summarize(records, seed=0)
+    assert "interval" not in summary["phase-rule"]
+    stats = summary["interrogator"]["interval"]
+    assert stats["episodes"] == 3 and stats["coverage"]["value"] == np.mean([r.in_interval for r in records[:3]])
+    table = markdown_intervals(summary)
+    assert table.count("\n") == 2 and "| interrogator | 3 |" in table and "phase-rule" not in table
+    assert markdown_intervals(summarize(records[3:], seed=0)) == ""
+
+    class Careless:  # an agent whose interval is no interval
+        name, oracle = "careless", False
+
+        def __init__(self):
+            self.inner = make_agent("phase-rule", env)
+
+        def reset(self, obs, info):
+            self.inner.reset(obs, info)
+
+        def act(self, obs, info):
+            return self.inner.act(obs, info)
+
+        def cof_interval(self):
+            return 0.3, 0.2
+
+    with pytest.raises(ValueError, match="careless reported the interval"):
+        run_episode(env, Careless(), 0, {}, 0)

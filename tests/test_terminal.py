@@ -21,7 +21,7 @@ AGENTS = ("staircase-paper", "staircase", "model-based", "phase-rule", "ppo")
 
 def _record(**values) -> EpisodeRecord:
     """An episode record with ``values`` and a neutral value of its type for every other field."""
-    neutral = {"str": "polach", "float": 0.0, "bool": False, "int": 0}
+    neutral = {"str": "polach", "float": 0.0, "bool": False, "int": 0, "float | None": None}
     values.setdefault("ended", "macro-slip" if values.get("macro_slip") else "stop")
     return EpisodeRecord(**{f.name: values.get(f.name, neutral.get(str(f.type), 0.0)) for f in fields(EpisodeRecord)})
 

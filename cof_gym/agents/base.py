@@ -13,7 +13,9 @@ from cof_gym.task.scenarios import SCENARIO_KEYS, ScenarioRanges, outside_draws
 @runtime_checkable
 class Agent(Protocol):
     """A measurement policy. ``info`` is the environment's info dict; only agents labelled as oracles
-    may read ``info["ground_truth"]``."""
+    may read ``info["ground_truth"]``. An agent may also report, after its episode, an interval around its
+    estimate, ``cof_interval() -> (low, high)``, and a lower bound, ``cof_lower_bound() -> float`` (CoF; None:
+    none), which ``cof-gym evaluate`` records and scores (the learned interrogator's calibrated ones)."""
 
     name: str
     oracle: bool

@@ -21,7 +21,7 @@ from cof_gym.agents import registry
 from cof_gym.agents.base import own_env_options
 from cof_gym.commands.evaluate_episodes import EpisodeRecord, run_episode
 from cof_gym.commands.evaluate_stats import COF_BANDS, summarize
-from cof_gym.commands.evaluate_tables import markdown_breakdown, markdown_table, print_table
+from cof_gym.commands.evaluate_tables import markdown_breakdown, markdown_intervals, markdown_table, print_table
 from cof_gym.commands.evaluate_workers import EPISODES_PER_WORKER, MAX_WORKERS, WORKER_MEMORY_BYTES, default_workers
 from cof_gym.commands.suites import MAX_EPISODES, Suite, SuiteError, make_suite, with_env_kwargs
 from cof_gym.envs.torque_interrogation import make_kwargs
@@ -34,7 +34,8 @@ saturation torque, and the median and P90 error with a macro-slip counted as a f
 each with a bootstrap 95 % CI, and a breakdown by condition, CoF band, creep-law
 family, the creep curve's peak creepage, systematic creepage-error band, the utilisation at which
 the estimate was committed and how the episode ended: the agent's stop, the horizon (the last of the
-task's steps), a macro-slip) and figures. --env-kwargs plays the suite with other env arguments
+task's steps), a macro-slip), the coverage of the interval an agent reports around its estimate (the learned
+interrogator's), and figures. --env-kwargs plays the suite with other env arguments
 (e.g. max_windows:60, a longer horizon). The outputs appear all at once when the run completes (an
 interrupted run leaves the previous OUT as it was). Only agents marked as oracles see
 info["ground_truth"]."""
@@ -298,6 +299,12 @@ def _play_in_workers(agent_specs, suite: Suite, tasks: list[tuple[int, int]], wo
     return [done[task] for task in tasks]
 
 
+def _intervals_section(summary: dict[str, Any]) -> str:
+    """summary.md's section on the intervals the agents reported around their estimates ("" where none did)."""
+    table = markdown_intervals(summary)
+    return f"## The intervals the agents reported around their estimates\n\n{table}\n\n" if table else ""
+
+
 def _play_and_write(envs: dict[str, Any], agents, agent_specs, suite: Suite, out: Path, seed: int, quiet: bool,
                     t0: float, workers: int = 1) -> dict[str, Any]:
     progress = _progress(quiet)
@@ -321,8 +328,8 @@ def _play_and_write(envs: dict[str, Any], agents, agent_specs, suite: Suite, out
         writer.writerows(asdict(r) for r in records)
     (out / "summary.md").write_text(
         f"# cof-gym evaluate: suite {suite.name}, seed {seed}, {suite.env_id}\n\n"
-        + "".join(f"Note: {n}.\n\n" for n in notes) + f"{markdown_table(summary)}\n\n"
-        "## By condition, CoF band, creep-law family, peak creepage, creepage-error band, utilisation, ending and "
+        + "".join(f"Note: {n}.\n\n" for n in notes) + f"{markdown_table(summary)}\n\n" + _intervals_section(summary)
+        + "## By condition, CoF band, creep-law family, peak creepage, creepage-error band, utilisation, ending and "
         f"note\n\n{markdown_breakdown(summary)}\n")
     from cof_gym.commands.evaluate_figures import plot_all
 

@@ -56,6 +56,24 @@ class EpisodeRecord(ScenarioColumns):
     steps: int
     ended: str  # how the episode ended: one of ENDINGS
     note: str = ""  # the suite's label of the episode (e.g. a held-out grid's creep-curve shape)
+    # the interval and the lower bound the agent reported around its estimate (CoF), for an agent that reports
+    # them (cof_interval(), cof_lower_bound(): the learned interrogator's calibrated ones); None (an empty
+    # cell) otherwise
+    interval_low: float | None = None
+    interval_high: float | None = None
+    lower_bound: float | None = None
+
+    @property
+    def in_interval(self) -> bool | None:
+        """Whether the CoF lies in the reported interval (None without one or unscored)."""
+        if self.interval_low is None or self.interval_high is None or not self.scored:
+            return None
+        return self.interval_low <= self.cof <= self.interval_high
+
+    @property
+    def above_lower_bound(self) -> bool | None:
+        """Whether the CoF is at least the reported lower bound (None without one or unscored)."""
+        return None if self.lower_bound is None or not self.scored else self.lower_bound <= self.cof
 
     @property
     def error_slip_failed(self) -> float:
@@ -107,6 +125,7 @@ def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list 
              "horizon" if truncated or steps >= env.unwrapped.task.max_windows else "stop")
     err = info.get("relative_error")
     scored = err is not None and bool(info.get("scored", True)) and not info.get("diverged", False)
+    interval = _reported_interval(agent)
     return EpisodeRecord(
         **ScenarioColumns.read(gt), agent=agent.name, oracle=oracle, episode=episode, seed=seed,
         estimate=info["cof_estimate"],
@@ -114,4 +133,20 @@ def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list 
         macro_slip=macro_slip, slip_energy_j=slip_e, friction_energy_j=fric_e,
         wd_rms_m_s2=math.sqrt(wd2 / steps), measurement_time_s=info["elapsed_s"], peak_torque_fraction=peak,
         episode_return=total, steps=steps, note=note, ended=ended,
+        interval_low=interval[0], interval_high=interval[1], lower_bound=interval[2],
     )
+
+
+def _reported_interval(agent) -> tuple[float | None, float | None, float | None]:
+    """(low, high, lower bound) of the interval and the lower bound the agent reports around its estimate
+    (``cof_interval()``, ``cof_lower_bound()``; None where it reports none). ValueError naming the agent
+    unless each is a positive finite CoF and low <= high."""
+    interval = getattr(agent, "cof_interval", lambda: None)()
+    lower = getattr(agent, "cof_lower_bound", lambda: None)()
+    low, high = (None, None) if interval is None else (float(interval[0]), float(interval[1]))
+    lower = None if lower is None else float(lower)
+    values = [v for v in (low, high, lower) if v is not None]
+    if not all(math.isfinite(v) and v > 0.0 for v in values) or (low is not None and low > high):
+        raise ValueError(f"{agent.name} reported the interval {interval!r} and the lower bound {lower!r}: each must "
+                         "be a positive finite CoF, the interval's low end at most its high end")
+    return low, high, lower

@@ -143,6 +143,26 @@ def summarize(records: list[EpisodeRecord], seed: int) -> dict[str, dict[str, An
             values = np.array([getattr(r, column) for r in rows], dtype=float)
             lo, hi = bootstrap_ci(values, stat, rng)
             entry[key] = {"value": float(stat(values)), "ci95": [lo, hi]}
+        interval = interval_stats(rows, rng)  # after METRICS: their CIs are drawn first, as before
+        if interval is not None:
+            entry["interval"] = interval
         entry["breakdown"] = groups[agent]
         out[agent] = entry
+    return out
+
+
+def interval_stats(rows: list[EpisodeRecord], rng: np.random.Generator) -> dict[str, Any] | None:
+    """How often the CoF lay in the interval the agent reported and above its lower bound, with bootstrap 95 %
+    CIs, and the interval's median width (high over low), over the scored episodes with one; None where the
+    agent reported none."""
+    rows = [r for r in rows if r.in_interval is not None]
+    if not rows:
+        return None
+    out: dict[str, Any] = {"episodes": len(rows)}
+    for key, values in (("coverage", [r.in_interval for r in rows]),
+                        ("lower_bound_coverage", [r.above_lower_bound for r in rows])):
+        values = np.array(values, dtype=float)
+        lo, hi = bootstrap_ci(values, np.mean, rng)
+        out[key] = {"value": float(np.mean(values)), "ci95": [lo, hi]}
+    out["median_width"] = float(np.median([r.interval_high / r.interval_low for r in rows]))
     return out

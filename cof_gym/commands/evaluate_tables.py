@@ -37,6 +37,22 @@ def markdown_table(summary: dict[str, dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
+def markdown_intervals(summary: dict[str, dict[str, Any]]) -> str:
+    """The intervals the agents reported around their estimates (``summary[agent]["interval"]``), "" where
+    none did."""
+    agents = [a for a in summary if "interval" in summary[a]]
+    if not agents:
+        return ""
+    lines = ["| agent | scored episodes | CoF in its interval [%] (95 % CI) | CoF above its lower bound [%] (95 % CI) "
+             "| median interval width (high / low) |", "|---|---|---|---|---|"]
+    for a in agents:
+        i = summary[a]["interval"]
+        cells = [f"{_fmt(i[k]['value'], 'pct')} [{_fmt(i[k]['ci95'][0], 'pct')}, {_fmt(i[k]['ci95'][1], 'pct')}]"
+                 for k in ("coverage", "lower_bound_coverage")]
+        lines.append(f"| {_agent_label(summary, a)} | {i['episodes']} | {' | '.join(cells)} | {i['median_width']:.2f} |")
+    return "\n".join(lines)
+
+
 def _shared_count(summary: dict[str, dict[str, Any]], group: str) -> int | None:
     """The episodes of ``group``, where every agent has that many in it (a scenario group: every agent plays
     the same scenarios); None where the group depends on what the agent did (the utilisation at commitment, how
