@@ -8,7 +8,10 @@ its coverage measured on every reported suite. (Run from the repository root; 2 
    grids (family, procedural and steep creep curves: model-selection data, never reported; both vehicle
    configurations, 360 climbs). From the scored episodes it computes the split conformal scales
    (:class:`cof_gym.agents.interrogator.IntervalScales`): the two-sided interval at ``--coverage`` and the lower
-   bound at ``--lower-coverage``, in stds of the estimate's log. With ``--write`` it saves them as the policy
+   bound at ``--lower-coverage``, in stds of the estimate's log, per way the estimate was committed (the climb's
+   stop, the horizon, no stop: ``LearnedInterrogator.commitment``) or pooled, whichever a leave-one-grid-out
+   comparison on the validation grids alone chooses (each calibrated on two grids, measured on the third: the
+   smaller worst shortfall below a target wins, the pooled scales on a tie). With ``--write`` it saves them as the policy
    directory's ``interval.json``, which the agent then loads (``LearnedInterrogator.cof_interval`` and
    ``cof_lower_bound``).
 2. **Report** (nothing is chosen here). Plays the default suite (60 seeded v2 draws, as ``cof-gym evaluate``)
@@ -36,7 +39,7 @@ from make_grids import v2_heldout_grids  # noqa: E402
 from script_checks import check_out_file  # noqa: E402
 from train_interrogator import CONFIGS, PROCEDURAL_VALIDATION, STEEP_VALIDATION, VALIDATION, episodes  # noqa: E402
 
-from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR, IntervalScales, check_coverage  # noqa: E402
+from cof_gym.agents.interrogator import POOLED, SHIPPED_INTERROGATOR, IntervalScales, check_coverage  # noqa: E402
 from cof_gym.commands.args import Parser, positive_int  # noqa: E402
 from cof_gym.commands.evaluate_episodes import ENDINGS as EVALUATE_ENDINGS  # noqa: E402
 
@@ -51,17 +54,18 @@ class Committed:
     estimate: float
     cof: float
     log_std: float
+    commitment: str  # how the agent committed it (LearnedInterrogator.commitment): the scale it reads
     ended: str
 
     @property
-    def triple(self) -> tuple[float, float, float]:
-        return self.estimate, self.cof, self.log_std
+    def calibration(self) -> tuple[float, float, float, str]:
+        return self.estimate, self.cof, self.log_std, self.commitment
 
 
 def play(policy: str, suite: str, config: dict) -> list[Committed]:
     """The scored episodes of ``suite`` (a suite file or ``"default"``) played by the interrogator of ``policy``
     in the vehicle configuration ``config``."""
-    return [Committed(r.estimate, r.cof, agent.estimate_log_std, r.ended)
+    return [Committed(r.estimate, r.cof, agent.estimate_log_std, agent.commitment, r.ended)
             for r, agent in episodes(policy, suite, config) if r.scored]
 
 
@@ -69,13 +73,9 @@ def coverage_cells(episodes: list[Committed], scales: IntervalScales) -> tuple[s
     """(two-sided coverage, lower-bound coverage, median width high / low) of ``episodes`` ("-" for none)."""
     if not episodes:
         return "-", "-", "-"
-    inside, above, widths = [], [], []
-    for e in episodes:
-        low, high = scales.interval(e.estimate, e.log_std)
-        inside.append(low <= e.cof <= high)
-        above.append(scales.lower_bound(e.estimate, e.log_std) <= e.cof)
-        widths.append(high / low)
-    return f"{np.mean(inside):.1%}", f"{np.mean(above):.1%}", f"{np.median(widths):.2f}"
+    inside, above = covered(episodes, scales)
+    widths = [high / low for low, high in (scales.interval(e.estimate, e.log_std, e.commitment) for e in episodes)]
+    return f"{inside:.1%}", f"{above:.1%}", f"{np.median(widths):.2f}"
 
 
 def row(label: str, episodes: list[Committed], scales: IntervalScales) -> str:
@@ -85,6 +85,42 @@ def row(label: str, episodes: list[Committed], scales: IntervalScales) -> str:
         two_sided, lower, width = coverage_cells(part, scales)
         cells.append(f"{len(part)}: {two_sided} / {lower} / {width}" if part else "-")
     return "| " + " | ".join(cells) + " |"
+
+
+METHODS = {"pooled": False, "per commitment": True}  # the calibrations compared: IntervalScales.calibrate's flag
+
+
+def covered(episodes: list[Committed], scales: IntervalScales) -> tuple[float, float]:
+    """(the fraction of ``episodes`` whose CoF lies in the interval, the fraction at least the lower bound)."""
+    inside = [scales.interval(e.estimate, e.log_std, e.commitment)[0] <= e.cof
+              <= scales.interval(e.estimate, e.log_std, e.commitment)[1] for e in episodes]
+    above = [scales.lower_bound(e.estimate, e.log_std, e.commitment) <= e.cof for e in episodes]
+    return float(np.mean(inside)), float(np.mean(above))
+
+
+def select_method(by_grid: dict[str, list[Committed]], coverage: float, lower_coverage: float
+                  ) -> tuple[list[str], bool]:
+    """Leave one validation grid out: each method of :data:`METHODS` calibrated on the other two grids and measured
+    on it. The method whose worst shortfall below a target (over the left-out grids, the interval's and the lower
+    bound's) is the smallest is chosen, the pooled one on a tie. (The table's lines, per_commitment.)"""
+    lines = [f"Leave one validation grid out (calibrated on the other two; targets {coverage:.0%} in the interval, "
+             f"{lower_coverage:.0%} above the lower bound):", "",
+             "| method | " + " | ".join(f"left out: {grid}" for grid in by_grid) + " | worst shortfall |",
+             "|---" * (len(by_grid) + 2) + "|"]
+    shortfalls = {}
+    for method, flag in METHODS.items():
+        cells, worst = [], 0.0
+        for left_out in by_grid:
+            rest = [e.calibration for grid, part in by_grid.items() if grid != left_out for e in part]
+            inside, above = covered(by_grid[left_out], IntervalScales.calibrate(rest, coverage, lower_coverage,
+                                                                                per_commitment=flag))
+            worst = max(worst, coverage - inside, lower_coverage - above)
+            cells.append(f"{inside:.1%} / {above:.1%}")
+        shortfalls[method] = worst
+        lines.append(f"| {method} | " + " | ".join(cells) + f" | {100 * worst:.1f} points |")
+    chosen = min(METHODS, key=lambda m: (shortfalls[m], m != "pooled"))
+    lines += ["", f"Chosen: {chosen} (the smaller worst shortfall; the pooled one on a tie)."]
+    return lines, METHODS[chosen]
 
 
 def coverage(option: str):
@@ -118,15 +154,21 @@ def main() -> None:
         played = list(pool.map(play, *zip(*jobs)))
     calibration_parts = played[:len(CALIBRATION) * len(CONFIGS)]
     calibration = [e for part in calibration_parts for e in part]
-    scales = IntervalScales.calibrate([e.triple for e in calibration], args.coverage, args.lower_coverage,
-                                      "the validation grids (family, procedural, steep; both vehicle configurations)")
+    by_grid = {grid: [e for part in calibration_parts[k * len(CONFIGS):(k + 1) * len(CONFIGS)] for e in part]
+               for k, grid in enumerate(CALIBRATION)}
+    selection, per_commitment = select_method(by_grid, args.coverage, args.lower_coverage)
+    scales = IntervalScales.calibrate([e.calibration for e in calibration], args.coverage, args.lower_coverage,
+                                      "the validation grids (family, procedural, steep; both vehicle configurations)",
+                                      per_commitment)
     if args.write:
         print(f"wrote {scales.save(args.policy)}")
-    header = (f"Scales (`python experiments/estimate_interval.py`, split conformal on {scales.climbs} scored "
-              f"validation climbs): the {scales.coverage:.0%} interval is the estimate times exp(+-{scales.scale:.3f} "
-              f"std), the {scales.lower_coverage:.0%} lower bound the estimate times exp(-{scales.lower_scale:.3f} std), "
-              "std the estimate's log std (`LearnedInterrogator.estimate_log_std`).")
-    lines = [header, "",
+    header = (f"Scales (`python experiments/estimate_interval.py`, split conformal per commitment on "
+              f"{scales.climbs[POOLED]} scored validation climbs), in stds of the estimate's log "
+              f"(`LearnedInterrogator.estimate_log_std`): the {scales.coverage:.0%} interval is the estimate times "
+              f"exp(+-scale x std), the {scales.lower_coverage:.0%} lower bound the estimate times exp(-lower scale x "
+              "std); " + "; ".join(f"{group} ({scales.climbs[group]} climbs): {pair[0]:.3f} / {pair[1]:.3f}"
+                                   for group, pair in scales.scales.items()) + ".")
+    lines = [*selection, "", header, "",
              f"| suite | scored episodes | CoF in the {scales.coverage:.0%} interval | CoF above the "
              f"{scales.lower_coverage:.0%} lower bound | median width (high / low) | "
              + " | ".join(f"{ending}: episodes: in / above / width" for ending in ENDINGS) + " |",

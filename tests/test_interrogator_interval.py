@@ -12,8 +12,8 @@ import pytest
 
 import cof_gym
 from cof_gym.agents.interrogator import (
-    INTERVAL_FILE, SHIPPED_INTERROGATOR, IntervalScales, conformal_quantile, interrogator_for, manifest_climb,
-    pooled_std,
+    COMMITMENTS, INTERVAL_FILE, SHIPPED_INTERROGATOR, IntervalScales, conformal_quantile, enough_for,
+    interrogator_for, manifest_climb, pooled_std,
 )
 from interrogator_helpers import SHIPPED, play
 
@@ -32,41 +32,64 @@ def test_the_conformal_quantile_is_the_finite_sample_rank():
 
 
 def test_calibrated_scales_cover_new_exchangeable_episodes_as_promised():
-    """Lognormal errors whose std each episode knows only up to a factor the calibration must find (the scores
-    are exchangeable): the interval and the lower bound calibrated on 2000 episodes cover their targets on
-    20 000 fresh ones. Given one calibration set the coverage is a Beta variable of mean at least the target and
-    standard deviation sqrt(c (1 - c) / n) (n = 2000), and the fresh count adds sqrt(c (1 - c) / 20 000): the
-    test allows three of their combined standard deviations (2.1 and 1.5 points)."""
+    """Lognormal errors whose std each episode knows only up to a factor the calibration must find, a factor
+    that differs between two commitments (the scores are exchangeable within each): the interval and the lower
+    bound calibrated on 2000 episodes of each cover their targets on 20 000 fresh ones of each. Given one
+    calibration set the coverage is a Beta variable of mean at least the target and standard deviation
+    sqrt(c (1 - c) / n) (n = 2000), and the fresh count adds sqrt(c (1 - c) / 20 000): the test allows three of
+    their combined standard deviations (2.1 and 1.5 points). The pooled scale, between the two, covers the wide
+    commitment far less."""
     rng = np.random.default_rng(7)
+    understated = {"stop": 1.2, "horizon": 2.5}  # the true log error's std over the stated std
 
-    def draw(n: int) -> list[tuple[float, float, float]]:
+    def draw(n: int, commitment: str) -> list[tuple[float, float, float, str]]:
         cof = rng.uniform(0.05, 0.5, n)
         log_std = rng.uniform(0.02, 0.3, n)
-        estimate = cof * np.exp(1.7 * log_std * rng.standard_normal(n))  # the stds read 1.7 times low
-        return list(zip(estimate, cof, log_std))
+        estimate = cof * np.exp(understated[commitment] * log_std * rng.standard_normal(n))
+        return [(e, c, s, commitment) for e, c, s in zip(estimate, cof, log_std)]
 
-    scales = IntervalScales.calibrate(draw(2000), 0.9, 0.95)
-    assert scales.climbs == 2000 and scales.scale == pytest.approx(1.7 * 1.645, rel=0.1)
-    fresh = draw(20_000)
-    inside = np.mean([scales.interval(e, s)[0] <= c <= scales.interval(e, s)[1] for e, c, s in fresh])
-    above = np.mean([scales.lower_bound(e, s) <= c for e, c, s in fresh])
+    scales = IntervalScales.calibrate(draw(2000, "stop") + draw(2000, "horizon"), 0.9, 0.95)
+    assert scales.climbs == {"pooled": 4000, "stop": 2000, "horizon": 2000, "no stop": 0}
+    assert set(scales.scales) == {"pooled", "stop", "horizon"}  # none without climbs: it reads the pooled one
+    assert scales.scale_of("no stop") == scales.scale_of("pooled")
+
     def allowance(c: float) -> float:
         return 3.0 * math.sqrt(c * (1.0 - c) * (1.0 / 2000 + 1.0 / 20_000))
 
-    assert inside >= 0.9 - allowance(0.9) and above >= 0.95 - allowance(0.95)
-    assert inside <= 0.9 + allowance(0.9) + 1.0 / 2001  # and no wider than it needs: at most one rank above
+    def covered(episodes, commitment=None) -> tuple[float, float]:
+        inside, above = [], []
+        for e, c, s, g in episodes:
+            low, high = scales.interval(e, s, commitment or g)
+            inside.append(low <= c <= high)
+            above.append(scales.lower_bound(e, s, commitment or g) <= c)
+        return float(np.mean(inside)), float(np.mean(above))
+
+    for commitment, factor in understated.items():
+        assert scales.scale_of(commitment)[0] == pytest.approx(factor * 1.645, rel=0.1)
+        inside, above = covered(draw(20_000, commitment))
+        assert inside >= 0.9 - allowance(0.9) and above >= 0.95 - allowance(0.95)
+        assert inside <= 0.9 + allowance(0.9) + 1.0 / 2001  # and no wider than it needs: at most one rank above
+    assert covered(draw(20_000, "horizon"), "pooled")[0] < 0.85
 
 
 def test_scales_check_their_fields_and_round_trip_through_their_file(tmp_path):
-    scales = IntervalScales(0.9, 1.5, 0.95, 1.0, 360, "validation")
+    scales = IntervalScales(0.9, 0.95, {"pooled": [1.5, 1.0], "horizon": [2.0, 1.2]},
+                            {"pooled": 360, "stop": 5, "horizon": 179, "no stop": 0}, "validation")
     assert scales.save(tmp_path).name == INTERVAL_FILE
     assert IntervalScales.load(tmp_path) == scales
     assert IntervalScales.load(tmp_path / "none") is None
     low, high = scales.interval(0.2, 0.1)
     assert (low, high) == pytest.approx((0.2 * math.exp(-0.15), 0.2 * math.exp(0.15)), rel=1e-12)
-    assert scales.lower_bound(0.2, 0.1) == pytest.approx(0.2 * math.exp(-0.1), rel=1e-12)
-    for field, bad in (("coverage", 1.0), ("lower_coverage", 0.0), ("scale", -1.0), ("scale", math.inf)):
-        with pytest.raises(ValueError, match=field):
+    assert scales.interval(0.2, 0.1, "stop") == (low, high)  # not calibrated: the pooled scale
+    assert scales.interval(0.2, 0.1, "horizon")[1] == pytest.approx(0.2 * math.exp(0.2), rel=1e-12)
+    assert scales.lower_bound(0.2, 0.1, "horizon") == pytest.approx(0.2 * math.exp(-0.12), rel=1e-12)
+    assert not enough_for(18, 0.95) and enough_for(19, 0.95)
+    for field, bad, match in (("coverage", 1.0, "coverage"), ("lower_coverage", 0.0, "lower_coverage"),
+                              ("scales", {"horizon": [1.0, 1.0]}, "pooled"),
+                              ("scales", {"pooled": [1.0, 1.0], "later": [1.0, 1.0]}, "at most"),
+                              ("scales", {"pooled": [-1.0, 1.0]}, "scale"),
+                              ("scales", {"pooled": [1.0]}, "lower_scale")):
+        with pytest.raises(ValueError, match=match):
             IntervalScales(**{**scales.__dict__, field: bad})
 
 
@@ -81,14 +104,15 @@ def test_the_pooled_std_is_each_ones_where_they_agree_and_does_not_shrink_with_t
 def test_the_shipped_interrogator_reports_a_calibrated_interval_around_its_estimate(tmp_path):
     env = gym.make(cof_gym.WAGON_ENV_ID)
     agent = interrogator_for(env, SHIPPED_INTERROGATOR)
-    assert agent.interval == IntervalScales.load(SHIPPED_INTERROGATOR) and agent.interval.climbs >= 300
+    assert agent.interval == IntervalScales.load(SHIPPED_INTERROGATOR) and agent.interval.climbs["pooled"] >= 300
     assert agent.cof_interval() is not None  # before an episode: a point (no std yet), the estimate's floor
     actions, _ = play(agent, 3)
     low, high = agent.cof_interval()
-    assert agent.estimate_log_std > 0.0 and low < agent.estimate < high
-    assert math.log(high / low) == pytest.approx(2 * agent.interval.scale * agent.estimate_log_std, rel=1e-12)
+    scale, lower_scale = agent.interval.scale_of(agent.commitment)
+    assert agent.commitment in COMMITMENTS and agent.estimate_log_std > 0.0 and low < agent.estimate < high
+    assert math.log(high / low) == pytest.approx(2 * scale * agent.estimate_log_std, rel=1e-12)
     assert agent.cof_lower_bound() == pytest.approx(
-        agent.estimate * math.exp(-agent.interval.lower_scale * agent.estimate_log_std), rel=1e-12)
+        agent.estimate * math.exp(-lower_scale * agent.estimate_log_std), rel=1e-12)
     for name in ("member_0.npz", "manifest.json"):  # the same policy without the calibration file
         (tmp_path / name).write_bytes((SHIPPED_INTERROGATOR / name).read_bytes())
     bare = interrogator_for(env, tmp_path, replace(manifest_climb(SHIPPED_INTERROGATOR), estimate_from="filter"),

@@ -153,8 +153,8 @@ gap and the creep curve's flexibility fitted over up to :data:`CLIMB_FIT_WINDOWS
 read from two, so that a slow probe's many readings of nearly one slope average out.
 
 **An interval around the estimate.** A policy directory may hold ``interval.json`` (:class:`IntervalScales`):
-scales calibrated by split conformal prediction on the validation grids' climbs, in stds of the estimate's
-source correction (:attr:`LearnedInterrogator.estimate_log_std`). :meth:`LearnedInterrogator.cof_interval`
+scales calibrated by split conformal prediction on the validation grids' climbs, per way the estimate was
+committed (:attr:`LearnedInterrogator.commitment`), in stds of the estimate's source correction (:attr:`LearnedInterrogator.estimate_log_std`). :meth:`LearnedInterrogator.cof_interval`
 gives the two-sided interval and :meth:`LearnedInterrogator.cof_lower_bound` a lower bound on the CoF (an
 over-estimate is the unsafe side for braking). Neither changes the climb or the estimate.
 
@@ -180,7 +180,8 @@ from cof_gym.agents.interrogator.networks import (
     TARGET_NAMES, pooled_correction, pooled_std, FilterNetwork, FilterEnsemble,
 )
 from cof_gym.agents.interrogator.interval import (
-    INTERVAL_FILE, LOG_STD_FLOOR, check_coverage, conformal_quantile, two_sided_score, lower_score, IntervalScales,
+    INTERVAL_FILE, COMMITMENTS, POOLED, LOG_STD_FLOOR, check_coverage, conformal_quantile, enough_for,
+    two_sided_score, lower_score, IntervalScales,
 )
 from cof_gym.agents.interrogator.climb import (
     ESTIMATE_SOURCES, HEADROOM_STOPS, AT_HEADROOM, KNEE_STOPS, GUARDED_ESTIMATES, ESTIMATOR_ESTIMATES,
@@ -199,8 +200,8 @@ __all__ = [
     "CLIMB_FIT_FEATURE_NAMES", "CLIMB_FIT_WINDOWS", "CLIMB_FIT_MIN_SPAN", "SLOPE_FALL_CLIP", "FEATURE_BLOCKS",
     "feature_names", "blocks_of", "FLEXIBILITY_CLIP", "PEAK_GAP_CLIP", "flexibility_ratio", "slope_fall",
     "fitted_peak_gap", "fitted_flexibility", "peak_gap", "EpisodeFeatures", "TARGET_NAMES", "pooled_correction",
-    "pooled_std", "FilterNetwork", "FilterEnsemble", "INTERVAL_FILE", "LOG_STD_FLOOR", "check_coverage",
-    "conformal_quantile", "two_sided_score", "lower_score", "IntervalScales", "ESTIMATE_SOURCES", "HEADROOM_STOPS", "AT_HEADROOM", "KNEE_STOPS",
+    "pooled_std", "FilterNetwork", "FilterEnsemble", "INTERVAL_FILE", "COMMITMENTS", "POOLED", "LOG_STD_FLOOR",
+    "check_coverage", "conformal_quantile", "enough_for", "two_sided_score", "lower_score", "IntervalScales", "ESTIMATE_SOURCES", "HEADROOM_STOPS", "AT_HEADROOM", "KNEE_STOPS",
     "GUARDED_ESTIMATES", "ESTIMATOR_ESTIMATES", "TWO_TONE_ENV_OPTIONS", "CREST_RATIO_FLOOR",
     "speed_scaled_frequency", "floor_headroom", "ClimbParameters", "SHIPPED_INTERROGATOR", "WORLD_KWARGS",
     "WindowDecision", "LearnedInterrogator", "read_manifest", "manifest_climb", "manifest_networks",

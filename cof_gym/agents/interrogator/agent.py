@@ -212,14 +212,25 @@ class LearnedInterrogator:
             source = AT_HEADROOM[source] if self.stop_reason in HEADROOM_STOPS else "filter"
         return self._source_stds.get(source, 0.0)
 
+    @property
+    def commitment(self) -> str:
+        """How the estimate was committed (:data:`~cof_gym.agents.interrogator.interval.COMMITMENTS`): at the
+        climb's own stop, at the horizon, or with no stop yet (an episode that ends there ended under the
+        runaway estimate)."""
+        return "horizon" if self.stop_reason == "horizon" else "stop" if self.stop_reason else "no stop"
+
     def cof_interval(self) -> tuple[float, float] | None:
-        """The calibrated two-sided interval around :attr:`estimate` (:class:`IntervalScales`), None without
-        a calibration."""
-        return None if self.interval is None else self.interval.interval(self.estimate, self.estimate_log_std)
+        """The calibrated two-sided interval around :attr:`estimate` (:class:`IntervalScales`, at the scale of
+        its :attr:`commitment`), None without a calibration."""
+        if self.interval is None:
+            return None
+        return self.interval.interval(self.estimate, self.estimate_log_std, self.commitment)
 
     def cof_lower_bound(self) -> float | None:
         """The calibrated lower bound on the CoF under :attr:`estimate`, None without a calibration."""
-        return None if self.interval is None else self.interval.lower_bound(self.estimate, self.estimate_log_std)
+        if self.interval is None:
+            return None
+        return self.interval.lower_bound(self.estimate, self.estimate_log_std, self.commitment)
 
     @staticmethod
     def _pooled_predictions(filter_prediction: tuple[float, float], guard_predictions: list[tuple[float, float]],

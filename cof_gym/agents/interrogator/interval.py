@@ -14,7 +14,14 @@ inference for regression", J. Amer. Statist. Assoc. 113 (2018), Sect. 5.2):
 
 With ``n`` calibration scores, ``q`` is the ``ceil((n + 1) x coverage)``-th smallest; a new episode drawn like
 the calibration climbs is then covered with probability at least ``coverage`` (exchangeability, whatever the
-networks' errors are). Creep curves and sensors unlike the calibration climbs' carry no such guarantee: there the
+networks' errors are). The scales are calibrated per way the estimate was committed (:data:`COMMITMENTS`: at
+the climb's own stop, at the horizon, or with no stop, where the wheel ran away under the runaway estimate),
+which the agent knows when it reports: Mondrian conformal prediction (Vovk et al., Sect. 4.5), whose guarantee
+holds within each of them. A stop near the peak and an extrapolation from far below it are not one population:
+pooled, the scale would be too wide for the first and too narrow for the second. A commitment with too few
+calibration climbs for a coverage takes the pooled scale. Which of the two a policy ships (pooled alone, or per
+commitment) is chosen on the validation grids alone: ``experiments/estimate_interval.py`` calibrates each on two
+of the three grids and measures it on the third. Creep curves and sensors unlike the calibration climbs' carry no such guarantee: there the
 coverage is measured (``experiments/estimate_interval.py`` reports it on every held-out grid).
 """
 
@@ -29,6 +36,10 @@ from typing import Iterable
 from cof_gym.task.validation import check_number
 
 INTERVAL_FILE = "interval.json"  # beside a policy directory's manifest.json
+# how the estimate was committed: the climb's own stop, the horizon, or no stop (the episode ended under the
+# runaway estimate); the groups the scales are calibrated in
+COMMITMENTS = ("stop", "horizon", "no stop")
+POOLED = "pooled"  # the scales over every calibration climb: a commitment's where it had too few
 LOG_STD_FLOOR = 1e-6  # a std below this (log units) scores as this: a point estimate still has a finite score
 
 
@@ -65,41 +76,63 @@ def lower_score(estimate: float, cof: float, log_std: float) -> float:
     return math.log(estimate / cof) / max(log_std, LOG_STD_FLOOR)
 
 
+def enough_for(count: int, coverage: float) -> bool:
+    """Whether ``count`` calibration scores can calibrate ``coverage`` (:func:`conformal_quantile`)."""
+    return math.ceil((count + 1) * coverage) <= count
+
+
 @dataclass(frozen=True)
 class IntervalScales:
     """The calibrated scales (in stds of the estimate's log) of the two-sided interval at ``coverage`` and of
-    the lower bound at ``lower_coverage``, and what they were calibrated on (``climbs`` scored episodes)."""
+    the lower bound at ``lower_coverage``: per commitment (:data:`COMMITMENTS`) and :data:`POOLED`, each
+    ``[scale, lower_scale]``; the calibration climbs per commitment (``climbs``) and what they were."""
 
     coverage: float
-    scale: float
     lower_coverage: float
-    lower_scale: float
-    climbs: int
+    scales: dict[str, list[float]]
+    climbs: dict[str, int]
     calibrated_on: str = ""
 
     def __post_init__(self) -> None:
         for name in ("coverage", "lower_coverage"):
             check_coverage(name, getattr(self, name))
-        check_number("scale", self.scale, 0.0, math.inf)
-        check_number("lower_scale", self.lower_scale, -math.inf, math.inf)
+        if POOLED not in self.scales or set(self.scales) - {POOLED, *COMMITMENTS}:
+            raise ValueError(f"scales must name {POOLED!r} and at most {COMMITMENTS}, got {sorted(self.scales)}")
+        for group, pair in self.scales.items():
+            if not (isinstance(pair, (list, tuple)) and len(pair) == 2):
+                raise ValueError(f"scales[{group!r}] must be [scale, lower_scale], got {pair!r}")
+            check_number(f"scales[{group!r}] scale", pair[0], 0.0, math.inf)
+            check_number(f"scales[{group!r}] lower_scale", pair[1], -math.inf, math.inf)
 
     @classmethod
-    def calibrate(cls, episodes: Iterable[tuple[float, float, float]], coverage: float = 0.9,
-                  lower_coverage: float = 0.95, calibrated_on: str = "") -> "IntervalScales":
-        """The scales from scored calibration ``episodes`` of ``(estimate, CoF, log_std)``."""
+    def calibrate(cls, episodes: Iterable[tuple[float, float, float, str]], coverage: float = 0.9,
+                  lower_coverage: float = 0.95, calibrated_on: str = "", per_commitment: bool = True
+                  ) -> "IntervalScales":
+        """The scales from scored calibration ``episodes`` of ``(estimate, CoF, log_std, commitment)``: pooled,
+        and with ``per_commitment`` per commitment with enough of them for both coverages."""
         episodes = list(episodes)
-        return cls(coverage, conformal_quantile([two_sided_score(*e) for e in episodes], coverage),
-                   lower_coverage, conformal_quantile([lower_score(*e) for e in episodes], lower_coverage),
-                   len(episodes), calibrated_on)
+        groups = {POOLED: episodes, **{c: [e for e in episodes if e[3] == c] for c in COMMITMENTS}}
+        scales, climbs = {}, {}
+        for group, members in groups.items():
+            climbs[group] = len(members)
+            own = per_commitment and enough_for(len(members), coverage) and enough_for(len(members), lower_coverage)
+            if group == POOLED or own:
+                scales[group] = [conformal_quantile([two_sided_score(*e[:3]) for e in members], coverage),
+                                 conformal_quantile([lower_score(*e[:3]) for e in members], lower_coverage)]
+        return cls(coverage, lower_coverage, scales, climbs, calibrated_on)
 
-    def interval(self, estimate: float, log_std: float) -> tuple[float, float]:
-        """``estimate x exp(-+scale x log_std)``: the two-sided interval (CoF)."""
-        half = self.scale * max(log_std, LOG_STD_FLOOR)
+    def scale_of(self, commitment: str) -> tuple[float, float]:
+        """(two-sided scale, lower scale) of a commitment: its own, else the pooled ones."""
+        return tuple(self.scales.get(commitment, self.scales[POOLED]))
+
+    def interval(self, estimate: float, log_std: float, commitment: str = POOLED) -> tuple[float, float]:
+        """``estimate x exp(-+scale x log_std)``: the two-sided interval (CoF) at the commitment's scale."""
+        half = self.scale_of(commitment)[0] * max(log_std, LOG_STD_FLOOR)
         return estimate * math.exp(-half), estimate * math.exp(half)
 
-    def lower_bound(self, estimate: float, log_std: float) -> float:
-        """``estimate x exp(-lower_scale x log_std)``: the lower bound (CoF)."""
-        return estimate * math.exp(-self.lower_scale * max(log_std, LOG_STD_FLOOR))
+    def lower_bound(self, estimate: float, log_std: float, commitment: str = POOLED) -> float:
+        """``estimate x exp(-lower_scale x log_std)``: the lower bound (CoF) at the commitment's scale."""
+        return estimate * math.exp(-self.scale_of(commitment)[1] * max(log_std, LOG_STD_FLOOR))
 
     def save(self, directory: Path) -> Path:
         path = Path(directory) / INTERVAL_FILE
