@@ -36,7 +36,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 from make_grids import v2_heldout_grids  # noqa: E402
-from script_checks import check_out_file  # noqa: E402
+from script_checks import check_out_file, write_report  # noqa: E402
 from train_interrogator import CONFIGS, PROCEDURAL_VALIDATION, STEEP_VALIDATION, VALIDATION, episodes  # noqa: E402
 
 from cof_gym.agents.interrogator import POOLED, SHIPPED_INTERROGATOR, IntervalScales, check_coverage  # noqa: E402
@@ -175,10 +175,7 @@ def main() -> None:
              "|---" * (5 + len(ENDINGS)) + "|",
              row("validation grids (the calibration)", calibration, scales)]
     lines += [row(label, part, scales) for label, part in zip(reported, played[len(calibration_parts):])]
-    text = "\n".join(lines) + "\n"
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text(text)
-    print(text, end="")
+    write_report(args.out, lines)
 
 
 if __name__ == "__main__":

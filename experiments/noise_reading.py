@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from script_checks import check_out_file  # noqa: E402
+from script_checks import check_out_file, write_report  # noqa: E402
 from train_interrogator import CONFIGS, VALIDATION, episodes  # noqa: E402
 
 from cof_gym.agents.interrogator import NOISE_WINDOWS, SHIPPED_INTERROGATOR, first_windows_noise_nms  # noqa: E402
@@ -77,10 +77,7 @@ def main() -> None:
     for i, lv in enumerate(args.levels):
         parts = results[i * len(CONFIGS):(i + 1) * len(CONFIGS)]
         lines.append(row(lv, *([x for part in parts for x in part[k]] for k in range(3))))
-    text = "\n".join(lines) + "\n"
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text(text)
-    print(text, end="")
+    write_report(args.out, lines)
 
 
 if __name__ == "__main__":

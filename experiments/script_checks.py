@@ -1,7 +1,7 @@
 """Checks shared by the experiment scripts: run right after ``parse_args``, before any simulation and
 before anything is created, so a bad ``--out`` (or an unreadable input file) is one usage line (exit status 2)
 naming the option, not a traceback at the end of a long run (the checks of :mod:`cof_gym.commands.args`,
-reported through the script's parser)."""
+reported through the script's parser); and the report's write once the run is done (:func:`write_report`)."""
 
 from __future__ import annotations
 
@@ -43,3 +43,12 @@ def load_climbs(parser: argparse.ArgumentParser, option: str, path: Path) -> Any
         return Dataset.load(path)
     except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as error:
         parser.error(f"{option}: {path} is not a climbs file ({error.__class__.__name__}: {error})")
+
+
+def write_report(path: Path, lines: list[str]) -> None:
+    """Write the report ``lines`` to ``path`` (checked by :func:`check_out_file` before the run; its missing
+    parent directories are created) and print them."""
+    text = "\n".join(lines) + "\n"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(text)
+    print(text, end="")
