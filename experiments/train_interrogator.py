@@ -108,7 +108,7 @@ import numpy as np
 
 import cof_gym
 from cof_gym.agents.interrogator import (
-    SHIPPED_INTERROGATOR, ClimbParameters, FilterEnsemble, FilterNetwork, interrogator_for, manifest_climb,
+    INTERVAL_FILE, SHIPPED_INTERROGATOR, ClimbParameters, FilterEnsemble, FilterNetwork, interrogator_for, manifest_climb,
 )
 from cof_gym.agents.interrogator.training import (
     FIT_LOSSES, FITTABLE_BLOCKS, STEEP_FALL, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel, fit_member, nll,
@@ -472,10 +472,11 @@ def shipped_runs(out: Path, package: Path = SHIPPED_INTERROGATOR) -> list[Path]:
     for run in runs:
         if run.exists():
             shutil.rmtree(run)
-    shutil.copytree(package, runs[-1])
+    # the calibrated interval belongs to the shipped networks alone: estimate_interval.py --write after a --ship
+    shutil.copytree(package, runs[-1], ignore=lambda folder, names: [n for n in names if n == INTERVAL_FILE])
     for k, run in enumerate(runs[:-1]):
         shutil.copytree(package, run, ignore=lambda folder, names: [n for n in names if Path(folder) == package
-                                                                     and n.startswith("member_")])
+                                                                     and (n.startswith("member_") or n == INTERVAL_FILE)])
         shutil.copy2(package / f"member_{k}.npz", run / "member_0.npz")
     return runs
 
@@ -672,7 +673,8 @@ def main() -> None:
         if SHIPPED_INTERROGATOR.exists():
             shutil.rmtree(SHIPPED_INTERROGATOR)
         shutil.copytree(ensemble_dir, SHIPPED_INTERROGATOR)
-        print(f"shipped {ensemble_dir} -> {SHIPPED_INTERROGATOR}")
+        print(f"shipped {ensemble_dir} -> {SHIPPED_INTERROGATOR}; calibrate its interval with "
+              "python experiments/estimate_interval.py --write")
 
 
 if __name__ == "__main__":

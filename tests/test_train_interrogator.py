@@ -199,7 +199,8 @@ def test_the_shipped_climb_carries_the_recipes_fixed_parts() -> None:
 
 def test_the_report_only_runs_are_the_shipped_agent_member_by_member(tmp_path: Path) -> None:
     """``--report-only`` plays seed K as the shipped package's member K alone, with the package's guards and
-    manifest, and the ensemble as the package; a stale run directory is replaced."""
+    manifest, and the ensemble as the package, without its calibrated interval; a stale run directory is
+    replaced."""
     from train_interrogator import shipped_runs
 
     from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR
@@ -214,6 +215,7 @@ def test_the_report_only_runs_are_the_shipped_agent_member_by_member(tmp_path: P
         assert not (run / "guard_9").exists()
     for run in runs:
         assert (run / "manifest.json").read_text() == (SHIPPED_INTERROGATOR / "manifest.json").read_text()
+        assert not (run / "interval.json").exists()  # calibrated for the shipped networks alone
     assert [p.read_bytes() for p in sorted(runs[-1].glob("member_*.npz"))] == [p.read_bytes() for p in members]
     agent = interrogator_for(gym.make(cof_gym.WAGON_ENV_ID), runs[0])
     assert len(agent.ensemble.members) == 1 and [len(g.members) for g in agent.guards] == [len(members)] * 2
