@@ -107,6 +107,20 @@ def markdown_breakdown(summary: dict[str, dict[str, Any]]) -> str:
             + "\n".join(lines))
 
 
+INTERVAL_ROWS = (("coverage", "CoF in its reported interval [%]"),
+                 ("lower_bound_coverage", "CoF above its reported lower bound [%]"))
+
+
+def _interval_rows(summary: dict[str, dict[str, Any]]) -> list[list[str]]:
+    """The terminal rows of the intervals the agents reported (:data:`INTERVAL_ROWS`; "-" for an agent that
+    reported none), none where no agent did."""
+    if not any("interval" in summary[a] for a in summary):
+        return []
+    cell = lambda v: f"{_fmt(v['value'], 'pct')}\n[{_fmt(v['ci95'][0], 'pct')}, {_fmt(v['ci95'][1], 'pct')}]"  # noqa: E731
+    return [[label, *[cell(summary[a]["interval"][key]) if "interval" in summary[a] else "-" for a in summary]]
+            for key, label in INTERVAL_ROWS]
+
+
 def print_table(summary: dict[str, dict[str, Any]], title: str, out=None) -> None:
     """The summary (value, CI below it) and the breakdown (median error per group) on ``out`` (a rich
     console; default: stdout at the terminal's width, or COLUMNS, or 100), splitting no word
@@ -117,6 +131,7 @@ def print_table(summary: dict[str, dict[str, Any]], title: str, out=None) -> Non
     rows = [[label, *[f"{_fmt(summary[a][key]['value'], kind)}\n[{_fmt(summary[a][key]['ci95'][0], kind)}, "
                       f"{_fmt(summary[a][key]['ci95'][1], kind)}]" for a in summary]]
             for key, label, _, _, kind in METRICS]
+    rows += _interval_rows(summary)
     rows.append(["episodes [count]", *[str(summary[a]["episodes"]) for a in summary]])
     labels = [_agent_label(summary, a).replace(" (oracle)", "\n(oracle)") for a in summary]
     terminal.print_table(title, ["metric [unit]\n(95 % CI)", *labels], rows, out)
