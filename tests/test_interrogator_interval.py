@@ -3,6 +3,7 @@ the split conformal quantile, the scales it gives, their file, and the agent's i
 
 from __future__ import annotations
 
+import io
 import math
 from dataclasses import replace
 
@@ -125,7 +126,8 @@ def test_evaluate_records_and_summarises_the_intervals_agents_report():
     from cof_gym.agents.registry import make_agent
     from cof_gym.commands.evaluate_episodes import run_episode
     from cof_gym.commands.evaluate_stats import summarize
-    from cof_gym.commands.evaluate_tables import markdown_intervals
+    from cof_gym.commands.evaluate_tables import markdown_intervals, print_table
+    from rich.console import Console
 
     env = gym.make(cof_gym.WAGON_ENV_ID)
     learned, rule = make_agent("interrogator", env), make_agent("phase-rule", env)
@@ -141,6 +143,11 @@ def test_evaluate_records_and_summarises_the_intervals_agents_report():
     table = markdown_intervals(summary)
     assert table.count("\n") == 2 and "| interrogator | 3 |" in table and "phase-rule" not in table
     assert markdown_intervals(summarize(records[3:], seed=0)) == ""
+    printed = io.StringIO()
+    print_table(summary, "intervals", Console(file=printed, width=200, highlight=False, markup=False,
+                                              color_system=None))
+    line = next(row for row in printed.getvalue().splitlines() if "CoF in its reported interval" in row)
+    assert line.split("│")[2].strip() == f"{100 * stats['coverage']['value']:.1f}" and line.split("│")[3].strip() == "-"
 
     class Careless:  # an agent whose interval is no interval
         name, oracle = "careless", False
