@@ -73,9 +73,8 @@ def coverage_cells(episodes: list[Committed], scales: IntervalScales) -> tuple[s
     """(two-sided coverage, lower-bound coverage, median width high / low) of ``episodes`` ("-" for none)."""
     if not episodes:
         return "-", "-", "-"
-    inside, above = covered(episodes, scales)
-    widths = [high / low for low, high in (scales.interval(e.estimate, e.log_std, e.commitment) for e in episodes)]
-    return f"{inside:.1%}", f"{above:.1%}", f"{np.median(widths):.2f}"
+    inside, above, width = covered(episodes, scales)
+    return f"{inside:.1%}", f"{above:.1%}", f"{width:.2f}"
 
 
 def row(label: str, episodes: list[Committed], scales: IntervalScales) -> str:
@@ -90,12 +89,13 @@ def row(label: str, episodes: list[Committed], scales: IntervalScales) -> str:
 METHODS = {"pooled": False, "per commitment": True}  # the calibrations compared: IntervalScales.calibrate's flag
 
 
-def covered(episodes: list[Committed], scales: IntervalScales) -> tuple[float, float]:
-    """(the fraction of ``episodes`` whose CoF lies in the interval, the fraction at least the lower bound)."""
-    inside = [scales.interval(e.estimate, e.log_std, e.commitment)[0] <= e.cof
-              <= scales.interval(e.estimate, e.log_std, e.commitment)[1] for e in episodes]
+def covered(episodes: list[Committed], scales: IntervalScales) -> tuple[float, float, float]:
+    """(the fraction of ``episodes`` whose CoF lies in the interval, the fraction at least the lower bound, the
+    interval's median width high / low)."""
+    intervals = [scales.interval(e.estimate, e.log_std, e.commitment) for e in episodes]
+    inside = [low <= e.cof <= high for e, (low, high) in zip(episodes, intervals)]
     above = [scales.lower_bound(e.estimate, e.log_std, e.commitment) <= e.cof for e in episodes]
-    return float(np.mean(inside)), float(np.mean(above))
+    return float(np.mean(inside)), float(np.mean(above)), float(np.median([high / low for low, high in intervals]))
 
 
 def select_method(by_grid: dict[str, list[Committed]], coverage: float, lower_coverage: float
@@ -112,8 +112,8 @@ def select_method(by_grid: dict[str, list[Committed]], coverage: float, lower_co
         cells, worst = [], 0.0
         for left_out in by_grid:
             rest = [e.calibration for grid, part in by_grid.items() if grid != left_out for e in part]
-            inside, above = covered(by_grid[left_out], IntervalScales.calibrate(rest, coverage, lower_coverage,
-                                                                                per_commitment=flag))
+            inside, above, _ = covered(by_grid[left_out], IntervalScales.calibrate(rest, coverage, lower_coverage,
+                                                                                   per_commitment=flag))
             worst = max(worst, coverage - inside, lower_coverage - above)
             cells.append(f"{inside:.1%} / {above:.1%}")
         shortfalls[method] = worst

@@ -166,3 +166,14 @@ def test_evaluate_records_and_summarises_the_intervals_agents_report():
 
     with pytest.raises(ValueError, match="careless reported the interval"):
         run_episode(env, Careless(), 0, {}, 0)
+
+    class IntervalOnly(Careless):  # an interval and no lower bound: no lower-bound coverage, not a NaN one
+        name = "interval-only"
+
+        def cof_interval(self):
+            return 0.01, 1.0
+
+    only = summarize([run_episode(env, IntervalOnly(), seed, {}, seed) for seed in (0, 1)], seed=0)
+    assert only["interval-only"]["interval"]["coverage"]["value"] == 1.0
+    assert "lower_bound_coverage" not in only["interval-only"]["interval"]
+    assert markdown_intervals(only).splitlines()[-1] == "| interval-only | 2 | 100.0 [100.0, 100.0] | - | 100.00 |"

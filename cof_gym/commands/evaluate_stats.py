@@ -153,14 +153,16 @@ def summarize(records: list[EpisodeRecord], seed: int) -> dict[str, dict[str, An
 
 def interval_stats(rows: list[EpisodeRecord], rng: np.random.Generator) -> dict[str, Any] | None:
     """How often the CoF lay in the interval the agent reported and above its lower bound, with bootstrap 95 %
-    CIs, and the interval's median width (high over low), over the scored episodes with one; None where the
-    agent reported none."""
+    CIs, over the scored episodes with an interval, and the interval's median width (high over low); None where
+    the agent reported none. An agent that reports no lower bound has no ``lower_bound_coverage``."""
     rows = [r for r in rows if r.in_interval is not None]
     if not rows:
         return None
     out: dict[str, Any] = {"episodes": len(rows)}
     for key, values in (("coverage", [r.in_interval for r in rows]),
                         ("lower_bound_coverage", [r.above_lower_bound for r in rows])):
+        if None in values:  # a coverage of some episodes only would be no coverage of the agent's
+            continue
         values = np.array(values, dtype=float)
         lo, hi = bootstrap_ci(values, np.mean, rng)
         out[key] = {"value": float(np.mean(values)), "ci95": [lo, hi]}

@@ -8,6 +8,10 @@ import numpy as np
 
 from cof_gym.commands.evaluate_stats import METRICS
 
+# the statistics of the intervals the agents reported (evaluate_stats.interval_stats' keys) and their labels
+INTERVAL_ROWS = (("coverage", "CoF in its reported interval [%]"),
+                 ("lower_bound_coverage", "CoF above its reported lower bound [%]"))
+
 
 def _fmt(value: float, kind: str) -> str:
     if not np.isfinite(value):
@@ -19,6 +23,11 @@ def _fmt(value: float, kind: str) -> str:
     return f"{value:.3g}"
 
 
+def _ci_cell(stat: dict[str, Any], kind: str, between: str = " ") -> str:
+    """A statistic ``{"value", "ci95"}`` as ``value [low, high]`` (``between``: what separates the two)."""
+    return f"{_fmt(stat['value'], kind)}{between}[{_fmt(stat['ci95'][0], kind)}, {_fmt(stat['ci95'][1], kind)}]"
+
+
 def _agent_label(summary: dict, a: str) -> str:
     return f"{a} (oracle)" if summary[a]["oracle"] else a
 
@@ -28,11 +37,7 @@ def markdown_table(summary: dict[str, dict[str, Any]]) -> str:
     lines = ["| metric [unit] (95 % CI) | " + " | ".join(_agent_label(summary, a) for a in agents) + " |",
              "|---" * (len(agents) + 1) + "|"]
     for key, label, _, _, kind in METRICS:
-        cells = []
-        for a in agents:
-            v = summary[a][key]
-            cells.append(f"{_fmt(v['value'], kind)} [{_fmt(v['ci95'][0], kind)}, {_fmt(v['ci95'][1], kind)}]")
-        lines.append(f"| {label} | " + " | ".join(cells) + " |")
+        lines.append(f"| {label} | " + " | ".join(_ci_cell(summary[a][key], kind) for a in agents) + " |")
     lines.append("| episodes [count] | " + " | ".join(str(summary[a]["episodes"]) for a in agents) + " |")
     return "\n".join(lines)
 
@@ -47,8 +52,7 @@ def markdown_intervals(summary: dict[str, dict[str, Any]]) -> str:
              "| median interval width (high / low) |", "|---|---|---|---|---|"]
     for a in agents:
         i = summary[a]["interval"]
-        cells = [f"{_fmt(i[k]['value'], 'pct')} [{_fmt(i[k]['ci95'][0], 'pct')}, {_fmt(i[k]['ci95'][1], 'pct')}]"
-                 for k in ("coverage", "lower_bound_coverage")]
+        cells = [_ci_cell(i[k], "pct") if k in i else "-" for k, _ in INTERVAL_ROWS]
         lines.append(f"| {_agent_label(summary, a)} | {i['episodes']} | {' | '.join(cells)} | {i['median_width']:.2f} |")
     return "\n".join(lines)
 
@@ -107,18 +111,13 @@ def markdown_breakdown(summary: dict[str, dict[str, Any]]) -> str:
             + "\n".join(lines))
 
 
-INTERVAL_ROWS = (("coverage", "CoF in its reported interval [%]"),
-                 ("lower_bound_coverage", "CoF above its reported lower bound [%]"))
-
-
 def _interval_rows(summary: dict[str, dict[str, Any]]) -> list[list[str]]:
     """The terminal rows of the intervals the agents reported (:data:`INTERVAL_ROWS`; "-" for an agent that
     reported none), none where no agent did."""
     if not any("interval" in summary[a] for a in summary):
         return []
-    cell = lambda v: f"{_fmt(v['value'], 'pct')}\n[{_fmt(v['ci95'][0], 'pct')}, {_fmt(v['ci95'][1], 'pct')}]"  # noqa: E731
-    return [[label, *[cell(summary[a]["interval"][key]) if "interval" in summary[a] else "-" for a in summary]]
-            for key, label in INTERVAL_ROWS]
+    return [[label, *[_ci_cell(summary[a]["interval"][key], "pct", "\n") if key in summary[a].get("interval", {})
+                      else "-" for a in summary]] for key, label in INTERVAL_ROWS]
 
 
 def print_table(summary: dict[str, dict[str, Any]], title: str, out=None) -> None:
@@ -128,9 +127,7 @@ def print_table(summary: dict[str, dict[str, Any]], title: str, out=None) -> Non
     from cof_gym.commands import terminal
 
     out = out or terminal.console()
-    rows = [[label, *[f"{_fmt(summary[a][key]['value'], kind)}\n[{_fmt(summary[a][key]['ci95'][0], kind)}, "
-                      f"{_fmt(summary[a][key]['ci95'][1], kind)}]" for a in summary]]
-            for key, label, _, _, kind in METRICS]
+    rows = [[label, *[_ci_cell(summary[a][key], kind, "\n") for a in summary]] for key, label, _, _, kind in METRICS]
     rows += _interval_rows(summary)
     rows.append(["episodes [count]", *[str(summary[a]["episodes"]) for a in summary]])
     labels = [_agent_label(summary, a).replace(" (oracle)", "\n(oracle)") for a in summary]

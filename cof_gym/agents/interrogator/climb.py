@@ -377,9 +377,9 @@ class ClimbParameters:
     def commanded_amplitude(self, dc_nm: float, limits: MotorLimits, ratio: float | None = None,
                             raise_by: float = 1.0) -> float:
         """The modulation amplitude (N m) the drive is asked for: :meth:`amplitude` times ``raise_by``
-        (:meth:`modulation_raise`), at most the drive's maximum."""
-        amplitude = self.amplitude(dc_nm, limits, ratio)
-        return amplitude if raise_by == 1.0 else min(amplitude * raise_by, limits.max_amplitude_nm)
+        (:meth:`modulation_raise`), at most the drive's maximum (exactly :meth:`amplitude` at a raise of 1, which
+        is within that maximum already)."""
+        return min(self.amplitude(dc_nm, limits, ratio) * raise_by, limits.max_amplitude_nm)
 
     def action(self, dc_nm: float, estimate: float, stop: bool, limits: MotorLimits,
                ratio: float | None = None, frequency_hz: float | None = None, raise_by: float = 1.0) -> np.ndarray:
