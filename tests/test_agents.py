@@ -340,6 +340,22 @@ def test_a_breakdown_row_counts_each_agents_episodes_where_they_differ() -> None
                                                              "| committed at > 95 % M_sat"]
 
 
+def test_the_breakdown_keeps_the_bands_order_where_no_agent_has_two_of_them() -> None:
+    """Two agents that share no utilisation band and no ending: the rows still follow the bands' and the
+    endings' order (not the order in which the agents first showed them)."""
+    from cof_gym.commands.evaluate_tables import markdown_breakdown
+
+    stats = {"episodes": 1, "median_error": 0.01, "p90_error": 0.02, "macro_slip_events": 0,
+             "peak_torque_fraction": 0.9}
+    summary = {"a": {"oracle": False, "breakdown": {"dry": stats, "committed at 90-95 % M_sat": stats,
+                                                    "ended: macro-slip": stats}},
+               "b": {"oracle": False, "breakdown": {"dry": stats, "committed at 80-90 % M_sat": stats,
+                                                    "ended: stop": stats}}}
+    groups = [line.split(" | ")[0] for line in markdown_breakdown(summary).splitlines()[4:]]
+    assert groups == ["| dry (1)", "| committed at 80-90 % M_sat", "| committed at 90-95 % M_sat", "| ended: stop",
+                      "| ended: macro-slip"]
+
+
 @pytest.mark.parametrize("block_values", [1 << 22, 7])
 def test_the_bootstrap_computes_each_resamples_statistic_as_for_that_resample_alone(block_values: int,
                                                                                   monkeypatch) -> None:

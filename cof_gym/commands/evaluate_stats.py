@@ -80,12 +80,25 @@ def peak_creepage_band(creepage: float) -> str:
                  f"peak creepage < {100 * hi:.0f} %" if lo == 0 else f"peak creepage {100 * lo:.0f}-{100 * hi:.0f} %")
 
 
+def _utilisation_label(lo: float, hi: float) -> str:
+    return (f"committed at > {100 * lo:.0f} % M_sat" if math.isinf(hi) else
+            f"committed at <= {100 * hi:.0f} % M_sat" if lo == 0 else f"committed at {100 * lo:.0f}-{100 * hi:.0f} % M_sat")
+
+
 def utilisation_band(fraction: float) -> str:
     """The band of the peak torque (fraction of the true saturation torque) at the committed estimate."""
-    return _band(fraction, UTILISATION_BANDS,
-                 lambda lo, hi: f"committed at > {100 * lo:.0f} % M_sat" if math.isinf(hi) else
-                 f"committed at <= {100 * hi:.0f} % M_sat" if lo == 0 else
-                 f"committed at {100 * lo:.0f}-{100 * hi:.0f} % M_sat")
+    return _band(fraction, UTILISATION_BANDS, _utilisation_label)
+
+
+def ending_group(ended: str) -> str:
+    """The breakdown's group of an episode that ended as ``ended`` (one of ``ENDINGS``)."""
+    return f"ended: {ended}"
+
+
+# the groupings whose groups depend on what an agent did, each as its groups in order: two agents may share none
+# of a grouping's groups, so the tables take their order from here, not from the agents' breakdowns
+AGENT_GROUPINGS = (tuple(_utilisation_label(lo, hi) for lo, hi in zip(UTILISATION_BANDS[:-1], UTILISATION_BANDS[1:])),
+                   tuple(ending_group(e) for e in ENDINGS))
 
 
 # the breakdown's groupings, in table order: (name, group of a record, the record's order within it)
@@ -97,7 +110,7 @@ GROUPINGS = (
     ("creepage-error band", lambda r: creepage_error_band(r.creepage_offset), lambda r: abs(r.creepage_offset)),
     ("utilisation at commitment", lambda r: utilisation_band(r.peak_torque_fraction),
      lambda r: r.peak_torque_fraction),
-    ("how the episode ended", lambda r: f"ended: {r.ended}", lambda r: ENDINGS.index(r.ended)),
+    ("how the episode ended", lambda r: ending_group(r.ended), lambda r: ENDINGS.index(r.ended)),
     ("the suite's episode note", lambda r: f"note {r.note}" if r.note else "no note", lambda r: r.note),
 )
 

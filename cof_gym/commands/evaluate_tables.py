@@ -6,7 +6,7 @@ from typing import Any
 
 import numpy as np
 
-from cof_gym.commands.evaluate_stats import METRICS
+from cof_gym.commands.evaluate_stats import AGENT_GROUPINGS, METRICS
 
 # the statistics of the intervals the agents reported (evaluate_stats.interval_stats' keys) and their labels
 INTERVAL_ROWS = (("coverage", "CoF in its reported interval [%]"),
@@ -66,14 +66,19 @@ def _shared_count(summary: dict[str, dict[str, Any]], group: str) -> int | None:
 
 
 def _group_order(summary: dict[str, dict[str, Any]]) -> list[str]:
-    """Every agent's breakdown groups in one order that keeps each agent's (the breakdown's, e.g. the utilisation
-    bands from the lowest up), where some groups belong to some agents only; ties in order of first appearance."""
+    """Every agent's breakdown groups in one order that keeps each agent's (the breakdown's) and each of
+    :data:`AGENT_GROUPINGS`' (e.g. the utilisation bands from the lowest up), where some groups belong to some
+    agents only; ties in order of first appearance."""
     before: dict[str, set[str]] = {}
     for a in summary:
         seen: set[str] = set()
         for g in summary[a]["breakdown"]:
             before.setdefault(g, set()).update(seen)
             seen.add(g)
+    for grouping in AGENT_GROUPINGS:
+        present = [g for g in grouping if g in before]
+        for k, g in enumerate(present):
+            before[g].update(present[:k])
     order: list[str] = []
     while len(order) < len(before):
         placed = set(order)
