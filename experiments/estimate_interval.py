@@ -14,13 +14,20 @@ its coverage measured on every reported suite. (Run from the repository root; 2 
    smaller worst shortfall below a target wins, the pooled scales on a tie). With ``--write`` it saves them as the policy
    directory's ``interval.json``, which the agent then loads (``LearnedInterrogator.cof_interval`` and
    ``cof_lower_bound``).
+   The same plays give the in-flight scales: after every window a climb goes on from, the interrogator's
+   in-flight estimate (``LearnedInterrogator.in_flight_estimate``) and its place in the climb (before the slow
+   probe, in it); one such window per climb and place, drawn at random (seeded), calibrates that place's scales.
 2. **Report** (nothing is chosen here). Plays the default suite (60 seeded v2 draws, as ``cof-gym evaluate``)
    and every v2 held-out grid with the scales of step 1, and tabulates per suite how often the CoF lies in
    the interval and above the lower bound, and the interval's median width (high over low), in all and by how
    the episode ended (the agent's stop, the horizon, a macro-slip). The validation grids' own row is the
    calibration itself: its coverage is at least the target by construction. The held-out grids' creep curves
    and sensor errors are unlike the calibration climbs', so their rows measure what the guarantee does not
-   cover.
+   cover. A second table answers "how early can you know a safe lower bound": every in-flight window, by the
+   utilisation its climb's crests have reached (the largest true peak torque so far over the true saturation
+   torque, read by the recorder, never by the agent), with the coverage and the median tightness (bound over CoF)
+   of the in-flight lower bound beside those of the adhesion the climb has demonstrated (its best crest bound,
+   no model at all).
 """
 
 from __future__ import annotations
@@ -39,34 +46,117 @@ from make_grids import v2_heldout_grids  # noqa: E402
 from script_checks import check_out_file, write_report  # noqa: E402
 from train_interrogator import CONFIGS, PROCEDURAL_VALIDATION, STEEP_VALIDATION, VALIDATION, episodes  # noqa: E402
 
-from cof_gym.agents.interrogator import POOLED, SHIPPED_INTERROGATOR, IntervalScales, check_coverage  # noqa: E402
+from cof_gym.agents.base import agent_view  # noqa: E402
+from cof_gym.agents.interrogator import IN_FLIGHT, POOLED, SHIPPED_INTERROGATOR, IntervalScales, check_coverage  # noqa: E402
 from cof_gym.commands.args import Parser, positive_int  # noqa: E402
 from cof_gym.commands.evaluate_episodes import ENDINGS as EVALUATE_ENDINGS  # noqa: E402
+from cof_gym.commands.evaluate_stats import AGENT_GROUPINGS, utilisation_band  # noqa: E402
 
 CALIBRATION = {"family": VALIDATION, "procedural": PROCEDURAL_VALIDATION, "steep": STEEP_VALIDATION}
 ENDINGS = tuple(e for e in EVALUATE_ENDINGS if e != "diverged")  # how a scored episode ends: the breakdown's columns
 
 
+CALIBRATION_DRAW_SEED = 0  # the draw of each climb's in-flight calibration windows
+
+
+@dataclass(frozen=True)
+class InFlight:
+    """One window a climb went on from: the in-flight estimate, the std of its log, the climb's place
+    (``LearnedInterrogator.in_flight``), the adhesion it has demonstrated, and the utilisation its crests have
+    reached (the largest true peak torque so far over the true saturation torque)."""
+
+    estimate: float
+    log_std: float
+    place: str
+    demonstrated: float
+    utilisation: float
+
+
 @dataclass(frozen=True)
 class Committed:
-    """One scored episode: the estimate the env scored, the CoF, the std of the estimate's log, how it ended."""
+    """One scored episode: the estimate the env scored, the CoF, the std of the estimate's log, how it ended, and
+    the windows it went on from."""
 
     estimate: float
     cof: float
     log_std: float
     commitment: str  # how the agent committed it (LearnedInterrogator.commitment): the scale it reads
     ended: str
+    windows: tuple[InFlight, ...] = ()
 
     @property
     def calibration(self) -> tuple[float, float, float, str]:
         return self.estimate, self.cof, self.log_std, self.commitment
 
 
+class InFlightRecorder:
+    """Plays a learned interrogator as it is and keeps, after each window it reads, its in-flight state. The
+    recorder takes the oracle's view for the utilisation alone; the interrogator gets the view without the
+    ground truth, as in ``cof-gym evaluate``."""
+
+    oracle = True
+
+    def __init__(self, agent) -> None:
+        self.agent, self.name = agent, agent.name
+        self.windows: list[InFlight] = []
+        self._reached = 0.0
+
+    def reset(self, observation, info) -> None:
+        self.windows, self._reached = [], 0.0
+        self.agent.reset(observation, agent_view(info, False))
+
+    def act(self, observation, info):
+        action = self.agent.act(observation, agent_view(info, False))
+        self._reached = max(self._reached, info.get("ground_truth", {}).get("peak_torque_fraction", 0.0))
+        a = self.agent
+        if a.in_flight is not None:
+            self.windows.append(InFlight(a.in_flight_estimate, a.estimate_log_std, a.in_flight, a.demonstrated_adhesion,
+                                         self._reached))
+        return action
+
+
 def play(policy: str, suite: str, config: dict) -> list[Committed]:
     """The scored episodes of ``suite`` (a suite file or ``"default"``) played by the interrogator of ``policy``
-    in the vehicle configuration ``config``."""
-    return [Committed(r.estimate, r.cof, agent.estimate_log_std, agent.commitment, r.ended)
-            for r, agent in episodes(policy, suite, config) if r.scored]
+    in the vehicle configuration ``config``, with their in-flight windows."""
+    return [Committed(r.estimate, r.cof, rec.agent.estimate_log_std, rec.agent.commitment, r.ended, tuple(rec.windows))
+            for r, rec in episodes(policy, suite, config, wrap=InFlightRecorder) if r.scored]
+
+
+def in_flight_calibration(episodes: list[Committed], seed: int = CALIBRATION_DRAW_SEED
+                          ) -> list[tuple[float, float, float, str]]:
+    """One window per climb and place, drawn at random: the in-flight calibration scores' (estimate, CoF, std,
+    place)."""
+    rng = np.random.default_rng(seed)
+    out = []
+    for e in episodes:
+        for place in IN_FLIGHT:
+            own = [w for w in e.windows if w.place == place]
+            if own:
+                w = own[int(rng.integers(len(own)))]
+                out.append((w.estimate, e.cof, w.log_std, place))
+    return out
+
+
+def in_flight_rows(label: str, episodes: list[Committed], scales: IntervalScales) -> list[str]:
+    """Per utilisation band reached (every in-flight window of ``episodes``): the windows, the CoF in the in-flight
+    interval and above its lower bound, the bound's median over the CoF, and the same two for the demonstrated
+    adhesion."""
+    rows = []
+    windows = [(w, e.cof) for e in episodes for w in e.windows]
+    for band in AGENT_GROUPINGS[0]:
+        part = [(w, cof) for w, cof in windows if utilisation_band(w.utilisation) == band]
+        if not part:
+            continue
+        intervals = [scales.interval(w.estimate, w.log_std, w.place) for w, _ in part]
+        bounds = [scales.lower_bound(w.estimate, w.log_std, w.place) for w, _ in part]
+        cofs = np.array([cof for _, cof in part])
+        demonstrated = np.array([w.demonstrated for w, _ in part])
+        cells = [label, band.replace("committed at", "reached"), str(len(part)),
+                 f"{np.mean([lo <= c <= hi for (lo, hi), c in zip(intervals, cofs)]):.1%}",
+                 f"{np.mean(np.array(bounds) <= cofs):.1%}", f"{np.median(np.array(bounds) / cofs):.2f}",
+                 f"{np.mean(demonstrated <= cofs):.1%}", f"{np.median(demonstrated / cofs):.2f}"]
+        rows.append("| " + " | ".join(cells) + " |")
+    return rows
 
 
 def coverage_cells(episodes: list[Committed], scales: IntervalScales) -> tuple[str, str, str]:
@@ -154,10 +244,11 @@ def main() -> None:
         played = list(pool.map(play, *zip(*jobs)))
     calibration_parts = played[:len(CALIBRATION) * len(CONFIGS)]
     calibration = [e for part in calibration_parts for e in part]
+    in_flight = in_flight_calibration(calibration)
     by_grid = {grid: [e for part in calibration_parts[k * len(CONFIGS):(k + 1) * len(CONFIGS)] for e in part]
                for k, grid in enumerate(CALIBRATION)}
     selection, per_commitment = select_method(by_grid, args.coverage, args.lower_coverage)
-    scales = IntervalScales.calibrate([e.calibration for e in calibration], args.coverage, args.lower_coverage,
+    scales = IntervalScales.calibrate([e.calibration for e in calibration] + in_flight, args.coverage, args.lower_coverage,
                                       "the validation grids (family, procedural, steep; both vehicle configurations)",
                                       per_commitment)
     if args.write:
@@ -175,6 +266,18 @@ def main() -> None:
              "|---" * (5 + len(ENDINGS)) + "|",
              row("validation grids (the calibration)", calibration, scales)]
     lines += [row(label, part, scales) for label, part in zip(reported, played[len(calibration_parts):])]
+    suites = dict(zip(reported, played[len(calibration_parts):]))
+    held_out = [e for label, part in suites.items() if label != "default suite" for e in part]
+    lines += ["", "How early can you know a safe lower bound: every window a climb went on from, by the utilisation its "
+              "crests had reached (the largest true peak torque so far over the true M_sat), with the in-flight "
+              f"estimate's {scales.coverage:.0%} interval and {scales.lower_coverage:.0%} lower bound (scales per "
+              "place in the climb, each calibrated on one window per validation climb, drawn at random) beside the "
+              "adhesion the climb had demonstrated (its best crest bound: no model).", "",
+              "| suites | crests reached | windows | CoF in the interval | CoF above the lower bound | median lower bound "
+              "/ CoF | CoF above the demonstrated adhesion | median demonstrated / CoF |", "|---" * 8 + "|",
+              *in_flight_rows("validation grids (the calibration)", calibration, scales),
+              *in_flight_rows("default suite", suites["default suite"], scales),
+              *in_flight_rows(f"the {len(suites) - 1} v2 held-out grids", held_out, scales)]
     write_report(args.out, lines)
 
 

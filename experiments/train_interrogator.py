@@ -270,17 +270,20 @@ def split(data: Dataset, every: int = 10) -> tuple[Dataset, Dataset]:
 
 
 def episodes(run_dir: str, suite_path: str, env_kwargs: dict, params: dict | None = None,
-             guards: list[str] | None = None, estimators: list[str] | None = None, scenario: dict | None = None):
+             guards: list[str] | None = None, estimators: list[str] | None = None, scenario: dict | None = None,
+             wrap=None):
     """(record, agent after the episode) of every episode of a suite (the default suite: 60 episodes)
     in a vehicle configuration, played by the interrogator of ``run_dir`` (``params``: another climb,
     ``guards`` / ``estimators``: other guard / estimator directories than its manifest's; ``scenario``: reset
-    options over every episode's own, e.g. ``{"noise_level": 3.0}``)."""
+    options over every episode's own, e.g. ``{"noise_level": 3.0}``; ``wrap``: what plays in its place, made from
+    it, e.g. a recorder of its windows)."""
     suite = make_suite(suite_path, 60, 0)
     climb = ClimbParameters(**params) if params else None
     options = (climb or manifest_climb(Path(run_dir))).env_options
     env = gym.make(suite.env_id, **{**suite.env_kwargs, **env_kwargs, **options})
     agent = interrogator_for(env, Path(run_dir), climb, None if guards is None else [Path(g) for g in guards],
                              None if estimators is None else [Path(e) for e in estimators])
+    agent = agent if wrap is None else wrap(agent)
     for i, (seed, options) in enumerate(suite.episodes):
         yield run_episode(env, agent, seed, {**options, **(scenario or {})}, i), agent
     env.close()

@@ -12,8 +12,9 @@ import numpy as np
 import pytest
 
 import cof_gym
+from cof_gym.agents.base import agent_view
 from cof_gym.agents.interrogator import (
-    COMMITMENTS, INTERVAL_FILE, SHIPPED_INTERROGATOR, IntervalScales, conformal_quantile, enough_for,
+    COMMITMENTS, IN_FLIGHT, INTERVAL_FILE, SHIPPED_INTERROGATOR, lower_score, two_sided_score, IntervalScales, conformal_quantile, enough_for,
     interrogator_for, manifest_climb, pooled_std,
 )
 from interrogator_helpers import SHIPPED, play
@@ -50,7 +51,7 @@ def test_calibrated_scales_cover_new_exchangeable_episodes_as_promised():
         return [(e, c, s, commitment) for e, c, s in zip(estimate, cof, log_std)]
 
     scales = IntervalScales.calibrate(draw(2000, "stop") + draw(2000, "horizon"), 0.9, 0.95)
-    assert scales.climbs == {"pooled": 4000, "stop": 2000, "horizon": 2000, "no stop": 0}
+    assert scales.climbs == {"pooled": 4000, "stop": 2000, "horizon": 2000, "no stop": 0, "climbing": 0, "probing": 0}
     assert set(scales.scales) == {"pooled", "stop", "horizon"}  # none without climbs: it reads the pooled one
     assert scales.scale_of("no stop") == scales.scale_of("pooled")
 
@@ -71,6 +72,55 @@ def test_calibrated_scales_cover_new_exchangeable_episodes_as_promised():
         assert inside >= 0.9 - allowance(0.9) and above >= 0.95 - allowance(0.95)
         assert inside <= 0.9 + allowance(0.9) + 1.0 / 2001  # and no wider than it needs: at most one rank above
     assert covered(draw(20_000, "horizon"), "pooled")[0] < 0.85
+
+
+def test_in_flight_windows_take_scales_of_their_own_and_leave_the_pooled_one_to_the_commitments():
+    """The pooled scale is the committed estimates' whatever in-flight windows the calibration also holds; each
+    place in the climb gets the conformal quantile of its own windows' scores."""
+    rng = np.random.default_rng(3)
+
+    def draw(n: int, group: str, factor: float) -> list[tuple[float, float, float, str]]:
+        cof, log_std = rng.uniform(0.05, 0.5, n), rng.uniform(0.02, 0.3, n)
+        return [(c * math.exp(factor * s * z), c, s, group)
+                for c, s, z in zip(cof, log_std, rng.standard_normal(n))]
+
+    committed = draw(300, "stop", 1.0) + draw(100, "horizon", 2.0)
+    windows = {"climbing": draw(200, "climbing", 4.0), "probing": draw(150, "probing", 0.5)}
+    scales = IntervalScales.calibrate(committed + windows["climbing"] + windows["probing"], 0.9, 0.95)
+    alone = IntervalScales.calibrate(committed, 0.9, 0.95)
+    assert scales.scales["pooled"] == alone.scales["pooled"] and scales.climbs["pooled"] == 400
+    for place, own in windows.items():
+        assert scales.climbs[place] == len(own)
+        assert scales.scale_of(place) == (conformal_quantile([two_sided_score(*w[:3]) for w in own], 0.9),
+                                          conformal_quantile([lower_score(*w[:3]) for w in own], 0.95))
+    assert scales.scale_of("climbing")[0] > scales.scale_of("horizon")[0] > scales.scale_of("probing")[0]
+
+
+def test_the_in_flight_calibration_draws_one_window_per_climb_and_place_and_the_table_counts_every_window(
+        monkeypatch):
+    """``experiments/estimate_interval.py``: a climb gives each place at most one calibration window, the same one
+    for the same seed; the report counts every window in the band its crests had reached."""
+    from conftest import EXPERIMENTS
+
+    monkeypatch.syspath_prepend(EXPERIMENTS)
+    from estimate_interval import Committed, InFlight, in_flight_calibration, in_flight_rows
+
+    def window(estimate: float, place: str, utilisation: float) -> InFlight:
+        return InFlight(estimate, 0.1, place, 0.05, utilisation)
+
+    climbs = [Committed(0.2, 0.2, 0.1, "stop", "stop", (window(0.3, "climbing", 0.5), window(0.25, "climbing", 0.7),
+                                                       window(0.21, "probing", 0.92))),
+              Committed(0.1, 0.1, 0.1, "horizon", "horizon", (window(0.095, "climbing", 0.85),))]
+    drawn = in_flight_calibration(climbs)
+    assert sorted(d[3] for d in drawn) == ["climbing", "climbing", "probing"] and drawn == in_flight_calibration(climbs)
+    assert {d[:3] for d in drawn if d[1] == 0.2 and d[3] == "climbing"} <= {(0.3, 0.2, 0.1), (0.25, 0.2, 0.1)}
+    scales = IntervalScales(0.9, 0.95, {"pooled": [1.0, 1.0]}, {"pooled": 2})
+    rows = {r.split(" | ")[1]: r.split(" | ")[2:] for r in in_flight_rows("grid", climbs, scales)}
+    assert list(rows) == ["reached <= 80 % M_sat", "reached 80-90 % M_sat", "reached 90-95 % M_sat"]
+    # 0.3 and 0.25 with bounds 0.3 e^-0.1 = 0.271 and 0.226: the CoF 0.2 is above neither, in neither interval
+    assert rows["reached <= 80 % M_sat"][:3] == ["2", "0.0%", "0.0%"]
+    assert rows["reached 80-90 % M_sat"][:3] == ["1", "100.0%", "100.0%"]  # 0.095 x e^+-0.1 holds 0.1
+    assert rows["reached 90-95 % M_sat"][-2:] == ["100.0%", "0.25 |"]  # the demonstrated 0.05 of a CoF of 0.2
 
 
 def test_scales_check_their_fields_and_round_trip_through_their_file(tmp_path):
@@ -119,6 +169,40 @@ def test_the_shipped_interrogator_reports_a_calibrated_interval_around_its_estim
     bare = interrogator_for(env, tmp_path, replace(manifest_climb(SHIPPED_INTERROGATOR), estimate_from="filter"),
                             guards=[])
     assert bare.interval is None and bare.cof_interval() is None and bare.cof_lower_bound() is None
+
+
+@pytest.mark.skipif(not SHIPPED, reason="no shipped interrogator")
+def test_the_shipped_interrogator_bounds_the_cof_in_flight_at_its_places_scale():
+    """Before the first window and once stopped there is no in-flight estimate; in between, the in-flight
+    estimate is the estimate source's without the runaway's, its interval and lower bound read the place's
+    scales, and the demonstrated adhesion only grows."""
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    agent = interrogator_for(env, SHIPPED_INTERROGATOR)
+    assert set(IN_FLIGHT) <= set(agent.interval.scales)  # the shipped calibration has both places
+    obs, info = env.reset(seed=5)
+    agent.reset(obs, agent_view(info, False))  # as cof-gym evaluate plays it: the crest readings in the info
+    assert agent.in_flight is None and agent.in_flight_interval() is None and agent.in_flight_lower_bound() is None
+    places, demonstrated, runaway_differs = [], [0.0], []
+    while True:
+        action = agent.act(obs, agent_view(info, False))
+        if agent.in_flight is not None:
+            places.append(agent.in_flight)
+            estimate, std = agent.in_flight_estimate, agent.estimate_log_std
+            expected = agent.candidate_estimates(agent.params.best_coa_factor, runaway=False)[agent.params.estimate_from]
+            assert estimate == min(max(expected, agent.limits.min_cof_estimate), agent.limits.max_cof_estimate)
+            scale, lower_scale = agent.interval.scale_of(agent.in_flight)
+            low, high = agent.in_flight_interval()
+            assert math.log(high / low) == pytest.approx(2 * scale * std, rel=1e-12) and low < estimate < high
+            assert agent.in_flight_lower_bound() == pytest.approx(estimate * math.exp(-lower_scale * std), rel=1e-12)
+            demonstrated.append(agent.demonstrated_adhesion)
+            runaway_differs.append(agent.estimate != estimate)  # what the env would score were the wheel to run away
+        obs, _, terminated, truncated, info = env.step(action)
+        if terminated or truncated:
+            break
+    assert places[0] == "climbing" and set(places) <= set(IN_FLIGHT) and demonstrated == sorted(demonstrated)
+    assert any(runaway_differs) and "probing" in places
+    assert agent.stop_reason and agent.in_flight is None and agent.in_flight_estimate is None
+    assert agent.in_flight_lower_bound() is None and agent.cof_lower_bound() is not None
 
 
 @pytest.mark.skipif(not SHIPPED, reason="no shipped interrogator")

@@ -156,7 +156,10 @@ read from two, so that a slow probe's many readings of nearly one slope average 
 scales calibrated by split conformal prediction on the validation grids' climbs, per way the estimate was
 committed (:attr:`LearnedInterrogator.commitment`), in stds of the estimate's source correction (:attr:`LearnedInterrogator.estimate_log_std`). :meth:`LearnedInterrogator.cof_interval`
 gives the two-sided interval and :meth:`LearnedInterrogator.cof_lower_bound` a lower bound on the CoF (an
-over-estimate is the unsafe side for braking). Neither changes the climb or the estimate.
+over-estimate is the unsafe side for braking). Before the stop, :meth:`LearnedInterrogator.in_flight_interval`
+and :meth:`LearnedInterrogator.in_flight_lower_bound` do the same for the estimate the windows read so far give
+(:attr:`LearnedInterrogator.in_flight_estimate`), at scales of their own per place in the climb
+(:attr:`LearnedInterrogator.in_flight`). None of them changes the climb or the estimate.
 
 **Modules**, each importing only those above it: :mod:`.readings` (one window's sensor readings, the slope
 from Eq. 3), :mod:`.features` (the features of a climb's windows), :mod:`.networks` (the filter's networks
@@ -180,7 +183,7 @@ from cof_gym.agents.interrogator.networks import (
     TARGET_NAMES, pooled_correction, pooled_std, FilterNetwork, FilterEnsemble,
 )
 from cof_gym.agents.interrogator.interval import (
-    INTERVAL_FILE, COMMITMENTS, POOLED, LOG_STD_FLOOR, check_coverage, conformal_quantile, enough_for,
+    INTERVAL_FILE, COMMITMENTS, IN_FLIGHT, GROUPS, POOLED, LOG_STD_FLOOR, check_coverage, conformal_quantile, enough_for,
     two_sided_score, lower_score, IntervalScales,
 )
 from cof_gym.agents.interrogator.climb import (
@@ -200,7 +203,7 @@ __all__ = [
     "CLIMB_FIT_FEATURE_NAMES", "CLIMB_FIT_WINDOWS", "CLIMB_FIT_MIN_SPAN", "SLOPE_FALL_CLIP", "FEATURE_BLOCKS",
     "feature_names", "blocks_of", "FLEXIBILITY_CLIP", "PEAK_GAP_CLIP", "flexibility_ratio", "slope_fall",
     "fitted_peak_gap", "fitted_flexibility", "peak_gap", "EpisodeFeatures", "TARGET_NAMES", "pooled_correction",
-    "pooled_std", "FilterNetwork", "FilterEnsemble", "INTERVAL_FILE", "COMMITMENTS", "POOLED", "LOG_STD_FLOOR",
+    "pooled_std", "FilterNetwork", "FilterEnsemble", "INTERVAL_FILE", "COMMITMENTS", "IN_FLIGHT", "GROUPS", "POOLED", "LOG_STD_FLOOR",
     "check_coverage", "conformal_quantile", "enough_for", "two_sided_score", "lower_score", "IntervalScales", "ESTIMATE_SOURCES", "HEADROOM_STOPS", "AT_HEADROOM", "KNEE_STOPS",
     "GUARDED_ESTIMATES", "ESTIMATOR_ESTIMATES", "TWO_TONE_ENV_OPTIONS", "CREST_RATIO_FLOOR",
     "speed_scaled_frequency", "floor_headroom", "ClimbParameters", "SHIPPED_INTERROGATOR", "WORLD_KWARGS",

@@ -175,11 +175,11 @@ class LearnedInterrogator:
         """Whether the climb of this episode has taken its slow probe (it may since have stopped)."""
         return self._crept
 
-    def candidate_estimates(self, best_coa_factor: float) -> dict[str, float]:
+    def candidate_estimates(self, best_coa_factor: float, runaway: bool = True) -> dict[str, float]:
         """The estimate of each source of :data:`ESTIMATE_SOURCES` after the windows so far (the
         trajectory does not depend on which one is reported; the guarded sources are 0 without guards, the
         estimators' without estimators; with ``crest_floor`` each at least the climb's best crest bound;
-        with ``runaway_estimate``, after an action that is not a stop, each the runaway's estimate; with
+        with ``runaway_estimate`` and ``runaway``, after an action that is not a stop, each the runaway's estimate; with
         ``crest_ceiling``, once the crest has fallen under a rising torque crest, each at most
         :class:`~cof_gym.agents.runaway.CrestCeiling`'s bound)."""
         estimates = {**dict.fromkeys(ESTIMATE_SOURCES, 0.0), **self._source_estimates,
@@ -189,17 +189,21 @@ class LearnedInterrogator:
             estimates[source] = estimates[at_stop if at_headroom else "filter"]
         if self.params.crest_floor:
             estimates = {source: max(value, self._bracket.crest_bound) for source, value in estimates.items()}
-        if self.params.runaway_estimate and self._runaway is not None:
+        if runaway and self.params.runaway_estimate and self._runaway is not None:
             estimates = dict.fromkeys(estimates, self._runaway)
         ceiling = self._ceiling.bound if self.params.crest_ceiling else None
         if ceiling is not None:
             estimates = {source: min(value, ceiling) for source, value in estimates.items()}
         return estimates
 
+    def _in_range(self, estimate: float) -> float:
+        """``estimate`` clipped to the drive's estimate range."""
+        return min(max(estimate, self.limits.min_cof_estimate), self.limits.max_cof_estimate)
+
     @property
     def estimate(self) -> float:
         """The CoF estimate of the last action (within the drive's estimate range)."""
-        return min(max(self._estimate, self.limits.min_cof_estimate), self.limits.max_cof_estimate)
+        return self._in_range(self._estimate)
 
     @property
     def estimate_log_std(self) -> float:
@@ -231,6 +235,45 @@ class LearnedInterrogator:
         if self.interval is None:
             return None
         return self.interval.lower_bound(self.estimate, self.estimate_log_std, self.commitment)
+
+    @property
+    def in_flight(self) -> str | None:
+        """Where a climb that has not stopped stands (:data:`~cof_gym.agents.interrogator.interval.IN_FLIGHT`):
+        "climbing" before its slow probe, "probing" in it; None before its first estimate and once it has stopped
+        (then :attr:`commitment` says how)."""
+        if self.stop_reason or not self._source_estimates:
+            return None
+        return "probing" if self._crept else "climbing"
+
+    @property
+    def in_flight_estimate(self) -> float | None:
+        """The CoF the windows read so far give, at any window of a climb that has not stopped: the estimate
+        source's, with the crest floor and ceiling but not the runaway's estimate (what :attr:`estimate` reports
+        until the stop: a runaway in the coming window would leave no other), within the estimate range; its std
+        is :attr:`estimate_log_std`. None where :attr:`in_flight` is."""
+        if self.in_flight is None:
+            return None
+        return self._in_range(self.candidate_estimates(self.params.best_coa_factor, runaway=False)[self.params.estimate_from])
+
+    def in_flight_interval(self) -> tuple[float, float] | None:
+        """The calibrated two-sided interval around :attr:`in_flight_estimate` (at the scale of :attr:`in_flight`),
+        None without a calibration or an in-flight estimate."""
+        if self.interval is None or self.in_flight is None:
+            return None
+        return self.interval.interval(self.in_flight_estimate, self.estimate_log_std, self.in_flight)
+
+    def in_flight_lower_bound(self) -> float | None:
+        """The calibrated lower bound on the CoF under :attr:`in_flight_estimate`: what a braking planner may use
+        before the climb has stopped; None without a calibration or an in-flight estimate."""
+        if self.interval is None or self.in_flight is None:
+            return None
+        return self.interval.lower_bound(self.in_flight_estimate, self.estimate_log_std, self.in_flight)
+
+    @property
+    def demonstrated_adhesion(self) -> float:
+        """The best crest bound the climb has carried without a runaway (measured CoA, a bin's standard error
+        below the crest; 0 before one): the adhesion the wheel has shown it has, with no model at all."""
+        return self._bracket.crest_bound
 
     @staticmethod
     def _pooled_predictions(filter_prediction: tuple[float, float], guard_predictions: list[tuple[float, float]],

@@ -23,6 +23,13 @@ calibration climbs for a coverage takes the pooled scale. Which of the two a pol
 commitment) is chosen on the validation grids alone: ``experiments/estimate_interval.py`` calibrates each on two
 of the three grids and measures it on the third. Creep curves and sensors unlike the calibration climbs' carry no such guarantee: there the
 coverage is measured (``experiments/estimate_interval.py`` reports it on every held-out grid).
+
+**In flight.** A climb that has not stopped has read windows too: the networks' estimate from them (without the
+runaway's, :attr:`~cof_gym.agents.interrogator.LearnedInterrogator.in_flight_estimate`) takes scales of its own,
+per place in the climb (:data:`IN_FLIGHT`: before the slow probe, in it), calibrated on one window per
+calibration climb and place, drawn at random. A new climb's window drawn at random among those of a place is then
+covered with the same guarantee; how early the bound is tight, by the utilisation its crest has reached, is
+measured (``experiments/estimate_interval.py``).
 """
 
 from __future__ import annotations
@@ -39,7 +46,11 @@ INTERVAL_FILE = "interval.json"  # beside a policy directory's manifest.json
 # how the estimate was committed: the climb's own stop, the horizon, or no stop (the episode ended under the
 # runaway estimate); the groups the scales are calibrated in
 COMMITMENTS = ("stop", "horizon", "no stop")
-POOLED = "pooled"  # the scales over every calibration climb: a commitment's where it had too few
+# where a climb that has not stopped stands (LearnedInterrogator.in_flight): before its slow probe, or in it; the
+# groups of the in-flight interval, which a climb reads at any window
+IN_FLIGHT = ("climbing", "probing")
+GROUPS = (*COMMITMENTS, *IN_FLIGHT)  # every group a calibration scores
+POOLED = "pooled"  # the scales over every committed calibration climb: a group's where it had too few
 LOG_STD_FLOOR = 1e-6  # a std below this (log units) scores as this: a point estimate still has a finite score
 
 
@@ -96,8 +107,8 @@ class IntervalScales:
     def __post_init__(self) -> None:
         for name in ("coverage", "lower_coverage"):
             check_coverage(name, getattr(self, name))
-        if POOLED not in self.scales or set(self.scales) - {POOLED, *COMMITMENTS}:
-            raise ValueError(f"scales must name {POOLED!r} and at most {COMMITMENTS}, got {sorted(self.scales)}")
+        if POOLED not in self.scales or set(self.scales) - {POOLED, *GROUPS}:
+            raise ValueError(f"scales must name {POOLED!r} and at most {GROUPS}, got {sorted(self.scales)}")
         for group, pair in self.scales.items():
             if not (isinstance(pair, (list, tuple)) and len(pair) == 2):
                 raise ValueError(f"scales[{group!r}] must be [scale, lower_scale], got {pair!r}")
@@ -108,10 +119,12 @@ class IntervalScales:
     def calibrate(cls, episodes: Iterable[tuple[float, float, float, str]], coverage: float = 0.9,
                   lower_coverage: float = 0.95, calibrated_on: str = "", per_commitment: bool = True
                   ) -> "IntervalScales":
-        """The scales from scored calibration ``episodes`` of ``(estimate, CoF, log_std, commitment)``: pooled,
-        and with ``per_commitment`` per commitment with enough of them for both coverages."""
+        """The scales from scored calibration ``episodes`` of ``(estimate, CoF, log_std, group)`` (a group of
+        :data:`GROUPS`: a commitment, or an in-flight window's place in its climb): pooled over the commitments,
+        and with ``per_commitment`` per group with enough of them for both coverages."""
         episodes = list(episodes)
-        groups = {POOLED: episodes, **{c: [e for e in episodes if e[3] == c] for c in COMMITMENTS}}
+        groups = {POOLED: [e for e in episodes if e[3] in COMMITMENTS], **{g: [e for e in episodes if e[3] == g]
+                                                                        for g in GROUPS}}
         scales, climbs = {}, {}
         for group, members in groups.items():
             climbs[group] = len(members)
@@ -122,7 +135,7 @@ class IntervalScales:
         return cls(coverage, lower_coverage, scales, climbs, calibrated_on)
 
     def scale_of(self, commitment: str) -> tuple[float, float]:
-        """(two-sided scale, lower scale) of a commitment: its own, else the pooled ones."""
+        """(two-sided scale, lower scale) of a group (:data:`GROUPS`): its own, else the pooled ones."""
         return tuple(self.scales.get(commitment, self.scales[POOLED]))
 
     def interval(self, estimate: float, log_std: float, commitment: str = POOLED) -> tuple[float, float]:
