@@ -1,8 +1,9 @@
 """How far the learned interrogator's estimate can be trusted: an interval calibrated on the validation grids,
-its coverage measured on every reported suite. (Run from the repository root; 2 cores, about 6 min.)
+its coverage measured on every reported suite. (Run from the repository root; 2 cores, about 2.5 min.)
 
     python experiments/estimate_interval.py [--policy DIR] [--coverage 0.9] [--lower-coverage 0.95] [--write]
                                             [--workers 2] [--out out/estimate_interval.md]
+                                            (and out/estimate_interval_in_flight.png beside it)
 
 1. **Calibration.** Plays the interrogator of ``--policy`` (default: the shipped one) on the three validation
    grids (family, procedural and steep creep curves: model-selection data, never reported; both vehicle
@@ -138,8 +139,8 @@ def in_flight_calibration(episodes: list[Committed], seed: int = CALIBRATION_DRA
 
 
 def in_flight_rows(label: str, episodes: list[Committed], scales: IntervalScales) -> list[str]:
-    """Per utilisation band reached (every in-flight window of ``episodes``): the windows, the CoF in the in-flight
-    interval and above its lower bound, the bound's median over the CoF, and the same two for the demonstrated
+    """Per utilisation band reached (every in-flight window of ``episodes``): the windows, the in-flight estimate's
+    median relative error, the CoF in the in-flight interval and above its lower bound, the bound's median over the CoF, and the same two for the demonstrated
     adhesion."""
     rows = []
     windows = [(w, e.cof) for e in episodes for w in e.windows]
@@ -151,7 +152,9 @@ def in_flight_rows(label: str, episodes: list[Committed], scales: IntervalScales
         bounds = [scales.lower_bound(w.estimate, w.log_std, w.place) for w, _ in part]
         cofs = np.array([cof for _, cof in part])
         demonstrated = np.array([w.demonstrated for w, _ in part])
+        estimates = np.array([w.estimate for w, _ in part])
         cells = [label, band.replace("committed at", "reached"), str(len(part)),
+                 f"{np.median(np.abs(estimates / cofs - 1.0)):.1%}",
                  f"{np.mean([lo <= c <= hi for (lo, hi), c in zip(intervals, cofs)]):.1%}",
                  f"{np.mean(np.array(bounds) <= cofs):.1%}", f"{np.median(np.array(bounds) / cofs):.2f}",
                  f"{np.mean(demonstrated <= cofs):.1%}", f"{np.median(demonstrated / cofs):.2f}"]
@@ -211,6 +214,41 @@ def select_method(by_grid: dict[str, list[Committed]], coverage: float, lower_co
     chosen = min(METHODS, key=lambda m: (shortfalls[m], m != "pooled"))
     lines += ["", f"Chosen: {chosen} (the smaller worst shortfall; the pooled one on a tie)."]
     return lines, METHODS[chosen]
+
+
+FIGURE_BIN = 0.05  # the utilisation bins of the in-flight figure (fraction of M_sat)
+FIGURE_MIN_WINDOWS = 20  # a bin with fewer windows is left out of the figure
+
+
+def plot_in_flight(suites: dict[str, list[Committed]], scales: IntervalScales, path: Path) -> Path:
+    """Median bound over CoF (left) and the fraction of windows whose CoF is at least the bound (right), by the
+    utilisation the crests had reached: the in-flight lower bound and the demonstrated adhesion, per suite group."""
+    from cof_gym.analysis.plotting import finish, plt, save
+
+    fig, (ax_ratio, ax_cover) = plt.subplots(1, 2, figsize=(11, 4.2))
+    for (label, played), style in zip(suites.items(), ("-", "--", ":")):
+        windows = [(w, e.cof) for e in played for w in e.windows]
+        cofs = np.array([cof for _, cof in windows])
+        reached = np.minimum([w.utilisation for w, _ in windows], 1.2)
+        bins = np.floor(reached / FIGURE_BIN).astype(int)
+        ratios = {"in-flight lower bound": np.array([scales.lower_bound(w.estimate, w.log_std, w.place)
+                                                     for w, _ in windows]) / cofs,
+                  "demonstrated adhesion": np.array([w.demonstrated for w, _ in windows]) / cofs}
+        kept = [k for k in np.unique(bins) if np.sum(bins == k) >= FIGURE_MIN_WINDOWS]
+        centres = [(k + 0.5) * FIGURE_BIN for k in kept]
+        for (name, ratio), colour in zip(ratios.items(), ("C0", "C1")):
+            ax_ratio.plot(centres, [np.median(ratio[bins == k]) for k in kept], style, color=colour,
+                          label=f"{name}, {label}")
+            ax_cover.plot(centres, [np.mean(ratio[bins == k] <= 1.0) for k in kept], style, color=colour,
+                          label=f"{name}, {label}")
+    ax_cover.axhline(scales.lower_coverage, color="k", lw=0.8, label=f"target {scales.lower_coverage:.0%}")
+    ax_ratio.set(xlabel="crests reached so far [fraction of the true M_sat]", ylabel="median bound / CoF",
+                 title="How tight the bound is")
+    ax_cover.set(xlabel="crests reached so far [fraction of the true M_sat]", ylabel="windows with CoF >= bound",
+                 title="How often it holds", ylim=(0.5, 1.02))
+    finish(ax_ratio, legend_size=7)
+    finish(ax_cover, legend_size=7, loc="lower left")
+    return save(fig, path)
 
 
 def coverage(option: str):
@@ -273,11 +311,17 @@ def main() -> None:
               f"estimate's {scales.coverage:.0%} interval and {scales.lower_coverage:.0%} lower bound (scales per "
               "place in the climb, each calibrated on one window per validation climb, drawn at random) beside the "
               "adhesion the climb had demonstrated (its best crest bound: no model).", "",
-              "| suites | crests reached | windows | CoF in the interval | CoF above the lower bound | median lower bound "
-              "/ CoF | CoF above the demonstrated adhesion | median demonstrated / CoF |", "|---" * 8 + "|",
+              "| suites | crests reached | windows | median rel. error of the in-flight estimate | CoF in the interval | "
+              "CoF above the lower bound | median lower bound / CoF | CoF above the demonstrated adhesion | median "
+              "demonstrated / CoF |", "|---" * 9 + "|",
               *in_flight_rows("validation grids (the calibration)", calibration, scales),
               *in_flight_rows("default suite", suites["default suite"], scales),
               *in_flight_rows(f"the {len(suites) - 1} v2 held-out grids", held_out, scales)]
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    figure = plot_in_flight({"validation grids": calibration, f"the {len(suites) - 1} held-out grids": held_out},
+                            scales, args.out.with_name(f"{args.out.stem}_in_flight.png"))
+    lines += ["", f"Figure: `{figure.name}` beside this table (the same windows in bins of {FIGURE_BIN:.0%} of M_sat "
+                  f"with at least {FIGURE_MIN_WINDOWS} windows)."]
     write_report(args.out, lines)
 
 

@@ -745,6 +745,7 @@ def body(path: Path) -> str:
 FIGURES = {  # figure of a run -> where the README shows it
     ROOT / "out" / "evaluate" / "error_vs_creepage_error.png": ROOT / "docs" / "evaluate_error_vs_creepage_error.png",
     ROOT / "out" / "evaluate" / "error_vs_peak_torque.png": ROOT / "docs" / "evaluate_error_vs_peak_torque.png",
+    ROOT / "out" / "estimate_interval_in_flight.png": ROOT / "docs" / "estimate_interval_in_flight.png",
 }
 
 

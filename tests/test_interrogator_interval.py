@@ -97,13 +97,13 @@ def test_in_flight_windows_take_scales_of_their_own_and_leave_the_pooled_one_to_
 
 
 def test_the_in_flight_calibration_draws_one_window_per_climb_and_place_and_the_table_counts_every_window(
-        monkeypatch):
+        monkeypatch, tmp_path):
     """``experiments/estimate_interval.py``: a climb gives each place at most one calibration window, the same one
     for the same seed; the report counts every window in the band its crests had reached."""
     from conftest import EXPERIMENTS
 
     monkeypatch.syspath_prepend(EXPERIMENTS)
-    from estimate_interval import Committed, InFlight, in_flight_calibration, in_flight_rows
+    from estimate_interval import Committed, InFlight, in_flight_calibration, in_flight_rows, plot_in_flight
 
     def window(estimate: float, place: str, utilisation: float) -> InFlight:
         return InFlight(estimate, 0.1, place, 0.05, utilisation)
@@ -118,9 +118,11 @@ def test_the_in_flight_calibration_draws_one_window_per_climb_and_place_and_the_
     rows = {r.split(" | ")[1]: r.split(" | ")[2:] for r in in_flight_rows("grid", climbs, scales)}
     assert list(rows) == ["reached <= 80 % M_sat", "reached 80-90 % M_sat", "reached 90-95 % M_sat"]
     # 0.3 and 0.25 with bounds 0.3 e^-0.1 = 0.271 and 0.226: the CoF 0.2 is above neither, in neither interval
-    assert rows["reached <= 80 % M_sat"][:3] == ["2", "0.0%", "0.0%"]
-    assert rows["reached 80-90 % M_sat"][:3] == ["1", "100.0%", "100.0%"]  # 0.095 x e^+-0.1 holds 0.1
+    assert rows["reached <= 80 % M_sat"][:4] == ["2", "37.5%", "0.0%", "0.0%"]  # errors 50 % and 25 %
+    assert rows["reached 80-90 % M_sat"][:4] == ["1", "5.0%", "100.0%", "100.0%"]  # 0.095 x e^+-0.1 holds 0.1
     assert rows["reached 90-95 % M_sat"][-2:] == ["100.0%", "0.25 |"]  # the demonstrated 0.05 of a CoF of 0.2
+    monkeypatch.setattr("estimate_interval.FIGURE_MIN_WINDOWS", 1)
+    assert plot_in_flight({"grid": climbs}, scales, tmp_path / "in_flight.png").stat().st_size > 1000
 
 
 def test_scales_check_their_fields_and_round_trip_through_their_file(tmp_path):
