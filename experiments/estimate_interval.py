@@ -51,7 +51,7 @@ from cof_gym.agents.base import agent_view  # noqa: E402
 from cof_gym.agents.interrogator import IN_FLIGHT, POOLED, SHIPPED_INTERROGATOR, IntervalScales, check_coverage  # noqa: E402
 from cof_gym.commands.args import Parser, positive_int  # noqa: E402
 from cof_gym.commands.evaluate_episodes import ENDINGS as EVALUATE_ENDINGS  # noqa: E402
-from cof_gym.commands.evaluate_stats import AGENT_GROUPINGS, utilisation_band  # noqa: E402
+from cof_gym.commands.evaluate_stats import UTILISATION_GROUPS, utilisation_band  # noqa: E402
 
 CALIBRATION = {"family": VALIDATION, "procedural": PROCEDURAL_VALIDATION, "steep": STEEP_VALIDATION}
 ENDINGS = tuple(e for e in EVALUATE_ENDINGS if e != "diverged")  # how a scored episode ends: the breakdown's columns
@@ -144,7 +144,7 @@ def in_flight_rows(label: str, episodes: list[Committed], scales: IntervalScales
     adhesion."""
     rows = []
     windows = [(w, e.cof) for e in episodes for w in e.windows]
-    for band in AGENT_GROUPINGS[0]:
+    for band in UTILISATION_GROUPS:
         part = [(w, cof) for w, cof in windows if utilisation_band(w.utilisation) == band]
         if not part:
             continue

@@ -95,10 +95,11 @@ def ending_group(ended: str) -> str:
     return f"ended: {ended}"
 
 
+UTILISATION_GROUPS = tuple(_utilisation_label(lo, hi) for lo, hi in zip(UTILISATION_BANDS[:-1], UTILISATION_BANDS[1:]))
+ENDING_GROUPS = tuple(ending_group(e) for e in ENDINGS)
 # the groupings whose groups depend on what an agent did, each as its groups in order: two agents may share none
 # of a grouping's groups, so the tables take their order from here, not from the agents' breakdowns
-AGENT_GROUPINGS = (tuple(_utilisation_label(lo, hi) for lo, hi in zip(UTILISATION_BANDS[:-1], UTILISATION_BANDS[1:])),
-                   tuple(ending_group(e) for e in ENDINGS))
+AGENT_GROUPINGS = (UTILISATION_GROUPS, ENDING_GROUPS)
 
 
 # the breakdown's groupings, in table order: (name, group of a record, the record's order within it)
