@@ -85,6 +85,28 @@ def test_the_replay_is_the_scored_episode():
     assert rep.samples["t"].size > 100
 
 
+def test_the_video_carries_the_learned_interrogators_in_flight_bound_and_no_other_agents():
+    """Each window the interrogator chose while its climb had not stopped records the in-flight lower bound it
+    held then; the model-based agent reports none (the panel then has no such line). Playing through the
+    recorder leaves the scored episode as cof-gym evaluate plays it."""
+    import gymnasium as gym
+
+    from cof_gym.agents import registry
+    from cof_gym.commands.evaluate_episodes import run_episode
+
+    for agent, reports in (("interrogator", True), ("model-based", False)):
+        record, env = watch.play(_request(Path("/nonexistent"), agent=agent))
+        env.close()
+        bounds = [w.lower_bound for w in env.windows[1:]]
+        assert any(np.isfinite(bounds)) == reports, agent
+        if reports:
+            driven = [b for b, w in zip(bounds, env.windows[1:]) if w.ran]
+            assert np.isnan(driven[0]) and all(0.0 < b < w.estimate * 10 for b, w in zip(driven[1:], env.windows[2:]))
+            plain = gym.make(cof_gym.WAGON_ENV_ID)
+            assert run_episode(plain, registry.make_agent(agent, plain), 0, {}, 0) == record
+            plain.close()
+
+
 @pytest.mark.parametrize("argv, flag", [
     (["--agent", "nope"], "--agent"),
     (["--agent", "ppo:/nonexistent/model.zip"], "--agent"),

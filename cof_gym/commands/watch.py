@@ -34,7 +34,8 @@ DESCRIPTION = """\
 Play one episode of an agent (the episode cof-gym evaluate plays for that seed) and write a video of it:
 the wagon on the track, the camera following the driven wheelset, beside the creep curve with the
 operating point moving along it, the torque and wheelset-speed traces, the phase lag of each window and
-the estimate against the true CoF. MP4 needs imageio-ffmpeg, GIF pillow. Rendered offscreen (EGL, or
+the estimate against the true CoF (and the in-flight lower bound of an agent that reports one, the
+learned interrogator). MP4 needs imageio-ffmpeg, GIF pillow. Rendered offscreen (EGL, or
 MUJOCO_GL=osmesa)."""
 
 EXTENSIONS = (".mp4", ".gif")
@@ -147,27 +148,31 @@ class WindowRecord:
     state: np.ndarray  # the physics state after the window (STATE_SPEC)
     estimate: float  # the estimate reported with this window's drive (nan: the reset window)
     measurement: dict[str, float]
+    lower_bound: float = math.nan  # the agent's in-flight lower bound when it chose this drive (nan: none)
 
 
 class Recorder(gym.Wrapper):
-    """Records each window of the wrapped env: what it drove and the state it ended in. Changes nothing."""
+    """Records each window of the wrapped env: what it drove and the state it ended in, and the lower bound the
+    agent held when it chose the drive (:class:`BoundReader` sets it). Changes nothing."""
 
     def __init__(self, env: gym.Env) -> None:
         super().__init__(env)
         self.windows: list[WindowRecord] = []
         self.final_info: dict[str, Any] = {}
+        self.next_lower_bound = math.nan
 
     def _record(self, ran: bool, estimate: float, info: dict) -> None:
         core = self.env.unwrapped
         sim = core._sim  # the simulation that ran the window (read only)
         state = np.empty(mujoco.mj_stateSize(sim.model, STATE_SPEC))
         mujoco.mj_getState(sim.model, sim.data, state, STATE_SPEC)
-        self.windows.append(WindowRecord(core.episode.drive, ran, state, estimate, dict(info["measurement"])))
+        self.windows.append(WindowRecord(core.episode.drive, ran, state, estimate, dict(info["measurement"]),
+                                         self.next_lower_bound))
         self.final_info = info
 
     def reset(self, **kwargs):
         obs, info = self.env.reset(**kwargs)
-        self.windows = []
+        self.windows, self.next_lower_bound = [], math.nan
         self._record(True, math.nan, info)
         return obs, info
 
@@ -177,6 +182,27 @@ class Recorder(gym.Wrapper):
         info = out[-1]
         self._record(self.env.unwrapped._sim.data.time != t0, float(info["cof_estimate"]), info)
         return out
+
+
+class BoundReader:
+    """Plays ``agent`` as it is and, after each action, hands the recorder the in-flight lower bound the agent
+    reports (``in_flight_lower_bound()``, the learned interrogator's; nan for an agent without one)."""
+
+    def __init__(self, agent, recorder: Recorder) -> None:
+        self.agent, self.recorder = agent, recorder
+        self.name, self.oracle = agent.name, getattr(agent, "oracle", False)
+
+    def reset(self, observation, info) -> None:
+        self.agent.reset(observation, info)
+
+    def act(self, observation, info):
+        action = self.agent.act(observation, info)
+        bound = getattr(self.agent, "in_flight_lower_bound", lambda: None)()
+        self.recorder.next_lower_bound = math.nan if bound is None else float(bound)
+        return action
+
+    def __getattr__(self, name: str):  # the rest is the agent's (its interval, its close)
+        return getattr(self.agent, name)
 
 
 def play(request: WatchRequest):
@@ -194,7 +220,7 @@ def play(request: WatchRequest):
         env.close()
         env = Recorder(gym.make(request.env_id, **options))
     try:
-        record = run_episode(env, agent, request.seed, {}, 0, oracle=request.oracle)
+        record = run_episode(env, BoundReader(agent, env), request.seed, {}, 0, oracle=request.oracle)
     finally:
         close = getattr(agent, "close", None)
         if callable(close):
@@ -285,6 +311,7 @@ def _episode_view(env, windows: list[WindowRecord], rep: Replay):
         torque_range_knm=(float(min(torque.min(), 0.0)), float(torque.max())),
         max_estimate=max((w.estimate for w in windows if math.isfinite(w.estimate)), default=truth.cof),
         phase_range_deg=(min(lags), max(lags)),
+        shows_lower_bound=any(math.isfinite(w.lower_bound) for w in windows),
     )
 
 
@@ -311,6 +338,14 @@ def _open_writer(path: Path, fps: int):
     return imageio.get_writer(path, format="GIF", mode="I", duration=1000.0 / fps, loop=0)
 
 
+def _window_point(w: WindowRecord, t_end_s: float):
+    """A completed window as the panels plot it."""
+    from cof_gym.commands.watch_frames import WindowPoint
+
+    return WindowPoint(t_end_s, *(w.measurement[m] for m in ("phase_lag_deg", "phase_lag_se_deg", "coa_measured",
+                                                             "creepage_measured")), w.estimate, w.lower_bound)
+
+
 def _caption(request: WatchRequest, k: int, n: int, w: WindowRecord, t: float, wagon: bool) -> str:
     """The scene's caption: agent, time, window and its drive."""
     d = w.drive
@@ -326,7 +361,7 @@ def _caption(request: WatchRequest, k: int, n: int, w: WindowRecord, t: float, w
 def render_video(request: WatchRequest, env, record, path: Path, max_frames: int | None = None) -> dict[str, Any]:
     """Replay the recorded windows and write the video to ``path``; returns facts about it (frames, size,
     render time, the last frame). ``max_frames`` stops early (tests)."""
-    from cof_gym.commands.watch_frames import Caption, Panels, SceneCamera, Traces, WindowPoint
+    from cof_gym.commands.watch_frames import Caption, Panels, SceneCamera, Traces
 
     windows = [w for w in env.windows if w.ran]
     rep = replay(env, windows, request.speed / request.fps)
@@ -348,17 +383,12 @@ def render_video(request: WatchRequest, env, record, path: Path, max_frames: int
         for f in range(n_frames):
             t0 = time.perf_counter()
             k, t, upto = rep.frame_window[f], rep.frame_t[f], rep.frame_sample[f]
-            done = [WindowPoint(float(rep.window_end_s[j]), windows[j].measurement["phase_lag_deg"],
-                                windows[j].measurement["phase_lag_se_deg"], windows[j].measurement["coa_measured"],
-                                windows[j].measurement["creepage_measured"], windows[j].estimate) for j in range(k)]
-            sofar = Traces(*(getattr(traces, name)[:upto] for name in Traces.__dataclass_fields__))
             last = f == len(rep.frame_t) - 1
-            if last:
-                done.append(WindowPoint(float(rep.window_end_s[k]), *(windows[k].measurement[m] for m in (
-                    "phase_lag_deg", "phase_lag_se_deg", "coa_measured", "creepage_measured")), windows[k].estimate))
+            done = [_window_point(windows[j], float(rep.window_end_s[j])) for j in range(k + 1 if last else k)]
+            sofar = Traces(*(getattr(traces, name)[:upto] for name in Traces.__dataclass_fields__))
             scene = caption.draw(camera.render(rep.frame_qpos[f]), _caption(request, k, len(windows) - 1, windows[k], t, built.kind == "wagon"),
                                  _result_line(record, "\n") if last else "")
-            frame = np.concatenate([scene, panels.draw(t, sofar, done, windows[k].estimate)], axis=1)
+            frame = np.concatenate([scene, panels.draw(t, sofar, done, windows[k].estimate, windows[k].lower_bound)], axis=1)
             writer.append_data(frame)
             t_render += time.perf_counter() - t0
         for _ in range(hold if frame is not None else 0):

@@ -3,7 +3,8 @@
 The scene is rendered offscreen (EGL or OSMesa) with a camera that follows the driven wheelset; the
 panels (Agg) show the creep curve with the operating point moving along it, the torque over the
 episode, the torque and wheelset-speed oscillations of the last second (their phase lag is the
-measurement), the phase lag of each window and the estimate against the true CoF. Every axis range is
+measurement), the phase lag of each window and the estimate against the true CoF (with an agent's in-flight
+lower bound where it reports one). Every axis range is
 fixed from the whole episode, so the static parts are drawn once and each frame only redraws the moving
 artists (blitting): a frame costs one scene render and a few line draws.
 """
@@ -44,6 +45,7 @@ class EpisodeView:
     torque_range_knm: tuple[float, float]
     max_estimate: float
     phase_range_deg: tuple[float, float]
+    shows_lower_bound: bool = False  # the agent reported an in-flight lower bound (the estimate panel draws it)
 
 
 @dataclass(frozen=True)
@@ -56,6 +58,7 @@ class WindowPoint:
     coa_measured: float
     creepage_measured: float
     estimate: float  # the estimate the agent reported with this window's drive (nan: none)
+    lower_bound: float = float("nan")  # the in-flight lower bound the agent held when it chose that drive (nan: none)
 
 
 @dataclass(frozen=True)
@@ -249,18 +252,21 @@ class Panels:
         ax.axhline(v.cof, color="k", lw=1.3, label="true CoF")
         self.est_steps, = ax.step([], [], where="post", color=ESTIMATE_COLOR, lw=1.8, label="estimate")
         self.coa_dots, = ax.plot([], [], "o", color="0.35", ms=3.5, mfc="white", label="measured CoA")
-        self._moving(self.est_steps), self._moving(self.coa_dots)
+        self.bound_steps, = ax.step([], [], where="post", color=ESTIMATE_COLOR, lw=1.2, ls=":",
+                                    label="lower bound in flight" if v.shows_lower_bound else None)
+        self._moving(self.est_steps), self._moving(self.coa_dots), self._moving(self.bound_steps)
         ax.set(xlim=(0, 1.03 * v.duration_s), ylim=(0, 1.8 * max(v.cof, min(v.max_estimate, 2.0 * v.cof))),
                xlabel="time [s]", ylabel="CoF [-]", title="Estimate vs truth")
         ax.grid(alpha=0.3)
-        ax.legend(loc="upper center", fontsize="small", ncol=3, framealpha=0.9, handlelength=1.2,
-                  columnspacing=0.8)
+        ax.legend(loc="upper center", fontsize="small", ncol=2 if v.shows_lower_bound else 3, framealpha=0.9,
+                  handlelength=1.2, columnspacing=0.8)
         self.ax_est = ax
 
     # ------------------------------------------------------------------ one frame
-    def draw(self, t: float, traces: Traces, windows: list[WindowPoint], estimate: float) -> np.ndarray:
-        """The panels at simulated time ``t`` (``traces`` up to ``t``, ``windows`` the completed ones),
-        (height, width, 3) uint8."""
+    def draw(self, t: float, traces: Traces, windows: list[WindowPoint], estimate: float,
+             lower_bound: float = math.nan) -> np.ndarray:
+        """The panels at simulated time ``t`` (``traces`` up to ``t``, ``windows`` the completed ones; ``estimate``
+        and ``lower_bound``: the current window's), (height, width, 3) uint8."""
         ts = traces.t
         if ts.size:
             s = traces.creepage
@@ -286,6 +292,9 @@ class Panels:
             est = [(w.t_end_s - self.view.window_s, w.estimate) for w in windows if math.isfinite(w.estimate)]
             if est and math.isfinite(estimate):
                 self.est_steps.set_data([e[0] for e in est] + [t], [e[1] for e in est] + [estimate])
+            bounds = [(w.t_end_s - self.view.window_s, w.lower_bound) for w in windows if math.isfinite(w.lower_bound)]
+            if bounds and math.isfinite(lower_bound):
+                self.bound_steps.set_data([b[0] for b in bounds] + [t], [b[1] for b in bounds] + [lower_bound])
         canvas = self.fig.canvas
         canvas.restore_region(self.background)
         for a in self.animated:
