@@ -514,6 +514,8 @@ generated, never typed:
         False, caution 2, target 0.1, guards ${G/ /, }" --out out/paired_rule62_validation.md   # and _lag01
     (rule 62's two commands again with --set lag_floor=null lag_floor=0.65 lag_floor=0.45, the baseline "lag_floor
         None, ...", _rule63 in place of _rule62)   # rule 63; and _lag01
+    python experiments/estimate_interval.py --write --out out/estimate_interval.md   # session 44: the in-flight bound
+    python experiments/sensor_sensitivity.py --out out/sensor_sensitivity.md   # session 44
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -727,6 +729,7 @@ SOURCES = {
         "crest_tradeoff_rule63_validation_lag01",
         "paired_rule63_validation",
         "paired_rule63_validation_lag01",
+        "sensor_sensitivity",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about

@@ -77,6 +77,9 @@ CASES = [
     ("estimate_interval", ["--workers", "0"], "--workers"),
     ("estimate_interval", ["--out", "{dir}"], "--out"),
     ("estimate_interval", ["--policy", "{dir}"], "--policy"),
+    ("sensor_sensitivity", ["--agents", "oracle,nope"], "--agents"),
+    ("sensor_sensitivity", ["--workers", "0"], "--workers"),
+    ("sensor_sensitivity", ["--out", "{dir}"], "--out"),
 ]
 
 

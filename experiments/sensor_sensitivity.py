@@ -1,0 +1,113 @@
+"""How each agent's CoF error moves with one systematic sensor error at the end of the range the env accepts
+(information only: nothing is chosen here). (Run from the repository root; 2 cores, about 12 min.)
+
+    python experiments/sensor_sensitivity.py [--agents oracle,model-based,robust-model,interrogator]
+                                             [--workers 2] [--out out/sensor_sensitivity.md]
+
+Plays every agent on the family validation grid (the v2 draws' creep laws, both vehicle configurations:
+model-selection data, never reported) as it is, and again with each systematic sensor error of
+:data:`cof_gym.task.sensors.SYSTEMATIC_ERRORS` fixed over every episode at plus and minus the largest value the env
+accepts (the other errors as each episode draws them: ``reset`` options over the grid's own). The v2 draws reach
+only a fraction of those values, so the rows past the first measure the agents on sensors none was tuned on:
+
+- a wheel-radius error shifts the measured creepage by a constant (the creepage offset); an agent that reads the
+  creepage's changes within the climb, not its level, does not see it;
+- a speed-sensor error shifts the creepage the other way and scales the measured speed;
+- a force gain error scales the measured tangential force, so the measured adhesion (CoA) and every estimate read
+  from it, the oracle's too (it knows where the peak is, not what the force sensor misreads): a floor no
+  method that reads the force sensor alone can pass;
+- a torque gain error scales the torque reading (the lock-in's compliance, a torque-based estimate).
+
+Cells: median / P90 relative CoF error [%] / macro-slips, over the grid's scored episodes.
+"""
+
+from __future__ import annotations
+
+import sys
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+from script_checks import check_out_file, write_report  # noqa: E402
+from train_interrogator import CONFIGS, VALIDATION  # noqa: E402
+
+import cof_gym  # noqa: E402,F401  (registers the envs)
+from cof_gym.agents import registry  # noqa: E402
+from cof_gym.agents.base import own_env_options  # noqa: E402
+from cof_gym.commands.args import Parser, positive_int  # noqa: E402
+from cof_gym.commands.evaluate_episodes import run_episode  # noqa: E402
+from cof_gym.commands.suites import make_suite  # noqa: E402
+from cof_gym.task.sensors import SYSTEMATIC_ERRORS  # noqa: E402
+
+AGENTS = ("oracle", "model-based", "robust-model", "interrogator")
+
+
+def settings() -> list[dict[str, float]]:
+    """The grid as drawn ({}), then each systematic error at plus and minus its accepted bound."""
+    return [{}] + [{name: sign * span.accepted} for name, span in SYSTEMATIC_ERRORS.items() for sign in (1.0, -1.0)]
+
+
+def play(spec: str, setting: dict[str, float], config: dict) -> list[tuple[float, bool]]:
+    """(relative error, macro-slip) of every scored episode of the family validation grid, played by ``spec`` in
+    the vehicle configuration ``config`` with ``setting`` over each episode's own options."""
+    suite = make_suite(str(VALIDATION), 60, 0)
+    env = gym.make(suite.env_id, **{**suite.env_kwargs, **config})
+    agent = registry.make_agent(spec, env)
+    options = own_env_options(agent)
+    if options:  # an excitation of its own (two tones)
+        env.close()
+        env = gym.make(suite.env_id, **{**suite.env_kwargs, **config, **options})
+        agent = registry.make_agent(spec, env)
+    records = [run_episode(env, agent, seed, {**own, **setting}, i) for i, (seed, own) in enumerate(suite.episodes)]
+    env.close()
+    return [(r.relative_error, r.macro_slip) for r in records if r.scored]
+
+
+def cell(played: list[tuple[float, bool]]) -> str:
+    errors = np.array([e for e, _ in played])
+    return (f"{100 * np.median(errors):.1f} / {100 * np.percentile(errors, 90):.1f} / "
+            f"{sum(slip for _, slip in played)}")
+
+
+def label(setting: dict[str, float]) -> str:
+    return "as drawn" if not setting else ", ".join(f"{name} {value:+g}" for name, value in setting.items())
+
+
+def main() -> None:
+    parser = Parser(description=__doc__.split("\n")[0])
+    parser.add_argument("--agents", default=",".join(AGENTS), help="comma-separated agents (cof-gym evaluate's names)")
+    parser.add_argument("--workers", type=positive_int, default=2)
+    parser.add_argument("--out", type=Path, default=Path("out/sensor_sensitivity.md"))
+    args = parser.parse_args()
+    check_out_file(parser, "--out", args.out)
+    agents = [a.strip() for a in args.agents.split(",") if a.strip()]
+    for spec in agents:
+        try:
+            registry.parse(spec)
+        except registry.AgentSpecError as error:
+            parser.error(f"--agents: {error}")
+    rows = settings()
+    jobs = [(spec, setting, config) for setting in rows for spec in agents for config in CONFIGS]
+    with ProcessPoolExecutor(args.workers) as pool:
+        played = list(pool.map(play, *zip(*jobs)))
+    per_cell = len(CONFIGS)
+    lines = ["Family validation grid, both vehicle configurations (`python experiments/sensor_sensitivity.py`): "
+             "median / P90 relative CoF error [%] / macro-slips, with one systematic sensor error fixed at the end "
+             "of the range the env accepts (the v2 draws: "
+             + ", ".join(f"{name} +-{span.drawn:g}" for name, span in SYSTEMATIC_ERRORS.items()) + ").", "",
+             "| sensors | " + " | ".join(agents) + " |", "|---" * (len(agents) + 1) + "|"]
+    for r, setting in enumerate(rows):
+        cells = []
+        for a in range(len(agents)):
+            k = (r * len(agents) + a) * per_cell
+            cells.append(cell([p for part in played[k:k + per_cell] for p in part]))
+        lines.append(f"| {label(setting)} | " + " | ".join(cells) + " |")
+    write_report(args.out, lines)
+
+
+if __name__ == "__main__":
+    main()
