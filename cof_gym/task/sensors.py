@@ -36,6 +36,13 @@ speed/torque amplitude ratio ``/ (1 + e_T)``. The phase lag is a ratio of two fi
 gain changes it: the paper's point about the phase method. Every map is affine in the window's mean
 (and a gain on a phase bin's mean), so applying it to the window's averages is exactly what applying
 it to every sample would give.
+
+The drive applies the commanded torque and its reading carries the gain, so in cof_gym the torque gain
+error shows as the ratio of the mean torque reading to the command. A real drive that controls on its own
+torque estimate would apply ``command / (1 + e)`` and read its command back, so that ratio is this
+model's, not a train's: the learned interrogator reads torque only through the amplitude ratio (and,
+with the off-by-default ``ClimbParameters.noise_torque_measured`` and ``lag_floor``, the amplitude
+reading), never the mean torque against its command.
 """
 
 from __future__ import annotations
