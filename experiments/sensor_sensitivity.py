@@ -1,7 +1,7 @@
 """How each agent's CoF error moves with one systematic sensor error at the end of the range the env accepts
-(information only: nothing is chosen here). (Run from the repository root; 2 cores, about 12 min.)
+(information only: nothing is chosen here). (Run from the repository root; 2 cores, about 11 min.)
 
-    python experiments/sensor_sensitivity.py [--agents oracle,model-based,robust-model,interrogator]
+    python experiments/sensor_sensitivity.py [--agents oracle,staircase,phase-rule,model-based,robust-model,interrogator]
                                              [--workers 2] [--out out/sensor_sensitivity.md]
 
 Plays every agent on the family validation grid (the v2 draws' creep laws, both vehicle configurations:
@@ -43,7 +43,7 @@ from cof_gym.commands.evaluate_episodes import run_episode  # noqa: E402
 from cof_gym.commands.suites import make_suite  # noqa: E402
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS  # noqa: E402
 
-AGENTS = ("oracle", "model-based", "robust-model", "interrogator")
+AGENTS = ("oracle", "staircase", "phase-rule", "model-based", "robust-model", "interrogator")
 
 
 def settings() -> list[dict[str, float]]:
