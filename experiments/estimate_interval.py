@@ -140,8 +140,8 @@ def in_flight_calibration(episodes: list[Committed], seed: int = CALIBRATION_DRA
 
 def in_flight_rows(label: str, episodes: list[Committed], scales: IntervalScales) -> list[str]:
     """Per utilisation band reached (every in-flight window of ``episodes``): the windows, the in-flight estimate's
-    median relative error, the CoF in the in-flight interval and above its lower bound, the bound's median over the CoF, and the same two for the demonstrated
-    adhesion."""
+    median relative error, the CoF in the in-flight interval and above its lower bound, the bound's median over
+    the CoF, and the same two for the demonstrated adhesion."""
     rows = []
     windows = [(w, e.cof) for e in episodes for w in e.windows]
     for band in UTILISATION_GROUPS:
