@@ -163,6 +163,13 @@ COLLECTIONS = {
               ClimbDraws(noise_levels=(0.0, 3.0), motor_lags_s=(0.0, 0.1))),
     "procedural_noisy": ("climbs_procedural_noisy.npz", TRAINING_SEED + 1_600_000,
                          ClimbDraws(shapes="procedural", noise_levels=(0.0, 3.0), motor_lags_s=(0.0, 0.1))),
+    # the env's draws and procedural curves with the torque gain error at +-15 %, what the env accepts (the env's
+    # draws: +-5 %): the one systematic error that moves the shipped interrogator alone (session 44,
+    # experiments/sensor_sensitivity.py)
+    "torque_wide": ("climbs_torque_wide.npz", TRAINING_SEED + 1_700_000,
+                    ClimbDraws(sensor_errors=(("torque_gain_error", -0.15, 0.15),))),
+    "procedural_torque_wide": ("climbs_procedural_torque_wide.npz", TRAINING_SEED + 1_800_000,
+                               ClimbDraws(shapes="procedural", sensor_errors=(("torque_gain_error", -0.15, 0.15),))),
 }
 EPISODES = {"env": 8000}  # the shipped recipe (procedural and high_frequency lost on validation: README)
 # the shipped recipe's guard (--guard-climbs; session 16): the family climbs and the procedural ones together

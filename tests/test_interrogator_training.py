@@ -190,6 +190,33 @@ def test_noisy_training_climbs_draw_the_sensors_noise_and_the_drives_lag_in_thei
             ClimbDraws(**{field: bad})
 
 
+def test_training_climbs_draw_systematic_sensor_errors_past_the_envs_draws_where_asked():
+    """With sensor_errors a training climb's episode plays each named systematic error drawn uniform in its range
+    (the same for the same seed), as a reset option the env plays; ranges past what the env accepts, unknown
+    fields and malformed entries are refused naming the field."""
+    class Recorder(gym.Wrapper):
+        def reset(self, **kwargs):
+            self.options = kwargs.get("options")
+            obs, info = self.env.reset(**kwargs)
+            self.truth = info["ground_truth"]
+            return obs, info
+
+    draws = ClimbDraws(sensor_errors=(("torque_gain_error", -0.15, -0.1), ("speed_sensor_error", 0.03, 0.05)))
+    env = Recorder(gym.make(cof_gym.WAGON_ENV_ID))
+    drawn = []
+    for seed in (2_000_600, 2_000_601, 2_000_600):
+        _climb_episode(env, seed, draws)
+        assert -0.15 <= env.options["torque_gain_error"] <= -0.1 and 0.03 <= env.options["speed_sensor_error"] <= 0.05
+        assert env.truth["torque_gain_error"] == env.options["torque_gain_error"]
+        drawn.append(env.options)
+    assert drawn[0] == drawn[2] != drawn[1] and set(drawn[0]) == {"torque_gain_error", "speed_sensor_error"}
+    for bad, match in (((("torque_gain_error", -0.2, 0.0),), "torque_gain_error"), ((("tilt_error", 0.0, 0.1),), "tilt"),
+                       ((("torque_gain_error", 0.1),), "field, low, high"),
+                       ((("force_gain_error", 0.05, -0.05),), "min <= max")):
+        with pytest.raises(ValueError, match=match):
+            ClimbDraws(sensor_errors=bad)
+
+
 def test_training_climbs_record_the_cycle_crest_and_a_cycle_crest_filter_fits_on_them(tmp_path):
     """Climbs collected now carry the CoA's cycle crest, trough and bin SE (read from info["measurement"]),
     so a filter reading the cycle_crest block fits on them and plays."""

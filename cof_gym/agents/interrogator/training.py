@@ -49,6 +49,7 @@ from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.physics.creep_laws import below_peak
 from cof_gym.task.interface import MotorLimits
 from cof_gym.task.scenarios import MOTOR_LAG_MAX_S, NOISE_LEVEL_MAX
+from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 from cof_gym.task.validation import check_number, check_range
 
 TRAINING_SEED = 1_000_000  # first training seed: far from every evaluation and validation seed
@@ -238,7 +239,10 @@ class ClimbDraws:
     from the first observation's measured speed; the reference from its own generator); ``noise_levels`` and
     ``motor_lags_s``: the sensors' noise (multiples of the full-scale noise) and the drive's lag (s) uniform in
     these ranges, set as the episode's reset options from their own generator in place of the env's draws
-    (0-1 and 0-0.03 s), up to what the env accepts: noisier sensors and a slower drive than the v2 draws."""
+    (0-1 and 0-0.03 s), up to what the env accepts: noisier sensors and a slower drive than the v2 draws;
+    ``sensor_errors``: ``(field, low, high)`` of systematic errors (:data:`~cof_gym.task.sensors.SYSTEMATIC_ERRORS`)
+    drawn uniform in that range, each from a generator of its own, in place of the env's draw, up to what the
+    env accepts (e.g. a torque gain error of +-15 % where the v2 draws reach +-5 %)."""
 
     shapes: str = "env"
     frequencies_hz: tuple[float, float] | None = None
@@ -251,6 +255,7 @@ class ClimbDraws:
     frequency_references_m_s: tuple[float, float] | None = None  # a speed-scheduled frequency (m/s)
     noise_levels: tuple[float, float] | None = None  # the sensors' noise drawn in this range (None: the env's draw)
     motor_lags_s: tuple[float, float] | None = None  # the drive's lag (s) drawn in this range (None: the env's draw)
+    sensor_errors: tuple[tuple[str, float, float], ...] = ()  # (field, low, high) in place of the env's draw
 
     @property
     def env_options(self) -> dict[str, Any]:
@@ -265,6 +270,14 @@ class ClimbDraws:
         for name, high in (("noise_levels", NOISE_LEVEL_MAX), ("motor_lags_s", MOTOR_LAG_MAX_S)):
             if getattr(self, name) is not None:
                 check_range(f"ClimbDraws.{name}", getattr(self, name), 0.0, high)
+        for entry in self.sensor_errors:
+            if not (isinstance(entry, (tuple, list)) and len(entry) == 3):
+                raise ValueError(f"ClimbDraws.sensor_errors: each entry must be (field, low, high), got {entry!r}")
+            name, low, high = entry
+            if name not in SYSTEMATIC_ERRORS:
+                raise ValueError(f"ClimbDraws.sensor_errors: unknown error {name!r}; allowed: {list(SYSTEMATIC_ERRORS)}")
+            accepted = SYSTEMATIC_ERRORS[name].accepted
+            check_range(f"ClimbDraws.sensor_errors {name}", (low, high), -accepted, accepted)
         for name in ("frequencies_hz", "amplitude_ratios", "floor_margins", "crest_powers", "frequency_references_m_s"):
             value = getattr(self, name)
             if value is not None and not (len(value) == 2 and 0.0 < value[0] <= value[1]):
@@ -273,7 +286,7 @@ class ClimbDraws:
 
 def _reset(env, seed: int, draws: ClimbDraws) -> tuple[np.ndarray, dict[str, Any]]:
     """The env reset for training episode ``seed``: the env's own creep curve, or a procedural one; the env's
-    sensor noise and drive lag, or ``draws``' (:func:`_sensor_options`)."""
+    sensor noise, drive lag and systematic errors, or ``draws``' (:func:`_sensor_options`)."""
     options = _sensor_options(seed, draws)
     if draws.shapes == "procedural":
         options["creep_law"] = procedural_shape(np.random.default_rng([seed, 11]), draws.fall)
@@ -281,11 +294,14 @@ def _reset(env, seed: int, draws: ClimbDraws) -> tuple[np.ndarray, dict[str, Any
 
 
 def _sensor_options(seed: int, draws: ClimbDraws) -> dict[str, float]:
-    """Training episode ``seed``'s noise level and motor lag where ``draws`` names their ranges (uniform, from
-    a generator of their own), as reset options; none where it leaves them to the env."""
+    """Training episode ``seed``'s noise level, motor lag and systematic errors where ``draws`` names their ranges
+    (uniform, from generators of their own), as reset options; none where it leaves them to the env."""
     rng = np.random.default_rng([seed, 23])
-    return {name: float(rng.uniform(*span)) for name, span in (("noise_level", draws.noise_levels),
-                                                               ("motor_lag_s", draws.motor_lags_s)) if span}
+    options = {name: float(rng.uniform(*span)) for name, span in (("noise_level", draws.noise_levels),
+                                                                  ("motor_lag_s", draws.motor_lags_s)) if span}
+    for k, (name, low, high) in enumerate(draws.sensor_errors):
+        options[name] = float(np.random.default_rng([seed, 29, k]).uniform(low, high))
+    return options
 
 
 def _labels(truth: dict[str, Any], dc_nm: float, reading: Reading) -> tuple[float, float]:
