@@ -162,20 +162,23 @@ def test_crest_shrink_training_climbs_shrink_their_modulation_and_never_grow_it(
         ClimbDraws(crest_powers=(2.0, 0.5))
 
 
+class ResetRecorder(gym.Wrapper):
+    """Keeps the options of the last reset and the ground truth it gave."""
+
+    def reset(self, **kwargs):
+        self.options = kwargs.get("options")
+        obs, info = self.env.reset(**kwargs)
+        self.truth = info["ground_truth"]
+        return obs, info
+
+
 def test_noisy_training_climbs_draw_the_sensors_noise_and_the_drives_lag_in_their_ranges():
     """With noise_levels and motor_lags_s a training climb's episode plays a noise level and a motor lag drawn in
     those ranges (from a generator of the seed's own, the same for the same seed), set as reset options that
     the env plays (its ground truth says so); without them the reset leaves both to the env; ranges beyond
     what the env accepts are refused naming the field."""
-    class Recorder(gym.Wrapper):
-        def reset(self, **kwargs):
-            self.options = kwargs.get("options")
-            obs, info = self.env.reset(**kwargs)
-            self.truth = info["ground_truth"]
-            return obs, info
-
     draws = ClimbDraws(noise_levels=(2.0, 3.0), motor_lags_s=(0.05, 0.1))
-    env = Recorder(gym.make(cof_gym.WAGON_ENV_ID))
+    env = ResetRecorder(gym.make(cof_gym.WAGON_ENV_ID))
     drawn = []
     for seed in (2_000_500, 2_000_501, 2_000_500):
         _climb_episode(env, seed, draws)
@@ -194,15 +197,8 @@ def test_training_climbs_draw_systematic_sensor_errors_past_the_envs_draws_where
     """With sensor_errors a training climb's episode plays each named systematic error drawn uniform in its range
     (the same for the same seed), as a reset option the env plays; ranges past what the env accepts, unknown
     fields and malformed entries are refused naming the field."""
-    class Recorder(gym.Wrapper):
-        def reset(self, **kwargs):
-            self.options = kwargs.get("options")
-            obs, info = self.env.reset(**kwargs)
-            self.truth = info["ground_truth"]
-            return obs, info
-
     draws = ClimbDraws(sensor_errors=(("torque_gain_error", -0.15, -0.1), ("speed_sensor_error", 0.03, 0.05)))
-    env = Recorder(gym.make(cof_gym.WAGON_ENV_ID))
+    env = ResetRecorder(gym.make(cof_gym.WAGON_ENV_ID))
     drawn = []
     for seed in (2_000_600, 2_000_601, 2_000_600):
         _climb_episode(env, seed, draws)
