@@ -15,7 +15,9 @@ class Agent(Protocol):
     """A measurement policy. ``info`` is the environment's info dict; only agents labelled as oracles
     may read ``info["ground_truth"]``. An agent may also report, after its episode, an interval around its
     estimate, ``cof_interval() -> (low, high)``, and a lower bound, ``cof_lower_bound() -> float`` (CoF; None:
-    none), which ``cof-gym evaluate`` records and scores (the learned interrogator's calibrated ones)."""
+    none), which ``cof-gym evaluate`` records and scores (the learned interrogator's calibrated ones), and, after
+    each action, the lower bound it holds in flight, ``in_flight_lower_bound() -> float`` (None: none yet), which
+    ``cof-gym watch`` draws."""
 
     name: str
     oracle: bool
