@@ -58,10 +58,9 @@ def play(spec: str, setting: dict[str, float], config: dict) -> list[tuple[float
     env = gym.make(suite.env_id, **{**suite.env_kwargs, **config})
     agent = registry.make_agent(spec, env)
     options = own_env_options(agent)
-    if options:  # an excitation of its own (two tones)
+    if options:  # an excitation of its own (two tones): the same agent plays in an env made with it
         env.close()
         env = gym.make(suite.env_id, **{**suite.env_kwargs, **config, **options})
-        agent = registry.make_agent(spec, env)
     records = [run_episode(env, agent, seed, {**own, **setting}, i) for i, (seed, own) in enumerate(suite.episodes)]
     env.close()
     return [(r.relative_error, r.macro_slip) for r in records if r.scored]

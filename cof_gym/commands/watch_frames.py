@@ -289,12 +289,12 @@ class Panels:
             self.phase_dots.set_data(te, lag)
             self.phase_bars.set_segments([[(x, y - e), (x, y + e)] for x, y, e in zip(te, lag, se)])
             self.coa_dots.set_data(te, [w.coa_measured for w in windows])
-            est = [(w.t_end_s - self.view.window_s, w.estimate) for w in windows if math.isfinite(w.estimate)]
-            if est and math.isfinite(estimate):
-                self.est_steps.set_data([e[0] for e in est] + [t], [e[1] for e in est] + [estimate])
-            bounds = [(w.t_end_s - self.view.window_s, w.lower_bound) for w in windows if math.isfinite(w.lower_bound)]
-            if bounds and math.isfinite(lower_bound):
-                self.bound_steps.set_data([b[0] for b in bounds] + [t], [b[1] for b in bounds] + [lower_bound])
+            for line, field, current in ((self.est_steps, "estimate", estimate),
+                                         (self.bound_steps, "lower_bound", lower_bound)):
+                steps = [(w.t_end_s - self.view.window_s, getattr(w, field)) for w in windows
+                         if math.isfinite(getattr(w, field))]
+                if steps and math.isfinite(current):  # each window's value from its start, the current one up to t
+                    line.set_data([s[0] for s in steps] + [t], [s[1] for s in steps] + [current])
         canvas = self.fig.canvas
         canvas.restore_region(self.background)
         for a in self.animated:
