@@ -516,6 +516,19 @@ generated, never typed:
         None, ...", _rule63 in place of _rule62)   # rule 63; and _lag01
     python experiments/estimate_interval.py --write --out out/estimate_interval.md   # session 44: the in-flight bound
     python experiments/sensor_sensitivity.py --out out/sensor_sensitivity.md   # session 44
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
+        --records out/records_shipped_validation_session45.json \
+        --out out/crest_tradeoff_shipped_validation_session45.md   # rule 64's reference; and with --scenario
+        # torque_gain_error=-0.15 (_torque_low) or torque_gain_error=0.15 (_torque_high) in both file names
+    (the same with --grids validation and --run runs/interrogator_torque/ensemble, and --guards $G (B),
+        runs/interrogator_torque/guard/ensemble (C) or runs/interrogator_torque_D/guard/ensemble
+        runs/interrogator_torque/guard/ensemble (D), records and tables out/records_rule64X_validation*.json,
+        out/crest_tradeoff_rule64X_validation*.md)   # rule 64, candidates B, C and D
+    python experiments/paired_comparison.py out/records_shipped_validation_session45.json \
+        out/records_rule64B_validation.json out/records_rule64C_validation.json out/records_rule64D_validation.json \
+        --out out/paired_rule64_validation.md   # and _torque_low, _torque_high
+    python experiments/feature_block_nll.py --climbs runs/interrogator_torque/climbs_torque_wide.npz --blocks none \
+        --hold-compliance --out out/feature_block_nll_compliance.md   # session 45
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -730,6 +743,22 @@ SOURCES = {
         "paired_rule63_validation",
         "paired_rule63_validation_lag01",
         "sensor_sensitivity",
+        "crest_tradeoff_shipped_validation_session45",
+        "crest_tradeoff_shipped_validation_session45_torque_low",
+        "crest_tradeoff_shipped_validation_session45_torque_high",
+        "crest_tradeoff_rule64B_validation",
+        "crest_tradeoff_rule64B_validation_torque_low",
+        "crest_tradeoff_rule64B_validation_torque_high",
+        "crest_tradeoff_rule64C_validation",
+        "crest_tradeoff_rule64C_validation_torque_low",
+        "crest_tradeoff_rule64C_validation_torque_high",
+        "crest_tradeoff_rule64D_validation",
+        "crest_tradeoff_rule64D_validation_torque_low",
+        "crest_tradeoff_rule64D_validation_torque_high",
+        "paired_rule64_validation",
+        "paired_rule64_validation_torque_low",
+        "paired_rule64_validation_torque_high",
+        "feature_block_nll_compliance",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about
