@@ -3,8 +3,8 @@ training climbs only (run from the repository root; 2 cores, ~3 min per block se
 
     python experiments/feature_block_nll.py --climbs runs/climb_fit/climbs.npz --blocks none climb_fit \
         --out out/feature_block_nll.md
-    python experiments/feature_block_nll.py --climbs runs/interrogator_torque/climbs_torque_wide.npz --blocks none \
-        --hold-compliance --out out/feature_block_nll_compliance.md
+    python experiments/feature_block_nll.py --climbs runs/interrogator_torque/climbs_torque_wide.npz \
+        --blocks none torque_free --out out/feature_block_nll_torque_free.md
 
 The climbs' episodes are split once (``--seed``): a member per block set (``none``: the base features;
 ``a+b``: blocks a and b of ``FEATURE_BLOCKS``) is fitted by the recipe's settings on ``1 - --holdout`` of
@@ -13,20 +13,13 @@ them and scored on the rest: the RMSE and the mean Gaussian NLL of each target (
 measured and the true headroom (near the peak: at most 0.3). Training data only: no validation or
 evaluation scenario is played, so nothing here selects a shipped network; a block's worth on the task is
 decided by a rule on the validation grids (docs/interrogator.md).
-
-With ``--hold-compliance`` each block set is also fitted and scored with every window's compliance readings
-(tone 1's and tone 2's: the speed amplitude over the measured torque amplitude) held at :data:`HELD_COMPLIANCE`,
-so that no feature reads the torque sensor: what a network immune to the torque gain error by construction
-would know (as the creepage features' differences make it immune to the wheel radius error).
 """
 
 from __future__ import annotations
 
 import argparse
-import itertools
 import sys
 import time
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -42,8 +35,6 @@ from script_checks import check_out_file, load_climbs  # noqa: E402
 
 NEAR_PEAK = 0.3  # true headroom ln(M_sat / DC) at most this: the windows where a climb decides to stop
 SPEED_BANDS_M_S = ((0.0, 10.0), (10.0, 20.0), (20.0, float("inf")))
-HELD_COMPLIANCE = 0.5  # --hold-compliance: every compliance reading this (any constant in (0, 1) removes it alike)
-COMPLIANCE_FIELDS = ("compliance", "tone2_compliance")
 
 
 def block_set(text: str) -> tuple[str, ...]:
@@ -93,14 +84,6 @@ def bands(data: Dataset) -> dict[str, np.ndarray]:
     return masks
 
 
-def compliance_held(data: Dataset) -> Dataset:
-    """``data`` with every window's compliance readings (:data:`COMPLIANCE_FIELDS`) at :data:`HELD_COMPLIANCE`."""
-    readings = data.readings.copy()
-    for name in COMPLIANCE_FIELDS:
-        readings[:, READING_FIELDS.index(name)] = HELD_COMPLIANCE
-    return replace(data, readings=readings)
-
-
 def main() -> None:
     ap = Parser(description=__doc__.splitlines()[0])
     ap.add_argument("--climbs", type=Path, required=True, help="a climbs file written by train_interrogator.py")
@@ -108,8 +91,6 @@ def main() -> None:
     ap.add_argument("--holdout", type=fraction, default=0.2)
     ap.add_argument("--seed", type=seed_int, default=0)
     ap.add_argument("--epochs", type=int, default=FitSettings.epochs)
-    ap.add_argument("--hold-compliance", action="store_true",
-                    help="each block set also with the compliance readings held constant (no torque reading)")
     ap.add_argument("--out", type=Path, default=Path("out/feature_block_nll.md"))
     args = ap.parse_args()
     check_out_file(ap, "--out", args.out)
@@ -119,19 +100,18 @@ def main() -> None:
         ap.error(f"--epochs must be at least 1, got {args.epochs}")
     data = load_climbs(ap, "--climbs", args.climbs)
     held = split_episodes(data, args.holdout, args.seed)
+    train = data.subset(np.flatnonzero(~held))
     masks = {name: mask[held] for name, mask in bands(data).items()}
     head = ["blocks", "windows held out", *(f"{t} {m}" for t in TARGET_NAMES for m in ("RMSE", "NLL"))]
     lines = [f"Command: `python experiments/feature_block_nll.py {' '.join(sys.argv[1:])}`", "",
              f"{len(np.unique(data.episode[~held]))} climbs fitted, {len(np.unique(data.episode[held]))} held out "
              f"({held.sum()} windows); one member per block set (seed {args.seed}, {args.epochs} epochs).", "",
              "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
-    variants = [(data, "")] + ([(compliance_held(data), ", compliance held")] if args.hold_compliance else [])
-    for blocks, (variant, label) in itertools.product(args.blocks, variants):
+    for blocks in args.blocks:
         t0 = time.time()
-        train = variant.subset(np.flatnonzero(~held))
         member = fit_member(train, seed=args.seed, settings=FitSettings(epochs=args.epochs, features=blocks))
-        mu, log_var = member(variant.features_for(blocks)[held])
-        name = ("+".join(blocks) or "none") + label
+        mu, log_var = member(data.features_for(blocks)[held])
+        name = "+".join(blocks) or "none"
         for band, mask in masks.items():
             values = scores(mu[mask], log_var[mask], data.targets[held][mask])
             lines.append(f"| {name}, {band} | {mask.sum()} | " + " | ".join(f"{v:.3f}" for v in values) + " |")

@@ -14,7 +14,8 @@ import cof_gym
 from cof_gym.agents.interrogator import (
     CREEPAGE_MODULATION_FEATURE_NAMES, CREEPAGE_RISE_FEATURE_NAMES, CREEPAGE_RISE_FLOORS, CYCLE_CREST_FEATURE_NAMES,
     FEATURE_NAMES, PEAK_GAP_CLIP, SE_CLIP_DEG, ClimbParameters, EpisodeFeatures, FilterEnsemble, FilterNetwork,
-    LearnedInterrogator, Reading, blocks_of, feature_names, peak_gap, slope_from_phase, slope_index,
+    LearnedInterrogator, Reading, TORQUE_READING_FEATURE_NAMES, blocks_of, feature_names, peak_gap, slope_from_phase,
+    slope_index,
 )
 from cof_gym.agents.interrogator.training import FitSettings, collect, fit_member
 from cof_gym.commands.evaluate_episodes import run_episode
@@ -160,6 +161,33 @@ def test_feature_blocks_name_themselves_in_the_networks_file(tmp_path):
     agent = LearnedInterrogator(gym.make(cof_gym.WAGON_ENV_ID).unwrapped.limits, FilterEnsemble((loaded,)))
     actions, info = play(agent, 7)
     assert agent.features.blocks == ("creepage_rise",) and np.all(np.isfinite(actions))
+
+
+def test_the_torque_free_block_leaves_out_every_reading_of_the_torque_sensor():
+    """A torque reading 15 % low raises every compliance by 1 / 0.85 (tone 2's too). The base and climb_fit
+    features move, the torque_free ones do not move at all; they are the others, in their order, and a
+    network's file names the block."""
+    low = lambda readings: [replace(r, compliance=r.compliance / 0.85, tone2_compliance=r.tone2_compliance / 0.85)  # noqa: E731
+                            for r in readings]
+    readings = _readings([1e-3 * (1 + k) ** 1.5 for k in range(6)], [0.05 * (1 + k) ** 0.5 for k in range(6)])
+    readings = [replace(r, compliance=0.1 + 0.12 * k, coa_cycle_max=r.coa * 1.02) for k, r in enumerate(readings)]
+    for blocks in ((), ("climb_fit",), ("cycle_crest", "climb_fit")):
+        vectors = {}
+        for free in (False, True):
+            wanted = (*blocks, "torque_free") if free else blocks
+            for name, rs in (("drawn", readings), ("low", low(readings))):
+                features = EpisodeFeatures(False, blocks=wanted)
+                for r in rs:
+                    features.push(r)
+                vectors[free, name] = features.vector()
+        assert not np.array_equal(vectors[False, "drawn"], vectors[False, "low"])
+        assert np.array_equal(vectors[True, "drawn"], vectors[True, "low"])
+        kept = [k for k, n in enumerate(feature_names(blocks)) if n not in TORQUE_READING_FEATURE_NAMES]
+        assert np.array_equal(vectors[True, "drawn"], vectors[False, "drawn"][kept])
+        assert feature_names((*blocks, "torque_free")) == tuple(feature_names(blocks)[k] for k in kept)
+        assert blocks_of(feature_names((*blocks, "torque_free"))) == tuple(
+            b for b in ("cycle_crest", "climb_fit", "torque_free") if b in (*blocks, "torque_free"))
+    assert set(TORQUE_READING_FEATURE_NAMES) <= set(feature_names(("tone2", "climb_fit")))  # every name is a feature
 
 
 def test_the_lockin_noise_reading_follows_the_sensors_noise(env):

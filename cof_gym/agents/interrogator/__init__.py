@@ -150,7 +150,11 @@ on the correction) and the crest's step since the previous window; a filter that
 fitted on climbs collected with that reading (session 22 on). ``climb_fit`` regresses over the climb's
 newest windows (:data:`CLIMB_FIT_FEATURE_NAMES`): the slope's fall per log torque, the quadratic-peak
 gap and the creep curve's flexibility fitted over up to :data:`CLIMB_FIT_WINDOWS` windows rather than
-read from two, so that a slow probe's many readings of nearly one slope average out.
+read from two, so that a slow probe's many readings of nearly one slope average out. ``torque_free``
+appends nothing: it leaves out every feature that reads the compliance
+(:data:`TORQUE_READING_FEATURE_NAMES`), the speed amplitude over the measured torque amplitude, so that the
+network cannot see the torque sensor's gain error (a noise reading that cancels it too:
+``ClimbParameters.noise_torque_measured``).
 
 **An interval around the estimate.** A policy directory may hold ``interval.json`` (:class:`IntervalScales`):
 scales calibrated by split conformal prediction on the validation grids' climbs, per way the estimate was
@@ -175,8 +179,8 @@ from cof_gym.agents.interrogator.readings import (
 from cof_gym.agents.interrogator.features import (
     HISTORY, FEATURE_NAMES, TONE2_FEATURE_NAMES, CREEPAGE_RISE_FEATURE_NAMES, CREEPAGE_RISE_FLOORS,
     CREEPAGE_MODULATION_FEATURE_NAMES, CREEPAGE_SWING_FLOOR, CYCLE_CREST_FEATURE_NAMES, CYCLE_LIFT_FLOOR,
-    CLIMB_FIT_FEATURE_NAMES, CLIMB_FIT_WINDOWS, CLIMB_FIT_MIN_SPAN, SLOPE_FALL_CLIP, FEATURE_BLOCKS, feature_names,
-    blocks_of, FLEXIBILITY_CLIP, PEAK_GAP_CLIP, flexibility_ratio, slope_fall, fitted_peak_gap, fitted_flexibility,
+    CLIMB_FIT_FEATURE_NAMES, CLIMB_FIT_WINDOWS, CLIMB_FIT_MIN_SPAN, SLOPE_FALL_CLIP, TORQUE_READING_FEATURE_NAMES,
+    FEATURE_BLOCKS, feature_names, blocks_of, FLEXIBILITY_CLIP, PEAK_GAP_CLIP, flexibility_ratio, slope_fall, fitted_peak_gap, fitted_flexibility,
     peak_gap, EpisodeFeatures,
 )
 from cof_gym.agents.interrogator.networks import (
@@ -201,7 +205,8 @@ __all__ = [
     "TONE2_FEATURE_NAMES", "CREEPAGE_RISE_FEATURE_NAMES", "CREEPAGE_RISE_FLOORS",
     "CREEPAGE_MODULATION_FEATURE_NAMES", "CREEPAGE_SWING_FLOOR", "CYCLE_CREST_FEATURE_NAMES", "CYCLE_LIFT_FLOOR",
     "CLIMB_FIT_FEATURE_NAMES", "CLIMB_FIT_WINDOWS", "CLIMB_FIT_MIN_SPAN", "SLOPE_FALL_CLIP", "FEATURE_BLOCKS",
-    "feature_names", "blocks_of", "FLEXIBILITY_CLIP", "PEAK_GAP_CLIP", "flexibility_ratio", "slope_fall",
+    "TORQUE_READING_FEATURE_NAMES", "feature_names", "blocks_of", "FLEXIBILITY_CLIP", "PEAK_GAP_CLIP",
+    "flexibility_ratio", "slope_fall",
     "fitted_peak_gap", "fitted_flexibility", "peak_gap", "EpisodeFeatures", "TARGET_NAMES", "pooled_correction",
     "pooled_std", "FilterNetwork", "FilterEnsemble", "INTERVAL_FILE", "COMMITMENTS", "IN_FLIGHT", "GROUPS", "POOLED", "LOG_STD_FLOOR",
     "check_coverage", "conformal_quantile", "enough_for", "two_sided_score", "lower_score", "IntervalScales", "ESTIMATE_SOURCES", "HEADROOM_STOPS", "AT_HEADROOM", "KNEE_STOPS",

@@ -49,10 +49,21 @@ CLIMB_FIT_FEATURE_NAMES = ("fit_slope_fall_phase", "fit_slope_fall_compliance", 
 CLIMB_FIT_WINDOWS = 8  # the newest driven windows the climb_fit block regresses over
 CLIMB_FIT_MIN_SPAN = 1e-3  # a regressor whose spread (std) is below this reads "no fit" (ln DC, CoA / CoA now)
 SLOPE_FALL_CLIP = 20.0  # |d ln slope / d ln DC| beyond this reads this
-# optional feature blocks appended to FEATURE_NAMES, in this order (a network's file names the ones it reads)
+# the features that read the compliance, the speed amplitude over the *measured* torque amplitude, and so the torque
+# sensor's gain: the ``torque_free`` block leaves them out (a network immune to the torque gain error by construction,
+# as the creepage differences make it immune to the wheel radius error)
+TORQUE_READING_FEATURE_NAMES = ("compliance", "compliance_rise", "peak_gap_compliance", "slope_ratio_compliance",
+                                "tone2_compliance", "fit_slope_fall_compliance", "fit_peak_gap_compliance")
+# optional feature blocks, in this order (a network's file names the ones it reads): each appends its names to
+# FEATURE_NAMES, except ``torque_free``, which appends none and leaves out TORQUE_READING_FEATURE_NAMES
 FEATURE_BLOCKS = {"tone2": TONE2_FEATURE_NAMES, "creepage_rise": CREEPAGE_RISE_FEATURE_NAMES,
                   "creepage_modulation": CREEPAGE_MODULATION_FEATURE_NAMES, "cycle_crest": CYCLE_CREST_FEATURE_NAMES,
-                  "climb_fit": CLIMB_FIT_FEATURE_NAMES}
+                  "climb_fit": CLIMB_FIT_FEATURE_NAMES, "torque_free": ()}
+
+
+def _all_feature_names(blocks: tuple[str, ...]) -> tuple[str, ...]:
+    """:data:`FEATURE_NAMES` and the names every block of ``blocks`` appends (none left out)."""
+    return FEATURE_NAMES + tuple(n for b, names in FEATURE_BLOCKS.items() if b in blocks for n in names)
 
 
 def feature_names(blocks: Iterable[str] = ()) -> tuple[str, ...]:
@@ -61,7 +72,8 @@ def feature_names(blocks: Iterable[str] = ()) -> tuple[str, ...]:
     unknown = sorted(set(blocks) - set(FEATURE_BLOCKS))
     if unknown:
         raise ValueError(f"feature blocks must be among {tuple(FEATURE_BLOCKS)}, got {unknown}")
-    return FEATURE_NAMES + tuple(n for b, names in FEATURE_BLOCKS.items() if b in blocks for n in names)
+    names = _all_feature_names(blocks)
+    return tuple(n for n in names if n not in TORQUE_READING_FEATURE_NAMES) if "torque_free" in blocks else names
 
 
 def blocks_of(names: Iterable[str]) -> tuple[str, ...]:
@@ -297,4 +309,7 @@ class EpisodeFeatures:
             values += self._cycle_crest_values()
         if "climb_fit" in self.blocks:
             values += self._climb_fit_values()
+        if "torque_free" in self.blocks:
+            values = [v for v, name in zip(values, _all_feature_names(self.blocks), strict=True)
+                      if name not in TORQUE_READING_FEATURE_NAMES]
         return np.nan_to_num(np.asarray(values, dtype=np.float64), nan=0.0, posinf=0.0, neginf=0.0)
