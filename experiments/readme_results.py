@@ -527,8 +527,8 @@ generated, never typed:
     python experiments/paired_comparison.py out/records_shipped_validation_session45.json \
         out/records_rule64B_validation.json out/records_rule64C_validation.json out/records_rule64D_validation.json \
         --out out/paired_rule64_validation.md   # and _torque_low, _torque_high
-    python experiments/feature_block_nll.py --climbs runs/interrogator_torque/climbs_torque_wide.npz --blocks none \
-        --hold-compliance --out out/feature_block_nll_compliance.md   # session 45
+    python experiments/feature_block_nll.py --climbs runs/interrogator_torque/climbs_torque_wide.npz \
+        --blocks none torque_free --out out/feature_block_nll_torque_free.md   # session 45
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -758,7 +758,7 @@ SOURCES = {
         "paired_rule64_validation",
         "paired_rule64_validation_torque_low",
         "paired_rule64_validation_torque_high",
-        "feature_block_nll_compliance",
+        "feature_block_nll_torque_free",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
