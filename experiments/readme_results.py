@@ -529,6 +529,11 @@ generated, never typed:
         --out out/paired_rule64_validation.md   # and _torque_low, _torque_high
     python experiments/feature_block_nll.py --climbs runs/interrogator_torque/climbs_torque_wide.npz \
         --blocks none torque_free --out out/feature_block_nll_torque_free.md   # session 45
+    (rule 64's candidate commands with --run runs/interrogator_torque_free/ensemble --guards
+        runs/interrogator_torque_free_E/guard/ensemble runs/interrogator_torque_free/guard/ensemble, records and
+        tables out/records_rule65E_validation*.json, out/crest_tradeoff_rule65E_validation*.md)   # rule 65
+    python experiments/paired_comparison.py out/records_shipped_validation_session45.json \
+        out/records_rule65E_validation.json --out out/paired_rule65E_validation.md   # and _torque_low, _torque_high
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -759,6 +764,12 @@ SOURCES = {
         "paired_rule64_validation_torque_low",
         "paired_rule64_validation_torque_high",
         "feature_block_nll_torque_free",
+        "crest_tradeoff_rule65E_validation",
+        "crest_tradeoff_rule65E_validation_torque_low",
+        "crest_tradeoff_rule65E_validation_torque_high",
+        "paired_rule65E_validation",
+        "paired_rule65E_validation_torque_low",
+        "paired_rule65E_validation_torque_high",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about

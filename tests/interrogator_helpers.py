@@ -13,12 +13,13 @@ SHIPPED = (SHIPPED_INTERROGATOR / "manifest.json").is_file()
 CREEPAGE = OBSERVATION_NAMES.index("creepage_measured")
 
 
-def random_network(seed: int = 0, width: int = 8) -> FilterNetwork:
+def random_network(seed: int = 0, width: int = 8, names: tuple[str, ...] = FEATURE_NAMES) -> FilterNetwork:
+    """A member of random weights that reads the features ``names`` (:func:`feature_names` of its blocks)."""
     rng = np.random.default_rng(seed)
-    n = len(FEATURE_NAMES)
+    n = len(names)
     shapes = [(n, width), (width, 2 * len(TARGET_NAMES))]
     return FilterNetwork(np.zeros(n), np.ones(n), tuple(rng.normal(0, 0.3, s) for s in shapes),
-                         tuple(rng.normal(0, 0.1, s[1]) for s in shapes))
+                         tuple(rng.normal(0, 0.1, s[1]) for s in shapes), names)
 
 
 def play(agent, seed: int, env_kwargs: dict | None = None, perturb_creepage: float = 0.0):

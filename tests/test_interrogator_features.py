@@ -190,6 +190,23 @@ def test_the_torque_free_block_leaves_out_every_reading_of_the_torque_sensor():
     assert set(TORQUE_READING_FEATURE_NAMES) <= set(feature_names(("tone2", "climb_fit")))  # every name is a feature
 
 
+def test_an_agent_on_torque_free_networks_plays_the_same_climb_whatever_the_torque_gain(env):
+    """Filter and guard reading the torque_free features: the same actions and estimate with the torque reading 15 %
+    low, as drawn and 15 % high (the climb's noise reading, which reads the compliance, acts only above its
+    reference, unset here); on networks that read the compliance, the climb moves."""
+    free = feature_names(("torque_free",))
+
+    def actions(names: tuple[str, ...], gain: float) -> np.ndarray:
+        agent = LearnedInterrogator(env.unwrapped.limits, FilterEnsemble((random_network(3, names=names),)),
+                                    guards=(FilterEnsemble((random_network(4, names=names),)),))
+        return np.concatenate([run_episode(env, agent, 5, {"torque_gain_error": gain}, 0).estimate * np.ones(1),
+                               np.ravel([d.steering_headroom for d in agent.decisions])])
+
+    played = {gain: actions(free, gain) for gain in (-0.15, 0.0, 0.15)}
+    assert np.array_equal(played[-0.15], played[0.0]) and np.array_equal(played[0.15], played[0.0])
+    assert not np.array_equal(actions(FEATURE_NAMES, -0.15), actions(FEATURE_NAMES, 0.0))
+
+
 def test_the_lockin_noise_reading_follows_the_sensors_noise(env):
     """Reading.lockin_noise_nms (the phase SE times the response amplitude) of one episode's first window,
     driven alike at every noise level, is the fit's residual: in proportion to the sensors' noise level (the
