@@ -11,12 +11,20 @@ from pathlib import Path
 
 import pytest
 
+from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR
+
 EXPERIMENTS = Path(__file__).resolve().parents[1] / "experiments"
 sys.path.insert(0, str(EXPERIMENTS))
 
 # {dir}: an existing directory, {file}: an existing plain file, {text}: a file that is no climbs file or model,
-# {corrupt}: a zip file that is no model, {new}: a path that does not exist (inside tmp_path)
+# {corrupt}: a zip file that is no model, {new}: a path that does not exist (inside tmp_path), {SHIPPED}: the shipped
+# interrogator's directory (read, never written)
 CASES = [
+    ("assemble_policy", ["--filter", "{dir}", "--out", "{new}"], "--filter"),
+    ("assemble_policy", ["--filter", "{SHIPPED}", "--guards", "{dir}", "--out", "{new}"], "--guards"),
+    ("assemble_policy", ["--filter", "{SHIPPED}", "--climb-from", "{dir}", "--out", "{new}"], "--climb-from"),
+    ("assemble_policy", ["--filter", "{SHIPPED}", "--out", "{file}"], "--out"),
+    ("assemble_policy", ["--filter", "{SHIPPED}", "--out", "{SHIPPED}"], "--out"),
     ("crest_tradeoff", ["--workers", "0"], "--workers"),
     ("crest_tradeoff", ["--workers", "-1"], "--workers"),
     ("crest_tradeoff", ["--out", "{dir}"], "--out"),
@@ -93,7 +101,8 @@ def test_a_bad_option_exits_2_naming_it_before_any_output(script: str, args: lis
     (tmp_path / "run").mkdir()
     (tmp_path / "run" / "model.zip").write_bytes(b"PK\x03\x04garbage")
     names = {"dir": tmp_path / "dir", "file": tmp_path / "file", "text": tmp_path / "text",
-             "corrupt": tmp_path / "corrupt.zip", "run_corrupt": tmp_path / "run", "new": tmp_path / "new"}
+             "corrupt": tmp_path / "corrupt.zip", "run_corrupt": tmp_path / "run", "new": tmp_path / "new",
+             "SHIPPED": SHIPPED_INTERROGATOR}
     before = sorted(tmp_path.rglob("*"))
     code, last = experiment_exit(script, [a.format(**{k: str(v) for k, v in names.items()}) for a in args])
     assert code == 2
@@ -107,7 +116,8 @@ SCRIPTS = sorted(path.stem for path in EXPERIMENTS.glob("*.py")
                  if "def main(" in (text := path.read_text()) and ".add_argument(" in text)
 # what a script requires, so that the unknown option (not a missing argument) is the error; plain paths,
 # never read: the command line is refused before anything is opened
-REQUIRED = {"feature_block_nll": ["--climbs", "climbs.npz"], "paired_comparison": ["records.jsonl"],
+REQUIRED = {"assemble_policy": ["--filter", "f", "--out", "o"], "feature_block_nll": ["--climbs", "climbs.npz"],
+            "paired_comparison": ["records.jsonl"],
             "ppo_seeds": ["--runs", "run"], "zoo_eval": ["model.zip"]}
 
 

@@ -126,3 +126,27 @@ def test_set_is_checked_against_the_policys_own_climb(tmp_path: Path, experiment
                           capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
     assert read_manifest(out / "policy")["climb"]["creep_log_step"] == 0.2
+
+
+def test_an_assembled_policy_of_the_shipped_networks_plays_the_shipped_climb(tmp_path, env, monkeypatch):
+    """experiments/assemble_policy.py: the shipped filter and guards, assembled under the shipped climb, make the
+    shipped agent (the same actions and estimate on an episode); the manifest names where each network came from."""
+    from cof_gym.agents.interrogator import interrogator_for, manifest_guards
+    from cof_gym.commands.evaluate_episodes import run_episode
+
+    monkeypatch.syspath_prepend(str(Path(__file__).resolve().parents[1] / "experiments"))
+    from assemble_policy import assemble
+
+    monkeypatch.chdir(Path(__file__).resolve().parents[1])  # the repository root: the manifest names paths below it
+    guards = list(manifest_guards(SHIPPED_INTERROGATOR))
+    manifest = assemble(SHIPPED_INTERROGATOR, guards, SHIPPED_INTERROGATOR, tmp_path / "policy")
+    assert manifest == json.loads((tmp_path / "policy" / "manifest.json").read_text())
+    assert manifest["guards"] == [f"guard_{k}" for k in range(len(guards))]
+    assert manifest["training"]["assembled_from"]["guards"] == [
+        f"cof_gym/agents/policies/interrogator/guard_{k}" for k in range(len(guards))]
+    played = []
+    for directory in (SHIPPED_INTERROGATOR, tmp_path / "policy"):
+        agent = interrogator_for(env, directory)
+        record = run_episode(env, agent, 11, {}, 0)
+        played.append((record.estimate, [d.steering_headroom for d in agent.decisions]))
+    assert played[0] == played[1]

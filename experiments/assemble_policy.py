@@ -1,0 +1,83 @@
+"""Assemble a learned interrogator's policy directory from a filter's networks, guards and another policy's climb
+(run from the repository root; seconds, no simulation):
+
+    python experiments/assemble_policy.py --filter runs/interrogator_torque/ensemble \
+        --guards runs/interrogator_torque/guard/ensemble --out runs/torque_C_policy
+
+A policy directory is what ``cof-gym evaluate --agents interrogator:DIR``, ``train_estimator.py --policy`` and
+``crest_tradeoff.py --own-climb --run`` read: the filter's networks (``member_K.npz``), each guard's (``guard_K/``,
+in the order given: the climb steers by the lowest cautious headroom of them all and the shipped estimate reads the
+guards') and a ``manifest.json`` whose climb and training distribution are ``--climb-from``'s (default: the shipped
+interrogator's). Networks fitted by ``train_interrogator.py --fit-only`` thus collect their own on-policy climbs
+(the recipe's second step) under a climb chosen before, without a selection of their own. The manifest's
+``training`` names the directories the networks were copied from (each one's ``training.json`` says what they were
+fitted on); no interval is copied (``estimate_interval.py --write`` calibrates one for these networks).
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+from script_checks import check_out_dir  # noqa: E402
+from train_interrogator import install_guards, require_networks  # noqa: E402
+
+from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR  # noqa: E402
+from cof_gym.agents.interrogator.agent import read_manifest  # noqa: E402
+from cof_gym.commands.args import Parser  # noqa: E402
+
+
+def shown(path: Path) -> str:
+    """``path`` relative to the working directory where it lies below it (the manifest names no machine's paths)."""
+    path = Path(path)
+    return str(path.resolve().relative_to(Path.cwd())) if path.resolve().is_relative_to(Path.cwd()) else str(path)
+
+
+def assemble(filter_dir: Path, guards: list[Path], climb_from: Path, out: Path) -> dict:
+    """Write the policy directory ``out`` (its networks and guards replaced, nothing else there kept) and return its
+    manifest: ``climb_from``'s climb and training distribution, ``filter_dir``'s networks, ``guards`` in order."""
+    source = read_manifest(climb_from)
+    if out.exists():
+        shutil.rmtree(out)
+    out.mkdir(parents=True)
+    for member in sorted(filter_dir.glob("member_*.npz")):
+        shutil.copy2(member, out / member.name)
+    manifest = {"climb": source["climb"], "trained_on": source["trained_on"],
+                "training": {"assembled_from": {"filter": shown(filter_dir), "guards": [shown(g) for g in guards],
+                                                "climb": shown(climb_from)}}}
+    names = install_guards(out, guards)
+    if names:
+        manifest["guards"] = names
+    (out / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n")
+    return manifest
+
+
+def main() -> None:
+    ap = Parser(description=__doc__.splitlines()[0])
+    ap.add_argument("--filter", type=Path, required=True, metavar="DIR", help="the filter's networks (DIR/member_*.npz)")
+    ap.add_argument("--guards", type=Path, nargs="*", default=[], metavar="DIR",
+                    help="each guard's networks (DIR/member_*.npz), in the order the manifest names them")
+    ap.add_argument("--climb-from", type=Path, default=SHIPPED_INTERROGATOR, metavar="DIR",
+                    help="the policy directory whose manifest's climb and training distribution are kept "
+                         "(default: the shipped interrogator)")
+    ap.add_argument("--out", type=Path, required=True, metavar="DIR",
+                    help="the policy directory written (replaced where it exists)")
+    args = ap.parse_args()
+    require_networks(ap, "--filter", [args.filter])
+    require_networks(ap, "--guards", args.guards)
+    if "climb" not in read_manifest(args.climb_from) or "trained_on" not in read_manifest(args.climb_from):
+        ap.error(f"--climb-from: {args.climb_from} has no manifest.json with a climb and a training distribution")
+    check_out_dir(ap, "--out", args.out)
+    if args.out.resolve() in {p.resolve() for p in (args.filter, *args.guards, args.climb_from)}:
+        ap.error(f"--out: {args.out} is one of the directories read")
+    manifest = assemble(args.filter, args.guards, args.climb_from, args.out)
+    print(f"{args.out}: the filter of {args.filter}, {len(args.guards)} guard(s), the climb of {shown(args.climb_from)}"
+          f" ({', '.join(f'{k} {v}' for k, v in manifest['climb'].items() if k in ('target_headroom', 'caution'))})")
+
+
+if __name__ == "__main__":
+    main()
