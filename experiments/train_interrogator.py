@@ -545,7 +545,8 @@ def main() -> None:
                     help="the likelihood the networks are fitted under: gaussian (the recipe: each output's conditional "
                          "mean) or laplace (its conditional median); default: %(default)s")
     ap.add_argument("--features", nargs="*", default=[], choices=FITTABLE_BLOCKS,
-                    help="optional feature blocks the networks read (tone 2's follow two-tone climbs)")
+                    help="optional feature blocks the networks read (tone 2's follow two-tone climbs; torque_free "
+                         "leaves out every feature of the compliance, which reads the torque sensor's gain)")
     ap.add_argument("--ship", action="store_true")
     ap.add_argument("--criterion", choices=sorted(CRITERIA), default="pooled",
                     help="how the climb is ranked on validation (pooled: both grids, the recipe; family: the family grid alone)")
