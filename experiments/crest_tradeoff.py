@@ -35,7 +35,9 @@ procedural curves and the procedural curves with steep falling branches
 (``experiments/suites/v2_validation_steep_grid.json``), or with ``--grids confirmation`` on the three
 confirmation grids of the same kinds (``experiments/suites/v2_confirmation_*grid.json``; ``--grids
 confirmationN``: the N-th such set, one for each of make_grids.CONFIRMATION_SETS, whose docstring says when
-each was written and which rule it judged). With ``--crest-fractions`` each row also with each of these
+each was written and which rule it judged), or with ``--grids validation_torque`` on the three kinds with
+each episode's torque gain error spread over what the env accepts (``experiments/suites/v2_validation_torque*grid.json``,
+model selection too). With ``--crest-fractions`` each row also with each of these
 crest caps (``ClimbParameters.crest_fraction``: the modulation shrinks so that its crest stays within
 that fraction of the cautious headroom; ``none``: uncapped; ``--crest-once-crept``: each cap from the
 climb's first slow probe on). With ``--set NAME=VALUE ...`` the shipped climb with those parameters (a
@@ -88,6 +90,9 @@ def confirmation_set(name: str) -> dict[str, Path]:
 # written before; a new set for each candidate judged)
 GRID_SETS = {
     "validation": {"family": VALIDATION, "procedural": PROCEDURAL_VALIDATION, "steep": STEEP_VALIDATION},
+    # the three kinds with each episode's torque gain error spread over what the env accepts (session 45)
+    "validation_torque": {kind: SUITES / f"v2_validation_torque{'' if kind == 'family' else '_' + kind}_grid.json"
+                          for kind in ("family", "procedural", "steep")},
     **{name: confirmation_set(name) for name in CONFIRMATION_SETS},
 }
 
@@ -339,9 +344,10 @@ def main() -> None:
                         help="also a table of how the climbs ended (the agent's stop reason or a macro-slip, before or after "
                              "its first slow probe), per grid")
     parser.add_argument("--grids", choices=sorted(GRID_SETS), default="validation",
-                        help="the three grids played: validation (model selection) or a confirmation set (other episodes "
-                             "of the same kinds, to confirm a choice taken on the first; confirmationN: the N-th set, "
-                             "experiments/make_grids.py's docstring says when each was written)")
+                        help="the three grids played: validation (model selection), validation_torque (the same kinds "
+                             "with each episode's torque gain error spread over +-15 %%) or a confirmation set (other "
+                             "episodes of the same kinds, to confirm a choice taken on the first; confirmationN: the N-th "
+                             "set, experiments/make_grids.py's docstring says when each was written)")
     parser.add_argument("--return-digits", type=int, default=2, choices=range(1, 7), metavar="{1..6}",
                         help="decimals of the mean returns (default: 2); more where two rows round alike")
     parser.add_argument("--records", type=Path, default=None, metavar="FILE",

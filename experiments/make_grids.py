@@ -80,6 +80,12 @@
 - ``suites/v2_confirmation20_grid.json``, ``suites/v2_confirmation20_procedural_grid.json`` and
   ``suites/v2_confirmation20_steep_grid.json`` (session 42, seeds 203 000, 205 000, 207 000): a twentieth
   such set, written before any agent played them, after the nineteenth had judged rule 60, for the next rule.
+- ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
+  ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
+  validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
+  accepts (+-15 %, :func:`torque_gain_spread`; the v2 draws give +-5 %), the other systematic errors drawn: model
+  selection for a train whose torque sensor's gain is known only that well (rules 64 and 65 judged the torque
+  error at its two ends, where a reading 15 % high makes the shipped climb run away more and measure better).
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -119,6 +125,7 @@ from scipy.special import erf
 import cof_gym
 from cof_gym.physics.creep_laws import below_peak
 from cof_gym.task.scenarios import COF_BY_CONDITION, DEFAULT_CONDITIONS
+from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 
 SUITES = Path(__file__).resolve().parent / "suites"
 
@@ -388,6 +395,43 @@ CONFIRMATION_SETS = {
 }
 
 
+# the torque validation set (session 45): (CoF fractions, speeds m/s, first seed) of its family, procedural and
+# steep grids, each episode's torque gain error fixed over what the env accepts (torque_gain_spread)
+TORQUE_VALIDATION = (((0.08, 0.32, 0.57, 0.83), (7.5, 20.5, 34.5), 209_000),
+                     ((0.1, 0.45, 0.75), (9.5, 23.0, 37.0), 211_000), ((0.15, 0.5, 0.84), (8.5, 19.0, 35.5), 213_000))
+GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0  # the golden ratio's fraction: a low-discrepancy sequence k x GOLDEN mod 1
+
+
+def torque_gain_spread(k: int) -> float:
+    """The torque gain error of a torque grid's ``k``-th episode: the golden-ratio sequence mapped onto what the env
+    accepts (+-SYSTEMATIC_ERRORS["torque_gain_error"].accepted), 4 decimals: evenly spread over the range in any
+    run of episodes, with no trend in the grid's order."""
+    accepted = SYSTEMATIC_ERRORS["torque_gain_error"].accepted
+    return round(accepted * (2.0 * ((k * GOLDEN + 0.5) % 1.0) - 1.0), 4)
+
+
+def with_torque_gain(spec: dict, description: str) -> dict:
+    """``spec`` with every episode's torque gain error fixed by :func:`torque_gain_spread` and ``description``."""
+    episodes = [{**e, "options": {**e["options"], "torque_gain_error": torque_gain_spread(k)}}
+                for k, e in enumerate(spec["episodes"])]
+    return {**spec, "description": description, "episodes": episodes}
+
+
+def torque_grids() -> dict[str, dict]:
+    """The torque validation set's three grids by file name (:data:`TORQUE_VALIDATION`)."""
+    (family, procedural, steep), why = TORQUE_VALIDATION, "with the torque gain error spread over +-15 %"
+    return {"v2_validation_torque_grid": with_torque_gain(
+                grid(*family, "", env_id=cof_gym.WAGON_ENV_ID),
+                f"v2 model selection only (never reported): shapes and other sensor errors from the v2 draws, {why}"),
+            "v2_validation_torque_procedural_grid": with_torque_gain(
+                v2_validation_procedural_grid(*procedural),
+                f"v2 model selection only (never reported): procedural creep curves beyond every family, {why}"),
+            "v2_validation_torque_steep_grid": with_torque_gain(
+                v2_validation_procedural_grid(*steep, steep=True),
+                "v2 model selection only (never reported): procedural creep curves with steep falling branches "
+                f"beyond every family, {why}")}
+
+
 def confirmation_grids(name: str, ordinal: str, family: tuple, procedural: tuple, steep: tuple) -> dict[str, dict]:
     """The three grids of confirmation set ``name`` (``ordinal``: "" for the first, "second " ...), by file name:
     the v2 draws, procedural creep curves and procedural curves with steep falling branches, each from its
@@ -409,6 +453,7 @@ def all_grids() -> dict[str, dict]:
                  v2_heldout_grid=v2_heldout_grid(), v2_validation_procedural_grid=v2_validation_procedural_grid(),
                  v2_validation_steep_grid=v2_validation_procedural_grid((0.23, 0.61, 0.94), (6.0, 16.0, 30.0),
                                                                         67_000, steep=True),
+                 **torque_grids(),
                  **{grid_name: spec for k, (name, kinds) in enumerate(CONFIRMATION_SETS.items())
                     for grid_name, spec in confirmation_grids(name, ORDINALS[k], *kinds).items()},
                  v2_heldout2_grid=v2_heldout_grid(

@@ -534,6 +534,12 @@ generated, never typed:
         tables out/records_rule65E_validation*.json, out/crest_tradeoff_rule65E_validation*.md)   # rule 65
     python experiments/paired_comparison.py out/records_shipped_validation_session45.json \
         out/records_rule65E_validation.json --out out/paired_rule65E_validation.md   # and _torque_low, _torque_high
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
+        --grids validation_torque --records out/records_shipped_validation_torque.json \
+        --out out/crest_tradeoff_shipped_validation_torque.md   # and D's, E's networks (_rule64D_, _rule65E_)
+    python experiments/paired_comparison.py out/records_shipped_validation_torque.json \
+        out/records_rule64D_validation_torque.json out/records_rule65E_validation_torque.json \
+        --out out/paired_validation_torque.md   # session 45, information only
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -770,6 +776,10 @@ SOURCES = {
         "paired_rule65E_validation",
         "paired_rule65E_validation_torque_low",
         "paired_rule65E_validation_torque_high",
+        "crest_tradeoff_shipped_validation_torque",
+        "crest_tradeoff_rule64D_validation_torque",
+        "crest_tradeoff_rule65E_validation_torque",
+        "paired_validation_torque",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about

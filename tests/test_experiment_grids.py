@@ -71,3 +71,24 @@ def test_confirmation_grids_share_no_episode_with_any_other_v2_grid(prefix):
 
     mine, others = seeds_and_curves(confirmation), seeds_and_curves(set(v2) - confirmation)
     assert mine[0] and mine[1] and not mine[0] & others[0] and not mine[1] & others[1]
+
+
+def test_the_torque_validation_grids_spread_the_torque_gain_over_what_the_env_accepts():
+    """Each of the three torque grids fixes every episode's torque gain error within what the env accepts, spread
+    over it (each third of the range holds about a third of the episodes, both signs past the v2 draws), the other
+    options as their kind's grid writes them, on seeds no other v2 grid plays."""
+    from cof_gym.task.sensors import SYSTEMATIC_ERRORS
+
+    span = SYSTEMATIC_ERRORS["torque_gain_error"]
+    torque = {name: spec for name, spec in GRIDS.items() if name.startswith("v2_validation_torque")}
+    assert len(torque) == 3
+    for spec in torque.values():
+        gains = [e["options"]["torque_gain_error"] for e in spec["episodes"]]
+        assert all(-span.accepted <= g <= span.accepted for g in gains)
+        thirds = [sum(lo <= g < lo + 2 * span.accepted / 3 for g in gains)
+                  for lo in (-span.accepted, -span.accepted / 3, span.accepted / 3)]
+        assert max(thirds) - min(thirds) <= 2 and sum(thirds) == len(gains)
+        assert min(gains) < -span.drawn and max(gains) > span.drawn
+    others = {e["seed"] for name, spec in GRIDS.items() if name.startswith("v2_") and name not in torque
+              for e in spec["episodes"]}
+    assert not others & {e["seed"] for spec in torque.values() for e in spec["episodes"]}
