@@ -86,6 +86,10 @@
   accepts (+-15 %, :func:`torque_gain_spread`; the v2 draws give +-5 %), the other systematic errors drawn: model
   selection for a train whose torque sensor's gain is known only that well (rules 64 and 65 judged the torque
   error at its two ends, where a reading 15 % high makes the shipped climb run away more and measure better).
+- ``suites/v2_torque_confirmation_grid.json``, ``suites/v2_torque_confirmation_procedural_grid.json`` and
+  ``suites/v2_torque_confirmation_steep_grid.json`` (session 45, seeds 215 000, 217 000, 219 000): the torque
+  validation set's kinds on episodes of their own, written before any agent played them, for rule 66 (the torque
+  gain spread as there).
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -399,6 +403,9 @@ CONFIRMATION_SETS = {
 # steep grids, each episode's torque gain error fixed over what the env accepts (torque_gain_spread)
 TORQUE_VALIDATION = (((0.08, 0.32, 0.57, 0.83), (7.5, 20.5, 34.5), 209_000),
                      ((0.1, 0.45, 0.75), (9.5, 23.0, 37.0), 211_000), ((0.15, 0.5, 0.84), (8.5, 19.0, 35.5), 213_000))
+# the torque confirmation set (session 45, for rule 66): the same kinds on other seeds, CoF fractions and speeds
+TORQUE_CONFIRMATION = (((0.05, 0.3, 0.55, 0.8, 0.96), (6.0, 18.0, 32.5), 215_000),
+                       ((0.09, 0.4, 0.72, 0.93), (7.0, 21.5, 36.5), 217_000), ((0.12, 0.47, 0.77), (6.5, 20.5, 37.5), 219_000))
 GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0  # the golden ratio's fraction: a low-discrepancy sequence k x GOLDEN mod 1
 
 
@@ -417,19 +424,21 @@ def with_torque_gain(spec: dict, description: str) -> dict:
     return {**spec, "description": description, "episodes": episodes}
 
 
-def torque_grids() -> dict[str, dict]:
-    """The torque validation set's three grids by file name (:data:`TORQUE_VALIDATION`)."""
-    (family, procedural, steep), why = TORQUE_VALIDATION, "with the torque gain error spread over +-15 %"
-    return {"v2_validation_torque_grid": with_torque_gain(
+def torque_grids(kinds: tuple = TORQUE_VALIDATION, name: str = "validation_torque",
+                 kind: str = "model selection") -> dict[str, dict]:
+    """A torque set's three grids by file name (``v2_NAME_grid`` and its procedural and steep ones), from the
+    (CoF fractions, speeds, first seed) of each kind (:data:`TORQUE_VALIDATION`, :data:`TORQUE_CONFIRMATION`)."""
+    (family, procedural, steep), why = kinds, "with the torque gain error spread over +-15 %"
+    return {f"v2_{name}_grid": with_torque_gain(
                 grid(*family, "", env_id=cof_gym.WAGON_ENV_ID),
-                f"v2 model selection only (never reported): shapes and other sensor errors from the v2 draws, {why}"),
-            "v2_validation_torque_procedural_grid": with_torque_gain(
+                f"v2 {kind} only (never reported): shapes and other sensor errors from the v2 draws, {why}"),
+            f"v2_{name}_procedural_grid": with_torque_gain(
                 v2_validation_procedural_grid(*procedural),
-                f"v2 model selection only (never reported): procedural creep curves beyond every family, {why}"),
-            "v2_validation_torque_steep_grid": with_torque_gain(
+                f"v2 {kind} only (never reported): procedural creep curves beyond every family, {why}"),
+            f"v2_{name}_steep_grid": with_torque_gain(
                 v2_validation_procedural_grid(*steep, steep=True),
-                "v2 model selection only (never reported): procedural creep curves with steep falling branches "
-                f"beyond every family, {why}")}
+                f"v2 {kind} only (never reported): procedural creep curves with steep falling branches beyond every "
+                f"family, {why}")}
 
 
 def confirmation_grids(name: str, ordinal: str, family: tuple, procedural: tuple, steep: tuple) -> dict[str, dict]:
@@ -454,6 +463,7 @@ def all_grids() -> dict[str, dict]:
                  v2_validation_steep_grid=v2_validation_procedural_grid((0.23, 0.61, 0.94), (6.0, 16.0, 30.0),
                                                                         67_000, steep=True),
                  **torque_grids(),
+                 **torque_grids(TORQUE_CONFIRMATION, "torque_confirmation", "confirmation (the torque set)"),
                  **{grid_name: spec for k, (name, kinds) in enumerate(CONFIRMATION_SETS.items())
                     for grid_name, spec in confirmation_grids(name, ORDINALS[k], *kinds).items()},
                  v2_heldout2_grid=v2_heldout_grid(
