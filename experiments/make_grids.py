@@ -79,7 +79,8 @@
   such set, written before any agent played them, after the eighteenth had judged rule 59, for rule 60.
 - ``suites/v2_confirmation20_grid.json``, ``suites/v2_confirmation20_procedural_grid.json`` and
   ``suites/v2_confirmation20_steep_grid.json`` (session 42, seeds 203 000, 205 000, 207 000): a twentieth
-  such set, written before any agent played them, after the nineteenth had judged rule 60, for the next rule.
+  such set, written before any agent played them, after the nineteenth had judged rule 60, for the next rule:
+  rule 66 (session 45).
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env

@@ -540,6 +540,12 @@ generated, never typed:
     python experiments/paired_comparison.py out/records_shipped_validation_torque.json \
         out/records_rule64D_validation_torque.json out/records_rule65E_validation_torque.json \
         --out out/paired_validation_torque.md   # session 45, information only
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
+        --grids confirmation20 --records out/records_shipped_rule66_confirmation20.json \
+        --out out/crest_tradeoff_shipped_rule66_confirmation20.md   # rule 66; D's networks: _rule66D_; and
+        # --grids torque_confirmation (_torque_confirmation)
+    python experiments/paired_comparison.py out/records_shipped_rule66_confirmation20.json \
+        out/records_rule66D_confirmation20.json --out out/paired_rule66_confirmation20.md   # and _torque_confirmation
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -780,6 +786,12 @@ SOURCES = {
         "crest_tradeoff_rule64D_validation_torque",
         "crest_tradeoff_rule65E_validation_torque",
         "paired_validation_torque",
+        "crest_tradeoff_shipped_rule66_confirmation20",
+        "crest_tradeoff_rule66D_confirmation20",
+        "paired_rule66_confirmation20",
+        "crest_tradeoff_shipped_rule66_torque_confirmation",
+        "crest_tradeoff_rule66D_torque_confirmation",
+        "paired_rule66_torque_confirmation",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
