@@ -81,6 +81,9 @@
   ``suites/v2_confirmation20_steep_grid.json`` (session 42, seeds 203 000, 205 000, 207 000): a twentieth
   such set, written before any agent played them, after the nineteenth had judged rule 60, for the next rule:
   rule 66 (session 45).
+- ``suites/v2_confirmation21_grid.json``, ``suites/v2_confirmation21_procedural_grid.json`` and
+  ``suites/v2_confirmation21_steep_grid.json`` (session 45, seeds 221 000, 223 000, 225 000): a twenty-first such set,
+  written before any agent played them, after the twentieth had judged rule 66, for the next rule.
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
@@ -351,7 +354,7 @@ def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.
 
 ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", "eighth ", "ninth ", "tenth ",
             "eleventh ", "twelfth ", "thirteenth ", "fourteenth ", "fifteenth ", "sixteenth ", "seventeenth ",
-            "eighteenth ", "nineteenth ", "twentieth ")
+            "eighteenth ", "nineteenth ", "twentieth ", "twenty-first ")
 
 # the confirmation sets, in the order they were written (the module docstring says when, and for which rule):
 # name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and steep grids; each was written
@@ -397,6 +400,8 @@ CONFIRMATION_SETS = {
                        ((0.08, 0.38, 0.66, 0.92), (9.0, 21.0, 36.5), 199_000), ((0.12, 0.43, 0.78), (7.0, 20.0, 37.0), 201_000)),
     "confirmation20": (((0.06, 0.29, 0.52, 0.78, 0.94), (6.5, 17.0, 33.5), 203_000),
                        ((0.07, 0.41, 0.68, 0.9), (8.0, 22.5, 35.5), 205_000), ((0.13, 0.42, 0.82), (7.5, 18.5, 36.0), 207_000)),
+    "confirmation21": (((0.04, 0.3, 0.53, 0.77, 0.95), (5.5, 16.5, 32.0), 221_000),
+                       ((0.08, 0.39, 0.67, 0.94), (9.0, 21.0, 37.0), 223_000), ((0.11, 0.46, 0.8), (6.5, 19.5, 35.0), 225_000)),
 }
 
 
