@@ -180,8 +180,8 @@ from cof_gym.agents.interrogator.features import (
     HISTORY, FEATURE_NAMES, TONE2_FEATURE_NAMES, CREEPAGE_RISE_FEATURE_NAMES, CREEPAGE_RISE_FLOORS,
     CREEPAGE_MODULATION_FEATURE_NAMES, CREEPAGE_SWING_FLOOR, CYCLE_CREST_FEATURE_NAMES, CYCLE_LIFT_FLOOR,
     CLIMB_FIT_FEATURE_NAMES, CLIMB_FIT_WINDOWS, CLIMB_FIT_MIN_SPAN, SLOPE_FALL_CLIP, TORQUE_READING_FEATURE_NAMES,
-    FEATURE_BLOCKS, feature_names, blocks_of, FLEXIBILITY_CLIP, PEAK_GAP_CLIP, flexibility_ratio, slope_fall, fitted_peak_gap, fitted_flexibility,
-    peak_gap, EpisodeFeatures,
+    FEATURE_BLOCKS, feature_names, blocks_of, FLEXIBILITY_CLIP, PEAK_GAP_CLIP, flexibility_ratio, slope_fall,
+    fitted_peak_gap, fitted_flexibility, peak_gap, EpisodeFeatures,
 )
 from cof_gym.agents.interrogator.networks import (
     TARGET_NAMES, pooled_correction, pooled_std, FilterNetwork, FilterEnsemble,
