@@ -36,8 +36,9 @@ procedural curves and the procedural curves with steep falling branches
 confirmation grids of the same kinds (``experiments/suites/v2_confirmation_*grid.json``; ``--grids
 confirmationN``: the N-th such set, one for each of make_grids.CONFIRMATION_SETS, whose docstring says when
 each was written and which rule it judged), or with ``--grids validation_torque`` on the three kinds with
-each episode's torque gain error spread over what the env accepts (``experiments/suites/v2_validation_torque*grid.json``,
-model selection too; ``--grids torque_confirmation``: a confirmation set of that kind). With ``--crest-fractions`` each row also with each of these
+each episode's torque gain error spread over what the env accepts
+(``experiments/suites/v2_validation_torque*grid.json``, model selection too; ``--grids torque_confirmation``: a
+confirmation set of that kind). With ``--crest-fractions`` each row also with each of these
 crest caps (``ClimbParameters.crest_fraction``: the modulation shrinks so that its crest stays within
 that fraction of the cautious headroom; ``none``: uncapped; ``--crest-once-crept``: each cap from the
 climb's first slow probe on). With ``--set NAME=VALUE ...`` the shipped climb with those parameters (a
@@ -79,8 +80,9 @@ from cof_gym.commands.suites import scenario_option  # noqa: E402
 
 
 def confirmation_set(name: str) -> dict[str, Path]:
-    """The three grids of a set (a confirmation set, or the torque sets), by kind: ``v2_NAME_grid.json`` (family draws) and
-    ``v2_NAME_procedural_grid.json`` / ``v2_NAME_steep_grid.json`` (experiments/make_grids.py writes them)."""
+    """The three grids of a set (a confirmation set, or the torque sets), by kind: ``v2_NAME_grid.json`` (family
+    draws) and ``v2_NAME_procedural_grid.json`` / ``v2_NAME_steep_grid.json`` (experiments/make_grids.py writes
+    them)."""
     return {kind: SUITES / f"v2_{name}{'' if kind == 'family' else '_' + kind}_grid.json"
             for kind in ("family", "procedural", "steep")}
 
@@ -346,9 +348,10 @@ def main() -> None:
                              "its first slow probe), per grid")
     parser.add_argument("--grids", choices=sorted(GRID_SETS), default="validation",
                         help="the three grids played: validation (model selection), validation_torque (the same kinds "
-                             "with each episode's torque gain error spread over +-15 %%, torque_confirmation: its confirmation set) or a confirmation set (other "
-                             "episodes of the same kinds, to confirm a choice taken on the first; confirmationN: the N-th "
-                             "set, experiments/make_grids.py's docstring says when each was written)")
+                             "with each episode's torque gain error spread over +-15 %%; torque_confirmation: its "
+                             "confirmation set) or a confirmation set (other episodes of the same kinds, to confirm a "
+                             "choice taken on the first; confirmationN: the N-th set, experiments/make_grids.py's "
+                             "docstring says when each was written)")
     parser.add_argument("--return-digits", type=int, default=2, choices=range(1, 7), metavar="{1..6}",
                         help="decimals of the mean returns (default: 2); more where two rows round alike")
     parser.add_argument("--records", type=Path, default=None, metavar="FILE",

@@ -411,7 +411,8 @@ TORQUE_VALIDATION = (((0.08, 0.32, 0.57, 0.83), (7.5, 20.5, 34.5), 209_000),
                      ((0.1, 0.45, 0.75), (9.5, 23.0, 37.0), 211_000), ((0.15, 0.5, 0.84), (8.5, 19.0, 35.5), 213_000))
 # the torque confirmation set (session 45, for rule 66): the same kinds on other seeds, CoF fractions and speeds
 TORQUE_CONFIRMATION = (((0.05, 0.3, 0.55, 0.8, 0.96), (6.0, 18.0, 32.5), 215_000),
-                       ((0.09, 0.4, 0.72, 0.93), (7.0, 21.5, 36.5), 217_000), ((0.12, 0.47, 0.77), (6.5, 20.5, 37.5), 219_000))
+                       ((0.09, 0.4, 0.72, 0.93), (7.0, 21.5, 36.5), 217_000),
+                       ((0.12, 0.47, 0.77), (6.5, 20.5, 37.5), 219_000))
 GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0  # the golden ratio's fraction: a low-discrepancy sequence k x GOLDEN mod 1
 
 
