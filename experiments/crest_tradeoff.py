@@ -96,6 +96,7 @@ GRID_SETS = {
     # confirmation set of that kind
     "validation_torque": confirmation_set("validation_torque"),
     "torque_confirmation": confirmation_set("torque_confirmation"),  # rule 66's (session 45)
+    "torque_confirmation2": confirmation_set("torque_confirmation2"),  # rule 67's (session 45)
     **{name: confirmation_set(name) for name in CONFIRMATION_SETS},
 }
 

@@ -94,6 +94,9 @@
   ``suites/v2_torque_confirmation_steep_grid.json`` (session 45, seeds 215 000, 217 000, 219 000): the torque
   validation set's kinds on episodes of their own, written before any agent played them, for rule 66 (the torque
   gain spread as there).
+- ``suites/v2_torque_confirmation2_grid.json``, ``suites/v2_torque_confirmation2_procedural_grid.json`` and
+  ``suites/v2_torque_confirmation2_steep_grid.json`` (session 45, seeds 227 000, 229 000, 231 000): a second such
+  set, written before any agent played them, after the first had judged rule 66, for rule 67.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -413,6 +416,10 @@ TORQUE_VALIDATION = (((0.08, 0.32, 0.57, 0.83), (7.5, 20.5, 34.5), 209_000),
 TORQUE_CONFIRMATION = (((0.05, 0.3, 0.55, 0.8, 0.96), (6.0, 18.0, 32.5), 215_000),
                        ((0.09, 0.4, 0.72, 0.93), (7.0, 21.5, 36.5), 217_000),
                        ((0.12, 0.47, 0.77), (6.5, 20.5, 37.5), 219_000))
+# a second torque confirmation set (session 45, for rule 67), on other seeds, CoF fractions and speeds again
+TORQUE_CONFIRMATION2 = (((0.03, 0.27, 0.51, 0.76, 0.93), (7.0, 19.5, 34.0), 227_000),
+                        ((0.06, 0.43, 0.7, 0.95), (8.5, 20.0, 38.0), 229_000),
+                        ((0.14, 0.44, 0.81), (5.5, 17.5, 33.0), 231_000))
 GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0  # the golden ratio's fraction: a low-discrepancy sequence k x GOLDEN mod 1
 
 
@@ -471,6 +478,7 @@ def all_grids() -> dict[str, dict]:
                                                                         67_000, steep=True),
                  **torque_grids(),
                  **torque_grids(TORQUE_CONFIRMATION, "torque_confirmation", "confirmation (the torque set)"),
+                 **torque_grids(TORQUE_CONFIRMATION2, "torque_confirmation2", "confirmation (the second torque set)"),
                  **{grid_name: spec for k, (name, kinds) in enumerate(CONFIRMATION_SETS.items())
                     for grid_name, spec in confirmation_grids(name, ORDINALS[k], *kinds).items()},
                  v2_heldout2_grid=v2_heldout_grid(

@@ -74,14 +74,14 @@ def test_confirmation_grids_share_no_episode_with_any_other_v2_grid(prefix):
 
 
 def test_the_torque_validation_grids_spread_the_torque_gain_over_what_the_env_accepts():
-    """Each grid of the two torque sets (validation, confirmation) fixes every episode's torque gain error within what the env accepts, spread
+    """Each grid of the torque sets (validation, two confirmation sets) fixes every episode's torque gain error within what the env accepts, spread
     over it (each third of the range holds about a third of the episodes, both signs past the v2 draws), the other
     options as their kind's grid writes them, on seeds no other v2 grid plays."""
     from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 
     span = SYSTEMATIC_ERRORS["torque_gain_error"]
     torque = {name: spec for name, spec in GRIDS.items() if "torque" in name}
-    assert len(torque) == 6
+    assert len(torque) == 9
     for spec in torque.values():
         gains = [e["options"]["torque_gain_error"] for e in spec["episodes"]]
         assert all(-span.accepted <= g <= span.accepted for g in gains)
