@@ -83,7 +83,8 @@
   rule 66 (session 45).
 - ``suites/v2_confirmation21_grid.json``, ``suites/v2_confirmation21_procedural_grid.json`` and
   ``suites/v2_confirmation21_steep_grid.json`` (session 45, seeds 221 000, 223 000, 225 000): a twenty-first such set,
-  written before any agent played them, after the twentieth had judged rule 66, for the next rule.
+  written before any agent played them, after the twentieth had judged rule 66, for the next rule (rule 67 named it
+  and adopted nothing before reaching it).
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
@@ -96,7 +97,8 @@
   gain spread as there).
 - ``suites/v2_torque_confirmation2_grid.json``, ``suites/v2_torque_confirmation2_procedural_grid.json`` and
   ``suites/v2_torque_confirmation2_steep_grid.json`` (session 45, seeds 227 000, 229 000, 231 000): a second such
-  set, written before any agent played them, after the first had judged rule 66, for rule 67.
+  set, written before any agent played them, after the first had judged rule 66, for rule 67 (which adopted nothing
+  before reaching it).
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).

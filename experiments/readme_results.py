@@ -546,6 +546,13 @@ generated, never typed:
         # --grids torque_confirmation (_torque_confirmation)
     python experiments/paired_comparison.py out/records_shipped_rule66_confirmation20.json \
         out/records_rule66D_confirmation20.json --out out/paired_rule66_confirmation20.md   # and _torque_confirmation
+    python experiments/crest_tradeoff.py --run runs/interrogator_torque/ensemble --guards \
+        runs/interrogator_torque_D/guard/ensemble runs/interrogator_torque/guard/ensemble --guards-only \
+        --cautions 2.25 2.5 --targets 0.1 --stops --return-digits 4 --grids validation \
+        --records out/records_rule67_validation.json --out out/crest_tradeoff_rule67_validation.md   # rule 67; and
+        # --grids validation_torque (_validation_torque)
+    python experiments/paired_comparison.py out/records_shipped_validation_session45.json \
+        out/records_rule67_validation.json --out out/paired_rule67_validation.md   # and the torque validation set's
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -792,6 +799,10 @@ SOURCES = {
         "crest_tradeoff_shipped_rule66_torque_confirmation",
         "crest_tradeoff_rule66D_torque_confirmation",
         "paired_rule66_torque_confirmation",
+        "crest_tradeoff_rule67_validation",
+        "paired_rule67_validation",
+        "crest_tradeoff_rule67_validation_torque",
+        "paired_rule67_validation_torque",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
