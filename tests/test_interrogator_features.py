@@ -196,15 +196,16 @@ def test_an_agent_on_torque_free_networks_plays_the_same_climb_whatever_the_torq
     reference, unset here); on networks that read the compliance, the climb moves."""
     free = feature_names(("torque_free",))
 
-    def actions(names: tuple[str, ...], gain: float) -> np.ndarray:
+    def climb(names: tuple[str, ...], gain: float) -> np.ndarray:
+        """The estimate, then the cautious headroom that steered each window."""
         agent = LearnedInterrogator(env.unwrapped.limits, FilterEnsemble((random_network(3, names=names),)),
                                     guards=(FilterEnsemble((random_network(4, names=names),)),))
-        return np.concatenate([run_episode(env, agent, 5, {"torque_gain_error": gain}, 0).estimate * np.ones(1),
-                               np.ravel([d.steering_headroom for d in agent.decisions])])
+        estimate = run_episode(env, agent, 5, {"torque_gain_error": gain}, 0).estimate
+        return np.array([estimate, *(d.steering_headroom for d in agent.decisions)])
 
-    played = {gain: actions(free, gain) for gain in (-0.15, 0.0, 0.15)}
+    played = {gain: climb(free, gain) for gain in (-0.15, 0.0, 0.15)}
     assert np.array_equal(played[-0.15], played[0.0]) and np.array_equal(played[0.15], played[0.0])
-    assert not np.array_equal(actions(FEATURE_NAMES, -0.15), actions(FEATURE_NAMES, 0.0))
+    assert not np.array_equal(climb(FEATURE_NAMES, -0.15), climb(FEATURE_NAMES, 0.0))
 
 
 def test_the_lockin_noise_reading_follows_the_sensors_noise(env):

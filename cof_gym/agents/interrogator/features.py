@@ -3,6 +3,7 @@ optional blocks a network may read (:data:`FEATURE_BLOCKS`), with the regression
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 from dataclasses import dataclass, field
@@ -66,14 +67,28 @@ def _all_feature_names(blocks: tuple[str, ...]) -> tuple[str, ...]:
     return FEATURE_NAMES + tuple(n for b, names in FEATURE_BLOCKS.items() if b in blocks for n in names)
 
 
+def _kept(blocks: Iterable[str]) -> tuple[int, ...] | None:
+    """The positions among :func:`_all_feature_names` that ``blocks`` keeps: None (all of them) unless it has
+    ``torque_free``, which leaves out :data:`TORQUE_READING_FEATURE_NAMES`. One place for the names and the values,
+    computed once per set of blocks (:func:`EpisodeFeatures.vector` asks at every window)."""
+    return _kept_in_order(tuple(b for b in FEATURE_BLOCKS if b in blocks))
+
+
+@functools.lru_cache(maxsize=None)
+def _kept_in_order(blocks: tuple[str, ...]) -> tuple[int, ...] | None:
+    if "torque_free" not in blocks:
+        return None
+    return tuple(k for k, name in enumerate(_all_feature_names(blocks)) if name not in TORQUE_READING_FEATURE_NAMES)
+
+
 def feature_names(blocks: Iterable[str] = ()) -> tuple[str, ...]:
     """The filter's features with the optional ``blocks`` of :data:`FEATURE_BLOCKS`."""
     blocks = tuple(blocks)
     unknown = sorted(set(blocks) - set(FEATURE_BLOCKS))
     if unknown:
         raise ValueError(f"feature blocks must be among {tuple(FEATURE_BLOCKS)}, got {unknown}")
-    names = _all_feature_names(blocks)
-    return tuple(n for n in names if n not in TORQUE_READING_FEATURE_NAMES) if "torque_free" in blocks else names
+    names, kept = _all_feature_names(blocks), _kept(blocks)
+    return names if kept is None else tuple(names[k] for k in kept)
 
 
 def blocks_of(names: Iterable[str]) -> tuple[str, ...]:
@@ -309,7 +324,7 @@ class EpisodeFeatures:
             values += self._cycle_crest_values()
         if "climb_fit" in self.blocks:
             values += self._climb_fit_values()
-        if "torque_free" in self.blocks:
-            values = [v for v, name in zip(values, _all_feature_names(self.blocks), strict=True)
-                      if name not in TORQUE_READING_FEATURE_NAMES]
+        kept = _kept(self.blocks)
+        if kept is not None:
+            values = [values[k] for k in kept]
         return np.nan_to_num(np.asarray(values, dtype=np.float64), nan=0.0, posinf=0.0, neginf=0.0)
