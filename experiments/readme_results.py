@@ -553,6 +553,13 @@ generated, never typed:
         # --grids validation_torque (_validation_torque)
     python experiments/paired_comparison.py out/records_shipped_validation_session45.json \
         out/records_rule67_validation.json --out out/paired_rule67_validation.md   # and the torque validation set's
+    python experiments/crest_tradeoff.py --run runs/interrogator_torque/ensemble --guards \
+        runs/interrogator_torque_D/guard/ensemble runs/interrogator_torque/guard/ensemble --guards-only \
+        --set 'guard_cautions=[2.25, 2.25]' 'guard_cautions=[2.5, 2.5]' --targets 0.1 --stops --return-digits 4 \
+        --grids validation --records out/records_rule68G_validation.json \
+        --out out/crest_tradeoff_rule68G_validation.md   # rule 68's G1, G2; and --grids validation_torque
+    python experiments/paired_comparison.py out/records_shipped_validation_session45.json \
+        out/records_rule68G_validation.json --out out/paired_rule68G_validation.md   # and the torque validation set's
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -803,6 +810,10 @@ SOURCES = {
         "paired_rule67_validation",
         "crest_tradeoff_rule67_validation_torque",
         "paired_rule67_validation_torque",
+        "crest_tradeoff_rule68G_validation",
+        "paired_rule68G_validation",
+        "crest_tradeoff_rule68G_validation_torque",
+        "paired_rule68G_validation_torque",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about
