@@ -560,6 +560,12 @@ generated, never typed:
         --out out/crest_tradeoff_rule68G_validation.md   # rule 68's G1, G2; and --grids validation_torque
     python experiments/paired_comparison.py out/records_shipped_validation_session45.json \
         out/records_rule68G_validation.json --out out/paired_rule68G_validation.md   # and the torque validation set's
+    python experiments/crest_tradeoff.py --run runs/interrogator_more/ensemble --guards \
+        runs/interrogator_more_D/guard/ensemble runs/interrogator_more/guard/ensemble --guards-only --targets 0.1 \
+        --stops --return-digits 4 --grids validation --records out/records_rule68H_validation.json \
+        --out out/crest_tradeoff_rule68H_validation.md   # rule 68's H; and --grids validation_torque
+    python experiments/paired_comparison.py out/records_shipped_validation_session45.json \
+        out/records_rule68H_validation.json --out out/paired_rule68H_validation.md   # and the torque validation set's
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -814,6 +820,10 @@ SOURCES = {
         "paired_rule68G_validation",
         "crest_tradeoff_rule68G_validation_torque",
         "paired_rule68G_validation_torque",
+        "crest_tradeoff_rule68H_validation",
+        "paired_rule68H_validation",
+        "crest_tradeoff_rule68H_validation_torque",
+        "paired_rule68H_validation_torque",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about
