@@ -566,6 +566,16 @@ generated, never typed:
         --out out/crest_tradeoff_rule68H_validation.md   # rule 68's H; and --grids validation_torque
     python experiments/paired_comparison.py out/records_shipped_validation_session45.json \
         out/records_rule68H_validation.json --out out/paired_rule68H_validation.md   # and the torque validation set's
+    python experiments/crest_tradeoff.py --run cof_gym/agents/policies/interrogator runs/interrogator_torque/ensemble \
+        --guards cof_gym/agents/policies/interrogator/guard_0 cof_gym/agents/policies/interrogator/guard_1 \
+        runs/interrogator_torque_D/guard/ensemble runs/interrogator_torque/guard/ensemble --guards-only --targets 0.1 \
+        --stops --return-digits 4 --grids validation --records out/records_rule69D_validation.json \
+        --out out/crest_tradeoff_rule69D_validation.md   # rule 69's U_D, X_D; _rule69H_: H's filter and guards
+        # (runs/interrogator_more/ensemble, runs/interrogator_more_D/guard/ensemble runs/interrogator_more/guard/ensemble)
+        # for U_H, X_H; each also with --grids validation_torque (_validation_torque)
+    python experiments/paired_comparison.py out/records_shipped_validation_session45.json \
+        out/records_rule69D_validation.json --out out/paired_rule69D_validation.md   # and _rule69H_, and the torque
+        # validation set's (against out/records_shipped_validation_torque.json)
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -824,6 +834,8 @@ SOURCES = {
         "paired_rule68H_validation",
         "crest_tradeoff_rule68H_validation_torque",
         "paired_rule68H_validation_torque",
+        *(f"{kind}_rule69{c}_{grids}" for c in "DH" for grids in ("validation", "validation_torque")
+          for kind in ("crest_tradeoff", "paired")),
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about
