@@ -576,6 +576,13 @@ generated, never typed:
     python experiments/paired_comparison.py out/records_shipped_validation_session45.json \
         out/records_rule69D_validation.json --out out/paired_rule69D_validation.md   # and _rule69H_, and the torque
         # validation set's (against out/records_shipped_validation_torque.json)
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
+        --grids confirmation21 --records out/records_shipped_rule69_confirmation21.json \
+        --out out/crest_tradeoff_shipped_rule69_confirmation21.md   # rule 69's confirmation; X_H: _rule69XH_ with
+        # --run runs/interrogator_more/ensemble and --guards $G runs/interrogator_more_D/guard/ensemble
+        # runs/interrogator_more/guard/ensemble; each also with --grids torque_confirmation2
+    python experiments/paired_comparison.py out/records_shipped_rule69_confirmation21.json \
+        out/records_rule69XH_confirmation21.json --out out/paired_rule69_confirmation21.md   # and torque_confirmation2
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -836,6 +843,8 @@ SOURCES = {
         "paired_rule68H_validation_torque",
         *(f"{kind}_rule69{c}_{grids}" for c in "DH" for grids in ("validation", "validation_torque")
           for kind in ("crest_tradeoff", "paired")),
+        *(f"{name}_{grids}" for grids in ("confirmation21", "torque_confirmation2")
+          for name in ("crest_tradeoff_shipped_rule69", "crest_tradeoff_rule69XH", "paired_rule69")),
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about
