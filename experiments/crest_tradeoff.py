@@ -69,7 +69,7 @@ from train_interrogator import (  # noqa: E402
     source_error,
 )
 
-from make_grids import CONFIRMATION_SETS, SUITES  # noqa: E402
+from make_grids import CONFIRMATION_SETS, SUITES, TORQUE_CONFIRMATION_SETS  # noqa: E402
 from script_checks import check_out_file  # noqa: E402
 
 from cof_gym.agents.interrogator import (  # noqa: E402
@@ -95,8 +95,7 @@ GRID_SETS = {
     # the three kinds with each episode's torque gain error spread over what the env accepts (session 45), and a
     # confirmation set of that kind
     "validation_torque": confirmation_set("validation_torque"),
-    "torque_confirmation": confirmation_set("torque_confirmation"),  # rule 66's (session 45)
-    "torque_confirmation2": confirmation_set("torque_confirmation2"),  # rule 67's (session 45)
+    **{name: confirmation_set(name) for name in TORQUE_CONFIRMATION_SETS},
     **{name: confirmation_set(name) for name in CONFIRMATION_SETS},
 }
 

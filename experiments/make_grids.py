@@ -84,7 +84,10 @@
 - ``suites/v2_confirmation21_grid.json``, ``suites/v2_confirmation21_procedural_grid.json`` and
   ``suites/v2_confirmation21_steep_grid.json`` (session 45, seeds 221 000, 223 000, 225 000): a twenty-first such set,
   written before any agent played them, after the twentieth had judged rule 66, for the next rule (rule 67 named it
-  and adopted nothing before reaching it).
+  and adopted nothing before reaching it); it judged rule 69 (session 46).
+- ``suites/v2_confirmation22_grid.json``, ``suites/v2_confirmation22_procedural_grid.json`` and
+  ``suites/v2_confirmation22_steep_grid.json`` (session 46, seeds 233 000, 235 000, 237 000): a twenty-second such
+  set, written before any agent played them, after the twenty-first had judged rule 69, for the next rule.
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
@@ -98,7 +101,10 @@
 - ``suites/v2_torque_confirmation2_grid.json``, ``suites/v2_torque_confirmation2_procedural_grid.json`` and
   ``suites/v2_torque_confirmation2_steep_grid.json`` (session 45, seeds 227 000, 229 000, 231 000): a second such
   set, written before any agent played them, after the first had judged rule 66, for rule 67 (which adopted nothing
-  before reaching it).
+  before reaching it); it judged rule 69 (session 46).
+- ``suites/v2_torque_confirmation3_grid.json``, ``suites/v2_torque_confirmation3_procedural_grid.json`` and
+  ``suites/v2_torque_confirmation3_steep_grid.json`` (session 46, seeds 239 000, 241 000, 243 000): a third such
+  set, written before any agent played them, after the second had judged rule 69, for the next rule.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -359,7 +365,7 @@ def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.
 
 ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", "eighth ", "ninth ", "tenth ",
             "eleventh ", "twelfth ", "thirteenth ", "fourteenth ", "fifteenth ", "sixteenth ", "seventeenth ",
-            "eighteenth ", "nineteenth ", "twentieth ", "twenty-first ")
+            "eighteenth ", "nineteenth ", "twentieth ", "twenty-first ", "twenty-second ")
 
 # the confirmation sets, in the order they were written (the module docstring says when, and for which rule):
 # name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and steep grids; each was written
@@ -407,6 +413,8 @@ CONFIRMATION_SETS = {
                        ((0.07, 0.41, 0.68, 0.9), (8.0, 22.5, 35.5), 205_000), ((0.13, 0.42, 0.82), (7.5, 18.5, 36.0), 207_000)),
     "confirmation21": (((0.04, 0.3, 0.53, 0.77, 0.95), (5.5, 16.5, 32.0), 221_000),
                        ((0.08, 0.39, 0.67, 0.94), (9.0, 21.0, 37.0), 223_000), ((0.11, 0.46, 0.8), (6.5, 19.5, 35.0), 225_000)),
+    "confirmation22": (((0.05, 0.28, 0.55, 0.78, 0.93), (6.0, 17.5, 33.0), 233_000),
+                       ((0.09, 0.37, 0.69, 0.91), (8.0, 22.0, 36.0), 235_000), ((0.12, 0.43, 0.79), (6.0, 20.5, 34.0), 237_000)),
 }
 
 
@@ -414,14 +422,20 @@ CONFIRMATION_SETS = {
 # steep grids, each episode's torque gain error fixed over what the env accepts (torque_gain_spread)
 TORQUE_VALIDATION = (((0.08, 0.32, 0.57, 0.83), (7.5, 20.5, 34.5), 209_000),
                      ((0.1, 0.45, 0.75), (9.5, 23.0, 37.0), 211_000), ((0.15, 0.5, 0.84), (8.5, 19.0, 35.5), 213_000))
-# the torque confirmation set (session 45, for rule 66): the same kinds on other seeds, CoF fractions and speeds
-TORQUE_CONFIRMATION = (((0.05, 0.3, 0.55, 0.8, 0.96), (6.0, 18.0, 32.5), 215_000),
-                       ((0.09, 0.4, 0.72, 0.93), (7.0, 21.5, 36.5), 217_000),
-                       ((0.12, 0.47, 0.77), (6.5, 20.5, 37.5), 219_000))
-# a second torque confirmation set (session 45, for rule 67), on other seeds, CoF fractions and speeds again
-TORQUE_CONFIRMATION2 = (((0.03, 0.27, 0.51, 0.76, 0.93), (7.0, 19.5, 34.0), 227_000),
-                        ((0.06, 0.43, 0.7, 0.95), (8.5, 20.0, 38.0), 229_000),
-                        ((0.14, 0.44, 0.81), (5.5, 17.5, 33.0), 231_000))
+# the torque confirmation sets, in the order they were written (the module docstring says when, and for which
+# rule): name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and steep grids, the torque gain
+# spread as in the validation set; each on seeds, CoF fractions and speeds of its own
+TORQUE_CONFIRMATION_SETS = {
+    "torque_confirmation": (((0.05, 0.3, 0.55, 0.8, 0.96), (6.0, 18.0, 32.5), 215_000),
+                            ((0.09, 0.4, 0.72, 0.93), (7.0, 21.5, 36.5), 217_000),
+                            ((0.12, 0.47, 0.77), (6.5, 20.5, 37.5), 219_000)),
+    "torque_confirmation2": (((0.03, 0.27, 0.51, 0.76, 0.93), (7.0, 19.5, 34.0), 227_000),
+                             ((0.06, 0.43, 0.7, 0.95), (8.5, 20.0, 38.0), 229_000),
+                             ((0.14, 0.44, 0.81), (5.5, 17.5, 33.0), 231_000)),
+    "torque_confirmation3": (((0.04, 0.29, 0.54, 0.79, 0.94), (6.5, 18.5, 33.5), 239_000),
+                             ((0.07, 0.42, 0.71, 0.92), (9.5, 21.0, 37.5), 241_000),
+                             ((0.13, 0.45, 0.8), (7.0, 19.0, 36.5), 243_000)),
+}
 GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0  # the golden ratio's fraction: a low-discrepancy sequence k x GOLDEN mod 1
 
 
@@ -443,7 +457,7 @@ def with_torque_gain(spec: dict, description: str) -> dict:
 def torque_grids(kinds: tuple = TORQUE_VALIDATION, name: str = "validation_torque",
                  kind: str = "model selection") -> dict[str, dict]:
     """A torque set's three grids by file name (``v2_NAME_grid`` and its procedural and steep ones), from the
-    (CoF fractions, speeds, first seed) of each kind (:data:`TORQUE_VALIDATION`, :data:`TORQUE_CONFIRMATION`)."""
+    (CoF fractions, speeds, first seed) of each kind (:data:`TORQUE_VALIDATION`, :data:`TORQUE_CONFIRMATION_SETS`)."""
     (family, procedural, steep), why = kinds, "with the torque gain error spread over +-15 %"
     return {f"v2_{name}_grid": with_torque_gain(
                 grid(*family, "", env_id=cof_gym.WAGON_ENV_ID),
@@ -479,8 +493,8 @@ def all_grids() -> dict[str, dict]:
                  v2_validation_steep_grid=v2_validation_procedural_grid((0.23, 0.61, 0.94), (6.0, 16.0, 30.0),
                                                                         67_000, steep=True),
                  **torque_grids(),
-                 **torque_grids(TORQUE_CONFIRMATION, "torque_confirmation", "confirmation (the torque set)"),
-                 **torque_grids(TORQUE_CONFIRMATION2, "torque_confirmation2", "confirmation (the second torque set)"),
+                 **{grid_name: spec for k, (name, kinds) in enumerate(TORQUE_CONFIRMATION_SETS.items())
+                    for grid_name, spec in torque_grids(kinds, name, f"confirmation (the {ORDINALS[k]}torque set)").items()},
                  **{grid_name: spec for k, (name, kinds) in enumerate(CONFIRMATION_SETS.items())
                     for grid_name, spec in confirmation_grids(name, ORDINALS[k], *kinds).items()},
                  v2_heldout2_grid=v2_heldout_grid(

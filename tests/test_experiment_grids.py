@@ -8,7 +8,8 @@ from pathlib import Path
 import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
-from make_grids import CONFIRMATION_SETS, SUITES, all_grids, grid_text, same_grid, v2_heldout_grids  # noqa: E402
+from make_grids import (  # noqa: E402
+    CONFIRMATION_SETS, SUITES, TORQUE_CONFIRMATION_SETS, all_grids, grid_text, same_grid, v2_heldout_grids)
 
 GRIDS = all_grids()
 
@@ -74,14 +75,14 @@ def test_confirmation_grids_share_no_episode_with_any_other_v2_grid(prefix):
 
 
 def test_the_torque_validation_grids_spread_the_torque_gain_over_what_the_env_accepts():
-    """Each grid of the torque sets (validation, two confirmation sets) fixes every episode's torque gain error within what the env accepts, spread
+    """Each grid of the torque sets (validation, every confirmation set) fixes every episode's torque gain error within what the env accepts, spread
     over it (each third of the range holds about a third of the episodes, both signs past the v2 draws), the other
     options as their kind's grid writes them, on seeds no other v2 grid plays."""
     from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 
     span = SYSTEMATIC_ERRORS["torque_gain_error"]
     torque = {name: spec for name, spec in GRIDS.items() if "torque" in name}
-    assert len(torque) == 9
+    assert len(torque) == 3 * (1 + len(TORQUE_CONFIRMATION_SETS))
     for spec in torque.values():
         gains = [e["options"]["torque_gain_error"] for e in spec["episodes"]]
         assert all(-span.accepted <= g <= span.accepted for g in gains)

@@ -577,7 +577,7 @@ def test_a_held_crest_probe_never_commands_a_crest_above_the_one_it_started_unde
                 break
         windows[hold] = (commanded, [d.crept for d in agent.decisions], agent._held_crest)
     env.close()
-    (free, _, _), (held, crept, crest) = windows[False], windows[True]
+    (free, _, _), (held, _, crest) = windows[False], windows[True]
     start = next(k for k, (dc, c) in enumerate(held) if c == pytest.approx(crest, rel=1e-6))  # the probe's first
     assert crest is not None and held[:start + 1] == free[:start + 1]
     later = held[start + 1:]

@@ -9,7 +9,6 @@ import itertools
 import numpy as np
 import pytest
 
-import cof_gym
 from cof_gym.agents.phase_rule import PAPER_CORRECTION, PhaseRule
 from cof_gym.agents.registry import make_agent
 from cof_gym.agents.runaway import RunawayEstimate

@@ -9,7 +9,6 @@ import copy
 import numpy as np
 import pytest
 
-import cof_gym
 from cof_gym.agents.registry import make_agent
 from cof_gym.agents.robust_model import RobustModel
 from cof_gym.agents.staircase import limits_of

@@ -38,7 +38,7 @@ from typing import Any
 
 import numpy as np
 
-from cof_gym.agents.phase_rule import UNKNOWN_SE_DEG, phase_of, phase_rise, probe_amplitude, probe_next_dc
+from cof_gym.agents.phase_rule import phase_of, phase_rise, probe_amplitude, probe_next_dc
 from cof_gym.agents.staircase import COA, ElasticityClimb
 from cof_gym.task.creep_fit import coa_fell
 from cof_gym.task.interface import OBSERVATION_NAMES, MotorLimits, encode_action
