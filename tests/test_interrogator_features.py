@@ -17,6 +17,8 @@ from cof_gym.agents.interrogator import (
     LearnedInterrogator, Reading, TORQUE_READING_FEATURE_NAMES, blocks_of, feature_names, peak_gap, slope_from_phase,
     slope_index,
 )
+from cof_gym.agents.interrogator.agent import SHIPPED_INTERROGATOR, interrogator_for, manifest_climb
+from cof_gym.agents.interrogator.readings import TORQUE_BALANCE_RANGE, torque_balance_gain
 from cof_gym.agents.interrogator.training import FitSettings, collect, fit_member
 from cof_gym.commands.evaluate_episodes import run_episode
 from cof_gym.task.interface import OBSERVATION_NAMES, encode_action
@@ -206,6 +208,49 @@ def test_an_agent_on_torque_free_networks_plays_the_same_climb_whatever_the_torq
     played = {gain: climb(free, gain) for gain in (-0.15, 0.0, 0.15)}
     assert np.array_equal(played[-0.15], played[0.0]) and np.array_equal(played[0.15], played[0.0])
     assert not np.array_equal(climb(FEATURE_NAMES, -0.15), climb(FEATURE_NAMES, 0.0))
+
+
+@pytest.mark.parametrize("counter_torque", [False, True])
+def test_the_torque_balance_reads_the_torque_gain_against_the_force_gain(counter_torque):
+    """A climb's first window, far below the peak: its mean torque reading over the measured creep force times the
+    wheel radius is (1 + e_T) / (1 + e_F) to within the wheel's mean spin acceleration over the window (under
+    0.2 % on 120 drawn episodes; asserted here to 1 %); a window with no force, or a ratio no accepted errors
+    give, calibrates nothing."""
+    env = gym.make(cof_gym.WAGON_ENV_ID, counter_torque=counter_torque)
+    limits = env.unwrapped.limits
+    first_dc = LearnedInterrogator(limits, FilterEnsemble((random_network(1),))).climb.first_dc(limits)
+    for seed, torque_gain, force_gain in ((1, -0.15, 0.0), (2, 0.08, -0.06), (3, 0.15, 0.1)):
+        env.reset(seed=seed, options={"torque_gain_error": torque_gain, "force_gain_error": force_gain})
+        _, _, _, _, info = env.step(encode_action(first_dc, 0.4 * first_dc, 5.0, 0.2, False, limits))
+        gain = torque_balance_gain(info["measurement"], limits.wheel_radius_m)
+        assert gain == pytest.approx((1.0 + torque_gain) / (1.0 + force_gain), rel=1e-2)
+    env.close()
+    window = {"torque_mean_nm": 1000.0, "tangential_force_measured_n": 1000.0 / 0.46}
+    assert torque_balance_gain(window, 0.46) == pytest.approx(1.0, rel=1e-12)
+    assert torque_balance_gain({**window, "tangential_force_measured_n": 0.0}, 0.46) == 1.0
+    assert torque_balance_gain({**window, "torque_mean_nm": 1000.0 * TORQUE_BALANCE_RANGE[1] * 1.01}, 0.46) == 1.0
+
+
+def test_an_agent_with_the_torque_balance_plays_the_same_climb_whatever_the_torque_gain(env):
+    """The shipped networks, which read the compliance, calibrated by the torque balance
+    (ClimbParameters.torque_balance): the same steering headroom at every window and the same estimate with the
+    torque reading 15 % low, as drawn and 15 % high (the physics does not see the sensor's gain, so the calibrated
+    compliance differs only by the observation's float32 rounding, 6e-8 relative); without it the climb moves."""
+    def climb(torque_balance: bool, gain: float) -> np.ndarray:
+        """The estimate, then the cautious headroom that steered each window."""
+        params = replace(manifest_climb(SHIPPED_INTERROGATOR), torque_balance=torque_balance)
+        agent = interrogator_for(env, SHIPPED_INTERROGATOR, params=params)
+        estimate = run_episode(env, agent, 5, {"torque_gain_error": gain}, 0).estimate
+        return np.array([estimate, *(d.steering_headroom for d in agent.decisions)])
+
+    played = {gain: climb(True, gain) for gain in (-0.15, 0.0, 0.15)}
+    assert len(played[-0.15]) == len(played[0.0]) == len(played[0.15]) > 3
+    assert np.allclose(played[-0.15], played[0.0], rtol=1e-5, atol=1e-6)
+    assert np.allclose(played[0.15], played[0.0], rtol=1e-5, atol=1e-6)
+    uncalibrated = climb(False, -0.15), climb(False, 0.0)
+    assert len(uncalibrated[0]) != len(uncalibrated[1]) or not np.allclose(*uncalibrated, rtol=1e-3)
+    with pytest.raises(ValueError, match="torque_balance"):
+        ClimbParameters(torque_balance=1)
 
 
 def test_the_lockin_noise_reading_follows_the_sensors_noise(env):

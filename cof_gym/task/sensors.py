@@ -42,7 +42,12 @@ error shows as the ratio of the mean torque reading to the command. A real drive
 torque estimate would apply ``command / (1 + e)`` and read its command back, so that ratio is this
 model's, not a train's: the learned interrogator reads torque only through the amplitude ratio (and,
 with the off-by-default ``ClimbParameters.noise_torque_measured`` and ``lag_floor``, the amplitude
-reading), never the mean torque against its command.
+reading), never the mean torque against its command. With the off-by-default ``ClimbParameters.torque_balance`` it
+reads the mean torque against the measured creep force instead: on a wheelset at a steady creepage the drive
+torque is the creep force times the wheel radius, so the ratio of the two readings is ``(1 + e_T) / (1 + e_F)``,
+a calibration a train with a force measurement can make too. In cof_gym the wheel rolls on its nominal radius (the
+radius error is the creepage computation's), so the balance carries no radius error; a train's would carry its
+assumed radius's (``wheel_radius_error``'s range).
 """
 
 from __future__ import annotations

@@ -66,7 +66,11 @@ risen that much since its first driven window and its crest still rises (:meth:`
 ``crest_probe_max_lag_deg`` and ``crest_probe_max_lag_step_deg`` only below that lag and that lag's step; with
 ``crest_probe_max_noise_ratio`` only where its first windows read at most that ratio of the reference noise; with
 ``crest_probe_hold_crest`` under the torque crest of the window it started from, its modulation shrinking as the DC
-rises: :meth:`ClimbParameters.held_crest_ratio`). The
+rises: :meth:`ClimbParameters.held_crest_ratio`). With
+``torque_balance`` the climb divides every torque reading by the gain its first driven window's torque balance
+reads against the force channel (:func:`~cof_gym.agents.interrogator.readings.torque_balance_gain`: the mean torque
+over the measured creep force times the wheel radius, ``(1 + e_T) / (1 + e_F)`` on a wheelset at a steady creepage),
+so that the compliance carries the force gain's error instead of the torque gain's. The
 climb follows the noise its sensors read with ``noise_reference_nms`` set: where the median of
 :attr:`Reading.lockin_noise_nms` over its first :data:`NOISE_WINDOWS` driven windows (the wheel-speed noise the
 lock-in fit reads, whatever the operating point) is ``r`` times that reference with ``r`` above 1, its cautions

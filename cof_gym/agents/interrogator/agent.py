@@ -20,7 +20,7 @@ from cof_gym.agents.interrogator.climb import (
 from cof_gym.agents.interrogator.features import EpisodeFeatures
 from cof_gym.agents.interrogator.interval import IntervalScales
 from cof_gym.agents.interrogator.networks import FilterEnsemble, pooled_correction, pooled_std
-from cof_gym.agents.interrogator.readings import Reading
+from cof_gym.agents.interrogator.readings import Reading, torque_balance_gain
 from cof_gym.agents.runaway import CrestCeiling, RunawayBracket
 from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.task.creep_fit import coa_fell
@@ -154,6 +154,7 @@ class LearnedInterrogator:
         self._held_crest = None
         self._frequency = None
         self._applied_fractions = []
+        self._torque_gain = None
         self._raised_by = 1.0
         self._best_coa = 0.0
         self._bracket = RunawayBracket()
@@ -385,10 +386,15 @@ class LearnedInterrogator:
         return p.action(self._dc, estimate, stop, self.limits, self._ratio, self._frequency, raise_by)
 
     def _reading(self, observation: np.ndarray, info: dict[str, Any]) -> Reading:
-        """The driven window's reading, its applied fraction of the commanded modulation kept (where the torque's
-        amplitude was measured) and, where the command was raised (``lag_floor``), its modulation described as
+        """The driven window's reading (with ``torque_balance``, its torque readings calibrated by the gain the
+        first driven window's torque balance read), its applied fraction of the commanded modulation kept (where
+        the torque's amplitude was measured) and, where the command was raised (``lag_floor``), its modulation described as
         the climb's own (the command over the raise), as the networks read a window of the lags they were fitted on."""
         reading = Reading.of(observation, self.limits, info)
+        if self.params.torque_balance:
+            if self._torque_gain is None:  # the first driven window's, far below the peak
+                self._torque_gain = torque_balance_gain(info.get("measurement", {}), self.limits.wheel_radius_m)
+            reading = reading.calibrated(self._torque_gain)
         if reading.torque_amplitude_measured_nm > 0.0 and reading.amplitude_nm > 0.0:
             self._applied_fractions.append(reading.torque_amplitude_measured_nm / reading.amplitude_nm)
         if self._raised_by != 1.0:

@@ -105,6 +105,9 @@ class ClimbParameters:
     crest_probe_max_noise_ratio: float | None = None
     # true: from the window the probe starts at, no later window's torque crest above that window's (held_crest_ratio)
     crest_probe_hold_crest: bool = False
+    # true: every torque reading divided by the gain the first driven window's torque balance reads against the
+    # force channel (readings.torque_balance_gain, Reading.calibrated)
+    torque_balance: bool = False
 
     def __post_init__(self) -> None:
         if self.estimate_from not in ESTIMATE_SOURCES:
@@ -122,7 +125,7 @@ class ClimbParameters:
                 check_number(name, getattr(self, name), low, math.inf)
         for name in ("creep_sticky", "crest_once_crept", "crest_floor", "runaway_estimate", "crest_ceiling",
                      "ceiling_stop", "noise_se_reported", "noise_torque_measured",
-                     "crest_probe_hold_crest"):
+                     "crest_probe_hold_crest", "torque_balance"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"{name} must be true or false, got {getattr(self, name)!r}")
         if self.tone2_frequency_hz is not None:

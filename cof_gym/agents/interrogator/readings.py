@@ -12,6 +12,7 @@ import numpy as np
 from cof_gym.agents.runaway import crest_lower_bound
 from cof_gym.physics.simulation import COA_CYCLE_FIELDS
 from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES, SPEED_SCALE_M_S, MotorLimits
+from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 
 _INDEX = {name: OBSERVATION_NAMES.index(name) for name in OBSERVATION_NAMES}
 PHASE_CLIP_DEG = (1.0, 89.0)  # the slope index ln cot(phase) is finite within these
@@ -19,6 +20,32 @@ SE_CLIP_DEG = 30.0
 SE_REPORTED_MAX_DEG = 180.0  # the lock-in's standard error of no information (pi: cof_gym.measurement.sine_fit)
 NOISE_WINDOWS = 3  # the climb's first driven windows whose lock-in noise (Reading.lockin_noise_nms) it follows
 COMPLIANCE_CLIP = (1e-3, 0.999)  # the slope from the compliance, sqrt(1 / C^2 - 1), is finite within these
+
+
+def _gain_range(torque: float, force: float) -> tuple[float, float]:
+    """The torque-over-force gain ratios ``(1 + e_T) / (1 + e_F)`` that systematic errors within +-``torque`` and
+    +-``force`` can give."""
+    return (1.0 - torque) / (1.0 + force), (1.0 + torque) / (1.0 - force)
+
+
+# the torque balance's ratios the env's systematic errors can give (what cof_gym.task.sensors accepts)
+TORQUE_BALANCE_RANGE = _gain_range(SYSTEMATIC_ERRORS["torque_gain_error"].accepted,
+                                   SYSTEMATIC_ERRORS["force_gain_error"].accepted)
+
+
+def torque_balance_gain(measurement: Mapping[str, Any], wheel_radius_m: float) -> float:
+    """The torque channel's gain against the force channel from one window's torque balance: its mean torque
+    reading over the measured tangential force times the wheel radius. On a wheelset at a steady creepage (no
+    mean spin acceleration) the drive torque equals the creep force times the radius, so the ratio is
+    ``(1 + e_T) / (1 + e_F)`` (torque and force gain errors): read in a climb's first window, far below the
+    peak, it calibrates every later torque reading to the force channel's accuracy. 1 (no calibration) where
+    the window gives no ratio the accepted errors allow (:data:`TORQUE_BALANCE_RANGE`: no force, or a wheel
+    still accelerating)."""
+    force_nm = float(measurement.get("tangential_force_measured_n", 0.0)) * wheel_radius_m
+    if not force_nm > 0.0:
+        return 1.0
+    ratio = float(measurement.get("torque_mean_nm", 0.0)) / force_nm
+    return ratio if TORQUE_BALANCE_RANGE[0] <= ratio <= TORQUE_BALANCE_RANGE[1] else 1.0
 
 
 def _se_clipped(se_deg: float) -> float:
@@ -160,6 +187,12 @@ class Reading:
             normal_load=float(o[_INDEX["normal_load"]]),
             **tone2,
         )
+
+    def calibrated(self, torque_gain: float) -> "Reading":
+        """This window with its torque readings divided by ``torque_gain`` (:func:`torque_balance_gain`): the
+        compliances (speed over torque amplitude) times it, the measured torque amplitude over it."""
+        return replace(self, compliance=self.compliance * torque_gain, tone2_compliance=self.tone2_compliance * torque_gain,
+                       torque_amplitude_measured_nm=self.torque_amplitude_measured_nm / torque_gain)
 
     def tone2(self) -> "Reading":
         """This window as tone 2 alone sees it (its phase, SE, compliance and frequency in tone 1's place)."""
