@@ -583,6 +583,13 @@ generated, never typed:
         # runs/interrogator_more/guard/ensemble; each also with --grids torque_confirmation2
     python experiments/paired_comparison.py out/records_shipped_rule69_confirmation21.json \
         out/records_rule69XH_confirmation21.json --out out/paired_rule69_confirmation21.md   # and torque_confirmation2
+    python experiments/crest_tradeoff.py --guards $G --guards-only --set torque_balance=true --targets 0.1 --stops \
+        --return-digits 4 --grids validation --records out/records_rule70T_validation.json \
+        --out out/crest_tradeoff_rule70T_validation.md   # rule 70's T; and --grids validation_torque, confirmation22
+        # and torque_confirmation3 (the shipped agent's rows there: _shipped_rule70_)
+    python experiments/paired_comparison.py out/records_shipped_validation_session45.json \
+        out/records_rule70T_validation.json --out out/paired_rule70T_validation.md   # and the torque validation
+        # set's; out/paired_rule70_confirmation22.md and _torque_confirmation3 against the _shipped_rule70_ records
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -845,6 +852,10 @@ SOURCES = {
           for kind in ("crest_tradeoff", "paired")),
         *(f"{name}_{grids}" for grids in ("confirmation21", "torque_confirmation2")
           for name in ("crest_tradeoff_shipped_rule69", "crest_tradeoff_rule69XH", "paired_rule69")),
+        *(f"{kind}_rule70T_{grids}" for grids in ("validation", "validation_torque")
+          for kind in ("crest_tradeoff", "paired")),
+        *(f"{name}_{grids}" for grids in ("confirmation22", "torque_confirmation3")
+          for name in ("crest_tradeoff_shipped_rule70", "crest_tradeoff_rule70T", "paired_rule70")),
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about
