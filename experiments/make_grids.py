@@ -87,7 +87,10 @@
   and adopted nothing before reaching it); it judged rule 69 (session 46).
 - ``suites/v2_confirmation22_grid.json``, ``suites/v2_confirmation22_procedural_grid.json`` and
   ``suites/v2_confirmation22_steep_grid.json`` (session 46, seeds 233 000, 235 000, 237 000): a twenty-second such
-  set, written before any agent played them, after the twenty-first had judged rule 69, for the next rule.
+  set, written before any agent played them, after the twenty-first had judged rule 69; it judged rule 70.
+- ``suites/v2_confirmation23_grid.json``, ``suites/v2_confirmation23_procedural_grid.json`` and
+  ``suites/v2_confirmation23_steep_grid.json`` (session 46, seeds 245 000, 247 000, 249 000): a twenty-third such
+  set, written before any agent played them, after the twenty-second had judged rule 70, for rule 71.
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
@@ -104,7 +107,10 @@
   before reaching it); it judged rule 69 (session 46).
 - ``suites/v2_torque_confirmation3_grid.json``, ``suites/v2_torque_confirmation3_procedural_grid.json`` and
   ``suites/v2_torque_confirmation3_steep_grid.json`` (session 46, seeds 239 000, 241 000, 243 000): a third such
-  set, written before any agent played them, after the second had judged rule 69, for the next rule.
+  set, written before any agent played them, after the second had judged rule 69; it judged rule 70.
+- ``suites/v2_torque_confirmation4_grid.json``, ``suites/v2_torque_confirmation4_procedural_grid.json`` and
+  ``suites/v2_torque_confirmation4_steep_grid.json`` (session 46, seeds 251 000, 253 000, 255 000): a fourth such
+  set, written before any agent played them, after the third had judged rule 70, for rule 71.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -365,7 +371,7 @@ def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.
 
 ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", "eighth ", "ninth ", "tenth ",
             "eleventh ", "twelfth ", "thirteenth ", "fourteenth ", "fifteenth ", "sixteenth ", "seventeenth ",
-            "eighteenth ", "nineteenth ", "twentieth ", "twenty-first ", "twenty-second ")
+            "eighteenth ", "nineteenth ", "twentieth ", "twenty-first ", "twenty-second ", "twenty-third ")
 
 # the confirmation sets, in the order they were written (the module docstring says when, and for which rule):
 # name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and steep grids; each was written
@@ -415,6 +421,8 @@ CONFIRMATION_SETS = {
                        ((0.08, 0.39, 0.67, 0.94), (9.0, 21.0, 37.0), 223_000), ((0.11, 0.46, 0.8), (6.5, 19.5, 35.0), 225_000)),
     "confirmation22": (((0.05, 0.28, 0.55, 0.78, 0.93), (6.0, 17.5, 33.0), 233_000),
                        ((0.09, 0.37, 0.69, 0.91), (8.0, 22.0, 36.0), 235_000), ((0.12, 0.43, 0.79), (6.0, 20.5, 34.0), 237_000)),
+    "confirmation23": (((0.04, 0.27, 0.56, 0.8, 0.96), (5.5, 18.0, 34.0), 245_000),
+                       ((0.06, 0.4, 0.7, 0.92), (9.0, 20.5, 37.0), 247_000), ((0.14, 0.47, 0.81), (7.5, 21.0, 35.5), 249_000)),
 }
 
 
@@ -435,6 +443,9 @@ TORQUE_CONFIRMATION_SETS = {
     "torque_confirmation3": (((0.04, 0.29, 0.54, 0.79, 0.94), (6.5, 18.5, 33.5), 239_000),
                              ((0.07, 0.42, 0.71, 0.92), (9.5, 21.0, 37.5), 241_000),
                              ((0.13, 0.45, 0.8), (7.0, 19.0, 36.5), 243_000)),
+    "torque_confirmation4": (((0.06, 0.31, 0.52, 0.77, 0.95), (7.5, 17.5, 34.5), 251_000),
+                             ((0.08, 0.36, 0.66, 0.93), (8.0, 22.5, 36.5), 253_000),
+                             ((0.11, 0.48, 0.82), (6.0, 18.0, 37.0), 255_000)),
 }
 GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0  # the golden ratio's fraction: a low-discrepancy sequence k x GOLDEN mod 1
 

@@ -231,6 +231,24 @@ def test_the_torque_balance_reads_the_torque_gain_against_the_force_gain(counter
     assert torque_balance_gain({**window, "torque_mean_nm": 1000.0 * TORQUE_BALANCE_RANGE[1] * 1.01}, 0.46) == 1.0
 
 
+def test_the_torque_balance_is_read_only_where_the_first_window_has_settled():
+    """ClimbParameters.torque_gain: 1 without torque_balance; with it the balance's ratio, unless the first window's
+    lag is above torque_balance_max_lag_deg (a wheel whose settling time, tan(lag) / (2 pi f), is no longer small
+    against the window); and a compliance calibrated by a gain is multiplied by it, the measured torque divided."""
+    window = {"torque_mean_nm": 1100.0, "tangential_force_measured_n": 1000.0 / 0.46}
+    settled, unsettled = window_reading(40.0, 2.0), window_reading(75.0, 2.0)
+    assert ClimbParameters().torque_gain(settled, window, 0.46) == 1.0
+    balance = ClimbParameters(torque_balance=True)
+    assert balance.torque_gain(unsettled, window, 0.46) == pytest.approx(1.1, rel=1e-12)
+    checked = replace(balance, torque_balance_max_lag_deg=60.0)
+    assert checked.torque_gain(settled, window, 0.46) == pytest.approx(1.1, rel=1e-12)
+    assert checked.torque_gain(unsettled, window, 0.46) == 1.0
+    calibrated = replace(settled, torque_amplitude_measured_nm=1650.0).calibrated(1.1)
+    assert (calibrated.compliance, calibrated.torque_amplitude_measured_nm) == pytest.approx((1.1e-4, 1500.0), rel=1e-12)
+    with pytest.raises(ValueError, match="torque_balance_max_lag_deg"):
+        ClimbParameters(torque_balance=True, torque_balance_max_lag_deg=-1.0)
+
+
 def test_an_agent_with_the_torque_balance_plays_the_same_climb_whatever_the_torque_gain(env):
     """The shipped networks, which read the compliance, calibrated by the torque balance
     (ClimbParameters.torque_balance): the same steering headroom at every window and the same estimate with the

@@ -20,7 +20,7 @@ from cof_gym.agents.interrogator.climb import (
 from cof_gym.agents.interrogator.features import EpisodeFeatures
 from cof_gym.agents.interrogator.interval import IntervalScales
 from cof_gym.agents.interrogator.networks import FilterEnsemble, pooled_correction, pooled_std
-from cof_gym.agents.interrogator.readings import Reading, torque_balance_gain
+from cof_gym.agents.interrogator.readings import Reading
 from cof_gym.agents.runaway import CrestCeiling, RunawayBracket
 from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.task.creep_fit import coa_fell
@@ -391,9 +391,9 @@ class LearnedInterrogator:
         the torque's amplitude was measured) and, where the command was raised (``lag_floor``), its modulation described as
         the climb's own (the command over the raise), as the networks read a window of the lags they were fitted on."""
         reading = Reading.of(observation, self.limits, info)
-        if self.params.torque_balance:
-            if self._torque_gain is None:  # the first driven window's, far below the peak
-                self._torque_gain = torque_balance_gain(info.get("measurement", {}), self.limits.wheel_radius_m)
+        if self._torque_gain is None:  # the first driven window's, far below the peak
+            self._torque_gain = self.params.torque_gain(reading, info.get("measurement", {}), self.limits.wheel_radius_m)
+        if self._torque_gain != 1.0:
             reading = reading.calibrated(self._torque_gain)
         if reading.torque_amplitude_measured_nm > 0.0 and reading.amplitude_nm > 0.0:
             self._applied_fractions.append(reading.torque_amplitude_measured_nm / reading.amplitude_nm)

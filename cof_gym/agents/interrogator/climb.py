@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from cof_gym.agents.interrogator.readings import Reading, first_windows_noise_nms
+from cof_gym.agents.interrogator.readings import Reading, first_windows_noise_nms, torque_balance_gain
 from cof_gym.agents.phase_rule import PhaseRule, knee_seen, probe_amplitude
 from cof_gym.task.excitation import encode_extra_tones
 from cof_gym.task.interface import MotorLimits, encode_action
@@ -108,6 +108,9 @@ class ClimbParameters:
     # true: every torque reading divided by the gain the first driven window's torque balance reads against the
     # force channel (readings.torque_balance_gain, Reading.calibrated)
     torque_balance: bool = False
+    # not None: ... only where that window's lag is at most this (deg): a wheel that settles within the window
+    # (its time constant is tan(lag) / (2 pi f), Eq. 3); above it the torque readings stay as read
+    torque_balance_max_lag_deg: float | None = None
 
     def __post_init__(self) -> None:
         if self.estimate_from not in ESTIMATE_SOURCES:
@@ -120,7 +123,8 @@ class ClimbParameters:
         if not (isinstance(self.approach_fraction, (int, float)) and 0.0 <= self.approach_fraction < 1.0):
             raise ValueError(f"approach_fraction must be in [0, 1), got {self.approach_fraction!r}")
         for name, low in (("floor_margin", 0.0), ("creep_until", -math.inf), ("crest_fraction", 0.0),
-                          ("creep_release", 0.0), ("ceiling_near_headroom", 0.0)):  # None: unused
+                          ("creep_release", 0.0), ("ceiling_near_headroom", 0.0),
+                          ("torque_balance_max_lag_deg", 0.0)):  # None: unused
             if getattr(self, name) is not None:
                 check_number(name, getattr(self, name), low, math.inf)
         for name in ("creep_sticky", "crest_once_crept", "crest_floor", "runaway_estimate", "crest_ceiling",
@@ -179,6 +183,15 @@ class ClimbParameters:
         fall is more likely the sensors' noise)."""
         near = self.ceiling_near_headroom is not None and mean_headroom <= self.ceiling_near_headroom
         return 0.0 if near else self.ceiling_fall_z
+
+    def torque_gain(self, reading: Reading, measurement: dict[str, Any], wheel_radius_m: float) -> float:
+        """The gain the climb divides its torque readings by, from its first driven window (``reading`` and its
+        ``info["measurement"]``): the torque balance's (:func:`torque_balance_gain`) with ``torque_balance``, 1
+        without it or where the window's lag is above ``torque_balance_max_lag_deg`` (a wheel not yet settled)."""
+        if not self.torque_balance or (self.torque_balance_max_lag_deg is not None
+                                       and reading.phase_deg > self.torque_balance_max_lag_deg):
+            return 1.0
+        return torque_balance_gain(measurement, wheel_radius_m)
 
     def noise_ratio(self, readings: list["Reading"]) -> float:
         """How far the noise read over the climb's first :data:`NOISE_WINDOWS` driven ``readings`` (the median
