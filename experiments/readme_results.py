@@ -590,6 +590,14 @@ generated, never typed:
     python experiments/paired_comparison.py out/records_shipped_validation_session45.json \
         out/records_rule70T_validation.json --out out/paired_rule70T_validation.md   # and the torque validation
         # set's; out/paired_rule70_confirmation22.md and _torque_confirmation3 against the _shipped_rule70_ records
+    python experiments/crest_tradeoff.py --guards $G --guards-only --set torque_balance_max_lag_deg=45 \
+        torque_balance_max_lag_deg=65 --targets 0.1 --stops --return-digits 4 --grids validation \
+        --records out/records_rule71_validation.json --out out/crest_tradeoff_rule71_validation.md   # rule 71 (the
+        # shipped agent then: rule 70's T); and --grids validation_torque; T65 and the shipped agent on confirmation23
+        # and torque_confirmation4 (_rule71T65_, _shipped_rule71_)
+    python experiments/paired_comparison.py out/records_rule70T_validation.json out/records_rule71_validation.json \
+        --out out/paired_rule71_validation.md   # and _validation_torque; _confirmation23 and _torque_confirmation4
+        # against the _shipped_rule71_ records
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -856,6 +864,10 @@ SOURCES = {
           for kind in ("crest_tradeoff", "paired")),
         *(f"{name}_{grids}" for grids in ("confirmation22", "torque_confirmation3")
           for name in ("crest_tradeoff_shipped_rule70", "crest_tradeoff_rule70T", "paired_rule70")),
+        *(f"{kind}_rule71_{grids}" for grids in ("validation", "validation_torque")
+          for kind in ("crest_tradeoff", "paired")),
+        *(f"{name}_{grids}" for grids in ("confirmation23", "torque_confirmation4")
+          for name in ("crest_tradeoff_shipped_rule71", "crest_tradeoff_rule71T65", "paired_rule71")),
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about
