@@ -70,7 +70,9 @@ rises: :meth:`ClimbParameters.held_crest_ratio`). With
 ``torque_balance`` the climb divides every torque reading by the gain its first driven window's torque balance
 reads against the force channel (:func:`~cof_gym.agents.interrogator.readings.torque_balance_gain`: the mean torque
 over the measured creep force times the wheel radius, ``(1 + e_T) / (1 + e_F)`` on a wheelset at a steady creepage),
-so that the compliance carries the force gain's error instead of the torque gain's. The
+so that the compliance carries the force gain's error instead of the torque gain's; with
+``torque_balance_max_lag_deg`` only where that window's lag is at most that (a wheel settled within the window: its
+time constant is ``tan(lag) / (2 pi f)``). The
 climb follows the noise its sensors read with ``noise_reference_nms`` set: where the median of
 :attr:`Reading.lockin_noise_nms` over its first :data:`NOISE_WINDOWS` driven windows (the wheel-speed noise the
 lock-in fit reads, whatever the operating point) is ``r`` times that reference with ``r`` above 1, its cautions
