@@ -598,6 +598,9 @@ generated, never typed:
     python experiments/paired_comparison.py out/records_rule70T_validation.json out/records_rule71_validation.json \
         --out out/paired_rule71_validation.md   # and _validation_torque; _confirmation23 and _torque_confirmation4
         # against the _shipped_rule71_ records
+    python experiments/torque_balance.py   # session 46: the first window's balance on the selection data; and
+    python experiments/torque_balance.py --suites experiments/suites/v2_heldout_grid.json \
+        experiments/suites/v2_heldout{2,3,4,5,6,7}_grid.json --out out/torque_balance_heldout.md
     python experiments/readme_results.py
 
 Each block sits between ``<!-- results:NAME:begin -->`` and ``<!-- results:NAME:end -->`` in one of
@@ -868,6 +871,8 @@ SOURCES = {
           for kind in ("crest_tradeoff", "paired")),
         *(f"{name}_{grids}" for grids in ("confirmation23", "torque_confirmation4")
           for name in ("crest_tradeoff_shipped_rule71", "crest_tradeoff_rule71T65", "paired_rule71")),
+        "torque_balance",
+        "torque_balance_heldout",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about

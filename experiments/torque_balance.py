@@ -1,0 +1,107 @@
+"""How well does the first window's torque balance read the torque sensor's gain against the force sensor's?
+(run from the repository root; 2 cores, about 10 s per suite)
+
+    python experiments/torque_balance.py [--suites FILE ...] [--threshold-deg 65] [--out out/torque_balance.md]
+
+A diagnostic that reads the truth (each episode's drawn or fixed systematic errors), information only. For every
+episode of each suite (a suite file or ``default``, played in its own configuration as ``cof-gym evaluate`` plays
+it), the shipped interrogator drives its first window, and the table compares the balance read there
+(:func:`cof_gym.agents.interrogator.readings.torque_balance_gain`: the mean torque reading over the measured creep
+force times the wheel radius) with what it should read on a settled wheel, ``(1 + e_T) / (1 + e_F)``: the median
+of the relative difference, the P90 and the largest of its size, the episodes where it is above 1 %, and how many of
+those and of all have a first-window lag above ``--threshold-deg`` (the shipped climb's
+``torque_balance_max_lag_deg``: there the climb keeps its torque readings as read). Default suites: the three
+validation grids and the torque validation set (model-selection data).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from script_checks import check_out_file, write_report  # noqa: E402
+
+from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR, Reading, interrogator_for, manifest_climb  # noqa: E402
+from cof_gym.agents.interrogator.readings import torque_balance_gain  # noqa: E402
+from cof_gym.commands.args import Parser, positive_int  # noqa: E402
+from cof_gym.commands.evaluate_episodes import agent_view  # noqa: E402
+from cof_gym.commands.suites import make_suite  # noqa: E402
+from cof_gym.task.validation import check_number  # noqa: E402
+
+SUITES = Path(__file__).resolve().parent / "suites"
+DEFAULT_SUITES = tuple(str(SUITES / f"v2_{name}_grid.json") for name in (
+    "validation", "validation_procedural", "validation_steep",
+    "validation_torque", "validation_torque_procedural", "validation_torque_steep"))
+MISREAD = 0.01  # a balance this far (relative) from (1 + e_T) / (1 + e_F) counts as misread
+
+
+def first_windows(suite_path: str) -> list[tuple[float, float]]:
+    """(the balance's relative difference from (1 + e_T) / (1 + e_F), the first window's lag in deg) of every
+    episode of the suite, its first window driven by the shipped interrogator."""
+    suite = make_suite(suite_path, 60, 0)
+    env = gym.make(suite.env_id, **suite.env_kwargs)
+    agent = interrogator_for(env, SHIPPED_INTERROGATOR)
+    limits = env.unwrapped.limits
+    out = []
+    for seed, options in suite.episodes:
+        observation, info = env.reset(seed=seed, options=options)
+        agent.reset(observation, agent_view(info, False))
+        observation, _, _, _, info = env.step(agent.act(observation, agent_view(info, False)))
+        errors = env.unwrapped.episode.scenario
+        settled = (1.0 + errors.torque_gain_error) / (1.0 + errors.force_gain_error)
+        gain = torque_balance_gain(info["measurement"], limits.wheel_radius_m)
+        out.append((gain / settled - 1.0, Reading.of(observation, limits, info).phase_deg))
+    env.close()
+    return out
+
+
+def row(suite: str, windows: list[tuple[float, float]], threshold_deg: float) -> str:
+    """The table's row of one suite."""
+    difference, lag = (np.array(v) for v in zip(*windows))
+    size, misread, unsettled = np.abs(difference), np.abs(difference) > MISREAD, lag > threshold_deg
+    return (f"| {Path(suite).stem if suite != 'default' else 'default'} | {len(difference)} | "
+            f"{100 * np.median(difference):+.2f} | {100 * np.percentile(size, 90):.2f} | {100 * size.max():.2f} | "
+            f"{int(misread.sum())} | {int((misread & unsettled).sum())} | {int(unsettled.sum())} |")
+
+
+def threshold(text: str) -> float:
+    """A ``--threshold-deg`` value: a lag in [0, 90] deg."""
+    try:
+        return check_number("--threshold-deg", float(text), 0.0, 90.0)
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+
+
+def main() -> None:
+    parser = Parser(description=__doc__.split("\n")[0])
+    parser.add_argument("--suites", nargs="+", default=list(DEFAULT_SUITES),
+                        help="suite files (or 'default'), each played in its own configuration")
+    parser.add_argument("--threshold-deg", type=threshold,
+                        default=manifest_climb(SHIPPED_INTERROGATOR).torque_balance_max_lag_deg or 90.0,
+                        help="the first-window lag above which the climb reads no balance (default: the shipped one)")
+    parser.add_argument("--workers", type=positive_int, default=2)
+    parser.add_argument("--out", type=Path, default=Path("out/torque_balance.md"))
+    args = parser.parse_args()
+    for suite in args.suites:
+        if suite != "default" and not Path(suite).is_file():
+            parser.error(f"--suites: no suite file {suite}")
+    check_out_file(parser, "--out", args.out)
+    with ProcessPoolExecutor(args.workers) as pool:
+        results = list(pool.map(first_windows, args.suites))
+    lines = [f"The first window's torque balance against (1 + e_T) / (1 + e_F), per suite (`python "
+             f"experiments/torque_balance.py`): the relative difference in per cent; misread: above "
+             f"{100 * MISREAD:g} %; unsettled: a first-window lag above {args.threshold_deg:g} deg.", "",
+             "| suite | episodes | median difference [%] | P90 of its size [%] | largest [%] | misread | misread and "
+             "unsettled | unsettled |", "|---" * 8 + "|"]
+    lines += [row(suite, windows, args.threshold_deg) for suite, windows in zip(args.suites, results)]
+    write_report(args.out, lines)
+
+
+if __name__ == "__main__":
+    main()
