@@ -69,7 +69,7 @@ def main() -> None:
     args = ap.parse_args()
     require_networks(ap, "--filter", [args.filter])
     require_networks(ap, "--guards", args.guards)
-    if "climb" not in read_manifest(args.climb_from) or "trained_on" not in read_manifest(args.climb_from):
+    if not {"climb", "trained_on"} <= read_manifest(args.climb_from).keys():
         ap.error(f"--climb-from: {args.climb_from} has no manifest.json with a climb and a training distribution")
     check_out_dir(ap, "--out", args.out)
     if args.out.resolve() in {p.resolve() for p in (args.filter, *args.guards, args.climb_from)}:

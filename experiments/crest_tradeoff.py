@@ -37,8 +37,8 @@ confirmation grids of the same kinds (``experiments/suites/v2_confirmation_*grid
 confirmationN``: the N-th such set, one for each of make_grids.CONFIRMATION_SETS, whose docstring says when
 each was written and which rule it judged), or with ``--grids validation_torque`` on the three kinds with
 each episode's torque gain error spread over what the env accepts
-(``experiments/suites/v2_validation_torque*grid.json``, model selection too; ``--grids torque_confirmation``: a
-confirmation set of that kind). With ``--crest-fractions`` each row also with each of these
+(``experiments/suites/v2_validation_torque*grid.json``, model selection too; ``--grids torque_confirmation``,
+``torque_confirmationN``: the confirmation sets of that kind, one for each of make_grids.TORQUE_CONFIRMATION_SETS). With ``--crest-fractions`` each row also with each of these
 crest caps (``ClimbParameters.crest_fraction``: the modulation shrinks so that its crest stays within
 that fraction of the cautious headroom; ``none``: uncapped; ``--crest-once-crept``: each cap from the
 climb's first slow probe on). With ``--set NAME=VALUE ...`` the shipped climb with those parameters (a
@@ -92,8 +92,8 @@ def confirmation_set(name: str) -> dict[str, Path]:
 # written before; a new set for each candidate judged)
 GRID_SETS = {
     "validation": {"family": VALIDATION, "procedural": PROCEDURAL_VALIDATION, "steep": STEEP_VALIDATION},
-    # the three kinds with each episode's torque gain error spread over what the env accepts (session 45), and a
-    # confirmation set of that kind
+    # the three kinds with each episode's torque gain error spread over what the env accepts (session 45), and the
+    # confirmation sets of that kind
     "validation_torque": confirmation_set("validation_torque"),
     **{name: confirmation_set(name) for name in TORQUE_CONFIRMATION_SETS},
     **{name: confirmation_set(name) for name in CONFIRMATION_SETS},
@@ -348,8 +348,8 @@ def main() -> None:
                              "its first slow probe), per grid")
     parser.add_argument("--grids", choices=sorted(GRID_SETS), default="validation",
                         help="the three grids played: validation (model selection), validation_torque (the same kinds "
-                             "with each episode's torque gain error spread over +-15 %%; torque_confirmation: its "
-                             "confirmation set) or a confirmation set (other episodes of the same kinds, to confirm a "
+                             "with each episode's torque gain error spread over +-15 %%; torque_confirmation, "
+                             "torque_confirmationN: its confirmation sets) or a confirmation set (other episodes of the same kinds, to confirm a "
                              "choice taken on the first; confirmationN: the N-th set, experiments/make_grids.py's "
                              "docstring says when each was written)")
     parser.add_argument("--return-digits", type=int, default=2, choices=range(1, 7), metavar="{1..6}",

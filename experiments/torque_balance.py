@@ -16,7 +16,6 @@ validation grids and the torque validation set (model-selection data).
 
 from __future__ import annotations
 
-import argparse
 import sys
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
@@ -29,10 +28,9 @@ from script_checks import check_out_file, write_report  # noqa: E402
 
 from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR, Reading, interrogator_for, manifest_climb  # noqa: E402
 from cof_gym.agents.interrogator.readings import torque_balance_gain  # noqa: E402
-from cof_gym.commands.args import Parser, positive_int  # noqa: E402
+from cof_gym.commands.args import Parser, float_in_range, positive_int  # noqa: E402
 from cof_gym.commands.evaluate_episodes import agent_view  # noqa: E402
-from cof_gym.commands.suites import make_suite  # noqa: E402
-from cof_gym.task.validation import check_number  # noqa: E402
+from cof_gym.commands.suites import Suite, SuiteError, make_suite  # noqa: E402
 
 SUITES = Path(__file__).resolve().parent / "suites"
 DEFAULT_SUITES = tuple(str(SUITES / f"v2_{name}_grid.json") for name in (
@@ -41,10 +39,9 @@ DEFAULT_SUITES = tuple(str(SUITES / f"v2_{name}_grid.json") for name in (
 MISREAD = 0.01  # a balance this far (relative) from (1 + e_T) / (1 + e_F) counts as misread
 
 
-def first_windows(suite_path: str) -> list[tuple[float, float]]:
+def first_windows(suite: Suite) -> list[tuple[float, float]]:
     """(the balance's relative difference from (1 + e_T) / (1 + e_F), the first window's lag in deg) of every
     episode of the suite, its first window driven by the shipped interrogator."""
-    suite = make_suite(suite_path, 60, 0)
     env = gym.make(suite.env_id, **suite.env_kwargs)
     agent = interrogator_for(env, SHIPPED_INTERROGATOR)
     limits = env.unwrapped.limits
@@ -65,35 +62,28 @@ def row(suite: str, windows: list[tuple[float, float]], threshold_deg: float) ->
     """The table's row of one suite."""
     difference, lag = (np.array(v) for v in zip(*windows))
     size, misread, unsettled = np.abs(difference), np.abs(difference) > MISREAD, lag > threshold_deg
-    return (f"| {Path(suite).stem if suite != 'default' else 'default'} | {len(difference)} | "
+    return (f"| {Path(suite).stem} | {len(difference)} | "
             f"{100 * np.median(difference):+.2f} | {100 * np.percentile(size, 90):.2f} | {100 * size.max():.2f} | "
             f"{int(misread.sum())} | {int((misread & unsettled).sum())} | {int(unsettled.sum())} |")
-
-
-def threshold(text: str) -> float:
-    """A ``--threshold-deg`` value: a lag in [0, 90] deg."""
-    try:
-        return check_number("--threshold-deg", float(text), 0.0, 90.0)
-    except ValueError as e:
-        raise argparse.ArgumentTypeError(str(e)) from None
 
 
 def main() -> None:
     parser = Parser(description=__doc__.split("\n")[0])
     parser.add_argument("--suites", nargs="+", default=list(DEFAULT_SUITES),
-                        help="suite files (or 'default'), each played in its own configuration")
-    parser.add_argument("--threshold-deg", type=threshold,
+                        help="suite files (or 'default' / 'paper'), each played in its own configuration")
+    parser.add_argument("--threshold-deg", type=float_in_range(0.0, 90.0, low_inclusive=True),
                         default=manifest_climb(SHIPPED_INTERROGATOR).torque_balance_max_lag_deg or 90.0,
                         help="the first-window lag above which the climb reads no balance (default: the shipped one)")
     parser.add_argument("--workers", type=positive_int, default=2)
     parser.add_argument("--out", type=Path, default=Path("out/torque_balance.md"))
     args = parser.parse_args()
-    for suite in args.suites:
-        if suite != "default" and not Path(suite).is_file():
-            parser.error(f"--suites: no suite file {suite}")
+    try:
+        suites = [make_suite(name, 60, 0) for name in args.suites]
+    except SuiteError as error:
+        parser.error(f"--suites: {' '.join(str(error).split())}")
     check_out_file(parser, "--out", args.out)
     with ProcessPoolExecutor(args.workers) as pool:
-        results = list(pool.map(first_windows, args.suites))
+        results = list(pool.map(first_windows, suites))
     lines = [f"The first window's torque balance against (1 + e_T) / (1 + e_F), per suite (`python "
              f"experiments/torque_balance.py`): the relative difference in per cent; misread: above "
              f"{100 * MISREAD:g} %; unsettled: a first-window lag above {args.threshold_deg:g} deg.", "",

@@ -79,6 +79,7 @@ CASES = [
     ("torque_balance", ["--threshold-deg", "91"], "--threshold-deg"),
     ("torque_balance", ["--threshold-deg", "nan"], "--threshold-deg"),
     ("torque_balance", ["--suites", "{new}"], "--suites"),
+    ("torque_balance", ["--suites", "{text}"], "--suites"),
     ("torque_balance", ["--out", "{dir}"], "--out"),
     ("indistinguishable_peaks", ["--out", "{dir}"], "--out"),
     ("knee_twins", ["--out", "{dir}"], "--out"),
