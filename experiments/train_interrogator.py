@@ -113,7 +113,7 @@ from cof_gym.agents.interrogator import (
 from cof_gym.agents.interrogator.training import (
     FIT_LOSSES, FITTABLE_BLOCKS, STEEP_FALL, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel, fit_member, nll,
 )
-from cof_gym.commands.args import Parser, positive_int, seed_int
+from cof_gym.commands.args import Parser, float_in_range, positive_int, seed_int
 from cof_gym.commands.evaluate_episodes import run_episode
 from cof_gym.commands.suites import make_suite
 
@@ -225,9 +225,9 @@ ESTIMATES = [{"estimate_from": "filter", "best_coa_factor": 1.0}] + [
     {"estimate_from": "best_coa", "best_coa_factor": f} for f in (1.0, 1.02, 1.05)]
 
 
-def load_or_collect(out: Path, name: str, episodes: int, workers: int) -> Dataset:
+def load_or_collect(out: Path, name: str, episodes: int, workers: int, balance: bool = False) -> Dataset:
     """``episodes`` training climbs of collection ``name`` (:data:`COLLECTIONS`), from OUT's cache when it
-    holds them."""
+    holds them (with ``balance``, recorded with each window's torque balance)."""
     file, first_seed, draws = COLLECTIONS[name]
     path = out / file
     if path.is_file():
@@ -235,7 +235,7 @@ def load_or_collect(out: Path, name: str, episodes: int, workers: int) -> Datase
             data = Dataset.load(path)
         except (ValueError, KeyError):
             data = None
-        if data is not None and int(data.episode.max()) + 1 >= episodes:
+        if data is not None and int(data.episode.max()) + 1 >= episodes and (data.reads_torque_balance or not balance):
             return data.subset(data.episode < episodes)
     t0 = time.time()
     data = collect_parallel(ENV_ID, CONFIGS, episodes, workers, first_seed, draws)
@@ -259,9 +259,10 @@ def parse_climbs(parser: argparse.ArgumentParser, items: list[str], option: str 
     return out
 
 
-def collect(out: Path, climbs: dict[str, int], workers: int) -> Dataset:
-    """The training climbs of ``climbs`` ({collection: climbs}), in that order, from OUT's caches or collected."""
-    return Dataset.concatenate([load_or_collect(out, name, n, workers) for name, n in climbs.items() if n])
+def collect(out: Path, climbs: dict[str, int], workers: int, balance: bool = False) -> Dataset:
+    """The training climbs of ``climbs`` ({collection: climbs}), in that order, from OUT's caches or collected
+    (with ``balance``, caches recorded with the torque balance: :func:`load_or_collect`)."""
+    return Dataset.concatenate([load_or_collect(out, name, n, workers, balance) for name, n in climbs.items() if n])
 
 
 def load_added_climbs(parser: argparse.ArgumentParser, files: list[Path], option: str = "--add-climbs") -> list[Dataset]:
@@ -330,6 +331,15 @@ CEILING_STOP = True  # ... and the climb ends at that window (rule 30's stop, ad
 CEILING_FALL_Z, CEILING_NEAR_HEADROOM = 2.0, 0.5
 # ... and the climb following the speed noise its first windows read beyond 0.4 N m s (rule 53, session 35)
 NOISE_REFERENCE_NMS, NOISE_CAUTION_EXPONENT, NOISE_CREEP_EXPONENT = 0.4, 0.2, 0.85
+# ... and every torque reading calibrated by the first window's torque balance where its lag is at most 65 deg
+# (rules 70-71, session 46)
+TORQUE_BALANCE, TORQUE_BALANCE_MAX_LAG_DEG = True, 65.0
+# the climb's parts the recipe sets after its selection (the adopted rules' constants above), by ClimbParameters field
+ADOPTED_CLIMB = {"crest_floor": CREST_FLOOR, "runaway_estimate": RUNAWAY_ESTIMATE, "crest_ceiling": CREST_CEILING,
+                 "ceiling_stop": CEILING_STOP, "ceiling_fall_z": CEILING_FALL_Z,
+                 "ceiling_near_headroom": CEILING_NEAR_HEADROOM, "noise_reference_nms": NOISE_REFERENCE_NMS,
+                 "noise_caution_exponent": NOISE_CAUTION_EXPONENT, "noise_creep_exponent": NOISE_CREEP_EXPONENT,
+                 "torque_balance": TORQUE_BALANCE, "torque_balance_max_lag_deg": TORQUE_BALANCE_MAX_LAG_DEG}
 CRITERIA = {  # how the selection ranks the climbs (sort keys of a table row)
     "pooled": lambda r: (r["macro_slips"], r["pooled_p90"], r["pooled_median"]),  # the recipe
     "family": lambda r: (r["macro_slips"], r["p90"], r["median"]),  # the family grid alone
@@ -373,10 +383,14 @@ def file_digest(path: Path) -> str:
     return hashlib.sha256(path.read_bytes()).hexdigest()[:12]
 
 
-def training_record(climbs: dict[str, int], added: list[Path], settings: FitSettings) -> dict:
+def training_record(climbs: dict[str, int], added: list[Path], settings: FitSettings,
+                    balance_lag_deg: float | None = None) -> dict:
     """What networks are fitted on, as JSON: the collections' climbs, each added climbs file's digest
-    (its bytes, whatever its name or place) and the fit settings."""
+    (its bytes, whatever its name or place), the fit settings and, where the readings were calibrated by the
+    torque balance (``--torque-balance-lag``), that window lag bound."""
     record = {"climbs": climbs, "added_sha256": [file_digest(f) for f in added], "fit": asdict(settings)}
+    if balance_lag_deg is not None:
+        record["torque_balance_max_lag_deg"] = balance_lag_deg
     return json.loads(json.dumps(record))  # tuples as lists, as the file holds them
 
 
@@ -572,6 +586,10 @@ def main() -> None:
     ap.add_argument("--guards", type=Path, nargs="+", default=[], metavar="DIR",
                     help="networks (DIR/member_*.npz, e.g. another run's ensemble) that steer the climb beside the "
                          "filter as its guards: copied into every run directory, named in the manifest")
+    ap.add_argument("--torque-balance-lag", type=float_in_range(0.0, 90.0), default=None, metavar="DEG",
+                    help="fit every network on readings calibrated as a climb with torque_balance and "
+                         "torque_balance_max_lag_deg=DEG reads them (Dataset.calibrated; caches recorded without the "
+                         "balance are collected again, added climbs must hold it); default: the readings as read")
     ap.add_argument("--report-only", action="store_true",
                     help="step 4 alone, on the shipped agent as it is (its networks, guards and climb; OUT/seed_K: "
                          "member K alone): no climbs, no fit, no selection")
@@ -591,6 +609,12 @@ def main() -> None:
     if args.probing_guard and not args.add_guard_climbs:
         ap.error("--probing-guard: needs --add-guard-climbs (without them OUT/guard/ is the probing guard)")
     added_to_guard = load_added_climbs(ap, args.add_guard_climbs, "--add-guard-climbs")
+    balance = args.torque_balance_lag is not None
+    for option, files, data in (("--add-climbs", args.add_climbs, added), ("--add-guard-climbs", args.add_guard_climbs,
+                                                                           added_to_guard)):
+        for file, climbs_read in zip(files, data):
+            if balance and not climbs_read.reads_torque_balance:
+                ap.error(f"{option}: {file} was recorded without the torque balance; --torque-balance-lag needs it")
     out = args.out
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.time()
@@ -600,8 +624,12 @@ def main() -> None:
     def fit(directory: Path, collections: dict[str, int], files: list[Path], data: list[Dataset]) -> dict:
         """fit_networks in ``directory`` on the climbs of ``collections`` and those of ``files`` (``data``, read
         from them), recorded as such."""
-        return fit_networks(directory, lambda: Dataset.concatenate([collect(out, collections, args.workers), *data]),
-                            args.seeds, settings, args.reuse, training_record(collections, files, settings))
+        def load() -> Dataset:
+            climbs_read = Dataset.concatenate([collect(out, collections, args.workers, balance), *data])
+            return climbs_read.calibrated(args.torque_balance_lag) if balance else climbs_read
+
+        return fit_networks(directory, load, args.seeds, settings, args.reuse,
+                            training_record(collections, files, settings, args.torque_balance_lag))
 
     fit_report = fit(out, climbs, args.add_climbs, added)
     guards = list(args.guards)
@@ -622,10 +650,7 @@ def main() -> None:
     guard_names = [install_guards(r, guards) for r in runs][-1]  # the same names in every run
     if guard_names and chosen.get("estimate_from") == "filter":
         chosen = {**chosen, "estimate_from": GUARDED_ESTIMATE}
-    chosen = {**chosen, "crest_floor": CREST_FLOOR, "runaway_estimate": RUNAWAY_ESTIMATE, "crest_ceiling": CREST_CEILING,
-              "ceiling_stop": CEILING_STOP, "ceiling_fall_z": CEILING_FALL_Z, "ceiling_near_headroom": CEILING_NEAR_HEADROOM,
-              "noise_reference_nms": NOISE_REFERENCE_NMS, "noise_caution_exponent": NOISE_CAUTION_EXPONENT,
-              "noise_creep_exponent": NOISE_CREEP_EXPONENT}
+    chosen = {**chosen, **ADOPTED_CLIMB}
     manifest = {"climb": {**asdict(ClimbParameters()), **chosen},
                 "trained_on": {"env_id": ENV_ID, "configs": CONFIGS},
                 "training": {"climbs": climbs, "seeds": args.seeds, "fit": asdict(settings)}}
@@ -637,6 +662,8 @@ def main() -> None:
         manifest["training"]["added_climbs"] = [str(f) for f in args.add_climbs]
     if args.add_guard_climbs:
         manifest["training"]["added_guard_climbs"] = [str(f) for f in args.add_guard_climbs]
+    if balance:
+        manifest["training"]["torque_balance_max_lag_deg"] = args.torque_balance_lag
     if args.probing_guard:
         manifest["training"]["probing_guard"] = guard_names[-1]  # fitted on the guard climbs alone
     columns = grid_columns(GRIDS[args.grid])  # the climb parameters the grid varies

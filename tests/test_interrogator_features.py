@@ -18,7 +18,7 @@ from cof_gym.agents.interrogator import (
     slope_index,
 )
 from cof_gym.agents.interrogator.agent import SHIPPED_INTERROGATOR, interrogator_for, manifest_climb
-from cof_gym.agents.interrogator.readings import TORQUE_BALANCE_RANGE, torque_balance_gain
+from cof_gym.agents.interrogator.readings import TORQUE_BALANCE_RANGE, torque_balance_gain, torque_balance_ratio
 from cof_gym.agents.interrogator.training import FitSettings, collect, fit_member
 from cof_gym.commands.evaluate_episodes import run_episode
 from cof_gym.task.interface import OBSERVATION_NAMES, encode_action
@@ -221,9 +221,10 @@ def test_the_torque_balance_reads_the_torque_gain_against_the_force_gain(counter
     first_dc = LearnedInterrogator(limits, FilterEnsemble((random_network(1),))).climb.first_dc(limits)
     for seed, torque_gain, force_gain in ((1, -0.15, 0.0), (2, 0.08, -0.06), (3, 0.15, 0.1)):
         env.reset(seed=seed, options={"torque_gain_error": torque_gain, "force_gain_error": force_gain})
-        _, _, _, _, info = env.step(encode_action(first_dc, 0.4 * first_dc, 5.0, 0.2, False, limits))
+        observation, _, _, _, info = env.step(encode_action(first_dc, 0.4 * first_dc, 5.0, 0.2, False, limits))
         gain = torque_balance_gain(info["measurement"], limits.wheel_radius_m)
         assert gain == pytest.approx((1.0 + torque_gain) / (1.0 + force_gain), rel=1e-2)
+        assert Reading.of(observation, limits, info).torque_balance == gain  # what the window's reading records
     env.close()
     window = {"torque_mean_nm": 1000.0, "tangential_force_measured_n": 1000.0 / 0.46}
     assert torque_balance_gain(window, 0.46) == pytest.approx(1.0, rel=1e-12)
@@ -236,13 +237,15 @@ def test_the_torque_balance_is_read_only_where_the_first_window_has_settled():
     lag is above torque_balance_max_lag_deg (a wheel whose settling time, tan(lag) / (2 pi f), is no longer small
     against the window); and a compliance calibrated by a gain is multiplied by it, the measured torque divided."""
     window = {"torque_mean_nm": 1100.0, "tangential_force_measured_n": 1000.0 / 0.46}
-    settled, unsettled = window_reading(40.0, 2.0), window_reading(75.0, 2.0)
-    assert ClimbParameters().torque_gain(settled, window, 0.46) == 1.0
+    settled, unsettled = (replace(window_reading(lag, 2.0), torque_balance=torque_balance_ratio(window, 0.46))
+                          for lag in (40.0, 75.0))
+    assert ClimbParameters().torque_gain(settled) == 1.0
     balance = ClimbParameters(torque_balance=True)
-    assert balance.torque_gain(unsettled, window, 0.46) == pytest.approx(1.1, rel=1e-12)
+    assert balance.torque_gain(unsettled) == pytest.approx(1.1, rel=1e-12)
+    assert balance.torque_gain(replace(unsettled, torque_balance=0.0)) == 1.0  # no balance read
     checked = replace(balance, torque_balance_max_lag_deg=60.0)
-    assert checked.torque_gain(settled, window, 0.46) == pytest.approx(1.1, rel=1e-12)
-    assert checked.torque_gain(unsettled, window, 0.46) == 1.0
+    assert checked.torque_gain(settled) == pytest.approx(1.1, rel=1e-12)
+    assert checked.torque_gain(unsettled) == 1.0
     calibrated = replace(settled, torque_amplitude_measured_nm=1650.0).calibrated(1.1)
     assert (calibrated.compliance, calibrated.torque_amplitude_measured_nm) == pytest.approx((1.1e-4, 1500.0), rel=1e-12)
     with pytest.raises(ValueError, match="torque_balance_max_lag_deg"):

@@ -16,7 +16,7 @@ from cof_gym.agents.interrogator import (
     Reading, floor_headroom, interrogator_for,
 )
 from cof_gym.agents.interrogator.training import (
-    GENTLE_FALL, PROCEDURAL_PEAK_CREEPAGE, READING_FIELDS, STEEP_FALL, ClimbDraws, FallingBranch, FitSettings,
+    GENTLE_FALL, PROCEDURAL_PEAK_CREEPAGE, READING_FIELDS, STEEP_FALL, ClimbDraws, Dataset, FallingBranch, FitSettings,
     _climb_episode, collect, fit_member, procedural_shape,
 )
 from cof_gym.physics.creep_laws import creep_law_from_spec
@@ -211,6 +211,33 @@ def test_training_climbs_draw_systematic_sensor_errors_past_the_envs_draws_where
                        ((("force_gain_error", 0.05, -0.05),), "min <= max")):
         with pytest.raises(ValueError, match=match):
             ClimbDraws(sensor_errors=bad)
+
+
+def test_calibrated_climbs_read_the_torque_sensor_at_the_force_channels_accuracy():
+    """Dataset.calibrated divides an episode's torque readings by the gain its first window's torque balance reads
+    (the climb's own ClimbParameters.torque_gain): the same training climbs with the torque reading 12 % high and
+    exact read compliances 12 % apart as recorded and within the balance's 1 % once calibrated, the phases
+    untouched; a lag bound below the first window's lag leaves the readings as read, and climbs recorded before
+    the balance was read are refused."""
+    seeds = (2_000_900, 2_000_901)
+    exact, high = (collect(cof_gym.WAGON_ENV_ID, [{}], len(seeds), first_seed=seeds[0],
+                           draws=ClimbDraws(sensor_errors=(("torque_gain_error", e, e), ("force_gain_error", 0.0, 0.0))))
+                   for e in (0.0, 0.12))
+    compliance = READING_FIELDS.index("compliance")
+    rows = min(len(exact), len(high))  # the climbs read the phase, which the gain does not touch
+    float32 = 4 * float(np.finfo(np.float32).eps)  # the observation's float32 rounding of both compliances
+    np.testing.assert_allclose(high.readings[:rows, compliance] * 1.12, exact.readings[:rows, compliance], rtol=float32)
+    calibrated = high.calibrated(None)
+    np.testing.assert_allclose(calibrated.readings[:rows, compliance], exact.readings[:rows, compliance], rtol=1e-2)
+    phase = READING_FIELDS.index("phase_deg")
+    np.testing.assert_array_equal(calibrated.readings[:, phase], high.readings[:, phase])
+    first_lag = float(high.readings[0, phase])
+    np.testing.assert_array_equal(high.calibrated(first_lag - 1.0).readings[high.episode == 0],
+                                  high.readings[high.episode == 0])
+    recorded_before = Dataset(high.readings.copy(), high.counter_torque, high.targets, high.episode)
+    recorded_before.readings[:, READING_FIELDS.index("torque_balance")] = 0.0
+    with pytest.raises(ValueError, match="torque balance"):
+        recorded_before.calibrated(None)
 
 
 def test_training_climbs_record_the_cycle_crest_and_a_cycle_crest_filter_fits_on_them(tmp_path):

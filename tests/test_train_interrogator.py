@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from dataclasses import asdict
 from pathlib import Path
 
 import gymnasium as gym
@@ -184,17 +185,18 @@ def test_the_probing_guard_is_the_first_steps_guard(tmp_path: Path, monkeypatch)
 
 def test_the_shipped_climb_carries_the_recipes_fixed_parts() -> None:
     """The parts of the climb the recipe sets after its selection (the adopted rules' constants in
-    train_interrogator.py) are the shipped manifest's: a rule adopted in one place and not the other fails here."""
+    train_interrogator.py, ``ADOPTED_CLIMB``) are the shipped manifest's, and every part of the shipped climb that
+    is not ClimbParameters' default is either one of them or one the selection chooses: a rule adopted in one place
+    and not the other fails here."""
     import train_interrogator as recipe
-    from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR
+    from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR, ClimbParameters
 
     climb = json.loads((SHIPPED_INTERROGATOR / "manifest.json").read_text())["climb"]
-    fixed = {"estimate_from": recipe.GUARDED_ESTIMATE, "crest_floor": recipe.CREST_FLOOR,
-             "runaway_estimate": recipe.RUNAWAY_ESTIMATE, "crest_ceiling": recipe.CREST_CEILING,
-             "ceiling_stop": recipe.CEILING_STOP, "ceiling_fall_z": recipe.CEILING_FALL_Z,
-             "ceiling_near_headroom": recipe.CEILING_NEAR_HEADROOM, "noise_reference_nms": recipe.NOISE_REFERENCE_NMS,
-             "noise_caution_exponent": recipe.NOISE_CAUTION_EXPONENT, "noise_creep_exponent": recipe.NOISE_CREEP_EXPONENT}
+    fixed = {"estimate_from": recipe.GUARDED_ESTIMATE, **recipe.ADOPTED_CLIMB}
     assert {name: climb[name] for name in fixed} == fixed
+    defaults = asdict(ClimbParameters())
+    selected = set(recipe.grid_columns(recipe.GRIDS["recipe"])) | set(recipe.ESTIMATES[0])
+    assert {name for name, value in climb.items() if value != defaults[name]} <= set(fixed) | selected
 
 
 def test_the_report_only_runs_are_the_shipped_agent_member_by_member(tmp_path: Path) -> None:

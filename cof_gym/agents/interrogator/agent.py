@@ -392,7 +392,7 @@ class LearnedInterrogator:
         the climb's own (the command over the raise), as the networks read a window of the lags they were fitted on."""
         reading = Reading.of(observation, self.limits, info)
         if self._torque_gain is None:  # the first driven window's, far below the peak
-            self._torque_gain = self.params.torque_gain(reading, info.get("measurement", {}), self.limits.wheel_radius_m)
+            self._torque_gain = self.params.torque_gain(reading)
         if self._torque_gain != 1.0:
             reading = reading.calibrated(self._torque_gain)
         if reading.torque_amplitude_measured_nm > 0.0 and reading.amplitude_nm > 0.0:

@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from cof_gym.agents.interrogator.readings import Reading, first_windows_noise_nms, torque_balance_gain
+from cof_gym.agents.interrogator.readings import Reading, first_windows_noise_nms, gain_from_balance
 from cof_gym.agents.phase_rule import PhaseRule, knee_seen, probe_amplitude
 from cof_gym.task.excitation import encode_extra_tones
 from cof_gym.task.interface import MotorLimits, encode_action
@@ -106,7 +106,7 @@ class ClimbParameters:
     # true: from the window the probe starts at, no later window's torque crest above that window's (held_crest_ratio)
     crest_probe_hold_crest: bool = False
     # true: every torque reading divided by the gain the first driven window's torque balance reads against the
-    # force channel (readings.torque_balance_gain, Reading.calibrated)
+    # force channel (Reading.torque_balance, readings.gain_from_balance, Reading.calibrated)
     torque_balance: bool = False
     # not None: ... only where that window's lag is at most this (deg): a wheel that settles within the window
     # (its time constant is tan(lag) / (2 pi f), Eq. 3); above it the torque readings stay as read
@@ -184,14 +184,15 @@ class ClimbParameters:
         near = self.ceiling_near_headroom is not None and mean_headroom <= self.ceiling_near_headroom
         return 0.0 if near else self.ceiling_fall_z
 
-    def torque_gain(self, reading: Reading, measurement: dict[str, Any], wheel_radius_m: float) -> float:
-        """The gain the climb divides its torque readings by, from its first driven window (``reading`` and its
-        ``info["measurement"]``): the torque balance's (:func:`torque_balance_gain`) with ``torque_balance``, 1
-        without it or where the window's lag is above ``torque_balance_max_lag_deg`` (a wheel not yet settled)."""
+    def torque_gain(self, reading: Reading) -> float:
+        """The gain the climb divides its torque readings by, from its first driven window's ``reading``: the gain
+        its torque balance reads (:attr:`Reading.torque_balance`, :func:`gain_from_balance`) with
+        ``torque_balance``, 1 without it or where the window's lag is above ``torque_balance_max_lag_deg`` (a wheel
+        not yet settled)."""
         if not self.torque_balance or (self.torque_balance_max_lag_deg is not None
                                        and reading.phase_deg > self.torque_balance_max_lag_deg):
             return 1.0
-        return torque_balance_gain(measurement, wheel_radius_m)
+        return gain_from_balance(reading.torque_balance)
 
     def noise_ratio(self, readings: list["Reading"]) -> float:
         """How far the noise read over the climb's first :data:`NOISE_WINDOWS` driven ``readings`` (the median

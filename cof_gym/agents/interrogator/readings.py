@@ -33,19 +33,28 @@ TORQUE_BALANCE_RANGE = _gain_range(SYSTEMATIC_ERRORS["torque_gain_error"].accept
                                    SYSTEMATIC_ERRORS["force_gain_error"].accepted)
 
 
-def torque_balance_gain(measurement: Mapping[str, Any], wheel_radius_m: float) -> float:
-    """The torque channel's gain against the force channel from one window's torque balance: its mean torque
-    reading over the measured tangential force times the wheel radius. On a wheelset at a steady creepage (no
-    mean spin acceleration) the drive torque equals the creep force times the radius, so the ratio is
-    ``(1 + e_T) / (1 + e_F)`` (torque and force gain errors): read in a climb's first window, far below the
-    peak, it calibrates every later torque reading to the force channel's accuracy. 1 (no calibration) where
-    the window gives no ratio the accepted errors allow (:data:`TORQUE_BALANCE_RANGE`: no force, or a wheel
-    still accelerating)."""
+def torque_balance_ratio(measurement: Mapping[str, Any], wheel_radius_m: float) -> float:
+    """One window's torque balance: its mean torque reading over the measured tangential force times the wheel
+    radius (0 where the window measured no force). On a wheelset at a steady creepage (no mean spin acceleration)
+    the drive torque equals the creep force times the radius, so the ratio is ``(1 + e_T) / (1 + e_F)`` (torque and
+    force gain errors)."""
     force_nm = float(measurement.get("tangential_force_measured_n", 0.0)) * wheel_radius_m
     if not force_nm > 0.0:
-        return 1.0
-    ratio = float(measurement.get("torque_mean_nm", 0.0)) / force_nm
+        return 0.0
+    return float(measurement.get("torque_mean_nm", 0.0)) / force_nm
+
+
+def gain_from_balance(ratio: float) -> float:
+    """The torque channel's gain against the force channel that a window's torque balance ``ratio``
+    (:func:`torque_balance_ratio`) reads: the ratio itself, read in a climb's first window, far below the peak, it
+    calibrates every later torque reading to the force channel's accuracy; 1 (no calibration) where it is not a
+    ratio the accepted errors allow (:data:`TORQUE_BALANCE_RANGE`: no force, or a wheel still accelerating)."""
     return ratio if TORQUE_BALANCE_RANGE[0] <= ratio <= TORQUE_BALANCE_RANGE[1] else 1.0
+
+
+def torque_balance_gain(measurement: Mapping[str, Any], wheel_radius_m: float) -> float:
+    """The gain one window's torque balance reads (:func:`gain_from_balance` of :func:`torque_balance_ratio`)."""
+    return gain_from_balance(torque_balance_ratio(measurement, wheel_radius_m))
 
 
 def _se_clipped(se_deg: float) -> float:
@@ -107,6 +116,9 @@ class Reading:
     # the modulation's amplitude the drive's torque reading measured (N m, the torque gain error included; 0: not
     # read): what the drive applied, a lag's attenuation included, where ``amplitude_nm`` is what it was asked for
     torque_amplitude_measured_nm: float = 0.0
+    # the window's torque balance (torque_balance_ratio: its mean torque reading over the measured force times the
+    # wheel radius; 0: not read), which a climb with ClimbParameters.torque_balance calibrates its torque readings by
+    torque_balance: float = 0.0
 
     @property
     def crest_bound(self) -> float:
@@ -173,6 +185,8 @@ class Reading:
             tone2.update({name: float(measurement[name]) for name in COA_CYCLE_FIELDS})
         if "torque_amplitude_nm" in measurement:
             tone2["torque_amplitude_measured_nm"] = float(measurement["torque_amplitude_nm"])
+        if "torque_mean_nm" in measurement:
+            tone2["torque_balance"] = torque_balance_ratio(measurement, limits.wheel_radius_m)
         return cls(
             phase_deg=float(o[_INDEX["phase_lag"]] * 90.0),
             se_deg=float(_se_clipped(se_deg)),
@@ -189,10 +203,12 @@ class Reading:
         )
 
     def calibrated(self, torque_gain: float) -> "Reading":
-        """This window with its torque readings divided by ``torque_gain`` (:func:`torque_balance_gain`): the
-        compliances (speed over torque amplitude) times it, the measured torque amplitude over it."""
+        """This window with its torque readings divided by ``torque_gain`` (:func:`gain_from_balance`): the
+        compliances (speed over torque amplitude) times it, the measured torque amplitude and the torque balance
+        over it."""
         return replace(self, compliance=self.compliance * torque_gain, tone2_compliance=self.tone2_compliance * torque_gain,
-                       torque_amplitude_measured_nm=self.torque_amplitude_measured_nm / torque_gain)
+                       torque_amplitude_measured_nm=self.torque_amplitude_measured_nm / torque_gain,
+                       torque_balance=self.torque_balance / torque_gain)
 
     def tone2(self) -> "Reading":
         """This window as tone 2 alone sees it (its phase, SE, compliance and frequency in tone 1's place)."""

@@ -122,6 +122,30 @@ class Dataset:
                 readings = np.hstack([readings, np.tile(np.asarray(defaults, dtype=np.float64), (len(readings), 1))])
             return cls(readings, z["counter_torque"], z["targets"], z["episode"])
 
+    @property
+    def reads_torque_balance(self) -> bool:
+        """Whether the climbs were recorded with each window's torque balance (:attr:`Reading.torque_balance`;
+        climbs recorded before it was read hold none)."""
+        return bool((self.readings[:, READING_FIELDS.index("torque_balance")] > 0.0).any())
+
+    def calibrated(self, max_lag_deg: float | None) -> "Dataset":
+        """These climbs as a climb with ``ClimbParameters.torque_balance`` (and ``torque_balance_max_lag_deg`` =
+        ``max_lag_deg``) reads them: every window's torque readings divided by the gain its episode's first window's
+        torque balance reads (:meth:`ClimbParameters.torque_gain`, :meth:`Reading.calibrated`); climbs recorded
+        without the balance are refused (ValueError)."""
+        if len(self) and not self.reads_torque_balance:
+            raise ValueError("the climbs were recorded without the torque balance (Reading.torque_balance): collect "
+                             "them again to calibrate them")
+        climb = ClimbParameters(torque_balance=True, torque_balance_max_lag_deg=max_lag_deg)
+        readings, gain = self.readings.copy(), 1.0
+        for i in range(len(self)):
+            reading = Reading(*(float(v) for v in self.readings[i]))
+            if i == 0 or self.episode[i] != self.episode[i - 1]:
+                gain = climb.torque_gain(reading)
+            if gain != 1.0:
+                readings[i] = astuple(reading.calibrated(gain))
+        return Dataset(readings, self.counter_torque, self.targets, self.episode)
+
     @classmethod
     def concatenate(cls, parts: list["Dataset"]) -> "Dataset":
         offset, episodes = 0, []
