@@ -91,6 +91,9 @@
 - ``suites/v2_confirmation23_grid.json``, ``suites/v2_confirmation23_procedural_grid.json`` and
   ``suites/v2_confirmation23_steep_grid.json`` (session 46, seeds 245 000, 247 000, 249 000): a twenty-third such
   set, written before any agent played them, after the twenty-second had judged rule 70, for rule 71.
+- ``suites/v2_confirmation24_grid.json``, ``suites/v2_confirmation24_procedural_grid.json`` and
+  ``suites/v2_confirmation24_steep_grid.json`` (session 47, seeds 257 000, 259 000, 261 000): a twenty-fourth such
+  set, written before any agent played them, after the twenty-third had judged rule 71, for rule 72.
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
@@ -111,6 +114,9 @@
 - ``suites/v2_torque_confirmation4_grid.json``, ``suites/v2_torque_confirmation4_procedural_grid.json`` and
   ``suites/v2_torque_confirmation4_steep_grid.json`` (session 46, seeds 251 000, 253 000, 255 000): a fourth such
   set, written before any agent played them, after the third had judged rule 70, for rule 71.
+- ``suites/v2_torque_confirmation5_grid.json``, ``suites/v2_torque_confirmation5_procedural_grid.json`` and
+  ``suites/v2_torque_confirmation5_steep_grid.json`` (session 47, seeds 263 000, 265 000, 267 000): a fifth such
+  set, written before any agent played them, after the fourth had judged rule 71, for rule 72.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -371,7 +377,8 @@ def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.
 
 ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", "eighth ", "ninth ", "tenth ",
             "eleventh ", "twelfth ", "thirteenth ", "fourteenth ", "fifteenth ", "sixteenth ", "seventeenth ",
-            "eighteenth ", "nineteenth ", "twentieth ", "twenty-first ", "twenty-second ", "twenty-third ")
+            "eighteenth ", "nineteenth ", "twentieth ", "twenty-first ", "twenty-second ", "twenty-third ",
+            "twenty-fourth ")
 
 # the confirmation sets, in the order they were written (the module docstring says when, and for which rule):
 # name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and steep grids; each was written
@@ -423,6 +430,8 @@ CONFIRMATION_SETS = {
                        ((0.09, 0.37, 0.69, 0.91), (8.0, 22.0, 36.0), 235_000), ((0.12, 0.43, 0.79), (6.0, 20.5, 34.0), 237_000)),
     "confirmation23": (((0.04, 0.27, 0.56, 0.8, 0.96), (5.5, 18.0, 34.0), 245_000),
                        ((0.06, 0.4, 0.7, 0.92), (9.0, 20.5, 37.0), 247_000), ((0.14, 0.47, 0.81), (7.5, 21.0, 35.5), 249_000)),
+    "confirmation24": (((0.03, 0.28, 0.52, 0.79, 0.95), (6.5, 17.0, 32.5), 257_000),
+                       ((0.07, 0.38, 0.68, 0.94), (8.5, 21.5, 36.5), 259_000), ((0.12, 0.46, 0.78), (7.0, 19.5, 37.5), 261_000)),
 }
 
 
@@ -446,6 +455,9 @@ TORQUE_CONFIRMATION_SETS = {
     "torque_confirmation4": (((0.06, 0.31, 0.52, 0.77, 0.95), (7.5, 17.5, 34.5), 251_000),
                              ((0.08, 0.36, 0.66, 0.93), (8.0, 22.5, 36.5), 253_000),
                              ((0.11, 0.48, 0.82), (6.0, 18.0, 37.0), 255_000)),
+    "torque_confirmation5": (((0.05, 0.26, 0.53, 0.81, 0.94), (6.0, 19.0, 33.0), 263_000),
+                             ((0.09, 0.41, 0.67, 0.91), (9.0, 20.5, 35.5), 265_000),
+                             ((0.13, 0.44, 0.79), (7.5, 21.0, 36.0), 267_000)),
 }
 GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0  # the golden ratio's fraction: a low-discrepancy sequence k x GOLDEN mod 1
 
