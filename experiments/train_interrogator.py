@@ -86,7 +86,10 @@ alone beside the shipped guards, the ensemble the package), e.g. after a rule ch
 recorded elsewhere to the filter's (not the guard's): e.g. ``train_estimator.py``'s cache of a deployed
 interrogator's own climbs (``OUT/onpolicy_env_DIGEST.npz``), so that the filter also learns the readings of
 the climb it steers (session 28, rule 37); ``--add-guard-climbs FILE ...`` adds them to the guard's; the
-manifest names the files.
+manifest names the files. ``--torque-balance-lag DEG`` fits every network on the readings a climb with
+``torque_balance`` and ``torque_balance_max_lag_deg=DEG`` reads (each climb's torque readings divided by the gain its
+first window's torque balance reads: ``Dataset.calibrated``; session 47, rule 72), recorded in OUT/training.json and
+the manifest.
 """
 
 from __future__ import annotations

@@ -127,6 +127,39 @@ def test_added_climbs_join_the_training_climbs_of_the_networks_named(tmp_path: P
         np.testing.assert_array_equal(member.feature_mean, train.features[rows].mean(axis=0))
 
 
+def test_torque_balance_lag_fits_on_calibrated_readings_and_recollects_caches_without_the_balance(
+        tmp_path: Path, monkeypatch, experiment_exit) -> None:
+    """``--torque-balance-lag`` standardises each member on the climbs as Dataset.calibrated reads them, records
+    the bound beside what the networks were fitted on, collects again a cache recorded without the balance, and
+    refuses added climbs recorded without it (exit 2, before any climb is collected)."""
+    import train_interrogator
+    from cof_gym.agents.interrogator.training import READING_FIELDS, Dataset
+
+    run = tmp_path / "run"
+    run.mkdir()
+    stale = train_interrogator.collect(run, {"env": 4}, 1)
+    stale.readings[:, READING_FIELDS.index("torque_balance")] = 0.0  # as recorded before the balance was read
+    stale.save(run / "climbs.npz")
+    monkeypatch.setattr(sys, "argv", ["train_interrogator.py", "--out", str(run), "--climbs", "env=4", "--guard-climbs",
+                                      "none", "--seeds", "0", "--epochs", "1", "--workers", "1", "--fit-only",
+                                      "--torque-balance-lag", "65"])
+    train_interrogator.main()
+    collected = Dataset.load(run / "climbs.npz")
+    assert collected.reads_torque_balance
+    train, _ = train_interrogator.split(collected.calibrated(65.0))
+    rng = np.random.default_rng(0)  # fit_member's bootstrap of the episodes (seed 0)
+    episodes = np.unique(train.episode)
+    rows = np.concatenate([np.flatnonzero(train.episode == e) for e in rng.choice(episodes, len(episodes))])
+    member = FilterNetwork.load(run / "seed_0" / "member_0.npz")
+    np.testing.assert_array_equal(member.feature_mean, train.features[rows].mean(axis=0))
+    assert json.loads((run / "training.json").read_text())["torque_balance_max_lag_deg"] == 65.0
+    stale.save(tmp_path / "stale.npz")
+    code, last = experiment_exit("train_interrogator", ["--out", str(tmp_path / "other"), "--torque-balance-lag", "65",
+                                                        "--add-climbs", str(tmp_path / "stale.npz")])
+    assert code == 2 and "was recorded without the torque balance" in last
+    assert not (tmp_path / "other").exists()
+
+
 def test_reuse_refits_only_the_networks_whose_climbs_changed(tmp_path: Path, monkeypatch) -> None:
     """``--reuse`` keeps networks fitted on the same climbs and settings (OUT/training.json) and fits again
     those whose climbs changed: the recipe's third step keeps the filter and refits the guard on its added
