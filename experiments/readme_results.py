@@ -598,6 +598,12 @@ generated, never typed:
     python experiments/paired_comparison.py out/records_rule70T_validation.json out/records_rule71_validation.json \
         --out out/paired_rule71_validation.md   # and _validation_torque; _confirmation23 and _torque_confirmation4
         # against the _shipped_rule71_ records
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
+        --grids validation --records out/records_shipped_validation_session47.json \
+        --out out/crest_tradeoff_shipped_validation_session47.md   # rule 72's reference rows; and validation_torque;
+        # KF: --run runs/interrogator_balance/ensemble (_rule72KF_)
+    python experiments/paired_comparison.py out/records_shipped_validation_session47.json \
+        out/records_rule72KF_validation.json --out out/paired_rule72KF_validation.md   # and _validation_torque
     python experiments/torque_balance.py   # session 46: the first window's balance on the selection data; and
     python experiments/torque_balance.py --suites experiments/suites/v2_heldout_grid.json \
         experiments/suites/v2_heldout{2,3,4,5,6,7}_grid.json --out out/torque_balance_heldout.md
@@ -873,6 +879,9 @@ SOURCES = {
           for name in ("crest_tradeoff_shipped_rule71", "crest_tradeoff_rule71T65", "paired_rule71")),
         "torque_balance",
         "torque_balance_heldout",
+        *(f"crest_tradeoff_shipped_{grids}_session47" for grids in ("validation", "validation_torque")),
+        *(f"{kind}_rule72KF_{grids}" for grids in ("validation", "validation_torque")
+          for kind in ("crest_tradeoff", "paired")),
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about
