@@ -601,9 +601,10 @@ generated, never typed:
     python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
         --grids validation --records out/records_shipped_validation_session47.json \
         --out out/crest_tradeoff_shipped_validation_session47.md   # rule 72's reference rows; and validation_torque;
-        # KF: --run runs/interrogator_balance/ensemble (_rule72KF_)
+        # KF: --run runs/interrogator_balance/ensemble (_rule72KF_); K: the same --run with --guards
+        # runs/interrogator_balance/guard/ensemble runs/interrogator_balance/probing_guard/ensemble (_rule72K_)
     python experiments/paired_comparison.py out/records_shipped_validation_session47.json \
-        out/records_rule72KF_validation.json --out out/paired_rule72KF_validation.md   # and _validation_torque
+        out/records_rule72KF_validation.json --out out/paired_rule72KF_validation.md   # and _validation_torque, _rule72K_
     python experiments/torque_balance.py   # session 46: the first window's balance on the selection data; and
     python experiments/torque_balance.py --suites experiments/suites/v2_heldout_grid.json \
         experiments/suites/v2_heldout{2,3,4,5,6,7}_grid.json --out out/torque_balance_heldout.md
@@ -880,7 +881,7 @@ SOURCES = {
         "torque_balance",
         "torque_balance_heldout",
         *(f"crest_tradeoff_shipped_{grids}_session47" for grids in ("validation", "validation_torque")),
-        *(f"{kind}_rule72KF_{grids}" for grids in ("validation", "validation_torque")
+        *(f"{kind}_rule72{c}_{grids}" for c in ("KF", "K") for grids in ("validation", "validation_torque")
           for kind in ("crest_tradeoff", "paired")),
     )},
 }
