@@ -46,9 +46,10 @@ def torque_balance_ratio(measurement: Mapping[str, Any], wheel_radius_m: float) 
 
 def gain_from_balance(ratio: float) -> float:
     """The torque channel's gain against the force channel that a window's torque balance ``ratio``
-    (:func:`torque_balance_ratio`) reads: the ratio itself, read in a climb's first window, far below the peak, it
-    calibrates every later torque reading to the force channel's accuracy; 1 (no calibration) where it is not a
-    ratio the accepted errors allow (:data:`TORQUE_BALANCE_RANGE`: no force, or a wheel still accelerating)."""
+    (:func:`torque_balance_ratio`) reads: the ratio itself where the accepted errors allow it
+    (:data:`TORQUE_BALANCE_RANGE`), else 1 (no calibration: no force, or a wheel still accelerating). Read in a
+    climb's first window, far below the peak, it calibrates every later torque reading to the force channel's
+    accuracy."""
     return ratio if TORQUE_BALANCE_RANGE[0] <= ratio <= TORQUE_BALANCE_RANGE[1] else 1.0
 
 
