@@ -605,6 +605,8 @@ generated, never typed:
         # runs/interrogator_balance/guard/ensemble runs/interrogator_balance/probing_guard/ensemble (_rule72K_)
     python experiments/paired_comparison.py out/records_shipped_validation_session47.json \
         out/records_rule72KF_validation.json --out out/paired_rule72KF_validation.md   # and _validation_torque, _rule72K_
+        # rule 73: --run runs/interrogator_wide_balance/ensemble with --guards $G (_rule73WF_) or with --guards
+        # runs/interrogator_wide_balance/guard/ensemble runs/interrogator_wide_balance/probing_guard/ensemble (_rule73W_)
     python experiments/torque_balance.py   # session 46: the first window's balance on the selection data; and
     python experiments/torque_balance.py --suites experiments/suites/v2_heldout_grid.json \
         experiments/suites/v2_heldout{2,3,4,5,6,7}_grid.json --out out/torque_balance_heldout.md
@@ -881,7 +883,7 @@ SOURCES = {
         "torque_balance",
         "torque_balance_heldout",
         *(f"crest_tradeoff_shipped_{grids}_session47" for grids in ("validation", "validation_torque")),
-        *(f"{kind}_rule72{c}_{grids}" for c in ("KF", "K") for grids in ("validation", "validation_torque")
+        *(f"{kind}_rule{c}_{grids}" for c in ("72KF", "72K", "73WF", "73W") for grids in ("validation", "validation_torque")
           for kind in ("crest_tradeoff", "paired")),
     )},
 }
