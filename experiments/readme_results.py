@@ -883,8 +883,8 @@ SOURCES = {
         "torque_balance",
         "torque_balance_heldout",
         *(f"crest_tradeoff_shipped_{grids}_session47" for grids in ("validation", "validation_torque")),
-        *(f"{kind}_rule{c}_{grids}" for c in ("72KF", "72K", "73WF", "73W") for grids in ("validation", "validation_torque")
-          for kind in ("crest_tradeoff", "paired")),
+        *(f"{kind}_rule{c}_{grids}" for c in ("72KF", "72K", "73WF", "73W")
+          for grids in ("validation", "validation_torque") for kind in ("crest_tradeoff", "paired")),
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
