@@ -607,6 +607,12 @@ generated, never typed:
         out/records_rule72KF_validation.json --out out/paired_rule72KF_validation.md   # and _validation_torque, _rule72K_
         # rule 73: --run runs/interrogator_wide_balance/ensemble with --guards $G (_rule73WF_) or with --guards
         # runs/interrogator_wide_balance/guard/ensemble runs/interrogator_wide_balance/probing_guard/ensemble (_rule73W_)
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
+        --grids confirmation24 --records out/records_shipped_rule73_confirmation24.json \
+        --out out/crest_tradeoff_shipped_rule73_confirmation24.md   # rule 73's confirmation; W: _rule73W_ with W's
+        # --run and --guards; each also with --grids torque_confirmation5
+    python experiments/paired_comparison.py out/records_shipped_rule73_confirmation24.json \
+        out/records_rule73W_confirmation24.json --out out/paired_rule73_confirmation24.md   # and torque_confirmation5
     python experiments/torque_balance.py   # session 46: the first window's balance on the selection data; and
     python experiments/torque_balance.py --suites experiments/suites/v2_heldout_grid.json \
         experiments/suites/v2_heldout{2,3,4,5,6,7}_grid.json --out out/torque_balance_heldout.md
@@ -885,6 +891,8 @@ SOURCES = {
         *(f"crest_tradeoff_shipped_{grids}_session47" for grids in ("validation", "validation_torque")),
         *(f"{kind}_rule{c}_{grids}" for c in ("72KF", "72K", "73WF", "73W")
           for grids in ("validation", "validation_torque") for kind in ("crest_tradeoff", "paired")),
+        *(f"{name}_{grids}" for grids in ("confirmation24", "torque_confirmation5")
+          for name in ("crest_tradeoff_shipped_rule73", "crest_tradeoff_rule73W", "paired_rule73")),
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about
