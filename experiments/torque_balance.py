@@ -6,7 +6,8 @@
 A diagnostic that reads the truth (each episode's drawn or fixed systematic errors), information only. For every
 episode of each suite (a suite file or ``default``, played in its own configuration as ``cof-gym evaluate`` plays
 it), the shipped interrogator drives its first window, and the table compares the balance read there
-(:func:`cof_gym.agents.interrogator.readings.torque_balance_gain`: the mean torque reading over the measured creep
+(:attr:`~cof_gym.agents.interrogator.Reading.torque_balance` through
+:func:`~cof_gym.agents.interrogator.readings.gain_from_balance`: the mean torque reading over the measured creep
 force times the wheel radius) with what it should read on a settled wheel, ``(1 + e_T) / (1 + e_F)``: the median
 of the relative difference, the P90 and the largest of its size, the episodes where it is above 1 %, and how many of
 those and of all have a first-window lag above ``--threshold-deg`` (the shipped climb's
@@ -27,7 +28,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from script_checks import check_out_file, write_report  # noqa: E402
 
 from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR, Reading, interrogator_for, manifest_climb  # noqa: E402
-from cof_gym.agents.interrogator.readings import torque_balance_gain  # noqa: E402
+from cof_gym.agents.interrogator.readings import gain_from_balance  # noqa: E402
 from cof_gym.commands.args import Parser, float_in_range, positive_int  # noqa: E402
 from cof_gym.commands.evaluate_episodes import agent_view  # noqa: E402
 from cof_gym.commands.suites import Suite, SuiteError, make_suite  # noqa: E402
@@ -52,8 +53,8 @@ def first_windows(suite: Suite) -> list[tuple[float, float]]:
         observation, _, _, _, info = env.step(agent.act(observation, agent_view(info, False)))
         errors = env.unwrapped.episode.scenario
         settled = (1.0 + errors.torque_gain_error) / (1.0 + errors.force_gain_error)
-        gain = torque_balance_gain(info["measurement"], limits.wheel_radius_m)
-        out.append((gain / settled - 1.0, Reading.of(observation, limits, info).phase_deg))
+        reading = Reading.of(observation, limits, info)  # the balance and the lag, as the climb reads them
+        out.append((gain_from_balance(reading.torque_balance) / settled - 1.0, reading.phase_deg))
     env.close()
     return out
 
