@@ -613,6 +613,8 @@ generated, never typed:
         # --run and --guards; each also with --grids torque_confirmation5
     python experiments/paired_comparison.py out/records_shipped_rule73_confirmation24.json \
         out/records_rule73W_confirmation24.json --out out/paired_rule73_confirmation24.md   # and torque_confirmation5
+        # rule 74: the same two commands (_shipped_rule74_, _rule74W_, paired_rule74) with --grids confirmation25 and
+        # torque_confirmation6
     python experiments/torque_balance.py   # session 46: the first window's balance on the selection data; and
     python experiments/torque_balance.py --suites experiments/suites/v2_heldout_grid.json \
         experiments/suites/v2_heldout{2,3,4,5,6,7}_grid.json --out out/torque_balance_heldout.md
@@ -893,6 +895,8 @@ SOURCES = {
           for grids in ("validation", "validation_torque") for kind in ("crest_tradeoff", "paired")),
         *(f"{name}_{grids}" for grids in ("confirmation24", "torque_confirmation5")
           for name in ("crest_tradeoff_shipped_rule73", "crest_tradeoff_rule73W", "paired_rule73")),
+        *(f"{name}_{grids}" for grids in ("confirmation25", "torque_confirmation6")
+          for name in ("crest_tradeoff_shipped_rule74", "crest_tradeoff_rule74W", "paired_rule74")),
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
