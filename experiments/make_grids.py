@@ -97,7 +97,11 @@
   candidates did not reach it); it judged rule 73.
 - ``suites/v2_confirmation25_grid.json``, ``suites/v2_confirmation25_procedural_grid.json`` and
   ``suites/v2_confirmation25_steep_grid.json`` (session 47, seeds 269 000, 271 000, 273 000): a twenty-fifth such
-  set, written before any agent played them, after the twenty-fourth had judged rule 73, for the next rule.
+  set, written before any agent played them, after the twenty-fourth had judged rule 73, for the next rule; it judged
+  rule 74 (session 48).
+- ``suites/v2_confirmation26_grid.json``, ``suites/v2_confirmation26_procedural_grid.json`` and
+  ``suites/v2_confirmation26_steep_grid.json`` (session 48, seeds 281 000, 283 000, 285 000): a twenty-sixth such
+  set, written before any agent played them, after the twenty-fifth had judged rule 74, for the next rule.
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
@@ -124,7 +128,11 @@
   did not reach it); it judged rule 73.
 - ``suites/v2_torque_confirmation6_grid.json``, ``suites/v2_torque_confirmation6_procedural_grid.json`` and
   ``suites/v2_torque_confirmation6_steep_grid.json`` (session 47, seeds 275 000, 277 000, 279 000): a sixth such
-  set, written before any agent played them, after the fifth had judged rule 73, for the next rule.
+  set, written before any agent played them, after the fifth had judged rule 73, for the next rule; it judged rule
+  74 (session 48).
+- ``suites/v2_torque_confirmation7_grid.json``, ``suites/v2_torque_confirmation7_procedural_grid.json`` and
+  ``suites/v2_torque_confirmation7_steep_grid.json`` (session 48, seeds 287 000, 289 000, 291 000): a seventh such
+  set, written before any agent played them, after the sixth had judged rule 74, for the next rule.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -386,7 +394,7 @@ def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.
 ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", "eighth ", "ninth ", "tenth ",
             "eleventh ", "twelfth ", "thirteenth ", "fourteenth ", "fifteenth ", "sixteenth ", "seventeenth ",
             "eighteenth ", "nineteenth ", "twentieth ", "twenty-first ", "twenty-second ", "twenty-third ",
-            "twenty-fourth ", "twenty-fifth ")
+            "twenty-fourth ", "twenty-fifth ", "twenty-sixth ")
 
 # the confirmation sets, in the order they were written (the module docstring says when, and for which rule):
 # name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and steep grids; each was written
@@ -442,6 +450,8 @@ CONFIRMATION_SETS = {
                        ((0.07, 0.38, 0.68, 0.94), (8.5, 21.5, 36.5), 259_000), ((0.12, 0.46, 0.78), (7.0, 19.5, 37.5), 261_000)),
     "confirmation25": (((0.04, 0.29, 0.54, 0.77, 0.94), (5.5, 17.5, 33.5), 269_000),
                        ((0.08, 0.39, 0.66, 0.93), (9.5, 22.0, 37.0), 271_000), ((0.13, 0.44, 0.8), (6.5, 20.0, 36.0), 273_000)),
+    "confirmation26": (((0.05, 0.27, 0.53, 0.8, 0.95), (6.0, 18.5, 32.0), 281_000),
+                       ((0.06, 0.37, 0.71, 0.94), (8.0, 20.5, 38.0), 283_000), ((0.11, 0.45, 0.82), (7.5, 18.5, 34.5), 285_000)),
 }
 
 
@@ -471,6 +481,9 @@ TORQUE_CONFIRMATION_SETS = {
     "torque_confirmation6": (((0.03, 0.3, 0.51, 0.78, 0.96), (7.0, 18.0, 32.0), 275_000),
                              ((0.07, 0.4, 0.69, 0.92), (8.5, 21.0, 37.5), 277_000),
                              ((0.12, 0.47, 0.81), (6.0, 19.5, 35.0), 279_000)),
+    "torque_confirmation7": (((0.04, 0.28, 0.55, 0.82, 0.93), (5.5, 19.0, 34.0), 287_000),
+                             ((0.08, 0.43, 0.68, 0.95), (9.0, 22.5, 36.0), 289_000),
+                             ((0.14, 0.46, 0.78), (7.0, 20.0, 37.0), 291_000)),
 }
 GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0  # the golden ratio's fraction: a low-discrepancy sequence k x GOLDEN mod 1
 

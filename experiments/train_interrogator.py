@@ -18,12 +18,14 @@ the same climbs as ``onpolicy_env_56d6d6f9b007.npz``, the digest since changed b
 the third keeps the filter (fitted on the same climbs: OUT/training.json), fits the guard again on its
 climbs and those (OUT/guard/training.json differs), fits the first step's guard again as a second guard
 (``--probing-guard``: OUT/probing_guard/, on the probing climbs alone; or keeps it where it is there),
-selects the same climb (the selection plays the filter alone) and ships.
+selects the same climb (the selection plays the filter alone; ADOPTED_CLIMB, the parts later rules adopted, is set
+after it) and ships.
 
 1. **Data**: training climbs on the v2 wagon's randomisation, half with the paper's counter torque
    (cof_gym/agents/interrogator/training.py): probing climbs steered by their own readings, never by
-   the truth, from the collections of COLLECTIONS (``--climbs NAME=N``; the recipe: ``env=8000``): on
-   the env's creep-law draws (seeds from 1 000 000 on), on procedural creep curves, tables beyond every
+   the truth, from the collections of COLLECTIONS (``--climbs NAME=N``; the recipe: ``torque_wide=8000``,
+   the env's draws with the torque gain anywhere within +-15 %, since session 48, rule 74; ``env=8000``
+   before): on the env's creep-law draws (seeds from 1 000 000 on), on procedural creep curves, tables beyond every
    family (from 1 100 000 on), on the env's draws with 8-20 Hz modulations (from 1 200 000 on) and with
    modulation ratios of 10-80 % instead of 3-40 % (from 1 300 000 on), with the deployed probe only
    (from 1 400 000 on), with the climb's jump to the lowest CoF the task admits (from 1 500 000 on;
@@ -34,8 +36,8 @@ selects the same climb (the selection plays the filter alone) and ships.
    seed; cached in OUT/climbs*.npz.
 2. **Seeds**: one filter network per seed (bootstrap resample of the training episodes, its own
    initialisation), OUT/seed_K/; the ensemble of all seeds in OUT/ensemble/. **The guard**
-   (``--guard-climbs``; the recipe, session 16: ``env=8000 procedural=8000``): networks fitted alike
-   (same seeds and fit) on the family climbs and the procedural ones together, OUT/guard/seed_K/ and
+   (``--guard-climbs``; the recipe, session 16: ``env=8000 procedural=8000``; since session 48
+   ``torque_wide=8000 procedural_torque_wide=8000``): networks fitted alike (same seeds and fit) on the family climbs and the procedural ones together, OUT/guard/seed_K/ and
    OUT/guard/ensemble/; it steers the chosen climb beside the filter and may only slow it (the climb
    follows the lowest cautious headroom of all). Adopted by a rule written before the confirmation grids
    were played (docs/interrogator.md, session 16); since session 30 (rule 42) it also learns the climbs of
@@ -89,7 +91,8 @@ the climb it steers (session 28, rule 37); ``--add-guard-climbs FILE ...`` adds 
 manifest names the files. ``--torque-balance-lag DEG`` fits every network on the readings a climb with
 ``torque_balance`` and ``torque_balance_max_lag_deg=DEG`` reads (each climb's torque readings divided by the gain its
 first window's torque balance reads: ``Dataset.calibrated``; session 47, rule 72), recorded in OUT/training.json and
-the manifest.
+the manifest; the recipe's since session 48 (rule 74) is the shipped climb's bound, 65 deg (``none``: the readings as
+read, the recipe before).
 """
 
 from __future__ import annotations
@@ -174,9 +177,12 @@ COLLECTIONS = {
     "procedural_torque_wide": ("climbs_procedural_torque_wide.npz", TRAINING_SEED + 1_800_000,
                                ClimbDraws(shapes="procedural", sensor_errors=(("torque_gain_error", -0.15, 0.15),))),
 }
-EPISODES = {"env": 8000}  # the shipped recipe (procedural and high_frequency lost on validation: README)
-# the shipped recipe's guard (--guard-climbs; session 16): the family climbs and the procedural ones together
-GUARD_EPISODES = {"env": 8000, "procedural": 8000}
+# the shipped recipe (procedural and high_frequency lost on validation: README): since session 48 (rule 74) the env's
+# draws with the torque gain anywhere within +-15 %, read calibrated by the torque balance (RECIPE_BALANCE_LAG_DEG)
+EPISODES = {"torque_wide": 8000}
+# the shipped recipe's guard (--guard-climbs; session 16): the family climbs and the procedural ones together (since
+# session 48, rule 74, both with the wide torque gain)
+GUARD_EPISODES = {"torque_wide": 8000, "procedural_torque_wide": 8000}
 VALIDATION = HERE / "suites" / "v2_validation_grid.json"  # the v2 draws (families, sensor errors)
 # procedural creep curves beyond every family, none of the held-out shapes: the selection's robustness data
 PROCEDURAL_VALIDATION = HERE / "suites" / "v2_validation_procedural_grid.json"
@@ -337,8 +343,17 @@ NOISE_REFERENCE_NMS, NOISE_CAUTION_EXPONENT, NOISE_CREEP_EXPONENT = 0.4, 0.2, 0.
 # ... and every torque reading calibrated by the first window's torque balance where its lag is at most 65 deg
 # (rules 70-71, session 46)
 TORQUE_BALANCE, TORQUE_BALANCE_MAX_LAG_DEG = True, 65.0
+# the recipe fits every network on the readings that climb reads, calibrated alike (--torque-balance-lag; rule 74,
+# session 48)
+RECIPE_BALANCE_LAG_DEG = TORQUE_BALANCE_MAX_LAG_DEG if TORQUE_BALANCE else None
+# the slow probe stays slow once it has crept (rule 74, session 48): the rule confirmed the networks fitted on the
+# wide torque gain with the climb shipped then, whose probe is sticky; the selection, which plays the filter alone
+# without the parts below, ranks the probe that is not sticky first for them (pooled P90 25.1 % against 27.0 %, but
+# 14 against 6 runaways on the procedural grid: docs/interrogator.md, rule 74)
+CREEP_STICKY = True
 # the climb's parts the recipe sets after its selection (the adopted rules' constants above), by ClimbParameters field
-ADOPTED_CLIMB = {"crest_floor": CREST_FLOOR, "runaway_estimate": RUNAWAY_ESTIMATE, "crest_ceiling": CREST_CEILING,
+ADOPTED_CLIMB = {"creep_sticky": CREEP_STICKY, "crest_floor": CREST_FLOOR, "runaway_estimate": RUNAWAY_ESTIMATE,
+                 "crest_ceiling": CREST_CEILING,
                  "ceiling_stop": CEILING_STOP, "ceiling_fall_z": CEILING_FALL_Z,
                  "ceiling_near_headroom": CEILING_NEAR_HEADROOM, "noise_reference_nms": NOISE_REFERENCE_NMS,
                  "noise_caution_exponent": NOISE_CAUTION_EXPONENT, "noise_creep_exponent": NOISE_CREEP_EXPONENT,
@@ -379,6 +394,11 @@ NOTHING_HELD_APART = "no climb held apart (fewer than 10 climbs)"  # a held-apar
 
 
 TRAINING_RECORD = "training.json"  # what a directory's networks were fitted on (training_record)
+
+
+def lag_or_none(text: str) -> float | None:
+    """An argparse type for ``--torque-balance-lag``: a window lag bound in (0, 90] deg, or ``none``."""
+    return None if text == "none" else float_in_range(0.0, 90.0)(text)
 
 
 def file_digest(path: Path) -> str:
@@ -550,6 +570,20 @@ def report_only(parser: argparse.ArgumentParser, args: argparse.Namespace) -> No
     print("\n".join(text))
 
 
+MODEL_CARD = "README.md"  # the shipped package's card: written by hand, kept by a ship
+
+
+def ship(ensemble_dir: Path, package: Path = SHIPPED_INTERROGATOR) -> None:
+    """``ensemble_dir`` (networks, guards, manifest) becomes the shipped package; its model card stays, and no
+    interval is left (estimate_interval.py --write calibrates the new networks')."""
+    card = (package / MODEL_CARD).read_text() if (package / MODEL_CARD).is_file() else None
+    if package.exists():
+        shutil.rmtree(package)
+    shutil.copytree(ensemble_dir, package, ignore=lambda folder, names: [n for n in names if n == INTERVAL_FILE])
+    if card is not None:
+        (package / MODEL_CARD).write_text(card)
+
+
 def main() -> None:
     ap = Parser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=Path("runs/interrogator"))
@@ -589,10 +623,11 @@ def main() -> None:
     ap.add_argument("--guards", type=Path, nargs="+", default=[], metavar="DIR",
                     help="networks (DIR/member_*.npz, e.g. another run's ensemble) that steer the climb beside the "
                          "filter as its guards: copied into every run directory, named in the manifest")
-    ap.add_argument("--torque-balance-lag", type=float_in_range(0.0, 90.0), default=None, metavar="DEG",
+    ap.add_argument("--torque-balance-lag", type=lag_or_none, default=RECIPE_BALANCE_LAG_DEG, metavar="DEG",
                     help="fit every network on readings calibrated as a climb with torque_balance and "
                          "torque_balance_max_lag_deg=DEG reads them (Dataset.calibrated; caches recorded without the "
-                         "balance are collected again, added climbs must hold it); default: the readings as read")
+                         "balance are collected again, added climbs must hold it); 'none': the readings as read "
+                         "(default: %(default)s, the shipped climb's bound)")
     ap.add_argument("--report-only", action="store_true",
                     help="step 4 alone, on the shipped agent as it is (its networks, guards and climb; OUT/seed_K: "
                          "member K alone): no climbs, no fit, no selection")
@@ -711,9 +746,7 @@ def main() -> None:
     (out / "report.json").write_text(json.dumps({"fit": fit_report, "selection": table, "report": report}, indent=1))
     print("\n".join(text))
     if args.ship:
-        if SHIPPED_INTERROGATOR.exists():
-            shutil.rmtree(SHIPPED_INTERROGATOR)
-        shutil.copytree(ensemble_dir, SHIPPED_INTERROGATOR)
+        ship(ensemble_dir)
         print(f"shipped {ensemble_dir} -> {SHIPPED_INTERROGATOR}; calibrate its interval with "
               "python experiments/estimate_interval.py --write")
 

@@ -46,6 +46,7 @@ CASES = [
     ("train_interrogator", ["--epochs", "0", "--report-only", "--out", "{new}"], "--epochs"),
     ("train_interrogator", ["--workers", "0", "--out", "{new}"], "--workers"),
     ("train_interrogator", ["--torque-balance-lag", "95", "--out", "{new}"], "--torque-balance-lag"),
+    ("train_interrogator", ["--torque-balance-lag", "nan", "--out", "{new}"], "--torque-balance-lag"),
     ("train_interrogator", ["--out", "{file}"], "--out"),
     ("train_interrogator", ["--report-only", "--out", "{file}"], "--out"),
     ("learning_curve", ["--run", "{file}", "--out", "{new}/t.md"], "--run"),

@@ -114,7 +114,8 @@ def test_added_climbs_join_the_training_climbs_of_the_networks_named(tmp_path: P
     run = tmp_path / "run"
     monkeypatch.setattr(sys, "argv", ["train_interrogator.py", "--out", str(run), "--climbs", "env=4", "--guard-climbs",
                                       "env=4", "--add-climbs", str(added_file), "--add-guard-climbs", str(guard_file),
-                                      "--seeds", "0", "--epochs", "1", "--workers", "1", "--fit-only"])
+                                      "--seeds", "0", "--epochs", "1", "--workers", "1", "--fit-only",
+                                      "--torque-balance-lag", "none"])
     train_interrogator.main()
     collected = Dataset.load(run / "climbs.npz")
     for networks, added in ((run, added_file), (run / "guard", guard_file)):
@@ -230,6 +231,49 @@ def test_the_shipped_climb_carries_the_recipes_fixed_parts() -> None:
     defaults = asdict(ClimbParameters())
     selected = set(recipe.grid_columns(recipe.GRIDS["recipe"])) | set(recipe.ESTIMATES[0])
     assert {name for name, value in climb.items() if value != defaults[name]} <= set(fixed) | selected
+
+
+def test_the_shipped_networks_were_fitted_as_the_recipe_fits_them() -> None:
+    """The shipped manifest's training record is the recipe's defaults: its collections for the filter and the
+    guards and the torque balance's lag bound the readings were calibrated with (the shipped climb's own): a recipe
+    changed in one place and not the other fails here."""
+    import train_interrogator as recipe
+    from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR
+
+    training = json.loads((SHIPPED_INTERROGATOR / "manifest.json").read_text())["training"]
+    assert training["climbs"] == recipe.EPISODES and training["guard_climbs"] == recipe.GUARD_EPISODES
+    assert training.get("torque_balance_max_lag_deg") == recipe.RECIPE_BALANCE_LAG_DEG
+    climb = json.loads((SHIPPED_INTERROGATOR / "manifest.json").read_text())["climb"]
+    assert climb["torque_balance_max_lag_deg"] == recipe.RECIPE_BALANCE_LAG_DEG
+
+
+def test_a_ship_keeps_the_model_card_and_leaves_no_stale_file(tmp_path: Path) -> None:
+    """``--ship`` replaces the package by the run's ensemble (members, guards, manifest), keeps the package's
+    hand-written card and leaves neither the old networks nor an interval calibrated for them."""
+    from train_interrogator import MODEL_CARD, ship
+
+    from cof_gym.agents.interrogator import INTERVAL_FILE
+
+    package, run = tmp_path / "package", tmp_path / "ensemble"
+    (package / "guard_0").mkdir(parents=True)
+    for name, text in ((MODEL_CARD, "the card"), (INTERVAL_FILE, "{}"), ("member_5.npz", "old"),
+                       ("guard_0/member_0.npz", "old guard")):
+        (package / name).write_text(text)
+    (run / "guard_1").mkdir(parents=True)
+    for name in ("member_0.npz", "manifest.json", "guard_1/member_0.npz", INTERVAL_FILE):
+        (run / name).write_text(f"new {name}")
+    ship(run, package)
+    files = sorted(str(p.relative_to(package)) for p in package.rglob("*") if p.is_file())
+    assert files == sorted([MODEL_CARD, "guard_1/member_0.npz", "manifest.json", "member_0.npz"])
+    assert (package / MODEL_CARD).read_text() == "the card"
+    assert (package / "member_0.npz").read_text() == "new member_0.npz"
+
+
+@pytest.mark.parametrize("text, value", [("none", None), ("65", 65.0), ("90", 90.0)])
+def test_the_balance_lag_reads_a_bound_or_none(text: str, value: float | None) -> None:
+    from train_interrogator import lag_or_none
+
+    assert lag_or_none(text) == value
 
 
 def test_the_report_only_runs_are_the_shipped_agent_member_by_member(tmp_path: Path) -> None:
