@@ -19,7 +19,9 @@ generated, never typed:
     cof-gym evaluate --suite experiments/suites/v2_heldoutK_grid.json --env-kwargs max_windows:60 \
         --agents oracle,phase-rule,robust-model,interrogator    # each v2 held-out grid (K: "", 2 ... 7) with more steps
     python experiments/ppo_seeds.py --runs runs/ppo_lo_s0 runs/ppo_lo_s1 runs/ppo_lo_s2 --out out/ppo_seeds
-    python experiments/train_interrogator.py --out runs/interrogator --ship
+    python experiments/train_interrogator.py --out runs/interrogator_wide_balance --climbs torque_wide=8000 \
+        --guard-climbs torque_wide=8000 procedural_torque_wide=8000 --torque-balance-lag 65 --reuse \
+        --add-guard-climbs runs/estimator_wide_balance/onpolicy_env_8e113d0ddec5.npz --probing-guard --ship   # rule 74
     python experiments/train_interrogator.py --out runs/interrogator_shipped --report-only   # the shipped agent per seed
     python experiments/crest_tradeoff.py --out out/crest_tradeoff.md
     python experiments/crest_tradeoff.py --run runs/interrogator_cm/ensemble --cautions 2 2.5 3 --targets 0.1 0.15 \
@@ -651,7 +653,7 @@ SOURCES = {
     "bench": ROOT / "out" / "bench.md",
     "heldout": ROOT / "out" / "evaluate-heldout" / "summary.md",
     "ppo_seeds": ROOT / "out" / "ppo_seeds" / "report.md",
-    "interrogator_seeds": ROOT / "runs" / "interrogator" / "report.md",
+    "interrogator_seeds": ROOT / "runs" / "interrogator_wide_balance" / "report.md",  # the recipe's run (rule 74)
     "interrogator_seeds_shipped": ROOT / "runs" / "interrogator_shipped" / "report.md",
     # experiments/crest_tradeoff.py, learning_curve.py and lag_near_peak.py: out/NAME.md for the block NAME
     **{name: ROOT / "out" / f"{name}.md" for name in (
