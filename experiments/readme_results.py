@@ -617,6 +617,13 @@ generated, never typed:
         out/records_rule73W_confirmation24.json --out out/paired_rule73_confirmation24.md   # and torque_confirmation5
         # rule 74: the same two commands (_shipped_rule74_, _rule74W_, paired_rule74) with --grids confirmation25 and
         # torque_confirmation6
+    mkdir -p runs/interrogator_until_session48 && git archive a6923b1 cof_gym/agents/policies/interrogator \
+        | tar -x --strip-components=4 -C runs/interrogator_until_session48   # the networks shipped until session 48
+    python experiments/crest_tradeoff.py --run runs/interrogator_until_session48 --guards \
+        runs/interrogator_until_session48/guard_0 runs/interrogator_until_session48/guard_1 --guards-only --targets 0.1 \
+        --stops --return-digits 4 --scenario noise_level=3 --records out/records_prev_noise_level_session48.json \
+        --out out/crest_tradeoff_prev_noise_level_session48.md   # and the shipped agent (--guards $G, _shipped_), each
+        # also with --scenario motor_lag_s=0.1 (_motor_lag_s_); paired_comparison.py prev -> shipped (paired_TAG_session48)
     python experiments/torque_balance.py   # session 46: the first window's balance on the selection data; and
     python experiments/torque_balance.py --suites experiments/suites/v2_heldout_grid.json \
         experiments/suites/v2_heldout{2,3,4,5,6,7}_grid.json --out out/torque_balance_heldout.md
@@ -899,6 +906,8 @@ SOURCES = {
           for name in ("crest_tradeoff_shipped_rule73", "crest_tradeoff_rule73W", "paired_rule73")),
         *(f"{name}_{grids}" for grids in ("confirmation25", "torque_confirmation6")
           for name in ("crest_tradeoff_shipped_rule74", "crest_tradeoff_rule74W", "paired_rule74")),
+        *(f"{name}_{tag}_session48" for tag in ("noise_level", "motor_lag_s")
+          for name in ("crest_tradeoff_prev", "crest_tradeoff_shipped", "paired")),
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
