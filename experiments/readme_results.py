@@ -624,6 +624,12 @@ generated, never typed:
         --stops --return-digits 4 --scenario noise_level=3 --records out/records_prev_noise_level_session48.json \
         --out out/crest_tradeoff_prev_noise_level_session48.md   # and the shipped agent (--guards $G, _shipped_), each
         # also with --scenario motor_lag_s=0.1 (_motor_lag_s_); paired_comparison.py prev -> shipped (paired_TAG_session48)
+    python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
+        --grids validation --records out/records_shipped_validation_session48.json \
+        --out out/crest_tradeoff_shipped_validation_session48.md   # rule 75's reference rows; and validation_torque;
+        # V: --guards runs/interrogator_until_session48/guard_0 runs/interrogator_until_session48/guard_1 $G
+        # (_rule75V_validation, _validation_torque, and _noise_level with --scenario noise_level=3), each paired
+        # against the shipped agent's records of the same grids by paired_comparison.py (paired_rule75V_*)
     python experiments/torque_balance.py   # session 46: the first window's balance on the selection data; and
     python experiments/torque_balance.py --suites experiments/suites/v2_heldout_grid.json \
         experiments/suites/v2_heldout{2,3,4,5,6,7}_grid.json --out out/torque_balance_heldout.md
@@ -908,6 +914,9 @@ SOURCES = {
           for name in ("crest_tradeoff_shipped_rule74", "crest_tradeoff_rule74W", "paired_rule74")),
         *(f"{name}_{tag}_session48" for tag in ("noise_level", "motor_lag_s")
           for name in ("crest_tradeoff_prev", "crest_tradeoff_shipped", "paired")),
+        *(f"crest_tradeoff_shipped_{grids}_session48" for grids in ("validation", "validation_torque")),
+        *(f"{kind}_rule75V_{grids}" for grids in ("validation", "validation_torque", "noise_level")
+          for kind in ("crest_tradeoff", "paired")),
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about
