@@ -25,8 +25,8 @@ after it) and ships.
    (cof_gym/agents/interrogator/training.py): probing climbs steered by their own readings, never by
    the truth, from the collections of COLLECTIONS (``--climbs NAME=N``; the recipe: ``torque_wide=8000``,
    the env's draws with the torque gain anywhere within +-15 %, since session 48, rule 74; ``env=8000``
-   before): on the env's creep-law draws (seeds from 1 000 000 on), on procedural creep curves, tables beyond every
-   family (from 1 100 000 on), on the env's draws with 8-20 Hz modulations (from 1 200 000 on) and with
+   before): on the env's creep-law draws (seeds from 1 000 000 on), on procedural creep curves, tables
+   beyond every family (from 1 100 000 on), on the env's draws with 8-20 Hz modulations (from 1 200 000 on) and with
    modulation ratios of 10-80 % instead of 3-40 % (from 1 300 000 on), with the deployed probe only
    (from 1 400 000 on), with the climb's jump to the lowest CoF the task admits (from 1 500 000 on;
    lost on validation in session 9), on procedural curves with steep falling branches (from
@@ -37,9 +37,10 @@ after it) and ships.
 2. **Seeds**: one filter network per seed (bootstrap resample of the training episodes, its own
    initialisation), OUT/seed_K/; the ensemble of all seeds in OUT/ensemble/. **The guard**
    (``--guard-climbs``; the recipe, session 16: ``env=8000 procedural=8000``; since session 48
-   ``torque_wide=8000 procedural_torque_wide=8000``): networks fitted alike (same seeds and fit) on the family climbs and the procedural ones together, OUT/guard/seed_K/ and
-   OUT/guard/ensemble/; it steers the chosen climb beside the filter and may only slow it (the climb
-   follows the lowest cautious headroom of all). Adopted by a rule written before the confirmation grids
+   ``torque_wide=8000 procedural_torque_wide=8000``): networks fitted alike (same seeds and fit) on the
+   family climbs and the procedural ones together, OUT/guard/seed_K/ and OUT/guard/ensemble/; it steers
+   the chosen climb beside the filter and may only slow it (the climb follows the lowest cautious headroom
+   of all). Adopted by a rule written before the confirmation grids
    were played (docs/interrogator.md, session 16); since session 30 (rule 42) it also learns the climbs of
    the agent the first two steps ship (``--add-guard-climbs``, above), and since session 31 (rule 45) the
    first step's guard steers beside it (``--probing-guard``). With a guard, a chosen filter estimate becomes
@@ -353,8 +354,7 @@ RECIPE_BALANCE_LAG_DEG = TORQUE_BALANCE_MAX_LAG_DEG if TORQUE_BALANCE else None
 CREEP_STICKY = True
 # the climb's parts the recipe sets after its selection (the adopted rules' constants above), by ClimbParameters field
 ADOPTED_CLIMB = {"creep_sticky": CREEP_STICKY, "crest_floor": CREST_FLOOR, "runaway_estimate": RUNAWAY_ESTIMATE,
-                 "crest_ceiling": CREST_CEILING,
-                 "ceiling_stop": CEILING_STOP, "ceiling_fall_z": CEILING_FALL_Z,
+                 "crest_ceiling": CREST_CEILING, "ceiling_stop": CEILING_STOP, "ceiling_fall_z": CEILING_FALL_Z,
                  "ceiling_near_headroom": CEILING_NEAR_HEADROOM, "noise_reference_nms": NOISE_REFERENCE_NMS,
                  "noise_caution_exponent": NOISE_CAUTION_EXPONENT, "noise_creep_exponent": NOISE_CREEP_EXPONENT,
                  "torque_balance": TORQUE_BALANCE, "torque_balance_max_lag_deg": TORQUE_BALANCE_MAX_LAG_DEG}
@@ -398,7 +398,12 @@ TRAINING_RECORD = "training.json"  # what a directory's networks were fitted on 
 
 def lag_or_none(text: str) -> float | None:
     """An argparse type for ``--torque-balance-lag``: a window lag bound in (0, 90] deg, or ``none``."""
-    return None if text == "none" else float_in_range(0.0, 90.0)(text)
+    if text == "none":
+        return None
+    try:
+        return float_in_range(0.0, 90.0)(text)
+    except argparse.ArgumentTypeError:
+        raise argparse.ArgumentTypeError(f"must be 'none' or a finite number in (0, 90], got {text!r}") from None
 
 
 def file_digest(path: Path) -> str:
