@@ -630,6 +630,10 @@ generated, never typed:
         # V: --guards runs/interrogator_until_session48/guard_0 runs/interrogator_until_session48/guard_1 $G
         # (_rule75V_validation, _validation_torque, and _noise_level with --scenario noise_level=3), each paired
         # against the shipped agent's records of the same grids by paired_comparison.py (paired_rule75V_*)
+    python experiments/crest_tradeoff.py --guards $G --guards-only --set 'estimate_from="pooled"' \
+        'estimate_from="filter"' --targets 0.1 --stops --return-digits 4 --grids validation \
+        --records out/records_rule76_validation.json --out out/crest_tradeoff_rule76_validation.md   # rule 76; and
+        # validation_torque, each paired against out/records_shipped_GRIDS_session48.json (paired_rule76_*)
     python experiments/torque_balance.py   # session 46: the first window's balance on the selection data; and
     python experiments/torque_balance.py --suites experiments/suites/v2_heldout_grid.json \
         experiments/suites/v2_heldout{2,3,4,5,6,7}_grid.json --out out/torque_balance_heldout.md
@@ -917,6 +921,7 @@ SOURCES = {
         *(f"crest_tradeoff_shipped_{grids}_session48" for grids in ("validation", "validation_torque")),
         *(f"{kind}_rule75V_{grids}" for grids in ("validation", "validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
+        *(f"{kind}_rule76_{grids}" for grids in ("validation", "validation_torque") for kind in ("crest_tradeoff", "paired")),
     )},
 }
 LEARNED = "interrogator"  # the learned agent the targets are about
