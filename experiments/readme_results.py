@@ -634,6 +634,10 @@ generated, never typed:
         'estimate_from="filter"' --targets 0.1 --stops --return-digits 4 --grids validation \
         --records out/records_rule76_validation.json --out out/crest_tradeoff_rule76_validation.md   # rule 76; and
         # validation_torque, each paired against out/records_shipped_GRIDS_session48.json (paired_rule76_*)
+    python experiments/crest_tradeoff.py --guards $G --guards-only --set noise_caution_exponent=0.4 --targets 0.1 \
+        --stops --return-digits 4 --grids validation --records out/records_rule77N_validation.json \
+        --out out/crest_tradeoff_rule77N_validation.md   # rule 77's N; and validation_torque, and --scenario
+        # noise_level=3 (_noise_level); Z: --set ceiling_fall_z=3 (_rule77Z_); each paired as rule 75's (paired_rule77*)
     python experiments/torque_balance.py   # session 46: the first window's balance on the selection data; and
     python experiments/torque_balance.py --suites experiments/suites/v2_heldout_grid.json \
         experiments/suites/v2_heldout{2,3,4,5,6,7}_grid.json --out out/torque_balance_heldout.md
@@ -922,6 +926,8 @@ SOURCES = {
         *(f"{kind}_rule75V_{grids}" for grids in ("validation", "validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
         *(f"{kind}_rule76_{grids}" for grids in ("validation", "validation_torque") for kind in ("crest_tradeoff", "paired")),
+        *(f"{kind}_rule77{c}_{grids}" for c in "NZ" for grids in ("validation", "validation_torque", "noise_level")
+          for kind in ("crest_tradeoff", "paired")),
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about
