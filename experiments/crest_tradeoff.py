@@ -40,9 +40,9 @@ each episode's torque gain error spread over what the env accepts
 (``experiments/suites/v2_validation_torque*grid.json``, model selection too; ``--grids torque_confirmation``,
 ``torque_confirmationN``: the confirmation sets of that kind, one for each of make_grids.TORQUE_CONFIRMATION_SETS).
 With ``--crest-fractions`` each row also with each of these crest caps (``ClimbParameters.crest_fraction``: the
-modulation shrinks so that its crest stays within that fraction of the cautious headroom; ``none``: uncapped; ``--crest-once-crept``: each cap from the
-climb's first slow probe on). With ``--set NAME=VALUE ...`` the shipped climb with those parameters (a
-name given several values: each in turn). Per grid: median / P90 relative CoF error,
+modulation shrinks so that its crest stays within that fraction of the cautious headroom; ``none``: uncapped;
+``--crest-once-crept``: each cap from the climb's first slow probe on). With ``--set NAME=VALUE ...`` the shipped
+climb with those parameters (a name given several values: each in turn). Per grid: median / P90 relative CoF error,
 macro-slips, and the mean episode return (the task's own trade of error against slip, comfort and time).
 With ``--records FILE`` every episode also goes to a JSON file, with the error each estimate source the
 agent computes would have had (the climb does not depend on it), so that a question about the estimate is
@@ -349,9 +349,9 @@ def main() -> None:
     parser.add_argument("--grids", choices=sorted(GRID_SETS), default="validation",
                         help="the three grids played: validation (model selection), validation_torque (the same kinds "
                              "with each episode's torque gain error spread over +-15 %%; torque_confirmation, "
-                             "torque_confirmationN: its confirmation sets) or a confirmation set (other episodes of the "
-                             "same kinds, to confirm a choice taken on the first; confirmationN: the N-th set, experiments/make_grids.py's "
-                             "docstring says when each was written)")
+                             "torque_confirmationN: its confirmation sets) or a confirmation set (other episodes of "
+                             "the same kinds, to confirm a choice taken on the first; confirmationN: the N-th set, "
+                             "experiments/make_grids.py's docstring says when each was written)")
     parser.add_argument("--return-digits", type=int, default=2, choices=range(1, 7), metavar="{1..6}",
                         help="decimals of the mean returns (default: 2); more where two rows round alike")
     parser.add_argument("--records", type=Path, default=None, metavar="FILE",

@@ -512,6 +512,10 @@ def report_runs(runs: list[Path], workers: int) -> dict:
     return report
 
 
+# a copy of a policy directory without its calibrated interval, which belongs to the shipped networks alone
+WITHOUT_INTERVAL = shutil.ignore_patterns(INTERVAL_FILE)
+
+
 def shipped_runs(out: Path, package: Path = SHIPPED_INTERROGATOR) -> list[Path]:
     """The shipped agent laid out as the recipe's runs (step 4's input): OUT/seed_K holds the package's
     ``member_J.npz`` of the manifest's J-th training seed K alone, OUT/ensemble every member; each has the
@@ -525,7 +529,7 @@ def shipped_runs(out: Path, package: Path = SHIPPED_INTERROGATOR) -> list[Path]:
         if run.exists():
             shutil.rmtree(run)
     # the calibrated interval belongs to the shipped networks alone: estimate_interval.py --write after a --ship
-    shutil.copytree(package, runs[-1], ignore=lambda folder, names: [n for n in names if n == INTERVAL_FILE])
+    shutil.copytree(package, runs[-1], ignore=WITHOUT_INTERVAL)
     for k, run in enumerate(runs[:-1]):
         shutil.copytree(package, run, ignore=lambda folder, names: [n for n in names if Path(folder) == package
                                                                      and (n.startswith("member_") or n == INTERVAL_FILE)])
@@ -584,7 +588,7 @@ def ship(ensemble_dir: Path, package: Path = SHIPPED_INTERROGATOR) -> None:
     card = (package / MODEL_CARD).read_text() if (package / MODEL_CARD).is_file() else None
     if package.exists():
         shutil.rmtree(package)
-    shutil.copytree(ensemble_dir, package, ignore=lambda folder, names: [n for n in names if n == INTERVAL_FILE])
+    shutil.copytree(ensemble_dir, package, ignore=WITHOUT_INTERVAL)
     if card is not None:
         (package / MODEL_CARD).write_text(card)
 
@@ -653,10 +657,11 @@ def main() -> None:
         ap.error("--probing-guard: needs --add-guard-climbs (without them OUT/guard/ is the probing guard)")
     added_to_guard = load_added_climbs(ap, args.add_guard_climbs, "--add-guard-climbs")
     balance = args.torque_balance_lag is not None
-    for option, files, data in (("--add-climbs", args.add_climbs, added), ("--add-guard-climbs", args.add_guard_climbs,
-                                                                           added_to_guard)):
+    added_files = (("--add-climbs", args.add_climbs, added),
+                   ("--add-guard-climbs", args.add_guard_climbs, added_to_guard))
+    for option, files, data in added_files if balance else ():
         for file, climbs_read in zip(files, data):
-            if balance and not climbs_read.reads_torque_balance:
+            if not climbs_read.reads_torque_balance:
                 ap.error(f"{option}: {file} was recorded without the torque balance; --torque-balance-lag needs it")
     out = args.out
     out.mkdir(parents=True, exist_ok=True)

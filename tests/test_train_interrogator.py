@@ -240,11 +240,11 @@ def test_the_shipped_networks_were_fitted_as_the_recipe_fits_them() -> None:
     import train_interrogator as recipe
     from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR
 
-    training = json.loads((SHIPPED_INTERROGATOR / "manifest.json").read_text())["training"]
+    manifest = json.loads((SHIPPED_INTERROGATOR / "manifest.json").read_text())
+    training = manifest["training"]
     assert training["climbs"] == recipe.EPISODES and training["guard_climbs"] == recipe.GUARD_EPISODES
     assert training.get("torque_balance_max_lag_deg") == recipe.RECIPE_BALANCE_LAG_DEG
-    climb = json.loads((SHIPPED_INTERROGATOR / "manifest.json").read_text())["climb"]
-    assert climb["torque_balance_max_lag_deg"] == recipe.RECIPE_BALANCE_LAG_DEG
+    assert manifest["climb"]["torque_balance_max_lag_deg"] == recipe.RECIPE_BALANCE_LAG_DEG
 
 
 def test_a_ship_keeps_the_model_card_and_leaves_no_stale_file(tmp_path: Path) -> None:
