@@ -177,6 +177,14 @@ COLLECTIONS = {
                     ClimbDraws(sensor_errors=(("torque_gain_error", -0.15, 0.15),))),
     "procedural_torque_wide": ("climbs_procedural_torque_wide.npz", TRAINING_SEED + 1_800_000,
                                ClimbDraws(shapes="procedural", sensor_errors=(("torque_gain_error", -0.15, 0.15),))),
+    # both departures at once: the torque gain at +-15 % with the noise at 0-3 times the full scale and the lag at
+    # 0-0.1 s (session 49, rule 78): the climbs of a train whose sensors are worse than the draws in more than one way
+    "noisy_torque_wide": ("climbs_noisy_torque_wide.npz", TRAINING_SEED + 1_900_000,
+                          ClimbDraws(noise_levels=(0.0, 3.0), motor_lags_s=(0.0, 0.1),
+                                     sensor_errors=(("torque_gain_error", -0.15, 0.15),))),
+    "procedural_noisy_torque_wide": ("climbs_procedural_noisy_torque_wide.npz", TRAINING_SEED + 2_000_000,
+                                     ClimbDraws(shapes="procedural", noise_levels=(0.0, 3.0), motor_lags_s=(0.0, 0.1),
+                                                sensor_errors=(("torque_gain_error", -0.15, 0.15),))),
 }
 # the shipped recipe (procedural and high_frequency lost on validation: README): since session 48 (rule 74) the env's
 # draws with the torque gain anywhere within +-15 %, read calibrated by the torque balance (RECIPE_BALANCE_LAG_DEG)
