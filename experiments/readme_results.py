@@ -638,6 +638,18 @@ generated, never typed:
         --stops --return-digits 4 --grids validation --records out/records_rule77N_validation.json \
         --out out/crest_tradeoff_rule77N_validation.md   # rule 77's N; and validation_torque, and --scenario
         # noise_level=3 (_noise_level); Z: --set ceiling_fall_z=3 (_rule77Z_); each paired as rule 75's (paired_rule77*)
+    mkdir -p runs/interrogator_noisy_wide && cp runs/interrogator_wide_balance/climbs*torque_wide.npz \
+        runs/interrogator_noisy_wide/   # rule 78's M: W's three recipe steps (rule 73) with these collections
+    python experiments/train_interrogator.py --out runs/interrogator_noisy_wide --climbs torque_wide=4000 \
+        noisy_torque_wide=4000 --guard-climbs torque_wide=4000 noisy_torque_wide=4000 procedural_torque_wide=4000 \
+        procedural_noisy_torque_wide=4000 --torque-balance-lag 65 --fit-only   # then assemble_policy.py,
+        # train_estimator.py --collect-only (runs/estimator_noisy_wide) and the --reuse --probing-guard fit as rule 73's
+    python experiments/crest_tradeoff.py --run runs/interrogator_noisy_wide/ensemble --guards \
+        runs/interrogator_noisy_wide/guard/ensemble runs/interrogator_noisy_wide/probing_guard/ensemble --guards-only \
+        --targets 0.1 --stops --return-digits 4 --grids validation --records out/records_rule78M_validation.json \
+        --out out/crest_tradeoff_rule78M_validation.md   # and validation_torque, and --scenario noise_level=3
+        # (_noise_level) and motor_lag_s=0.1 (_motor_lag_s), each paired against the shipped agent's session-48
+        # records of the same plays by paired_comparison.py (paired_rule78M_*)
     python experiments/torque_balance.py   # session 46: the first window's balance on the selection data; and
     python experiments/torque_balance.py --suites experiments/suites/v2_heldout_grid.json \
         experiments/suites/v2_heldout{2,3,4,5,6,7}_grid.json --out out/torque_balance_heldout.md
@@ -927,6 +939,8 @@ SOURCES = {
           for kind in ("crest_tradeoff", "paired")),
         *(f"{kind}_rule76_{grids}" for grids in ("validation", "validation_torque") for kind in ("crest_tradeoff", "paired")),
         *(f"{kind}_rule77{c}_{grids}" for c in "NZ" for grids in ("validation", "validation_torque", "noise_level")
+          for kind in ("crest_tradeoff", "paired")),
+        *(f"{kind}_rule78M_{grids}" for grids in ("validation", "validation_torque", "noise_level", "motor_lag_s")
           for kind in ("crest_tradeoff", "paired")),
     )},
 }
