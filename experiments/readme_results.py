@@ -650,6 +650,9 @@ generated, never typed:
         --out out/crest_tradeoff_rule78M_validation.md   # and validation_torque, and --scenario noise_level=3
         # (_noise_level) and motor_lag_s=0.1 (_motor_lag_s), each paired against the shipped agent's session-48
         # records of the same plays by paired_comparison.py (paired_rule78M_*)
+        # rule 79's P: the same in runs/interrogator_noisy_plus with --climbs torque_wide=8000 noisy_torque_wide=4000
+        # and --guard-climbs torque_wide=8000 noisy_torque_wide=4000 procedural_torque_wide=8000
+        # procedural_noisy_torque_wide=4000 (runs/estimator_noisy_plus), played and paired alike (_rule79P_)
     python experiments/torque_balance.py   # session 46: the first window's balance on the selection data; and
     python experiments/torque_balance.py --suites experiments/suites/v2_heldout_grid.json \
         experiments/suites/v2_heldout{2,3,4,5,6,7}_grid.json --out out/torque_balance_heldout.md
@@ -940,7 +943,8 @@ SOURCES = {
         *(f"{kind}_rule76_{grids}" for grids in ("validation", "validation_torque") for kind in ("crest_tradeoff", "paired")),
         *(f"{kind}_rule77{c}_{grids}" for c in "NZ" for grids in ("validation", "validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
-        *(f"{kind}_rule78M_{grids}" for grids in ("validation", "validation_torque", "noise_level", "motor_lag_s")
+        *(f"{kind}_rule{c}_{grids}" for c in ("78M", "79P")
+          for grids in ("validation", "validation_torque", "noise_level", "motor_lag_s")
           for kind in ("crest_tradeoff", "paired")),
     )},
 }
