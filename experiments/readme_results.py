@@ -653,6 +653,12 @@ generated, never typed:
         # rule 79's P: the same in runs/interrogator_noisy_plus with --climbs torque_wide=8000 noisy_torque_wide=4000
         # and --guard-climbs torque_wide=8000 noisy_torque_wide=4000 procedural_torque_wide=8000
         # procedural_noisy_torque_wide=4000 (runs/estimator_noisy_plus), played and paired alike (_rule79P_)
+    python experiments/crest_tradeoff.py --run runs/interrogator_noisy_plus/ensemble --guards $G --guards-only \
+        --targets 0.1 --stops --return-digits 4 --grids validation_torque \
+        --records out/records_swap79PF_validation_torque.json --out out/crest_tradeoff_swap79PF_validation_torque.md
+        # information only: P's filter with the shipped guards (PF); the shipped filter with P's guards (PG: no --run,
+        # --guards runs/interrogator_noisy_plus/guard/ensemble runs/interrogator_noisy_plus/probing_guard/ensemble);
+        # each also with --scenario noise_level=3 (_noise_level), paired as rule 79's (paired_swap79*)
     python experiments/torque_balance.py   # session 46: the first window's balance on the selection data; and
     python experiments/torque_balance.py --suites experiments/suites/v2_heldout_grid.json \
         experiments/suites/v2_heldout{2,3,4,5,6,7}_grid.json --out out/torque_balance_heldout.md
@@ -945,6 +951,8 @@ SOURCES = {
           for kind in ("crest_tradeoff", "paired")),
         *(f"{kind}_rule{c}_{grids}" for c in ("78M", "79P")
           for grids in ("validation", "validation_torque", "noise_level", "motor_lag_s")
+          for kind in ("crest_tradeoff", "paired")),
+        *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
     )},
 }
