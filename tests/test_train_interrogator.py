@@ -305,3 +305,17 @@ def test_report_only_refuses_what_fits_selects_or_ships(tmp_path: Path, options:
     code, last = experiment_exit("train_interrogator", ["--out", str(tmp_path / "run"), "--report-only", *options])
     assert code == 2 and last.startswith("train_interrogator.py: error: --report-only: plays the shipped agent")
     assert not (tmp_path / "run").exists()
+
+
+def test_training_collections_draw_disjoint_seeds() -> None:
+    """Every training collection (and every on-policy one of train_estimator.py) starts 100 000 seeds or more from
+    every other, so that no two of them, of up to 100 000 climbs each, share an episode's draw; and each lies at or
+    above TRAINING_SEED, far from every evaluation and validation seed."""
+    import train_estimator
+    import train_interrogator
+    from cof_gym.agents.interrogator.training import TRAINING_SEED
+
+    starts = sorted([first for _, first, _ in train_interrogator.COLLECTIONS.values()]
+                    + [first for first, _ in train_estimator.ON_POLICY.values()])
+    assert starts[0] >= TRAINING_SEED
+    assert all(b - a >= 100_000 for a, b in zip(starts, starts[1:])), starts
