@@ -659,6 +659,8 @@ generated, never typed:
         # information only: P's filter with the shipped guards (PF); the shipped filter with P's guards (PG: no --run,
         # --guards runs/interrogator_noisy_plus/guard/ensemble runs/interrogator_noisy_plus/probing_guard/ensemble);
         # each also with --scenario noise_level=3 (_noise_level), paired as rule 79's (paired_swap79*)
+        # rule 80's Q: rule 79's commands in runs/interrogator_noisy_guard with --climbs torque_wide=8000 (the guard's
+        # collections P's; runs/estimator_noisy_guard), played and paired alike (_rule80Q_)
     python experiments/torque_balance.py   # session 46: the first window's balance on the selection data; and
     python experiments/torque_balance.py --suites experiments/suites/v2_heldout_grid.json \
         experiments/suites/v2_heldout{2,3,4,5,6,7}_grid.json --out out/torque_balance_heldout.md
@@ -949,7 +951,7 @@ SOURCES = {
         *(f"{kind}_rule76_{grids}" for grids in ("validation", "validation_torque") for kind in ("crest_tradeoff", "paired")),
         *(f"{kind}_rule77{c}_{grids}" for c in "NZ" for grids in ("validation", "validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
-        *(f"{kind}_rule{c}_{grids}" for c in ("78M", "79P")
+        *(f"{kind}_rule{c}_{grids}" for c in ("78M", "79P", "80Q")
           for grids in ("validation", "validation_torque", "noise_level", "motor_lag_s")
           for kind in ("crest_tradeoff", "paired")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
