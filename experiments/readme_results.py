@@ -661,6 +661,10 @@ generated, never typed:
         # each also with --scenario noise_level=3 (_noise_level), paired as rule 79's (paired_swap79*)
         # rule 80's Q: rule 79's commands in runs/interrogator_noisy_guard with --climbs torque_wide=8000 (the guard's
         # collections P's; runs/estimator_noisy_guard), played and paired alike (_rule80Q_)
+    python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
+        out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
+        out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
+        --option torque_gain_error --edges 0.05 0.1 --absolute --out out/runaways_by_torque_gain_session49.md
     python experiments/torque_balance.py   # session 46: the first window's balance on the selection data; and
     python experiments/torque_balance.py --suites experiments/suites/v2_heldout_grid.json \
         experiments/suites/v2_heldout{2,3,4,5,6,7}_grid.json --out out/torque_balance_heldout.md
@@ -956,6 +960,7 @@ SOURCES = {
           for kind in ("crest_tradeoff", "paired")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
+        "runaways_by_torque_gain_session49",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about

@@ -95,6 +95,13 @@ CASES = [
     ("sensor_sensitivity", ["--agents", "oracle,nope"], "--agents"),
     ("sensor_sensitivity", ["--workers", "0"], "--workers"),
     ("sensor_sensitivity", ["--out", "{dir}"], "--out"),
+    ("runaways_by_option", ["{text}", "--option", "torque_gain_error", "--edges", "nan"], "--edges"),
+    ("runaways_by_option", ["{text}", "--option", "torque_gain_error", "--edges", "0.1", "0.05"], "--edges"),
+    ("runaways_by_option", ["{text}", "--grids", "validation_torque", "--option", "nope", "--edges", "0.1"], "--option"),
+    ("runaways_by_option", ["{text}", "--grids", "nope", "--option", "torque_gain_error", "--edges", "0.1"], "--grids"),
+    ("runaways_by_option", ["{text}", "--grids", "validation_torque", "--option", "torque_gain_error", "--edges", "0.1"],
+     "records"),
+    ("runaways_by_option", ["{text}", "--option", "torque_gain_error", "--edges", "0.1", "--out", "{dir}"], "--out"),
 ]
 
 
@@ -124,7 +131,7 @@ SCRIPTS = sorted(path.stem for path in EXPERIMENTS.glob("*.py")
 # what a script requires, so that the unknown option (not a missing argument) is the error; plain paths,
 # never read: the command line is refused before anything is opened
 REQUIRED = {"assemble_policy": ["--filter", "f", "--out", "o"], "feature_block_nll": ["--climbs", "climbs.npz"],
-            "paired_comparison": ["records.jsonl"],
+            "paired_comparison": ["records.jsonl"], "runaways_by_option": ["records.json", "--option", "x", "--edges", "0"],
             "ppo_seeds": ["--runs", "run"], "zoo_eval": ["model.zip"]}
 
 
@@ -161,3 +168,21 @@ def test_the_robust_model_selection_reads_its_grid_from_any_directory(tmp_path: 
 
     monkeypatch.chdir(tmp_path)
     assert len(select_robust_model.episodes(quick=True)) > 0
+
+
+def test_runaways_by_option_counts_each_setting_per_band_of_the_grid_files_values() -> None:
+    """Each episode falls in the band of its grid file's option value (its magnitude with ``absolute``), and a band
+    counts that setting's macro-slips among its episodes."""
+    import runaways_by_option as rbo
+    from crest_tradeoff import GRID_SETS
+
+    values = rbo.option_values(GRID_SETS["validation_torque"], "torque_gain_error")
+    gains = values["family"][:6]
+    records = [{"setting": s, "grid": "family", "config": {}, "episode": i, "macro_slip": s == "b" and i % 2 == 0}
+               for s in ("a", "b") for i in range(6)]
+    text = rbo.table(records, values, "torque_gain_error", [0.05], absolute=True)
+    low = [i for i, g in enumerate(gains) if abs(g) < 0.05]
+    row_b = [line for line in text.splitlines() if line.startswith("| b |")][0]
+    slips_low = sum(i % 2 == 0 for i in low)
+    assert f"| {slips_low} of {len(low)} | {3 - slips_low} of {6 - len(low)} | 3 of 6 |" in row_b, text
+    assert "| a | 0 of" in text and "| 0 of 6 |" in text
