@@ -100,6 +100,26 @@ def read_records(path: Path, seen: set[str]) -> list[dict]:
     return records
 
 
+def read_record_files(parser: Parser, paths: list[Path]) -> list[dict]:
+    """The episodes of every ``--records`` file together; a file that is none, or names a setting an earlier file
+    named, is a one-line usage error naming it."""
+    records: list[dict] = []
+    for path in paths:
+        try:
+            records += read_records(path, {r["setting"] for r in records})
+        except (OSError, ValueError) as e:  # json.JSONDecodeError is a ValueError
+            parser.error(f"records: {path}: {e}")
+    return records
+
+
+def print_table(text: str, out: Path | None, title: str) -> None:
+    """Print a markdown table and, with ``out``, also write it there under a level-1 ``title``."""
+    print(text, end="")
+    if out is not None:
+        out.parent.mkdir(parents=True, exist_ok=True)
+        out.write_text(f"# {title}\n\n{text}")
+
+
 def main() -> None:
     parser = Parser(description=__doc__.splitlines()[0])
     parser.add_argument("records", type=Path, nargs="+", help="crest_tradeoff.py --records files (their episodes together)")
@@ -109,22 +129,14 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=None, help="also write the table to this markdown file")
     args = parser.parse_args()
     check_out_file(parser, "--out", args.out)
-    records, files = [], ", ".join(map(str, args.records))
-    for path in args.records:
-        try:
-            records += read_records(path, {r["setting"] for r in records})
-        except (OSError, ValueError) as e:  # json.JSONDecodeError is a ValueError
-            parser.error(f"records: {path}: {e}")
+    records, files = read_record_files(parser, args.records), ", ".join(map(str, args.records))
     try:
         text = table(records, args.baseline, args.settings)
     except KeyError as e:
         parser.error(f"records: an episode of {files} has no {e}")
     except ValueError as e:
         parser.error(str(e) if str(e).startswith("--") else f"records: {files}: {e}")
-    print(text, end="")
-    if args.out is not None:
-        args.out.parent.mkdir(parents=True, exist_ok=True)
-        args.out.write_text(f"# Paired comparison of {files}\n\n{text}")
+    print_table(text, args.out, f"Paired comparison of {files}")
 
 
 if __name__ == "__main__":

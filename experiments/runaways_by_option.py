@@ -20,7 +20,7 @@ from cof_gym.commands.args import Parser, float_in_range
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from crest_tradeoff import GRID_SETS  # noqa: E402
-from paired_comparison import paired, read_records  # noqa: E402
+from paired_comparison import paired, print_table, read_record_files  # noqa: E402
 from script_checks import check_out_file  # noqa: E402
 
 EDGE = float_in_range(-1e9, 1e9, low_inclusive=True)  # a finite band edge (an option's value, any sign)
@@ -83,21 +83,13 @@ def main() -> None:
     if not any(args.option in e.get("options", {}) for path in GRID_SETS[args.grids].values()
                for e in json.loads(path.read_text())["episodes"]):
         parser.error(f"--option: no episode of --grids {args.grids} sets {args.option!r}")
-    records = []
-    for path in args.records:
-        try:
-            records += read_records(path, {r["setting"] for r in records})
-        except (OSError, ValueError) as e:
-            parser.error(f"records: {path}: {e}")
+    records = read_record_files(parser, args.records)
     values = option_values(GRID_SETS[args.grids], args.option)
     try:
         text = table(records, values, args.option, args.edges, args.absolute)
     except (KeyError, IndexError, ValueError) as e:
         parser.error(f"records: not played on --grids {args.grids}: {e}")
-    print(text, end="")
-    if args.out is not None:
-        args.out.parent.mkdir(parents=True, exist_ok=True)
-        args.out.write_text(f"# Runaways by {args.option} ({args.grids})\n\n{text}")
+    print_table(text, args.out, f"Runaways by {args.option} ({args.grids})")
 
 
 if __name__ == "__main__":
