@@ -123,6 +123,8 @@ from cof_gym.agents.interrogator.training import (
 from cof_gym.commands.args import Parser, float_in_range, positive_int, seed_int
 from cof_gym.commands.evaluate_episodes import run_episode
 from cof_gym.commands.suites import make_suite
+from cof_gym.task.scenarios import MOTOR_LAG_MAX_S, NOISE_LEVEL_MAX
+from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
@@ -133,6 +135,11 @@ from script_checks import check_out_dir, load_climbs  # noqa: E402
 
 ENV_ID = cof_gym.WAGON_ENV_ID
 CONFIGS = [{}, {"counter_torque": True}]  # the two vehicle configurations trained on
+# draws past the env's own, up to what the env accepts: the sensors' noise (multiples of the full scale) and the
+# drive's lag (s) where the env draws 0-1 and 0-0.03 s, and the torque gain error where it draws +-5 %
+PAST_DRAWS_NOISE_AND_LAG = {"noise_levels": (0.0, NOISE_LEVEL_MAX), "motor_lags_s": (0.0, MOTOR_LAG_MAX_S)}
+_TORQUE_GAIN_ACCEPTED = SYSTEMATIC_ERRORS["torque_gain_error"].accepted
+WIDE_TORQUE_GAIN = {"sensor_errors": (("torque_gain_error", -_TORQUE_GAIN_ACCEPTED, _TORQUE_GAIN_ACCEPTED),)}
 # the training climbs: name -> (cache file in OUT, first seed, what the climbs draw beyond the env's own
 # randomisation (cof_gym.agents.interrogator.training.ClimbDraws)), and how many of each the recipe uses
 COLLECTIONS = {
@@ -166,25 +173,21 @@ COLLECTIONS = {
                                 ClimbDraws(shapes="procedural", frequency_references_m_s=(10.0, 40.0))),
     # the env's draws and procedural curves with the sensors' noise at 0-3 times the full scale and the drive's
     # lag at 0-0.1 s (the env's draws: 0-1 and 0-0.03 s), what the env accepts (session 33)
-    "noisy": ("climbs_noisy.npz", TRAINING_SEED + 1_500_000,
-              ClimbDraws(noise_levels=(0.0, 3.0), motor_lags_s=(0.0, 0.1))),
+    "noisy": ("climbs_noisy.npz", TRAINING_SEED + 1_500_000, ClimbDraws(**PAST_DRAWS_NOISE_AND_LAG)),
     "procedural_noisy": ("climbs_procedural_noisy.npz", TRAINING_SEED + 1_600_000,
-                         ClimbDraws(shapes="procedural", noise_levels=(0.0, 3.0), motor_lags_s=(0.0, 0.1))),
+                         ClimbDraws(shapes="procedural", **PAST_DRAWS_NOISE_AND_LAG)),
     # the env's draws and procedural curves with the torque gain error at +-15 %, what the env accepts (the env's
     # draws: +-5 %): the one systematic error that moves the shipped interrogator alone (session 44,
     # experiments/sensor_sensitivity.py)
-    "torque_wide": ("climbs_torque_wide.npz", TRAINING_SEED + 1_700_000,
-                    ClimbDraws(sensor_errors=(("torque_gain_error", -0.15, 0.15),))),
+    "torque_wide": ("climbs_torque_wide.npz", TRAINING_SEED + 1_700_000, ClimbDraws(**WIDE_TORQUE_GAIN)),
     "procedural_torque_wide": ("climbs_procedural_torque_wide.npz", TRAINING_SEED + 1_800_000,
-                               ClimbDraws(shapes="procedural", sensor_errors=(("torque_gain_error", -0.15, 0.15),))),
+                               ClimbDraws(shapes="procedural", **WIDE_TORQUE_GAIN)),
     # both departures at once: the torque gain at +-15 % with the noise at 0-3 times the full scale and the lag at
     # 0-0.1 s (session 49, rule 78): the climbs of a train whose sensors are worse than the draws in more than one way
     "noisy_torque_wide": ("climbs_noisy_torque_wide.npz", TRAINING_SEED + 1_900_000,
-                          ClimbDraws(noise_levels=(0.0, 3.0), motor_lags_s=(0.0, 0.1),
-                                     sensor_errors=(("torque_gain_error", -0.15, 0.15),))),
+                          ClimbDraws(**PAST_DRAWS_NOISE_AND_LAG, **WIDE_TORQUE_GAIN)),
     "procedural_noisy_torque_wide": ("climbs_procedural_noisy_torque_wide.npz", TRAINING_SEED + 2_000_000,
-                                     ClimbDraws(shapes="procedural", noise_levels=(0.0, 3.0), motor_lags_s=(0.0, 0.1),
-                                                sensor_errors=(("torque_gain_error", -0.15, 0.15),))),
+                                     ClimbDraws(shapes="procedural", **PAST_DRAWS_NOISE_AND_LAG, **WIDE_TORQUE_GAIN)),
 }
 # the shipped recipe (procedural and high_frequency lost on validation: README): since session 48 (rule 74) the env's
 # draws with the torque gain anywhere within +-15 %, read calibrated by the torque balance (RECIPE_BALANCE_LAG_DEG)
