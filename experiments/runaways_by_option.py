@@ -26,13 +26,14 @@ from script_checks import check_out_file  # noqa: E402
 EDGE = float_in_range(-1e9, 1e9, low_inclusive=True)  # a finite band edge (an option's value, any sign)
 
 
-def option_values(grids: dict[str, Path], option: str) -> dict[str, list[float]]:
+def grid_episodes(grids: dict[str, Path]) -> dict[str, list[dict]]:
+    """Each grid file's episodes (seed and reset options), in the suite's order."""
+    return {kind: json.loads(path.read_text())["episodes"] for kind, path in grids.items()}
+
+
+def option_values(episodes: dict[str, list[dict]], option: str) -> dict[str, list[float]]:
     """Each grid's episodes' value of ``option`` (0 where an episode leaves it unset), in the suite's order."""
-    values = {}
-    for kind, path in grids.items():
-        episodes = json.loads(path.read_text())["episodes"]
-        values[kind] = [float(e.get("options", {}).get(option, 0.0)) for e in episodes]
-    return values
+    return {kind: [float(e.get("options", {}).get(option, 0.0)) for e in grid] for kind, grid in episodes.items()}
 
 
 def band_labels(edges: list[float]) -> list[str]:
@@ -80,11 +81,11 @@ def main() -> None:
     check_out_file(parser, "--out", args.out)
     if any(b <= a for a, b in zip(args.edges, args.edges[1:])):
         parser.error(f"--edges: must be strictly ascending, got {' '.join(f'{e:g}' for e in args.edges)}")
-    if not any(args.option in e.get("options", {}) for path in GRID_SETS[args.grids].values()
-               for e in json.loads(path.read_text())["episodes"]):
+    episodes = grid_episodes(GRID_SETS[args.grids])
+    if not any(args.option in e.get("options", {}) for grid in episodes.values() for e in grid):
         parser.error(f"--option: no episode of --grids {args.grids} sets {args.option!r}")
     records = read_record_files(parser, args.records)
-    values = option_values(GRID_SETS[args.grids], args.option)
+    values = option_values(episodes, args.option)
     try:
         text = table(records, values, args.option, args.edges, args.absolute)
     except (KeyError, IndexError, ValueError) as e:

@@ -176,7 +176,7 @@ def test_runaways_by_option_counts_each_setting_per_band_of_the_grid_files_value
     import runaways_by_option as rbo
     from crest_tradeoff import GRID_SETS
 
-    values = rbo.option_values(GRID_SETS["validation_torque"], "torque_gain_error")
+    values = rbo.option_values(rbo.grid_episodes(GRID_SETS["validation_torque"]), "torque_gain_error")
     gains = values["family"][:6]
     records = [{"setting": s, "grid": "family", "config": {}, "episode": i, "macro_slip": s == "b" and i % 2 == 0}
                for s in ("a", "b") for i in range(6)]
