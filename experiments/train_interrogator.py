@@ -413,8 +413,8 @@ def lag_or_none(text: str) -> float | None:
         return None
     try:
         return float_in_range(0.0, 90.0)(text)
-    except argparse.ArgumentTypeError:
-        raise argparse.ArgumentTypeError(f"must be 'none' or a finite number in (0, 90], got {text!r}") from None
+    except argparse.ArgumentTypeError as error:  # float_in_range's "must be a finite number in (0, 90], got ..."
+        raise argparse.ArgumentTypeError(f"must be 'none' or {str(error).removeprefix('must be ')}") from None
 
 
 def file_digest(path: Path) -> str:

@@ -276,6 +276,16 @@ def test_the_balance_lag_reads_a_bound_or_none(text: str, value: float | None) -
     assert lag_or_none(text) == value
 
 
+@pytest.mark.parametrize("text", ["0", "95", "nan", "soon"])
+def test_a_bad_balance_lag_names_both_accepted_forms(text: str) -> None:
+    import argparse
+
+    from train_interrogator import lag_or_none
+
+    with pytest.raises(argparse.ArgumentTypeError, match=rf"^must be 'none' or a finite number in \(0, 90\], got '{text}'$"):
+        lag_or_none(text)
+
+
 def test_the_report_only_runs_are_the_shipped_agent_member_by_member(tmp_path: Path) -> None:
     """``--report-only`` plays seed K as the shipped package's member K alone, with the package's guards and
     manifest, and the ensemble as the package, without its calibrated interval; a stale run directory is
