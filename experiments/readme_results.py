@@ -661,6 +661,11 @@ generated, never typed:
         # each also with --scenario noise_level=3 (_noise_level), paired as rule 79's (paired_swap79*)
         # rule 80's Q: rule 79's commands in runs/interrogator_noisy_guard with --climbs torque_wide=8000 (the guard's
         # collections P's; runs/estimator_noisy_guard), played and paired alike (_rule80Q_)
+    python experiments/crest_tradeoff.py --guards runs/interrogator_noisy_guard/guard/ensemble \
+        runs/interrogator_noisy_guard/probing_guard/ensemble cof_gym/agents/policies/interrogator/guard_1 --guards-only \
+        --targets 0.1 --stops --return-digits 4 --grids validation --records out/records_rule81R3_validation.json \
+        --out out/crest_tradeoff_rule81R3_validation.md   # rule 81's R3; R4: --guards $G then Q's two (_rule81R4_);
+        # each also with validation_torque, --scenario noise_level=3 and motor_lag_s=0.1, paired as rule 78's
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -955,7 +960,7 @@ SOURCES = {
         *(f"{kind}_rule76_{grids}" for grids in ("validation", "validation_torque") for kind in ("crest_tradeoff", "paired")),
         *(f"{kind}_rule77{c}_{grids}" for c in "NZ" for grids in ("validation", "validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
-        *(f"{kind}_rule{c}_{grids}" for c in ("78M", "79P", "80Q")
+        *(f"{kind}_rule{c}_{grids}" for c in ("78M", "79P", "80Q", "81R3", "81R4")
           for grids in ("validation", "validation_torque", "noise_level", "motor_lag_s")
           for kind in ("crest_tradeoff", "paired")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
