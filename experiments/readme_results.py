@@ -668,6 +668,10 @@ generated, never typed:
         # each also with validation_torque, --scenario noise_level=3 and motor_lag_s=0.1, paired as rule 78's
         # rule 82: R3's commands with --set 'guard_cautions=[2, 2, 1.5]' (_rule82R3a_) or 'guard_cautions=[2, 2, 1.75]'
         # (_rule82R3b_); R3c: cof_gym/agents/policies/interrogator/guard_0 third (--set guard_cautions=null, _rule82R3c_)
+    python experiments/crest_tradeoff.py --guards $G --guards-only --set approach_fraction=0.25 --targets 0.1 --stops \
+        --return-digits 4 --grids validation --records out/records_rule83A25_validation.json \
+        --out out/crest_tradeoff_rule83A25_validation.md   # rule 83's A25; A50: approach_fraction=0.5 (_rule83A50_);
+        # each also with validation_torque, --scenario noise_level=3 and motor_lag_s=0.1, paired as rule 78's
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -962,7 +966,7 @@ SOURCES = {
         *(f"{kind}_rule76_{grids}" for grids in ("validation", "validation_torque") for kind in ("crest_tradeoff", "paired")),
         *(f"{kind}_rule77{c}_{grids}" for c in "NZ" for grids in ("validation", "validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
-        *(f"{kind}_rule{c}_{grids}" for c in ("78M", "79P", "80Q", "81R3", "81R4", "82R3a", "82R3b", "82R3c")
+        *(f"{kind}_rule{c}_{grids}" for c in ("78M", "79P", "80Q", "81R3", "81R4", "82R3a", "82R3b", "82R3c", "83A25", "83A50")
           for grids in ("validation", "validation_torque", "noise_level", "motor_lag_s")
           for kind in ("crest_tradeoff", "paired")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
