@@ -102,6 +102,9 @@ CASES = [
     ("runaways_by_option", ["{text}", "--grids", "validation_torque", "--option", "torque_gain_error", "--edges", "0.1"],
      "records"),
     ("runaways_by_option", ["{text}", "--option", "torque_gain_error", "--edges", "0.1", "--out", "{dir}"], "--out"),
+    ("rule_check", ["{text}", "{text}"], "records"),
+    ("rule_check", ["{text}", "{text}", "--more-runaways", "-1"], "--more-runaways"),
+    ("rule_check", ["{text}", "{text}", "--out", "{dir}"], "--out"),
 ]
 
 
@@ -132,7 +135,7 @@ SCRIPTS = sorted(path.stem for path in EXPERIMENTS.glob("*.py")
 # never read: the command line is refused before anything is opened
 REQUIRED = {"assemble_policy": ["--filter", "f", "--out", "o"], "feature_block_nll": ["--climbs", "climbs.npz"],
             "paired_comparison": ["records.jsonl"], "runaways_by_option": ["records.json", "--option", "x", "--edges", "0"],
-            "ppo_seeds": ["--runs", "run"], "zoo_eval": ["model.zip"]}
+            "ppo_seeds": ["--runs", "run"], "zoo_eval": ["model.zip"], "rule_check": ["base.json", "candidate.json"]}
 
 
 def test_every_script_parses_with_the_one_line_parser() -> None:

@@ -1,0 +1,130 @@
+"""Whether a candidate meets a rule's conditions against a baseline, from two crest_tradeoff.py ``--records`` files.
+
+    python experiments/rule_check.py out/records_base.json out/records_candidate.json [--more-runaways N] \
+        [--errors] [--returns] [--gain] [--strict-grid family] [--out FILE]
+
+Each file holds one setting's episodes (one crest_tradeoff.py row), and both played the same episodes. The
+conditions a rule of docs/interrogator.md writes before its candidate is played, checked on the paired
+differences of :mod:`paired_comparison` (the same 95 % CIs, the same resamples):
+
+- always: at most ``--more-runaways`` more macro-slips (runaways) than the baseline over every grid together
+  (default 0), and none more on the ``--strict-grid`` (default ``family``, the grid of the Polach, SHE and
+  table families; ``none``: no such grid);
+- ``--errors``: no grid's median or P90 relative error higher with a CI wholly above zero;
+- ``--returns``: no grid's mean return lower with a CI wholly below zero;
+- ``--gain``: a strictly higher mean return over every grid's episodes together.
+
+It prints each grid's differences, every condition that fails, and a last line ``holds`` or ``fails``; the exit
+status is 0 when the conditions hold and 1 when they fail (2: a usage error, before anything is read further).
+Rule 78's conditions, for instance: at the draws ``--more-runaways 2 --errors --returns``, on the torque set
+``--errors --returns``, with the noise tripled ``--errors --gain``, with the drive lag ``--more-runaways 2
+--returns``.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from typing import NamedTuple
+
+from cof_gym.commands.args import Parser, non_negative_int
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from paired_comparison import differences, paired, print_table, read_record_files  # noqa: E402
+from script_checks import check_out_file  # noqa: E402
+
+
+class Conditions(NamedTuple):
+    """What a candidate must meet against the baseline (the module docstring says each)."""
+
+    more_runaways: int = 0
+    strict_grid: str | None = "family"
+    errors: bool = False
+    returns: bool = False
+    gain: bool = False
+
+
+def runaways(episodes: dict[tuple, dict]) -> int:
+    return sum(bool(r["macro_slip"]) for r in episodes.values())
+
+
+def mean_return(grids: dict[str, dict[tuple, dict]]) -> float:
+    """The mean episode return over every grid's episodes together."""
+    returns = [r["episode_return"] for episodes in grids.values() for r in episodes.values()]
+    return sum(returns) / len(returns)
+
+
+def check(base: dict[str, dict[tuple, dict]], candidate: dict[str, dict[tuple, dict]],
+          conditions: Conditions) -> tuple[list[str], list[str]]:
+    """(lines describing each grid and the totals, the conditions that fail) of ``candidate`` against ``base``
+    (each :func:`paired_comparison.paired`'s per-grid episodes)."""
+    if sorted(base) != sorted(candidate):
+        raise ValueError(f"the two files played other grids: {sorted(base)} and {sorted(candidate)}")
+    lines, failed = [], []
+    for grid in sorted(base):
+        d = differences(base[grid], candidate[grid])
+        slips = runaways(base[grid]), runaways(candidate[grid])
+        lines.append(f"- {grid}: runaways {slips[0]} -> {slips[1]}; median {_ci(d['median'], 1)} points, "
+                     f"P90 {_ci(d['P90'], 1)} points, return {_ci(d['return'], 4)}")
+        if grid == conditions.strict_grid and slips[1] > slips[0]:
+            failed.append(f"{grid}: {slips[1]} runaways against {slips[0]} (none more allowed)")
+        if conditions.errors:
+            failed += [f"{grid}: {name} higher with a CI wholly above zero ({_ci(d[name], 1)})"
+                       for name in ("median", "P90") if d[name][1] > 0.0]
+        if conditions.returns and d["return"][2] < 0.0:
+            failed.append(f"{grid}: return lower with a CI wholly below zero ({_ci(d['return'], 4)})")
+    totals = sum(runaways(e) for e in base.values()), sum(runaways(e) for e in candidate.values())
+    returns = mean_return(base), mean_return(candidate)
+    lines.append(f"- all: runaways {totals[0]} -> {totals[1]}; mean return {returns[0]:.4f} -> {returns[1]:.4f}")
+    if totals[1] > totals[0] + conditions.more_runaways:
+        failed.append(f"all: {totals[1]} runaways against {totals[0]} (at most {conditions.more_runaways} more)")
+    if conditions.gain and not returns[1] > returns[0]:
+        failed.append(f"all: mean return {returns[1]:.4f} not above {returns[0]:.4f}")
+    return lines, failed
+
+
+def _ci(value: tuple[float, float, float], digits: int) -> str:
+    return f"{value[0]:+.{digits}f} [{value[1]:+.{digits}f}, {value[2]:+.{digits}f}]"
+
+
+def one_setting(parser: Parser, path: Path, records: list[dict]) -> dict[str, dict[tuple, dict]]:
+    """The per-grid episodes of the one setting a records file holds; a usage error naming the file otherwise."""
+    settings = list(dict.fromkeys(r["setting"] for r in records))
+    if len(settings) != 1:
+        parser.error(f"records: {path}: holds {len(settings)} settings, one is needed (one crest_tradeoff.py row)")
+    return paired(records, settings[0])
+
+
+def main() -> None:
+    parser = Parser(description=__doc__.splitlines()[0])
+    parser.add_argument("baseline", type=Path, help="the baseline's crest_tradeoff.py --records file")
+    parser.add_argument("candidate", type=Path, help="the candidate's --records file (the same episodes)")
+    parser.add_argument("--more-runaways", type=non_negative_int, default=0, metavar="N",
+                        help="runaways the candidate may have beyond the baseline's over every grid (default: 0)")
+    parser.add_argument("--strict-grid", default="family",
+                        help="the grid on which no more runaways are allowed ('none': no such grid; default: family)")
+    parser.add_argument("--errors", action="store_true", help="no median or P90 higher with a CI wholly above zero")
+    parser.add_argument("--returns", action="store_true", help="no mean return lower with a CI wholly below zero")
+    parser.add_argument("--gain", action="store_true", help="a strictly higher mean return over every grid")
+    parser.add_argument("--out", type=Path, default=None, help="also write the verdict to this markdown file")
+    args = parser.parse_args()
+    check_out_file(parser, "--out", args.out)
+    base, candidate = (one_setting(parser, path, read_record_files(parser, [path]))
+                       for path in (args.baseline, args.candidate))
+    strict = None if args.strict_grid == "none" else args.strict_grid
+    if strict is not None and strict not in base:
+        parser.error(f"--strict-grid: the records have no grid {strict!r} (grids: {', '.join(sorted(base))}; or none)")
+    conditions = Conditions(args.more_runaways, strict, args.errors, args.returns, args.gain)
+    try:
+        lines, failed = check(base, candidate, conditions)
+    except KeyError as e:
+        parser.error(f"records: an episode of {args.baseline} or {args.candidate} has no {e}")
+    except ValueError as e:
+        parser.error(f"records: {args.baseline}, {args.candidate}: {e}")
+    text = "\n".join([*lines, *(f"- fails: {f}" for f in failed), "", "fails" if failed else "holds"]) + "\n"
+    print_table(text, args.out, f"{args.candidate} against {args.baseline}")
+    sys.exit(1 if failed else 0)
+
+
+if __name__ == "__main__":
+    main()

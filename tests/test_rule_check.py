@@ -1,0 +1,79 @@
+"""experiments/rule_check.py: a candidate's runaways, paired error and return CIs checked against a rule's
+conditions; exit 0 where they hold, 1 where they fail, 2 (one line) for a records file it cannot judge."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+
+EXPERIMENTS = Path(__file__).resolve().parents[1] / "experiments"
+sys.path.insert(0, str(EXPERIMENTS))
+from paired_comparison import paired  # noqa: E402
+from rule_check import Conditions, check  # noqa: E402
+
+ERRORS = np.random.default_rng(7).uniform(0.0, 0.3, 60)
+
+
+def records(setting: str, errors: np.ndarray, slips: dict[str, set[int]] | None = None) -> list[dict]:
+    """One setting's episodes on two grids (family, steep), each error's return its negative (a runaway: -10
+    more), ``slips``: the runaway episodes per grid."""
+    slips = slips or {}
+    return [{"setting": setting, "grid": grid, "config": {}, "episode": i, "error": float(e),
+             "macro_slip": i in slips.get(grid, set()),
+             "episode_return": -float(e) - (10.0 if i in slips.get(grid, set()) else 0.0)}
+            for grid in ("family", "steep") for i, e in enumerate(errors)]
+
+
+def judged(base: list[dict], candidate: list[dict], conditions: Conditions) -> list[str]:
+    return check(paired(base, base[0]["setting"]), paired(candidate, candidate[0]["setting"]), conditions)[1]
+
+
+def test_the_same_episodes_meet_every_condition_but_a_gain() -> None:
+    base, same = records("base", ERRORS), records("same", ERRORS)
+    assert judged(base, same, Conditions(errors=True, returns=True)) == []
+    mean = f"{-float(np.mean(ERRORS)):.4f}"
+    assert judged(base, same, Conditions(gain=True)) == [f"all: mean return {mean} not above {mean}"]
+
+
+def test_a_family_runaway_fails_unless_the_strict_grid_is_another_and_the_total_allows_it() -> None:
+    base, more = records("base", ERRORS), records("more", ERRORS, {"family": {3}})
+    failed = judged(base, more, Conditions())
+    assert [f.split(":")[0] for f in failed] == ["family", "all"]
+    assert judged(base, more, Conditions(more_runaways=1, strict_grid="steep")) == []
+    assert judged(base, records("steep", ERRORS, {"steep": {3}}), Conditions(more_runaways=1)) == []
+
+
+def test_doubled_errors_fail_the_error_and_return_conditions_on_every_grid() -> None:
+    failed = judged(records("base", ERRORS), records("doubled", 2.0 * ERRORS), Conditions(errors=True, returns=True))
+    for grid in ("family", "steep"):
+        assert any(f.startswith(f"{grid}: median higher") for f in failed)
+        assert any(f.startswith(f"{grid}: P90 higher") for f in failed)
+        assert any(f.startswith(f"{grid}: return lower") for f in failed)
+    assert judged(records("base", ERRORS), records("halved", ERRORS / 2), Conditions(errors=True, returns=True,
+                                                                                        gain=True)) == []
+
+
+def test_the_command_exits_0_where_the_conditions_hold_1_where_they_fail_and_2_for_two_settings(tmp_path: Path) -> None:
+    files = {}
+    for name, recs in {"base": records("base", ERRORS), "halved": records("halved", ERRORS / 2),
+                       "both": records("a", ERRORS) + records("b", ERRORS)}.items():
+        files[name] = tmp_path / f"{name}.json"
+        files[name].write_text(json.dumps(recs))
+
+    def run(*args: str) -> subprocess.CompletedProcess:
+        return subprocess.run([sys.executable, str(EXPERIMENTS / "rule_check.py"), *map(str, args)],
+                              capture_output=True, text=True)
+
+    held = run(files["base"], files["halved"], "--errors", "--returns", "--gain", "--out", tmp_path / "v.md")
+    assert held.returncode == 0 and held.stdout.endswith("\nholds\n"), held.stderr
+    assert (tmp_path / "v.md").read_text().endswith("\nholds\n")
+    failed = run(files["halved"], files["base"], "--errors")
+    assert failed.returncode == 1 and failed.stdout.endswith("\nfails\n") and "- fails: family: median" in failed.stdout
+    two = run(files["both"], files["base"])
+    assert two.returncode == 2 and two.stderr.count("\n") == 1 and "holds 2 settings" in two.stderr
+    grid = run(files["base"], files["halved"], "--strict-grid", "procedural")
+    assert grid.returncode == 2 and "--strict-grid" in grid.stderr and grid.stdout == ""
