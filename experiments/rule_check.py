@@ -1,18 +1,19 @@
-"""Whether a candidate meets a rule's conditions against a baseline, from two crest_tradeoff.py ``--records`` files.
+"""Whether a candidate meets a rule's conditions against a baseline, from crest_tradeoff.py ``--records`` files.
 
-    python experiments/rule_check.py out/records_base.json out/records_candidate.json [--more-runaways N] \
-        [--errors] [--returns] [--gain] [--strict-grid family] [--out FILE]
+    python experiments/rule_check.py BASE.json CANDIDATE.json [BASE2.json CANDIDATE2.json ...] \
+        [--more-runaways N] [--errors] [--returns] [--gain] [--strict-grid family] [--out FILE]
 
-Each file holds one setting's episodes (one crest_tradeoff.py row), and both played the same episodes. The
-conditions a rule of docs/interrogator.md writes before its candidate is played, checked on the paired
+The files come in pairs, the baseline's and the candidate's play of the same episodes (e.g. one pair at the
+grids' draws, one with the noise tripled); each file holds one setting's episodes (one crest_tradeoff.py row).
+The conditions a rule of docs/interrogator.md writes before its candidate is played, checked on the paired
 differences of :mod:`paired_comparison` (the same 95 % CIs, the same resamples):
 
-- always: at most ``--more-runaways`` more macro-slips (runaways) than the baseline over every grid together
-  (default 0), and none more on the ``--strict-grid`` (default ``family``, the grid of the Polach, SHE and
-  table families; ``none``: no such grid);
+- always: at most ``--more-runaways`` more macro-slips (runaways) than the baseline over every pair's grids
+  together (default 0), and none more on the ``--strict-grid`` of any pair (default ``family``, the grid of the
+  Polach, SHE and table families; ``none``: no such grid);
 - ``--errors``: no grid's median or P90 relative error higher with a CI wholly above zero;
 - ``--returns``: no grid's mean return lower with a CI wholly below zero;
-- ``--gain``: a strictly higher mean return over every grid's episodes together.
+- ``--gain``: a strictly higher mean return over every pair's episodes together.
 
 It prints each grid's differences, every condition that fails, and a last line ``holds`` or ``fails``; the exit
 status is 0 when the conditions hold and 1 when they fail (2: a usage error, before anything is read further).
@@ -54,27 +55,34 @@ def mean_return(grids: dict[str, dict[tuple, dict]]) -> float:
     return sum(returns) / len(returns)
 
 
-def check(base: dict[str, dict[tuple, dict]], candidate: dict[str, dict[tuple, dict]],
+Grids = dict[str, dict[tuple, dict]]  # a play's episodes per grid (paired_comparison.paired)
+
+
+def check(base: Grids | list[Grids], candidate: Grids | list[Grids],
           conditions: Conditions) -> tuple[list[str], list[str]]:
-    """(lines describing each grid and the totals, the conditions that fail) of ``candidate`` against ``base``
-    (each :func:`paired_comparison.paired`'s per-grid episodes)."""
-    if sorted(base) != sorted(candidate):
-        raise ValueError(f"the two files played other grids: {sorted(base)} and {sorted(candidate)}")
+    """(lines describing each grid and the totals, the conditions that fail) of ``candidate`` against ``base``:
+    one play's per-grid episodes each, or lists of plays in pairs (several: each line names its play's index)."""
+    bases, candidates = ([x] if isinstance(x, dict) else list(x) for x in (base, candidate))
     lines, failed = [], []
-    for grid in sorted(base):
-        d = differences(base[grid], candidate[grid])
-        slips = runaways(base[grid]), runaways(candidate[grid])
-        lines.append(f"- {grid}: runaways {slips[0]} -> {slips[1]}; median {_ci(d['median'], 1)} points, "
-                     f"P90 {_ci(d['P90'], 1)} points, return {_ci(d['return'], 4)}")
-        if grid == conditions.strict_grid and slips[1] > slips[0]:
-            failed.append(f"{grid}: {slips[1]} runaways against {slips[0]} (none more allowed)")
-        if conditions.errors:
-            failed += [f"{grid}: {name} higher with a CI wholly above zero ({_ci(d[name], 1)})"
-                       for name in ("median", "P90") if d[name][1] > 0.0]
-        if conditions.returns and d["return"][2] < 0.0:
-            failed.append(f"{grid}: return lower with a CI wholly below zero ({_ci(d['return'], 4)})")
-    totals = sum(runaways(e) for e in base.values()), sum(runaways(e) for e in candidate.values())
-    returns = mean_return(base), mean_return(candidate)
+    for k, (b, c) in enumerate(zip(bases, candidates, strict=True)):
+        if sorted(b) != sorted(c):
+            raise ValueError(f"the two files played other grids: {sorted(b)} and {sorted(c)}")
+        for grid in sorted(b):
+            name = grid if len(bases) == 1 else f"{k + 1}, {grid}"
+            d = differences(b[grid], c[grid])
+            slips = runaways(b[grid]), runaways(c[grid])
+            lines.append(f"- {name}: runaways {slips[0]} -> {slips[1]}; median {_ci(d['median'], 1)} points, "
+                         f"P90 {_ci(d['P90'], 1)} points, return {_ci(d['return'], 4)}")
+            if grid == conditions.strict_grid and slips[1] > slips[0]:
+                failed.append(f"{name}: {slips[1]} runaways against {slips[0]} (none more allowed)")
+            if conditions.errors:
+                failed += [f"{name}: {stat} higher with a CI wholly above zero ({_ci(d[stat], 1)})"
+                           for stat in ("median", "P90") if d[stat][1] > 0.0]
+            if conditions.returns and d["return"][2] < 0.0:
+                failed.append(f"{name}: return lower with a CI wholly below zero ({_ci(d['return'], 4)})")
+    totals = tuple(sum(runaways(e) for play in plays for e in play.values()) for plays in (bases, candidates))
+    returns = tuple(mean_return({f"{k}/{g}": e for k, play in enumerate(plays) for g, e in play.items()})
+                    for plays in (bases, candidates))
     lines.append(f"- all: runaways {totals[0]} -> {totals[1]}; mean return {returns[0]:.4f} -> {returns[1]:.4f}")
     if totals[1] > totals[0] + conditions.more_runaways:
         failed.append(f"all: {totals[1]} runaways against {totals[0]} (at most {conditions.more_runaways} more)")
@@ -97,8 +105,9 @@ def one_setting(parser: Parser, path: Path, records: list[dict]) -> dict[str, di
 
 def main() -> None:
     parser = Parser(description=__doc__.splitlines()[0])
-    parser.add_argument("baseline", type=Path, help="the baseline's crest_tradeoff.py --records file")
-    parser.add_argument("candidate", type=Path, help="the candidate's --records file (the same episodes)")
+    parser.add_argument("records", type=Path, nargs="+", metavar="BASE CANDIDATE",
+                        help="crest_tradeoff.py --records files in pairs: the baseline's, then the candidate's play "
+                             "of the same episodes")
     parser.add_argument("--more-runaways", type=non_negative_int, default=0, metavar="N",
                         help="runaways the candidate may have beyond the baseline's over every grid (default: 0)")
     parser.add_argument("--strict-grid", default="family",
@@ -109,20 +118,23 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=None, help="also write the verdict to this markdown file")
     args = parser.parse_args()
     check_out_file(parser, "--out", args.out)
-    base, candidate = (one_setting(parser, path, read_record_files(parser, [path]))
-                       for path in (args.baseline, args.candidate))
+    if len(args.records) % 2:
+        parser.error(f"records: {len(args.records)} files; they come in pairs (the baseline's, the candidate's)")
+    plays = [one_setting(parser, path, read_record_files(parser, [path])) for path in args.records]
     strict = None if args.strict_grid == "none" else args.strict_grid
-    if strict is not None and strict not in base:
-        parser.error(f"--strict-grid: the records have no grid {strict!r} (grids: {', '.join(sorted(base))}; or none)")
+    if strict is not None and strict not in plays[0]:
+        parser.error(f"--strict-grid: the records have no grid {strict!r} (grids: {', '.join(sorted(plays[0]))}; "
+                     "or none)")
     conditions = Conditions(args.more_runaways, strict, args.errors, args.returns, args.gain)
+    files = ", ".join(map(str, args.records))
     try:
-        lines, failed = check(base, candidate, conditions)
+        lines, failed = check(plays[0::2], plays[1::2], conditions)
     except KeyError as e:
-        parser.error(f"records: an episode of {args.baseline} or {args.candidate} has no {e}")
+        parser.error(f"records: an episode of {files} has no {e}")
     except ValueError as e:
-        parser.error(f"records: {args.baseline}, {args.candidate}: {e}")
+        parser.error(f"records: {files}: {e}")
     text = "\n".join([*lines, *(f"- fails: {f}" for f in failed), "", "fails" if failed else "holds"]) + "\n"
-    print_table(text, args.out, f"{args.candidate} against {args.baseline}")
+    print_table(text, args.out, f"Rule check of {files}")
     sys.exit(1 if failed else 0)
 
 

@@ -77,3 +77,27 @@ def test_the_command_exits_0_where_the_conditions_hold_1_where_they_fail_and_2_f
     assert two.returncode == 2 and two.stderr.count("\n") == 1 and "holds 2 settings" in two.stderr
     grid = run(files["base"], files["halved"], "--strict-grid", "procedural")
     assert grid.returncode == 2 and "--strict-grid" in grid.stderr and grid.stdout == ""
+
+
+def test_pairs_of_plays_count_their_runaways_and_returns_together() -> None:
+    base = paired(records("base", ERRORS), "base")
+    steep = paired(records("steep", ERRORS, {"steep": {3}}), "steep")
+    better = paired(records("better", ERRORS / 2), "better")
+    assert check(base, steep, Conditions(more_runaways=1))[1] == []  # one play: one more allowed
+    lines, failed = check([base, base], [steep, steep], Conditions(more_runaways=1))
+    assert failed == ["all: 2 runaways against 0 (at most 1 more)"]
+    assert lines[0].startswith("- 1, family: ") and lines[2].startswith("- 2, family: ")
+    # the mean return over both plays' 240 episodes: -0.75 x mean error - 10 / 240 against -mean error
+    expected = -0.75 * float(np.mean(ERRORS)) - 10.0 / 240.0
+    gained = expected > -float(np.mean(ERRORS))
+    failed = check([base, base], [steep, better], Conditions(more_runaways=1, gain=True))[1]
+    assert failed == ([] if gained else [f"all: mean return {expected:.4f} not above {-float(np.mean(ERRORS)):.4f}"])
+    assert check([base, base], [better, better], Conditions(gain=True))[1] == []
+
+
+def test_an_odd_number_of_files_is_refused(tmp_path: Path) -> None:
+    path = tmp_path / "base.json"
+    path.write_text(json.dumps(records("base", ERRORS)))
+    run = subprocess.run([sys.executable, str(EXPERIMENTS / "rule_check.py"), str(path), str(path), str(path)],
+                         capture_output=True, text=True)
+    assert run.returncode == 2 and "in pairs" in run.stderr and run.stderr.count("\n") == 1
