@@ -672,6 +672,19 @@ generated, never typed:
         --return-digits 4 --grids validation --records out/records_rule83A25_validation.json \
         --out out/crest_tradeoff_rule83A25_validation.md   # rule 83's A25; A50: approach_fraction=0.5 (_rule83A50_);
         # each also with validation_torque, --scenario noise_level=3 and motor_lag_s=0.1, paired as rule 78's
+    python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_1 \
+        runs/interrogator_noisy_guard/guard/ensemble runs/interrogator_noisy_guard/probing_guard/ensemble \
+        --guards-only --targets 0.1 --stops --return-digits 4 --grids confirmation26 \
+        --records out/records_rule84R3_confirmation26.json --out out/crest_tradeoff_rule84R3_confirmation26.md
+        # rule 84; the shipped agent: --guards $G (_shipped_);
+        # each also with --scenario noise_level=3 (_confirmation26_noise_level), motor_lag_s=0.1
+        # (_confirmation26_motor_lag_s) and --grids torque_confirmation7; paired by paired_comparison.py
+        # (paired_rule84R3_*)
+    python experiments/rule_check.py out/records_shipped_confirmation26.json out/records_rule84R3_confirmation26.json \
+        out/records_shipped_confirmation26_noise_level.json out/records_rule84R3_confirmation26_noise_level.json \
+        out/records_shipped_confirmation26_motor_lag_s.json out/records_rule84R3_confirmation26_motor_lag_s.json \
+        out/records_shipped_torque_confirmation7.json out/records_rule84R3_torque_confirmation7.json --gain \
+        --out out/rule_check_rule84_a.md   # (b): the first and the last pair with --errors (rule_check_rule84_b.md)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -966,9 +979,15 @@ SOURCES = {
         *(f"{kind}_rule76_{grids}" for grids in ("validation", "validation_torque") for kind in ("crest_tradeoff", "paired")),
         *(f"{kind}_rule77{c}_{grids}" for c in "NZ" for grids in ("validation", "validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
-        *(f"{kind}_rule{c}_{grids}" for c in ("78M", "79P", "80Q", "81R3", "81R4", "82R3a", "82R3b", "82R3c", "83A25", "83A50")
+        *(f"{kind}_rule{c}_{grids}"
+          for c in ("78M", "79P", "80Q", "81R3", "81R4", "82R3a", "82R3b", "82R3c", "83A25", "83A50")
           for grids in ("validation", "validation_torque", "noise_level", "motor_lag_s")
           for kind in ("crest_tradeoff", "paired")),
+        *(f"{name}_{play}"
+          for play in ("confirmation26", "confirmation26_noise_level", "confirmation26_motor_lag_s",
+                       "torque_confirmation7")
+          for name in ("crest_tradeoff_shipped", "crest_tradeoff_rule84R3", "paired_rule84R3")),
+        "rule_check_rule84_a", "rule_check_rule84_b",
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
         "runaways_by_torque_gain_session49",
