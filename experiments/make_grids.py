@@ -101,7 +101,11 @@
   rule 74 (session 48).
 - ``suites/v2_confirmation26_grid.json``, ``suites/v2_confirmation26_procedural_grid.json`` and
   ``suites/v2_confirmation26_steep_grid.json`` (session 48, seeds 281 000, 283 000, 285 000): a twenty-sixth such
-  set, written before any agent played them, after the twenty-fifth had judged rule 74, for the next rule.
+  set, written before any agent played them, after the twenty-fifth had judged rule 74, for the next rule; it judged
+  rule 84 (session 50).
+- ``suites/v2_confirmation27_grid.json``, ``suites/v2_confirmation27_procedural_grid.json`` and
+  ``suites/v2_confirmation27_steep_grid.json`` (session 50, seeds 293 000, 295 000, 297 000): a twenty-seventh such
+  set, written before any agent played them, after the twenty-sixth had judged rule 84, for the next rule.
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
@@ -132,7 +136,11 @@
   74 (session 48).
 - ``suites/v2_torque_confirmation7_grid.json``, ``suites/v2_torque_confirmation7_procedural_grid.json`` and
   ``suites/v2_torque_confirmation7_steep_grid.json`` (session 48, seeds 287 000, 289 000, 291 000): a seventh such
-  set, written before any agent played them, after the sixth had judged rule 74, for the next rule.
+  set, written before any agent played them, after the sixth had judged rule 74, for the next rule; it judged rule
+  84 (session 50).
+- ``suites/v2_torque_confirmation8_grid.json``, ``suites/v2_torque_confirmation8_procedural_grid.json`` and
+  ``suites/v2_torque_confirmation8_steep_grid.json`` (session 50, seeds 299 000, 301 000, 303 000): an eighth such
+  set, written before any agent played them, after the seventh had judged rule 84, for the next rule.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -394,7 +402,7 @@ def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.
 ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", "eighth ", "ninth ", "tenth ",
             "eleventh ", "twelfth ", "thirteenth ", "fourteenth ", "fifteenth ", "sixteenth ", "seventeenth ",
             "eighteenth ", "nineteenth ", "twentieth ", "twenty-first ", "twenty-second ", "twenty-third ",
-            "twenty-fourth ", "twenty-fifth ", "twenty-sixth ")
+            "twenty-fourth ", "twenty-fifth ", "twenty-sixth ", "twenty-seventh ")
 
 # the confirmation sets, in the order they were written (the module docstring says when, and for which rule):
 # name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and steep grids; each was written
@@ -452,6 +460,8 @@ CONFIRMATION_SETS = {
                        ((0.08, 0.39, 0.66, 0.93), (9.5, 22.0, 37.0), 271_000), ((0.13, 0.44, 0.8), (6.5, 20.0, 36.0), 273_000)),
     "confirmation26": (((0.05, 0.27, 0.53, 0.8, 0.95), (6.0, 18.5, 32.0), 281_000),
                        ((0.06, 0.37, 0.71, 0.94), (8.0, 20.5, 38.0), 283_000), ((0.11, 0.45, 0.82), (7.5, 18.5, 34.5), 285_000)),
+    "confirmation27": (((0.03, 0.31, 0.54, 0.79, 0.96), (6.5, 17.0, 34.5), 293_000),
+                       ((0.09, 0.42, 0.67, 0.92), (7.5, 21.5, 36.0), 295_000), ((0.13, 0.43, 0.79), (6.0, 20.5, 36.5), 297_000)),
 }
 
 
@@ -484,6 +494,9 @@ TORQUE_CONFIRMATION_SETS = {
     "torque_confirmation7": (((0.04, 0.28, 0.55, 0.82, 0.93), (5.5, 19.0, 34.0), 287_000),
                              ((0.08, 0.43, 0.68, 0.95), (9.0, 22.5, 36.0), 289_000),
                              ((0.14, 0.46, 0.78), (7.0, 20.0, 37.0), 291_000)),
+    "torque_confirmation8": (((0.05, 0.29, 0.52, 0.8, 0.95), (6.5, 18.0, 33.5), 299_000),
+                             ((0.07, 0.38, 0.7, 0.93), (8.0, 21.0, 37.5), 301_000),
+                             ((0.12, 0.44, 0.83), (7.5, 19.5, 35.5), 303_000)),
 }
 GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0  # the golden ratio's fraction: a low-discrepancy sequence k x GOLDEN mod 1
 
