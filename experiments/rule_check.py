@@ -45,17 +45,17 @@ class Conditions(NamedTuple):
     gain: bool = False
 
 
+Grids = dict[str, dict[tuple, dict]]  # a play's episodes per grid (paired_comparison.paired)
+
+
 def runaways(episodes: dict[tuple, dict]) -> int:
     return sum(bool(r["macro_slip"]) for r in episodes.values())
 
 
-def mean_return(grids: dict[str, dict[tuple, dict]]) -> float:
-    """The mean episode return over every grid's episodes together."""
-    returns = [r["episode_return"] for episodes in grids.values() for r in episodes.values()]
+def mean_return(plays: list[Grids]) -> float:
+    """The mean episode return over every play's grids' episodes together."""
+    returns = [r["episode_return"] for play in plays for episodes in play.values() for r in episodes.values()]
     return sum(returns) / len(returns)
-
-
-Grids = dict[str, dict[tuple, dict]]  # a play's episodes per grid (paired_comparison.paired)
 
 
 def check(base: Grids | list[Grids], candidate: Grids | list[Grids],
@@ -81,8 +81,7 @@ def check(base: Grids | list[Grids], candidate: Grids | list[Grids],
             if conditions.returns and d["return"][2] < 0.0:
                 failed.append(f"{name}: return lower with a CI wholly below zero ({_ci(d['return'], 4)})")
     totals = tuple(sum(runaways(e) for play in plays for e in play.values()) for plays in (bases, candidates))
-    returns = tuple(mean_return({f"{k}/{g}": e for k, play in enumerate(plays) for g, e in play.items()})
-                    for plays in (bases, candidates))
+    returns = mean_return(bases), mean_return(candidates)
     lines.append(f"- all: runaways {totals[0]} -> {totals[1]}; mean return {returns[0]:.4f} -> {returns[1]:.4f}")
     if totals[1] > totals[0] + conditions.more_runaways:
         failed.append(f"all: {totals[1]} runaways against {totals[0]} (at most {conditions.more_runaways} more)")
@@ -95,7 +94,7 @@ def _ci(value: tuple[float, float, float], digits: int) -> str:
     return f"{value[0]:+.{digits}f} [{value[1]:+.{digits}f}, {value[2]:+.{digits}f}]"
 
 
-def one_setting(parser: Parser, path: Path, records: list[dict]) -> dict[str, dict[tuple, dict]]:
+def one_setting(parser: Parser, path: Path, records: list[dict]) -> Grids:
     """The per-grid episodes of the one setting a records file holds; a usage error naming the file otherwise."""
     settings = list(dict.fromkeys(r["setting"] for r in records))
     if len(settings) != 1:
