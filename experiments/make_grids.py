@@ -106,6 +106,11 @@
 - ``suites/v2_confirmation27_grid.json``, ``suites/v2_confirmation27_procedural_grid.json`` and
   ``suites/v2_confirmation27_steep_grid.json`` (session 50, seeds 293 000, 295 000, 297 000): a twenty-seventh such
   set, written before any agent played them, after the twenty-sixth had judged rule 84, for the next rule.
+- ``suites/v2_stress_tables_grid.json`` (session 50, seeds from 305 000): reporting only, never a held-out grid of
+  the targets: creep curves at the edges of what a table may be (:data:`STRESS_SHAPES`: a cliff just past the
+  peak, a plateau with no falling branch, a shoulder before the peak, a peak with no knee before it, and a peak at
+  0.1 % or at 15 % creepage), each at every condition, two CoF fractions and two speeds, the sensors as the v2
+  draws give them. Its kinds were chosen after a session-only play of such tables; no agent was tuned on it.
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
@@ -359,6 +364,44 @@ def v2_heldout_grid(fractions=(0.21, 0.74), speeds=(9.0, 26.0), first_seed: int 
 HELDOUT7_NOISE_LAG = ((2.0, 0.02), (3.0, 0.02), (1.0, 0.1), (3.0, 0.1))
 
 
+# Stress creep curves (ratio of the CoF against x = creepage / peak creepage), the edges of what a table may be; each
+# with its peak creepage (None: the held-out grids' by condition, HELDOUT_PEAK_CREEPAGE)
+STRESS_SHAPES = {
+    # a cliff: a rounded rise, then 65 % of the adhesion lost within a quarter of the peak creepage past it
+    "cliff": (lambda x: np.where(x <= 1.0, x * (2.0 - x), 0.35 + 0.65 * np.exp(-(x - 1.0) / 0.05)), None),
+    # a plateau: the adhesion stays at the CoF past the peak (no falling branch to run away on)
+    "plateau": (lambda x: np.where(x <= 1.0, x * (2.0 - x), 1.0), None),
+    # a shoulder at 80 % of the CoF from a third of the peak creepage, then a second rise to the peak, a fall after
+    "shoulder": (lambda x: np.where(x <= 1.0, np.minimum(0.8 * np.tanh(4.0 * x), 0.8) + 0.2 * x ** 4,
+                                    1.0 - 0.3 * np.tanh(x - 1.0)), None),
+    # no knee: the adhesion linear in the creepage up to the peak (a constant slope, so a constant phase lag),
+    # then falling to half
+    "no_knee": (lambda x: np.where(x <= 1.0, x, 0.5 + 0.5 * np.exp(-(x - 1.0) / 0.3)), None),
+    # a very early peak (0.1 % creepage) and a very late one (15 %), both with a moderate fall
+    "early_peak": (lambda x: x * np.exp(1.0 - x), 0.001),
+    "late_peak": (lambda x: np.where(x <= 1.0, np.sin(0.5 * np.pi * np.minimum(x, 1.0)), 1.0 - 0.1 * (x - 1.0)),
+                  0.15),
+}
+
+
+def v2_stress_tables_grid(fractions=(0.25, 0.8), speeds=(7.0, 28.0), first_seed: int = 305_000) -> dict:
+    """Stress shapes (tables) x conditions x CoF x speed, loads alternating; the env draws the sensors' errors."""
+    episodes = []
+    combos = itertools.product(STRESS_SHAPES, DEFAULT_CONDITIONS, fractions, speeds)
+    for k, (name, condition, fraction, speed) in enumerate(combos):
+        shape, peak = STRESS_SHAPES[name]
+        lo, hi = COF_BY_CONDITION[condition]
+        if peak is None:
+            s_lo, s_hi = HELDOUT_PEAK_CREEPAGE[condition]
+            peak = s_lo + (s_hi - s_lo) * ((0.618 * k) % 1.0)
+        options = {"condition": condition, "cof": round(lo + fraction * (hi - lo), 4), "speed_m_s": speed,
+                   "load_case": ("empty", "laden")[k % 2], "creep_law": _table(shape, round(peak, 5))}
+        episodes.append({"seed": first_seed + k, "options": options, "note": name})
+    return {"env_id": cof_gym.WAGON_ENV_ID, "env_kwargs": {}, "episodes": episodes,
+            "description": "v2 reporting only (not a held-out grid of the targets): creep curves at the edges of "
+                           "what a table may be, the sensors as the v2 draws give them"}
+
+
 def v2_heldout_noise_grid(fractions=(0.3, 0.8), speeds=(8.0, 20.0, 35.0), first_seed: int = 175_000,
                           noise_lag=HELDOUT7_NOISE_LAG, description: str = "v2 reporting only") -> dict:
     """Noisier sensors and a slower drive than the v2 draws x conditions x CoF x speed, loads alternating; the
@@ -579,6 +622,7 @@ def all_grids() -> dict[str, dict]:
                      (0.24, 0.77), (5.0, 18.5, 33.5), 105_000, HELDOUT6_SHAPES, HELDOUT6_ERRORS,
                      "v2 reporting only, a sixth set written before any change of session 12 was measured: "
                      "creep curves outside every family and the five earlier sets, other sensor errors"),
+                 v2_stress_tables_grid=v2_stress_tables_grid(),
                  v2_heldout7_grid=v2_heldout_noise_grid(
                      description="v2 reporting only, a seventh set written in session 33 before any agent played it: "
                      "the v2 draws' creep curves and systematic errors with sensor noise (2-3 x full scale) and a drive "
