@@ -326,14 +326,26 @@ GRIDS = {
 }
 
 
+def cof_at(condition: str, fraction: float) -> float:
+    """The CoF at ``fraction`` of ``condition``'s range (COF_BY_CONDITION), 4 decimals."""
+    lo, hi = COF_BY_CONDITION[condition]
+    return round(lo + fraction * (hi - lo), 4)
+
+
+def heldout_peak_creepage(condition: str, k: int) -> float:
+    """The ``k``-th episode's peak creepage within ``condition``'s held-out range (HELDOUT_PEAK_CREEPAGE), spread by
+    the golden-ratio sequence."""
+    s_lo, s_hi = HELDOUT_PEAK_CREEPAGE[condition]
+    return s_lo + (s_hi - s_lo) * ((0.618 * k) % 1.0)
+
+
 def grid(fractions, speeds, first_seed: int, description: str, env_id: str = cof_gym.WAGON_V1_ENV_ID) -> dict:
     """Conditions x CoF fractions of each condition's range x speeds x both loads, full noise and a
     motor lag; on v2 the env draws each episode's creep-law shape and systematic sensor errors."""
     episodes = []
     combos = itertools.product(DEFAULT_CONDITIONS, fractions, speeds, ("empty", "laden"))
     for k, (condition, fraction, speed, load_case) in enumerate(combos):
-        lo, hi = COF_BY_CONDITION[condition]
-        options = {"condition": condition, "cof": round(lo + fraction * (hi - lo), 4), "speed_m_s": speed,
+        options = {"condition": condition, "cof": cof_at(condition, fraction), "speed_m_s": speed,
                    "load_case": load_case, "noise_level": 1.0, "motor_lag_s": 0.02}
         episodes.append({"seed": first_seed + k, "options": options})
     return {"env_id": env_id, "env_kwargs": {}, "description": description, "episodes": episodes}
@@ -346,11 +358,9 @@ def v2_heldout_grid(fractions=(0.21, 0.74), speeds=(9.0, 26.0), first_seed: int 
     episodes = []
     combos = itertools.product(shapes, DEFAULT_CONDITIONS, fractions, speeds)
     for k, (shape, condition, fraction, speed) in enumerate(combos):
-        lo, hi = COF_BY_CONDITION[condition]
-        s_lo, s_hi = HELDOUT_PEAK_CREEPAGE[condition]
-        peak = s_lo + (s_hi - s_lo) * ((0.618 * k) % 1.0)
+        peak = heldout_peak_creepage(condition, k)
         ev, er, ef, et = errors[k % len(errors)]
-        options = {"condition": condition, "cof": round(lo + fraction * (hi - lo), 4), "speed_m_s": speed,
+        options = {"condition": condition, "cof": cof_at(condition, fraction), "speed_m_s": speed,
                    "load_case": ("empty", "laden")[k % 2], "noise_level": 1.0, "motor_lag_s": 0.02,
                    "creep_law": _table(shapes[shape], round(peak, 5)),
                    "speed_sensor_error": ev, "wheel_radius_error": er, "force_gain_error": ef,
@@ -372,15 +382,14 @@ STRESS_SHAPES = {
     # a plateau: the adhesion stays at the CoF past the peak (no falling branch to run away on)
     "plateau": (lambda x: np.where(x <= 1.0, x * (2.0 - x), 1.0), None),
     # a shoulder at 80 % of the CoF from a third of the peak creepage, then a second rise to the peak, a fall after
-    "shoulder": (lambda x: np.where(x <= 1.0, np.minimum(0.8 * np.tanh(4.0 * x), 0.8) + 0.2 * x ** 4,
+    "shoulder": (lambda x: np.where(x <= 1.0, 0.8 * np.tanh(4.0 * x) + 0.2 * x ** 4,
                                     1.0 - 0.3 * np.tanh(x - 1.0)), None),
     # no knee: the adhesion linear in the creepage up to the peak (a constant slope, so a constant phase lag),
     # then falling to half
     "no_knee": (lambda x: np.where(x <= 1.0, x, 0.5 + 0.5 * np.exp(-(x - 1.0) / 0.3)), None),
     # a very early peak (0.1 % creepage) and a very late one (15 %), both with a moderate fall
     "early_peak": (lambda x: x * np.exp(1.0 - x), 0.001),
-    "late_peak": (lambda x: np.where(x <= 1.0, np.sin(0.5 * np.pi * np.minimum(x, 1.0)), 1.0 - 0.1 * (x - 1.0)),
-                  0.15),
+    "late_peak": (lambda x: np.where(x <= 1.0, np.sin(0.5 * np.pi * x), 1.0 - 0.1 * (x - 1.0)), 0.15),
 }
 
 
@@ -390,11 +399,9 @@ def v2_stress_tables_grid(fractions=(0.25, 0.8), speeds=(7.0, 28.0), first_seed:
     combos = itertools.product(STRESS_SHAPES, DEFAULT_CONDITIONS, fractions, speeds)
     for k, (name, condition, fraction, speed) in enumerate(combos):
         shape, peak = STRESS_SHAPES[name]
-        lo, hi = COF_BY_CONDITION[condition]
         if peak is None:
-            s_lo, s_hi = HELDOUT_PEAK_CREEPAGE[condition]
-            peak = s_lo + (s_hi - s_lo) * ((0.618 * k) % 1.0)
-        options = {"condition": condition, "cof": round(lo + fraction * (hi - lo), 4), "speed_m_s": speed,
+            peak = heldout_peak_creepage(condition, k)
+        options = {"condition": condition, "cof": cof_at(condition, fraction), "speed_m_s": speed,
                    "load_case": ("empty", "laden")[k % 2], "creep_law": _table(shape, round(peak, 5))}
         episodes.append({"seed": first_seed + k, "options": options, "note": name})
     return {"env_id": cof_gym.WAGON_ENV_ID, "env_kwargs": {}, "episodes": episodes,
@@ -410,8 +417,7 @@ def v2_heldout_noise_grid(fractions=(0.3, 0.8), speeds=(8.0, 20.0, 35.0), first_
     episodes = []
     combos = itertools.product(noise_lag, DEFAULT_CONDITIONS, fractions, speeds)
     for k, ((noise, lag), condition, fraction, speed) in enumerate(combos):
-        lo, hi = COF_BY_CONDITION[condition]
-        options = {"condition": condition, "cof": round(lo + fraction * (hi - lo), 4), "speed_m_s": speed,
+        options = {"condition": condition, "cof": cof_at(condition, fraction), "speed_m_s": speed,
                    "load_case": ("empty", "laden")[k % 2], "noise_level": noise, "motor_lag_s": lag}
         episodes.append({"seed": first_seed + k, "options": options, "note": f"noise {noise:g}, lag {lag:g} s"})
     return {"env_id": cof_gym.WAGON_ENV_ID, "env_kwargs": {}, "description": description, "episodes": episodes}
@@ -431,8 +437,7 @@ def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.
     episodes = []
     combos = itertools.product(DEFAULT_CONDITIONS, fractions, speeds, ("empty", "laden"))
     for k, (condition, fraction, speed, load_case) in enumerate(combos):
-        lo, hi = COF_BY_CONDITION[condition]
-        options = {"condition": condition, "cof": round(lo + fraction * (hi - lo), 4), "speed_m_s": speed,
+        options = {"condition": condition, "cof": cof_at(condition, fraction), "speed_m_s": speed,
                    "load_case": load_case, "noise_level": 1.0, "motor_lag_s": 0.02,
                    "creep_law": procedural_shape(np.random.default_rng([first_seed + k, 13]), fall)}
         episodes.append({"seed": first_seed + k, "options": options})
