@@ -60,6 +60,16 @@ def differences(base: dict[tuple, dict], other: dict[tuple, dict], seed: int = 0
     return result
 
 
+def runaways(episodes: dict[tuple, dict]) -> int:
+    """The macro-slips (runaways) among ``episodes`` (one grid's, :func:`paired`)."""
+    return sum(bool(r["macro_slip"]) for r in episodes.values())
+
+
+def ci_text(value: tuple[float, float, float], digits: int = 1) -> str:
+    """A difference and its CI (:func:`differences`' triple) as ``+d [+lo, +hi]`` with ``digits`` decimals."""
+    return f"{value[0]:+.{digits}f} [{value[1]:+.{digits}f}, {value[2]:+.{digits}f}]"
+
+
 def table(records: list[dict], baseline: str | None = None, compared: list[str] | None = None) -> str:
     """The markdown table of every setting (or of ``compared`` alone) against ``baseline`` (default: the
     first setting), per grid."""
@@ -82,10 +92,8 @@ def table(records: list[dict], baseline: str | None = None, compared: list[str] 
         other = paired(records, setting)
         for grid, episodes in base.items():
             d = differences(episodes, other[grid])
-            cell = lambda v, digits=1: f"{v[0]:+.{digits}f} [{v[1]:+.{digits}f}, {v[2]:+.{digits}f}]"  # noqa: E731
-            slips = (sum(r["macro_slip"] for r in episodes.values()), sum(r["macro_slip"] for r in other[grid].values()))
-            lines.append(f"| {setting} | {grid} | {len(episodes)} | {cell(d['median'])} | {cell(d['P90'])} | "
-                         f"{cell(d['return'], 4)} | {slips[0]} -> {slips[1]} |")
+            lines.append(f"| {setting} | {grid} | {len(episodes)} | {ci_text(d['median'])} | {ci_text(d['P90'])} | "
+                         f"{ci_text(d['return'], 4)} | {runaways(episodes)} -> {runaways(other[grid])} |")
     return "\n".join(lines) + "\n"
 
 

@@ -31,7 +31,7 @@ from typing import NamedTuple
 from cof_gym.commands.args import Parser, non_negative_int
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from paired_comparison import differences, paired, print_table, read_record_files  # noqa: E402
+from paired_comparison import ci_text, differences, paired, print_table, read_record_files, runaways  # noqa: E402
 from script_checks import check_out_file  # noqa: E402
 
 
@@ -48,21 +48,15 @@ class Conditions(NamedTuple):
 Grids = dict[str, dict[tuple, dict]]  # a play's episodes per grid (paired_comparison.paired)
 
 
-def runaways(episodes: dict[tuple, dict]) -> int:
-    return sum(bool(r["macro_slip"]) for r in episodes.values())
-
-
 def mean_return(plays: list[Grids]) -> float:
     """The mean episode return over every play's grids' episodes together."""
     returns = [r["episode_return"] for play in plays for episodes in play.values() for r in episodes.values()]
     return sum(returns) / len(returns)
 
 
-def check(base: Grids | list[Grids], candidate: Grids | list[Grids],
-          conditions: Conditions) -> tuple[list[str], list[str]]:
-    """(lines describing each grid and the totals, the conditions that fail) of ``candidate`` against ``base``:
-    one play's per-grid episodes each, or lists of plays in pairs (several: each line names its play's index)."""
-    bases, candidates = ([x] if isinstance(x, dict) else list(x) for x in (base, candidate))
+def check(bases: list[Grids], candidates: list[Grids], conditions: Conditions) -> tuple[list[str], list[str]]:
+    """(lines describing each grid and the totals, the conditions that fail) of the ``candidates``' plays against
+    the ``bases``' (in pairs, the same episodes; with several, each line names its play's index)."""
     lines, failed = [], []
     for k, (b, c) in enumerate(zip(bases, candidates, strict=True)):
         if sorted(b) != sorted(c):
@@ -71,15 +65,15 @@ def check(base: Grids | list[Grids], candidate: Grids | list[Grids],
             name = grid if len(bases) == 1 else f"{k + 1}, {grid}"
             d = differences(b[grid], c[grid])
             slips = runaways(b[grid]), runaways(c[grid])
-            lines.append(f"- {name}: runaways {slips[0]} -> {slips[1]}; median {_ci(d['median'], 1)} points, "
-                         f"P90 {_ci(d['P90'], 1)} points, return {_ci(d['return'], 4)}")
+            lines.append(f"- {name}: runaways {slips[0]} -> {slips[1]}; median {ci_text(d['median'])} points, "
+                         f"P90 {ci_text(d['P90'])} points, return {ci_text(d['return'], 4)}")
             if grid == conditions.strict_grid and slips[1] > slips[0]:
                 failed.append(f"{name}: {slips[1]} runaways against {slips[0]} (none more allowed)")
             if conditions.errors:
-                failed += [f"{name}: {stat} higher with a CI wholly above zero ({_ci(d[stat], 1)})"
+                failed += [f"{name}: {stat} higher with a CI wholly above zero ({ci_text(d[stat])})"
                            for stat in ("median", "P90") if d[stat][1] > 0.0]
             if conditions.returns and d["return"][2] < 0.0:
-                failed.append(f"{name}: return lower with a CI wholly below zero ({_ci(d['return'], 4)})")
+                failed.append(f"{name}: return lower with a CI wholly below zero ({ci_text(d['return'], 4)})")
     totals = tuple(sum(runaways(e) for play in plays for e in play.values()) for plays in (bases, candidates))
     returns = mean_return(bases), mean_return(candidates)
     lines.append(f"- all: runaways {totals[0]} -> {totals[1]}; mean return {returns[0]:.4f} -> {returns[1]:.4f}")
@@ -88,10 +82,6 @@ def check(base: Grids | list[Grids], candidate: Grids | list[Grids],
     if conditions.gain and not returns[1] > returns[0]:
         failed.append(f"all: mean return {returns[1]:.4f} not above {returns[0]:.4f}")
     return lines, failed
-
-
-def _ci(value: tuple[float, float, float], digits: int) -> str:
-    return f"{value[0]:+.{digits}f} [{value[1]:+.{digits}f}, {value[2]:+.{digits}f}]"
 
 
 def one_setting(parser: Parser, path: Path, records: list[dict]) -> Grids:

@@ -29,7 +29,7 @@ def records(setting: str, errors: np.ndarray, slips: dict[str, set[int]] | None 
 
 
 def judged(base: list[dict], candidate: list[dict], conditions: Conditions) -> list[str]:
-    return check(paired(base, base[0]["setting"]), paired(candidate, candidate[0]["setting"]), conditions)[1]
+    return check([paired(base, base[0]["setting"])], [paired(candidate, candidate[0]["setting"])], conditions)[1]
 
 
 def test_the_same_episodes_meet_every_condition_but_a_gain() -> None:
@@ -83,7 +83,7 @@ def test_pairs_of_plays_count_their_runaways_and_returns_together() -> None:
     base = paired(records("base", ERRORS), "base")
     steep = paired(records("steep", ERRORS, {"steep": {3}}), "steep")
     better = paired(records("better", ERRORS / 2), "better")
-    assert check(base, steep, Conditions(more_runaways=1))[1] == []  # one play: one more allowed
+    assert check([base], [steep], Conditions(more_runaways=1))[1] == []  # one play: one more allowed
     lines, failed = check([base, base], [steep, steep], Conditions(more_runaways=1))
     assert failed == ["all: 2 runaways against 0 (at most 1 more)"]
     assert lines[0].startswith("- 1, family: ") and lines[2].startswith("- 2, family: ")
