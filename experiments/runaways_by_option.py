@@ -73,7 +73,8 @@ def main() -> None:
     parser.add_argument("records", type=Path, nargs="+", help="crest_tradeoff.py --records files")
     parser.add_argument("--grids", choices=sorted(GRID_SETS), default="validation",
                         help="the grid set the records were played on (crest_tradeoff.py --grids)")
-    parser.add_argument("--option", required=True, help="a reset option of the grid files' episodes, e.g. torque_gain_error")
+    parser.add_argument("--option", required=True,
+                        help="a reset option of the grid files' episodes, e.g. torque_gain_error")
     parser.add_argument("--edges", type=EDGE, nargs="+", required=True, help="where the bands split (ascending)")
     parser.add_argument("--absolute", action="store_true", help="band the option's magnitude")
     parser.add_argument("--out", type=Path, default=None, help="also write the table to this markdown file")

@@ -134,7 +134,8 @@ SCRIPTS = sorted(path.stem for path in EXPERIMENTS.glob("*.py")
 # what a script requires, so that the unknown option (not a missing argument) is the error; plain paths,
 # never read: the command line is refused before anything is opened
 REQUIRED = {"assemble_policy": ["--filter", "f", "--out", "o"], "feature_block_nll": ["--climbs", "climbs.npz"],
-            "paired_comparison": ["records.jsonl"], "runaways_by_option": ["records.json", "--option", "x", "--edges", "0"],
+            "paired_comparison": ["records.jsonl"],
+            "runaways_by_option": ["records.json", "--option", "x", "--edges", "0"],
             "ppo_seeds": ["--runs", "run"], "zoo_eval": ["model.zip"], "rule_check": ["base.json", "candidate.json"]}
 
 

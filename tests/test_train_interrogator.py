@@ -282,7 +282,8 @@ def test_a_bad_balance_lag_names_both_accepted_forms(text: str) -> None:
 
     from train_interrogator import lag_or_none
 
-    with pytest.raises(argparse.ArgumentTypeError, match=rf"^must be 'none' or a finite number in \(0, 90\], got '{text}'$"):
+    message = rf"^must be 'none' or a finite number in \(0, 90\], got '{text}'$"
+    with pytest.raises(argparse.ArgumentTypeError, match=message):
         lag_or_none(text)
 
 
