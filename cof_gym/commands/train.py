@@ -33,6 +33,7 @@ import shlex
 import subprocess
 import sys
 import time
+from dataclasses import dataclass
 from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any
@@ -346,16 +347,60 @@ def _previous_best(out: Path, prev_meta: dict[str, Any]) -> float | None:
     return max(means) if means else None
 
 
-def _check(args: argparse.Namespace) -> dict[str, Any]:
-    """Everything on the command line, before anything is written; :class:`UsageError` naming the flag."""
-    import gymnasium as gym
+@dataclass(frozen=True)
+class TrainPlan:
+    """What a ``cof-gym train`` run will do, every part checked by :func:`_check` before anything is written."""
 
-    from cof_gym.agents.ppo import META_NAME, check_model, find_train_meta, make_env_fn, resolve_model_path
+    out: Path
+    resume_path: Path | None  # the model zip continued (--resume), None for a new model
+    prev_meta: dict[str, Any]  # the continued run's train_meta.json ({} for a new model)
+    same_out: bool  # continuing OUT/model.zip into OUT itself
+    env_id: str
+    adapter: str  # the action adapter (cof_gym/agents/adapters.py)
+    raw: dict[str, Any]  # the hyperparameters as read: the YAML's entry with --hyperparams over it
+    settings: dict[str, Any]  # what cof-gym train reads of them (policy, normalize, n_envs, ...)
+    ppo_kwargs: dict[str, Any]  # what PPO's constructor reads of them
+    env_kwargs: dict[str, Any]
+    n_envs: int
+    timesteps: int
+    history: list  # the earlier runs into OUT (their train_meta.json), oldest first
+
+    @property
+    def resuming(self) -> bool:
+        return self.resume_path is not None
+
+    @property
+    def run_index(self) -> int:
+        """0 for the first run into OUT, k for the k-th resumed run into the same OUT."""
+        return len(self.history)
+
+
+def _check(args: argparse.Namespace) -> TrainPlan:
+    """Everything on the command line, before anything is written; :class:`UsageError` naming the flag."""
+    out, resume_path, resume_spaces, prev_meta, same_out = _check_out_and_resume(args)
+    env_id = _check_env_id(args, prev_meta, resume_path is not None)
+    raw, settings, ppo_kwargs = _check_hyperparams(args, env_id, resume_path is not None)
+    env_kwargs = {**settings["env_kwargs"], **(prev_meta.get("env_kwargs") or {}), **(args.env_kwargs or {})}
+    adapter = args.action_adapter or prev_meta.get("action_adapter", "absolute")
+    spaces = _env_spaces(env_id, env_kwargs, adapter)
+    if resume_path is not None:
+        _check_resume_spaces(resume_path, resume_spaces, spaces, env_id, env_kwargs, bool(args.env_kwargs))
+    n_envs, timesteps = _check_counts(args, settings)
+    _check_model_settings(settings, ppo_kwargs, spaces, n_envs)
+    check_device(args.device)
+    return TrainPlan(out=out, resume_path=resume_path, prev_meta=prev_meta, same_out=same_out, env_id=env_id,
+                     adapter=adapter, raw=raw, settings=settings, ppo_kwargs=ppo_kwargs, env_kwargs=env_kwargs,
+                     n_envs=n_envs, timesteps=timesteps, history=_history(out, same_out))
+
+
+def _check_out_and_resume(args: argparse.Namespace) -> tuple[Path, Path | None, Any, dict[str, Any], bool]:
+    """``--out`` and ``--resume``: the output directory, the continued model's zip, its (observation, action)
+    spaces, its train_meta.json and whether it is ``--out``'s own model."""
+    from cof_gym.agents.ppo import META_NAME, check_model, find_train_meta, resolve_model_path
     from cof_gym.commands.args import UsageError, check_output_dir
 
     out = check_output_dir(Path(args.out))
-    resume_path = None
-    prev_meta: dict[str, Any] = {}
+    resume_path, resume_spaces, prev_meta = None, None, {}
     if args.resume:
         try:  # the zip, its VecNormalize statistics and its train_meta.json
             resume_path = resolve_model_path(args.resume)
@@ -370,27 +415,39 @@ def _check(args: argparse.Namespace) -> dict[str, Any]:
     if (out / "model.zip").exists() and not args.overwrite and not same_out:
         raise UsageError("--out", f"{out / 'model.zip'} exists; use --overwrite, another --out or "
                          f"--resume {out}")
+    return out, resume_path, resume_spaces, prev_meta, same_out
+
+
+def _check_env_id(args: argparse.Namespace, prev_meta: dict[str, Any], resuming: bool) -> str:
+    """``--env``, else the resumed run's env id, else the default; it must be registered."""
+    import gymnasium as gym
+
+    from cof_gym.commands.args import UsageError
+
     env_id = args.env or prev_meta.get("env_id") or DEFAULT_ENV_ID
     if env_id not in gym.registry:
-        raise UsageError("--resume" if resume_path is not None and not args.env else "--env",
+        raise UsageError("--resume" if resuming and not args.env else "--env",
                          f"environment {env_id!r} is not registered; allowed: {', '.join(cof_gym.ENV_IDS)}")
-    conf = Path(args.conf_file)
-    if not conf.is_file():
-        raise UsageError("--conf-file", f"no such file: {conf}")
-    try:
-        raw = load_hyperparams(env_id, conf)
-    except KeyError as e:
-        raise UsageError("--conf-file", str(e.args[0])) from None
-    except Exception as e:  # yaml.YAMLError and friends
-        raise UsageError("--conf-file", f"{conf}: {' '.join(str(e).split())}") from None
+    return env_id
+
+
+def _check_hyperparams(args: argparse.Namespace, env_id: str,
+                       resuming: bool) -> tuple[dict[str, Any], dict[str, Any], dict[str, Any]]:
+    """``--conf-file`` and ``--hyperparams``: the hyperparameters as read, the command's settings and PPO's
+    arguments (:func:`~cof_gym.commands.train_hyperparams.split_hyperparams`), none of them one the command
+    sets itself or PPO does not take."""
+    from cof_gym.commands.args import UsageError
+
+    raw = _read_conf_file(Path(args.conf_file), env_id)
+    overrides = args.hyperparams or {}
     for key, flag in SET_BY_COMMAND.items():
-        if key in (args.hyperparams or {}) or key in raw:
-            source = "--hyperparams" if key in (args.hyperparams or {}) else "--conf-file"
+        if key in overrides or key in raw:
+            source = "--hyperparams" if key in overrides else "--conf-file"
             raise UsageError(source, f"{key!r} is set by cof-gym train itself"
                              + (f"; use {flag}" if flag else "") + " (not a hyperparameter)")
-    if resume_path is not None and "policy" in (args.hyperparams or {}):
+    if resuming and "policy" in overrides:
         raise UsageError("--hyperparams", "'policy' cannot change when resuming (the saved model keeps its policy)")
-    raw.update(args.hyperparams or {})
+    raw.update(overrides)
     try:
         settings, ppo_kwargs = split_hyperparams(raw)
     except (ValueError, TypeError, SyntaxError, NameError) as e:
@@ -403,33 +460,70 @@ def _check(args: argparse.Namespace) -> dict[str, Any]:
     unknown = sorted(set(ppo_kwargs) - allowed)
     if unknown:
         raise UsageError("--hyperparams", f"unknown PPO argument(s) {unknown}")
-    env_kwargs = {**settings["env_kwargs"], **(prev_meta.get("env_kwargs") or {}), **(args.env_kwargs or {})}
-    adapter = args.action_adapter or prev_meta.get("action_adapter", "absolute")
+    return raw, settings, ppo_kwargs
+
+
+def _read_conf_file(conf: Path, env_id: str) -> dict[str, Any]:
+    """The hyperparameter file's entry for ``env_id``; :class:`UsageError` on ``--conf-file``."""
+    from cof_gym.commands.args import UsageError
+
+    if not conf.is_file():
+        raise UsageError("--conf-file", f"no such file: {conf}")
+    try:
+        return load_hyperparams(env_id, conf)
+    except KeyError as e:
+        raise UsageError("--conf-file", str(e.args[0])) from None
+    except Exception as e:  # yaml.YAMLError and friends
+        raise UsageError("--conf-file", f"{conf}: {' '.join(str(e).split())}") from None
+
+
+def _env_spaces(env_id: str, env_kwargs: dict[str, Any], adapter: str) -> tuple[Any, Any]:
+    """The (observation, action) spaces of one env made as training will make them; a bad ``--env-kwargs``
+    is a :class:`UsageError`."""
+    from cof_gym.agents.ppo import make_env_fn
+    from cof_gym.commands.args import UsageError
+
     try:
         probe = make_env_fn(env_id, env_kwargs, adapter)()
-        spaces = probe.observation_space, probe.action_space
-        probe.close()
     except (ValueError, TypeError) as e:
         raise UsageError("--env-kwargs", f"{env_id}: {e}") from None
-    if resume_path is not None:
-        _check_resume_spaces(resume_path, resume_spaces, spaces, env_id, env_kwargs, bool(args.env_kwargs))
+    spaces = probe.observation_space, probe.action_space
+    probe.close()
+    return spaces
+
+
+def _check_counts(args: argparse.Namespace, settings: dict[str, Any]) -> tuple[int, int]:
+    """The number of parallel envs and of timesteps: the command line's, else the YAML's, each >= 1."""
+    from cof_gym.commands.args import UsageError
+
     n_envs = args.n_envs or settings["n_envs"]
     timesteps = args.timesteps if args.timesteps is not None else settings["n_timesteps"]
     if n_envs < 1 or timesteps < 1:
         raise UsageError("--n-envs" if n_envs < 1 else "--timesteps", "must be >= 1 (the YAML says otherwise)")
+    return n_envs, timesteps
+
+
+def _check_model_settings(settings: dict[str, Any], ppo_kwargs: dict[str, Any], spaces: tuple[Any, Any],
+                          n_envs: int) -> None:
+    """PPO's arguments and the normalisation against the env's spaces; :class:`UsageError` on ``--hyperparams``."""
+    from cof_gym.commands.args import UsageError
+
     try:
         check_ppo_kwargs(settings["policy"], ppo_kwargs, *spaces, n_envs)
         check_normalize_env(settings["normalize"], *spaces)
     except ValueError as e:
         raise UsageError("--hyperparams", str(e)) from None
-    check_device(args.device)
-    history = []
-    if same_out and (out / META_NAME).is_file():
-        previous = json.loads((out / META_NAME).read_text())
-        history = [*previous.pop("history", []), previous]
-    return {"out": out, "resume_path": resume_path, "prev_meta": prev_meta, "same_out": same_out, "env_id": env_id,
-            "adapter": adapter, "raw": raw, "settings": settings, "ppo_kwargs": ppo_kwargs, "env_kwargs": env_kwargs, "n_envs": n_envs,
-            "timesteps": timesteps, "history": history}
+
+
+def _history(out: Path, same_out: bool) -> list:
+    """The earlier runs into ``out`` when this one continues its model there (their train_meta.json, oldest
+    first), else none."""
+    from cof_gym.agents.ppo import META_NAME
+
+    if not (same_out and (out / META_NAME).is_file()):
+        return []
+    previous = json.loads((out / META_NAME).read_text())
+    return [*previous.pop("history", []), previous]
 
 
 def run(args: argparse.Namespace) -> int:
@@ -438,190 +532,278 @@ def run(args: argparse.Namespace) -> int:
     from cof_gym.commands.args import UsageError
 
     try:
-        checked = _check(args)
+        plan = _check(args)
     except UsageError as e:
         print(f"cof-gym train: error: {e}", file=sys.stderr)
         return 2
-    return _train(args, **checked)
+    return _train(args, plan)
 
 
-def _train(args: argparse.Namespace, out: Path, resume_path: Path | None, prev_meta: dict[str, Any], same_out: bool,
-           env_id: str, adapter: str, raw: dict[str, Any], settings: dict[str, Any], ppo_kwargs: dict[str, Any],
-           env_kwargs: dict[str, Any], n_envs: int, timesteps: int, history: list) -> int:  # noqa: C901
-    import shutil
-
-    from cof_gym.agents.ppo import META_NAME, vecnormalize_path
-
-    vec = args.vec or ("dummy" if n_envs == 1 else "subproc")
-
-    from stable_baselines3 import PPO
-    from stable_baselines3.common.callbacks import CheckpointCallback, EvalCallback
+def _train(args: argparse.Namespace, plan: TrainPlan) -> int:
+    """Set up, learn and save as ``plan`` says; train_meta.json records every stage, and a failure or an
+    interruption too."""
     from stable_baselines3.common.utils import set_random_seed
-    from stable_baselines3.common.vec_env import VecNormalize
 
-    from cof_gym.commands.args import MAX_TRAIN_SEED
+    from cof_gym.agents.ppo import META_NAME
 
-    EpisodeTermsCallback, SaveVecNormalizeCallback = _callbacks()
-    if args.progress:
-        import warnings
-
-        try:  # SB3's bar is tqdm.rich, which warns that it is experimental on every run
-            from tqdm import TqdmExperimentalWarning
-
-            warnings.filterwarnings("ignore", category=TqdmExperimentalWarning)
-        except ImportError:
-            pass
+    _quiet_progress_bar(args.progress)
     if args.torch_threads and args.torch_threads > 0:
         import torch
 
         torch.set_num_threads(args.torch_threads)
-
-    previous_steps = 0
-    if resume_path is not None:
-        previous_steps = int(PPO.load(resume_path, device=args.device).num_timesteps)
-    seed = args.seed if args.seed is not None else ((int(prev_meta.get("seed", 0)) + previous_steps) % (MAX_TRAIN_SEED + 1)
-                                                    if resume_path is not None else 0)
+    previous_steps = _saved_timesteps(plan.resume_path, args.device)
+    seed = _run_seed(args, plan, previous_steps)
     set_random_seed(seed)
-    out.mkdir(parents=True, exist_ok=True)
-    resumed_from = resume_path
-    if same_out:
-        # keep the model being continued: OUT/model.zip is replaced when this run ends
-        ckpt_dir = out / "checkpoints"
-        ckpt_dir.mkdir(exist_ok=True)
-        kept = ckpt_dir / f"ppo_{previous_steps}_steps.zip"
-        if not kept.exists():
-            shutil.copy2(resume_path, kept)
-        stats = vecnormalize_path(resume_path)
-        kept_stats = ckpt_dir / f"ppo_vecnormalize_{previous_steps}_steps.pkl"
-        if stats.is_file() and not kept_stats.exists():
-            shutil.copy2(stats, kept_stats)
-        resumed_from = kept
-    run_index = len(history)  # 0: the first run into OUT
-    suffix = f".resume{run_index}" if run_index else ""
-
-    meta: dict[str, Any] = {
-        "command": shlex.join(sys.argv), "argv": sys.argv, "args": {k: v for k, v in vars(args).items() if k != "func"},
-        "algo": args.algo, "env_id": env_id, "env_kwargs": env_kwargs, "action_adapter": adapter, "seed": seed,
-        "n_envs": n_envs, "vec": vec,
-        "timesteps_requested": timesteps, "conf_file": str(args.conf_file),
-        # a resumed model keeps its own hyperparameters; only --hyperparams overrides apply
-        "hyperparams": raw if resume_path is None else {**(prev_meta.get("hyperparams") or {}), **(args.hyperparams or {})},
-        "resumed_from": str(resumed_from) if resumed_from else None,
-        "resumed_from_timesteps": previous_steps if resume_path is not None else None,
-        "status": "setting up",
-        "started": datetime.now(timezone.utc).isoformat(timespec="seconds"), "versions": _versions(),
-    }
-    if history:
-        meta["history"] = history
-    meta_path = out / META_NAME
+    plan.out.mkdir(parents=True, exist_ok=True)
+    resumed_from = _keep_continued_model(plan, previous_steps) if plan.same_out else plan.resume_path
+    vec = args.vec or ("dummy" if plan.n_envs == 1 else "subproc")
+    meta = _initial_meta(args, plan, seed, vec, resumed_from, previous_steps)
+    meta_path = plan.out / META_NAME
     _write_meta(meta_path, meta)
-
+    suffix = f".resume{plan.run_index}" if plan.run_index else ""
     train_env = eval_env = None
     try:
-        train_env = _make_venv(env_id, env_kwargs, n_envs, seed, vec, out / "monitor", adapter, suffix)
-        if resume_path is not None:
-            stats = vecnormalize_path(resume_path)
-            if stats.is_file():
-                train_env = VecNormalize.load(str(stats), train_env)
-                train_env.training = True
-                train_env.norm_reward = settings["normalize"]["norm_reward"]
-            else:
-                print(f"cof-gym train: warning: no {stats.name} beside {resume_path}; fresh statistics",
-                      file=sys.stderr)
-                train_env = VecNormalize(train_env, **settings["normalize"])
-            overrides = split_hyperparams({**(args.hyperparams or {})})[1]
-            model = PPO.load(resume_path, env=train_env, device=args.device, tensorboard_log=str(out / "tb"),
-                             verbose=args.verbose, **overrides)
-            model.set_random_seed(seed)
-        else:
-            train_env = VecNormalize(train_env, **settings["normalize"])
-            model = PPO(settings["policy"], train_env, seed=seed, tensorboard_log=str(out / "tb"),
-                        verbose=args.verbose, device=args.device, **ppo_kwargs)
-            if args.pretrain_episodes > 0:
-                from cof_gym.agents.pretrain import behaviour_clone, collect_demonstrations
-
-                t_bc = time.perf_counter()
-                demo_obs, demo_act, demo_ret = collect_demonstrations(
-                    env_id, env_kwargs, args.pretrain_episodes, PRETRAIN_SEED_OFFSET + seed * args.pretrain_episodes,
-                    expert=args.pretrain_agent, gamma=float(ppo_kwargs.get("gamma", 0.99)),
-                    noise_std=args.pretrain_noise)
-                losses = behaviour_clone(model, demo_obs, demo_act, demo_ret, seed=seed, log_std=args.pretrain_log_std)
-                warm = save_warm_start(model, train_env, out, env_id)
-                meta["pretrain"] = {"agent": args.pretrain_agent, "episodes": args.pretrain_episodes,
-                                    "noise_std": args.pretrain_noise, "log_std": args.pretrain_log_std,
-                                    "samples": int(len(demo_obs)), **losses, "warm_start": str(warm),
-                                    "wall_time_s": round(time.perf_counter() - t_bc, 3)}
-                _write_meta(meta_path, meta)
-                print(f"behaviour cloning: {len(demo_obs)} {args.pretrain_agent} samples, final action MSE "
-                      f"{losses['action_mse']:.4f}, value MSE {losses['value_mse']:.3f}")
+        train_env = _make_venv(plan.env_id, plan.env_kwargs, plan.n_envs, seed, vec, plan.out / "monitor",
+                               plan.adapter, suffix)
+        model, train_env = _model(args, plan, train_env, seed, meta, meta_path)
         start_steps = int(model.num_timesteps)
-
-        callbacks: list = [EpisodeTermsCallback()]
-        if args.save_freq and args.save_freq > 0:
-            callbacks.append(CheckpointCallback(save_freq=max(args.save_freq // n_envs, 1),
-                                                save_path=str(out / "checkpoints"), name_prefix="ppo",
-                                                save_vecnormalize=True))
-        eval_callback = None
         if args.eval_freq and args.eval_freq > 0:
-            eval_env = VecNormalize(_make_venv(env_id, env_kwargs, 1, seed + 10_000, "dummy", None, adapter),
-                                    training=False, norm_obs=settings["normalize"]["norm_obs"], norm_reward=False)
-            eval_callback = EvalCallback(
-                eval_env, n_eval_episodes=args.eval_episodes, eval_freq=max(args.eval_freq // n_envs, 1),
-                best_model_save_path=str(out / "best"),
-                log_path=str(out / "eval" / f"resume{run_index}" if run_index else out / "eval"), deterministic=True,
-                callback_on_new_best=SaveVecNormalizeCallback(out / "best" / "vecnormalize.pkl"), verbose=args.verbose)
-            if same_out and (out / "best" / "best_model.zip").is_file():
-                best = _previous_best(out, prev_meta)
-                if best is not None:  # best/ is replaced only by a better model
-                    eval_callback.best_mean_reward = best
-            callbacks.append(eval_callback)
+            eval_env = _eval_venv(plan, seed)
+        callbacks, eval_callback = _training_callbacks(args, plan, eval_env)
         meta["status"] = "running"
         _write_meta(meta_path, meta)
-
-        status, code = "finished", 0
-        t0 = time.perf_counter()
-        try:
-            model.learn(total_timesteps=timesteps, callback=callbacks, tb_log_name="PPO",
-                        reset_num_timesteps=resume_path is None, progress_bar=args.progress)
-        except KeyboardInterrupt:
-            status, code = "interrupted", 130
-            print("cof-gym train: interrupted, saving the model", file=sys.stderr)
-        wall = time.perf_counter() - t0
-
-        model.save(out / "model.zip")
-        vec_normalize = model.get_vec_normalize_env()
-        vec_normalize.save(str(out / "vecnormalize.pkl"))
-        steps = int(model.num_timesteps) - start_steps
-        meta.update({
-            "status": status, "finished": datetime.now(timezone.utc).isoformat(timespec="seconds"),
-            "wall_time_s": round(wall, 3), "timesteps_trained": steps, "num_timesteps": int(model.num_timesteps),
-            "steps_per_s": round(steps / wall, 2) if wall > 0 else None,
-            "tensorboard_dir": model.logger.get_dir() if model.logger is not None else None,
-        })
-        if eval_callback is not None and np.isfinite(eval_callback.best_mean_reward):
-            meta["best_mean_reward"] = float(eval_callback.best_mean_reward)
-        _write_meta(meta_path, meta)
-        print(f"{status}: {steps} steps ({model.num_timesteps} total) in {wall:.1f} s "
-              f"({meta['steps_per_s']} steps/s); model {out / 'model.zip'}, statistics {out / 'vecnormalize.pkl'}")
+        status, code, wall = _learn(model, args, plan, callbacks)
+        _save_and_record(model, plan, meta, meta_path, status, int(model.num_timesteps) - start_steps, wall,
+                         eval_callback)
         return code
     except BaseException as e:
-        if meta["status"] in ("setting up", "running"):  # never leave a run marked as running
-            meta.update({"status": "interrupted" if isinstance(e, KeyboardInterrupt) else "failed",
-                         "error": f"{type(e).__name__}: {e}",
-                         "finished": datetime.now(timezone.utc).isoformat(timespec="seconds")})
-            _write_meta(meta_path, meta)
+        _record_failure(meta, meta_path, e)
         if isinstance(e, KeyboardInterrupt):
             print("cof-gym train: interrupted during set-up", file=sys.stderr)
             return 130
         raise
     finally:
-        for venv in (train_env, eval_env):
-            if venv is None:
-                continue
-            try:
-                venv.close()
-            except (EOFError, BrokenPipeError, ConnectionResetError, OSError):
-                pass  # subprocess workers already gone (e.g. after Ctrl-C)
+        _close(train_env, eval_env)
+
+
+def _quiet_progress_bar(progress: bool) -> None:
+    """SB3's bar is tqdm.rich, which warns that it is experimental on every run."""
+    if not progress:
+        return
+    import warnings
+
+    try:
+        from tqdm import TqdmExperimentalWarning
+
+        warnings.filterwarnings("ignore", category=TqdmExperimentalWarning)
+    except ImportError:
+        pass
+
+
+def _saved_timesteps(resume_path: Path | None, device: str) -> int:
+    """The timesteps the continued model has been trained for (0 for a new model)."""
+    if resume_path is None:
+        return 0
+    from stable_baselines3 import PPO
+
+    return int(PPO.load(resume_path, device=device).num_timesteps)
+
+
+def _run_seed(args: argparse.Namespace, plan: TrainPlan, previous_steps: int) -> int:
+    """``--seed``; else 0 for a new model, and for a continued one its run's seed plus its timesteps (modulo
+    the largest seed + 1), so that a continued run never replays its predecessor's random numbers."""
+    from cof_gym.commands.args import MAX_TRAIN_SEED
+
+    if args.seed is not None:
+        return args.seed
+    if not plan.resuming:
+        return 0
+    return (int(plan.prev_meta.get("seed", 0)) + previous_steps) % (MAX_TRAIN_SEED + 1)
+
+
+def _keep_continued_model(plan: TrainPlan, previous_steps: int) -> Path:
+    """Continuing OUT/model.zip into OUT, which this run replaces when it ends: the model (and its statistics)
+    kept as ``checkpoints/ppo_<N>_steps.zip`` first; returns the kept zip."""
+    import shutil
+
+    from cof_gym.agents.ppo import vecnormalize_path
+
+    ckpt_dir = plan.out / "checkpoints"
+    ckpt_dir.mkdir(exist_ok=True)
+    kept = ckpt_dir / f"ppo_{previous_steps}_steps.zip"
+    if not kept.exists():
+        shutil.copy2(plan.resume_path, kept)
+    stats = vecnormalize_path(plan.resume_path)
+    kept_stats = ckpt_dir / f"ppo_vecnormalize_{previous_steps}_steps.pkl"
+    if stats.is_file() and not kept_stats.exists():
+        shutil.copy2(stats, kept_stats)
+    return kept
+
+
+def _initial_meta(args: argparse.Namespace, plan: TrainPlan, seed: int, vec: str, resumed_from: Path | None,
+                  previous_steps: int) -> dict[str, Any]:
+    """train_meta.json before set-up: the command, the plan, the versions, status ``setting up``."""
+    meta: dict[str, Any] = {
+        "command": shlex.join(sys.argv), "argv": sys.argv, "args": {k: v for k, v in vars(args).items() if k != "func"},
+        "algo": args.algo, "env_id": plan.env_id, "env_kwargs": plan.env_kwargs, "action_adapter": plan.adapter,
+        "seed": seed, "n_envs": plan.n_envs, "vec": vec,
+        "timesteps_requested": plan.timesteps, "conf_file": str(args.conf_file),
+        # a resumed model keeps its own hyperparameters; only --hyperparams overrides apply
+        "hyperparams": (plan.raw if not plan.resuming
+                        else {**(plan.prev_meta.get("hyperparams") or {}), **(args.hyperparams or {})}),
+        "resumed_from": str(resumed_from) if resumed_from else None,
+        "resumed_from_timesteps": previous_steps if plan.resuming else None,
+        "status": "setting up",
+        "started": datetime.now(timezone.utc).isoformat(timespec="seconds"), "versions": _versions(),
+    }
+    if plan.history:
+        meta["history"] = plan.history
+    return meta
+
+
+def _model(args: argparse.Namespace, plan: TrainPlan, venv, seed: int, meta: dict[str, Any], meta_path: Path):
+    """The PPO model on ``venv`` under VecNormalize: the continued model with its statistics, or a new one
+    (behaviour-cloned first with ``--pretrain-episodes``). Returns the model and the normalised env."""
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.vec_env import VecNormalize
+
+    if not plan.resuming:
+        train_env = VecNormalize(venv, **plan.settings["normalize"])
+        model = PPO(plan.settings["policy"], train_env, seed=seed, tensorboard_log=str(plan.out / "tb"),
+                    verbose=args.verbose, device=args.device, **plan.ppo_kwargs)
+        if args.pretrain_episodes > 0:
+            meta["pretrain"] = _pretrain(args, plan, model, train_env, seed)
+            _write_meta(meta_path, meta)
+        return model, train_env
+    train_env = _continued_statistics(plan, venv)
+    overrides = split_hyperparams({**(args.hyperparams or {})})[1]
+    model = PPO.load(plan.resume_path, env=train_env, device=args.device, tensorboard_log=str(plan.out / "tb"),
+                     verbose=args.verbose, **overrides)
+    model.set_random_seed(seed)
+    return model, train_env
+
+
+def _continued_statistics(plan: TrainPlan, venv):
+    """``venv`` under the continued model's VecNormalize statistics (fresh ones, with a warning, where its
+    vecnormalize.pkl is missing)."""
+    from stable_baselines3.common.vec_env import VecNormalize
+
+    from cof_gym.agents.ppo import vecnormalize_path
+
+    stats = vecnormalize_path(plan.resume_path)
+    if not stats.is_file():
+        print(f"cof-gym train: warning: no {stats.name} beside {plan.resume_path}; fresh statistics", file=sys.stderr)
+        return VecNormalize(venv, **plan.settings["normalize"])
+    train_env = VecNormalize.load(str(stats), venv)
+    train_env.training = True
+    train_env.norm_reward = plan.settings["normalize"]["norm_reward"]
+    return train_env
+
+
+def _pretrain(args: argparse.Namespace, plan: TrainPlan, model, train_env, seed: int) -> dict[str, Any]:
+    """Behaviour cloning of ``--pretrain-agent`` before PPO (cof_gym/agents/pretrain.py), the clone saved as
+    a warm start; returns train_meta.json's ``pretrain`` record."""
+    from cof_gym.agents.pretrain import behaviour_clone, collect_demonstrations
+
+    t_bc = time.perf_counter()
+    demo_obs, demo_act, demo_ret = collect_demonstrations(
+        plan.env_id, plan.env_kwargs, args.pretrain_episodes, PRETRAIN_SEED_OFFSET + seed * args.pretrain_episodes,
+        expert=args.pretrain_agent, gamma=float(plan.ppo_kwargs.get("gamma", 0.99)), noise_std=args.pretrain_noise)
+    losses = behaviour_clone(model, demo_obs, demo_act, demo_ret, seed=seed, log_std=args.pretrain_log_std)
+    warm = save_warm_start(model, train_env, plan.out, plan.env_id)
+    print(f"behaviour cloning: {len(demo_obs)} {args.pretrain_agent} samples, final action MSE "
+          f"{losses['action_mse']:.4f}, value MSE {losses['value_mse']:.3f}")
+    return {"agent": args.pretrain_agent, "episodes": args.pretrain_episodes, "noise_std": args.pretrain_noise,
+            "log_std": args.pretrain_log_std, "samples": int(len(demo_obs)), **losses, "warm_start": str(warm),
+            "wall_time_s": round(time.perf_counter() - t_bc, 3)}
+
+
+def _eval_venv(plan: TrainPlan, seed: int):
+    """The evaluation env: one env, its own seeds, observation statistics frozen (set by the callback)."""
+    from stable_baselines3.common.vec_env import VecNormalize
+
+    return VecNormalize(_make_venv(plan.env_id, plan.env_kwargs, 1, seed + 10_000, "dummy", None, plan.adapter),
+                        training=False, norm_obs=plan.settings["normalize"]["norm_obs"], norm_reward=False)
+
+
+def _training_callbacks(args: argparse.Namespace, plan: TrainPlan, eval_env) -> tuple[list, Any]:
+    """The episode-terms logger, checkpoints (``--save-freq``) and, with ``eval_env``, the evaluation that keeps
+    best/ (replaced only by a better model than the earlier runs' into the same OUT); returns them and the
+    evaluation callback (None without one)."""
+    from stable_baselines3.common.callbacks import CheckpointCallback, EvalCallback
+
+    EpisodeTermsCallback, SaveVecNormalizeCallback = _callbacks()
+    out, n_envs = plan.out, plan.n_envs
+    callbacks: list = [EpisodeTermsCallback()]
+    if args.save_freq and args.save_freq > 0:
+        callbacks.append(CheckpointCallback(save_freq=max(args.save_freq // n_envs, 1), save_path=str(out / "checkpoints"),
+                                            name_prefix="ppo", save_vecnormalize=True))
+    if eval_env is None:
+        return callbacks, None
+    eval_callback = EvalCallback(
+        eval_env, n_eval_episodes=args.eval_episodes, eval_freq=max(args.eval_freq // n_envs, 1),
+        best_model_save_path=str(out / "best"),
+        log_path=str(out / "eval" / f"resume{plan.run_index}" if plan.run_index else out / "eval"), deterministic=True,
+        callback_on_new_best=SaveVecNormalizeCallback(out / "best" / "vecnormalize.pkl"), verbose=args.verbose)
+    if plan.same_out and (out / "best" / "best_model.zip").is_file():
+        best = _previous_best(out, plan.prev_meta)
+        if best is not None:  # best/ is replaced only by a better model
+            eval_callback.best_mean_reward = best
+    callbacks.append(eval_callback)
+    return callbacks, eval_callback
+
+
+def _learn(model, args: argparse.Namespace, plan: TrainPlan, callbacks: list) -> tuple[str, int, float]:
+    """PPO's learning for ``plan.timesteps``; returns the status, the exit code (130 when interrupted: the
+    model is saved anyway) and the wall time (s)."""
+    status, code = "finished", 0
+    t0 = time.perf_counter()
+    try:
+        model.learn(total_timesteps=plan.timesteps, callback=callbacks, tb_log_name="PPO",
+                    reset_num_timesteps=not plan.resuming, progress_bar=args.progress)
+    except KeyboardInterrupt:
+        status, code = "interrupted", 130
+        print("cof-gym train: interrupted, saving the model", file=sys.stderr)
+    return status, code, time.perf_counter() - t0
+
+
+def _save_and_record(model, plan: TrainPlan, meta: dict[str, Any], meta_path: Path, status: str, steps: int,
+                     wall: float, eval_callback) -> None:
+    """OUT/model.zip and vecnormalize.pkl, then train_meta.json's final record and one line on the terminal."""
+    model.save(plan.out / "model.zip")
+    model.get_vec_normalize_env().save(str(plan.out / "vecnormalize.pkl"))
+    meta.update({
+        "status": status, "finished": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+        "wall_time_s": round(wall, 3), "timesteps_trained": steps, "num_timesteps": int(model.num_timesteps),
+        "steps_per_s": round(steps / wall, 2) if wall > 0 else None,
+        "tensorboard_dir": model.logger.get_dir() if model.logger is not None else None,
+    })
+    if eval_callback is not None and np.isfinite(eval_callback.best_mean_reward):
+        meta["best_mean_reward"] = float(eval_callback.best_mean_reward)
+    _write_meta(meta_path, meta)
+    print(f"{status}: {steps} steps ({model.num_timesteps} total) in {wall:.1f} s "
+          f"({meta['steps_per_s']} steps/s); model {plan.out / 'model.zip'}, statistics {plan.out / 'vecnormalize.pkl'}")
+
+
+def _record_failure(meta: dict[str, Any], meta_path: Path, error: BaseException) -> None:
+    """A run that stops in set-up or learning is never left marked as running: ``interrupted`` or ``failed``."""
+    if meta["status"] not in ("setting up", "running"):
+        return
+    meta.update({"status": "interrupted" if isinstance(error, KeyboardInterrupt) else "failed",
+                 "error": f"{type(error).__name__}: {error}",
+                 "finished": datetime.now(timezone.utc).isoformat(timespec="seconds")})
+    _write_meta(meta_path, meta)
+
+
+def _close(*venvs) -> None:
+    """Close the vector envs that were made; subprocess workers may already be gone (e.g. after Ctrl-C)."""
+    for venv in venvs:
+        if venv is None:
+            continue
+        try:
+            venv.close()
+        except (EOFError, BrokenPipeError, ConnectionResetError, OSError):
+            pass
 
 
 if __name__ == "__main__":
