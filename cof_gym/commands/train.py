@@ -736,8 +736,9 @@ def _training_callbacks(args: argparse.Namespace, plan: TrainPlan, eval_env) -> 
     out, n_envs = plan.out, plan.n_envs
     callbacks: list = [EpisodeTermsCallback()]
     if args.save_freq and args.save_freq > 0:
-        callbacks.append(CheckpointCallback(save_freq=max(args.save_freq // n_envs, 1), save_path=str(out / "checkpoints"),
-                                            name_prefix="ppo", save_vecnormalize=True))
+        callbacks.append(CheckpointCallback(save_freq=max(args.save_freq // n_envs, 1),
+                                            save_path=str(out / "checkpoints"), name_prefix="ppo",
+                                            save_vecnormalize=True))
     if eval_env is None:
         return callbacks, None
     eval_callback = EvalCallback(
@@ -781,8 +782,8 @@ def _save_and_record(model, plan: TrainPlan, meta: dict[str, Any], meta_path: Pa
     if eval_callback is not None and np.isfinite(eval_callback.best_mean_reward):
         meta["best_mean_reward"] = float(eval_callback.best_mean_reward)
     _write_meta(meta_path, meta)
-    print(f"{status}: {steps} steps ({model.num_timesteps} total) in {wall:.1f} s "
-          f"({meta['steps_per_s']} steps/s); model {plan.out / 'model.zip'}, statistics {plan.out / 'vecnormalize.pkl'}")
+    print(f"{status}: {steps} steps ({model.num_timesteps} total) in {wall:.1f} s ({meta['steps_per_s']} steps/s); "
+          f"model {plan.out / 'model.zip'}, statistics {plan.out / 'vecnormalize.pkl'}")
 
 
 def _record_failure(meta: dict[str, Any], meta_path: Path, error: BaseException) -> None:

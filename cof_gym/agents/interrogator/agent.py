@@ -316,74 +316,119 @@ class LearnedInterrogator:
         return [(float(mean[0, 1]), float(std[0, 1])) for mean, std in outputs]
 
     def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
-        p = self.params
-        stop = False
         if self._dc > 0.0:
-            self._driven += 1
-            reading = self._reading(observation, info)
-            previous = self.features.readings[-1] if self.features.readings else None
-            falling = previous is not None and coa_fell(reading.coa, previous.coa)
-            knee = previous is not None and p.knee_stops(reading, previous, self._driven, self._crept)
-            self._bracket.observe(reading.crest_bound, reading.dc_nm + reading.amplitude_nm)  # the floor's bound too
-            for features in (self.features, *self._guard_features, *self._estimator_features):
-                features.push(reading)
-            p = p.at_noise(p.noise_ratio(self.features.readings))  # the climb at the noise its first windows read
-            mean, std, spread = self.ensemble.predict_with_spread(self.features.vector())
-            guard_outputs = [g.predict_with_spread(f.vector()) for g, f in zip(self.guards, self._guard_features)]
-            headroom, headroom_std, headroom_spread, caution = self._steering_headroom(p, mean, std, spread, guard_outputs)
-            self._ceiling.observe(reading.coa_cycle_max, reading.coa_cycle_bin_se, reading.dc_nm + reading.amplitude_nm,
-                                  p.fall_margin(p.mean_headroom(headroom, headroom_std, headroom_spread, caution)))
-            if not falling:
-                self._best_coa = max(self._best_coa, reading.coa)
-                predictions = ((float(mean[0, 1]), float(std[0, 1])),
-                               [(float(g_mean[0, 1]), float(g_std[0, 1])) for g_mean, g_std, _ in guard_outputs],
-                               self._corrections(self.estimators, self._estimator_features))
-                self._source_estimates = self._estimates_at(reading.coa, *predictions)
-                self._source_stds = self._stds_at(*predictions)
-            step = p.log_step(headroom, headroom_std, headroom_spread, caution)
-            if p.sticks(self._crept, headroom):  # the peak may be near: no big step again
-                step = min(step, p.creep_log_step)
-            self._crept |= p.creeps(headroom, headroom_std, headroom_spread, caution)
-            windows_left = self.max_windows - 1 - self._driven  # windows before the horizon's stop
-            if self._crept and step >= p.min_log_step:  # pacing sizes a slow-probe step, never turns a stop into one
-                step = max(step, p.pace_step(headroom, headroom_std, headroom_spread, windows_left, caution))
-            step = max(step, p.floor_step(reading.coa))  # safe whatever the filter predicts
-            if step < p.min_log_step and p.probes_on(self.features.readings):  # a headroom stop the crest defers
-                step = p.creep_log_step
-                self._crept = True
-                if p.crest_probe_hold_crest and self._held_crest is None:  # the crest of the window just read
-                    self._held_crest = self._dc + p.amplitude(self._dc, self.limits, self._ratio)
-            at_limit = self._dc >= self.limits.max_dc_torque_nm
-            last = windows_left <= 0
-            crest_fell = p.ceiling_stop and self._ceiling.reached
-            stop = falling or knee or crest_fell or at_limit or last or step < p.min_log_step
-            held_ratio = None
-            if not stop:
-                new_dc = min(self._dc * math.exp(step), self.limits.max_dc_torque_nm)
-                if self._held_crest is not None:  # no DC step the held crest cannot carry: a headroom stop
-                    held_ratio = p.held_crest_ratio(self._held_crest, new_dc, self.limits)
-                    stop = held_ratio is None
-            if stop:
-                self.stop_reason = ("falling" if falling else "knee" if knee else "ceiling" if crest_fell
-                                    else "limit" if at_limit else "horizon" if last else "headroom")
-            else:
-                self._ratio = p.crest_ratio(headroom - math.log(new_dc / self._dc), self._crept)
-                if held_ratio is not None:
-                    self._ratio = min(self._ratio, held_ratio)
-                self._dc = new_dc
-            self.decisions.append(WindowDecision(float(mean[0, 0]), float(std[0, 0]), headroom, headroom_std,
-                                                 0.0 if stop else step, self._crept, self.stop_reason))
-            self._runaway = None if stop else self._bracket.estimate(
-                self._dc + p.amplitude(self._dc, self.limits, self._ratio))
-            self._estimate = self.candidate_estimates(p.best_coa_factor)[p.estimate_from]  # the stop's reason known
+            p, stop = self._after_window(observation, info)
         else:
+            p, stop = self.params, False
             self._dc = self.climb.first_dc(self.limits)
             self._frequency = p.frequency_at(Reading.of(observation, self.limits, info).speed_m_s, self.limits)
+        return self._command(p, stop)
+
+    def _command(self, p: ClimbParameters, stop: bool) -> np.ndarray:
+        """The action that drives the next window at the DC chosen (the modulation raised where ``p`` raises it)
+        with the current estimate, or the stop."""
         estimate = self.estimate
         raise_by = 1.0 if stop else p.modulation_raise(self._applied_fractions)
         self._raised_by = p.commanded_amplitude(self._dc, self.limits, self._ratio, raise_by) / p.amplitude(
             self._dc, self.limits, self._ratio)
         return p.action(self._dc, estimate, stop, self.limits, self._ratio, self._frequency, raise_by)
+
+    def _after_window(self, observation: np.ndarray, info: dict[str, Any]) -> tuple[ClimbParameters, bool]:
+        """Read the window just driven, update the estimates, and choose the next DC or the stop; returns the climb
+        at the noise the first windows read (:meth:`ClimbParameters.at_noise`) and whether it stops."""
+        self._driven += 1
+        reading = self._reading(observation, info)
+        previous = self.features.readings[-1] if self.features.readings else None
+        falling = previous is not None and coa_fell(reading.coa, previous.coa)
+        knee = previous is not None and self.params.knee_stops(reading, previous, self._driven, self._crept)
+        self._bracket.observe(reading.crest_bound, reading.dc_nm + reading.amplitude_nm)  # the floor's bound too
+        for features in (self.features, *self._guard_features, *self._estimator_features):
+            features.push(reading)
+        p = self.params.at_noise(self.params.noise_ratio(self.features.readings))
+        mean, std, spread = self.ensemble.predict_with_spread(self.features.vector())
+        guard_outputs = [g.predict_with_spread(f.vector()) for g, f in zip(self.guards, self._guard_features)]
+        steering = self._steering_headroom(p, mean, std, spread, guard_outputs)
+        headroom, headroom_std, headroom_spread, caution = steering
+        self._ceiling.observe(reading.coa_cycle_max, reading.coa_cycle_bin_se, reading.dc_nm + reading.amplitude_nm,
+                              p.fall_margin(p.mean_headroom(headroom, headroom_std, headroom_spread, caution)))
+        if not falling:
+            self._update_estimates(reading, mean, std, guard_outputs)
+        step = self._next_step(p, reading, *steering)
+        stop = self._stop_or_step(p, step, headroom, self._stop_reason(p, step, falling, knee))
+        self.decisions.append(WindowDecision(float(mean[0, 0]), float(std[0, 0]), headroom, headroom_std,
+                                             0.0 if stop else step, self._crept, self.stop_reason))
+        self._runaway = None if stop else self._bracket.estimate(
+            self._dc + p.amplitude(self._dc, self.limits, self._ratio))
+        self._estimate = self.candidate_estimates(p.best_coa_factor)[p.estimate_from]  # the stop's reason known
+        return p, stop
+
+    def _update_estimates(self, reading: Reading, mean: np.ndarray, std: np.ndarray,
+                          guard_outputs: list[tuple[np.ndarray, np.ndarray, np.ndarray]]) -> None:
+        """The best CoA and every source's estimate and std after a window whose CoA has not fallen."""
+        self._best_coa = max(self._best_coa, reading.coa)
+        predictions = ((float(mean[0, 1]), float(std[0, 1])),
+                       [(float(g_mean[0, 1]), float(g_std[0, 1])) for g_mean, g_std, _ in guard_outputs],
+                       self._corrections(self.estimators, self._estimator_features))
+        self._source_estimates = self._estimates_at(reading.coa, *predictions)
+        self._source_stds = self._stds_at(*predictions)
+
+    @property
+    def _windows_left(self) -> int:
+        """The windows the climb may still drive before the horizon's stop."""
+        return self.max_windows - 1 - self._driven
+
+    def _next_step(self, p: ClimbParameters, reading: Reading, headroom: float, headroom_std: float,
+                   headroom_spread: float, caution: float) -> float:
+        """The next DC step (log units; below ``min_log_step`` a headroom stop) from the steering headroom: the gap
+        to the target or the slow probe (held to it once sticky, paced to the horizon where ``p`` paces it), at least
+        the floor's step, a stop the crest defers turned into a probe step. Marks the slow probe and the held crest."""
+        step = p.log_step(headroom, headroom_std, headroom_spread, caution)
+        if p.sticks(self._crept, headroom):  # the peak may be near: no big step again
+            step = min(step, p.creep_log_step)
+        self._crept |= p.creeps(headroom, headroom_std, headroom_spread, caution)
+        if self._crept and step >= p.min_log_step:  # pacing sizes a slow-probe step, never turns a stop into one
+            step = max(step, p.pace_step(headroom, headroom_std, headroom_spread, self._windows_left, caution))
+        step = max(step, p.floor_step(reading.coa))  # safe whatever the filter predicts
+        if step < p.min_log_step and p.probes_on(self.features.readings):  # a headroom stop the crest defers
+            step = p.creep_log_step
+            self._crept = True
+            if p.crest_probe_hold_crest and self._held_crest is None:  # the crest of the window just read
+                self._held_crest = self._dc + p.amplitude(self._dc, self.limits, self._ratio)
+        return step
+
+    def _stop_reason(self, p: ClimbParameters, step: float, falling: bool, knee: bool) -> str:
+        """Why the climb stops after the window just read, the first that holds of: the CoA fell, a knee, the crest
+        fell (the ceiling), the drive's DC limit, the horizon, the headroom closed ("" where it goes on, as far as
+        these tell: a held crest may still stop it)."""
+        if falling:
+            return "falling"
+        if knee:
+            return "knee"
+        if p.ceiling_stop and self._ceiling.reached:
+            return "ceiling"
+        if self._dc >= self.limits.max_dc_torque_nm:
+            return "limit"
+        if self._windows_left <= 0:
+            return "horizon"
+        return "headroom" if step < p.min_log_step else ""
+
+    def _stop_or_step(self, p: ClimbParameters, step: float, headroom: float, reason: str) -> bool:
+        """The stop (its reason recorded), or the step taken: the new DC and the modulation ratio it is driven with
+        (within what a held crest carries; a step it cannot carry is a headroom stop). Returns whether it stops."""
+        held_ratio = None
+        if not reason:
+            new_dc = min(self._dc * math.exp(step), self.limits.max_dc_torque_nm)
+            if self._held_crest is not None:  # no DC step the held crest cannot carry: a headroom stop
+                held_ratio = p.held_crest_ratio(self._held_crest, new_dc, self.limits)
+                reason = "" if held_ratio is not None else "headroom"
+        if reason:
+            self.stop_reason = reason
+            return True
+        self._ratio = p.crest_ratio(headroom - math.log(new_dc / self._dc), self._crept)
+        if held_ratio is not None:
+            self._ratio = min(self._ratio, held_ratio)
+        self._dc = new_dc
+        return False
 
     def _reading(self, observation: np.ndarray, info: dict[str, Any]) -> Reading:
         """The driven window's reading (with ``torque_balance``, its torque readings calibrated by the gain the
