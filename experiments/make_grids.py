@@ -105,7 +105,11 @@
   rule 84 (session 50).
 - ``suites/v2_confirmation27_grid.json``, ``suites/v2_confirmation27_procedural_grid.json`` and
   ``suites/v2_confirmation27_steep_grid.json`` (session 50, seeds 293 000, 295 000, 297 000): a twenty-seventh such
-  set, written before any agent played them, after the twenty-sixth had judged rule 84, for the next rule.
+  set, written before any agent played them, after the twenty-sixth had judged rule 84, for the next rule; it judged
+  rule 85 (session 51).
+- ``suites/v2_confirmation28_grid.json``, ``suites/v2_confirmation28_procedural_grid.json`` and
+  ``suites/v2_confirmation28_steep_grid.json`` (session 51, seeds 311 000, 313 000, 315 000): a twenty-eighth such
+  set, written before any agent played them, after the twenty-seventh had judged rule 85, for the next rule.
 - ``suites/v2_stress_tables_grid.json`` (session 50, seeds from 305 000): reporting only, never a held-out grid of
   the targets: creep curves at the edges of what a table may be (:data:`STRESS_SHAPES`: a cliff just past the
   peak, a plateau with no falling branch, a shoulder before the peak, a peak with no knee before it, and a peak at
@@ -145,7 +149,11 @@
   84 (session 50).
 - ``suites/v2_torque_confirmation8_grid.json``, ``suites/v2_torque_confirmation8_procedural_grid.json`` and
   ``suites/v2_torque_confirmation8_steep_grid.json`` (session 50, seeds 299 000, 301 000, 303 000): an eighth such
-  set, written before any agent played them, after the seventh had judged rule 84, for the next rule.
+  set, written before any agent played them, after the seventh had judged rule 84, for the next rule; it judged rule
+  85 (session 51).
+- ``suites/v2_torque_confirmation9_grid.json``, ``suites/v2_torque_confirmation9_procedural_grid.json`` and
+  ``suites/v2_torque_confirmation9_steep_grid.json`` (session 51, seeds 317 000, 319 000, 321 000): a ninth such
+  set, written before any agent played them, after the eighth had judged rule 85, for the next rule.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -450,7 +458,7 @@ def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.
 ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", "eighth ", "ninth ", "tenth ",
             "eleventh ", "twelfth ", "thirteenth ", "fourteenth ", "fifteenth ", "sixteenth ", "seventeenth ",
             "eighteenth ", "nineteenth ", "twentieth ", "twenty-first ", "twenty-second ", "twenty-third ",
-            "twenty-fourth ", "twenty-fifth ", "twenty-sixth ", "twenty-seventh ")
+            "twenty-fourth ", "twenty-fifth ", "twenty-sixth ", "twenty-seventh ", "twenty-eighth ")
 
 # the confirmation sets, in the order they were written (the module docstring says when, and for which rule):
 # name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and steep grids; each was written
@@ -510,6 +518,8 @@ CONFIRMATION_SETS = {
                        ((0.06, 0.37, 0.71, 0.94), (8.0, 20.5, 38.0), 283_000), ((0.11, 0.45, 0.82), (7.5, 18.5, 34.5), 285_000)),
     "confirmation27": (((0.03, 0.31, 0.54, 0.79, 0.96), (6.5, 17.0, 34.5), 293_000),
                        ((0.09, 0.42, 0.67, 0.92), (7.5, 21.5, 36.0), 295_000), ((0.13, 0.43, 0.79), (6.0, 20.5, 36.5), 297_000)),
+    "confirmation28": (((0.04, 0.3, 0.53, 0.81, 0.94), (5.5, 18.0, 33.0), 311_000),
+                       ((0.07, 0.4, 0.68, 0.95), (9.0, 20.0, 37.5), 313_000), ((0.12, 0.47, 0.8), (7.0, 21.5, 35.0), 315_000)),
 }
 
 
@@ -545,6 +555,9 @@ TORQUE_CONFIRMATION_SETS = {
     "torque_confirmation8": (((0.05, 0.29, 0.52, 0.8, 0.95), (6.5, 18.0, 33.5), 299_000),
                              ((0.07, 0.38, 0.7, 0.93), (8.0, 21.0, 37.5), 301_000),
                              ((0.12, 0.44, 0.83), (7.5, 19.5, 35.5), 303_000)),
+    "torque_confirmation9": (((0.03, 0.27, 0.54, 0.78, 0.96), (7.0, 17.5, 34.0), 317_000),
+                             ((0.08, 0.41, 0.69, 0.92), (8.5, 22.0, 36.5), 319_000),
+                             ((0.13, 0.45, 0.81), (6.5, 20.0, 37.0), 321_000)),
 }
 GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0  # the golden ratio's fraction: a low-discrepancy sequence k x GOLDEN mod 1
 

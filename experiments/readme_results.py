@@ -686,6 +686,20 @@ generated, never typed:
         out/records_shipped_confirmation26_motor_lag_s.json out/records_rule84R3_confirmation26_motor_lag_s.json \
         out/records_shipped_torque_confirmation7.json out/records_rule84R3_torque_confirmation7.json --gain \
         --out out/rule_check_rule84_a.md   # (b): the first and the last pair with --errors (rule_check_rule84_b.md)
+    python experiments/train_interrogator.py --out runs/interrogator_filter_onpolicy --climbs torque_wide=8000 \
+        --add-climbs runs/estimator_wide_balance/onpolicy_env_8e113d0ddec5.npz --guard-climbs none \
+        --torque-balance-lag 65 --fit-only   # rule 85's F (the recipe's climbs_torque_wide.npz copied in first)
+    python experiments/crest_tradeoff.py --run runs/interrogator_filter_onpolicy/ensemble --guards $G --guards-only \
+        --targets 0.1 --stops --return-digits 4 --grids validation --records out/records_rule85F_validation.json \
+        --out out/crest_tradeoff_rule85F_validation.md   # also validation_torque, --scenario noise_level=3
+        # (_noise_level) and motor_lag_s=0.1 (_motor_lag_s), each paired against the session-48 records
+        # (paired_rule85F_*); confirmation27 (at the draws, noise_level=3, motor_lag_s=0.1) and torque_confirmation8,
+        # with the shipped agent beside it (no --run, _shipped_), paired alike
+    python experiments/rule_check.py out/records_shipped_confirmation27.json out/records_rule85F_confirmation27.json \
+        out/records_shipped_confirmation27_noise_level.json out/records_rule85F_confirmation27_noise_level.json \
+        out/records_shipped_confirmation27_motor_lag_s.json out/records_rule85F_confirmation27_motor_lag_s.json \
+        out/records_shipped_torque_confirmation8.json out/records_rule85F_torque_confirmation8.json --gain \
+        --out out/rule_check_rule85_a.md   # (b): the first and the last pair with --errors (rule_check_rule85_b.md)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -990,6 +1004,10 @@ SOURCES = {
                        "torque_confirmation7")
           for name in ("crest_tradeoff_shipped", "crest_tradeoff_rule84R3", "paired_rule84R3")),
         "rule_check_rule84_a", "rule_check_rule84_b",
+        *(f"paired_rule85F_{play}"
+          for play in ("validation", "validation_torque", "noise_level", "motor_lag_s", "confirmation27",
+                       "confirmation27_noise_level", "confirmation27_motor_lag_s", "torque_confirmation8")),
+        "rule_check_rule85_a", "rule_check_rule85_b",
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
         "runaways_by_torque_gain_session49",
