@@ -106,7 +106,7 @@ import shutil
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import asdict, replace
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Callable
 
@@ -604,7 +604,8 @@ def ship(ensemble_dir: Path, package: Path = SHIPPED_INTERROGATOR) -> None:
         (package / MODEL_CARD).write_text(card)
 
 
-def main() -> None:
+def build_parser() -> Parser:
+    """The recipe's options."""
     ap = Parser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=Path("runs/interrogator"))
     ap.add_argument("--climbs", nargs="+", default=[f"{k}={v}" for k, v in EPISODES.items()], metavar="NAME=N",
@@ -620,7 +621,8 @@ def main() -> None:
                          "leaves out every feature of the compliance, which reads the torque sensor's gain)")
     ap.add_argument("--ship", action="store_true")
     ap.add_argument("--criterion", choices=sorted(CRITERIA), default="pooled",
-                    help="how the climb is ranked on validation (pooled: both grids, the recipe; family: the family grid alone)")
+                    help="how the climb is ranked on validation (pooled: both grids, the recipe; family: the family "
+                         "grid alone)")
     ap.add_argument("--grid", choices=sorted(GRIDS), default="recipe", help="the climbs tried (recipe: the shipped recipe's)")
     ap.add_argument("--reuse", action="store_true",
                     help="keep OUT/seed_K networks that exist (selection and report only; where every seed's network "
@@ -651,13 +653,23 @@ def main() -> None:
     ap.add_argument("--report-only", action="store_true",
                     help="step 4 alone, on the shipped agent as it is (its networks, guards and climb; OUT/seed_K: "
                          "member K alone): no climbs, no fit, no selection")
-    args = ap.parse_args()
-    check_out_dir(ap, "--out", args.out)
-    if args.epochs < 1:
-        ap.error(f"--epochs must be at least 1, got {args.epochs}")
-    if args.report_only:
-        report_only(ap, args)
-        return
+    return ap
+
+
+@dataclass(frozen=True)
+class TrainingClimbs:
+    """What the networks are fitted on, as checked from the command line: the filter's collections and recorded
+    climbs, the guard's (none: no guard is fitted), and whether every reading is calibrated by the torque balance."""
+
+    filter_collections: dict[str, int]
+    filter_added: list[Dataset]
+    guard_collections: dict[str, int]
+    guard_added: list[Dataset]
+    balance: bool
+
+
+def checked_climbs(ap: argparse.ArgumentParser, args: argparse.Namespace) -> TrainingClimbs:
+    """The training climbs the options name, every option checked before any climb is collected (exit 2)."""
     require_networks(ap, "--guards", args.guards)
     climbs = parse_climbs(ap, args.climbs)
     guard_climbs = {} if args.guard_climbs == ["none"] else parse_climbs(ap, args.guard_climbs, "--guard-climbs")
@@ -674,76 +686,79 @@ def main() -> None:
         for file, climbs_read in zip(files, data):
             if not climbs_read.reads_torque_balance:
                 ap.error(f"{option}: {file} was recorded without the torque balance; --torque-balance-lag needs it")
+    return TrainingClimbs(climbs, added, guard_climbs, added_to_guard, balance)
+
+
+def fit_all(args: argparse.Namespace, training: TrainingClimbs, settings: FitSettings) -> tuple[dict, list[Path]]:
+    """The filter's networks in OUT and, where asked, the guard's (OUT/guard/) and the probing guard's
+    (OUT/probing_guard/), each recorded with what it was fitted on; returns the fit report and every guard that
+    steers beside the filter (``--guards`` first)."""
     out = args.out
-    out.mkdir(parents=True, exist_ok=True)
-    t0 = time.time()
-    settings = replace(FitSettings(), epochs=args.epochs, features=tuple(args.features), loss=args.loss)
-    ensemble_dir = out / "ensemble"
 
     def fit(directory: Path, collections: dict[str, int], files: list[Path], data: list[Dataset]) -> dict:
         """fit_networks in ``directory`` on the climbs of ``collections`` and those of ``files`` (``data``, read
         from them), recorded as such."""
         def load() -> Dataset:
-            climbs_read = Dataset.concatenate([collect(out, collections, args.workers, balance), *data])
-            return climbs_read.calibrated(args.torque_balance_lag) if balance else climbs_read
+            climbs_read = Dataset.concatenate([collect(out, collections, args.workers, training.balance), *data])
+            return climbs_read.calibrated(args.torque_balance_lag) if training.balance else climbs_read
 
         return fit_networks(directory, load, args.seeds, settings, args.reuse,
                             training_record(collections, files, settings, args.torque_balance_lag))
 
-    fit_report = fit(out, climbs, args.add_climbs, added)
+    fit_report = fit(out, training.filter_collections, args.add_climbs, training.filter_added)
     guards = list(args.guards)
-    if guard_climbs:  # the recipe's guard: networks of their own, fitted alike on other climbs (OUT/guard/)
-        fit_report["guard"] = fit(out / "guard", guard_climbs, args.add_guard_climbs, added_to_guard)
+    if training.guard_collections:  # the recipe's guard: networks of their own, fitted alike on other climbs
+        fit_report["guard"] = fit(out / "guard", training.guard_collections, args.add_guard_climbs,
+                                  training.guard_added)
         guards.append(out / "guard" / "ensemble")
     if args.probing_guard:  # the first step's guard beside it (rule 45): fitted on the guard's climbs alone
-        fit_report["probing_guard"] = fit(out / "probing_guard", guard_climbs, [], [])
+        fit_report["probing_guard"] = fit(out / "probing_guard", training.guard_collections, [], [])
         guards.append(out / "probing_guard" / "ensemble")
-    if args.fit_only:
-        return
-    t = time.time()
-    # the selection plays the filter with the --guards networks only (read where they are); the recipe's guard
-    # joins the chosen climb, and every guard is copied into every run below
-    chosen, table = select_climb(ensemble_dir, args.workers, args.criterion, args.grid, [str(g) for g in args.guards])
-    print(f"climb selected on validation in {time.time() - t:.0f} s: {chosen}", flush=True)
-    runs = [out / f"seed_{s}" for s in args.seeds] + [ensemble_dir]
-    guard_names = [install_guards(r, guards) for r in runs][-1]  # the same names in every run
-    if guard_names and chosen.get("estimate_from") == "filter":
-        chosen = {**chosen, "estimate_from": GUARDED_ESTIMATE}
-    chosen = {**chosen, **ADOPTED_CLIMB}
+    return fit_report, guards
+
+
+def recipe_manifest(args: argparse.Namespace, training: TrainingClimbs, settings: FitSettings, chosen: dict,
+                    guard_names: list[str]) -> dict:
+    """Every run's manifest.json: the chosen climb over the defaults, the training distribution, what was fitted
+    on what, and the guards' directories."""
     manifest = {"climb": {**asdict(ClimbParameters()), **chosen},
                 "trained_on": {"env_id": ENV_ID, "configs": CONFIGS},
-                "training": {"climbs": climbs, "seeds": args.seeds, "fit": asdict(settings)}}
+                "training": {"climbs": training.filter_collections, "seeds": args.seeds, "fit": asdict(settings)}}
     if guard_names:
         manifest["guards"] = guard_names
-    if guard_climbs:
-        manifest["training"]["guard_climbs"] = guard_climbs
+    if training.guard_collections:
+        manifest["training"]["guard_climbs"] = training.guard_collections
     if args.add_climbs:
         manifest["training"]["added_climbs"] = [str(f) for f in args.add_climbs]
     if args.add_guard_climbs:
         manifest["training"]["added_guard_climbs"] = [str(f) for f in args.add_guard_climbs]
-    if balance:
+    if training.balance:
         manifest["training"]["torque_balance_max_lag_deg"] = args.torque_balance_lag
     if args.probing_guard:
         manifest["training"]["probing_guard"] = guard_names[-1]  # fitted on the guard climbs alone
-    columns = grid_columns(GRIDS[args.grid])  # the climb parameters the grid varies
-    for r in runs:
-        (r / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n")
-    report = report_runs(runs, args.workers)
-    text = ["# Learned interrogator: seeds, selection and report", "",
-            f"Command: `python experiments/train_interrogator.py {' '.join(sys.argv[1:])}` ({time.time() - t0:.0f} s on "
-            f"this machine{'; networks reused, not fitted' if args.reuse else ''}).", "",
-            f"## Climb selection ({VALIDATION.relative_to(HERE.parent)} and {PROCEDURAL_VALIDATION.relative_to(HERE.parent)}, "
-            "both vehicle configurations; " + ("ranked by macro-slips on the first, then P90 and median over both with "
-            "a macro-slip counted as 100 % error" if args.criterion == "pooled" else "ranked by macro-slips, P90, "
-            "median on the first alone") + "; the best 10 of the grid)", "",
-            "| " + " | ".join(k.replace("_", " ") for k in columns) + " | estimate | family grid: median / P90 / "
-            "macro-slips | procedural grid: median / P90 / macro-slips | pooled P90 (macro-slip = 100 %) |",
-            "|---" * (len(columns) + 4) + "|"]
-    text += ["| " + " | ".join(str(r.get(k, "-")) for k in columns) + " | "
-             f"{r['estimate_from'] if r['estimate_from'] == 'filter' else 'best CoA x %g' % r['best_coa_factor']} | "
-             f"{100 * r['median']:.1f} % / {100 * r['p90']:.1f} % / {r['macro_slips']} | "
-             f"{100 * r['procedural_median']:.1f} % / {100 * r['procedural_p90']:.1f} % / {r['procedural_macro_slips']} | "
-             f"{100 * r['pooled_p90']:.1f} % |" for r in table[:10]]
+    return manifest
+
+
+def selection_table(table: list[dict], columns: list[str], criterion: str) -> list[str]:
+    """The selection's section of the report: how the climbs were ranked and the best 10 of them."""
+    ranking = ("ranked by macro-slips on the first, then P90 and median over both with a macro-slip counted as 100 % "
+               "error" if criterion == "pooled" else "ranked by macro-slips, P90, median on the first alone")
+    lines = [f"## Climb selection ({VALIDATION.relative_to(HERE.parent)} and "
+             f"{PROCEDURAL_VALIDATION.relative_to(HERE.parent)}, both vehicle configurations; {ranking}; the best 10 "
+             "of the grid)", "",
+             "| " + " | ".join(k.replace("_", " ") for k in columns) + " | estimate | family grid: median / P90 / "
+             "macro-slips | procedural grid: median / P90 / macro-slips | pooled P90 (macro-slip = 100 %) |",
+             "|---" * (len(columns) + 4) + "|"]
+    lines += ["| " + " | ".join(str(r.get(k, "-")) for k in columns) + " | "
+              f"{r['estimate_from'] if r['estimate_from'] == 'filter' else 'best CoA x %g' % r['best_coa_factor']} | "
+              f"{100 * r['median']:.1f} % / {100 * r['p90']:.1f} % / {r['macro_slips']} | "
+              f"{100 * r['procedural_median']:.1f} % / {100 * r['procedural_p90']:.1f} % / "
+              f"{r['procedural_macro_slips']} | {100 * r['pooled_p90']:.1f} % |" for r in table[:10]]
+    return lines
+
+
+def shipped_estimate_text(chosen: dict) -> str:
+    """The report's sentence on the shipped estimate: its source and every rule that bounds it or ends the climb."""
     why = (" (the guards' corrections pooled at every window: rule 46)"
            if chosen["estimate_from"] == GUARDED_ESTIMATE else "")
     why += (", at least the climb's best crest bound (the measured CoA's cycle crest less a bin's standard error: "
@@ -761,8 +776,47 @@ def main() -> None:
             f"cautions r^-{chosen['noise_caution_exponent']:g} and the slow probe's threshold "
             f"r^{chosen['noise_creep_exponent']:g} times the chosen ones (rule 53)"
             if chosen["noise_reference_nms"] is not None else "")
-    text += ["", f"Shipped estimate: `{chosen['estimate_from']}`{why}.", "",
-             "## Report (nothing chosen here)", "", markdown(report, [f"seed_{s}" for s in args.seeds])]
+    return f"Shipped estimate: `{chosen['estimate_from']}`{why}."
+
+
+def main() -> None:
+    ap = build_parser()
+    args = ap.parse_args()
+    check_out_dir(ap, "--out", args.out)
+    if args.epochs < 1:
+        ap.error(f"--epochs must be at least 1, got {args.epochs}")
+    if args.report_only:
+        report_only(ap, args)
+        return
+    training = checked_climbs(ap, args)
+    out = args.out
+    out.mkdir(parents=True, exist_ok=True)
+    t0 = time.time()
+    settings = replace(FitSettings(), epochs=args.epochs, features=tuple(args.features), loss=args.loss)
+    ensemble_dir = out / "ensemble"
+    fit_report, guards = fit_all(args, training, settings)
+    if args.fit_only:
+        return
+    t = time.time()
+    # the selection plays the filter with the --guards networks only (read where they are); the recipe's guard
+    # joins the chosen climb, and every guard is copied into every run below
+    chosen, table = select_climb(ensemble_dir, args.workers, args.criterion, args.grid, [str(g) for g in args.guards])
+    print(f"climb selected on validation in {time.time() - t:.0f} s: {chosen}", flush=True)
+    runs = [out / f"seed_{s}" for s in args.seeds] + [ensemble_dir]
+    guard_names = [install_guards(r, guards) for r in runs][-1]  # the same names in every run
+    if guard_names and chosen.get("estimate_from") == "filter":
+        chosen = {**chosen, "estimate_from": GUARDED_ESTIMATE}
+    chosen = {**chosen, **ADOPTED_CLIMB}
+    manifest = recipe_manifest(args, training, settings, chosen, guard_names)
+    for r in runs:
+        (r / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n")
+    report = report_runs(runs, args.workers)
+    text = ["# Learned interrogator: seeds, selection and report", "",
+            f"Command: `python experiments/train_interrogator.py {' '.join(sys.argv[1:])}` ({time.time() - t0:.0f} s on "
+            f"this machine{'; networks reused, not fitted' if args.reuse else ''}).", "",
+            *selection_table(table, grid_columns(GRIDS[args.grid]), args.criterion),
+            "", shipped_estimate_text(chosen), "",
+            "## Report (nothing chosen here)", "", markdown(report, [f"seed_{s}" for s in args.seeds])]
     (out / "report.md").write_text("\n".join(text) + "\n")
     (out / "report.json").write_text(json.dumps({"fit": fit_report, "selection": table, "report": report}, indent=1))
     print("\n".join(text))
