@@ -700,6 +700,16 @@ generated, never typed:
         out/records_shipped_confirmation27_motor_lag_s.json out/records_rule85F_confirmation27_motor_lag_s.json \
         out/records_shipped_torque_confirmation8.json out/records_rule85F_torque_confirmation8.json --gain \
         --out out/rule_check_rule85_a.md   # (b): the first and the last pair with --errors (rule_check_rule85_b.md)
+    python experiments/crest_tradeoff.py --run runs/interrogator_filter_onpolicy/ensemble --guards $G --guards-only \
+        --cautions 2.25 --targets 0.1 --stops --return-digits 4 --grids validation \
+        --records out/records_rule86c2.25_validation.json --out out/crest_tradeoff_rule86c2.25_validation.md
+        # rule 86's candidates: --cautions 2.25, 2.5, 2.75 (_rule86cC_), each also with validation_torque,
+        # --scenario noise_level=3 and motor_lag_s=0.1, paired against the session-48 records (paired_rule86cC_*)
+    python experiments/rule_check.py out/records_shipped_validation_session48.json out/records_rule86c2.25_validation.json \
+        out/records_shipped_validation_torque_session48.json out/records_rule86c2.25_validation_torque.json \
+        out/records_shipped_noise_level_session48.json out/records_rule86c2.25_noise_level.json \
+        out/records_shipped_motor_lag_s_session48.json out/records_rule86c2.25_motor_lag_s.json --strict-grid none \
+        --out out/rule_check_rule86c2.25_selection.md   # and 2.5, 2.75 alike (rule 86's selection)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1008,6 +1018,7 @@ SOURCES = {
           for play in ("validation", "validation_torque", "noise_level", "motor_lag_s", "confirmation27",
                        "confirmation27_noise_level", "confirmation27_motor_lag_s", "torque_confirmation8")),
         "rule_check_rule85_a", "rule_check_rule85_b",
+        *(f"rule_check_rule86c{c}_selection" for c in ("2.25", "2.5", "2.75")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
         "runaways_by_torque_gain_session49",
