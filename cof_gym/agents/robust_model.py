@@ -199,54 +199,72 @@ class RobustModel:
             prev = self.probes[-1]
             self.probes.append(now)
             left = self._windows_left(elapsed)
-            if self._mode == "climb":
-                knee = self._driven > self.baseline_windows and self._jumped(now, prev, self.jump_deg)
-                falling = self._driven > 1 and coa_fell(coa, prev.coa)
-                if knee:
-                    self._ref = prev
-                    self._lo, self._hi = prev.crest, now.crest
-                    self._knee_probe = now
-                    self._refined = 0
-                    self._checked = False
-                    if self.refine_windows > 0 and left >= 2 and prev.dc > 0:
-                        self._mode = "refine"
-                    else:
-                        stop, self.stop_reason = True, "phase"
-                elif falling or self._dc >= self.limits.max_dc_torque_nm:
-                    stop, self.stop_reason = True, "falling" if falling else "limit"
-                else:
-                    self._dc = self.next_dc(self._dc, self._amp)
-                    self._amp = self.amplitude(self._dc)
-            else:  # refine: the DC held at the reference window's, the crest bisects [lo, hi]
-                jumped = self._jumped(now, self._ref, self.refine_jump_deg)
-                checking = self._checking
-                self._checking = False
-                if checking and not jumped and left >= 3 and self._knee_probe.dc < self.limits.max_dc_torque_nm:
-                    # the knee's crest, repeated from the lower DC level, showed no jump: a false alarm;
-                    # climb on from the DC level that raised it
-                    self._false_alarms += 1
-                    self._mode = "climb"
-                    self._ref = None
-                    self._dc = self.next_dc(self._knee_probe.dc, self._knee_probe.amp)
-                    self._amp = self.amplitude(self._dc)
-                else:
-                    if jumped:
-                        self._hi = now.crest
-                    else:
-                        self._lo = now.crest
-                    self._refined += 1
-                    if self._refined >= self.refine_windows + (1 if checking else 0) or left < 2:
-                        stop, self.stop_reason = True, "refined"
+            stop = self._climb(now, prev, left) if self._mode == "climb" else self._refine(now, left)
             if self._mode == "refine" and not stop:
-                self._dc = self._ref.dc
-                if self._refined == 0 and self._false_alarms < self.max_false_alarms and not self._checked:
-                    self._checking = self._checked = True  # first repeat the knee's crest (false-alarm check)
-                    crest = self._hi
-                else:
-                    crest = math.sqrt(self._lo * self._hi)
-                self._amp = max(crest - self._dc, self.limits.min_amplitude_nm)
+                self._next_refine_crest()
         else:
             self._dc = self.climb.first_dc(self.limits)
             self._amp = self.amplitude(self._dc)
         estimate = self.estimate_with(self.knee_weight, self.correction)
         return encode_action(self._dc, self._amp, self.frequency_hz, estimate, stop, self.limits)
+
+    def _climb(self, now: Probe, prev: Probe, left: int) -> bool:
+        """A climbing window: at a phase jump (the knee) the refinement starts (or, with no windows for it, the
+        climb stops there); where the CoA fell or the DC is at the drive's limit it stops; else the next DC step.
+        Returns whether it stops."""
+        knee = self._driven > self.baseline_windows and self._jumped(now, prev, self.jump_deg)
+        falling = self._driven > 1 and coa_fell(now.coa, prev.coa)
+        if knee:
+            self._ref = prev
+            self._lo, self._hi = prev.crest, now.crest
+            self._knee_probe = now
+            self._refined = 0
+            self._checked = False
+            if self.refine_windows > 0 and left >= 2 and prev.dc > 0:
+                self._mode = "refine"
+                return False
+            self.stop_reason = "phase"
+            return True
+        if falling or self._dc >= self.limits.max_dc_torque_nm:
+            self.stop_reason = "falling" if falling else "limit"
+            return True
+        self._dc = self.next_dc(self._dc, self._amp)
+        self._amp = self.amplitude(self._dc)
+        return False
+
+    def _refine(self, now: Probe, left: int) -> bool:
+        """A refining window (the DC held at the reference window's, the crest bisecting [lo, hi]): after the
+        false-alarm check showed no jump, the climb goes on from the knee's DC; else the bracket halves, and the
+        agent stops once the refinement's windows are spent. Returns whether it stops."""
+        jumped = self._jumped(now, self._ref, self.refine_jump_deg)
+        checking = self._checking
+        self._checking = False
+        if checking and not jumped and left >= 3 and self._knee_probe.dc < self.limits.max_dc_torque_nm:
+            # the knee's crest, repeated from the lower DC level, showed no jump: a false alarm;
+            # climb on from the DC level that raised it
+            self._false_alarms += 1
+            self._mode = "climb"
+            self._ref = None
+            self._dc = self.next_dc(self._knee_probe.dc, self._knee_probe.amp)
+            self._amp = self.amplitude(self._dc)
+            return False
+        if jumped:
+            self._hi = now.crest
+        else:
+            self._lo = now.crest
+        self._refined += 1
+        if self._refined >= self.refine_windows + (1 if checking else 0) or left < 2:
+            self.stop_reason = "refined"
+            return True
+        return False
+
+    def _next_refine_crest(self) -> None:
+        """The next refining window: the reference DC with the knee's crest repeated first (the false-alarm check),
+        then the geometric middle of [lo, hi]."""
+        self._dc = self._ref.dc
+        if self._refined == 0 and self._false_alarms < self.max_false_alarms and not self._checked:
+            self._checking = self._checked = True  # first repeat the knee's crest (false-alarm check)
+            crest = self._hi
+        else:
+            crest = math.sqrt(self._lo * self._hi)
+        self._amp = max(crest - self._dc, self.limits.min_amplitude_nm)
