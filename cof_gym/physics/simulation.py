@@ -343,6 +343,24 @@ def _coa_cycle(ud: np.ndarray) -> dict[str, float]:
     return dict(zip(COA_CYCLE_FIELDS, (extremes.maximum, extremes.minimum, extremes.bin_se)))
 
 
+def _joint_tones(ud: np.ndarray, n: float, ntones: int) -> tuple[dict[str, float], tuple]:
+    """A multi-tone window's per-tone readings (phase lag, its SE, amplitude ratio, torque and speed amplitudes,
+    keyed by :func:`tone_field`) from the joint fit of every tone, and tone 1's fits of the torque, the speed, the
+    creepage and the measured creepage."""
+    if n <= 2 * ntones + 2 + 4:
+        raise ValueError(f"window too short: {n:g} samples for {ntones} tones; lengthen the window")
+    t_fits, o_fits, c_fits, cm_fits = _tone_fits(ud, n, ntones)
+    commanded = [ud[I["TORQUE_AMPLITUDE"]] > 0.0] + [ud[I[f"TONE{k}_AMPLITUDE"]] > 0.0 for k in range(2, ntones + 1)]
+    tones: dict[str, float] = {}
+    for k in range(1, ntones + 1):
+        lag_k, se_k, ratio_k = _lag(t_fits[k - 1], o_fits[k - 1], commanded[k - 1])
+        tones.update({tone_field(k, "phase_lag_deg"): lag_k, tone_field(k, "phase_lag_se_deg"): se_k,
+                      tone_field(k, "amplitude_ratio"): ratio_k,
+                      tone_field(k, "torque_amplitude_nm"): t_fits[k - 1].amplitude,
+                      tone_field(k, "omega_amplitude_rad_s"): o_fits[k - 1].amplitude})
+    return tones, (t_fits[0], o_fits[0], c_fits[0], cm_fits[0])
+
+
 def read_window(ud: np.ndarray) -> WindowMeasurement:
     """The window's measurement from the accumulated sums (once per window, in Python)."""
     n = float(ud[I["N_SAMPLES"]])
@@ -355,17 +373,7 @@ def read_window(ud: np.ndarray) -> WindowMeasurement:
     ntones = min(max(int(ud[I["N_TONES"]]), 1), MAX_TONES)
     tones: dict[str, float] = {}
     if ntones > 1:  # every tone from the joint fit; tone 1's replaces the single-tone fit (leaked into by the others)
-        if n <= 2 * ntones + 2 + 4:
-            raise ValueError(f"window too short: {n:g} samples for {ntones} tones; lengthen the window")
-        t_fits, o_fits, c_fits, cm_fits = _tone_fits(ud, n, ntones)
-        commanded = [ud[I["TORQUE_AMPLITUDE"]] > 0.0] + [ud[I[f"TONE{k}_AMPLITUDE"]] > 0.0 for k in range(2, ntones + 1)]
-        for k in range(1, ntones + 1):
-            lag_k, se_k, ratio_k = _lag(t_fits[k - 1], o_fits[k - 1], commanded[k - 1])
-            tones.update({tone_field(k, "phase_lag_deg"): lag_k, tone_field(k, "phase_lag_se_deg"): se_k,
-                          tone_field(k, "amplitude_ratio"): ratio_k,
-                          tone_field(k, "torque_amplitude_nm"): t_fits[k - 1].amplitude,
-                          tone_field(k, "omega_amplitude_rad_s"): o_fits[k - 1].amplitude})
-        torque, omega, creep, creep_measured = t_fits[0], o_fits[0], c_fits[0], cm_fits[0]
+        tones, (torque, omega, creep, creep_measured) = _joint_tones(ud, n, ntones)
         lag, lag_se, ratio = (tones[tone_field(1, f)] for f in ("phase_lag_deg", "phase_lag_se_deg", "amplitude_ratio"))
     else:
         lag, lag_se, ratio = _lag(torque, omega, True)
