@@ -158,18 +158,36 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
         """Reset the sub-envs in ``resets`` (index -> (seed, options)) and step those in ``actions``
         (index -> action), all in one batch call. Returns each one's (obs, reward, terminated,
         truncated, info); a reset's reward is 0 and its flags False, as in next-step autoreset."""
+        checked = self._checked_actions(resets, actions)  # raises before any state changes
+        resets = {int(i): r for i, r in resets.items()}
+        reset_ids = sorted(resets)
+        self._reset_rows(resets)
+        decoded: dict[int, DecodedAction] = {i: self.task.decode(self.episodes[i], checked[i]) for i in checked}
+        stopping = sorted(i for i in checked if decoded[i].stop)  # a stop runs no window
+        active = sorted(reset_ids + [i for i in checked if not decoded[i].stop])
+        failed = self._run_windows(active)
+        results: dict[int, StepResult] = {}
+        for i in stopping:
+            results[i] = self._limit(i, self.task.after_stop(self.episodes[i]))
+        for i in active:
+            results[i] = self._after_reset(i, failed) if i in resets else self._after_step(i, decoded[i], failed)
+        return results
+
+    def _checked_actions(self, resets: dict[int, Any], actions: dict[int, Any]) -> dict[int, np.ndarray]:
+        """Each stepped sub-env's action as the task checks it; a sub-env reset and stepped at once, or stepped
+        before its first reset, raises."""
         overlap = set(resets) & set(actions)
         if overlap:
             raise ValueError(f"sub-env(s) {sorted(overlap)} cannot be reset and stepped at once")
         for i in actions:
             if not self._started[i]:
                 raise RuntimeError(f"sub-env {i}: call reset() before step()")
-        checked = {int(i): self.task.check_action(a) for i, a in actions.items()}  # raises before any state changes
-        resets = {int(i): r for i, r in resets.items()}
-        reset_ids = sorted(resets)
+        return {int(i): self.task.check_action(a) for i, a in actions.items()}
 
-        # resets: the task draws each scenario (from the sub-env's own generator, seeded as
-        # gymnasium.Env.reset seeds np_random); its simulation row is reset to that episode's model
+    def _reset_rows(self, resets: dict[int, tuple[int | None, dict | None]]) -> None:
+        """The task draws each reset sub-env's scenario (from its own generator, seeded as gymnasium.Env.reset
+        seeds np_random); its simulation row is reset to that episode's model and initial state."""
+        reset_ids = sorted(resets)
         self._started[reset_ids] = False  # until its row is reset (a draw may raise on bad options)
         for i in reset_ids:
             seed, options = resets[i]
@@ -185,52 +203,54 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
                 changed = True
         if changed:
             self._batch.set_models(self._models)
-        if reset_ids:
-            ids = np.asarray(reset_ids, dtype=np.int32)
-            self._batch.reset(ids, stage=mujoco.mjtStage.mjSTAGE_NONE)  # defaults, time 0, warnings cleared
-            for i in reset_ids:
-                episode = self.episodes[i]
-                initial_state(episode.built, episode.physics.op.speed_m_s, self._qpos[i], self._qvel[i])
-                self._ud[i] = initial_userdata(episode.built, episode.physics)
-            self._batch.forward(ids)  # as Simulation.reset's mj_forward (the callback starts there)
-            self._started[ids] = True
-            self._elapsed_steps[ids] = 0
-
-        decoded: dict[int, DecodedAction] = {i: self.task.decode(self.episodes[i], checked[i]) for i in checked}
-        stopping = sorted(i for i in checked if decoded[i].stop)  # a stop runs no window
-        active = sorted(reset_ids + [i for i in checked if not decoded[i].stop])
-        for i in active:
-            begin_window(self._ud[i], float(self._time[i]), self.episodes[i].drive, self.task.ramp_s, self.task.settle_s)
-        failed: set[int] = set()
-        if active:
-            ids = None if len(active) == self.num_envs else np.asarray(active, dtype=np.int32)
-            t0 = time.perf_counter()
-            try:
-                self._batch.step(ids, nstep=self._nstep)
-            except SimulationError as err:
-                failed = {int(i) for i in err.ids}
-            self.step_seconds += time.perf_counter() - t0
-
-        results: dict[int, StepResult] = {}
-        for i in stopping:
-            results[i] = self._limit(i, self.task.after_stop(self.episodes[i]))
-        for i in active:
+        if not reset_ids:
+            return
+        ids = np.asarray(reset_ids, dtype=np.int32)
+        self._batch.reset(ids, stage=mujoco.mjtStage.mjSTAGE_NONE)  # defaults, time 0, warnings cleared
+        for i in reset_ids:
             episode = self.episodes[i]
-            ud = self._ud[i]
-            if i in resets:
-                if i in failed:
-                    raise RuntimeError(f"sub-env {i}: MuJoCo raised in the baseline window: {self._batch.error(i)}")
-                obs, info = self.task.after_reset(episode, read_window(ud))
-                results[i] = (obs, 0.0, False, False, info)
-                continue
-            if i in failed or ud[_MAGIC] != layout.MAGIC:  # MuJoCo error, or its auto-reset wiped userdata
-                m, diverged = episode.last, True
-            else:
-                m = read_window(ud)
-                bad_qacc = self._batch.warning[i, _BADQACC, 1] > 0  # mjWarningStat: (lastinfo, number)
-                diverged = window_diverged(m, bool(bad_qacc), state_is_finite(self._qpos[i], self._qvel[i], ud))
-            results[i] = self._limit(i, self.task.after_step(episode, m, decoded[i], diverged))
-        return results
+            initial_state(episode.built, episode.physics.op.speed_m_s, self._qpos[i], self._qvel[i])
+            self._ud[i] = initial_userdata(episode.built, episode.physics)
+        self._batch.forward(ids)  # as Simulation.reset's mj_forward (the callback starts there)
+        self._started[ids] = True
+        self._elapsed_steps[ids] = 0
+
+    def _run_windows(self, active: list[int]) -> set[int]:
+        """One window of the sub-envs ``active`` in one batch call (a reset's baseline window, a step's driven
+        one); returns those in which MuJoCo raised."""
+        task = self.task
+        for i in active:
+            begin_window(self._ud[i], float(self._time[i]), self.episodes[i].drive, task.ramp_s, task.settle_s)
+        if not active:
+            return set()
+        ids = None if len(active) == self.num_envs else np.asarray(active, dtype=np.int32)
+        t0 = time.perf_counter()
+        failed: set[int] = set()
+        try:
+            self._batch.step(ids, nstep=self._nstep)
+        except SimulationError as err:
+            failed = {int(i) for i in err.ids}
+        self.step_seconds += time.perf_counter() - t0
+        return failed
+
+    def _after_reset(self, i: int, failed: set[int]) -> StepResult:
+        """Sub-env ``i``'s first observation from its baseline window (a MuJoCo error there raises)."""
+        if i in failed:
+            raise RuntimeError(f"sub-env {i}: MuJoCo raised in the baseline window: {self._batch.error(i)}")
+        obs, info = self.task.after_reset(self.episodes[i], read_window(self._ud[i]))
+        return obs, 0.0, False, False, info
+
+    def _after_step(self, i: int, decoded: DecodedAction, failed: set[int]) -> StepResult:
+        """Sub-env ``i``'s step result from its driven window; a window MuJoCo raised in, or whose userdata its
+        auto-reset wiped, or that diverged, ends the episode as diverged."""
+        episode, ud = self.episodes[i], self._ud[i]
+        if i in failed or ud[_MAGIC] != layout.MAGIC:  # MuJoCo error, or its auto-reset wiped userdata
+            m, diverged = episode.last, True
+        else:
+            m = read_window(ud)
+            bad_qacc = self._batch.warning[i, _BADQACC, 1] > 0  # mjWarningStat: (lastinfo, number)
+            diverged = window_diverged(m, bool(bad_qacc), state_is_finite(self._qpos[i], self._qvel[i], ud))
+        return self._limit(i, self.task.after_step(episode, m, decoded, diverged))
 
     def _limit(self, i: int, result: StepResult) -> StepResult:
         """Count sub-env i's step and apply ``max_episode_steps`` as gymnasium's TimeLimit does."""
