@@ -710,6 +710,9 @@ generated, never typed:
         out/records_shipped_noise_level_session48.json out/records_rule86c2.25_noise_level.json \
         out/records_shipped_motor_lag_s_session48.json out/records_rule86c2.25_motor_lag_s.json --strict-grid none \
         --out out/rule_check_rule86c2.25_selection.md   # and 2.5, 2.75 alike (rule 86's selection)
+        # rule 86's decision: F at caution 2.25 and the shipped agent on confirmation28 (at the draws, noise_level=3,
+        # motor_lag_s=0.1) and torque_confirmation9 (records _rule86_ and _shipped_), checked as rule 85's (a) and (b)
+        # (rule_check_rule86_a, rule_check_rule86_b)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1019,6 +1022,7 @@ SOURCES = {
                        "confirmation27_noise_level", "confirmation27_motor_lag_s", "torque_confirmation8")),
         "rule_check_rule85_a", "rule_check_rule85_b",
         *(f"rule_check_rule86c{c}_selection" for c in ("2.25", "2.5", "2.75")),
+        "rule_check_rule86_a", "rule_check_rule86_b",
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
         "runaways_by_torque_gain_session49",
