@@ -152,72 +152,22 @@ def build_wagon(params: WagonParameters, timestep: float = DEFAULT_TIMESTEP_S,
     p = params
     spec = _spec(timestep)
     r = p.wheel_radius_m
-    m_body = p.carbody_mass_kg + p.payload_kg
-    load_length = p.bogie_centre_spacing_m + 1.0  # payload spread over the underframe (assumed)
-    i_body = p.carbody_pitch_inertia_kg_m2 + p.payload_kg * load_length**2 / 12.0
-    body = spec.worldbody.add_body(name="carbody", pos=[0, 0, p.carbody_cog_height_m], ipos=[0, 0, 0], explicitinertial=True, mass=m_body,
-                                   inertia=[56_800.0, i_body, i_body])
-    for kind in ("x", "z", "pitch"):
-        _joint(body, kind, f"carbody_{kind}")
-    body.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[12.0, 1.4, 1.1], pos=[0, 0, 0.6],
-                  rgba=[0.15, 0.35, 0.6, 1], contype=0, conaffinity=0, mass=0)
-
-    half_base, half_centres = p.bogie_wheelbase_m / 2, p.bogie_centre_spacing_m / 2
-    h2 = p.secondary_height_m
+    m_body = _add_carbody(spec, p)
     f_secondary = m_body * GRAVITY / 2  # per bogie (both sides)
     f_primary = (f_secondary + p.bogie_mass_kg * GRAVITY) / 2  # per wheelset
-    n_wheelset = f_primary + p.wheelset_mass_kg * GRAVITY  # per wheelset (both wheels)
-    k_track = 2 * p.track_stiffness_n_m
     wheelsets: list[tuple[str, float, int]] = []  # (name, x, torque sign)
-    for b_name, xb in (("bogie_front", half_centres), ("bogie_rear", -half_centres)):
-        bogie = spec.worldbody.add_body(name=b_name, pos=[xb, 0, p.bogie_cog_height_m], ipos=[0, 0, 0], explicitinertial=True, mass=p.bogie_mass_kg,
-                                        inertia=[1_722.0, p.bogie_pitch_inertia_kg_m2, 3_067.0])
-        for kind in ("x", "z", "pitch"):
-            _joint(bogie, kind, f"{b_name}_{kind}")
-        bogie.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[half_base + 0.4, 1.0, 0.15], rgba=[0.25, 0.25, 0.25, 1],
-                       contype=0, conaffinity=0, mass=0)
-        zb = p.bogie_cog_height_m
-        hb, hc = h2 - zb, h2 - p.carbody_cog_height_m  # secondary height in bogie / body frames
-        # small-angle kinematics: a point (x, z) of a body moves dx = x_j + z theta, dz = z_j - x theta
-        _spring(spec, f"{b_name}_secondary_z",
-                [("carbody_z", 1.0), ("carbody_pitch", -xb), (f"{b_name}_z", -1.0)],
-                2 * p.secondary_kz_n_m, 2 * p.secondary_cz_n_s_m, f_secondary / (2 * p.secondary_kz_n_m))
-        secondary_x = [("carbody_x", 1.0), ("carbody_pitch", hc), (f"{b_name}_x", -1.0), (f"{b_name}_pitch", -hb)]
-        _spring(spec, f"{b_name}_secondary_x", secondary_x, 2 * p.secondary_kx_n_m, 2 * p.secondary_cx_n_s_m)
-        if p.traction_rod_kx_n_m > 0:
-            _spring(spec, f"{b_name}_traction_rod", secondary_x, p.traction_rod_kx_n_m, p.traction_rod_cx_n_s_m)
-        for w_name, dx in (("front", half_base), ("rear", -half_base)):
+    for b_name, xb in (("bogie_front", p.bogie_centre_spacing_m / 2), ("bogie_rear", -p.bogie_centre_spacing_m / 2)):
+        _add_bogie(spec, p, b_name, xb, f_secondary)
+        for w_name, dx in (("front", p.bogie_wheelbase_m / 2), ("rear", -p.bogie_wheelbase_m / 2)):
             name = f"{b_name}_{w_name}_wheelset"
-            xw = xb + dx
             sign = 0 if b_name == "bogie_front" else (1 if w_name == "rear" else (-1 if counter_torque else 0))
-            wheelsets.append((name, xw, sign))
-            box = spec.worldbody.add_body(name=f"{name}_axlebox", pos=[xw, 0, r], ipos=[0, 0, 0],
-                                          explicitinertial=True, mass=1.0, inertia=[0.1, 0.1, 0.1])
-            _joint(box, "x", f"{name}_x")
-            _joint(box, "z", f"{name}_z")
-            motored = b_name == "bogie_rear"  # both wheelsets of the rear bogie carry a drive
-            spin = p.motor_spin_inertia_kg_m2 if motored else p.trailer_spin_inertia_kg_m2
-            _wheel(box, name, p.wheelset_mass_kg - 1.0, spin, p.wheelset_roll_inertia_kg_m2, r)
-            _spring(spec, f"{name}_primary_z", [(f"{b_name}_z", 1.0), (f"{b_name}_pitch", -dx), (f"{name}_z", -1.0)],
-                    2 * p.primary_kz_n_m, 2 * p.primary_cz_n_s_m, f_primary / (2 * p.primary_kz_n_m))
-            _spring(spec, f"{name}_primary_x", [(f"{b_name}_x", 1.0), (f"{b_name}_pitch", r - zb), (f"{name}_x", -1.0)],
-                    2 * p.primary_kx_n_m, 2 * p.primary_cx_n_s_m)
-
+            wheelsets.append((name, xb + dx, sign))
+            _add_wheelset(spec, p, b_name, name, xb + dx, dx, f_primary)
     spec.worldbody.add_camera(name="side", mode=mujoco.mjtCamLight.mjCAMLIGHT_TRACKCOM, pos=[0, -28, 3],
                               xyaxes=[1, 0, 0, 0, 0.1, 1])
     add_scenery(spec, r, [n for n, _, _ in wheelsets], next(n for n, _, sign in wheelsets if sign == 1))
     model = spec.compile()
-    patch = ContactPatch.at_load(p.static_wheel_load_n, geometry)
-    contacts = []
-    for name, _, sign in wheelsets:
-        zj = model.joint(f"{name}_z")
-        reaction = model.body("bogie_rear").id if sign != 0 else -1
-        contacts.append(ContactSpec(
-            wheel_body=model.body(name).id, reaction_body=reaction, z_qpos=int(zj.qposadr[0]),
-            z_dof=int(zj.dofadr[0]), n_wheels=2, radius_m=r, k_track_n_m=k_track,
-            c_track_n_s_m=2 * p.track_damping_n_s_m, z_rest_m=n_wheelset / k_track, nominal_load_n=n_wheelset,
-            patch=patch, torque_sign=sign,
-        ))
+    contacts = _wagon_contacts(model, p, geometry, wheelsets, f_primary + p.wheelset_mass_kg * GRAVITY)
     measured = next(i for i, c in enumerate(contacts) if c.torque_sign == 1)
     x_joints = ["carbody_x", "bogie_front_x", "bogie_rear_x"] + [f"{n}_x" for n, _, _ in wheelsets]
     return BuiltModel(
@@ -228,3 +178,78 @@ def build_wagon(params: WagonParameters, timestep: float = DEFAULT_TIMESTEP_S,
         x_dofs=[int(model.joint(j).dofadr[0]) for j in x_joints],
         spin_dofs=[(int(model.joint(f"{n}_spin").dofadr[0]), r) for n, _, _ in wheelsets],
     )
+
+
+def _add_carbody(spec: mujoco.MjSpec, p: WagonParameters) -> float:
+    """The car body with its payload (x, z and pitch joints); returns its mass (kg)."""
+    m_body = p.carbody_mass_kg + p.payload_kg
+    load_length = p.bogie_centre_spacing_m + 1.0  # payload spread over the underframe (assumed)
+    i_body = p.carbody_pitch_inertia_kg_m2 + p.payload_kg * load_length**2 / 12.0
+    body = spec.worldbody.add_body(name="carbody", pos=[0, 0, p.carbody_cog_height_m], ipos=[0, 0, 0],
+                                   explicitinertial=True, mass=m_body, inertia=[56_800.0, i_body, i_body])
+    for kind in ("x", "z", "pitch"):
+        _joint(body, kind, f"carbody_{kind}")
+    body.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[12.0, 1.4, 1.1], pos=[0, 0, 0.6],
+                  rgba=[0.15, 0.35, 0.6, 1], contype=0, conaffinity=0, mass=0)
+    return m_body
+
+
+def _add_bogie(spec: mujoco.MjSpec, p: WagonParameters, b_name: str, xb: float, f_secondary: float) -> None:
+    """Bogie frame ``b_name`` at ``xb`` (m) with its secondary suspension to the car body (vertical, preloaded
+    by ``f_secondary`` N; longitudinal, and the traction rod where it has one)."""
+    bogie = spec.worldbody.add_body(name=b_name, pos=[xb, 0, p.bogie_cog_height_m], ipos=[0, 0, 0],
+                                    explicitinertial=True, mass=p.bogie_mass_kg,
+                                    inertia=[1_722.0, p.bogie_pitch_inertia_kg_m2, 3_067.0])
+    for kind in ("x", "z", "pitch"):
+        _joint(bogie, kind, f"{b_name}_{kind}")
+    bogie.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[p.bogie_wheelbase_m / 2 + 0.4, 1.0, 0.15],
+                   rgba=[0.25, 0.25, 0.25, 1], contype=0, conaffinity=0, mass=0)
+    zb = p.bogie_cog_height_m
+    hb, hc = p.secondary_height_m - zb, p.secondary_height_m - p.carbody_cog_height_m  # in bogie / body frames
+    # small-angle kinematics: a point (x, z) of a body moves dx = x_j + z theta, dz = z_j - x theta
+    _spring(spec, f"{b_name}_secondary_z",
+            [("carbody_z", 1.0), ("carbody_pitch", -xb), (f"{b_name}_z", -1.0)],
+            2 * p.secondary_kz_n_m, 2 * p.secondary_cz_n_s_m, f_secondary / (2 * p.secondary_kz_n_m))
+    secondary_x = [("carbody_x", 1.0), ("carbody_pitch", hc), (f"{b_name}_x", -1.0), (f"{b_name}_pitch", -hb)]
+    _spring(spec, f"{b_name}_secondary_x", secondary_x, 2 * p.secondary_kx_n_m, 2 * p.secondary_cx_n_s_m)
+    if p.traction_rod_kx_n_m > 0:
+        _spring(spec, f"{b_name}_traction_rod", secondary_x, p.traction_rod_kx_n_m, p.traction_rod_cx_n_s_m)
+
+
+def _add_wheelset(spec: mujoco.MjSpec, p: WagonParameters, b_name: str, name: str, xw: float, dx: float,
+                  f_primary: float) -> None:
+    """Wheelset ``name`` of bogie ``b_name`` at ``xw`` (m; ``dx`` from the bogie's centre): its axlebox (x and z
+    joints), the wheel (a drive's spin inertia on the rear, motored bogie) and the primary suspension (vertical,
+    preloaded by ``f_primary`` N; longitudinal)."""
+    r, zb = p.wheel_radius_m, p.bogie_cog_height_m
+    box = spec.worldbody.add_body(name=f"{name}_axlebox", pos=[xw, 0, r], ipos=[0, 0, 0],
+                                  explicitinertial=True, mass=1.0, inertia=[0.1, 0.1, 0.1])
+    _joint(box, "x", f"{name}_x")
+    _joint(box, "z", f"{name}_z")
+    motored = b_name == "bogie_rear"  # both wheelsets of the rear bogie carry a drive
+    spin = p.motor_spin_inertia_kg_m2 if motored else p.trailer_spin_inertia_kg_m2
+    _wheel(box, name, p.wheelset_mass_kg - 1.0, spin, p.wheelset_roll_inertia_kg_m2, r)
+    _spring(spec, f"{name}_primary_z", [(f"{b_name}_z", 1.0), (f"{b_name}_pitch", -dx), (f"{name}_z", -1.0)],
+            2 * p.primary_kz_n_m, 2 * p.primary_cz_n_s_m, f_primary / (2 * p.primary_kz_n_m))
+    _spring(spec, f"{name}_primary_x", [(f"{b_name}_x", 1.0), (f"{b_name}_pitch", r - zb), (f"{name}_x", -1.0)],
+            2 * p.primary_kx_n_m, 2 * p.primary_cx_n_s_m)
+
+
+def _wagon_contacts(model: mujoco.MjModel, p: WagonParameters, geometry: ContactGeometry,
+                    wheelsets: list[tuple[str, float, int]], n_wheelset: float) -> list[ContactSpec]:
+    """Each wheelset's wheel-rail contact (both wheels; ``n_wheelset`` N its static load): the track's spring
+    and damper under it, the contact patch at the static wheel load, and its torque sign (a driven wheelset's
+    reaction on the rear bogie)."""
+    k_track = 2 * p.track_stiffness_n_m
+    patch = ContactPatch.at_load(p.static_wheel_load_n, geometry)
+    contacts = []
+    for name, _, sign in wheelsets:
+        zj = model.joint(f"{name}_z")
+        reaction = model.body("bogie_rear").id if sign != 0 else -1
+        contacts.append(ContactSpec(
+            wheel_body=model.body(name).id, reaction_body=reaction, z_qpos=int(zj.qposadr[0]),
+            z_dof=int(zj.dofadr[0]), n_wheels=2, radius_m=p.wheel_radius_m, k_track_n_m=k_track,
+            c_track_n_s_m=2 * p.track_damping_n_s_m, z_rest_m=n_wheelset / k_track, nominal_load_n=n_wheelset,
+            patch=patch, torque_sign=sign,
+        ))
+    return contacts
