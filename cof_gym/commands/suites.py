@@ -187,21 +187,7 @@ def _check_options(options: dict[str, Any], where: str, path: Path) -> None:
 def file_suite(path: Path, n_episodes: int, seed: int) -> Suite:
     """A suite read from a JSON file (schema in the module docstring)."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except IsADirectoryError:
-        raise SuiteError(f"{path} is a directory, not a suite file") from None
-    except UnicodeDecodeError:
-        raise SuiteError(f"{path}: not UTF-8 text") from None
-    except OSError as e:
-        raise SuiteError(f"{path}: cannot be read ({e.strerror})") from None
-    try:
-        spec = json.loads(text)
-    except json.JSONDecodeError as e:
-        raise SuiteError(f"{path}: invalid JSON at line {e.lineno} column {e.colno}: {e.msg}") from None
-    except RecursionError:
-        raise SuiteError(f"{path}: JSON nested too deeply") from None
-    spec = _check_dict(spec, "the top level", path)
+    spec = _check_dict(_read_json(path), "the top level", path)
     unknown = sorted(set(spec) - set(FILE_KEYS))
     if unknown:
         raise SuiteError(f"{path}: unknown key(s) {unknown}; allowed: {list(FILE_KEYS)}")
@@ -214,31 +200,55 @@ def file_suite(path: Path, n_episodes: int, seed: int) -> Suite:
     if "description" in spec and not isinstance(spec["description"], str):
         raise SuiteError(f"{path}: description must be a string")
     if "episodes" in spec:
-        raw = spec["episodes"]
-        if not isinstance(raw, list) or not raw or len(raw) > MAX_EPISODES:
-            raise SuiteError(f"{path}: episodes must be a list of 1 to {MAX_EPISODES} objects like "
-                             f'{{"seed": 1, "options": {{...}}}}, got {raw!r:.60}')
-        episodes, notes = [], []
-        for i, e in enumerate(raw):
-            e = _check_dict(e, f"episodes[{i}]", path)
-            bad = sorted(set(e) - set(EPISODE_KEYS))
-            if bad:
-                raise SuiteError(f"{path}: episodes[{i}]: unknown key(s) {bad}; allowed: {list(EPISODE_KEYS)}")
-            ep_seed = _check_seed(e.get("seed", seed + i), f"episodes[{i}].seed", path)
-            note = e.get("note", "")
-            if not isinstance(note, str):
-                raise SuiteError(f"{path}: episodes[{i}].note must be a string, got {note!r:.60}")
-            notes.append(note)
-            episodes.append((ep_seed, {**options, **_check_dict(e.get("options", {}), f"episodes[{i}].options", path)}))
-        checked = set()
-        for i, (_, ep_options) in enumerate(episodes):
-            key = json.dumps(ep_options, sort_keys=True, default=repr)
-            if key not in checked:
-                checked.add(key)
-                _check_options(ep_options, f"episode {i} (options {ep_options})", path)
+        episodes, notes = _listed_episodes(spec["episodes"], options, seed, path)
         return Suite(str(path), env_id, env_kwargs, episodes, tuple(notes) if any(notes) else ())
     _check_options(options, f"options {options}", path)
     return Suite(str(path), env_id, env_kwargs, SeededEpisodes(seed, n_episodes, lambda i: dict(options)))
+
+
+def _read_json(path: Path) -> Any:
+    """The suite file's JSON; :class:`SuiteError` (one line) where it cannot be read or parsed."""
+    try:
+        text = path.read_text(encoding="utf-8")
+    except IsADirectoryError:
+        raise SuiteError(f"{path} is a directory, not a suite file") from None
+    except UnicodeDecodeError:
+        raise SuiteError(f"{path}: not UTF-8 text") from None
+    except OSError as e:
+        raise SuiteError(f"{path}: cannot be read ({e.strerror})") from None
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as e:
+        raise SuiteError(f"{path}: invalid JSON at line {e.lineno} column {e.colno}: {e.msg}") from None
+    except RecursionError:
+        raise SuiteError(f"{path}: JSON nested too deeply") from None
+
+
+def _listed_episodes(raw: Any, options: dict, seed: int, path: Path) -> tuple[list[tuple[int, dict]], list[str]]:
+    """A file's ``episodes`` list: each episode's (seed, options over the file's ``options``) and its note, every
+    distinct set of options checked once (:class:`SuiteError` naming the episode)."""
+    if not isinstance(raw, list) or not raw or len(raw) > MAX_EPISODES:
+        raise SuiteError(f"{path}: episodes must be a list of 1 to {MAX_EPISODES} objects like "
+                         f'{{"seed": 1, "options": {{...}}}}, got {raw!r:.60}')
+    episodes, notes = [], []
+    for i, e in enumerate(raw):
+        e = _check_dict(e, f"episodes[{i}]", path)
+        bad = sorted(set(e) - set(EPISODE_KEYS))
+        if bad:
+            raise SuiteError(f"{path}: episodes[{i}]: unknown key(s) {bad}; allowed: {list(EPISODE_KEYS)}")
+        ep_seed = _check_seed(e.get("seed", seed + i), f"episodes[{i}].seed", path)
+        note = e.get("note", "")
+        if not isinstance(note, str):
+            raise SuiteError(f"{path}: episodes[{i}].note must be a string, got {note!r:.60}")
+        notes.append(note)
+        episodes.append((ep_seed, {**options, **_check_dict(e.get("options", {}), f"episodes[{i}].options", path)}))
+    checked = set()
+    for i, (_, ep_options) in enumerate(episodes):
+        key = json.dumps(ep_options, sort_keys=True, default=repr)
+        if key not in checked:
+            checked.add(key)
+            _check_options(ep_options, f"episode {i} (options {ep_options})", path)
+    return episodes, notes
 
 
 def make_suite(name: str, n_episodes: int, seed: int) -> Suite:
