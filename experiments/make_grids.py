@@ -109,12 +109,21 @@
   rule 85 (session 51).
 - ``suites/v2_confirmation28_grid.json``, ``suites/v2_confirmation28_procedural_grid.json`` and
   ``suites/v2_confirmation28_steep_grid.json`` (session 51, seeds 311 000, 313 000, 315 000): a twenty-eighth such
-  set, written before any agent played them, after the twenty-seventh had judged rule 85, for the next rule.
+  set, written before any agent played them, after the twenty-seventh had judged rule 85, for the next rule; it
+  judged rule 86 (session 51).
+- ``suites/v2_confirmation29_grid.json``, ``suites/v2_confirmation29_procedural_grid.json`` and
+  ``suites/v2_confirmation29_steep_grid.json`` (session 51, seeds 331 000, 333 000, 335 000): a twenty-ninth such
+  set, written before any agent played them, after the twenty-eighth had judged rule 86, for the next rule.
 - ``suites/v2_stress_tables_grid.json`` (session 50, seeds from 305 000): reporting only, never a held-out grid of
   the targets: creep curves at the edges of what a table may be (:data:`STRESS_SHAPES`: a cliff just past the
   peak, a plateau with no falling branch, a shoulder before the peak, a peak with no knee before it, and a peak at
   0.1 % or at 15 % creepage), each at every condition, two CoF fractions and two speeds, the sensors as the v2
   draws give them. Its kinds were chosen after a session-only play of such tables; no agent was tuned on it.
+- ``suites/v2_extremes_grid.json`` (session 51, seeds from 323 000): reporting only, never a held-out grid of the
+  targets: 48 random creep tables (:func:`random_table`: no family's shape, the peak at 0.1-15 % creepage,
+  plateaus, humps and cliffs past it) with every scenario field drawn anywhere within what the env accepts (noise up to 3 x full scale, the
+  drive's lag up to 0.1 s, every systematic error up to its accepted bound). Written after a session-only play of
+  such a draw (seed 51, not this file's); no agent was tuned on it.
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
@@ -153,7 +162,11 @@
   85 (session 51).
 - ``suites/v2_torque_confirmation9_grid.json``, ``suites/v2_torque_confirmation9_procedural_grid.json`` and
   ``suites/v2_torque_confirmation9_steep_grid.json`` (session 51, seeds 317 000, 319 000, 321 000): a ninth such
-  set, written before any agent played them, after the eighth had judged rule 85, for the next rule.
+  set, written before any agent played them, after the eighth had judged rule 85, for the next rule; it judged rule
+  86 (session 51).
+- ``suites/v2_torque_confirmation10_grid.json``, ``suites/v2_torque_confirmation10_procedural_grid.json`` and
+  ``suites/v2_torque_confirmation10_steep_grid.json`` (session 51, seeds 337 000, 339 000, 341 000): a tenth such
+  set, written before any agent played them, after the ninth had judged rule 86, for the next rule.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -191,8 +204,11 @@ import numpy as np
 from scipy.special import erf
 
 import cof_gym
-from cof_gym.physics.creep_laws import below_peak
-from cof_gym.task.scenarios import COF_BY_CONDITION, DEFAULT_CONDITIONS
+from cof_gym.physics.creep_laws import MAX_CREEPAGE, TableShape, below_peak
+from cof_gym.physics.native import layout
+from cof_gym.task.scenarios import (
+    COF_BY_CONDITION, COF_ENVELOPE, DEFAULT_CONDITIONS, MOTOR_LAG_MAX_S, NOISE_LEVEL_MAX, SPEED_ENVELOPE_M_S,
+)
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 
 SUITES = Path(__file__).resolve().parent / "suites"
@@ -401,6 +417,61 @@ STRESS_SHAPES = {
 }
 
 
+RANDOM_TABLE_PEAK_CREEPAGE = (0.001, 0.15)  # the peak creepage of a random table: the stress tables' edges
+
+
+def random_table(rng: np.random.Generator) -> dict | None:
+    """A creep_law table drawn from ``rng`` with no family's shape: 3 to the native table's points, the peak at a
+    random one of them and at 0.1-15 % creepage (the stress tables' edges; cubed uniform: median 2 %, one in ten
+    beyond 11 %), a random rise to it and anything below it past it (plateaus, humps, cliffs); None where the draw
+    breaks a table's rules (the caller draws again). Only sums, products and sorts, so every CPU writes the same
+    file."""
+    n = int(rng.integers(3, layout.MAX_TABLE_POINTS + 1))
+    peak_at = int(rng.integers(1, n))  # the index of the maximum
+    u = float(rng.uniform())
+    low, high = RANDOM_TABLE_PEAK_CREEPAGE
+    peak = low + (high - low) * u * u * u
+    s_rise = np.concatenate([[0.0], np.sort(rng.uniform(0.05, 0.99, peak_at - 1)) * peak, [peak]])
+    r_rise = np.concatenate([[0.0], np.sort(rng.uniform(0.02, 0.999, peak_at - 1)), [1.0]])
+    s_fall = peak + np.cumsum(rng.uniform(0.2, 3.0, n - peak_at - 1)) * peak * rng.uniform(0.2, 2.0)
+    s_fall = s_fall[s_fall < MAX_CREEPAGE]
+    r_fall = rng.uniform(0.05, 0.999, len(s_fall))
+    table = {"creepage": [round(float(v), 7) for v in np.concatenate([s_rise, s_fall])],
+             "adhesion_ratio": [round(float(v), 6) for v in np.concatenate([r_rise, r_fall])]}
+    try:
+        TableShape(tuple(table["creepage"]), tuple(table["adhesion_ratio"]))
+    except ValueError:
+        return None
+    return {"table": table}
+
+
+def v2_extremes_grid(episodes: int = 48, first_seed: int = 323_000) -> dict:
+    """Random tables (:func:`random_table`) with every scenario field drawn anywhere within what the env accepts:
+    the condition, the CoF over the whole envelope, the speed, the load, the sensors' noise (0-3 x full scale), the
+    drive's lag (0-0.1 s) and every systematic error within its accepted bound (the v2 draws reach a third to a
+    tenth of these); one generator seeded ``first_seed``."""
+    rng = np.random.default_rng(first_seed)
+    grid = []
+    while len(grid) < episodes:
+        creep_law = random_table(rng)
+        if creep_law is None:
+            continue
+        options = {"condition": str(rng.choice(list(COF_BY_CONDITION))),
+                   "cof": round(float(rng.uniform(*COF_ENVELOPE)), 4),
+                   "speed_m_s": round(float(rng.uniform(*SPEED_ENVELOPE_M_S)), 2),
+                   "load_case": str(rng.choice(["empty", "laden"])),
+                   "noise_level": round(float(rng.uniform(0.0, NOISE_LEVEL_MAX)), 3),
+                   "motor_lag_s": round(float(rng.uniform(0.0, MOTOR_LAG_MAX_S)), 4),
+                   "creep_law": creep_law,
+                   **{name: round(float(rng.uniform(-e.accepted, e.accepted)), 4)
+                      for name, e in SYSTEMATIC_ERRORS.items()}}
+        grid.append({"seed": first_seed + len(grid), "options": options,
+                     "note": f"{len(creep_law['table']['creepage'])} points"})
+    return {"env_id": cof_gym.WAGON_ENV_ID, "env_kwargs": {}, "episodes": grid,
+            "description": "v2 reporting only (not a held-out grid of the targets): random creep tables, every "
+                           "scenario field anywhere within what the env accepts"}
+
+
 def v2_stress_tables_grid(fractions=(0.25, 0.8), speeds=(7.0, 28.0), first_seed: int = 305_000) -> dict:
     """Stress shapes (tables) x conditions x CoF x speed, loads alternating; the env draws the sensors' errors."""
     episodes = []
@@ -458,7 +529,7 @@ def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.
 ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", "eighth ", "ninth ", "tenth ",
             "eleventh ", "twelfth ", "thirteenth ", "fourteenth ", "fifteenth ", "sixteenth ", "seventeenth ",
             "eighteenth ", "nineteenth ", "twentieth ", "twenty-first ", "twenty-second ", "twenty-third ",
-            "twenty-fourth ", "twenty-fifth ", "twenty-sixth ", "twenty-seventh ", "twenty-eighth ")
+            "twenty-fourth ", "twenty-fifth ", "twenty-sixth ", "twenty-seventh ", "twenty-eighth ", "twenty-ninth ")
 
 # the confirmation sets, in the order they were written (the module docstring says when, and for which rule):
 # name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and steep grids; each was written
@@ -520,6 +591,8 @@ CONFIRMATION_SETS = {
                        ((0.09, 0.42, 0.67, 0.92), (7.5, 21.5, 36.0), 295_000), ((0.13, 0.43, 0.79), (6.0, 20.5, 36.5), 297_000)),
     "confirmation28": (((0.04, 0.3, 0.53, 0.81, 0.94), (5.5, 18.0, 33.0), 311_000),
                        ((0.07, 0.4, 0.68, 0.95), (9.0, 20.0, 37.5), 313_000), ((0.12, 0.47, 0.8), (7.0, 21.5, 35.0), 315_000)),
+    "confirmation29": (((0.05, 0.28, 0.55, 0.78, 0.93), (6.0, 19.5, 32.5), 331_000),
+                       ((0.08, 0.39, 0.71, 0.91), (8.0, 22.5, 36.0), 333_000), ((0.11, 0.44, 0.82), (6.5, 19.0, 37.5), 335_000)),
 }
 
 
@@ -558,6 +631,9 @@ TORQUE_CONFIRMATION_SETS = {
     "torque_confirmation9": (((0.03, 0.27, 0.54, 0.78, 0.96), (7.0, 17.5, 34.0), 317_000),
                              ((0.08, 0.41, 0.69, 0.92), (8.5, 22.0, 36.5), 319_000),
                              ((0.13, 0.45, 0.81), (6.5, 20.0, 37.0), 321_000)),
+    "torque_confirmation10": (((0.04, 0.31, 0.53, 0.79, 0.95), (5.5, 18.5, 33.0), 337_000),
+                              ((0.09, 0.37, 0.67, 0.94), (9.5, 21.0, 38.0), 339_000),
+                              ((0.14, 0.43, 0.78), (7.0, 18.0, 36.0), 341_000)),
 }
 GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0  # the golden ratio's fraction: a low-discrepancy sequence k x GOLDEN mod 1
 
@@ -641,6 +717,7 @@ def all_grids() -> dict[str, dict]:
                      "v2 reporting only, a sixth set written before any change of session 12 was measured: "
                      "creep curves outside every family and the five earlier sets, other sensor errors"),
                  v2_stress_tables_grid=v2_stress_tables_grid(),
+                 v2_extremes_grid=v2_extremes_grid(),
                  v2_heldout7_grid=v2_heldout_noise_grid(
                      description="v2 reporting only, a seventh set written in session 33 before any agent played it: "
                      "the v2 draws' creep curves and systematic errors with sensor noise (2-3 x full scale) and a drive "

@@ -150,6 +150,7 @@ class LearnedInterrogator:
         self._dc = 0.0
         self._driven = 0
         self._crept = False
+        self._stuck = False  # a slow-probe step has made the probe sticky (ClimbParameters.sticks_from)
         self._ratio = None
         self._held_crest = None
         self._frequency = None
@@ -353,7 +354,7 @@ class LearnedInterrogator:
                               p.fall_margin(p.mean_headroom(headroom, headroom_std, headroom_spread, caution)))
         if not falling:
             self._update_estimates(reading, mean, std, guard_outputs)
-        step = self._next_step(p, reading, *steering)
+        step = self._next_step(p, reading, float(mean[0, 0]), *steering)
         stop = self._stop_or_step(p, step, headroom, self._stop_reason(p, step, falling, knee))
         self.decisions.append(WindowDecision(float(mean[0, 0]), float(std[0, 0]), headroom, headroom_std,
                                              0.0 if stop else step, self._crept, self.stop_reason))
@@ -377,21 +378,26 @@ class LearnedInterrogator:
         """The windows the climb may still drive before the horizon's stop."""
         return self.max_windows - 1 - self._driven
 
-    def _next_step(self, p: ClimbParameters, reading: Reading, headroom: float, headroom_std: float,
-                   headroom_spread: float, caution: float) -> float:
+    def _next_step(self, p: ClimbParameters, reading: Reading, filter_headroom: float, headroom: float,
+                   headroom_std: float, headroom_spread: float, caution: float) -> float:
         """The next DC step (log units; below ``min_log_step`` a headroom stop) from the steering headroom: the gap
         to the target or the slow probe (held to it once sticky, paced to the horizon where ``p`` paces it), at least
-        the floor's step, a stop the crest defers turned into a probe step. Marks the slow probe and the held crest."""
+        the floor's step, a stop the crest defers turned into a probe step. Marks the slow probe, whether it has
+        become sticky (where the filter's own predicted headroom ``filter_headroom`` places the peak near) and the
+        held crest."""
         step = p.log_step(headroom, headroom_std, headroom_spread, caution)
-        if p.sticks(self._crept, headroom):  # the peak may be near: no big step again
+        if p.sticks(self._stuck, headroom):  # the peak may be near: no big step again
             step = min(step, p.creep_log_step)
-        self._crept |= p.creeps(headroom, headroom_std, headroom_spread, caution)
+        creeps = p.creeps(headroom, headroom_std, headroom_spread, caution)
+        self._crept |= creeps
+        self._stuck |= creeps and p.sticks_from(filter_headroom)
         if self._crept and step >= p.min_log_step:  # pacing sizes a slow-probe step, never turns a stop into one
             step = max(step, p.pace_step(headroom, headroom_std, headroom_spread, self._windows_left, caution))
         step = max(step, p.floor_step(reading.coa))  # safe whatever the filter predicts
         if step < p.min_log_step and p.probes_on(self.features.readings):  # a headroom stop the crest defers
             step = p.creep_log_step
             self._crept = True
+            self._stuck |= p.sticks_from(filter_headroom)
             if p.crest_probe_hold_crest and self._held_crest is None:  # the crest of the window just read
                 self._held_crest = self._dc + p.amplitude(self._dc, self.limits, self._ratio)
         return step

@@ -66,6 +66,9 @@ class ClimbParameters:
     creep_while_std: float = 0.1  # ... predicted headroom's std still exceeds this (more readings, not a stop)
     creep_sticky: bool = False  # once it has crept, no later step exceeds creep_log_step
     creep_release: float | None = None  # not None: ... unless the cautious headroom is above this again
+    # not None: ... sticky only from a slow-probe step the filter placed near the peak (its predicted mean headroom
+    # below this): a guard's or a noisy window's dip far from the peak creeps once, then the climb goes on
+    creep_sticky_below: float | None = None
     creep_until: float | None = None  # not None: no creep once the predicted (mean) headroom is this low
     estimate_from: str = "filter"  # "filter": CoA x exp(predicted correction); "best_coa": best CoA x factor;
     # "guard": CoA x exp(the guards' correction); "pooled": CoA x exp(the filter's and the guards' together);
@@ -123,7 +126,7 @@ class ClimbParameters:
         if not (isinstance(self.approach_fraction, (int, float)) and 0.0 <= self.approach_fraction < 1.0):
             raise ValueError(f"approach_fraction must be in [0, 1), got {self.approach_fraction!r}")
         for name, low in (("floor_margin", 0.0), ("creep_until", -math.inf), ("crest_fraction", 0.0),
-                          ("creep_release", 0.0), ("ceiling_near_headroom", 0.0),
+                          ("creep_release", 0.0), ("creep_sticky_below", 0.0), ("ceiling_near_headroom", 0.0),
                           ("torque_balance_max_lag_deg", 0.0)):  # None: unused
             if getattr(self, name) is not None:
                 check_number(name, getattr(self, name), low, math.inf)
@@ -277,6 +280,12 @@ class ClimbParameters:
                 and self._gap_step(cautious_headroom) < self.min_log_step
                 and (self.creep_until is None
                      or self.mean_headroom(cautious_headroom, headroom_std, spread, caution) > self.creep_until))
+
+    def sticks_from(self, filter_headroom: float) -> bool:
+        """Whether a slow-probe step taken where the filter predicts a mean headroom ``filter_headroom`` (log units)
+        makes the probe sticky: always, unless ``creep_sticky_below`` is set and the filter places the peak at least
+        that far away."""
+        return self.creep_sticky_below is None or filter_headroom < self.creep_sticky_below
 
     def sticks(self, crept: bool, cautious_headroom: float) -> bool:
         """Whether a climb that has ``crept`` is held to ``creep_log_step``: with ``creep_sticky``, unless
