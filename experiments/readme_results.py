@@ -5,6 +5,7 @@ generated, never typed:
     cof-gym evaluate --out out/evaluate                                              # v2 default suite
     cof-gym evaluate --suite experiments/suites/v2_no_systematic_errors.json --episodes 60 --out out/evaluate-v2-no-errors
     cof-gym evaluate --suite experiments/suites/v2_stress_tables_grid.json --out out/evaluate-v2-stress-tables
+    cof-gym evaluate --suite experiments/suites/v2_extremes_grid.json --out out/evaluate-v2-extremes
     cof-gym evaluate --suite experiments/suites/v2_heldout_grid.json --out out/evaluate-v2-heldout
     cof-gym evaluate --suite experiments/suites/v2_heldout2_grid.json --out out/evaluate-v2-heldout2
     cof-gym evaluate --suite experiments/suites/v2_heldout3_grid.json --out out/evaluate-v2-heldout3
@@ -749,6 +750,7 @@ SOURCES = {
     "default": ROOT / "out" / "evaluate" / "summary.md",
     "v2_no_errors": ROOT / "out" / "evaluate-v2-no-errors" / "summary.md",
     "v2_stress_tables": ROOT / "out" / "evaluate-v2-stress-tables" / "summary.md",
+    "v2_extremes": ROOT / "out" / "evaluate-v2-extremes" / "summary.md",
     **{block: out / "summary.md" for block, (_, out) in HELDOUT_RUNS.items()},
     "v1_default": ROOT / "out" / "evaluate-v1" / "summary.md",
     "bench": ROOT / "out" / "bench.md",
