@@ -714,6 +714,11 @@ generated, never typed:
         # rule 86's decision: F at caution 2.25 and the shipped agent on confirmation28 (at the draws, noise_level=3,
         # motor_lag_s=0.1) and torque_confirmation9 (records _rule86_ and _shipped_), checked as rule 85's (a) and (b)
         # (rule_check_rule86_a, rule_check_rule86_b)
+    python experiments/crest_tradeoff.py --guards $G --guards-only --set creep_sticky_below=1.0 --targets 0.1 --stops \
+        --return-digits 4 --grids validation --records out/records_rule87s1.0_validation.json \
+        --out out/crest_tradeoff_rule87s1.0_validation.md   # rule 87's candidates 1.0 and 1.5 (_rule87s1.5_), each
+        # also on validation_torque, --scenario noise_level=3 and motor_lag_s=0.1, paired against the session-48
+        # records and checked as rule 86's selection (rule_check_rule87sV_selection)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1025,6 +1030,7 @@ SOURCES = {
         "rule_check_rule85_a", "rule_check_rule85_b",
         *(f"rule_check_rule86c{c}_selection" for c in ("2.25", "2.5", "2.75")),
         "rule_check_rule86_a", "rule_check_rule86_b",
+        *(f"rule_check_rule87s{v}_selection" for v in ("1.0", "1.5")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
         "runaways_by_torque_gain_session49",
