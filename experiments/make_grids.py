@@ -124,6 +124,10 @@
   plateaus, humps and cliffs past it) with every scenario field drawn anywhere within what the env accepts (noise up to 3 x full scale, the
   drive's lag up to 0.1 s, every systematic error up to its accepted bound). Written after a session-only play of
   such a draw (seed 51, not this file's); no agent was tuned on it.
+- ``suites/v2_validation_extremes_grid.json`` (session 51, seeds from 351 000) and
+  ``suites/v2_extremes_confirmation_grid.json`` (session 51, seeds from 361 000): 96 episodes each of the same draw,
+  the first for selection past every draw at once (``crest_tradeoff.py --grids validation_extremes``), the second
+  written before any agent played it, to confirm one rule (``--grids extremes_confirmation``).
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
@@ -718,6 +722,12 @@ def all_grids() -> dict[str, dict]:
                      "creep curves outside every family and the five earlier sets, other sensor errors"),
                  v2_stress_tables_grid=v2_stress_tables_grid(),
                  v2_extremes_grid=v2_extremes_grid(),
+                 v2_validation_extremes_grid={**v2_extremes_grid(96, 351_000), "description": (
+                     "v2 model selection only: random creep tables, every scenario field anywhere within what the env "
+                     "accepts (v2_extremes_grid's draw on seeds of its own)")},
+                 v2_extremes_confirmation_grid={**v2_extremes_grid(96, 361_000), "description": (
+                     "v2 confirmation only: random creep tables, every scenario field anywhere within what the env "
+                     "accepts, for one rule (v2_extremes_grid's draw on seeds of its own)")},
                  v2_heldout7_grid=v2_heldout_noise_grid(
                      description="v2 reporting only, a seventh set written in session 33 before any agent played it: "
                      "the v2 draws' creep curves and systematic errors with sensor noise (2-3 x full scale) and a drive "
