@@ -719,6 +719,12 @@ generated, never typed:
         --out out/crest_tradeoff_rule87s1.0_validation.md   # rule 87's candidates 1.0 and 1.5 (_rule87s1.5_), each
         # also on validation_torque, --scenario noise_level=3 and motor_lag_s=0.1, paired against the session-48
         # records and checked as rule 86's selection (rule_check_rule87sV_selection)
+    python experiments/crest_tradeoff.py --guards $G --guards-only --set creep_sticky_below=1.5 --targets 0.1 --stops \
+        --return-digits 4 --grids extremes_confirmation --records out/records_rule88C_extremes_confirmation.json \
+        --out out/crest_tradeoff_rule88C_extremes_confirmation.md   # rule 88's C; the shipped agent without --set
+        # (_shipped_); both also on validation_extremes, confirmation29 (at the draws, noise_level=3,
+        # motor_lag_s=0.1) and torque_confirmation10, paired (paired_rule88C_*) and checked over the five decisive
+        # pairs with --gain (rule_check_rule88_a) and --errors (rule_check_rule88_b)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1031,6 +1037,7 @@ SOURCES = {
         *(f"rule_check_rule86c{c}_selection" for c in ("2.25", "2.5", "2.75")),
         "rule_check_rule86_a", "rule_check_rule86_b",
         *(f"rule_check_rule87s{v}_selection" for v in ("1.0", "1.5")),
+        "paired_rule88C_validation_extremes", "rule_check_rule88_a", "rule_check_rule88_b",
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
         "runaways_by_torque_gain_session49",
