@@ -113,7 +113,8 @@
   judged rule 86 (session 51).
 - ``suites/v2_confirmation29_grid.json``, ``suites/v2_confirmation29_procedural_grid.json`` and
   ``suites/v2_confirmation29_steep_grid.json`` (session 51, seeds 331 000, 333 000, 335 000): a twenty-ninth such
-  set, written before any agent played them, after the twenty-eighth had judged rule 86, for the next rule.
+  set, written before any agent played them, after the twenty-eighth had judged rule 86, for the next rule; it
+  judged rule 88 (session 51).
 - ``suites/v2_stress_tables_grid.json`` (session 50, seeds from 305 000): reporting only, never a held-out grid of
   the targets: creep curves at the edges of what a table may be (:data:`STRESS_SHAPES`: a cliff just past the
   peak, a plateau with no falling branch, a shoulder before the peak, a peak with no knee before it, and a peak at
@@ -127,7 +128,8 @@
 - ``suites/v2_validation_extremes_grid.json`` (session 51, seeds from 351 000) and
   ``suites/v2_extremes_confirmation_grid.json`` (session 51, seeds from 361 000): 96 episodes each of the same draw,
   the first for selection past every draw at once (``crest_tradeoff.py --grids validation_extremes``), the second
-  written before any agent played it, to confirm one rule (``--grids extremes_confirmation``).
+  written before any agent played it, to confirm one rule (``--grids extremes_confirmation``); it judged rule 88
+  (session 51).
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
@@ -170,7 +172,8 @@
   86 (session 51).
 - ``suites/v2_torque_confirmation10_grid.json``, ``suites/v2_torque_confirmation10_procedural_grid.json`` and
   ``suites/v2_torque_confirmation10_steep_grid.json`` (session 51, seeds 337 000, 339 000, 341 000): a tenth such
-  set, written before any agent played them, after the ninth had judged rule 86, for the next rule.
+  set, written before any agent played them, after the ninth had judged rule 86, for the next rule; it judged rule
+  88 (session 51).
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
