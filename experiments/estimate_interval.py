@@ -1,5 +1,5 @@
 """How far the learned interrogator's estimate can be trusted: an interval calibrated on the validation grids,
-its coverage measured on every reported suite. (Run from the repository root; 2 cores, about 2.5 min.)
+its coverage measured on every reported suite. (Run from the repository root; 2 cores, about 2 min.)
 
     python experiments/estimate_interval.py [--policy DIR] [--coverage 0.9] [--lower-coverage 0.95] [--write]
                                             [--workers 2] [--out out/estimate_interval.md]
@@ -7,7 +7,9 @@ its coverage measured on every reported suite. (Run from the repository root; 2 
 
 1. **Calibration.** Plays the interrogator of ``--policy`` (default: the shipped one) on the three validation
    grids (family, procedural and steep creep curves: model-selection data, never reported; both vehicle
-   configurations, 360 climbs). From the scored episodes it computes the split conformal scales
+   configurations, 360 climbs), and again with the noise tripled and with a 0.1 s drive lag: the climbs there that
+   read noisy (``LearnedInterrogator.noisy``) calibrate the noisy groups (``interval.noise_group``), the draws'
+   groups stay the draws' own. From the scored episodes it computes the split conformal scales
    (:class:`cof_gym.agents.interrogator.IntervalScales`): the two-sided interval at ``--coverage`` and the lower
    bound at ``--lower-coverage``, in stds of the estimate's log, per way the estimate was committed (the climb's
    stop, the horizon, no stop: ``LearnedInterrogator.commitment``) or pooled, whichever a leave-one-grid-out
@@ -48,16 +50,28 @@ from script_checks import check_out_file, write_report  # noqa: E402
 from train_interrogator import CONFIGS, PROCEDURAL_VALIDATION, STEEP_VALIDATION, VALIDATION, episodes  # noqa: E402
 
 from cof_gym.agents.base import agent_view  # noqa: E402
-from cof_gym.agents.interrogator import IN_FLIGHT, POOLED, SHIPPED_INTERROGATOR, IntervalScales, check_coverage  # noqa: E402
+from cof_gym.agents.interrogator import (  # noqa: E402
+    IN_FLIGHT, POOLED, SHIPPED_INTERROGATOR, IntervalScales, base_group, check_coverage, noise_group,
+)
 from cof_gym.commands.args import Parser, positive_int  # noqa: E402
 from cof_gym.commands.evaluate_episodes import ENDINGS as EVALUATE_ENDINGS  # noqa: E402
 from cof_gym.commands.evaluate_stats import UTILISATION_GROUPS, utilisation_band  # noqa: E402
 
 CALIBRATION = {"family": VALIDATION, "procedural": PROCEDURAL_VALIDATION, "steep": STEEP_VALIDATION}
+# the same grids past the draws' noise, whose climbs read a noise ratio of 2.2-2.5 (the noisy groups' calibration)
+NOISY_SCENARIOS = ({"noise_level": 3.0}, {"motor_lag_s": 0.1})
 ENDINGS = tuple(e for e in EVALUATE_ENDINGS if e != "diverged")  # how a scored episode ends: the breakdown's columns
 
 
 CALIBRATION_DRAW_SEED = 0  # the draw of each climb's in-flight calibration windows
+NOISY_DRAW_SEED = 1  # ... of the noisy groups' climbs
+
+
+def is_noisy(group: str) -> bool:
+    """Whether a calibration group is a noisy one (``interval.noise_group``)."""
+    return base_group(group) != group
+CALIBRATED_ON = ("the validation grids (family, procedural, steep; both vehicle configurations); the noisy groups on "
+                 "the same grids with the noise tripled and with a 0.1 s drive lag")
 
 
 @dataclass(frozen=True)
@@ -81,7 +95,7 @@ class Committed:
     estimate: float
     cof: float
     log_std: float
-    commitment: str  # how the agent committed it (LearnedInterrogator.commitment): the scale it reads
+    commitment: str  # how the agent committed it, in its noise class (LearnedInterrogator.interval_group): the scale it reads
     ended: str
     windows: tuple[InFlight, ...] = ()
 
@@ -111,16 +125,18 @@ class InFlightRecorder:
         self._reached = max(self._reached, info.get("ground_truth", {}).get("peak_torque_fraction", 0.0))
         a = self.agent
         if a.in_flight is not None:
-            self.windows.append(InFlight(a.in_flight_estimate, a.estimate_log_std, a.in_flight, a.demonstrated_adhesion,
-                                         self._reached))
+            self.windows.append(InFlight(a.in_flight_estimate, a.estimate_log_std, a.in_flight_group,
+                                         a.demonstrated_adhesion, self._reached))
         return action
 
 
-def play(policy: str, suite: str, config: dict) -> list[Committed]:
+def play(policy: str, suite: str, config: dict, scenario: dict | None = None) -> list[Committed]:
     """The scored episodes of ``suite`` (a suite file or ``"default"``) played by the interrogator of ``policy``
-    in the vehicle configuration ``config``, with their in-flight windows."""
-    return [Committed(r.estimate, r.cof, rec.agent.estimate_log_std, rec.agent.commitment, r.ended, tuple(rec.windows))
-            for r, rec in episodes(policy, suite, config, wrap=InFlightRecorder) if r.scored]
+    in the vehicle configuration ``config`` (``scenario``: reset options over every episode's own), with their
+    in-flight windows."""
+    return [Committed(r.estimate, r.cof, rec.agent.estimate_log_std, rec.agent.interval_group, r.ended,
+                      tuple(rec.windows))
+            for r, rec in episodes(policy, suite, config, scenario=scenario, wrap=InFlightRecorder) if r.scored]
 
 
 def in_flight_calibration(episodes: list[Committed], seed: int = CALIBRATION_DRAW_SEED
@@ -130,7 +146,7 @@ def in_flight_calibration(episodes: list[Committed], seed: int = CALIBRATION_DRA
     rng = np.random.default_rng(seed)
     out = []
     for e in episodes:
-        for place in IN_FLIGHT:
+        for place in (*IN_FLIGHT, *(noise_group(p, True) for p in IN_FLIGHT)):  # a climb's windows may be of both
             own = [w for w in e.windows if w.place == place]
             if own:
                 w = own[int(rng.integers(len(own)))]
@@ -276,19 +292,26 @@ def main() -> None:
         parser.error(f"--policy: {args.policy} holds no manifest.json (an interrogator's directory)")
     reported = {"default suite": "default",
                 **{label: str(HERE / "suites" / f"{name}.json") for name, label in v2_heldout_grids().items()}}
-    jobs = [(str(args.policy), str(path), config) for path in CALIBRATION.values() for config in CONFIGS]
-    jobs += [(str(args.policy), suite, {}) for suite in reported.values()]
+    jobs = [(str(args.policy), str(path), config, None) for path in CALIBRATION.values() for config in CONFIGS]
+    jobs += [(str(args.policy), str(path), config, scenario) for scenario in NOISY_SCENARIOS
+             for path in CALIBRATION.values() for config in CONFIGS]
+    jobs += [(str(args.policy), suite, {}, None) for suite in reported.values()]
     with ProcessPoolExecutor(args.workers) as pool:
         played = list(pool.map(play, *zip(*jobs)))
-    calibration_parts = played[:len(CALIBRATION) * len(CONFIGS)]
+    n_clean = len(CALIBRATION) * len(CONFIGS)
+    n_calibration = n_clean * (1 + len(NOISY_SCENARIOS))
+    calibration_parts = played[:n_clean]
     calibration = [e for part in calibration_parts for e in part]
-    in_flight = in_flight_calibration(calibration)
+    # the noisy groups' calibration: the climbs of the noisy plays that read noisy (the others, and their windows
+    # that read clean, are left out: the draws' groups stay calibrated on the draws alone, as before)
+    noisy = [e for part in played[n_clean:n_calibration] for e in part if is_noisy(e.commitment)]
+    in_flight = in_flight_calibration(calibration) + [w for w in in_flight_calibration(noisy, NOISY_DRAW_SEED)
+                                                      if is_noisy(w[3])]
     by_grid = {grid: [e for part in calibration_parts[k * len(CONFIGS):(k + 1) * len(CONFIGS)] for e in part]
                for k, grid in enumerate(CALIBRATION)}
     selection, per_commitment = select_method(by_grid, args.coverage, args.lower_coverage)
-    scales = IntervalScales.calibrate([e.calibration for e in calibration] + in_flight, args.coverage, args.lower_coverage,
-                                      "the validation grids (family, procedural, steep; both vehicle configurations)",
-                                      per_commitment)
+    scales = IntervalScales.calibrate([e.calibration for e in calibration + noisy] + in_flight, args.coverage,
+                                      args.lower_coverage, CALIBRATED_ON, per_commitment)
     if args.write:
         print(f"wrote {scales.save(args.policy)}")
     header = (f"Scales (`python experiments/estimate_interval.py`, split conformal per commitment on "
@@ -302,9 +325,11 @@ def main() -> None:
              f"{scales.lower_coverage:.0%} lower bound | median width (high / low) | "
              + " | ".join(f"{ending}: episodes: in / above / width" for ending in ENDINGS) + " |",
              "|---" * (5 + len(ENDINGS)) + "|",
-             row("validation grids (the calibration)", calibration, scales)]
-    lines += [row(label, part, scales) for label, part in zip(reported, played[len(calibration_parts):])]
-    suites = dict(zip(reported, played[len(calibration_parts):]))
+             row("validation grids (the calibration)", calibration, scales),
+             row("validation grids, noise x 3 or a 0.1 s lag, the climbs that read noisy (the noisy groups' "
+                 "calibration)", noisy, scales)]
+    lines += [row(label, part, scales) for label, part in zip(reported, played[n_calibration:])]
+    suites = dict(zip(reported, played[n_calibration:]))
     held_out = [e for label, part in suites.items() if label != "default suite" for e in part]
     lines += ["", "How early can you know a safe lower bound: every window a climb went on from, by the utilisation its "
               "crests had reached (the largest true peak torque so far over the true M_sat), with the in-flight "

@@ -14,8 +14,8 @@ import pytest
 import cof_gym
 from cof_gym.agents.base import agent_view
 from cof_gym.agents.interrogator import (
-    COMMITMENTS, IN_FLIGHT, INTERVAL_FILE, SHIPPED_INTERROGATOR, lower_score, two_sided_score, IntervalScales, conformal_quantile, enough_for,
-    interrogator_for, manifest_climb, pooled_std,
+    COMMITMENTS, IN_FLIGHT, INTERVAL_FILE, POOLED_NOISY, SHIPPED_INTERROGATOR, lower_score, two_sided_score, IntervalScales,
+    base_group, conformal_quantile, enough_for, interrogator_for, manifest_climb, noise_group, pooled_std,
 )
 from interrogator_helpers import SHIPPED, play
 
@@ -94,6 +94,51 @@ def test_in_flight_windows_take_scales_of_their_own_and_leave_the_pooled_one_to_
         assert scales.scale_of(place) == (conformal_quantile([two_sided_score(*w[:3]) for w in own], 0.9),
                                           conformal_quantile([lower_score(*w[:3]) for w in own], 0.95))
     assert scales.scale_of("climbing")[0] > scales.scale_of("horizon")[0] > scales.scale_of("probing")[0]
+
+
+def test_noisy_climbs_take_scales_of_their_own_and_leave_the_draws_scales_as_they_were():
+    """Climbs that read more noise than the draws give are scored in groups of their own: the clean groups' scales
+    are those of a calibration without them (an interval file written before them stays as it was), each noisy
+    group with enough climbs gets its own quantile, one with too few the noisy pooled one, and where a calibration
+    holds no noisy climb a noisy group reads its base group's scale."""
+    rng = np.random.default_rng(5)
+
+    def draw(n: int, group: str, factor: float) -> list[tuple[float, float, float, str]]:
+        cof, log_std = rng.uniform(0.05, 0.5, n), rng.uniform(0.02, 0.3, n)
+        return [(c * math.exp(factor * s * z), c, s, group)
+                for c, s, z in zip(cof, log_std, rng.standard_normal(n))]
+
+    clean = draw(300, "stop", 1.0) + draw(100, "horizon", 2.0)
+    noisy = draw(200, noise_group("stop", True), 3.0) + draw(5, noise_group("horizon", True), 6.0)
+    alone, both = IntervalScales.calibrate(clean, 0.9, 0.95), IntervalScales.calibrate(clean + noisy, 0.9, 0.95)
+    assert {g: both.scales[g] for g in alone.scales} == alone.scales and POOLED_NOISY not in alone.scales
+    assert both.climbs[POOLED_NOISY] == 205 and both.climbs[noise_group("stop", True)] == 200
+    own = [e for e in noisy if e[3] == noise_group("stop", True)]
+    assert both.scale_of(noise_group("stop", True)) == (conformal_quantile([two_sided_score(*e[:3]) for e in own], 0.9),
+                                                        conformal_quantile([lower_score(*e[:3]) for e in own], 0.95))
+    assert both.scale_of(noise_group("stop", True))[0] > both.scale_of("stop")[0]  # 3 stds against 1
+    assert both.scale_of(noise_group("horizon", True)) == tuple(both.scales[POOLED_NOISY])  # 5 are too few
+    assert alone.scale_of(noise_group("horizon", True)) == alone.scale_of("horizon")
+    assert base_group(noise_group("probing", True)) == "probing" and noise_group("probing", False) == "probing"
+
+
+@pytest.mark.skipif(not SHIPPED, reason="no shipped interrogator")
+def test_a_climb_is_noisy_where_its_first_windows_read_the_noise_past_the_draws():
+    """The interval's noise class follows the climb's own noise reading (``ClimbParameters.noise_ratio``): clean at
+    the draws' noise, noisy with the noise tripled; the committed estimate's group says so."""
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    agent = interrogator_for(env, SHIPPED_INTERROGATOR)
+    groups = {}
+    for noise in (1.0, 3.0):
+        obs, info = env.reset(seed=60_001, options={"noise_level": noise})
+        agent.reset(obs, agent_view(info, oracle=False))
+        done = False
+        while not done:
+            obs, _, terminated, truncated, info = env.step(agent.act(obs, agent_view(info, oracle=False)))
+            done = terminated or truncated
+        groups[noise] = (agent.noisy, agent.interval_group, agent.commitment)
+    assert groups[1.0][0] is False and groups[1.0][1] == groups[1.0][2]
+    assert groups[3.0][0] is True and groups[3.0][1] == noise_group(groups[3.0][2], True)
 
 
 def test_the_in_flight_calibration_draws_one_window_per_climb_and_place_and_the_table_counts_every_window(

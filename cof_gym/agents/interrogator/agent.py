@@ -18,7 +18,7 @@ from cof_gym.agents.interrogator.climb import (
     AT_HEADROOM, ESTIMATE_SOURCES, ESTIMATOR_ESTIMATES, GUARDED_ESTIMATES, HEADROOM_STOPS, ClimbParameters,
 )
 from cof_gym.agents.interrogator.features import EpisodeFeatures
-from cof_gym.agents.interrogator.interval import IntervalScales
+from cof_gym.agents.interrogator.interval import NOISY_RATIO, IntervalScales, noise_group
 from cof_gym.agents.interrogator.networks import FilterEnsemble, pooled_correction, pooled_std
 from cof_gym.agents.interrogator.readings import Reading
 from cof_gym.agents.runaway import CrestCeiling, RunawayBracket
@@ -74,6 +74,8 @@ class LearnedInterrogator:
     _best_coa: float = 0.0
     _driven: int = 0
     _crept: bool = False
+    _stuck: bool = False  # a slow-probe step has made the probe sticky (ClimbParameters.sticks_from)
+    _noise_ratio: float = 1.0  # the noise the climb's first windows read over the reference (noise_ratio)
     _ratio: float | None = None  # the modulation ratio of the next window (None: the climb's amplitude_ratio)
     _held_crest: float | None = None  # the torque crest the probe holds (N m; crest_probe_hold_crest)
     _frequency: float | None = None  # the episode's modulation frequency (Hz), from the first observation's speed
@@ -150,7 +152,8 @@ class LearnedInterrogator:
         self._dc = 0.0
         self._driven = 0
         self._crept = False
-        self._stuck = False  # a slow-probe step has made the probe sticky (ClimbParameters.sticks_from)
+        self._stuck = False
+        self._noise_ratio = 1.0
         self._ratio = None
         self._held_crest = None
         self._frequency = None
@@ -225,18 +228,29 @@ class LearnedInterrogator:
         runaway estimate)."""
         return "horizon" if self.stop_reason == "horizon" else "stop" if self.stop_reason else "no stop"
 
+    @property
+    def noisy(self) -> bool:
+        """Whether the climb's first windows read more noise than the v2 draws give (a noise ratio of at least
+        :data:`~cof_gym.agents.interrogator.interval.NOISY_RATIO`): its interval takes the noisy scales."""
+        return self._noise_ratio >= NOISY_RATIO
+
+    @property
+    def interval_group(self) -> str:
+        """The calibration group of the committed estimate's interval: its :attr:`commitment` in its noise class."""
+        return noise_group(self.commitment, self.noisy)
+
     def cof_interval(self) -> tuple[float, float] | None:
         """The calibrated two-sided interval around :attr:`estimate` (:class:`IntervalScales`, at the scale of
-        its :attr:`commitment`), None without a calibration."""
+        its :attr:`interval_group`), None without a calibration."""
         if self.interval is None:
             return None
-        return self.interval.interval(self.estimate, self.estimate_log_std, self.commitment)
+        return self.interval.interval(self.estimate, self.estimate_log_std, self.interval_group)
 
     def cof_lower_bound(self) -> float | None:
         """The calibrated lower bound on the CoF under :attr:`estimate`, None without a calibration."""
         if self.interval is None:
             return None
-        return self.interval.lower_bound(self.estimate, self.estimate_log_std, self.commitment)
+        return self.interval.lower_bound(self.estimate, self.estimate_log_std, self.interval_group)
 
     @property
     def in_flight(self) -> str | None:
@@ -257,19 +271,25 @@ class LearnedInterrogator:
             return None
         return self._in_range(self.candidate_estimates(self.params.best_coa_factor, runaway=False)[self.params.estimate_from])
 
+    @property
+    def in_flight_group(self) -> str | None:
+        """The calibration group of the in-flight estimate's interval: :attr:`in_flight` in its noise class (None
+        where that is)."""
+        return None if self.in_flight is None else noise_group(self.in_flight, self.noisy)
+
     def in_flight_interval(self) -> tuple[float, float] | None:
-        """The calibrated two-sided interval around :attr:`in_flight_estimate` (at the scale of :attr:`in_flight`),
-        None without a calibration or an in-flight estimate."""
+        """The calibrated two-sided interval around :attr:`in_flight_estimate` (at the scale of
+        :attr:`in_flight_group`), None without a calibration or an in-flight estimate."""
         if self.interval is None or self.in_flight is None:
             return None
-        return self.interval.interval(self.in_flight_estimate, self.estimate_log_std, self.in_flight)
+        return self.interval.interval(self.in_flight_estimate, self.estimate_log_std, self.in_flight_group)
 
     def in_flight_lower_bound(self) -> float | None:
         """The calibrated lower bound on the CoF under :attr:`in_flight_estimate`: what a braking planner may use
         before the climb has stopped; None without a calibration or an in-flight estimate."""
         if self.interval is None or self.in_flight is None:
             return None
-        return self.interval.lower_bound(self.in_flight_estimate, self.estimate_log_std, self.in_flight)
+        return self.interval.lower_bound(self.in_flight_estimate, self.estimate_log_std, self.in_flight_group)
 
     @property
     def demonstrated_adhesion(self) -> float:
@@ -345,7 +365,8 @@ class LearnedInterrogator:
         self._bracket.observe(reading.crest_bound, reading.dc_nm + reading.amplitude_nm)  # the floor's bound too
         for features in (self.features, *self._guard_features, *self._estimator_features):
             features.push(reading)
-        p = self.params.at_noise(self.params.noise_ratio(self.features.readings))
+        self._noise_ratio = self.params.noise_ratio(self.features.readings)
+        p = self.params.at_noise(self._noise_ratio)
         mean, std, spread = self.ensemble.predict_with_spread(self.features.vector())
         guard_outputs = [g.predict_with_spread(f.vector()) for g, f in zip(self.guards, self._guard_features)]
         steering = self._steering_headroom(p, mean, std, spread, guard_outputs)

@@ -24,6 +24,13 @@ commitment) is chosen on the validation grids alone: ``experiments/estimate_inte
 of the three grids and measures it on the third. Creep curves and sensors unlike the calibration climbs' carry no such guarantee: there the
 coverage is measured (``experiments/estimate_interval.py`` reports it on every held-out grid).
 
+**Past the draws' noise.** A climb whose first windows read more noise than the v2 draws give (the climb's noise
+ratio, :meth:`~cof_gym.agents.interrogator.ClimbParameters.noise_ratio`, at least :data:`NOISY_RATIO`) extrapolates
+further from noisier readings. Its estimate takes scales of its own (each group in its noise class,
+:func:`noise_group`), calibrated on the validation grids played with the noise tripled and with a 0.1 s drive lag
+(the climbs there that read noisy); the draws' groups stay calibrated on the draws alone. The noise class is a
+reading of the agent's, so the Mondrian guarantee holds within it for climbs drawn like those calibration climbs.
+
 **In flight.** A climb that has not stopped has read windows too: the networks' estimate from them (without the
 runaway's, :attr:`~cof_gym.agents.interrogator.LearnedInterrogator.in_flight_estimate`) takes scales of its own,
 per place in the climb (:data:`IN_FLIGHT`: before the slow probe, in it), calibrated on one window per
@@ -49,8 +56,27 @@ COMMITMENTS = ("stop", "horizon", "no stop")
 # where a climb that has not stopped stands (LearnedInterrogator.in_flight): before its slow probe, or in it; the
 # groups of the in-flight interval, which a climb reads at any window
 IN_FLIGHT = ("climbing", "probing")
-GROUPS = (*COMMITMENTS, *IN_FLIGHT)  # every group a calibration scores
+BASE_GROUPS = (*COMMITMENTS, *IN_FLIGHT)  # every group of a climb at the noise of the calibration's draws
+NOISY = "noisy"  # the suffix of a group whose climb read more noise than the draws give (NOISY_RATIO)
+# a climb whose first windows read a noise ratio (ClimbParameters.noise_ratio) at least this is scored and scaled in
+# the noisy groups: 1 at every noise and drive lag the v2 draws give, about 1.6 with the noise doubled, 2.2-2.5 with
+# it tripled or a 0.1 s lag (the validation grids, session 51)
+NOISY_RATIO = 1.25
+
+
+def noise_group(group: str, noisy: bool) -> str:
+    """``group`` (a commitment, an in-flight place or :data:`POOLED`) in the noise class of its climb."""
+    return f"{group}, {NOISY}" if noisy else group
+
+
+def base_group(group: str) -> str:
+    """``group`` without its noise class."""
+    return group.removesuffix(f", {NOISY}")
+
+
 POOLED = "pooled"  # the scales over every committed calibration climb: a group's where it had too few
+POOLED_NOISY = noise_group(POOLED, True)  # ... over every committed noisy one
+GROUPS = (*BASE_GROUPS, *(noise_group(g, True) for g in BASE_GROUPS))  # every group a calibration scores
 LOG_STD_FLOOR = 1e-6  # a std below this (log units) scores as this: a point estimate still has a finite score
 
 
@@ -107,8 +133,9 @@ class IntervalScales:
     def __post_init__(self) -> None:
         for name in ("coverage", "lower_coverage"):
             check_coverage(name, getattr(self, name))
-        if POOLED not in self.scales or set(self.scales) - {POOLED, *GROUPS}:
-            raise ValueError(f"scales must name {POOLED!r} and at most {GROUPS}, got {sorted(self.scales)}")
+        if POOLED not in self.scales or set(self.scales) - {POOLED, POOLED_NOISY, *GROUPS}:
+            raise ValueError(f"scales must name {POOLED!r} and at most {(POOLED_NOISY, *GROUPS)}, "
+                             f"got {sorted(self.scales)}")
         for group, pair in self.scales.items():
             if not (isinstance(pair, (list, tuple)) and len(pair) == 2):
                 raise ValueError(f"scales[{group!r}] must be [scale, lower_scale], got {pair!r}")
@@ -120,23 +147,33 @@ class IntervalScales:
                   lower_coverage: float = 0.95, calibrated_on: str = "", per_commitment: bool = True
                   ) -> "IntervalScales":
         """The scales from scored calibration ``episodes`` of ``(estimate, CoF, log_std, group)`` (a group of
-        :data:`GROUPS`: a commitment, or an in-flight window's place in its climb): pooled over the commitments,
-        and with ``per_commitment`` per group with enough of them for both coverages."""
+        :data:`GROUPS`: a commitment, or an in-flight window's place in its climb, each in its noise class): pooled
+        over the commitments of each noise class, and with ``per_commitment`` per group with enough of them for both
+        coverages. Without noisy episodes there are no noisy scales (a noisy climb then reads its base group's)."""
         episodes = list(episodes)
-        groups = {POOLED: [e for e in episodes if e[3] in COMMITMENTS], **{g: [e for e in episodes if e[3] == g]
-                                                                        for g in GROUPS}}
+        noisy_commitments = {noise_group(c, True) for c in COMMITMENTS}
+        groups = {POOLED: [e for e in episodes if e[3] in COMMITMENTS],
+                  POOLED_NOISY: [e for e in episodes if e[3] in noisy_commitments],
+                  **{g: [e for e in episodes if e[3] == g] for g in GROUPS}}
         scales, climbs = {}, {}
         for group, members in groups.items():
+            if group in (POOLED_NOISY, *noisy_commitments, *(noise_group(g, True) for g in IN_FLIGHT)) and not members:
+                continue  # no noisy calibration climbs: the file stays as a calibration without them writes it
             climbs[group] = len(members)
-            own = per_commitment and enough_for(len(members), coverage) and enough_for(len(members), lower_coverage)
-            if group == POOLED or own:
+            enough = enough_for(len(members), coverage) and enough_for(len(members), lower_coverage)
+            if group == POOLED or (group == POOLED_NOISY and enough) or (per_commitment and enough):
                 scales[group] = [conformal_quantile([two_sided_score(*e[:3]) for e in members], coverage),
                                  conformal_quantile([lower_score(*e[:3]) for e in members], lower_coverage)]
         return cls(coverage, lower_coverage, scales, climbs, calibrated_on)
 
     def scale_of(self, commitment: str) -> tuple[float, float]:
-        """(two-sided scale, lower scale) of a group (:data:`GROUPS`): its own, else the pooled ones."""
-        return tuple(self.scales.get(commitment, self.scales[POOLED]))
+        """(two-sided scale, lower scale) of a group (:data:`GROUPS`): its own; else, for a noisy group, the noisy
+        pooled ones, or where there are none its base group's; else the pooled ones."""
+        if commitment in self.scales:
+            return tuple(self.scales[commitment])
+        if base_group(commitment) != commitment:
+            return tuple(self.scales[POOLED_NOISY]) if POOLED_NOISY in self.scales else self.scale_of(base_group(commitment))
+        return tuple(self.scales[POOLED])
 
     def interval(self, estimate: float, log_std: float, commitment: str = POOLED) -> tuple[float, float]:
         """``estimate x exp(-+scale x log_std)``: the two-sided interval (CoF) at the commitment's scale."""
