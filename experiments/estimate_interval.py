@@ -95,7 +95,7 @@ class Committed:
     estimate: float
     cof: float
     log_std: float
-    commitment: str  # how the agent committed it, in its noise class (LearnedInterrogator.interval_group): the scale it reads
+    commitment: str  # how it was committed, in its noise class (LearnedInterrogator.interval_group): its scale
     ended: str
     windows: tuple[InFlight, ...] = ()
 

@@ -122,9 +122,9 @@
   draws give them. Its kinds were chosen after a session-only play of such tables; no agent was tuned on it.
 - ``suites/v2_extremes_grid.json`` (session 51, seeds from 323 000): reporting only, never a held-out grid of the
   targets: 48 random creep tables (:func:`random_table`: no family's shape, the peak at 0.1-15 % creepage,
-  plateaus, humps and cliffs past it) with every scenario field drawn anywhere within what the env accepts (noise up to 3 x full scale, the
-  drive's lag up to 0.1 s, every systematic error up to its accepted bound). Written after a session-only play of
-  such a draw (seed 51, not this file's); no agent was tuned on it.
+  plateaus, humps and cliffs past it) with every scenario field drawn anywhere within what the env accepts (noise
+  up to 3 x full scale, the drive's lag up to 0.1 s, every systematic error up to its accepted bound). Written after
+  a session-only play of such a draw (seed 51, not this file's); no agent was tuned on it.
 - ``suites/v2_validation_extremes_grid.json`` (session 51, seeds from 351 000) and
   ``suites/v2_extremes_confirmation_grid.json`` (session 51, seeds from 361 000): 96 episodes each of the same draw,
   the first for selection past every draw at once (``crest_tradeoff.py --grids validation_extremes``), the second

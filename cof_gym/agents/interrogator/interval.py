@@ -157,7 +157,7 @@ class IntervalScales:
                   **{g: [e for e in episodes if e[3] == g] for g in GROUPS}}
         scales, climbs = {}, {}
         for group, members in groups.items():
-            if group in (POOLED_NOISY, *noisy_commitments, *(noise_group(g, True) for g in IN_FLIGHT)) and not members:
+            if base_group(group) != group and not members:
                 continue  # no noisy calibration climbs: the file stays as a calibration without them writes it
             climbs[group] = len(members)
             enough = enough_for(len(members), coverage) and enough_for(len(members), lower_coverage)
@@ -171,9 +171,11 @@ class IntervalScales:
         pooled ones, or where there are none its base group's; else the pooled ones."""
         if commitment in self.scales:
             return tuple(self.scales[commitment])
-        if base_group(commitment) != commitment:
-            return tuple(self.scales[POOLED_NOISY]) if POOLED_NOISY in self.scales else self.scale_of(base_group(commitment))
-        return tuple(self.scales[POOLED])
+        if base_group(commitment) == commitment:
+            return tuple(self.scales[POOLED])
+        if POOLED_NOISY in self.scales:
+            return tuple(self.scales[POOLED_NOISY])
+        return self.scale_of(base_group(commitment))
 
     def interval(self, estimate: float, log_std: float, commitment: str = POOLED) -> tuple[float, float]:
         """``estimate x exp(-+scale x log_std)``: the two-sided interval (CoF) at the commitment's scale."""
