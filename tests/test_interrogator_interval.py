@@ -74,15 +74,23 @@ def test_calibrated_scales_cover_new_exchangeable_episodes_as_promised():
     assert covered(draw(20_000, "horizon"), "pooled")[0] < 0.85
 
 
-def test_in_flight_windows_take_scales_of_their_own_and_leave_the_pooled_one_to_the_commitments():
-    """The pooled scale is the committed estimates' whatever in-flight windows the calibration also holds; each
-    place in the climb gets the conformal quantile of its own windows' scores."""
-    rng = np.random.default_rng(3)
+def episode_drawer(seed: int):
+    """``draw(n, group, factor)``: ``n`` scored calibration episodes ``(estimate, CoF, log_std, group)`` whose log
+    errors are ``factor`` times their std times a standard normal draw (one generator seeded ``seed``)."""
+    rng = np.random.default_rng(seed)
 
     def draw(n: int, group: str, factor: float) -> list[tuple[float, float, float, str]]:
         cof, log_std = rng.uniform(0.05, 0.5, n), rng.uniform(0.02, 0.3, n)
         return [(c * math.exp(factor * s * z), c, s, group)
                 for c, s, z in zip(cof, log_std, rng.standard_normal(n))]
+
+    return draw
+
+
+def test_in_flight_windows_take_scales_of_their_own_and_leave_the_pooled_one_to_the_commitments():
+    """The pooled scale is the committed estimates' whatever in-flight windows the calibration also holds; each
+    place in the climb gets the conformal quantile of its own windows' scores."""
+    draw = episode_drawer(3)
 
     committed = draw(300, "stop", 1.0) + draw(100, "horizon", 2.0)
     windows = {"climbing": draw(200, "climbing", 4.0), "probing": draw(150, "probing", 0.5)}
@@ -101,12 +109,7 @@ def test_noisy_climbs_take_scales_of_their_own_and_leave_the_draws_scales_as_the
     are those of a calibration without them (an interval file written before them stays as it was), each noisy
     group with enough climbs gets its own quantile, one with too few the noisy pooled one, and where a calibration
     holds no noisy climb a noisy group reads its base group's scale."""
-    rng = np.random.default_rng(5)
-
-    def draw(n: int, group: str, factor: float) -> list[tuple[float, float, float, str]]:
-        cof, log_std = rng.uniform(0.05, 0.5, n), rng.uniform(0.02, 0.3, n)
-        return [(c * math.exp(factor * s * z), c, s, group)
-                for c, s, z in zip(cof, log_std, rng.standard_normal(n))]
+    draw = episode_drawer(5)
 
     clean = draw(300, "stop", 1.0) + draw(100, "horizon", 2.0)
     noisy = draw(200, noise_group("stop", True), 3.0) + draw(5, noise_group("horizon", True), 6.0)
