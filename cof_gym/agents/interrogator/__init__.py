@@ -38,7 +38,9 @@ stop there would report a poorly known estimate, and a slow probe buys the readi
 with ``creep_sticky`` no later step is larger (the filter thought the peak might be near: a big step
 after that passes the peak on a curve unlike its training curves), and with ``creep_release`` too
 unless the cautious headroom has grown above it again (a false alarm: a climb held to the slow probe
-from its second window on ends at the horizon far below the peak). With ``creep_until`` the probe ends
+from its second window on ends at the horizon far below the peak), or with ``creep_sticky_below`` only from a
+slow-probe step the filter itself places near the peak (its mean headroom below that; rules 87-88, not adopted).
+With ``creep_until`` the probe ends
 once the predicted (mean) headroom is that low: the filter expects the peak within it, and each further
 window there risks the modulation's crest passing the peak for readings the estimate no longer needs.
 With ``pace_caution`` set, a slow-probe step (never a stop) is at least the horizon pace
@@ -169,7 +171,9 @@ gives the two-sided interval and :meth:`LearnedInterrogator.cof_lower_bound` a l
 over-estimate is the unsafe side for braking). Before the stop, :meth:`LearnedInterrogator.in_flight_interval`
 and :meth:`LearnedInterrogator.in_flight_lower_bound` do the same for the estimate the windows read so far give
 (:attr:`LearnedInterrogator.in_flight_estimate`), at scales of their own per place in the climb
-(:attr:`LearnedInterrogator.in_flight`). None of them changes the climb or the estimate.
+(:attr:`LearnedInterrogator.in_flight`). A climb whose first windows read more noise than the v2 draws give
+(:attr:`LearnedInterrogator.noisy`) reads the scales of its noise class (:attr:`LearnedInterrogator.interval_group`),
+calibrated on validation climbs played past the draws' noise. None of them changes the climb or the estimate.
 
 **Modules**, each importing only those above it: :mod:`.readings` (one window's sensor readings, the slope
 from Eq. 3), :mod:`.features` (the features of a climb's windows), :mod:`.networks` (the filter's networks
