@@ -46,6 +46,41 @@ def floor_headroom(coa: float) -> float:
     return math.log(COF_ENVELOPE[0] / coa)
 
 
+# ClimbParameters' checks, one entry per field: finite numbers > 0; true-or-false flags; numbers within
+# (low, high, low_open, unit); the same for the optional ones, where None leaves the part of the climb unused
+POSITIVE_FIELDS = ("amplitude_ratio", "min_amplitude_nm", "frequency_hz", "max_log_step", "min_log_step",
+                   "best_coa_factor", "creep_while_std")
+FLAG_FIELDS = ("creep_sticky", "crest_once_crept", "crest_floor", "runaway_estimate", "crest_ceiling", "ceiling_stop",
+               "noise_se_reported", "noise_torque_measured", "crest_probe_hold_crest", "torque_balance")
+BOUNDED_FIELDS: dict[str, tuple[float, float, bool, str]] = {
+    "caution": (0.0, 10.0, False, ""),
+    "target_headroom": (0.0, 5.0, False, ""),
+    "spread_caution": (0.0, 10.0, False, ""),
+    "tone2_weight": (0.0, 2.0, False, ""),
+    "ceiling_fall_z": (0.0, 10.0, False, ""),
+    "noise_caution_exponent": (0.0, 2.0, False, ""),
+    "noise_creep_exponent": (0.0, 2.0, False, ""),
+}
+OPTIONAL_BOUNDED_FIELDS: dict[str, tuple[float, float, bool, str]] = {
+    "floor_margin": (0.0, math.inf, False, ""),
+    "creep_until": (-math.inf, math.inf, False, ""),
+    "crest_fraction": (0.0, math.inf, False, ""),
+    "creep_release": (0.0, math.inf, False, ""),
+    "creep_sticky_below": (0.0, math.inf, False, ""),
+    "ceiling_near_headroom": (0.0, math.inf, False, ""),
+    "torque_balance_max_lag_deg": (0.0, math.inf, False, ""),
+    "tone2_frequency_hz": (MotorLimits.min_frequency_hz, MotorLimits.max_frequency_hz, False, ""),
+    "noise_reference_nms": (0.0, math.inf, True, " N m s"),
+    "pace_caution": (0.0, 10.0, False, ""),
+    "frequency_reference_m_s": (0.0, 100.0, True, " m/s"),
+    "crest_probe_max_lag_deg": (0.0, 180.0, False, " deg"),
+    "crest_probe_max_lag_step_deg": (0.0, 180.0, False, " deg"),
+    "crest_probe_max_noise_ratio": (1.0, math.inf, False, ""),
+    "lag_floor": (0.0, 1.0, True, ""),
+    "crest_probe_lag_rise_deg": (0.0, 180.0, False, " deg"),
+}
+
+
 @dataclass(frozen=True)
 class ClimbParameters:
     """The climb's settings (chosen on validation; see the module docstring)."""
@@ -118,65 +153,39 @@ class ClimbParameters:
     def __post_init__(self) -> None:
         if self.estimate_from not in ESTIMATE_SOURCES:
             raise ValueError(f"estimate_from must be one of {ESTIMATE_SOURCES}, got {self.estimate_from!r}")
-        for name in ("amplitude_ratio", "min_amplitude_nm", "frequency_hz", "max_log_step", "min_log_step",
-                     "best_coa_factor", "creep_while_std"):
+        for name in POSITIVE_FIELDS:
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
         if not (isinstance(self.approach_fraction, (int, float)) and 0.0 <= self.approach_fraction < 1.0):
             raise ValueError(f"approach_fraction must be in [0, 1), got {self.approach_fraction!r}")
-        for name, low in (("floor_margin", 0.0), ("creep_until", -math.inf), ("crest_fraction", 0.0),
-                          ("creep_release", 0.0), ("creep_sticky_below", 0.0), ("ceiling_near_headroom", 0.0),
-                          ("torque_balance_max_lag_deg", 0.0)):  # None: unused
-            if getattr(self, name) is not None:
-                check_number(name, getattr(self, name), low, math.inf)
-        for name in ("creep_sticky", "crest_once_crept", "crest_floor", "runaway_estimate", "crest_ceiling",
-                     "ceiling_stop", "noise_se_reported", "noise_torque_measured",
-                     "crest_probe_hold_crest", "torque_balance"):
+        for name in FLAG_FIELDS:
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"{name} must be true or false, got {getattr(self, name)!r}")
-        if self.tone2_frequency_hz is not None:
-            check_number("tone2_frequency_hz", self.tone2_frequency_hz, MotorLimits.min_frequency_hz,
-                         MotorLimits.max_frequency_hz)
-        check_number("tone2_weight", self.tone2_weight, 0.0, 2.0)
-        check_number("spread_caution", self.spread_caution, 0.0, 10.0)
-        check_number("ceiling_fall_z", self.ceiling_fall_z, 0.0, 10.0)
-        if self.noise_reference_nms is not None:
-            check_number("noise_reference_nms", self.noise_reference_nms, 0.0, math.inf, low_open=True, unit=" N m s")
-        check_number("noise_caution_exponent", self.noise_caution_exponent, 0.0, 2.0)
-        check_number("noise_creep_exponent", self.noise_creep_exponent, 0.0, 2.0)
+        for name, (low, high, low_open, unit) in (*BOUNDED_FIELDS.items(), *OPTIONAL_BOUNDED_FIELDS.items()):
+            if getattr(self, name) is not None or name in BOUNDED_FIELDS:
+                check_number(name, getattr(self, name), low, high, low_open=low_open, unit=unit)
         if self.guard_cautions is not None:
             if not isinstance(self.guard_cautions, (list, tuple)) or not self.guard_cautions:
                 raise ValueError("guard_cautions must be null or a non-empty list of numbers in [0, 10] (one per "
                                  f"guard), got {self.guard_cautions!r}")
             object.__setattr__(self, "guard_cautions", tuple(
                 check_number(f"guard_cautions[{i}]", c, 0.0, 10.0) for i, c in enumerate(self.guard_cautions)))
-        check_number("caution", self.caution, 0.0, 10.0)
-        check_number("target_headroom", self.target_headroom, 0.0, 5.0)
-        if self.pace_caution is not None:
-            check_number("pace_caution", self.pace_caution, 0.0, 10.0)
-        if self.frequency_reference_m_s is not None:
-            check_number("frequency_reference_m_s", self.frequency_reference_m_s, 0.0, 100.0, low_open=True, unit=" m/s")
         if self.knee_stop not in KNEE_STOPS:
             raise ValueError(f"knee_stop must be one of {KNEE_STOPS}, got {self.knee_stop!r}")
         if not (isinstance(self.creep_log_step, (int, float)) and 0.0 <= self.creep_log_step <= self.max_log_step):
             raise ValueError(f"creep_log_step must be in [0, max_log_step={self.max_log_step}], got {self.creep_log_step!r}")
-        for name in ("crest_probe_max_lag_deg", "crest_probe_max_lag_step_deg"):
-            if getattr(self, name) is not None:
-                check_number(name, getattr(self, name), 0.0, 180.0, unit=" deg")
-        if self.crest_probe_max_noise_ratio is not None:
-            check_number("crest_probe_max_noise_ratio", self.crest_probe_max_noise_ratio, 1.0, math.inf)
-            if self.noise_reference_nms is None:
-                raise ValueError("crest_probe_max_noise_ratio reads the noise ratio, which needs noise_reference_nms")
-        if self.lag_floor is not None:
-            check_number("lag_floor", self.lag_floor, 0.0, 1.0, low_open=True)
-            if self.tone2_frequency_hz is not None:
-                raise ValueError("lag_floor raises the sine's modulation; a two-tone climb has no lag_floor (null)")
-        if self.crest_probe_lag_rise_deg is not None:
-            check_number("crest_probe_lag_rise_deg", self.crest_probe_lag_rise_deg, 0.0, 180.0, unit=" deg")
-            if self.creep_log_step < self.min_log_step:
-                raise ValueError(f"crest_probe_lag_rise_deg probes at creep_log_step, which must then be at least "
-                                 f"min_log_step={self.min_log_step}, got {self.creep_log_step!r}")
+        self._check_combinations()
+
+    def _check_combinations(self) -> None:
+        """The parameters that need another one set, or exclude it."""
+        if self.crest_probe_max_noise_ratio is not None and self.noise_reference_nms is None:
+            raise ValueError("crest_probe_max_noise_ratio reads the noise ratio, which needs noise_reference_nms")
+        if self.lag_floor is not None and self.tone2_frequency_hz is not None:
+            raise ValueError("lag_floor raises the sine's modulation; a two-tone climb has no lag_floor (null)")
+        if self.crest_probe_lag_rise_deg is not None and self.creep_log_step < self.min_log_step:
+            raise ValueError(f"crest_probe_lag_rise_deg probes at creep_log_step, which must then be at least "
+                             f"min_log_step={self.min_log_step}, got {self.creep_log_step!r}")
 
     def fall_margin(self, mean_headroom: float) -> float:
         """The standard errors a crest fall must exceed to count (:class:`~cof_gym.agents.runaway.CrestCeiling`)
