@@ -51,7 +51,7 @@ from train_interrogator import CONFIGS, PROCEDURAL_VALIDATION, STEEP_VALIDATION,
 
 from cof_gym.agents.base import agent_view  # noqa: E402
 from cof_gym.agents.interrogator import (  # noqa: E402
-    IN_FLIGHT, POOLED, SHIPPED_INTERROGATOR, IntervalScales, base_group, check_coverage, noise_group,
+    IN_FLIGHT, POOLED, SHIPPED_INTERROGATOR, IntervalScales, check_coverage, is_noisy, noise_group,
 )
 from cof_gym.commands.args import Parser, positive_int  # noqa: E402
 from cof_gym.commands.evaluate_episodes import ENDINGS as EVALUATE_ENDINGS  # noqa: E402
@@ -65,11 +65,6 @@ ENDINGS = tuple(e for e in EVALUATE_ENDINGS if e != "diverged")  # how a scored 
 
 CALIBRATION_DRAW_SEED = 0  # the draw of each climb's in-flight calibration windows
 NOISY_DRAW_SEED = 1  # ... of the noisy groups' climbs
-
-
-def is_noisy(group: str) -> bool:
-    """Whether a calibration group is a noisy one (``interval.noise_group``)."""
-    return base_group(group) != group
 CALIBRATED_ON = ("the validation grids (family, procedural, steep; both vehicle configurations); the noisy groups on "
                  "the same grids with the noise tripled and with a 0.1 s drive lag")
 

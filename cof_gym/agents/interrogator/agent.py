@@ -409,19 +409,23 @@ class LearnedInterrogator:
         step = p.log_step(headroom, headroom_std, headroom_spread, caution)
         if p.sticks(self._stuck, headroom):  # the peak may be near: no big step again
             step = min(step, p.creep_log_step)
-        creeps = p.creeps(headroom, headroom_std, headroom_spread, caution)
-        self._crept |= creeps
-        self._stuck |= creeps and p.sticks_from(filter_headroom)
+        if p.creeps(headroom, headroom_std, headroom_spread, caution):
+            self._mark_slow_probe(p, filter_headroom)
         if self._crept and step >= p.min_log_step:  # pacing sizes a slow-probe step, never turns a stop into one
             step = max(step, p.pace_step(headroom, headroom_std, headroom_spread, self._windows_left, caution))
         step = max(step, p.floor_step(reading.coa))  # safe whatever the filter predicts
         if step < p.min_log_step and p.probes_on(self.features.readings):  # a headroom stop the crest defers
             step = p.creep_log_step
-            self._crept = True
-            self._stuck |= p.sticks_from(filter_headroom)
+            self._mark_slow_probe(p, filter_headroom)
             if p.crest_probe_hold_crest and self._held_crest is None:  # the crest of the window just read
                 self._held_crest = self._dc + p.amplitude(self._dc, self.limits, self._ratio)
         return step
+
+    def _mark_slow_probe(self, p: ClimbParameters, filter_headroom: float) -> None:
+        """The climb has taken a slow-probe step; sticky from here where the filter places the peak near
+        (:meth:`ClimbParameters.sticks_from`)."""
+        self._crept = True
+        self._stuck |= p.sticks_from(filter_headroom)
 
     def _stop_reason(self, p: ClimbParameters, step: float, falling: bool, knee: bool) -> str:
         """Why the climb stops after the window just read, the first that holds of: the CoA fell, a knee, the crest

@@ -74,6 +74,11 @@ def base_group(group: str) -> str:
     return group.removesuffix(f", {NOISY}")
 
 
+def is_noisy(group: str) -> bool:
+    """Whether ``group`` is one of the noisy groups (:func:`noise_group`)."""
+    return base_group(group) != group
+
+
 POOLED = "pooled"  # the scales over every committed calibration climb: a group's where it had too few
 POOLED_NOISY = noise_group(POOLED, True)  # ... over every committed noisy one
 GROUPS = (*BASE_GROUPS, *(noise_group(g, True) for g in BASE_GROUPS))  # every group a calibration scores
@@ -157,7 +162,7 @@ class IntervalScales:
                   **{g: [e for e in episodes if e[3] == g] for g in GROUPS}}
         scales, climbs = {}, {}
         for group, members in groups.items():
-            if base_group(group) != group and not members:
+            if is_noisy(group) and not members:
                 continue  # no noisy calibration climbs: the file stays as a calibration without them writes it
             climbs[group] = len(members)
             enough = enough_for(len(members), coverage) and enough_for(len(members), lower_coverage)
@@ -171,7 +176,7 @@ class IntervalScales:
         pooled ones, or where there are none its base group's; else the pooled ones."""
         if commitment in self.scales:
             return tuple(self.scales[commitment])
-        if base_group(commitment) == commitment:
+        if not is_noisy(commitment):
             return tuple(self.scales[POOLED])
         if POOLED_NOISY in self.scales:
             return tuple(self.scales[POOLED_NOISY])
