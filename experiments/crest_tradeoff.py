@@ -39,8 +39,9 @@ each was written and which rule it judged), or with ``--grids validation_torque`
 each episode's torque gain error spread over what the env accepts
 (``experiments/suites/v2_validation_torque*grid.json``, model selection too; ``--grids torque_confirmation``,
 ``torque_confirmationN``: the confirmation sets of that kind, one for each of make_grids.TORQUE_CONFIRMATION_SETS),
-or with ``--grids validation_extremes`` / ``extremes_confirmation`` on one grid of random creep tables with every
-scenario field anywhere within what the env accepts (model selection past every draw at once, and its confirmation).
+or with ``--grids validation_extremes`` / ``extremes_confirmation`` / ``extremes_confirmation2`` on one grid of random creep tables with every
+scenario field anywhere within what the env accepts (model selection past every draw at once, and its confirmation
+sets).
 With ``--crest-fractions`` each row also with each of these crest caps (``ClimbParameters.crest_fraction``: the
 modulation shrinks so that its crest stays within that fraction of the cautious headroom; ``none``: uncapped;
 ``--crest-once-crept``: each cap from the climb's first slow probe on). With ``--set NAME=VALUE ...`` the shipped
@@ -102,6 +103,7 @@ GRID_SETS = {
     # random creep tables with every scenario field anywhere within what the env accepts (session 51): one grid each
     "validation_extremes": {"extremes": SUITES / "v2_validation_extremes_grid.json"},
     "extremes_confirmation": {"extremes": SUITES / "v2_extremes_confirmation_grid.json"},
+    "extremes_confirmation2": {"extremes": SUITES / "v2_extremes_confirmation2_grid.json"},
 }
 
 
@@ -357,7 +359,7 @@ def main() -> None:
                              "torque_confirmationN: its confirmation sets) or a confirmation set (other episodes of "
                              "the same kinds, to confirm a choice taken on the first; confirmationN: the N-th set, "
                              "experiments/make_grids.py's docstring says when each was written); "
-                             "validation_extremes, extremes_confirmation: one grid of random tables with every "
+                             "validation_extremes, extremes_confirmation, extremes_confirmation2: one grid of random tables with every "
                              "scenario field anywhere within what the env accepts")
     parser.add_argument("--return-digits", type=int, default=2, choices=range(1, 7), metavar="{1..6}",
                         help="decimals of the mean returns (default: 2); more where two rows round alike")

@@ -1,7 +1,8 @@
 """Whether a candidate meets a rule's conditions against a baseline, from crest_tradeoff.py ``--records`` files.
 
     python experiments/rule_check.py BASE.json CANDIDATE.json [BASE2.json CANDIDATE2.json ...] \
-        [--more-runaways N] [--errors] [--returns] [--gain] [--strict-grid family] [--out FILE]
+        [--more-runaways N | --fewer-runaways] [--errors [--error-grid GRID]] [--returns] [--gain] \
+        [--strict-grid family] [--out FILE]
 
 The files come in pairs, the baseline's and the candidate's play of the same episodes (e.g. one pair at the
 grids' draws, one with the noise tripled); each file holds one setting's episodes (one crest_tradeoff.py row).
@@ -11,7 +12,10 @@ differences of :mod:`paired_comparison` (the same 95 % CIs, the same resamples):
 - always: at most ``--more-runaways`` more macro-slips (runaways) than the baseline over every pair's grids
   together (default 0), and none more on the ``--strict-grid`` of any pair (default ``family``, the grid of the
   Polach, SHE and table families; ``none``: no such grid);
-- ``--errors``: no grid's median or P90 relative error higher with a CI wholly above zero;
+- ``--fewer-runaways``: strictly fewer runaways than the baseline over every pair's grids together (in place of
+  ``--more-runaways``);
+- ``--errors``: no grid's median or P90 relative error higher with a CI wholly above zero (with ``--error-grid``
+  only on the grid of that name in every pair that has one);
 - ``--returns``: no grid's mean return lower with a CI wholly below zero;
 - ``--gain``: a strictly higher mean return over every pair's episodes together.
 
@@ -43,6 +47,8 @@ class Conditions(NamedTuple):
     errors: bool = False
     returns: bool = False
     gain: bool = False
+    fewer_runaways: bool = False
+    error_grid: str | None = None  # None: --errors on every grid
 
 
 Grids = dict[str, dict[tuple, dict]]  # a play's episodes per grid (paired_comparison.paired)
@@ -69,7 +75,7 @@ def check(bases: list[Grids], candidates: list[Grids], conditions: Conditions) -
                          f"P90 {ci_text(d['P90'])} points, return {ci_text(d['return'], 4)}")
             if grid == conditions.strict_grid and slips[1] > slips[0]:
                 failed.append(f"{name}: {slips[1]} runaways against {slips[0]} (none more allowed)")
-            if conditions.errors:
+            if conditions.errors and conditions.error_grid in (None, grid):
                 failed += [f"{name}: {stat} higher with a CI wholly above zero ({ci_text(d[stat])})"
                            for stat in ("median", "P90") if d[stat][1] > 0.0]
             if conditions.returns and d["return"][2] < 0.0:
@@ -77,7 +83,9 @@ def check(bases: list[Grids], candidates: list[Grids], conditions: Conditions) -
     totals = tuple(sum(runaways(e) for play in plays for e in play.values()) for plays in (bases, candidates))
     returns = mean_return(bases), mean_return(candidates)
     lines.append(f"- all: runaways {totals[0]} -> {totals[1]}; mean return {returns[0]:.4f} -> {returns[1]:.4f}")
-    if totals[1] > totals[0] + conditions.more_runaways:
+    if conditions.fewer_runaways and not totals[1] < totals[0]:
+        failed.append(f"all: {totals[1]} runaways against {totals[0]} (strictly fewer needed)")
+    elif totals[1] > totals[0] + conditions.more_runaways:
         failed.append(f"all: {totals[1]} runaways against {totals[0]} (at most {conditions.more_runaways} more)")
     if conditions.gain and not returns[1] > returns[0]:
         failed.append(f"all: mean return {returns[1]:.4f} not above {returns[0]:.4f}")
@@ -97,11 +105,17 @@ def main() -> None:
     parser.add_argument("records", type=Path, nargs="+", metavar="BASE CANDIDATE",
                         help="crest_tradeoff.py --records files in pairs: the baseline's, then the candidate's play "
                              "of the same episodes")
-    parser.add_argument("--more-runaways", type=non_negative_int, default=0, metavar="N",
-                        help="runaways the candidate may have beyond the baseline's over every grid (default: 0)")
+    runaway_limit = parser.add_mutually_exclusive_group()
+    runaway_limit.add_argument("--more-runaways", type=non_negative_int, default=0, metavar="N",
+                               help="runaways the candidate may have beyond the baseline's over every grid "
+                                    "(default: 0)")
+    runaway_limit.add_argument("--fewer-runaways", action="store_true",
+                               help="strictly fewer runaways than the baseline's over every grid")
     parser.add_argument("--strict-grid", default="family",
                         help="the grid on which no more runaways are allowed ('none': no such grid; default: family)")
     parser.add_argument("--errors", action="store_true", help="no median or P90 higher with a CI wholly above zero")
+    parser.add_argument("--error-grid", default=None, metavar="GRID",
+                        help="with --errors: only on the grid of this name (default: every grid)")
     parser.add_argument("--returns", action="store_true", help="no mean return lower with a CI wholly below zero")
     parser.add_argument("--gain", action="store_true", help="a strictly higher mean return over every grid")
     parser.add_argument("--out", type=Path, default=None, help="also write the verdict to this markdown file")
@@ -114,7 +128,14 @@ def main() -> None:
     if strict is not None and strict not in plays[0]:
         parser.error(f"--strict-grid: the records have no grid {strict!r} (grids: {', '.join(sorted(plays[0]))}; "
                      "or none)")
-    conditions = Conditions(args.more_runaways, strict, args.errors, args.returns, args.gain)
+    if args.error_grid is not None:
+        if not args.errors:
+            parser.error("--error-grid: needs --errors")
+        if not any(args.error_grid in play for play in plays):
+            parser.error(f"--error-grid: the records have no grid {args.error_grid!r} (grids: "
+                         f"{', '.join(sorted(plays[0]))})")
+    conditions = Conditions(args.more_runaways, strict, args.errors, args.returns, args.gain, args.fewer_runaways,
+                            args.error_grid)
     files = ", ".join(map(str, args.records))
     try:
         lines, failed = check(plays[0::2], plays[1::2], conditions)

@@ -248,6 +248,22 @@ def test_the_slow_probe_ends_where_the_predicted_headroom_reaches_creep_until():
         ClimbParameters(creep_until=float("inf"))
 
 
+def test_the_slow_probe_ends_where_the_cautious_headroom_falls_below_creep_cautious_floor():
+    """creep_cautious_floor stops the creep once the cautious (steering) headroom itself is below it, whatever the
+    mean headroom still says; the step there is a headroom stop (below min_log_step)."""
+    params = ClimbParameters(target_headroom=0.1, caution=2.0, creep_log_step=0.03, creep_while_std=0.08,
+                             creep_until=0.12, creep_cautious_floor=0.0)
+    assert params.creeps(0.0, 0.25)  # at the floor (mean 0.5): creeps
+    assert params.log_step(0.0, headroom_std=0.25) == 0.03
+    assert not params.creeps(-0.01, 0.25)  # below it, the mean (0.49) far above creep_until: stops
+    assert params.log_step(-0.01, headroom_std=0.25) < params.min_log_step
+    assert replace(params, creep_cautious_floor=None).creeps(-0.01, 0.25)
+    assert replace(params, creep_cautious_floor=-0.05).creeps(-0.01, 0.25)
+    for bad in (float("nan"), 5.5, "0"):
+        with pytest.raises(ValueError, match="creep_cautious_floor"):
+            ClimbParameters(creep_cautious_floor=bad)
+
+
 def test_a_noisier_reading_lowers_the_cautions_and_raises_the_slow_probes_threshold():
     params = ClimbParameters(caution=2.0, guard_cautions=[1.0, 3.0], creep_while_std=0.1, noise_reference_nms=0.4,
                              noise_caution_exponent=0.5, noise_creep_exponent=1.0)

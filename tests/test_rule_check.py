@@ -115,3 +115,25 @@ def test_an_odd_number_of_files_is_refused(tmp_path: Path) -> None:
     run = subprocess.run([sys.executable, str(EXPERIMENTS / "rule_check.py"), str(path), str(path), str(path)],
                          capture_output=True, text=True)
     assert run.returncode == 2 and "in pairs" in run.stderr and run.stderr.count("\n") == 1
+
+
+def test_fewer_runaways_needs_strictly_fewer_and_error_grid_checks_that_grid_alone() -> None:
+    base = records("base", ERRORS, {"steep": {3, 4}})
+    fewer = records("fewer", ERRORS, {"steep": {3}})
+    assert judged(base, fewer, Conditions(fewer_runaways=True)) == []
+    assert judged(base, base, Conditions(fewer_runaways=True)) == ["all: 2 runaways against 2 (strictly fewer needed)"]
+    # doubled errors on the steep grid alone: --errors fails there, --error-grid family passes
+    worse_steep = [{**r, "error": 2.0 * r["error"]} if r["grid"] == "steep" else r for r in records("w", ERRORS)]
+    assert {f.split(":")[0] for f in judged(records("base", ERRORS), worse_steep, Conditions(errors=True))} == {"steep"}
+    assert judged(records("base", ERRORS), worse_steep, Conditions(errors=True, error_grid="family")) == []
+
+
+def test_error_grid_needs_errors_and_a_grid_the_records_have(tmp_path: Path) -> None:
+    path = tmp_path / "base.json"
+    path.write_text(json.dumps(records("base", ERRORS)))
+    for args, said in ((["--error-grid", "family"], "needs --errors"),
+                       (["--errors", "--error-grid", "procedural"], "no grid 'procedural'"),
+                       (["--fewer-runaways", "--more-runaways", "1"], "not allowed with")):
+        run = subprocess.run([sys.executable, str(EXPERIMENTS / "rule_check.py"), str(path), str(path), *args],
+                             capture_output=True, text=True)
+        assert run.returncode == 2 and said in run.stderr and run.stderr.count("\n") == 1, run.stderr

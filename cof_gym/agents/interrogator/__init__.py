@@ -42,7 +42,9 @@ from its second window on ends at the horizon far below the peak), or with ``cre
 slow-probe step the filter itself places near the peak (its mean headroom below that; rules 87-88, not adopted).
 With ``creep_until`` the probe ends
 once the predicted (mean) headroom is that low: the filter expects the peak within it, and each further
-window there risks the modulation's crest passing the peak for readings the estimate no longer needs.
+window there risks the modulation's crest passing the peak for readings the estimate no longer needs; with
+``creep_cautious_floor`` (rule 89) also once the cautious headroom itself is below that floor: the steering
+source's caution places the peak at the DC already, whatever its mean still says.
 With ``pace_caution`` set, a slow-probe step (never a stop) is at least the horizon pace
 (:meth:`ClimbParameters.pace_step`): the predicted headroom less that many stds, spread over the windows
 left before the horizon; a probe that starts far below the peak of a curve the filter reads poorly (low

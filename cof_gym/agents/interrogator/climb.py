@@ -64,6 +64,7 @@ BOUNDED_FIELDS: dict[str, tuple[float, float, bool, str]] = {
 OPTIONAL_BOUNDED_FIELDS: dict[str, tuple[float, float, bool, str]] = {
     "floor_margin": (0.0, math.inf, False, ""),
     "creep_until": (-math.inf, math.inf, False, ""),
+    "creep_cautious_floor": (-5.0, 5.0, False, ""),
     "crest_fraction": (0.0, math.inf, False, ""),
     "creep_release": (0.0, math.inf, False, ""),
     "creep_sticky_below": (0.0, math.inf, False, ""),
@@ -105,6 +106,9 @@ class ClimbParameters:
     # below this): a guard's or a noisy window's dip far from the peak creeps once, then the climb goes on
     creep_sticky_below: float | None = None
     creep_until: float | None = None  # not None: no creep once the predicted (mean) headroom is this low
+    # not None: no creep once the cautious (steering) headroom is below this: the steering source's caution already
+    # places the peak that close (or past it), whatever its mean still says (a headroom stop instead)
+    creep_cautious_floor: float | None = None
     estimate_from: str = "filter"  # "filter": CoA x exp(predicted correction); "best_coa": best CoA x factor;
     # "guard": CoA x exp(the guards' correction); "pooled": CoA x exp(the filter's and the guards' together);
     # "pooled_at_headroom": "pooled" once the climb stops on its headroom, "filter" before and otherwise;
@@ -283,12 +287,14 @@ class ClimbParameters:
 
     def creeps(self, cautious_headroom: float, headroom_std: float, spread: float = 0.0,
                caution: float | None = None) -> bool:
-        """Whether the next step is the slow probe: the cautious gap is closed, the headroom uncertain
-        and, with ``creep_until``, the predicted (mean) headroom still above it."""
+        """Whether the next step is the slow probe: the cautious gap is closed, the headroom uncertain,
+        with ``creep_until`` the predicted (mean) headroom still above it and with ``creep_cautious_floor`` the
+        cautious headroom itself at least that floor."""
         return (self.creep_log_step > 0.0 and headroom_std > self.creep_while_std
                 and self._gap_step(cautious_headroom) < self.min_log_step
                 and (self.creep_until is None
-                     or self.mean_headroom(cautious_headroom, headroom_std, spread, caution) > self.creep_until))
+                     or self.mean_headroom(cautious_headroom, headroom_std, spread, caution) > self.creep_until)
+                and (self.creep_cautious_floor is None or cautious_headroom >= self.creep_cautious_floor))
 
     def sticks_from(self, filter_headroom: float) -> bool:
         """Whether a slow-probe step taken where the filter predicts a mean headroom ``filter_headroom`` (log units)
