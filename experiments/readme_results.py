@@ -725,6 +725,13 @@ generated, never typed:
         # (_shipped_); both also on validation_extremes, confirmation29 (at the draws, noise_level=3,
         # motor_lag_s=0.1) and torque_confirmation10, paired (paired_rule88C_*) and checked over the five decisive
         # pairs with --gain (rule_check_rule88_a) and --errors (rule_check_rule88_b)
+    python experiments/crest_tradeoff.py --guards $G --guards-only --set creep_cautious_floor=0 --targets 0.1 --stops \
+        --return-digits 4 --grids validation --records out/records_rule89K0_validation.json \
+        --out out/crest_tradeoff_rule89K0_validation.md   # rule 89's K0; Kn (-0.05) and Kp (0.05) alike, each also
+        # on validation_torque and --scenario noise_level=3 / motor_lag_s=0.1 (records _rule89KC_noise_level etc.)
+    python experiments/rule_check.py out/records_shipped_validation_session48.json out/records_rule89K0_validation.json \
+        --fewer-runaways --gain --returns --errors --error-grid family --out out/rule_check_rule89K0_i.md   # (i); (ii):
+        # the torque pair with --returns --errors --error-grid family; (iii), (iv): noise and lag pairs with --returns
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1038,6 +1045,8 @@ SOURCES = {
         "rule_check_rule86_a", "rule_check_rule86_b",
         *(f"rule_check_rule87s{v}_selection" for v in ("1.0", "1.5")),
         "paired_rule88C_validation_extremes", "rule_check_rule88_a", "rule_check_rule88_b",
+        *(f"crest_tradeoff_rule89K{c}_validation" for c in ("n", "0", "p")),
+        *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
         "runaways_by_torque_gain_session49",
