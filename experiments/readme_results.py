@@ -732,6 +732,8 @@ generated, never typed:
     python experiments/rule_check.py out/records_shipped_validation_session48.json out/records_rule89K0_validation.json \
         --fewer-runaways --gain --returns --errors --error-grid family --out out/rule_check_rule89K0_i.md   # (i); (ii):
         # the torque pair with --returns --errors --error-grid family; (iii), (iv): noise and lag pairs with --returns
+        # K0 also with --grids validation_extremes (records_rule89K0_validation_extremes), paired against
+        # records_shipped_validation_extremes (paired_rule89K0_validation_extremes)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1046,6 +1048,7 @@ SOURCES = {
         *(f"rule_check_rule87s{v}_selection" for v in ("1.0", "1.5")),
         "paired_rule88C_validation_extremes", "rule_check_rule88_a", "rule_check_rule88_b",
         *(f"crest_tradeoff_rule89K{c}_validation" for c in ("n", "0", "p")),
+        "paired_rule89K0_validation_extremes",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
