@@ -105,6 +105,12 @@ CASES = [
     ("rule_check", ["{text}", "{text}"], "records"),
     ("rule_check", ["{text}", "{text}", "--more-runaways", "-1"], "--more-runaways"),
     ("rule_check", ["{text}", "{text}", "--out", "{dir}"], "--out"),
+    ("frontier", ["{text}"], "records"),
+    ("frontier", ["{new}"], "records"),
+    ("frontier", ["{text}", "--figure", "{file}"], "--figure"),
+    ("frontier", ["{text}", "--shipped", "{file}"], "--shipped"),
+    ("frontier", ["{text}", "{text}"], "records"),
+    ("frontier", ["{text}", "--out", "{dir}"], "--out"),
 ]
 
 
@@ -136,7 +142,8 @@ SCRIPTS = sorted(path.stem for path in EXPERIMENTS.glob("*.py")
 REQUIRED = {"assemble_policy": ["--filter", "f", "--out", "o"], "feature_block_nll": ["--climbs", "climbs.npz"],
             "paired_comparison": ["records.jsonl"],
             "runaways_by_option": ["records.json", "--option", "x", "--edges", "0"],
-            "ppo_seeds": ["--runs", "run"], "zoo_eval": ["model.zip"], "rule_check": ["base.json", "candidate.json"]}
+            "ppo_seeds": ["--runs", "run"], "zoo_eval": ["model.zip"], "rule_check": ["base.json", "candidate.json"],
+            "frontier": ["records.json"]}
 
 
 def test_every_script_parses_with_the_one_line_parser() -> None:

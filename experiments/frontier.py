@@ -1,0 +1,170 @@
+"""Runaways against accuracy and return, one point per played candidate: where the rules' candidates lie.
+
+    python experiments/frontier.py out/records_shipped_validation_session48.json out/records_rule*_validation.json \
+        --shipped out/records_shipped_validation_session48.json --out out/frontier_validation.md \
+        --figure docs/interrogator_frontier_validation.png
+
+Each file holds ``crest_tradeoff.py --records`` plays on the same grids (one per setting: e.g. every candidate a rule
+of docs/interrogator.md played on the validation grids at the draws); each setting is a point, named by its file
+(less ``records_``) and, where the file holds several, its place among them. Files joined by ``+`` are one point per
+setting over all their episodes (``A_validation.json+A_noise_level.json``: a candidate at the draws and with the
+noise tripled together; their ``--grid`` grids pooled). Per point: its runaways (macro-slips) over every
+grid, the median and P90 relative error on the ``--grid`` (default ``family``: the Polach, SHE and table families,
+the default suite's kind) and over every grid, and the mean episode return (the task's own weighing of error, slip,
+comfort and time, a runaway costing 10). A candidate is on the frontier where no other point has as few runaways and
+as low a ``--grid`` P90, one of them lower. The table lists the files by their runaways; the figure (``--figure``)
+plots the ``--grid`` P90 and the mean return against the runaways, the frontier joined and ``--shipped``'s point
+marked. Nothing is chosen here: the plays were judged by their rules; this shows where they lie together.
+"""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from cof_gym.commands.args import Parser
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from paired_comparison import print_table, read_records  # noqa: E402
+from script_checks import check_out_file  # noqa: E402
+
+
+@dataclass(frozen=True)
+class Point:
+    """One play's totals (errors relative, as fractions; an unscored episode's error is 1)."""
+
+    label: str
+    setting: str
+    episodes: int
+    runaways: int
+    grid_median: float
+    grid_p90: float
+    median: float
+    p90: float
+    mean_return: float
+
+
+def label_of(path: Path) -> str:
+    """A play's name from its file: the stem less ``records_``."""
+    return path.stem.removeprefix("records_")
+
+
+def point(label: str, setting: str, records: list[dict], grid: str) -> Point:
+    """The totals of one setting's ``records`` (ValueError where it has no episode on ``grid``)."""
+    on_grid = [r["error"] for r in records if r["grid"] == grid]
+    if not on_grid:
+        raise ValueError(f"has no episode on the grid {grid!r} (grids: {', '.join(sorted({r['grid'] for r in records}))})")
+    errors = [r["error"] for r in records]
+    return Point(label, setting, len(records), sum(bool(r["macro_slip"]) for r in records), float(np.median(on_grid)),
+                 float(np.percentile(on_grid, 90)), float(np.median(errors)), float(np.percentile(errors, 90)),
+                 float(np.mean([r["episode_return"] for r in records])))
+
+
+def on_frontier(points: list[Point]) -> list[bool]:
+    """Whether each point is on the frontier: no other point has at most its runaways and at most its ``--grid``
+    P90, one of the two strictly lower."""
+    def dominated(p: Point) -> bool:
+        return any(q.runaways <= p.runaways and q.grid_p90 <= p.grid_p90
+                   and (q.runaways < p.runaways or q.grid_p90 < p.grid_p90) for q in points)
+    return [not dominated(p) for p in points]
+
+
+def table(points: list[Point], grid: str, shipped: str | None) -> str:
+    """The markdown table, by runaways (then the ``grid`` P90)."""
+    front = dict(zip((p.label for p in points), on_frontier(points)))
+    lines = [f"| play | runaways (climbs) | {grid}: median / P90 | all: median / P90 | mean return | on the frontier "
+             "| setting |", "|---|---|---|---|---|---|---|"]
+    for p in sorted(points, key=lambda p: (p.runaways, p.grid_p90)):
+        name = f"**{p.label}** (shipped)" if p.label == shipped else p.label
+        lines.append(f"| {name} | {p.runaways} ({p.episodes}) | {100 * p.grid_median:.1f} % / {100 * p.grid_p90:.1f} % | "
+                     f"{100 * p.median:.1f} % / {100 * p.p90:.1f} % | {p.mean_return:.4f} | "
+                     f"{'yes' if front[p.label] else ''} | {p.setting} |")
+    return "\n".join(lines) + "\n"
+
+
+def figure(points: list[Point], grid: str, shipped: str | None, path: Path) -> None:
+    """The ``grid`` P90 and the mean return against the runaways, the frontier joined, ``shipped`` marked."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    front = sorted((p for p, f in zip(points, on_frontier(points)) if f), key=lambda p: p.runaways)
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    for ax, value, name in ((axes[0], lambda p: 100 * p.grid_p90, f"{grid} P90 rel. CoF error [%]"),
+                            (axes[1], lambda p: p.mean_return, "mean episode return")):
+        ax.scatter([p.runaways for p in points], [value(p) for p in points], s=18, color="tab:blue", label="candidate")
+        if len(front) > 1 and ax is axes[0]:
+            ax.plot([p.runaways for p in front], [value(p) for p in front], color="tab:gray", lw=1, label="frontier")
+        for p in points:
+            if p.label == shipped:
+                ax.scatter([p.runaways], [value(p)], s=120, marker="*", color="tab:red", label="shipped", zorder=3)
+        ax.set_xlabel(f"runaways (of {points[0].episodes} climbs)")
+        ax.set_ylabel(name)
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=8)
+    fig.suptitle("Every candidate played: runaways against accuracy and against the task's return", fontsize=10)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def read_group(group: str, grid: str) -> list[Point]:
+    """The points of one positional argument: a records file, or several joined by ``+`` (plays of the same
+    candidates on other grids, e.g. the noise tripled), whose k-th settings together make its k-th point; named by
+    the first file (OSError, ValueError or KeyError for a file it cannot read)."""
+    paths = [Path(p) for p in group.split("+")]
+    plays = []
+    for path in paths:
+        records = read_records(path, set())
+        settings = list(dict.fromkeys(r["setting"] for r in records))
+        plays.append([[r for r in records if r["setting"] == s] for s in settings])
+    if len({len(play) for play in plays}) != 1:
+        raise ValueError("its files hold different numbers of settings; the k-th of each make one point")
+    label = label_of(paths[0])
+    return [point(label if len(plays[0]) == 1 else f"{label} [{k + 1}]", plays[0][k][0]["setting"],
+                  [r for play in plays for r in play[k]], grid) for k in range(len(plays[0]))]
+
+
+def main() -> None:
+    parser = Parser(description=__doc__.splitlines()[0])
+    parser.add_argument("records", nargs="+", metavar="FILE[+FILE...]",
+                        help="crest_tradeoff.py --records files, a point per setting; files joined by + count as one "
+                             "play of their settings together")
+    parser.add_argument("--grid", default="family", help="the grid whose median and P90 are read (default: family)")
+    parser.add_argument("--shipped", default=None, metavar="FILE[+FILE...]",
+                        help="the shipped agent's play, as given among the records (marked)")
+    parser.add_argument("--out", type=Path, default=None, help="also write the table to this markdown file")
+    parser.add_argument("--figure", type=Path, default=None, help="write the figure to this PNG file")
+    args = parser.parse_args()
+    check_out_file(parser, "--out", args.out)
+    check_out_file(parser, "--figure", args.figure)
+    if args.figure is not None and args.figure.suffix.lower() != ".png":
+        parser.error(f"--figure: {args.figure}: give a .png file")
+    labels = [label_of(Path(group.split("+")[0])) for group in args.records]
+    if len(set(labels)) != len(labels):
+        parser.error("records: two plays have the same name (a play is named by its first file's name)")
+    if args.shipped is not None and args.shipped not in args.records:
+        parser.error(f"--shipped: {args.shipped} is not one of the records given")
+    points = []
+    for group in args.records:
+        try:
+            points += read_group(group, args.grid)
+        except (OSError, ValueError, KeyError) as e:  # KeyError: an episode without a field a record has
+            parser.error(f"records: {group}: {e}")
+    if len({p.episodes for p in points}) != 1:
+        parser.error("records: the plays hold different numbers of episodes (" +
+                     ", ".join(f"{p.label} {p.episodes}" for p in points) + "); one set of grids is needed")
+    shipped = None if args.shipped is None else label_of(Path(args.shipped.split("+")[0]))
+    if shipped is not None and shipped not in {p.label for p in points}:
+        parser.error(f"--shipped: {args.shipped} holds several settings; the shipped agent's play is one")
+    print_table(table(points, args.grid, shipped), args.out, "Runaways against accuracy and return")
+    if args.figure is not None:
+        figure(points, args.grid, shipped, args.figure)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,73 @@
+"""experiments/frontier.py: each candidate's runaways against its accuracy and return, and which lie on the frontier
+(no other with as few runaways and as low a P90, one of them lower); plays joined by + pooled."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+EXPERIMENTS = Path(__file__).resolve().parents[1] / "experiments"
+sys.path.insert(0, str(EXPERIMENTS))
+from frontier import Point, on_frontier, point, read_group  # noqa: E402
+
+ERRORS = np.linspace(0.0, 0.2, 21)  # median 0.1, P90 0.18 (numpy's linear interpolation)
+
+
+def records(setting: str, scale: float = 1.0, slips: int = 0, grids: tuple[str, ...] = ("family", "steep")) -> list[dict]:
+    """One setting's episodes on ``grids``, its errors ``ERRORS x scale``, the first ``slips`` steep ones runaways
+    (their return 10 lower)."""
+    return [{"setting": setting, "grid": grid, "config": {}, "episode": i, "error": float(scale * e),
+             "macro_slip": grid == "steep" and i < slips,
+             "episode_return": -float(scale * e) - (10.0 if grid == "steep" and i < slips else 0.0)}
+            for grid in grids for i, e in enumerate(ERRORS)]
+
+
+def test_a_points_totals_are_its_runaways_and_its_grids_median_and_p90() -> None:
+    p = point("a", "s", records("s", 2.0, slips=3), "family")
+    assert (p.episodes, p.runaways) == (42, 3)
+    assert p.grid_median == pytest.approx(0.2) and p.grid_p90 == pytest.approx(0.36)
+    assert p.mean_return == pytest.approx(-0.2 - 30.0 / 42)
+    with pytest.raises(ValueError, match="no episode on the grid 'procedural'"):
+        point("a", "s", records("s"), "procedural")
+
+
+def test_the_frontier_keeps_what_no_other_point_beats_on_both() -> None:
+    def at(runaways: int, p90: float) -> Point:
+        return Point(f"{runaways}-{p90}", "", 10, runaways, 0.0, p90, 0.0, 0.0, 0.0)
+    points = [at(1, 0.5), at(2, 0.3), at(3, 0.3), at(2, 0.6), at(5, 0.1)]
+    assert on_frontier(points) == [True, True, False, False, True]
+    assert on_frontier([at(2, 0.3), at(2, 0.3)]) == [True, True]  # ties beat neither
+
+
+def test_plays_joined_by_plus_pool_their_kth_settings(tmp_path: Path) -> None:
+    draws, noisy = tmp_path / "records_x_validation.json", tmp_path / "records_x_noise_level.json"
+    draws.write_text(json.dumps(records("a") + records("b", slips=1)))
+    noisy.write_text(json.dumps(records("a", 3.0, slips=2) + records("b", slips=4)))
+    first, second = read_group(f"{draws}+{noisy}", "family")
+    assert (first.label, first.setting, first.episodes, first.runaways) == ("x_validation [1]", "a", 84, 2)
+    assert (second.label, second.runaways) == ("x_validation [2]", 5)
+    assert first.grid_median == pytest.approx(float(np.median(np.concatenate([ERRORS, 3.0 * ERRORS]))))
+    noisy.write_text(json.dumps(records("a")))
+    with pytest.raises(ValueError, match="different numbers of settings"):
+        read_group(f"{draws}+{noisy}", "family")
+
+
+def test_the_command_writes_the_table_and_the_figure_and_marks_the_shipped_play(tmp_path: Path) -> None:
+    files = []
+    for name, scale, slips in (("shipped", 1.0, 2), ("safer", 2.0, 0), ("worse", 2.0, 3)):
+        files.append(tmp_path / f"records_{name}.json")
+        files[-1].write_text(json.dumps(records(name, scale, slips)))
+    run = subprocess.run([sys.executable, str(EXPERIMENTS / "frontier.py"), *map(str, files), "--shipped",
+                          str(files[0]), "--out", str(tmp_path / "f.md"), "--figure", str(tmp_path / "f.png")],
+                         capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    rows = [line for line in run.stdout.splitlines() if line.startswith("| ") and not line.startswith("| play")]
+    assert [r.split(" | ")[0] for r in rows] == ["| safer", "| **shipped** (shipped)", "| worse"]
+    assert [r.split(" | ")[5] for r in rows] == ["yes", "yes", ""]
+    assert (tmp_path / "f.png").read_bytes()[:4] == b"\x89PNG"
+    assert (tmp_path / "f.md").read_text().endswith(run.stdout)
