@@ -321,7 +321,8 @@ def climb_setting(text: str) -> tuple[str, object]:
     return name, parsed
 
 
-def main() -> None:
+def build_parser() -> Parser:
+    """The command line (every option, its default and its help)."""
     parser = Parser(description=__doc__.split("\n")[0])
     parser.add_argument("--targets", type=float, nargs="+", default=None,
                         help="target headrooms of the shipped climb to try (default: 0.1 0.15 0.2 0.3)")
@@ -359,8 +360,8 @@ def main() -> None:
                              "torque_confirmationN: its confirmation sets) or a confirmation set (other episodes of "
                              "the same kinds, to confirm a choice taken on the first; confirmationN: the N-th set, "
                              "experiments/make_grids.py's docstring says when each was written); "
-                             "validation_extremes, extremes_confirmation, extremes_confirmation2: one grid of random tables with every "
-                             "scenario field anywhere within what the env accepts")
+                             "validation_extremes, extremes_confirmation, extremes_confirmation2: one grid of random "
+                             "tables with every scenario field anywhere within what the env accepts")
     parser.add_argument("--return-digits", type=int, default=2, choices=range(1, 7), metavar="{1..6}",
                         help="decimals of the mean returns (default: 2); more where two rows round alike")
     parser.add_argument("--records", type=Path, default=None, metavar="FILE",
@@ -373,7 +374,11 @@ def main() -> None:
                              "training draws")
     parser.add_argument("--workers", type=positive_int, default=2)
     parser.add_argument("--out", type=Path, default=Path("out/crest_tradeoff.md"))
-    args = parser.parse_args()
+    return parser
+
+
+def check_arguments(parser: Parser, args: argparse.Namespace) -> None:
+    """Every option checked before anything is played (a usage error names it; ``--targets`` gets its default)."""
     check_out_file(parser, "--out", args.out)
     check_out_file(parser, "--records", args.records)
     if args.own_climb:
@@ -406,6 +411,12 @@ def main() -> None:
     require_networks(parser, "--run", args.run)
     require_networks(parser, "--guards", args.guards or [])
     require_networks(parser, "--estimators", args.estimators or [])
+
+
+def main() -> None:
+    parser = build_parser()
+    args = parser.parse_args()
+    check_arguments(parser, args)
     records = [] if args.records else None
     text = table(args.targets, args.workers, args.run, args.cautions, args.spread_cautions, args.guards, args.stops,
                  args.own_climb, GRID_SETS[args.grids], args.crest_fractions, args.crest_once_crept,
