@@ -14,11 +14,14 @@ the default suite's kind) and over every grid, and the mean episode return (the 
 comfort and time, a runaway costing 10). A candidate is on the frontier where no other point has as few runaways and
 as low a ``--grid`` P90, one of them lower. The table lists the files by their runaways; the figure (``--figure``)
 plots the ``--grid`` P90 and the mean return against the runaways, the frontier joined and ``--shipped``'s point
-marked. Nothing is chosen here: the plays were judged by their rules; this shows where they lie together.
+marked. With ``--references`` (plays of the hand-built agents, ``experiments/scripted_plays.py``) those are shown
+beside them, each with the number of candidates that beat it on both axes. Nothing is chosen here: the plays were
+judged by their rules; this shows where they lie together.
 """
 
 from __future__ import annotations
 
+import itertools
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -63,35 +66,47 @@ def point(label: str, setting: str, records: list[dict], grid: str) -> Point:
                  float(np.mean([r["episode_return"] for r in records])))
 
 
+def beaten_by(point: Point, candidates: list[Point]) -> int:
+    """How many ``candidates`` have at most ``point``'s runaways and at most its ``--grid`` P90, one of the two
+    strictly lower (0: ``point`` is on the candidates' frontier, or beyond it)."""
+    return sum(q.runaways <= point.runaways and q.grid_p90 <= point.grid_p90
+               and (q.runaways < point.runaways or q.grid_p90 < point.grid_p90) for q in candidates)
+
+
 def on_frontier(points: list[Point]) -> list[bool]:
     """Whether each point is on the frontier: no other point has at most its runaways and at most its ``--grid``
     P90, one of the two strictly lower."""
-    def dominated(p: Point) -> bool:
-        return any(q.runaways <= p.runaways and q.grid_p90 <= p.grid_p90
-                   and (q.runaways < p.runaways or q.grid_p90 < p.grid_p90) for q in points)
-    return [not dominated(p) for p in points]
+    return [beaten_by(p, points) == 0 for p in points]
 
 
-def table(points: list[Point], grid: str, shipped: str | None) -> str:
-    """The markdown table, by runaways (then the ``grid`` P90)."""
-    front = dict(zip((p.label for p in points), on_frontier(points)))
-    lines = [f"| play | runaways (climbs) | {grid}: median / P90 | all: median / P90 | mean return | on the frontier "
-             "| setting |", "|---|---|---|---|---|---|---|"]
-    for p in sorted(points, key=lambda p: (p.runaways, p.grid_p90)):
-        name = f"**{p.label}** (shipped)" if p.label == shipped else p.label
+def table(points: list[Point], grid: str, shipped: str | None, references: list[Point] = ()) -> str:
+    """The markdown table, by runaways (then the ``grid`` P90): every candidate and every reference (a hand-built
+    agent), each with the number of candidates that beat it on both axes (a candidate beaten by none is on the
+    frontier)."""
+    lines = [f"| play | runaways (climbs) | {grid}: median / P90 | all: median / P90 | mean return | beaten by "
+             "(candidates) | setting |", "|---|---|---|---|---|---|---|"]
+    rows = [(p, False) for p in points] + [(p, True) for p in references]
+    for p, reference in sorted(rows, key=lambda row: (row[0].runaways, row[0].grid_p90)):
+        name = (f"**{p.label}** (shipped)" if p.label == shipped else f"{p.label} (hand-built)" if reference
+                else p.label)
+        beaten = beaten_by(p, points)
         lines.append(f"| {name} | {p.runaways} ({p.episodes}) | {100 * p.grid_median:.1f} % / {100 * p.grid_p90:.1f} % | "
                      f"{100 * p.median:.1f} % / {100 * p.p90:.1f} % | {p.mean_return:.4f} | "
-                     f"{'yes' if front[p.label] else ''} | {p.setting} |")
+                     f"{beaten if beaten or reference else '0: on the frontier'} | {p.setting} |")
     return "\n".join(lines) + "\n"
 
 
-def figure(points: list[Point], grid: str, shipped: str | None, path: Path) -> None:
-    """The ``grid`` P90 and the mean return against the runaways, the frontier joined, ``shipped`` marked."""
+def figure(points: list[Point], grid: str, shipped: str | None, path: Path, references: list[Point] = ()) -> None:
+    """The ``grid`` P90 and the mean return against the runaways (a log axis where references run away far more
+    often), the frontier joined, ``shipped`` marked, each reference a green marker of its own (named by its setting
+    in the legend)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     front = sorted((p for p, f in zip(points, on_frontier(points)) if f), key=lambda p: p.runaways)
+    everything = [*points, *references]
+    wide = max(p.runaways for p in everything) > 4 * max(max(p.runaways for p in points), 1)
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
     for ax, value, name in ((axes[0], lambda p: 100 * p.grid_p90, f"{grid} P90 rel. CoF error [%]"),
                             (axes[1], lambda p: p.mean_return, "mean episode return")):
@@ -101,7 +116,11 @@ def figure(points: list[Point], grid: str, shipped: str | None, path: Path) -> N
         for p in points:
             if p.label == shipped:
                 ax.scatter([p.runaways], [value(p)], s=120, marker="*", color="tab:red", label="shipped", zorder=3)
-        ax.set_xlabel(f"runaways (of {points[0].episodes} climbs)")
+        for p, marker in zip(references, itertools.cycle("^vsDPX")):
+            ax.scatter([p.runaways], [value(p)], s=40, marker=marker, color="tab:green", label=p.setting, zorder=3)
+        if wide:
+            ax.set_xscale("log")
+        ax.set_xlabel(f"runaways (of {points[0].episodes} climbs{', log scale' if wide else ''})")
         ax.set_ylabel(name)
         ax.grid(alpha=0.3)
     axes[0].legend(fontsize=8)
@@ -129,12 +148,26 @@ def read_group(group: str, grid: str) -> list[Point]:
                   [r for play in plays for r in play[k]], grid) for k in range(len(plays[0]))]
 
 
+def read_groups(parser: Parser, option: str, groups: list[str], grid: str) -> list[Point]:
+    """The points of every group of ``option`` (:func:`read_group`); a file it cannot read is a usage error."""
+    points = []
+    for group in groups:
+        try:
+            points += read_group(group, grid)
+        except (OSError, ValueError, KeyError) as e:  # KeyError: an episode without a field a record has
+            parser.error(f"{option}: {group}: {e}")
+    return points
+
+
 def main() -> None:
     parser = Parser(description=__doc__.splitlines()[0])
     parser.add_argument("records", nargs="+", metavar="FILE[+FILE...]",
                         help="crest_tradeoff.py --records files, a point per setting; files joined by + count as one "
                              "play of their settings together")
     parser.add_argument("--grid", default="family", help="the grid whose median and P90 are read (default: family)")
+    parser.add_argument("--references", nargs="+", default=[], metavar="FILE[+FILE...]",
+                        help="plays of hand-built agents (experiments/scripted_plays.py), shown beside the candidates "
+                             "and counted against them, never on the frontier themselves")
     parser.add_argument("--shipped", default=None, metavar="FILE[+FILE...]",
                         help="the shipped agent's play, as given among the records (marked)")
     parser.add_argument("--out", type=Path, default=None, help="also write the table to this markdown file")
@@ -144,26 +177,23 @@ def main() -> None:
     check_out_file(parser, "--figure", args.figure)
     if args.figure is not None and args.figure.suffix.lower() != ".png":
         parser.error(f"--figure: {args.figure}: give a .png file")
-    labels = [label_of(Path(group.split("+")[0])) for group in args.records]
+    labels = [label_of(Path(group.split("+")[0])) for group in [*args.records, *args.references]]
     if len(set(labels)) != len(labels):
         parser.error("records: two plays have the same name (a play is named by its first file's name)")
     if args.shipped is not None and args.shipped not in args.records:
         parser.error(f"--shipped: {args.shipped} is not one of the records given")
-    points = []
-    for group in args.records:
-        try:
-            points += read_group(group, args.grid)
-        except (OSError, ValueError, KeyError) as e:  # KeyError: an episode without a field a record has
-            parser.error(f"records: {group}: {e}")
-    if len({p.episodes for p in points}) != 1:
+    points, references = (read_groups(parser, option, groups, args.grid)
+                          for option, groups in (("records", args.records), ("--references", args.references)))
+    if len({p.episodes for p in [*points, *references]}) != 1:
         parser.error("records: the plays hold different numbers of episodes (" +
-                     ", ".join(f"{p.label} {p.episodes}" for p in points) + "); one set of grids is needed")
+                     ", ".join(f"{p.label} {p.episodes}" for p in [*points, *references]) +
+                     "); one set of grids is needed")
     shipped = None if args.shipped is None else label_of(Path(args.shipped.split("+")[0]))
     if shipped is not None and shipped not in {p.label for p in points}:
         parser.error(f"--shipped: {args.shipped} holds several settings; the shipped agent's play is one")
-    print_table(table(points, args.grid, shipped), args.out, "Runaways against accuracy and return")
+    print_table(table(points, args.grid, shipped, references), args.out, "Runaways against accuracy and return")
     if args.figure is not None:
-        figure(points, args.grid, shipped, args.figure)
+        figure(points, args.grid, shipped, args.figure, references)
 
 
 if __name__ == "__main__":

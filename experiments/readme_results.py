@@ -734,12 +734,17 @@ generated, never typed:
         # the torque pair with --returns --errors --error-grid family; (iii), (iv): noise and lag pairs with --returns
         # K0 also with --grids validation_extremes (records_rule89K0_validation_extremes), paired against
         # records_shipped_validation_extremes (paired_rule89K0_validation_extremes)
-    P() { printf '%s+' out/records_$1_{validation,validation_torque,noise_level,motor_lag_s}$2.json | sed 's/+$//'; }
+    A="phase-rule robust-model staircase model-based"   # the hand-built agents on the same four plays:
+    python experiments/scripted_plays.py --agents $A --grids validation --records "out/records_{agent}_validation.json"
+    python experiments/scripted_plays.py --agents $A --grids validation_torque \
+        --records "out/records_{agent}_validation_torque.json"   # and --grids validation with --scenario
+        # noise_level=3 (records _{agent}_noise_level) and motor_lag_s=0.1 (_{agent}_motor_lag_s)
+    P() { printf '%s+' out/records_$1_{validation,validation_torque,noise_level,motor_lag_s}$2.json | sed 's/+$/\\n/'; }
     python experiments/frontier.py $(P shipped _session48) $(for c in 78M 79P 80Q 81R3 81R4 82R3a 82R3b 82R3c \
         83A25 83A50 85F 86c2.25 86c2.5 86c2.75 87s1.0 87s1.5 89Kn 89K0 89Kp; do P rule$c; done) \
-        --shipped $(P shipped _session48) \
+        --references $(for a in $A; do P $a; done) --shipped $(P shipped _session48) \
         --out out/frontier_validation.md --figure docs/interrogator_frontier_validation.png   # every candidate of rules
-        # 78-89 with the four validation plays, pooled (session 52)
+        # 78-89 with the four validation plays, pooled, beside the hand-built agents (session 52)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \

@@ -111,6 +111,12 @@ CASES = [
     ("frontier", ["{text}", "--shipped", "{file}"], "--shipped"),
     ("frontier", ["{text}", "{text}"], "records"),
     ("frontier", ["{text}", "--out", "{dir}"], "--out"),
+    ("frontier", ["{text}", "--references", "{text}"], "records"),
+    ("scripted_plays", ["--agents", "oracle", "--records", "{new}"], "--agents"),
+    ("scripted_plays", ["--agents", "nope", "--records", "{new}"], "--agents"),
+    ("scripted_plays", ["--agents", "phase-rule", "robust-model", "--records", "{new}"], "--records"),
+    ("scripted_plays", ["--agents", "phase-rule", "--records", "{dir}"], "--records"),
+    ("scripted_plays", ["--agents", "phase-rule", "--records", "{new}", "--grids", "nope"], "--grids"),
 ]
 
 
@@ -143,7 +149,7 @@ REQUIRED = {"assemble_policy": ["--filter", "f", "--out", "o"], "feature_block_n
             "paired_comparison": ["records.jsonl"],
             "runaways_by_option": ["records.json", "--option", "x", "--edges", "0"],
             "ppo_seeds": ["--runs", "run"], "zoo_eval": ["model.zip"], "rule_check": ["base.json", "candidate.json"],
-            "frontier": ["records.json"]}
+            "frontier": ["records.json"], "scripted_plays": ["--agents", "phase-rule", "--records", "r.json"]}
 
 
 def test_every_script_parses_with_the_one_line_parser() -> None:

@@ -13,7 +13,7 @@ import pytest
 
 EXPERIMENTS = Path(__file__).resolve().parents[1] / "experiments"
 sys.path.insert(0, str(EXPERIMENTS))
-from frontier import Point, on_frontier, point, read_group  # noqa: E402
+from frontier import Point, beaten_by, on_frontier, point, read_group, table  # noqa: E402
 
 ERRORS = np.linspace(0.0, 0.2, 21)  # median 0.1, P90 0.18 (numpy's linear interpolation)
 
@@ -68,6 +68,33 @@ def test_the_command_writes_the_table_and_the_figure_and_marks_the_shipped_play(
     assert run.returncode == 0, run.stderr
     rows = [line for line in run.stdout.splitlines() if line.startswith("| ") and not line.startswith("| play")]
     assert [r.split(" | ")[0] for r in rows] == ["| safer", "| **shipped** (shipped)", "| worse"]
-    assert [r.split(" | ")[5] for r in rows] == ["yes", "yes", ""]
+    assert [r.split(" | ")[5] for r in rows] == ["0: on the frontier", "0: on the frontier", "2"]
     assert (tmp_path / "f.png").read_bytes()[:4] == b"\x89PNG"
     assert (tmp_path / "f.md").read_text().endswith(run.stdout)
+
+
+def test_a_reference_is_counted_against_the_candidates_and_never_joins_their_frontier() -> None:
+    def at(label: str, runaways: int, p90: float) -> Point:
+        return Point(label, label, 10, runaways, 0.0, p90, 0.0, 0.0, 0.0)
+    candidates = [at("a", 1, 0.5), at("b", 3, 0.2)]
+    reference = at("rule", 4, 0.3)  # beaten by b alone; it would beat nothing
+    assert beaten_by(reference, candidates) == 1
+    rows = table(candidates, "family", None, [reference]).splitlines()[2:]
+    assert [r.split(" | ")[0] for r in rows] == ["| a", "| b", "| rule (hand-built)"]
+    assert [r.split(" | ")[5] for r in rows] == ["0: on the frontier", "0: on the frontier", "1"]
+    assert table(candidates, "family", None, [at("far", 0, 0.1)]).count("| 0 |") == 1  # beats both, shown as 0
+
+
+def test_scripted_plays_records_a_hand_built_agent_as_crest_tradeoff_records_the_candidates(tmp_path: Path) -> None:
+    from scripted_plays import play
+
+    grid = json.loads((EXPERIMENTS / "suites" / "v2_validation_grid.json").read_text())
+    small = tmp_path / "two.json"
+    small.write_text(json.dumps({**grid, "episodes": grid["episodes"][:2]}))
+    rows = play(("phase-rule", "family", small, {"counter_torque": True}, {"noise_level": 2.0}))
+    assert [(r["setting"], r["grid"], r["config"], r["episode"]) for r in rows] == [
+        ("phase-rule", "family", {"counter_torque": True}, k) for k in range(2)]
+    for r in rows:
+        assert 0.0 <= r["error"] and isinstance(r["macro_slip"], bool) and np.isfinite(r["episode_return"])
+        assert r["signed_error"] is None or abs(abs(r["signed_error"]) - r["error"]) < 1e-12
+    assert play(("phase-rule", "family", small, {"counter_torque": True}, {"noise_level": 2.0})) == rows  # seeded
