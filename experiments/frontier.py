@@ -15,15 +15,17 @@ comfort and time, a runaway costing 10). A candidate is on the frontier where no
 as low a ``--grid`` P90, one of them lower. The table lists the files by their runaways; the figure (``--figure``)
 plots the ``--grid`` P90 and the mean return against the runaways, the frontier joined and ``--shipped``'s point
 marked. With ``--references`` (plays of the hand-built agents, ``experiments/scripted_plays.py``) those are shown
-beside them, each with the number of candidates that beat it on both axes. Nothing is chosen here: the plays were
-judged by their rules; this shows where they lie together.
+beside them, each with the number of candidates that beat it on both axes, and each candidate's count of issue 16's
+target rows met over every grid of every play (the absolute ones, and with ``--references`` a median and a P90 below
+every reference's and no more runaways than the fewest of theirs: ``selection.target_rows``, as the README's targets
+table reads them). Nothing is chosen here: the plays were judged by their rules; this shows where they lie together.
 """
 
 from __future__ import annotations
 
 import itertools
 import sys
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -33,6 +35,9 @@ from cof_gym.commands.args import Parser
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from paired_comparison import print_table, read_records  # noqa: E402
 from script_checks import check_out_file  # noqa: E402
+from selection import target_rows  # noqa: E402
+
+Cell = tuple[float, float, int, int]  # one grid of one play: median and P90 error (%), runaways, episodes
 
 
 @dataclass(frozen=True)
@@ -48,6 +53,7 @@ class Point:
     median: float
     p90: float
     mean_return: float
+    cells: dict[tuple[int, str], Cell] = field(default_factory=dict, compare=False)  # by (play, grid)
 
 
 def label_of(path: Path) -> str:
@@ -55,15 +61,36 @@ def label_of(path: Path) -> str:
     return path.stem.removeprefix("records_")
 
 
-def point(label: str, setting: str, records: list[dict], grid: str) -> Point:
-    """The totals of one setting's ``records`` (ValueError where it has no episode on ``grid``)."""
+def cells_of(plays: list[list[dict]]) -> dict[tuple[int, str], Cell]:
+    """Each grid's median and P90 error (%), runaways and episodes in each play (``plays``: one setting's records,
+    one list per play)."""
+    cells = {}
+    for k, records in enumerate(plays):
+        for grid in dict.fromkeys(r["grid"] for r in records):
+            errors = [r["error"] for r in records if r["grid"] == grid]
+            cells[(k, grid)] = (100 * float(np.median(errors)), 100 * float(np.percentile(errors, 90)),
+                                sum(bool(r["macro_slip"]) for r in records if r["grid"] == grid), len(errors))
+    return cells
+
+
+def targets_met(point: Point, references: list[Point]) -> tuple[int, int]:
+    """(met, rows) of issue 16's target rows (``selection.target_rows``) over ``point``'s grids in each play, the
+    relative ones against the ``references`` on the same grid of the same play."""
+    rows = [ok for key, (median, p90, slips, episodes) in point.cells.items()
+            for ok in target_rows(median, p90, slips, episodes, [r.cells[key][:3] for r in references if key in r.cells])]
+    return sum(rows), len(rows)
+
+
+def point(label: str, setting: str, records: list[dict], grid: str, plays: list[list[dict]] | None = None) -> Point:
+    """The totals of one setting's ``records`` (ValueError where it has no episode on ``grid``); ``plays``: the same
+    records one list per play, for the per-grid cells (default: one play)."""
     on_grid = [r["error"] for r in records if r["grid"] == grid]
     if not on_grid:
         raise ValueError(f"has no episode on the grid {grid!r} (grids: {', '.join(sorted({r['grid'] for r in records}))})")
     errors = [r["error"] for r in records]
     return Point(label, setting, len(records), sum(bool(r["macro_slip"]) for r in records), float(np.median(on_grid)),
                  float(np.percentile(on_grid, 90)), float(np.median(errors)), float(np.percentile(errors, 90)),
-                 float(np.mean([r["episode_return"] for r in records])))
+                 float(np.mean([r["episode_return"] for r in records])), cells_of(plays or [records]))
 
 
 def beaten_by(point: Point, candidates: list[Point]) -> int:
@@ -84,15 +111,16 @@ def table(points: list[Point], grid: str, shipped: str | None, references: list[
     agent), each with the number of candidates that beat it on both axes (a candidate beaten by none is on the
     frontier)."""
     lines = [f"| play | runaways (climbs) | {grid}: median / P90 | all: median / P90 | mean return | beaten by "
-             "(candidates) | setting |", "|---|---|---|---|---|---|---|"]
+             "(candidates) | issue 16's target rows met | setting |", "|---|---|---|---|---|---|---|---|"]
     rows = [(p, False) for p in points] + [(p, True) for p in references]
     for p, reference in sorted(rows, key=lambda row: (row[0].runaways, row[0].grid_p90)):
         name = (f"**{p.label}** (shipped)" if p.label == shipped else f"{p.label} (hand-built)" if reference
                 else p.label)
         beaten = beaten_by(p, points)
+        met = "-" if reference else "{} of {}".format(*targets_met(p, list(references)))
         lines.append(f"| {name} | {p.runaways} ({p.episodes}) | {100 * p.grid_median:.1f} % / {100 * p.grid_p90:.1f} % | "
                      f"{100 * p.median:.1f} % / {100 * p.p90:.1f} % | {p.mean_return:.4f} | "
-                     f"{beaten if beaten or reference else '0: on the frontier'} | {p.setting} |")
+                     f"{beaten if beaten or reference else '0: on the frontier'} | {met} | {p.setting} |")
     return "\n".join(lines) + "\n"
 
 
@@ -145,7 +173,8 @@ def read_group(group: str, grid: str) -> list[Point]:
         raise ValueError("its files hold different numbers of settings; the k-th of each make one point")
     label = label_of(paths[0])
     return [point(label if len(plays[0]) == 1 else f"{label} [{k + 1}]", plays[0][k][0]["setting"],
-                  [r for play in plays for r in play[k]], grid) for k in range(len(plays[0]))]
+                  [r for play in plays for r in play[k]], grid, [play[k] for play in plays])
+            for k in range(len(plays[0]))]
 
 
 def read_groups(parser: Parser, option: str, groups: list[str], grid: str) -> list[Point]:

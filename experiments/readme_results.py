@@ -770,6 +770,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from make_grids import v2_heldout_grids  # noqa: E402
+from selection import TARGET_MEDIAN_PCT, TARGET_P90_PCT, TARGET_SLIPS_PER_100  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 README = ROOT / "README.md"
@@ -1128,9 +1129,10 @@ def targets(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNED) -> s
         best_med, best_p90 = _best(summary, learned, "median_error"), _best(summary, learned, "p90_error")
         fewest = _stat(summary, _best(summary, learned, "macro_slip_events"), "macro_slip_events")
         checks = [
-            ("median <= 3 %", f"{med:.1f} %", med <= 3.0),
-            ("P90 <= 8 %", f"{p90:.1f} %", p90 <= 8.0),
-            ("<= 1 macro-slip per 100 episodes", f"{slips:.0f} in {n}", slips <= n / 100.0),
+            (f"median <= {TARGET_MEDIAN_PCT:g} %", f"{med:.1f} %", med <= TARGET_MEDIAN_PCT),
+            (f"P90 <= {TARGET_P90_PCT:g} %", f"{p90:.1f} %", p90 <= TARGET_P90_PCT),
+            (f"<= {TARGET_SLIPS_PER_100:g} macro-slip per 100 episodes", f"{slips:.0f} in {n}",
+             slips <= n * TARGET_SLIPS_PER_100 / 100.0),
             ("median below every non-oracle agent's", f"{med:.1f} % vs {best_med} "
              f"{100 * _stat(summary, best_med, 'median_error'):.1f} %", med < 100 * _stat(summary, best_med, "median_error")),
             ("P90 below every non-oracle agent's", f"{p90:.1f} % vs {best_p90} "

@@ -98,3 +98,17 @@ def test_scripted_plays_records_a_hand_built_agent_as_crest_tradeoff_records_the
         assert 0.0 <= r["error"] and isinstance(r["macro_slip"], bool) and np.isfinite(r["episode_return"])
         assert r["signed_error"] is None or abs(abs(r["signed_error"]) - r["error"]) < 1e-12
     assert play(("phase-rule", "family", small, {"counter_torque": True}, {"noise_level": 2.0})) == rows  # seeded
+
+
+def test_target_rows_read_issue_16s_targets_and_count_them_per_grid_and_play() -> None:
+    from frontier import targets_met
+    from selection import target_rows
+
+    assert target_rows(3.0, 8.0, 1, 100) == [True, True, True]  # each target at its bound is met
+    assert target_rows(3.1, 8.1, 2, 100) == [False, False, False]
+    assert target_rows(2.0, 9.0, 3, 72, [(2.5, 9.0, 3), (4.0, 12.0, 5)]) == [True, False, False, True, False, True]
+    candidate = point("c", "c", records("c", 0.1, slips=0), "family")  # median 1 %, P90 1.8 %, no runaway
+    rival = point("r", "r", records("r", 1.0, slips=1), "family")
+    assert targets_met(candidate, []) == (6, 6)  # two grids x three absolute rows
+    assert targets_met(candidate, [rival]) == (12, 12)
+    assert targets_met(rival, [candidate]) == (2, 12)  # its family grid's runaways alone (absolute and relative)
