@@ -745,6 +745,17 @@ generated, never typed:
         --references $(for a in $A; do P $a; done) --shipped $(P shipped _session48) \
         --out out/frontier_validation.md --figure docs/interrogator_frontier_validation.png   # every candidate of rules
         # 78-89 with the four validation plays, pooled, beside the hand-built agents (session 52)
+        # rule 90: the shipped agent (--guards $G), P (--run runs/interrogator_noisy_plus/ensemble --guards
+        # runs/interrogator_noisy_plus/guard/ensemble runs/interrogator_noisy_plus/probing_guard/ensemble) with
+        # --guards-only --targets 0.1 --stops --return-digits 4 on --grids confirmation30 (and --scenario noise_level=3,
+        # motor_lag_s=0.1), torque_confirmation11 and extremes_confirmation2 (records _shipped_ / _rule90P_), the
+        # hand-built agents by scripted_plays.py on the same five (records _{agent}_), then:
+    Q() { printf '%s+' out/records_$1_{confirmation30,confirmation30_noise_level,confirmation30_motor_lag_s,\
+torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
+    python experiments/frontier.py $(Q shipped) $(Q rule90P) --references $(for a in $A; do Q $a; done) \
+        --shipped $(Q shipped) --out out/frontier_rule90.md   # (a); (b) and (c): rule_check.py on the five pairs
+        # (shipped, rule90P) with --gain --more-runaways 2352 (rule_check_rule90_b) and --errors --error-grid family
+        # --returns --more-runaways 2352 (rule_check_rule90_c)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1061,7 +1072,7 @@ SOURCES = {
         "paired_rule88C_validation_extremes", "rule_check_rule88_a", "rule_check_rule88_b",
         *(f"crest_tradeoff_rule89K{c}_validation" for c in ("n", "0", "p")),
         "paired_rule89K0_validation_extremes",
-        "frontier_validation",
+        "frontier_validation", "frontier_rule90", "rule_check_rule90_b", "rule_check_rule90_c",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
