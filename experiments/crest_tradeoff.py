@@ -104,6 +104,7 @@ GRID_SETS = {
     "validation_extremes": {"extremes": SUITES / "v2_validation_extremes_grid.json"},
     "extremes_confirmation": {"extremes": SUITES / "v2_extremes_confirmation_grid.json"},
     "extremes_confirmation2": {"extremes": SUITES / "v2_extremes_confirmation2_grid.json"},
+    "extremes_confirmation3": {"extremes": SUITES / "v2_extremes_confirmation3_grid.json"},
 }
 
 
@@ -360,7 +361,7 @@ def build_parser() -> Parser:
                              "torque_confirmationN: its confirmation sets) or a confirmation set (other episodes of "
                              "the same kinds, to confirm a choice taken on the first; confirmationN: the N-th set, "
                              "experiments/make_grids.py's docstring says when each was written); "
-                             "validation_extremes, extremes_confirmation, extremes_confirmation2: one grid of random "
+                             "validation_extremes, extremes_confirmation, extremes_confirmationN: one grid of random "
                              "tables with every scenario field anywhere within what the env accepts")
     parser.add_argument("--return-digits", type=int, default=2, choices=range(1, 7), metavar="{1..6}",
                         help="decimals of the mean returns (default: 2); more where two rows round alike")

@@ -117,7 +117,11 @@
   judged rule 88 (session 51).
 - ``suites/v2_confirmation30_grid.json``, ``suites/v2_confirmation30_procedural_grid.json`` and
   ``suites/v2_confirmation30_steep_grid.json`` (session 52, seeds 371 000, 373 000, 375 000): a thirtieth such
-  set, written before any agent played them, after the twenty-ninth had judged rule 88, for the next rule.
+  set, written before any agent played them, after the twenty-ninth had judged rule 88, for the next rule; it
+  judged rule 90 (session 52).
+- ``suites/v2_confirmation31_grid.json``, ``suites/v2_confirmation31_procedural_grid.json`` and
+  ``suites/v2_confirmation31_steep_grid.json`` (session 52, seeds 391 000, 393 000, 395 000): a thirty-first such
+  set, written before any agent played them, after the thirtieth had judged rule 90, for the next rule.
 - ``suites/v2_stress_tables_grid.json`` (session 50, seeds from 305 000): reporting only, never a held-out grid of
   the targets: creep curves at the edges of what a table may be (:data:`STRESS_SHAPES`: a cliff just past the
   peak, a plateau with no falling branch, a shoulder before the peak, a peak with no knee before it, and a peak at
@@ -135,7 +139,9 @@
   (session 51).
 - ``suites/v2_extremes_confirmation2_grid.json`` (session 52, seeds from 383 000): 96 episodes of the same draw,
   written before any agent played it, after the first had judged rule 88, to confirm the next rule (``--grids
-  extremes_confirmation2``).
+  extremes_confirmation2``); it judged rule 90 (session 52).
+- ``suites/v2_extremes_confirmation3_grid.json`` (session 52, seeds from 403 000): a third such set, written before
+  any agent played it, after the second had judged rule 90 (``--grids extremes_confirmation3``).
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
@@ -182,7 +188,11 @@
   88 (session 51).
 - ``suites/v2_torque_confirmation11_grid.json``, ``suites/v2_torque_confirmation11_procedural_grid.json`` and
   ``suites/v2_torque_confirmation11_steep_grid.json`` (session 52, seeds 377 000, 379 000, 381 000): an eleventh
-  such set, written before any agent played them, after the tenth had judged rule 88, for the next rule.
+  such set, written before any agent played them, after the tenth had judged rule 88, for the next rule; it judged
+  rule 90 (session 52).
+- ``suites/v2_torque_confirmation12_grid.json``, ``suites/v2_torque_confirmation12_procedural_grid.json`` and
+  ``suites/v2_torque_confirmation12_steep_grid.json`` (session 52, seeds 397 000, 399 000, 401 000): a twelfth such
+  set, written before any agent played them, after the eleventh had judged rule 90, for the next rule.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -545,7 +555,7 @@ def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.
 ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", "eighth ", "ninth ", "tenth ",
             "eleventh ", "twelfth ", "thirteenth ", "fourteenth ", "fifteenth ", "sixteenth ", "seventeenth ",
             "eighteenth ", "nineteenth ", "twentieth ", "twenty-first ", "twenty-second ", "twenty-third ",
-            "twenty-fourth ", "twenty-fifth ", "twenty-sixth ", "twenty-seventh ", "twenty-eighth ", "twenty-ninth ", "thirtieth ")
+            "twenty-fourth ", "twenty-fifth ", "twenty-sixth ", "twenty-seventh ", "twenty-eighth ", "twenty-ninth ", "thirtieth ", "thirty-first ")
 
 # the confirmation sets, in the order they were written (the module docstring says when, and for which rule):
 # name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and steep grids; each was written
@@ -611,6 +621,8 @@ CONFIRMATION_SETS = {
                        ((0.08, 0.39, 0.71, 0.91), (8.0, 22.5, 36.0), 333_000), ((0.11, 0.44, 0.82), (6.5, 19.0, 37.5), 335_000)),
     "confirmation30": (((0.04, 0.29, 0.56, 0.8, 0.95), (5.5, 17.0, 34.0), 371_000),
                        ((0.07, 0.42, 0.68, 0.93), (9.0, 21.5, 37.0), 373_000), ((0.12, 0.46, 0.79), (7.5, 20.5, 36.5), 375_000)),
+    "confirmation31": (((0.05, 0.26, 0.55, 0.79, 0.94), (6.5, 18.0, 33.5), 391_000),
+                       ((0.09, 0.38, 0.7, 0.92), (8.0, 20.5, 36.0), 393_000), ((0.13, 0.44, 0.81), (6.0, 21.5, 37.5), 395_000)),
 }
 
 
@@ -655,6 +667,9 @@ TORQUE_CONFIRMATION_SETS = {
     "torque_confirmation11": (((0.05, 0.3, 0.54, 0.77, 0.94), (6.0, 19.0, 32.5), 377_000),
                               ((0.08, 0.4, 0.7, 0.92), (8.5, 22.0, 36.5), 379_000),
                               ((0.13, 0.47, 0.8), (6.5, 19.5, 37.5), 381_000)),
+    "torque_confirmation12": (((0.04, 0.28, 0.53, 0.8, 0.96), (7.5, 17.5, 34.5), 397_000),
+                              ((0.06, 0.41, 0.69, 0.94), (9.5, 21.0, 37.5), 399_000),
+                              ((0.11, 0.45, 0.78), (7.0, 18.5, 36.0), 401_000)),
 }
 GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0  # the golden ratio's fraction: a low-discrepancy sequence k x GOLDEN mod 1
 
@@ -748,6 +763,9 @@ def all_grids() -> dict[str, dict]:
                  v2_extremes_confirmation2_grid={**v2_extremes_grid(96, 383_000), "description": (
                      "v2 confirmation only: random creep tables, every scenario field anywhere within what the env "
                      "accepts, for one rule (v2_extremes_grid's draw on seeds of its own, a second set)")},
+                 v2_extremes_confirmation3_grid={**v2_extremes_grid(96, 403_000), "description": (
+                     "v2 confirmation only: random creep tables, every scenario field anywhere within what the env "
+                     "accepts, for one rule (v2_extremes_grid's draw on seeds of its own, a third set)")},
                  v2_heldout7_grid=v2_heldout_noise_grid(
                      description="v2 reporting only, a seventh set written in session 33 before any agent played it: "
                      "the v2 draws' creep curves and systematic errors with sensor noise (2-3 x full scale) and a drive "
