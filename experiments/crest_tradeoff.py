@@ -72,7 +72,7 @@ from train_interrogator import (  # noqa: E402
     source_error,
 )
 
-from make_grids import CONFIRMATION_SETS, SUITES, TORQUE_CONFIRMATION_SETS  # noqa: E402
+from make_grids import CONFIRMATION_SETS, EXTREMES_CONFIRMATION_SETS, SUITES, TORQUE_CONFIRMATION_SETS  # noqa: E402
 from script_checks import check_out_file  # noqa: E402
 
 from cof_gym.agents.interrogator import (  # noqa: E402
@@ -102,9 +102,7 @@ GRID_SETS = {
     **{name: confirmation_set(name) for name in CONFIRMATION_SETS},
     # random creep tables with every scenario field anywhere within what the env accepts (session 51): one grid each
     "validation_extremes": {"extremes": SUITES / "v2_validation_extremes_grid.json"},
-    "extremes_confirmation": {"extremes": SUITES / "v2_extremes_confirmation_grid.json"},
-    "extremes_confirmation2": {"extremes": SUITES / "v2_extremes_confirmation2_grid.json"},
-    "extremes_confirmation3": {"extremes": SUITES / "v2_extremes_confirmation3_grid.json"},
+    **{name: {"extremes": SUITES / f"v2_{name}_grid.json"} for name in EXTREMES_CONFIRMATION_SETS},
 }
 
 

@@ -671,6 +671,10 @@ TORQUE_CONFIRMATION_SETS = {
                               ((0.06, 0.41, 0.69, 0.94), (9.5, 21.0, 37.5), 399_000),
                               ((0.11, 0.45, 0.78), (7.0, 18.5, 36.0), 401_000)),
 }
+# the confirmation sets past every draw at once (v2_extremes_grid's draw, 96 episodes each), in the order they were
+# written (the module docstring says when, and for which rule): name -> first seed
+EXTREMES_CONFIRMATION_SETS = {"extremes_confirmation": 361_000, "extremes_confirmation2": 383_000,
+                              "extremes_confirmation3": 403_000}
 GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0  # the golden ratio's fraction: a low-discrepancy sequence k x GOLDEN mod 1
 
 
@@ -757,15 +761,11 @@ def all_grids() -> dict[str, dict]:
                  v2_validation_extremes_grid={**v2_extremes_grid(96, 351_000), "description": (
                      "v2 model selection only: random creep tables, every scenario field anywhere within what the env "
                      "accepts (v2_extremes_grid's draw on seeds of its own)")},
-                 v2_extremes_confirmation_grid={**v2_extremes_grid(96, 361_000), "description": (
+                 **{f"v2_{name}_grid": {**v2_extremes_grid(96, seed), "description": (
                      "v2 confirmation only: random creep tables, every scenario field anywhere within what the env "
-                     "accepts, for one rule (v2_extremes_grid's draw on seeds of its own)")},
-                 v2_extremes_confirmation2_grid={**v2_extremes_grid(96, 383_000), "description": (
-                     "v2 confirmation only: random creep tables, every scenario field anywhere within what the env "
-                     "accepts, for one rule (v2_extremes_grid's draw on seeds of its own, a second set)")},
-                 v2_extremes_confirmation3_grid={**v2_extremes_grid(96, 403_000), "description": (
-                     "v2 confirmation only: random creep tables, every scenario field anywhere within what the env "
-                     "accepts, for one rule (v2_extremes_grid's draw on seeds of its own, a third set)")},
+                     "accepts, for one rule (v2_extremes_grid's draw on seeds of its own"
+                     f"{'' if k == 0 else f', a {ORDINALS[k].strip()} set'})")}
+                    for k, (name, seed) in enumerate(EXTREMES_CONFIRMATION_SETS.items())},
                  v2_heldout7_grid=v2_heldout_noise_grid(
                      description="v2 reporting only, a seventh set written in session 33 before any agent played it: "
                      "the v2 draws' creep curves and systematic errors with sensor noise (2-3 x full scale) and a drive "
