@@ -756,6 +756,15 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         --shipped $(Q shipped) --out out/frontier_rule90.md   # (a); (b) and (c): rule_check.py on the five pairs
         # (shipped, rule90P) with --gain --more-runaways 2352 (rule_check_rule90_b) and --errors --error-grid family
         # --returns --more-runaways 2352 (rule_check_rule90_c)
+    python experiments/crest_tradeoff.py --run runs/interrogator_noisy_plus/ensemble --guards \
+        runs/interrogator_noisy_plus/guard/ensemble runs/interrogator_noisy_plus/probing_guard/ensemble --guards-only \
+        --cautions 2.25 --targets 0.1 --stops --return-digits 4 --grids validation \
+        --records out/records_rule91P2.25_validation.json --out out/crest_tradeoff_rule91P2.25_validation.md
+        # rule 91: P225 and P250 (--cautions 2.5), each also on validation_torque and --scenario noise_level=3 /
+        # motor_lag_s=0.1; rule_check.py on the four pairs against the session-48 records with --gain
+        # --more-runaways 1440 (rule_check_rule91PC_b) and --errors --error-grid family --returns --more-runaways 1440
+        # (_c); frontier.py $(P shipped _session48) $(P rule91P2.25) $(P rule91P2.5) --references ... as above
+        # (frontier_rule91_validation)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1073,6 +1082,8 @@ SOURCES = {
         *(f"crest_tradeoff_rule89K{c}_validation" for c in ("n", "0", "p")),
         "paired_rule89K0_validation_extremes",
         "frontier_validation", "frontier_rule90", "rule_check_rule90_b", "rule_check_rule90_c",
+        "frontier_rule91_validation",
+        *(f"rule_check_rule91P{c}_{k}" for c in ("2.25", "2.5") for k in ("b", "c")),
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
