@@ -123,6 +123,18 @@ class Played(NamedTuple):
     source_errors: dict[str, float] | None = None  # the error of each estimate source the agent could report
     signed_error: float | None = None  # estimate / CoF - 1 (None when unscored): below the CoF < 0
 
+    @classmethod
+    def of(cls, record, ended: str, source_errors: dict[str, float] | None = None) -> "Played":
+        """An evaluated episode (``record``: :class:`~cof_gym.commands.evaluate_episodes.EpisodeRecord`) as the
+        tables read it, ending as ``ended`` says."""
+        return cls(record.relative_error if record.scored else 1.0, record.macro_slip, record.episode_return, ended,
+                   record.peak_torque_fraction, source_errors,
+                   record.estimate / record.cof - 1.0 if record.scored else None)
+
+    def as_record(self, setting: str, grid: str, config: dict, episode: int) -> dict:
+        """The episode as a ``--records`` entry (its setting, grid, vehicle configuration and index in the grid)."""
+        return {"setting": setting, "grid": grid, "config": config, "episode": episode, **self._asdict()}
+
 
 def available_sources(agent) -> tuple[str, ...]:
     """The estimate sources ``agent`` computes: the guarded ones with guards, the estimators' with estimators."""
@@ -135,11 +147,8 @@ def _play(run: str, params: dict, grid: str, config: dict, guards: list[str] | N
     """Every episode of ``grid`` in ``config``, the filter of ``run`` with the climb ``params``, the guard
     networks ``guards`` and the estimator networks ``estimators`` (None: those its manifest names), with the
     reset options ``scenario`` over every episode's own."""
-    return [Played(r.relative_error if r.scored else 1.0, r.macro_slip, r.episode_return,
-                   ("macro-slip, slow probe" if agent.crept else "macro-slip") if r.macro_slip else agent.stop_reason,
-                   r.peak_torque_fraction,
-                   {s: source_error(agent, r, s, params.get("best_coa_factor", 1.0)) for s in available_sources(agent)},
-                   r.estimate / r.cof - 1.0 if r.scored else None)
+    return [Played.of(r, ("macro-slip, slow probe" if agent.crept else "macro-slip") if r.macro_slip else agent.stop_reason,
+                      {s: source_error(agent, r, s, params.get("best_coa_factor", 1.0)) for s in available_sources(agent)})
             for r, agent in episodes(run, grid, config, params, guards, estimators, scenario)]
 
 
@@ -259,7 +268,7 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
             per_config = [next(results) for _ in CONFIGS]
             runs = [r for part in per_config for r in part]
             if records is not None:
-                records += [{"setting": setting.rstrip(", "), "grid": grid, "config": config, "episode": i, **r._asdict()}
+                records += [r.as_record(setting.rstrip(", "), grid, config, i)
                             for config, part in zip(CONFIGS, per_config) for i, r in enumerate(part)]
             pooled += runs
             ends += _ends(setting, grid, runs)

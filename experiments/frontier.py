@@ -35,7 +35,7 @@ from cof_gym.commands.args import Parser
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from paired_comparison import print_table, read_records  # noqa: E402
 from script_checks import check_out_file  # noqa: E402
-from selection import target_rows  # noqa: E402
+from selection import error_summary, target_rows  # noqa: E402
 
 Cell = tuple[float, float, int, int]  # one grid of one play: median and P90 error (%), runaways, episodes
 
@@ -67,10 +67,14 @@ def cells_of(plays: list[list[dict]]) -> dict[tuple[int, str], Cell]:
     cells = {}
     for k, records in enumerate(plays):
         for grid in dict.fromkeys(r["grid"] for r in records):
-            errors = [r["error"] for r in records if r["grid"] == grid]
-            cells[(k, grid)] = (100 * float(np.median(errors)), 100 * float(np.percentile(errors, 90)),
-                                sum(bool(r["macro_slip"]) for r in records if r["grid"] == grid), len(errors))
+            s = summary([r for r in records if r["grid"] == grid])
+            cells[(k, grid)] = (100 * s["median"], 100 * s["p90"], s["macro_slips"], s["episodes"])
     return cells
+
+
+def summary(records: list[dict]) -> dict:
+    """``selection.error_summary`` of ``records`` (their median and P90 error, runaways and episodes)."""
+    return error_summary([r["error"] for r in records], [r["macro_slip"] for r in records])
 
 
 def targets_met(point: Point, references: list[Point]) -> tuple[int, int]:
@@ -84,13 +88,13 @@ def targets_met(point: Point, references: list[Point]) -> tuple[int, int]:
 def point(label: str, setting: str, records: list[dict], grid: str, plays: list[list[dict]] | None = None) -> Point:
     """The totals of one setting's ``records`` (ValueError where it has no episode on ``grid``); ``plays``: the same
     records one list per play, for the per-grid cells (default: one play)."""
-    on_grid = [r["error"] for r in records if r["grid"] == grid]
+    on_grid = [r for r in records if r["grid"] == grid]
     if not on_grid:
         raise ValueError(f"has no episode on the grid {grid!r} (grids: {', '.join(sorted({r['grid'] for r in records}))})")
-    errors = [r["error"] for r in records]
-    return Point(label, setting, len(records), sum(bool(r["macro_slip"]) for r in records), float(np.median(on_grid)),
-                 float(np.percentile(on_grid, 90)), float(np.median(errors)), float(np.percentile(errors, 90)),
-                 float(np.mean([r["episode_return"] for r in records])), cells_of(plays or [records]))
+    grid_all, every = summary(on_grid), summary(records)
+    return Point(label, setting, every["episodes"], every["macro_slips"], grid_all["median"], grid_all["p90"],
+                 every["median"], every["p90"], float(np.mean([r["episode_return"] for r in records])),
+                 cells_of(plays or [records]))
 
 
 def beaten_by(point: Point, candidates: list[Point]) -> int:

@@ -22,7 +22,7 @@ from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from crest_tradeoff import GRID_SETS  # noqa: E402
+from crest_tradeoff import GRID_SETS, Played  # noqa: E402
 from script_checks import check_out_file  # noqa: E402
 from train_interrogator import CONFIGS  # noqa: E402
 
@@ -45,11 +45,7 @@ def play(job: tuple[str, str, Path, dict, dict]) -> list[dict]:
     out = []
     for i, (seed, options) in enumerate(suite.episodes):
         r = run_episode(env, agent, seed, {**options, **scenario}, i)
-        out.append({"setting": agent_name, "grid": grid, "config": config, "episode": i,
-                    "error": r.relative_error if r.scored else 1.0, "macro_slip": r.macro_slip,
-                    "episode_return": r.episode_return, "ended": "macro-slip" if r.macro_slip else r.ended,
-                    "peak_torque_fraction": r.peak_torque_fraction, "source_errors": None,
-                    "signed_error": r.estimate / r.cof - 1.0 if r.scored else None})
+        out.append(Played.of(r, "macro-slip" if r.macro_slip else r.ended).as_record(agent_name, grid, config, i))
     env.close()
     return out
 
