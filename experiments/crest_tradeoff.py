@@ -25,8 +25,8 @@ networks (directories of ``member_*.npz``; several: each in turn) under the ship
 these networks as the climb's guards (it steers by the lowest cautious headroom of all; the estimate
 reads the guards' as the shipped climb's does since session 20, or as ``--set estimate_from=...`` names
 it; a row without guards reports the filter's unless ``--set`` names another; ``--estimators``: every row
-with these on-policy estimator networks, whose correction ``--set estimate_from=estimator`` or
-``estimator_pooled`` reads; ``--guards-only``: only
+with these estimator networks, whose correction ``--set estimate_from=estimator``, ``estimator_pooled`` or
+``guard_estimator_pooled`` reads; ``--guards-only``: only
 with them), with ``--stops`` also how the climbs ended (the stop reason or a macro-slip, before or after
 the climb's first slow probe) and their errors (median, P90 and the median signed error), in both vehicle
 configurations, on the three
@@ -353,7 +353,8 @@ def build_parser() -> Parser:
                              "one climb (each row with and without them)")
     parser.add_argument("--estimators", type=Path, nargs="+", default=None,
                         help="directories of networks (member_*.npz) whose correction the estimate may read "
-                             "(estimate_from estimator or estimator_pooled), in every row; they never steer")
+                             "(estimate_from estimator, estimator_pooled or guard_estimator_pooled), in every row; "
+                             "they never steer")
     parser.add_argument("--guards-only", action="store_true",
                         help="play every row with the --guards only, not also without them")
     parser.add_argument("--own-climb", action="store_true",

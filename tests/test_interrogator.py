@@ -213,11 +213,23 @@ def test_a_guarded_estimate_without_guards_names_the_field():
                             params=ClimbParameters(estimate_from="pooled"))
 
 
-@pytest.mark.parametrize("source", ["estimator", "estimator_pooled"])
+@pytest.mark.parametrize("role", ["guards", "estimators"])
+def test_the_guards_and_estimators_pool_needs_both(role):
+    """``guard_estimator_pooled`` reads the guards' and the estimators' corrections: without either, the error
+    names the field and the missing role."""
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    present = {"guards": (FilterEnsemble((random_network(6),)),), "estimators": (FilterEnsemble((random_network(7),)),)}
+    del present[role]
+    with pytest.raises(ValueError, match=f"estimate_from='guard_estimator_pooled'.*no {role}"):
+        LearnedInterrogator(env.unwrapped.limits, FilterEnsemble((random_network(5),)),
+                            params=ClimbParameters(estimate_from="guard_estimator_pooled"), **present)
+
+
+@pytest.mark.parametrize("source", ["estimator", "estimator_pooled", "guard_estimator_pooled"])
 def test_the_estimators_corrections_change_the_estimate_and_never_the_climb(source):
     """An estimator never steers: every action component but the estimate is byte-identical with and without
     it, even where its predicted headroom would stop the climb at once; the estimate reads its correction
-    alone, or pooled with the filter's and the guards' (inverse-variance)."""
+    alone, pooled with the filter's and the guards', or with the guards' alone (inverse-variance)."""
     env = gym.make(cof_gym.WAGON_ENV_ID)
     limits = env.unwrapped.limits
     primary = FilterEnsemble((constant_network(1.0, 0.2, log_variance=-6.0),))
@@ -231,7 +243,8 @@ def test_the_estimators_corrections_change_the_estimate_and_never_the_climb(sour
     np.testing.assert_array_equal(np.delete(actions, estimate, axis=1), np.delete(reference, estimate, axis=1))
     coa = agent.features.readings[-1].coa
     pooled = pooled_correction([(0.2, math.exp(-3.0)), (-0.1, math.exp(-2.0)), (0.05, math.exp(-2.5))])
-    correction = {"estimator": 0.05, "estimator_pooled": pooled}[source]
+    guarded = pooled_correction([(-0.1, math.exp(-2.0)), (0.05, math.exp(-2.5))])
+    correction = {"estimator": 0.05, "estimator_pooled": pooled, "guard_estimator_pooled": guarded}[source]
     assert info["cof_estimate"] == pytest.approx(coa * math.exp(correction), rel=1e-6)
     assert agent.candidate_estimates(1.0)["pooled"] == pytest.approx(
         coa * math.exp(pooled_correction([(0.2, math.exp(-3.0)), (-0.1, math.exp(-2.0))])), rel=1e-12)

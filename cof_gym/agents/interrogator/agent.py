@@ -302,7 +302,8 @@ class LearnedInterrogator:
                             estimator_predictions: list[tuple[float, float]] = ()
                             ) -> dict[str, list[tuple[float, float]]]:
         """The (mean, std) predictions of the correction ``ln(CoF / CoA)`` each source pools: the filter's, the
-        guards', the filter's with the guards', the estimators', all of them (those whose networks exist)."""
+        guards', the filter's with the guards', the estimators', all of them, the guards' with the estimators' (those
+        whose networks exist)."""
         sources = {"filter": [filter_prediction]}
         if guard_predictions:
             sources["guard"] = list(guard_predictions)
@@ -310,6 +311,8 @@ class LearnedInterrogator:
         if estimator_predictions:
             sources["estimator"] = list(estimator_predictions)
             sources["estimator_pooled"] = [filter_prediction, *guard_predictions, *estimator_predictions]
+        if guard_predictions and estimator_predictions:
+            sources["guard_estimator_pooled"] = [*guard_predictions, *estimator_predictions]
         return sources
 
     @classmethod

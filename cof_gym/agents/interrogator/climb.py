@@ -17,15 +17,17 @@ from cof_gym.task.scenarios import COF_ENVELOPE
 from cof_gym.task.validation import check_number
 
 ESTIMATE_SOURCES = ("filter", "best_coa", "guard", "pooled", "pooled_at_headroom", "estimator", "estimator_pooled",
-                    "estimator_pooled_at_headroom", "estimator_at_headroom")
+                    "estimator_pooled_at_headroom", "estimator_at_headroom", "guard_estimator_pooled")
 HEADROOM_STOPS = ("headroom", "knee", "ceiling")  # stops whose estimate is a short extrapolation ("..._at_headroom" sources)
 # the "..._at_headroom" sources: the source each reads at a headroom stop (the filter's before and at every other stop)
 AT_HEADROOM = {"pooled_at_headroom": "pooled", "estimator_pooled_at_headroom": "estimator_pooled",
                "estimator_at_headroom": "estimator"}
 KNEE_STOPS = (None, "any", "slow_probe")  # ClimbParameters.knee_stop: off, at every window, in the slow probe only
-GUARDED_ESTIMATES = ("guard", "pooled", "pooled_at_headroom")  # estimate sources that read the guards' corrections
+# estimate sources that read the guards' corrections
+GUARDED_ESTIMATES = ("guard", "pooled", "pooled_at_headroom", "guard_estimator_pooled")
 # estimate sources that read the estimators' corrections
-ESTIMATOR_ESTIMATES = ("estimator", "estimator_pooled", "estimator_pooled_at_headroom", "estimator_at_headroom")
+ESTIMATOR_ESTIMATES = ("estimator", "estimator_pooled", "estimator_pooled_at_headroom", "estimator_at_headroom",
+                       "guard_estimator_pooled")
 TWO_TONE_ENV_OPTIONS = {"excitation": "multitone", "tones": 2}  # the env options a two-tone climb needs
 CREST_RATIO_FLOOR = 0.03  # the lowest modulation ratio a crest-capped climb uses (and training climbs draw)
 
@@ -114,7 +116,8 @@ class ClimbParameters:
     # "pooled_at_headroom": "pooled" once the climb stops on its headroom, "filter" before and otherwise;
     # "estimator": CoA x exp(the estimators' correction); "estimator_pooled": the filter's, guards' and estimators'
     # pooled; "estimator_pooled_at_headroom": that pool at a headroom stop, "filter" before and otherwise;
-    # "estimator_at_headroom": the estimators' correction alone at a headroom stop, "filter" before and otherwise
+    # "estimator_at_headroom": the estimators' correction alone at a headroom stop, "filter" before and otherwise;
+    # "guard_estimator_pooled": the guards' and the estimators' pooled, without the filter's
     best_coa_factor: float = 1.0
     floor_margin: float | None = None  # not None: a step may close the gap to the task's lowest CoF less this
     tone2_frequency_hz: float | None = None  # not None: a second tone at this frequency (a two-tone excitation)
