@@ -765,6 +765,14 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # --more-runaways 1440 (rule_check_rule91PC_b) and --errors --error-grid family --returns --more-runaways 1440
         # (_c); frontier.py $(P shipped _session48) $(P rule91P2.25) $(P rule91P2.5) --references ... as above
         # (frontier_rule91_validation)
+        # rule 92: the shipped agent (--guards $G --guards-only) with --estimators and --set estimate_from=SOURCE:
+        # EF runs/interrogator_filter_onpolicy/ensemble estimator_pooled, EF1 the same with estimator, EP
+        # runs/interrogator_noisy_plus/{ensemble,guard/ensemble,probing_guard/ensemble} estimator_pooled, EFP all four
+        # estimator_pooled; each with --targets 0.1 --stops --return-digits 4 on the four validation plays (records
+        # _rule92C_validation, _validation_torque, _noise_level, _motor_lag_s); rule_check.py on the four pairs against
+        # the session-48 records with --errors --error-grid family --returns --more-runaways 1440
+        # (rule_check_rule92C_c); frontier.py $(P shipped _session48) $(P rule92EF) $(P rule92EF1) $(P rule92EP)
+        # $(P rule92EFP) --references ... as above (frontier_rule92_validation)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1084,6 +1092,7 @@ SOURCES = {
         "frontier_validation", "frontier_rule90", "rule_check_rule90_b", "rule_check_rule90_c",
         "frontier_rule91_validation",
         *(f"rule_check_rule91P{c}_{k}" for c in ("2.25", "2.5") for k in ("b", "c")),
+        "frontier_rule92_validation", *(f"rule_check_rule92{c}_c" for c in ("EF", "EF1", "EP", "EFP")),
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
