@@ -773,6 +773,9 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # the session-48 records with --errors --error-grid family --returns --more-runaways 1440
         # (rule_check_rule92C_c); frontier.py $(P shipped _session48) $(P rule92EF) $(P rule92EF1) $(P rule92EP)
         # $(P rule92EFP) --references ... as above (frontier_rule92_validation)
+        # rule 93: the same with --estimators and --set estimate_from=guard_estimator_pooled: GP
+        # runs/interrogator_noisy_plus/{guard,probing_guard}/ensemble, GQ runs/interrogator_noisy_guard/{guard,
+        # probing_guard}/ensemble, GPQ all four (rule_check_rule93C_c; frontier_rule93_validation)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1093,6 +1096,7 @@ SOURCES = {
         "frontier_rule91_validation",
         *(f"rule_check_rule91P{c}_{k}" for c in ("2.25", "2.5") for k in ("b", "c")),
         "frontier_rule92_validation", *(f"rule_check_rule92{c}_c" for c in ("EF", "EF1", "EP", "EFP")),
+        "frontier_rule93_validation", *(f"rule_check_rule93{c}_c" for c in ("GP", "GQ", "GPQ")),
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
