@@ -776,6 +776,12 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # rule 93: the same with --estimators and --set estimate_from=guard_estimator_pooled: GP
         # runs/interrogator_noisy_plus/{guard,probing_guard}/ensemble, GQ runs/interrogator_noisy_guard/{guard,
         # probing_guard}/ensemble, GPQ all four (rule_check_rule93C_c; frontier_rule93_validation)
+        # rule 93's confirmation: the shipped agent and GPQ (as above) on --grids confirmation31 (and --scenario
+        # noise_level=3, motor_lag_s=0.1), torque_confirmation12 and extremes_confirmation3 (records _shipped_ /
+        # _rule93GPQ_), the hand-built agents by scripted_plays.py on the same five (records _{agent}_), then
+        # frontier.py $(Q shipped) $(Q rule93GPQ) --references ... --shipped $(Q shipped) (frontier_rule93), Q as for
+        # rule 90 with the thirty-first sets, and rule_check.py on the five pairs with --errors --error-grid family
+        # --returns --more-runaways 2352 (rule_check_rule93_c)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1097,6 +1103,7 @@ SOURCES = {
         *(f"rule_check_rule91P{c}_{k}" for c in ("2.25", "2.5") for k in ("b", "c")),
         "frontier_rule92_validation", *(f"rule_check_rule92{c}_c" for c in ("EF", "EF1", "EP", "EFP")),
         "frontier_rule93_validation", *(f"rule_check_rule93{c}_c" for c in ("GP", "GQ", "GPQ")),
+        "frontier_rule93", "rule_check_rule93_c",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
