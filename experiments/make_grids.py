@@ -121,7 +121,11 @@
   judged rule 90 (session 52).
 - ``suites/v2_confirmation31_grid.json``, ``suites/v2_confirmation31_procedural_grid.json`` and
   ``suites/v2_confirmation31_steep_grid.json`` (session 52, seeds 391 000, 393 000, 395 000): a thirty-first such
-  set, written before any agent played them, after the thirtieth had judged rule 90, for the next rule.
+  set, written before any agent played them, after the thirtieth had judged rule 90, for the next rule; it judged
+  rule 93 (session 53).
+- ``suites/v2_confirmation32_grid.json``, ``suites/v2_confirmation32_procedural_grid.json`` and
+  ``suites/v2_confirmation32_steep_grid.json`` (session 53, seeds 411 000, 413 000, 415 000): a thirty-second such
+  set, written before any agent played them, after the thirty-first had judged rule 93, for the next rule.
 - ``suites/v2_stress_tables_grid.json`` (session 50, seeds from 305 000): reporting only, never a held-out grid of
   the targets: creep curves at the edges of what a table may be (:data:`STRESS_SHAPES`: a cliff just past the
   peak, a plateau with no falling branch, a shoulder before the peak, a peak with no knee before it, and a peak at
@@ -141,7 +145,10 @@
   written before any agent played it, after the first had judged rule 88, to confirm the next rule (``--grids
   extremes_confirmation2``); it judged rule 90 (session 52).
 - ``suites/v2_extremes_confirmation3_grid.json`` (session 52, seeds from 403 000): a third such set, written before
-  any agent played it, after the second had judged rule 90 (``--grids extremes_confirmation3``).
+  any agent played it, after the second had judged rule 90 (``--grids extremes_confirmation3``); it judged rule 93
+  (session 53).
+- ``suites/v2_extremes_confirmation4_grid.json`` (session 53, seeds from 423 000): a fourth such set, written before
+  any agent played it, after the third had judged rule 93 (``--grids extremes_confirmation4``).
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
@@ -192,7 +199,11 @@
   rule 90 (session 52).
 - ``suites/v2_torque_confirmation12_grid.json``, ``suites/v2_torque_confirmation12_procedural_grid.json`` and
   ``suites/v2_torque_confirmation12_steep_grid.json`` (session 52, seeds 397 000, 399 000, 401 000): a twelfth such
-  set, written before any agent played them, after the eleventh had judged rule 90, for the next rule.
+  set, written before any agent played them, after the eleventh had judged rule 90, for the next rule; it judged
+  rule 93 (session 53).
+- ``suites/v2_torque_confirmation13_grid.json``, ``suites/v2_torque_confirmation13_procedural_grid.json`` and
+  ``suites/v2_torque_confirmation13_steep_grid.json`` (session 53, seeds 417 000, 419 000, 421 000): a thirteenth
+  such set, written before any agent played them, after the twelfth had judged rule 93, for the next rule.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -555,7 +566,8 @@ def v2_validation_procedural_grid(fractions=(0.17, 0.52, 0.86), speeds=(8.0, 22.
 ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", "eighth ", "ninth ", "tenth ",
             "eleventh ", "twelfth ", "thirteenth ", "fourteenth ", "fifteenth ", "sixteenth ", "seventeenth ",
             "eighteenth ", "nineteenth ", "twentieth ", "twenty-first ", "twenty-second ", "twenty-third ",
-            "twenty-fourth ", "twenty-fifth ", "twenty-sixth ", "twenty-seventh ", "twenty-eighth ", "twenty-ninth ", "thirtieth ", "thirty-first ")
+            "twenty-fourth ", "twenty-fifth ", "twenty-sixth ", "twenty-seventh ", "twenty-eighth ", "twenty-ninth ", "thirtieth ", "thirty-first ",
+            "thirty-second ")
 
 # the confirmation sets, in the order they were written (the module docstring says when, and for which rule):
 # name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and steep grids; each was written
@@ -623,6 +635,8 @@ CONFIRMATION_SETS = {
                        ((0.07, 0.42, 0.68, 0.93), (9.0, 21.5, 37.0), 373_000), ((0.12, 0.46, 0.79), (7.5, 20.5, 36.5), 375_000)),
     "confirmation31": (((0.05, 0.26, 0.55, 0.79, 0.94), (6.5, 18.0, 33.5), 391_000),
                        ((0.09, 0.38, 0.7, 0.92), (8.0, 20.5, 36.0), 393_000), ((0.13, 0.44, 0.81), (6.0, 21.5, 37.5), 395_000)),
+    "confirmation32": (((0.06, 0.31, 0.57, 0.78, 0.93), (5.0, 18.5, 35.0), 411_000),
+                       ((0.08, 0.37, 0.66, 0.91), (9.5, 22.5, 36.5), 413_000), ((0.1, 0.43, 0.83), (8.0, 19.0, 37.0), 415_000)),
 }
 
 
@@ -670,11 +684,14 @@ TORQUE_CONFIRMATION_SETS = {
     "torque_confirmation12": (((0.04, 0.28, 0.53, 0.8, 0.96), (7.5, 17.5, 34.5), 397_000),
                               ((0.06, 0.41, 0.69, 0.94), (9.5, 21.0, 37.5), 399_000),
                               ((0.11, 0.45, 0.78), (7.0, 18.5, 36.0), 401_000)),
+    "torque_confirmation13": (((0.05, 0.27, 0.56, 0.81, 0.95), (6.0, 18.0, 33.0), 417_000),
+                              ((0.07, 0.39, 0.67, 0.93), (8.0, 21.5, 36.0), 419_000),
+                              ((0.12, 0.48, 0.8), (6.5, 20.0, 37.0), 421_000)),
 }
 # the confirmation sets past every draw at once (v2_extremes_grid's draw, 96 episodes each), in the order they were
 # written (the module docstring says when, and for which rule): name -> first seed
 EXTREMES_CONFIRMATION_SETS = {"extremes_confirmation": 361_000, "extremes_confirmation2": 383_000,
-                              "extremes_confirmation3": 403_000}
+                              "extremes_confirmation3": 403_000, "extremes_confirmation4": 423_000}
 GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0  # the golden ratio's fraction: a low-discrepancy sequence k x GOLDEN mod 1
 
 
