@@ -782,6 +782,10 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # frontier.py $(Q shipped) $(Q rule93GPQ) --references ... --shipped $(Q shipped) (frontier_rule93), Q as for
         # rule 90 with the thirty-first sets, and rule_check.py on the five pairs with --errors --error-grid family
         # --returns --more-runaways 2352 (rule_check_rule93_c)
+        # rule 94: the shipped agent (--guards $G --guards-only) with --set creep_sticky_below=1.0 (S10),
+        # creep_release=0.3 / 0.45 / 0.6 (R30, R45, R60), --targets 0.1 --stops --return-digits 4 on the four validation
+        # plays; rule_check.py against the session-48 records with --errors --error-grid family --returns
+        # --more-runaways 1440 (rule_check_rule94C_c); frontier.py ... (frontier_rule94_validation)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1104,6 +1108,7 @@ SOURCES = {
         "frontier_rule92_validation", *(f"rule_check_rule92{c}_c" for c in ("EF", "EF1", "EP", "EFP")),
         "frontier_rule93_validation", *(f"rule_check_rule93{c}_c" for c in ("GP", "GQ", "GPQ")),
         "frontier_rule93", "rule_check_rule93_c",
+        "frontier_rule94_validation", *(f"rule_check_rule94{c}_c" for c in ("S10", "R30", "R45", "R60")),
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
