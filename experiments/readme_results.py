@@ -786,6 +786,9 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # creep_release=0.3 / 0.45 / 0.6 (R30, R45, R60), --targets 0.1 --stops --return-digits 4 on the four validation
         # plays; rule_check.py against the session-48 records with --errors --error-grid family --returns
         # --more-runaways 1440 (rule_check_rule94C_c); frontier.py ... (frontier_rule94_validation)
+        # rule 94's confirmation: runs/confirm94.sh R45 creep_release=0.45 as rule 93's with --set creep_release=0.45
+        # in place of the estimators, on confirmation32 (and --scenario noise_level=3, motor_lag_s=0.1),
+        # torque_confirmation13 and extremes_confirmation4 (frontier_rule94, rule_check_rule94_c)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1109,6 +1112,7 @@ SOURCES = {
         "frontier_rule93_validation", *(f"rule_check_rule93{c}_c" for c in ("GP", "GQ", "GPQ")),
         "frontier_rule93", "rule_check_rule93_c",
         "frontier_rule94_validation", *(f"rule_check_rule94{c}_c" for c in ("S10", "R30", "R45", "R60")),
+        "frontier_rule94", "rule_check_rule94_c",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
