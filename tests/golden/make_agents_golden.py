@@ -6,7 +6,8 @@ it and say so). Run from the commit whose numbers are published::
     python tests/golden/make_agents_golden.py tests/golden/agents_v2.json
 
 (written in session 42, at a commit whose ``cof-gym evaluate`` default suite is byte-identical to the published
-one; each row below equals the published ``out/evaluate/episodes.csv`` row of the same agent and seed).
+one; each row below equals the published ``out/evaluate/episodes.csv`` row of the same agent and seed; rewritten in
+session 53 when rule 94 changed the shipped interrogator's climb, its rows again equal to the published ones).
 """
 
 from __future__ import annotations
