@@ -38,7 +38,8 @@ stop there would report a poorly known estimate, and a slow probe buys the readi
 with ``creep_sticky`` no later step is larger (the filter thought the peak might be near: a big step
 after that passes the peak on a curve unlike its training curves), and with ``creep_release`` too
 unless the cautious headroom has grown above it again (a false alarm: a climb held to the slow probe
-from its second window on ends at the horizon far below the peak), or with ``creep_sticky_below`` only from a
+from its second window on ends at the horizon far below the peak; the shipped climb's 0.45 since session 53, rule
+94), or with ``creep_sticky_below`` only from a
 slow-probe step the filter itself places near the peak (its mean headroom below that; rules 87-88, not adopted).
 With ``creep_until`` the probe ends
 once the predicted (mean) headroom is that low: the filter expects the peak within it, and each further
