@@ -47,7 +47,8 @@ def test_the_cache_key_follows_what_steers_the_climb_not_the_reported_estimate(t
     assert digest_with(estimate_from="filter") == digest
     assert digest_with(crest_floor=False) == digest_with(runaway_estimate=False) == digest  # estimates only
     assert digest_with(crest_ceiling=not manifest["climb"].get("crest_ceiling", False)) == digest
-    assert digest_with(creep_release=None) == digest  # a default written out: the same climb
+    assert digest_with(creep_sticky_below=None) == digest  # a default written out: the same climb
+    assert digest_with(creep_release=None) != digest  # the shipped probe's release (rule 94) steers
     assert digest_with(caution=1.5) != digest
     digest_with()
     (policy / "guard_0" / "member_0.npz").write_bytes((policy / "guard_0" / "member_1.npz").read_bytes())
