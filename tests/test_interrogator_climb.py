@@ -459,6 +459,30 @@ def test_ceiling_near_headroom_counts_any_fall_where_the_climb_expects_the_peak(
     with pytest.raises(ValueError, match="ceiling_near_headroom"):
         ClimbParameters(ceiling_near_headroom=-0.1)
 
+
+def test_ceiling_noise_z_widens_the_fall_margin_with_the_noise_the_climb_reads():
+    """``ceiling_noise_z`` adds ``ceiling_noise_z x (r - 1)`` standard errors to the margin, near the expected peak
+    as far from it, at a read noise ratio ``r`` above 1, and nothing at or below it (fall_margin). The agent passes
+    its read ratio: on the sharp peak of the crest-stop test, where any fall near the expected peak ends the climb at
+    the ceiling, a reference noise far below what the climb reads with a margin of 10 such errors per unit of ratio
+    lets no fall count, and the climb runs away as with the gate below the peak. The field is checked."""
+    noisy = ClimbParameters(ceiling_fall_z=2.0, ceiling_near_headroom=0.3, ceiling_noise_z=1.5)
+    assert (noisy.fall_margin(0.3, 3.0), noisy.fall_margin(0.31, 3.0), noisy.fall_margin(0.3, 1.0),
+            noisy.fall_margin(0.31, 0.5)) == (3.0, 5.0, 0.0, 2.0)
+    env = gym.make(cof_gym.WAGON_ENV_ID, **QUIET)
+    base = dict(amplitude_ratio=0.4, max_log_step=0.07, runaway_estimate=True, crest_ceiling=True, ceiling_stop=True,
+                ceiling_near_headroom=3.5)
+    ended = {}
+    for setting in ({}, {"noise_reference_nms": 1e-9, "ceiling_noise_z": 10.0},
+                    {"noise_reference_nms": 1e-9}):
+        agent = LearnedInterrogator(env.unwrapped.limits, FilterEnsemble((constant_network(3.0, 0.3),)),
+                                    params=ClimbParameters(**base, **setting))
+        record = run_episode(env, agent, 4, SHARP_LOW_COF, 0)
+        ended[len(ended)] = "macro-slip" if record.macro_slip else agent.stop_reason
+    assert ended == {0: "ceiling", 1: "macro-slip", 2: "ceiling"}
+    with pytest.raises(ValueError, match="ceiling_noise_z"):
+        ClimbParameters(ceiling_noise_z=-0.5)
+
 def test_the_runaway_estimate_is_reported_between_stops_and_scored_when_the_wheel_runs_away():
     """With ``runaway_estimate`` the actions differ from the plain climb's in the estimate component only;
     after an action that is not a stop every source reads the bracket's middle for that action's

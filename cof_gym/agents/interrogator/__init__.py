@@ -65,7 +65,8 @@ the climb has crept), reporting there what it reports at a headroom stop; with `
 window where the crest falls under a rising torque crest (:class:`~cof_gym.agents.runaway.CrestCeiling`),
 reporting the same (with ``ceiling_fall_z`` a crest fall counts for both only beyond that many standard errors of
 the two crests' difference: :attr:`~cof_gym.agents.runaway.CrestCeiling.fall_z`; with ``ceiling_near_headroom``
-too, any fall counts where the predicted headroom is at most that: :meth:`ClimbParameters.fall_margin`). The
+too, any fall counts where the predicted headroom is at most that; with ``ceiling_noise_z`` a fall counts only beyond
+that many more standard errors per unit of read noise ratio above 1: :meth:`ClimbParameters.fall_margin`). The
 climb probes on past a headroom stop with ``crest_probe_lag_rise_deg`` set, at ``creep_log_step``, while its lag has
 risen that much since its first driven window and its crest still rises (:meth:`ClimbParameters.probes_on`; with
 ``crest_probe_max_lag_deg`` and ``crest_probe_max_lag_step_deg`` only below that lag and that lag's step; with

@@ -375,7 +375,8 @@ class LearnedInterrogator:
         steering = self._steering_headroom(p, mean, std, spread, guard_outputs)
         headroom, headroom_std, headroom_spread, caution = steering
         self._ceiling.observe(reading.coa_cycle_max, reading.coa_cycle_bin_se, reading.dc_nm + reading.amplitude_nm,
-                              p.fall_margin(p.mean_headroom(headroom, headroom_std, headroom_spread, caution)))
+                              p.fall_margin(p.mean_headroom(headroom, headroom_std, headroom_spread, caution),
+                                            self._noise_ratio))
         if not falling:
             self._update_estimates(reading, mean, std, guard_outputs)
         step = self._next_step(p, reading, float(mean[0, 0]), *steering)

@@ -60,6 +60,7 @@ BOUNDED_FIELDS: dict[str, tuple[float, float, bool, str]] = {
     "spread_caution": (0.0, 10.0, False, ""),
     "tone2_weight": (0.0, 2.0, False, ""),
     "ceiling_fall_z": (0.0, 10.0, False, ""),
+    "ceiling_noise_z": (0.0, 10.0, False, ""),
     "noise_caution_exponent": (0.0, 2.0, False, ""),
     "noise_creep_exponent": (0.0, 2.0, False, ""),
 }
@@ -132,6 +133,9 @@ class ClimbParameters:
     ceiling_stop: bool = False  # the climb ends at the window where the crest falls under a rising torque crest
     ceiling_fall_z: float = 0.0  # a crest fall counts (crest_ceiling, ceiling_stop) beyond this many SEs (CrestCeiling.fall_z)
     ceiling_near_headroom: float | None = None  # not None: ... only where the predicted headroom is above this
+    # at a read noise ratio r above 1 (noise_ratio), a crest fall counts only beyond this many times (r - 1) standard
+    # errors more, near the expected peak as far from it (fall_margin)
+    ceiling_noise_z: float = 0.0
     # not None: where the climb's first windows read more noise than this (N m s, noise_ratio), it follows it (at_noise)
     noise_reference_nms: float | None = None
     noise_caution_exponent: float = 0.0  # ... its cautions scale as (noise ratio) ** -this
@@ -194,14 +198,17 @@ class ClimbParameters:
             raise ValueError(f"crest_probe_lag_rise_deg probes at creep_log_step, which must then be at least "
                              f"min_log_step={self.min_log_step}, got {self.creep_log_step!r}")
 
-    def fall_margin(self, mean_headroom: float) -> float:
+    def fall_margin(self, mean_headroom: float, noise_ratio: float = 1.0) -> float:
         """The standard errors a crest fall must exceed to count (:class:`~cof_gym.agents.runaway.CrestCeiling`)
         at a window whose predicted (mean) headroom is ``mean_headroom``: ``ceiling_fall_z``, or with
         ``ceiling_near_headroom`` 0 where that headroom is at most it (the climb expects the peak: a crest that
         stops rising there is the peak's) and ``ceiling_fall_z`` beyond it (far from the expected peak a small
-        fall is more likely the sensors' noise)."""
+        fall is more likely the sensors' noise); with ``ceiling_noise_z``, ``ceiling_noise_z x (noise_ratio - 1)``
+        more where the climb's first windows read more noise than the reference (:meth:`noise_ratio`): the bins'
+        errors are estimated from the window's own cycles, and a noisier sensor than the networks met makes a
+        chance fall near the expected peak, which ends the climb far below it, more frequent."""
         near = self.ceiling_near_headroom is not None and mean_headroom <= self.ceiling_near_headroom
-        return 0.0 if near else self.ceiling_fall_z
+        return (0.0 if near else self.ceiling_fall_z) + self.ceiling_noise_z * max(0.0, noise_ratio - 1.0)
 
     def torque_gain(self, reading: Reading) -> float:
         """The gain the climb divides its torque readings by, from its first driven window's ``reading``: the gain
