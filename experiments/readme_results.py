@@ -789,6 +789,11 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # rule 94's confirmation: runs/confirm94.sh R45 creep_release=0.45 as rule 93's with --set creep_release=0.45
         # in place of the estimators, on confirmation32 (and --scenario noise_level=3, motor_lag_s=0.1),
         # torque_confirmation13 and extremes_confirmation4 (frontier_rule94, rule_check_rule94_c)
+        # rule 95: the shipped agent (rule 94's climb; records _rule95shipped53_) and --set ceiling_noise_z=0.5 / 1 / 2
+        # (N05, N1, N2), each with --guards $G --guards-only --targets 0.1 --stops --return-digits 4 on the four
+        # validation plays; rule_check.py against the _rule95shipped53_ records with --errors --error-grid family
+        # --returns --more-runaways 1440 (rule_check_rule95C_c); frontier.py $(P rule95shipped53) $(P rule95N05)
+        # $(P rule95N1) $(P rule95N2) --references ... --shipped $(P rule95shipped53) (frontier_rule95_validation)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1113,6 +1118,7 @@ SOURCES = {
         "frontier_rule93", "rule_check_rule93_c",
         "frontier_rule94_validation", *(f"rule_check_rule94{c}_c" for c in ("S10", "R30", "R45", "R60")),
         "frontier_rule94", "rule_check_rule94_c",
+        "frontier_rule95_validation", *(f"rule_check_rule95{c}_c" for c in ("N05", "N1", "N2")),
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
