@@ -796,6 +796,9 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # $(P rule95N1) $(P rule95N2) --references ... --shipped $(P rule95shipped53) (frontier_rule95_validation)
         # rule 95's confirmation: runs/confirm95.sh N05 ceiling_noise_z=0.5, rule 94's script on confirmation33,
         # torque_confirmation14 and extremes_confirmation5 (frontier_rule95, rule_check_rule95_c)
+        # rule 96: --set creep_sticky_below=1.0 / 1.5 (K10, K15) as rule 95's candidates, against the _rule95shipped53_
+        # records (rule_check_rule96C_c; frontier.py $(P rule95shipped53) $(P rule96K10) $(P rule96K15) ...:
+        # frontier_rule96_validation)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1122,6 +1125,7 @@ SOURCES = {
         "frontier_rule94", "rule_check_rule94_c",
         "frontier_rule95_validation", *(f"rule_check_rule95{c}_c" for c in ("N05", "N1", "N2")),
         "frontier_rule95", "rule_check_rule95_c",
+        "frontier_rule96_validation", *(f"rule_check_rule96{c}_c" for c in ("K10", "K15")),
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
