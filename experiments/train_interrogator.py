@@ -363,11 +363,12 @@ RECIPE_BALANCE_LAG_DEG = TORQUE_BALANCE_MAX_LAG_DEG if TORQUE_BALANCE else None
 # without the parts below, ranks the probe that is not sticky first for them (pooled P90 25.1 % against 27.0 %, but
 # 14 against 6 runaways on the procedural grid: docs/interrogator.md, rule 74)
 CREEP_STICKY = True
-# ... unless the cautious headroom is above 0.45 again: a probe started far below the peak climbs on (rule 94, session 53)
+# ... unless the cautious headroom is above 0.45 again: a probe started far below the peak climbs on (rule 94,
+# session 53)
 CREEP_RELEASE = 0.45
 # the climb's parts the recipe sets after its selection (the adopted rules' constants above), by ClimbParameters field
-ADOPTED_CLIMB = {"creep_sticky": CREEP_STICKY, "creep_release": CREEP_RELEASE, "crest_floor": CREST_FLOOR, "runaway_estimate": RUNAWAY_ESTIMATE,
-                 "crest_ceiling": CREST_CEILING, "ceiling_stop": CEILING_STOP, "ceiling_fall_z": CEILING_FALL_Z,
+ADOPTED_CLIMB = {"creep_sticky": CREEP_STICKY, "creep_release": CREEP_RELEASE, "crest_floor": CREST_FLOOR,
+                 "runaway_estimate": RUNAWAY_ESTIMATE, "crest_ceiling": CREST_CEILING, "ceiling_stop": CEILING_STOP, "ceiling_fall_z": CEILING_FALL_Z,
                  "ceiling_near_headroom": CEILING_NEAR_HEADROOM, "noise_reference_nms": NOISE_REFERENCE_NMS,
                  "noise_caution_exponent": NOISE_CAUTION_EXPONENT, "noise_creep_exponent": NOISE_CREEP_EXPONENT,
                  "torque_balance": TORQUE_BALANCE, "torque_balance_max_lag_deg": TORQUE_BALANCE_MAX_LAG_DEG}

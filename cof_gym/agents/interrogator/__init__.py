@@ -109,8 +109,8 @@ policy: :func:`~cof_gym.agents.interrogator.training.collect` with a ``policy``)
 their correction (``estimate_from="estimator"``), or theirs, the filter's and the guards' pooled
 (``"estimator_pooled"``), or that pool where the climb stops on its headroom and the filter's otherwise
 (``"estimator_pooled_at_headroom"``), or theirs alone there (``"estimator_at_headroom"``), or theirs and the
-guards' pooled without the filter's (``"guard_estimator_pooled"``; :data:`ESTIMATOR_ESTIMATES`). They never steer: the climb, and every
-macro-slip, is the same with or without them. The filter and the guards learn from random probing
+guards' pooled without the filter's (``"guard_estimator_pooled"``; :data:`ESTIMATOR_ESTIMATES`). They never steer:
+the climb, and every macro-slip, is the same with or without them. The filter and the guards learn from random probing
 climbs, so that no schedule leaks the truth into their features; an estimator learns the correction
 where the deployed climb actually stops. A manifest names them under ``"estimators"``.
 
