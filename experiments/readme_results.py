@@ -799,6 +799,10 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # rule 96: --set creep_sticky_below=1.0 / 1.5 (K10, K15) as rule 95's candidates, against the _rule95shipped53_
         # records (rule_check_rule96C_c; frontier.py $(P rule95shipped53) $(P rule96K10) $(P rule96K15) ...:
         # frontier_rule96_validation)
+        # rule 97's exploration: runs/explore97{,b,c,d}.sh (--set rows on --grids confirmation31 and confirmation33,
+        # records _x97shipped_, _x97pace_, _x97creep_, _x97cands_, _x97until_, _x97paceuntil_, _x97paceuntil2_), then
+        # frontier.py $(X x97shipped) $(X x97pace) ... --references $(X phase-rule) ... --shipped $(X x97shipped), X
+        # joining a name's two files by + (frontier_explore97)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1126,6 +1130,7 @@ SOURCES = {
         "frontier_rule95_validation", *(f"rule_check_rule95{c}_c" for c in ("N05", "N1", "N2")),
         "frontier_rule95", "rule_check_rule95_c",
         "frontier_rule96_validation", *(f"rule_check_rule96{c}_c" for c in ("K10", "K15")),
+        "frontier_explore97",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
