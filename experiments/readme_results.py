@@ -803,6 +803,9 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # records _x97shipped_, _x97pace_, _x97creep_, _x97cands_, _x97until_, _x97paceuntil_, _x97paceuntil2_), then
         # frontier.py $(X x97shipped) $(X x97pace) ... --references $(X phase-rule) ... --shipped $(X x97shipped), X
         # joining a name's two files by + (frontier_explore97)
+        # rule 97: --set pace_caution=2.0 / 1.75 (P20, P175) and pace_caution=1.5 creep_until=0.2 (P15U20) as rule 95's
+        # candidates, against the _rule95shipped53_ records (runs/rule97.sh: rule_check_rule97C_c; frontier.py
+        # $(P rule95shipped53) $(P rule97P20) $(P rule97P175) $(P rule97P15U20) ...: frontier_rule97_validation)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1130,7 +1133,8 @@ SOURCES = {
         "frontier_rule95_validation", *(f"rule_check_rule95{c}_c" for c in ("N05", "N1", "N2")),
         "frontier_rule95", "rule_check_rule95_c",
         "frontier_rule96_validation", *(f"rule_check_rule96{c}_c" for c in ("K10", "K15")),
-        "frontier_explore97",
+        "frontier_explore97", "frontier_rule97_validation",
+        *(f"rule_check_rule97{c}_c" for c in ("P20", "P175", "P15U20")),
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
