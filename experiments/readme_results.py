@@ -1293,6 +1293,79 @@ def slip_failed(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNED) 
     return "\n".join(rows)
 
 
+def _group(summary: dict, agent: str, group: str) -> dict:
+    """The breakdown group ``group`` of ``agent`` in an evaluate summary (empty where the agent has no episode
+    in it)."""
+    return summary[agent]["breakdown"].get(group, {})
+
+
+def horizon_ends(suites: dict[str, tuple[str, Path]] = HORIZON_SUITES, learned: str = LEARNED) -> str | None:
+    """Per suite at the task's 30 steps: how many of the learned agent's episodes ended at the horizon, their mean
+    peak torque (% of M_sat) and median / P90 error, beside the median of those it ended by its own stop (the
+    breakdown's "ended" rows); None when a summary is missing."""
+    rows = [f"| suite | {learned}: episodes | ended at the horizon | mean peak torque there [% of M_sat] | "
+            "median / P90 there | median where it stopped |", "|---|---|---|---|---|---|"]
+    for label, out in suites.values():
+        summary = _load(out / "summary.json", learned)
+        if summary is None:
+            return None
+        ended, stopped = _group(summary, learned, "ended: horizon"), _group(summary, learned, "ended: stop")
+        there = (f"{100 * ended['peak_torque_fraction']:.1f} | {100 * ended['median_error']:.1f} % / "
+                 f"{100 * ended['p90_error']:.1f} %") if ended else "- | -"
+        rows.append(f"| {label} | {summary[learned]['episodes']} | {ended.get('episodes', 0)} | {there} | "
+                    + (f"{100 * stopped['median_error']:.1f} % |" if stopped else "- |"))
+    return "\n".join(rows)
+
+
+PEAK_CREEPAGE_AGENTS = ("phase-rule", "robust-model", "staircase", "model-based")  # beside the learned agent
+
+
+def peak_creepage(path: Path = TARGET_SUITES["v2 default suite (`cof-gym evaluate`)"], learned: str = LEARNED,
+                  agents: tuple[str, ...] = PEAK_CREEPAGE_AGENTS) -> str | None:
+    """The default suite's peak-creepage groups (the creepage of the true creep curve's peak): median / P90 /
+    macro-slips of the learned agent and of ``agents`` in each; None when the summary is missing."""
+    summary = _load(path, learned)
+    if summary is None or any(a not in summary for a in agents):
+        return None
+    groups = [g for g in summary[learned]["breakdown"] if g.startswith("peak creepage")]
+    rows = ["| peak creepage (episodes) | " + " | ".join((learned, *agents)) + " |", "|---" * (2 + len(agents)) + "|"]
+    for group in groups:
+        cells = []
+        for agent in (learned, *agents):
+            g = _group(summary, agent, group)
+            cells.append(f"{100 * g['median_error']:.1f} % / {100 * g['p90_error']:.1f} % / "
+                         f"{g['macro_slip_events']:.0f}")
+        rows.append(f"| {group.removeprefix('peak creepage ')} ({summary[learned]['breakdown'][group]['episodes']}) | "
+                    + " | ".join(cells) + " |")
+    return "\n".join(rows)
+
+
+EDGE_SUITES = {"v2 stress tables (`--suite experiments/suites/v2_stress_tables_grid.json`)":
+               ROOT / "out" / "evaluate-v2-stress-tables" / "summary.json",
+               "v2 extremes (`--suite experiments/suites/v2_extremes_grid.json`)":
+               ROOT / "out" / "evaluate-v2-extremes" / "summary.json"}
+EDGE_AGENTS = ("phase-rule", "robust-model", "staircase", "model-based")  # beside the learned agent
+
+
+def edge_suites(paths: dict[str, Path] = EDGE_SUITES, learned: str = LEARNED,
+                agents: tuple[str, ...] = EDGE_AGENTS) -> str | None:
+    """Per suite at the edges of what the env accepts: median / P90 / macro-slips of the learned agent and of
+    ``agents``, the learned agent's mean peak torque and how often its calibrated interval holds the CoF; None when a
+    summary is missing."""
+    rows = [f"| suite (episodes) | {learned} | {learned}: mean peak torque [% of M_sat] | {learned}: CoF in its "
+            "interval | " + " | ".join(agents) + " |", "|---" * (4 + len(agents)) + "|"]
+    for label, path in paths.items():
+        summary = _load(path, learned)
+        if summary is None or any(a not in summary for a in agents):
+            return None
+        interval = summary[learned].get("interval", {}).get("coverage")
+        rows.append(f"| {label} ({summary[learned]['episodes']}) | {_cell(summary, learned)} | "
+                    f"{100 * _stat(summary, learned, 'peak_torque_fraction'):.1f} | "
+                    + (f"{100 * interval['value']:.1f} %" if interval else "-") + " | "
+                    + " | ".join(_cell(summary, a) for a in agents) + " |")
+    return "\n".join(rows)
+
+
 def validation_runs(prefix: str) -> dict[str, Path]:
     """The three validation grids' evaluate outputs ``out/PREFIX``, ``out/PREFIX-procedural``, ``-steep``."""
     return {grid: ROOT / "out" / (prefix + suffix)
@@ -1333,6 +1406,7 @@ def ceiling_validation(runs: dict[str, Path] = CEILING_VALIDATION) -> str | None
 
 
 GENERATED = {"targets": targets, "heldout_overview": heldout_overview, "slip_failed": slip_failed, "horizon": horizon,
+             "horizon_ends": horizon_ends, "peak_creepage": peak_creepage, "edge_suites": edge_suites,
              "runaway_validation": runaway_validation, "ceiling_validation": ceiling_validation}  # block -> its generator
 
 

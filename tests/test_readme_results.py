@@ -7,8 +7,8 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
-from readme_results import (DOCUMENTS, GENERATED, SOURCES, fill, heldout_overview, horizon, slip_failed,  # noqa: E402
-                            targets, with_horizon)
+from readme_results import (DOCUMENTS, GENERATED, SOURCES, edge_suites, fill, heldout_overview, horizon,  # noqa: E402
+                            horizon_ends, peak_creepage, slip_failed, targets, with_horizon)
 
 
 def _summary(path: Path, agents: dict[str, tuple[bool, float, float, int]], episodes: int = 50,
@@ -81,6 +81,54 @@ def test_horizon_rows_read_each_run_where_the_evaluate_command_writes_it(tmp_pat
     assert rows[5].split(" | ")[3] == "1"  # the held-out grid's 30-step run
     (runs[-1] / "summary.json").unlink()
     assert horizon(suites, learned="learned", root=tmp_path) is None
+
+
+def _with_breakdown(path: Path, agent: str, groups: dict[str, tuple[int, float, float, int, float]]) -> None:
+    """Give ``agent`` breakdown groups: name -> (episodes, median, P90, macro-slips, mean peak torque)."""
+    summary = json.loads(path.read_text())
+    summary["summary"][agent]["breakdown"] = {
+        name: {"episodes": n, "median_error": med, "p90_error": p90, "macro_slip_events": slips,
+               "peak_torque_fraction": peak} for name, (n, med, p90, slips, peak) in groups.items()}
+    path.write_text(json.dumps(summary))
+
+
+def test_horizon_ends_set_the_horizon_group_beside_the_stop_group_and_mark_a_suite_without_one(tmp_path):
+    suites = {}
+    for name, groups in (("a", {"ended: horizon": (20, 0.12, 0.3, 0, 0.75), "ended: stop": (40, 0.015, 0.05, 0, 1.1)}),
+                         ("b", {"ended: stop": (60, 0.02, 0.06, 0, 1.1)})):
+        (tmp_path / name).mkdir()
+        _summary(tmp_path / name / "summary.json", {"learned": (False, 0.04, 0.3, 0)}, episodes=60)
+        _with_breakdown(tmp_path / name / "summary.json", "learned", groups)
+        suites[name] = (f"suite {name}", tmp_path / name)
+    rows = horizon_ends(suites, learned="learned").splitlines()
+    assert rows[2] == "| suite a | 60 | 20 | 75.0 | 12.0 % / 30.0 % | 1.5 % |"
+    assert rows[3] == "| suite b | 60 | 0 | - | - | 2.0 % |"
+    assert horizon_ends({"c": ("suite c", tmp_path / "missing")}, learned="learned") is None
+
+
+def test_peak_creepage_rows_follow_the_learned_agents_groups_for_every_agent_named(tmp_path):
+    path = _summary(tmp_path / "s.json", {"learned": (False, 0.04, 0.3, 0), "rule": (False, 0.06, 0.25, 7)})
+    groups = {"dry": (50, 0.1, 0.2, 0, 0.9), "peak creepage < 1 %": (30, 0.01, 0.05, 0, 1.0),
+              "peak creepage 4+ %": (20, 0.08, 0.3, 0, 0.8)}
+    _with_breakdown(path, "learned", groups)
+    _with_breakdown(path, "rule", {name: (n, 2 * med, 2 * p90, 3, peak)
+                                   for name, (n, med, p90, _, peak) in groups.items()})
+    rows = peak_creepage(path, learned="learned", agents=("rule",)).splitlines()
+    assert rows[0] == "| peak creepage (episodes) | learned | rule |"
+    assert rows[2:] == ["| < 1 % (30) | 1.0 % / 5.0 % / 0 | 2.0 % / 10.0 % / 3 |",
+                        "| 4+ % (20) | 8.0 % / 30.0 % / 0 | 16.0 % / 60.0 % / 3 |"]
+    assert peak_creepage(path, learned="learned", agents=("rule", "absent")) is None
+
+
+def test_edge_suites_give_the_learned_agents_peak_torque_and_interval_coverage_beside_the_others(tmp_path):
+    path = _summary(tmp_path / "s.json", {"learned": (False, 0.3, 0.8, 6), "rule": (False, 0.25, 0.85, 9)}, episodes=48,
+                    peak_torque=0.5)
+    summary = json.loads(path.read_text())
+    summary["summary"]["learned"]["interval"] = {"coverage": {"value": 0.4375}}
+    path.write_text(json.dumps(summary))
+    rows = edge_suites({"edge": path}, learned="learned", agents=("rule",)).splitlines()
+    assert rows[2] == "| edge (48) | 30.0 % / 80.0 % / 6 | 50.0 | 43.8 % | 25.0 % / 85.0 % / 9 |"
+    assert edge_suites({"edge": path}, learned="learned", agents=("rule", "absent")) is None
 
 
 def test_a_block_is_filled_in_the_document_that_holds_it_and_nowhere_else(tmp_path, capsys):
