@@ -1,7 +1,8 @@
 """What the documents name exists: every dotted ``cof_gym.…`` name in the READMEs (the shipped policies' cards
 among them), docs/ and the code's docstrings and comments imports (a module, or an attribute chain of one), and
 every repository path they write (``cof_gym/…``, ``experiments/…``, ``tests/…``, ``docs/…``, ``agents/…``) is a
-file or a folder of this checkout. A module split or a rename that leaves a reference behind fails here."""
+file or a folder of this checkout, and every markdown link to a heading (``[text](docs/x.md#heading)``) finds that
+heading. A module split, a rename or a retitled section that leaves a reference behind fails here."""
 
 from __future__ import annotations
 
@@ -20,6 +21,8 @@ SOURCES = sorted(p for d in ("cof_gym", "experiments") for p in (ROOT / d).rglob
 DOTTED = re.compile(r"(?<![\w/])(cof_gym(?:\.[A-Za-z_]\w*)+)")
 PATH = re.compile(r"(?<![\w/.])((?:cof_gym|experiments|tests|docs|agents)/[\w./-]*)")
 IMPORT_LINE = re.compile(r"^\s*(from|import) ")
+HEADING = re.compile(r"^#+ (.*)$", re.M)
+ANCHOR_LINK = re.compile(r"\]\(([^)#\s]*)#([^)\s]+)\)")  # [text](file.md#anchor) or [text](#anchor)
 
 
 @lru_cache(maxsize=None)
@@ -76,3 +79,34 @@ def test_every_experiment_script_is_in_the_experiments_readme() -> None:
     listed = (ROOT / "experiments" / "README.md").read_text()
     scripts = sorted(p.name for p in (ROOT / "experiments").iterdir() if p.suffix in (".py", ".sh"))
     assert [s for s in scripts if f"`{s}`" not in listed] == []
+
+
+def heading_anchor(heading: str) -> str:
+    """The anchor GitHub gives a markdown heading: lower case, punctuation but hyphens dropped, spaces as hyphens."""
+    return re.sub(r"[^\w\- ]", "", heading.strip().lower()).replace(" ", "-")
+
+
+def broken_anchors(path: Path) -> list[str]:
+    """The ``file#anchor`` links of ``path`` whose file is a markdown document without a heading of that anchor."""
+    broken = []
+    for target, anchor in ANCHOR_LINK.findall(path.read_text()):
+        document = (path.parent / target).resolve() if target else path
+        if document.suffix != ".md" or not document.is_file():
+            continue  # a missing file is test_every_repository_path_exists's
+        if anchor not in {heading_anchor(h) for h in HEADING.findall(document.read_text())}:
+            broken.append(f"{target}#{anchor}")
+    return broken
+
+
+@pytest.mark.parametrize("path", DOCUMENTS, ids=lambda p: str(p.relative_to(ROOT)))
+def test_every_link_to_a_heading_finds_it(path: Path) -> None:
+    broken = broken_anchors(path)
+    assert not broken, f"{path.relative_to(ROOT)}: {broken}"
+
+
+def test_the_anchor_check_sees_a_retitled_heading(tmp_path: Path) -> None:
+    (tmp_path / "notes.md").write_text("# Notes\n\n## How the numbers moved (sessions 20-53)\n")
+    page = tmp_path / "page.md"
+    page.write_text("[a](notes.md#how-the-numbers-moved-sessions-20-53), "
+                    "[b](notes.md#how-the-numbers-moved-sessions-20-48), [c](#notes-here)\n\n## Notes here\n")
+    assert broken_anchors(page) == ["notes.md#how-the-numbers-moved-sessions-20-48"]
