@@ -621,7 +621,8 @@ def build_parser() -> Parser:
                          "mean) or laplace (its conditional median); default: %(default)s")
     ap.add_argument("--features", nargs="*", default=[], choices=FITTABLE_BLOCKS,
                     help="optional feature blocks the networks read (tone 2's follow two-tone climbs; torque_free "
-                         "leaves out every feature of the compliance, which reads the torque sensor's gain)")
+                         "leaves out every feature of the compliance, which reads the torque sensor's gain; "
+                         "applied_amplitude reads the applied modulation ratio in place of the commanded one)")
     ap.add_argument("--ship", action="store_true")
     ap.add_argument("--criterion", choices=sorted(CRITERIA), default="pooled",
                     help="how the climb is ranked on validation (pooled: both grids, the recipe; family: the family "

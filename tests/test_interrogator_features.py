@@ -12,7 +12,8 @@ import pytest
 
 import cof_gym
 from cof_gym.agents.interrogator import (
-    CREEPAGE_MODULATION_FEATURE_NAMES, CREEPAGE_RISE_FEATURE_NAMES, CREEPAGE_RISE_FLOORS, CYCLE_CREST_FEATURE_NAMES,
+    APPLIED_AMPLITUDE_FEATURE_NAMES, CREEPAGE_MODULATION_FEATURE_NAMES, CREEPAGE_RISE_FEATURE_NAMES,
+    CREEPAGE_RISE_FLOORS, CYCLE_CREST_FEATURE_NAMES,
     FEATURE_NAMES, PEAK_GAP_CLIP, SE_CLIP_DEG, ClimbParameters, EpisodeFeatures, FilterEnsemble, FilterNetwork,
     LearnedInterrogator, Reading, TORQUE_READING_FEATURE_NAMES, blocks_of, feature_names, peak_gap, slope_from_phase,
     slope_index,
@@ -190,6 +191,30 @@ def test_the_torque_free_block_leaves_out_every_reading_of_the_torque_sensor():
         assert blocks_of(feature_names((*blocks, "torque_free"))) == tuple(
             b for b in ("cycle_crest", "climb_fit", "torque_free") if b in (*blocks, "torque_free"))
     assert set(TORQUE_READING_FEATURE_NAMES) <= set(feature_names(("tone2", "climb_fit")))  # every name is a feature
+
+
+def test_the_applied_amplitude_block_reads_what_the_drive_applied_in_place_of_the_command():
+    """A drive that applies 30 % of the commanded modulation (a 0.1 s lag at 5 Hz): the applied_amplitude block's
+    feature is the measured amplitude over the DC, it takes the commanded ratio's place (every other feature as
+    without the block, in order), a network's file names the block, and a reading without the measured amplitude is
+    refused rather than read as zero."""
+    readings = [replace(r, torque_amplitude_measured_nm=0.3 * r.amplitude_nm)
+                for r in _readings([1e-3 * (1 + k) for k in range(4)], [0.05 * (1 + k) ** 0.5 for k in range(4)])]
+    for blocks in ((), ("climb_fit",), ("climb_fit", "torque_free")):
+        plain = EpisodeFeatures(False, blocks=blocks)
+        applied = EpisodeFeatures(False, blocks=(*blocks, "applied_amplitude"))
+        for r in readings:
+            plain.push(r)
+            applied.push(r)
+        names, applied_names = feature_names(blocks), feature_names((*blocks, "applied_amplitude"))
+        kept = [k for k, name in enumerate(names) if name != "amplitude_ratio"]
+        assert applied_names == (*(names[k] for k in kept), *APPLIED_AMPLITUDE_FEATURE_NAMES)
+        assert blocks_of(applied_names) == (*blocks, "applied_amplitude")
+        v, w = plain.vector(), applied.vector()
+        assert v[names.index("amplitude_ratio")] == pytest.approx(0.4)  # 400 N m on 1000 N m, commanded
+        assert w[-1] == pytest.approx(0.12) and np.array_equal(w[:-1], v[kept])
+    with pytest.raises(ValueError, match="applied torque amplitude"):
+        EpisodeFeatures(False, blocks=("applied_amplitude",)).push(_readings([1e-3], [0.05])[0])
 
 
 def test_an_agent_on_torque_free_networks_plays_the_same_climb_whatever_the_torque_gain(env):

@@ -167,7 +167,9 @@ read from two, so that a slow probe's many readings of nearly one slope average 
 appends nothing: it leaves out every feature that reads the compliance
 (:data:`TORQUE_READING_FEATURE_NAMES`), the speed amplitude over the measured torque amplitude, so that the
 network cannot see the torque sensor's gain error (a noise reading that cancels it too:
-``ClimbParameters.noise_torque_measured``).
+``ClimbParameters.noise_torque_measured``). ``applied_amplitude`` reads the modulation the drive applied over
+the DC (the measured torque amplitude, :data:`APPLIED_AMPLITUDE_FEATURE_NAMES`) in place of the commanded
+``amplitude_ratio``: a lagging drive applies less than it is asked for, and the crest reaches less far.
 
 **An interval around the estimate.** A policy directory may hold ``interval.json`` (:class:`IntervalScales`):
 scales calibrated by split conformal prediction on the validation grids' climbs, per way the estimate was
@@ -195,7 +197,8 @@ from cof_gym.agents.interrogator.features import (
     HISTORY, FEATURE_NAMES, TONE2_FEATURE_NAMES, CREEPAGE_RISE_FEATURE_NAMES, CREEPAGE_RISE_FLOORS,
     CREEPAGE_MODULATION_FEATURE_NAMES, CREEPAGE_SWING_FLOOR, CYCLE_CREST_FEATURE_NAMES, CYCLE_LIFT_FLOOR,
     CLIMB_FIT_FEATURE_NAMES, CLIMB_FIT_WINDOWS, CLIMB_FIT_MIN_SPAN, SLOPE_FALL_CLIP, TORQUE_READING_FEATURE_NAMES,
-    FEATURE_BLOCKS, feature_names, blocks_of, FLEXIBILITY_CLIP, PEAK_GAP_CLIP, flexibility_ratio, slope_fall,
+    APPLIED_AMPLITUDE_FEATURE_NAMES, BLOCK_LEAVES_OUT, FEATURE_BLOCKS,
+    feature_names, blocks_of, FLEXIBILITY_CLIP, PEAK_GAP_CLIP, flexibility_ratio, slope_fall,
     fitted_peak_gap, fitted_flexibility, peak_gap, EpisodeFeatures,
 )
 from cof_gym.agents.interrogator.networks import (
@@ -220,7 +223,8 @@ __all__ = [
     "TONE2_FEATURE_NAMES", "CREEPAGE_RISE_FEATURE_NAMES", "CREEPAGE_RISE_FLOORS",
     "CREEPAGE_MODULATION_FEATURE_NAMES", "CREEPAGE_SWING_FLOOR", "CYCLE_CREST_FEATURE_NAMES", "CYCLE_LIFT_FLOOR",
     "CLIMB_FIT_FEATURE_NAMES", "CLIMB_FIT_WINDOWS", "CLIMB_FIT_MIN_SPAN", "SLOPE_FALL_CLIP", "FEATURE_BLOCKS",
-    "TORQUE_READING_FEATURE_NAMES", "feature_names", "blocks_of", "FLEXIBILITY_CLIP", "PEAK_GAP_CLIP",
+    "TORQUE_READING_FEATURE_NAMES", "APPLIED_AMPLITUDE_FEATURE_NAMES", "BLOCK_LEAVES_OUT",
+    "feature_names", "blocks_of", "FLEXIBILITY_CLIP", "PEAK_GAP_CLIP",
     "flexibility_ratio", "slope_fall",
     "fitted_peak_gap", "fitted_flexibility", "peak_gap", "EpisodeFeatures", "TARGET_NAMES", "pooled_correction",
     "pooled_std", "FilterNetwork", "FilterEnsemble", "INTERVAL_FILE", "COMMITMENTS", "IN_FLIGHT", "GROUPS", "POOLED", "LOG_STD_FLOOR",

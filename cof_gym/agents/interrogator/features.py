@@ -55,11 +55,18 @@ SLOPE_FALL_CLIP = 20.0  # |d ln slope / d ln DC| beyond this reads this
 # as the creepage differences make it immune to the wheel radius error)
 TORQUE_READING_FEATURE_NAMES = ("compliance", "compliance_rise", "peak_gap_compliance", "slope_ratio_compliance",
                                 "tone2_compliance", "fit_slope_fall_compliance", "fit_peak_gap_compliance")
+# the modulation the drive applied, over the DC (the measured torque amplitude, calibrated where the climb calibrates
+# its torque readings): the ``applied_amplitude`` block reads it in place of the commanded ``amplitude_ratio``. A
+# drive that lags by ``tau`` applies ``1 / sqrt(1 + (w tau)^2)`` of a commanded modulation at ``w`` (0.30 at 5 Hz and
+# 0.1 s): the crest reaches that much less far into the creep curve than the command says
+APPLIED_AMPLITUDE_FEATURE_NAMES = ("applied_amplitude_ratio",)
 # optional feature blocks, in this order (a network's file names the ones it reads): each appends its names to
-# FEATURE_NAMES, except ``torque_free``, which appends none and leaves out TORQUE_READING_FEATURE_NAMES
+# FEATURE_NAMES and leaves out those of BLOCK_LEAVES_OUT (``torque_free`` appends none)
 FEATURE_BLOCKS = {"tone2": TONE2_FEATURE_NAMES, "creepage_rise": CREEPAGE_RISE_FEATURE_NAMES,
                   "creepage_modulation": CREEPAGE_MODULATION_FEATURE_NAMES, "cycle_crest": CYCLE_CREST_FEATURE_NAMES,
-                  "climb_fit": CLIMB_FIT_FEATURE_NAMES, "torque_free": ()}
+                  "climb_fit": CLIMB_FIT_FEATURE_NAMES, "torque_free": (),
+                  "applied_amplitude": APPLIED_AMPLITUDE_FEATURE_NAMES}
+BLOCK_LEAVES_OUT = {"torque_free": TORQUE_READING_FEATURE_NAMES, "applied_amplitude": ("amplitude_ratio",)}
 
 
 def _all_feature_names(blocks: tuple[str, ...]) -> tuple[str, ...]:
@@ -68,17 +75,18 @@ def _all_feature_names(blocks: tuple[str, ...]) -> tuple[str, ...]:
 
 
 def _kept(blocks: Iterable[str]) -> tuple[int, ...] | None:
-    """The positions among :func:`_all_feature_names` that ``blocks`` keeps: None (all of them) unless it has
-    ``torque_free``, which leaves out :data:`TORQUE_READING_FEATURE_NAMES`. One place for the names and the values,
-    computed once per set of blocks (:func:`EpisodeFeatures.vector` asks at every window)."""
+    """The positions among :func:`_all_feature_names` that ``blocks`` keeps: None (all of them) unless one of them
+    leaves names out (:data:`BLOCK_LEAVES_OUT`). One place for the names and the values, computed once per set of
+    blocks (:func:`EpisodeFeatures.vector` asks at every window)."""
     return _kept_in_order(tuple(b for b in FEATURE_BLOCKS if b in blocks))
 
 
 @functools.lru_cache(maxsize=None)
 def _kept_in_order(blocks: tuple[str, ...]) -> tuple[int, ...] | None:
-    if "torque_free" not in blocks:
+    left_out = {name for b in blocks for name in BLOCK_LEAVES_OUT.get(b, ())}
+    if not left_out:
         return None
-    return tuple(k for k, name in enumerate(_all_feature_names(blocks)) if name not in TORQUE_READING_FEATURE_NAMES)
+    return tuple(k for k, name in enumerate(_all_feature_names(blocks)) if name not in left_out)
 
 
 def feature_names(blocks: Iterable[str] = ()) -> tuple[str, ...]:
@@ -211,6 +219,10 @@ class EpisodeFeatures:
         if "cycle_crest" in self.blocks and not reading.coa_cycle_max > 0.0:
             raise ValueError("EpisodeFeatures with the cycle_crest block takes readings of the CoA's cycle crest "
                              "(coa_cycle_max > 0): climbs recorded before that reading must be collected again")
+        if "applied_amplitude" in self.blocks and not reading.torque_amplitude_measured_nm > 0.0:
+            raise ValueError("EpisodeFeatures with the applied_amplitude block takes readings of the applied torque "
+                             "amplitude (torque_amplitude_measured_nm > 0): climbs recorded before that reading must "
+                             "be collected again")
         self.readings.append(reading)
 
     def _creepage_rise_values(self) -> list[float]:
@@ -324,6 +336,8 @@ class EpisodeFeatures:
             values += self._cycle_crest_values()
         if "climb_fit" in self.blocks:
             values += self._climb_fit_values()
+        if "applied_amplitude" in self.blocks:
+            values.append(now.torque_amplitude_measured_nm / now.dc_nm)
         kept = _kept(self.blocks)
         if kept is not None:
             values = [values[k] for k in kept]
