@@ -806,6 +806,13 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # rule 97: --set pace_caution=2.0 / 1.75 (P20, P175) and pace_caution=1.5 creep_until=0.2 (P15U20) as rule 95's
         # candidates, against the _rule95shipped53_ records (runs/rule97.sh: rule_check_rule97C_c; frontier.py
         # $(P rule95shipped53) $(P rule97P20) $(P rule97P175) $(P rule97P15U20) ...: frontier_rule97_validation)
+        # rule 98: python experiments/train_interrogator.py --out runs/interrogator_applied --climbs torque_wide=8000
+        # --guard-climbs torque_wide=8000 procedural_torque_wide=8000 --torque-balance-lag 65 --add-guard-climbs
+        # runs/estimator_wide_balance/onpolicy_env_8e113d0ddec5.npz --probing-guard --features applied_amplitude
+        # --fit-only (the caches copied from runs/interrogator_wide_balance), then A: --run
+        # runs/interrogator_applied/ensemble --guards runs/interrogator_applied/{guard,probing_guard}/ensemble
+        # --guards-only --targets 0.1 --stops --return-digits 4 on the four validation plays (runs/rule98.sh:
+        # rule_check_rule98A_c against the _rule95shipped53_ records, frontier_rule98_validation)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1135,6 +1142,7 @@ SOURCES = {
         "frontier_rule96_validation", *(f"rule_check_rule96{c}_c" for c in ("K10", "K15")),
         "frontier_explore97", "frontier_rule97_validation",
         *(f"rule_check_rule97{c}_c" for c in ("P20", "P175", "P15U20")),
+        "frontier_rule98_validation", "rule_check_rule98A_c",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
