@@ -813,6 +813,10 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # runs/interrogator_applied/ensemble --guards runs/interrogator_applied/{guard,probing_guard}/ensemble
         # --guards-only --targets 0.1 --stops --return-digits 4 on the four validation plays (runs/rule98.sh:
         # rule_check_rule98A_c against the _rule95shipped53_ records, frontier_rule98_validation)
+        # after rule 98: runs/explore99.sh (A, AS with --guards adding cof_gym/agents/policies/interrogator/guard_{0,1},
+        # AC with --set guard_cautions=[2.25,2.25]; --grids confirmation33, with --scenario motor_lag_s=0.1, and
+        # torque_confirmation14), then frontier.py $(X shipped) $(X x99A) $(X x99AS) $(X x99AC) --references ...,
+        # X joining a name's three files by + (frontier_explore99)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1142,7 +1146,7 @@ SOURCES = {
         "frontier_rule96_validation", *(f"rule_check_rule96{c}_c" for c in ("K10", "K15")),
         "frontier_explore97", "frontier_rule97_validation",
         *(f"rule_check_rule97{c}_c" for c in ("P20", "P175", "P15U20")),
-        "frontier_rule98_validation", "rule_check_rule98A_c",
+        "frontier_rule98_validation", "rule_check_rule98A_c", "frontier_explore99",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
