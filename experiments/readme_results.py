@@ -817,6 +817,10 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # AC with --set guard_cautions=[2.25,2.25]; --grids confirmation33, with --scenario motor_lag_s=0.1, and
         # torque_confirmation14), then frontier.py $(X shipped) $(X x99A) $(X x99AS) $(X x99AC) --references ...,
         # X joining a name's three files by + (frontier_explore99)
+        # rule 99's exploration: runs/explore99b.sh (the shipped climb and guards with --estimators
+        # runs/interrogator_applied/{guard,probing_guard}/ensemble and --set estimate_from=estimator (E) or
+        # guard_estimator_pooled (EG), EA with runs/interrogator_applied/ensemble as a third estimator; the same three
+        # sets), then frontier.py $(X shipped) $(X x99E) $(X x99EA) $(X x99EG) ... (frontier_explore99b)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1146,7 +1150,7 @@ SOURCES = {
         "frontier_rule96_validation", *(f"rule_check_rule96{c}_c" for c in ("K10", "K15")),
         "frontier_explore97", "frontier_rule97_validation",
         *(f"rule_check_rule97{c}_c" for c in ("P20", "P175", "P15U20")),
-        "frontier_rule98_validation", "rule_check_rule98A_c", "frontier_explore99",
+        "frontier_rule98_validation", "rule_check_rule98A_c", "frontier_explore99", "frontier_explore99b",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
