@@ -824,6 +824,10 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # rule 99: E and EG as in the exploration, --guards $G --guards-only --targets 0.1 --stops --return-digits 4 on
         # the four validation plays (runs/rule99.sh: rule_check_rule99C_c against the _rule95shipped53_ records,
         # frontier_rule99_validation)
+        # rule 100's exploration: runs/explore100.sh (AF: --run runs/interrogator_applied/ensemble --guards $G; AG:
+        # --guards runs/interrogator_applied/{guard,probing_guard}/ensemble) and runs/explore100b.sh (AFE: AF with
+        # E's --estimators and --set estimate_from=estimator), the same three sets, then frontier.py $(X shipped)
+        # $(X x99A) $(X x100AF) $(X x100AG) $(X x100AFE) $(X x99E) ... (frontier_explore100)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1154,7 +1158,7 @@ SOURCES = {
         "frontier_explore97", "frontier_rule97_validation",
         *(f"rule_check_rule97{c}_c" for c in ("P20", "P175", "P15U20")),
         "frontier_rule98_validation", "rule_check_rule98A_c", "frontier_explore99", "frontier_explore99b",
-        "frontier_rule99_validation", *(f"rule_check_rule99{c}_c" for c in ("E", "EG")),
+        "frontier_rule99_validation", *(f"rule_check_rule99{c}_c" for c in ("E", "EG")), "frontier_explore100",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
