@@ -828,6 +828,8 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # --guards runs/interrogator_applied/{guard,probing_guard}/ensemble) and runs/explore100b.sh (AFE: AF with
         # E's --estimators and --set estimate_from=estimator), the same three sets, then frontier.py $(X shipped)
         # $(X x99A) $(X x100AF) $(X x100AG) $(X x100AFE) $(X x99E) ... (frontier_explore100)
+        # rule 100: AFE as in the exploration with --targets 0.1 --stops --return-digits 4 on the four validation plays
+        # (runs/rule100.sh: rule_check_rule100AFE_c against the _rule95shipped53_ records, frontier_rule100_validation)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1159,6 +1161,7 @@ SOURCES = {
         *(f"rule_check_rule97{c}_c" for c in ("P20", "P175", "P15U20")),
         "frontier_rule98_validation", "rule_check_rule98A_c", "frontier_explore99", "frontier_explore99b",
         "frontier_rule99_validation", *(f"rule_check_rule99{c}_c" for c in ("E", "EG")), "frontier_explore100",
+        "frontier_rule100_validation", "rule_check_rule100AFE_c",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
