@@ -1344,11 +1344,12 @@ def horizon_ends(suites: dict[str, tuple[str, Path]] = HORIZON_SUITES, learned: 
     return "\n".join(rows)
 
 
-PEAK_CREEPAGE_AGENTS = ("phase-rule", "robust-model", "staircase", "model-based")  # beside the learned agent
+# the hand-built agents beside the learned one in the peak-creepage and edge-suite tables, in their column order
+HAND_BUILT_AGENTS = ("phase-rule", "robust-model", "staircase", "model-based")
 
 
 def peak_creepage(path: Path = TARGET_SUITES["v2 default suite (`cof-gym evaluate`)"], learned: str = LEARNED,
-                  agents: tuple[str, ...] = PEAK_CREEPAGE_AGENTS) -> str | None:
+                  agents: tuple[str, ...] = HAND_BUILT_AGENTS) -> str | None:
     """The default suite's peak-creepage groups (the creepage of the true creep curve's peak): median / P90 /
     macro-slips of the learned agent and of ``agents`` in each; None when the summary is missing."""
     summary = _load(path, learned)
@@ -1371,11 +1372,10 @@ EDGE_SUITES = {"v2 stress tables (`--suite experiments/suites/v2_stress_tables_g
                ROOT / "out" / "evaluate-v2-stress-tables" / "summary.json",
                "v2 extremes (`--suite experiments/suites/v2_extremes_grid.json`)":
                ROOT / "out" / "evaluate-v2-extremes" / "summary.json"}
-EDGE_AGENTS = ("phase-rule", "robust-model", "staircase", "model-based")  # beside the learned agent
 
 
 def edge_suites(paths: dict[str, Path] = EDGE_SUITES, learned: str = LEARNED,
-                agents: tuple[str, ...] = EDGE_AGENTS) -> str | None:
+                agents: tuple[str, ...] = HAND_BUILT_AGENTS) -> str | None:
     """Per suite at the edges of what the env accepts: median / P90 / macro-slips of the learned agent and of
     ``agents``, the learned agent's mean peak torque and how often its calibrated interval holds the CoF; None when a
     summary is missing."""
