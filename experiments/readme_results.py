@@ -830,6 +830,13 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # $(X x99A) $(X x100AF) $(X x100AG) $(X x100AFE) $(X x99E) ... (frontier_explore100)
         # rule 100: AFE as in the exploration with --targets 0.1 --stops --return-digits 4 on the four validation plays
         # (runs/rule100.sh: rule_check_rule100AFE_c against the _rule95shipped53_ records, frontier_rule100_validation)
+        # rule 101: python experiments/train_estimator.py --policy runs/policy_applied --set ceiling_stop=false --out
+        # runs/estimator_applied --climbs env=8000 procedural=4000 --collect-only (runs/policy_applied: A's filter as
+        # members, its guard and probing guard as guard_0 and guard_1, the shipped manifest), then rule 98's fit with
+        # --reuse into runs/interrogator_applied_own (--add-guard-climbs the env cache: A2) and
+        # runs/interrogator_applied_proc (both caches: A3), A's filter, probing guard and caches copied in; A2 and A3
+        # as A with their guard 0 on the four validation plays (runs/rule101.sh: rule_check_rule101{A2,A3}_c against
+        # the _rule95shipped53_ records, frontier_rule101_validation)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1162,6 +1169,7 @@ SOURCES = {
         "frontier_rule98_validation", "rule_check_rule98A_c", "frontier_explore99", "frontier_explore99b",
         "frontier_rule99_validation", *(f"rule_check_rule99{c}_c" for c in ("E", "EG")), "frontier_explore100",
         "frontier_rule100_validation", "rule_check_rule100AFE_c",
+        "frontier_rule101_validation", *(f"rule_check_rule101{c}_c" for c in ("A2", "A3")),
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
