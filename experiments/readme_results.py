@@ -837,6 +837,10 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # runs/interrogator_applied_proc (both caches: A3), A's filter, probing guard and caches copied in; A2 and A3
         # as A with their guard 0 on the four validation plays (runs/rule101.sh: rule_check_rule101{A2,A3}_c against
         # the _rule95shipped53_ records, frontier_rule101_validation)
+        # after rule 101: runs/explore102.sh (A2, A3, A3E with --estimators A2's guard 0 and the probing guard and --set
+        # estimate_from=estimator, A23 with both guards 0 and the probing guard; --grids confirmation33, with --scenario
+        # noise_level=3 and motor_lag_s=0.1, and torque_confirmation14), then frontier.py $(X shipped) $(X x102A2) ...,
+        # X joining a name's four files by + (frontier_explore102)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1169,7 +1173,7 @@ SOURCES = {
         "frontier_rule98_validation", "rule_check_rule98A_c", "frontier_explore99", "frontier_explore99b",
         "frontier_rule99_validation", *(f"rule_check_rule99{c}_c" for c in ("E", "EG")), "frontier_explore100",
         "frontier_rule100_validation", "rule_check_rule100AFE_c",
-        "frontier_rule101_validation", *(f"rule_check_rule101{c}_c" for c in ("A2", "A3")),
+        "frontier_rule101_validation", *(f"rule_check_rule101{c}_c" for c in ("A2", "A3")), "frontier_explore102",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
