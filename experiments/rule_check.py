@@ -2,7 +2,7 @@
 
     python experiments/rule_check.py BASE.json CANDIDATE.json [BASE2.json CANDIDATE2.json ...] \
         [--more-runaways N | --fewer-runaways] [--errors [--error-grid GRID]] [--returns] [--gain] \
-        [--strict-grid family] [--out FILE]
+        [--strict-grid family] [--same-climbs] [--out FILE]
 
 The files come in pairs, the baseline's and the candidate's play of the same episodes (e.g. one pair at the
 grids' draws, one with the noise tripled); each file holds one setting's episodes (one crest_tradeoff.py row).
@@ -17,7 +17,9 @@ differences of :mod:`paired_comparison` (the same 95 % CIs, the same resamples):
 - ``--errors``: no grid's median or P90 relative error higher with a CI wholly above zero (with ``--error-grid``
   only on the grid of that name in every pair that has one);
 - ``--returns``: no grid's mean return lower with a CI wholly below zero;
-- ``--gain``: a strictly higher mean return over every pair's episodes together.
+- ``--gain``: a strictly higher mean return over every pair's episodes together;
+- ``--same-climbs``: every episode's climb ended as the baseline's did (the same ``ended`` and ``macro_slip``) at
+  the same peak torque (``peak_torque_fraction``, exactly): a candidate that changes only the estimate (rule 102).
 
 It prints each grid's differences, every condition that fails, and a last line ``holds`` or ``fails``; the exit
 status is 0 when the conditions hold and 1 when they fail (2: a usage error, before anything is read further).
@@ -49,9 +51,18 @@ class Conditions(NamedTuple):
     gain: bool = False
     fewer_runaways: bool = False
     error_grid: str | None = None  # None: --errors on every grid
+    same_climbs: bool = False
+
+
+CLIMB_FIELDS = ("ended", "macro_slip", "peak_torque_fraction")  # where and how a climb ended (--same-climbs)
 
 
 Grids = dict[str, dict[tuple, dict]]  # a play's episodes per grid (paired_comparison.paired)
+
+
+def climbs_differing(base: dict[tuple, dict], other: dict[tuple, dict]) -> int:
+    """How many of the paired episodes' climbs ended otherwise (:data:`CLIMB_FIELDS`) in ``other`` than in ``base``."""
+    return sum(any(base[k][f] != other[k][f] for f in CLIMB_FIELDS) for k in base if k in other)
 
 
 def mean_return(plays: list[Grids]) -> float:
@@ -80,6 +91,8 @@ def check(bases: list[Grids], candidates: list[Grids], conditions: Conditions) -
                            for stat in ("median", "P90") if d[stat][1] > 0.0]
             if conditions.returns and d["return"][2] < 0.0:
                 failed.append(f"{name}: return lower with a CI wholly below zero ({ci_text(d['return'], 4)})")
+            if conditions.same_climbs and (n := climbs_differing(b[grid], c[grid])):
+                failed.append(f"{name}: {n} climbs ended otherwise than the baseline's (the same climbs needed)")
     totals = tuple(sum(runaways(e) for play in plays for e in play.values()) for plays in (bases, candidates))
     returns = mean_return(bases), mean_return(candidates)
     lines.append(f"- all: runaways {totals[0]} -> {totals[1]}; mean return {returns[0]:.4f} -> {returns[1]:.4f}")
@@ -118,6 +131,8 @@ def main() -> None:
                         help="with --errors: only on the grid of this name (default: every grid)")
     parser.add_argument("--returns", action="store_true", help="no mean return lower with a CI wholly below zero")
     parser.add_argument("--gain", action="store_true", help="a strictly higher mean return over every grid")
+    parser.add_argument("--same-climbs", action="store_true",
+                        help="every climb ended as the baseline's, at the same peak torque (an estimate-only candidate)")
     parser.add_argument("--out", type=Path, default=None, help="also write the verdict to this markdown file")
     args = parser.parse_args()
     check_out_file(parser, "--out", args.out)
@@ -135,7 +150,7 @@ def main() -> None:
             parser.error(f"--error-grid: the records have no grid {args.error_grid!r} (grids: "
                          f"{', '.join(sorted(plays[0]))})")
     conditions = Conditions(args.more_runaways, strict, args.errors, args.returns, args.gain, args.fewer_runaways,
-                            args.error_grid)
+                            args.error_grid, args.same_climbs)
     files = ", ".join(map(str, args.records))
     try:
         lines, failed = check(plays[0::2], plays[1::2], conditions)

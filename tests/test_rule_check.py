@@ -137,3 +137,28 @@ def test_error_grid_needs_errors_and_a_grid_the_records_have(tmp_path: Path) -> 
         run = subprocess.run([sys.executable, str(EXPERIMENTS / "rule_check.py"), str(path), str(path), *args],
                              capture_output=True, text=True)
         assert run.returncode == 2 and said in run.stderr and run.stderr.count("\n") == 1, run.stderr
+
+
+def with_climbs(recs: list[dict], peak: float = 1.0, moved: int | None = None) -> list[dict]:
+    """``recs`` with where each climb ended (its stop) at the peak torque ``peak`` (``moved``: that episode's
+    peak torque 1 % higher on every grid)."""
+    return [{**r, "ended": "stop", "peak_torque_fraction": peak * (1.01 if r["episode"] == moved else 1.0)}
+            for r in recs]
+
+
+def test_same_climbs_holds_for_an_estimate_only_change_and_fails_on_one_climb_that_moved() -> None:
+    base = with_climbs(records("base", ERRORS))
+    estimate_only = with_climbs(records("halved", ERRORS / 2))
+    assert judged(base, estimate_only, Conditions(same_climbs=True, errors=True, gain=True)) == []
+    failed = judged(base, with_climbs(records("moved", ERRORS / 2), moved=4), Conditions(same_climbs=True))
+    assert failed == [f"{grid}: 1 climbs ended otherwise than the baseline's (the same climbs needed)"
+                      for grid in ("family", "steep")]
+    assert judged(base, with_climbs(records("moved", ERRORS / 2), moved=4), Conditions()) == []  # not asked
+
+
+def test_same_climbs_on_records_without_the_climb_fields_is_a_usage_error(tmp_path: Path) -> None:
+    path = tmp_path / "bare.json"
+    path.write_text(json.dumps(records("base", ERRORS)))
+    run = subprocess.run([sys.executable, str(EXPERIMENTS / "rule_check.py"), str(path), str(path), "--same-climbs"],
+                         capture_output=True, text=True)
+    assert run.returncode == 2 and "has no 'ended'" in run.stderr and "Traceback" not in run.stderr
