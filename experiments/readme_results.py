@@ -841,6 +841,12 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # estimate_from=estimator, A23 with both guards 0 and the probing guard; --grids confirmation33, with --scenario
         # noise_level=3 and motor_lag_s=0.1, and torque_confirmation14), then frontier.py $(X shipped) $(X x102A2) ...,
         # X joining a name's four files by + (frontier_explore102)
+        # rule 102: rule_check.py on rule 99's EG validation records against the _rule95shipped53_ ones with --gain
+        # --errors --error-grid family --returns --more-runaways 1440 --same-climbs (rule_check_rule102EG_validation);
+        # runs/confirm102.sh (the shipped agent and EG, --estimators runs/interrogator_applied/{guard,probing_guard}/
+        # ensemble --set estimate_from=guard_estimator_pooled, and scripted_plays.py's four agents on confirmation34 at
+        # its draws, --scenario noise_level=3 and motor_lag_s=0.1, torque_confirmation15 and extremes_confirmation6;
+        # frontier_rule102, rule_check_rule102 with --more-runaways 2352 --same-climbs)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1174,6 +1180,7 @@ SOURCES = {
         "frontier_rule99_validation", *(f"rule_check_rule99{c}_c" for c in ("E", "EG")), "frontier_explore100",
         "frontier_rule100_validation", "rule_check_rule100AFE_c",
         "frontier_rule101_validation", *(f"rule_check_rule101{c}_c" for c in ("A2", "A3")), "frontier_explore102",
+        "rule_check_rule102EG_validation", "frontier_rule102", "rule_check_rule102",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
