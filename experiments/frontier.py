@@ -18,12 +18,15 @@ marked. With ``--references`` (plays of the hand-built agents, ``experiments/scr
 beside them, each with the number of candidates that beat it on both axes, and each candidate's count of issue 16's
 target rows met over every grid of every play (the absolute ones, and with ``--references`` a median and a P90 below
 every reference's and no more runaways than the fewest of theirs: ``selection.target_rows``, as the README's targets
-table reads them). Nothing is chosen here: the plays were judged by their rules; this shows where they lie together.
+table reads them). With ``--rows`` (and ``--references`` and ``--shipped``) a second table lists every target row
+of every grid and play that some candidate meets and the shipped agent does not, or the reverse, with each one's
+value there. Nothing is chosen here: the plays were judged by their rules; this shows where they lie together.
 """
 
 from __future__ import annotations
 
 import itertools
+import os
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -35,9 +38,13 @@ from cof_gym.commands.args import Parser
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from paired_comparison import print_table, read_records  # noqa: E402
 from script_checks import check_out_file  # noqa: E402
-from selection import error_summary, target_rows  # noqa: E402
+from selection import TARGET_MEDIAN_PCT, TARGET_P90_PCT, TARGET_SLIPS_PER_100, error_summary, target_rows  # noqa: E402
 
 Cell = tuple[float, float, int, int]  # one grid of one play: median and P90 error (%), runaways, episodes
+# selection.target_rows' rows, in its order: the three absolute targets, then the three against the hand-built agents
+TARGET_ROWS = (f"median <= {TARGET_MEDIAN_PCT:g} %", f"P90 <= {TARGET_P90_PCT:g} %",
+               f"<= {TARGET_SLIPS_PER_100:g} runaway per 100", "median below every hand-built agent's",
+               "P90 below every hand-built agent's", "no more runaways than the fewest hand-built agent's")
 
 
 @dataclass(frozen=True)
@@ -128,6 +135,49 @@ def table(points: list[Point], grid: str, shipped: str | None, references: list[
     return "\n".join(lines) + "\n"
 
 
+def play_names(labels: list[str]) -> list[str]:
+    """The plays' names: their files' labels less the part up to the last ``_`` all of them share (the agent's
+    name: ``shipped_confirmation34``, ``shipped_torque_confirmation15`` -> ``confirmation34``,
+    ``torque_confirmation15``); the labels themselves where that would leave one empty."""
+    shared = os.path.commonprefix(labels)
+    cut = shared.rfind("_") + 1 if len(labels) > 1 else 0
+    return labels if any(len(label) <= cut for label in labels) else [label[cut:] for label in labels]
+
+
+def _row_value(cell: Cell, row: int) -> str:
+    """A cell's value that target row ``row`` reads: its median or P90 (%), or its runaways of its episodes."""
+    median, p90, slips, episodes = cell
+    return (f"{median:.1f} %", f"{p90:.1f} %", f"{slips} of {episodes}")[row % 3]
+
+
+def _reference_value(cells: list[Cell], row: int) -> str:
+    """What a target row compares with: the target itself, or the best hand-built agent's value on that grid."""
+    if row < 3:
+        return TARGET_ROWS[row].split(" ", 1)[1] if row < 2 else f"{TARGET_SLIPS_PER_100:g} per 100"
+    best = min(c[row % 3] for c in cells)
+    return f"{best:.1f} %" if row % 3 < 2 else f"{best}"
+
+
+def differing_rows(points: list[Point], shipped: str, references: list[Point], plays: list[str]) -> str:
+    """The markdown table of every target row (grid of a play, ``plays`` naming the plays) that some candidate of
+    ``points`` meets and the ``shipped`` one does not, or the reverse: each one's value, "(met)" where it meets it."""
+    ship = next(p for p in points if p.label == shipped)
+    order = [ship, *(p for p in points if p.label != shipped)]
+    lines = ["| play | grid | target row | against | " + " | ".join(p.label for p in order) + " |",
+             "|---" * (4 + len(order)) + "|"]
+    for key, cell in ship.cells.items():
+        cells = [r.cells[key] for r in references if key in r.cells]
+        met = {p.label: target_rows(*p.cells[key], [c[:3] for c in cells]) for p in order}
+        for row, name in enumerate(TARGET_ROWS):
+            if len({met[p.label][row] for p in order}) > 1:
+                values = [_row_value(p.cells[key], row) + (" (met)" if met[p.label][row] else "") for p in order]
+                lines.append(f"| {plays[key[0]]} | {key[1]} | {name} | {_reference_value(cells, row)} | "
+                             + " | ".join(values) + " |")
+    if len(lines) == 2:
+        lines.append("| - | - | no row parts them | - |" + " - |" * len(order))
+    return "\n".join(lines) + "\n"
+
+
 def figure(points: list[Point], grid: str, shipped: str | None, path: Path, references: list[Point] = ()) -> None:
     """The ``grid`` P90 and the mean return against the runaways (a log axis where references run away far more
     often), the frontier joined, ``shipped`` marked, each reference a green marker of its own (named by its setting
@@ -205,7 +255,12 @@ def main() -> None:
                         help="the shipped agent's play, as given among the records (marked)")
     parser.add_argument("--out", type=Path, default=None, help="also write the table to this markdown file")
     parser.add_argument("--figure", type=Path, default=None, help="write the figure to this PNG file")
+    parser.add_argument("--rows", action="store_true",
+                        help="also list the target rows some candidate meets and the shipped agent does not, or the "
+                             "reverse (needs --references and --shipped)")
     args = parser.parse_args()
+    if args.rows and (not args.references or args.shipped is None):
+        parser.error("--rows: needs --references and --shipped (the rows are read against both)")
     check_out_file(parser, "--out", args.out)
     check_out_file(parser, "--figure", args.figure)
     if args.figure is not None and args.figure.suffix.lower() != ".png":
@@ -224,7 +279,12 @@ def main() -> None:
     shipped = None if args.shipped is None else label_of(Path(args.shipped.split("+")[0]))
     if shipped is not None and shipped not in {p.label for p in points}:
         parser.error(f"--shipped: {args.shipped} holds several settings; the shipped agent's play is one")
-    print_table(table(points, args.grid, shipped, references), args.out, "Runaways against accuracy and return")
+    text = table(points, args.grid, shipped, references)
+    if args.rows:
+        plays = play_names([label_of(Path(f)) for f in args.shipped.split("+")])
+        text += ("\n## The target rows that part the candidates from the shipped agent\n\n"
+                 + differing_rows(points, shipped, references, plays))
+    print_table(text, args.out, "Runaways against accuracy and return")
     if args.figure is not None:
         figure(points, args.grid, shipped, args.figure, references)
 

@@ -836,7 +836,7 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # --reuse into runs/interrogator_applied_own (--add-guard-climbs the env cache: A2) and
         # runs/interrogator_applied_proc (both caches: A3), A's filter, probing guard and caches copied in; A2 and A3
         # as A with their guard 0 on the four validation plays (runs/rule101.sh: rule_check_rule101{A2,A3}_c against
-        # the _rule95shipped53_ records, frontier_rule101_validation)
+        # the _rule95shipped53_ records, frontier_rule101_validation, its frontier.py with --rows)
         # after rule 101: runs/explore102.sh (A2, A3, A3E with --estimators A2's guard 0 and the probing guard and --set
         # estimate_from=estimator, A23 with both guards 0 and the probing guard; --grids confirmation33, with --scenario
         # noise_level=3 and motor_lag_s=0.1, and torque_confirmation14), then frontier.py $(X shipped) $(X x102A2) ...,
@@ -846,7 +846,7 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # runs/confirm102.sh (the shipped agent and EG, --estimators runs/interrogator_applied/{guard,probing_guard}/
         # ensemble --set estimate_from=guard_estimator_pooled, and scripted_plays.py's four agents on confirmation34 at
         # its draws, --scenario noise_level=3 and motor_lag_s=0.1, torque_confirmation15 and extremes_confirmation6;
-        # frontier_rule102, rule_check_rule102 with --more-runaways 2352 --same-climbs)
+        # frontier_rule102 with frontier.py --rows, rule_check_rule102 with --more-runaways 2352 --same-climbs)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \

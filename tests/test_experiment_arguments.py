@@ -112,6 +112,7 @@ CASES = [
     ("frontier", ["{text}", "{text}"], "records"),
     ("frontier", ["{text}", "--out", "{dir}"], "--out"),
     ("frontier", ["{text}", "--references", "{text}"], "records"),
+    ("frontier", ["{text}", "--rows"], "--rows"),
     ("scripted_plays", ["--agents", "oracle", "--records", "{new}"], "--agents"),
     ("scripted_plays", ["--agents", "nope", "--records", "{new}"], "--agents"),
     ("scripted_plays", ["--agents", "phase-rule", "robust-model", "--records", "{new}"], "--records"),

@@ -112,3 +112,32 @@ def test_target_rows_read_issue_16s_targets_and_count_them_per_grid_and_play() -
     assert targets_met(candidate, []) == (6, 6)  # two grids x three absolute rows
     assert targets_met(candidate, [rival]) == (12, 12)
     assert targets_met(rival, [candidate]) == (2, 12)  # its family grid's runaways alone (absolute and relative)
+
+
+def test_rows_list_what_parts_a_candidate_from_the_shipped_agent_and_need_references(tmp_path: Path) -> None:
+    from frontier import differing_rows, play_names
+
+    assert play_names(["shipped_confirmation34", "shipped_torque_confirmation15"]) == [
+        "confirmation34", "torque_confirmation15"]
+    assert play_names(["shipped_validation"]) == ["shipped_validation"]  # one play: its label
+    shipped = point("shipped", "s", records("s", 0.5, slips=2), "family")  # median 5 %, P90 9 %
+    better = point("better", "b", records("b", 0.25, slips=2), "family")  # median 2.5 %, P90 4.5 %
+    rival = point("rival", "r", records("r", 0.4, slips=5), "family")  # median 4 %, P90 7.2 %
+    lines = differing_rows([shipped, better], "shipped", [rival], ["validation"]).splitlines()
+    assert lines[0] == "| play | grid | target row | against | shipped | better |"
+    body = [line.split(" | ") for line in lines[2:]]
+    assert [(b[1], b[2]) for b in body] == [("family", "median <= 3 %"), ("family", "P90 <= 8 %"),
+                                            ("family", "median below every hand-built agent's"),
+                                            ("family", "P90 below every hand-built agent's"),
+                                            ("steep", "median <= 3 %"), ("steep", "P90 <= 8 %"),
+                                            ("steep", "median below every hand-built agent's"),
+                                            ("steep", "P90 below every hand-built agent's")]
+    assert body[2][3:] == ["4.0 %", "5.0 %", "2.5 % (met) |"]
+    assert "no row parts them" in differing_rows([shipped], "shipped", [rival], ["validation"])
+    files = [tmp_path / f"records_{n}_validation.json" for n in ("shipped", "better")]
+    for f, (name, scale) in zip(files, (("s", 0.5), ("b", 0.25))):
+        f.write_text(json.dumps(records(name, scale, slips=2)))
+    command = [sys.executable, str(EXPERIMENTS / "frontier.py"), *map(str, files), "--rows"]
+    run = subprocess.run(command, capture_output=True, text=True)
+    assert run.returncode == 2 and "--rows: needs --references and --shipped" in run.stderr
+    assert "Traceback" not in run.stderr
