@@ -132,7 +132,8 @@ def main() -> None:
     parser.add_argument("--returns", action="store_true", help="no mean return lower with a CI wholly below zero")
     parser.add_argument("--gain", action="store_true", help="a strictly higher mean return over every grid")
     parser.add_argument("--same-climbs", action="store_true",
-                        help="every climb ended as the baseline's, at the same peak torque (an estimate-only candidate)")
+                        help="every climb ended as the baseline's, at the same peak torque (an estimate-only "
+                             "candidate)")
     parser.add_argument("--out", type=Path, default=None, help="also write the verdict to this markdown file")
     args = parser.parse_args()
     check_out_file(parser, "--out", args.out)
