@@ -847,6 +847,12 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # ensemble --set estimate_from=guard_estimator_pooled, and scripted_plays.py's four agents on confirmation34 at
         # its draws, --scenario noise_level=3 and motor_lag_s=0.1, torque_confirmation15 and extremes_confirmation6;
         # frontier_rule102 with frontier.py --rows, rule_check_rule102 with --more-runaways 2352 --same-climbs)
+        # rule 103: python experiments/train_estimator.py --set ceiling_stop=false --out runs/estimator_shipped_proc
+        # --climbs procedural=4000 --collect-only, then the shipped recipe's fit with --reuse into
+        # runs/interrogator_shipped_proc (runs/interrogator_wide_balance's filter, probing guard and caches copied in)
+        # and --add-guard-climbs runs/estimator_wide_balance/onpolicy_env_8e113d0ddec5.npz and the procedural cache;
+        # S3: --guards runs/interrogator_shipped_proc/guard/ensemble cof_gym/agents/policies/interrogator/guard_1 on the
+        # four validation plays (runs/rule103.sh: rule_check_rule103S3_c, frontier_rule103_validation with --rows)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1181,6 +1187,7 @@ SOURCES = {
         "frontier_rule100_validation", "rule_check_rule100AFE_c",
         "frontier_rule101_validation", *(f"rule_check_rule101{c}_c" for c in ("A2", "A3")), "frontier_explore102",
         "rule_check_rule102EG_validation", "frontier_rule102", "rule_check_rule102",
+        "frontier_rule103_validation", "rule_check_rule103S3_c",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
