@@ -165,10 +165,10 @@ def differing_rows(points: list[Point], shipped: str, references: list[Point], p
     order = [ship, *(p for p in points if p.label != shipped)]
     lines = ["| play | grid | target row | against | " + " | ".join(p.label for p in order) + " |",
              "|---" * (4 + len(order)) + "|"]
-    for key, cell in ship.cells.items():
+    for key in ship.cells:
         cells = [r.cells[key] for r in references if key in r.cells]
         met = {p.label: target_rows(*p.cells[key], [c[:3] for c in cells]) for p in order}
-        for row, name in enumerate(TARGET_ROWS):
+        for row, name in enumerate(TARGET_ROWS[:len(met[shipped])]):  # absolute rows only where no reference played
             if len({met[p.label][row] for p in order}) > 1:
                 values = [_row_value(p.cells[key], row) + (" (met)" if met[p.label][row] else "") for p in order]
                 lines.append(f"| {plays[key[0]]} | {key[1]} | {name} | {_reference_value(cells, row)} | "

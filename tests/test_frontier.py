@@ -141,3 +141,14 @@ def test_rows_list_what_parts_a_candidate_from_the_shipped_agent_and_need_refere
     run = subprocess.run(command, capture_output=True, text=True)
     assert run.returncode == 2 and "--rows: needs --references and --shipped" in run.stderr
     assert "Traceback" not in run.stderr
+
+
+def test_rows_on_a_grid_no_reference_played_read_the_absolute_targets_alone() -> None:
+    from frontier import differing_rows
+
+    shipped = point("shipped", "s", records("s", 0.5, grids=("family", "steep")), "family")  # 5 %, 9 %
+    better = point("better", "b", records("b", 0.25, grids=("family", "steep")), "family")  # 2.5 %, 4.5 %
+    rival = point("rival", "r", records("r", 0.4, grids=("family",)), "family")  # no steep episode
+    steep = [line for line in differing_rows([shipped, better], "shipped", [rival], ["v"]).splitlines()
+             if line.startswith("| v | steep")]
+    assert [line.split(" | ")[2] for line in steep] == ["median <= 3 %", "P90 <= 8 %"]
