@@ -1232,9 +1232,13 @@ def _best(summary: dict, learned: str, key: str) -> str:
     return min(others, key=lambda a: _stat(summary, a, key))
 
 
+def _triple(median: float, p90: float, slips: float) -> str:
+    """A table cell: median / P90 error (fractions, shown in %) / macro-slips."""
+    return f"{100 * median:.1f} % / {100 * p90:.1f} % / {slips:.0f}"
+
+
 def _cell(summary: dict, agent: str) -> str:
-    return (f"{100 * _stat(summary, agent, 'median_error'):.1f} % / {100 * _stat(summary, agent, 'p90_error'):.1f} % / "
-            f"{_stat(summary, agent, 'macro_slip_events'):.0f}")
+    return _triple(*(_stat(summary, agent, key) for key in ("median_error", "p90_error", "macro_slip_events")))
 
 
 def targets(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNED) -> str | None:
@@ -1384,11 +1388,9 @@ def peak_creepage(path: Path = TARGET_SUITES["v2 default suite (`cof-gym evaluat
     groups = [g for g in summary[learned]["breakdown"] if g.startswith("peak creepage")]
     rows = ["| peak creepage (episodes) | " + " | ".join((learned, *agents)) + " |", "|---" * (2 + len(agents)) + "|"]
     for group in groups:
-        cells = []
-        for agent in (learned, *agents):
-            g = _group(summary, agent, group)
-            cells.append(f"{100 * g['median_error']:.1f} % / {100 * g['p90_error']:.1f} % / "
-                         f"{g['macro_slip_events']:.0f}")
+        cells = [_triple(*(_group(summary, agent, group)[key] for key in ("median_error", "p90_error",
+                                                                         "macro_slip_events")))
+                 for agent in (learned, *agents)]
         rows.append(f"| {group.removeprefix('peak creepage ')} ({summary[learned]['breakdown'][group]['episodes']}) | "
                     + " | ".join(cells) + " |")
     return "\n".join(rows)

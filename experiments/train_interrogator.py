@@ -368,10 +368,11 @@ CREEP_STICKY = True
 CREEP_RELEASE = 0.45
 # the climb's parts the recipe sets after its selection (the adopted rules' constants above), by ClimbParameters field
 ADOPTED_CLIMB = {"creep_sticky": CREEP_STICKY, "creep_release": CREEP_RELEASE, "crest_floor": CREST_FLOOR,
-                 "runaway_estimate": RUNAWAY_ESTIMATE, "crest_ceiling": CREST_CEILING, "ceiling_stop": CEILING_STOP, "ceiling_fall_z": CEILING_FALL_Z,
-                 "ceiling_near_headroom": CEILING_NEAR_HEADROOM, "noise_reference_nms": NOISE_REFERENCE_NMS,
-                 "noise_caution_exponent": NOISE_CAUTION_EXPONENT, "noise_creep_exponent": NOISE_CREEP_EXPONENT,
-                 "torque_balance": TORQUE_BALANCE, "torque_balance_max_lag_deg": TORQUE_BALANCE_MAX_LAG_DEG}
+                 "runaway_estimate": RUNAWAY_ESTIMATE, "crest_ceiling": CREST_CEILING, "ceiling_stop": CEILING_STOP,
+                 "ceiling_fall_z": CEILING_FALL_Z, "ceiling_near_headroom": CEILING_NEAR_HEADROOM,
+                 "noise_reference_nms": NOISE_REFERENCE_NMS, "noise_caution_exponent": NOISE_CAUTION_EXPONENT,
+                 "noise_creep_exponent": NOISE_CREEP_EXPONENT, "torque_balance": TORQUE_BALANCE,
+                 "torque_balance_max_lag_deg": TORQUE_BALANCE_MAX_LAG_DEG}
 CRITERIA = {  # how the selection ranks the climbs (sort keys of a table row)
     "pooled": lambda r: (r["macro_slips"], r["pooled_p90"], r["pooled_median"]),  # the recipe
     "family": lambda r: (r["macro_slips"], r["p90"], r["median"]),  # the family grid alone
