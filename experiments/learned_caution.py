@@ -1,0 +1,196 @@
+"""Reinforcement learning on top of the learned interrogator: a PPO policy that sets the climb's caution window by
+window (run from the repository root; 2 cores, about 5 minutes a seed at 40 000 steps).
+
+    python experiments/learned_caution.py --out runs/caution_rl --seeds 0 1 2 3 4 [--timesteps 40000]
+
+The shipped interrogator steers its DC torque by the predicted headroom ``ln(M_sat / DC)`` less ``caution``
+standard deviations (2, chosen on the validation grids; its guards likewise). Every rule since session 49 moved that
+trade of accuracy against runaways by hand. Here PPO (stable-baselines3) learns it from the task's own return: its
+action ``a`` in [-1, 1] sets the caution of the climb's next decision to ``2 exp(CAUTION_SPAN a)`` (1 ... 4 for the
+filter and both guards), and its observation is what the climb decided after the last window
+(:func:`climb_state`: the filter's predicted headroom and std, the steering headroom and std, the step taken,
+whether it has crept or stuck, the windows left, the noise it reads); no ground truth. At ``a = 0`` the climb is
+the shipped one, action for action (tested), and PPO starts there (a mean of about 0, ``log_std_init``).
+
+Training episodes (their own seeds, from ``TRAINING_SEED``, none shared with a validation or confirmation grid):
+the v2 wagon's draws in both vehicle configurations, the creep curve from the env's families, from procedural
+tables or from procedural tables with steep falling branches, a third each
+(:func:`~cof_gym.agents.interrogator.training.procedural_shape`), the torque gain anywhere within +-15 %, and in one
+episode of four the sensors' noise at 0-3 times the full scale and the drive's lag at 0-0.1 s: the four validation
+plays' kinds, never their episodes. Each seed's model goes to ``OUT/seed_K/model.zip`` with ``training.json``.
+``experiments/crest_tradeoff.py --caution-policy OUT/seed_K/model.zip`` plays it on any grid set, with the
+records the rule checks read (:class:`CautionSteered`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from script_checks import check_out_dir  # noqa: E402
+
+import cof_gym  # noqa: E402
+from cof_gym.agents.base import agent_view  # noqa: E402
+from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR, interrogator_for  # noqa: E402
+from cof_gym.agents.interrogator.training import STEEP_FALL, procedural_shape  # noqa: E402
+from cof_gym.commands.args import Parser, positive_int  # noqa: E402
+from cof_gym.task.scenarios import MOTOR_LAG_MAX_S, NOISE_LEVEL_MAX  # noqa: E402
+from cof_gym.task.sensors import SYSTEMATIC_ERRORS  # noqa: E402
+
+CAUTION_SPAN = math.log(2.0)  # a = +-1: the shipped caution times 2 or halved
+TRAINING_SEED = 9_000_000  # seed k's episodes from TRAINING_SEED + 1 000 000 k: far from every grid's seeds
+SHAPES = ("env", "procedural", "steep")  # a third each
+NOISY_SHARE = 0.25  # episodes with the noise and the lag past the v2 draws
+STATE_SIZE = 9
+
+
+def climb_state(agent) -> np.ndarray:
+    """What the climb of ``agent`` (a :class:`~cof_gym.agents.interrogator.LearnedInterrogator`) decided after its
+    last window, as the policy reads it (zeros for the decision before the first window's): the filter's predicted
+    headroom and std, the steering (cautious) headroom and its std, the log step taken, whether it has crept and
+    whether the probe is sticky, the windows left over the horizon and the log of the noise ratio read."""
+    d = agent.decisions[-1] if agent.decisions else None
+    decided = [d.filter_headroom, d.filter_std, d.steering_headroom, d.steering_std, d.log_step, float(d.crept)] \
+        if d else [0.0] * 6
+    return np.array([*decided, float(agent._stuck), agent._windows_left / agent.max_windows,
+                     math.log(agent._noise_ratio)], dtype=np.float32)
+
+
+def caution_at(base, action: float):
+    """The climb ``base`` (ClimbParameters) with its caution times ``exp(CAUTION_SPAN a)``, ``a`` clipped to
+    [-1, 1] (the guards follow it where their cautions are the climb's)."""
+    a = float(np.clip(action, -1.0, 1.0))
+    return base if a == 0.0 else replace(base, caution=base.caution * math.exp(CAUTION_SPAN * a))
+
+
+class CautionSteered:
+    """The interrogator ``agent`` with a caution policy ``policy`` (``policy(state) -> a``) setting each decision's
+    caution; every other attribute is the agent's (the evaluators read its stop reason and estimates)."""
+
+    def __init__(self, agent, policy) -> None:
+        self.agent, self.policy, self.base = agent, policy, agent.params
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.agent, name)
+
+    def reset(self, observation: np.ndarray, info: dict) -> None:
+        self.agent.params = self.base
+        self.agent.reset(observation, info)
+
+    def act(self, observation: np.ndarray, info: dict) -> np.ndarray:
+        if self.agent.dc_nm > 0.0:  # the first action drives the first window: no decision yet
+            self.agent.params = caution_at(self.base, self.policy(climb_state(self.agent)))
+        return self.agent.act(observation, info)
+
+
+def ppo_policy(model_path: Path):
+    """The deterministic caution of a saved PPO model, as :class:`CautionSteered` calls it."""
+    from stable_baselines3 import PPO
+
+    model = PPO.load(str(model_path), device="cpu")
+    return lambda state: float(model.predict(state, deterministic=True)[0][0])
+
+
+class CautionEnv(gym.Env):
+    """The task with the shipped interrogator driving it and the policy setting its caution (module docstring)."""
+
+    observation_space = gym.spaces.Box(-np.inf, np.inf, (STATE_SIZE,), np.float32)
+    action_space = gym.spaces.Box(-1.0, 1.0, (1,), np.float32)
+
+    def __init__(self, counter_torque: bool = False, interrogator: Path = SHIPPED_INTERROGATOR) -> None:
+        self.env = gym.make(cof_gym.WAGON_ENV_ID, counter_torque=counter_torque)
+        self.agent = interrogator_for(self.env, interrogator)
+        self.base = self.agent.params
+        self._obs, self._info = None, None
+
+    def _options(self) -> dict:
+        """The episode's reset options (module docstring), from this env's ``np_random``."""
+        rng = self.np_random
+        shape = SHAPES[int(rng.integers(len(SHAPES)))]
+        options: dict[str, Any] = {}
+        if shape != "env":
+            options["creep_law"] = procedural_shape(rng, STEEP_FALL) if shape == "steep" else procedural_shape(rng)
+        gain = SYSTEMATIC_ERRORS["torque_gain_error"].accepted
+        options["torque_gain_error"] = float(rng.uniform(-gain, gain))
+        if rng.random() < NOISY_SHARE:
+            options["noise_level"] = float(rng.uniform(0.0, NOISE_LEVEL_MAX))
+            options["motor_lag_s"] = float(rng.uniform(0.0, MOTOR_LAG_MAX_S))
+        return options
+
+    def reset(self, *, seed: int | None = None, options: dict | None = None):
+        super().reset(seed=seed)
+        inner_seed = int(self.np_random.integers(2**31))
+        obs, info = self.env.reset(seed=inner_seed, options=self._options())
+        self.agent.params = self.base
+        self.agent.reset(obs, agent_view(info, False))
+        first = self.agent.act(obs, agent_view(info, False))  # the first window: the climb's fixed first DC
+        self._obs, _, terminated, truncated, self._info = self.env.step(first)
+        if terminated or truncated:  # cannot happen at the first DC; a reset that ends at once would hide a bug
+            raise RuntimeError("the first window ended the episode")
+        return climb_state(self.agent), {}
+
+    def step(self, action):
+        self.agent.params = caution_at(self.base, float(np.asarray(action).reshape(-1)[0]))
+        command = self.agent.act(self._obs, agent_view(self._info, False))
+        self._obs, reward, terminated, truncated, self._info = self.env.step(command)
+        return climb_state(self.agent), float(reward), terminated, truncated, {}
+
+    def close(self) -> None:
+        self.env.close()
+
+
+def train(out: Path, seed: int, timesteps: int) -> dict:
+    """One seed's PPO run (both vehicle configurations, one process each), saved in ``out/seed_K``."""
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.monitor import Monitor
+    from stable_baselines3.common.vec_env import SubprocVecEnv
+
+    start = time.time()
+    factories = [lambda: Monitor(CautionEnv(counter_torque=False)), lambda: Monitor(CautionEnv(counter_torque=True))]
+    envs = SubprocVecEnv(factories)
+    envs.seed(TRAINING_SEED + 1_000_000 * seed)
+    model = PPO("MlpPolicy", envs, n_steps=512, batch_size=256, n_epochs=10, learning_rate=3e-4, gamma=1.0,
+                gae_lambda=0.95, ent_coef=0.0, policy_kwargs={"net_arch": [64, 64], "log_std_init": -1.0},
+                seed=seed, device="cpu", verbose=1)
+    model.learn(total_timesteps=timesteps)
+    directory = out / f"seed_{seed}"
+    directory.mkdir(parents=True, exist_ok=True)
+    model.save(directory / "model.zip")
+    envs.close()
+    record = {"seed": seed, "timesteps": timesteps, "training_seed": TRAINING_SEED + 1_000_000 * seed,
+              "caution_span": CAUTION_SPAN, "shapes": SHAPES, "noisy_share": NOISY_SHARE,
+              "seconds": round(time.time() - start, 1)}
+    (directory / "training.json").write_text(json.dumps(record, indent=1) + "\n")
+    return record
+
+
+def build_parser() -> Parser:
+    parser = Parser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--out", type=Path, required=True, help="directory of the seeds' models")
+    parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2, 3, 4], help="PPO seeds (>= 0)")
+    parser.add_argument("--timesteps", type=positive_int, default=40_000, help="PPO steps per seed")
+    return parser
+
+
+def main() -> None:
+    parser = build_parser()
+    args = parser.parse_args()
+    if any(s < 0 for s in args.seeds):
+        parser.error(f"--seeds must be >= 0, got {args.seeds}")
+    check_out_dir(parser, "--out", args.out)
+    for seed in args.seeds:
+        print(json.dumps(train(args.out, seed, args.timesteps)), flush=True)
+
+
+if __name__ == "__main__":
+    main()
