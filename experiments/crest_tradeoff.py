@@ -47,7 +47,9 @@ modulation shrinks so that its crest stays within that fraction of the cautious 
 ``--crest-once-crept``: each cap from the climb's first slow probe on). With ``--set NAME=VALUE ...`` the shipped
 climb with those parameters (a name given several values: each in turn). Per grid: median / P90 relative CoF error,
 macro-slips, and the mean episode return (the task's own trade of error against slip, comfort and time).
-With ``--records FILE`` every episode also goes to a JSON file, with the error each estimate source the
+With ``--caution-policy MODEL ...`` every row
+also with each of these PPO models setting the climb's caution at every decision (experiments/learned_caution.py,
+rule 104). With ``--records FILE`` every episode also goes to a JSON file, with the error each estimate source the
 agent computes would have had (the climb does not depend on it), so that a question about the estimate is
 answered from the played episodes by a named command rather than a throwaway script.
 """
@@ -143,13 +145,21 @@ def available_sources(agent) -> tuple[str, ...]:
 
 
 def _play(run: str, params: dict, grid: str, config: dict, guards: list[str] | None,
-          estimators: list[str] | None = None, scenario: dict | None = None) -> list[Played]:
+          estimators: list[str] | None = None, scenario: dict | None = None,
+          caution_policy: str | None = None) -> list[Played]:
     """Every episode of ``grid`` in ``config``, the filter of ``run`` with the climb ``params``, the guard
     networks ``guards`` and the estimator networks ``estimators`` (None: those its manifest names), with the
-    reset options ``scenario`` over every episode's own."""
+    reset options ``scenario`` over every episode's own; ``caution_policy``: a PPO model that sets each decision's
+    caution (experiments/learned_caution.py)."""
+    wrap = None
+    if caution_policy is not None:
+        from learned_caution import CautionSteered, ppo_policy
+
+        policy = ppo_policy(Path(caution_policy))
+        wrap = lambda agent: CautionSteered(agent, policy)  # noqa: E731
     return [Played.of(r, ("macro-slip, slow probe" if agent.crept else "macro-slip") if r.macro_slip else agent.stop_reason,
                       {s: source_error(agent, r, s, params.get("best_coa_factor", 1.0)) for s in available_sources(agent)})
-            for r, agent in episodes(run, grid, config, params, guards, estimators, scenario)]
+            for r, agent in episodes(run, grid, config, params, guards, estimators, scenario, wrap)]
 
 
 def _ends(setting: str, grid: str, runs: list[Played]) -> list[str]:
@@ -212,33 +222,36 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
           grids: dict[str, Path] = GRID_SETS["validation"], crest_fractions: list[float | None] | None = None,
           crest_once_crept: bool = False, settings: dict[str, list] | None = None, guards_only: bool = False,
           estimators: list[Path] | None = None, return_digits: int = 2, records: list | None = None,
-          scenario: dict | None = None) -> str:
+          scenario: dict | None = None, caution_policies: list[Path] | None = None) -> str:
     """The table (markdown) of every run's networks x set climb parameters (``settings``: each value of each
     in turn) x caution x spread caution x crest fraction x target x guards (with and without; ``guards_only``:
     only with; ``estimators``: every row with these estimator networks; ``return_digits``: the decimals of
     the mean returns; ``records``: a list that receives every episode as a dict), each row on the three
     ``grids`` (the validation grids unless told; ``scenario``: reset options over every episode's own, said in
-    a line above the table); other networks than the shipped agent's, several runs or ``own_climb`` (each with its
-    manifest's climb, unchanged): a first column names the networks."""
+    a line above the table; ``caution_policies``: every row with each of these PPO models setting its caution, in turn);
+    other networks than the shipped agent's, several runs or ``own_climb`` (each with its manifest's climb, unchanged):
+    a first column names the networks."""
     manifest_climb = read_manifest(SHIPPED_INTERROGATOR)["climb"]
     # None: the guards the run's manifest names (with own_climb: the climb as shipped), [] none
     guard_sets = (([] if guards_only else [[]]) + [[str(g) for g in guards]]) if guards else [None if own_climb else []]
     # a first column (and the records' setting) names the networks unless they are the shipped agent's alone
     named = own_climb or [Path(n).resolve() for n in networks] != [SHIPPED_INTERROGATOR.resolve()]
-    rows = [(n, label, climb, gs, ", ".join(f"{k} {v}" for k, v in variant.items() if k in (settings or {})))
+    rows = [(n, label, climb, gs, ", ".join(f"{k} {v}" for k, v in variant.items() if k in (settings or {})), policy)
             for n in networks for variant in row_variants(settings, crest_fractions, crest_once_crept)
             for label, climb in climb_settings(n, {**manifest_climb, **variant}, targets, cautions, spread_cautions,
                                                own_climb)
-            for gs in guard_sets]
-    rows = [(n, label, unguarded_estimate(climb, gs, settings), gs, set_text) for n, label, climb, gs, set_text in rows]
+            for gs in guard_sets for policy in (caution_policies or [None])]
+    rows = [(n, label, unguarded_estimate(climb, gs, settings), gs, set_text, policy)
+            for n, label, climb, gs, set_text, policy in rows]
     estimator_dirs = [str(e) for e in estimators] if estimators else None  # None: the manifest's
-    jobs = [(str(n), climb, str(g), cfg, gs, estimator_dirs, scenario) for n, _, climb, gs, _ in rows
-            for g in grids.values() for cfg in CONFIGS]
+    jobs = [(str(n), climb, str(g), cfg, gs, estimator_dirs, scenario, None if policy is None else str(policy))
+            for n, _, climb, gs, _, policy in rows for g in grids.values() for cfg in CONFIGS]
     with ProcessPoolExecutor(workers) as pool:
         results = iter(list(pool.map(_play, *zip(*jobs))))
     head = " | ".join(f"{name}: median / P90 / macro-slips / return" for name in grids)
 
-    def columns(label: str, climb: dict, gs: list[str] | None, set_text: str) -> list[tuple[str, str, str]]:
+    def columns(label: str, climb: dict, gs: list[str] | None, set_text: str,
+                policy: Path | None) -> list[tuple[str, str, str]]:
         """(header, cell, prefix in the setting's label) of the columns that say what a row sets."""
         crest_text = "-" if climb.get("crest_fraction") is None else \
             f"{climb['crest_fraction']:g}{' once crept' if climb.get('crest_once_crept') else ''}"
@@ -248,7 +261,8 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
                     ("crest fraction", crest_text, "crest fraction ", bool(crest_fractions)),
                     ("target headroom", f"{climb['target_headroom']:g}", "target ", True),
                     ("guards", ", ".join(gs or []) or "-", "guards ", bool(guards)),
-                    ("estimators", ", ".join(estimator_dirs or []), "estimators ", bool(estimators))]
+                    ("estimators", ", ".join(estimator_dirs or []), "estimators ", bool(estimators)),
+                    ("caution policy", str(policy), "caution policy ", bool(caution_policies))]
         return [(header, cell, prefix) for header, cell, prefix, shown in optional if shown]
 
     first = columns(*rows[0][1:]) if rows else []
@@ -260,8 +274,8 @@ def table(targets: list[float], workers: int, networks: list[Path] = (SHIPPED_IN
             "torque, crest included, over the saturation torque):", "",
             "| setting, grid | ended | episodes | median | P90 | median signed | peak torque |",
             "|---|---|---|---|---|---|---|"]
-    for _, label, climb, gs, set_text in rows:
-        row_columns = columns(label, climb, gs, set_text)
+    for _, label, climb, gs, set_text, policy in rows:
+        row_columns = columns(label, climb, gs, set_text, policy)
         setting = "".join(f"{prefix}{cell}, " for _, cell, prefix in row_columns)
         cells, pooled = [], []
         for grid in grids:
@@ -381,6 +395,9 @@ def build_parser() -> Parser:
                         help="reset options over every episode's own (scenario fields; values JSON or plain text), e.g. "
                              "noise_level=3 motor_lag_s=0.1: the grids' episodes with a sensor or drive outside the "
                              "training draws")
+    parser.add_argument("--caution-policy", type=Path, nargs="+", default=None, metavar="MODEL",
+                        help="PPO models (experiments/learned_caution.py's model.zip) that set the climb's caution at "
+                             "every decision, each in turn in every row")
     parser.add_argument("--workers", type=positive_int, default=2)
     parser.add_argument("--out", type=Path, default=Path("out/crest_tradeoff.md"))
     return parser
@@ -420,6 +437,9 @@ def check_arguments(parser: Parser, args: argparse.Namespace) -> None:
     require_networks(parser, "--run", args.run)
     require_networks(parser, "--guards", args.guards or [])
     require_networks(parser, "--estimators", args.estimators or [])
+    for model in args.caution_policy or []:
+        if not model.is_file():
+            parser.error(f"--caution-policy: no file {model} (a PPO model.zip of experiments/learned_caution.py)")
 
 
 def main() -> None:
@@ -430,7 +450,7 @@ def main() -> None:
     text = table(args.targets, args.workers, args.run, args.cautions, args.spread_cautions, args.guards, args.stops,
                  args.own_climb, GRID_SETS[args.grids], args.crest_fractions, args.crest_once_crept,
                  {name: [v for n, v in args.set if n == name] for name, _ in args.set}, args.guards_only,
-                 args.estimators, args.return_digits, records, dict(args.scenario))
+                 args.estimators, args.return_digits, records, dict(args.scenario), args.caution_policy)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)
     if args.records:

@@ -20,6 +20,13 @@ episode of four the sensors' noise at 0-3 times the full scale and the drive's l
 plays' kinds, never their episodes. Each seed's model goes to ``OUT/seed_K/model.zip`` with ``training.json``.
 ``experiments/crest_tradeoff.py --caution-policy OUT/seed_K/model.zip`` plays it on any grid set, with the
 records the rule checks read (:class:`CautionSteered`).
+
+    python experiments/learned_caution.py --report PLAY [PLAY ...] --baseline PLAY --out out/learned_caution.md
+
+reports the seeds' plays together (each PLAY: ``crest_tradeoff.py --records`` files of one seed joined by ``+``, the
+same grids in the same order for every seed and the baseline): each seed's runaways, median, P90 and mean return,
+and the interquartile mean of the relative error over seeds x climbs with its stratified-bootstrap 95 % CI (the
+seeds resampled within each climb, as rliable does; ``ppo_seeds.py``'s), beside the baseline's.
 """
 
 from __future__ import annotations
@@ -37,7 +44,7 @@ import gymnasium as gym
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from script_checks import check_out_dir  # noqa: E402
+from script_checks import check_out_dir, check_out_file  # noqa: E402
 
 import cof_gym  # noqa: E402
 from cof_gym.agents.base import agent_view  # noqa: E402
@@ -174,9 +181,46 @@ def train(out: Path, seed: int, timesteps: int) -> dict:
     return record
 
 
+def read_play(play: str) -> list[dict]:
+    """The episodes of ``crest_tradeoff.py --records`` files joined by ``+``, in their order."""
+    return [r for path in play.split("+") for r in json.loads(Path(path).read_text())]
+
+
+def seed_report(plays: list[str], baseline: str) -> str:
+    """The seeds' plays and the baseline's (module docstring), as markdown."""
+    from ppo_seeds import iqm, stratified_bootstrap_ci
+
+    def row(name: str, records: list[dict]) -> str:
+        errors = np.array([r["error"] for r in records])
+        return (f"| {name} | {sum(r['macro_slip'] for r in records)} of {len(records)} | "
+                f"{100 * np.median(errors):.1f} % | {100 * np.percentile(errors, 90):.1f} % | "
+                f"{np.mean([r['episode_return'] for r in records]):.4f} | {100 * iqm(errors):.1f} % |")
+
+    seeds, base = [read_play(p) for p in plays], read_play(baseline)
+    keys = [[(r["grid"], json.dumps(r["config"], sort_keys=True), r["episode"]) for r in s] for s in [base, *seeds]]
+    if any(k != keys[0] for k in keys[1:]):
+        raise ValueError("the plays do not hold the same episodes in the same order")
+    lines = ["| play | runaways (climbs) | median | P90 | mean return | IQM |", "|---|---|---|---|---|---|",
+             row(f"baseline: {baseline.split('+')[0]}", base), *(row(p.split("+")[0], s) for p, s in zip(plays, seeds))]
+    scores = np.array([[r["error"] for r in s] for s in seeds])
+    low, high = stratified_bootstrap_ci(scores, iqm)
+    returns = [np.mean([r["episode_return"] for r in s]) for s in seeds]
+    lines += ["", f"Over {len(seeds)} seeds x {scores.shape[1]} climbs: IQM of the relative error "
+              f"{100 * iqm(scores):.1f} % [{100 * low:.1f}, {100 * high:.1f}] (stratified bootstrap 95 % CI; the "
+              f"baseline {100 * iqm(np.array([r['error'] for r in base])):.1f} %); mean return {np.mean(returns):.4f} "
+              f"(seeds {min(returns):.4f} ... {max(returns):.4f}; the baseline "
+              f"{np.mean([r['episode_return'] for r in base]):.4f})."]
+    return "\n".join(lines) + "\n"
+
+
 def build_parser() -> Parser:
     parser = Parser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--out", type=Path, required=True, help="directory of the seeds' models")
+    parser.add_argument("--out", type=Path, required=True,
+                        help="directory of the seeds' models (training), or the report's markdown file (--report)")
+    parser.add_argument("--report", nargs="+", default=None, metavar="PLAY",
+                        help="no training: report these seeds' plays (crest_tradeoff.py --records files of one seed "
+                             "joined by +) beside --baseline's")
+    parser.add_argument("--baseline", default=None, metavar="PLAY", help="the play the report sets the seeds beside")
     parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2, 3, 4], help="PPO seeds (>= 0)")
     parser.add_argument("--timesteps", type=positive_int, default=40_000, help="PPO steps per seed")
     return parser
@@ -187,9 +231,32 @@ def main() -> None:
     args = parser.parse_args()
     if any(s < 0 for s in args.seeds):
         parser.error(f"--seeds must be >= 0, got {args.seeds}")
+    if args.report is not None:
+        report(parser, args)
+        return
+    if args.baseline is not None:
+        parser.error("--baseline: only with --report")
     check_out_dir(parser, "--out", args.out)
     for seed in args.seeds:
         print(json.dumps(train(args.out, seed, args.timesteps)), flush=True)
+
+
+def report(parser: Parser, args: argparse.Namespace) -> None:
+    """``--report``: the seeds' plays beside the baseline's, printed and written to ``--out``."""
+    check_out_file(parser, "--out", args.out)
+    if args.baseline is None:
+        parser.error("--report: needs --baseline (the play the seeds are set beside)")
+    for play in [*args.report, args.baseline]:
+        missing = [p for p in play.split("+") if not Path(p).is_file()]
+        if missing:
+            parser.error(f"--report/--baseline: no records file {missing[0]}")
+    try:
+        text = seed_report(args.report, args.baseline)
+    except (ValueError, KeyError, json.JSONDecodeError) as error:
+        parser.error(f"--report: {error}")
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    args.out.write_text(text)
+    print(text, end="")
 
 
 if __name__ == "__main__":

@@ -30,6 +30,14 @@ CASES = [
     ("crest_tradeoff", ["--out", "{dir}"], "--out"),
     ("crest_tradeoff", ["--out", "{file}/t.md"], "--out"),
     ("crest_tradeoff", ["--records", "{dir}", "--out", "{new}/t.md"], "--records"),
+    ("crest_tradeoff", ["--caution-policy", "{new}.zip", "--out", "{new}/t.md"], "--caution-policy"),
+    ("learned_caution", ["--seeds", "0", "-1", "--out", "{new}"], "--seeds"),
+    ("learned_caution", ["--timesteps", "0", "--out", "{new}"], "--timesteps"),
+    ("learned_caution", ["--out", "{file}"], "--out"),
+    ("learned_caution", ["--report", "{new}.json", "--baseline", "{file}", "--out", "{new}/t.md"], "--report"),
+    ("learned_caution", ["--report", "{file}", "--out", "{new}/t.md"], "--report"),
+    ("learned_caution", ["--baseline", "{file}", "--out", "{new}"], "--baseline"),
+    ("learned_caution", ["--report", "{file}", "--baseline", "{file}", "--out", "{dir}"], "--out"),
     ("select_phase_rule", ["--workers", "0"], "--workers"),
     ("select_phase_rule", ["--out", "{dir}"], "--out"),
     ("select_robust_model", ["--workers", "-1"], "--workers"),
@@ -150,7 +158,8 @@ REQUIRED = {"assemble_policy": ["--filter", "f", "--out", "o"], "feature_block_n
             "paired_comparison": ["records.jsonl"],
             "runaways_by_option": ["records.json", "--option", "x", "--edges", "0"],
             "ppo_seeds": ["--runs", "run"], "zoo_eval": ["model.zip"], "rule_check": ["base.json", "candidate.json"],
-            "frontier": ["records.json"], "scripted_plays": ["--agents", "phase-rule", "--records", "r.json"]}
+            "frontier": ["records.json"], "scripted_plays": ["--agents", "phase-rule", "--records", "r.json"],
+            "learned_caution": ["--out", "o"]}
 
 
 def test_every_script_parses_with_the_one_line_parser() -> None:
