@@ -853,6 +853,11 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # and --add-guard-climbs runs/estimator_wide_balance/onpolicy_env_8e113d0ddec5.npz and the procedural cache;
         # S3: --guards runs/interrogator_shipped_proc/guard/ensemble cof_gym/agents/policies/interrogator/guard_1 on the
         # four validation plays (runs/rule103.sh: rule_check_rule103S3_c, frontier_rule103_validation with --rows)
+        # rule 104: python experiments/learned_caution.py --out runs/caution_rl --seeds 0 1 2 3 4, then each seed K on
+        # the four validation plays with the shipped guards and --caution-policy runs/caution_rl/seed_K/model.zip
+        # (runs/rule104.sh: records out/records_rule104LK_*), learned_caution.py --report with the five seeds' plays and
+        # --baseline the _rule95shipped53_ ones (learned_caution_rule104), frontier.py with the five seeds and --rows
+        # (frontier_rule104_validation), rule_check.py for seed 0 (rule_check_rule104L0_c)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1188,6 +1193,7 @@ SOURCES = {
         "frontier_rule101_validation", *(f"rule_check_rule101{c}_c" for c in ("A2", "A3")), "frontier_explore102",
         "rule_check_rule102EG_validation", "frontier_rule102", "rule_check_rule102",
         "frontier_rule103_validation", "rule_check_rule103S3_c",
+        "learned_caution_rule104", "frontier_rule104_validation", "rule_check_rule104L0_c",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
