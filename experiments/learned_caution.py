@@ -27,16 +27,20 @@ reports the seeds' plays together (each PLAY: ``crest_tradeoff.py --records`` fi
 same grids in the same order for every seed and the baseline): each seed's runaways, median, P90 and mean return,
 and the interquartile mean of the relative error over seeds x climbs with its stratified-bootstrap 95 % CI (the
 seeds resampled within each climb, as rliable does; ``ppo_seeds.py``'s), beside the baseline's.
+
+    python experiments/learned_caution.py --export runs/caution_rl/seed_0/model.zip --into POLICY_DIR
+
+writes a seed's policy into a policy directory (``caution_policy.npz``, NumPy, and the manifest's ``caution_policy``
+and ``caution_training``), where the agent itself reads it (``LearnedInterrogator.caution_policy``; ``cof-gym
+evaluate --agents interrogator:POLICY_DIR``).
 """
 
 from __future__ import annotations
 
 import argparse
 import json
-import math
 import sys
 import time
-from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -48,36 +52,23 @@ from script_checks import check_out_dir, check_out_file  # noqa: E402
 
 import cof_gym  # noqa: E402
 from cof_gym.agents.base import agent_view  # noqa: E402
-from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR, interrogator_for  # noqa: E402
+from cof_gym.agents.interrogator import (  # noqa: E402
+    CAUTION_POLICY_FILE, CAUTION_SPAN, SHIPPED_INTERROGATOR, CautionPolicy, cautioned, interrogator_for,
+)
 from cof_gym.agents.interrogator.training import STEEP_FALL, procedural_shape  # noqa: E402
 from cof_gym.commands.args import Parser, positive_int  # noqa: E402
 from cof_gym.task.scenarios import MOTOR_LAG_MAX_S, NOISE_LEVEL_MAX  # noqa: E402
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS  # noqa: E402
 
-CAUTION_SPAN = math.log(2.0)  # a = +-1: the shipped caution times 2 or halved
 TRAINING_SEED = 9_000_000  # seed k's episodes from TRAINING_SEED + 1 000 000 k: far from every grid's seeds
 SHAPES = ("env", "procedural", "steep")  # a third each
 NOISY_SHARE = 0.25  # episodes with the noise and the lag past the v2 draws
-STATE_SIZE = 9
+STATE_SIZE = 9  # LearnedInterrogator.climb_state's fields
 
 
 def climb_state(agent) -> np.ndarray:
-    """What the climb of ``agent`` (a :class:`~cof_gym.agents.interrogator.LearnedInterrogator`) decided after its
-    last window, as the policy reads it (zeros for the decision before the first window's): the filter's predicted
-    headroom and std, the steering (cautious) headroom and its std, the log step taken, whether it has crept and
-    whether the probe is sticky, the windows left over the horizon and the log of the noise ratio read."""
-    d = agent.decisions[-1] if agent.decisions else None
-    decided = [d.filter_headroom, d.filter_std, d.steering_headroom, d.steering_std, d.log_step, float(d.crept)] \
-        if d else [0.0] * 6
-    return np.array([*decided, float(agent._stuck), agent._windows_left / agent.max_windows,
-                     math.log(agent._noise_ratio)], dtype=np.float32)
-
-
-def caution_at(base, action: float):
-    """The climb ``base`` (ClimbParameters) with its caution times ``exp(CAUTION_SPAN a)``, ``a`` clipped to
-    [-1, 1] (the guards follow it where their cautions are the climb's)."""
-    a = float(np.clip(action, -1.0, 1.0))
-    return base if a == 0.0 else replace(base, caution=base.caution * math.exp(CAUTION_SPAN * a))
+    """What the climb of ``agent`` decided after its last window (:meth:`LearnedInterrogator.climb_state`)."""
+    return agent.climb_state()
 
 
 class CautionSteered:
@@ -96,7 +87,7 @@ class CautionSteered:
 
     def act(self, observation: np.ndarray, info: dict) -> np.ndarray:
         if self.agent.dc_nm > 0.0:  # the first action drives the first window: no decision yet
-            self.agent.params = caution_at(self.base, self.policy(climb_state(self.agent)))
+            self.agent.params = cautioned(self.base, self.policy(climb_state(self.agent)))
         return self.agent.act(observation, info)
 
 
@@ -106,6 +97,17 @@ def ppo_policy(model_path: Path):
 
     model = PPO.load(str(model_path), device="cpu")
     return lambda state: float(model.predict(state, deterministic=True)[0][0])
+
+
+def exported(model_path: Path) -> CautionPolicy:
+    """A saved PPO model's deterministic policy as the package runs it (NumPy, float32): its policy network's tanh
+    layers and its action layer."""
+    from stable_baselines3 import PPO
+
+    policy = PPO.load(str(model_path), device="cpu").policy
+    layers = [m for m in policy.mlp_extractor.policy_net if hasattr(m, "weight")]
+    pair = lambda m: (m.weight.detach().numpy().copy(), m.bias.detach().numpy().copy())  # noqa: E731
+    return CautionPolicy(tuple(pair(m) for m in layers), pair(policy.action_net))
 
 
 class CautionEnv(gym.Env):
@@ -147,7 +149,7 @@ class CautionEnv(gym.Env):
         return climb_state(self.agent), {}
 
     def step(self, action):
-        self.agent.params = caution_at(self.base, float(np.asarray(action).reshape(-1)[0]))
+        self.agent.params = cautioned(self.base, float(np.asarray(action).reshape(-1)[0]))
         command = self.agent.act(self._obs, agent_view(self._info, False))
         self._obs, reward, terminated, truncated, self._info = self.env.step(command)
         return climb_state(self.agent), float(reward), terminated, truncated, {}
@@ -215,12 +217,16 @@ def seed_report(plays: list[str], baseline: str) -> str:
 
 def build_parser() -> Parser:
     parser = Parser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--out", type=Path, required=True,
+    parser.add_argument("--out", type=Path, default=None,
                         help="directory of the seeds' models (training), or the report's markdown file (--report)")
     parser.add_argument("--report", nargs="+", default=None, metavar="PLAY",
                         help="no training: report these seeds' plays (crest_tradeoff.py --records files of one seed "
                              "joined by +) beside --baseline's")
     parser.add_argument("--baseline", default=None, metavar="PLAY", help="the play the report sets the seeds beside")
+    parser.add_argument("--export", type=Path, default=None, metavar="MODEL",
+                        help="no training: write this seed's model.zip into the policy directory --into")
+    parser.add_argument("--into", type=Path, default=None, metavar="POLICY_DIR",
+                        help="a policy directory (with its manifest.json) that --export writes the policy into")
     parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2, 3, 4], help="PPO seeds (>= 0)")
     parser.add_argument("--timesteps", type=positive_int, default=40_000, help="PPO steps per seed")
     return parser
@@ -231,6 +237,11 @@ def main() -> None:
     args = parser.parse_args()
     if any(s < 0 for s in args.seeds):
         parser.error(f"--seeds must be >= 0, got {args.seeds}")
+    if args.export is not None or args.into is not None:
+        export(parser, args)
+        return
+    if args.out is None:
+        parser.error("--out: required (the seeds' directory, or with --report the report's file)")
     if args.report is not None:
         report(parser, args)
         return
@@ -239,6 +250,24 @@ def main() -> None:
     check_out_dir(parser, "--out", args.out)
     for seed in args.seeds:
         print(json.dumps(train(args.out, seed, args.timesteps)), flush=True)
+
+
+def export(parser: Parser, args: argparse.Namespace) -> None:
+    """``--export MODEL --into DIR``: the model's policy written into the policy directory (module docstring)."""
+    if args.export is None or args.into is None:
+        parser.error("--export and --into go together (a seed's model.zip, a policy directory)")
+    if not args.export.is_file():
+        parser.error(f"--export: no file {args.export} (a seed's model.zip)")
+    manifest_path = args.into / "manifest.json"
+    if not manifest_path.is_file():
+        parser.error(f"--into: no manifest.json in {args.into} (a policy directory)")
+    training = args.export.parent / "training.json"
+    exported(args.export).save(args.into / CAUTION_POLICY_FILE)
+    manifest = json.loads(manifest_path.read_text())
+    manifest["caution_policy"] = CAUTION_POLICY_FILE
+    manifest["caution_training"] = json.loads(training.read_text()) if training.is_file() else {}
+    manifest_path.write_text(json.dumps(manifest, indent=2) + "\n")
+    print(f"{args.export} -> {args.into / CAUTION_POLICY_FILE}")
 
 
 def report(parser: Parser, args: argparse.Namespace) -> None:

@@ -106,7 +106,7 @@ def test_the_walker_sees_an_upward_import(tmp_path):
 # The learned interrogator's package has layers of its own, lowest first (its docstring names them): a module
 # imports only those before it; the package's __init__ re-exports the first six, which training reads through it.
 INTERROGATOR = "cof_gym.agents.interrogator"
-INTERROGATOR_ORDER = ("readings", "features", "networks", "interval", "climb", "agent", "training")
+INTERROGATOR_ORDER = ("readings", "features", "networks", "interval", "climb", "caution", "agent", "training")
 
 
 def test_the_interrogators_modules_cover_its_order_and_import_only_those_before_them():

@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 
 import cof_gym
-from cof_gym.agents.interrogator import load_interrogator
+from cof_gym.agents.interrogator import cautioned, load_interrogator
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
-from learned_caution import STATE_SIZE, CautionEnv, CautionSteered, caution_at, climb_state  # noqa: E402
+from learned_caution import STATE_SIZE, CautionEnv, CautionSteered, climb_state  # noqa: E402
 
 
 class Recorder:
@@ -59,11 +59,11 @@ def test_a_bolder_or_more_cautious_action_steers_another_climb() -> None:
 def test_the_action_scales_the_caution_within_a_factor_of_two() -> None:
     env = gym.make(cof_gym.WAGON_ENV_ID)
     base = load_interrogator(env).params
-    assert caution_at(base, 0.0) is base
-    assert caution_at(base, 1.0).caution == pytest.approx(2.0 * base.caution, rel=1e-12)
-    assert caution_at(base, -1.0).caution == pytest.approx(0.5 * base.caution, rel=1e-12)
-    assert caution_at(base, 7.0) == caution_at(base, 1.0)  # clipped to the action space
-    assert caution_at(base, 1.0).creep_log_step == base.creep_log_step  # nothing else moves
+    assert cautioned(base, 0.0) is base
+    assert cautioned(base, 1.0).caution == pytest.approx(2.0 * base.caution, rel=1e-12)
+    assert cautioned(base, -1.0).caution == pytest.approx(0.5 * base.caution, rel=1e-12)
+    assert cautioned(base, 7.0) == cautioned(base, 1.0)  # clipped to the action space
+    assert cautioned(base, 1.0).creep_log_step == base.creep_log_step  # nothing else moves
 
 
 def test_the_training_env_is_seeded_and_its_state_is_the_climbs() -> None:
@@ -100,3 +100,65 @@ def test_the_seed_report_pools_seeds_by_climb_and_refuses_other_episodes(tmp_pat
     other = _records(tmp_path / "other.json", [0.01, 0.02, 0.03])
     with pytest.raises(ValueError, match="same episodes"):
         seed_report([other], base)
+
+
+def _constant_policy(action: float):
+    from cof_gym.agents.interrogator import CautionPolicy
+
+    zeros = np.zeros((4, STATE_SIZE), dtype=np.float32)
+    return CautionPolicy(((zeros, np.zeros(4, dtype=np.float32)),),
+                         (np.zeros((1, 4), dtype=np.float32), np.array([action], dtype=np.float32)))
+
+
+def test_the_agents_own_caution_policy_steers_as_the_wrapper_does() -> None:
+    """The policy read from a policy directory (``LearnedInterrogator.caution_policy``) sets each decision's caution
+    from the climb as it stood before the window, as the experiment's wrapper did when it was trained and judged."""
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    wrapped = _actions(env, CautionSteered(load_interrogator(env), lambda state: -0.5), 0)
+    own = load_interrogator(env)
+    own.caution_policy = _constant_policy(-0.5)
+    assert [np.array_equal(a, b) for a, b in zip(wrapped, _actions(env, own, 0))] == [True] * len(wrapped)
+    assert any(not np.array_equal(a, b) for a, b in zip(wrapped, _actions(env, load_interrogator(env), 0)))
+
+
+def test_the_caution_policy_is_a_clipped_tanh_network_saved_and_loaded_alike(tmp_path: Path) -> None:
+    from cof_gym.agents.interrogator import CautionPolicy
+
+    rng = np.random.default_rng(0)
+    hidden = ((rng.normal(size=(3, STATE_SIZE)).astype(np.float32), rng.normal(size=3).astype(np.float32)),)
+    policy = CautionPolicy(hidden, (rng.normal(size=(1, 3)).astype(np.float32), np.array([0.1], dtype=np.float32)))
+    state = rng.normal(size=STATE_SIZE).astype(np.float32)
+    expected = float((policy.output[0] @ np.tanh(hidden[0][0] @ state + hidden[0][1]) + policy.output[1])[0])
+    assert policy(state) == pytest.approx(float(np.clip(expected, -1.0, 1.0)), abs=1e-6)  # float32 sums of 9 terms
+    assert _constant_policy(3.0)(state) == 1.0 and _constant_policy(-3.0)(state) == -1.0
+    policy.save(tmp_path / "p.npz")
+    assert CautionPolicy.load(tmp_path / "p.npz")(state) == policy(state)
+
+
+def test_an_exported_model_is_read_by_the_agent_and_acts_as_it_was_trained(tmp_path: Path, monkeypatch) -> None:
+    """``learned_caution.py --export MODEL --into DIR``: the policy directory's agent carries the model's
+    deterministic policy (float32 arithmetic in another summation order: within 1e-6 of stable-baselines3's)."""
+    import shutil
+
+    from stable_baselines3 import PPO
+
+    import learned_caution
+    from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR, interrogator_for
+
+    env = CautionEnv()
+    model = PPO("MlpPolicy", env, n_steps=32, batch_size=32, seed=0, device="cpu",
+                policy_kwargs={"net_arch": [16, 16], "log_std_init": -1.0})
+    (tmp_path / "seed_0").mkdir()
+    model.save(tmp_path / "seed_0" / "model.zip")
+    policy_dir = tmp_path / "policy"
+    shutil.copytree(SHIPPED_INTERROGATOR, policy_dir)
+    monkeypatch.setattr(sys, "argv", ["learned_caution.py", "--export", str(tmp_path / "seed_0" / "model.zip"),
+                                      "--into", str(policy_dir)])
+    learned_caution.main()
+    agent = interrogator_for(gym.make(cof_gym.WAGON_ENV_ID), policy_dir)
+    assert agent.caution_policy is not None
+    states = np.random.default_rng(1).normal(size=(50, STATE_SIZE)).astype(np.float32)
+    ours = [agent.caution_policy(s) for s in states]
+    theirs = [float(model.predict(s, deterministic=True)[0][0]) for s in states]
+    assert np.allclose(ours, theirs, rtol=0, atol=1e-6)
+    env.close()

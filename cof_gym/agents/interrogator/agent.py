@@ -14,6 +14,7 @@ import numpy as np
 from cof_gym.agents.base import (
     configuration_note, env_defaults, episode_scenarios, outside_training_note, registered_ranges, without_defaults,
 )
+from cof_gym.agents.interrogator.caution import CautionPolicy, cautioned
 from cof_gym.agents.interrogator.climb import (
     AT_HEADROOM, ESTIMATE_SOURCES, ESTIMATOR_ESTIMATES, GUARDED_ESTIMATES, HEADROOM_STOPS, ClimbParameters,
 )
@@ -65,6 +66,7 @@ class LearnedInterrogator:
     guards: tuple[FilterEnsemble, ...] = ()  # further filters that may only slow the climb (module docstring)
     estimators: tuple[FilterEnsemble, ...] = ()  # further filters whose correction the estimate may read
     interval: IntervalScales | None = None  # the calibrated interval around the estimate (cof_interval), if any
+    caution_policy: CautionPolicy | None = None  # sets each decision's caution from climb_state() (rule 104), if any
     _guard_features: tuple[EpisodeFeatures, ...] = field(default=(), repr=False)
     _estimator_features: tuple[EpisodeFeatures, ...] = field(default=(), repr=False)
     _dc: float = 0.0
@@ -357,9 +359,26 @@ class LearnedInterrogator:
             self._dc, self.limits, self._ratio)
         return p.action(self._dc, estimate, stop, self.limits, self._ratio, self._frequency, raise_by)
 
+    def climb_state(self) -> np.ndarray:
+        """What the climb decided after its last window, as the caution policy reads it (float32; zeros for the
+        decision before the first window's): the filter's predicted headroom and std, the steering (cautious)
+        headroom and its std, the log step taken, whether it has crept and whether the probe is sticky, the windows
+        left over the horizon and the log of the noise ratio read. Sensor readings only."""
+        d = self.decisions[-1] if self.decisions else None
+        decided = [d.filter_headroom, d.filter_std, d.steering_headroom, d.steering_std, d.log_step, float(d.crept)] \
+            if d else [0.0] * 6
+        return np.array([*decided, float(self._stuck), self._windows_left / self.max_windows,
+                         math.log(self._noise_ratio)], dtype=np.float32)
+
+    def _decision_params(self) -> ClimbParameters:
+        """The climb of the coming decision: ``params``, its caution set by the caution policy where there is one."""
+        return self.params if self.caution_policy is None else cautioned(self.params, self.caution_policy(self.climb_state()))
+
     def _after_window(self, observation: np.ndarray, info: dict[str, Any]) -> tuple[ClimbParameters, bool]:
         """Read the window just driven, update the estimates, and choose the next DC or the stop; returns the climb
-        at the noise the first windows read (:meth:`ClimbParameters.at_noise`) and whether it stops."""
+        (its caution the policy's, where there is one) at the noise the first windows read
+        (:meth:`ClimbParameters.at_noise`) and whether it stops."""
+        params = self._decision_params()  # from the climb as it stood before this window
         self._driven += 1
         reading = self._reading(observation, info)
         previous = self.features.readings[-1] if self.features.readings else None
@@ -368,8 +387,8 @@ class LearnedInterrogator:
         self._bracket.observe(reading.crest_bound, reading.dc_nm + reading.amplitude_nm)  # the floor's bound too
         for features in (self.features, *self._guard_features, *self._estimator_features):
             features.push(reading)
-        self._noise_ratio = self.params.noise_ratio(self.features.readings)
-        p = self.params.at_noise(self._noise_ratio)
+        self._noise_ratio = params.noise_ratio(self.features.readings)
+        p = params.at_noise(self._noise_ratio)
         mean, std, spread = self.ensemble.predict_with_spread(self.features.vector())
         guard_outputs = [g.predict_with_spread(f.vector()) for g, f in zip(self.guards, self._guard_features)]
         steering = self._steering_headroom(p, mean, std, spread, guard_outputs)
@@ -534,13 +553,15 @@ def interrogator_for(env, directory: Path, params: ClimbParameters | None = None
     guard_dirs = manifest_guards(directory) if guards is None else tuple(guards)
     estimator_dirs = manifest_networks(directory, "estimators") if estimators is None else tuple(estimators)
     base = env.unwrapped
+    caution_file = read_manifest(directory).get("caution_policy")
     return LearnedInterrogator(base.limits, ensemble, counter_torque=bool(base.task.counter_torque),
                                params=params or manifest_climb(directory),
                                max_windows=int(base.task.max_windows),
                                trained_on=(trained["env_id"], tuple(trained["configs"])) if trained else None,
                                guards=tuple(FilterEnsemble.load(g) for g in guard_dirs),
                                estimators=tuple(FilterEnsemble.load(e) for e in estimator_dirs),
-                               interval=IntervalScales.load(directory))
+                               interval=IntervalScales.load(directory),
+                               caution_policy=CautionPolicy.load(directory / caution_file) if caution_file else None)
 
 
 def load_interrogator(env, argument: str | None = None) -> LearnedInterrogator:
