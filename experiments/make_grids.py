@@ -137,7 +137,11 @@
   rule 102 (session 55).
 - ``suites/v2_confirmation35_grid.json``, ``suites/v2_confirmation35_procedural_grid.json`` and
   ``suites/v2_confirmation35_steep_grid.json`` (session 55, seeds 471 000, 473 000, 475 000): a thirty-fifth such
-  set, written before any agent played them, after the thirty-fourth had judged rule 102, for the next rule.
+  set, written before any agent played them, after the thirty-fourth had judged rule 102, for the next rule; it
+  judged rule 104 (session 56).
+- ``suites/v2_confirmation36_grid.json``, ``suites/v2_confirmation36_procedural_grid.json`` and
+  ``suites/v2_confirmation36_steep_grid.json`` (session 56, seeds 491 000, 493 000, 495 000): a thirty-sixth such
+  set, written before any agent played them, after the thirty-fifth had judged rule 104, for the next rule.
 - ``suites/v2_stress_tables_grid.json`` (session 50, seeds from 305 000): reporting only, never a held-out grid of
   the targets: creep curves at the edges of what a table may be (:data:`STRESS_SHAPES`: a cliff just past the
   peak, a plateau with no falling branch, a shoulder before the peak, a peak with no knee before it, and a peak at
@@ -169,7 +173,10 @@
   any agent played it, after the fifth had judged rule 95 (``--grids extremes_confirmation6``); it judged rule 102
   (session 55).
 - ``suites/v2_extremes_confirmation7_grid.json`` (session 55, seeds from 483 000): a seventh such set, written before
-  any agent played it, after the sixth had judged rule 102 (``--grids extremes_confirmation7``).
+  any agent played it, after the sixth had judged rule 102 (``--grids extremes_confirmation7``); it judged rule 104
+  (session 56).
+- ``suites/v2_extremes_confirmation8_grid.json`` (session 56, seeds from 503 000): an eighth such set, written before
+  any agent played it, after the seventh had judged rule 104 (``--grids extremes_confirmation8``).
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
@@ -236,7 +243,11 @@
   judged rule 102 (session 55).
 - ``suites/v2_torque_confirmation16_grid.json``, ``suites/v2_torque_confirmation16_procedural_grid.json`` and
   ``suites/v2_torque_confirmation16_steep_grid.json`` (session 55, seeds 477 000, 479 000, 481 000): a sixteenth
-  such set, written before any agent played them, after the fifteenth had judged rule 102, for the next rule.
+  such set, written before any agent played them, after the fifteenth had judged rule 102, for the next rule; it
+  judged rule 104 (session 56).
+- ``suites/v2_torque_confirmation17_grid.json``, ``suites/v2_torque_confirmation17_procedural_grid.json`` and
+  ``suites/v2_torque_confirmation17_steep_grid.json`` (session 56, seeds 497 000, 499 000, 501 000): a seventeenth
+  such set, written before any agent played them, after the sixteenth had judged rule 104, for the next rule.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -600,7 +611,8 @@ ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", 
             "eleventh ", "twelfth ", "thirteenth ", "fourteenth ", "fifteenth ", "sixteenth ", "seventeenth ",
             "eighteenth ", "nineteenth ", "twentieth ", "twenty-first ", "twenty-second ", "twenty-third ",
             "twenty-fourth ", "twenty-fifth ", "twenty-sixth ", "twenty-seventh ", "twenty-eighth ", "twenty-ninth ",
-            "thirtieth ", "thirty-first ", "thirty-second ", "thirty-third ", "thirty-fourth ", "thirty-fifth ")
+            "thirtieth ", "thirty-first ", "thirty-second ", "thirty-third ", "thirty-fourth ", "thirty-fifth ",
+            "thirty-sixth ")
 
 # the confirmation sets, in the order they were written (the module docstring says when, and for which rule):
 # name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and steep grids; each was written
@@ -677,6 +689,9 @@ CONFIRMATION_SETS = {
     "confirmation35": (((0.06, 0.3, 0.53, 0.79, 0.94), (6.5, 17.5, 34.0), 471_000),
                        ((0.08, 0.41, 0.68, 0.9), (8.5, 21.5, 36.0), 473_000),
                        ((0.12, 0.46, 0.81), (7.0, 20.5, 37.0), 475_000)),
+    "confirmation36": (((0.05, 0.31, 0.55, 0.78, 0.95), (5.5, 18.5, 33.5), 491_000),
+                       ((0.07, 0.38, 0.7, 0.91), (9.0, 21.0, 37.5), 493_000),
+                       ((0.11, 0.44, 0.82), (7.5, 20.0, 36.0), 495_000)),
 }
 
 
@@ -736,13 +751,16 @@ TORQUE_CONFIRMATION_SETS = {
     "torque_confirmation16": (((0.05, 0.29, 0.57, 0.8, 0.94), (7.0, 18.0, 33.0), 477_000),
                               ((0.07, 0.4, 0.7, 0.92), (9.5, 22.0, 36.5), 479_000),
                               ((0.12, 0.45, 0.8), (6.5, 19.0, 37.5), 481_000)),
+    "torque_confirmation17": (((0.06, 0.3, 0.54, 0.79, 0.93), (6.0, 17.5, 34.5), 497_000),
+                              ((0.09, 0.41, 0.69, 0.9), (8.5, 22.5, 36.0), 499_000),
+                              ((0.13, 0.47, 0.83), (7.0, 19.5, 37.0), 501_000)),
 }
 # the confirmation sets past every draw at once (v2_extremes_grid's draw, 96 episodes each), in the order they were
 # written (the module docstring says when, and for which rule): name -> first seed
 EXTREMES_CONFIRMATION_SETS = {"extremes_confirmation": 361_000, "extremes_confirmation2": 383_000,
                               "extremes_confirmation3": 403_000, "extremes_confirmation4": 423_000,
                               "extremes_confirmation5": 443_000, "extremes_confirmation6": 463_000,
-                              "extremes_confirmation7": 483_000}
+                              "extremes_confirmation7": 483_000, "extremes_confirmation8": 503_000}
 GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0  # the golden ratio's fraction: a low-discrepancy sequence k x GOLDEN mod 1
 
 

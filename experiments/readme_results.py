@@ -857,7 +857,10 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # the four validation plays with the shipped guards and --caution-policy runs/caution_rl/seed_K/model.zip
         # (runs/rule104.sh: records out/records_rule104LK_*), learned_caution.py --report with the five seeds' plays and
         # --baseline the _rule95shipped53_ ones (learned_caution_rule104), frontier.py with the five seeds and --rows
-        # (frontier_rule104_validation), rule_check.py for seed 0 (rule_check_rule104L0_c)
+        # (frontier_rule104_validation), rule_check.py for seed 0 (rule_check_rule104L0_c); runs/confirm104.sh 0 (the
+        # shipped agent and seed 0, with --caution-policy, and scripted_plays.py's four agents on confirmation35 at its
+        # draws, --scenario noise_level=3 and motor_lag_s=0.1, torque_confirmation16 and extremes_confirmation7;
+        # frontier_rule104 with frontier.py --rows, rule_check_rule104 with --more-runaways 2352)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1193,7 +1196,8 @@ SOURCES = {
         "frontier_rule101_validation", *(f"rule_check_rule101{c}_c" for c in ("A2", "A3")), "frontier_explore102",
         "rule_check_rule102EG_validation", "frontier_rule102", "rule_check_rule102",
         "frontier_rule103_validation", "rule_check_rule103S3_c",
-        "learned_caution_rule104", "frontier_rule104_validation", "rule_check_rule104L0_c",
+        "learned_caution_rule104", "frontier_rule104_validation", "rule_check_rule104L0_c", "frontier_rule104",
+        "rule_check_rule104",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
