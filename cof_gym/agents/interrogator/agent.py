@@ -372,7 +372,9 @@ class LearnedInterrogator:
 
     def _decision_params(self) -> ClimbParameters:
         """The climb of the coming decision: ``params``, its caution set by the caution policy where there is one."""
-        return self.params if self.caution_policy is None else cautioned(self.params, self.caution_policy(self.climb_state()))
+        if self.caution_policy is None:
+            return self.params
+        return cautioned(self.params, self.caution_policy(self.climb_state()))
 
     def _after_window(self, observation: np.ndarray, info: dict[str, Any]) -> tuple[ClimbParameters, bool]:
         """Read the window just driven, update the estimates, and choose the next DC or the stop; returns the climb
