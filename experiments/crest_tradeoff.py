@@ -153,10 +153,10 @@ def _play(run: str, params: dict, grid: str, config: dict, guards: list[str] | N
     caution (experiments/learned_caution.py)."""
     wrap = None
     if caution_policy is not None:
-        from learned_caution import CautionSteered, ppo_policy
+        from learned_caution import ppo_policy, steered
 
         policy = ppo_policy(Path(caution_policy))
-        wrap = lambda agent: CautionSteered(agent, policy)  # noqa: E731
+        wrap = lambda agent: steered(agent, policy)  # noqa: E731
     return [Played.of(r, ("macro-slip, slow probe" if agent.crept else "macro-slip") if r.macro_slip else agent.stop_reason,
                       {s: source_error(agent, r, s, params.get("best_coa_factor", 1.0)) for s in available_sources(agent)})
             for r, agent in episodes(run, grid, config, params, guards, estimators, scenario, wrap)]

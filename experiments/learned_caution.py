@@ -19,7 +19,7 @@ tables or from procedural tables with steep falling branches, a third each
 episode of four the sensors' noise at 0-3 times the full scale and the drive's lag at 0-0.1 s: the four validation
 plays' kinds, never their episodes. Each seed's model goes to ``OUT/seed_K/model.zip`` with ``training.json``.
 ``experiments/crest_tradeoff.py --caution-policy OUT/seed_K/model.zip`` plays it on any grid set, with the
-records the rule checks read (:class:`CautionSteered`).
+records the rule checks read (:func:`steered`).
 
     python experiments/learned_caution.py --report PLAY [PLAY ...] --baseline PLAY --out out/learned_caution.md
 
@@ -53,7 +53,7 @@ from script_checks import check_out_dir, check_out_file  # noqa: E402
 import cof_gym  # noqa: E402
 from cof_gym.agents.base import agent_view  # noqa: E402
 from cof_gym.agents.interrogator import (  # noqa: E402
-    CAUTION_POLICY_FILE, CAUTION_SPAN, SHIPPED_INTERROGATOR, CautionPolicy, cautioned, interrogator_for,
+    CAUTION_POLICY_FILE, CAUTION_SPAN, SHIPPED_INTERROGATOR, CautionPolicy, interrogator_for,
 )
 from cof_gym.agents.interrogator.training import STEEP_FALL, procedural_shape  # noqa: E402
 from cof_gym.commands.args import Parser, positive_int  # noqa: E402
@@ -71,28 +71,15 @@ def climb_state(agent) -> np.ndarray:
     return agent.climb_state()
 
 
-class CautionSteered:
-    """The interrogator ``agent`` with a caution policy ``policy`` (``policy(state) -> a``) setting each decision's
-    caution; every other attribute is the agent's (the evaluators read its stop reason and estimates)."""
-
-    def __init__(self, agent, policy) -> None:
-        self.agent, self.policy, self.base = agent, policy, agent.params
-
-    def __getattr__(self, name: str) -> Any:
-        return getattr(self.agent, name)
-
-    def reset(self, observation: np.ndarray, info: dict) -> None:
-        self.agent.params = self.base
-        self.agent.reset(observation, info)
-
-    def act(self, observation: np.ndarray, info: dict) -> np.ndarray:
-        if self.agent.dc_nm > 0.0:  # the first action drives the first window: no decision yet
-            self.agent.params = cautioned(self.base, self.policy(climb_state(self.agent)))
-        return self.agent.act(observation, info)
+def steered(agent, policy):
+    """The interrogator ``agent`` with the caution policy ``policy`` (``policy(state) -> a``, e.g. :func:`ppo_policy`)
+    setting each decision's caution, as a policy directory's would (``LearnedInterrogator.caution_policy``)."""
+    agent.caution_policy = policy
+    return agent
 
 
 def ppo_policy(model_path: Path):
-    """The deterministic caution of a saved PPO model, as :class:`CautionSteered` calls it."""
+    """The deterministic action of a saved PPO model, as :func:`steered` calls it (stable-baselines3's inference)."""
     from stable_baselines3 import PPO
 
     model = PPO.load(str(model_path), device="cpu")
@@ -119,7 +106,6 @@ class CautionEnv(gym.Env):
     def __init__(self, counter_torque: bool = False, interrogator: Path = SHIPPED_INTERROGATOR) -> None:
         self.env = gym.make(cof_gym.WAGON_ENV_ID, counter_torque=counter_torque)
         self.agent = interrogator_for(self.env, interrogator)
-        self.base = self.agent.params
         self._obs, self._info = None, None
 
     def _options(self) -> dict:
@@ -140,7 +126,7 @@ class CautionEnv(gym.Env):
         super().reset(seed=seed)
         inner_seed = int(self.np_random.integers(2**31))
         obs, info = self.env.reset(seed=inner_seed, options=self._options())
-        self.agent.params = self.base
+        self.agent.caution_policy = None
         self.agent.reset(obs, agent_view(info, False))
         first = self.agent.act(obs, agent_view(info, False))  # the first window: the climb's fixed first DC
         self._obs, _, terminated, truncated, self._info = self.env.step(first)
@@ -149,7 +135,8 @@ class CautionEnv(gym.Env):
         return climb_state(self.agent), {}
 
     def step(self, action):
-        self.agent.params = cautioned(self.base, float(np.asarray(action).reshape(-1)[0]))
+        a = float(np.asarray(action).reshape(-1)[0])
+        self.agent.caution_policy = lambda state: a  # the climb clips it to [-1, 1]
         command = self.agent.act(self._obs, agent_view(self._info, False))
         self._obs, reward, terminated, truncated, self._info = self.env.step(command)
         return climb_state(self.agent), float(reward), terminated, truncated, {}

@@ -14,7 +14,7 @@ import cof_gym
 from cof_gym.agents.interrogator import cautioned, load_interrogator
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
-from learned_caution import STATE_SIZE, CautionEnv, CautionSteered, climb_state  # noqa: E402
+from learned_caution import STATE_SIZE, CautionEnv, climb_state, steered  # noqa: E402
 
 
 class Recorder:
@@ -44,15 +44,15 @@ def _actions(env, agent, seed: int) -> list[np.ndarray]:
 def test_at_a_zero_action_the_steered_climb_is_the_shipped_one(seed: int) -> None:
     env = gym.make(cof_gym.WAGON_ENV_ID)
     shipped = _actions(env, load_interrogator(env), seed)
-    steered = _actions(env, CautionSteered(load_interrogator(env), lambda state: 0.0), seed)
-    assert len(shipped) > 5 and len(steered) == len(shipped)
-    assert all(np.array_equal(a, b) for a, b in zip(shipped, steered))
+    zero = _actions(env, steered(load_interrogator(env), lambda state: 0.0), seed)
+    assert len(shipped) > 5 and len(zero) == len(shipped)
+    assert all(np.array_equal(a, b) for a, b in zip(shipped, zero))
 
 
 def test_a_bolder_or_more_cautious_action_steers_another_climb() -> None:
     env = gym.make(cof_gym.WAGON_ENV_ID)
     shipped = _actions(env, load_interrogator(env), 0)
-    cautious = _actions(env, CautionSteered(load_interrogator(env), lambda state: 1.0), 0)
+    cautious = _actions(env, steered(load_interrogator(env), lambda state: 1.0), 0)
     assert any(not np.array_equal(a, b) for a, b in zip(shipped, cautious))
 
 
@@ -110,15 +110,19 @@ def _constant_policy(action: float):
                          (np.zeros((1, 4), dtype=np.float32), np.array([action], dtype=np.float32)))
 
 
-def test_the_agents_own_caution_policy_steers_as_the_wrapper_does() -> None:
-    """The policy read from a policy directory (``LearnedInterrogator.caution_policy``) sets each decision's caution
-    from the climb as it stood before the window, as the experiment's wrapper did when it was trained and judged."""
+def test_each_decision_reads_the_climb_as_it_stood_before_the_window() -> None:
+    """The policy sees the decisions before the window it steers: none at the first decision (zeros, 29 of 30 windows
+    left), the first decision's at the second; a policy directory's network (a constant here) steers as a callable."""
     env = gym.make(cof_gym.WAGON_ENV_ID)
-    wrapped = _actions(env, CautionSteered(load_interrogator(env), lambda state: -0.5), 0)
+    seen = []
+    agent = steered(load_interrogator(env), lambda state: seen.append(state.copy()) or -0.5)
+    actions = _actions(env, agent, 0)
+    assert len(seen) == len(agent.decisions) and np.all(seen[0][:6] == 0.0)
+    assert seen[0][7] == pytest.approx(29 / 30) and seen[1][0] == np.float32(agent.decisions[0].filter_headroom)
     own = load_interrogator(env)
     own.caution_policy = _constant_policy(-0.5)
-    assert [np.array_equal(a, b) for a, b in zip(wrapped, _actions(env, own, 0))] == [True] * len(wrapped)
-    assert any(not np.array_equal(a, b) for a, b in zip(wrapped, _actions(env, load_interrogator(env), 0)))
+    assert [np.array_equal(a, b) for a, b in zip(actions, _actions(env, own, 0))] == [True] * len(actions)
+    assert any(not np.array_equal(a, b) for a, b in zip(actions, _actions(env, load_interrogator(env), 0)))
 
 
 def test_the_caution_policy_is_a_clipped_tanh_network_saved_and_loaded_alike(tmp_path: Path) -> None:
