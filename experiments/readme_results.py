@@ -861,6 +861,9 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # shipped agent and seed 0, with --caution-policy, and scripted_plays.py's four agents on confirmation35 at its
         # draws, --scenario noise_level=3 and motor_lag_s=0.1, torque_confirmation16 and extremes_confirmation7;
         # frontier_rule104 with frontier.py --rows, rule_check_rule104 with --more-runaways 2352)
+        # rule 105: python experiments/learned_caution.py --out runs/caution_rl_long --seeds 0 --timesteps 200000, then
+        # runs/rule105.sh (its four validation plays with --caution-policy runs/caution_rl_long/seed_0/model.zip,
+        # frontier_rule105_validation beside rule 104's seed 0 with --rows, rule_check_rule105L_c)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1197,7 +1200,7 @@ SOURCES = {
         "rule_check_rule102EG_validation", "frontier_rule102", "rule_check_rule102",
         "frontier_rule103_validation", "rule_check_rule103S3_c",
         "learned_caution_rule104", "frontier_rule104_validation", "rule_check_rule104L0_c", "frontier_rule104",
-        "rule_check_rule104",
+        "rule_check_rule104", "frontier_rule105_validation", "rule_check_rule105L_c",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
