@@ -28,6 +28,12 @@ same grids in the same order for every seed and the baseline): each seed's runaw
 and the interquartile mean of the relative error over seeds x climbs with its stratified-bootstrap 95 % CI (the
 seeds resampled within each climb, as rliable does; ``ppo_seeds.py``'s), beside the baseline's.
 
+    python experiments/learned_caution.py --paired runs/caution_rl/seed_0/model.zip [--episodes 60]
+
+plays a model and the shipped climb on the same held-apart training-draw episodes (``--episodes`` per vehicle
+configuration, outer seeds from ``PAIRED_SEED``) and prints both mean returns and their paired difference with its
+standard error: what the training distribution says of a policy, without a grid.
+
     python experiments/learned_caution.py --export runs/caution_rl/seed_0/model.zip --into POLICY_DIR
 
 writes a seed's policy into a policy directory (``caution_policy.npz``, NumPy, and the manifest's ``caution_policy``
@@ -64,6 +70,7 @@ TRAINING_SEED = 9_000_000  # seed k's episodes from TRAINING_SEED + 1 000 000 k:
 SHAPES = ("env", "procedural", "steep")  # a third each
 NOISY_SHARE = 0.25  # episodes with the noise and the lag past the v2 draws
 STATE_SIZE = 9  # LearnedInterrogator.climb_state's fields
+PAIRED_SEED = 8_500_000  # --paired's episodes: outer seeds of their own, apart from every training run's
 
 
 def climb_state(agent) -> np.ndarray:
@@ -202,6 +209,35 @@ def seed_report(plays: list[str], baseline: str) -> str:
     return "\n".join(lines) + "\n"
 
 
+def episode_return(env: CautionEnv, policy, seed: int) -> float:
+    """The return of one episode of ``env`` (reset with ``seed``) under ``policy``, the first window's reward
+    excepted (the climb's fixed first DC: the same for every policy)."""
+    state, _ = env.reset(seed=seed)
+    total = 0.0
+    while True:
+        state, reward, terminated, truncated, _ = env.step(np.array([policy(state)], dtype=np.float32))
+        total += reward
+        if terminated or truncated:
+            return total
+
+
+def paired_returns(model_path: Path, episodes: int) -> str:
+    """The shipped climb's and the model's returns on the same ``episodes`` training-draw episodes per vehicle
+    configuration, and their paired difference (mean +- standard error)."""
+    policy = ppo_policy(model_path)
+    pairs = []
+    for counter_torque in (False, True):
+        env = CautionEnv(counter_torque=counter_torque)
+        pairs += [(episode_return(env, lambda state: 0.0, PAIRED_SEED + k), episode_return(env, policy, PAIRED_SEED + k))
+                  for k in range(episodes)]
+        env.close()
+    shipped, model = np.array(pairs).T
+    difference = model - shipped
+    return (f"{model_path}: {len(pairs)} training-draw episodes, mean return {model.mean():.4f} against the shipped "
+            f"climb's {shipped.mean():.4f}, difference {difference.mean():+.4f} +- "
+            f"{difference.std(ddof=1) / np.sqrt(len(pairs)):.4f} (standard error)\n")
+
+
 def build_parser() -> Parser:
     parser = Parser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--out", type=Path, default=None,
@@ -212,6 +248,10 @@ def build_parser() -> Parser:
     parser.add_argument("--baseline", default=None, metavar="PLAY", help="the play the report sets the seeds beside")
     parser.add_argument("--export", type=Path, default=None, metavar="MODEL",
                         help="no training: write this seed's model.zip into the policy directory --into")
+    parser.add_argument("--paired", type=Path, default=None, metavar="MODEL",
+                        help="no training: this model and the shipped climb on the same training-draw episodes")
+    parser.add_argument("--episodes", type=positive_int, default=60,
+                        help="--paired's episodes per vehicle configuration (default: 60)")
     parser.add_argument("--into", type=Path, default=None, metavar="POLICY_DIR",
                         help="a policy directory (with its manifest.json) that --export writes the policy into")
     parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2, 3, 4], help="PPO seeds (>= 0)")
@@ -224,6 +264,11 @@ def main() -> None:
     args = parser.parse_args()
     if any(s < 0 for s in args.seeds):
         parser.error(f"--seeds must be >= 0, got {args.seeds}")
+    if args.paired is not None:
+        if not args.paired.is_file():
+            parser.error(f"--paired: no file {args.paired} (a seed's model.zip)")
+        print(paired_returns(args.paired, args.episodes), end="")
+        return
     if args.export is not None or args.into is not None:
         export(parser, args)
         return

@@ -42,6 +42,8 @@ CASES = [
     ("learned_caution", ["--export", "{file}"], "--export"),
     ("learned_caution", ["--export", "{file}", "--into", "{dir}"], "--into"),
     ("learned_caution", ["--seeds", "0"], "--out"),
+    ("learned_caution", ["--paired", "{new}.zip"], "--paired"),
+    ("learned_caution", ["--paired", "{file}", "--episodes", "0"], "--episodes"),
     ("select_phase_rule", ["--workers", "0"], "--workers"),
     ("select_phase_rule", ["--out", "{dir}"], "--out"),
     ("select_robust_model", ["--workers", "-1"], "--workers"),
