@@ -228,8 +228,8 @@ def paired_returns(model_path: Path, episodes: int) -> str:
     pairs = []
     for counter_torque in (False, True):
         env = CautionEnv(counter_torque=counter_torque)
-        pairs += [(episode_return(env, lambda state: 0.0, PAIRED_SEED + k), episode_return(env, policy, PAIRED_SEED + k))
-                  for k in range(episodes)]
+        seeds = range(PAIRED_SEED, PAIRED_SEED + episodes)
+        pairs += [(episode_return(env, lambda state: 0.0, s), episode_return(env, policy, s)) for s in seeds]
         env.close()
     shipped, model = np.array(pairs).T
     difference = model - shipped
