@@ -47,11 +47,10 @@ modulation shrinks so that its crest stays within that fraction of the cautious 
 ``--crest-once-crept``: each cap from the climb's first slow probe on). With ``--set NAME=VALUE ...`` the shipped
 climb with those parameters (a name given several values: each in turn). Per grid: median / P90 relative CoF error,
 macro-slips, and the mean episode return (the task's own trade of error against slip, comfort and time).
-With ``--caution-policy MODEL ...`` every row
-also with each of these PPO models setting the climb's caution at every decision (experiments/learned_caution.py,
-rule 104). With ``--records FILE`` every episode also goes to a JSON file, with the error each estimate source the
-agent computes would have had (the climb does not depend on it), so that a question about the estimate is
-answered from the played episodes by a named command rather than a throwaway script.
+With ``--caution-policy MODEL ...`` every row with each of these PPO models setting the climb's caution at every
+decision (experiments/learned_caution.py, rule 104). With ``--records FILE`` every episode also goes to a JSON file,
+with the error each estimate source the agent computes would have had (the climb does not depend on it), so that a
+question about the estimate is answered from the played episodes by a named command rather than a throwaway script.
 """
 
 from __future__ import annotations
