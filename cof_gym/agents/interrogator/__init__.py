@@ -182,10 +182,15 @@ and :meth:`LearnedInterrogator.in_flight_lower_bound` do the same for the estima
 (:attr:`LearnedInterrogator.noisy`) reads the scales of its noise class (:attr:`LearnedInterrogator.interval_group`),
 calibrated on validation climbs played past the draws' noise. None of them changes the climb or the estimate.
 
+**A caution policy.** A policy directory may also name ``caution_policy.npz`` in its manifest (:class:`CautionPolicy`,
+learnt by PPO in ``experiments/learned_caution.py``): a small network that sets the caution of each decision, filter
+and guards, to ``caution x exp(CAUTION_SPAN a)`` from :meth:`LearnedInterrogator.climb_state`, what the climb decided
+after its last window (:func:`cautioned`). The shipped directory carries none (rules 104-105).
+
 **Modules**, each importing only those above it: :mod:`.readings` (one window's sensor readings, the slope
 from Eq. 3), :mod:`.features` (the features of a climb's windows), :mod:`.networks` (the filter's networks
 and their ensemble), :mod:`.interval` (the calibrated interval around the estimate), :mod:`.climb` (the
-climb's settings and steps), :mod:`.agent` (the agent and its policy directory); :mod:`.training` (the training
+climb's settings and steps), :mod:`.caution` (the caution policy), :mod:`.agent` (the agent and its policy directory); :mod:`.training` (the training
 climbs and the networks' fit: torch, imported on its own).
 """
 
