@@ -8,8 +8,8 @@ standard deviations (2, chosen on the validation grids; its guards likewise). Ev
 trade of accuracy against runaways by hand. Here PPO (stable-baselines3) learns it from the task's own return: its
 action ``a`` in [-1, 1] sets the caution of the climb's next decision to ``2 exp(CAUTION_SPAN a)`` (1 ... 4 for the
 filter and both guards), and its observation is what the climb decided after the last window
-(:func:`climb_state`: the filter's predicted headroom and std, the steering headroom and std, the step taken,
-whether it has crept or stuck, the windows left, the noise it reads); no ground truth. At ``a = 0`` the climb is
+(``LearnedInterrogator.climb_state``: the filter's predicted headroom and std, the steering headroom and std, the
+step taken, whether it has crept or stuck, the windows left, the noise it reads); no ground truth. At ``a = 0`` the climb is
 the shipped one, action for action (tested), and PPO starts there (a mean of about 0, ``log_std_init``).
 
 Training episodes (their own seeds, from ``TRAINING_SEED``, none shared with a validation or confirmation grid):
@@ -59,7 +59,7 @@ from script_checks import check_out_dir, check_out_file  # noqa: E402
 import cof_gym  # noqa: E402
 from cof_gym.agents.base import agent_view  # noqa: E402
 from cof_gym.agents.interrogator import (  # noqa: E402
-    CAUTION_POLICY_FILE, CAUTION_SPAN, SHIPPED_INTERROGATOR, CautionPolicy, interrogator_for,
+    CAUTION_POLICY_FILE, CAUTION_SPAN, CLIMB_STATE_FIELDS, SHIPPED_INTERROGATOR, CautionPolicy, interrogator_for,
 )
 from cof_gym.agents.interrogator.training import STEEP_FALL, procedural_shape  # noqa: E402
 from cof_gym.commands.args import Parser, positive_int  # noqa: E402
@@ -69,13 +69,8 @@ from cof_gym.task.sensors import SYSTEMATIC_ERRORS  # noqa: E402
 TRAINING_SEED = 9_000_000  # seed k's episodes from TRAINING_SEED + 1 000 000 k: far from every grid's seeds
 SHAPES = ("env", "procedural", "steep")  # a third each
 NOISY_SHARE = 0.25  # episodes with the noise and the lag past the v2 draws
-STATE_SIZE = 9  # LearnedInterrogator.climb_state's fields
+STATE_SIZE = len(CLIMB_STATE_FIELDS)  # what LearnedInterrogator.climb_state gives
 PAIRED_SEED = 8_500_000  # --paired's episodes: outer seeds of their own, apart from every training run's
-
-
-def climb_state(agent) -> np.ndarray:
-    """What the climb of ``agent`` decided after its last window (:meth:`LearnedInterrogator.climb_state`)."""
-    return agent.climb_state()
 
 
 def steered(agent, policy):
@@ -139,14 +134,14 @@ class CautionEnv(gym.Env):
         self._obs, _, terminated, truncated, self._info = self.env.step(first)
         if terminated or truncated:  # cannot happen at the first DC; a reset that ends at once would hide a bug
             raise RuntimeError("the first window ended the episode")
-        return climb_state(self.agent), {}
+        return self.agent.climb_state(), {}
 
     def step(self, action):
         a = float(np.asarray(action).reshape(-1)[0])
         self.agent.caution_policy = lambda state: a  # the climb clips it to [-1, 1]
         command = self.agent.act(self._obs, agent_view(self._info, False))
         self._obs, reward, terminated, truncated, self._info = self.env.step(command)
-        return climb_state(self.agent), float(reward), terminated, truncated, {}
+        return self.agent.climb_state(), float(reward), terminated, truncated, {}
 
     def close(self) -> None:
         self.env.close()
@@ -178,34 +173,33 @@ def train(out: Path, seed: int, timesteps: int) -> dict:
 
 
 def read_play(play: str) -> list[dict]:
-    """The episodes of ``crest_tradeoff.py --records`` files joined by ``+``, in their order."""
-    return [r for path in play.split("+") for r in json.loads(Path(path).read_text())]
+    """The episodes of ``crest_tradeoff.py --records`` files joined by ``+``, in their order (ValueError for a file
+    that is no such records file: :func:`paired_comparison.read_records`)."""
+    from paired_comparison import read_records
+
+    return [r for path in play.split("+") for r in read_records(Path(path), set())]
 
 
 def seed_report(plays: list[str], baseline: str) -> str:
     """The seeds' plays and the baseline's (module docstring), as markdown."""
     from ppo_seeds import iqm, stratified_bootstrap_ci
 
-    def row(name: str, records: list[dict]) -> str:
-        errors = np.array([r["error"] for r in records])
-        return (f"| {name} | {sum(r['macro_slip'] for r in records)} of {len(records)} | "
-                f"{100 * np.median(errors):.1f} % | {100 * np.percentile(errors, 90):.1f} % | "
-                f"{np.mean([r['episode_return'] for r in records]):.4f} | {100 * iqm(errors):.1f} % |")
-
-    seeds, base = [read_play(p) for p in plays], read_play(baseline)
-    keys = [[(r["grid"], json.dumps(r["config"], sort_keys=True), r["episode"]) for r in s] for s in [base, *seeds]]
+    names = [f"baseline: {baseline.split('+')[0]}", *(p.split("+")[0] for p in plays)]
+    played = [read_play(p) for p in [baseline, *plays]]  # the baseline first
+    keys = [[(r["grid"], json.dumps(r["config"], sort_keys=True), r["episode"]) for r in s] for s in played]
     if any(k != keys[0] for k in keys[1:]):
         raise ValueError("the plays do not hold the same episodes in the same order")
-    lines = ["| play | runaways (climbs) | median | P90 | mean return | IQM |", "|---|---|---|---|---|---|",
-             row(f"baseline: {baseline.split('+')[0]}", base), *(row(p.split("+")[0], s) for p, s in zip(plays, seeds))]
-    scores = np.array([[r["error"] for r in s] for s in seeds])
-    low, high = stratified_bootstrap_ci(scores, iqm)
-    returns = [np.mean([r["episode_return"] for r in s]) for s in seeds]
-    lines += ["", f"Over {len(seeds)} seeds x {scores.shape[1]} climbs: IQM of the relative error "
-              f"{100 * iqm(scores):.1f} % [{100 * low:.1f}, {100 * high:.1f}] (stratified bootstrap 95 % CI; the "
-              f"baseline {100 * iqm(np.array([r['error'] for r in base])):.1f} %); mean return {np.mean(returns):.4f} "
-              f"(seeds {min(returns):.4f} ... {max(returns):.4f}; the baseline "
-              f"{np.mean([r['episode_return'] for r in base]):.4f})."]
+    errors = np.array([[r["error"] for r in s] for s in played])
+    returns = [float(np.mean([r["episode_return"] for r in s])) for s in played]
+    lines = ["| play | runaways (climbs) | median | P90 | mean return | IQM |", "|---|---|---|---|---|---|"]
+    lines += [f"| {name} | {sum(r['macro_slip'] for r in s)} of {len(s)} | {100 * np.median(e):.1f} % | "
+              f"{100 * np.percentile(e, 90):.1f} % | {mean:.4f} | {100 * iqm(e):.1f} % |"
+              for name, s, e, mean in zip(names, played, errors, returns)]
+    low, high = stratified_bootstrap_ci(errors[1:], iqm)
+    lines += ["", f"Over {len(plays)} seeds x {errors.shape[1]} climbs: IQM of the relative error "
+              f"{100 * iqm(errors[1:]):.1f} % [{100 * low:.1f}, {100 * high:.1f}] (stratified bootstrap 95 % CI; the "
+              f"baseline {100 * iqm(errors[0]):.1f} %); mean return {np.mean(returns[1:]):.4f} "
+              f"(seeds {min(returns[1:]):.4f} ... {max(returns[1:]):.4f}; the baseline {returns[0]:.4f})."]
     return "\n".join(lines) + "\n"
 
 

@@ -14,7 +14,7 @@ import cof_gym
 from cof_gym.agents.interrogator import cautioned, load_interrogator
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
-from learned_caution import STATE_SIZE, CautionEnv, climb_state, steered  # noqa: E402
+from learned_caution import STATE_SIZE, CautionEnv, steered  # noqa: E402
 
 
 class Recorder:
@@ -74,7 +74,7 @@ def test_the_training_env_is_seeded_and_its_state_is_the_climbs() -> None:
     assert np.array_equal(first, again)
     state, reward, terminated, truncated, info = env.step(np.zeros(1, dtype=np.float32))
     assert np.all(np.isfinite(state)) and np.isfinite(reward) and info == {}
-    assert np.array_equal(state, climb_state(env.agent))
+    assert np.array_equal(state, env.agent.climb_state())
     env.close()
 
 
@@ -82,8 +82,9 @@ def _records(path: Path, errors: list[float], slips: list[bool] | None = None) -
     import json
 
     slips = slips or [False] * len(errors)
-    path.write_text(json.dumps([{"grid": "family", "config": {}, "episode": k, "error": e, "macro_slip": s,
-                                 "episode_return": -10 * e} for k, (e, s) in enumerate(zip(errors, slips))]))
+    path.write_text(json.dumps([{"setting": path.stem, "grid": "family", "config": {}, "episode": k, "error": e,
+                                 "macro_slip": s, "episode_return": -10 * e}
+                                for k, (e, s) in enumerate(zip(errors, slips))]))
     return str(path)
 
 

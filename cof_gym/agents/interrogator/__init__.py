@@ -217,7 +217,9 @@ from cof_gym.agents.interrogator.climb import (
     ESTIMATE_SOURCES, HEADROOM_STOPS, AT_HEADROOM, KNEE_STOPS, GUARDED_ESTIMATES, ESTIMATOR_ESTIMATES,
     TWO_TONE_ENV_OPTIONS, CREST_RATIO_FLOOR, speed_scaled_frequency, floor_headroom, ClimbParameters,
 )
-from cof_gym.agents.interrogator.caution import CAUTION_SPAN, CAUTION_POLICY_FILE, cautioned, CautionPolicy
+from cof_gym.agents.interrogator.caution import (
+    CAUTION_SPAN, CAUTION_POLICY_FILE, CLIMB_STATE_FIELDS, cautioned, CautionPolicy,
+)
 from cof_gym.agents.interrogator.agent import (
     SHIPPED_INTERROGATOR, WORLD_KWARGS, WindowDecision, LearnedInterrogator, read_manifest, manifest_climb,
     manifest_networks, manifest_guards, interrogator_for, load_interrogator,
@@ -240,5 +242,5 @@ __all__ = [
     "speed_scaled_frequency", "floor_headroom", "ClimbParameters", "SHIPPED_INTERROGATOR", "WORLD_KWARGS",
     "WindowDecision", "LearnedInterrogator", "read_manifest", "manifest_climb", "manifest_networks",
     "manifest_guards", "interrogator_for", "load_interrogator", "CAUTION_SPAN", "CAUTION_POLICY_FILE", "cautioned",
-    "CautionPolicy",
+    "CautionPolicy", "CLIMB_STATE_FIELDS",
 ]

@@ -360,10 +360,11 @@ class LearnedInterrogator:
         return p.action(self._dc, estimate, stop, self.limits, self._ratio, self._frequency, raise_by)
 
     def climb_state(self) -> np.ndarray:
-        """What the climb decided after its last window, as the caution policy reads it (float32; zeros for the
-        decision before the first window's): the filter's predicted headroom and std, the steering (cautious)
-        headroom and its std, the log step taken, whether it has crept and whether the probe is sticky, the windows
-        left over the horizon and the log of the noise ratio read. Sensor readings only."""
+        """What the climb decided after its last window, as the caution policy reads it (float32, the fields of
+        :data:`~cof_gym.agents.interrogator.caution.CLIMB_STATE_FIELDS`; zeros for the decision before the first
+        window's): the filter's predicted headroom and std, the steering (cautious) headroom and its std, the log step
+        taken, whether it has crept and whether the probe is sticky, the windows left over the horizon and the log of
+        the noise ratio read. Sensor readings only."""
         d = self.decisions[-1] if self.decisions else None
         decided = [d.filter_headroom, d.filter_std, d.steering_headroom, d.steering_std, d.log_step, float(d.crept)] \
             if d else [0.0] * 6

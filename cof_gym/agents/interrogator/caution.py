@@ -15,6 +15,11 @@ from cof_gym.agents.interrogator.climb import ClimbParameters
 
 CAUTION_SPAN = math.log(2.0)  # an action of +-1: the climb's caution (filter and guards) times 2 or halved
 CAUTION_POLICY_FILE = "caution_policy.npz"
+# what a caution policy reads, in order (LearnedInterrogator.climb_state): the last decision's filter headroom and std,
+# steering headroom and std, log step and whether the climb had crept; whether the probe is sticky; the windows left
+# over the horizon; the log of the noise ratio read
+CLIMB_STATE_FIELDS = ("filter_headroom", "filter_std", "steering_headroom", "steering_std", "log_step", "crept",
+                      "stuck", "windows_left_fraction", "log_noise_ratio")
 
 
 def cautioned(params: ClimbParameters, action: float) -> ClimbParameters:
