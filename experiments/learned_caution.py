@@ -62,7 +62,7 @@ from cof_gym.agents.interrogator import (  # noqa: E402
     CAUTION_POLICY_FILE, CAUTION_SPAN, CLIMB_STATE_FIELDS, SHIPPED_INTERROGATOR, CautionPolicy, interrogator_for,
 )
 from cof_gym.agents.interrogator.training import STEEP_FALL, procedural_shape  # noqa: E402
-from cof_gym.commands.args import Parser, positive_int  # noqa: E402
+from cof_gym.commands.args import Parser, float_in_range, positive_int  # noqa: E402
 from cof_gym.task.scenarios import MOTOR_LAG_MAX_S, NOISE_LEVEL_MAX  # noqa: E402
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS  # noqa: E402
 
@@ -70,7 +70,9 @@ TRAINING_SEED = 9_000_000  # seed k's episodes from TRAINING_SEED + 1 000 000 k:
 SHAPES = ("env", "procedural", "steep")  # a third each
 NOISY_SHARE = 0.25  # episodes with the noise and the lag past the v2 draws
 STATE_SIZE = len(CLIMB_STATE_FIELDS)  # what LearnedInterrogator.climb_state gives
+MULTIPLIER_STEP = 10.0  # PPO-Lagrangian's dual step: return per runaway, per unit of runaway rate over the budget
 PAIRED_SEED = 8_500_000  # --paired's episodes: outer seeds of their own, apart from every training run's
+SHIPPED_ONLY = Path("\0shipped")  # --paired without a model (no path can be this)
 
 
 def steered(agent, policy):
@@ -141,14 +143,58 @@ class CautionEnv(gym.Env):
         self.agent.caution_policy = lambda state: a  # the climb clips it to [-1, 1]
         command = self.agent.act(self._obs, agent_view(self._info, False))
         self._obs, reward, terminated, truncated, self._info = self.env.step(command)
-        return self.agent.climb_state(), float(reward), terminated, truncated, {}
+        cost = float(self._info["cost"]["macro_slip"])  # 1 when this window's wheel ran away
+        return self.agent.climb_state(), float(reward), terminated, truncated, {"cost": cost}
 
     def close(self) -> None:
         self.env.close()
 
 
-def train(out: Path, seed: int, timesteps: int) -> dict:
-    """One seed's PPO run (both vehicle configurations, one process each), saved in ``out/seed_K``."""
+def lagrangian(envs, budget: float, step: float = MULTIPLIER_STEP):
+    """``envs`` (a VecEnv of :class:`CautionEnv`) with PPO-Lagrangian's reward: the task's reward less a multiplier
+    times the runaway cost (``info["cost"]``), and a callback that moves the multiplier after each rollout by
+    dual ascent, ``max(0, multiplier + step (runaways per finished episode - budget))`` (Altman 1999, *Constrained
+    Markov Decision Processes*; Ray, Achiam & Amodei 2019, *Benchmarking Safe Exploration in Deep RL*, PPO-Lagrangian).
+    Returns ``(wrapped envs, callback)``; the callback's ``history`` holds each rollout's rate and multiplier."""
+    from stable_baselines3.common.callbacks import BaseCallback
+    from stable_baselines3.common.vec_env import VecEnvWrapper
+
+    class CostPricedEnv(VecEnvWrapper):
+        multiplier, episodes, runaways = 0.0, 0, 0.0
+
+        def reset(self):
+            return self.venv.reset()
+
+        def step_wait(self):
+            obs, rewards, dones, infos = self.venv.step_wait()
+            costs = np.array([info.get("cost", 0.0) for info in infos])
+            self.episodes += int(dones.sum())
+            self.runaways += float(costs.sum())
+            return obs, rewards - self.multiplier * costs, dones, infos
+
+    class DualAscent(BaseCallback):
+        def __init__(self) -> None:
+            super().__init__()
+            self.history: list[dict] = []
+
+        def _on_step(self) -> bool:
+            return True
+
+        def _on_rollout_end(self) -> None:
+            if priced.episodes:
+                rate = priced.runaways / priced.episodes
+                priced.multiplier = max(0.0, priced.multiplier + step * (rate - budget))
+                self.history.append({"episodes": priced.episodes, "runaway_rate": round(rate, 4),
+                                     "multiplier": round(priced.multiplier, 4)})
+                priced.episodes, priced.runaways = 0, 0.0
+
+    priced = CostPricedEnv(envs)
+    return priced, DualAscent()
+
+
+def train(out: Path, seed: int, timesteps: int, budget: float | None = None) -> dict:
+    """One seed's PPO run (both vehicle configurations, one process each), saved in ``out/seed_K``; with a runaway
+    ``budget`` (per episode) PPO-Lagrangian (:func:`lagrangian`)."""
     from stable_baselines3 import PPO
     from stable_baselines3.common.monitor import Monitor
     from stable_baselines3.common.vec_env import SubprocVecEnv
@@ -157,10 +203,13 @@ def train(out: Path, seed: int, timesteps: int) -> dict:
     factories = [lambda: Monitor(CautionEnv(counter_torque=False)), lambda: Monitor(CautionEnv(counter_torque=True))]
     envs = SubprocVecEnv(factories)
     envs.seed(TRAINING_SEED + 1_000_000 * seed)
+    callback = None
+    if budget is not None:
+        envs, callback = lagrangian(envs, budget)
     model = PPO("MlpPolicy", envs, n_steps=512, batch_size=256, n_epochs=10, learning_rate=3e-4, gamma=1.0,
                 gae_lambda=0.95, ent_coef=0.0, policy_kwargs={"net_arch": [64, 64], "log_std_init": -1.0},
                 seed=seed, device="cpu", verbose=1)
-    model.learn(total_timesteps=timesteps)
+    model.learn(total_timesteps=timesteps, callback=callback)
     directory = out / f"seed_{seed}"
     directory.mkdir(parents=True, exist_ok=True)
     model.save(directory / "model.zip")
@@ -168,6 +217,8 @@ def train(out: Path, seed: int, timesteps: int) -> dict:
     record = {"seed": seed, "timesteps": timesteps, "training_seed": TRAINING_SEED + 1_000_000 * seed,
               "caution_span": CAUTION_SPAN, "shapes": SHAPES, "noisy_share": NOISY_SHARE,
               "seconds": round(time.time() - start, 1)}
+    if callback is not None:
+        record |= {"cost_budget": budget, "multiplier_step": MULTIPLIER_STEP, "dual_ascent": callback.history}
     (directory / "training.json").write_text(json.dumps(record, indent=1) + "\n")
     return record
 
@@ -203,33 +254,39 @@ def seed_report(plays: list[str], baseline: str) -> str:
     return "\n".join(lines) + "\n"
 
 
-def episode_return(env: CautionEnv, policy, seed: int) -> float:
+def episode_return(env: CautionEnv, policy, seed: int) -> tuple[float, float]:
     """The return of one episode of ``env`` (reset with ``seed``) under ``policy``, the first window's reward
-    excepted (the climb's fixed first DC: the same for every policy)."""
+    excepted (the climb's fixed first DC: the same for every policy), and 1.0 if its wheel ran away (else 0.0)."""
     state, _ = env.reset(seed=seed)
     total = 0.0
     while True:
-        state, reward, terminated, truncated, _ = env.step(np.array([policy(state)], dtype=np.float32))
+        state, reward, terminated, truncated, info = env.step(np.array([policy(state)], dtype=np.float32))
         total += reward
         if terminated or truncated:
-            return total
+            return total, info["cost"]
 
 
-def paired_returns(model_path: Path, episodes: int) -> str:
-    """The shipped climb's and the model's returns on the same ``episodes`` training-draw episodes per vehicle
-    configuration, and their paired difference (mean +- standard error)."""
-    policy = ppo_policy(model_path)
-    pairs = []
+def paired_returns(model_path: Path | None, episodes: int) -> str:
+    """The shipped climb's and the model's returns and runaways on the same ``episodes`` training-draw episodes per
+    vehicle configuration, and their paired difference (mean +- standard error); the shipped climb's alone without
+    a model."""
+    policies = [lambda state: 0.0] + ([ppo_policy(model_path)] if model_path is not None else [])
+    played = []  # per episode: (return, runaway) of each policy
     for counter_torque in (False, True):
         env = CautionEnv(counter_torque=counter_torque)
         seeds = range(PAIRED_SEED, PAIRED_SEED + episodes)
-        pairs += [(episode_return(env, lambda state: 0.0, s), episode_return(env, policy, s)) for s in seeds]
+        played += [[episode_return(env, policy, s) for policy in policies] for s in seeds]
         env.close()
-    shipped, model = np.array(pairs).T
-    difference = model - shipped
-    return (f"{model_path}: {len(pairs)} training-draw episodes, mean return {model.mean():.4f} against the shipped "
-            f"climb's {shipped.mean():.4f}, difference {difference.mean():+.4f} +- "
-            f"{difference.std(ddof=1) / np.sqrt(len(pairs)):.4f} (standard error)\n")
+    results = np.array(played)  # episode x policy x (return, runaway)
+    shipped = results[:, 0, 0]
+    line = (f"{len(played)} training-draw episodes: the shipped climb's mean return {shipped.mean():.4f}, "
+            f"{int(results[:, 0, 1].sum())} runaways")
+    if model_path is None:
+        return line + "\n"
+    model, difference = results[:, 1, 0], results[:, 1, 0] - shipped
+    return (f"{model_path}: {line}; the model's {model.mean():.4f}, {int(results[:, 1, 1].sum())} runaways; "
+            f"difference {difference.mean():+.4f} +- {difference.std(ddof=1) / np.sqrt(len(played)):.4f} "
+            f"(standard error)\n")
 
 
 def build_parser() -> Parser:
@@ -242,8 +299,12 @@ def build_parser() -> Parser:
     parser.add_argument("--baseline", default=None, metavar="PLAY", help="the play the report sets the seeds beside")
     parser.add_argument("--export", type=Path, default=None, metavar="MODEL",
                         help="no training: write this seed's model.zip into the policy directory --into")
-    parser.add_argument("--paired", type=Path, default=None, metavar="MODEL",
-                        help="no training: this model and the shipped climb on the same training-draw episodes")
+    parser.add_argument("--paired", type=Path, nargs="?", const=SHIPPED_ONLY, default=None, metavar="MODEL",
+                        help="no training: this model and the shipped climb on the same training-draw episodes (the "
+                             "shipped climb alone without MODEL)")
+    parser.add_argument("--cost-budget", type=float_in_range(0.0, 1.0, low_inclusive=True), default=None, metavar="RATE",
+                        help="train by PPO-Lagrangian with at most RATE runaways per episode (in [0, 1]; default: "
+                             "plain PPO on the task's return)")
     parser.add_argument("--episodes", type=positive_int, default=60,
                         help="--paired's episodes per vehicle configuration (default: 60)")
     parser.add_argument("--into", type=Path, default=None, metavar="POLICY_DIR",
@@ -259,9 +320,10 @@ def main() -> None:
     if any(s < 0 for s in args.seeds):
         parser.error(f"--seeds must be >= 0, got {args.seeds}")
     if args.paired is not None:
-        if not args.paired.is_file():
-            parser.error(f"--paired: no file {args.paired} (a seed's model.zip)")
-        print(paired_returns(args.paired, args.episodes), end="")
+        model = None if args.paired == SHIPPED_ONLY else args.paired
+        if model is not None and not model.is_file():
+            parser.error(f"--paired: no file {model} (a seed's model.zip)")
+        print(paired_returns(model, args.episodes), end="")
         return
     if args.export is not None or args.into is not None:
         export(parser, args)
@@ -275,7 +337,7 @@ def main() -> None:
         parser.error("--baseline: only with --report")
     check_out_dir(parser, "--out", args.out)
     for seed in args.seeds:
-        print(json.dumps(train(args.out, seed, args.timesteps)), flush=True)
+        print(json.dumps(train(args.out, seed, args.timesteps, args.cost_budget)), flush=True)
 
 
 def export(parser: Parser, args: argparse.Namespace) -> None:
