@@ -21,6 +21,13 @@ plays' kinds, never their episodes. Each seed's model goes to ``OUT/seed_K/model
 ``experiments/crest_tradeoff.py --caution-policy OUT/seed_K/model.zip`` plays it on any grid set, with the
 records the rule checks read (:func:`steered`).
 
+    python experiments/learned_caution.py --out runs/caution_lagrangian --seeds 0 1 2 3 4 --cost-budget 0.085
+
+trains by PPO-Lagrangian instead (:func:`lagrangian`): the reward less a multiplier times the runaway cost, the
+multiplier moved by dual ascent after each rollout so that at most ``--cost-budget`` runaways per episode are spent
+(the budget above: the shipped climb's own share on ``--paired``'s episodes); ``training.json`` keeps the rollouts'
+runaway rates and multipliers.
+
     python experiments/learned_caution.py --report PLAY [PLAY ...] --baseline PLAY --out out/learned_caution.md
 
 reports the seeds' plays together (each PLAY: ``crest_tradeoff.py --records`` files of one seed joined by ``+``, the
@@ -31,8 +38,9 @@ seeds resampled within each climb, as rliable does; ``ppo_seeds.py``'s), beside 
     python experiments/learned_caution.py --paired runs/caution_rl/seed_0/model.zip [--episodes 60]
 
 plays a model and the shipped climb on the same held-apart training-draw episodes (``--episodes`` per vehicle
-configuration, outer seeds from ``PAIRED_SEED``) and prints both mean returns and their paired difference with its
-standard error: what the training distribution says of a policy, without a grid.
+configuration, outer seeds from ``PAIRED_SEED``) and prints both mean returns and runaways and the returns' paired
+difference with its standard error: what the training distribution says of a policy, without a grid. ``--paired``
+without a model plays the shipped climb alone.
 
     python experiments/learned_caution.py --export runs/caution_rl/seed_0/model.zip --into POLICY_DIR
 
@@ -302,7 +310,8 @@ def build_parser() -> Parser:
     parser.add_argument("--paired", type=Path, nargs="?", const=SHIPPED_ONLY, default=None, metavar="MODEL",
                         help="no training: this model and the shipped climb on the same training-draw episodes (the "
                              "shipped climb alone without MODEL)")
-    parser.add_argument("--cost-budget", type=float_in_range(0.0, 1.0, low_inclusive=True), default=None, metavar="RATE",
+    parser.add_argument("--cost-budget", type=float_in_range(0.0, 1.0, low_inclusive=True), default=None,
+                        metavar="RATE",
                         help="train by PPO-Lagrangian with at most RATE runaways per episode (in [0, 1]; default: "
                              "plain PPO on the task's return)")
     parser.add_argument("--episodes", type=positive_int, default=60,

@@ -44,6 +44,8 @@ CASES = [
     ("learned_caution", ["--seeds", "0"], "--out"),
     ("learned_caution", ["--paired", "{new}.zip"], "--paired"),
     ("learned_caution", ["--paired", "{file}", "--episodes", "0"], "--episodes"),
+    ("learned_caution", ["--cost-budget", "1.5", "--out", "{new}"], "--cost-budget"),
+    ("learned_caution", ["--cost-budget", "nan", "--out", "{new}"], "--cost-budget"),
     ("select_phase_rule", ["--workers", "0"], "--workers"),
     ("select_phase_rule", ["--out", "{dir}"], "--out"),
     ("select_robust_model", ["--workers", "-1"], "--workers"),

@@ -14,7 +14,7 @@ import cof_gym
 from cof_gym.agents.interrogator import cautioned, load_interrogator
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
-from learned_caution import STATE_SIZE, CautionEnv, steered  # noqa: E402
+from learned_caution import STATE_SIZE, CautionEnv, lagrangian, steered  # noqa: E402
 
 
 class Recorder:
@@ -73,7 +73,7 @@ def test_the_training_env_is_seeded_and_its_state_is_the_climbs() -> None:
     assert first.shape == (STATE_SIZE,) and env.observation_space.contains(first)
     assert np.array_equal(first, again)
     state, reward, terminated, truncated, info = env.step(np.zeros(1, dtype=np.float32))
-    assert np.all(np.isfinite(state)) and np.isfinite(reward) and info == {}
+    assert np.all(np.isfinite(state)) and np.isfinite(reward) and info == {"cost": 0.0}  # no runaway at the start
     assert np.array_equal(state, env.agent.climb_state())
     env.close()
 
@@ -167,3 +167,39 @@ def test_an_exported_model_is_read_by_the_agent_and_acts_as_it_was_trained(tmp_p
     theirs = [float(model.predict(s, deterministic=True)[0][0]) for s in states]
     assert np.allclose(ours, theirs, rtol=0, atol=1e-6)
     env.close()
+
+
+class _RunawayWhenPositive(gym.Env):
+    """One-window episodes of reward 1 whose wheel runs away (cost 1) when the action is positive."""
+
+    observation_space = gym.spaces.Box(-1.0, 1.0, (1,), np.float32)
+    action_space = gym.spaces.Box(-1.0, 1.0, (1,), np.float32)
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        return np.zeros(1, np.float32), {}
+
+    def step(self, action):
+        return np.zeros(1, np.float32), 1.0, True, False, {"cost": float(action[0] > 0)}
+
+
+def test_ppo_lagrangian_prices_runaways_and_moves_its_multiplier_by_dual_ascent() -> None:
+    from stable_baselines3.common.vec_env import DummyVecEnv
+
+    envs, callback = lagrangian(DummyVecEnv([_RunawayWhenPositive]), budget=0.25, step=10.0)
+    envs.reset()
+
+    def rollout(actions: list[float]) -> list[float]:
+        rewards = [float(envs.step(np.array([[a]], np.float32))[1][0]) for a in actions]
+        callback.on_rollout_end()
+        return rewards
+
+    assert rollout([1, -1, 1, -1]) == [1.0, 1.0, 1.0, 1.0]  # the multiplier starts at 0
+    assert envs.multiplier == pytest.approx(10.0 * (0.5 - 0.25))  # 2 runaways in 4 episodes against 0.25
+    assert rollout([1, -1, -1, -1]) == [1.0 - 2.5, 1.0, 1.0, 1.0]  # a runaway now costs the multiplier
+    assert envs.multiplier == pytest.approx(2.5 + 10.0 * (0.25 - 0.25))
+    rollout([-1, -1, -1, -1])
+    assert envs.multiplier == 0.0  # 2.5 - 2.5
+    rollout([-1, -1, -1, -1])
+    assert envs.multiplier == 0.0  # never below zero
+    assert [h["runaway_rate"] for h in callback.history] == [0.5, 0.25, 0.0, 0.0]
