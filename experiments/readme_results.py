@@ -864,6 +864,13 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # rule 105: python experiments/learned_caution.py --out runs/caution_rl_long --seeds 0 --timesteps 200000, then
         # runs/rule105.sh (its four validation plays with --caution-policy runs/caution_rl_long/seed_0/model.zip,
         # frontier_rule105_validation beside rule 104's seed 0 with --rows, rule_check_rule105L_c)
+        # rule 106: python experiments/learned_caution.py --paired --episodes 200 (the budget), then
+        # python experiments/learned_caution.py --out runs/caution_lagrangian --seeds 0 1 2 3 4 --cost-budget 0.085;
+        # the shipped agent (records _rule95shipped53_) and each seed K with --caution-policy
+        # runs/caution_lagrangian/seed_K/model.zip on the four validation plays as rule 104's (records _rule106LK_),
+        # the hand-built agents' four validation plays as in session 52; learned_caution.py --report
+        # (learned_caution_rule106), frontier.py with the five seeds, the references and --rows
+        # (frontier_rule106_validation), rule_check.py for seed 3, the best return (rule_check_rule106L3_c)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1201,6 +1208,7 @@ SOURCES = {
         "frontier_rule103_validation", "rule_check_rule103S3_c",
         "learned_caution_rule104", "frontier_rule104_validation", "rule_check_rule104L0_c", "frontier_rule104",
         "rule_check_rule104", "frontier_rule105_validation", "rule_check_rule105L_c",
+        "learned_caution_rule106", "frontier_rule106_validation", "rule_check_rule106L3_c",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
