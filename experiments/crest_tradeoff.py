@@ -48,7 +48,8 @@ modulation shrinks so that its crest stays within that fraction of the cautious 
 climb with those parameters (a name given several values: each in turn). Per grid: median / P90 relative CoF error,
 macro-slips, and the mean episode return (the task's own trade of error against slip, comfort and time).
 With ``--caution-policy MODEL ...`` every row with each of these PPO models setting the climb's caution at every
-decision (experiments/learned_caution.py, rule 104). With ``--records FILE`` every episode also goes to a JSON file,
+decision (experiments/learned_caution.py, rule 104; models joined by ``+``: the mean of their actions, rule 107).
+With ``--records FILE`` every episode also goes to a JSON file,
 with the error each estimate source the agent computes would have had (the climb does not depend on it), so that a
 question about the estimate is answered from the played episodes by a named command rather than a throwaway script.
 """
@@ -396,7 +397,7 @@ def build_parser() -> Parser:
                              "training draws")
     parser.add_argument("--caution-policy", type=Path, nargs="+", default=None, metavar="MODEL",
                         help="PPO models (experiments/learned_caution.py's model.zip) that set the climb's caution at "
-                             "every decision, each in turn in every row")
+                             "every decision, each in turn in every row; models joined by + act by their mean action")
     parser.add_argument("--workers", type=positive_int, default=2)
     parser.add_argument("--out", type=Path, default=Path("out/crest_tradeoff.md"))
     return parser
@@ -436,8 +437,8 @@ def check_arguments(parser: Parser, args: argparse.Namespace) -> None:
     require_networks(parser, "--run", args.run)
     require_networks(parser, "--guards", args.guards or [])
     require_networks(parser, "--estimators", args.estimators or [])
-    for model in args.caution_policy or []:
-        if not model.is_file():
+    for model in (part for models in args.caution_policy or [] for part in str(models).split("+")):
+        if not Path(model).is_file():
             parser.error(f"--caution-policy: no file {model} (a PPO model.zip of experiments/learned_caution.py)")
 
 

@@ -91,11 +91,12 @@ def steered(agent, policy):
 
 
 def ppo_policy(model_path: Path):
-    """The deterministic action of a saved PPO model, as :func:`steered` calls it (stable-baselines3's inference)."""
+    """The deterministic action of a saved PPO model, as :func:`steered` calls it (stable-baselines3's inference);
+    for several models joined by ``+``, the mean of their actions (an ensemble of seeds, rule 107)."""
     from stable_baselines3 import PPO
 
-    model = PPO.load(str(model_path), device="cpu")
-    return lambda state: float(model.predict(state, deterministic=True)[0][0])
+    models = [PPO.load(path, device="cpu") for path in str(model_path).split("+")]
+    return lambda state: float(np.mean([m.predict(state, deterministic=True)[0][0] for m in models]))
 
 
 def exported(model_path: Path) -> CautionPolicy:

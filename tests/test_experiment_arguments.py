@@ -31,6 +31,7 @@ CASES = [
     ("crest_tradeoff", ["--out", "{file}/t.md"], "--out"),
     ("crest_tradeoff", ["--records", "{dir}", "--out", "{new}/t.md"], "--records"),
     ("crest_tradeoff", ["--caution-policy", "{new}.zip", "--out", "{new}/t.md"], "--caution-policy"),
+    ("crest_tradeoff", ["--caution-policy", "{file}+{new}.zip", "--out", "{new}/t.md"], "--caution-policy"),
     ("learned_caution", ["--seeds", "0", "-1", "--out", "{new}"], "--seeds"),
     ("learned_caution", ["--timesteps", "0", "--out", "{new}"], "--timesteps"),
     ("learned_caution", ["--out", "{file}"], "--out"),

@@ -203,3 +203,25 @@ def test_ppo_lagrangian_prices_runaways_and_moves_its_multiplier_by_dual_ascent(
     rollout([-1, -1, -1, -1])
     assert envs.multiplier == 0.0  # never below zero
     assert [h["runaway_rate"] for h in callback.history] == [0.5, 0.25, 0.0, 0.0]
+
+
+def test_models_joined_by_plus_act_by_their_mean_action(tmp_path: Path) -> None:
+    """``--caution-policy A+B``: the ensemble's action is the mean of its members' deterministic actions."""
+    from stable_baselines3 import PPO
+
+    from learned_caution import ppo_policy
+
+    env = CautionEnv()
+    paths = []
+    for seed in (0, 1):
+        model = PPO("MlpPolicy", env, n_steps=32, batch_size=32, seed=seed, device="cpu",
+                    policy_kwargs={"net_arch": [16, 16], "log_std_init": -1.0})
+        paths.append(tmp_path / f"seed_{seed}.zip")
+        model.save(paths[-1])
+    members = [ppo_policy(path) for path in paths]
+    ensemble = ppo_policy(Path(f"{paths[0]}+{paths[1]}"))
+    states = np.random.default_rng(2).normal(size=(20, STATE_SIZE)).astype(np.float32)
+    assert any(members[0](s) != members[1](s) for s in states)  # two different policies
+    for s in states:
+        assert ensemble(s) == pytest.approx(0.5 * (members[0](s) + members[1](s)), rel=0, abs=1e-7)
+    env.close()
