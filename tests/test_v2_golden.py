@@ -11,8 +11,9 @@ absolute 1e-6 for values that are ~0. Every float64 reading and truth downstream
 that is ~0 by cancellation carries the rounding of its operands' scale). The reward reads no solve: 1e-9.
 
 A standard error is such a cancellation too: the scatter of what the fit leaves of the signal. With little noise
-that residual is ~1e-6 of the signal, so readings that move by 1e-12 of themselves (as on a second machine in session
-57: the amplitude ratio by 4e-12) move the SE by ~1e-6 of itself (there: up to 3.5e-6). An SE is therefore held to
+that residual is ~1e-6 of the signal, so a fit that moves by ~1e-11 of itself moves the SE by ~1e-6 of itself (on a
+second machine in session 57, with the physics identical to the bit: the phase lag and the amplitude ratio by up to
+1.6e-11, the phase SE by up to 3.5e-6). An SE is therefore held to
 the tolerance of the quantity it qualifies: a phase's SE in degrees to 1e-6 of 90 deg, as the observation holds it
 (SE / 90 within an absolute 1e-6), and the CoA bins' SE to 1e-6 of the CoA the window reaches."""
 
