@@ -80,7 +80,6 @@ NOISY_SHARE = 0.25  # episodes with the noise and the lag past the v2 draws
 STATE_SIZE = len(CLIMB_STATE_FIELDS)  # what LearnedInterrogator.climb_state gives
 MULTIPLIER_STEP = 10.0  # PPO-Lagrangian's dual step: return per runaway, per unit of runaway rate over the budget
 PAIRED_SEED = 8_500_000  # --paired's episodes: outer seeds of their own, apart from every training run's
-SHIPPED_ONLY = Path("\0shipped")  # --paired without a model (no path can be this)
 
 
 def steered(agent, policy):
@@ -308,7 +307,7 @@ def build_parser() -> Parser:
     parser.add_argument("--baseline", default=None, metavar="PLAY", help="the play the report sets the seeds beside")
     parser.add_argument("--export", type=Path, default=None, metavar="MODEL",
                         help="no training: write this seed's model.zip into the policy directory --into")
-    parser.add_argument("--paired", type=Path, nargs="?", const=SHIPPED_ONLY, default=None, metavar="MODEL",
+    parser.add_argument("--paired", type=Path, nargs="?", const=True, default=None, metavar="MODEL",
                         help="no training: this model and the shipped climb on the same training-draw episodes (the "
                              "shipped climb alone without MODEL)")
     parser.add_argument("--cost-budget", type=float_in_range(0.0, 1.0, low_inclusive=True), default=None,
@@ -330,7 +329,7 @@ def main() -> None:
     if any(s < 0 for s in args.seeds):
         parser.error(f"--seeds must be >= 0, got {args.seeds}")
     if args.paired is not None:
-        model = None if args.paired == SHIPPED_ONLY else args.paired
+        model = None if args.paired is True else args.paired  # --paired alone: the shipped climb's episodes
         if model is not None and not model.is_file():
             parser.error(f"--paired: no file {model} (a seed's model.zip)")
         print(paired_returns(model, args.episodes), end="")

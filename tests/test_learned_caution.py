@@ -3,6 +3,7 @@ action for action, the action scales the caution as documented, and the training
 
 from __future__ import annotations
 
+import re
 import sys
 from pathlib import Path
 
@@ -225,3 +226,14 @@ def test_models_joined_by_plus_act_by_their_mean_action(tmp_path: Path) -> None:
     for s in states:
         assert ensemble(s) == pytest.approx(0.5 * (members[0](s) + members[1](s)), rel=0, abs=1e-7)
     env.close()
+
+
+def test_paired_without_a_model_plays_the_shipped_climb_and_counts_its_runaways(monkeypatch, capsys) -> None:
+    import learned_caution
+
+    monkeypatch.setattr(sys, "argv", ["learned_caution.py", "--paired", "--episodes", "1"])
+    learned_caution.main()
+    line = capsys.readouterr().out
+    assert line.startswith("2 training-draw episodes: the shipped climb's mean return -")  # one per configuration
+    runaways = re.fullmatch(r".*, (\d+) runaways", line.rstrip())
+    assert runaways is not None and int(runaways.group(1)) <= 2
