@@ -873,6 +873,8 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # (frontier_rule106_validation), rule_check.py for seed 3, the best return (rule_check_rule106L3_c)
         # rule 107: runs/rule106.sh rule107E with the five seeds' models joined by + (records _rule107E_),
         # frontier.py with rule 106's seed 3 and --rows (frontier_rule107_validation), rule_check_rule107E_c
+        # rule 108: learned_caution.py --out runs/caution_lagrangian_tight --seeds 0 1 2 3 4 --cost-budget 0.06, each
+        # seed on the four validation plays (runs/rule106.sh rule108TK MODEL), --report (learned_caution_rule108)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1211,7 +1213,7 @@ SOURCES = {
         "learned_caution_rule104", "frontier_rule104_validation", "rule_check_rule104L0_c", "frontier_rule104",
         "rule_check_rule104", "frontier_rule105_validation", "rule_check_rule105L_c",
         "learned_caution_rule106", "frontier_rule106_validation", "rule_check_rule106L3_c",
-        "frontier_rule107_validation", "rule_check_rule107E_c",
+        "frontier_rule107_validation", "rule_check_rule107E_c", "learned_caution_rule108",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
