@@ -89,12 +89,17 @@ def steered(agent, policy):
     return agent
 
 
+def ensemble_members(model_path: Path) -> list[Path]:
+    """The model files a ``--caution-policy`` argument names: one, or several joined by ``+`` (an ensemble)."""
+    return [Path(part) for part in str(model_path).split("+")]
+
+
 def ppo_policy(model_path: Path):
     """The deterministic action of a saved PPO model, as :func:`steered` calls it (stable-baselines3's inference);
     for several models joined by ``+``, the mean of their actions (an ensemble of seeds, rule 107)."""
     from stable_baselines3 import PPO
 
-    models = [PPO.load(path, device="cpu") for path in str(model_path).split("+")]
+    models = [PPO.load(str(path), device="cpu") for path in ensemble_members(model_path)]
     return lambda state: float(np.mean([m.predict(state, deterministic=True)[0][0] for m in models]))
 
 
