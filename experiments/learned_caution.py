@@ -302,6 +302,21 @@ def paired_returns(model_path: Path | None, episodes: int) -> str:
             f"(standard error)\n")
 
 
+TRAINING_SEEDS = (0, 1, 2, 3, 4)  # the PPO seeds trained when --seeds is not given
+TRAINING_TIMESTEPS = 40_000  # PPO steps per seed when --timesteps is not given
+PAIRED_EPISODES = 60  # --paired's episodes per vehicle configuration when --episodes is not given
+OPTION_MODES = {  # the options that only some of the script's jobs read (default None: "not given")
+    "--out": ("training", "report"),
+    "--seeds": ("training",),
+    "--timesteps": ("training",),
+    "--cost-budget": ("training",),
+    "--episodes": ("paired",),
+    "--baseline": ("report",),
+}
+MODE_WORDS = {"training": "when training", "paired": "with --paired", "report": "with --report",
+              "export": "with --export/--into"}
+
+
 def build_parser() -> Parser:
     parser = Parser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--out", type=Path, default=None,
@@ -319,25 +334,46 @@ def build_parser() -> Parser:
                         metavar="RATE",
                         help="train by PPO-Lagrangian with at most RATE runaways per episode (in [0, 1]; default: "
                              "plain PPO on the task's return)")
-    parser.add_argument("--episodes", type=positive_int, default=60,
-                        help="--paired's episodes per vehicle configuration (default: 60)")
+    parser.add_argument("--episodes", type=positive_int, default=None,
+                        help=f"--paired's episodes per vehicle configuration (default: {PAIRED_EPISODES})")
     parser.add_argument("--into", type=Path, default=None, metavar="POLICY_DIR",
                         help="a policy directory (with its manifest.json) that --export writes the policy into")
-    parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2, 3, 4], help="PPO seeds (>= 0)")
-    parser.add_argument("--timesteps", type=positive_int, default=40_000, help="PPO steps per seed")
+    parser.add_argument("--seeds", type=int, nargs="+", default=None,
+                        help=f"PPO seeds (>= 0; default: {' '.join(map(str, TRAINING_SEEDS))})")
+    parser.add_argument("--timesteps", type=positive_int, default=None,
+                        help=f"PPO steps per seed (default: {TRAINING_TIMESTEPS})")
     return parser
+
+
+def mode_of(args: argparse.Namespace) -> str:
+    """Which of the script's four jobs the arguments ask for (a key of :data:`MODE_WORDS`)."""
+    if args.paired is not None:
+        return "paired"
+    if args.export is not None or args.into is not None:
+        return "export"
+    return "report" if args.report is not None else "training"
+
+
+def reject_unused_options(parser: Parser, args: argparse.Namespace) -> None:
+    """One line and exit code 2 for an option the job asked for would not read (none is silently ignored)."""
+    mode = mode_of(args)
+    for option, modes in OPTION_MODES.items():
+        if mode not in modes and getattr(args, option.lstrip("-").replace("-", "_")) is not None:
+            parser.error(f"{option}: only {' or '.join(MODE_WORDS[m] for m in modes)}, not {MODE_WORDS[mode]}")
 
 
 def main() -> None:
     parser = build_parser()
     args = parser.parse_args()
-    if any(s < 0 for s in args.seeds):
-        parser.error(f"--seeds must be >= 0, got {args.seeds}")
+    reject_unused_options(parser, args)
+    seeds = TRAINING_SEEDS if args.seeds is None else args.seeds
+    if any(s < 0 for s in seeds):
+        parser.error(f"--seeds must be >= 0, got {seeds}")
     if args.paired is not None:
         model = None if args.paired is True else args.paired  # --paired alone: the shipped climb's episodes
         if model is not None and not model.is_file():
             parser.error(f"--paired: no file {model} (a seed's model.zip)")
-        print(paired_returns(model, args.episodes), end="")
+        print(paired_returns(model, args.episodes or PAIRED_EPISODES), end="")
         return
     if args.export is not None or args.into is not None:
         export(parser, args)
@@ -347,11 +383,9 @@ def main() -> None:
     if args.report is not None:
         report(parser, args)
         return
-    if args.baseline is not None:
-        parser.error("--baseline: only with --report")
     check_out_dir(parser, "--out", args.out)
-    for seed in args.seeds:
-        print(json.dumps(train(args.out, seed, args.timesteps, args.cost_budget)), flush=True)
+    for seed in seeds:
+        print(json.dumps(train(args.out, seed, args.timesteps or TRAINING_TIMESTEPS, args.cost_budget)), flush=True)
 
 
 def export(parser: Parser, args: argparse.Namespace) -> None:

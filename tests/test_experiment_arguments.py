@@ -47,6 +47,12 @@ CASES = [
     ("learned_caution", ["--paired", "{file}", "--episodes", "0"], "--episodes"),
     ("learned_caution", ["--cost-budget", "1.5", "--out", "{new}"], "--cost-budget"),
     ("learned_caution", ["--cost-budget", "nan", "--out", "{new}"], "--cost-budget"),
+    ("learned_caution", ["--paired", "--cost-budget", "0.1"], "--cost-budget"),  # read by training only
+    ("learned_caution", ["--paired", "--timesteps", "100"], "--timesteps"),
+    ("learned_caution", ["--paired", "--out", "{new}"], "--out"),
+    ("learned_caution", ["--export", "{file}", "--into", "{SHIPPED}", "--seeds", "1"], "--seeds"),
+    ("learned_caution", ["--report", "{file}", "--baseline", "{file}", "--episodes", "5", "--out", "{new}/t.md"],
+     "--episodes"),
     ("select_phase_rule", ["--workers", "0"], "--workers"),
     ("select_phase_rule", ["--out", "{dir}"], "--out"),
     ("select_robust_model", ["--workers", "-1"], "--workers"),
