@@ -875,6 +875,9 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # frontier.py with rule 106's seed 3 and --rows (frontier_rule107_validation), rule_check_rule107E_c
         # rule 108: learned_caution.py --out runs/caution_lagrangian_tight --seeds 0 1 2 3 4 --cost-budget 0.06, each
         # seed on the four validation plays (runs/rule106.sh rule108TK MODEL), --report (learned_caution_rule108)
+        # rule 109: learned_caution.py --out runs/caution_lagrangian_long --seeds 0 1 2 --timesteps 200000
+        # --cost-budget 0.07, each seed on the four validation plays (runs/rule106.sh rule109LK MODEL), --report with
+        # the three seeds' plays and --baseline the _rule95shipped53_ ones (learned_caution_rule109)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1214,6 +1217,7 @@ SOURCES = {
         "rule_check_rule104", "frontier_rule105_validation", "rule_check_rule105L_c",
         "learned_caution_rule106", "frontier_rule106_validation", "rule_check_rule106L3_c",
         "frontier_rule107_validation", "rule_check_rule107E_c", "learned_caution_rule108",
+        "learned_caution_rule109",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
