@@ -366,21 +366,22 @@ def main() -> None:
     parser = build_parser()
     args = parser.parse_args()
     reject_unused_options(parser, args)
+    mode = mode_of(args)
     seeds = TRAINING_SEEDS if args.seeds is None else args.seeds
     if any(s < 0 for s in seeds):
         parser.error(f"--seeds must be >= 0, got {seeds}")
-    if args.paired is not None:
+    if mode == "paired":
         model = None if args.paired is True else args.paired  # --paired alone: the shipped climb's episodes
         if model is not None and not model.is_file():
             parser.error(f"--paired: no file {model} (a seed's model.zip)")
         print(paired_returns(model, args.episodes or PAIRED_EPISODES), end="")
         return
-    if args.export is not None or args.into is not None:
+    if mode == "export":
         export(parser, args)
         return
     if args.out is None:
         parser.error("--out: required (the seeds' directory, or with --report the report's file)")
-    if args.report is not None:
+    if mode == "report":
         report(parser, args)
         return
     check_out_dir(parser, "--out", args.out)
