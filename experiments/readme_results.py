@@ -876,7 +876,8 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # rule 108: learned_caution.py --out runs/caution_lagrangian_tight --seeds 0 1 2 3 4 --cost-budget 0.06, each
         # seed on the four validation plays (runs/rule106.sh rule108TK MODEL), --report (learned_caution_rule108)
         # rule 109: learned_caution.py --out runs/caution_lagrangian_long --seeds 0 1 2 --timesteps 200000
-        # --cost-budget 0.07, each seed on the four validation plays (runs/rule106.sh rule109LK MODEL), --report with
+        # --cost-budget 0.07, each seed on the four validation plays (python experiments/validation_plays.py rule109LK
+        # --caution-policy runs/caution_lagrangian_long/seed_K/model.zip), --report with
         # the three seeds' plays and --baseline the _rule95shipped53_ ones (learned_caution_rule109)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \

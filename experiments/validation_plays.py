@@ -1,0 +1,105 @@
+"""The four validation plays a rule's candidate is judged on (rule 90's conditions, docs/interrogator.md): one command.
+
+    python experiments/validation_plays.py rule109L2 --caution-policy runs/caution_lagrangian_long/seed_2/model.zip
+    python experiments/validation_plays.py rule95shipped53          # the shipped agent, the baseline of rules 104-109
+    python experiments/validation_plays.py --hand-built             # phase-rule, robust-model, staircase, model-based
+    python experiments/validation_plays.py rule109L2 --print        # the commands, nothing played
+
+The four plays: the validation grids at the v2 draws, the torque validation grids (the torque gain anywhere within
++-15 %), the validation grids with every episode's noise at three times the full scale, and with a 0.1 s drive lag;
+each in both vehicle configurations. A learned candidate plays them with ``crest_tradeoff.py`` (the shipped guards,
+the climb's target headroom 0.1, its stops and returns recorded; ``--caution-policy`` a caution policy of
+``learned_caution.py``, models joined by ``+`` as one mean action) into ``out/records_NAME_PLAY.json`` and
+``out/crest_tradeoff_NAME_PLAY.md``; the hand-built agents play them with ``scripted_plays.py`` into
+``out/records_AGENT_PLAY.json``. Those files are what ``learned_caution.py --report``, ``frontier.py`` and
+``rule_check.py`` read, with PLAY in validation, validation_torque, noise_level and motor_lag_s. Run from the
+repository root.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import shlex
+import subprocess
+import sys
+from pathlib import Path
+
+from cof_gym.commands.args import Parser
+
+HERE = Path(__file__).resolve().parent
+
+
+def script(name: str) -> str:
+    """An experiment script's path as the commands name it: relative to the working directory (the repository root)."""
+    return os.path.relpath(HERE / name)
+SHIPPED_GUARDS = ("cof_gym/agents/policies/interrogator/guard_0", "cof_gym/agents/policies/interrogator/guard_1")
+HAND_BUILT = ("phase-rule", "robust-model", "staircase", "model-based")
+PLAYS = {  # the play's name in the records' file names -> its grids and scenario
+    "validation": ("--grids", "validation"),
+    "validation_torque": ("--grids", "validation_torque"),
+    "noise_level": ("--grids", "validation", "--scenario", "noise_level=3"),
+    "motor_lag_s": ("--grids", "validation", "--scenario", "motor_lag_s=0.1"),
+}
+NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*")  # a name that stands in a file name as it is
+
+
+def candidate_commands(name: str, caution_policy: str | None) -> list[list[str]]:
+    """The learned agent's four ``crest_tradeoff.py`` plays, recorded under ``name``."""
+    policy = ["--caution-policy", caution_policy] if caution_policy else []
+    return [[sys.executable, script("crest_tradeoff.py"), "--guards", *SHIPPED_GUARDS, "--guards-only",
+             "--targets", "0.1", "--stops", "--return-digits", "4", *grids, *policy,
+             "--records", f"out/records_{name}_{play}.json", "--out", f"out/crest_tradeoff_{name}_{play}.md"]
+            for play, grids in PLAYS.items()]
+
+
+def hand_built_commands() -> list[list[str]]:
+    """The hand-built agents' four ``scripted_plays.py`` plays, one records file per agent and play."""
+    return [[sys.executable, script("scripted_plays.py"), "--agents", *HAND_BUILT, *grids,
+             "--records", f"out/records_{{agent}}_{play}.json"] for play, grids in PLAYS.items()]
+
+
+def build_parser() -> Parser:
+    parser = Parser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("name", nargs="?", default=None,
+                        help="the learned candidate's name in the records' file names (letters, digits, _ . -)")
+    parser.add_argument("--caution-policy", default=None, metavar="MODEL[+MODEL...]",
+                        help="a learned_caution.py model.zip (several joined by +: their mean action)")
+    parser.add_argument("--hand-built", action="store_true",
+                        help="the hand-built agents' plays instead of a candidate's")
+    parser.add_argument("--print", action="store_true", help="print the four commands, play nothing")
+    return parser
+
+
+def commands_of(parser: Parser, args: argparse.Namespace) -> list[list[str]]:
+    """The commands the arguments ask for, every argument checked first (one line and exit code 2)."""
+    if args.hand_built:
+        if args.name is not None or args.caution_policy is not None:
+            parser.error("--hand-built: takes no NAME and no --caution-policy (the agents' names name the records)")
+        return hand_built_commands()
+    if args.name is None:
+        parser.error("NAME: required (the candidate's name in the records' file names), or --hand-built")
+    if not NAME.fullmatch(args.name):
+        parser.error(f"NAME: letters, digits, '_', '.' and '-', starting with a letter or digit; got {args.name!r}")
+    if args.caution_policy is not None:
+        missing = [m for m in args.caution_policy.split("+") if not Path(m).is_file()]
+        if missing:
+            parser.error(f"--caution-policy: no file {missing[0]} (a learned_caution.py model.zip)")
+    return candidate_commands(args.name, args.caution_policy)
+
+
+def main() -> None:
+    parser = build_parser()
+    args = parser.parse_args()
+    commands = commands_of(parser, args)
+    for command in commands:
+        print(shlex.join(["python", *command[1:]]), flush=True)
+        if not args.print:
+            returncode = subprocess.run(command).returncode
+            if returncode:
+                sys.exit(returncode)  # the play has said why; the plays after it are not run
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,45 @@
+"""experiments/validation_plays.py: the four validation plays of a rule's candidate, as the reports read them."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import pytest
+
+EXPERIMENTS = Path(__file__).resolve().parents[1] / "experiments"
+sys.path.insert(0, str(EXPERIMENTS))
+import validation_plays  # noqa: E402
+
+PLAYS = ("validation", "validation_torque", "noise_level", "motor_lag_s")  # what learned_caution --report joins
+
+
+def test_a_candidate_plays_four_grids_into_the_files_the_reports_read() -> None:
+    commands = validation_plays.candidate_commands("cand", "a.zip+b.zip")
+    assert [c[c.index("--records") + 1] for c in commands] == [f"out/records_cand_{p}.json" for p in PLAYS]
+    assert [c[c.index("--grids") + 1] for c in commands] == ["validation", "validation_torque", "validation",
+                                                             "validation"]
+    scenarios = [c[c.index("--scenario") + 1] if "--scenario" in c else None for c in commands]
+    assert scenarios == [None, None, "noise_level=3", "motor_lag_s=0.1"]
+    for command in commands:  # the shipped guards alone, the caution policy as given
+        assert command[1].endswith("crest_tradeoff.py") and "--guards-only" in command
+        assert command[command.index("--caution-policy") + 1] == "a.zip+b.zip"
+        guards = command[command.index("--guards") + 1:command.index("--guards-only")]
+        assert all((EXPERIMENTS.parent / g / "member_0.npz").is_file() for g in guards) and len(guards) == 2
+    assert all("--caution-policy" not in c for c in validation_plays.candidate_commands("cand", None))
+
+
+def test_hand_built_agents_play_the_same_four_grids() -> None:
+    commands = validation_plays.hand_built_commands()
+    assert [c[c.index("--records") + 1] for c in commands] == [f"out/records_{{agent}}_{p}.json" for p in PLAYS]
+    assert [c[2:c.index("--agents") + 5] for c in commands] == [["--agents", *validation_plays.HAND_BUILT]] * 4
+
+
+def test_print_plays_nothing(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys) -> None:
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(sys, "argv", ["validation_plays.py", "cand", "--print"])
+    monkeypatch.setattr(validation_plays.subprocess, "run", lambda *a, **k: pytest.fail("--print played"))
+    validation_plays.main()
+    lines = capsys.readouterr().out.splitlines()
+    assert len(lines) == 4 and all(line.startswith("python ") and "crest_tradeoff.py" in line for line in lines)
+    assert list(tmp_path.iterdir()) == []
