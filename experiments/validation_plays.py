@@ -4,6 +4,8 @@
     python experiments/validation_plays.py rule95shipped53          # the shipped agent, the baseline of rules 104-109
     python experiments/validation_plays.py --hand-built             # phase-rule, robust-model, staircase, model-based
     python experiments/validation_plays.py rule109L2 --print        # the commands, nothing played
+    python experiments/validation_plays.py shipped --confirmation confirmation36 torque_confirmation17 \
+        extremes_confirmation8                                      # the five confirmation plays instead
 
 The four plays: the validation grids at the v2 draws, the torque validation grids (the torque gain anywhere within
 +-15 %), the validation grids with every episode's noise at three times the full scale, and with a 0.1 s drive lag;
@@ -12,8 +14,11 @@ the climb's target headroom 0.1, its stops and returns recorded; ``--caution-pol
 ``learned_caution.py``, models joined by ``+`` as one mean action) into ``out/records_NAME_PLAY.json`` and
 ``out/crest_tradeoff_NAME_PLAY.md``; the hand-built agents play them with ``scripted_plays.py`` into
 ``out/records_AGENT_PLAY.json``. Those files are what ``learned_caution.py --report``, ``frontier.py`` and
-``rule_check.py`` read, with PLAY in validation, validation_torque, noise_level and motor_lag_s. Run from the
-repository root.
+``rule_check.py`` read, with PLAY in validation, validation_torque, noise_level and motor_lag_s. With
+``--confirmation SET TORQUE_SET EXTREMES_SET`` (sets of ``make_grids.py`` no agent has played) the five plays a
+qualified candidate is confirmed on instead: SET at the draws, with the noise tripled and with the 0.1 s lag, the
+torque set and the extremes set, PLAY the set's name (``SET``, ``SET_noise_level``, ``SET_motor_lag_s``,
+``TORQUE_SET``, ``EXTREMES_SET``). Run from the repository root.
 """
 
 from __future__ import annotations
@@ -26,7 +31,10 @@ import subprocess
 import sys
 from pathlib import Path
 
-from cof_gym.commands.args import Parser
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from make_grids import CONFIRMATION_SETS, EXTREMES_CONFIRMATION_SETS, TORQUE_CONFIRMATION_SETS  # noqa: E402
+
+from cof_gym.commands.args import Parser  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 
@@ -42,22 +50,35 @@ PLAYS = {  # the play's name in the records' file names -> its grids and scenari
     "noise_level": ("--grids", "validation", "--scenario", "noise_level=3"),
     "motor_lag_s": ("--grids", "validation", "--scenario", "motor_lag_s=0.1"),
 }
+CONFIRMATION_KINDS = (("SET", CONFIRMATION_SETS), ("TORQUE_SET", TORQUE_CONFIRMATION_SETS),
+                      ("EXTREMES_SET", EXTREMES_CONFIRMATION_SETS))  # --confirmation's three sets, in order
+
+
+def confirmation_plays(grid_set: str, torque_set: str, extremes_set: str) -> dict[str, tuple[str, ...]]:
+    """The five confirmation plays on three sets of make_grids.py, by the play's name in the records' file names."""
+    return {grid_set: ("--grids", grid_set),
+            f"{grid_set}_noise_level": ("--grids", grid_set, "--scenario", "noise_level=3"),
+            f"{grid_set}_motor_lag_s": ("--grids", grid_set, "--scenario", "motor_lag_s=0.1"),
+            torque_set: ("--grids", torque_set), extremes_set: ("--grids", extremes_set)}
+
+
 NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*")  # a name that stands in a file name as it is
 
 
-def candidate_commands(name: str, caution_policy: str | None) -> list[list[str]]:
-    """The learned agent's four ``crest_tradeoff.py`` plays, recorded under ``name``."""
+def candidate_commands(name: str, caution_policy: str | None,
+                       plays: dict[str, tuple[str, ...]] = PLAYS) -> list[list[str]]:
+    """The learned agent's ``crest_tradeoff.py`` plays (the four validation plays), recorded under ``name``."""
     policy = ["--caution-policy", caution_policy] if caution_policy else []
     return [[sys.executable, script("crest_tradeoff.py"), "--guards", *SHIPPED_GUARDS, "--guards-only",
              "--targets", "0.1", "--stops", "--return-digits", "4", *grids, *policy,
              "--records", f"out/records_{name}_{play}.json", "--out", f"out/crest_tradeoff_{name}_{play}.md"]
-            for play, grids in PLAYS.items()]
+            for play, grids in plays.items()]
 
 
-def hand_built_commands() -> list[list[str]]:
-    """The hand-built agents' four ``scripted_plays.py`` plays, one records file per agent and play."""
+def hand_built_commands(plays: dict[str, tuple[str, ...]] = PLAYS) -> list[list[str]]:
+    """The hand-built agents' ``scripted_plays.py`` plays, one records file per agent and play."""
     return [[sys.executable, script("scripted_plays.py"), "--agents", *HAND_BUILT, *grids,
-             "--records", f"out/records_{{agent}}_{play}.json"] for play, grids in PLAYS.items()]
+             "--records", f"out/records_{{agent}}_{play}.json"] for play, grids in plays.items()]
 
 
 def build_parser() -> Parser:
@@ -68,16 +89,26 @@ def build_parser() -> Parser:
                         help="a learned_caution.py model.zip (several joined by +: their mean action)")
     parser.add_argument("--hand-built", action="store_true",
                         help="the hand-built agents' plays instead of a candidate's")
-    parser.add_argument("--print", action="store_true", help="print the four commands, play nothing")
+    parser.add_argument("--confirmation", nargs=3, default=None, metavar=("SET", "TORQUE_SET", "EXTREMES_SET"),
+                        help="the five confirmation plays on these make_grids.py sets instead of the validation plays "
+                             "(e.g. confirmation36 torque_confirmation17 extremes_confirmation8)")
+    parser.add_argument("--print", action="store_true", help="print the commands, play nothing")
     return parser
 
 
 def commands_of(parser: Parser, args: argparse.Namespace) -> list[list[str]]:
     """The commands the arguments ask for, every argument checked first (one line and exit code 2)."""
+    plays = PLAYS
+    if args.confirmation is not None:
+        for (kind, known), name in zip(CONFIRMATION_KINDS, args.confirmation):
+            if name not in known:
+                first, last = next(iter(known)), list(known)[-1]
+                parser.error(f"--confirmation: {kind} must be one of {first} ... {last}, got {name!r}")
+        plays = confirmation_plays(*args.confirmation)
     if args.hand_built:
         if args.name is not None or args.caution_policy is not None:
             parser.error("--hand-built: takes no NAME and no --caution-policy (the agents' names name the records)")
-        return hand_built_commands()
+        return hand_built_commands(plays)
     if args.name is None:
         parser.error("NAME: required (the candidate's name in the records' file names), or --hand-built")
     if not NAME.fullmatch(args.name):
@@ -86,7 +117,7 @@ def commands_of(parser: Parser, args: argparse.Namespace) -> list[list[str]]:
         missing = [m for m in args.caution_policy.split("+") if not Path(m).is_file()]
         if missing:
             parser.error(f"--caution-policy: no file {missing[0]} (a learned_caution.py model.zip)")
-    return candidate_commands(args.name, args.caution_policy)
+    return candidate_commands(args.name, args.caution_policy, plays)
 
 
 def main() -> None:

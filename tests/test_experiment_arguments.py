@@ -57,6 +57,10 @@ CASES = [
     ("validation_plays", ["a b"], "NAME"),
     ("validation_plays", ["c", "--caution-policy", "{file}+{new}.zip"], "--caution-policy"),
     ("validation_plays", ["--hand-built", "c"], "--hand-built"),
+    ("validation_plays", ["c", "--confirmation", "confirmation999", "torque_confirmation", "extremes_confirmation"],
+     "--confirmation"),
+    ("validation_plays", ["c", "--confirmation", "confirmation", "confirmation", "extremes_confirmation"],
+     "--confirmation"),  # a set of another kind in the torque set's place
     ("select_phase_rule", ["--workers", "0"], "--workers"),
     ("select_phase_rule", ["--out", "{dir}"], "--out"),
     ("select_robust_model", ["--workers", "-1"], "--workers"),

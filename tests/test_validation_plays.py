@@ -43,3 +43,14 @@ def test_print_plays_nothing(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, ca
     lines = capsys.readouterr().out.splitlines()
     assert len(lines) == 4 and all(line.startswith("python ") and "crest_tradeoff.py" in line for line in lines)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_confirmation_plays_the_five_plays_of_three_unplayed_sets() -> None:
+    plays = validation_plays.confirmation_plays("confirmation36", "torque_confirmation17", "extremes_confirmation8")
+    commands = validation_plays.candidate_commands("shipped", None, plays)
+    assert [c[c.index("--records") + 1] for c in commands] == [
+        "out/records_shipped_confirmation36.json", "out/records_shipped_confirmation36_noise_level.json",
+        "out/records_shipped_confirmation36_motor_lag_s.json", "out/records_shipped_torque_confirmation17.json",
+        "out/records_shipped_extremes_confirmation8.json"]
+    assert [c[c.index("--grids") + 1] for c in validation_plays.hand_built_commands(plays)] == [
+        "confirmation36", "confirmation36", "confirmation36", "torque_confirmation17", "extremes_confirmation8"]
