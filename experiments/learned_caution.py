@@ -354,9 +354,8 @@ def mode_of(args: argparse.Namespace) -> str:
     return "report" if args.report is not None else "training"
 
 
-def reject_unused_options(parser: Parser, args: argparse.Namespace) -> None:
-    """One line and exit code 2 for an option the job asked for would not read (none is silently ignored)."""
-    mode = mode_of(args)
+def reject_unused_options(parser: Parser, args: argparse.Namespace, mode: str) -> None:
+    """One line and exit code 2 for an option the job ``mode`` would not read (none is silently ignored)."""
     for option, modes in OPTION_MODES.items():
         if mode not in modes and getattr(args, option.lstrip("-").replace("-", "_")) is not None:
             parser.error(f"{option}: only {' or '.join(MODE_WORDS[m] for m in modes)}, not {MODE_WORDS[mode]}")
@@ -365,8 +364,8 @@ def reject_unused_options(parser: Parser, args: argparse.Namespace) -> None:
 def main() -> None:
     parser = build_parser()
     args = parser.parse_args()
-    reject_unused_options(parser, args)
     mode = mode_of(args)
+    reject_unused_options(parser, args, mode)
     seeds = TRAINING_SEEDS if args.seeds is None else args.seeds
     if any(s < 0 for s in seeds):
         parser.error(f"--seeds must be >= 0, got {seeds}")

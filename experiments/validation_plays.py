@@ -31,24 +31,27 @@ import subprocess
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
 from make_grids import CONFIRMATION_SETS, EXTREMES_CONFIRMATION_SETS, TORQUE_CONFIRMATION_SETS  # noqa: E402
 
 from cof_gym.commands.args import Parser  # noqa: E402
 
-HERE = Path(__file__).resolve().parent
-
-
-def script(name: str) -> str:
-    """An experiment script's path as the commands name it: relative to the working directory (the repository root)."""
-    return os.path.relpath(HERE / name)
 SHIPPED_GUARDS = ("cof_gym/agents/policies/interrogator/guard_0", "cof_gym/agents/policies/interrogator/guard_1")
 HAND_BUILT = ("phase-rule", "robust-model", "staircase", "model-based")
+SENSOR_STRESSES = {"noise_level": "noise_level=3", "motor_lag_s": "motor_lag_s=0.1"}  # play suffix -> --scenario
+
+
+def stressed(grid_set: str, prefix: str) -> dict[str, tuple[str, ...]]:
+    """A grid set's plays with the noise tripled and with the 0.1 s lag, named ``prefix`` + the stress."""
+    return {prefix + suffix: ("--grids", grid_set, "--scenario", scenario)
+            for suffix, scenario in SENSOR_STRESSES.items()}
+
+
 PLAYS = {  # the play's name in the records' file names -> its grids and scenario
     "validation": ("--grids", "validation"),
     "validation_torque": ("--grids", "validation_torque"),
-    "noise_level": ("--grids", "validation", "--scenario", "noise_level=3"),
-    "motor_lag_s": ("--grids", "validation", "--scenario", "motor_lag_s=0.1"),
+    **stressed("validation", ""),
 }
 CONFIRMATION_KINDS = (("SET", CONFIRMATION_SETS), ("TORQUE_SET", TORQUE_CONFIRMATION_SETS),
                       ("EXTREMES_SET", EXTREMES_CONFIRMATION_SETS))  # --confirmation's three sets, in order
@@ -56,10 +59,13 @@ CONFIRMATION_KINDS = (("SET", CONFIRMATION_SETS), ("TORQUE_SET", TORQUE_CONFIRMA
 
 def confirmation_plays(grid_set: str, torque_set: str, extremes_set: str) -> dict[str, tuple[str, ...]]:
     """The five confirmation plays on three sets of make_grids.py, by the play's name in the records' file names."""
-    return {grid_set: ("--grids", grid_set),
-            f"{grid_set}_noise_level": ("--grids", grid_set, "--scenario", "noise_level=3"),
-            f"{grid_set}_motor_lag_s": ("--grids", grid_set, "--scenario", "motor_lag_s=0.1"),
+    return {grid_set: ("--grids", grid_set), **stressed(grid_set, f"{grid_set}_"),
             torque_set: ("--grids", torque_set), extremes_set: ("--grids", extremes_set)}
+
+
+def script(name: str) -> str:
+    """An experiment script's path as the commands name it: relative to the working directory (the repository root)."""
+    return os.path.relpath(HERE / name)
 
 
 NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*")  # a name that stands in a file name as it is
@@ -114,7 +120,9 @@ def commands_of(parser: Parser, args: argparse.Namespace) -> list[list[str]]:
     if not NAME.fullmatch(args.name):
         parser.error(f"NAME: letters, digits, '_', '.' and '-', starting with a letter or digit; got {args.name!r}")
     if args.caution_policy is not None:
-        missing = [m for m in args.caution_policy.split("+") if not Path(m).is_file()]
+        from learned_caution import ensemble_members
+
+        missing = [m for m in ensemble_members(args.caution_policy) if not m.is_file()]
         if missing:
             parser.error(f"--caution-policy: no file {missing[0]} (a learned_caution.py model.zip)")
     return candidate_commands(args.name, args.caution_policy, plays)
