@@ -854,27 +854,31 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # S3: --guards runs/interrogator_shipped_proc/guard/ensemble cof_gym/agents/policies/interrogator/guard_1 on the
         # four validation plays (runs/rule103.sh: rule_check_rule103S3_c, frontier_rule103_validation with --rows)
         # rule 104: python experiments/learned_caution.py --out runs/caution_rl --seeds 0 1 2 3 4, then each seed K on
-        # the four validation plays with the shipped guards and --caution-policy runs/caution_rl/seed_K/model.zip
-        # (runs/rule104.sh: records out/records_rule104LK_*), learned_caution.py --report with the five seeds' plays and
-        # --baseline the _rule95shipped53_ ones (learned_caution_rule104), frontier.py with the five seeds and --rows
-        # (frontier_rule104_validation), rule_check.py for seed 0 (rule_check_rule104L0_c); runs/confirm104.sh 0 (the
-        # shipped agent and seed 0, with --caution-policy, and scripted_plays.py's four agents on confirmation35 at its
-        # draws, --scenario noise_level=3 and motor_lag_s=0.1, torque_confirmation16 and extremes_confirmation7;
+        # the four validation plays (python experiments/validation_plays.py rule104LK --caution-policy
+        # runs/caution_rl/seed_K/model.zip: records out/records_rule104LK_*), learned_caution.py --report with the
+        # five seeds' plays and --baseline the _rule95shipped53_ ones (learned_caution_rule104), frontier.py with the
+        # five seeds and --rows
+        # (frontier_rule104_validation), rule_check.py for seed 0 (rule_check_rule104L0_c); validation_plays.py with
+        # --confirmation confirmation35 torque_confirmation16 extremes_confirmation7 for shipped, for rule104L0 (its
+        # --caution-policy) and with --hand-built (the five plays: the set at its draws, --scenario noise_level=3 and
+        # motor_lag_s=0.1, the torque and the extremes set;
         # frontier_rule104 with frontier.py --rows, rule_check_rule104 with --more-runaways 2352)
         # rule 105: python experiments/learned_caution.py --out runs/caution_rl_long --seeds 0 --timesteps 200000, then
-        # runs/rule105.sh (its four validation plays with --caution-policy runs/caution_rl_long/seed_0/model.zip,
+        # validation_plays.py rule105L --caution-policy runs/caution_rl_long/seed_0/model.zip (its four plays,
         # frontier_rule105_validation beside rule 104's seed 0 with --rows, rule_check_rule105L_c)
         # rule 106: python experiments/learned_caution.py --paired --episodes 200 (the budget), then
         # python experiments/learned_caution.py --out runs/caution_lagrangian --seeds 0 1 2 3 4 --cost-budget 0.085;
         # the shipped agent (records _rule95shipped53_) and each seed K with --caution-policy
         # runs/caution_lagrangian/seed_K/model.zip on the four validation plays as rule 104's (records _rule106LK_),
-        # the hand-built agents' four validation plays as in session 52; learned_caution.py --report
+        # the hand-built agents' four (validation_plays.py --hand-built); learned_caution.py --report
         # (learned_caution_rule106), frontier.py with the five seeds, the references and --rows
         # (frontier_rule106_validation), rule_check.py for seed 3, the best return (rule_check_rule106L3_c)
-        # rule 107: runs/rule106.sh rule107E with the five seeds' models joined by + (records _rule107E_),
-        # frontier.py with rule 106's seed 3 and --rows (frontier_rule107_validation), rule_check_rule107E_c
+        # rule 107: validation_plays.py rule107E --caution-policy with the five seeds' models joined by +
+        # (records _rule107E_), frontier.py with rule 106's seed 3 and --rows (frontier_rule107_validation),
+        # rule_check_rule107E_c
         # rule 108: learned_caution.py --out runs/caution_lagrangian_tight --seeds 0 1 2 3 4 --cost-budget 0.06, each
-        # seed on the four validation plays (runs/rule106.sh rule108TK MODEL), --report (learned_caution_rule108)
+        # seed on the four validation plays (validation_plays.py rule108TK --caution-policy MODEL), --report
+        # (learned_caution_rule108)
         # rule 109: learned_caution.py --out runs/caution_lagrangian_long --seeds 0 1 2 --timesteps 200000
         # --cost-budget 0.07, each seed on the four validation plays (python experiments/validation_plays.py rule109LK
         # --caution-policy runs/caution_lagrangian_long/seed_K/model.zip), --report with
