@@ -1,5 +1,5 @@
 """How each agent's CoF error moves with one systematic sensor error at the end of the range the env accepts
-(information only: nothing is chosen here). (Run from the repository root; 2 cores, about 11 min.)
+(information only: nothing is chosen here). (Run from the repository root; 2 cores, about 15 min.)
 
     python experiments/sensor_sensitivity.py [--agents oracle,staircase,phase-rule,model-based,robust-model,interrogator]
                                              [--workers 2] [--out out/sensor_sensitivity.md]
@@ -16,7 +16,11 @@ only a fraction of those values, so the rows past the first measure the agents o
 - a force gain error scales the measured tangential force, so the measured adhesion (CoA) and every estimate read
   from it, the oracle's too (it knows where the peak is, not what the force sensor misreads): a floor no
   method that reads the force sensor alone can pass;
-- a torque gain error scales the torque reading (the lock-in's compliance, a torque-based estimate).
+- a torque gain error scales the torque reading (the lock-in's compliance, a torque-based estimate);
+- a lag of the encoder's speed signal (``encoder_lag_s``, a first-order time constant: the filter a wheel-speed
+  estimate goes through; v1 and v2 draw none) adds ``atan(w tau)`` to every phase lag the lock-in reads and shrinks
+  the compliance by ``cos`` of it: the systematic error a phase method meets first. Rows at 5 and 10 ms (about 9 and
+  17 deg at 5 Hz) and at the largest lag the env accepts.
 
 Cells: median / P90 relative CoF error [%] / macro-slips, over the grid's scored episodes.
 """
@@ -41,14 +45,20 @@ from cof_gym.agents.base import own_env_options  # noqa: E402
 from cof_gym.commands.args import Parser, positive_int  # noqa: E402
 from cof_gym.commands.evaluate_episodes import run_episode  # noqa: E402
 from cof_gym.commands.suites import make_suite  # noqa: E402
+from cof_gym.task.scenarios import ENCODER_LAG_MAX_S  # noqa: E402
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS  # noqa: E402
 
 AGENTS = ("oracle", "staircase", "phase-rule", "model-based", "robust-model", "interrogator")
 
 
+ENCODER_LAGS_S = (0.005, 0.01, ENCODER_LAG_MAX_S)  # the encoder's speed-signal lags played, s
+
+
 def settings() -> list[dict[str, float]]:
-    """The grid as drawn ({}), then each systematic error at plus and minus its accepted bound."""
-    return [{}] + [{name: sign * span.accepted} for name, span in SYSTEMATIC_ERRORS.items() for sign in (1.0, -1.0)]
+    """The grid as drawn ({}), then each systematic error at plus and minus its accepted bound, then each encoder
+    lag of ENCODER_LAGS_S."""
+    return ([{}] + [{name: sign * span.accepted} for name, span in SYSTEMATIC_ERRORS.items() for sign in (1.0, -1.0)]
+            + [{"encoder_lag_s": lag} for lag in ENCODER_LAGS_S])
 
 
 def play(spec: str, setting: dict[str, float], config: dict) -> list[tuple[float, bool]]:
@@ -73,6 +83,8 @@ def cell(played: list[tuple[float, bool]]) -> str:
 
 
 def label(setting: dict[str, float]) -> str:
+    if "encoder_lag_s" in setting:
+        return f"encoder_lag_s {setting['encoder_lag_s']:g} s"
     return "as drawn" if not setting else ", ".join(f"{name} {value:+g}" for name, value in setting.items())
 
 
@@ -97,7 +109,8 @@ def main() -> None:
     lines = ["Family validation grid, both vehicle configurations (`python experiments/sensor_sensitivity.py`): "
              "median / P90 relative CoF error [%] / macro-slips, with one systematic sensor error fixed at the end "
              "of the range the env accepts (the v2 draws: "
-             + ", ".join(f"{name} +-{span.drawn:g}" for name, span in SYSTEMATIC_ERRORS.items()) + ").", "",
+             + ", ".join(f"{name} +-{span.drawn:g}" for name, span in SYSTEMATIC_ERRORS.items())
+             + "), or the encoder's speed signal lagged (a first-order lag the draws never give).", "",
              "| sensors | " + " | ".join(agents) + " |", "|---" * (len(agents) + 1) + "|"]
     for r, setting in enumerate(rows):
         cells = []

@@ -6,19 +6,23 @@ import sys
 
 from conftest import EXPERIMENTS
 
+from cof_gym.task.scenarios import ENCODER_LAG_MAX_S
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 
 sys.path.insert(0, EXPERIMENTS)
 import sensor_sensitivity  # noqa: E402
 
 
-def test_the_rows_are_the_draws_then_each_error_at_both_ends_of_what_the_env_accepts():
+def test_the_rows_are_the_draws_then_each_error_at_both_ends_of_what_the_env_accepts_then_the_encoder_lags():
     rows = sensor_sensitivity.settings()
-    assert rows[0] == {} and len(rows) == 1 + 2 * len(SYSTEMATIC_ERRORS)
+    lags = sensor_sensitivity.ENCODER_LAGS_S
+    assert rows[0] == {} and len(rows) == 1 + 2 * len(SYSTEMATIC_ERRORS) + len(lags)
     for name, span in SYSTEMATIC_ERRORS.items():
         assert {name: span.accepted} in rows and {name: -span.accepted} in rows
+    assert rows[-len(lags):] == [{"encoder_lag_s": lag} for lag in lags] and max(lags) == ENCODER_LAG_MAX_S
     assert sensor_sensitivity.label(rows[0]) == "as drawn"
     assert sensor_sensitivity.label({"force_gain_error": -0.1}) == "force_gain_error -0.1"
+    assert sensor_sensitivity.label({"encoder_lag_s": 0.01}) == "encoder_lag_s 0.01 s"
     assert sensor_sensitivity.cell([(0.01, False), (0.03, True), (0.02, False)]) == "2.0 / 2.8 / 1"
 
 

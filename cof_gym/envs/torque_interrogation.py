@@ -265,6 +265,7 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | cof, condition, speed_m_s, load_case, noise_level, motor_lag_s | None | fix a scenario field |
     | creep_law | None | fix the creep curve: a preset name, ``{"polach": {...}}``, ``{"shen_hedrick_elkins": {...}}`` or ``{"table": {"creepage": [...], "adhesion_ratio": [...]}}`` (:func:`cof_gym.physics.creep_laws.creep_law_from_spec`) |
     | speed_sensor_error, wheel_radius_error, force_gain_error, torque_gain_error | None | fix a systematic sensor error (relative; ranges in :data:`cof_gym.task.sensors.SYSTEMATIC_ERRORS`) |
+    | encoder_lag_s | None (0) | a first-order lag of the encoder's speed signal, s, in [0, 0.05]: adds ``atan(w tau)`` to every phase the lock-in reads (never drawn; :mod:`cof_gym.task.sensors`) |
     | task_version | 1 | 1: Polach presets, unbiased sensors; 2: creep-law families and systematic sensor errors drawn (the -v2 ids) |
     | shaping | False | add the potential-based shaping term (training) |
     | action_type | "absolute" | "absolute", "relative" or "identified" (see Action Space) |
@@ -286,7 +287,9 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
       episode; the horizon on the spec; no ``None`` in ``info``. v1 stays registered with its numbers.
       Later additions to ``info["measurement"]`` (v1 and v2 alike) add readings and change no number
       of the observation, reward or ground truth: the measured creepage's modulation (session 12), the
-      measured CoA's synchronous average over the cycle (``coa_cycle_*``, session 22).
+      measured CoA's synchronous average over the cycle (``coa_cycle_*``, session 22). Later options that
+      no draw gives leave every drawn episode as it was: ``encoder_lag_s`` (session 59; 0 unless fixed, and
+      ``info["ground_truth"]`` carries it).
     - v1: ground truth from the simulated physics (load transfer, controlled speed); PI cruise control
       and traction balance; a traction rod; CoF ranges per condition; macro-slip relative to the peak;
       log-ratio error, no slip cost below the peak, comfort over the whole window; sensors apart from

@@ -131,7 +131,8 @@ def _check_tones(tones) -> tuple[tuple[float, float], ...]:
 
 @dataclass(frozen=True)
 class Scenario:
-    """Everything drawn per episode: operating conditions plus sensor noise and motor lag (s)."""
+    """Everything drawn per episode: operating conditions plus sensor noise, the drive's torque lag (s) and the
+    encoder's speed-signal lag (s; both first-order time constants)."""
 
     op: OperatingConditions
     noise: SensorNoise = field(default_factory=SensorNoise)
@@ -139,10 +140,13 @@ class Scenario:
     cruise: CruiseControl = field(default_factory=CruiseControl)
     traction_balance: bool = False  # the rest of the train cancels the DC part of the torque
     seed: int = 0
+    encoder_lag_s: float = 0.0
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.motor_lag_s) and 0.0 <= self.motor_lag_s <= 1.0):
-            raise ValueError(f"motor_lag_s must be in [0, 1] s, got {self.motor_lag_s!r}")
+        for name in ("motor_lag_s", "encoder_lag_s"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not (math.isfinite(value) and 0.0 <= value <= 1.0):
+                raise ValueError(f"{name} must be in [0, 1] s, got {value!r}")
 
 
 def initial_userdata(built: BuiltModel, scenario: Scenario) -> np.ndarray:
@@ -170,6 +174,7 @@ def initial_userdata(built: BuiltModel, scenario: Scenario) -> np.ndarray:
     ud[I["S_PEAK"]] = creep_peak(op).creepage
     ud[I["MOD_OMEGA"]] = 2 * math.pi * 5.0
     ud[I["MOTOR_TAU"]] = scenario.motor_lag_s
+    ud[I["ENCODER_TAU"]] = scenario.encoder_lag_s
     kp, ki, kd = scenario.cruise.gains(built.total_mass_kg)
     ud[I["CRUISE_SPEED"]], ud[I["CRUISE_KP"]], ud[I["CRUISE_KI"]], ud[I["CRUISE_KD"]] = op.speed_m_s, kp, ki, kd
     if scenario.traction_balance:

@@ -58,6 +58,7 @@ COF_ENVELOPE = (0.02, 0.60)  # every CoF the task accepts; the drive reaches its
 SPEED_ENVELOPE_M_S = (5.0, 40.0)
 NOISE_LEVEL_MAX = 3.0  # multiples of FULL_SCALE_NOISE
 MOTOR_LAG_MAX_S = 0.1
+ENCODER_LAG_MAX_S = 0.05  # the encoder's speed-signal lag a fixed scenario may have (never drawn: v1 and v2 draw 0)
 SENSOR_ERROR_SCALE_MAX = 3.0  # multiples of each systematic error's drawn range
 
 
@@ -121,6 +122,7 @@ class EpisodeScenario:
     wheel_radius_error: float = 0.0
     force_gain_error: float = 0.0
     torque_gain_error: float = 0.0
+    encoder_lag_s: float = 0.0  # first-order lag of the encoder's speed signal, s (cof_gym.task.sensors)
 
     @property
     def shape(self) -> CreepShape | str:
@@ -180,6 +182,8 @@ def check_fixed(fixed: Mapping[str, Any], load_cases: tuple[str, ...] = LOAD_CAS
             out[key] = check_number("noise_level", value, 0.0, NOISE_LEVEL_MAX)
         elif key == "motor_lag_s":
             out[key] = check_number("motor_lag_s", value, 0.0, MOTOR_LAG_MAX_S, unit=" s")
+        elif key == "encoder_lag_s":
+            out[key] = check_number("encoder_lag_s", value, 0.0, ENCODER_LAG_MAX_S, unit=" s")
         elif key == "creep_law":
             out[key] = creep_law_from_spec(value)
         else:
@@ -239,6 +243,8 @@ def outside_draws(options: Mapping[str, Any], ranges: ScenarioRanges) -> dict[st
             out[name] = f"{fixed[name]:g}, drawn: {lo:g}-{hi:g}"
     if "load_case" in fixed and fixed["load_case"] not in ranges.load_cases:
         out["load_case"] = f"{fixed['load_case']!r}, drawn: {', '.join(ranges.load_cases)}"
+    if fixed.get("encoder_lag_s", 0.0) > 0.0:
+        out["encoder_lag_s"] = f"{fixed['encoder_lag_s']:g}, drawn: 0"
     if "creep_law" in fixed and (why := _creep_law_outside(fixed["creep_law"], ranges, conditions)):
         out["creep_law"] = why
     for name, err in SYSTEMATIC_ERRORS.items():
@@ -269,4 +275,5 @@ def physics_scenario(sc: EpisodeScenario, wheel_load_n: float, seed: int, tracti
     """The simulation's scenario: the creep law is calibrated at ``wheel_load_n`` (the driven wheel's
     load at saturation, see :mod:`cof_gym.task.ground_truth`)."""
     op = OperatingConditions(cof=sc.cof, condition=sc.shape, wheel_load_n=wheel_load_n, speed_m_s=sc.speed_m_s)
-    return Scenario(op=op, noise=sc.noise(), motor_lag_s=sc.motor_lag_s, traction_balance=traction_balance, seed=seed)
+    return Scenario(op=op, noise=sc.noise(), motor_lag_s=sc.motor_lag_s, traction_balance=traction_balance, seed=seed,
+                    encoder_lag_s=sc.encoder_lag_s)

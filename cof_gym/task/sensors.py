@@ -37,6 +37,19 @@ gain changes it: the paper's point about the phase method. Every map is affine i
 (and a gain on a phase bin's mean), so applying it to the window's averages is exactly what applying
 it to every sample would give.
 
+One systematic error is not a gain: the **encoder's speed-signal lag** (``encoder_lag_s``, a scenario field in
+[0, 0.05] s; no draw gives it, v1 and v2 read the encoder without lag). A wheel's speed is estimated from an
+encoder's pulses (counted over a gate time or timed between edges) and smoothed before the drive or a
+wheel-slide protection reads it; cof_gym models that as a first-order lag of time constant ``tau`` on the
+encoder's reading, run per physics step in the native measurement chain (``y += (1 - exp(-dt / tau)) (x - y)``,
+from the first reading). At the modulation frequency ``w`` it adds ``atan(w tau)`` to every phase lag the lock-in
+reads between the torque and the speed (9 deg at 5 Hz with 5 ms, 17 deg with 10 ms) and scales the compliance by
+``1 / sqrt(1 + (w tau)^2)``; the window means and the physics are unchanged. A phase method is exposed to exactly
+this error, which no gain calibration removes: the paper's rule (stop at the first positive phase) reads a lag
+that is ``atan(w tau)`` too large everywhere, while a rule that reads the lag's rise within the climb at a fixed
+frequency does not see it. The range is cof_gym's choice (unverified): from no smoothing through a light one
+(5 ms: a 32 Hz cut-off) to a sluggish one (50 ms: 3 Hz).
+
 The drive applies the commanded torque and its reading carries the gain, so in cof_gym the torque gain
 error shows as the ratio of the mean torque reading to the command. A real drive that controls on its own
 torque estimate would apply ``command / (1 + e)`` and read its command back, so that ratio is this

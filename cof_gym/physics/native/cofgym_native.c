@@ -482,10 +482,23 @@ void cofgym_passive(const mjModel* m, mjData* d) {
 
   /* measurement chain: only once per physics step */
   if (advance) {
+    const int first_step = ud[UD_LAST_TIME] < 0.0; /* LAST_TIME starts at -1 */
     ud[UD_LAST_TIME] = t;
     int mc = (int)ud[UD_MEASURED_CONTACT];
     const contact_state* c = cs + mc;
     double omega_meas = c->omega + (ud[UD_NOISE_OMEGA] > 0.0 ? ud[UD_NOISE_OMEGA] * rng_normal(ud) : 0.0);
+    const double tau_e = ud[UD_ENCODER_TAU];
+    if (tau_e > 0.0) {
+      /* the encoder's speed signal through a first-order lag of time constant tau_e, started at the first
+       * reading: the step's input held at the mean of this reading and the last (so the lag's delay is tau_e,
+       * not tau_e - dt/2), the exact response to a held input over the step; every use of the encoder below
+       * reads the lagged signal */
+      const double held = first_step ? omega_meas : 0.5 * (omega_meas + ud[UD_OMEGA_PREVIOUS]);
+      const double a = first_step ? 1.0 : 1.0 - exp(-dt / tau_e);
+      ud[UD_OMEGA_PREVIOUS] = omega_meas;
+      ud[UD_OMEGA_FILTERED] += a * (held - ud[UD_OMEGA_FILTERED]);
+      omega_meas = ud[UD_OMEGA_FILTERED];
+    }
     double speed_meas = c->speed + (ud[UD_NOISE_SPEED] > 0.0 ? ud[UD_NOISE_SPEED] * rng_normal(ud) : 0.0);
     double coa_true = c->normal > 0.0 ? c->force / c->normal : 0.0;
     double ft = c->force, fn = c->normal;

@@ -104,6 +104,9 @@ _SCALARS: tuple[str, ...] = (
     "NOISE_OMEGA",  # rad/s
     "NOISE_FORCE",  # relative
     "NOISE_SPEED",  # m/s
+    "ENCODER_TAU",  # first-order lag of the encoder's wheelset-speed signal, s (0: none)
+    "OMEGA_FILTERED",  # the encoder's lagged speed reading (its state), rad/s
+    "OMEGA_PREVIOUS",  # the encoder's reading of the step before, rad/s (the lag's input is held as their mean)
     "RNG_STATE0",
     "RNG_STATE1",
     # bookkeeping
