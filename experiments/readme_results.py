@@ -13,6 +13,9 @@ generated, never typed:
     cof-gym evaluate --suite experiments/suites/v2_heldout5_grid.json --out out/evaluate-v2-heldout5
     cof-gym evaluate --suite experiments/suites/v2_heldout6_grid.json --out out/evaluate-v2-heldout6
     cof-gym evaluate --suite experiments/suites/v2_heldout7_grid.json --out out/evaluate-v2-heldout7
+    cof-gym evaluate --env-kwargs encoder_lag_s:0.01 --out out/evaluate-v2-encoder-lag --agents \
+        oracle,staircase-paper,staircase,phase-rule,phase-rule-ar1,model-based,robust-model,robust-model-ar1,interrogator
+    cof-gym evaluate --agents phase-rule,phase-rule-ar1,robust-model,robust-model-ar1 --out out/evaluate-ar1
     cof-gym evaluate --suite experiments/suites/v1_default.json --episodes 60 --out out/evaluate-v1
     cof-gym evaluate --suite experiments/suites/heldout_grid.json --out out/evaluate-heldout   # v1 held-out
     cof-gym bench --seconds 10 --markdown out/bench.md
@@ -921,6 +924,8 @@ SOURCES = {
     "v2_no_errors": ROOT / "out" / "evaluate-v2-no-errors" / "summary.md",
     "v2_stress_tables": ROOT / "out" / "evaluate-v2-stress-tables" / "summary.md",
     "v2_extremes": ROOT / "out" / "evaluate-v2-extremes" / "summary.md",
+    "v2_encoder_lag": ROOT / "out" / "evaluate-v2-encoder-lag" / "summary.md",
+    "v2_ar1_default": ROOT / "out" / "evaluate-ar1" / "summary.md",
     **{block: out / "summary.md" for block, (_, out) in HELDOUT_RUNS.items()},
     "v1_default": ROOT / "out" / "evaluate-v1" / "summary.md",
     "bench": ROOT / "out" / "bench.md",

@@ -1,7 +1,7 @@
 """How each agent's CoF error moves with one systematic sensor error at the end of the range the env accepts
-(information only: nothing is chosen here). (Run from the repository root; 2 cores, about 15 min.)
+(information only: nothing is chosen here). (Run from the repository root; 2 cores, about 12 min.)
 
-    python experiments/sensor_sensitivity.py [--agents oracle,staircase,phase-rule,model-based,robust-model,interrogator]
+    python experiments/sensor_sensitivity.py [--agents oracle,staircase,phase-rule,...,interrogator]
                                              [--workers 2] [--out out/sensor_sensitivity.md]
 
 Plays every agent on the family validation grid (the v2 draws' creep laws, both vehicle configurations:
@@ -20,7 +20,10 @@ only a fraction of those values, so the rows past the first measure the agents o
 - a lag of the encoder's speed signal (``encoder_lag_s``, a first-order time constant: the filter a wheel-speed
   estimate goes through; v1 and v2 draw none) adds ``atan(w tau)`` to every phase lag the lock-in reads and shrinks
   the compliance by ``cos`` of it: the systematic error a phase method meets first. Rows at 5 and 10 ms (about 9 and
-  17 deg at 5 Hz) and at the largest lag the env accepts.
+  17 deg at 5 Hz) and at the largest lag the env accepts. The smoothing also correlates the speed fit's residual,
+  so the lock-in's white-noise SE of the lag understates its scatter; ``phase-rule-ar1`` and ``robust-model-ar1``
+  are the two validation-chosen agents that test the lag's significance reading the SE for a first-order
+  autoregressive residual instead (``phase_lag_se_corrected_deg``), every parameter as chosen.
 
 Cells: median / P90 relative CoF error [%] / macro-slips, over the grid's scored episodes.
 """
@@ -48,7 +51,8 @@ from cof_gym.commands.suites import make_suite  # noqa: E402
 from cof_gym.task.scenarios import ENCODER_LAG_MAX_S  # noqa: E402
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS  # noqa: E402
 
-AGENTS = ("oracle", "staircase", "phase-rule", "model-based", "robust-model", "interrogator")
+AGENTS = ("oracle", "staircase", "phase-rule", "phase-rule-ar1", "model-based", "robust-model", "robust-model-ar1",
+          "interrogator")
 
 
 ENCODER_LAGS_S = (0.005, 0.01, ENCODER_LAG_MAX_S)  # the encoder's speed-signal lags played, s

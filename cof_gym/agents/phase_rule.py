@@ -52,10 +52,16 @@ UNKNOWN_SE_DEG = 180.0  # the standard error of a window whose sine fit gave non
 PAPER_CORRECTION = 1.0 / 0.95  # the paper: the CoA at the zero crossing is ~95 % of the CoF
 
 
-def phase_of(observation: np.ndarray) -> tuple[float, float]:
-    """(phase lag, its standard error) of a window, deg; a missing or non-positive SE is unknown (180)."""
+CORRECTED_SE = "phase_lag_se_corrected_deg"  # the info["measurement"] reading of the lag's SE for a correlated residual
+
+
+def phase_of(observation: np.ndarray, info: dict[str, Any] | None = None,
+             corrected_se: bool = False) -> tuple[float, float]:
+    """(phase lag, its standard error) of a window, deg; a missing or non-positive SE is unknown (180). With
+    ``corrected_se`` the SE is ``info["measurement"]``'s :data:`CORRECTED_SE` (the speed fit's residual taken as
+    autocorrelated, as a smoothed speed signal's is), not the observation's white-noise SE."""
     phase = float(observation[PHASE]) * DEG_PER_UNIT
-    se = float(observation[PHASE_SE]) * DEG_PER_UNIT
+    se = float(info["measurement"][CORRECTED_SE]) if corrected_se else float(observation[PHASE_SE]) * DEG_PER_UNIT
     if not math.isfinite(phase):
         return 0.0, UNKNOWN_SE_DEG
     if not math.isfinite(se) or se <= 0.0:
@@ -147,6 +153,7 @@ class PhaseRule:
     max_se_deg: float = 5.0
     baseline_windows: int = 2
     correction: float = 1.05
+    corrected_se: bool = False  # read the lag's SE for an autocorrelated speed residual (phase_of)
     name: str = "phase-rule"
     oracle: bool = False
     climb: ElasticityClimb = field(default_factory=ElasticityClimb, repr=False)  # the shared safe first step
@@ -169,7 +176,7 @@ class PhaseRule:
         self._driven = 0
         self.stop_reason = ""
         self.windows = []
-        self._prev = phase_of(observation)
+        self._prev = phase_of(observation, info, self.corrected_se)
         self._add_baseline(*self._prev)
 
     def _add_baseline(self, phase: float, se: float) -> None:
@@ -192,7 +199,7 @@ class PhaseRule:
 
     def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
         coa = float(observation[COA])
-        phase, se = phase_of(observation)
+        phase, se = phase_of(observation, info, self.corrected_se)
         stop = False
         if self._dc > 0.0:
             self._driven += 1
@@ -220,3 +227,9 @@ class PhaseRule:
         estimate = self._best_crest * self.correction if self._best_crest > 0 else self.limits.min_cof_estimate
         estimate = min(max(estimate, self.limits.min_cof_estimate), self.limits.max_cof_estimate)
         return encode_action(self._dc, self._amp, self.frequency_hz, estimate, stop, self.limits)
+
+
+def phase_rule_ar1(limits: MotorLimits) -> PhaseRule:
+    """The phase rule reading the lag's SE for an autocorrelated speed residual (``phase-rule-ar1``): every
+    parameter the validation-chosen rule's."""
+    return PhaseRule(limits, corrected_se=True, name="phase-rule-ar1")

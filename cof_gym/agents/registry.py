@@ -102,6 +102,13 @@ register("model-based", "cof_gym.agents.model_based:ModelBasedAgent", oracle=Fal
          help="creep-curve fit from windows below the peak")
 register("robust-model", "cof_gym.agents.robust_model:RobustModel", oracle=False, runaway=True, ceiling=True,
          help="the phase rule's probing climb, the knee bracketed by bisecting the probe's crest at a held DC, no creepage read (validation-chosen)")
+# the same two with the lag's SE for an autocorrelated speed residual (session 59; not in the default list): an
+# encoder whose speed signal is smoothed (encoder_lag_s) makes the white-noise SE understate the lag's scatter
+register("phase-rule-ar1", "cof_gym.agents.phase_rule:phase_rule_ar1", oracle=False, ceiling=True, default=False,
+         help="the phase rule reading the lag's SE for an autocorrelated speed residual (a smoothed encoder signal)")
+register("robust-model-ar1", "cof_gym.agents.robust_model:robust_model_ar1", oracle=False, runaway=True,
+         ceiling=True, default=False,
+         help="the robust model reading the lag's SE for an autocorrelated speed residual (a smoothed encoder signal)")
 register("interrogator", "cof_gym.agents.interrogator:load_interrogator", oracle=False, takes_env=True,
          argument="DIR", shipped=PACKAGE_DIR / "policies" / "interrogator" / "manifest.json",
          help="the learned interrogator (v2): a torque climb steered by a learned filter of phase, "

@@ -107,6 +107,7 @@ class RobustModel:
     max_false_alarms: int = 0
     knee_weight: float = 1.0  # where in the final bracket [lo, hi] of crest torques the knee is put
     correction: float = 1.05
+    corrected_se: bool = False  # read the lag's SE for an autocorrelated speed residual (phase_rule.phase_of)
     name: str = "robust-model"
     oracle: bool = False
     climb: ElasticityClimb = field(default_factory=ElasticityClimb, repr=False)
@@ -139,7 +140,7 @@ class RobustModel:
         self._last_elapsed = float(observation[ELAPSED])
         self._window_elapsed = 0.0
         self.stop_reason = ""
-        phase, se = phase_of(observation)
+        phase, se = phase_of(observation, info, self.corrected_se)
         self.probes = [Probe(0.0, 0.0, float(observation[COA]), phase, se, float(observation[COMPLIANCE]))]
 
     # -- helpers ---------------------------------------------------------------------------------------
@@ -187,7 +188,7 @@ class RobustModel:
     # -- the policy ------------------------------------------------------------------------------------
     def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
         coa = float(observation[COA])
-        phase, se = phase_of(observation)
+        phase, se = phase_of(observation, info, self.corrected_se)
         elapsed = float(observation[ELAPSED])
         if elapsed > self._last_elapsed:
             self._window_elapsed = elapsed - self._last_elapsed
@@ -268,3 +269,9 @@ class RobustModel:
         else:
             crest = math.sqrt(self._lo * self._hi)
         self._amp = max(crest - self._dc, self.limits.min_amplitude_nm)
+
+
+def robust_model_ar1(limits: MotorLimits) -> RobustModel:
+    """The robust model reading the lag's SE for an autocorrelated speed residual (``robust-model-ar1``): every
+    parameter the validation-chosen model's."""
+    return RobustModel(limits, corrected_se=True, name="robust-model-ar1")

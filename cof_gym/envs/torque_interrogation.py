@@ -215,7 +215,9 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     synchronous average over the modulation cycle, ``coa_cycle_max``, ``coa_cycle_min`` and
     ``coa_cycle_bin_se``: the window's samples of the force sensors' CoA averaged in 16 bins of the
     modulation's phase over its cycles, their largest and smallest bin means and one bin's standard
-    error, :mod:`cof_gym.measurement.synchronous_average`);
+    error, :mod:`cof_gym.measurement.synchronous_average`; and ``phase_lag_se_corrected_deg``, the lag's SE
+    with the speed fit's residual taken as first-order autoregressive, its lag-1 correlation read in the window,
+    180 with extra tones: :func:`cof_gym.measurement.sine_fit.colored_noise_factor`);
     every privileged quantity (the CoF, the saturation torque, true creepage and CoA, anything relative
     to the creep peak) is under ``info["ground_truth"]``, for evaluation only. With ``shaping=True`` a
     potential-based term ``reward_shaping = 0.95 Phi' - Phi``, ``Phi = w_error (ln 100 - |ln(estimate /
@@ -287,8 +289,9 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
       episode; the horizon on the spec; no ``None`` in ``info``. v1 stays registered with its numbers.
       Later additions to ``info["measurement"]`` (v1 and v2 alike) add readings and change no number
       of the observation, reward or ground truth: the measured creepage's modulation (session 12), the
-      measured CoA's synchronous average over the cycle (``coa_cycle_*``, session 22). Later options that
-      no draw gives leave every drawn episode as it was: ``encoder_lag_s`` (session 59; 0 unless fixed, and
+      measured CoA's synchronous average over the cycle (``coa_cycle_*``, session 22), the lag's SE for an
+      autocorrelated residual (``phase_lag_se_corrected_deg``, session 59). Later options that no draw gives
+      leave every drawn episode as it was: ``encoder_lag_s`` (session 59; 0 unless fixed, and
       ``info["ground_truth"]`` carries it).
     - v1: ground truth from the simulated physics (load transfer, controlled speed); PI cruise control
       and traction balance; a traction rod; CoF ranges per condition; macro-slip relative to the peak;

@@ -71,6 +71,30 @@ def fit_from_sums(btb: np.ndarray, bty: np.ndarray, yty: float, n: float) -> Sin
                    float(np.sqrt(rss / n)))
 
 
+def lag1_correlation(btb: np.ndarray, bty: np.ndarray, yty: float, n: float, yy1: float, by_prev: np.ndarray,
+                     prev_by: np.ndarray, bb: np.ndarray) -> float:
+    """The lag-1 autocorrelation of the fit's residual ``r_n = y_n - b_n' c`` over consecutive samples, from the fit's
+    sums and the lag-1 cross sums ``sum y_n y_(n-1)``, ``sum b_n y_(n-1)``, ``sum b_(n-1) y_n`` and ``sum b_n
+    b_(n-1)'`` (16 entries, row-major): ``(sum r_n r_(n-1) / (n - 1)) / (sum r_n^2 / n)``, within [-0.999, 0.999];
+    0 where the fit leaves no residual."""
+    coef, _, _ = _solve_scaled(unpack_symmetric(np.asarray(btb, dtype=np.float64)), np.asarray(bty, dtype=np.float64))
+    rss = float(yty - coef @ bty)
+    if not rss > 0.0 or n < 2:
+        return 0.0
+    cross = float(yy1 - coef @ by_prev - coef @ prev_by + coef @ np.reshape(bb, (N_BASIS, N_BASIS)) @ coef)
+    return float(np.clip((cross / (n - 1)) / (rss / n), -0.999, 0.999))
+
+
+def colored_noise_factor(rho: float, omega_step_rad: float) -> float:
+    """How many times the white-noise standard error understates a coefficient's at the angular frequency ``w`` when
+    the residual is first-order autoregressive with lag-1 correlation ``rho`` (``omega_step_rad`` = ``w dt``): the
+    square root of the residual's spectral density at ``w`` over its white equivalent, ``sqrt((1 - rho^2) /
+    (1 - 2 rho cos(w dt) + rho^2))`` (1 at ``rho`` = 0; below 1 for a negative ``rho``). The fit's coefficients at
+    ``w`` are sums over the window weighted by ``cos`` and ``sin`` at ``w``, so their variance is the residual's
+    density there (the AR(1) spectrum: Priestley, *Spectral Analysis and Time Series*, 1981)."""
+    return float(np.sqrt((1.0 - rho * rho) / (1.0 - 2.0 * rho * np.cos(omega_step_rad) + rho * rho)))
+
+
 def basis(theta: np.ndarray, tau: np.ndarray) -> np.ndarray:
     return np.stack([np.cos(theta), np.sin(theta), np.ones_like(theta), tau], axis=1)
 

@@ -11,13 +11,14 @@ applies the forces and accumulates every sum the window's measurement needs.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import mujoco
 import numpy as np
 
 from cof_gym.measurement.comfort import band_limiting_sos, wd_weighting_sos
-from cof_gym.measurement.sine_fit import SineFit, fit_from_sums, fit_tones_from_sums, wrap_deg
+from cof_gym.measurement.sine_fit import (SineFit, colored_noise_factor, fit_from_sums, fit_tones_from_sums,
+                                         lag1_correlation, wrap_deg)
 from cof_gym.measurement.synchronous_average import cycle_extremes
 from cof_gym.physics.creep import OperatingConditions, creep_peak
 from cof_gym.physics.models import BuiltModel
@@ -165,6 +166,7 @@ def initial_userdata(built: BuiltModel, scenario: Scenario) -> np.ndarray:
     ud[I["MEASURED_CONTACT"]] = built.measured_contact
     ud[I["CARBODY_X_DOF"]] = built.carbody_x_dof
     ud[I["MIN_SPEED"]] = MIN_SPEED_M_S
+    ud[I["TIMESTEP_S"]] = built.model.opt.timestep
     for k, contact in enumerate(built.contacts):
         for name, value in contact.values().items():
             ud[I[f"C{k}_{name}"]] = value
@@ -302,6 +304,10 @@ class WindowMeasurement:
     coa_cycle_max: float = 0.0
     coa_cycle_min: float = 0.0
     coa_cycle_bin_se: float = 0.0
+    # the lag's SE with the speed fit's residual taken as first-order autoregressive instead of white (its lag-1
+    # correlation read from the window: a smoothed speed signal's residual is correlated, and the white SE then
+    # understates the scatter of the lag several times); single-tone windows only (180 with extra tones)
+    phase_lag_se_corrected_deg: float = 180.0
 
 
 # the measured CoA's synchronous-average fields of WindowMeasurement, in CycleExtremes' order
@@ -366,6 +372,17 @@ def _joint_tones(ud: np.ndarray, n: float, ntones: int) -> tuple[dict[str, float
     return tones, (t_fits[0], o_fits[0], c_fits[0], cm_fits[0])
 
 
+def _lag_se_corrected(ud: np.ndarray, n: float, torque: SineFit, omega: SineFit) -> float:
+    """A single-tone window's lag SE (deg) with the speed fit's SE scaled by
+    :func:`~cof_gym.measurement.sine_fit.colored_noise_factor` of its residual's lag-1 correlation."""
+    b0, y0 = I["BTB_STATE_0"], I["BTY_OMEGA_0"]
+    rho = lag1_correlation(ud[b0:b0 + 10], ud[y0:y0 + 4], ud[I["YTY_OMEGA"]], n, ud[I["LAG1_YY"]],
+                           ud[I["LAG1_BY_0"]: I["LAG1_BY_0"] + 4], ud[I["LAG1_PY_0"]: I["LAG1_PY_0"] + 4],
+                           ud[I["LAG1_BB_0"]: I["LAG1_BB_0"] + 16])
+    factor = colored_noise_factor(rho, ud[I["MOD_OMEGA"]] * ud[I["TIMESTEP_S"]])
+    return _lag(torque, replace(omega, phase_se_rad=omega.phase_se_rad * factor), True)[1]
+
+
 def read_window(ud: np.ndarray) -> WindowMeasurement:
     """The window's measurement from the accumulated sums (once per window, in Python)."""
     n = float(ud[I["N_SAMPLES"]])
@@ -380,14 +397,17 @@ def read_window(ud: np.ndarray) -> WindowMeasurement:
     if ntones > 1:  # every tone from the joint fit; tone 1's replaces the single-tone fit (leaked into by the others)
         tones, (torque, omega, creep, creep_measured) = _joint_tones(ud, n, ntones)
         lag, lag_se, ratio = (tones[tone_field(1, f)] for f in ("phase_lag_deg", "phase_lag_se_deg", "amplitude_ratio"))
+        lag_se_corrected = 180.0  # the lag-1 sums hold the single-tone fit's residual, not the joint fit's
     else:
         lag, lag_se, ratio = _lag(torque, omega, True)
+        lag_se_corrected = _lag_se_corrected(ud, n, torque, omega)
     creep_lag, creep_lag_se, _ = _lag(torque, creep_measured, torque.amplitude > 1e-9)
     mean = lambda key: float(ud[I[key]] / n)  # noqa: E731
     dt_energy = lambda key: float(ud[I[key]])  # noqa: E731
     return WindowMeasurement(
         phase_lag_deg=lag,
         phase_lag_se_deg=lag_se,
+        phase_lag_se_corrected_deg=lag_se_corrected,
         amplitude_ratio=ratio,
         torque_amplitude_nm=torque.amplitude,
         omega_amplitude_rad_s=omega.amplitude,

@@ -47,7 +47,10 @@ reads between the torque and the speed (9 deg at 5 Hz with 5 ms, 17 deg with 10 
 ``1 / sqrt(1 + (w tau)^2)``; the window means and the physics are unchanged. A phase method is exposed to exactly
 this error, which no gain calibration removes: the paper's rule (stop at the first positive phase) reads a lag
 that is ``atan(w tau)`` too large everywhere, while a rule that reads the lag's rise within the climb at a fixed
-frequency does not see it. The range is cof_gym's choice (unverified): from no smoothing through a light one
+frequency does not see the offset. It does see the smoothing's other effect: the speed fit's residual is no longer
+white, so the lock-in's white-noise SE of the lag (``phase_lag_se_deg``) understates the lag's scatter, several
+times over at 10 ms; ``phase_lag_se_corrected_deg`` is the SE for a first-order autoregressive residual (its lag-1
+correlation read in the window). The range is cof_gym's choice (unverified): from no smoothing through a light one
 (5 ms: a 32 Hz cut-off) to a sluggish one (50 ms: 3 Hz).
 
 The drive applies the commanded torque and its reading carries the gain, so in cof_gym the torque gain

@@ -550,6 +550,18 @@ void cofgym_passive(const mjModel* m, mjData* d) {
       acc_bty(ud + UD_BTY_TORQUE_0, ud + UD_YTY_TORQUE, b_mid, torque);
       acc_btb(ud + UD_BTB_STATE_0, b_now);
       acc_bty(ud + UD_BTY_OMEGA_0, ud + UD_YTY_OMEGA, b_now, omega_meas);
+      if (ud[UD_N_SAMPLES] > 1.0) { /* a previous sample of this window: the lag-1 cross sums */
+        const double y_prev = ud[UD_LAG1_PREV_Y];
+        const double* b_prev = ud + UD_LAG1_PREV_B_0;
+        ud[UD_LAG1_YY] += omega_meas * y_prev;
+        for (int i = 0; i < 4; i++) {
+          ud[UD_LAG1_BY_0 + i] += b_now[i] * y_prev;
+          ud[UD_LAG1_PY_0 + i] += b_prev[i] * omega_meas;
+          for (int j = 0; j < 4; j++) ud[UD_LAG1_BB_0 + 4 * i + j] += b_now[i] * b_prev[j];
+        }
+      }
+      ud[UD_LAG1_PREV_Y] = omega_meas;
+      for (int i = 0; i < 4; i++) ud[UD_LAG1_PREV_B_0 + i] = b_now[i];
       acc_bty(ud + UD_BTY_CREEP_0, ud + UD_YTY_CREEP, b_now, c->creepage);
       acc_bty(ud + UD_BTY_CREEP_MEASURED_0, ud + UD_YTY_CREEP_MEASURED, b_now, creep_meas);
       if (ntones > 1) {

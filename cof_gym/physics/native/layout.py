@@ -74,6 +74,7 @@ _SCALARS: tuple[str, ...] = (
     "MEASURED_CONTACT",  # the driven contact whose signals are measured
     "CARBODY_X_DOF",  # dof of the car body's longitudinal slide (-1: no car body)
     "MIN_SPEED",  # regularisation of the creepage denominator, m/s
+    "TIMESTEP_S",  # the model's physics step (what the lag-1 sums' one step is), s
     *LAW_FIELDS,
     # drive
     "TORQUE_DC_START",
@@ -140,6 +141,15 @@ ACCUMULATORS: tuple[str, ...] = (
     "YTY_CREEP",
     *(f"BTY_CREEP_MEASURED_{i}" for i in range(4)),  # the measured creepage (noisy encoder and speed sensor)
     "YTY_CREEP_MEASURED",
+    # lag-1 cross sums of the speed reading y and the state basis b over consecutive samples (the speed fit's
+    # residual autocorrelation): sum y_n y_(n-1), sum b_n y_(n-1), sum b_(n-1) y_n, sum b_n b_(n-1)' (row-major),
+    # and the previous sample
+    "LAG1_YY",
+    *(f"LAG1_BY_{i}" for i in range(4)),
+    *(f"LAG1_PY_{i}" for i in range(4)),
+    *(f"LAG1_BB_{i}" for i in range(16)),
+    "LAG1_PREV_Y",
+    *(f"LAG1_PREV_B_{i}" for i in range(4)),
     "SUM_COA_MEASURED",
     "SUM_COA_TRUE",
     "SUM_CREEPAGE",
