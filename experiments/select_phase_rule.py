@@ -13,9 +13,11 @@ commands the same torques up to its own stop, so the replay is exact. Ranking: f
 then the pooled median relative error, then the P90. Wd is the mean car-body Wd RMS (m/s^2) of the
 windows the rule drives.
 
-    python experiments/select_phase_rule.py [--workers 2] [--quick] [--out PATH.json]
+    python experiments/select_phase_rule.py [--workers 2] [--quick] [--corrected-se] [--out PATH.json]
 
-Runs on 2 cores in about 8 minutes (``--quick``: a fifth of the seeds, for a smoke test).
+Runs on 2 cores in about 8 minutes (``--quick``: a fifth of the seeds, for a smoke test). ``--corrected-se``
+selects for the rule that reads the lag's SE for an autocorrelated speed residual
+(``phase_lag_se_corrected_deg``, ``PhaseRule.corrected_se``: ``phase-rule-ar1``) on the same validation episodes.
 """
 
 from __future__ import annotations
@@ -72,26 +74,26 @@ class Recording:
     baseline_windows: int
 
 
-def record(job: tuple[dict[str, float], str, str, dict[str, Any], int, int]) -> list[Recording]:
-    """Play one climb on one setting's seeds with the stop disabled."""
+def record(job: tuple[dict[str, float], str, str, dict[str, Any], int, int, bool]) -> list[Recording]:
+    """Play one climb on one setting's seeds with the stop disabled (the rule reading the corrected SE if asked)."""
     import gymnasium as gym
 
     import cof_gym  # noqa: F401  (registers the envs)
     from cof_gym.agents.phase_rule import PhaseRule, Window
     from cof_gym.task.interface import decode_action
 
-    climb, label, env_id, kwargs, first, n = job
+    climb, label, env_id, kwargs, first, n, corrected_se = job
     env = gym.make(env_id, **kwargs)
     limits = env.unwrapped.limits
     out = []
     for seed in range(first, first + n):
         obs, info = env.reset(seed=seed)
-        agent = PhaseRule(limits, **climb, **NO_STOP)
-        agent.reset(obs, {})
+        agent = PhaseRule(limits, **climb, **NO_STOP, corrected_se=corrected_se)
+        agent.reset(obs, {"measurement": info["measurement"]})
         slipped = False
         wd = []
         for k in itertools.count():
-            action = agent.act(obs, {})
+            action = agent.act(obs, {"measurement": info["measurement"]})
             if decode_action(action, limits).stop:
                 break
             obs, _, terminated, truncated, info = env.step(action)
@@ -152,13 +154,15 @@ def main() -> None:
     parser = Parser(description=__doc__.splitlines()[0])
     parser.add_argument("--workers", type=positive_int, default=2)
     parser.add_argument("--quick", action="store_true", help="a fifth of the seeds (smoke test)")
+    parser.add_argument("--corrected-se", action="store_true",
+                        help="select for the rule reading the lag's SE for an autocorrelated residual (phase-rule-ar1)")
     parser.add_argument("--out", type=Path, default=Path("experiments/results/select_phase_rule.json"))
     args = parser.parse_args()
     check_out_file(parser, "--out", args.out)
     t0 = time.time()
     settings = [(lab, eid, kw, first, max(n // 5, 4) if args.quick else n) for lab, eid, kw, first, n in SETTINGS]
     with ProcessPoolExecutor(args.workers) as pool:
-        jobs = [(climb, *s) for climb in CLIMBS for s in settings]
+        jobs = [(climb, *s, args.corrected_se) for climb in CLIMBS for s in settings]
         recorded = list(pool.map(record, jobs))
         by_climb = [(climb, [r for (c, *_), recs in zip(jobs, recorded) if c is climb for r in recs])
                     for climb in CLIMBS]

@@ -13,9 +13,12 @@ reported). Ranking: fewest macro-slips, then median + P90 of the relative error 
 is to beat the phase rule on both). The phase rule (its shipped defaults) is played on the same
 episodes as the reference row.
 
-    python experiments/select_robust_model.py [--workers 2] [--quick] [--out PATH.json]
+    python experiments/select_robust_model.py [--workers 2] [--quick] [--corrected-se] [--out PATH.json]
 
-Runs on 2 cores in about 5 minutes (``--quick``: a fifth of the seeds, for a smoke test).
+Runs on 2 cores in about 5 minutes (``--quick``: a fifth of the seeds, for a smoke test). ``--corrected-se``
+selects for the model that reads the lag's SE for an autocorrelated speed residual
+(``phase_lag_se_corrected_deg``, ``RobustModel.corrected_se``: ``robust-model-ar1``) on the same episodes (the
+reference row stays the shipped phase rule).
 """
 
 from __future__ import annotations
@@ -58,7 +61,7 @@ def episodes(quick: bool) -> list[tuple[str, int, dict[str, Any]]]:
     return out[::5] if quick else out
 
 
-def play(job: tuple[str, dict[str, Any], list[tuple[str, int, dict[str, Any]]]]) -> list[dict[str, Any]]:
+def play(job: tuple[str, dict[str, Any], list[tuple[str, int, dict[str, Any]]], bool]) -> list[dict[str, Any]]:
     """One agent configuration on every episode: per episode the setting, CoF, macro-slip and the
     estimate for every (knee_weight, correction) (or the agent's own for the phase rule)."""
     import gymnasium as gym
@@ -68,17 +71,17 @@ def play(job: tuple[str, dict[str, Any], list[tuple[str, int, dict[str, Any]]]])
     from cof_gym.agents.robust_model import RobustModel
     from cof_gym.task.interface import decode_action
 
-    kind, params, eps = job
+    kind, params, eps, corrected_se = job
     env = gym.make("CofGym/TorqueInterrogation-v2")
     limits = env.unwrapped.limits
     out = []
     for label, seed, options in eps:
         obs, info = env.reset(seed=seed, options=options or None)
-        agent = PhaseRule(limits) if kind == "phase-rule" else RobustModel(limits, **params)
-        agent.reset(obs, {})
+        agent = PhaseRule(limits) if kind == "phase-rule" else RobustModel(limits, **params, corrected_se=corrected_se)
+        agent.reset(obs, {"measurement": info["measurement"]})
         slipped = False
         while True:
-            action = agent.act(obs, {})
+            action = agent.act(obs, {"measurement": info["measurement"]})
             if decode_action(action, limits).stop:
                 break
             obs, _, terminated, truncated, info = env.step(action)
@@ -104,13 +107,16 @@ def main() -> None:
     parser = Parser(description=__doc__.splitlines()[0])
     parser.add_argument("--workers", type=positive_int, default=2)
     parser.add_argument("--quick", action="store_true", help="a fifth of the episodes (smoke test)")
+    parser.add_argument("--corrected-se", action="store_true",
+                        help="select for the model reading the lag's SE for an autocorrelated residual "
+                        "(robust-model-ar1)")
     parser.add_argument("--out", type=Path, default=Path("experiments/results/select_robust_model.json"))
     args = parser.parse_args()
     check_out_file(parser, "--out", args.out)
     t0 = time.time()
     eps = episodes(args.quick)
     configs = [{**c, **k, **r} for c, k, r in itertools.product(CLIMBS, KNEES, REFINES)]
-    jobs = [("phase-rule", {}, eps)] + [("robust-model", c, eps) for c in configs]
+    jobs = [("phase-rule", {}, eps, False)] + [("robust-model", c, eps, args.corrected_se) for c in configs]
     with ProcessPoolExecutor(args.workers) as pool:
         played = list(pool.map(play, jobs))
     reference = summary(played[0])
