@@ -15,9 +15,10 @@ import sys
 import warnings
 from pathlib import Path
 
-from cof_gym.commands.args import PROG, Parser, UsageError, check_output_dir, check_output_file, float_at_least
+from cof_gym.commands.args import PROG, Parser, UsageError, check_output_dir, check_output_file, float_in_range
 
 BENCH_MIN_SECONDS = 0.01  # bench --seconds: ten physics steps of the wagon (dt = 1 ms), the shortest timing
+BENCH_MAX_SECONDS = 3600.0  # and the longest: an hour of simulated time per timing (about 20 s of wall time each)
 
 
 # ---------------------------------------------------------------------------- commands
@@ -99,9 +100,9 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("bench", help="simulation speed: native callback vs bare MuJoCo, 1 vs 2 threads",
                        description="Simulation speed of the wagon with and without the native callback, and "
                                    "agent steps per second of the single and the vector env.")
-    p.add_argument("--seconds", type=float_at_least(BENCH_MIN_SECONDS), default=5.0,
-                   help=f"simulated seconds per physics timing, at least {BENCH_MIN_SECONDS:g} (also sets the env "
-                        "timings' length)")
+    p.add_argument("--seconds", type=float_in_range(BENCH_MIN_SECONDS, BENCH_MAX_SECONDS, low_inclusive=True),
+                   default=5.0, help=f"simulated seconds per physics timing, {BENCH_MIN_SECONDS:g} to "
+                   f"{BENCH_MAX_SECONDS:g} (also sets the env timings' length)")
     p.add_argument("--markdown", metavar="PATH", default=None,
                    help="also write the table there as Markdown (experiments/readme_results.py copies it into the README)")
     p.set_defaults(func=_bench)

@@ -437,11 +437,10 @@ def check_arguments(parser: Parser, args: argparse.Namespace) -> None:
     require_networks(parser, "--run", args.run)
     require_networks(parser, "--guards", args.guards or [])
     require_networks(parser, "--estimators", args.estimators or [])
-    from learned_caution import ensemble_members
+    from learned_caution import check_caution_model, ensemble_members
 
     for model in (member for models in args.caution_policy or [] for member in ensemble_members(models)):
-        if not model.is_file():
-            parser.error(f"--caution-policy: no file {model} (a PPO model.zip of experiments/learned_caution.py)")
+        check_caution_model(parser, "--caution-policy", model)
 
 
 def main() -> None:

@@ -94,6 +94,23 @@ def ensemble_members(model_path: Path) -> list[Path]:
     return [Path(part) for part in str(model_path).split("+")]
 
 
+def check_caution_model(parser: Parser, option: str, path: Path) -> None:
+    """A usage error naming ``option`` unless ``path`` is a PPO model this script trains (its observation the climb's
+    state, its action one caution): loaded here, before any episode is played or anything written."""
+    if not path.is_file():
+        parser.error(f"{option}: no file {path} (a seed's model.zip of experiments/learned_caution.py)")
+    from stable_baselines3 import PPO
+
+    try:
+        model = PPO.load(str(path), device="cpu")
+    except Exception as e:  # noqa: BLE001 - SB3 and zipfile report a bad file in many exception types
+        parser.error(f"{option}: {path} is not a PPO model ({type(e).__name__}: {' '.join(str(e).split())[:120]})")
+    shapes = (model.observation_space.shape, model.action_space.shape)
+    if shapes != ((STATE_SIZE,), (1,)):
+        parser.error(f"{option}: {path} is a PPO model of another task (observation and action shapes {shapes}; a "
+                     f"caution policy reads {STATE_SIZE} numbers and sets 1)")
+
+
 def ppo_policy(model_path: Path):
     """The deterministic action of a saved PPO model, as :func:`steered` calls it (stable-baselines3's inference);
     for several models joined by ``+``, the mean of their actions (an ensemble of seeds, rule 107)."""
@@ -371,8 +388,8 @@ def main() -> None:
         parser.error(f"--seeds must be >= 0, got {seeds}")
     if mode == "paired":
         model = None if args.paired is True else args.paired  # --paired alone: the shipped climb's episodes
-        if model is not None and not model.is_file():
-            parser.error(f"--paired: no file {model} (a seed's model.zip)")
+        if model is not None:
+            check_caution_model(parser, "--paired", model)
         print(paired_returns(model, args.episodes or PAIRED_EPISODES), end="")
         return
     if mode == "export":
@@ -392,11 +409,10 @@ def export(parser: Parser, args: argparse.Namespace) -> None:
     """``--export MODEL --into DIR``: the model's policy written into the policy directory (module docstring)."""
     if args.export is None or args.into is None:
         parser.error("--export and --into go together (a seed's model.zip, a policy directory)")
-    if not args.export.is_file():
-        parser.error(f"--export: no file {args.export} (a seed's model.zip)")
     manifest_path = args.into / "manifest.json"
-    if not manifest_path.is_file():
+    if args.export.is_file() and not manifest_path.is_file():  # the cheap check first: loading a model takes seconds
         parser.error(f"--into: no manifest.json in {args.into} (a policy directory)")
+    check_caution_model(parser, "--export", args.export)
     training = args.export.parent / "training.json"
     exported(args.export).save(args.into / CAUTION_POLICY_FILE)
     manifest = json.loads(manifest_path.read_text())

@@ -285,6 +285,7 @@ import numpy as np
 from scipy.special import erf
 
 import cof_gym
+from cof_gym.commands.args import Parser
 from cof_gym.physics.creep_laws import MAX_CREEPAGE, TableShape, below_peak
 from cof_gym.physics.native import layout
 from cof_gym.task.scenarios import (
@@ -895,6 +896,7 @@ def same_grid(written, generated) -> bool:
 def main() -> None:
     """Write every grid whose file is missing or differs from the generator's output (:func:`same_grid`: a
     file that differs only in the last places another CPU writes is left as it was published)."""
+    Parser(description=__doc__.splitlines()[0]).parse_args()  # no options: --help, or any argument a usage error
     for name, spec in all_grids().items():
         path = SUITES / f"{name}.json"
         if path.is_file() and same_grid(json.loads(path.read_text()), json.loads(grid_text(spec))):

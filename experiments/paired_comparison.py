@@ -18,6 +18,7 @@ written before its candidate is played says how these numbers are read.
 from __future__ import annotations
 
 import json
+import math
 import sys
 from pathlib import Path
 
@@ -97,11 +98,28 @@ def table(records: list[dict], baseline: str | None = None, compared: list[str] 
     return "\n".join(lines) + "\n"
 
 
+def check_record(index: int, record: dict) -> None:
+    """An episode's numbers as the tables read them: ``error`` a finite relative error >= 0, ``macro_slip`` a
+    bool, ``episode_return`` (where present) a finite number; ValueError naming the episode and the field."""
+    def real(value) -> bool:
+        return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+
+    if not (real(record.get("error")) and record["error"] >= 0.0):
+        raise ValueError(f"episode {index}: error must be a finite number >= 0, got {record.get('error')!r}")
+    if not isinstance(record.get("macro_slip"), bool):
+        raise ValueError(f"episode {index}: macro_slip must be true or false, got {record.get('macro_slip')!r}")
+    if "episode_return" in record and not real(record["episode_return"]):
+        raise ValueError(f"episode {index}: episode_return must be a finite number, got {record['episode_return']!r}")
+
+
 def read_records(path: Path, seen: set[str]) -> list[dict]:
-    """The episodes of one ``--records`` file; ValueError if it is not one or names a setting in ``seen``."""
+    """The episodes of one ``--records`` file; ValueError if it is not one (:func:`check_record` for each episode's
+    numbers) or names a setting in ``seen``."""
     records = json.loads(path.read_text())
     if not isinstance(records, list) or not records or not all(isinstance(r, dict) and "setting" in r for r in records):
         raise ValueError("not a crest_tradeoff.py --records file (a list of episodes with their setting)")
+    for index, record in enumerate(records):
+        check_record(index, record)
     twice = sorted({r["setting"] for r in records} & seen)
     if twice:
         raise ValueError(f"setting {twice[0]!r} is also in an earlier file")

@@ -272,7 +272,7 @@ def parse_climbs(parser: argparse.ArgumentParser, items: list[str], option: str 
     out = {}
     for item in items:
         name, _, n = item.partition("=")
-        if name not in collections or not n.isdigit():
+        if name not in collections or not (n.isascii() and n.isdigit()):  # int() refuses "²", which isdigit() admits
             parser.error(f"{option}: expected NAME=N with NAME one of {', '.join(collections)} and N >= 0, got {item!r}")
         out[name] = int(n)
     if not any(out.values()):

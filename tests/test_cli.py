@@ -58,6 +58,7 @@ BAD = [
     (["evaluate", "--agents", "staircase", "--suite", "flat_info.json"], "env_kwargs.info_layout must be 'nested'"),
     (["evaluate", "--agents", "staircase", "--suite", "deep_nesting.json"], "deep_nesting.json: JSON nested too deeply"),
     (["evaluate", "--agents", "staircase", "--env-kwargs", "max_windows:0"], "--env-kwargs: max_windows must be an integer in [1"),
+    (["evaluate", "--agents", "staircase", "--env-kwargs", "max_windows:True"], "--env-kwargs: max_windows must be an integer"),
     (["evaluate", "--agents", "staircase", "--env-kwargs", "horizon:60"], "--env-kwargs: unknown env argument(s) ['horizon']"),
     (["evaluate", "--agents", "staircase", "--env-kwargs", "excitation:multitone"], "--env-kwargs: env_kwargs.excitation must"),
     (["evaluate", "--agents", "staircase", "--env-kwargs", "max_episode_steps:5"], "env_kwargs.max_episode_steps must"),
@@ -92,13 +93,18 @@ BAD = [
     (["evaluate", "--no-such-flag"], "--no-such-flag"),
     (["bench", "--seconds", "0"], "--seconds"),
     (["bench", "--seconds", "nan"], "--seconds"),
-    (["bench", "--seconds", "1e-300"], "must be a finite number >= 0.01"),  # no physics step: ZeroDivisionError
+    (["bench", "--seconds", "1e-300"], "must be a finite number in [0.01, 3600]"),  # no physics step: ZeroDivisionError
+    (["bench", "--seconds", "1e9"], "must be a finite number in [0.01, 3600]"),  # MuJoCo's int step count overflows
     (["bench", "--seconds", "0.02", "--markdown", "."], ". is a directory; give a file"),  # refused before the benchmark
     (["bench", "--seconds", "0.02", "--markdown", "a_file.txt/speed.md"], "a_file.txt is a file, not a directory"),
     (["train", "--out", "run", "--timesteps", "0"], "--timesteps"),
     (["train", "--out", "run", "--env", "CofGym/Nope-v0"], "--env"),
     (["train", "--out", "run", "--resume", "/no/such/model.zip"], "--resume"),
     (["train", "--out", "run", "--env-kwargs", "counter_torque:false"], "counter_torque"),
+    (["train", "--out", "run", "--env-kwargs", "max_episode_steps:2"], "max_episode_steps must be -1"),  # unscored
+    (["train", "--out", "run", "--n-envs", "100000"], "--n-envs: must be at most 256"),
+    (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "learning_rate:1e9"], "learning_rate must be"),
+    (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "learning_rate:true"], "learning_rate: expected a number"),
     (["train", "--out", "run", "--hyperparams", "no_such_hyperparameter:1"], "--hyperparams"),
     (["train", "--out", "run", "--conf-file", "/no/such.yml"], "--conf-file"),
     (["train", "--out", "a_file.txt"], "--out"),
@@ -118,7 +124,7 @@ BAD = [
     (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "n_epochs:2.5"], "n_epochs must be an integer"),
     (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "batch_size:2.5"], "batch_size must be an integer"),
     (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "n_steps:True"], "n_steps must be an integer"),
-    (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "n_envs:2.7"], "n_envs must be an integer >= 1"),
+    (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "n_envs:2.7"], "n_envs must be an integer in [1, 256]"),
     (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "normalize:5"], "normalize must be True, False"),
     (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "normalize:dict(foo=1)"], "['foo']"),
     (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "normalize:dict(clip_obs=-1)"],

@@ -178,3 +178,17 @@ def test_the_largest_allowed_timestep_is_stable(env_id: str) -> None:
         for _ in range(2):
             _, reward, terminated, _, info = env.step(np.array([-1.0, 0.0, 0.0, 0.0, -1.0], np.float32))
             assert not terminated and not info["diverged"] and not info["macro_slip"] and np.isfinite(reward)
+
+
+@pytest.mark.parametrize("seed", [True, False, -1, 1.5, "3", np.float64(2.0)])
+def test_a_bad_reset_seed_is_refused_naming_it(seed):
+    """Gymnasium alone would take True as seed 1 (the vector env refuses it): the single env refuses it too."""
+    import gymnasium as gym
+
+    import cof_gym
+
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    with pytest.raises(ValueError, match="seed must be None or an int >= 0"):
+        env.reset(seed=seed)
+    assert np.array_equal(env.reset(seed=np.int64(3))[0], env.reset(seed=3)[0])  # a numpy integer is the int it holds
+    env.close()

@@ -44,6 +44,9 @@ CASES = [
     ("learned_caution", ["--export", "{file}", "--into", "{dir}"], "--into"),
     ("learned_caution", ["--seeds", "0"], "--out"),
     ("learned_caution", ["--paired", "{new}.zip"], "--paired"),
+    ("learned_caution", ["--paired", "{corrupt}"], "--paired"),  # loaded before any episode: not a model
+    ("learned_caution", ["--export", "{corrupt}", "--into", "{SHIPPED}"], "--export"),
+    ("crest_tradeoff", ["--caution-policy", "{corrupt}", "--out", "{new}/t.md"], "--caution-policy"),
     ("learned_caution", ["--paired", "{file}", "--episodes", "0"], "--episodes"),
     ("learned_caution", ["--cost-budget", "1.5", "--out", "{new}"], "--cost-budget"),
     ("learned_caution", ["--cost-budget", "nan", "--out", "{new}"], "--cost-budget"),
@@ -73,6 +76,8 @@ CASES = [
     ("train_estimator", ["--workers", "0", "--out", "{new}"], "--workers"),
     ("train_estimator", ["--out", "{file}"], "--out"),
     ("train_interrogator", ["--seeds", "0", "-1", "--out", "{new}"], "--seeds"),
+    ("train_interrogator", ["--climbs", "torque_wide=\u00b2", "--out", "{new}"], "--climbs"),  # a digit int() refuses
+    ("make_grids", ["--bogus"], "--bogus"),  # no options: nothing is generated or written
     ("train_interrogator", ["--epochs", "0", "--out", "{new}"], "--epochs"),
     ("train_interrogator", ["--epochs", "0", "--report-only", "--out", "{new}"], "--epochs"),
     ("train_interrogator", ["--workers", "0", "--out", "{new}"], "--workers"),

@@ -39,3 +39,20 @@ def test_pooled_correction_is_the_inverse_variance_mean():
     assert pooled_correction([(0.3, 0.05)]) == 0.3
     with pytest.raises(ValueError, match="no predictions"):
         pooled_correction([])
+
+
+@pytest.mark.parametrize("damage, message", [
+    (lambda a: a.pop("w0"), r"no b0|no w0"),
+    (lambda a: a.update(w0=a["w0"][:-1]), r"w0 must be \("),
+    (lambda a: a.update(feature_std=np.zeros_like(a["feature_std"])), "feature_std must be finite and > 0"),
+    (lambda a: a.update(b0=np.full_like(a["b0"], np.nan)), "must be finite"),
+])
+def test_a_damaged_network_file_is_refused_when_loaded_not_mid_episode(tmp_path, damage, message):
+    """Before session 59 these loaded and failed inside an episode (a matmul shape error, a division by zero)."""
+    random_network().save(tmp_path / "member_0.npz")
+    with np.load(tmp_path / "member_0.npz") as z:
+        arrays = {k: z[k] for k in z.files}
+    damage(arrays)
+    np.savez(tmp_path / "member_0.npz", **arrays)
+    with pytest.raises(ValueError, match=message):
+        FilterNetwork.load(tmp_path / "member_0.npz")

@@ -108,3 +108,27 @@ def test_several_files_are_paired_together_and_a_setting_in_two_is_refused(tmp_p
     assert split.stdout == joined.stdout
     code, last = experiment_exit("paired_comparison", [str(one), str(one)])
     assert code == 2 and last.startswith("paired_comparison.py: error: records:") and "also in an earlier file" in last
+
+
+@pytest.mark.parametrize("field, value, message", [
+    ("error", float("nan"), "error must be a finite number >= 0"),
+    ("error", True, "error must be a finite number >= 0"),
+    ("error", -0.5, "error must be a finite number >= 0"),
+    ("error", "0.1", "error must be a finite number >= 0"),
+    ("macro_slip", 1, "macro_slip must be true or false"),
+    ("episode_return", float("inf"), "episode_return must be a finite number"),
+])
+def test_a_records_file_with_a_number_no_table_can_read_is_refused_naming_the_episode_and_field(tmp_path, field,
+                                                                                                 value, message):
+    """A NaN error would pass every comparison (a NaN is above no bound); a bool would count as 1 or 0."""
+    from paired_comparison import read_records
+
+    episodes = [{"setting": "a", "error": 0.1, "macro_slip": False, "episode_return": -1.0} for _ in range(3)]
+    episodes[1][field] = value
+    path = tmp_path / "records.json"
+    path.write_text(json.dumps(episodes))
+    with pytest.raises(ValueError, match=f"episode 1: {message}"):
+        read_records(path, set())
+    episodes[1][field] = {"error": 0.2, "macro_slip": True, "episode_return": -2.0}[field]
+    path.write_text(json.dumps(episodes))
+    assert len(read_records(path, set())) == 3

@@ -151,15 +151,21 @@ def _check_interface(env_id: str, env_kwargs: dict[str, Any], where: Path | str)
     episodes short: the registered TimeLimit (``max_episode_steps``) must not end an episode before the task's
     horizon (``max_windows``) scores it; -1 (no TimeLimit) or a value at or beyond the horizon is harmless.
     ``where`` (a suite file's path) begins each message."""
-    import gymnasium as gym
-
-    from cof_gym.envs.torque_interrogation import make_kwargs
-
     prefix = f"{where}: " if str(where) else ""
     for key, needed in INTERFACE_KWARGS.items():
         if key in env_kwargs and env_kwargs[key] != needed:
             raise SuiteError(f"{prefix}env_kwargs.{key} must be {needed!r} (the evaluated agents act through it), "
                              f"got {env_kwargs[key]!r}")
+    check_time_limit(env_id, env_kwargs, prefix)
+
+
+def check_time_limit(env_id: str, env_kwargs: dict[str, Any], prefix: str = "") -> None:
+    """:class:`SuiteError` where ``env_kwargs`` would give ``env_id`` a TimeLimit (``max_episode_steps``) that ends
+    episodes before the task's horizon (``max_windows``) scores them (evaluation and training alike)."""
+    import gymnasium as gym
+
+    from cof_gym.envs.torque_interrogation import make_kwargs
+
     kwargs = make_kwargs(env_kwargs)
     spec = gym.spec(env_id)
     horizon = kwargs.get("max_windows", spec.kwargs.get("max_windows", cof_gym.MAX_EPISODE_STEPS))

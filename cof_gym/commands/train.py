@@ -483,7 +483,10 @@ def _env_spaces(env_id: str, env_kwargs: dict[str, Any], adapter: str) -> tuple[
     from cof_gym.agents.ppo import make_env_fn
     from cof_gym.commands.args import UsageError
 
+    from cof_gym.commands.suites import check_time_limit  # its SuiteError is a ValueError
+
     try:
+        check_time_limit(env_id, env_kwargs)  # a TimeLimit that ends episodes unscored leaves nothing to learn from
         probe = make_env_fn(env_id, env_kwargs, adapter)()
     except (ValueError, TypeError) as e:
         raise UsageError("--env-kwargs", f"{env_id}: {e}") from None
@@ -496,10 +499,14 @@ def _check_counts(args: argparse.Namespace, settings: dict[str, Any]) -> tuple[i
     """The number of parallel envs and of timesteps: the command line's, else the YAML's, each >= 1."""
     from cof_gym.commands.args import UsageError
 
+    from cof_gym.commands.train_hyperparams import MAX_N_ENVS
+
     n_envs = args.n_envs or settings["n_envs"]
     timesteps = args.timesteps if args.timesteps is not None else settings["n_timesteps"]
     if n_envs < 1 or timesteps < 1:
         raise UsageError("--n-envs" if n_envs < 1 else "--timesteps", "must be >= 1 (the YAML says otherwise)")
+    if n_envs > MAX_N_ENVS:
+        raise UsageError("--n-envs", f"must be at most {MAX_N_ENVS}, got {n_envs}")
     return n_envs, timesteps
 
 

@@ -14,8 +14,9 @@ from cof_gym.task.validation import check_int, check_number
 DEFAULT_CONF = Path(__file__).resolve().parents[1] / "agents" / "hyperparams" / "ppo.yml"
 _SCHEDULED = ("learning_rate", "clip_range", "clip_range_vf")
 # integer hyperparameters: name -> (low, high); high None: no upper bound
+MAX_N_ENVS = 256  # parallel envs: each a process with its own files and MuJoCo model (100 000 exhausts open files)
 INT_BOUNDS: dict[str, tuple[int, int | None]] = {"n_steps": (1, 10**7), "batch_size": (1, 10**7), "n_epochs": (1, 10**6),
-                                                 "n_envs": (1, None)}
+                                                 "n_envs": (1, MAX_N_ENVS)}
 # VecNormalize arguments (of ``normalize``) that must be booleans / numbers in (low, high]
 _NORMALIZE_BOOLS = ("training", "norm_obs", "norm_reward")
 _NORMALIZE_BOUNDS = {"clip_obs": (0.0, 1e12), "clip_reward": (0.0, 1e12), "gamma": (0.0, 1.0), "epsilon": (0.0, 1.0)}
@@ -133,7 +134,7 @@ def split_hyperparams(raw: dict[str, Any]) -> tuple[dict[str, Any], dict[str, An
 
 # PPO hyperparameters that Stable-Baselines3 takes unchecked: name -> (low, high, low_open)
 PPO_BOUNDS: dict[str, tuple[float, float, bool]] = {
-    "gamma": (0.0, 1.0, True), "gae_lambda": (0.0, 1.0, False),
+    "learning_rate": (0.0, 1.0, True), "gamma": (0.0, 1.0, True), "gae_lambda": (0.0, 1.0, False),
     "ent_coef": (0.0, 1e6, False), "vf_coef": (0.0, 1e6, False), "max_grad_norm": (0.0, 1e12, True),
     "clip_range": (0.0, 1e6, True), "clip_range_vf": (0.0, 1e6, True), "target_kl": (0.0, 1e6, True),
 }

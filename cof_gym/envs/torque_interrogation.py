@@ -23,7 +23,7 @@ from cof_gym.physics.simulation import SimulationDiverged, Simulation, WindowMea
 from cof_gym.task import InterrogationTask, MacroSlipLimit, Reward, ScenarioRanges
 from cof_gym.task.scenarios import SCENARIO_KEYS, V2_RANGES
 from cof_gym.task.task import DEFAULT_MAX_WINDOWS, Episode
-from cof_gym.task.validation import check_choice, check_int
+from cof_gym.task.validation import check_choice, check_int, is_int
 
 
 def display_available() -> bool:
@@ -48,8 +48,8 @@ def make_kwargs(kwargs: dict[str, Any]) -> dict[str, Any]:
     registered ``TimeLimit`` (``max_episode_steps``) unless that is given too, so that the task's own
     horizon ends the episode and scores the last estimate."""
     kwargs = dict(kwargs)
-    if "max_windows" in kwargs and "max_episode_steps" not in kwargs:
-        kwargs["max_episode_steps"] = kwargs["max_windows"]
+    if "max_windows" in kwargs and "max_episode_steps" not in kwargs and is_int(kwargs["max_windows"]):
+        kwargs["max_episode_steps"] = kwargs["max_windows"]  # any other value: the task's check names max_windows
     return kwargs
 
 
@@ -346,7 +346,9 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         self.episode = None  # a reset that raises leaves an env that refuses to step
-        super().reset(seed=seed)
+        if seed is not None and not (is_int(seed) and seed >= 0):  # Gymnasium takes True as seed 1
+            raise ValueError(f"seed must be None or an int >= 0, got {seed!r} ({type(seed).__name__})")
+        super().reset(seed=None if seed is None else int(seed))  # a numpy integer as the int it holds
         episode = self.task.new_episode(self.np_random, options)
         sim = self._simulation(episode.scenario.load_case)
         self._sim = None

@@ -44,6 +44,32 @@ class FilterNetwork:
     biases: tuple[np.ndarray, ...]
     feature_names: tuple[str, ...] = FEATURE_NAMES  # :func:`feature_names` of the blocks it reads
 
+    def __post_init__(self) -> None:
+        """Arrays that chain: a mean and a positive std per feature name, each layer's weights (in, out) with its
+        biases (out,), the last out two per target (mean, log variance), every number finite (ValueError)."""
+        n = len(self.feature_names)
+        width = n
+        problems = []
+        if np.shape(self.feature_mean) != (n,) or np.shape(self.feature_std) != (n,):
+            problems.append(f"feature_mean and feature_std must have {n} entries (one per feature name)")
+        elif not (np.all(np.isfinite(self.feature_std)) and np.all(np.asarray(self.feature_std) > 0.0)):
+            problems.append("feature_std must be finite and > 0")
+        if not self.weights or len(self.weights) != len(self.biases):
+            problems.append("the network needs as many weight as bias arrays, at least one of each")
+        for i, (w, b) in enumerate(zip(self.weights, self.biases)):
+            if np.ndim(w) != 2 or np.shape(w)[0] != width or np.shape(b) != (np.shape(w)[1],):
+                problems.append(f"w{i} must be ({width}, k) with b{i} (k,), got {np.shape(w)} and {np.shape(b)}")
+                break
+            width = np.shape(w)[1]
+        else:
+            if self.weights and width != 2 * len(TARGET_NAMES):
+                problems.append(f"the last layer must give {2 * len(TARGET_NAMES)} outputs, gives {width}")
+        arrays = (self.feature_mean, self.feature_std, *self.weights, *self.biases)
+        if not problems and not all(np.all(np.isfinite(a)) for a in arrays):
+            problems.append("every weight, bias, mean and std must be finite")
+        if problems:
+            raise ValueError(f"not an interrogator network: {problems[0]}")
+
     @property
     def blocks(self) -> tuple[str, ...]:
         return blocks_of(self.feature_names)
@@ -68,14 +94,22 @@ class FilterNetwork:
     @classmethod
     def load(cls, path: Path) -> "FilterNetwork":
         with np.load(path) as z:
+            if "feature_names" not in z.files:
+                raise ValueError(f"{path}: not an interrogator network (no feature_names)")
             names = tuple(str(n) for n in z["feature_names"])
             try:
                 blocks_of(names)
             except ValueError:
                 raise ValueError(f"{path}: the network was trained on other features ({len(names)} names); retrain it") from None
+            missing = sorted({"feature_mean", "feature_std", "w0", "b0"} - set(z.files))
+            if missing:
+                raise ValueError(f"{path}: not an interrogator network (no {', '.join(missing)})")
             layers = sum(1 for k in z.files if k.startswith("w"))
-            return cls(z["feature_mean"], z["feature_std"], tuple(z[f"w{i}"] for i in range(layers)),
-                       tuple(z[f"b{i}"] for i in range(layers)), names)
+            try:
+                return cls(z["feature_mean"], z["feature_std"], tuple(z[f"w{i}"] for i in range(layers)),
+                           tuple(z[f"b{i}"] if f"b{i}" in z.files else np.zeros(0) for i in range(layers)), names)
+            except ValueError as e:
+                raise ValueError(f"{path}: {e}") from None
 
 
 @dataclass(frozen=True)
