@@ -272,6 +272,22 @@ def coverage(option: str):
     return parse
 
 
+def check_policy(parser: Parser, policy: Path) -> None:
+    """A usage error naming ``--policy`` unless the interrogator there loads (its manifest, networks and guards read
+    as ``cof-gym evaluate --agents interrogator:DIR`` reads them), before any worker starts."""
+    import gymnasium as gym
+
+    from cof_gym.agents import registry
+
+    env = gym.make("CofGym/TorqueInterrogation-v2")
+    try:
+        registry.make_agent(f"interrogator:{policy}", env)
+    except (OSError, ValueError, KeyError) as e:
+        parser.error(f"--policy: {' '.join(str(e).split())}")
+    finally:
+        env.close()
+
+
 def main() -> None:
     parser = Parser(description=__doc__.split("\n")[0])
     parser.add_argument("--policy", type=Path, default=SHIPPED_INTERROGATOR, help="the interrogator's directory")
@@ -285,6 +301,7 @@ def main() -> None:
     check_out_file(parser, "--out", args.out)
     if not (args.policy / "manifest.json").is_file():
         parser.error(f"--policy: {args.policy} holds no manifest.json (an interrogator's directory)")
+    check_policy(parser, args.policy)
     reported = {"default suite": "default",
                 **{label: str(HERE / "suites" / f"{name}.json") for name, label in v2_heldout_grids().items()}}
     jobs = [(str(args.policy), str(path), config, None) for path in CALIBRATION.values() for config in CONFIGS]
