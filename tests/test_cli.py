@@ -102,7 +102,7 @@ BAD = [
     (["train", "--out", "run", "--resume", "/no/such/model.zip"], "--resume"),
     (["train", "--out", "run", "--env-kwargs", "counter_torque:false"], "counter_torque"),
     (["train", "--out", "run", "--env-kwargs", "max_episode_steps:2"], "max_episode_steps must be -1"),  # unscored
-    (["train", "--out", "run", "--n-envs", "100000"], "--n-envs: must be at most 256"),
+    (["train", "--out", "run", "--n-envs", "100000"], "--n-envs: must be an integer in [1, 256]"),
     (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "learning_rate:1e9"], "learning_rate must be"),
     (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "learning_rate:true"], "learning_rate: expected a number"),
     (["train", "--out", "run", "--hyperparams", "no_such_hyperparameter:1"], "--hyperparams"),

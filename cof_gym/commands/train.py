@@ -42,7 +42,7 @@ import numpy as np
 
 import cof_gym
 from cof_gym.commands.train_hyperparams import (
-    DEFAULT_CONF, check_normalize_env, check_ppo_kwargs, load_hyperparams, split_hyperparams,
+    DEFAULT_CONF, MAX_N_ENVS, check_normalize_env, check_ppo_kwargs, load_hyperparams, split_hyperparams,
 )
 
 ALGOS = ("ppo",)
@@ -241,7 +241,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--timesteps", "-n", type=positive_int, default=None,
                         help="environment steps to train (default: n_timesteps of the YAML); with --resume, "
                              "steps added to the loaded model's")
-    parser.add_argument("--n-envs", type=positive_int, default=None,
+    parser.add_argument("--n-envs", type=int_in_range(1, MAX_N_ENVS), default=None,
                         help="parallel environments (default: n_envs of the YAML)")
     parser.add_argument("--seed", type=train_seed_int, default=None,
                         help=f"random seed, at most {MAX_TRAIN_SEED} (default: 0; with --resume: the run's seed + "
@@ -499,14 +499,10 @@ def _check_counts(args: argparse.Namespace, settings: dict[str, Any]) -> tuple[i
     """The number of parallel envs and of timesteps: the command line's, else the YAML's, each >= 1."""
     from cof_gym.commands.args import UsageError
 
-    from cof_gym.commands.train_hyperparams import MAX_N_ENVS
-
     n_envs = args.n_envs or settings["n_envs"]
     timesteps = args.timesteps if args.timesteps is not None else settings["n_timesteps"]
     if n_envs < 1 or timesteps < 1:
         raise UsageError("--n-envs" if n_envs < 1 else "--timesteps", "must be >= 1 (the YAML says otherwise)")
-    if n_envs > MAX_N_ENVS:
-        raise UsageError("--n-envs", f"must be at most {MAX_N_ENVS}, got {n_envs}")
     return n_envs, timesteps
 
 

@@ -42,8 +42,9 @@ One systematic error is not a gain: the **encoder's speed-signal lag** (``encode
 encoder's pulses (counted over a gate time or timed between edges) and smoothed before the drive or a
 wheel-slide protection reads it; cof_gym models that as a first-order lag of time constant ``tau`` on the
 encoder's reading, run per physics step in the native measurement chain (``y += (1 - exp(-dt / tau)) (x - y)``,
-``x`` the mean of the step's reading and the last, so that the lag delays by ``tau``; from the first reading). At the modulation frequency ``w`` it adds ``atan(w tau)`` to every phase lag the lock-in
-reads between the torque and the speed (9 deg at 5 Hz with 5 ms, 17 deg with 10 ms) and scales the compliance by
+``x`` the mean of the step's reading and the last, so that the lag delays by ``tau``; from the first reading). At
+the modulation frequency ``w`` it adds ``atan(w tau)`` to every phase lag the lock-in reads between the torque and
+the speed (9 deg at 5 Hz with 5 ms, 17 deg with 10 ms) and scales the compliance by
 ``1 / sqrt(1 + (w tau)^2)``; the window means and the physics are unchanged. A phase method is exposed to exactly
 this error, which no gain calibration removes: the paper's rule (stop at the first positive phase) reads a lag
 that is ``atan(w tau)`` too large everywhere, while a rule that reads the lag's rise within the climb at a fixed
