@@ -15,9 +15,10 @@ windows the rule drives.
 
     python experiments/select_phase_rule.py [--workers 2] [--quick] [--corrected-se] [--out PATH.json]
 
-Runs on 2 cores in about 8 minutes (``--quick``: a fifth of the seeds, for a smoke test). ``--corrected-se``
-selects for the rule that reads the lag's SE for an autocorrelated speed residual
-(``phase_lag_se_corrected_deg``, ``PhaseRule.corrected_se``: ``phase-rule-ar1``) on the same validation episodes.
+Runs on 2 cores in about 80 s (78-79 s in session 59, with and without ``--corrected-se``; ``--quick``: a fifth of
+the seeds, for a smoke test). ``--corrected-se`` selects for the rule that reads the lag's SE for an autocorrelated
+speed residual (``phase_lag_se_corrected_deg``, ``PhaseRule.corrected_se``: ``phase-rule-ar1``) on the same
+validation episodes.
 """
 
 from __future__ import annotations

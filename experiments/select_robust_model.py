@@ -15,8 +15,8 @@ episodes as the reference row.
 
     python experiments/select_robust_model.py [--workers 2] [--quick] [--corrected-se] [--out PATH.json]
 
-Runs on 2 cores in about 5 minutes (``--quick``: a fifth of the seeds, for a smoke test). ``--corrected-se``
-selects for the model that reads the lag's SE for an autocorrelated speed residual
+Runs on 2 cores in about 4 minutes (232-241 s in session 59; ``--quick``: a fifth of the seeds, for a smoke
+test). ``--corrected-se`` selects for the model that reads the lag's SE for an autocorrelated speed residual
 (``phase_lag_se_corrected_deg``, ``RobustModel.corrected_se``: ``robust-model-ar1``) on the same episodes (the
 reference row stays the shipped phase rule).
 """
