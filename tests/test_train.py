@@ -134,6 +134,13 @@ def test_refuses_to_overwrite_a_model(trained: Path):
     assert _train("--env", ENV_ID, "--timesteps", "8", "--out", str(trained)) == 2
 
 
+def test_refuses_to_clone_a_resumed_model(trained: Path, tmp_path: Path, capsys) -> None:
+    out = tmp_path / "resumed"
+    assert _train("--resume", str(trained / "model.zip"), "--pretrain-episodes", "2", "--out", str(out)) == 2
+    assert "--pretrain-episodes: a resumed model is not behaviour-cloned again" in capsys.readouterr().err
+    assert not out.exists()
+
+
 def test_resume_into_the_same_out_appends(trained: Path, tmp_path: Path) -> None:
     import shutil
 

@@ -229,7 +229,7 @@ def save_warm_start(model, train_env, out: Path, env_id: str) -> Path:
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The options of ``cof-gym train``."""
     from cof_gym.agents.pretrain import EXPERTS
-    from cof_gym.commands.args import (MAX_TRAIN_SEED, StoreDict, int_in_range, non_negative_float, non_negative_int,
+    from cof_gym.commands.args import (MAX_TRAIN_SEED, StoreDict, float_in_range, int_in_range, non_negative_int,
                                        positive_int, train_seed_int)
 
     parser.add_argument("--algo", choices=ALGOS, default="ppo", help="RL algorithm")
@@ -283,8 +283,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--pretrain-log-std", type=_log_std_list, default=None, metavar="L0,...,L4",
                         help="the clone's exploration noise, log std per action component (default: the yml's "
                              "log_std_init for all); write --pretrain-log-std=-3,-2,-2,-2,-2 (values start with '-')")
-    parser.add_argument("--pretrain-noise", type=non_negative_float, default=0.15, metavar="STD",
-                        help="std of the noise added to the expert's executed actions while cloning (DART)")
+    parser.add_argument("--pretrain-noise", type=float_in_range(0.0, 2.0, low_inclusive=True), default=0.15,
+                        metavar="STD", help="std of the noise added to the expert's executed actions while cloning "
+                                            "(DART; the actions span [-1, 1])")
     parser.add_argument("--overwrite", action="store_true",
                         help="allow a new run to replace an existing OUT/model.zip")
 
@@ -386,11 +387,30 @@ def _check(args: argparse.Namespace) -> TrainPlan:
     if resume_path is not None:
         _check_resume_spaces(resume_path, resume_spaces, spaces, env_id, env_kwargs, bool(args.env_kwargs))
     n_envs, timesteps = _check_counts(args, settings)
+    _check_pretrain(args, resume_path is not None)
     _check_model_settings(settings, ppo_kwargs, spaces, n_envs)
     check_device(args.device)
     return TrainPlan(out=out, resume_path=resume_path, prev_meta=prev_meta, same_out=same_out, env_id=env_id,
                      adapter=adapter, raw=raw, settings=settings, ppo_kwargs=ppo_kwargs, env_kwargs=env_kwargs,
                      n_envs=n_envs, timesteps=timesteps, history=_history(out, same_out))
+
+
+PRETRAIN_FLAGS = (("--pretrain-agent", "pretrain_agent"), ("--pretrain-log-std", "pretrain_log_std"),
+                  ("--pretrain-noise", "pretrain_noise"))  # the flags that only shape --pretrain-episodes' cloning
+
+
+def _check_pretrain(args: argparse.Namespace, resuming: bool) -> None:
+    """Behaviour cloning's flags where they act: a resumed model is not cloned again, and a cloning setting
+    away from its default needs ``--pretrain-episodes`` (it would be ignored)."""
+    from cof_gym.commands.args import UsageError
+
+    if args.pretrain_episodes > 0 and resuming:
+        raise UsageError("--pretrain-episodes", "a resumed model is not behaviour-cloned again; drop it or --resume")
+    if args.pretrain_episodes == 0:
+        defaults = build_parser()
+        for flag, dest in PRETRAIN_FLAGS:
+            if getattr(args, dest) != defaults.get_default(dest):
+                raise UsageError(flag, "has no effect without --pretrain-episodes N (N >= 1)")
 
 
 def _check_out_and_resume(args: argparse.Namespace) -> tuple[Path, Path | None, Any, dict[str, Any], bool]:

@@ -138,6 +138,7 @@ PPO_BOUNDS: dict[str, tuple[float, float, bool]] = {
     "ent_coef": (0.0, 1e6, False), "vf_coef": (0.0, 1e6, False), "max_grad_norm": (0.0, 1e12, True),
     "clip_range": (0.0, 1e6, True), "clip_range_vf": (0.0, 1e6, True), "target_kl": (0.0, 1e6, True),
 }
+PPO_BOOLS = ("use_sde", "normalize_advantage")  # PPO switches SB3 takes by truthiness (``use_sde:1`` is no switch)
 
 
 def check_ppo_kwargs(policy: str, ppo_kwargs: dict[str, Any], observation_space: gym.Space, action_space: gym.Space,
@@ -153,6 +154,9 @@ def check_ppo_kwargs(policy: str, ppo_kwargs: dict[str, Any], observation_space:
     for key in ("n_steps", "batch_size", "n_epochs"):
         if key in ppo_kwargs:
             check_int(key, ppo_kwargs[key], *INT_BOUNDS[key])
+    for key in PPO_BOOLS:
+        if key in ppo_kwargs and not isinstance(ppo_kwargs[key], bool):
+            raise ValueError(f"{key} must be True or False, got {ppo_kwargs[key]!r} ({type(ppo_kwargs[key]).__name__})")
     for key, (low, high, low_open) in PPO_BOUNDS.items():
         if ppo_kwargs.get(key) is not None and not callable(ppo_kwargs[key]):
             check_number(key, ppo_kwargs[key], low, high, low_open=low_open)
