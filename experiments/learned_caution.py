@@ -70,7 +70,7 @@ from cof_gym.agents.interrogator import (  # noqa: E402
     CAUTION_POLICY_FILE, CAUTION_SPAN, CLIMB_STATE_FIELDS, SHIPPED_INTERROGATOR, CautionPolicy, interrogator_for,
 )
 from cof_gym.agents.interrogator.training import STEEP_FALL, procedural_shape  # noqa: E402
-from cof_gym.commands.args import Parser, float_in_range, positive_int  # noqa: E402
+from cof_gym.commands.args import DistinctValues, Parser, float_in_range, positive_int, train_seed_int  # noqa: E402
 from cof_gym.task.scenarios import MOTOR_LAG_MAX_S, NOISE_LEVEL_MAX  # noqa: E402
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS  # noqa: E402
 
@@ -355,7 +355,7 @@ def build_parser() -> Parser:
                         help=f"--paired's episodes per vehicle configuration (default: {PAIRED_EPISODES})")
     parser.add_argument("--into", type=Path, default=None, metavar="POLICY_DIR",
                         help="a policy directory (with its manifest.json) that --export writes the policy into")
-    parser.add_argument("--seeds", type=int, nargs="+", default=None,
+    parser.add_argument("--seeds", type=train_seed_int, nargs="+", default=None, action=DistinctValues,
                         help=f"PPO seeds (>= 0; default: {' '.join(map(str, TRAINING_SEEDS))})")
     parser.add_argument("--timesteps", type=positive_int, default=None,
                         help=f"PPO steps per seed (default: {TRAINING_TIMESTEPS})")
@@ -384,8 +384,6 @@ def main() -> None:
     mode = mode_of(args)
     reject_unused_options(parser, args, mode)
     seeds = TRAINING_SEEDS if args.seeds is None else args.seeds
-    if any(s < 0 for s in seeds):
-        parser.error(f"--seeds must be >= 0, got {seeds}")
     if mode == "paired":
         model = None if args.paired is True else args.paired  # --paired alone: the shipped climb's episodes
         if model is not None:

@@ -47,7 +47,7 @@ from train_interrogator import CONFIGS, ENV_ID, fit_networks, parse_climbs, requ
 from cof_gym.agents.interrogator import (  # noqa: E402
     SHIPPED_INTERROGATOR, FilterEnsemble, manifest_climb, manifest_guards, read_manifest,
 )
-from cof_gym.commands.args import Parser, positive_int, seed_int  # noqa: E402
+from cof_gym.commands.args import DistinctValues, Parser, positive_int, seed_int  # noqa: E402
 from cof_gym.task.creep_fit import coa_fell  # noqa: E402
 from cof_gym.agents.interrogator.training import (  # noqa: E402
     FIT_LOSSES, READING_FIELDS, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel,
@@ -165,7 +165,7 @@ def main() -> None:
     ap.add_argument("--out", type=Path, default=Path("runs/estimator"))
     ap.add_argument("--climbs", nargs="+", default=[f"{k}={v}" for k, v in EPISODES.items()], metavar="NAME=N",
                     help=f"on-policy episodes per collection ({', '.join(ON_POLICY)}; default: %(default)s)")
-    ap.add_argument("--seeds", type=seed_int, nargs="+", default=[0, 1, 2, 3, 4])
+    ap.add_argument("--seeds", type=seed_int, nargs="+", default=[0, 1, 2, 3, 4], action=DistinctValues)
     ap.add_argument("--workers", type=positive_int, default=2)
     ap.add_argument("--reuse", action="store_true", help="keep OUT/seed_K networks that exist")
     ap.add_argument("--collect-only", action="store_true",

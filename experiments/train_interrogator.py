@@ -120,7 +120,7 @@ from cof_gym.agents.interrogator import (
 from cof_gym.agents.interrogator.training import (
     FIT_LOSSES, FITTABLE_BLOCKS, STEEP_FALL, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel, fit_member, nll,
 )
-from cof_gym.commands.args import Parser, float_in_range, positive_int, seed_int
+from cof_gym.commands.args import DistinctValues, Parser, float_in_range, positive_int, seed_int
 from cof_gym.commands.evaluate_episodes import run_episode
 from cof_gym.commands.suites import make_suite
 from cof_gym.task.scenarios import MOTOR_LAG_MAX_S, NOISE_LEVEL_MAX
@@ -614,7 +614,7 @@ def build_parser() -> Parser:
     ap.add_argument("--out", type=Path, default=Path("runs/interrogator"))
     ap.add_argument("--climbs", nargs="+", default=[f"{k}={v}" for k, v in EPISODES.items()], metavar="NAME=N",
                     help=f"training climbs per collection ({', '.join(COLLECTIONS)}; 0 or absent: none)")
-    ap.add_argument("--seeds", type=seed_int, nargs="+", default=[0, 1, 2, 3, 4])
+    ap.add_argument("--seeds", type=seed_int, nargs="+", default=[0, 1, 2, 3, 4], action=DistinctValues)
     ap.add_argument("--workers", type=positive_int, default=2)
     ap.add_argument("--epochs", type=int, default=FitSettings.epochs)
     ap.add_argument("--loss", choices=FIT_LOSSES, default=FitSettings.loss,

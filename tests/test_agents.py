@@ -434,6 +434,25 @@ def test_a_suite_keeps_the_interface_the_agents_act_through(tmp_path: Path) -> N
             suite(env_kwargs)
 
 
+def test_a_suite_file_that_names_a_key_twice_or_renders_is_refused(tmp_path: Path) -> None:
+    """A repeated key would keep its last value silently; a render mode would open windows in every worker."""
+    (tmp_path / "s.json").write_text('{"options": {"cof": 0.3, "cof": 0.2}}')
+    with pytest.raises(SuiteError, match=r"s\.json: key 'cof' given twice in one object"):
+        make_suite(str(tmp_path / "s.json"), 2, 0)
+    (tmp_path / "s.json").write_text(json.dumps({"env_kwargs": {"render_mode": "human"}}))
+    with pytest.raises(SuiteError, match=r"env_kwargs\.render_mode must be None \(evaluation renders nothing"):
+        make_suite(str(tmp_path / "s.json"), 2, 0)
+
+
+def test_a_listed_episode_without_a_seed_past_the_largest_seed_names_the_run_seed(tmp_path: Path) -> None:
+    from cof_gym.commands.args import MAX_SEED
+
+    (tmp_path / "s.json").write_text(json.dumps({"episodes": [{"seed": 3}, {}]}))
+    assert make_suite(str(tmp_path / "s.json"), 2, MAX_SEED - 1).episodes == [(3, {}), (MAX_SEED, {})]
+    with pytest.raises(SuiteError, match=r"episodes\[1\] has no seed of its own.*give a smaller --seed"):
+        make_suite(str(tmp_path / "s.json"), 2, MAX_SEED)
+
+
 def test_a_suite_files_options_are_checked_before_any_env_is_built(tmp_path: Path, monkeypatch) -> None:
     monkeypatch.setattr(gym, "make", lambda *a, **k: pytest.fail("an env was built"))
     episodes = [{"seed": i, "options": {"cof": 0.3}} for i in range(60)] + [{"seed": 60, "options": {"cof": "0.2"}}]

@@ -59,6 +59,8 @@ BAD = [
     (["evaluate", "--agents", "staircase", "--suite", "deep_nesting.json"], "deep_nesting.json: JSON nested too deeply"),
     (["evaluate", "--agents", "staircase", "--env-kwargs", "max_windows:0"], "--env-kwargs: max_windows must be an integer in [1"),
     (["evaluate", "--agents", "staircase", "--env-kwargs", "max_windows:True"], "--env-kwargs: max_windows must be an integer"),
+    (["evaluate", "--agents", "staircase", "--env-kwargs", "cof:0.2", "cof:0.3"], "--env-kwargs: 'cof' given twice"),
+    (["evaluate", "--agents", "staircase", "--env-kwargs", "render_mode:human"], "env_kwargs.render_mode must be None"),
     (["evaluate", "--agents", "staircase", "--env-kwargs", "horizon:60"], "--env-kwargs: unknown env argument(s) ['horizon']"),
     (["evaluate", "--agents", "staircase", "--env-kwargs", "excitation:multitone"], "--env-kwargs: env_kwargs.excitation must"),
     (["evaluate", "--agents", "staircase", "--env-kwargs", "max_episode_steps:5"], "env_kwargs.max_episode_steps must"),

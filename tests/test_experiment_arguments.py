@@ -76,6 +76,10 @@ CASES = [
     ("train_estimator", ["--workers", "0", "--out", "{new}"], "--workers"),
     ("train_estimator", ["--out", "{file}"], "--out"),
     ("train_interrogator", ["--seeds", "0", "-1", "--out", "{new}"], "--seeds"),
+    ("train_interrogator", ["--seeds", "0", "3", "0", "--out", "{new}"], "--seeds: 0 given more than once"),
+    ("train_estimator", ["--seeds", "1", "1", "--out", "{new}"], "--seeds: 1 given more than once"),
+    ("learned_caution", ["--seeds", "2", "2", "--out", "{new}"], "--seeds: 2 given more than once"),
+    ("learned_caution", ["--seeds", "4294967296", "--out", "{new}"], "--seeds"),
     ("train_interrogator", ["--climbs", "torque_wide=\u00b2", "--out", "{new}"], "--climbs"),  # a digit int() refuses
     ("make_grids", ["--bogus"], "--bogus"),  # no options: nothing is generated or written
     ("train_interrogator", ["--epochs", "0", "--out", "{new}"], "--epochs"),

@@ -66,12 +66,26 @@ class StoreDict(argparse.Action):
 
     def __call__(self, parser, namespace, values, option_string=None):
         out = dict(getattr(namespace, self.dest) or {})
+        given: set[str] = set()
         for item in values:
             key, sep, value = item.partition(":")
             if not sep or not key:
                 parser.error(f"{option_string} expects key:value pairs, got {item!r}")
+            if key in given:
+                parser.error(f"{option_string}: {key!r} given twice; give each key once")
+            given.add(key)
             out[key] = _literal_or_text(value)
         setattr(namespace, self.dest, out)
+
+
+class DistinctValues(argparse.Action):
+    """A ``nargs`` list whose values must differ (``--seeds 0 0`` would run or fit the same seed twice)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        repeated = sorted({str(v) for v in values if list(values).count(v) > 1})
+        if repeated:
+            parser.error(f"{option_string}: {', '.join(repeated)} given more than once; give each value once")
+        setattr(namespace, self.dest, list(values))
 
 
 def _literal_or_text(text: str) -> object:

@@ -48,6 +48,8 @@ INTERFACE_KWARGS = {
     "excitation": "sine",  # the agents send the sine's 5-value action
     "info_layout": "nested",  # the evaluator and the oracles read info["measurement"] and info["ground_truth"]
 }
+# env_kwargs an evaluation cannot honour: what each must be, and why
+UNRENDERED_KWARGS = {"render_mode": (None, "evaluation renders nothing; cof-gym watch renders an episode")}
 MAX_EPISODES = 100_000  # episodes per agent (--episodes and a file's episode list): hours of simulation
 
 
@@ -156,6 +158,9 @@ def _check_interface(env_id: str, env_kwargs: dict[str, Any], where: Path | str)
         if key in env_kwargs and env_kwargs[key] != needed:
             raise SuiteError(f"{prefix}env_kwargs.{key} must be {needed!r} (the evaluated agents act through it), "
                              f"got {env_kwargs[key]!r}")
+    for key, (needed, why) in UNRENDERED_KWARGS.items():
+        if env_kwargs.get(key, needed) != needed:
+            raise SuiteError(f"{prefix}env_kwargs.{key} must be {needed!r} ({why}), got {env_kwargs[key]!r}")
     check_time_limit(env_id, env_kwargs, prefix)
 
 
@@ -212,6 +217,20 @@ def file_suite(path: Path, n_episodes: int, seed: int) -> Suite:
     return Suite(str(path), env_id, env_kwargs, SeededEpisodes(seed, n_episodes, lambda i: dict(options)))
 
 
+class DuplicateKey(ValueError):
+    """A JSON object that names a key twice (``json`` keeps the last silently)."""
+
+
+def _unique_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    """``json``'s object hook: the object as a dict, :class:`DuplicateKey` where a key repeats."""
+    out: dict[str, Any] = {}
+    for key, value in pairs:
+        if key in out:
+            raise DuplicateKey(key)
+        out[key] = value
+    return out
+
+
 def _read_json(path: Path) -> Any:
     """The suite file's JSON; :class:`SuiteError` (one line) where it cannot be read or parsed."""
     try:
@@ -223,7 +242,9 @@ def _read_json(path: Path) -> Any:
     except OSError as e:
         raise SuiteError(f"{path}: cannot be read ({e.strerror})") from None
     try:
-        return json.loads(text)
+        return json.loads(text, object_pairs_hook=_unique_keys)
+    except DuplicateKey as e:
+        raise SuiteError(f"{path}: key {e.args[0]!r} given twice in one object; give each key once") from None
     except json.JSONDecodeError as e:
         raise SuiteError(f"{path}: invalid JSON at line {e.lineno} column {e.colno}: {e.msg}") from None
     except RecursionError:
@@ -242,6 +263,9 @@ def _listed_episodes(raw: Any, options: dict, seed: int, path: Path) -> tuple[li
         bad = sorted(set(e) - set(EPISODE_KEYS))
         if bad:
             raise SuiteError(f"{path}: episodes[{i}]: unknown key(s) {bad}; allowed: {list(EPISODE_KEYS)}")
+        if "seed" not in e and seed + i > MAX_SEED:
+            raise SuiteError(f"{path}: episodes[{i}] has no seed of its own, and the run's first seed {seed} + {i} "
+                             f"is past the largest seed {MAX_SEED}; give a smaller --seed")
         ep_seed = _check_seed(e.get("seed", seed + i), f"episodes[{i}].seed", path)
         note = e.get("note", "")
         if not isinstance(note, str):
