@@ -7,7 +7,8 @@
    (:func:`cof_gym.agents.interrogator.training.collect` with ``policy``): the env's creep-law draws
    (seeds from 2 100 000 on) and procedural creep curves beyond every family (from 2 200 000 on), far
    from every evaluation seed and from the probing climbs' (ON_POLICY; ``--climbs NAME=N``, default
-   4000 each). Every window is kept with its labels from the episode's truth. Cached in
+   4000 each; ``env_encoder`` and ``procedural_encoder``, from 3 100 000 and 3 200 000 on: the same with the
+   encoder's speed signal lagged 0-20 ms, uniform per climb, rule 110). Every window is kept with its labels from the episode's truth. Cached in
    OUT/onpolicy_NAME_DIGEST.npz, the digest naming the policy's networks and climb. ``--collect-only``
    stops here (a policy's own climbs for another fit: ``train_interrogator.py --add-climbs``). With
    ``--set NAME=VALUE ...`` the policy climbs with those climb parameters changed (a copy of it in
@@ -54,8 +55,13 @@ from cof_gym.agents.interrogator.training import (  # noqa: E402
 )
 
 # the on-policy collections: name -> (first seed, what the episodes draw beyond the env's own)
+ENCODER_LAGS_S = (0.0, 0.02)  # the encoder lags (s) of the *_encoder collections (rule 110): 0-32 deg at 5 Hz
 ON_POLICY = {"env": (TRAINING_SEED + 1_100_000, ClimbDraws()),
-             "procedural": (TRAINING_SEED + 1_200_000, ClimbDraws(shapes="procedural"))}
+             "procedural": (TRAINING_SEED + 1_200_000, ClimbDraws(shapes="procedural")),
+             # the same with the encoder's speed signal lagged (a time constant drawn per climb; v2 draws none)
+             "env_encoder": (TRAINING_SEED + 2_100_000, ClimbDraws(encoder_lags_s=ENCODER_LAGS_S)),
+             "procedural_encoder": (TRAINING_SEED + 2_200_000,
+                                    ClimbDraws(shapes="procedural", encoder_lags_s=ENCODER_LAGS_S))}
 EPISODES = {"env": 4000, "procedural": 4000}
 REPORTING_ONLY = ("estimate_from", "best_coa_factor", "crest_floor", "runaway_estimate",
                   "crest_ceiling")  # change no torque of the climb

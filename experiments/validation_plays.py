@@ -40,12 +40,14 @@ from cof_gym.commands.args import Parser  # noqa: E402
 SHIPPED_GUARDS = ("cof_gym/agents/policies/interrogator/guard_0", "cof_gym/agents/policies/interrogator/guard_1")
 HAND_BUILT = ("phase-rule", "robust-model", "staircase", "model-based")
 SENSOR_STRESSES = {"noise_level": "noise_level=3", "motor_lag_s": "motor_lag_s=0.1"}  # play suffix -> --scenario
+ENCODER_STRESS = {"encoder_lag_s": "encoder_lag_s=0.01"}  # --encoder-lag's play: the encoder's signal lagged 10 ms
 
 
-def stressed(grid_set: str, prefix: str) -> dict[str, tuple[str, ...]]:
-    """A grid set's plays with the noise tripled and with the 0.1 s lag, named ``prefix`` + the stress."""
+def stressed(grid_set: str, prefix: str, stresses: dict[str, str] = SENSOR_STRESSES) -> dict[str, tuple[str, ...]]:
+    """A grid set's plays with the noise tripled and with the 0.1 s lag (or ``stresses``), named ``prefix`` + the
+    stress."""
     return {prefix + suffix: ("--grids", grid_set, "--scenario", scenario)
-            for suffix, scenario in SENSOR_STRESSES.items()}
+            for suffix, scenario in stresses.items()}
 
 
 PLAYS = {  # the play's name in the records' file names -> its grids and scenario
@@ -71,10 +73,14 @@ def script(name: str) -> str:
 NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*")  # a name that stands in a file name as it is
 
 
-def candidate_commands(name: str, caution_policy: str | None,
-                       plays: dict[str, tuple[str, ...]] = PLAYS) -> list[list[str]]:
-    """The learned agent's ``crest_tradeoff.py`` plays (the four validation plays), recorded under ``name``."""
+def candidate_commands(name: str, caution_policy: str | None, plays: dict[str, tuple[str, ...]] = PLAYS,
+                       estimators: list[str] | None = None, settings: list[str] | None = None) -> list[list[str]]:
+    """The learned agent's ``crest_tradeoff.py`` plays (the four validation plays), recorded under ``name``; with
+    ``estimators`` (network directories whose correction the estimate may read) and climb ``settings``
+    (``NAME=VALUE``, e.g. ``estimate_from=estimator``)."""
     policy = ["--caution-policy", caution_policy] if caution_policy else []
+    policy += ["--estimators", *estimators] if estimators else []
+    policy += ["--set", *settings] if settings else []
     return [[sys.executable, script("crest_tradeoff.py"), "--guards", *SHIPPED_GUARDS, "--guards-only",
              "--targets", "0.1", "--stops", "--return-digits", "4", *grids, *policy,
              "--records", f"out/records_{name}_{play}.json", "--out", f"out/crest_tradeoff_{name}_{play}.md"]
@@ -98,22 +104,38 @@ def build_parser() -> Parser:
     parser.add_argument("--confirmation", nargs=3, default=None, metavar=("SET", "TORQUE_SET", "EXTREMES_SET"),
                         help="the five confirmation plays on these make_grids.py sets instead of the validation plays "
                              "(e.g. confirmation36 torque_confirmation17 extremes_confirmation8)")
+    parser.add_argument("--estimators", nargs="+", default=None, metavar="DIR",
+                        help="network directories (member_*.npz) whose correction the candidate's estimate may read "
+                             "(crest_tradeoff.py --estimators)")
+    parser.add_argument("--set", nargs="+", default=None, metavar="NAME=VALUE",
+                        help="the candidate's climb parameters changed (crest_tradeoff.py --set, e.g. "
+                             "estimate_from=estimator)")
+    parser.add_argument("--encoder-lag", action="store_true",
+                        help="also the play with every episode's encoder lagged 10 ms (rule 110; PLAY encoder_lag_s, "
+                             "or SET_encoder_lag_s with --confirmation)")
+    parser.add_argument("--encoder-lag-only", action="store_true",
+                        help="only the play with the encoder lagged 10 ms (the other plays already recorded)")
     parser.add_argument("--print", action="store_true", help="print the commands, play nothing")
     return parser
 
 
 def commands_of(parser: Parser, args: argparse.Namespace) -> list[list[str]]:
     """The commands the arguments ask for, every argument checked first (one line and exit code 2)."""
-    plays = PLAYS
+    plays, grid_set, prefix = PLAYS, "validation", ""
     if args.confirmation is not None:
         for (kind, known), name in zip(CONFIRMATION_KINDS, args.confirmation):
             if name not in known:
                 first, last = next(iter(known)), list(known)[-1]
                 parser.error(f"--confirmation: {kind} must be one of {first} ... {last}, got {name!r}")
         plays = confirmation_plays(*args.confirmation)
+        grid_set, prefix = args.confirmation[0], f"{args.confirmation[0]}_"
+    if args.encoder_lag or args.encoder_lag_only:
+        lagged = stressed(grid_set, prefix, ENCODER_STRESS)
+        plays = lagged if args.encoder_lag_only else {**plays, **lagged}
     if args.hand_built:
-        if args.name is not None or args.caution_policy is not None:
-            parser.error("--hand-built: takes no NAME and no --caution-policy (the agents' names name the records)")
+        if any(v is not None for v in (args.name, args.caution_policy, args.estimators, args.set)):
+            parser.error("--hand-built: takes no NAME, --caution-policy, --estimators or --set (the agents' names "
+                         "name the records)")
         return hand_built_commands(plays)
     if args.name is None:
         parser.error("NAME: required (the candidate's name in the records' file names), or --hand-built")
@@ -125,7 +147,13 @@ def commands_of(parser: Parser, args: argparse.Namespace) -> list[list[str]]:
         missing = [m for m in ensemble_members(args.caution_policy) if not m.is_file()]
         if missing:
             parser.error(f"--caution-policy: no file {missing[0]} (a learned_caution.py model.zip)")
-    return candidate_commands(args.name, args.caution_policy, plays)
+    for directory in args.estimators or []:
+        if not list(Path(directory).glob("member_*.npz")):
+            parser.error(f"--estimators: no member_*.npz in {directory} (a directory of networks)")
+    for item in args.set or []:
+        if "=" not in item:
+            parser.error(f"--set: expected NAME=VALUE, got {item!r}")
+    return candidate_commands(args.name, args.caution_policy, plays, args.estimators, args.set)
 
 
 def main() -> None:

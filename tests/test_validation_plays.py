@@ -54,3 +54,38 @@ def test_confirmation_plays_the_five_plays_of_three_unplayed_sets() -> None:
         "out/records_shipped_extremes_confirmation8.json"]
     assert [c[c.index("--grids") + 1] for c in validation_plays.hand_built_commands(plays)] == [
         "confirmation36", "confirmation36", "confirmation36", "torque_confirmation17", "extremes_confirmation8"]
+
+
+def _commands(*argv: str) -> list[list[str]]:
+    parser = validation_plays.build_parser()
+    return validation_plays.commands_of(parser, parser.parse_args(list(argv)))
+
+
+def test_the_encoder_lag_play_joins_the_plays_or_stands_alone() -> None:
+    commands = _commands("cand", "--encoder-lag")
+    assert [c[c.index("--records") + 1] for c in commands] == [f"out/records_cand_{p}.json"
+                                                               for p in (*PLAYS, "encoder_lag_s")]
+    assert commands[-1][commands[-1].index("--scenario") + 1] == "encoder_lag_s=0.01"
+    (alone,) = _commands("--hand-built", "--encoder-lag-only", "--confirmation", "confirmation36",
+                         "torque_confirmation17", "extremes_confirmation8")
+    assert alone[alone.index("--records") + 1] == "out/records_{agent}_confirmation36_encoder_lag_s.json"
+    assert alone[alone.index("--grids") + 1:alone.index("--grids") + 4] == ["confirmation36", "--scenario",
+                                                                            "encoder_lag_s=0.01"]
+
+
+def test_a_candidate_reads_estimators_with_a_climb_setting() -> None:
+    estimators = "cof_gym/agents/policies/interrogator/guard_0"
+    for command in _commands("cand", "--estimators", estimators, "--set", "estimate_from=estimator"):
+        assert command[command.index("--estimators") + 1] == estimators
+        assert command[command.index("--set") + 1] == "estimate_from=estimator"
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["cand", "--estimators", "no/such/dir"], "--estimators: no member_*.npz in no/such/dir"),
+    (["cand", "--set", "estimate_from"], "--set: expected NAME=VALUE"),
+    (["--hand-built", "--set", "estimate_from=estimator"], "--hand-built: takes no NAME"),
+])
+def test_bad_candidate_arguments_are_one_line(argv, message, capsys) -> None:
+    with pytest.raises(SystemExit) as exit_info:
+        _commands(*argv)
+    assert exit_info.value.code == 2 and message in capsys.readouterr().err

@@ -48,7 +48,7 @@ from cof_gym.agents.interrogator import (
 from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.physics.creep_laws import below_peak
 from cof_gym.task.interface import MotorLimits
-from cof_gym.task.scenarios import MOTOR_LAG_MAX_S, NOISE_LEVEL_MAX
+from cof_gym.task.scenarios import ENCODER_LAG_MAX_S, MOTOR_LAG_MAX_S, NOISE_LEVEL_MAX
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 from cof_gym.task.validation import check_number, check_range
 
@@ -266,7 +266,9 @@ class ClimbDraws:
     (0-1 and 0-0.03 s), up to what the env accepts: noisier sensors and a slower drive than the v2 draws;
     ``sensor_errors``: ``(field, low, high)`` of systematic errors (:data:`~cof_gym.task.sensors.SYSTEMATIC_ERRORS`)
     drawn uniform in that range, each from a generator of its own, in place of the env's draw, up to what the
-    env accepts (e.g. a torque gain error of +-15 % where the v2 draws reach +-5 %)."""
+    env accepts (e.g. a torque gain error of +-15 % where the v2 draws reach +-5 %); ``encoder_lags_s``: the
+    encoder's speed-signal lag (s, the env's ``encoder_lag_s``, which v2 never draws) uniform in this range, from a
+    generator of its own."""
 
     shapes: str = "env"
     frequencies_hz: tuple[float, float] | None = None
@@ -280,6 +282,7 @@ class ClimbDraws:
     noise_levels: tuple[float, float] | None = None  # the sensors' noise drawn in this range (None: the env's draw)
     motor_lags_s: tuple[float, float] | None = None  # the drive's lag (s) drawn in this range (None: the env's draw)
     sensor_errors: tuple[tuple[str, float, float], ...] = ()  # (field, low, high) in place of the env's draw
+    encoder_lags_s: tuple[float, float] | None = None  # the encoder's speed-signal lag (s) drawn in this range
 
     @property
     def env_options(self) -> dict[str, Any]:
@@ -291,7 +294,8 @@ class ClimbDraws:
         check_range("ClimbDraws.tone2_weights", self.tone2_weights, 0.0, 2.0)
         if self.shapes not in SHAPE_SOURCES:
             raise ValueError(f"shapes must be one of {SHAPE_SOURCES}, got {self.shapes!r}")
-        for name, high in (("noise_levels", NOISE_LEVEL_MAX), ("motor_lags_s", MOTOR_LAG_MAX_S)):
+        for name, high in (("noise_levels", NOISE_LEVEL_MAX), ("motor_lags_s", MOTOR_LAG_MAX_S),
+                           ("encoder_lags_s", ENCODER_LAG_MAX_S)):
             if getattr(self, name) is not None:
                 check_range(f"ClimbDraws.{name}", getattr(self, name), 0.0, high)
         for entry in self.sensor_errors:
@@ -325,6 +329,8 @@ def _sensor_options(seed: int, draws: ClimbDraws) -> dict[str, float]:
                                                                   ("motor_lag_s", draws.motor_lags_s)) if span}
     for k, (name, low, high) in enumerate(draws.sensor_errors):
         options[name] = float(np.random.default_rng([seed, 29, k]).uniform(low, high))
+    if draws.encoder_lags_s:
+        options["encoder_lag_s"] = float(np.random.default_rng([seed, 31]).uniform(*draws.encoder_lags_s))
     return options
 
 
