@@ -35,6 +35,18 @@ _IDS = {WAGON_ENV_ID: ("wagon", 2), HALF_WHEELSET_ENV_ID: ("half_wheelset", 2),
 MAX_EPISODE_STEPS = 30
 
 
+# Gymnasium's notice on making an id whose newer version exists: a v1 id is a deliberate choice here (published
+# results), so the notice would be a stray second line on stderr (the CLI's and every training worker's)
+OUT_OF_DATE_NOTICE = r".*is out of date\. You should consider upgrading"
+
+
+def ignore_out_of_date_notice() -> None:
+    """Silence Gymnasium's out-of-date notice for this process (each subprocess worker calls it too)."""
+    import warnings
+
+    warnings.filterwarnings("ignore", message=OUT_OF_DATE_NOTICE)
+
+
 def _register() -> None:
     # disable_env_checker: gymnasium's PassiveEnvChecker leaves the env failing every step after a first
     # reset() that raised; gymnasium's check_env runs on the env in tests/test_action_types.py

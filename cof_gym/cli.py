@@ -12,9 +12,9 @@ from __future__ import annotations
 
 import argparse
 import sys
-import warnings
 from pathlib import Path
 
+import cof_gym
 from cof_gym.commands.args import PROG, Parser, UsageError, check_output_dir, check_output_file, float_in_range
 
 BENCH_MIN_SECONDS = 0.01  # bench --seconds: ten physics steps of the wagon (dt = 1 ms), the shortest timing
@@ -111,12 +111,18 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _command_parser(parser: argparse.ArgumentParser, command: str) -> argparse.ArgumentParser:
+    """The parser of ``command`` (a sub-command of ``parser``)."""
+    (commands,) = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
+    return commands.choices[command]
+
+
 def main(argv: list[str] | None = None) -> int:
-    # a v1 id is a deliberate choice here (published results): Gymnasium's "out of date" notice would
-    # be a second line on stderr
-    warnings.filterwarnings("ignore", message=r".*is out of date\. You should consider upgrading")
+    cof_gym.ignore_out_of_date_notice()
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args, extras = parser.parse_known_args(argv)
+    if extras:  # named by the command's own parser ("cof-gym evaluate: error: ..."), as its other errors are
+        _command_parser(parser, args.command).error(f"unrecognized arguments: {' '.join(extras)}")
     command = f"{PROG} {args.command}"
     try:
         return int(args.func(args) or 0)

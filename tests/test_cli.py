@@ -92,7 +92,7 @@ BAD = [
     (["evaluate", "--agents", "staircase", "--out", "a_file.txt/sub"], "--out"),
     (["evaluate", "--agents", "staircase", "--out", "."], "--out"),
     (["evaluate", "--agents", "staircase", "--out", "not_an_output"], "not a cof-gym evaluate output"),
-    (["evaluate", "--no-such-flag"], "--no-such-flag"),
+    (["evaluate", "--no-such-flag"], "cof-gym evaluate: error: unrecognized arguments: --no-such-flag"),
     (["bench", "--seconds", "0"], "--seconds"),
     (["bench", "--seconds", "nan"], "--seconds"),
     (["bench", "--seconds", "1e-300"], "must be a finite number in [0.01, 3600]"),  # no physics step: ZeroDivisionError
@@ -156,6 +156,7 @@ BAD = [
     (["reproduce-paper", "--quick", "--readme", "docs_is_a_file/README.md"], "docs exists and is not a directory"),
     (["reproduce-paper", "--quick", "--readme", "/nonexistent/README.md"], "--readme"),
     (["reproduce-paper", "--quick", "--readme", "a_file.txt"], "markers"),
+    (["reproduce-paper", "--quick", "--readme", ""], "--readme: an empty path"),
     (["reproduce-paper", "--quick", "--out", "/proc/cof_gym_paper"], "--out"),
     (["train"], "--out"),
     ([], "COMMAND"),

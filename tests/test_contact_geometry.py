@@ -20,7 +20,7 @@ from cof_gym.physics.contact_geometry import (
 
 @pytest.mark.parametrize(
     ("load_n", "a_mm", "b_mm"),
-    [(50e3, 5.7, 4.3), (100e3, 7.2, 5.4)],  # DESIGN.md section 2
+    [(50e3, 5.7, 4.3), (100e3, 7.2, 5.4)],  # Hertz (Johnson 1985, Contact Mechanics, ch. 4): R 0.46 m on a 0.30 m crown
 )
 def test_hertz_semi_axes_match_design_values(load_n: float, a_mm: float, b_mm: float) -> None:
     a, b = hertz_semi_axes(load_n)

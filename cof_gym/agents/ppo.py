@@ -141,14 +141,17 @@ def check_model(path: str | Path) -> tuple[Any, Any]:
 def _make_env(full_id: str, adapter: str, **kwargs: Any):
     import gymnasium as gym
 
+    import cof_gym
     from cof_gym.agents.adapters import wrap
 
+    cof_gym.ignore_out_of_date_notice()  # in a subprocess worker too (the CLI's filter is not inherited there)
     return wrap(gym.make(full_id, **kwargs), adapter)
 
 
 def make_env_fn(env_id: str, env_kwargs: dict[str, Any] | None = None, adapter: str = "absolute"):
     """A picklable env factory for ``make_vec_env``. ``gym.make`` is given ``"cof_gym:<id>"`` so that the
-    registration also happens in spawned / forkserver subprocesses (DESIGN.md section 6). A
+    registration also happens in spawned / forkserver subprocesses (Gymnasium 1.x has no plugin entry points: the
+    ``module:Id`` form imports the module, which registers its ids, before the id is looked up). A
     ``max_windows`` other than the registered horizon also moves the TimeLimit (``max_episode_steps``)
     unless that is given too, so that the last estimate is scored by the env itself. ``adapter``:
     :mod:`cof_gym.agents.adapters` (how the policy's output becomes the env's action)."""

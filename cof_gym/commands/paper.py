@@ -369,15 +369,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """``cof-gym reproduce-paper``: exit status 1 when a check that should hold fails; the README to
     rewrite is checked before anything is simulated (a usage error otherwise)."""
-    if getattr(args, "readme", None):
+    readme = getattr(args, "readme", None)
+    if readme == "":
+        raise UsageError("--readme", "an empty path; give the README file to rewrite")
+    if readme is not None:
         try:
-            check_readme(Path(args.readme))
+            check_readme(Path(readme))
         except ValueError as e:
             raise UsageError("--readme", str(e)) from None
     results = reproduce(Path(args.out), quick=args.quick)
     print("\n".join(summary_lines(results)))
     print(f"figures and results.json in {args.out}")
-    if getattr(args, "readme", None):
-        update_readme(Path(args.readme), results, Path(args.out))
+    if readme is not None:
+        update_readme(Path(readme), results, Path(args.out))
         print(f"README section rewritten in {args.readme}")
     return exit_status(results)

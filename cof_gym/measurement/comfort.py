@@ -1,6 +1,6 @@
 """ISO 2631-1 frequency weighting Wd as discrete filters, and the EN 12299 mean comfort index.
 
-Filters are built from the analog prototypes of ISO 2631-1 (DESIGN.md section 4):
+Filters are built from the analog prototypes of ISO 2631-1:1997 (Annex A, the frequency weightings):
 
     Hh = s^2 / (s^2 + sqrt2 w1 s + w1^2)                 band limit, high-pass, f1 = 0.4 Hz
     Hl = w2^2 / (s^2 + sqrt2 w2 s + w2^2)                band limit, low-pass, f2 = 100 Hz
@@ -149,8 +149,8 @@ def en12299_comfort_index(ax_p95: float, ay_p95: float, az_p95: float) -> float:
 def comfort_label(n_mv: float) -> str:
     """Verbal EN 12299 comfort class of a mean comfort index N_MV.
 
-    Scale (unverified, from DESIGN.md section 4): N_MV < 1 "very comfortable",
-    1 <= N_MV < 2 "comfortable", 2 <= N_MV < 4 "medium", 4 <= N_MV < 5 "uncomfortable",
+    Scale (EN 12299's comfort scale as commonly quoted; unverified against the standard's text): N_MV < 1
+    "very comfortable", 1 <= N_MV < 2 "comfortable", 2 <= N_MV < 4 "medium", 4 <= N_MV < 5 "uncomfortable",
     N_MV >= 5 "very uncomfortable".
     """
     n = float(n_mv)

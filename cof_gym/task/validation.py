@@ -19,18 +19,20 @@ def check_bool(name: str, value: Any) -> bool:
 
 
 def check_number(name: str, value: Any, low: float, high: float, *, low_open: bool = False,
-                 unit: str = "") -> float:
-    """A finite real number (not a bool, not a string) in [low, high] (or (low, high]), returned as a Python
-    ``float`` (``float(value)``: a Python float is returned unchanged, a numpy scalar as the float it holds)."""
+                 unit: str = "", high_open: bool = False) -> float:
+    """A finite real number (not a bool, not a string) in [low, high] (``low_open`` / ``high_open``: without that
+    end), returned as a Python ``float`` (``float(value)``: a Python float is returned unchanged, a numpy scalar as
+    the float it holds)."""
+    interval = _interval(low, high, low_open, high_open)
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
-        raise ValueError(f"{name} must be a number in {_interval(low, high, low_open)}{unit}, "
+        raise ValueError(f"{name} must be a number in {interval}{unit}, "
                          f"got {value!r} ({type(value).__name__})")
     try:
         v = float(value)
     except OverflowError:  # an int too large for a float: out of range, on its side
         v = math.inf if value > 0 else -math.inf
-    if not math.isfinite(v) or v < low or v > high or (low_open and v == low):
-        raise ValueError(f"{name} must be a finite number in {_interval(low, high, low_open)}{unit}, got {value!r}")
+    if not math.isfinite(v) or v < low or v > high or (low_open and v == low) or (high_open and v == high):
+        raise ValueError(f"{name} must be a finite number in {interval}{unit}, got {value!r}")
     return v
 
 
@@ -66,5 +68,5 @@ def check_choice(name: str, value: Any, allowed: Iterable[str]) -> str:
     return value
 
 
-def _interval(low: float, high: float, low_open: bool) -> str:
-    return f"{'(' if low_open else '['}{low:g}, {high:g}]"
+def _interval(low: float, high: float, low_open: bool, high_open: bool = False) -> str:
+    return f"{'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}"

@@ -87,10 +87,7 @@ LOG_STD_FLOOR = 1e-6  # a std below this (log units) scores as this: a point est
 
 def check_coverage(name: str, coverage: float) -> float:
     """A coverage: a number in (0, 1) (ValueError naming ``name`` otherwise)."""
-    value = check_number(name, coverage, 0.0, 1.0, low_open=True)
-    if value == 1.0:
-        raise ValueError(f"{name} must be a number in (0, 1): a coverage of 1 needs an unbounded interval, got 1")
-    return value
+    return check_number(name, coverage, 0.0, 1.0, low_open=True, high_open=True)  # 1: an unbounded interval
 
 
 def conformal_quantile(scores: Iterable[float], coverage: float) -> float:
