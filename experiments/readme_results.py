@@ -886,6 +886,15 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # --cost-budget 0.07, each seed on the four validation plays (python experiments/validation_plays.py rule109LK
         # --caution-policy runs/caution_lagrangian_long/seed_K/model.zip), --report with
         # the three seeds' plays and --baseline the _rule95shipped53_ ones (learned_caution_rule109)
+        # rule 110: python experiments/train_estimator.py --policy cof_gym/agents/policies/interrogator
+        # --out runs/estimator_encoder --climbs env=3000 procedural=3000 env_encoder=3000 procedural_encoder=3000;
+        # validation_plays.py rule110EL --estimators runs/estimator_encoder/ensemble --set estimate_from=estimator
+        # --encoder-lag (and rule110ELG with estimate_from=guard_estimator_pooled), rule95shipped53 and --hand-built
+        # with --encoder-lag-only; frontier.py $(P rule95shipped53) $(P rule110EL) $(P rule110ELG) --shipped
+        # $(P rule95shipped53) --references ... --rows (frontier_rule110_validation) and the same on the
+        # _encoder_lag_s records (frontier_rule110_encoder_lag); rule_check.py on the four pairs --errors --error-grid
+        # family --returns --more-runaways 1440 --same-climbs (rule_check_rule110C_i) and on the encoder_lag_s pair
+        # --gain --errors --error-grid family --returns --more-runaways 360 (rule_check_rule110C_ii)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1228,6 +1237,8 @@ SOURCES = {
         "learned_caution_rule106", "frontier_rule106_validation", "rule_check_rule106L3_c",
         "frontier_rule107_validation", "rule_check_rule107E_c", "learned_caution_rule108",
         "learned_caution_rule109",
+        "frontier_rule110_validation", "frontier_rule110_encoder_lag",
+        *(f"rule_check_rule110{c}_{k}" for c in ("EL", "ELG") for k in ("i", "ii")),
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
