@@ -43,7 +43,8 @@ sys.path.insert(0, str(HERE))
 
 from crest_tradeoff import checked_climb, climb_item  # noqa: E402
 from script_checks import check_out_dir  # noqa: E402
-from train_interrogator import CONFIGS, ENV_ID, fit_networks, parse_climbs, require_networks, split  # noqa: E402
+from train_interrogator import (  # noqa: E402
+    CONFIGS, ENCODER_LAGS_S, ENV_ID, fit_networks, parse_climbs, require_networks, split)
 
 from cof_gym.agents.interrogator import (  # noqa: E402
     SHIPPED_INTERROGATOR, FilterEnsemble, manifest_climb, manifest_guards, read_manifest,
@@ -55,7 +56,6 @@ from cof_gym.agents.interrogator.training import (  # noqa: E402
 )
 
 # the on-policy collections: name -> (first seed, what the episodes draw beyond the env's own)
-ENCODER_LAGS_S = (0.0, 0.02)  # the encoder lags (s) of the *_encoder collections (rule 110): 0-32 deg at 5 Hz
 ON_POLICY = {"env": (TRAINING_SEED + 1_100_000, ClimbDraws()),
              "procedural": (TRAINING_SEED + 1_200_000, ClimbDraws(shapes="procedural")),
              # the same with the encoder's speed signal lagged (a time constant drawn per climb; v2 draws none)

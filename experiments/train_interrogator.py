@@ -139,6 +139,7 @@ CONFIGS = [{}, {"counter_torque": True}]  # the two vehicle configurations train
 # drive's lag (s) where the env draws 0-1 and 0-0.03 s, and the torque gain error where it draws +-5 %
 PAST_DRAWS_NOISE_AND_LAG = {"noise_levels": (0.0, NOISE_LEVEL_MAX), "motor_lags_s": (0.0, MOTOR_LAG_MAX_S)}
 _TORQUE_GAIN_ACCEPTED = SYSTEMATIC_ERRORS["torque_gain_error"].accepted
+ENCODER_LAGS_S = (0.0, 0.02)  # the encoder lags (s) of the *_encoder collections (rule 110): 0-32 deg at 5 Hz
 WIDE_TORQUE_GAIN = {"sensor_errors": (("torque_gain_error", -_TORQUE_GAIN_ACCEPTED, _TORQUE_GAIN_ACCEPTED),)}
 # the training climbs: name -> (cache file in OUT, first seed, what the climbs draw beyond the env's own
 # randomisation (cof_gym.agents.interrogator.training.ClimbDraws)), and how many of each the recipe uses
@@ -188,6 +189,14 @@ COLLECTIONS = {
                           ClimbDraws(**PAST_DRAWS_NOISE_AND_LAG, **WIDE_TORQUE_GAIN)),
     "procedural_noisy_torque_wide": ("climbs_procedural_noisy_torque_wide.npz", TRAINING_SEED + 2_000_000,
                                      ClimbDraws(shapes="procedural", **PAST_DRAWS_NOISE_AND_LAG, **WIDE_TORQUE_GAIN)),
+    # the recipe's climbs with the encoder's speed signal lagged 0-20 ms per climb (v2 draws none; session 60: the
+    # data for a filter and guards that have met a smoothed encoder; seeds from 3 300 000 and 3 400 000, those from
+    # 3 100 000 and 3 200 000 being train_estimator.py's on-policy encoder collections)
+    "torque_wide_encoder": ("climbs_torque_wide_encoder.npz", TRAINING_SEED + 2_300_000,
+                            ClimbDraws(**WIDE_TORQUE_GAIN, encoder_lags_s=ENCODER_LAGS_S)),
+    "procedural_torque_wide_encoder": ("climbs_procedural_torque_wide_encoder.npz", TRAINING_SEED + 2_400_000,
+                                       ClimbDraws(shapes="procedural", **WIDE_TORQUE_GAIN,
+                                                  encoder_lags_s=ENCODER_LAGS_S)),
 }
 # the shipped recipe (procedural and high_frequency lost on validation: README): since session 48 (rule 74) the env's
 # draws with the torque gain anywhere within +-15 %, read calibrated by the torque balance (RECIPE_BALANCE_LAG_DEG)

@@ -193,6 +193,22 @@ def test_noisy_training_climbs_draw_the_sensors_noise_and_the_drives_lag_in_thei
             ClimbDraws(**{field: bad})
 
 
+def test_training_climbs_draw_the_encoders_lag_in_its_range_where_asked():
+    """With encoder_lags_s a training climb's episode plays an encoder lag drawn in that range (the same for the same
+    seed, from a generator of its own: the other draws unchanged), which the env plays (its ground truth says so);
+    a range past what the env accepts is refused naming the field."""
+    env = ResetRecorder(gym.make(cof_gym.WAGON_ENV_ID))
+    drawn = []
+    for seed in (3_300_500, 3_300_501, 3_300_500):
+        _climb_episode(env, seed, ClimbDraws(encoder_lags_s=(0.005, 0.02)))
+        assert 0.005 <= env.options["encoder_lag_s"] <= 0.02 and set(env.options) == {"encoder_lag_s"}
+        assert env.truth["encoder_lag_s"] == env.options["encoder_lag_s"]
+        drawn.append(env.options["encoder_lag_s"])
+    assert drawn[0] == drawn[2] != drawn[1]
+    with pytest.raises(ValueError, match="encoder_lags_s"):
+        ClimbDraws(encoder_lags_s=(0.0, 0.1))
+
+
 def test_training_climbs_draw_systematic_sensor_errors_past_the_envs_draws_where_asked():
     """With sensor_errors a training climb's episode plays each named systematic error drawn uniform in its range
     (the same for the same seed), as a reset option the env plays; ranges past what the env accepts, unknown
