@@ -896,11 +896,12 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # family --returns --more-runaways 1440 --same-climbs (rule_check_rule110C_i) and on the encoder_lag_s pair
         # --gain --errors --error-grid family --returns --more-runaways 360 (rule_check_rule110C_ii)
         # rule 111: validation_plays.py rule111ELG --estimators runs/estimator_encoder/ensemble --set
-        # estimate_from=guard_estimator_pooled --confirmation confirmation36 torque_confirmation17 extremes_confirmation8
-        # --encoder-lag, the same for rule111shipped and --hand-built; frontier.py over the five plays joined by +
-        # with --rows (frontier_rule111) and on the _confirmation36_encoder_lag_s records (frontier_rule111_encoder_lag);
-        # rule_check.py with the five pairs --gain --errors --error-grid family --returns --more-runaways 2352
-        # --same-climbs (rule_check_rule111) and the lag's pair with --more-runaways 360 (rule_check_rule111_encoder_lag)
+        # estimate_from=guard_estimator_pooled --confirmation confirmation36 torque_confirmation17
+        # extremes_confirmation8 --encoder-lag, the same for rule111shipped and --hand-built; frontier.py over the
+        # five plays joined by + with --rows (frontier_rule111) and on the _confirmation36_encoder_lag_s records
+        # (frontier_rule111_encoder_lag); rule_check.py with the five pairs --gain --errors --error-grid family
+        # --returns --more-runaways 2352 --same-climbs (rule_check_rule111) and the lag's pair with
+        # --more-runaways 360 (rule_check_rule111_encoder_lag)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
