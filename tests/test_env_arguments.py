@@ -56,6 +56,7 @@ def test_wrong_typed_or_out_of_range_options_name_the_field(field: str, value, f
     ("timestep", 5e-3), ("macro_slip_ratio", 1.0), ("macro_slip_ratio", 0.5), ("macro_slip_floor", -1.0),
     ("macro_slip_floor", np.False_), ("vehicle", "tram"), ("render_mode", "video"),
 ])
+@pytest.mark.filterwarnings("ignore:.*render_mode='video' that is not in the possible render_modes")  # gym.make's
 def test_bad_constructor_arguments_raise_naming_them(field: str, value) -> None:
     with pytest.raises(ValueError, match=f"^{field} must be"):  # the argument's own name, first
         gym.make(WAGON, **{field: value})
