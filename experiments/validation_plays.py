@@ -74,14 +74,16 @@ NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*")  # a name that stands in a file
 
 
 def candidate_commands(name: str, caution_policy: str | None, plays: dict[str, tuple[str, ...]] = PLAYS,
-                       estimators: list[str] | None = None, settings: list[str] | None = None) -> list[list[str]]:
+                       estimators: list[str] | None = None, settings: list[str] | None = None,
+                       run: str | None = None, guards: list[str] | None = None) -> list[list[str]]:
     """The learned agent's ``crest_tradeoff.py`` plays (the four validation plays), recorded under ``name``; with
-    ``estimators`` (network directories whose correction the estimate may read) and climb ``settings``
-    (``NAME=VALUE``, e.g. ``estimate_from=estimator``)."""
+    ``estimators`` (network directories whose correction the estimate may read), climb ``settings``
+    (``NAME=VALUE``, e.g. ``estimate_from=estimator``), a filter ``run`` and ``guards`` in place of the shipped."""
     policy = ["--caution-policy", caution_policy] if caution_policy else []
+    policy += ["--run", run] if run else []
     policy += ["--estimators", *estimators] if estimators else []
     policy += ["--set", *settings] if settings else []
-    return [[sys.executable, script("crest_tradeoff.py"), "--guards", *SHIPPED_GUARDS, "--guards-only",
+    return [[sys.executable, script("crest_tradeoff.py"), "--guards", *(guards or SHIPPED_GUARDS), "--guards-only",
              "--targets", "0.1", "--stops", "--return-digits", "4", *grids, *policy,
              "--records", f"out/records_{name}_{play}.json", "--out", f"out/crest_tradeoff_{name}_{play}.md"]
             for play, grids in plays.items()]
@@ -107,6 +109,10 @@ def build_parser() -> Parser:
     parser.add_argument("--estimators", nargs="+", default=None, metavar="DIR",
                         help="network directories (member_*.npz) whose correction the candidate's estimate may read "
                              "(crest_tradeoff.py --estimators)")
+    parser.add_argument("--run", default=None, metavar="DIR",
+                        help="the candidate's filter networks (member_*.npz) in place of the shipped filter")
+    parser.add_argument("--guards", nargs="+", default=None, metavar="DIR",
+                        help="the candidate's guards (network directories) in place of the shipped two")
     parser.add_argument("--set", nargs="+", default=None, metavar="NAME=VALUE",
                         help="the candidate's climb parameters changed (crest_tradeoff.py --set, e.g. "
                              "estimate_from=estimator)")
@@ -133,9 +139,10 @@ def commands_of(parser: Parser, args: argparse.Namespace) -> list[list[str]]:
         lagged = stressed(grid_set, prefix, ENCODER_STRESS)
         plays = lagged if args.encoder_lag_only else {**plays, **lagged}
     if args.hand_built:
-        if any(v is not None for v in (args.name, args.caution_policy, args.estimators, args.set)):
-            parser.error("--hand-built: takes no NAME, --caution-policy, --estimators or --set (the agents' names "
-                         "name the records)")
+        if any(v is not None for v in (args.name, args.caution_policy, args.estimators, args.set, args.run,
+                                       args.guards)):
+            parser.error("--hand-built: takes no NAME, --caution-policy, --estimators, --set, --run or --guards "
+                         "(the agents' names name the records)")
         return hand_built_commands(plays)
     if args.name is None:
         parser.error("NAME: required (the candidate's name in the records' file names), or --hand-built")
@@ -147,13 +154,16 @@ def commands_of(parser: Parser, args: argparse.Namespace) -> list[list[str]]:
         missing = [m for m in ensemble_members(args.caution_policy) if not m.is_file()]
         if missing:
             parser.error(f"--caution-policy: no file {missing[0]} (a learned_caution.py model.zip)")
-    for directory in args.estimators or []:
-        if not list(Path(directory).glob("member_*.npz")):
-            parser.error(f"--estimators: no member_*.npz in {directory} (a directory of networks)")
+    for flag, directories in (("--estimators", args.estimators), ("--run", [args.run] if args.run else None),
+                              ("--guards", args.guards)):
+        for directory in directories or []:
+            if not list(Path(directory).glob("member_*.npz")):
+                parser.error(f"{flag}: no member_*.npz in {directory} (a directory of networks)")
     for item in args.set or []:
         if "=" not in item:
             parser.error(f"--set: expected NAME=VALUE, got {item!r}")
-    return candidate_commands(args.name, args.caution_policy, plays, args.estimators, args.set)
+    return candidate_commands(args.name, args.caution_policy, plays, args.estimators, args.set, args.run,
+                              args.guards)
 
 
 def main() -> None:

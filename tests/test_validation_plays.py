@@ -80,10 +80,19 @@ def test_a_candidate_reads_estimators_with_a_climb_setting() -> None:
         assert command[command.index("--set") + 1] == "estimate_from=estimator"
 
 
+def test_a_candidate_plays_its_own_filter_and_guards() -> None:
+    guard = "cof_gym/agents/policies/interrogator/guard_1"
+    for command in _commands("cand", "--run", "cof_gym/agents/policies/interrogator", "--guards", guard):
+        assert command[command.index("--run") + 1] == "cof_gym/agents/policies/interrogator"
+        assert command[command.index("--guards") + 1:command.index("--guards-only")] == [guard]
+
+
 @pytest.mark.parametrize("argv, message", [
     (["cand", "--estimators", "no/such/dir"], "--estimators: no member_*.npz in no/such/dir"),
     (["cand", "--set", "estimate_from"], "--set: expected NAME=VALUE"),
     (["--hand-built", "--set", "estimate_from=estimator"], "--hand-built: takes no NAME"),
+    (["cand", "--run", "no/such/dir"], "--run: no member_*.npz in no/such/dir"),
+    (["cand", "--guards", "cof_gym"], "--guards: no member_*.npz in cof_gym"),
 ])
 def test_bad_candidate_arguments_are_one_line(argv, message, capsys) -> None:
     with pytest.raises(SystemExit) as exit_info:
