@@ -277,9 +277,10 @@ def check_policy(parser: Parser, policy: Path) -> None:
     as ``cof-gym evaluate --agents interrogator:DIR`` reads them), before any worker starts."""
     import gymnasium as gym
 
+    import cof_gym
     from cof_gym.agents import registry
 
-    env = gym.make("CofGym/TorqueInterrogation-v2")
+    env = gym.make(cof_gym.WAGON_ENV_ID)
     try:
         registry.make_agent(f"interrogator:{policy}", env)
     except (OSError, ValueError, KeyError) as e:

@@ -34,6 +34,7 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 from make_grids import CONFIRMATION_SETS, EXTREMES_CONFIRMATION_SETS, TORQUE_CONFIRMATION_SETS  # noqa: E402
+from train_interrogator import require_networks  # noqa: E402
 
 from cof_gym.commands.args import Parser  # noqa: E402
 
@@ -156,9 +157,7 @@ def commands_of(parser: Parser, args: argparse.Namespace) -> list[list[str]]:
             parser.error(f"--caution-policy: no file {missing[0]} (a learned_caution.py model.zip)")
     for flag, directories in (("--estimators", args.estimators), ("--run", [args.run] if args.run else None),
                               ("--guards", args.guards)):
-        for directory in directories or []:
-            if not list(Path(directory).glob("member_*.npz")):
-                parser.error(f"{flag}: no member_*.npz in {directory} (a directory of networks)")
+        require_networks(parser, flag, [Path(d) for d in directories or []])
     for item in args.set or []:
         if "=" not in item:
             parser.error(f"--set: expected NAME=VALUE, got {item!r}")

@@ -88,11 +88,11 @@ def test_a_candidate_plays_its_own_filter_and_guards() -> None:
 
 
 @pytest.mark.parametrize("argv, message", [
-    (["cand", "--estimators", "no/such/dir"], "--estimators: no member_*.npz in no/such/dir"),
+    (["cand", "--estimators", "no/such/dir"], "--estimators: no networks (member_*.npz) in no/such/dir"),
     (["cand", "--set", "estimate_from"], "--set: expected NAME=VALUE"),
     (["--hand-built", "--set", "estimate_from=estimator"], "--hand-built: takes no NAME"),
-    (["cand", "--run", "no/such/dir"], "--run: no member_*.npz in no/such/dir"),
-    (["cand", "--guards", "cof_gym"], "--guards: no member_*.npz in cof_gym"),
+    (["cand", "--run", "no/such/dir"], "--run: no networks (member_*.npz) in no/such/dir"),
+    (["cand", "--guards", "cof_gym"], "--guards: no networks (member_*.npz) in cof_gym"),
 ])
 def test_bad_candidate_arguments_are_one_line(argv, message, capsys) -> None:
     with pytest.raises(SystemExit) as exit_info:

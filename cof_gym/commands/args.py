@@ -181,10 +181,6 @@ def positive_float(text: str) -> float:
     return _float_above(text, 0.0, inclusive=False)
 
 
-def non_negative_float(text: str) -> float:
-    return _float_above(text, 0.0, inclusive=True)
-
-
 def name_value(text: str) -> tuple[str, object]:
     """An argparse type: ``NAME=VALUE`` as (name, value), VALUE read as JSON (a number, true/false, null, a list
     or an object) or, where it is no JSON, as the text itself (``condition=dry``); the caller checks both."""

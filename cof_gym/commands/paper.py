@@ -382,5 +382,5 @@ def run(args: argparse.Namespace) -> int:
     print(f"figures and results.json in {args.out}")
     if readme is not None:
         update_readme(Path(readme), results, Path(args.out))
-        print(f"README section rewritten in {args.readme}")
+        print(f"README section rewritten in {readme}")
     return exit_status(results)

@@ -278,13 +278,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "absolute, or the resumed run's)")
     parser.add_argument("--pretrain-episodes", type=non_negative_int, default=0,
                         help="behaviour-clone a scripted expert (policy and value) over N episodes before PPO (0: off)")
-    parser.add_argument("--pretrain-agent", choices=EXPERTS, default=EXPERTS[0],
+    cloning = _pretrain_defaults()
+    parser.add_argument("--pretrain-agent", choices=EXPERTS, default=cloning["pretrain_agent"],
                         help="the expert --pretrain-episodes clones (cof_gym/agents/pretrain.py)")
-    parser.add_argument("--pretrain-log-std", type=_log_std_list, default=None, metavar="L0,...,L4",
+    parser.add_argument("--pretrain-log-std", type=_log_std_list, default=cloning["pretrain_log_std"],
+                        metavar="L0,...,L4",
                         help="the clone's exploration noise, log std per action component (default: the yml's "
                              "log_std_init for all); write --pretrain-log-std=-3,-2,-2,-2,-2 (values start with '-')")
-    parser.add_argument("--pretrain-noise", type=float_in_range(0.0, 2.0, low_inclusive=True), default=0.15,
-                        metavar="STD", help="std of the noise added to the expert's executed actions while cloning "
+    parser.add_argument("--pretrain-noise", type=float_in_range(0.0, 2.0, low_inclusive=True),
+                        default=cloning["pretrain_noise"], metavar="STD", help="std of the noise added to the expert's executed actions while cloning "
                                             "(DART; the actions span [-1, 1])")
     parser.add_argument("--overwrite", action="store_true",
                         help="allow a new run to replace an existing OUT/model.zip")
@@ -399,6 +401,13 @@ PRETRAIN_FLAGS = (("--pretrain-agent", "pretrain_agent"), ("--pretrain-log-std",
                   ("--pretrain-noise", "pretrain_noise"))  # the flags that only shape --pretrain-episodes' cloning
 
 
+def _pretrain_defaults() -> dict[str, Any]:
+    """The cloning flags' defaults (by dest): the first expert, the yml's log std, a DART noise std of 0.15."""
+    from cof_gym.agents.pretrain import EXPERTS
+
+    return {"pretrain_agent": EXPERTS[0], "pretrain_log_std": None, "pretrain_noise": 0.15}
+
+
 def _check_pretrain(args: argparse.Namespace, resuming: bool) -> None:
     """Behaviour cloning's flags where they act: a resumed model is not cloned again, and a cloning setting
     away from its default needs ``--pretrain-episodes`` (it would be ignored)."""
@@ -407,9 +416,9 @@ def _check_pretrain(args: argparse.Namespace, resuming: bool) -> None:
     if args.pretrain_episodes > 0 and resuming:
         raise UsageError("--pretrain-episodes", "a resumed model is not behaviour-cloned again; drop it or --resume")
     if args.pretrain_episodes == 0:
-        defaults = build_parser()
+        defaults = _pretrain_defaults()
         for flag, dest in PRETRAIN_FLAGS:
-            if getattr(args, dest) != defaults.get_default(dest):
+            if getattr(args, dest) != defaults[dest]:
                 raise UsageError(flag, "has no effect without --pretrain-episodes N (N >= 1)")
 
 

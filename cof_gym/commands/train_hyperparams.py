@@ -9,7 +9,7 @@ from typing import Any
 
 import gymnasium as gym
 
-from cof_gym.task.validation import check_int, check_number
+from cof_gym.task.validation import check_bool, check_int, check_number
 
 DEFAULT_CONF = Path(__file__).resolve().parents[1] / "agents" / "hyperparams" / "ppo.yml"
 _SCHEDULED = ("learning_rate", "clip_range", "clip_range_vf")
@@ -155,8 +155,8 @@ def check_ppo_kwargs(policy: str, ppo_kwargs: dict[str, Any], observation_space:
         if key in ppo_kwargs:
             check_int(key, ppo_kwargs[key], *INT_BOUNDS[key])
     for key in PPO_BOOLS:
-        if key in ppo_kwargs and not isinstance(ppo_kwargs[key], bool):
-            raise ValueError(f"{key} must be True or False, got {ppo_kwargs[key]!r} ({type(ppo_kwargs[key]).__name__})")
+        if key in ppo_kwargs:
+            check_bool(key, ppo_kwargs[key])
     for key, (low, high, low_open) in PPO_BOUNDS.items():
         if ppo_kwargs.get(key) is not None and not callable(ppo_kwargs[key]):
             check_number(key, ppo_kwargs[key], low, high, low_open=low_open)
