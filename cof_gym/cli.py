@@ -108,13 +108,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_bench)
     _add_reproduce(sub)
     _add_watch(sub)
+    for command_parser in sub.choices.values():  # each command's errors are named by its own parser
+        command_parser.set_defaults(command_parser=command_parser)
     return parser
-
-
-def _command_parser(parser: argparse.ArgumentParser, command: str) -> argparse.ArgumentParser:
-    """The parser of ``command`` (a sub-command of ``parser``)."""
-    (commands,) = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
-    return commands.choices[command]
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -122,7 +118,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args, extras = parser.parse_known_args(argv)
     if extras:  # named by the command's own parser ("cof-gym evaluate: error: ..."), as its other errors are
-        _command_parser(parser, args.command).error(f"unrecognized arguments: {' '.join(extras)}")
+        args.command_parser.error(f"unrecognized arguments: {' '.join(extras)}")
     command = f"{PROG} {args.command}"
     try:
         return int(args.func(args) or 0)

@@ -676,7 +676,8 @@ def _initial_meta(args: argparse.Namespace, plan: TrainPlan, seed: int, vec: str
                   previous_steps: int) -> dict[str, Any]:
     """train_meta.json before set-up: the command, the plan, the versions, status ``setting up``."""
     meta: dict[str, Any] = {
-        "command": shlex.join(sys.argv), "argv": sys.argv, "args": {k: v for k, v in vars(args).items() if k != "func"},
+        "command": shlex.join(sys.argv), "argv": sys.argv,
+        "args": {k: v for k, v in vars(args).items() if k not in ("func", "command_parser")},  # the options only
         "algo": args.algo, "env_id": plan.env_id, "env_kwargs": plan.env_kwargs, "action_adapter": plan.adapter,
         "seed": seed, "n_envs": plan.n_envs, "vec": vec,
         "timesteps_requested": plan.timesteps, "conf_file": str(args.conf_file),
