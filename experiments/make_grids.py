@@ -141,7 +141,11 @@
   judged rule 104 (session 56).
 - ``suites/v2_confirmation36_grid.json``, ``suites/v2_confirmation36_procedural_grid.json`` and
   ``suites/v2_confirmation36_steep_grid.json`` (session 56, seeds 491 000, 493 000, 495 000): a thirty-sixth such
-  set, written before any agent played them, after the thirty-fifth had judged rule 104, for the next rule.
+  set, written before any agent played them, after the thirty-fifth had judged rule 104, for the next rule; it
+  judged rule 111 (session 60).
+- ``suites/v2_confirmation37_grid.json``, ``suites/v2_confirmation37_procedural_grid.json`` and
+  ``suites/v2_confirmation37_steep_grid.json`` (session 61, seeds 511 000, 513 000, 515 000): a thirty-seventh such
+  set, written before any agent played them, after the thirty-sixth had judged rule 111, for rule 113.
 - ``suites/v2_stress_tables_grid.json`` (session 50, seeds from 305 000): reporting only, never a held-out grid of
   the targets: creep curves at the edges of what a table may be (:data:`STRESS_SHAPES`: a cliff just past the
   peak, a plateau with no falling branch, a shoulder before the peak, a peak with no knee before it, and a peak at
@@ -176,7 +180,10 @@
   any agent played it, after the sixth had judged rule 102 (``--grids extremes_confirmation7``); it judged rule 104
   (session 56).
 - ``suites/v2_extremes_confirmation8_grid.json`` (session 56, seeds from 503 000): an eighth such set, written before
-  any agent played it, after the seventh had judged rule 104 (``--grids extremes_confirmation8``).
+  any agent played it, after the seventh had judged rule 104 (``--grids extremes_confirmation8``); it judged rule 111
+  (session 60).
+- ``suites/v2_extremes_confirmation9_grid.json`` (session 61, seeds from 523 000): a ninth such set, written before
+  any agent played it, after the eighth had judged rule 111 (``--grids extremes_confirmation9``), for rule 113.
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
@@ -247,7 +254,11 @@
   judged rule 104 (session 56).
 - ``suites/v2_torque_confirmation17_grid.json``, ``suites/v2_torque_confirmation17_procedural_grid.json`` and
   ``suites/v2_torque_confirmation17_steep_grid.json`` (session 56, seeds 497 000, 499 000, 501 000): a seventeenth
-  such set, written before any agent played them, after the sixteenth had judged rule 104, for the next rule.
+  such set, written before any agent played them, after the sixteenth had judged rule 104, for the next rule; it
+  judged rule 111 (session 60).
+- ``suites/v2_torque_confirmation18_grid.json``, ``suites/v2_torque_confirmation18_procedural_grid.json`` and
+  ``suites/v2_torque_confirmation18_steep_grid.json`` (session 61, seeds 517 000, 519 000, 521 000): an eighteenth
+  such set, written before any agent played them, after the seventeenth had judged rule 111, for rule 113.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -613,7 +624,7 @@ ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", 
             "eighteenth ", "nineteenth ", "twentieth ", "twenty-first ", "twenty-second ", "twenty-third ",
             "twenty-fourth ", "twenty-fifth ", "twenty-sixth ", "twenty-seventh ", "twenty-eighth ", "twenty-ninth ",
             "thirtieth ", "thirty-first ", "thirty-second ", "thirty-third ", "thirty-fourth ", "thirty-fifth ",
-            "thirty-sixth ")
+            "thirty-sixth ", "thirty-seventh ")
 
 # the confirmation sets, in the order they were written (the module docstring says when, and for which rule):
 # name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and steep grids; each was written
@@ -693,6 +704,9 @@ CONFIRMATION_SETS = {
     "confirmation36": (((0.05, 0.31, 0.55, 0.78, 0.95), (5.5, 18.5, 33.5), 491_000),
                        ((0.07, 0.38, 0.7, 0.91), (9.0, 21.0, 37.5), 493_000),
                        ((0.11, 0.44, 0.82), (7.5, 20.0, 36.0), 495_000)),
+    "confirmation37": (((0.04, 0.29, 0.56, 0.8, 0.94), (6.0, 17.0, 34.0), 511_000),
+                       ((0.08, 0.39, 0.67, 0.93), (8.0, 21.5, 36.5), 513_000),
+                       ((0.12, 0.45, 0.79), (6.5, 20.5, 37.5), 515_000)),
 }
 
 
@@ -755,13 +769,17 @@ TORQUE_CONFIRMATION_SETS = {
     "torque_confirmation17": (((0.06, 0.3, 0.54, 0.79, 0.93), (6.0, 17.5, 34.5), 497_000),
                               ((0.09, 0.41, 0.69, 0.9), (8.5, 22.5, 36.0), 499_000),
                               ((0.13, 0.47, 0.83), (7.0, 19.5, 37.0), 501_000)),
+    "torque_confirmation18": (((0.05, 0.32, 0.53, 0.77, 0.95), (6.5, 18.0, 33.0), 517_000),
+                              ((0.07, 0.39, 0.7, 0.91), (9.0, 21.0, 37.5), 519_000),
+                              ((0.11, 0.43, 0.82), (7.5, 19.0, 36.5), 521_000)),
 }
 # the confirmation sets past every draw at once (v2_extremes_grid's draw, 96 episodes each), in the order they were
 # written (the module docstring says when, and for which rule): name -> first seed
 EXTREMES_CONFIRMATION_SETS = {"extremes_confirmation": 361_000, "extremes_confirmation2": 383_000,
                               "extremes_confirmation3": 403_000, "extremes_confirmation4": 423_000,
                               "extremes_confirmation5": 443_000, "extremes_confirmation6": 463_000,
-                              "extremes_confirmation7": 483_000, "extremes_confirmation8": 503_000}
+                              "extremes_confirmation7": 483_000, "extremes_confirmation8": 503_000,
+                              "extremes_confirmation9": 523_000}
 GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0  # the golden ratio's fraction: a low-discrepancy sequence k x GOLDEN mod 1
 
 

@@ -902,6 +902,15 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # (frontier_rule111_encoder_lag); rule_check.py with the five pairs --gain --errors --error-grid family
         # --returns --more-runaways 2352 --same-climbs (rule_check_rule111) and the lag's pair with
         # --more-runaways 360 (rule_check_rule111_encoder_lag)
+        # rule 112: runs/rule112.sh (train_interrogator.py --out runs/interrogator_encoder --climbs torque_wide=8000
+        # torque_wide_encoder=8000 --guard-climbs torque_wide=8000 procedural_torque_wide=8000
+        # torque_wide_encoder=8000 procedural_torque_wide_encoder=8000 --fit-only; validation_plays.py rule112LF
+        # --run runs/interrogator_encoder/ensemble --guards cof_gym/agents/policies/interrogator/guard_0
+        # runs/interrogator_encoder/guard/ensemble --encoder-lag); frontier.py $(P rule95shipped53) $(P rule112LF)
+        # --shipped $(P rule95shipped53) --references ... --rows (frontier_rule112_validation) and the same on the
+        # _encoder_lag_s records (frontier_rule112_encoder_lag); rule_check.py on the four pairs --errors
+        # --error-grid family --returns --more-runaways 1440 (rule_check_rule112LF_i) and on the encoder_lag_s pair
+        # --gain --errors --error-grid family --returns --more-runaways 360 (rule_check_rule112LF_ii)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1247,6 +1256,7 @@ SOURCES = {
         "frontier_rule110_validation", "frontier_rule110_encoder_lag",
         *(f"rule_check_rule110{c}_{k}" for c in ("EL", "ELG") for k in ("i", "ii")),
         "frontier_rule111", "rule_check_rule111", "frontier_rule111_encoder_lag", "rule_check_rule111_encoder_lag",
+        "frontier_rule112_validation", "frontier_rule112_encoder_lag", "rule_check_rule112LF_i", "rule_check_rule112LF_ii",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
