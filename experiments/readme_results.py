@@ -1256,7 +1256,8 @@ SOURCES = {
         "frontier_rule110_validation", "frontier_rule110_encoder_lag",
         *(f"rule_check_rule110{c}_{k}" for c in ("EL", "ELG") for k in ("i", "ii")),
         "frontier_rule111", "rule_check_rule111", "frontier_rule111_encoder_lag", "rule_check_rule111_encoder_lag",
-        "frontier_rule112_validation", "frontier_rule112_encoder_lag", "rule_check_rule112LF_i", "rule_check_rule112LF_ii",
+        "frontier_rule112_validation", "frontier_rule112_encoder_lag",
+        "rule_check_rule112LF_i", "rule_check_rule112LF_ii",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
