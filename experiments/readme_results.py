@@ -911,6 +911,13 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # _encoder_lag_s records (frontier_rule112_encoder_lag); rule_check.py on the four pairs --errors
         # --error-grid family --returns --more-runaways 1440 (rule_check_rule112LF_i) and on the encoder_lag_s pair
         # --gain --errors --error-grid family --returns --more-runaways 360 (rule_check_rule112LF_ii)
+        # rule 113: runs/confirm113.sh (validation_plays.py rule113LF --run runs/interrogator_encoder/ensemble
+        # --guards cof_gym/agents/policies/interrogator/guard_0 runs/interrogator_encoder/guard/ensemble
+        # --confirmation confirmation37 torque_confirmation18 extremes_confirmation9 --encoder-lag, the same for
+        # rule113shipped and --hand-built); frontier.py over the five plays joined by + with --rows
+        # (frontier_rule113) and on the _confirmation37_encoder_lag_s records (frontier_rule113_encoder_lag);
+        # rule_check.py with the five pairs --gain --errors --error-grid family --returns --more-runaways 2352
+        # (rule_check_rule113) and the lag's pair with --more-runaways 360 (rule_check_rule113_encoder_lag)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1258,6 +1265,7 @@ SOURCES = {
         "frontier_rule111", "rule_check_rule111", "frontier_rule111_encoder_lag", "rule_check_rule111_encoder_lag",
         "frontier_rule112_validation", "frontier_rule112_encoder_lag",
         "rule_check_rule112LF_i", "rule_check_rule112LF_ii",
+        "frontier_rule113", "rule_check_rule113", "frontier_rule113_encoder_lag", "rule_check_rule113_encoder_lag",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
