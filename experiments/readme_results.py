@@ -918,6 +918,7 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # (frontier_rule113) and on the _confirmation37_encoder_lag_s records (frontier_rule113_encoder_lag);
         # rule_check.py with the five pairs --gain --errors --error-grid family --returns --more-runaways 2352
         # (rule_check_rule113) and the lag's pair with --more-runaways 360 (rule_check_rule113_encoder_lag)
+        # headroom_bias_rule113: python experiments/headroom_bias.py as its docstring gives it
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1266,6 +1267,7 @@ SOURCES = {
         "frontier_rule112_validation", "frontier_rule112_encoder_lag",
         "rule_check_rule112LF_i", "rule_check_rule112LF_ii",
         "frontier_rule113", "rule_check_rule113", "frontier_rule113_encoder_lag", "rule_check_rule113_encoder_lag",
+        "headroom_bias_rule113",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
