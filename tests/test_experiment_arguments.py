@@ -191,7 +191,7 @@ REQUIRED = {"assemble_policy": ["--filter", "f", "--out", "o"], "feature_block_n
             "runaways_by_option": ["records.json", "--option", "x", "--edges", "0"],
             "ppo_seeds": ["--runs", "run"], "zoo_eval": ["model.zip"], "rule_check": ["base.json", "candidate.json"],
             "frontier": ["records.json"], "scripted_plays": ["--agents", "phase-rule", "--records", "r.json"],
-            "learned_caution": ["--out", "o"]}
+            "learned_caution": ["--out", "o"], "headroom_bias": ["--networks", "a=n", "--climbs", "c.npz"]}
 
 
 def test_every_script_parses_with_the_one_line_parser() -> None:
