@@ -145,7 +145,8 @@
   judged rule 111 (session 60).
 - ``suites/v2_confirmation37_grid.json``, ``suites/v2_confirmation37_procedural_grid.json`` and
   ``suites/v2_confirmation37_steep_grid.json`` (session 61, seeds 511 000, 513 000, 515 000): a thirty-seventh such
-  set, written before any agent played them, after the thirty-sixth had judged rule 111, for rule 113.
+  set, written before any agent played them, after the thirty-sixth had judged rule 111; it judged rule 113
+  (session 61).
 - ``suites/v2_stress_tables_grid.json`` (session 50, seeds from 305 000): reporting only, never a held-out grid of
   the targets: creep curves at the edges of what a table may be (:data:`STRESS_SHAPES`: a cliff just past the
   peak, a plateau with no falling branch, a shoulder before the peak, a peak with no knee before it, and a peak at
@@ -183,7 +184,8 @@
   any agent played it, after the seventh had judged rule 104 (``--grids extremes_confirmation8``); it judged rule 111
   (session 60).
 - ``suites/v2_extremes_confirmation9_grid.json`` (session 61, seeds from 523 000): a ninth such set, written before
-  any agent played it, after the eighth had judged rule 111 (``--grids extremes_confirmation9``), for rule 113.
+  any agent played it, after the eighth had judged rule 111 (``--grids extremes_confirmation9``); it judged rule 113
+  (session 61).
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
@@ -258,7 +260,8 @@
   judged rule 111 (session 60).
 - ``suites/v2_torque_confirmation18_grid.json``, ``suites/v2_torque_confirmation18_procedural_grid.json`` and
   ``suites/v2_torque_confirmation18_steep_grid.json`` (session 61, seeds 517 000, 519 000, 521 000): an eighteenth
-  such set, written before any agent played them, after the seventeenth had judged rule 111, for rule 113.
+  such set, written before any agent played them, after the seventeenth had judged rule 111; it judged rule 113
+  (session 61).
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
