@@ -147,6 +147,9 @@
   ``suites/v2_confirmation37_steep_grid.json`` (session 61, seeds 511 000, 513 000, 515 000): a thirty-seventh such
   set, written before any agent played them, after the thirty-sixth had judged rule 111; it judged rule 113
   (session 61).
+- ``suites/v2_confirmation38_grid.json``, ``suites/v2_confirmation38_procedural_grid.json`` and
+  ``suites/v2_confirmation38_steep_grid.json`` (session 61, seeds 531 000, 533 000, 535 000): a thirty-eighth such
+  set, written before any agent played them, after the thirty-seventh had judged rule 113, for rule 114.
 - ``suites/v2_stress_tables_grid.json`` (session 50, seeds from 305 000): reporting only, never a held-out grid of
   the targets: creep curves at the edges of what a table may be (:data:`STRESS_SHAPES`: a cliff just past the
   peak, a plateau with no falling branch, a shoulder before the peak, a peak with no knee before it, and a peak at
@@ -186,6 +189,8 @@
 - ``suites/v2_extremes_confirmation9_grid.json`` (session 61, seeds from 523 000): a ninth such set, written before
   any agent played it, after the eighth had judged rule 111 (``--grids extremes_confirmation9``); it judged rule 113
   (session 61).
+- ``suites/v2_extremes_confirmation10_grid.json`` (session 61, seeds from 543 000): a tenth such set, written before
+  any agent played it, after the ninth had judged rule 113 (``--grids extremes_confirmation10``), for rule 114.
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
@@ -262,6 +267,9 @@
   ``suites/v2_torque_confirmation18_steep_grid.json`` (session 61, seeds 517 000, 519 000, 521 000): an eighteenth
   such set, written before any agent played them, after the seventeenth had judged rule 111; it judged rule 113
   (session 61).
+- ``suites/v2_torque_confirmation19_grid.json``, ``suites/v2_torque_confirmation19_procedural_grid.json`` and
+  ``suites/v2_torque_confirmation19_steep_grid.json`` (session 61, seeds 537 000, 539 000, 541 000): a nineteenth
+  such set, written before any agent played them, after the eighteenth had judged rule 113, for rule 114.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -627,7 +635,7 @@ ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", 
             "eighteenth ", "nineteenth ", "twentieth ", "twenty-first ", "twenty-second ", "twenty-third ",
             "twenty-fourth ", "twenty-fifth ", "twenty-sixth ", "twenty-seventh ", "twenty-eighth ", "twenty-ninth ",
             "thirtieth ", "thirty-first ", "thirty-second ", "thirty-third ", "thirty-fourth ", "thirty-fifth ",
-            "thirty-sixth ", "thirty-seventh ")
+            "thirty-sixth ", "thirty-seventh ", "thirty-eighth ")
 
 # the confirmation sets, in the order they were written (the module docstring says when, and for which rule):
 # name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and steep grids; each was written
@@ -710,6 +718,9 @@ CONFIRMATION_SETS = {
     "confirmation37": (((0.04, 0.29, 0.56, 0.8, 0.94), (6.0, 17.0, 34.0), 511_000),
                        ((0.08, 0.39, 0.67, 0.93), (8.0, 21.5, 36.5), 513_000),
                        ((0.12, 0.45, 0.79), (6.5, 20.5, 37.5), 515_000)),
+    "confirmation38": (((0.06, 0.28, 0.53, 0.79, 0.95), (5.0, 18.0, 33.5), 531_000),
+                       ((0.09, 0.4, 0.69, 0.92), (9.5, 20.5, 37.0), 533_000),
+                       ((0.13, 0.46, 0.8), (7.0, 21.0, 36.5), 535_000)),
 }
 
 
@@ -775,6 +786,9 @@ TORQUE_CONFIRMATION_SETS = {
     "torque_confirmation18": (((0.05, 0.32, 0.53, 0.77, 0.95), (6.5, 18.0, 33.0), 517_000),
                               ((0.07, 0.39, 0.7, 0.91), (9.0, 21.0, 37.5), 519_000),
                               ((0.11, 0.43, 0.82), (7.5, 19.0, 36.5), 521_000)),
+    "torque_confirmation19": (((0.04, 0.3, 0.55, 0.8, 0.94), (7.0, 17.5, 34.0), 537_000),
+                              ((0.08, 0.42, 0.68, 0.93), (8.5, 22.0, 36.0), 539_000),
+                              ((0.12, 0.47, 0.79), (6.0, 20.0, 37.5), 541_000)),
 }
 # the confirmation sets past every draw at once (v2_extremes_grid's draw, 96 episodes each), in the order they were
 # written (the module docstring says when, and for which rule): name -> first seed
@@ -782,7 +796,7 @@ EXTREMES_CONFIRMATION_SETS = {"extremes_confirmation": 361_000, "extremes_confir
                               "extremes_confirmation3": 403_000, "extremes_confirmation4": 423_000,
                               "extremes_confirmation5": 443_000, "extremes_confirmation6": 463_000,
                               "extremes_confirmation7": 483_000, "extremes_confirmation8": 503_000,
-                              "extremes_confirmation9": 523_000}
+                              "extremes_confirmation9": 523_000, "extremes_confirmation10": 543_000}
 GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0  # the golden ratio's fraction: a low-discrepancy sequence k x GOLDEN mod 1
 
 

@@ -919,6 +919,10 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # rule_check.py with the five pairs --gain --errors --error-grid family --returns --more-runaways 2352
         # (rule_check_rule113) and the lag's pair with --more-runaways 360 (rule_check_rule113_encoder_lag)
         # headroom_bias_rule113: python experiments/headroom_bias.py as its docstring gives it
+        # rule 114: runs/rule114.sh (validation_plays.py rule114LFf --run runs/interrogator_encoder/ensemble
+        # --encoder-lag); frontier.py and rule_check.py as for rule 112 with rule114LFf, rule_check.py with --gain
+        # (frontier_rule114_validation, frontier_rule114_encoder_lag, rule_check_rule114LFf_validation,
+        # rule_check_rule114LFf_encoder_lag)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1268,6 +1272,8 @@ SOURCES = {
         "rule_check_rule112LF_i", "rule_check_rule112LF_ii",
         "frontier_rule113", "rule_check_rule113", "frontier_rule113_encoder_lag", "rule_check_rule113_encoder_lag",
         "headroom_bias_rule113",
+        "frontier_rule114_validation", "frontier_rule114_encoder_lag", "rule_check_rule114LFf_validation",
+        "rule_check_rule114LFf_encoder_lag",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
