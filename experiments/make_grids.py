@@ -149,7 +149,8 @@
   (session 61).
 - ``suites/v2_confirmation38_grid.json``, ``suites/v2_confirmation38_procedural_grid.json`` and
   ``suites/v2_confirmation38_steep_grid.json`` (session 61, seeds 531 000, 533 000, 535 000): a thirty-eighth such
-  set, written before any agent played them, after the thirty-seventh had judged rule 113, for rule 114.
+  set, written before any agent played them, after the thirty-seventh had judged rule 113; it judged rule 114 (session
+  61).
 - ``suites/v2_stress_tables_grid.json`` (session 50, seeds from 305 000): reporting only, never a held-out grid of
   the targets: creep curves at the edges of what a table may be (:data:`STRESS_SHAPES`: a cliff just past the
   peak, a plateau with no falling branch, a shoulder before the peak, a peak with no knee before it, and a peak at
@@ -190,7 +191,8 @@
   any agent played it, after the eighth had judged rule 111 (``--grids extremes_confirmation9``); it judged rule 113
   (session 61).
 - ``suites/v2_extremes_confirmation10_grid.json`` (session 61, seeds from 543 000): a tenth such set, written before
-  any agent played it, after the ninth had judged rule 113 (``--grids extremes_confirmation10``), for rule 114.
+  any agent played it, after the ninth had judged rule 113 (``--grids extremes_confirmation10``); it judged rule
+  114 (session 61).
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
@@ -269,7 +271,8 @@
   (session 61).
 - ``suites/v2_torque_confirmation19_grid.json``, ``suites/v2_torque_confirmation19_procedural_grid.json`` and
   ``suites/v2_torque_confirmation19_steep_grid.json`` (session 61, seeds 537 000, 539 000, 541 000): a nineteenth
-  such set, written before any agent played them, after the eighteenth had judged rule 113, for rule 114.
+  such set, written before any agent played them, after the eighteenth had judged rule 113; it judged rule 114
+  (session 61).
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).

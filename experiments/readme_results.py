@@ -923,6 +923,11 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # --encoder-lag); frontier.py and rule_check.py as for rule 112 with rule114LFf, rule_check.py with --gain
         # (frontier_rule114_validation, frontier_rule114_encoder_lag, rule_check_rule114LFf_validation,
         # rule_check_rule114LFf_encoder_lag)
+        # rule 114's confirmation: runs/confirm114.sh (validation_plays.py rule114LFf --run
+        # runs/interrogator_encoder/ensemble, rule114shipped and --hand-built, each --confirmation confirmation38
+        # torque_confirmation19 extremes_confirmation10 --encoder-lag); frontier.py and rule_check.py as for rule 113
+        # (frontier_rule114_confirmation, rule_check_rule114_confirmation, frontier_rule114_confirmation_encoder_lag,
+        # rule_check_rule114_confirmation_encoder_lag)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1274,6 +1279,8 @@ SOURCES = {
         "headroom_bias_rule113",
         "frontier_rule114_validation", "frontier_rule114_encoder_lag", "rule_check_rule114LFf_validation",
         "rule_check_rule114LFf_encoder_lag",
+        "frontier_rule114_confirmation", "rule_check_rule114_confirmation", "frontier_rule114_confirmation_encoder_lag",
+        "rule_check_rule114_confirmation_encoder_lag",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
