@@ -19,14 +19,13 @@ policy): a network's own climbs differ once it steers. Training data only: nothi
 
 from __future__ import annotations
 
-import argparse
 import sys
 from pathlib import Path
 
 import numpy as np
 
 from cof_gym.agents.interrogator.climb import BOUNDED_FIELDS
-from cof_gym.commands.args import Parser, float_in_range
+from cof_gym.commands.args import DistinctNames, Parser, float_in_range, name_path
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
@@ -35,14 +34,6 @@ from train_interrogator import require_networks, split  # noqa: E402
 
 BANDS = ((-np.inf, 0.05), (0.05, 0.15), (0.15, 0.4))  # true headroom ln(M_sat / DC): at, near and short of the peak
 CAUTION_RANGE = BOUNDED_FIELDS["caution"][:2]  # the climb's own range for its caution
-
-
-def named_directory(text: str) -> tuple[str, Path]:
-    """An argparse type: ``NAME=DIR`` as (name, directory)."""
-    name, sep, directory = text.partition("=")
-    if not (sep and name and directory):
-        raise argparse.ArgumentTypeError(f"expected NAME=DIR, got {text!r}")
-    return name, Path(directory)
 
 
 def band_errors(mean: np.ndarray, std: np.ndarray, truth: np.ndarray, caution: float) -> list[tuple[int, float, float]]:
@@ -67,7 +58,7 @@ def band_label(low: float, high: float) -> str:
 
 def build_parser() -> Parser:
     p = Parser(description="Signed headroom error of filter and guard ensembles on held-apart training climbs.")
-    p.add_argument("--networks", nargs="+", required=True, type=named_directory, metavar="NAME=DIR",
+    p.add_argument("--networks", nargs="+", required=True, type=name_path, action=DistinctNames, metavar="NAME=DIR",
                    help="network directories (member_*.npz), each under a name of its own")
     p.add_argument("--climbs", nargs="+", required=True, type=Path, metavar="FILE",
                    help="climbs files train_interrogator.py collected (its runs' climbs_*.npz)")
@@ -81,10 +72,6 @@ def build_parser() -> Parser:
 def main() -> None:
     parser = build_parser()
     args = parser.parse_args()
-    names = [name for name, _ in args.networks]
-    twice = sorted({name for name in names if names.count(name) > 1})
-    if twice:
-        parser.error(f"--networks: the name {twice[0]!r} is given twice")
     require_networks(parser, "--networks", [directory for _, directory in args.networks])
     check_out_file(parser, "--out", args.out)
     held_apart = {path: split(load_climbs(parser, "--climbs", path))[1] for path in args.climbs}

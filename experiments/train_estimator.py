@@ -9,8 +9,8 @@
    from every evaluation seed and from the probing climbs' (ON_POLICY; ``--climbs NAME=N``, default
    4000 each; ``env_encoder`` and ``procedural_encoder``, from 3 100 000 and 3 200 000 on: the same with the
    encoder's speed signal lagged 0-20 ms, uniform per climb, rule 110). Every window is kept with its labels
-   from the episode's truth. Cached in
-   OUT/onpolicy_NAME_DIGEST.npz, the digest naming the policy's networks and climb. ``--collect-only``
+   from the episode's truth. Cached in OUT/onpolicy_NAME_DIGEST.npz, the digest naming the policy's networks
+   and climb. ``--collect-only``
    stops here (a policy's own climbs for another fit: ``train_interrogator.py --add-climbs``). With
    ``--set NAME=VALUE ...`` the policy climbs with those climb parameters changed (a copy of it in
    OUT/policy/ whose manifest says so, e.g. ``--set ceiling_stop=false``: the recipe's first agent as it

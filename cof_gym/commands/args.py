@@ -81,11 +81,29 @@ class StoreDict(argparse.Action):
 class DistinctValues(argparse.Action):
     """A ``nargs`` list whose values must differ (``--seeds 0 0`` would run or fit the same seed twice)."""
 
+    what = "value"  # what the error asks to give once
+
+    @staticmethod
+    def compared(value):
+        """What must differ between two of the values: the value itself."""
+        return value
+
     def __call__(self, parser, namespace, values, option_string=None):
-        repeated = sorted({str(v) for v in values if list(values).count(v) > 1})
+        keys = [self.compared(v) for v in values]
+        repeated = sorted({str(k) for k in keys if keys.count(k) > 1})
         if repeated:
-            parser.error(f"{option_string}: {', '.join(repeated)} given more than once; give each value once")
+            parser.error(f"{option_string}: {', '.join(repeated)} given more than once; give each {self.what} once")
         setattr(namespace, self.dest, list(values))
+
+
+class DistinctNames(DistinctValues):
+    """A ``nargs`` list of ``(name, value)`` pairs (:func:`name_path`) whose names must differ."""
+
+    what = "name"
+
+    @staticmethod
+    def compared(value):
+        return value[0]
 
 
 def _literal_or_text(text: str) -> object:
@@ -181,12 +199,24 @@ def positive_float(text: str) -> float:
     return _float_above(text, 0.0, inclusive=False)
 
 
+def _name_and_text(text: str, what: str) -> tuple[str, str]:
+    """``NAME=...`` split at its first ``=``, both sides non-empty; ArgumentTypeError (``expected NAME=what``)."""
+    name, sep, value = text.partition("=")
+    if not sep or not name or not value:
+        raise argparse.ArgumentTypeError(f"expected NAME={what}, got {text!r}")
+    return name, value
+
+
+def name_path(text: str) -> tuple[str, Path]:
+    """An argparse type: ``NAME=DIR`` as (name, path); the caller checks the path."""
+    name, path = _name_and_text(text, "DIR")
+    return name, Path(path)
+
+
 def name_value(text: str) -> tuple[str, object]:
     """An argparse type: ``NAME=VALUE`` as (name, value), VALUE read as JSON (a number, true/false, null, a list
     or an object) or, where it is no JSON, as the text itself (``condition=dry``); the caller checks both."""
-    name, sep, value = text.partition("=")
-    if not sep or not name or not value:
-        raise argparse.ArgumentTypeError(f"expected NAME=VALUE, got {text!r}")
+    name, value = _name_and_text(text, "VALUE")
     try:
         parsed = json.loads(value)
     except ValueError:  # json.JSONDecodeError is a ValueError
