@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from cof_gym.commands.args import Parser
+from cof_gym.task.validation import check_bool, check_number
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from script_checks import check_out_file  # noqa: E402
@@ -100,16 +101,15 @@ def table(records: list[dict], baseline: str | None = None, compared: list[str] 
 
 def check_record(index: int, record: dict) -> None:
     """An episode's numbers as the tables read them: ``error`` a finite relative error >= 0, ``macro_slip`` a
-    bool, ``episode_return`` (where present) a finite number; ValueError naming the episode and the field."""
-    def real(value) -> bool:
-        return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
-
-    if not (real(record.get("error")) and record["error"] >= 0.0):
-        raise ValueError(f"episode {index}: error must be a finite number >= 0, got {record.get('error')!r}")
-    if not isinstance(record.get("macro_slip"), bool):
-        raise ValueError(f"episode {index}: macro_slip must be true or false, got {record.get('macro_slip')!r}")
-    if "episode_return" in record and not real(record["episode_return"]):
-        raise ValueError(f"episode {index}: episode_return must be a finite number, got {record['episode_return']!r}")
+    bool, ``episode_return`` (where present) a finite number (the task's own checks,
+    :mod:`cof_gym.task.validation`); ValueError naming the episode and the field."""
+    try:
+        check_number("error", record.get("error"), 0.0, math.inf)
+        check_bool("macro_slip", record.get("macro_slip"))
+        if "episode_return" in record:
+            check_number("episode_return", record["episode_return"], -math.inf, math.inf)
+    except ValueError as e:
+        raise ValueError(f"episode {index}: {e}") from None
 
 
 def read_records(path: Path, seen: set[str]) -> list[dict]:
