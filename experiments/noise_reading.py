@@ -31,7 +31,7 @@ from train_interrogator import CONFIGS, VALIDATION, episodes  # noqa: E402
 from cof_gym.agents.interrogator import NOISE_WINDOWS, SHIPPED_INTERROGATOR, first_windows_noise_nms  # noqa: E402
 from cof_gym.commands.args import Parser, positive_int  # noqa: E402
 from cof_gym.task.scenarios import NOISE_LEVEL_MAX  # noqa: E402
-from cof_gym.task.validation import check_number  # noqa: E402
+from cof_gym.validation import check_number  # noqa: E402
 
 
 def read_noise(level: float, config: dict, count: int) -> tuple[list[float], list[float], list[float]]:

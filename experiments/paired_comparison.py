@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from cof_gym.commands.args import Parser
-from cof_gym.task.validation import check_bool, check_number
+from cof_gym.validation import check_bool, check_number
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from script_checks import check_out_file  # noqa: E402
@@ -102,7 +102,7 @@ def table(records: list[dict], baseline: str | None = None, compared: list[str] 
 def check_record(index: int, record: dict) -> None:
     """An episode's numbers as the tables read them: ``error`` a finite relative error >= 0, ``macro_slip`` a
     bool, ``episode_return`` (where present) a finite number (the task's own checks,
-    :mod:`cof_gym.task.validation`); ValueError naming the episode and the field."""
+    :mod:`cof_gym.validation`); ValueError naming the episode and the field."""
     try:
         check_number("error", record.get("error"), 0.0, math.inf)
         check_bool("macro_slip", record.get("macro_slip"))

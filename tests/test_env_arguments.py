@@ -6,15 +6,21 @@ refuses to step."""
 from __future__ import annotations
 
 import json
+import math
+import re
 
 import gymnasium as gym
 import numpy as np
 import pytest
 
 import cof_gym
+from cof_gym.physics.contact_geometry import ContactGeometry
+from cof_gym.physics.creep import OperatingConditions
+from cof_gym.physics.creep_laws import PolachShape
+from cof_gym.physics.simulation import DriveCommand
 from cof_gym.task.scenarios import ScenarioRanges, draw_scenario
 from cof_gym.task.task import TIMESTEP_RANGE_S, InterrogationTask
-from cof_gym.task.validation import check_bool, check_int, check_number
+from cof_gym.validation import check_bool, check_int, check_number
 
 WAGON, HALF = cof_gym.WAGON_ENV_ID, cof_gym.HALF_WHEELSET_ENV_ID
 SHORT = {"max_windows": 3, "window_s": 0.5}
@@ -60,6 +66,40 @@ def test_wrong_typed_or_out_of_range_options_name_the_field(field: str, value, f
 def test_bad_constructor_arguments_raise_naming_them(field: str, value) -> None:
     with pytest.raises(ValueError, match=f"^{field} must be"):  # the argument's own name, first
         gym.make(WAGON, **{field: value})
+
+
+@pytest.mark.parametrize("low,high,low_open,high_open,bad,allowed", [
+    (0.0, math.inf, True, False, 0.0, "> 0"),
+    (0.0, math.inf, False, False, -1.0, ">= 0"),
+    (-math.inf, 1.0, False, True, 1.0, "< 1"),
+    (-math.inf, 1.0, False, False, 2.0, "<= 1"),
+    (-math.inf, math.inf, False, False, math.inf, ""),
+    (0.0, 1.0, True, True, 1.0, "in (0, 1)"),
+])
+def test_a_range_with_an_infinite_end_is_written_as_its_bound(low, high, low_open, high_open, bad, allowed) -> None:
+    """An open side is no bound at all (never "in [0, inf]"), and an infinite value still fails: only finite pass."""
+    with pytest.raises(ValueError, match=re.escape(f"x must be a finite number{' ' + allowed if allowed else ''} "
+                                                   f"N, got {bad!r}")):
+        check_number("x", bad, low, high, low_open=low_open, high_open=high_open, unit=" N")
+    with pytest.raises(ValueError, match=re.escape(f"x must be a number{' ' + allowed if allowed else ''} N, got '1'")):
+        check_number("x", "1", low, high, low_open=low_open, high_open=high_open, unit=" N")
+
+
+@pytest.mark.parametrize("make, message", [
+    (lambda: OperatingConditions(cof=True), "cof must be a number in (0, 1.5], got True (bool)"),
+    (lambda: OperatingConditions(cof=0.3, speed_m_s=-1.0), "speed_m_s must be a finite number > 0 m/s, got -1.0"),
+    (lambda: PolachShape(k_adhesion=1.0, k_slip="0.4", friction_ratio=0.4, friction_decay_s_per_m=0.6),
+     "k_slip must be a number > 0, got '0.4' (str)"),
+    (lambda: ContactGeometry(poisson_ratio=0.5), "poisson_ratio must be a finite number in (0, 0.5), got 0.5"),
+    (lambda: DriveCommand(1000.0, float("nan"), 5.0), "amplitude_nm must be a finite number >= 0 N m, got nan"),
+    # a numpy bool, written as the installed numpy writes it
+    (lambda: DriveCommand(1000.0, 100.0, np.True_), "frequency_hz must be a number in [0.1, 100] Hz, got "),
+])
+def test_the_physics_layer_checks_its_arguments_as_the_env_does(make, message: str) -> None:
+    """One check for every layer (cof_gym.validation): a bool, a string or a NaN built straight into the physics
+    is refused with the field, the range and the value, as at the env's door."""
+    with pytest.raises(ValueError, match="^" + re.escape(message)):
+        make()
 
 
 def test_numpy_booleans_are_booleans_and_never_numbers() -> None:

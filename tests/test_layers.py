@@ -13,7 +13,8 @@ PACKAGE = Path(__file__).resolve().parents[1] / "cof_gym"
 
 # The layer order, lowest first: the one place it is written (README "Layout" describes it).
 LAYERS: tuple[str, ...] = (
-    "measurement",  # sine fit from lock-in sums, comfort filters: no cof_gym imports
+    "validation",  # strict argument checks every layer shares: no cof_gym imports
+    "measurement",  # sine fit from lock-in sums, comfort filters: only the checks below
     "physics",  # creep laws, contact, vehicle models, the native callback
     "analysis",  # small-signal theory of the physics (Eq. 3/4, the paper's schedule), plotting
     "task",  # scenarios, ground truth, action/observation types, reward, creep-curve identification

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from cof_gym.task.interface import OBSERVATION_NAMES, MotorLimits, encode_action
-from cof_gym.task.validation import check_number
+from cof_gym.validation import check_number
 
 COA = OBSERVATION_NAMES.index("coa_measured")
 

@@ -32,7 +32,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from cof_gym.task.interface import MotorLimits, decode_action, encode_action
-from cof_gym.task.validation import check_number
+from cof_gym.validation import check_number
 
 MODIFIER = "runaway"  # the agent-name suffix ``+runaway`` of the registry
 CEILING_MODIFIER = "ceiling"  # ``+ceiling``: the agent as registered with the crest ceiling too

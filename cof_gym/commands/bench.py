@@ -5,6 +5,7 @@ and 2 threads)."""
 
 from __future__ import annotations
 
+import math
 import os
 from pathlib import Path
 import time
@@ -20,6 +21,7 @@ from cof_gym.physics.models import build_wagon
 from cof_gym.physics.native.build import install_callback, native
 from cof_gym.physics.simulation import DriveCommand, Scenario, Simulation, begin_window
 from cof_gym.physics.vehicle import wagon_parameters
+from cof_gym.validation import check_number
 
 
 @dataclass(frozen=True)
@@ -182,8 +184,7 @@ def bench_agent(seconds: float = 5.0, num_envs: int = VECTOR_SIMS, repeats: int 
 def main(seconds: float = 5.0, markdown: str | None = None) -> None:
     """Print the speed table; with ``markdown``, also write it there as a Markdown table (the README's
     speed section is copied from that file by ``experiments/readme_results.py``)."""
-    if not (seconds > 0 and np.isfinite(seconds)):
-        raise ValueError(f"seconds must be a finite number > 0, got {seconds!r}")
+    check_number("seconds", seconds, 0.0, math.inf, low_open=True, unit=" s")
     from rich.console import Console
     from rich.table import Table
 

@@ -33,7 +33,7 @@ from typing import Any, Callable, Iterator
 import cof_gym
 from cof_gym.commands.args import MAX_SEED, name_value
 from cof_gym.task.scenarios import check_fixed
-from cof_gym.task.validation import is_int
+from cof_gym.validation import is_int
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 
 PAPER_COFS = (0.1, 0.2, 0.3, 0.4, 0.5)

@@ -9,7 +9,7 @@ from typing import Any
 
 import gymnasium as gym
 
-from cof_gym.task.validation import check_bool, check_int, check_number
+from cof_gym.validation import check_bool, check_int, check_number
 
 DEFAULT_CONF = Path(__file__).resolve().parents[1] / "agents" / "hyperparams" / "ppo.yml"
 _SCHEDULED = ("learning_rate", "clip_range", "clip_range_vf")

@@ -23,7 +23,7 @@ from cof_gym.physics.simulation import SimulationDiverged, Simulation, WindowMea
 from cof_gym.task import InterrogationTask, MacroSlipLimit, Reward, ScenarioRanges
 from cof_gym.task.scenarios import SCENARIO_KEYS, V2_RANGES
 from cof_gym.task.task import DEFAULT_MAX_WINDOWS, Episode
-from cof_gym.task.validation import check_choice, check_int, is_int
+from cof_gym.validation import check_choice, check_int, is_int
 
 
 def display_available() -> bool:

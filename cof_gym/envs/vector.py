@@ -35,7 +35,7 @@ from cof_gym.task.interface import DecodedAction
 from cof_gym.physics.native import layout
 from cof_gym.physics.native.build import install_callback
 from cof_gym.physics.simulation import begin_window, initial_state, initial_userdata, read_window, state_is_finite
-from cof_gym.task.validation import check_int, is_int
+from cof_gym.validation import check_int, is_int
 
 _BADQACC = int(mujoco.mjtWarning.mjWARN_BADQACC)
 _MAGIC = layout.OFFSETS["MAGIC"]

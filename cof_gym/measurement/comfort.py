@@ -22,6 +22,8 @@ from typing import Literal
 import numpy as np
 from scipy import signal
 
+from cof_gym.validation import check_number
+
 __all__ = [
     "WD_F1_HZ",
     "WD_F2_HZ",
@@ -65,13 +67,8 @@ def _wd_tf() -> tuple[np.ndarray, np.ndarray]:
 
 
 def _check_rate(sample_rate_hz: float) -> float:
-    fs = float(sample_rate_hz)
-    if not (math.isfinite(fs) and fs > 2.0 * WD_F2_HZ):
-        raise ValueError(
-            f"sample_rate_hz must be > {2.0 * WD_F2_HZ:g} Hz (the {WD_F2_HZ:g} Hz band limit "
-            f"must lie below Nyquist), got {sample_rate_hz!r}"
-        )
-    return fs
+    return check_number("sample_rate_hz", sample_rate_hz, 2.0 * WD_F2_HZ, math.inf, low_open=True,
+                        unit=f" Hz (the {WD_F2_HZ:g} Hz band limit must lie below Nyquist)")
 
 
 def _to_sos(num: np.ndarray, den: np.ndarray, fs: float) -> np.ndarray:
@@ -101,9 +98,7 @@ def band_limiting_sos(sample_rate_hz: float) -> np.ndarray:
 
 def wd_gain(frequency_hz: float) -> float:
     """Analog Wd magnitude |Wd(j 2 pi f)| (dimensionless) at ``frequency_hz`` (Hz, >= 0)."""
-    f = float(frequency_hz)
-    if not (math.isfinite(f) and f >= 0.0):
-        raise ValueError(f"frequency_hz must be finite and >= 0, got {frequency_hz!r}")
+    f = check_number("frequency_hz", frequency_hz, 0.0, math.inf, unit=" Hz")
     num, den = _wd_tf()
     s = 2j * math.pi * f
     return float(abs(np.polyval(num, s) / np.polyval(den, s)))
@@ -141,8 +136,7 @@ def en12299_comfort_index(ax_p95: float, ay_p95: float, az_p95: float) -> float:
     """
     values = (ax_p95, ay_p95, az_p95)
     for name, v in zip(("ax_p95", "ay_p95", "az_p95"), values):
-        if not (math.isfinite(v) and v >= 0.0):
-            raise ValueError(f"{name} must be finite and >= 0 m/s^2, got {v!r}")
+        check_number(name, v, 0.0, math.inf, unit=" m/s^2")
     return 6.0 * math.sqrt(sum(float(v) ** 2 for v in values))
 
 
@@ -153,9 +147,7 @@ def comfort_label(n_mv: float) -> str:
     "very comfortable", 1 <= N_MV < 2 "comfortable", 2 <= N_MV < 4 "medium", 4 <= N_MV < 5 "uncomfortable",
     N_MV >= 5 "very uncomfortable".
     """
-    n = float(n_mv)
-    if not (math.isfinite(n) and n >= 0.0):
-        raise ValueError(f"n_mv must be finite and >= 0, got {n_mv!r}")
+    n = check_number("n_mv", n_mv, 0.0, math.inf)
     if n < 1.0:
         return "very comfortable"
     if n < 2.0:

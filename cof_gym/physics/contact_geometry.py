@@ -20,6 +20,8 @@ import numpy as np
 from scipy.optimize import brentq
 from scipy.special import ellipe, ellipk
 
+from cof_gym.validation import check_number
+
 __all__ = [
     "ContactGeometry",
     "hertz_semi_axes",
@@ -58,13 +60,10 @@ class ContactGeometry:
     shear_modulus_pa: float = 80e9
 
     def __post_init__(self) -> None:
-        for name in ("wheel_radius_m", "rail_crown_radius_m", "youngs_modulus_pa", "shear_modulus_pa"):
-            value = getattr(self, name)
-            if not (math.isfinite(value) and value > 0.0):
-                raise ValueError(f"{name} must be finite and > 0, got {value!r}")
-        nu = self.poisson_ratio
-        if not (math.isfinite(nu) and 0.0 < nu < 0.5):
-            raise ValueError(f"poisson_ratio must be in (0, 0.5), got {nu!r}")
+        for name, unit in (("wheel_radius_m", " m"), ("rail_crown_radius_m", " m"), ("youngs_modulus_pa", " Pa"),
+                           ("shear_modulus_pa", " Pa")):
+            check_number(name, getattr(self, name), 0.0, math.inf, low_open=True, unit=unit)
+        check_number("poisson_ratio", self.poisson_ratio, 0.0, 0.5, low_open=True, high_open=True)
 
     @property
     def reduced_modulus_pa(self) -> float:
@@ -76,10 +75,7 @@ _DEFAULT_GEOMETRY = ContactGeometry()
 
 
 def _check_load(normal_load_n: float) -> float:
-    q = float(normal_load_n)
-    if not (math.isfinite(q) and q > 0.0):
-        raise ValueError(f"normal_load_n must be finite and > 0 N, got {normal_load_n!r}")
-    return q
+    return check_number("normal_load_n", normal_load_n, 0.0, math.inf, low_open=True, unit=" N")
 
 
 def _eccentricity_squared(curvature_ratio: float) -> float:
@@ -191,11 +187,8 @@ def kalker_c11(a_over_b: float, poisson_ratio: float = _DEFAULT_GEOMETRY.poisson
 
     Raises ``ValueError`` for a/b outside [0.1, 10] or nu outside [0, 0.5].
     """
-    g, nu = float(a_over_b), float(poisson_ratio)
-    if not (math.isfinite(g) and 0.1 <= g <= 10.0):
-        raise ValueError(f"a_over_b must be in [0.1, 10], got {a_over_b!r}")
-    if not (math.isfinite(nu) and 0.0 <= nu <= 0.5):
-        raise ValueError(f"poisson_ratio must be in [0, 0.5], got {poisson_ratio!r}")
+    g = check_number("a_over_b", a_over_b, 0.1, 10.0)
+    nu = check_number("poisson_ratio", poisson_ratio, 0.0, 0.5)
     inverse = 1.0 / _table_rows(g)
     n0, n1, n2 = KALKER_C11_POISSON
     weights = ((nu - n1) * (nu - n2) / ((n0 - n1) * (n0 - n2)),

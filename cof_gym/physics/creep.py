@@ -36,6 +36,7 @@ dry_kalker      1.00  1.00  0.40  0.60      dry, with Kalker's unreduced initial
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from functools import lru_cache
 
@@ -58,14 +59,10 @@ from cof_gym.physics.creep_laws import (  # noqa: F401  (re-exported: the shapes
 )
 from cof_gym.physics.native import layout
 from cof_gym.physics.native.build import native
+from cof_gym.validation import check_number
 
 COF_RANGE = (1e-3, 1.5)
 """Accepted CoF values (the environments draw from 0.02-0.6)."""
-
-
-def _check(name: str, value: float, low: float, high: float | None, allowed: str) -> None:
-    if not np.isfinite(value) or value <= low or (high is not None and value > high):
-        raise ValueError(f"{name} must be {allowed}, got {value!r}")
 
 
 def shape_of(condition: str | CreepShape) -> CreepShape:
@@ -188,9 +185,9 @@ class OperatingConditions:
     geometry: ContactGeometry = field(default_factory=ContactGeometry)
 
     def __post_init__(self) -> None:
-        _check("cof", self.cof, 0.0, COF_RANGE[1], f"in (0, {COF_RANGE[1]}]")
-        _check("wheel_load_n", self.wheel_load_n, 0.0, None, "> 0 N")
-        _check("speed_m_s", self.speed_m_s, 0.0, None, "> 0 m/s")
+        check_number("cof", self.cof, 0.0, COF_RANGE[1], low_open=True)
+        check_number("wheel_load_n", self.wheel_load_n, 0.0, math.inf, low_open=True, unit=" N")
+        check_number("speed_m_s", self.speed_m_s, 0.0, math.inf, low_open=True, unit=" m/s")
         shape_of(self.condition)
 
     @property
@@ -260,8 +257,7 @@ def has_maximum(op: OperatingConditions) -> bool:
 def creepage_at_coa(coa: float, op: OperatingConditions) -> float:
     """Creepage on the rising branch where the steady curve delivers adhesion ``coa`` (< cof)."""
     peak = creep_peak(op)
-    if not (0.0 <= coa < peak.coa):
-        raise ValueError(f"coa must be in [0, {peak.coa:.6g}) (below the peak), got {coa!r}")
+    check_number("coa", coa, 0.0, peak.coa, high_open=True, unit=" (below the peak)")
     if coa == 0.0:
         return 0.0
     law, patch = op.law(), op.patch

@@ -83,6 +83,7 @@ from typing import Any, Callable, ClassVar, Mapping
 import numpy as np
 
 from cof_gym.physics.native import layout
+from cof_gym.validation import check_number
 
 PRESET_FAMILY = "polach"  # the presets (CONDITIONS) are named points of this family
 MAX_CREEPAGE = 2.0  # the creep-curve maximum (the CoF) must lie below this creepage; a table stays within it
@@ -94,12 +95,6 @@ class CreepPeak:
 
     creepage: float
     coa: float
-
-
-def check_positive(name: str, value: float, allowed: str = "> 0") -> None:
-    """A finite number > 0 (ValueError naming ``name`` and the allowed range)."""
-    if not (math.isfinite(value) and value > 0.0):
-        raise ValueError(f"{name} must be {allowed}, got {value!r}")
 
 
 class CreepShape:
@@ -145,15 +140,6 @@ class CreepShape:
         return None
 
 
-def _in_range(name: str, value: float, low: float, high: float, low_open: bool, high_open: bool,
-              note: str = "") -> None:
-    ok = math.isfinite(value) and (value > low if low_open else value >= low) and \
-        (value < high if high_open else value <= high)
-    if not ok:
-        interval = f"{'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}"
-        raise ValueError(f"{name} must be in {interval}{note}, got {value!r}")
-
-
 @dataclass(frozen=True)
 class PolachShape(CreepShape):
     """Polach's law (2005, Wear 258:992-1000): reduction factors kA (adhesion) and kS (slip) of the
@@ -176,11 +162,12 @@ class PolachShape(CreepShape):
     })
 
     def __post_init__(self) -> None:
-        check_positive("k_adhesion", self.k_adhesion)
-        check_positive("k_slip", self.k_slip)
-        if not (0.0 <= self.friction_ratio < 1.0):
-            raise ValueError(f"friction_ratio (A) must be in [0, 1) for a creep curve with a peak, got {self.friction_ratio}")
-        check_positive("friction_decay_s_per_m", self.friction_decay_s_per_m, "> 0 s/m")
+        check_number("k_adhesion", self.k_adhesion, 0.0, math.inf, low_open=True)
+        check_number("k_slip", self.k_slip, 0.0, math.inf, low_open=True)
+        check_number("friction_ratio", self.friction_ratio, 0.0, 1.0, high_open=True,
+                     unit=" (A; below 1 for a creep curve with a peak)")
+        check_number("friction_decay_s_per_m", self.friction_decay_s_per_m, 0.0, math.inf, low_open=True,
+                     unit=" s/m (B)")
 
     def mu0_upper(self, cof: float) -> float:
         return cof / max(self.friction_ratio, 0.05)
@@ -214,10 +201,10 @@ class ShenHedrickElkinsShape(CreepShape):
     })
 
     def __post_init__(self) -> None:
-        _in_range("k_stiffness", self.k_stiffness, 0.0, 2.0, True, False, " (1: Kalker's linear stiffness)")
-        _in_range("friction_ratio", self.friction_ratio, 0.0, 1.0, True, False, " (A; 1: constant friction)")
-        _in_range("friction_decay_s_per_m", self.friction_decay_s_per_m, 0.0, 100.0, False, False,
-                  " s/m (B; 0: constant friction)")
+        check_number("k_stiffness", self.k_stiffness, 0.0, 2.0, low_open=True, unit=" (1: Kalker's linear stiffness)")
+        check_number("friction_ratio", self.friction_ratio, 0.0, 1.0, low_open=True, unit=" (A; 1: constant friction)")
+        check_number("friction_decay_s_per_m", self.friction_decay_s_per_m, 0.0, 100.0,
+                     unit=" s/m (B; 0: constant friction)")
 
     def max_is_mu0(self) -> bool:
         return self.friction_ratio == 1.0 or self.friction_decay_s_per_m == 0.0
@@ -416,9 +403,7 @@ def preset(name: Any) -> CreepShape:
 def _spec_value(path: str, value: Any, is_table: bool) -> Any:
     if is_table:
         return _float_tuple(path, value)
-    if not _finite_real(value):
-        raise ValueError(f"{path} must be a finite number, got {value!r}")
-    return float(value)
+    return check_number(path, value, -math.inf, math.inf)
 
 
 def creep_law_from_spec(spec: Any) -> CreepShape:

@@ -17,6 +17,7 @@ from cof_gym.physics.creep import ContactPatch
 from cof_gym.physics.native import layout
 from cof_gym.physics.scenery import add_scenery
 from cof_gym.physics.vehicle import GRAVITY, HalfWheelsetParameters, WagonParameters
+from cof_gym.validation import check_number
 
 DEFAULT_TIMESTEP_S = 1e-3
 HALF_WHEELSET_ARMATURE_KG = 1e12  # reflected mass that holds the half wheelset's speed constant
@@ -75,8 +76,7 @@ class BuiltModel:
 
 
 def _spec(timestep: float) -> mujoco.MjSpec:
-    if not (1e-6 <= timestep <= 5e-3):
-        raise ValueError(f"timestep must be in [1e-6, 5e-3] s, got {timestep!r}")
+    check_number("timestep", timestep, 1e-6, 5e-3, unit=" s")
     spec = mujoco.MjSpec()
     spec.option.timestep = timestep
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_EULER

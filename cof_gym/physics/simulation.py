@@ -24,6 +24,7 @@ from cof_gym.physics.creep import OperatingConditions, creep_peak
 from cof_gym.physics.models import BuiltModel
 from cof_gym.physics.native import layout
 from cof_gym.physics.native.build import install_callback
+from cof_gym.validation import check_number
 
 I = layout.OFFSETS
 MIN_SPEED_M_S = 0.1  # creepage denominator floor (only reached when a wheel stands still)
@@ -39,9 +40,7 @@ class SensorNoise:
 
     def __post_init__(self) -> None:
         for name in ("omega_rad_s", "force_relative", "speed_m_s"):
-            v = getattr(self, name)
-            if not (math.isfinite(v) and v >= 0.0):
-                raise ValueError(f"noise {name} must be >= 0, got {v!r}")
+            check_number(f"noise {name}", getattr(self, name), 0.0, math.inf)
 
 
 @dataclass(frozen=True)
@@ -83,14 +82,9 @@ class DriveCommand:
     extra_tones: tuple[tuple[float, float], ...] = ()
 
     def __post_init__(self) -> None:
-        for name in ("dc_torque_nm", "amplitude_nm", "frequency_hz"):
-            if not math.isfinite(getattr(self, name)):
-                raise ValueError(f"{name} must be finite, got {getattr(self, name)!r}")
-        if self.amplitude_nm < 0:
-            raise ValueError(f"amplitude_nm must be >= 0 N m, got {self.amplitude_nm!r}")
-        lo, hi = FREQUENCY_RANGE_HZ
-        if not (lo <= self.frequency_hz <= hi):
-            raise ValueError(f"frequency_hz must be in [{lo:g}, {hi:g}] Hz, got {self.frequency_hz!r}")
+        check_number("dc_torque_nm", self.dc_torque_nm, -math.inf, math.inf, unit=" N m")
+        check_number("amplitude_nm", self.amplitude_nm, 0.0, math.inf, unit=" N m")
+        check_number("frequency_hz", self.frequency_hz, *FREQUENCY_RANGE_HZ, unit=" Hz")
         if self.extra_tones:  # () stays the very object it is (the single-tone default)
             object.__setattr__(self, "extra_tones", _check_tones(self.extra_tones))
 
@@ -145,9 +139,7 @@ class Scenario:
 
     def __post_init__(self) -> None:
         for name in ("motor_lag_s", "encoder_lag_s"):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not (math.isfinite(value) and 0.0 <= value <= 1.0):
-                raise ValueError(f"{name} must be in [0, 1] s, got {value!r}")
+            check_number(name, getattr(self, name), 0.0, 1.0, unit=" s")
 
 
 def initial_userdata(built: BuiltModel, scenario: Scenario) -> np.ndarray:

@@ -39,7 +39,7 @@ import numpy as np
 
 from cof_gym.physics.simulation import MAX_TONES, DriveCommand, WindowMeasurement, tone_field
 from cof_gym.task.interface import _log_map, _log_unmap
-from cof_gym.task.validation import check_choice, check_int
+from cof_gym.validation import check_choice, check_int
 
 EXCITATIONS = ("sine", "multitone")
 TONES_RANGE = (2, MAX_TONES)

@@ -32,7 +32,7 @@ import math
 from dataclasses import dataclass
 
 from cof_gym.physics.simulation import WindowMeasurement
-from cof_gym.task.validation import check_number
+from cof_gym.validation import check_number
 
 COMFORT_REFERENCE_M_S2 = 0.01
 PAST_PEAK_ENERGY_WEIGHT = 100.0

@@ -42,7 +42,7 @@ from cof_gym.physics.creep_laws import RANGES as CREEP_RANGES, CreepShape, creep
 from cof_gym.physics.simulation import Scenario, SensorNoise
 from cof_gym.physics.vehicle import LOAD_CASES
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS, SensorErrors
-from cof_gym.task.validation import check_choice, check_number, check_range
+from cof_gym.validation import check_choice, check_number, check_range
 
 # sensor noise at full scale (noise_level = 1): realistic on-board sensors (assumed values)
 FULL_SCALE_NOISE = SensorNoise(omega_rad_s=0.02, force_relative=0.02, speed_m_s=0.05)

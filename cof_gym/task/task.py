@@ -33,7 +33,7 @@ from cof_gym.task.interface import (
 )
 from cof_gym.task.reward import MacroSlipLimit, Reward, discomfort, log_error, relative_error, slip_cost
 from cof_gym.task.scenarios import COF_ENVELOPE, EpisodeScenario, ScenarioRanges, check_fixed, draw_scenario, physics_scenario
-from cof_gym.task.validation import check_bool, check_choice, check_int, check_number
+from cof_gym.validation import check_bool, check_choice, check_int, check_number
 
 VEHICLES = ("wagon", "half_wheelset")
 DEFAULT_MAX_WINDOWS = MAX_EPISODE_STEPS  # the horizon the ids register (one number, in cof_gym/__init__.py)

@@ -14,7 +14,7 @@ from cof_gym.agents.phase_rule import PhaseRule, knee_seen, probe_amplitude
 from cof_gym.task.excitation import encode_extra_tones
 from cof_gym.task.interface import MotorLimits, encode_action
 from cof_gym.task.scenarios import COF_ENVELOPE
-from cof_gym.task.validation import check_number
+from cof_gym.validation import check_bool, check_number
 
 ESTIMATE_SOURCES = ("filter", "best_coa", "guard", "pooled", "pooled_at_headroom", "estimator", "estimator_pooled",
                     "estimator_pooled_at_headroom", "estimator_at_headroom", "guard_estimator_pooled")
@@ -165,14 +165,10 @@ class ClimbParameters:
         if self.estimate_from not in ESTIMATE_SOURCES:
             raise ValueError(f"estimate_from must be one of {ESTIMATE_SOURCES}, got {self.estimate_from!r}")
         for name in POSITIVE_FIELDS:
-            value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-                raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-        if not (isinstance(self.approach_fraction, (int, float)) and 0.0 <= self.approach_fraction < 1.0):
-            raise ValueError(f"approach_fraction must be in [0, 1), got {self.approach_fraction!r}")
+            check_number(name, getattr(self, name), 0.0, math.inf, low_open=True)
+        check_number("approach_fraction", self.approach_fraction, 0.0, 1.0, high_open=True)
         for name in FLAG_FIELDS:
-            if not isinstance(getattr(self, name), bool):
-                raise ValueError(f"{name} must be true or false, got {getattr(self, name)!r}")
+            check_bool(name, getattr(self, name))
         for name, (low, high, low_open, unit) in (*BOUNDED_FIELDS.items(), *OPTIONAL_BOUNDED_FIELDS.items()):
             if getattr(self, name) is not None or name in BOUNDED_FIELDS:
                 check_number(name, getattr(self, name), low, high, low_open=low_open, unit=unit)

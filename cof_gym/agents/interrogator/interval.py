@@ -47,7 +47,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Iterable
 
-from cof_gym.task.validation import check_number
+from cof_gym.validation import check_number
 
 INTERVAL_FILE = "interval.json"  # beside a policy directory's manifest.json
 # how the estimate was committed: the climb's own stop, the horizon, or no stop (the episode ended under the

@@ -50,7 +50,7 @@ from cof_gym.physics.creep_laws import below_peak
 from cof_gym.task.interface import MotorLimits
 from cof_gym.task.scenarios import ENCODER_LAG_MAX_S, MOTOR_LAG_MAX_S, NOISE_LEVEL_MAX
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
-from cof_gym.task.validation import check_number, check_range
+from cof_gym.validation import check_number, check_range
 
 TRAINING_SEED = 1_000_000  # first training seed: far from every evaluation and validation seed
 

@@ -1,4 +1,5 @@
-"""Strict argument checks shared by the task and the environments: a wrong type or range raises a
+"""Strict argument checks shared by every layer (the lowest: it imports nothing of cof_gym), from the physics'
+creep laws to the agents' parameters: a wrong type or range raises a
 ``ValueError`` naming the field, the type or range allowed and the value given. Booleans are never
 numbers here, strings are never booleans, and nothing non-finite passes."""
 
@@ -21,18 +22,18 @@ def check_bool(name: str, value: Any) -> bool:
 def check_number(name: str, value: Any, low: float, high: float, *, low_open: bool = False,
                  unit: str = "", high_open: bool = False) -> float:
     """A finite real number (not a bool, not a string) in [low, high] (``low_open`` / ``high_open``: without that
-    end), returned as a Python ``float`` (``float(value)``: a Python float is returned unchanged, a numpy scalar as
-    the float it holds)."""
-    interval = _interval(low, high, low_open, high_open)
+    end; an infinite end: no bound there), returned as a Python ``float`` (``float(value)``: a Python float is
+    returned unchanged, a numpy scalar as the float it holds)."""
+    allowed = _interval(low, high, low_open, high_open)
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
-        raise ValueError(f"{name} must be a number in {interval}{unit}, "
+        raise ValueError(f"{name} must be a number{allowed}{unit}, "
                          f"got {value!r} ({type(value).__name__})")
     try:
         v = float(value)
     except OverflowError:  # an int too large for a float: out of range, on its side
         v = math.inf if value > 0 else -math.inf
     if not math.isfinite(v) or v < low or v > high or (low_open and v == low) or (high_open and v == high):
-        raise ValueError(f"{name} must be a finite number in {interval}{unit}, got {value!r}")
+        raise ValueError(f"{name} must be a finite number{allowed}{unit}, got {value!r}")
     return v
 
 
@@ -69,4 +70,13 @@ def check_choice(name: str, value: Any, allowed: Iterable[str]) -> str:
 
 
 def _interval(low: float, high: float, low_open: bool, high_open: bool = False) -> str:
-    return f"{'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}"
+    """The allowed range as the messages write it, with its leading space: `` in [low, high]`` (a bracket per
+    end), `` > low`` / `` >= low`` where ``high`` is infinite, `` < high`` / `` <= high`` where ``low`` is, and
+    nothing where both are (any finite number)."""
+    if math.isinf(low) and math.isinf(high):
+        return ""
+    if math.isinf(high):
+        return f" {'>' if low_open else '>='} {low:g}"
+    if math.isinf(low):
+        return f" {'<' if high_open else '<='} {high:g}"
+    return f" in {'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}"
