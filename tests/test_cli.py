@@ -70,6 +70,9 @@ BAD = [
     (["evaluate", "--agents", "staircase-paper,staircase,pp0"], "pp0"),
     (["evaluate", "--agents", "staircase,,staircase-paper"], "--agents"),
     (["evaluate", "--agents", "staircase,staircase"], "twice"),
+    (["evaluate", "--agents", "staircase", "staircase"], "twice"),
+    (["evaluate", "--agents", "staircase", "pp0"], "pp0"),
+    (["evaluate", "--agents"], "--agents: expected at least one argument"),
     (["evaluate", "--agents", "staircase:x"], "--agents"),
     (["evaluate", "--agents", "ppo:/no/such/model.zip"], "/no/such/model"),
     (["evaluate", "--episodes", "0"], "--episodes"),
@@ -294,6 +297,17 @@ def test_evaluate_env_arguments_play_the_suite_in_that_env_and_name_the_output(w
     assert not (workdir / "out" / "evaluate").exists()
     assert default_out("experiments/suites/x.json", {"creep_law": {"table": [1]}}) == Path(
         "out/evaluate-x-creep_law=__table____1__")
+
+
+def test_evaluate_takes_its_agents_comma_or_space_separated() -> None:
+    """``--agents a,b``, ``--agents a b`` and a mix name the same agents, in the order given."""
+    from cof_gym.commands.evaluate import prepare
+
+    parser = cli.build_parser()
+    chosen = [prepare(parser.parse_args(["evaluate", "--agents", *given]))[0]
+              for given in (["staircase,phase-rule,oracle"], ["staircase", "phase-rule", "oracle"],
+                            ["staircase,phase-rule", "oracle"])]
+    assert chosen == [["staircase", "phase-rule", "oracle"]] * 3
 
 
 def test_evaluate_writes_complete_outputs_and_replaces_its_own(workdir: Path, capsys) -> None:

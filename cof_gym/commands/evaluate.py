@@ -347,8 +347,8 @@ def _play_and_write(envs: dict[str, Any], agents, agent_specs, suite: Suite, out
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     from cof_gym.commands.args import MAX_SEED, StoreDict, int_in_range, seed_int
 
-    parser.add_argument("--agents", default=None, metavar="A,B,...",
-                        help=f"comma-separated agents: {registry.describe()} (default: "
+    parser.add_argument("--agents", nargs="+", default=None, metavar="A,B",
+                        help=f"agents, comma- or space-separated: {registry.describe()} (default: "
                              f"{','.join(registry.default_agents())})")
     parser.add_argument("--episodes", type=int_in_range(1, MAX_EPISODES), default=60,
                         help=f"episodes per agent, at most {MAX_EPISODES} (a suite file with an episode list sets "
@@ -377,9 +377,10 @@ def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
     """Check the whole command line before anything runs or is written (UsageError naming the flag)."""
     from cof_gym.commands.args import MAX_SEED, UsageError
 
-    specs = [s.strip() for s in args.agents.split(",")] if args.agents is not None else registry.default_agents()
+    given = None if args.agents is None else ",".join(args.agents)  # --agents a,b and --agents a b alike
+    specs = [s.strip() for s in given.split(",")] if given is not None else registry.default_agents()
     if not specs or any(not s for s in specs):
-        raise UsageError("--agents", f"empty agent name in {args.agents!r}; allowed: {registry.describe()}")
+        raise UsageError("--agents", f"empty agent name in {given!r}; allowed: {registry.describe()}")
     for spec in specs:
         try:
             _, argument = registry.parse(spec)
@@ -393,7 +394,7 @@ def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
             except (FileNotFoundError, ValueError) as e:
                 raise UsageError("--agents", f"{spec}: {e}") from None
     if len(set(specs)) != len(specs):
-        raise UsageError("--agents", f"an agent is given twice in {args.agents!r}")
+        raise UsageError("--agents", f"an agent is given twice in {given!r}")
     try:
         suite = make_suite(args.suite, args.episodes, args.seed)
     except SuiteError as e:
