@@ -928,6 +928,14 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # torque_confirmation19 extremes_confirmation10 --encoder-lag); frontier.py and rule_check.py as for rule 113
         # (frontier_rule114_confirmation, rule_check_rule114_confirmation, frontier_rule114_confirmation_encoder_lag,
         # rule_check_rule114_confirmation_encoder_lag)
+        # rule 115: runs/rule115.sh (the union directories runs/union115/filter and runs/union115/guard_1, copies of
+        # the shipped and LF's member files; validation_plays.py rule115U --run runs/union115/filter --guards
+        # cof_gym/agents/policies/interrogator/guard_0 runs/union115/guard_1 --encoder-lag, then the same with
+        # --confirmation confirmation37 torque_confirmation18 extremes_confirmation9 and with --confirmation
+        # confirmation38 torque_confirmation19 extremes_confirmation10); frontier.py and rule_check.py as for rule 114
+        # with rule115U (frontier_rule115_validation, frontier_rule115_encoder_lag, rule_check_rule115U_validation,
+        # rule_check_rule115U_encoder_lag); rule_check.py with the ten pairs of the spent sets (rule113shipped's and
+        # rule114shipped's records against rule115U's) --gain (rule_check_rule115U_spent)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1281,6 +1289,8 @@ SOURCES = {
         "rule_check_rule114LFf_encoder_lag",
         "frontier_rule114_confirmation", "rule_check_rule114_confirmation", "frontier_rule114_confirmation_encoder_lag",
         "rule_check_rule114_confirmation_encoder_lag",
+        "frontier_rule115_validation", "frontier_rule115_encoder_lag", "rule_check_rule115U_validation",
+        "rule_check_rule115U_encoder_lag", "rule_check_rule115U_spent",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
