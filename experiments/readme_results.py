@@ -936,6 +936,10 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # with rule115U (frontier_rule115_validation, frontier_rule115_encoder_lag, rule_check_rule115U_validation,
         # rule_check_rule115U_encoder_lag); rule_check.py with the ten pairs of the spent sets (rule113shipped's and
         # rule114shipped's records against rule115U's) --gain (rule_check_rule115U_spent)
+        # rule 116: runs/rule116.sh (validation_plays.py rule116UsK with rule 115's --run and --guards, --set
+        # spread_caution=K --encoder-lag, K = 1, 2); frontier.py over both candidates (frontier_rule116_validation,
+        # frontier_rule116_encoder_lag) and rule_check.py as for rule 115 (rule_check_rule116UsK_validation,
+        # rule_check_rule116UsK_encoder_lag)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1291,6 +1295,8 @@ SOURCES = {
         "rule_check_rule114_confirmation_encoder_lag",
         "frontier_rule115_validation", "frontier_rule115_encoder_lag", "rule_check_rule115U_validation",
         "rule_check_rule115U_encoder_lag", "rule_check_rule115U_spent",
+        "frontier_rule116_validation", "frontier_rule116_encoder_lag",
+        *(f"rule_check_rule116Us{k}_{play}" for k in (1, 2) for play in ("validation", "encoder_lag")),
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
