@@ -943,6 +943,9 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # rule 117: runs/rule117.sh (the same with rule117UsK, K = 025, 05 for --set spread_caution=0.25, 0.5);
         # frontier.py and rule_check.py as for rule 116 (frontier_rule117_validation, frontier_rule117_encoder_lag,
         # rule_check_rule117UsK_validation, rule_check_rule117UsK_encoder_lag)
+        # rule 118: runs/rule118.sh (validation_plays.py rule118U2 --run runs/union115/filter --encoder-lag);
+        # frontier.py and rule_check.py as for rule 115 (frontier_rule118_validation, frontier_rule118_encoder_lag,
+        # rule_check_rule118U2_validation, rule_check_rule118U2_encoder_lag)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1302,6 +1305,8 @@ SOURCES = {
         *(f"rule_check_rule116Us{k}_{play}" for k in (1, 2) for play in ("validation", "encoder_lag")),
         "frontier_rule117_validation", "frontier_rule117_encoder_lag",
         *(f"rule_check_rule117Us{k}_{play}" for k in ("025", "05") for play in ("validation", "encoder_lag")),
+        "frontier_rule118_validation", "frontier_rule118_encoder_lag", "rule_check_rule118U2_validation",
+        "rule_check_rule118U2_encoder_lag",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
