@@ -946,6 +946,12 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # rule 118: runs/rule118.sh (validation_plays.py rule118U2 --run runs/union115/filter --encoder-lag);
         # frontier.py and rule_check.py as for rule 115 (frontier_rule118_validation, frontier_rule118_encoder_lag,
         # rule_check_rule118U2_validation, rule_check_rule118U2_encoder_lag)
+        # rule 119: runs/rule119.sh (validation_plays.py rule119U2 --run runs/union115/filter with --confirmation
+        # confirmation37 torque_confirmation18 extremes_confirmation9 and with --confirmation confirmation38
+        # torque_confirmation19 extremes_confirmation10); rule_check.py with the ten pairs as for rule 115's (iii)
+        # (rule_check_rule119U2_spent)
+        # headroom_bias_rule119: headroom_bias.py as its docstring gives it, with U=runs/union115/filter after LF and
+        # guard_U=runs/union115/guard_1 after guard_LF, without guard_0, --out out/headroom_bias_rule119.md
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1306,7 +1312,7 @@ SOURCES = {
         "frontier_rule117_validation", "frontier_rule117_encoder_lag",
         *(f"rule_check_rule117Us{k}_{play}" for k in ("025", "05") for play in ("validation", "encoder_lag")),
         "frontier_rule118_validation", "frontier_rule118_encoder_lag", "rule_check_rule118U2_validation",
-        "rule_check_rule118U2_encoder_lag",
+        "rule_check_rule118U2_encoder_lag", "rule_check_rule119U2_spent", "headroom_bias_rule119",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
