@@ -101,7 +101,7 @@ def table(records: list[dict], baseline: str | None = None, compared: list[str] 
 
 def check_record(index: int, record: dict) -> None:
     """An episode's numbers as the tables read them: ``error`` a finite relative error >= 0, ``macro_slip`` a
-    bool, ``episode_return`` (where present) a finite number (the task's own checks,
+    bool, ``episode_return`` (where present) a finite number (the package's argument checks,
     :mod:`cof_gym.validation`); ValueError naming the episode and the field."""
     try:
         check_number("error", record.get("error"), 0.0, math.inf)

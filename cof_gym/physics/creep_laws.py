@@ -74,7 +74,6 @@ table is given, not drawn.
 from __future__ import annotations
 
 import math
-import numbers
 from dataclasses import MISSING, dataclass, fields
 from functools import lru_cache
 from types import MappingProxyType
@@ -308,16 +307,6 @@ class TableShape(CreepShape):
         return CreepPeak(self.creepage[self.peak_index], mu0)
 
 
-def _finite_real(value: Any) -> bool:
-    """A real number (not a bool) that is finite as a float (an int too large for a float is not)."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        return False
-    try:
-        return math.isfinite(float(value))
-    except OverflowError:
-        return False
-
-
 def _finite_slopes(s: np.ndarray, r: np.ndarray) -> bool:
     """Whether a table's secant slopes and PCHIP knot slopes are all finite (points not too close)."""
     with np.errstate(all="ignore"):
@@ -335,9 +324,10 @@ def _float_tuple(name: str, values: Any) -> tuple[float, ...]:
         raise ValueError(f"{name} must be a list of finite numbers, got {values!r}")
     out = []
     for i, v in enumerate(values):
-        if not _finite_real(v):
-            raise ValueError(f"{name} must be a list of finite numbers, got {v!r} at index {i}")
-        out.append(float(v))
+        try:
+            out.append(check_number(name, v, -math.inf, math.inf))
+        except ValueError:  # the list's own message: which entry, where
+            raise ValueError(f"{name} must be a list of finite numbers, got {v!r} at index {i}") from None
     return tuple(out)
 
 
