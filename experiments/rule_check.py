@@ -2,7 +2,7 @@
 
     python experiments/rule_check.py BASE.json CANDIDATE.json [BASE2.json CANDIDATE2.json ...] \
         [--more-runaways N | --fewer-runaways] [--errors [--error-grid GRID]] [--returns] [--gain] \
-        [--strict-grid family] [--same-climbs] [--out FILE]
+        [--strict-grid family] [--same-climbs] [--discordant] [--out FILE]
 
 The files come in pairs, the baseline's and the candidate's play of the same episodes (e.g. one pair at the
 grids' draws, one with the noise tripled); each file holds one setting's episodes (one crest_tradeoff.py row).
@@ -21,6 +21,12 @@ differences of :mod:`paired_comparison` (the same 95 % CIs, the same resamples):
 - ``--same-climbs``: every episode's climb ended as the baseline's did (the same ``ended`` and ``macro_slip``) at
   the same peak torque (``peak_torque_fraction``, exactly): a candidate that changes only the estimate (rule 102).
 
+``--discordant`` adds a line of information, no condition: over every pair's episodes together, how many climbs ran
+away in the baseline's play alone and how many in the candidate's alone, with the exact one-sided sign test
+(McNemar's exact test) of the candidate running away more often: the binomial probability of at least that many of
+the discordant climbs being the candidate's if each were equally likely to be either's. The concordant climbs
+carry no information on the difference; a total's difference of a few runaways can be well within chance.
+
 It prints each grid's differences, every condition that fails, and a last line ``holds`` or ``fails``; the exit
 status is 0 when the conditions hold and 1 when they fail (2: a usage error, before anything is read further).
 Rule 78's conditions, for instance: at the draws ``--more-runaways 2 --errors --returns``, on the torque set
@@ -33,6 +39,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 from typing import NamedTuple
+
+from scipy.stats import binomtest
 
 from cof_gym.commands.args import Parser, non_negative_int
 
@@ -52,6 +60,7 @@ class Conditions(NamedTuple):
     fewer_runaways: bool = False
     error_grid: str | None = None  # None: --errors on every grid
     same_climbs: bool = False
+    discordant: bool = False
 
 
 CLIMB_FIELDS = ("ended", "macro_slip", "peak_torque_fraction")  # where and how a climb ended (--same-climbs)
@@ -63,6 +72,24 @@ Grids = dict[str, dict[tuple, dict]]  # a play's episodes per grid (paired_compa
 def climbs_differing(base: dict[tuple, dict], other: dict[tuple, dict]) -> int:
     """How many of the paired episodes' climbs ended otherwise (:data:`CLIMB_FIELDS`) in ``other`` than in ``base``."""
     return sum(any(base[k][f] != other[k][f] for f in CLIMB_FIELDS) for k in base if k in other)
+
+
+def discordant_runaways(bases: list[Grids], candidates: list[Grids]) -> tuple[int, int]:
+    """(climbs that ran away in the baseline's play alone, in the candidate's alone) over every pair's grids."""
+    counts = [0, 0]
+    for b, c in zip(bases, candidates, strict=True):
+        for grid, episodes in b.items():
+            for key, r in episodes.items():
+                base_slip, candidate_slip = bool(r["macro_slip"]), bool(c[grid][key]["macro_slip"])
+                if base_slip != candidate_slip:
+                    counts[candidate_slip] += 1
+    return counts[0], counts[1]
+
+
+def sign_test_p(candidate_only: int, discordant: int) -> float:
+    """P(at least ``candidate_only`` of ``discordant`` fair coin flips): the exact one-sided McNemar p (1 with no
+    discordant climb)."""
+    return float(binomtest(candidate_only, discordant, 0.5, alternative="greater").pvalue) if discordant else 1.0
 
 
 def mean_return(plays: list[Grids]) -> float:
@@ -96,6 +123,10 @@ def check(bases: list[Grids], candidates: list[Grids], conditions: Conditions) -
     totals = tuple(sum(runaways(e) for play in plays for e in play.values()) for plays in (bases, candidates))
     returns = mean_return(bases), mean_return(candidates)
     lines.append(f"- all: runaways {totals[0]} -> {totals[1]}; mean return {returns[0]:.4f} -> {returns[1]:.4f}")
+    if conditions.discordant:
+        only = discordant_runaways(bases, candidates)
+        lines.append(f"- discordant climbs: {only[0]} ran away in the baseline's play alone, {only[1]} in the "
+                     f"candidate's alone (one-sided exact sign test p = {sign_test_p(only[1], sum(only)):.3f})")
     if conditions.fewer_runaways and not totals[1] < totals[0]:
         failed.append(f"all: {totals[1]} runaways against {totals[0]} (strictly fewer needed)")
     elif totals[1] > totals[0] + conditions.more_runaways:
@@ -134,6 +165,8 @@ def main() -> None:
     parser.add_argument("--same-climbs", action="store_true",
                         help="every climb ended as the baseline's, at the same peak torque (an estimate-only "
                              "candidate)")
+    parser.add_argument("--discordant", action="store_true",
+                        help="also print the climbs that ran away in one play alone and the sign test (information)")
     parser.add_argument("--out", type=Path, default=None, help="also write the verdict to this markdown file")
     args = parser.parse_args()
     check_out_file(parser, "--out", args.out)
@@ -151,7 +184,7 @@ def main() -> None:
             parser.error(f"--error-grid: the records have no grid {args.error_grid!r} (grids: "
                          f"{', '.join(sorted(plays[0]))})")
     conditions = Conditions(args.more_runaways, strict, args.errors, args.returns, args.gain, args.fewer_runaways,
-                            args.error_grid, args.same_climbs)
+                            args.error_grid, args.same_climbs, args.discordant)
     files = ", ".join(map(str, args.records))
     try:
         lines, failed = check(plays[0::2], plays[1::2], conditions)

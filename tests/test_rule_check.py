@@ -162,3 +162,16 @@ def test_same_climbs_on_records_without_the_climb_fields_is_a_usage_error(tmp_pa
     run = subprocess.run([sys.executable, str(EXPERIMENTS / "rule_check.py"), str(path), str(path), "--same-climbs"],
                          capture_output=True, text=True)
     assert run.returncode == 2 and "has no 'ended'" in run.stderr and "Traceback" not in run.stderr
+
+
+def test_discordant_climbs_count_each_play_alone_and_the_sign_test_is_the_exact_binomial_tail() -> None:
+    base = records("base", ERRORS, {"steep": {1, 2, 6}})
+    candidate = records("candidate", ERRORS, {"steep": {2, 3, 4}, "family": {5, 7}})
+    lines, failed = check([paired(base, "base")], [paired(candidate, "candidate")], Conditions(discordant=True))
+    # 2 alone in the baseline's (1, 6), 4 in the candidate's (3, 4, family 5, 7): P(X >= 4 | 6 flips) = 22/64,
+    # 0.34375, shown 0.344 (a quarter of the last digit from a rounding boundary)
+    assert lines[-1] == ("- discordant climbs: 2 ran away in the baseline's play alone, 4 in the candidate's alone "
+                         "(one-sided exact sign test p = 0.344)")
+    assert [f.split(":")[0] for f in failed] == ["family", "all"]  # information only: the conditions are unchanged
+    assert not any("discordant" in line for line in check([paired(base, "base")], [paired(candidate, "candidate")],
+                                                           Conditions())[0])
