@@ -15,7 +15,7 @@ from gymnasium.utils.env_checker import check_env
 import cof_gym  # noqa: F401  (registers the ids)
 from cof_gym.analysis.theory import creep_slope_at_torque, phase_eq3_deg
 from cof_gym.measurement.sine_fit import fit_samples, fit_tones_from_sums, tone_sums
-from cof_gym.physics.simulation import DriveCommand
+from cof_gym.physics.simulation import FREQUENCY_RANGE_HZ, DriveCommand
 from cof_gym.physics.vehicle import HalfWheelsetParameters
 from cof_gym.task.excitation import Excitation, separate
 from cof_gym.task.interface import _log_unmap
@@ -196,6 +196,13 @@ def test_bad_actions_and_drives_raise_naming_the_problem() -> None:
     env.close()
     for bad in (((10.0, 200.0),), ((-1.0, 5.0),), ((1.0, 2.0),) * 3, ((1.0,),), 5.0):
         with pytest.raises(ValueError, match="extra_tones"):
+            DriveCommand(0.0, 10.0, 5.0, bad)
+    low, high = FREQUENCY_RANGE_HZ
+    for bad, message in ((((10.0, 200.0),), rf"extra_tones\[0\]\.frequency_hz must .* in \[{low:g}, {high:g}\] Hz"),
+                         (((1.0, 5.0), (float("nan"), 6.0)), r"extra_tones\[1\]\.amplitude_nm must .* >= 0 N m"),
+                         (((True, 5.0),), r"extra_tones\[0\]\.amplitude_nm must"),
+                         ((("1", 5.0),), r"extra_tones\[0\]\.amplitude_nm must")):
+        with pytest.raises(ValueError, match=message):
             DriveCommand(0.0, 10.0, 5.0, bad)
 
 

@@ -102,26 +102,18 @@ class DriveCommand:
 
 
 def _check_tones(tones) -> tuple[tuple[float, float], ...]:
-    allowed = (f"a sequence of at most {MAX_TONES - 1} (amplitude_nm >= 0, frequency_hz in "
-               f"[{FREQUENCY_RANGE_HZ[0]:g}, {FREQUENCY_RANGE_HZ[1]:g}] Hz) pairs")
+    """``extra_tones`` as (amplitude_nm, frequency_hz) float pairs, each number checked by
+    :func:`~cof_gym.validation.check_number` (named ``extra_tones[k].amplitude_nm`` / ``.frequency_hz``)."""
+    allowed = f"a sequence of at most {MAX_TONES - 1} (amplitude_nm, frequency_hz) pairs"
     try:
         pairs = tuple(tuple(t) for t in tones)
     except TypeError:
         raise ValueError(f"extra_tones must be {allowed}, got {tones!r}") from None
     if len(pairs) > MAX_TONES - 1 or any(len(p) != 2 for p in pairs):
         raise ValueError(f"extra_tones must be {allowed}, got {tones!r}")
-    out = []
-    for amp, freq in pairs:
-        if isinstance(amp, bool) or isinstance(freq, bool):
-            raise ValueError(f"extra_tones must be {allowed}, got {tones!r}")
-        try:
-            amp, freq = float(amp), float(freq)
-        except (TypeError, ValueError):
-            raise ValueError(f"extra_tones must be {allowed}, got {tones!r}") from None
-        if not (math.isfinite(amp) and amp >= 0.0 and FREQUENCY_RANGE_HZ[0] <= freq <= FREQUENCY_RANGE_HZ[1]):
-            raise ValueError(f"extra_tones must be {allowed}, got {tones!r}")
-        out.append((amp, freq))
-    return tuple(out)
+    return tuple((check_number(f"extra_tones[{k}].amplitude_nm", amp, 0.0, math.inf, unit=" N m"),
+                  check_number(f"extra_tones[{k}].frequency_hz", freq, *FREQUENCY_RANGE_HZ, unit=" Hz"))
+                 for k, (amp, freq) in enumerate(pairs))
 
 
 @dataclass(frozen=True)
