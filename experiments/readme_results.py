@@ -961,6 +961,10 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # with --confirmation confirmation37 torque_confirmation18 extremes_confirmation9 and with --confirmation
         # confirmation38 torque_confirmation19 extremes_confirmation10; rule_check.py with the ten pairs as for rule 119,
         # --gain --discordant (rule_check_rule120TU_spent)
+        # rule 121: runs/rule121.sh (validation_plays.py rule121TU2 --run runs/union120/filter --encoder-lag; rule121TU3
+        # the same with --guards guard_0 guard_1 runs/interrogator_three/guard/ensemble); frontier.py and rule_check.py
+        # as for rule 120 (frontier_rule121_validation, frontier_rule121_encoder_lag, rule_check_rule121K_validation,
+        # rule_check_rule121K_encoder_lag, K = TU2, TU3)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1324,7 +1328,8 @@ SOURCES = {
         "rule_check_rule118U2_encoder_lag", "rule_check_rule119U2_spent", "headroom_bias_rule119",
         "frontier_rule120_validation", "frontier_rule120_encoder_lag",
         *(f"rule_check_rule120{k}_{play}" for k in ("T", "TU") for play in ("validation", "encoder_lag")),
-        "rule_check_rule120TU_spent",
+        "rule_check_rule120TU_spent", "frontier_rule121_validation", "frontier_rule121_encoder_lag",
+        *(f"rule_check_rule121{k}_{play}" for k in ("TU2", "TU3") for play in ("validation", "encoder_lag")),
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
