@@ -965,6 +965,10 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # the same with --guards guard_0 guard_1 runs/interrogator_three/guard/ensemble); frontier.py and rule_check.py
         # as for rule 120 (frontier_rule121_validation, frontier_rule121_encoder_lag, rule_check_rule121K_validation,
         # rule_check_rule121K_encoder_lag, K = TU2, TU3)
+        # rule 122: runs/rule122.sh (validation_plays.py rule122TUg --run runs/union120/filter --encoder-lag --guards
+        # guard_0 runs/union120/guard_1 guard_1); frontier.py with rule120TU beside rule122TUg and rule_check.py as for
+        # rule 121 with --discordant (frontier_rule122_validation, frontier_rule122_encoder_lag,
+        # rule_check_rule122TUg_validation, rule_check_rule122TUg_encoder_lag)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1330,6 +1334,8 @@ SOURCES = {
         *(f"rule_check_rule120{k}_{play}" for k in ("T", "TU") for play in ("validation", "encoder_lag")),
         "rule_check_rule120TU_spent", "frontier_rule121_validation", "frontier_rule121_encoder_lag",
         *(f"rule_check_rule121{k}_{play}" for k in ("TU2", "TU3") for play in ("validation", "encoder_lag")),
+        "frontier_rule122_validation", "frontier_rule122_encoder_lag", "rule_check_rule122TUg_validation",
+        "rule_check_rule122TUg_encoder_lag",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
