@@ -902,71 +902,74 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # (frontier_rule111_encoder_lag); rule_check.py with the five pairs --gain --errors --error-grid family
         # --returns --more-runaways 2352 --same-climbs (rule_check_rule111) and the lag's pair with
         # --more-runaways 360 (rule_check_rule111_encoder_lag)
-        # rule 112: runs/rule112.sh (train_interrogator.py --out runs/interrogator_encoder --climbs torque_wide=8000
-        # torque_wide_encoder=8000 --guard-climbs torque_wide=8000 procedural_torque_wide=8000
-        # torque_wide_encoder=8000 procedural_torque_wide_encoder=8000 --fit-only; validation_plays.py rule112LF
-        # --run runs/interrogator_encoder/ensemble --guards cof_gym/agents/policies/interrogator/guard_0
+        # rule 112: experiments/rules/rule112.sh (train_interrogator.py --out runs/interrogator_encoder --climbs
+        # torque_wide=8000 torque_wide_encoder=8000 --guard-climbs torque_wide=8000 procedural_torque_wide=8000
+        # torque_wide_encoder=8000 procedural_torque_wide_encoder=8000 --fit-only; validation_plays.py rule112LF --run
+        # runs/interrogator_encoder/ensemble --guards cof_gym/agents/policies/interrogator/guard_0
         # runs/interrogator_encoder/guard/ensemble --encoder-lag); frontier.py $(P rule95shipped53) $(P rule112LF)
         # --shipped $(P rule95shipped53) --references ... --rows (frontier_rule112_validation) and the same on the
-        # _encoder_lag_s records (frontier_rule112_encoder_lag); rule_check.py on the four pairs --errors
-        # --error-grid family --returns --more-runaways 1440 (rule_check_rule112LF_i) and on the encoder_lag_s pair
-        # --gain --errors --error-grid family --returns --more-runaways 360 (rule_check_rule112LF_ii)
-        # rule 113: runs/confirm113.sh (validation_plays.py rule113LF --run runs/interrogator_encoder/ensemble
-        # --guards cof_gym/agents/policies/interrogator/guard_0 runs/interrogator_encoder/guard/ensemble
-        # --confirmation confirmation37 torque_confirmation18 extremes_confirmation9 --encoder-lag, the same for
-        # rule113shipped and --hand-built); frontier.py over the five plays joined by + with --rows
-        # (frontier_rule113) and on the _confirmation37_encoder_lag_s records (frontier_rule113_encoder_lag);
-        # rule_check.py with the five pairs --gain --errors --error-grid family --returns --more-runaways 2352
-        # (rule_check_rule113) and the lag's pair with --more-runaways 360 (rule_check_rule113_encoder_lag)
+        # _encoder_lag_s records (frontier_rule112_encoder_lag); rule_check.py on the four pairs --errors --error-grid
+        # family --returns --more-runaways 1440 (rule_check_rule112LF_i) and on the encoder_lag_s pair --gain --errors
+        # --error-grid family --returns --more-runaways 360 (rule_check_rule112LF_ii)
+        # rule 113: experiments/rules/confirm113.sh (validation_plays.py rule113LF --run
+        # runs/interrogator_encoder/ensemble --guards cof_gym/agents/policies/interrogator/guard_0
+        # runs/interrogator_encoder/guard/ensemble --confirmation confirmation37 torque_confirmation18
+        # extremes_confirmation9 --encoder-lag, the same for rule113shipped and --hand-built); frontier.py over the five
+        # plays joined by + with --rows (frontier_rule113) and on the _confirmation37_encoder_lag_s records
+        # (frontier_rule113_encoder_lag); rule_check.py with the five pairs --gain --errors --error-grid family
+        # --returns --more-runaways 2352 (rule_check_rule113) and the lag's pair with --more-runaways 360
+        # (rule_check_rule113_encoder_lag)
         # headroom_bias_rule113: python experiments/headroom_bias.py as its docstring gives it
-        # rule 114: runs/rule114.sh (validation_plays.py rule114LFf --run runs/interrogator_encoder/ensemble
-        # --encoder-lag); frontier.py and rule_check.py as for rule 112 with rule114LFf, rule_check.py with --gain
-        # (frontier_rule114_validation, frontier_rule114_encoder_lag, rule_check_rule114LFf_validation,
-        # rule_check_rule114LFf_encoder_lag)
-        # rule 114's confirmation: runs/confirm114.sh (validation_plays.py rule114LFf --run
+        # rule 114: experiments/rules/rule114.sh (validation_plays.py rule114LFf --run
+        # runs/interrogator_encoder/ensemble --encoder-lag); frontier.py and rule_check.py as for rule 112 with
+        # rule114LFf, rule_check.py with --gain (frontier_rule114_validation, frontier_rule114_encoder_lag,
+        # rule_check_rule114LFf_validation, rule_check_rule114LFf_encoder_lag)
+        # rule 114's confirmation: experiments/rules/confirm114.sh (validation_plays.py rule114LFf --run
         # runs/interrogator_encoder/ensemble, rule114shipped and --hand-built, each --confirmation confirmation38
         # torque_confirmation19 extremes_confirmation10 --encoder-lag); frontier.py and rule_check.py as for rule 113
         # (frontier_rule114_confirmation, rule_check_rule114_confirmation, frontier_rule114_confirmation_encoder_lag,
         # rule_check_rule114_confirmation_encoder_lag)
-        # rule 115: runs/rule115.sh (the union directories runs/union115/filter and runs/union115/guard_1, copies of
-        # the shipped and LF's member files; validation_plays.py rule115U --run runs/union115/filter --guards
+        # rule 115: experiments/rules/rule115.sh (the union directories runs/union115/filter and runs/union115/guard_1,
+        # copies of the shipped and LF's member files; validation_plays.py rule115U --run runs/union115/filter --guards
         # cof_gym/agents/policies/interrogator/guard_0 runs/union115/guard_1 --encoder-lag, then the same with
         # --confirmation confirmation37 torque_confirmation18 extremes_confirmation9 and with --confirmation
         # confirmation38 torque_confirmation19 extremes_confirmation10); frontier.py and rule_check.py as for rule 114
         # with rule115U (frontier_rule115_validation, frontier_rule115_encoder_lag, rule_check_rule115U_validation,
         # rule_check_rule115U_encoder_lag); rule_check.py with the ten pairs of the spent sets (rule113shipped's and
         # rule114shipped's records against rule115U's) --gain (rule_check_rule115U_spent)
-        # rule 116: runs/rule116.sh (validation_plays.py rule116UsK with rule 115's --run and --guards, --set
-        # spread_caution=K --encoder-lag, K = 1, 2); frontier.py over both candidates (frontier_rule116_validation,
-        # frontier_rule116_encoder_lag) and rule_check.py as for rule 115 (rule_check_rule116UsK_validation,
-        # rule_check_rule116UsK_encoder_lag)
-        # rule 117: runs/rule117.sh (the same with rule117UsK, K = 025, 05 for --set spread_caution=0.25, 0.5);
-        # frontier.py and rule_check.py as for rule 116 (frontier_rule117_validation, frontier_rule117_encoder_lag,
-        # rule_check_rule117UsK_validation, rule_check_rule117UsK_encoder_lag)
-        # rule 118: runs/rule118.sh (validation_plays.py rule118U2 --run runs/union115/filter --encoder-lag);
-        # frontier.py and rule_check.py as for rule 115 (frontier_rule118_validation, frontier_rule118_encoder_lag,
-        # rule_check_rule118U2_validation, rule_check_rule118U2_encoder_lag)
-        # rule 119: runs/rule119.sh (validation_plays.py rule119U2 --run runs/union115/filter with --confirmation
-        # confirmation37 torque_confirmation18 extremes_confirmation9 and with --confirmation confirmation38
-        # torque_confirmation19 extremes_confirmation10); rule_check.py with the ten pairs as for rule 115's (iii)
-        # (rule_check_rule119U2_spent)
+        # rule 116: experiments/rules/rule116.sh (validation_plays.py rule116UsK with rule 115's --run and --guards,
+        # --set spread_caution=K --encoder-lag, K = 1, 2); frontier.py over both candidates
+        # (frontier_rule116_validation, frontier_rule116_encoder_lag) and rule_check.py as for rule 115
+        # (rule_check_rule116UsK_validation, rule_check_rule116UsK_encoder_lag)
+        # rule 117: experiments/rules/rule117.sh (the same with rule117UsK, K = 025, 05 for --set spread_caution=0.25,
+        # 0.5); frontier.py and rule_check.py as for rule 116 (frontier_rule117_validation,
+        # frontier_rule117_encoder_lag, rule_check_rule117UsK_validation, rule_check_rule117UsK_encoder_lag)
+        # rule 118: experiments/rules/rule118.sh (validation_plays.py rule118U2 --run runs/union115/filter
+        # --encoder-lag); frontier.py and rule_check.py as for rule 115 (frontier_rule118_validation,
+        # frontier_rule118_encoder_lag, rule_check_rule118U2_validation, rule_check_rule118U2_encoder_lag)
+        # rule 119: experiments/rules/rule119.sh (validation_plays.py rule119U2 --run runs/union115/filter with
+        # --confirmation confirmation37 torque_confirmation18 extremes_confirmation9 and with --confirmation
+        # confirmation38 torque_confirmation19 extremes_confirmation10); rule_check.py with the ten pairs as for rule
+        # 115's (iii) (rule_check_rule119U2_spent)
         # headroom_bias_rule119: headroom_bias.py as its docstring gives it, with U=runs/union115/filter after LF and
         # guard_U=runs/union115/guard_1 after guard_LF, without guard_0, --out out/headroom_bias_rule119.md
-        # rule 120: runs/collect_three.sh (the noisy collections), runs/rule120.sh (T's fit), runs/rule120_plays.sh
-        # (TU's directories; validation_plays.py rule120T --run runs/interrogator_three/ensemble --guards
-        # cof_gym/agents/policies/interrogator/guard_0 runs/interrogator_three/guard/ensemble --encoder-lag and
-        # rule120TU with runs/union120's); frontier.py and rule_check.py as for rule 116 (frontier_rule120_validation,
-        # frontier_rule120_encoder_lag, rule_check_rule120K_validation, rule_check_rule120K_encoder_lag, K = T, TU);
-        # TU's (iii): validation_plays.py rule120TU --run runs/union120/filter --guards guard_0 runs/union120/guard_1
-        # with --confirmation confirmation37 torque_confirmation18 extremes_confirmation9 and with --confirmation
-        # confirmation38 torque_confirmation19 extremes_confirmation10; rule_check.py with the ten pairs as for rule 119,
-        # --gain --discordant (rule_check_rule120TU_spent)
-        # rule 121: runs/rule121.sh (validation_plays.py rule121TU2 --run runs/union120/filter --encoder-lag; rule121TU3
-        # the same with --guards guard_0 guard_1 runs/interrogator_three/guard/ensemble); frontier.py and rule_check.py
-        # as for rule 120 (frontier_rule121_validation, frontier_rule121_encoder_lag, rule_check_rule121K_validation,
-        # rule_check_rule121K_encoder_lag, K = TU2, TU3)
-        # rule 122: runs/rule122.sh (validation_plays.py rule122TUg --run runs/union120/filter --encoder-lag --guards
-        # guard_0 runs/union120/guard_1 guard_1); frontier.py with rule120TU beside rule122TUg and rule_check.py as for
+        # rule 120: experiments/rules/collect_three.sh (the noisy collections), experiments/rules/rule120.sh (T's fit),
+        # experiments/rules/rule120_plays.sh (TU's directories; validation_plays.py rule120T --run
+        # runs/interrogator_three/ensemble --guards cof_gym/agents/policies/interrogator/guard_0
+        # runs/interrogator_three/guard/ensemble --encoder-lag and rule120TU with runs/union120's); frontier.py and
+        # rule_check.py as for rule 116 (frontier_rule120_validation, frontier_rule120_encoder_lag,
+        # rule_check_rule120K_validation, rule_check_rule120K_encoder_lag, K = T, TU); TU's (iii): validation_plays.py
+        # rule120TU --run runs/union120/filter --guards guard_0 runs/union120/guard_1 with --confirmation confirmation37
+        # torque_confirmation18 extremes_confirmation9 and with --confirmation confirmation38 torque_confirmation19
+        # extremes_confirmation10; rule_check.py with the ten pairs as for rule 119, --gain --discordant
+        # (rule_check_rule120TU_spent)
+        # rule 121: experiments/rules/rule121.sh (validation_plays.py rule121TU2 --run runs/union120/filter
+        # --encoder-lag; rule121TU3 the same with --guards guard_0 guard_1 runs/interrogator_three/guard/ensemble);
+        # frontier.py and rule_check.py as for rule 120 (frontier_rule121_validation, frontier_rule121_encoder_lag,
+        # rule_check_rule121K_validation, rule_check_rule121K_encoder_lag, K = TU2, TU3)
+        # rule 122: experiments/rules/rule122.sh (validation_plays.py rule122TUg --run runs/union120/filter
+        # --encoder-lag --guards guard_0 runs/union120/guard_1 guard_1); frontier.py with rule120TU beside rule122TUg
+        # and rule_check.py as for
         # rule 121 with --discordant (frontier_rule122_validation, frontier_rule122_encoder_lag,
         # rule_check_rule122TUg_validation, rule_check_rule122TUg_encoder_lag)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \

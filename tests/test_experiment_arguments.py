@@ -158,6 +158,11 @@ CASES = [
     ("scripted_plays", ["--agents", "phase-rule", "robust-model", "--records", "{new}"], "--records"),
     ("scripted_plays", ["--agents", "phase-rule", "--records", "{dir}"], "--records"),
     ("scripted_plays", ["--agents", "phase-rule", "--records", "{new}", "--grids", "nope"], "--grids"),
+    ("pool_ensembles", ["{SHIPPED}", "--out", "{new}"], "DIR"),
+    ("pool_ensembles", ["{SHIPPED}", "{dir}", "--out", "{new}"], "DIR"),
+    ("pool_ensembles", ["{SHIPPED}", "{text}", "--out", "{new}"], "DIR"),
+    ("pool_ensembles", ["{SHIPPED}", "{SHIPPED}", "--out", "{file}"], "--out"),
+    ("pool_ensembles", ["{SHIPPED}", "{SHIPPED}", "--out", "{SHIPPED}"], "--out"),
 ]
 
 
@@ -191,7 +196,8 @@ REQUIRED = {"assemble_policy": ["--filter", "f", "--out", "o"], "feature_block_n
             "runaways_by_option": ["records.json", "--option", "x", "--edges", "0"],
             "ppo_seeds": ["--runs", "run"], "zoo_eval": ["model.zip"], "rule_check": ["base.json", "candidate.json"],
             "frontier": ["records.json"], "scripted_plays": ["--agents", "phase-rule", "--records", "r.json"],
-            "learned_caution": ["--out", "o"], "headroom_bias": ["--networks", "a=n", "--climbs", "c.npz"]}
+            "learned_caution": ["--out", "o"], "headroom_bias": ["--networks", "a=n", "--climbs", "c.npz"],
+            "pool_ensembles": ["a", "b", "--out", "o"]}
 
 
 def test_every_script_parses_with_the_one_line_parser() -> None:

@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Rule 115 (docs/interrogator.md): U's ensembles (the shipped members and LF's pooled), then its five validation plays
+# and its ten plays of the spent sets (about 16 minutes of plays on 2 cores)
+set -e
+cd "$(dirname "$0")/../.."  # the repository root
+[ -d runs/union115/filter ] || python experiments/pool_ensembles.py --out runs/union115/filter \
+  cof_gym/agents/policies/interrogator runs/interrogator_encoder/ensemble
+[ -d runs/union115/guard_1 ] || python experiments/pool_ensembles.py --out runs/union115/guard_1 \
+  cof_gym/agents/policies/interrogator/guard_1 runs/interrogator_encoder/guard/ensemble
+G="--run runs/union115/filter --guards cof_gym/agents/policies/interrogator/guard_0 runs/union115/guard_1"
+python experiments/validation_plays.py rule115U $G --encoder-lag
+python experiments/validation_plays.py rule115U $G --confirmation confirmation37 torque_confirmation18 extremes_confirmation9
+python experiments/validation_plays.py rule115U $G --confirmation confirmation38 torque_confirmation19 extremes_confirmation10
