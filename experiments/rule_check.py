@@ -21,11 +21,12 @@ differences of :mod:`paired_comparison` (the same 95 % CIs, the same resamples):
 - ``--same-climbs``: every episode's climb ended as the baseline's did (the same ``ended`` and ``macro_slip``) at
   the same peak torque (``peak_torque_fraction``, exactly): a candidate that changes only the estimate (rule 102).
 
-``--discordant`` adds a line of information, no condition: over every pair's episodes together, how many climbs ran
-away in the baseline's play alone and how many in the candidate's alone, with the exact one-sided sign test
-(McNemar's exact test) of the candidate running away more often: the binomial probability of at least that many of
-the discordant climbs being the candidate's if each were equally likely to be either's. The concordant climbs
-carry no information on the difference; a total's difference of a few runaways can be well within chance.
+``--discordant`` adds information, no condition: on each grid's line the climbs that ran away in the baseline's play
+alone and in the candidate's alone (``ran away alone B / C``), and a line with both counts over every pair's episodes
+together and the exact one-sided sign test (McNemar's exact test) of the candidate running away more often: the
+binomial probability of at least that many of the discordant climbs being the candidate's if each were equally likely
+to be either's. The concordant climbs carry no information on the difference; a total's difference of a few runaways
+can be well within chance.
 
 It prints each grid's differences, every condition that fails, and a last line ``holds`` or ``fails``; the exit
 status is 0 when the conditions hold and 1 when they fail (2: a usage error, before anything is read further).
@@ -74,15 +75,13 @@ def climbs_differing(base: dict[tuple, dict], other: dict[tuple, dict]) -> int:
     return sum(any(base[k][f] != other[k][f] for f in CLIMB_FIELDS) for k in base if k in other)
 
 
-def discordant_runaways(bases: list[Grids], candidates: list[Grids]) -> tuple[int, int]:
-    """(climbs that ran away in the baseline's play alone, in the candidate's alone) over every pair's grids."""
+def discordant_runaways(base: dict[tuple, dict], candidate: dict[tuple, dict]) -> tuple[int, int]:
+    """(climbs that ran away in the baseline's play alone, in the candidate's alone) on one grid's paired episodes."""
     counts = [0, 0]
-    for b, c in zip(bases, candidates, strict=True):
-        for grid, episodes in b.items():
-            for key, r in episodes.items():
-                base_slip, candidate_slip = bool(r["macro_slip"]), bool(c[grid][key]["macro_slip"])
-                if base_slip != candidate_slip:
-                    counts[candidate_slip] += 1
+    for key, r in base.items():
+        base_slip, candidate_slip = bool(r["macro_slip"]), bool(candidate[key]["macro_slip"])
+        if base_slip != candidate_slip:
+            counts[candidate_slip] += 1
     return counts[0], counts[1]
 
 
@@ -101,7 +100,7 @@ def mean_return(plays: list[Grids]) -> float:
 def check(bases: list[Grids], candidates: list[Grids], conditions: Conditions) -> tuple[list[str], list[str]]:
     """(lines describing each grid and the totals, the conditions that fail) of the ``candidates``' plays against
     the ``bases``' (in pairs, the same episodes; with several, each line names its play's index)."""
-    lines, failed = [], []
+    lines, failed, alone = [], [], [0, 0]
     for k, (b, c) in enumerate(zip(bases, candidates, strict=True)):
         if sorted(b) != sorted(c):
             raise ValueError(f"the two files played other grids: {sorted(b)} and {sorted(c)}")
@@ -111,6 +110,10 @@ def check(bases: list[Grids], candidates: list[Grids], conditions: Conditions) -
             slips = runaways(b[grid]), runaways(c[grid])
             lines.append(f"- {name}: runaways {slips[0]} -> {slips[1]}; median {ci_text(d['median'])} points, "
                          f"P90 {ci_text(d['P90'])} points, return {ci_text(d['return'], 4)}")
+            if conditions.discordant:
+                grid_alone = discordant_runaways(b[grid], c[grid])
+                alone = [alone[0] + grid_alone[0], alone[1] + grid_alone[1]]
+                lines[-1] += f"; ran away alone {grid_alone[0]} / {grid_alone[1]}"
             if grid == conditions.strict_grid and slips[1] > slips[0]:
                 failed.append(f"{name}: {slips[1]} runaways against {slips[0]} (none more allowed)")
             if conditions.errors and conditions.error_grid in (None, grid):
@@ -124,9 +127,8 @@ def check(bases: list[Grids], candidates: list[Grids], conditions: Conditions) -
     returns = mean_return(bases), mean_return(candidates)
     lines.append(f"- all: runaways {totals[0]} -> {totals[1]}; mean return {returns[0]:.4f} -> {returns[1]:.4f}")
     if conditions.discordant:
-        only = discordant_runaways(bases, candidates)
-        lines.append(f"- discordant climbs: {only[0]} ran away in the baseline's play alone, {only[1]} in the "
-                     f"candidate's alone (one-sided exact sign test p = {sign_test_p(only[1], sum(only)):.3f})")
+        lines.append(f"- discordant climbs: {alone[0]} ran away in the baseline's play alone, {alone[1]} in the "
+                     f"candidate's alone (one-sided exact sign test p = {sign_test_p(alone[1], sum(alone)):.3f})")
     if conditions.fewer_runaways and not totals[1] < totals[0]:
         failed.append(f"all: {totals[1]} runaways against {totals[0]} (strictly fewer needed)")
     elif totals[1] > totals[0] + conditions.more_runaways:

@@ -172,6 +172,7 @@ def test_discordant_climbs_count_each_play_alone_and_the_sign_test_is_the_exact_
     # 0.34375, shown 0.344 (a quarter of the last digit from a rounding boundary)
     assert lines[-1] == ("- discordant climbs: 2 ran away in the baseline's play alone, 4 in the candidate's alone "
                          "(one-sided exact sign test p = 0.344)")
+    assert [line.rsplit("; ", 1)[1] for line in lines[:2]] == ["ran away alone 0 / 2", "ran away alone 2 / 2"]
     assert [f.split(":")[0] for f in failed] == ["family", "all"]  # information only: the conditions are unchanged
     assert not any("discordant" in line for line in check([paired(base, "base")], [paired(candidate, "candidate")],
                                                            Conditions())[0])
