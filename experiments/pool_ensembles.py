@@ -15,8 +15,8 @@ with ``--guards ... OUT``; ``assemble_policy.py --filter OUT`` makes it a policy
 from __future__ import annotations
 
 import shutil
-import zipfile
 import sys
+import zipfile
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
