@@ -972,6 +972,11 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # and rule_check.py as for
         # rule 121 with --discordant (frontier_rule122_validation, frontier_rule122_encoder_lag,
         # rule_check_rule122TUg_validation, rule_check_rule122TUg_encoder_lag)
+        # headroom_bias_rule122: headroom_bias.py --networks shipped=cof_gym/agents/policies/interrogator
+        # T=runs/interrogator_three/ensemble TU=runs/union120/filter guard_1=cof_gym/agents/policies/interrogator/guard_1
+        # guard_T=runs/interrogator_three/guard/ensemble guard_TU=runs/union120/guard_1 --climbs
+        # runs/interrogator_three/climbs_{torque_wide,noisy_torque_wide,procedural_torque_wide,
+        # procedural_noisy_torque_wide}.npz --out out/headroom_bias_rule122.md
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1338,7 +1343,7 @@ SOURCES = {
         "rule_check_rule120TU_spent", "frontier_rule121_validation", "frontier_rule121_encoder_lag",
         *(f"rule_check_rule121{k}_{play}" for k in ("TU2", "TU3") for play in ("validation", "encoder_lag")),
         "frontier_rule122_validation", "frontier_rule122_encoder_lag", "rule_check_rule122TUg_validation",
-        "rule_check_rule122TUg_encoder_lag",
+        "rule_check_rule122TUg_encoder_lag", "headroom_bias_rule122",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),

@@ -163,6 +163,16 @@ CASES = [
     ("pool_ensembles", ["{SHIPPED}", "{text}", "--out", "{new}"], "DIR"),
     ("pool_ensembles", ["{SHIPPED}", "{SHIPPED}", "--out", "{file}"], "--out"),
     ("pool_ensembles", ["{SHIPPED}", "{SHIPPED}", "--out", "{SHIPPED}"], "--out"),
+    ("match_creep_threshold", ["--reference", "{dir}", "--candidate", "{SHIPPED}", "--climbs", "{file}"],
+     "--reference"),
+    ("match_creep_threshold", ["--reference", "{SHIPPED}", "--candidate", "{new}", "--climbs", "{file}"],
+     "--candidate"),
+    ("match_creep_threshold", ["--reference", "{SHIPPED}", "--candidate", "{SHIPPED}", "--climbs", "{text}"],
+     "--climbs"),
+    ("match_creep_threshold", ["--reference", "{SHIPPED}", "--candidate", "{SHIPPED}", "--climbs", "{file}",
+                               "--threshold", "0"], "--threshold"),
+    ("match_creep_threshold", ["--reference", "{SHIPPED}", "--candidate", "{SHIPPED}", "--climbs", "{file}",
+                               "--near", "nan"], "--near"),
 ]
 
 
@@ -197,7 +207,8 @@ REQUIRED = {"assemble_policy": ["--filter", "f", "--out", "o"], "feature_block_n
             "ppo_seeds": ["--runs", "run"], "zoo_eval": ["model.zip"], "rule_check": ["base.json", "candidate.json"],
             "frontier": ["records.json"], "scripted_plays": ["--agents", "phase-rule", "--records", "r.json"],
             "learned_caution": ["--out", "o"], "headroom_bias": ["--networks", "a=n", "--climbs", "c.npz"],
-            "pool_ensembles": ["a", "b", "--out", "o"]}
+            "pool_ensembles": ["a", "b", "--out", "o"],
+            "match_creep_threshold": ["--reference", "r", "--candidate", "c", "--climbs", "c.npz"]}
 
 
 def test_every_script_parses_with_the_one_line_parser() -> None:

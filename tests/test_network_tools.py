@@ -1,5 +1,6 @@
 """experiments/pool_ensembles.py: two ensembles pooled are one ensemble of all their members, whose mean is the
-members' mean (the count-weighted mean of the two ensembles' means)."""
+members' mean (the count-weighted mean of the two ensembles' means); experiments/match_creep_threshold.py: the
+candidate's threshold is exceeded as often as the reference's."""
 
 from __future__ import annotations
 
@@ -34,3 +35,14 @@ def test_pooled_members_are_copied_in_order_and_predict_their_mean(tmp_path: Pat
     largest = max(np.abs(m(x)[0]).max() for m in pooled.members)
     np.testing.assert_allclose(pooled.predict(x)[0], expected, rtol=0, atol=1e-13 * (1.0 + largest))
     assert f"{len(sources)} members ({len(filter_.members)} + {len(guard.members)})" in run.stdout
+
+
+def test_the_matched_creep_threshold_is_the_candidates_quantile_at_the_references_trigger_share() -> None:
+    sys.path.insert(0, str(ROOT / "experiments"))
+    from match_creep_threshold import matched_threshold
+
+    # half the reference's stds exceed 0.08; the candidate's median (its 0.5 quantile) is exceeded as often
+    share, threshold = matched_threshold(np.array([0.05, 0.07, 0.09, 0.11]), np.array([1.0, 2.0, 3.0, 4.0, 5.0]), 0.08)
+    assert (share, threshold) == (0.5, 3.0)
+    share, threshold = matched_threshold(np.array([0.09, 0.1]), np.array([0.2, 0.4]), 0.08)  # always: its minimum
+    assert (share, threshold) == (1.0, 0.2)
