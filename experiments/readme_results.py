@@ -979,7 +979,8 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # procedural_noisy_torque_wide}.npz --out out/headroom_bias_rule122.md
         # rule 123: experiments/rules/rule123.sh; frontier.py with rule120TU, rule123TUk and rule123TUkg and rule_check.py
         # as for rule 122 (frontier_rule123_validation, frontier_rule123_encoder_lag, rule_check_rule123K_validation,
-        # rule_check_rule123K_encoder_lag, K = TUk, TUkg)
+        # rule_check_rule123K_encoder_lag, K = TUk, TUkg); TUkg's (iii): experiments/rules/rule123_spent.sh rule123TUkg
+        # 0.089, rule_check.py with the ten pairs as for rule 120's TU, --gain --discordant (rule_check_rule123TUkg_spent)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1349,6 +1350,7 @@ SOURCES = {
         "rule_check_rule122TUg_encoder_lag", "headroom_bias_rule122",
         "frontier_rule123_validation", "frontier_rule123_encoder_lag",
         *(f"rule_check_rule123{k}_{play}" for k in ("TUk", "TUkg") for play in ("validation", "encoder_lag")),
+        "rule_check_rule123TUkg_spent",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
