@@ -981,6 +981,12 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # as for rule 122 (frontier_rule123_validation, frontier_rule123_encoder_lag, rule_check_rule123K_validation,
         # rule_check_rule123K_encoder_lag, K = TUk, TUkg); TUkg's (iii): experiments/rules/rule123_spent.sh rule123TUkg
         # 0.089, rule_check.py with the ten pairs as for rule 120's TU, --gain --discordant (rule_check_rule123TUkg_spent)
+        # rule 123's confirmation: experiments/rules/confirm123.sh rule123TUkg 0.089; frontier.py over the five plays
+        # joined by + with --rows against rule123shipped with the hand-built agents' references
+        # (frontier_rule123_confirmation) and on the _confirmation39_encoder_lag_s records
+        # (frontier_rule123_confirmation_encoder_lag); rule_check.py with the five pairs --gain --errors --error-grid
+        # family --returns --more-runaways 2352 --discordant (rule_check_rule123_confirmation) and the lag's pair with
+        # --errors --error-grid family --returns --more-runaways 360 (rule_check_rule123_confirmation_encoder_lag)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1350,7 +1356,8 @@ SOURCES = {
         "rule_check_rule122TUg_encoder_lag", "headroom_bias_rule122",
         "frontier_rule123_validation", "frontier_rule123_encoder_lag",
         *(f"rule_check_rule123{k}_{play}" for k in ("TUk", "TUkg") for play in ("validation", "encoder_lag")),
-        "rule_check_rule123TUkg_spent",
+        "rule_check_rule123TUkg_spent", "frontier_rule123_confirmation", "rule_check_rule123_confirmation",
+        "frontier_rule123_confirmation_encoder_lag", "rule_check_rule123_confirmation_encoder_lag",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
