@@ -3,10 +3,7 @@
 # and its ten plays of the spent sets (about 16 minutes of plays on 2 cores)
 set -e
 cd "$(dirname "$0")/../.."  # the repository root
-[ -d runs/union115/filter ] || python experiments/pool_ensembles.py --out runs/union115/filter \
-  cof_gym/agents/policies/interrogator runs/interrogator_encoder/ensemble
-[ -d runs/union115/guard_1 ] || python experiments/pool_ensembles.py --out runs/union115/guard_1 \
-  cof_gym/agents/policies/interrogator/guard_1 runs/interrogator_encoder/guard/ensemble
+experiments/rules/union.sh runs/union115 runs/interrogator_encoder
 G="--run runs/union115/filter --guards cof_gym/agents/policies/interrogator/guard_0 runs/union115/guard_1"
 python experiments/validation_plays.py rule115U $G --encoder-lag
 python experiments/validation_plays.py rule115U $G --confirmation confirmation37 torque_confirmation18 extremes_confirmation9

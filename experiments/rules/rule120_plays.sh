@@ -3,10 +3,7 @@
 # T's and TU's five validation plays each, then TU's ten plays of the spent sets (session 63)
 set -e
 cd "$(dirname "$0")/../.."  # the repository root
-[ -d runs/union120/filter ] || python experiments/pool_ensembles.py --out runs/union120/filter \
-  cof_gym/agents/policies/interrogator runs/interrogator_three/ensemble
-[ -d runs/union120/guard_1 ] || python experiments/pool_ensembles.py --out runs/union120/guard_1 \
-  cof_gym/agents/policies/interrogator/guard_1 runs/interrogator_three/guard/ensemble
+experiments/rules/union.sh runs/union120 runs/interrogator_three
 python experiments/validation_plays.py rule120T --run runs/interrogator_three/ensemble \
   --guards cof_gym/agents/policies/interrogator/guard_0 runs/interrogator_three/guard/ensemble --encoder-lag
 G="--run runs/union120/filter --guards cof_gym/agents/policies/interrogator/guard_0 runs/union120/guard_1"
