@@ -55,6 +55,7 @@ import argparse
 import json
 import sys
 import time
+from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
@@ -94,15 +95,22 @@ def ensemble_members(model_path: Path) -> list[Path]:
     return [Path(part) for part in str(model_path).split("+")]
 
 
+@lru_cache(maxsize=None)
+def load_ppo(path: Path):
+    """A saved PPO model on the CPU (stable-baselines3), loaded once per path and process: the check before any play
+    and the play itself read the same object."""
+    from stable_baselines3 import PPO
+
+    return PPO.load(str(path), device="cpu")
+
+
 def check_caution_model(parser: Parser, option: str, path: Path) -> None:
     """A usage error naming ``option`` unless ``path`` is a PPO model this script trains (its observation the climb's
     state, its action one caution): loaded here, before any episode is played or anything written."""
     if not path.is_file():
         parser.error(f"{option}: no file {path} (a seed's model.zip of experiments/learned_caution.py)")
-    from stable_baselines3 import PPO
-
     try:
-        model = PPO.load(str(path), device="cpu")
+        model = load_ppo(Path(path))
     except Exception as e:  # noqa: BLE001 - SB3 and zipfile report a bad file in many exception types
         parser.error(f"{option}: {path} is not a PPO model ({type(e).__name__}: {' '.join(str(e).split())[:120]})")
     shapes = (model.observation_space.shape, model.action_space.shape)
@@ -114,18 +122,14 @@ def check_caution_model(parser: Parser, option: str, path: Path) -> None:
 def ppo_policy(model_path: Path):
     """The deterministic action of a saved PPO model, as :func:`steered` calls it (stable-baselines3's inference);
     for several models joined by ``+``, the mean of their actions (an ensemble of seeds, rule 107)."""
-    from stable_baselines3 import PPO
-
-    models = [PPO.load(str(path), device="cpu") for path in ensemble_members(model_path)]
+    models = [load_ppo(path) for path in ensemble_members(model_path)]
     return lambda state: float(np.mean([m.predict(state, deterministic=True)[0][0] for m in models]))
 
 
 def exported(model_path: Path) -> CautionPolicy:
     """A saved PPO model's deterministic policy as the package runs it (NumPy, float32): its policy network's tanh
     layers and its action layer."""
-    from stable_baselines3 import PPO
-
-    policy = PPO.load(str(model_path), device="cpu").policy
+    policy = load_ppo(Path(model_path)).policy
     layers = [m for m in policy.mlp_extractor.policy_net if hasattr(m, "weight")]
     pair = lambda m: (m.weight.detach().numpy().copy(), m.bias.detach().numpy().copy())  # noqa: E731
     return CautionPolicy(tuple(pair(m) for m in layers), pair(policy.action_net))
