@@ -13,7 +13,7 @@ import pytest
 
 import cof_gym
 from cof_gym.agents import registry
-from cof_gym.measurement.sine_fit import basis, colored_noise_factor, lag1_correlation, sums
+from cof_gym.measurement.sine_fit import basis, colored_noise_factor, fit_from_sums, lag1_correlation, sums
 from cof_gym.physics.models import DEFAULT_TIMESTEP_S
 from cof_gym.task.scenarios import ENCODER_LAG_MAX_S, V2_RANGES, outside_draws
 
@@ -107,8 +107,11 @@ def test_the_residuals_lag1_correlation_from_sums_is_the_samples(rho):
     btb, bty, yty, count = sums(theta, tau, y)
     residual = y - basis(theta, tau) @ np.linalg.lstsq(basis(theta, tau), y, rcond=None)[0]
     direct = (residual[1:] @ residual[:-1] / (n - 1)) / (residual @ residual / n)
-    got = lag1_correlation(btb, bty, yty, count, *(np.ravel(v) if np.ndim(v) else v for v in lag1_sums(theta, tau, y)))
+    lag1 = [np.ravel(v) if np.ndim(v) else v for v in lag1_sums(theta, tau, y)]
+    got = lag1_correlation(btb, bty, yty, count, *lag1)
     assert got == pytest.approx(direct, abs=1e-9)
+    # the fit's own coefficients (as the window reads them) are the ones solved here again: the same number, exactly
+    assert lag1_correlation(btb, bty, yty, count, *lag1, fit_from_sums(btb, bty, yty, count).coefficients) == got
     assert abs(got - rho) < 0.15  # the estimate of the process's own correlation over 600 samples
 
 

@@ -11,7 +11,7 @@ delta method (Cramer-Rao: var >= 2 sigma^2 / (n amp^2)).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -47,6 +47,9 @@ class SineFit:
     offset: float
     drift_per_s: float
     residual_rms: float
+    # the single-tone fit's coefficients (c0, c1, c2, c3) as solved, for what reads its residual
+    # (lag1_correlation); empty for a tone of a joint fit
+    coefficients: tuple[float, ...] = field(default=(), repr=False, compare=False)
 
 
 def fit_from_sums(btb: np.ndarray, bty: np.ndarray, yty: float, n: float) -> SineFit:
@@ -68,16 +71,18 @@ def fit_from_sums(btb: np.ndarray, bty: np.ndarray, yty: float, n: float) -> Sin
     else:
         phase_se = float(np.pi)
     return SineFit(amplitude, float(np.arctan2(c0, c1)), phase_se, float(coef[2]), float(coef[3]),
-                   float(np.sqrt(rss / n)))
+                   float(np.sqrt(rss / n)), tuple(float(c) for c in coef))
 
 
 def lag1_correlation(btb: np.ndarray, bty: np.ndarray, yty: float, n: float, yy1: float, by_prev: np.ndarray,
-                     prev_by: np.ndarray, bb: np.ndarray) -> float:
+                     prev_by: np.ndarray, bb: np.ndarray, coefficients: tuple[float, ...] = ()) -> float:
     """The lag-1 autocorrelation of the fit's residual ``r_n = y_n - b_n' c`` over consecutive samples, from the fit's
     sums and the lag-1 cross sums ``sum y_n y_(n-1)``, ``sum b_n y_(n-1)``, ``sum b_(n-1) y_n`` and ``sum b_n
     b_(n-1)'`` (16 entries, row-major): ``(sum r_n r_(n-1) / (n - 1)) / (sum r_n^2 / n)``, within [-0.999, 0.999];
-    0 where the fit leaves no residual."""
-    coef, _, _ = _solve_scaled(unpack_symmetric(np.asarray(btb, dtype=np.float64)), np.asarray(bty, dtype=np.float64))
+    0 where the fit leaves no residual. ``coefficients``: the fit's as :func:`fit_from_sums` solved them from the same
+    sums (:attr:`SineFit.coefficients`), not solved again; empty: solved here."""
+    coef = (np.array(coefficients, dtype=np.float64) if coefficients else
+            _solve_scaled(unpack_symmetric(np.asarray(btb, dtype=np.float64)), np.asarray(bty, dtype=np.float64))[0])
     rss = float(yty - coef @ bty)
     if not rss > 0.0 or n < 2:
         return 0.0

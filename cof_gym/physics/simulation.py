@@ -362,7 +362,7 @@ def _lag_se_corrected(ud: np.ndarray, n: float, torque: SineFit, omega: SineFit)
     b0, y0 = I["BTB_STATE_0"], I["BTY_OMEGA_0"]
     rho = lag1_correlation(ud[b0:b0 + 10], ud[y0:y0 + 4], ud[I["YTY_OMEGA"]], n, ud[I["LAG1_YY"]],
                            ud[I["LAG1_BY_0"]: I["LAG1_BY_0"] + 4], ud[I["LAG1_PY_0"]: I["LAG1_PY_0"] + 4],
-                           ud[I["LAG1_BB_0"]: I["LAG1_BB_0"] + 16])
+                           ud[I["LAG1_BB_0"]: I["LAG1_BB_0"] + 16], omega.coefficients)
     factor = colored_noise_factor(rho, ud[I["MOD_OMEGA"]] * ud[I["TIMESTEP_S"]])
     return _lag(torque, replace(omega, phase_se_rad=omega.phase_se_rad * factor), True)[1]
 
