@@ -29,6 +29,7 @@ sys.path.insert(0, str(HERE))
 from script_checks import load_climbs  # noqa: E402
 from train_interrogator import require_networks, split  # noqa: E402
 
+
 def matched_threshold(reference_std: np.ndarray, candidate_std: np.ndarray, threshold: float) -> tuple[float, float]:
     """(share of ``reference_std`` above ``threshold``, the threshold ``candidate_std`` exceeds as often): the
     ``(1 - share)`` quantile of ``candidate_std`` (linear interpolation between order statistics)."""

@@ -23,13 +23,8 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 from script_checks import check_out_dir  # noqa: E402
 
-from cof_gym.agents.interrogator.networks import FilterEnsemble  # noqa: E402
+from cof_gym.agents.interrogator.networks import FilterEnsemble, member_files  # noqa: E402
 from cof_gym.commands.args import Parser  # noqa: E402
-
-
-def member_files(directory: Path) -> list[Path]:
-    """``directory``'s member files in the order :meth:`FilterEnsemble.load` reads them."""
-    return sorted(Path(directory).glob("member_*.npz"))
 
 
 def pool(directories: list[Path], out: Path) -> list[Path]:

@@ -112,7 +112,8 @@ def check(bases: list[Grids], candidates: list[Grids], conditions: Conditions) -
                          f"P90 {ci_text(d['P90'])} points, return {ci_text(d['return'], 4)}")
             if conditions.discordant:
                 grid_alone = discordant_runaways(b[grid], c[grid])
-                alone = [alone[0] + grid_alone[0], alone[1] + grid_alone[1]]
+                alone[0] += grid_alone[0]
+                alone[1] += grid_alone[1]
                 lines[-1] += f"; ran away alone {grid_alone[0]} / {grid_alone[1]}"
             if grid == conditions.strict_grid and slips[1] > slips[0]:
                 failed.append(f"{name}: {slips[1]} runaways against {slips[0]} (none more allowed)")

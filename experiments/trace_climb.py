@@ -34,6 +34,7 @@ from crest_tradeoff import climb_setting  # noqa: E402
 
 from cof_gym.agents.base import agent_view  # noqa: E402
 from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR, Reading, interrogator_for, manifest_climb  # noqa: E402
+from cof_gym.agents.interrogator.networks import member_files  # noqa: E402
 from cof_gym.commands.args import Parser  # noqa: E402
 from cof_gym.commands.suites import make_suite, scenario_option  # noqa: E402
 
@@ -89,7 +90,7 @@ def main() -> None:
     ap.add_argument("--scenario", nargs="+", default=[], metavar="NAME=VALUE", type=scenario_option,
                     help="reset options over every episode's own, as crest_tradeoff.py's --scenario (e.g. noise_level=2)")
     args = ap.parse_args()
-    if not sorted(args.agent.glob("member_*.npz")):
+    if not member_files(args.agent):
         ap.error(f"--agent: {args.agent} holds no member_*.npz")
     params = manifest_climb(args.agent)
     try:  # crest_tradeoff.py's --set items, on the agent's own climb

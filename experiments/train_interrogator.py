@@ -117,6 +117,7 @@ import cof_gym
 from cof_gym.agents.interrogator import (
     INTERVAL_FILE, SHIPPED_INTERROGATOR, ClimbParameters, FilterEnsemble, FilterNetwork, interrogator_for, manifest_climb,
 )
+from cof_gym.agents.interrogator.networks import member_files
 from cof_gym.agents.interrogator.training import (
     FIT_LOSSES, FITTABLE_BLOCKS, STEEP_FALL, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel, fit_member, nll,
 )
@@ -492,7 +493,7 @@ def fit_networks(out: Path, load_data: Callable[[], Dataset], seeds: list[int], 
     if "reused" not in fit_report:
         fit_report["ensemble"] = score(FilterEnsemble.load(ensemble_dir))
     print(f"{out.name} held-out {fit_report}", flush=True)
-    for stale in ensemble_dir.glob("member_*.npz"):
+    for stale in member_files(ensemble_dir):
         if int(stale.stem.split("_")[1]) not in seeds:
             stale.unlink()
     return fit_report
@@ -502,7 +503,7 @@ def require_networks(parser: argparse.ArgumentParser, option: str, directories: 
     """A one-line usage error (exit 2) naming ``option`` for the first directory without networks
     (``member_*.npz``)."""
     for directory in directories:
-        if not sorted(directory.glob("member_*.npz")):
+        if not member_files(directory):
             parser.error(f"{option}: no networks (member_*.npz) in {directory}")
 
 
@@ -514,7 +515,7 @@ def install_guards(run: Path, guards: list[Path]) -> list[str]:
     names = [f"guard_{k}" for k in range(len(guards))]
     for name, guard in zip(names, guards):
         (run / name).mkdir()
-        for member in sorted(guard.glob("member_*.npz")):
+        for member in member_files(guard):
             shutil.copy2(member, run / name / member.name)
     return names
 
@@ -545,7 +546,7 @@ def shipped_runs(out: Path, package: Path = SHIPPED_INTERROGATOR) -> list[Path]:
     ``member_J.npz`` of the manifest's J-th training seed K alone, OUT/ensemble every member; each has the
     package's guards (every member: the recipe copies the guards' ensembles into every run) and manifest."""
     seeds = json.loads((package / "manifest.json").read_text())["training"]["seeds"]
-    members = sorted(package.glob("member_*.npz"))
+    members = member_files(package)
     if len(members) != len(seeds):
         raise ValueError(f"{package}: {len(members)} member_*.npz for the manifest's {len(seeds)} training seeds")
     runs = [out / f"seed_{s}" for s in seeds] + [out / "ensemble"]

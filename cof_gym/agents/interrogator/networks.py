@@ -112,6 +112,12 @@ class FilterNetwork:
                 raise ValueError(f"{path}: {e}") from None
 
 
+def member_files(directory: Path) -> list[Path]:
+    """An ensemble directory's network files (``member_*.npz``), in the order :meth:`FilterEnsemble.load` reads them
+    (sorted by name); empty where it holds none."""
+    return sorted(Path(directory).glob("member_*.npz"))
+
+
 @dataclass(frozen=True)
 class FilterEnsemble:
     """Members' Gaussian predictions combined: the mean of the means, the variance their spread plus
@@ -150,7 +156,7 @@ class FilterEnsemble:
     @classmethod
     def load(cls, directory: Path, members: list[str] | None = None) -> "FilterEnsemble":
         directory = Path(directory)
-        files = [directory / f"{m}.npz" for m in members] if members else sorted(directory.glob("member_*.npz"))
+        files = [directory / f"{m}.npz" for m in members] if members else member_files(directory)
         if not files or not all(f.is_file() for f in files):
             raise FileNotFoundError(f"no interrogator networks in {directory} (expected member_*.npz)")
         return cls(tuple(FilterNetwork.load(f) for f in files))
