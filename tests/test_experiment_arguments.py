@@ -173,6 +173,12 @@ CASES = [
                                "--threshold", "0"], "--threshold"),
     ("match_creep_threshold", ["--reference", "{SHIPPED}", "--candidate", "{SHIPPED}", "--climbs", "{file}",
                                "--near", "nan"], "--near"),
+    ("match_creep_threshold", ["--reference", "{SHIPPED}", "--candidate", "{SHIPPED}", "--climbs", "{file}",
+                               "--candidate-threshold", "-0.1"], "--candidate-threshold"),
+    ("match_creep_threshold", ["--reference", "{SHIPPED}", "--candidate", "{SHIPPED}", "--climbs", "{file}",
+                               "--candidate-threshold", "0.09", "--exponent", "5"], "--exponent"),
+    ("match_creep_threshold", ["--reference", "{SHIPPED}", "--candidate", "{SHIPPED}", "--climbs", "{file}",
+                               "--candidate-threshold", "0.09", "--min-ratio", "0.5"], "--min-ratio"),
 ]
 
 

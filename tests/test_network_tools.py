@@ -1,6 +1,7 @@
 """experiments/pool_ensembles.py: two ensembles pooled are one ensemble of all their members, whose mean is the
 members' mean (the count-weighted mean of the two ensembles' means); experiments/match_creep_threshold.py: the
-candidate's threshold is exceeded as often as the reference's."""
+candidate's threshold (or its noise exponent) is exceeded as often as the reference's; Dataset.noise_ratios reads each
+climb's ratio from its first windows, as the climb does."""
 
 from __future__ import annotations
 
@@ -46,3 +47,38 @@ def test_the_matched_creep_threshold_is_the_candidates_quantile_at_the_reference
     assert (share, threshold) == (0.5, 3.0)
     share, threshold = matched_threshold(np.array([0.09, 0.1]), np.array([0.2, 0.4]), 0.08)  # always: its minimum
     assert (share, threshold) == (1.0, 0.2)
+
+
+def test_the_matched_noise_exponent_makes_the_candidate_creep_as_often_on_noisy_climbs() -> None:
+    sys.path.insert(0, str(ROOT / "experiments"))
+    from match_creep_threshold import matched_exponent
+
+    ratio = np.array([1.0, 2.0, 4.0, 4.0])
+    reference = np.array([0.05, 0.2, 0.3, 0.5])  # above 0.08 r^1 (0.08, 0.16, 0.32, 0.32): 2 of 4
+    candidate = np.array([0.5, 0.5, 0.5, 0.5])  # above 0.1 r^e where r^e < 5: all four at e = 1, two up to log2 5
+    share, at_reference, exponent = matched_exponent(reference, candidate, ratio, 0.08, 1.0, 0.1)
+    assert (share, at_reference) == (0.5, 1.0)
+    # the largest exponent at which the candidate creeps as often (r = 2 stops creeping at log2 5), to the bisection's
+    # tolerance
+    assert abs(exponent - np.log(5.0) / np.log(2.0)) < 2e-6
+    assert np.mean(candidate > 0.1 * ratio ** (exponent - 2e-6)) == share
+    assert np.mean(candidate > 0.1 * ratio ** (exponent + 2e-6)) < share
+
+
+def test_a_datasets_noise_ratios_are_each_climbs_first_windows_ratio() -> None:
+    from dataclasses import astuple
+
+    from cof_gym.agents.interrogator import ClimbParameters, Reading
+    from cof_gym.agents.interrogator.training import Dataset
+
+    def reading(se_deg: float) -> tuple:  # lock-in noise: radians(se) x compliance x amplitude / (2 pi f)
+        return astuple(Reading(se_deg, se_deg, 2.0 * np.pi, 0.2, 0.01, 1000.0, 180.0 / np.pi, 1.0, 10.0, 1.0))
+
+    rows = [reading(se) for se in (1.0, 3.0, 2.0, 40.0, 0.5, 0.5, 0.5)]  # climb 0: four windows, climb 1: three
+    data = Dataset(np.array(rows), np.zeros(7, bool), np.zeros((7, 2)), np.array([0, 0, 0, 0, 1, 1, 1]))
+    climb = ClimbParameters(noise_reference_nms=0.5)
+    ratios = data.noise_ratios(climb)
+    # climb 0: the median of its first three windows' noise (2 N m s) over 0.5, the fourth window not read; climb 1:
+    # 0.5 N m s, a ratio of 1 (never below)
+    np.testing.assert_allclose(ratios, [4.0] * 4 + [1.0] * 3, rtol=1e-12)
+    assert (data.noise_ratios(ClimbParameters()) == 1.0).all()  # no reference: 1

@@ -41,9 +41,9 @@ import numpy as np
 
 from cof_gym.agents.base import agent_view
 from cof_gym.agents.interrogator import (
-    CREST_RATIO_FLOOR, FEATURE_BLOCKS, TARGET_NAMES, TWO_TONE_ENV_OPTIONS, ClimbParameters, EpisodeFeatures,
-    FilterNetwork, Reading, feature_names, floor_headroom, interrogator_for, manifest_climb, slope_from_phase,
-    speed_scaled_frequency,
+    CREST_RATIO_FLOOR, FEATURE_BLOCKS, NOISE_WINDOWS, TARGET_NAMES, TWO_TONE_ENV_OPTIONS, ClimbParameters,
+    EpisodeFeatures, FilterNetwork, Reading, feature_names, floor_headroom, interrogator_for, manifest_climb,
+    slope_from_phase, speed_scaled_frequency,
 )
 from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.physics.creep_laws import below_peak
@@ -127,6 +127,16 @@ class Dataset:
         """Whether the climbs were recorded with each window's torque balance (:attr:`Reading.torque_balance`;
         climbs recorded before it was read hold none)."""
         return bool((self.readings[:, READING_FIELDS.index("torque_balance")] > 0.0).any())
+
+    def noise_ratios(self, climb: ClimbParameters) -> np.ndarray:
+        """Each window's noise ratio as ``climb`` reads it from its episode's first driven windows
+        (:meth:`ClimbParameters.noise_ratio`: fixed once those windows are driven; 1 without a noise reference)."""
+        out = np.ones(len(self))
+        starts = np.flatnonzero(np.r_[True, self.episode[1:] != self.episode[:-1]])
+        for start, end in zip(starts, [*starts[1:], len(self)]):
+            first = [Reading(*(float(v) for v in row)) for row in self.readings[start:min(end, start + NOISE_WINDOWS)]]
+            out[start:end] = climb.noise_ratio(first)
+        return out
 
     def calibrated(self, max_lag_deg: float | None) -> "Dataset":
         """These climbs as a climb with ``ClimbParameters.torque_balance`` (and ``torque_balance_max_lag_deg`` =
