@@ -987,6 +987,11 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # (frontier_rule123_confirmation_encoder_lag); rule_check.py with the five pairs --gain --errors --error-grid
         # family --returns --more-runaways 2352 --discordant (rule_check_rule123_confirmation) and the lag's pair with
         # --errors --error-grid family --returns --more-runaways 360 (rule_check_rule123_confirmation_encoder_lag)
+        # rule 124: experiments/rules/rule124.sh; frontier.py with rule123TUkg, rule124TUke and rule124TUkge and
+        # rule_check.py as for rule 123 (frontier_rule124_validation, frontier_rule124_encoder_lag,
+        # rule_check_rule124K_validation, rule_check_rule124K_encoder_lag, K = TUke, TUkge); TUkge's (iii):
+        # experiments/rules/rule124_spent.sh rule124TUkge 0.089 0.70, rule_check.py with the ten pairs as for rule 123's
+        # TUkg, --gain --discordant (rule_check_rule124TUkge_spent)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1358,6 +1363,9 @@ SOURCES = {
         *(f"rule_check_rule123{k}_{play}" for k in ("TUk", "TUkg") for play in ("validation", "encoder_lag")),
         "rule_check_rule123TUkg_spent", "frontier_rule123_confirmation", "rule_check_rule123_confirmation",
         "frontier_rule123_confirmation_encoder_lag", "rule_check_rule123_confirmation_encoder_lag",
+        "frontier_rule124_validation", "frontier_rule124_encoder_lag",
+        *(f"rule_check_rule124{k}_{play}" for k in ("TUke", "TUkge") for play in ("validation", "encoder_lag")),
+        "rule_check_rule124TUkge_spent",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
