@@ -43,22 +43,24 @@ def paired(records: list[dict], setting: str) -> dict[str, dict[tuple, dict]]:
     return out
 
 
-def differences(base: dict[tuple, dict], other: dict[tuple, dict], seed: int = 0) -> dict[str, tuple[float, float, float]]:
+def differences(base: dict[tuple, dict], other: dict[tuple, dict], seed: int = 0, tail_percent: float = 2.5,
+                resamples: int = N_BOOTSTRAP) -> dict[str, tuple[float, float, float]]:
     """(difference, CI low, CI high) of ``other`` - ``base`` on their common episodes: the median and P90
-    relative error (percentage points) and the mean return, resampled in pairs."""
+    relative error (percentage points) and the mean return, resampled in pairs (``resamples`` draws); the CI leaves
+    ``tail_percent`` % of the draws out on each side (2.5: the 95 % CI)."""
     keys = sorted(set(base) & set(other))
     if len(keys) != len(base) or len(keys) != len(other):
         raise ValueError("the two settings did not play the same episodes")
     b_err, o_err = (np.array([s[k]["error"] for k in keys]) for s in (base, other))
     b_ret, o_ret = (np.array([s[k]["episode_return"] for k in keys]) for s in (base, other))
-    draws = np.random.default_rng(seed).integers(0, len(keys), size=(N_BOOTSTRAP, len(keys)))
+    draws = np.random.default_rng(seed).integers(0, len(keys), size=(resamples, len(keys)))
+    ci = lambda boot: (float(np.percentile(boot, tail_percent)),  # noqa: E731
+                       float(np.percentile(boot, 100.0 - tail_percent)))
     result = {}
     for name, stat in STATISTICS.items():
         point = 100.0 * float(stat(o_err) - stat(b_err))
-        boot = 100.0 * (stat(o_err[draws]) - stat(b_err[draws]))
-        result[name] = (point, float(np.percentile(boot, 2.5)), float(np.percentile(boot, 97.5)))
-    boot = o_ret[draws].mean(axis=1) - b_ret[draws].mean(axis=1)
-    result["return"] = (float(o_ret.mean() - b_ret.mean()), float(np.percentile(boot, 2.5)), float(np.percentile(boot, 97.5)))
+        result[name] = (point, *ci(100.0 * (stat(o_err[draws]) - stat(b_err[draws]))))
+    result["return"] = (float(o_ret.mean() - b_ret.mean()), *ci(o_ret[draws].mean(axis=1) - b_ret[draws].mean(axis=1)))
     return result
 
 

@@ -2,7 +2,7 @@
 
     python experiments/rule_check.py BASE.json CANDIDATE.json [BASE2.json CANDIDATE2.json ...] \
         [--more-runaways N | --fewer-runaways] [--errors [--error-grid GRID]] [--returns] [--gain] \
-        [--strict-grid family] [--same-climbs] [--discordant] [--out FILE]
+        [--strict-grid family] [--same-climbs] [--discordant] [--family-wise] [--sign-test] [--out FILE]
 
 The files come in pairs, the baseline's and the candidate's play of the same episodes (e.g. one pair at the
 grids' draws, one with the noise tripled); each file holds one setting's episodes (one crest_tradeoff.py row).
@@ -20,6 +20,14 @@ differences of :mod:`paired_comparison` (the same 95 % CIs, the same resamples):
 - ``--gain``: a strictly higher mean return over every pair's episodes together;
 - ``--same-climbs``: every episode's climb ended as the baseline's did (the same ``ended`` and ``macro_slip``) at
   the same peak torque (``peak_torque_fraction``, exactly): a candidate that changes only the estimate (rule 102).
+
+``--family-wise`` reads ``--errors`` and ``--returns`` on simultaneous CIs instead: with ``m`` intervals examined (a
+median and a P90 on each grid ``--errors`` reads, a return on each grid with ``--returns``, over every pair), each CI
+leaves 2.5 / ``m`` % out on either side (Bonferroni: an equal candidate fails with probability at most 5 % over all
+``m``, where each 95 % CI alone fails it with 5 % and some of ``m`` of them far more often), from
+:data:`FAMILY_RESAMPLES` draws so that each tail holds enough of them; the grid lines still print the 95 % CIs.
+``--sign-test`` adds a condition on the runaways: the one-sided exact sign test below (the candidate running away
+more often) must not reject at 5 %.
 
 ``--discordant`` adds information, no condition: on each grid's line the climbs that ran away in the baseline's play
 alone and in the candidate's alone (``ran away alone B / C``), and a line with both counts over every pair's episodes
@@ -47,6 +55,9 @@ from cof_gym.commands.args import Parser, non_negative_int
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from paired_comparison import ci_text, differences, paired, print_table, read_record_files, runaways  # noqa: E402
+
+FAMILY_RESAMPLES = 20000  # --family-wise's draws: 2.5 / m % of them in each tail, 24 at m = 21
+SIGN_TEST_ALPHA = 0.05  # --sign-test: the one-sided level at which more runaways reject
 from script_checks import check_out_file  # noqa: E402
 
 
@@ -62,6 +73,8 @@ class Conditions(NamedTuple):
     error_grid: str | None = None  # None: --errors on every grid
     same_climbs: bool = False
     discordant: bool = False
+    family_wise: bool = False  # --errors and --returns on simultaneous (Bonferroni) CIs
+    sign_test: bool = False  # the runaways' one-sided exact sign test must not reject at SIGN_TEST_ALPHA
 
 
 CLIMB_FIELDS = ("ended", "macro_slip", "peak_torque_fraction")  # where and how a climb ended (--same-climbs)
@@ -97,39 +110,57 @@ def mean_return(plays: list[Grids]) -> float:
     return sum(returns) / len(returns)
 
 
+def intervals_examined(bases: list[Grids], conditions: Conditions) -> int:
+    """How many CIs ``--errors`` and ``--returns`` read over every pair's grids (``--family-wise``'s ``m``)."""
+    return sum(2 * (conditions.errors and conditions.error_grid in (None, grid)) + conditions.returns
+               for b in bases for grid in b)
+
+
 def check(bases: list[Grids], candidates: list[Grids], conditions: Conditions) -> tuple[list[str], list[str]]:
     """(lines describing each grid and the totals, the conditions that fail) of the ``candidates``' plays against
     the ``bases``' (in pairs, the same episodes; with several, each line names its play's index)."""
     lines, failed, alone = [], [], [0, 0]
+    m = intervals_examined(bases, conditions)
+    if conditions.family_wise and m:
+        lines.append(f"- family-wise: {m} intervals, each leaving {2.5 / m:.3g} % out on either side "
+                     f"({FAMILY_RESAMPLES} resamples)")
     for k, (b, c) in enumerate(zip(bases, candidates, strict=True)):
         if sorted(b) != sorted(c):
             raise ValueError(f"the two files played other grids: {sorted(b)} and {sorted(c)}")
         for grid in sorted(b):
             name = grid if len(bases) == 1 else f"{k + 1}, {grid}"
             d = differences(b[grid], c[grid])
+            # the CIs the conditions read: the 95 % ones, or with --family-wise the simultaneous ones
+            dc = differences(b[grid], c[grid], tail_percent=2.5 / m, resamples=FAMILY_RESAMPLES) \
+                if conditions.family_wise and m else d
+            which = "a family-wise CI" if dc is not d else "a CI"
             slips = runaways(b[grid]), runaways(c[grid])
             lines.append(f"- {name}: runaways {slips[0]} -> {slips[1]}; median {ci_text(d['median'])} points, "
                          f"P90 {ci_text(d['P90'])} points, return {ci_text(d['return'], 4)}")
+            grid_alone = discordant_runaways(b[grid], c[grid])
+            alone[0] += grid_alone[0]
+            alone[1] += grid_alone[1]
             if conditions.discordant:
-                grid_alone = discordant_runaways(b[grid], c[grid])
-                alone[0] += grid_alone[0]
-                alone[1] += grid_alone[1]
                 lines[-1] += f"; ran away alone {grid_alone[0]} / {grid_alone[1]}"
             if grid == conditions.strict_grid and slips[1] > slips[0]:
                 failed.append(f"{name}: {slips[1]} runaways against {slips[0]} (none more allowed)")
             if conditions.errors and conditions.error_grid in (None, grid):
-                failed += [f"{name}: {stat} higher with a CI wholly above zero ({ci_text(d[stat])})"
-                           for stat in ("median", "P90") if d[stat][1] > 0.0]
-            if conditions.returns and d["return"][2] < 0.0:
-                failed.append(f"{name}: return lower with a CI wholly below zero ({ci_text(d['return'], 4)})")
+                failed += [f"{name}: {stat} higher with {which} wholly above zero ({ci_text(dc[stat])})"
+                           for stat in ("median", "P90") if dc[stat][1] > 0.0]
+            if conditions.returns and dc["return"][2] < 0.0:
+                failed.append(f"{name}: return lower with {which} wholly below zero ({ci_text(dc['return'], 4)})")
             if conditions.same_climbs and (n := climbs_differing(b[grid], c[grid])):
                 failed.append(f"{name}: {n} climbs ended otherwise than the baseline's (the same climbs needed)")
     totals = tuple(sum(runaways(e) for play in plays for e in play.values()) for plays in (bases, candidates))
     returns = mean_return(bases), mean_return(candidates)
     lines.append(f"- all: runaways {totals[0]} -> {totals[1]}; mean return {returns[0]:.4f} -> {returns[1]:.4f}")
-    if conditions.discordant:
+    p_more = sign_test_p(alone[1], sum(alone))
+    if conditions.discordant or conditions.sign_test:
         lines.append(f"- discordant climbs: {alone[0]} ran away in the baseline's play alone, {alone[1]} in the "
-                     f"candidate's alone (one-sided exact sign test p = {sign_test_p(alone[1], sum(alone)):.3f})")
+                     f"candidate's alone (one-sided exact sign test p = {p_more:.3f})")
+    if conditions.sign_test and p_more < SIGN_TEST_ALPHA:
+        failed.append(f"all: the candidate runs away more often by the one-sided sign test (p = {p_more:.3f} < "
+                      f"{SIGN_TEST_ALPHA:g})")
     if conditions.fewer_runaways and not totals[1] < totals[0]:
         failed.append(f"all: {totals[1]} runaways against {totals[0]} (strictly fewer needed)")
     elif totals[1] > totals[0] + conditions.more_runaways:
@@ -170,9 +201,15 @@ def main() -> None:
                              "candidate)")
     parser.add_argument("--discordant", action="store_true",
                         help="also print the climbs that ran away in one play alone and the sign test (information)")
+    parser.add_argument("--family-wise", action="store_true",
+                        help="--errors and --returns on simultaneous (Bonferroni) CIs over every interval they read")
+    parser.add_argument("--sign-test", action="store_true",
+                        help=f"the runaways' one-sided exact sign test must not reject at {SIGN_TEST_ALPHA:g}")
     parser.add_argument("--out", type=Path, default=None, help="also write the verdict to this markdown file")
     args = parser.parse_args()
     check_out_file(parser, "--out", args.out)
+    if args.family_wise and not (args.errors or args.returns):
+        parser.error("--family-wise: needs --errors or --returns (the CIs it adjusts)")
     if len(args.records) % 2:
         parser.error(f"records: {len(args.records)} files; they come in pairs (the baseline's, the candidate's)")
     plays = [one_setting(parser, path, read_record_files(parser, [path])) for path in args.records]
@@ -187,7 +224,7 @@ def main() -> None:
             parser.error(f"--error-grid: the records have no grid {args.error_grid!r} (grids: "
                          f"{', '.join(sorted(plays[0]))})")
     conditions = Conditions(args.more_runaways, strict, args.errors, args.returns, args.gain, args.fewer_runaways,
-                            args.error_grid, args.same_climbs, args.discordant)
+                            args.error_grid, args.same_climbs, args.discordant, args.family_wise, args.sign_test)
     files = ", ".join(map(str, args.records))
     try:
         lines, failed = check(plays[0::2], plays[1::2], conditions)

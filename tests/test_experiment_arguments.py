@@ -145,6 +145,7 @@ CASES = [
     ("rule_check", ["{text}", "{text}"], "records"),
     ("rule_check", ["{text}", "{text}", "--more-runaways", "-1"], "--more-runaways"),
     ("rule_check", ["{text}", "{text}", "--out", "{dir}"], "--out"),
+    ("rule_check", ["{text}", "{text}", "--family-wise"], "--family-wise"),
     ("frontier", ["{text}"], "records"),
     ("frontier", ["{new}"], "records"),
     ("frontier", ["{text}", "--figure", "{file}"], "--figure"),

@@ -176,3 +176,33 @@ def test_discordant_climbs_count_each_play_alone_and_the_sign_test_is_the_exact_
     assert [f.split(":")[0] for f in failed] == ["family", "all"]  # information only: the conditions are unchanged
     assert not any("discordant" in line for line in check([paired(base, "base")], [paired(candidate, "candidate")],
                                                            Conditions())[0])
+
+
+def test_family_wise_cis_are_wider_by_the_number_of_intervals_read_and_pass_a_lone_95_percent_excess() -> None:
+    noise = np.random.default_rng(11).normal(size=ERRORS.size)
+    noise = (noise - noise.mean()) / noise.std(ddof=1)
+    # errors 0.05 x (noise + 0.31) higher: the return's paired difference has a t statistic of 0.31 sqrt(60) = 2.4,
+    # between the 95 % CI's 1.96 and the 2.81 of five pairs' simultaneous ones (10 intervals, 0.25 % in each tail)
+    worse = records("worse", ERRORS + 0.05 * (noise + 2.4 / np.sqrt(ERRORS.size)))
+    bases, candidates = [paired(records("base", ERRORS), "base")] * 5, [paired(worse, "worse")] * 5
+    _, failed = check(bases, candidates, Conditions(returns=True))
+    assert len(failed) == 10 and all("return lower with a CI wholly below zero" in f for f in failed)
+    lines, failed = check(bases, candidates, Conditions(returns=True, family_wise=True))
+    assert failed == []
+    assert lines[0] == "- family-wise: 10 intervals, each leaving 0.25 % out on either side (20000 resamples)"
+    # the grid lines print the 95 % CIs either way
+    assert lines[1:] == check(bases, candidates, Conditions(returns=True))[0]
+    # errors doubled stay beyond any simultaneous CI
+    _, failed = check(bases, [paired(records("doubled", 2.0 * ERRORS), "doubled")] * 5,
+                      Conditions(errors=True, returns=True, family_wise=True))
+    assert failed and all("a family-wise CI wholly" in f for f in failed)
+
+
+def test_the_sign_test_condition_rejects_five_climbs_alone_of_five_and_not_four_of_four() -> None:
+    base = records("base", ERRORS)
+    slips = lambda n: records("candidate", ERRORS, {"steep": set(range(n))})  # noqa: E731
+    # P(X >= 4 | 4 flips) = 1/16 = 0.0625: not below 0.05; P(X >= 5 | 5) = 1/32 = 0.03125: below
+    assert judged(base, slips(4), Conditions(more_runaways=10, sign_test=True)) == []
+    (failed,) = judged(base, slips(5), Conditions(more_runaways=10, sign_test=True))
+    assert failed == "all: the candidate runs away more often by the one-sided sign test (p = 0.031 < 0.05)"
+    assert judged(base, slips(5), Conditions(more_runaways=10)) == []  # without it, the total's bound alone
