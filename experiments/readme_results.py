@@ -992,6 +992,18 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # rule_check_rule124K_validation, rule_check_rule124K_encoder_lag, K = TUke, TUkge); TUkge's (iii):
         # experiments/rules/rule124_spent.sh rule124TUkge 0.089 0.70, rule_check.py with the ten pairs as for rule 123's
         # TUkg, --gain --discordant (rule_check_rule124TUkge_spent)
+        # rule 125: rule_check.py with rule 123's TUk records against rule95shipped53, the four pairs --gain --errors
+        # --error-grid family --returns --family-wise --more-runaways 1440 --discordant
+        # (rule_check_rule125TUk_validation), the lagged pair the same with --more-runaways 360
+        # (rule_check_rule125TUk_encoder_lag); (iii):
+        # experiments/rules/rule123_spent.sh rule125TUk 0.086, rule_check.py with the ten pairs as for rule 124's TUkge,
+        # --gain --sign-test --more-runaways 3840 --discordant (rule_check_rule125TUk_spent)
+        # rule 125's confirmation: experiments/rules/confirm125.sh; frontier.py over the five plays joined by + with --rows
+        # against rule125shipped with the hand-built agents' references (frontier_rule125_confirmation) and on the
+        # _confirmation40_encoder_lag_s records (frontier_rule125_confirmation_encoder_lag); rule_check.py with the five
+        # pairs --gain --sign-test --errors --error-grid family --returns --family-wise --more-runaways 2352
+        # --discordant (rule_check_rule125_confirmation) and the lag's pair with --errors --error-grid family --returns
+        # --family-wise --more-runaways 360 --discordant (rule_check_rule125_confirmation_encoder_lag)
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1366,6 +1378,9 @@ SOURCES = {
         "frontier_rule124_validation", "frontier_rule124_encoder_lag",
         *(f"rule_check_rule124{k}_{play}" for k in ("TUke", "TUkge") for play in ("validation", "encoder_lag")),
         "rule_check_rule124TUkge_spent",
+        *(f"rule_check_rule125TUk_{play}" for play in ("validation", "encoder_lag", "spent")),
+        "frontier_rule125_confirmation", "frontier_rule125_confirmation_encoder_lag", "rule_check_rule125_confirmation",
+        "rule_check_rule125_confirmation_encoder_lag",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
