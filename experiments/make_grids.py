@@ -156,7 +156,10 @@
   written before any agent played them, after the thirty-eighth had judged rule 114; it judged rule 123 (session 63).
 - ``suites/v2_confirmation40_grid.json``, ``suites/v2_confirmation40_procedural_grid.json`` and
   ``suites/v2_confirmation40_steep_grid.json`` (session 63, seeds 571 000, 573 000, 575 000): a fortieth such set,
-  written before any agent played them, after the thirty-ninth had judged rule 123, for the next rule.
+  written before any agent played them, after the thirty-ninth had judged rule 123; it judged rule 125 (session 64).
+- ``suites/v2_confirmation41_grid.json``, ``suites/v2_confirmation41_procedural_grid.json`` and
+  ``suites/v2_confirmation41_steep_grid.json`` (session 64, seeds 591 000, 593 000, 595 000): a forty-first such set,
+  written before any agent played them, after the fortieth had judged rule 125, for the next rule.
 - ``suites/v2_stress_tables_grid.json`` (session 50, seeds from 305 000): reporting only, never a held-out grid of
   the targets: creep curves at the edges of what a table may be (:data:`STRESS_SHAPES`: a cliff just past the
   peak, a plateau with no falling branch, a shoulder before the peak, a peak with no knee before it, and a peak at
@@ -203,7 +206,10 @@
   before any agent played it, after the tenth had judged rule 114 (``--grids extremes_confirmation11``); it judged
   rule 123 (session 63).
 - ``suites/v2_extremes_confirmation12_grid.json`` (session 63, seeds from 583 000): a twelfth such set, written
-  before any agent played it, after the eleventh had judged rule 123 (``--grids extremes_confirmation12``), for the
+  before any agent played it, after the eleventh had judged rule 123 (``--grids extremes_confirmation12``); it judged
+  rule 125 (session 64).
+- ``suites/v2_extremes_confirmation13_grid.json`` (session 64, seeds from 603 000): a thirteenth such set, written
+  before any agent played it, after the twelfth had judged rule 125 (``--grids extremes_confirmation13``), for the
   next rule.
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
@@ -291,7 +297,11 @@
   63).
 - ``suites/v2_torque_confirmation21_grid.json``, ``suites/v2_torque_confirmation21_procedural_grid.json`` and
   ``suites/v2_torque_confirmation21_steep_grid.json`` (session 63, seeds 577 000, 579 000, 581 000): a twenty-first
-  such set, written before any agent played them, after the twentieth had judged rule 123, for the next rule.
+  such set, written before any agent played them, after the twentieth had judged rule 123; it judged rule 125
+  (session 64).
+- ``suites/v2_torque_confirmation22_grid.json``, ``suites/v2_torque_confirmation22_procedural_grid.json`` and
+  ``suites/v2_torque_confirmation22_steep_grid.json`` (session 64, seeds 597 000, 599 000, 601 000): a twenty-second
+  such set, written before any agent played them, after the twenty-first had judged rule 125, for the next rule.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -657,7 +667,7 @@ ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", 
             "eighteenth ", "nineteenth ", "twentieth ", "twenty-first ", "twenty-second ", "twenty-third ",
             "twenty-fourth ", "twenty-fifth ", "twenty-sixth ", "twenty-seventh ", "twenty-eighth ", "twenty-ninth ",
             "thirtieth ", "thirty-first ", "thirty-second ", "thirty-third ", "thirty-fourth ", "thirty-fifth ",
-            "thirty-sixth ", "thirty-seventh ", "thirty-eighth ", "thirty-ninth ", "fortieth ")
+            "thirty-sixth ", "thirty-seventh ", "thirty-eighth ", "thirty-ninth ", "fortieth ", "forty-first ")
 
 # the confirmation sets, in the order they were written (the module docstring says when, and for which rule):
 # name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and steep grids; each was written
@@ -749,6 +759,9 @@ CONFIRMATION_SETS = {
     "confirmation40": (((0.04, 0.29, 0.56, 0.8, 0.95), (5.5, 19.0, 35.0), 571_000),
                        ((0.07, 0.41, 0.66, 0.91), (9.0, 21.0, 36.5), 573_000),
                        ((0.14, 0.43, 0.78), (7.5, 20.0, 37.5), 575_000)),
+    "confirmation41": (((0.05, 0.28, 0.55, 0.82, 0.94), (6.0, 18.0, 33.0), 591_000),
+                       ((0.09, 0.38, 0.67, 0.92), (8.5, 22.5, 36.0), 593_000),
+                       ((0.12, 0.44, 0.8), (6.5, 21.0, 37.0), 595_000)),
 }
 
 
@@ -823,6 +836,9 @@ TORQUE_CONFIRMATION_SETS = {
     "torque_confirmation21": (((0.05, 0.31, 0.53, 0.79, 0.93), (6.0, 18.0, 34.0), 577_000),
                               ((0.08, 0.38, 0.7, 0.94), (8.5, 20.5, 37.5), 579_000),
                               ((0.13, 0.46, 0.79), (6.5, 21.5, 36.0), 581_000)),
+    "torque_confirmation22": (((0.04, 0.3, 0.54, 0.81, 0.95), (7.5, 18.5, 35.0), 597_000),
+                              ((0.07, 0.41, 0.69, 0.9), (9.0, 21.5, 36.5), 599_000),
+                              ((0.12, 0.45, 0.82), (7.0, 19.5, 37.5), 601_000)),
 }
 # the confirmation sets past every draw at once (v2_extremes_grid's draw, 96 episodes each), in the order they were
 # written (the module docstring says when, and for which rule): name -> first seed
@@ -831,7 +847,8 @@ EXTREMES_CONFIRMATION_SETS = {"extremes_confirmation": 361_000, "extremes_confir
                               "extremes_confirmation5": 443_000, "extremes_confirmation6": 463_000,
                               "extremes_confirmation7": 483_000, "extremes_confirmation8": 503_000,
                               "extremes_confirmation9": 523_000, "extremes_confirmation10": 543_000,
-                              "extremes_confirmation11": 563_000, "extremes_confirmation12": 583_000}
+                              "extremes_confirmation11": 563_000, "extremes_confirmation12": 583_000,
+                              "extremes_confirmation13": 603_000}
 GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0  # the golden ratio's fraction: a low-discrepancy sequence k x GOLDEN mod 1
 
 
