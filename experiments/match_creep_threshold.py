@@ -100,20 +100,25 @@ def main() -> None:
     parser.add_argument("--candidate-threshold", type=positive_float, default=None,
                         help="match the noise exponent at this candidate creep_while_std (log units, > 0) on the "
                              "climbs that read noisy, instead of the threshold")
-    parser.add_argument("--exponent", type=float_in_range(0.0, 4.0), default=shipped.noise_creep_exponent,
+    parser.add_argument("--exponent", type=float_in_range(0.0, 4.0), default=None,
                         help="with --candidate-threshold: the reference's noise_creep_exponent (0-4; default: the "
                              "shipped climb's)")
-    parser.add_argument("--min-ratio", type=float_in_range(1.0, 100.0), default=NOISY_RATIO,
+    parser.add_argument("--min-ratio", type=float_in_range(1.0, 100.0), default=None,
                         help=f"with --candidate-threshold: only climbs reading at least this noise ratio (1-100; "
                              f"default {NOISY_RATIO:g})")
     args = parser.parse_args()
+    noisy = args.candidate_threshold is not None
+    for option, value in (("--exponent", args.exponent), ("--min-ratio", args.min_ratio)):
+        if value is not None and not noisy:
+            parser.error(f"{option}: needs --candidate-threshold (the noise exponent's match)")
+    args.exponent = shipped.noise_creep_exponent if args.exponent is None else args.exponent
+    args.min_ratio = NOISY_RATIO if args.min_ratio is None else args.min_ratio
     require_networks(parser, "--reference", [args.reference])
     require_networks(parser, "--candidate", [args.candidate])
     climbs = [split(load_climbs(parser, "--climbs", path))[1] for path in args.climbs]
-    noisy = args.candidate_threshold is not None
-    ratio = np.concatenate([held.noise_ratios(shipped) for held in climbs])
     chosen = np.concatenate([held.targets[:, 0] < args.near for held in climbs])
     if noisy:
+        ratio = np.concatenate([held.noise_ratios(shipped) for held in climbs])
         chosen &= ratio >= args.min_ratio
     if not chosen.any():
         parser.error(f"--climbs: no held-apart window with a true headroom below {args.near:g} (--near)"

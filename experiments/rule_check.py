@@ -23,8 +23,8 @@ differences of :mod:`paired_comparison` (the same 95 % CIs, the same resamples):
 
 ``--family-wise`` reads ``--errors`` and ``--returns`` on simultaneous CIs instead: with ``m`` intervals examined (a
 median and a P90 on each grid ``--errors`` reads, a return on each grid with ``--returns``, over every pair), each CI
-leaves 2.5 / ``m`` % out on either side (Bonferroni: an equal candidate fails with probability at most 5 % over all
-``m``, where each 95 % CI alone fails it with 5 % and some of ``m`` of them far more often), from
+leaves 2.5 / ``m`` % out on either side (Bonferroni: a candidate equal to the baseline fails one of the ``m`` with
+probability at most 5 %, where on 95 % CIs each fails it with probability 5 % and one of ``m`` far more often), from
 :data:`FAMILY_RESAMPLES` draws so that each tail holds enough of them; the grid lines still print the 95 % CIs.
 ``--sign-test`` adds a condition on the runaways: the one-sided exact sign test below (the candidate running away
 more often) must not reject at 5 %.

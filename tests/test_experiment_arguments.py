@@ -180,6 +180,8 @@ CASES = [
                                "--candidate-threshold", "0.09", "--exponent", "5"], "--exponent"),
     ("match_creep_threshold", ["--reference", "{SHIPPED}", "--candidate", "{SHIPPED}", "--climbs", "{file}",
                                "--candidate-threshold", "0.09", "--min-ratio", "0.5"], "--min-ratio"),
+    ("match_creep_threshold", ["--reference", "{SHIPPED}", "--candidate", "{SHIPPED}", "--climbs", "{file}",
+                               "--exponent", "0.7"], "--exponent"),
 ]
 
 
