@@ -10,10 +10,16 @@ of docs/interrogator.md pooled two generations of networks. The members must rea
 feature blocks): the pool is loaded as one ensemble before anything is written. ``--out`` must hold no networks yet.
 A filter's pool is played with ``crest_tradeoff.py --run OUT`` or ``validation_plays.py NAME --run OUT``, a guard's
 with ``--guards ... OUT``; ``assemble_policy.py --filter OUT`` makes it a policy directory.
+
+With ``--within-generations`` the pool also records each directory's member count (a directory that is itself such a
+pool, its own counts) in ``OUT/generations.json``, and is read generation by generation
+(``FilterEnsemble.generations``): the mean of the generations' means, the mean of their variances, their disagreement
+with one another left out of the std (rule 126 of docs/interrogator.md).
 """
 
 from __future__ import annotations
 
+import json
 import shutil
 import sys
 import zipfile
@@ -23,7 +29,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 from script_checks import check_out_dir  # noqa: E402
 
-from cof_gym.agents.interrogator.networks import FilterEnsemble, member_files  # noqa: E402
+from cof_gym.agents.interrogator.networks import GENERATIONS_FILE, FilterEnsemble, member_files  # noqa: E402
 from cof_gym.commands.args import Parser  # noqa: E402
 
 
@@ -43,6 +49,8 @@ def main() -> None:
     parser.add_argument("directories", type=Path, nargs="+", metavar="DIR",
                         help="ensembles to pool (directories of member_*.npz), at least two")
     parser.add_argument("--out", type=Path, required=True, help="the pooled ensemble's directory (no networks yet)")
+    parser.add_argument("--within-generations", action="store_true",
+                        help="read the pool generation by generation (OUT/generations.json: each DIR's member count)")
     args = parser.parse_args()
     if len(args.directories) < 2:
         parser.error(f"DIR: {len(args.directories)} directory given; pooling needs at least two")
@@ -55,11 +63,15 @@ def main() -> None:
             members.append(FilterEnsemble.load(directory))
         except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as e:
             parser.error(f"DIR: {directory}: {' '.join(str(e).split())[:160]}")
+    generations = tuple(n for e in members for n in (e.generations or (len(e.members),)))
     try:
-        FilterEnsemble(tuple(m for ensemble in members for m in ensemble.members))
+        FilterEnsemble(tuple(m for ensemble in members for m in ensemble.members),
+                       generations if args.within_generations else None)
     except ValueError as e:
         parser.error(f"DIR: {', '.join(map(str, args.directories))}: {e}")
     written = pool(args.directories, args.out)
+    if args.within_generations:
+        (args.out / GENERATIONS_FILE).write_text(json.dumps({"members": list(generations)}) + "\n")
     sizes = " + ".join(str(len(e.members)) for e in members)
     print(f"{args.out}: {len(written)} members ({sizes}) from {', '.join(map(str, args.directories))}")
 

@@ -10,6 +10,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR
 from cof_gym.agents.interrogator.networks import FilterEnsemble
@@ -82,3 +83,32 @@ def test_a_datasets_noise_ratios_are_each_climbs_first_windows_ratio() -> None:
     # 0.5 N m s, a ratio of 1 (never below)
     np.testing.assert_allclose(ratios, [4.0] * 4 + [1.0] * 3, rtol=1e-12)
     assert (data.noise_ratios(ClimbParameters()) == 1.0).all()  # no reference: 1
+
+
+def test_a_pool_read_within_generations_averages_each_generations_mean_and_variance(tmp_path: Path) -> None:
+    out = tmp_path / "pool"
+    run = subprocess.run([sys.executable, str(ROOT / "experiments" / "pool_ensembles.py"), "--within-generations",
+                          "--out", str(out), str(SHIPPED_INTERROGATOR), str(GUARD)], capture_output=True, text=True,
+                         cwd=ROOT)
+    assert run.returncode == 0, run.stderr
+    filter_, guard = FilterEnsemble.load(SHIPPED_INTERROGATOR), FilterEnsemble.load(GUARD)
+    pooled = FilterEnsemble.load(out)
+    assert pooled.generations == (len(filter_.members), len(guard.members))
+    x = np.random.default_rng(5).normal(size=(4, len(filter_.members[0].feature_names)))
+    (mean_f, std_f, spread_f), (mean_g, std_g, spread_g) = filter_.predict_with_spread(x), guard.predict_with_spread(x)
+    mean, std, spread = pooled.predict_with_spread(x)
+    # the same float64 member outputs, grouped as each generation's own prediction: a few roundings apart
+    largest = max(np.abs(m(x)[0]).max() for m in pooled.members)
+    np.testing.assert_allclose(mean, (mean_f + mean_g) / 2, rtol=0, atol=1e-13 * (1.0 + largest))
+    np.testing.assert_allclose(std ** 2, (std_f ** 2 + std_g ** 2) / 2, rtol=1e-12)
+    np.testing.assert_allclose(spread ** 2, (spread_f ** 2 + spread_g ** 2) / 2, rtol=1e-12, atol=1e-300)
+    # read as one generation, the generations' disagreement adds to the variance: never below the within reading
+    _, std_all, _ = FilterEnsemble(pooled.members).predict_with_spread(x)
+    assert (std_all >= std * (1 - 1e-12)).all()
+
+
+def test_generations_must_count_every_member() -> None:
+    members = FilterEnsemble.load(GUARD).members
+    for bad in ((len(members) - 1,), (0, len(members)), (True, len(members) - 1)):
+        with pytest.raises(ValueError, match="generations"):
+            FilterEnsemble(members, bad)

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import json
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Iterable
@@ -112,6 +113,10 @@ class FilterNetwork:
                 raise ValueError(f"{path}: {e}") from None
 
 
+# a pooled ensemble read generation by generation (FilterEnsemble.generations): {"members": [count, count, ...]}
+GENERATIONS_FILE = "generations.json"
+
+
 def member_files(directory: Path) -> list[Path]:
     """An ensemble directory's network files (``member_*.npz``), in the order :meth:`FilterEnsemble.load` reads them
     (sorted by name); empty where it holds none."""
@@ -121,13 +126,22 @@ def member_files(directory: Path) -> list[Path]:
 @dataclass(frozen=True)
 class FilterEnsemble:
     """Members' Gaussian predictions combined: the mean of the means, the variance their spread plus
-    the mean predicted variance."""
+    the mean predicted variance. With ``generations`` (the member counts of ensembles pooled, in the members'
+    order), each generation is combined so on its own and the generations averaged alike: the mean of their means,
+    the variance the mean of their variances, so that the generations' disagreement with one another adds nothing to
+    the std (where they were fitted on other climbs, it measures that, not what either is unsure of)."""
 
     members: tuple[FilterNetwork, ...]
+    generations: tuple[int, ...] | None = None
 
     def __post_init__(self) -> None:
         if len({m.feature_names for m in self.members}) > 1:
             raise ValueError("the ensemble's members read different features (tones or blocks); fit them alike")
+        if self.generations is not None and (
+                any(not isinstance(n, int) or isinstance(n, bool) or n < 1 for n in self.generations)
+                or sum(self.generations) != len(self.members)):
+            raise ValueError(f"generations: member counts of at least 1 that add up to the {len(self.members)} "
+                             f"members, got {list(self.generations)}")
 
     @property
     def blocks(self) -> tuple[str, ...]:
@@ -150,8 +164,14 @@ class FilterEnsemble:
         outs = [m(x) for m in self.members]
         means = np.stack([o[0] for o in outs])
         variances = np.stack([np.exp(o[1]) for o in outs])
-        spread_var = means.var(axis=0)
-        return means.mean(axis=0), np.sqrt(spread_var + variances.mean(axis=0)), np.sqrt(spread_var)
+        if self.generations is None:
+            spread_var = means.var(axis=0)
+            return means.mean(axis=0), np.sqrt(spread_var + variances.mean(axis=0)), np.sqrt(spread_var)
+        groups = np.split(np.arange(len(self.members)), np.cumsum(self.generations)[:-1])
+        spread_var = np.mean([means[g].var(axis=0) for g in groups], axis=0)
+        variance = np.mean([variances[g].mean(axis=0) for g in groups], axis=0)
+        return np.mean([means[g].mean(axis=0) for g in groups], axis=0), np.sqrt(spread_var + variance), \
+            np.sqrt(spread_var)
 
     @classmethod
     def load(cls, directory: Path, members: list[str] | None = None) -> "FilterEnsemble":
@@ -159,4 +179,15 @@ class FilterEnsemble:
         files = [directory / f"{m}.npz" for m in members] if members else member_files(directory)
         if not files or not all(f.is_file() for f in files):
             raise FileNotFoundError(f"no interrogator networks in {directory} (expected member_*.npz)")
-        return cls(tuple(FilterNetwork.load(f) for f in files))
+        return cls(tuple(FilterNetwork.load(f) for f in files), None if members else read_generations(directory))
+
+
+def read_generations(directory: Path) -> tuple[int, ...] | None:
+    """The member counts ``directory``'s :data:`GENERATIONS_FILE` names (None where it has none)."""
+    path = Path(directory) / GENERATIONS_FILE
+    if not path.is_file():
+        return None
+    counts = json.loads(path.read_text()).get("members")
+    if not isinstance(counts, list):
+        raise ValueError(f"{path}: expected {{\"members\": [count, ...]}}")
+    return tuple(counts)
