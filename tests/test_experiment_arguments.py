@@ -216,6 +216,7 @@ REQUIRED = {"assemble_policy": ["--filter", "f", "--out", "o"], "feature_block_n
             "ppo_seeds": ["--runs", "run"], "zoo_eval": ["model.zip"], "rule_check": ["base.json", "candidate.json"],
             "frontier": ["records.json"], "scripted_plays": ["--agents", "phase-rule", "--records", "r.json"],
             "learned_caution": ["--out", "o"], "headroom_bias": ["--networks", "a=n", "--climbs", "c.npz"],
+            "encoder_lag_reading": ["--sharp", "a.npz", "--lagged", "b.npz"],
             "pool_ensembles": ["a", "b", "--out", "o"],
             "match_creep_threshold": ["--reference", "r", "--candidate", "c", "--climbs", "c.npz"]}
 
