@@ -78,10 +78,7 @@ def main() -> None:
                                          for data in files[option]]) for option in ("--sharp", "--lagged"))
         lines.append(f"| {k} | {len(sharp)} / {len(lagged)} | {np.median(sharp):.1f} / {np.median(lagged):.1f} | "
                      f"{auc(lagged, sharp):.3f} |")
-    if args.out:
-        write_report(args.out, lines)
-    else:
-        print("\n".join(lines))
+    write_report(args.out, lines)
 
 
 if __name__ == "__main__":

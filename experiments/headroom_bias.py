@@ -93,10 +93,7 @@ def main() -> None:
             cells = [f"{n} / {bias:+.3f} / {over:.3f}" for n, bias, over in
                      band_errors(mean[:, 0], std[:, 0], truth, args.caution)]
             lines.append(f"| {path.stem.removeprefix('climbs_')} | {name} | {' | '.join(cells)} |")
-    if args.out:
-        write_report(args.out, lines)
-    else:
-        print("\n".join(lines))
+    write_report(args.out, lines)
 
 
 if __name__ == "__main__":

@@ -45,10 +45,11 @@ def load_climbs(parser: argparse.ArgumentParser, option: str, path: Path) -> Any
         parser.error(f"{option}: {path} is not a climbs file ({error.__class__.__name__}: {error})")
 
 
-def write_report(path: Path, lines: list[str]) -> None:
-    """Write the report ``lines`` to ``path`` (checked by :func:`check_out_file` before the run; its missing
-    parent directories are created) and print them."""
+def write_report(path: Path | None, lines: list[str]) -> None:
+    """Print the report ``lines`` and write them to ``path`` where one is given (checked by :func:`check_out_file`
+    before the run; its missing parent directories are created)."""
     text = "\n".join(lines) + "\n"
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(text)
+    if path is not None:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text)
     print(text, end="")
