@@ -28,7 +28,7 @@ from train_interrogator import install_guards, require_networks  # noqa: E402
 
 from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR  # noqa: E402
 from cof_gym.agents.interrogator.agent import read_manifest  # noqa: E402
-from cof_gym.agents.interrogator.networks import member_files  # noqa: E402
+from cof_gym.agents.interrogator.networks import ensemble_files  # noqa: E402
 from cof_gym.commands.args import Parser  # noqa: E402
 
 
@@ -45,7 +45,7 @@ def assemble(filter_dir: Path, guards: list[Path], climb_from: Path, out: Path) 
     if out.exists():
         shutil.rmtree(out)
     out.mkdir(parents=True)
-    for member in member_files(filter_dir):
+    for member in ensemble_files(filter_dir):
         shutil.copy2(member, out / member.name)
     manifest = {"climb": source["climb"], "trained_on": source["trained_on"],
                 "training": {"assembled_from": {"filter": shown(filter_dir), "guards": [shown(g) for g in guards],

@@ -52,7 +52,7 @@ from cof_gym.agents.interrogator import (  # noqa: E402
 )
 from cof_gym.commands.args import DistinctValues, Parser, positive_int, seed_int  # noqa: E402
 from cof_gym.task.creep_fit import coa_fell  # noqa: E402
-from cof_gym.agents.interrogator.networks import member_files  # noqa: E402
+from cof_gym.agents.interrogator.networks import ensemble_files  # noqa: E402
 from cof_gym.agents.interrogator.training import (  # noqa: E402
     FIT_LOSSES, READING_FIELDS, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel,
 )
@@ -76,7 +76,7 @@ def policy_digest(policy: Path) -> str:
     climb = {k: v for k, v in asdict(manifest_climb(policy)).items() if k not in REPORTING_ONLY}  # defaults filled in
     h = hashlib.sha1(json.dumps(climb, sort_keys=True).encode())
     for directory in (policy, *manifest_guards(policy)):
-        for member in member_files(directory):
+        for member in ensemble_files(directory):
             h.update(member.read_bytes())
     return h.hexdigest()[:12]
 

@@ -117,7 +117,7 @@ import cof_gym
 from cof_gym.agents.interrogator import (
     INTERVAL_FILE, SHIPPED_INTERROGATOR, ClimbParameters, FilterEnsemble, FilterNetwork, interrogator_for, manifest_climb,
 )
-from cof_gym.agents.interrogator.networks import member_files
+from cof_gym.agents.interrogator.networks import ensemble_files, member_files
 from cof_gym.agents.interrogator.training import (
     FIT_LOSSES, FITTABLE_BLOCKS, STEEP_FALL, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel, fit_member, nll,
 )
@@ -515,7 +515,7 @@ def install_guards(run: Path, guards: list[Path]) -> list[str]:
     names = [f"guard_{k}" for k in range(len(guards))]
     for name, guard in zip(names, guards):
         (run / name).mkdir()
-        for member in member_files(guard):
+        for member in ensemble_files(guard):
             shutil.copy2(member, run / name / member.name)
     return names
 

@@ -112,3 +112,25 @@ def test_generations_must_count_every_member() -> None:
     for bad in ((len(members) - 1,), (0, len(members)), (True, len(members) - 1)):
         with pytest.raises(ValueError, match="generations"):
             FilterEnsemble(members, bad)
+
+
+def test_a_within_generations_pool_keeps_its_reading_in_an_assembled_policy_and_its_digest(tmp_path: Path,
+                                                                                           monkeypatch) -> None:
+    monkeypatch.syspath_prepend(str(ROOT / "experiments"))
+    from assemble_policy import assemble
+    from train_estimator import policy_digest
+
+    from cof_gym.agents.interrogator.networks import GENERATIONS_FILE
+
+    pool = tmp_path / "pool"
+    run = subprocess.run([sys.executable, str(ROOT / "experiments" / "pool_ensembles.py"), "--within-generations",
+                          "--out", str(pool), str(SHIPPED_INTERROGATOR), str(GUARD)], capture_output=True, text=True,
+                         cwd=ROOT)
+    assert run.returncode == 0, run.stderr
+    assemble(pool, [pool], SHIPPED_INTERROGATOR, tmp_path / "policy")
+    for directory in (tmp_path / "policy", tmp_path / "policy" / "guard_0"):
+        assert FilterEnsemble.load(directory).generations == FilterEnsemble.load(pool).generations
+    within = policy_digest(tmp_path / "policy")
+    for directory in (tmp_path / "policy", tmp_path / "policy" / "guard_0"):
+        (directory / GENERATIONS_FILE).unlink()
+    assert policy_digest(tmp_path / "policy") != within  # the reading steers: the digest covers it

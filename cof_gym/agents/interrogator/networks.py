@@ -123,13 +123,20 @@ def member_files(directory: Path) -> list[Path]:
     return sorted(Path(directory).glob("member_*.npz"))
 
 
+def ensemble_files(directory: Path) -> list[Path]:
+    """Every file an ensemble directory's predictions read: its network files (:func:`member_files`) and, where it
+    has one, its :data:`GENERATIONS_FILE`: what a copy of the ensemble carries and a digest of it covers."""
+    generations = Path(directory) / GENERATIONS_FILE
+    return [*member_files(directory), *([generations] if generations.is_file() else [])]
+
+
 @dataclass(frozen=True)
 class FilterEnsemble:
     """Members' Gaussian predictions combined: the mean of the means, the variance their spread plus
     the mean predicted variance. With ``generations`` (the member counts of ensembles pooled, in the members'
-    order), each generation is combined so on its own and the generations averaged alike: the mean of their means,
-    the variance the mean of their variances, so that the generations' disagreement with one another adds nothing to
-    the std (where they were fitted on other climbs, it measures that, not what either is unsure of)."""
+    order), each generation's members are combined so and the generations averaged: the mean of their means, the
+    variance the mean of their variances, so that the generations' disagreement with one another adds nothing to the
+    std (where they were fitted on other climbs, it measures that, not what either is unsure of)."""
 
     members: tuple[FilterNetwork, ...]
     generations: tuple[int, ...] | None = None
