@@ -34,19 +34,17 @@ from script_checks import check_out_file, load_climbs, write_report  # noqa: E40
 SE_FLOOR_DEG = 0.5  # the weights' floor on a window's phase standard error (deg): no window weighs more than this
 
 
-def first_windows_phase(readings: np.ndarray, episode: np.ndarray, windows: int) -> np.ndarray:
+def first_windows_phase(data, windows: int) -> np.ndarray:
     """Each climb's inverse-variance weighted mean phase lag (deg) over its first ``windows`` driven windows, from a
-    climbs file's ``readings`` and ``episode`` (:class:`~cof_gym.agents.interrogator.training.Dataset`)."""
+    climbs file's :class:`~cof_gym.agents.interrogator.training.Dataset` ``data``."""
     from cof_gym.agents.interrogator.training import READING_FIELDS
 
-    phase, se = (readings[:, READING_FIELDS.index(name)] for name in ("phase_deg", "se_deg"))
-    starts = np.flatnonzero(np.r_[True, episode[1:] != episode[:-1]])
-    out = np.empty(len(starts))
-    for i, (start, end) in enumerate(zip(starts, [*starts[1:], len(episode)])):
-        rows = slice(start, min(end, start + windows))
-        weights = 1.0 / np.maximum(se[rows], SE_FLOOR_DEG) ** 2
-        out[i] = float(np.sum(weights * phase[rows]) / np.sum(weights))
-    return out
+    phase, se = (data.readings[:, READING_FIELDS.index(name)] for name in ("phase_deg", "se_deg"))
+    out = []
+    for rows in data.climbs():
+        weights = 1.0 / np.maximum(se[rows][:windows], SE_FLOOR_DEG) ** 2
+        out.append(float(np.sum(weights * phase[rows][:windows]) / np.sum(weights)))
+    return np.array(out)
 
 
 def auc(lagged: np.ndarray, sharp: np.ndarray) -> float:
@@ -74,8 +72,8 @@ def main() -> None:
              "| first windows | climbs: sharp / lagged | median phase: sharp / lagged (deg) | AUC |",
              "|---|---|---|---|"]
     for k in args.windows:
-        sharp, lagged = (np.concatenate([first_windows_phase(data.readings, data.episode, k)
-                                         for data in files[option]]) for option in ("--sharp", "--lagged"))
+        sharp, lagged = (np.concatenate([first_windows_phase(data, k) for data in files[option]])
+                         for option in ("--sharp", "--lagged"))
         lines.append(f"| {k} | {len(sharp)} / {len(lagged)} | {np.median(sharp):.1f} / {np.median(lagged):.1f} | "
                      f"{auc(lagged, sharp):.3f} |")
     write_report(args.out, lines)

@@ -63,14 +63,14 @@ def main() -> None:
             members.append(FilterEnsemble.load(directory))
         except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as e:
             parser.error(f"DIR: {directory}: {' '.join(str(e).split())[:160]}")
-    generations = tuple(n for e in members for n in (e.generations or (len(e.members),)))
+    generations = tuple(n for e in members for n in (e.generations or (len(e.members),))) \
+        if args.within_generations else None
     try:
-        FilterEnsemble(tuple(m for ensemble in members for m in ensemble.members),
-                       generations if args.within_generations else None)
+        FilterEnsemble(tuple(m for ensemble in members for m in ensemble.members), generations)
     except ValueError as e:
         parser.error(f"DIR: {', '.join(map(str, args.directories))}: {e}")
     written = pool(args.directories, args.out)
-    if args.within_generations:
+    if generations:
         (args.out / GENERATIONS_FILE).write_text(json.dumps({"members": list(generations)}) + "\n")
     sizes = " + ".join(str(len(e.members)) for e in members)
     print(f"{args.out}: {len(written)} members ({sizes}) from {', '.join(map(str, args.directories))}")

@@ -12,14 +12,14 @@ ROOT = Path(__file__).resolve().parents[1]
 SCRIPT = ROOT / "experiments" / "encoder_lag_reading.py"
 
 
-def readings(phase: list[float], se: list[float]) -> np.ndarray:
-    """Rows of a climbs file's readings with only the phase and its standard error set."""
-    from cof_gym.agents.interrogator.training import READING_FIELDS
+def climbs(phase: list[float], se: list[float], episode: list[int]):
+    """A climbs file's windows with only the phase, its standard error and the episode set."""
+    from cof_gym.agents.interrogator.training import READING_FIELDS, Dataset
 
     rows = np.zeros((len(phase), len(READING_FIELDS)))
     rows[:, READING_FIELDS.index("phase_deg")] = phase
     rows[:, READING_FIELDS.index("se_deg")] = se
-    return rows
+    return Dataset(rows, np.zeros(len(phase), bool), np.zeros((len(phase), 2)), np.array(episode))
 
 
 def test_the_first_windows_phase_is_their_inverse_variance_mean_per_climb(monkeypatch):
@@ -28,10 +28,9 @@ def test_the_first_windows_phase_is_their_inverse_variance_mean_per_climb(monkey
 
     # climb 0: phases 10, 40 with standard errors 1, 2 (weights 1, 1/4), a third window beyond k = 2; climb 1: one
     # window whose standard error lies below the floor
-    rows = readings([10.0, 40.0, 90.0, 5.0], [1.0, 2.0, 1.0, SE_FLOOR_DEG / 4])
-    episode = np.array([0, 0, 0, 1])
-    np.testing.assert_allclose(first_windows_phase(rows, episode, 2), [(10.0 + 40.0 / 4) / 1.25, 5.0], rtol=1e-15)
-    np.testing.assert_allclose(first_windows_phase(rows, episode, 1), [10.0, 5.0], rtol=1e-15)
+    data = climbs([10.0, 40.0, 90.0, 5.0], [1.0, 2.0, 1.0, SE_FLOOR_DEG / 4], [0, 0, 0, 1])
+    np.testing.assert_allclose(first_windows_phase(data, 2), [(10.0 + 40.0 / 4) / 1.25, 5.0], rtol=1e-15)
+    np.testing.assert_allclose(first_windows_phase(data, 1), [10.0, 5.0], rtol=1e-15)
 
 
 def test_the_auc_is_the_share_of_pairs_a_lagged_climb_reads_more_ties_half(monkeypatch):

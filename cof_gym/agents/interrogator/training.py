@@ -128,14 +128,18 @@ class Dataset:
         climbs recorded before it was read hold none)."""
         return bool((self.readings[:, READING_FIELDS.index("torque_balance")] > 0.0).any())
 
+    def climbs(self) -> list[slice]:
+        """Each climb's windows (an episode's contiguous rows), in order."""
+        starts = np.flatnonzero(np.r_[True, self.episode[1:] != self.episode[:-1]]) if len(self) else []
+        return [slice(start, end) for start, end in zip(starts, [*starts[1:], len(self)])]
+
     def noise_ratios(self, climb: ClimbParameters) -> np.ndarray:
         """Each window's noise ratio as ``climb`` reads it from its episode's first driven windows
         (:meth:`ClimbParameters.noise_ratio`: fixed once those windows are driven; 1 without a noise reference)."""
         out = np.ones(len(self))
-        starts = np.flatnonzero(np.r_[True, self.episode[1:] != self.episode[:-1]])
-        for start, end in zip(starts, [*starts[1:], len(self)]):
-            first = [Reading(*(float(v) for v in row)) for row in self.readings[start:min(end, start + NOISE_WINDOWS)]]
-            out[start:end] = climb.noise_ratio(first)
+        for rows in self.climbs():
+            first = self.readings[rows][:NOISE_WINDOWS]
+            out[rows] = climb.noise_ratio([Reading(*(float(v) for v in row)) for row in first])
         return out
 
     def calibrated(self, max_lag_deg: float | None) -> "Dataset":
