@@ -1011,6 +1011,10 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         runs/interrogator_three/climbs_procedural_torque_wide.npz \
         --lagged runs/interrogator_three/climbs_torque_wide_encoder.npz \
         runs/interrogator_three/climbs_procedural_torque_wide_encoder.npz --out out/encoder_lag_reading.md  # session 64
+    python experiments/train_estimator.py --out runs/colour --collect-only \
+        --climbs env=600 env_encoder=600 procedural=600 procedural_encoder=600   # session 65, 549 s; then
+    python experiments/noise_colour_reading.py runs/colour/onpolicy_env_*.npz runs/colour/onpolicy_procedural_*.npz \
+        --out out/noise_colour_reading.md
     python experiments/runaways_by_option.py out/records_shipped_validation_torque_session48.json \
         out/records_rule78M_validation_torque.json out/records_rule79P_validation_torque.json \
         out/records_rule80Q_validation_torque.json out/records_swap79PF_validation_torque.json --grids validation_torque \
@@ -1390,7 +1394,7 @@ SOURCES = {
         "rule_check_rule125_confirmation_encoder_lag",
         "frontier_rule126_validation", "frontier_rule126_encoder_lag",
         *(f"rule_check_rule126TUw_{play}" for play in ("validation", "encoder_lag", "spent")),
-        "encoder_lag_reading",
+        "encoder_lag_reading", "noise_colour_reading",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),

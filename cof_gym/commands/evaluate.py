@@ -12,6 +12,7 @@ import re
 import shutil
 import sys
 import time
+from collections import Counter
 from dataclasses import asdict, replace
 from pathlib import Path
 from typing import Any, Mapping
@@ -219,6 +220,18 @@ def distribution_notes(agents, suite: Suite) -> list[str]:
     return notes
 
 
+def sensor_notes(records) -> list[str]:
+    """One line per agent and label of its episodes' ``sensor_notes`` (what its own readings said lay outside the
+    sensors it was fitted on), with the episodes that read it, in the agents' order."""
+    counts: dict[str, Counter] = {}
+    totals: Counter = Counter()
+    for r in records:
+        totals[r.agent] += 1
+        counts.setdefault(r.agent, Counter()).update(n for n in r.sensor_notes.split("; ") if n)
+    return [f"{agent} read its sensors outside those it was fitted on ({label}) in {n} of {totals[agent]} episodes: "
+            "its estimate there is an extrapolation" for agent, labels in counts.items() for label, n in labels.items()]
+
+
 def _play_episode(envs: dict[str, Any], agents, suite: Suite, k: int, i: int) -> tuple[EpisodeRecord, list | None]:
     """Agent ``k`` on the suite's episode ``i``; the trace of every agent's first episode (the figures')."""
     agent, oracle = agents[k]
@@ -321,7 +334,7 @@ def _play_and_write(envs: dict[str, Any], agents, agent_specs, suite: Suite, out
     records = [record for _, _, record, _ in played]
     traces = {agents[k][0].name: trace for k, i, _, trace in played if i == 0}
     summary = summarize(records, seed)
-    notes = distribution_notes(agents, suite)
+    notes = distribution_notes(agents, suite) + sensor_notes(records)
     with open(out / "episodes.csv", "w", newline="") as fh:
         writer = csv.DictWriter(fh, fieldnames=list(asdict(records[0])))
         writer.writeheader()

@@ -62,6 +62,9 @@ class EpisodeRecord(ScenarioColumns):
     interval_low: float | None = None
     interval_high: float | None = None
     lower_bound: float | None = None
+    # what the agent's own readings said lay outside the sensors it was fitted on ("; "-joined labels of its
+    # sensor_notes(), e.g. the learned interrogator's "smoothed encoder"; "" for none, or an agent without them)
+    sensor_notes: str = ""
 
     @property
     def in_interval(self) -> bool | None:
@@ -134,7 +137,18 @@ def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list 
         wd_rms_m_s2=math.sqrt(wd2 / steps), measurement_time_s=info["elapsed_s"], peak_torque_fraction=peak,
         episode_return=total, steps=steps, note=note, ended=ended,
         interval_low=interval[0], interval_high=interval[1], lower_bound=interval[2],
+        sensor_notes="; ".join(_sensor_notes(agent)),
     )
+
+
+def _sensor_notes(agent) -> tuple[str, ...]:
+    """The labels of the agent's ``sensor_notes()`` after its episode (none for an agent without them); ValueError
+    naming the agent unless each is a non-empty string without ';'."""
+    notes = tuple(getattr(agent, "sensor_notes", tuple)())
+    if not all(isinstance(n, str) and n and ";" not in n for n in notes):
+        raise ValueError(f"{agent.name} reported the sensor notes {notes!r}: each must be a non-empty string "
+                         "without ';'")
+    return notes
 
 
 def _reported_interval(agent) -> tuple[float | None, float | None, float | None]:

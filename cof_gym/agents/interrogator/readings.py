@@ -19,6 +19,14 @@ PHASE_CLIP_DEG = (1.0, 89.0)  # the slope index ln cot(phase) is finite within t
 SE_CLIP_DEG = 30.0
 SE_REPORTED_MAX_DEG = 180.0  # the lock-in's standard error of no information (pi: cof_gym.measurement.sine_fit)
 NOISE_WINDOWS = 3  # the climb's first driven windows whose lock-in noise (Reading.lockin_noise_nms) it follows
+# a climb whose first windows read a noise colour (first_windows_noise_colour) above this read a smoothed speed
+# signal: white sensor noise reads about 1, the native chain's first-order smoothing of 2 ms already about 3 (the
+# autoregressive factor of sine_fit.colored_noise_factor at 5 Hz). The least 0.1 step above every sharp-encoder
+# training climb's colour (at most 2.58, on nearly noiseless sensors, where the wheel's own response colours the
+# residual; experiments/noise_colour_reading.py, docs/interrogator.md "A smoothed encoder read from the speed
+# residual's colour")
+SMOOTHED_NOISE_COLOUR = 2.6
+SMOOTHED_ENCODER = "smoothed encoder"  # the sensor note of such a climb (InterrogatorAgent.sensor_notes)
 COMPLIANCE_CLIP = (1e-3, 0.999)  # the slope from the compliance, sqrt(1 / C^2 - 1), is finite within these
 
 
@@ -120,6 +128,20 @@ class Reading:
     # the window's torque balance (torque_balance_ratio: its mean torque reading over the measured force times the
     # wheel radius; 0: not read), which a climb with ClimbParameters.torque_balance calibrates its torque readings by
     torque_balance: float = 0.0
+    # the lag's standard error for a first-order autoregressive residual (the lock-in's ``phase_lag_se_corrected_deg``,
+    # deg; 0: not read, as in a multi-tone window): over se_reported_deg, how correlated the speed residual is
+    se_corrected_deg: float = 0.0
+
+    @property
+    def noise_colour(self) -> float:
+        """How many times the speed residual's correlation widens the lag's standard error
+        (:attr:`se_corrected_deg` over :attr:`se_reported_deg`:
+        :func:`~cof_gym.measurement.sine_fit.colored_noise_factor` of the residual's lag-1 correlation): about 1 for
+        the white noise of a sharp encoder, several times that for a smoothed one (its lag correlates successive
+        samples); 0 where either was not read."""
+        if not (0.0 < self.se_reported_deg < SE_REPORTED_MAX_DEG and 0.0 < self.se_corrected_deg < SE_REPORTED_MAX_DEG):
+            return 0.0
+        return self.se_corrected_deg / self.se_reported_deg
 
     @property
     def crest_bound(self) -> float:
@@ -188,6 +210,9 @@ class Reading:
             tone2["torque_amplitude_measured_nm"] = float(measurement["torque_amplitude_nm"])
         if "torque_mean_nm" in measurement:
             tone2["torque_balance"] = torque_balance_ratio(measurement, limits.wheel_radius_m)
+        if "phase_lag_se_corrected_deg" in measurement:
+            corrected = float(measurement["phase_lag_se_corrected_deg"])
+            tone2["se_corrected_deg"] = min(max(corrected, 0.0), SE_REPORTED_MAX_DEG)
         return cls(
             phase_deg=float(o[_INDEX["phase_lag"]] * 90.0),
             se_deg=float(_se_clipped(se_deg)),
@@ -222,3 +247,13 @@ def first_windows_noise_nms(readings: list[Reading], reported: bool = False, mea
     :meth:`Reading.lockin_noise` (with ``reported`` from the lock-in's reported standard errors, with
     ``measured_torque`` at the torque amplitude the drive measured)."""
     return float(np.median([r.lockin_noise(reported, measured_torque) for r in readings[:NOISE_WINDOWS]]))
+
+
+def first_windows_noise_colour(readings: list[Reading]) -> float:
+    """The noise colour a climb reads from its first :data:`NOISE_WINDOWS` driven ``readings``: the least of
+    their :attr:`Reading.noise_colour` where read (0 where none was: a multi-tone climb, or none driven yet). A
+    smoothing colours every window's noise; the wheel's own departures from a sine (harmonics near the peak,
+    transients) colour the residual only where the modulation's response stands far above the noise, which the
+    climb's first window, at its smallest modulation, does not reach: the least is the smoothing's."""
+    colours = [c for c in (r.noise_colour for r in readings[:NOISE_WINDOWS]) if c > 0.0]
+    return float(np.min(colours)) if colours else 0.0

@@ -302,6 +302,11 @@ class ClimbDraws:
     def env_options(self) -> dict[str, Any]:
         return dict(TWO_TONE_ENV_OPTIONS) if self.tone2_hz else {}
 
+    def encoder_lag_s(self, seed: int) -> float:
+        """Training episode ``seed``'s encoder lag (s): uniform in ``encoder_lags_s`` from a generator of its own,
+        0 without that range."""
+        return float(np.random.default_rng([seed, 31]).uniform(*self.encoder_lags_s)) if self.encoder_lags_s else 0.0
+
     def __post_init__(self) -> None:
         if self.tone2_hz is not None:
             check_range("ClimbDraws.tone2_hz", self.tone2_hz, MotorLimits.min_frequency_hz, MotorLimits.max_frequency_hz)
@@ -344,7 +349,7 @@ def _sensor_options(seed: int, draws: ClimbDraws) -> dict[str, float]:
     for k, (name, low, high) in enumerate(draws.sensor_errors):
         options[name] = float(np.random.default_rng([seed, 29, k]).uniform(low, high))
     if draws.encoder_lags_s:
-        options["encoder_lag_s"] = float(np.random.default_rng([seed, 31]).uniform(*draws.encoder_lags_s))
+        options["encoder_lag_s"] = draws.encoder_lag_s(seed)
     return options
 
 
