@@ -218,7 +218,8 @@ REQUIRED = {"assemble_policy": ["--filter", "f", "--out", "o"], "feature_block_n
             "learned_caution": ["--out", "o"], "headroom_bias": ["--networks", "a=n", "--climbs", "c.npz"],
             "encoder_lag_reading": ["--sharp", "a.npz", "--lagged", "b.npz"],
             "pool_ensembles": ["a", "b", "--out", "o"],
-            "match_creep_threshold": ["--reference", "r", "--candidate", "c", "--climbs", "c.npz"]}
+            "match_creep_threshold": ["--reference", "r", "--candidate", "c", "--climbs", "c.npz"],
+            "noise_colour_reading": ["c.npz"]}
 
 
 def test_every_script_parses_with_the_one_line_parser() -> None:
