@@ -12,7 +12,7 @@ smoothing of the speed signal correlates successive samples and raises it severa
 least colour of its first driven windows (:func:`~cof_gym.agents.interrogator.readings.first_windows_noise_colour`);
 this table gives its spread per collection (on-policy climbs of ``train_estimator.py``: the ``*_encoder`` ones lag
 the encoder 0-20 ms, drawn per climb), by the drawn lag where the collection draws one, and the share of climbs
-above :data:`~cof_gym.agents.interrogator.readings.SMOOTHED_NOISE_COLOUR`, where
+above :data:`~cof_gym.measurement.sine_fit.SMOOTHED_NOISE_COLOUR`, where
 :meth:`~cof_gym.agents.interrogator.LearnedInterrogator.sensor_notes` names a smoothed encoder. Nothing is fitted
 here; the threshold was read off the sharp and the lagged training climbs (docs/interrogator.md).
 """
@@ -63,7 +63,7 @@ def row(label: str, colours: np.ndarray, threshold: float) -> str:
 
 
 def main() -> None:
-    from cof_gym.agents.interrogator.readings import SMOOTHED_NOISE_COLOUR
+    from cof_gym.measurement.sine_fit import SMOOTHED_NOISE_COLOUR
 
     parser = Parser(description=__doc__.splitlines()[0])
     parser.add_argument("climbs", nargs="+", type=Path, metavar="FILE",

@@ -14,11 +14,11 @@ import pytest
 import cof_gym
 from cof_gym.agents import registry
 from cof_gym.agents.interrogator.readings import (
-    NOISE_WINDOWS, SE_REPORTED_MAX_DEG, SMOOTHED_ENCODER, SMOOTHED_NOISE_COLOUR, first_windows_noise_colour,
+    NOISE_WINDOWS, SE_REPORTED_MAX_DEG, SMOOTHED_ENCODER, first_windows_noise_colour,
 )
 from cof_gym.commands.evaluate import sensor_notes
 from cof_gym.commands.evaluate_episodes import run_episode
-from cof_gym.measurement.sine_fit import colored_noise_factor
+from cof_gym.measurement.sine_fit import SMOOTHED_NOISE_COLOUR, colored_noise_factor
 from cof_gym.physics.models import DEFAULT_TIMESTEP_S
 
 from interrogator_helpers import SHIPPED, window_reading

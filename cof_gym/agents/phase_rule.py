@@ -43,6 +43,7 @@ from typing import Any
 import numpy as np
 
 from cof_gym.agents.staircase import COA, PHASE, ElasticityClimb
+from cof_gym.measurement.sine_fit import SMOOTHED_NOISE_COLOUR, noise_colour
 from cof_gym.task.creep_fit import coa_fell
 from cof_gym.task.interface import OBSERVATION_NAMES, MotorLimits, encode_action
 
@@ -67,6 +68,15 @@ def phase_of(observation: np.ndarray, info: dict[str, Any] | None = None,
     if not math.isfinite(se) or se <= 0.0:
         se = UNKNOWN_SE_DEG
     return phase, min(se, UNKNOWN_SE_DEG)
+
+
+def smoothed_speed_signal(observation: np.ndarray, info: dict[str, Any] | None) -> bool:
+    """Whether a window's speed residual reads as smoothed: its noise colour (``info["measurement"]``'s
+    :data:`CORRECTED_SE` over the observation's white-noise SE, :func:`~cof_gym.measurement.sine_fit.noise_colour`)
+    above :data:`~cof_gym.measurement.sine_fit.SMOOTHED_NOISE_COLOUR`. A sensor reading: a train can tell it."""
+    white = float(observation[PHASE_SE]) * DEG_PER_UNIT
+    corrected = float((info or {}).get("measurement", {}).get(CORRECTED_SE, 0.0))
+    return noise_colour(white, corrected) > SMOOTHED_NOISE_COLOUR
 
 
 def probe_amplitude(ratio: float, dc_nm: float, floor_nm: float, limits: MotorLimits) -> float:
@@ -154,6 +164,9 @@ class PhaseRule:
     baseline_windows: int = 2
     correction: float = 1.05
     corrected_se: bool = False  # read the lag's SE for an autocorrelated speed residual (phase_of)
+    # read it in an episode whose reset window reads a smoothed speed signal (smoothed_speed_signal), the white one
+    # otherwise
+    se_gate: bool = False
     name: str = "phase-rule"
     oracle: bool = False
     climb: ElasticityClimb = field(default_factory=ElasticityClimb, repr=False)  # the shared safe first step
@@ -165,6 +178,7 @@ class PhaseRule:
     _base_sum: float = 0.0  # sum of phase / se^2 of the baseline windows
     _base_weight: float = 0.0  # sum of 1 / se^2
     _driven: int = 0
+    _corrected: bool = False  # this episode's SE: corrected_se, or the gate's reading of the reset window
     stop_reason: str = field(default="", repr=False)
     windows: list[Window] = field(default_factory=list, repr=False)  # this episode's driven windows
 
@@ -176,7 +190,8 @@ class PhaseRule:
         self._driven = 0
         self.stop_reason = ""
         self.windows = []
-        self._prev = phase_of(observation, info, self.corrected_se)
+        self._corrected = self.corrected_se or (self.se_gate and smoothed_speed_signal(observation, info))
+        self._prev = phase_of(observation, info, self._corrected)
         self._add_baseline(*self._prev)
 
     def _add_baseline(self, phase: float, se: float) -> None:
@@ -199,7 +214,7 @@ class PhaseRule:
 
     def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
         coa = float(observation[COA])
-        phase, se = phase_of(observation, info, self.corrected_se)
+        phase, se = phase_of(observation, info, self._corrected)
         stop = False
         if self._dc > 0.0:
             self._driven += 1
@@ -233,3 +248,10 @@ def phase_rule_ar1(limits: MotorLimits) -> PhaseRule:
     """The phase rule reading the lag's SE for an autocorrelated speed residual (``phase-rule-ar1``): every
     parameter the validation-chosen rule's."""
     return PhaseRule(limits, corrected_se=True, name="phase-rule-ar1")
+
+
+def phase_rule_gated(limits: MotorLimits) -> PhaseRule:
+    """The phase rule reading the lag's SE for an autocorrelated speed residual only in an episode whose reset
+    window reads a smoothed speed signal (``phase-rule-gated``: :func:`smoothed_speed_signal`), the white one
+    otherwise: every parameter the validation-chosen rule's."""
+    return PhaseRule(limits, se_gate=True, name="phase-rule-gated")

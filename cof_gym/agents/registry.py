@@ -109,6 +109,13 @@ register("phase-rule-ar1", "cof_gym.agents.phase_rule:phase_rule_ar1", oracle=Fa
 register("robust-model-ar1", "cof_gym.agents.robust_model:robust_model_ar1", oracle=False, runaway=True,
          ceiling=True, default=False,
          help="the robust model reading the lag's SE for an autocorrelated speed residual (a smoothed encoder signal)")
+# the same two reading that SE only where the reset window's speed residual reads smoothed (session 65: its noise
+# colour, cof_gym.measurement.sine_fit.noise_colour), the white one otherwise
+register("phase-rule-gated", "cof_gym.agents.phase_rule:phase_rule_gated", oracle=False, ceiling=True, default=False,
+         help="the phase rule reading that SE only where its reset window reads a smoothed speed signal")
+register("robust-model-gated", "cof_gym.agents.robust_model:robust_model_gated", oracle=False, runaway=True,
+         ceiling=True, default=False,
+         help="the robust model reading that SE only where its reset window reads a smoothed speed signal")
 register("interrogator", "cof_gym.agents.interrogator:load_interrogator", oracle=False, takes_env=True,
          argument="DIR", shipped=PACKAGE_DIR / "policies" / "interrogator" / "manifest.json",
          help="the learned interrogator (v2): a torque climb steered by a learned filter of phase, "

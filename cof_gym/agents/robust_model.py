@@ -38,7 +38,7 @@ from typing import Any
 
 import numpy as np
 
-from cof_gym.agents.phase_rule import phase_of, phase_rise, probe_amplitude, probe_next_dc
+from cof_gym.agents.phase_rule import phase_of, phase_rise, probe_amplitude, probe_next_dc, smoothed_speed_signal
 from cof_gym.agents.staircase import COA, ElasticityClimb
 from cof_gym.task.creep_fit import coa_fell
 from cof_gym.task.interface import OBSERVATION_NAMES, MotorLimits, encode_action
@@ -108,6 +108,7 @@ class RobustModel:
     knee_weight: float = 1.0  # where in the final bracket [lo, hi] of crest torques the knee is put
     correction: float = 1.05
     corrected_se: bool = False  # read the lag's SE for an autocorrelated speed residual (phase_rule.phase_of)
+    se_gate: bool = False  # ... in an episode whose reset window reads a smoothed speed signal (as the phase rule's)
     name: str = "robust-model"
     oracle: bool = False
     climb: ElasticityClimb = field(default_factory=ElasticityClimb, repr=False)
@@ -125,6 +126,7 @@ class RobustModel:
     _last_elapsed: float = 0.0
     _window_elapsed: float = 0.0
     _knee_probe: Probe | None = None
+    _corrected: bool = False  # this episode's SE: corrected_se, or the gate's reading of the reset window
     stop_reason: str = field(default="", repr=False)
     probes: list[Probe] = field(default_factory=list, repr=False)
 
@@ -140,7 +142,8 @@ class RobustModel:
         self._last_elapsed = float(observation[ELAPSED])
         self._window_elapsed = 0.0
         self.stop_reason = ""
-        phase, se = phase_of(observation, info, self.corrected_se)
+        self._corrected = self.corrected_se or (self.se_gate and smoothed_speed_signal(observation, info))
+        phase, se = phase_of(observation, info, self._corrected)
         self.probes = [Probe(0.0, 0.0, float(observation[COA]), phase, se, float(observation[COMPLIANCE]))]
 
     # -- helpers ---------------------------------------------------------------------------------------
@@ -188,7 +191,7 @@ class RobustModel:
     # -- the policy ------------------------------------------------------------------------------------
     def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
         coa = float(observation[COA])
-        phase, se = phase_of(observation, info, self.corrected_se)
+        phase, se = phase_of(observation, info, self._corrected)
         elapsed = float(observation[ELAPSED])
         if elapsed > self._last_elapsed:
             self._window_elapsed = elapsed - self._last_elapsed
@@ -275,3 +278,10 @@ def robust_model_ar1(limits: MotorLimits) -> RobustModel:
     """The robust model reading the lag's SE for an autocorrelated speed residual (``robust-model-ar1``): every
     parameter the validation-chosen model's."""
     return RobustModel(limits, corrected_se=True, name="robust-model-ar1")
+
+
+def robust_model_gated(limits: MotorLimits) -> RobustModel:
+    """The robust model reading the lag's SE for an autocorrelated speed residual only in an episode whose reset
+    window reads a smoothed speed signal (``robust-model-gated``), the white one otherwise: every parameter the
+    validation-chosen model's."""
+    return RobustModel(limits, se_gate=True, name="robust-model-gated")

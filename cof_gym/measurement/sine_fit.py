@@ -100,6 +100,27 @@ def colored_noise_factor(rho: float, omega_step_rad: float) -> float:
     return float(np.sqrt((1.0 - rho * rho) / (1.0 - 2.0 * rho * np.cos(omega_step_rad) + rho * rho)))
 
 
+# a window whose noise colour (noise_colour) is above this reads a smoothed speed signal: white sensor noise reads
+# about 1, the native chain's first-order smoothing of 2 ms already about 3 (colored_noise_factor at 5 Hz of its
+# lag-1 correlation (1 + exp(-dt / tau)) / 2). The least 0.1 step above the colour of every sharp-encoder training
+# climb of the learned interrogator (at most 2.58, on nearly noiseless sensors, where the wheel's own response
+# colours the residual; experiments/noise_colour_reading.py, docs/interrogator.md "A smoothed encoder read from the
+# speed residual's colour")
+SMOOTHED_NOISE_COLOUR = 2.6
+NO_SE_DEG = 180.0  # a lag's standard error of no information (pi)
+
+
+def noise_colour(se_white_deg: float, se_corrected_deg: float) -> float:
+    """How many times the speed residual's correlation widens a lag's standard error: the SE for a first-order
+    autoregressive residual (``se_corrected_deg``: :func:`colored_noise_factor` of the residual's lag-1 correlation
+    times the white one) over the white-noise SE ``se_white_deg``. About 1 for white sensor noise, several times that
+    for a smoothed speed signal (a smoothing correlates successive samples); 0 where either SE is not in (0, 180)
+    deg (not read, or a fit of no information)."""
+    if not (0.0 < se_white_deg < NO_SE_DEG and 0.0 < se_corrected_deg < NO_SE_DEG):
+        return 0.0
+    return se_corrected_deg / se_white_deg
+
+
 def basis(theta: np.ndarray, tau: np.ndarray) -> np.ndarray:
     return np.stack([np.cos(theta), np.sin(theta), np.ones_like(theta), tau], axis=1)
 

@@ -10,6 +10,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from cof_gym.agents.runaway import crest_lower_bound
+from cof_gym.measurement.sine_fit import noise_colour
 from cof_gym.physics.simulation import COA_CYCLE_FIELDS
 from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES, SPEED_SCALE_M_S, MotorLimits
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
@@ -19,14 +20,9 @@ PHASE_CLIP_DEG = (1.0, 89.0)  # the slope index ln cot(phase) is finite within t
 SE_CLIP_DEG = 30.0
 SE_REPORTED_MAX_DEG = 180.0  # the lock-in's standard error of no information (pi: cof_gym.measurement.sine_fit)
 NOISE_WINDOWS = 3  # the climb's first driven windows whose lock-in noise (Reading.lockin_noise_nms) it follows
-# a climb whose first windows read a noise colour (first_windows_noise_colour) above this read a smoothed speed
-# signal: white sensor noise reads about 1, the native chain's first-order smoothing of 2 ms already about 3 (the
-# autoregressive factor of sine_fit.colored_noise_factor at 5 Hz). The least 0.1 step above every sharp-encoder
-# training climb's colour (at most 2.58, on nearly noiseless sensors, where the wheel's own response colours the
-# residual; experiments/noise_colour_reading.py, docs/interrogator.md "A smoothed encoder read from the speed
-# residual's colour")
-SMOOTHED_NOISE_COLOUR = 2.6
-SMOOTHED_ENCODER = "smoothed encoder"  # the sensor note of such a climb (InterrogatorAgent.sensor_notes)
+# the sensor note of a climb whose first windows read a noise colour above SMOOTHED_NOISE_COLOUR
+# (LearnedInterrogator.sensor_notes)
+SMOOTHED_ENCODER = "smoothed encoder"
 COMPLIANCE_CLIP = (1e-3, 0.999)  # the slope from the compliance, sqrt(1 / C^2 - 1), is finite within these
 
 
@@ -139,9 +135,7 @@ class Reading:
         :func:`~cof_gym.measurement.sine_fit.colored_noise_factor` of the residual's lag-1 correlation): about 1 for
         the white noise of a sharp encoder, several times that for a smoothed one (its lag correlates successive
         samples); 0 where either was not read."""
-        if not (0.0 < self.se_reported_deg < SE_REPORTED_MAX_DEG and 0.0 < self.se_corrected_deg < SE_REPORTED_MAX_DEG):
-            return 0.0
-        return self.se_corrected_deg / self.se_reported_deg
+        return noise_colour(self.se_reported_deg, self.se_corrected_deg)
 
     @property
     def crest_bound(self) -> float:
