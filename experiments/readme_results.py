@@ -523,6 +523,8 @@ generated, never typed:
         None, ...", _rule63 in place of _rule62)   # rule 63; and _lag01
     python experiments/estimate_interval.py --write --out out/estimate_interval.md   # session 44: the in-flight bound
     python experiments/sensor_sensitivity.py --out out/sensor_sensitivity.md   # session 44
+    python experiments/sensor_sensitivity.py --agents phase-rule,phase-rule-gated,robust-model,robust-model-gated \
+        --out out/sensor_sensitivity_gated.md   # session 65
     python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
         --records out/records_shipped_validation_session45.json \
         --out out/crest_tradeoff_shipped_validation_session45.md   # rule 64's reference; and with --scenario
@@ -1240,7 +1242,7 @@ SOURCES = {
         "crest_tradeoff_rule63_validation_lag01",
         "paired_rule63_validation",
         "paired_rule63_validation_lag01",
-        "sensor_sensitivity",
+        "sensor_sensitivity", "sensor_sensitivity_gated",
         "crest_tradeoff_shipped_validation_session45",
         "crest_tradeoff_shipped_validation_session45_torque_low",
         "crest_tradeoff_shipped_validation_session45_torque_high",

@@ -23,7 +23,9 @@ only a fraction of those values, so the rows past the first measure the agents o
   17 deg at 5 Hz) and at the largest lag the env accepts. The smoothing also correlates the speed fit's residual,
   so the lock-in's white-noise SE of the lag understates its scatter; ``phase-rule-ar1`` and ``robust-model-ar1``
   are the two validation-chosen agents that test the lag's significance reading the SE for a first-order
-  autoregressive residual instead (``phase_lag_se_corrected_deg``), every parameter as chosen.
+  autoregressive residual instead (``phase_lag_se_corrected_deg``), every parameter as chosen; ``phase-rule-gated``
+  and ``robust-model-gated`` (not in the default list) read it only where their reset window's noise colour shows a
+  smoothed speed signal.
 
 Cells: median / P90 relative CoF error [%] / macro-slips, over the grid's scored episodes.
 """

@@ -49,3 +49,14 @@ def constant_network(headroom: float, correction: float, log_variance: float = -
     weights = (np.zeros((n, width)), np.zeros((width, 2 * len(TARGET_NAMES))))
     return FilterNetwork(np.zeros(n), np.ones(n), weights,
                          (np.zeros(width), np.array([headroom, correction, log_variance, log_variance])))
+
+
+def climbs_reading(episode: list[int], **columns: list[float]):
+    """A climbs file's windows (:class:`~cof_gym.agents.interrogator.training.Dataset`) with only these reading
+    fields set (the rest 0) and each window's episode."""
+    from cof_gym.agents.interrogator.training import READING_FIELDS, Dataset
+
+    rows = np.zeros((len(episode), len(READING_FIELDS)))
+    for name, values in columns.items():
+        rows[:, READING_FIELDS.index(name)] = values
+    return Dataset(rows, np.zeros(len(episode), bool), np.zeros((len(episode), 2)), np.array(episode))

@@ -8,18 +8,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from interrogator_helpers import climbs_reading
+
 ROOT = Path(__file__).resolve().parents[1]
 SCRIPT = ROOT / "experiments" / "encoder_lag_reading.py"
 
 
 def climbs(phase: list[float], se: list[float], episode: list[int]):
     """A climbs file's windows with only the phase, its standard error and the episode set."""
-    from cof_gym.agents.interrogator.training import READING_FIELDS, Dataset
-
-    rows = np.zeros((len(phase), len(READING_FIELDS)))
-    rows[:, READING_FIELDS.index("phase_deg")] = phase
-    rows[:, READING_FIELDS.index("se_deg")] = se
-    return Dataset(rows, np.zeros(len(phase), bool), np.zeros((len(phase), 2)), np.array(episode))
+    return climbs_reading(episode, phase_deg=phase, se_deg=se)
 
 
 def test_the_first_windows_phase_is_their_inverse_variance_mean_per_climb(monkeypatch):

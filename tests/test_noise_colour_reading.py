@@ -8,18 +8,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from interrogator_helpers import climbs_reading
+
 ROOT = Path(__file__).resolve().parents[1]
 SCRIPT = ROOT / "experiments" / "noise_colour_reading.py"
-
-
-def climbs(se_reported: list[float], se_corrected: list[float], episode: list[int]):
-    """A climbs file's windows with only the lag's two standard errors and the episode set."""
-    from cof_gym.agents.interrogator.training import READING_FIELDS, Dataset
-
-    rows = np.zeros((len(episode), len(READING_FIELDS)))
-    rows[:, READING_FIELDS.index("se_reported_deg")] = se_reported
-    rows[:, READING_FIELDS.index("se_corrected_deg")] = se_corrected
-    return Dataset(rows, np.zeros(len(episode), bool), np.zeros((len(episode), 2)), np.array(episode))
 
 
 def test_each_climb_reads_the_least_colour_of_its_first_windows(monkeypatch):
@@ -27,7 +19,8 @@ def test_each_climb_reads_the_least_colour_of_its_first_windows(monkeypatch):
     from noise_colour_reading import climb_colours
 
     # climb 0: colours 3, 2, 5 and a fourth window beyond the first three; climb 1: none read (a multi-tone climb)
-    data = climbs([1.0, 1.0, 1.0, 1.0, 2.0], [3.0, 2.0, 5.0, 0.5, 180.0], [0, 0, 0, 0, 1])
+    data = climbs_reading([0, 0, 0, 0, 1], se_reported_deg=[1.0, 1.0, 1.0, 1.0, 2.0],
+                          se_corrected_deg=[3.0, 2.0, 5.0, 0.5, 180.0])
     np.testing.assert_array_equal(climb_colours(data), [2.0, 0.0])
 
 
@@ -59,7 +52,7 @@ def test_the_table_of_a_climbs_file(tmp_path, capsys, monkeypatch):
     import noise_colour_reading
 
     path = tmp_path / "onpolicy_env_encoder_0123abcd.npz"
-    climbs([1.0, 1.0, 1.0], [1.0, 4.0, 5.0], [0, 1, 1]).save(path)
+    climbs_reading([0, 1, 1], se_reported_deg=[1.0, 1.0, 1.0], se_corrected_deg=[1.0, 4.0, 5.0]).save(path)
     monkeypatch.setattr(sys, "argv", [str(SCRIPT), str(path), "--out", str(tmp_path / "t.md")])
     noise_colour_reading.main()
     text = (tmp_path / "t.md").read_text()

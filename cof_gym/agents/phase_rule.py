@@ -30,6 +30,13 @@ above ``max_se_deg`` are ignored. Also when the CoA falls although the torque ro
 and at the drive's limit. It reports the best crest CoA of the climb, the measured CoA x (1 +
 amplitude / DC) (the crest's CoA is what touched the knee), times ``correction``.
 
+**The lag's standard error.** The white-noise SE the lock-in reports (the shipped rule), or with ``corrected_se``
+the SE for a first-order autoregressive speed residual (``phase-rule-ar1``: a smoothed encoder signal correlates the
+residual, and the white SE then understates the lag's scatter several times over), or with ``se_gate`` the corrected
+SE only in an episode whose reset window reads a smoothed speed signal (``phase-rule-gated``:
+:func:`smoothed_speed_signal`, the window's noise colour), the white one otherwise: the shipped rule wherever the
+encoder is sharp.
+
 **Parameters** (chosen by ``experiments/select_phase_rule.py`` on validation seeds only; see the
 table in :class:`PhaseRule`).
 """
