@@ -12,9 +12,11 @@ smoothing of the speed signal correlates successive samples and raises it severa
 least colour of its first driven windows (:func:`~cof_gym.agents.interrogator.readings.first_windows_noise_colour`);
 this table gives its spread per collection (on-policy climbs of ``train_estimator.py``: the ``*_encoder`` ones lag
 the encoder 0-20 ms, drawn per climb), by the drawn lag where the collection draws one, and the share of climbs
-above :data:`~cof_gym.measurement.sine_fit.SMOOTHED_NOISE_COLOUR`, where
+above :data:`~cof_gym.measurement.sine_fit.SMOOTHED_NOISE_COLOUR` where their noise reaches
+:data:`~cof_gym.agents.interrogator.readings.COLOUR_NOISE_FLOOR_NMS`
+(:func:`~cof_gym.agents.interrogator.readings.reads_smoothed_encoder`), where
 :meth:`~cof_gym.agents.interrogator.LearnedInterrogator.sensor_notes` names a smoothed encoder. Nothing is fitted
-here; the threshold was read off the sharp and the lagged training climbs (docs/interrogator.md).
+here; the threshold and the floor were read off the sharp and the lagged training climbs (docs/interrogator.md).
 """
 
 from __future__ import annotations
@@ -36,12 +38,18 @@ QUANTILES = (0, 1, 50, 99, 100)  # the colour's percentiles in the table
 COLLECTION = re.compile(r"onpolicy_(?P<name>[a-z_]+?)_[0-9a-f]+\.npz$")  # train_estimator.py's cache file names
 
 
-def climb_colours(data) -> np.ndarray:
-    """Each climb's noise colour (:func:`first_windows_noise_colour`) in a climbs file's ``data``."""
-    from cof_gym.agents.interrogator.readings import Reading, first_windows_noise_colour
+def climb_colours(data) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each climb's noise colour (:func:`first_windows_noise_colour`), its noise (:func:`first_windows_noise_nms`
+    from the reported SEs, N m s) and whether it is flagged (:func:`reads_smoothed_encoder`), in a climbs file's
+    ``data``."""
+    from cof_gym.agents.interrogator.readings import (
+        Reading, first_windows_noise_colour, first_windows_noise_nms, reads_smoothed_encoder,
+    )
 
-    return np.array([first_windows_noise_colour([Reading(*map(float, row)) for row in data.readings[rows]])
-                     for rows in data.climbs()])
+    climbs = [[Reading(*map(float, row)) for row in data.readings[rows]] for rows in data.climbs()]
+    return (np.array([first_windows_noise_colour(c) for c in climbs]),
+            np.array([first_windows_noise_nms(c, reported=True) for c in climbs]),
+            np.array([reads_smoothed_encoder(c) for c in climbs]))
 
 
 def climb_lags_s(path: Path, climbs: int) -> np.ndarray | None:
@@ -56,13 +64,16 @@ def climb_lags_s(path: Path, climbs: int) -> np.ndarray | None:
     return np.array([draws.encoder_lag_s(first_seed + i) for i in range(climbs)])
 
 
-def row(label: str, colours: np.ndarray, threshold: float) -> str:
-    """A table row: the climbs, the colour's percentiles and the share above ``threshold``."""
+def row(label: str, colours: np.ndarray, noise: np.ndarray, flagged: np.ndarray, floor: float) -> str:
+    """A table row: the climbs, the colour's percentiles, the least noise, the shares below the noise ``floor`` and
+    flagged."""
     percentiles = " / ".join(f"{v:.2f}" for v in np.percentile(colours, QUANTILES))
-    return f"| {label} | {len(colours)} | {percentiles} | {100.0 * np.mean(colours > threshold):.1f} |"
+    return (f"| {label} | {len(colours)} | {percentiles} | {noise.min():.4f} | {100.0 * np.mean(noise < floor):.1f} | "
+            f"{100.0 * np.mean(flagged):.1f} |")
 
 
 def main() -> None:
+    from cof_gym.agents.interrogator.readings import COLOUR_NOISE_FLOOR_NMS
     from cof_gym.measurement.sine_fit import SMOOTHED_NOISE_COLOUR
 
     parser = Parser(description=__doc__.splitlines()[0])
@@ -75,20 +86,22 @@ def main() -> None:
     lines = ["# A smoothed encoder read from the speed residual's colour", "",
              f"Each climb's noise colour: the least, over its first driven windows, of the lag's SE for a first-order "
              f"autoregressive residual over its white-noise SE (about 1 for white noise). Flagged: above "
-             f"{SMOOTHED_NOISE_COLOUR:g}.", "",
-             f"| climbs | n | colour: {' / '.join(f'{q} %' for q in QUANTILES)} | flagged [%] |", "|---|---|---|---|"]
+             f"{SMOOTHED_NOISE_COLOUR:g} where the windows' noise is at least {COLOUR_NOISE_FLOOR_NMS:g} N m s.", "",
+             f"| climbs | n | colour: {' / '.join(f'{q} %' for q in QUANTILES)} | least noise [N m s] | "
+             "noise below the floor [%] | flagged [%] |", "|---|---|---|---|---|---|"]
     for path, data in files:
-        colours = climb_colours(data)
+        colours, noise, flagged = climb_colours(data)
         if not len(colours):
             parser.error(f"climbs: {path} holds no climb")
         match = COLLECTION.search(path.name)
         name = match["name"] if match else path.name
-        lines.append(row(name, colours, SMOOTHED_NOISE_COLOUR))
+        lines.append(row(name, colours, noise, flagged, COLOUR_NOISE_FLOOR_NMS))
         lags = climb_lags_s(path, len(colours))
         for low, high in LAG_BANDS_S if lags is not None else ():
             band = (lags >= low) & (lags < high)
             if band.any():
-                lines.append(row(f"{name}, lag {1e3 * low:g}-{1e3 * high:g} ms", colours[band], SMOOTHED_NOISE_COLOUR))
+                lines.append(row(f"{name}, lag {1e3 * low:g}-{1e3 * high:g} ms", colours[band], noise[band],
+                                 flagged[band], COLOUR_NOISE_FLOOR_NMS))
     write_report(args.out, lines)
 
 

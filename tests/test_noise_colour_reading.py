@@ -20,8 +20,8 @@ def test_each_climb_reads_the_least_colour_of_its_first_windows(monkeypatch):
 
     # climb 0: colours 3, 2, 5 and a fourth window beyond the first three; climb 1: none read (a multi-tone climb)
     data = climbs_reading([0, 0, 0, 0, 1], se_reported_deg=[1.0, 1.0, 1.0, 1.0, 2.0],
-                          se_corrected_deg=[3.0, 2.0, 5.0, 0.5, 180.0])
-    np.testing.assert_array_equal(climb_colours(data), [2.0, 0.0])
+                          se_corrected_deg=[3.0, 2.0, 5.0, 0.5, 180.0], frequency_hz=[5.0] * 5)
+    np.testing.assert_array_equal(climb_colours(data)[0], [2.0, 0.0])
 
 
 def test_the_lags_come_from_an_encoder_collections_name_and_seeds(monkeypatch):
@@ -42,7 +42,10 @@ def test_a_row_gives_the_percentiles_and_the_share_above_the_threshold(monkeypat
     monkeypatch.syspath_prepend(str(SCRIPT.parent))
     from noise_colour_reading import row
 
-    assert row("x", np.array([1.0, 2.0, 3.0, 4.0]), 2.5) == "| x | 4 | 1.00 / 1.03 / 2.50 / 3.97 / 4.00 | 50.0 |"
+    noise = np.array([0.5, 2.0, 3.0, 4.0])
+    flagged = np.array([False, False, True, True])
+    assert row("x", np.array([1.0, 2.0, 3.0, 4.0]), noise, flagged, 1.0) == \
+        "| x | 4 | 1.00 / 1.03 / 2.50 / 3.97 / 4.00 | 0.5000 | 25.0 | 50.0 |"
 
 
 def test_the_table_of_a_climbs_file(tmp_path, capsys, monkeypatch):
@@ -52,11 +55,13 @@ def test_the_table_of_a_climbs_file(tmp_path, capsys, monkeypatch):
     import noise_colour_reading
 
     path = tmp_path / "onpolicy_env_encoder_0123abcd.npz"
-    climbs_reading([0, 1, 1], se_reported_deg=[1.0, 1.0, 1.0], se_corrected_deg=[1.0, 4.0, 5.0]).save(path)
+    # compliance 0.5 and 1000 N m at 5 Hz: a lock-in noise of 0.2778 N m s, far above the floor
+    climbs_reading([0, 1, 1], se_reported_deg=[1.0, 1.0, 1.0], se_corrected_deg=[1.0, 4.0, 5.0],
+                   compliance=[0.5] * 3, amplitude_nm=[1000.0] * 3, frequency_hz=[5.0] * 3).save(path)
     monkeypatch.setattr(sys, "argv", [str(SCRIPT), str(path), "--out", str(tmp_path / "t.md")])
     noise_colour_reading.main()
     text = (tmp_path / "t.md").read_text()
-    assert "| env_encoder | 2 | 1.00 / 1.03 / 2.50 / 3.97 / 4.00 | 50.0 |" in text
+    assert "| env_encoder | 2 | 1.00 / 1.03 / 2.50 / 3.97 / 4.00 | 0.2778 | 0.0 | 50.0 |" in text
     assert text == capsys.readouterr().out
 
 

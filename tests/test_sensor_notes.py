@@ -14,8 +14,10 @@ import pytest
 import cof_gym
 from cof_gym.agents import registry
 from cof_gym.agents.interrogator.readings import (
-    NOISE_WINDOWS, SE_REPORTED_MAX_DEG, SMOOTHED_ENCODER, first_windows_noise_colour,
+    COLOUR_NOISE_FLOOR_NMS, NOISE_WINDOWS, SE_REPORTED_MAX_DEG, SMOOTHED_ENCODER, first_windows_noise_colour,
+    reads_smoothed_encoder,
 )
+from cof_gym.commands.suites import make_suite
 from cof_gym.commands.evaluate import sensor_notes
 from cof_gym.commands.evaluate_episodes import run_episode
 from cof_gym.measurement.sine_fit import SMOOTHED_NOISE_COLOUR, colored_noise_factor
@@ -45,6 +47,21 @@ def test_a_climb_reads_the_least_colour_of_its_first_windows():
     assert first_windows_noise_colour([]) == 0.0
 
 
+def test_a_smoothed_encoder_is_read_only_where_the_windows_read_sensor_noise():
+    """The same coloured windows with the noise the lock-in reads above and below the floor: the colour of a residual
+    without sensor noise is the wheel's own and says nothing of the encoder."""
+    def windows(noise_nms: float, colour: float) -> list:
+        # lockin_noise = se (rad) x compliance x amplitude / (2 pi f): compliance 0.5, 1000 N m at 5 Hz
+        se_deg = math.degrees(noise_nms * 2 * math.pi * 5.0 / (0.5 * 1000.0))
+        return [replace(window_reading(10.0, 1.0), compliance=0.5, amplitude_nm=1000.0, se_reported_deg=se_deg,
+                        se_corrected_deg=colour * se_deg) for _ in range(NOISE_WINDOWS)]
+
+    assert reads_smoothed_encoder(windows(2 * COLOUR_NOISE_FLOOR_NMS, 4.0))
+    assert not reads_smoothed_encoder(windows(COLOUR_NOISE_FLOOR_NMS / 2, 4.0))
+    assert not reads_smoothed_encoder(windows(2 * COLOUR_NOISE_FLOOR_NMS, 1.2))
+    assert not reads_smoothed_encoder([])
+
+
 def test_the_threshold_lies_between_white_noise_and_the_least_smoothing_the_chain_can_apply():
     """The native chain smooths ``y += (1 - phi) ((x_n + x_(n-1)) / 2 - y)``, ``phi = exp(-dt / tau)``: white
     readings leave an ARMA(1, 1) whose lag-1 correlation is ``(1 + phi) / 2``, at least 1/2 for any lag. Its
@@ -70,6 +87,20 @@ def test_the_shipped_interrogator_notes_a_smoothed_encoder_and_evaluate_records_
     assert sensor_notes([record]) == ([] if not notes else [
         f"interrogator read its sensors outside those it was fitted on ({SMOOTHED_ENCODER}) in 1 of 1 episodes: "
         "its estimate there is an extrapolation"])
+
+
+@pytest.mark.skipif(not SHIPPED, reason="no shipped interrogator in this checkout")
+def test_no_smoothed_encoder_is_noted_with_the_paper_settings_noiseless_sensors():
+    """The paper's setting reads no sensor noise: its first episode's residual (coloured by the wheel's own
+    response; noted as smoothed before the noise floor, session 65) is not an encoder's."""
+    suite = make_suite("paper", 1, 0)
+    env = gym.make(suite.env_id, **suite.env_kwargs)
+    agent = registry.make_agent("interrogator", env)
+    seed, options = suite.episodes[0]
+    record = run_episode(env, agent, seed, options, 0)
+    env.close()
+    assert first_windows_noise_colour(agent.features.readings) > SMOOTHED_NOISE_COLOUR  # coloured, ...
+    assert record.sensor_notes == ""  # ... and no sensor noise to read it from
 
 
 class _Noting:

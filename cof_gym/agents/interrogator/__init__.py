@@ -189,11 +189,12 @@ after its last window (:func:`cautioned`). The shipped directory carries none (r
 
 **Sensor notes.** After an episode, :meth:`LearnedInterrogator.sensor_notes` names what the climb's own readings
 say lies outside the sensors its networks were fitted on, without knowing the scenario: a smoothed encoder
-(:data:`SMOOTHED_ENCODER`) where the least :attr:`Reading.noise_colour` of its first :data:`NOISE_WINDOWS` driven
-windows (:func:`first_windows_noise_colour`: the lag's SE for a first-order autoregressive speed residual over its
-white-noise SE, about 1 for an encoder's white noise) is above
-:data:`~cof_gym.measurement.sine_fit.SMOOTHED_NOISE_COLOUR`. A smoothing adds its delay to every phase lag the
-networks read; ``cof-gym evaluate`` records the notes per episode and prints how many episodes read each.
+(:data:`SMOOTHED_ENCODER`) where :func:`reads_smoothed_encoder` says so: the least :attr:`Reading.noise_colour` of
+its first :data:`NOISE_WINDOWS` driven windows (:func:`first_windows_noise_colour`: the lag's SE for a first-order
+autoregressive speed residual over its white-noise SE, about 1 for an encoder's white noise) above
+:data:`~cof_gym.measurement.sine_fit.SMOOTHED_NOISE_COLOUR`, where those windows read sensor noise at all (at least
+:data:`COLOUR_NOISE_FLOOR_NMS`). A smoothing adds its delay to every phase lag the networks read; ``cof-gym
+evaluate`` records the notes per episode and prints how many episodes read each.
 
 **Modules**, each importing only those above it: :mod:`.readings` (one window's sensor readings, the slope
 from Eq. 3), :mod:`.features` (the features of a climb's windows), :mod:`.networks` (the filter's networks
@@ -204,7 +205,8 @@ climbs and the networks' fit: torch, imported on its own).
 
 from cof_gym.agents.interrogator.readings import (
     PHASE_CLIP_DEG, SE_CLIP_DEG, SE_REPORTED_MAX_DEG, NOISE_WINDOWS, COMPLIANCE_CLIP, slope_index, slope_from_phase,
-    slope_from_compliance, Reading, first_windows_noise_nms, SMOOTHED_ENCODER, first_windows_noise_colour,
+    slope_from_compliance, Reading, first_windows_noise_nms, SMOOTHED_ENCODER, COLOUR_NOISE_FLOOR_NMS,
+    first_windows_noise_colour, reads_smoothed_encoder,
 )
 from cof_gym.agents.interrogator.features import (
     HISTORY, FEATURE_NAMES, TONE2_FEATURE_NAMES, CREEPAGE_RISE_FEATURE_NAMES, CREEPAGE_RISE_FLOORS,
@@ -236,7 +238,8 @@ from cof_gym.agents.interrogator.agent import (
 __all__ = [
     "PHASE_CLIP_DEG", "SE_CLIP_DEG", "SE_REPORTED_MAX_DEG", "NOISE_WINDOWS", "COMPLIANCE_CLIP", "slope_index",
     "slope_from_phase", "slope_from_compliance", "Reading", "first_windows_noise_nms",
-    "SMOOTHED_ENCODER", "first_windows_noise_colour", "HISTORY", "FEATURE_NAMES",
+    "SMOOTHED_ENCODER", "COLOUR_NOISE_FLOOR_NMS", "first_windows_noise_colour", "reads_smoothed_encoder", "HISTORY",
+    "FEATURE_NAMES",
     "TONE2_FEATURE_NAMES", "CREEPAGE_RISE_FEATURE_NAMES", "CREEPAGE_RISE_FLOORS",
     "CREEPAGE_MODULATION_FEATURE_NAMES", "CREEPAGE_SWING_FLOOR", "CYCLE_CREST_FEATURE_NAMES", "CYCLE_LIFT_FLOOR",
     "CLIMB_FIT_FEATURE_NAMES", "CLIMB_FIT_WINDOWS", "CLIMB_FIT_MIN_SPAN", "SLOPE_FALL_CLIP", "FEATURE_BLOCKS",

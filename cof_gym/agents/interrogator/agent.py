@@ -22,11 +22,10 @@ from cof_gym.agents.interrogator.features import EpisodeFeatures
 from cof_gym.agents.interrogator.interval import NOISY_RATIO, IntervalScales, noise_group
 from cof_gym.agents.interrogator.networks import FilterEnsemble, pooled_correction, pooled_std
 from cof_gym.agents.interrogator.readings import (
-    SMOOTHED_ENCODER, Reading, first_windows_noise_colour,
+    SMOOTHED_ENCODER, Reading, reads_smoothed_encoder,
 )
 from cof_gym.agents.runaway import CrestCeiling, RunawayBracket
 from cof_gym.agents.staircase import ElasticityClimb
-from cof_gym.measurement.sine_fit import SMOOTHED_NOISE_COLOUR
 from cof_gym.task.creep_fit import coa_fell
 from cof_gym.task.interface import MotorLimits
 
@@ -241,13 +240,11 @@ class LearnedInterrogator:
 
     def sensor_notes(self) -> tuple[str, ...]:
         """What this episode's own readings say lies outside the sensors the networks were fitted on:
-        :data:`~cof_gym.agents.interrogator.readings.SMOOTHED_ENCODER` where the climb's first windows read a noise
-        colour above :data:`~cof_gym.measurement.sine_fit.SMOOTHED_NOISE_COLOUR` (a smoothed speed signal:
-        the networks met white encoder noise only, and a smoothing adds its delay to every phase lag); none where the
-        readings are like the training climbs'. Sensor readings only: a train can tell this without knowing its
-        scenario."""
-        smoothed = first_windows_noise_colour(self.features.readings) > SMOOTHED_NOISE_COLOUR
-        return (SMOOTHED_ENCODER,) if smoothed else ()
+        :data:`~cof_gym.agents.interrogator.readings.SMOOTHED_ENCODER` where the climb's first windows show a
+        smoothed speed signal (:func:`~cof_gym.agents.interrogator.readings.reads_smoothed_encoder`: the networks
+        met white encoder noise only, and a smoothing adds its delay to every phase lag); none where the readings are
+        like the training climbs'. Sensor readings only: a train can tell this without knowing its scenario."""
+        return (SMOOTHED_ENCODER,) if reads_smoothed_encoder(self.features.readings) else ()
 
     @property
     def interval_group(self) -> str:

@@ -10,7 +10,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from cof_gym.agents.runaway import crest_lower_bound
-from cof_gym.measurement.sine_fit import noise_colour
+from cof_gym.measurement.sine_fit import SMOOTHED_NOISE_COLOUR, noise_colour
 from cof_gym.physics.simulation import COA_CYCLE_FIELDS
 from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES, SPEED_SCALE_M_S, MotorLimits
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
@@ -21,8 +21,13 @@ SE_CLIP_DEG = 30.0
 SE_REPORTED_MAX_DEG = 180.0  # the lock-in's standard error of no information (pi: cof_gym.measurement.sine_fit)
 NOISE_WINDOWS = 3  # the climb's first driven windows whose lock-in noise (Reading.lockin_noise_nms) it follows
 # the sensor note of a climb whose first windows read a noise colour above SMOOTHED_NOISE_COLOUR
-# (LearnedInterrogator.sensor_notes)
+# (LearnedInterrogator.sensor_notes, reads_smoothed_encoder)
 SMOOTHED_ENCODER = "smoothed encoder"
+# the lock-in noise (first_windows_noise_nms from the reported SEs, N m s) below which a climb's noise colour reads the
+# wheel's own residual rather than the sensor's noise: the least 0.001 step under every sharp-encoder training
+# climb's (at least 0.0015, experiments/noise_colour_reading.py), about six times the noiseless paper setting's
+# (at most 1.7e-4 over its 60 episodes; session 65)
+COLOUR_NOISE_FLOOR_NMS = 1e-3
 COMPLIANCE_CLIP = (1e-3, 0.999)  # the slope from the compliance, sqrt(1 / C^2 - 1), is finite within these
 
 
@@ -251,3 +256,14 @@ def first_windows_noise_colour(readings: list[Reading]) -> float:
     climb's first window, at its smallest modulation, does not reach: the least is the smoothing's."""
     colours = [c for c in (r.noise_colour for r in readings[:NOISE_WINDOWS]) if c > 0.0]
     return float(np.min(colours)) if colours else 0.0
+
+
+def reads_smoothed_encoder(readings: list[Reading]) -> bool:
+    """Whether a climb's first :data:`NOISE_WINDOWS` driven ``readings`` show a smoothed speed signal: their noise
+    colour (:func:`first_windows_noise_colour`) above :data:`~cof_gym.measurement.sine_fit.SMOOTHED_NOISE_COLOUR`
+    where their noise (:func:`first_windows_noise_nms` from the reported SEs) is at least
+    :data:`COLOUR_NOISE_FLOOR_NMS`; without sensor noise the residual is the wheel's own, whose colour says nothing
+    of the encoder."""
+    if not readings or first_windows_noise_nms(readings, reported=True) < COLOUR_NOISE_FLOOR_NMS:
+        return False
+    return first_windows_noise_colour(readings) > SMOOTHED_NOISE_COLOUR
