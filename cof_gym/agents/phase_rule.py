@@ -80,7 +80,11 @@ def phase_of(observation: np.ndarray, info: dict[str, Any] | None = None,
 def smoothed_speed_signal(observation: np.ndarray, info: dict[str, Any] | None) -> bool:
     """Whether a window's speed residual reads as smoothed: its noise colour (``info["measurement"]``'s
     :data:`CORRECTED_SE` over the observation's white-noise SE, :func:`~cof_gym.measurement.sine_fit.noise_colour`)
-    above :data:`~cof_gym.measurement.sine_fit.SMOOTHED_NOISE_COLOUR`. A sensor reading: a train can tell it."""
+    above :data:`~cof_gym.measurement.sine_fit.SMOOTHED_NOISE_COLOUR`. A sensor reading: a train can tell it. Read on
+    the reset window (no DC torque, the smallest modulation), where the wheel's own response leaves the residual to
+    the sensor noise; unlike the learned interrogator's note (over its first driven windows,
+    :func:`~cof_gym.agents.interrogator.readings.reads_smoothed_encoder`) it sets no noise floor: with the paper
+    setting's noiseless sensors the gated rule's 60 records were the original's (session 65)."""
     white = float(observation[PHASE_SE]) * DEG_PER_UNIT
     corrected = float((info or {}).get("measurement", {}).get(CORRECTED_SE, 0.0))
     return noise_colour(white, corrected) > SMOOTHED_NOISE_COLOUR
