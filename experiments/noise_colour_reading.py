@@ -52,15 +52,21 @@ def climb_colours(data) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             np.array([reads_smoothed_encoder(c) for c in climbs]))
 
 
-def climb_lags_s(path: Path, climbs: int) -> np.ndarray | None:
-    """The encoder lag (s) each of the first ``climbs`` climbs of an on-policy collection file drew (from its name:
-    ``train_estimator.ON_POLICY``), None for a file of another name or a collection that draws none."""
+def collection_name(path: Path) -> str | None:
+    """The on-policy collection a climbs file holds (``train_estimator.py``'s ``onpolicy_NAME_DIGEST.npz``), None
+    for a file of another name."""
+    match = COLLECTION.search(path.name)
+    return match["name"] if match else None
+
+
+def climb_lags_s(name: str | None, climbs: int) -> np.ndarray | None:
+    """The encoder lag (s) each of the first ``climbs`` climbs of the on-policy collection ``name`` drew
+    (``train_estimator.ON_POLICY``), None for no collection or one that draws none."""
     from train_estimator import ON_POLICY
 
-    match = COLLECTION.search(path.name)
-    if match is None or match["name"] not in ON_POLICY or not ON_POLICY[match["name"]][1].encoder_lags_s:
+    if name not in ON_POLICY or not ON_POLICY[name][1].encoder_lags_s:
         return None
-    first_seed, draws = ON_POLICY[match["name"]]
+    first_seed, draws = ON_POLICY[name]
     return np.array([draws.encoder_lag_s(first_seed + i) for i in range(climbs)])
 
 
@@ -93,10 +99,10 @@ def main() -> None:
         colours, noise, flagged = climb_colours(data)
         if not len(colours):
             parser.error(f"climbs: {path} holds no climb")
-        match = COLLECTION.search(path.name)
-        name = match["name"] if match else path.name
+        collection = collection_name(path)
+        name = collection or path.name
         lines.append(row(name, colours, noise, flagged, COLOUR_NOISE_FLOOR_NMS))
-        lags = climb_lags_s(path, len(colours))
+        lags = climb_lags_s(collection, len(colours))
         for low, high in LAG_BANDS_S if lags is not None else ():
             band = (lags >= low) & (lags < high)
             if band.any():

@@ -26,16 +26,17 @@ def test_each_climb_reads_the_least_colour_of_its_first_windows(monkeypatch):
 
 def test_the_lags_come_from_an_encoder_collections_name_and_seeds(monkeypatch):
     monkeypatch.syspath_prepend(str(SCRIPT.parent))
-    from noise_colour_reading import climb_lags_s
+    from noise_colour_reading import climb_lags_s, collection_name
     from train_estimator import ON_POLICY
 
     first_seed, draws = ON_POLICY["env_encoder"]
-    lags = climb_lags_s(Path("runs/x/onpolicy_env_encoder_d1179b8ae0d9.npz"), 3)
+    lags = climb_lags_s(collection_name(Path("runs/x/onpolicy_env_encoder_d1179b8ae0d9.npz")), 3)
     np.testing.assert_array_equal(lags, [draws.encoder_lag_s(first_seed + i) for i in range(3)])
     low, high = draws.encoder_lags_s
     assert np.all((lags >= low) & (lags <= high)) and len(set(lags)) == 3
-    assert climb_lags_s(Path("runs/x/onpolicy_env_d1179b8ae0d9.npz"), 3) is None  # a sharp collection
-    assert climb_lags_s(Path("runs/x/climbs_torque_wide.npz"), 3) is None  # not an on-policy collection
+    assert climb_lags_s(collection_name(Path("runs/x/onpolicy_env_d1179b8ae0d9.npz")), 3) is None  # a sharp one
+    assert collection_name(Path("runs/x/climbs_torque_wide.npz")) is None  # not an on-policy collection
+    assert climb_lags_s(None, 3) is None
 
 
 def test_a_row_gives_the_percentiles_and_the_share_above_the_threshold(monkeypatch):

@@ -50,13 +50,13 @@ from typing import Any
 import numpy as np
 
 from cof_gym.agents.staircase import COA, PHASE, ElasticityClimb
-from cof_gym.measurement.sine_fit import SMOOTHED_NOISE_COLOUR, noise_colour
+from cof_gym.measurement.sine_fit import NO_SE_DEG, SMOOTHED_NOISE_COLOUR, noise_colour
 from cof_gym.task.creep_fit import coa_fell
 from cof_gym.task.interface import OBSERVATION_NAMES, MotorLimits, encode_action
 
 PHASE_SE = OBSERVATION_NAMES.index("phase_lag_se")
 DEG_PER_UNIT = 90.0  # observation phase_lag and phase_lag_se are in units of 90 deg
-UNKNOWN_SE_DEG = 180.0  # the standard error of a window whose sine fit gave none
+UNKNOWN_SE_DEG = NO_SE_DEG  # the standard error of a window whose sine fit gave none
 PAPER_CORRECTION = 1.0 / 0.95  # the paper: the CoA at the zero crossing is ~95 % of the CoF
 
 

@@ -10,7 +10,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from cof_gym.agents.runaway import crest_lower_bound
-from cof_gym.measurement.sine_fit import SMOOTHED_NOISE_COLOUR, noise_colour
+from cof_gym.measurement.sine_fit import NO_SE_DEG, SMOOTHED_NOISE_COLOUR, noise_colour
 from cof_gym.physics.simulation import COA_CYCLE_FIELDS
 from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES, SPEED_SCALE_M_S, MotorLimits
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
@@ -18,7 +18,7 @@ from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 _INDEX = {name: OBSERVATION_NAMES.index(name) for name in OBSERVATION_NAMES}
 PHASE_CLIP_DEG = (1.0, 89.0)  # the slope index ln cot(phase) is finite within these
 SE_CLIP_DEG = 30.0
-SE_REPORTED_MAX_DEG = 180.0  # the lock-in's standard error of no information (pi: cof_gym.measurement.sine_fit)
+SE_REPORTED_MAX_DEG = NO_SE_DEG  # the lock-in's standard error of no information (pi)
 NOISE_WINDOWS = 3  # the climb's first driven windows whose lock-in noise (Reading.lockin_noise_nms) it follows
 # the sensor note of a climb whose first windows read a noise colour above SMOOTHED_NOISE_COLOUR
 # (LearnedInterrogator.sensor_notes, reads_smoothed_encoder)
@@ -70,6 +70,11 @@ def torque_balance_gain(measurement: Mapping[str, Any], wheel_radius_m: float) -
 def _se_clipped(se_deg: float) -> float:
     """A lag's standard error (deg) as the filter reads it: :data:`SE_CLIP_DEG` where it is not in (0, that)."""
     return se_deg if 0.0 < se_deg < SE_CLIP_DEG else SE_CLIP_DEG
+
+
+def _se_reported(se_deg: float) -> float:
+    """A lag's standard error (deg) as the lock-in reported it, within [0, :data:`SE_REPORTED_MAX_DEG`]."""
+    return min(max(se_deg, 0.0), SE_REPORTED_MAX_DEG)
 
 
 def tan_clipped(phase_deg: float) -> float:
@@ -210,12 +215,11 @@ class Reading:
         if "torque_mean_nm" in measurement:
             tone2["torque_balance"] = torque_balance_ratio(measurement, limits.wheel_radius_m)
         if "phase_lag_se_corrected_deg" in measurement:
-            corrected = float(measurement["phase_lag_se_corrected_deg"])
-            tone2["se_corrected_deg"] = min(max(corrected, 0.0), SE_REPORTED_MAX_DEG)
+            tone2["se_corrected_deg"] = _se_reported(float(measurement["phase_lag_se_corrected_deg"]))
         return cls(
             phase_deg=float(o[_INDEX["phase_lag"]] * 90.0),
             se_deg=float(_se_clipped(se_deg)),
-            se_reported_deg=float(min(max(se_deg, 0.0), SE_REPORTED_MAX_DEG)),
+            se_reported_deg=_se_reported(float(se_deg)),
             compliance=float(o[_INDEX["compliance"]]),
             coa=float(max(o[_INDEX["coa_measured"]], 1e-4)),
             creepage=float(o[_INDEX["creepage_measured"]] / CREEPAGE_SCALE),
