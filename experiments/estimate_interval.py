@@ -9,7 +9,9 @@ its coverage measured on every reported suite. (Run from the repository root; 2 
    grids (family, procedural and steep creep curves: model-selection data, never reported; both vehicle
    configurations, 360 climbs), and again with the noise tripled and with a 0.1 s drive lag: the climbs there that
    read noisy (``LearnedInterrogator.noisy``) calibrate the noisy groups (``interval.noise_group``), the draws'
-   groups stay the draws' own. From the scored episodes it computes the split conformal scales
+   groups stay the draws' own; and again with the encoder's speed signal lagged 4 ms and 15 ms: the climbs there
+   that read a smoothed encoder (``LearnedInterrogator.sensor_class``) calibrate the smoothed-encoder groups.
+   From the scored episodes it computes the split conformal scales
    (:class:`cof_gym.agents.interrogator.IntervalScales`): the two-sided interval at ``--coverage`` and the lower
    bound at ``--lower-coverage``, in stds of the estimate's log, per way the estimate was committed (the climb's
    stop, the horizon, no stop: ``LearnedInterrogator.commitment``) or pooled, whichever a leave-one-grid-out
@@ -21,7 +23,8 @@ its coverage measured on every reported suite. (Run from the repository root; 2 
    in-flight estimate (``LearnedInterrogator.in_flight_estimate``) and its place in the climb (before the slow
    probe, in it); one such window per climb and place, drawn at random (seeded), calibrates that place's scales.
 2. **Report** (nothing is chosen here). Plays the default suite (60 seeded v2 draws, as ``cof-gym evaluate``)
-   and every v2 held-out grid with the scales of step 1, and tabulates per suite how often the CoF lies in
+   (and again with its encoder lagged 2, 10 and 20 ms, lags no calibration play has) and every v2 held-out grid
+   with the scales of step 1, and tabulates per suite how often the CoF lies in
    the interval and above the lower bound, and the interval's median width (high over low), in all and by how
    the episode ended (the agent's stop, the horizon, a macro-slip). The validation grids' own row is the
    calibration itself: its coverage is at least the target by construction. The held-out grids' creep curves
@@ -51,7 +54,8 @@ from train_interrogator import CONFIGS, PROCEDURAL_VALIDATION, STEEP_VALIDATION,
 
 from cof_gym.agents.base import agent_view  # noqa: E402
 from cof_gym.agents.interrogator import (  # noqa: E402
-    IN_FLIGHT, POOLED, SHIPPED_INTERROGATOR, IntervalScales, check_coverage, is_noisy, noise_group,
+    IN_FLIGHT, NOISY, POOLED, SHIPPED_INTERROGATOR, SMOOTHED, IntervalScales, check_coverage, sensor_class_of,
+    sensor_group,
 )
 from cof_gym.commands.args import Parser, positive_int  # noqa: E402
 from cof_gym.commands.evaluate_episodes import ENDINGS as EVALUATE_ENDINGS  # noqa: E402
@@ -60,13 +64,19 @@ from cof_gym.commands.evaluate_stats import UTILISATION_GROUPS, utilisation_band
 CALIBRATION = {"family": VALIDATION, "procedural": PROCEDURAL_VALIDATION, "steep": STEEP_VALIDATION}
 # the same grids past the draws' noise, whose climbs read a noise ratio of 2.2-2.5 (the noisy groups' calibration)
 NOISY_SCENARIOS = ({"noise_level": 3.0}, {"motor_lag_s": 0.1})
+# the same grids with the encoder's speed signal lagged (the smoothed-encoder groups' calibration): two lags the
+# smoothed-encoder note reads in nearly every climb (docs/interrogator.md), neither of the reported ones below
+SMOOTHED_SCENARIOS = ({"encoder_lag_s": 0.004}, {"encoder_lag_s": 0.015})
+REPORTED_ENCODER_LAGS_S = (0.002, 0.01, 0.02)  # the default suite's reported plays with a lagged encoder
 ENDINGS = tuple(e for e in EVALUATE_ENDINGS if e != "diverged")  # how a scored episode ends: the breakdown's columns
 
 
 CALIBRATION_DRAW_SEED = 0  # the draw of each climb's in-flight calibration windows
 NOISY_DRAW_SEED = 1  # ... of the noisy groups' climbs
+SMOOTHED_DRAW_SEED = 2  # ... of the smoothed-encoder groups' climbs
 CALIBRATED_ON = ("the validation grids (family, procedural, steep; both vehicle configurations); the noisy groups on "
-                 "the same grids with the noise tripled and with a 0.1 s drive lag")
+                 "the same grids with the noise tripled and with a 0.1 s drive lag; the smoothed-encoder groups on "
+                 "the same grids with the encoder's speed signal lagged 4 ms and 15 ms")
 
 
 @dataclass(frozen=True)
@@ -134,14 +144,14 @@ def play(policy: str, suite: str, config: dict, scenario: dict | None = None) ->
             for r, rec in episodes(policy, suite, config, scenario=scenario, wrap=InFlightRecorder) if r.scored]
 
 
-def in_flight_calibration(episodes: list[Committed], seed: int = CALIBRATION_DRAW_SEED
-                          ) -> list[tuple[float, float, float, str]]:
-    """One window per climb and place, drawn at random: the in-flight calibration scores' (estimate, CoF, std,
-    place)."""
+def in_flight_calibration(episodes: list[Committed], seed: int = CALIBRATION_DRAW_SEED,
+                          sensor_classes: tuple[str, ...] = ("", NOISY)) -> list[tuple[float, float, float, str]]:
+    """One window per climb and place (in each of ``sensor_classes``), drawn at random: the in-flight calibration
+    scores' (estimate, CoF, std, place)."""
     rng = np.random.default_rng(seed)
     out = []
     for e in episodes:
-        for place in (*IN_FLIGHT, *(noise_group(p, True) for p in IN_FLIGHT)):  # a climb's windows may be of both
+        for place in (sensor_group(p, c) for c in sensor_classes for p in IN_FLIGHT):  # a climb's may be of several
             own = [w for w in e.windows if w.place == place]
             if own:
                 w = own[int(rng.integers(len(own)))]
@@ -303,28 +313,34 @@ def main() -> None:
     if not (args.policy / "manifest.json").is_file():
         parser.error(f"--policy: {args.policy} holds no manifest.json (an interrogator's directory)")
     check_policy(parser, args.policy)
-    reported = {"default suite": "default",
-                **{label: str(HERE / "suites" / f"{name}.json") for name, label in v2_heldout_grids().items()}}
-    jobs = [(str(args.policy), str(path), config, None) for path in CALIBRATION.values() for config in CONFIGS]
-    jobs += [(str(args.policy), str(path), config, scenario) for scenario in NOISY_SCENARIOS
-             for path in CALIBRATION.values() for config in CONFIGS]
-    jobs += [(str(args.policy), suite, {}, None) for suite in reported.values()]
+    reported = {"default suite": ("default", None),
+                **{f"default suite, encoder lagged {1000 * lag:g} ms": ("default", {"encoder_lag_s": lag})
+                   for lag in REPORTED_ENCODER_LAGS_S},
+                **{label: (str(HERE / "suites" / f"{name}.json"), None) for name, label in v2_heldout_grids().items()}}
+    calibration_scenarios = (None, *NOISY_SCENARIOS, *SMOOTHED_SCENARIOS)
+    jobs = [(str(args.policy), str(path), config, scenario) for scenario in calibration_scenarios
+            for path in CALIBRATION.values() for config in CONFIGS]
+    jobs += [(str(args.policy), suite, {}, scenario) for suite, scenario in reported.values()]
     with ProcessPoolExecutor(args.workers) as pool:
         played = list(pool.map(play, *zip(*jobs)))
     n_clean = len(CALIBRATION) * len(CONFIGS)
-    n_calibration = n_clean * (1 + len(NOISY_SCENARIOS))
+    n_noisy = n_clean * (1 + len(NOISY_SCENARIOS))
+    n_calibration = n_clean * len(calibration_scenarios)
     calibration_parts = played[:n_clean]
     calibration = [e for part in calibration_parts for e in part]
-    # the noisy groups' calibration: the climbs of the noisy plays that read noisy (the others, and their windows
-    # that read clean, are left out: the draws' groups stay calibrated on the draws alone, as before)
-    noisy = [e for part in played[n_clean:n_calibration] for e in part if is_noisy(e.commitment)]
-    in_flight = in_flight_calibration(calibration) + [w for w in in_flight_calibration(noisy, NOISY_DRAW_SEED)
-                                                      if is_noisy(w[3])]
+    # each sensor class's calibration: the climbs of its plays that read it (the others, and their windows that
+    # read another class, are left out: the draws' groups stay calibrated on the draws alone, as before)
+    noisy = [e for part in played[n_clean:n_noisy] for e in part if sensor_class_of(e.commitment) == NOISY]
+    smoothed = [e for part in played[n_noisy:n_calibration] for e in part
+                if sensor_class_of(e.commitment) == SMOOTHED]
+    in_flight = in_flight_calibration(calibration)
+    in_flight += [w for w in in_flight_calibration(noisy, NOISY_DRAW_SEED) if sensor_class_of(w[3]) == NOISY]
+    in_flight += in_flight_calibration(smoothed, SMOOTHED_DRAW_SEED, (SMOOTHED,))
     by_grid = {grid: [e for part in calibration_parts[k * len(CONFIGS):(k + 1) * len(CONFIGS)] for e in part]
                for k, grid in enumerate(CALIBRATION)}
     selection, per_commitment = select_method(by_grid, args.coverage, args.lower_coverage)
-    scales = IntervalScales.calibrate([e.calibration for e in calibration + noisy] + in_flight, args.coverage,
-                                      args.lower_coverage, CALIBRATED_ON, per_commitment)
+    scales = IntervalScales.calibrate([e.calibration for e in calibration + noisy + smoothed] + in_flight,
+                                      args.coverage, args.lower_coverage, CALIBRATED_ON, per_commitment)
     if args.write:
         print(f"wrote {scales.save(args.policy)}")
     header = (f"Scales (`python experiments/estimate_interval.py`, split conformal per commitment on "
@@ -340,10 +356,14 @@ def main() -> None:
              "|---" * (5 + len(ENDINGS)) + "|",
              row("validation grids (the calibration)", calibration, scales),
              row("validation grids, noise x 3 or a 0.1 s lag, the climbs that read noisy (the noisy groups' "
-                 "calibration)", noisy, scales)]
+                 "calibration)", noisy, scales),
+             row("validation grids, encoder lagged 4 or 15 ms, the climbs that read a smoothed encoder (the "
+                 "smoothed-encoder groups' calibration)", smoothed, scales)]
     lines += [row(label, part, scales) for label, part in zip(reported, played[n_calibration:])]
     suites = dict(zip(reported, played[n_calibration:]))
-    held_out = [e for label, part in suites.items() if label != "default suite" for e in part]
+    held_out = [e for label, part in suites.items() if not label.startswith("default suite") for e in part]
+    lagged = [e for label, part in suites.items() if label.startswith("default suite, ") for e in part]
+    lags_ms = ", ".join(f"{1000 * lag:g}" for lag in REPORTED_ENCODER_LAGS_S)
     lines += ["", "How early can you know a safe lower bound: every window a climb went on from, by the utilisation its "
               "crests had reached (the largest true peak torque so far over the true M_sat), with the in-flight "
               f"estimate's {scales.coverage:.0%} interval and {scales.lower_coverage:.0%} lower bound (scales per "
@@ -354,9 +374,11 @@ def main() -> None:
               "demonstrated / CoF |", "|---" * 9 + "|",
               *in_flight_rows("validation grids (the calibration)", calibration, scales),
               *in_flight_rows("default suite", suites["default suite"], scales),
-              *in_flight_rows(f"the {len(suites) - 1} v2 held-out grids", held_out, scales)]
+              *in_flight_rows(f"default suite, encoder lagged {lags_ms} ms", lagged, scales),
+              *in_flight_rows(f"the {len(v2_heldout_grids())} v2 held-out grids", held_out, scales)]
     args.out.parent.mkdir(parents=True, exist_ok=True)
-    figure = plot_in_flight({"validation grids": calibration, f"the {len(suites) - 1} held-out grids": held_out},
+    figure = plot_in_flight({"validation grids": calibration,
+                             f"the {len(v2_heldout_grids())} held-out grids": held_out},
                             scales, args.out.with_name(f"{args.out.stem}_in_flight.png"))
     lines += ["", f"Figure: `{figure.name}` beside this table (the same windows in bins of {FIGURE_BIN:.0%} of M_sat "
                   f"with at least {FIGURE_MIN_WINDOWS} windows)."]

@@ -179,8 +179,10 @@ over-estimate is the unsafe side for braking). Before the stop, :meth:`LearnedIn
 and :meth:`LearnedInterrogator.in_flight_lower_bound` do the same for the estimate the windows read so far give
 (:attr:`LearnedInterrogator.in_flight_estimate`), at scales of their own per place in the climb
 (:attr:`LearnedInterrogator.in_flight`). A climb whose first windows read more noise than the v2 draws give
-(:attr:`LearnedInterrogator.noisy`) reads the scales of its noise class (:attr:`LearnedInterrogator.interval_group`),
-calibrated on validation climbs played past the draws' noise. None of them changes the climb or the estimate.
+(:attr:`LearnedInterrogator.noisy`), or a smoothed encoder (:meth:`LearnedInterrogator.sensor_notes`), reads the
+scales of its sensor class (:attr:`LearnedInterrogator.sensor_class`, :attr:`LearnedInterrogator.interval_group`),
+calibrated on validation climbs played past the draws' noise, or with the encoder lagged. None of them changes the
+climb or the estimate.
 
 **A caution policy.** A policy directory may also name ``caution_policy.npz`` in its manifest (:class:`CautionPolicy`,
 learnt by PPO in ``experiments/learned_caution.py``): a small network that sets the caution of each decision, filter
@@ -220,8 +222,9 @@ from cof_gym.agents.interrogator.networks import (
     TARGET_NAMES, pooled_correction, pooled_std, FilterNetwork, FilterEnsemble,
 )
 from cof_gym.agents.interrogator.interval import (
-    INTERVAL_FILE, COMMITMENTS, IN_FLIGHT, GROUPS, POOLED, POOLED_NOISY, NOISY_RATIO, LOG_STD_FLOOR, check_coverage,
-    conformal_quantile, enough_for, noise_group, base_group, is_noisy, two_sided_score, lower_score, IntervalScales,
+    INTERVAL_FILE, COMMITMENTS, IN_FLIGHT, GROUPS, POOLED, POOLED_NOISY, POOLED_SMOOTHED, NOISY, SMOOTHED,
+    SENSOR_CLASSES, CLASS_POOLS, NOISY_RATIO, LOG_STD_FLOOR, check_coverage, conformal_quantile, enough_for,
+    sensor_group, noise_group, sensor_class_of, base_group, is_noisy, two_sided_score, lower_score, IntervalScales,
 )
 from cof_gym.agents.interrogator.climb import (
     ESTIMATE_SOURCES, HEADROOM_STOPS, AT_HEADROOM, KNEE_STOPS, GUARDED_ESTIMATES, ESTIMATOR_ESTIMATES,
@@ -248,7 +251,8 @@ __all__ = [
     "flexibility_ratio", "slope_fall",
     "fitted_peak_gap", "fitted_flexibility", "peak_gap", "EpisodeFeatures", "TARGET_NAMES", "pooled_correction",
     "pooled_std", "FilterNetwork", "FilterEnsemble", "INTERVAL_FILE", "COMMITMENTS", "IN_FLIGHT", "GROUPS", "POOLED", "LOG_STD_FLOOR",
-    "POOLED_NOISY", "NOISY_RATIO", "noise_group", "base_group", "is_noisy",
+    "POOLED_NOISY", "POOLED_SMOOTHED", "NOISY", "SMOOTHED", "SENSOR_CLASSES", "CLASS_POOLS", "NOISY_RATIO",
+    "sensor_group", "noise_group", "sensor_class_of", "base_group", "is_noisy",
     "check_coverage", "conformal_quantile", "enough_for", "two_sided_score", "lower_score", "IntervalScales", "ESTIMATE_SOURCES", "HEADROOM_STOPS", "AT_HEADROOM", "KNEE_STOPS",
     "GUARDED_ESTIMATES", "ESTIMATOR_ESTIMATES", "TWO_TONE_ENV_OPTIONS", "CREST_RATIO_FLOOR",
     "speed_scaled_frequency", "floor_headroom", "ClimbParameters", "SHIPPED_INTERROGATOR", "WORLD_KWARGS",

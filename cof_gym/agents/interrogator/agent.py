@@ -19,7 +19,7 @@ from cof_gym.agents.interrogator.climb import (
     AT_HEADROOM, ESTIMATE_SOURCES, ESTIMATOR_ESTIMATES, GUARDED_ESTIMATES, HEADROOM_STOPS, ClimbParameters,
 )
 from cof_gym.agents.interrogator.features import EpisodeFeatures
-from cof_gym.agents.interrogator.interval import NOISY_RATIO, IntervalScales, noise_group
+from cof_gym.agents.interrogator.interval import NOISY, NOISY_RATIO, SMOOTHED, IntervalScales, sensor_group
 from cof_gym.agents.interrogator.networks import FilterEnsemble, pooled_correction, pooled_std
 from cof_gym.agents.interrogator.readings import (
     SMOOTHED_ENCODER, Reading, reads_smoothed_encoder,
@@ -80,6 +80,7 @@ class LearnedInterrogator:
     _crept: bool = False
     _stuck: bool = False  # a slow-probe step has made the probe sticky (ClimbParameters.sticks_from)
     _noise_ratio: float = 1.0  # the noise the climb's first windows read over the reference (noise_ratio)
+    _smoothed: bool = False  # whether the first windows read a smoothed encoder (reads_smoothed_encoder)
     _ratio: float | None = None  # the modulation ratio of the next window (None: the climb's amplitude_ratio)
     _held_crest: float | None = None  # the torque crest the probe holds (N m; crest_probe_hold_crest)
     _frequency: float | None = None  # the episode's modulation frequency (Hz), from the first observation's speed
@@ -158,6 +159,7 @@ class LearnedInterrogator:
         self._crept = False
         self._stuck = False
         self._noise_ratio = 1.0
+        self._smoothed = False
         self._ratio = None
         self._held_crest = None
         self._frequency = None
@@ -244,12 +246,20 @@ class LearnedInterrogator:
         smoothed speed signal (:func:`~cof_gym.agents.interrogator.readings.reads_smoothed_encoder`: the networks
         met white encoder noise only, and a smoothing adds its delay to every phase lag); none where the readings are
         like the training climbs'. Sensor readings only: a train can tell this without knowing its scenario."""
-        return (SMOOTHED_ENCODER,) if reads_smoothed_encoder(self.features.readings) else ()
+        return (SMOOTHED_ENCODER,) if self._smoothed else ()
+
+    @property
+    def sensor_class(self) -> str:
+        """The sensor class of the climb's interval (:data:`~cof_gym.agents.interrogator.interval.SENSOR_CLASSES`),
+        read from its first windows: a smoothed encoder where :meth:`sensor_notes` names one, else "noisy" where the
+        climb is :attr:`noisy`, else "" (the draws' sensors)."""
+        return SMOOTHED if self._smoothed else NOISY if self.noisy else ""
 
     @property
     def interval_group(self) -> str:
-        """The calibration group of the committed estimate's interval: its :attr:`commitment` in its noise class."""
-        return noise_group(self.commitment, self.noisy)
+        """The calibration group of the committed estimate's interval: its :attr:`commitment` in its sensor
+        class."""
+        return sensor_group(self.commitment, self.sensor_class)
 
     def cof_interval(self) -> tuple[float, float] | None:
         """The calibrated two-sided interval around :attr:`estimate` (:class:`IntervalScales`, at the scale of
@@ -285,9 +295,9 @@ class LearnedInterrogator:
 
     @property
     def in_flight_group(self) -> str | None:
-        """The calibration group of the in-flight estimate's interval: :attr:`in_flight` in its noise class (None
+        """The calibration group of the in-flight estimate's interval: :attr:`in_flight` in its sensor class (None
         where that is)."""
-        return None if self.in_flight is None else noise_group(self.in_flight, self.noisy)
+        return None if self.in_flight is None else sensor_group(self.in_flight, self.sensor_class)
 
     def in_flight_interval(self) -> tuple[float, float] | None:
         """The calibrated two-sided interval around :attr:`in_flight_estimate` (at the scale of
@@ -401,6 +411,7 @@ class LearnedInterrogator:
         for features in (self.features, *self._guard_features, *self._estimator_features):
             features.push(reading)
         self._noise_ratio = params.noise_ratio(self.features.readings)
+        self._smoothed = reads_smoothed_encoder(self.features.readings)
         p = params.at_noise(self._noise_ratio)
         mean, std, spread = self.ensemble.predict_with_spread(self.features.vector())
         guard_outputs = [g.predict_with_spread(f.vector()) for g, f in zip(self.guards, self._guard_features)]

@@ -31,6 +31,14 @@ further from noisier readings. Its estimate takes scales of its own (each group 
 (the climbs there that read noisy); the draws' groups stay calibrated on the draws alone. The noise class is a
 reading of the agent's, so the Mondrian guarantee holds within it for climbs drawn like those calibration climbs.
 
+**A smoothed encoder.** A climb whose first windows show a smoothed speed signal
+(:func:`~cof_gym.agents.interrogator.readings.reads_smoothed_encoder`: the residual's noise colour) reads every phase
+lag late by the smoothing's delay, which none of the networks met: its estimate extrapolates in another way than a
+noisy climb's. It takes scales of its own (its class :data:`SMOOTHED`, which comes before the noise's where a climb
+reads both), calibrated on the validation grids played with the encoder's speed signal lagged
+(``experiments/estimate_interval.py``: the climbs there that read a smoothed encoder). A calibration without such
+climbs has no smoothed scales; its smoothed climbs then read their base group's.
+
 **In flight.** A climb that has not stopped has read windows too: the networks' estimate from them (without the
 runaway's, :attr:`~cof_gym.agents.interrogator.LearnedInterrogator.in_flight_estimate`) takes scales of its own,
 per place in the climb (:data:`IN_FLIGHT`: before the slow probe, in it), calibrated on one window per
@@ -47,6 +55,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Iterable
 
+from cof_gym.agents.interrogator.readings import SMOOTHED_ENCODER
 from cof_gym.validation import check_number
 
 INTERVAL_FILE = "interval.json"  # beside a policy directory's manifest.json
@@ -57,31 +66,49 @@ COMMITMENTS = ("stop", "horizon", "no stop")
 # groups of the in-flight interval, which a climb reads at any window
 IN_FLIGHT = ("climbing", "probing")
 BASE_GROUPS = (*COMMITMENTS, *IN_FLIGHT)  # every group of a climb at the noise of the calibration's draws
-NOISY = "noisy"  # the suffix of a group whose climb read more noise than the draws give (NOISY_RATIO)
+NOISY = "noisy"  # the class of a climb whose first windows read more noise than the draws give (NOISY_RATIO)
+SMOOTHED = SMOOTHED_ENCODER  # the class of a climb whose first windows show a smoothed speed signal
+SENSOR_CLASSES = (NOISY, SMOOTHED)  # the classes past the draws' sensors, each calibrated apart (a group's suffix)
 # a climb whose first windows read a noise ratio (ClimbParameters.noise_ratio) at least this is scored and scaled in
 # the noisy groups: 1 at every noise and drive lag the v2 draws give, about 1.6 with the noise doubled, 2.2-2.5 with
 # it tripled or a 0.1 s lag (the validation grids, session 51)
 NOISY_RATIO = 1.25
 
 
+def sensor_group(group: str, sensor_class: str = "") -> str:
+    """``group`` (a commitment, an in-flight place or :data:`POOLED`) in a sensor class (:data:`SENSOR_CLASSES`;
+    "" for the draws' sensors). ValueError for another class."""
+    if sensor_class and sensor_class not in SENSOR_CLASSES:
+        raise ValueError(f"sensor_class must be '' or one of {SENSOR_CLASSES}, got {sensor_class!r}")
+    return f"{group}, {sensor_class}" if sensor_class else group
+
+
 def noise_group(group: str, noisy: bool) -> str:
-    """``group`` (a commitment, an in-flight place or :data:`POOLED`) in the noise class of its climb."""
-    return f"{group}, {NOISY}" if noisy else group
+    """``group`` in the noise class of its climb (:data:`NOISY` where ``noisy``)."""
+    return sensor_group(group, NOISY if noisy else "")
+
+
+def sensor_class_of(group: str) -> str:
+    """The sensor class of ``group`` (:data:`SENSOR_CLASSES`), "" for a group of the draws' sensors."""
+    return next((c for c in SENSOR_CLASSES if group.endswith(f", {c}")), "")
 
 
 def base_group(group: str) -> str:
-    """``group`` without its noise class."""
-    return group.removesuffix(f", {NOISY}")
+    """``group`` without its sensor class."""
+    sensor_class = sensor_class_of(group)
+    return group.removesuffix(f", {sensor_class}") if sensor_class else group
 
 
 def is_noisy(group: str) -> bool:
     """Whether ``group`` is one of the noisy groups (:func:`noise_group`)."""
-    return base_group(group) != group
+    return sensor_class_of(group) == NOISY
 
 
 POOLED = "pooled"  # the scales over every committed calibration climb: a group's where it had too few
-POOLED_NOISY = noise_group(POOLED, True)  # ... over every committed noisy one
-GROUPS = (*BASE_GROUPS, *(noise_group(g, True) for g in BASE_GROUPS))  # every group a calibration scores
+CLASS_POOLS = {c: sensor_group(POOLED, c) for c in SENSOR_CLASSES}  # ... over every committed one of a sensor class
+POOLED_NOISY = CLASS_POOLS[NOISY]
+POOLED_SMOOTHED = CLASS_POOLS[SMOOTHED]
+GROUPS = (*BASE_GROUPS, *(sensor_group(g, c) for c in SENSOR_CLASSES for g in BASE_GROUPS))  # every group scored
 LOG_STD_FLOOR = 1e-6  # a std below this (log units) scores as this: a point estimate still has a finite score
 
 
@@ -135,8 +162,8 @@ class IntervalScales:
     def __post_init__(self) -> None:
         for name in ("coverage", "lower_coverage"):
             check_coverage(name, getattr(self, name))
-        if POOLED not in self.scales or set(self.scales) - {POOLED, POOLED_NOISY, *GROUPS}:
-            raise ValueError(f"scales must name {POOLED!r} and at most {(POOLED_NOISY, *GROUPS)}, "
+        if POOLED not in self.scales or set(self.scales) - {POOLED, *CLASS_POOLS.values(), *GROUPS}:
+            raise ValueError(f"scales must name {POOLED!r} and at most {(*CLASS_POOLS.values(), *GROUPS)}, "
                              f"got {sorted(self.scales)}")
         for group, pair in self.scales.items():
             if not (isinstance(pair, (list, tuple)) and len(pair) == 2):
@@ -149,34 +176,36 @@ class IntervalScales:
                   lower_coverage: float = 0.95, calibrated_on: str = "", per_commitment: bool = True
                   ) -> "IntervalScales":
         """The scales from scored calibration ``episodes`` of ``(estimate, CoF, log_std, group)`` (a group of
-        :data:`GROUPS`: a commitment, or an in-flight window's place in its climb, each in its noise class): pooled
-        over the commitments of each noise class, and with ``per_commitment`` per group with enough of them for both
-        coverages. Without noisy episodes there are no noisy scales (a noisy climb then reads its base group's)."""
+        :data:`GROUPS`: a commitment, or an in-flight window's place in its climb, each in its sensor class): pooled
+        over the commitments of each sensor class, and with ``per_commitment`` per group with enough of them for both
+        coverages. Without episodes of a sensor class there are no scales of it (its climbs then read their base
+        group's)."""
         episodes = list(episodes)
-        noisy_commitments = {noise_group(c, True) for c in COMMITMENTS}
         groups = {POOLED: [e for e in episodes if e[3] in COMMITMENTS],
-                  POOLED_NOISY: [e for e in episodes if e[3] in noisy_commitments],
+                  **{pool: [e for e in episodes if e[3] in {sensor_group(c, sensor_class) for c in COMMITMENTS}]
+                     for sensor_class, pool in CLASS_POOLS.items()},
                   **{g: [e for e in episodes if e[3] == g] for g in GROUPS}}
         scales, climbs = {}, {}
         for group, members in groups.items():
-            if is_noisy(group) and not members:
-                continue  # no noisy calibration climbs: the file stays as a calibration without them writes it
+            if sensor_class_of(group) and not members:
+                continue  # no calibration climbs of the class: the file stays as a calibration without them writes it
             climbs[group] = len(members)
             enough = enough_for(len(members), coverage) and enough_for(len(members), lower_coverage)
-            if group == POOLED or (group == POOLED_NOISY and enough) or (per_commitment and enough):
+            if group == POOLED or (group in CLASS_POOLS.values() and enough) or (per_commitment and enough):
                 scales[group] = [conformal_quantile([two_sided_score(*e[:3]) for e in members], coverage),
                                  conformal_quantile([lower_score(*e[:3]) for e in members], lower_coverage)]
         return cls(coverage, lower_coverage, scales, climbs, calibrated_on)
 
     def scale_of(self, commitment: str) -> tuple[float, float]:
-        """(two-sided scale, lower scale) of a group (:data:`GROUPS`): its own; else, for a noisy group, the noisy
-        pooled ones, or where there are none its base group's; else the pooled ones."""
+        """(two-sided scale, lower scale) of a group (:data:`GROUPS`): its own; else, for a group of a sensor class,
+        that class's pooled ones, or where there are none its base group's; else the pooled ones."""
         if commitment in self.scales:
             return tuple(self.scales[commitment])
-        if not is_noisy(commitment):
+        sensor_class = sensor_class_of(commitment)
+        if not sensor_class:
             return tuple(self.scales[POOLED])
-        if POOLED_NOISY in self.scales:
-            return tuple(self.scales[POOLED_NOISY])
+        if CLASS_POOLS[sensor_class] in self.scales:
+            return tuple(self.scales[CLASS_POOLS[sensor_class]])
         return self.scale_of(base_group(commitment))
 
     def interval(self, estimate: float, log_std: float, commitment: str = POOLED) -> tuple[float, float]:
