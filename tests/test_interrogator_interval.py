@@ -14,8 +14,9 @@ import pytest
 import cof_gym
 from cof_gym.agents.base import agent_view
 from cof_gym.agents.interrogator import (
-    COMMITMENTS, IN_FLIGHT, INTERVAL_FILE, POOLED_NOISY, SHIPPED_INTERROGATOR, lower_score, two_sided_score, IntervalScales,
-    base_group, conformal_quantile, enough_for, interrogator_for, manifest_climb, noise_group, pooled_std,
+    COMMITMENTS, IN_FLIGHT, INTERVAL_FILE, NOISY, POOLED_NOISY, POOLED_SMOOTHED, SENSOR_CLASSES, SHIPPED_INTERROGATOR,
+    SMOOTHED, lower_score, two_sided_score, IntervalScales, base_group, conformal_quantile, enough_for, interrogator_for,
+    manifest_climb, noise_group, pooled_std, sensor_class_of, sensor_group,
 )
 from interrogator_helpers import SHIPPED, play
 
@@ -125,6 +126,35 @@ def test_noisy_climbs_take_scales_of_their_own_and_leave_the_draws_scales_as_the
     assert base_group(noise_group("probing", True)) == "probing" and noise_group("probing", False) == "probing"
 
 
+def test_a_smoothed_encoders_climbs_take_scales_of_their_own_beside_the_noisy_ones():
+    """The smoothed-encoder class is calibrated apart from the draws' and the noisy ones: adding its climbs leaves
+    every scale of a calibration without them as it was, its groups with enough climbs get their own quantiles, one
+    with too few the class's pooled one, and without such climbs a smoothed group reads its base group's."""
+    draw = episode_drawer(6)
+    clean = draw(300, "stop", 1.0) + draw(100, "horizon", 2.0)
+    noisy = draw(200, noise_group("stop", True), 3.0)
+    smoothed = draw(250, sensor_group("horizon", SMOOTHED), 5.0) + draw(4, sensor_group("stop", SMOOTHED), 8.0)
+    before, after = IntervalScales.calibrate(clean + noisy, 0.9, 0.95), IntervalScales.calibrate(
+        clean + noisy + smoothed, 0.9, 0.95)
+    assert {g: after.scales[g] for g in before.scales} == before.scales and POOLED_SMOOTHED not in before.scales
+    assert after.climbs[POOLED_SMOOTHED] == 254 and after.climbs[sensor_group("horizon", SMOOTHED)] == 250
+    own = [e for e in smoothed if e[3] == sensor_group("horizon", SMOOTHED)]
+    assert after.scale_of(sensor_group("horizon", SMOOTHED)) == (
+        conformal_quantile([two_sided_score(*e[:3]) for e in own], 0.9),
+        conformal_quantile([lower_score(*e[:3]) for e in own], 0.95))
+    assert after.scale_of(sensor_group("stop", SMOOTHED)) == tuple(after.scales[POOLED_SMOOTHED])  # 4 are too few
+    assert after.scale_of(sensor_group("horizon", SMOOTHED))[0] > after.scale_of(noise_group("stop", True))[0]
+    assert before.scale_of(sensor_group("probing", SMOOTHED)) == before.scale_of("probing")
+    for group in ("stop", "climbing"):
+        for sensor_class in ("", *SENSOR_CLASSES):
+            assert sensor_class_of(sensor_group(group, sensor_class)) == sensor_class
+            assert base_group(sensor_group(group, sensor_class)) == group
+    with pytest.raises(ValueError, match="sensor_class must be"):
+        sensor_group("stop", "dirty")
+    with pytest.raises(ValueError, match="scales must name"):
+        IntervalScales(0.9, 0.95, {POOLED_SMOOTHED: [1.0, 1.0], "pooled": [1.0, 1.0], "stop, dirty": [1.0, 1.0]}, {})
+
+
 @pytest.mark.skipif(not SHIPPED, reason="no shipped interrogator")
 def test_a_climb_is_noisy_where_its_first_windows_read_the_noise_past_the_draws():
     """The interval's noise class follows the climb's own noise reading (``ClimbParameters.noise_ratio``): clean at
@@ -132,16 +162,20 @@ def test_a_climb_is_noisy_where_its_first_windows_read_the_noise_past_the_draws(
     env = gym.make(cof_gym.WAGON_ENV_ID)
     agent = interrogator_for(env, SHIPPED_INTERROGATOR)
     groups = {}
-    for noise in (1.0, 3.0):
-        obs, info = env.reset(seed=60_001, options={"noise_level": noise})
+    for name, options in {"drawn": {}, "noisy": {"noise_level": 3.0}, "lagged": {"encoder_lag_s": 0.005}}.items():
+        obs, info = env.reset(seed=60_001, options=options)
         agent.reset(obs, agent_view(info, oracle=False))
         done = False
         while not done:
             obs, _, terminated, truncated, info = env.step(agent.act(obs, agent_view(info, oracle=False)))
             done = terminated or truncated
-        groups[noise] = (agent.noisy, agent.interval_group, agent.commitment)
-    assert groups[1.0][0] is False and groups[1.0][1] == groups[1.0][2]
-    assert groups[3.0][0] is True and groups[3.0][1] == noise_group(groups[3.0][2], True)
+        groups[name] = (agent.noisy, agent.interval_group, agent.commitment, agent.sensor_class)
+    assert groups["drawn"][0] is False and groups["drawn"][1] == groups["drawn"][2] and groups["drawn"][3] == ""
+    assert groups["noisy"][0] is True and groups["noisy"][1] == noise_group(groups["noisy"][2], True)
+    assert groups["noisy"][3] == NOISY
+    # a 5 ms lag: the sensor note's smoothed encoder (tests/test_sensor_notes.py), whose scales the interval reads
+    assert groups["lagged"][3] == SMOOTHED and groups["lagged"][1] == sensor_group(groups["lagged"][2], SMOOTHED)
+    assert agent.interval.scale_of(groups["lagged"][1]) == tuple(agent.interval.scales[groups["lagged"][1]])
 
 
 def test_the_in_flight_calibration_draws_one_window_per_climb_and_place_and_the_table_counts_every_window(
