@@ -223,8 +223,9 @@ from cof_gym.agents.interrogator.networks import (
 )
 from cof_gym.agents.interrogator.interval import (
     INTERVAL_FILE, COMMITMENTS, IN_FLIGHT, GROUPS, POOLED, POOLED_NOISY, POOLED_SMOOTHED, NOISY, SMOOTHED,
-    SENSOR_CLASSES, CLASS_POOLS, NOISY_RATIO, LOG_STD_FLOOR, check_coverage, conformal_quantile, enough_for,
-    sensor_group, noise_group, sensor_class_of, base_group, is_noisy, two_sided_score, lower_score, IntervalScales,
+    SENSOR_CLASSES, FLOORED_CLASSES, CLASS_POOLS, NOISY_RATIO, LOG_STD_FLOOR, check_coverage, conformal_quantile,
+    enough_for, sensor_group, noise_group, sensor_class_of, base_group, is_noisy, two_sided_score, lower_score,
+    IntervalScales,
 )
 from cof_gym.agents.interrogator.climb import (
     ESTIMATE_SOURCES, HEADROOM_STOPS, AT_HEADROOM, KNEE_STOPS, GUARDED_ESTIMATES, ESTIMATOR_ESTIMATES,
@@ -251,7 +252,8 @@ __all__ = [
     "flexibility_ratio", "slope_fall",
     "fitted_peak_gap", "fitted_flexibility", "peak_gap", "EpisodeFeatures", "TARGET_NAMES", "pooled_correction",
     "pooled_std", "FilterNetwork", "FilterEnsemble", "INTERVAL_FILE", "COMMITMENTS", "IN_FLIGHT", "GROUPS", "POOLED", "LOG_STD_FLOOR",
-    "POOLED_NOISY", "POOLED_SMOOTHED", "NOISY", "SMOOTHED", "SENSOR_CLASSES", "CLASS_POOLS", "NOISY_RATIO",
+    "POOLED_NOISY", "POOLED_SMOOTHED", "NOISY", "SMOOTHED", "SENSOR_CLASSES", "FLOORED_CLASSES", "CLASS_POOLS",
+    "NOISY_RATIO",
     "sensor_group", "noise_group", "sensor_class_of", "base_group", "is_noisy",
     "check_coverage", "conformal_quantile", "enough_for", "two_sided_score", "lower_score", "IntervalScales", "ESTIMATE_SOURCES", "HEADROOM_STOPS", "AT_HEADROOM", "KNEE_STOPS",
     "GUARDED_ESTIMATES", "ESTIMATOR_ESTIMATES", "TWO_TONE_ENV_OPTIONS", "CREST_RATIO_FLOOR",

@@ -36,7 +36,10 @@ reading of the agent's, so the Mondrian guarantee holds within it for climbs dra
 lag late by the smoothing's delay, which none of the networks met: its estimate extrapolates in another way than a
 noisy climb's. It takes scales of its own (its class :data:`SMOOTHED`, which comes before the noise's where a climb
 reads both), calibrated on the validation grids played with the encoder's speed signal lagged
-(``experiments/estimate_interval.py``: the climbs there that read a smoothed encoder). A calibration without such
+(``experiments/estimate_interval.py``: the climbs there that read a smoothed encoder). The colour does not say how
+large the lag is, and lags outside the calibration's bias the estimate otherwise (a 4-15 ms lag leaves it low, and
+the calibrated lower scales narrow), so a smoothed group's scales are never narrower than its base group's
+(:data:`FLOORED_CLASSES`): the note only ever widens the interval and lowers the bound. A calibration without such
 climbs has no smoothed scales; its smoothed climbs then read their base group's.
 
 **In flight.** A climb that has not stopped has read windows too: the networks' estimate from them (without the
@@ -69,6 +72,9 @@ BASE_GROUPS = (*COMMITMENTS, *IN_FLIGHT)  # every group of a climb at the noise 
 NOISY = "noisy"  # the class of a climb whose first windows read more noise than the draws give (NOISY_RATIO)
 SMOOTHED = SMOOTHED_ENCODER  # the class of a climb whose first windows show a smoothed speed signal
 SENSOR_CLASSES = (NOISY, SMOOTHED)  # the classes past the draws' sensors, each calibrated apart (a group's suffix)
+# the classes whose scales are never narrower than their base group's (IntervalScales.scale_of): a smoothed encoder's
+# lag is not read (its colour saturates past a few ms), and lags outside the calibration's bias the estimate otherwise
+FLOORED_CLASSES = (SMOOTHED,)
 # a climb whose first windows read a noise ratio (ClimbParameters.noise_ratio) at least this is scored and scaled in
 # the noisy groups: 1 at every noise and drive lag the v2 draws give, about 1.6 with the noise doubled, 2.2-2.5 with
 # it tripled or a 0.1 s lag (the validation grids, session 51)
@@ -198,7 +204,15 @@ class IntervalScales:
 
     def scale_of(self, commitment: str) -> tuple[float, float]:
         """(two-sided scale, lower scale) of a group (:data:`GROUPS`): its own; else, for a group of a sensor class,
-        that class's pooled ones, or where there are none its base group's; else the pooled ones."""
+        that class's pooled ones, or where there are none its base group's; else the pooled ones. A group of a class
+        of :data:`FLOORED_CLASSES` reads each of the two at least at its base group's."""
+        scales = self._calibrated_scale_of(commitment)
+        if sensor_class_of(commitment) in FLOORED_CLASSES:
+            base = self.scale_of(base_group(commitment))
+            return max(scales[0], base[0]), max(scales[1], base[1])
+        return scales
+
+    def _calibrated_scale_of(self, commitment: str) -> tuple[float, float]:
         if commitment in self.scales:
             return tuple(self.scales[commitment])
         sensor_class = sensor_class_of(commitment)
