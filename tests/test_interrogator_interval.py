@@ -129,7 +129,8 @@ def test_noisy_climbs_take_scales_of_their_own_and_leave_the_draws_scales_as_the
 def test_a_smoothed_encoders_climbs_take_scales_of_their_own_beside_the_noisy_ones():
     """The smoothed-encoder class is calibrated apart from the draws' and the noisy ones: adding its climbs leaves
     every scale of a calibration without them as it was, its groups with enough climbs get their own quantiles, one
-    with too few the class's pooled one, and without such climbs a smoothed group reads its base group's."""
+    with too few the class's pooled one, and without such climbs a smoothed group reads its base group's; what a
+    smoothed group reads is never narrower than its base group's (the noisy ones are not floored)."""
     draw = episode_drawer(6)
     clean = draw(300, "stop", 1.0) + draw(100, "horizon", 2.0)
     noisy = draw(200, noise_group("stop", True), 3.0)
@@ -144,6 +145,15 @@ def test_a_smoothed_encoders_climbs_take_scales_of_their_own_beside_the_noisy_on
         conformal_quantile([lower_score(*e[:3]) for e in own], 0.95))
     assert after.scale_of(sensor_group("stop", SMOOTHED)) == tuple(after.scales[POOLED_SMOOTHED])  # 4 are too few
     assert after.scale_of(sensor_group("horizon", SMOOTHED))[0] > after.scale_of(noise_group("stop", True))[0]
+    # never narrower than the base group's: smoothed climbs whose errors are smaller than the draws' leave those
+    narrow = IntervalScales.calibrate(clean + draw(300, sensor_group("stop", SMOOTHED), 0.2), 0.9, 0.95)
+    assert narrow.scales[sensor_group("stop", SMOOTHED)][0] < narrow.scales["stop"][0]  # calibrated: narrower
+    assert narrow.scale_of(sensor_group("stop", SMOOTHED)) == narrow.scale_of("stop")  # read: the base group's
+    estimate, log_std = 0.3, 0.1
+    assert narrow.lower_bound(estimate, log_std, sensor_group("stop", SMOOTHED)) == narrow.lower_bound(
+        estimate, log_std, "stop")
+    noisy_narrow = IntervalScales.calibrate(clean + draw(300, noise_group("stop", True), 0.2), 0.9, 0.95)
+    assert noisy_narrow.scale_of(noise_group("stop", True))[0] < noisy_narrow.scale_of("stop")[0]  # not floored
     assert before.scale_of(sensor_group("probing", SMOOTHED)) == before.scale_of("probing")
     for group in ("stop", "climbing"):
         for sensor_class in ("", *SENSOR_CLASSES):
