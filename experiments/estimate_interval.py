@@ -1,5 +1,5 @@
 """How far the learned interrogator's estimate can be trusted: an interval calibrated on the validation grids,
-its coverage measured on every reported suite. (Run from the repository root; 2 cores, about 2 min.)
+its coverage measured on every reported suite. (Run from the repository root; 2 cores, about 10 min.)
 
     python experiments/estimate_interval.py [--policy DIR] [--coverage 0.9] [--lower-coverage 0.95] [--write]
                                             [--workers 2] [--out out/estimate_interval.md]
