@@ -1,5 +1,5 @@
 """How far the learned interrogator's estimate can be trusted: an interval calibrated on the validation grids,
-its coverage measured on every reported suite. (Run from the repository root; 2 cores, about 10 min.)
+its coverage measured on every reported suite. (Run from the repository root; 2 cores, about 9 min.)
 
     python experiments/estimate_interval.py [--policy DIR] [--coverage 0.9] [--lower-coverage 0.95] [--write]
                                             [--workers 2] [--out out/estimate_interval.md]
@@ -24,8 +24,9 @@ its coverage measured on every reported suite. (Run from the repository root; 2 
    probe, in it); one such window per climb and place, drawn at random (seeded), calibrates that place's scales.
 2. **Report** (nothing is chosen here). Plays the default suite (60 seeded v2 draws, as ``cof-gym evaluate``)
    (and again with its encoder lagged 2, 3, 7, 10, 20 and 40 ms, lags no calibration play has) and every v2
-   held-out grid (the first again with a 5 ms lag) with the scales of step 1, and tabulates per suite how often the CoF lies in
-   the interval and above the lower bound, and the interval's median width (high over low), in all and by how
+   held-out grid (the first again with a 5 ms lag) with the scales of step 1, and tabulates per suite how often
+   the CoF lies in the interval and above the lower bound, and the interval's median width (high over low), in all
+   and by how
    the episode ended (the agent's stop, the horizon, a macro-slip). The validation grids' own row is the
    calibration itself: its coverage is at least the target by construction. The held-out grids' creep curves
    and sensor errors are unlike the calibration climbs', so their rows measure what the guarantee does not
@@ -54,8 +55,8 @@ from train_interrogator import CONFIGS, PROCEDURAL_VALIDATION, STEEP_VALIDATION,
 
 from cof_gym.agents.base import agent_view  # noqa: E402
 from cof_gym.agents.interrogator import (  # noqa: E402
-    IN_FLIGHT, NOISY, POOLED, SHIPPED_INTERROGATOR, SMOOTHED, IntervalScales, check_coverage, sensor_class_of,
-    sensor_group,
+    CLASS_POOLS, FLOORED_CLASSES, IN_FLIGHT, NOISY, POOLED, SHIPPED_INTERROGATOR, SMOOTHED, IntervalScales,
+    check_coverage, sensor_class_of, sensor_group,
 )
 from cof_gym.commands.args import Parser, positive_int  # noqa: E402
 from cof_gym.commands.evaluate_episodes import ENDINGS as EVALUATE_ENDINGS  # noqa: E402
@@ -353,7 +354,10 @@ def main() -> None:
               f"(`LearnedInterrogator.estimate_log_std`): the {scales.coverage:.0%} interval is the estimate times "
               f"exp(+-scale x std), the {scales.lower_coverage:.0%} lower bound the estimate times exp(-lower scale x "
               "std); " + "; ".join(f"{group} ({scales.climbs[group]} climbs): {pair[0]:.3f} / {pair[1]:.3f}"
-                                   for group, pair in scales.scales.items()) + ".")
+                                   for group, pair in scales.scales.items()) + "."
+              + "".join(f" A group of the {sensor_class} class reads each of the two at least at its base group's "
+                        "(`interval.FLOORED_CLASSES`)." for sensor_class in FLOORED_CLASSES
+                        if CLASS_POOLS[sensor_class] in scales.scales))
     lines = [*selection, "", header, "",
              f"| suite | scored episodes | CoF in the {scales.coverage:.0%} interval | CoF above the "
              f"{scales.lower_coverage:.0%} lower bound | median width (high / low) | "

@@ -15,8 +15,8 @@ import cof_gym
 from cof_gym.agents.base import agent_view
 from cof_gym.agents.interrogator import (
     COMMITMENTS, IN_FLIGHT, INTERVAL_FILE, NOISY, POOLED_NOISY, POOLED_SMOOTHED, SENSOR_CLASSES, SHIPPED_INTERROGATOR,
-    SMOOTHED, lower_score, two_sided_score, IntervalScales, base_group, conformal_quantile, enough_for, interrogator_for,
-    manifest_climb, noise_group, pooled_std, sensor_class_of, sensor_group,
+    SMOOTHED, lower_score, two_sided_score, IntervalScales, base_group, conformal_quantile, enough_for,
+    interrogator_for, manifest_climb, noise_group, pooled_std, sensor_class_of, sensor_group,
 )
 from interrogator_helpers import SHIPPED, play
 
