@@ -317,10 +317,11 @@ def main() -> None:
     if not (args.policy / "manifest.json").is_file():
         parser.error(f"--policy: {args.policy} holds no manifest.json (an interrogator's directory)")
     check_policy(parser, args.policy)
+    heldout_grids = v2_heldout_grids()
     reported = {"default suite": ("default", None),
                 **{f"default suite, encoder lagged {1000 * lag:g} ms": ("default", {"encoder_lag_s": lag})
                    for lag in REPORTED_ENCODER_LAGS_S},
-                **{label: (str(HERE / "suites" / f"{name}.json"), None) for name, label in v2_heldout_grids().items()},
+                **{label: (str(HERE / "suites" / f"{name}.json"), None) for name, label in heldout_grids.items()},
                 f"v2 held-out grid, encoder lagged {1000 * HELDOUT_ENCODER_LAG_S:g} ms": (
                     str(HERE / "suites" / "v2_heldout_grid.json"), {"encoder_lag_s": HELDOUT_ENCODER_LAG_S})}
     calibration_scenarios = (None, *NOISY_SCENARIOS, *SMOOTHED_SCENARIOS)
@@ -370,7 +371,7 @@ def main() -> None:
                  "smoothed-encoder groups' calibration)", smoothed, scales)]
     lines += [row(label, part, scales) for label, part in zip(reported, played[n_calibration:])]
     suites = dict(zip(reported, played[n_calibration:]))
-    held_out = [e for label in v2_heldout_grids().values() for e in suites[label]]
+    held_out = [e for label in heldout_grids.values() for e in suites[label]]
     lagged = [e for label, part in suites.items() if label.startswith("default suite, ") for e in part]
     lags_ms = ", ".join(f"{1000 * lag:g}" for lag in REPORTED_ENCODER_LAGS_S)
     lines += ["", "How early can you know a safe lower bound: every window a climb went on from, by the utilisation its "
@@ -384,10 +385,10 @@ def main() -> None:
               *in_flight_rows("validation grids (the calibration)", calibration, scales),
               *in_flight_rows("default suite", suites["default suite"], scales),
               *in_flight_rows(f"default suite, encoder lagged {lags_ms} ms", lagged, scales),
-              *in_flight_rows(f"the {len(v2_heldout_grids())} v2 held-out grids", held_out, scales)]
+              *in_flight_rows(f"the {len(heldout_grids)} v2 held-out grids", held_out, scales)]
     args.out.parent.mkdir(parents=True, exist_ok=True)
     figure = plot_in_flight({"validation grids": calibration,
-                             f"the {len(v2_heldout_grids())} held-out grids": held_out},
+                             f"the {len(heldout_grids)} held-out grids": held_out},
                             scales, args.out.with_name(f"{args.out.stem}_in_flight.png"))
     lines += ["", f"Figure: `{figure.name}` beside this table (the same windows in bins of {FIGURE_BIN:.0%} of M_sat "
                   f"with at least {FIGURE_MIN_WINDOWS} windows)."]

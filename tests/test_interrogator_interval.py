@@ -356,3 +356,53 @@ def test_evaluate_records_and_summarises_the_intervals_agents_report():
     assert only["interval-only"]["interval"]["coverage"]["value"] == 1.0
     assert "lower_bound_coverage" not in only["interval-only"]["interval"]
     assert markdown_intervals(only).splitlines()[-1] == "| interval-only | 2 | 100.0 [100.0, 100.0] | - | 100.00 |"
+
+
+def test_estimate_interval_calibrates_each_sensor_class_on_its_own_plays_and_reports_the_lagged_suites(
+        monkeypatch, tmp_path):
+    """``experiments/estimate_interval.py --write`` with every play replaced by synthetic climbs: the draws' groups
+    come from the plain validation plays alone, the noisy ones from the noisy plays' noisy climbs, the smoothed ones
+    from the lagged plays' smoothed climbs (a noisy or a draws' climb there is left out), and the report has a row
+    for each lagged default suite and the lagged held-out grid."""
+    import shutil
+    import sys
+    from concurrent.futures import ThreadPoolExecutor
+
+    from conftest import EXPERIMENTS
+
+    monkeypatch.syspath_prepend(EXPERIMENTS)
+    import estimate_interval
+
+    def climbs(n: int, group: str, factor: float, seed: int) -> list:
+        return [estimate_interval.Committed(e, c, s, group, "stop") for e, c, s, _ in
+                episode_drawer(seed)(n, group, factor)]
+
+    def play(policy, suite, config, scenario=None):
+        seed = len(str(suite)) + 7 * bool(config)
+        if scenario in estimate_interval.SMOOTHED_SCENARIOS and suite != "default":
+            return (climbs(60, sensor_group("stop", SMOOTHED), 4.0, seed)
+                    + climbs(10, noise_group("stop", True), 40.0, seed + 1) + climbs(10, "stop", 40.0, seed + 2))
+        if scenario in estimate_interval.NOISY_SCENARIOS:
+            return climbs(60, noise_group("stop", True), 2.0, seed) + climbs(10, "stop", 40.0, seed + 1)
+        return climbs(60, "stop", 1.0, seed)
+
+    policy = tmp_path / "policy"
+    shutil.copytree(SHIPPED_INTERROGATOR, policy)
+    monkeypatch.setattr(estimate_interval, "play", play)
+    monkeypatch.setattr(estimate_interval, "ProcessPoolExecutor", ThreadPoolExecutor)
+    monkeypatch.setattr(estimate_interval, "plot_in_flight", lambda suites, scales, path: path)
+    monkeypatch.setattr(estimate_interval, "v2_heldout_grids", lambda: {"v2_heldout_grid": "v2 held-out grid"})
+    monkeypatch.setattr(sys, "argv", ["estimate_interval.py", "--policy", str(policy), "--write",
+                                      "--out", str(tmp_path / "report.md")])
+    estimate_interval.main()
+    scales = IntervalScales.load(policy)
+    runs = len(estimate_interval.CALIBRATION) * len(estimate_interval.CONFIGS)
+    assert scales.climbs["stop"] == 60 * runs
+    assert scales.climbs[noise_group("stop", True)] == 60 * runs * len(estimate_interval.NOISY_SCENARIOS)
+    assert scales.climbs[sensor_group("stop", SMOOTHED)] == 60 * runs * len(estimate_interval.SMOOTHED_SCENARIOS)
+    assert scales.scale_of("stop")[0] < scales.scale_of(noise_group("stop", True))[0] < scales.scale_of(
+        sensor_group("stop", SMOOTHED))[0] < 10.0  # 1, 2 and 4 stds; none of the 40-std climbs calibrated them
+    report = (tmp_path / "report.md").read_text()
+    for lag in estimate_interval.REPORTED_ENCODER_LAGS_S:
+        assert f"| default suite, encoder lagged {1000 * lag:g} ms | 60 |" in report
+    assert f"| v2 held-out grid, encoder lagged {1000 * estimate_interval.HELDOUT_ENCODER_LAG_S:g} ms |" in report
