@@ -39,8 +39,9 @@ reads both), calibrated on the validation grids played with the encoder's speed 
 (``experiments/estimate_interval.py``: the climbs there that read a smoothed encoder). The colour does not say how
 large the lag is, and lags outside the calibration's bias the estimate otherwise (a 4-15 ms lag leaves it low, and
 the calibrated lower scales narrow), so a smoothed group's scales are never narrower than its base group's
-(:data:`FLOORED_CLASSES`): the note only ever widens the interval and lowers the bound. A calibration without such
-climbs has no smoothed scales; its smoothed climbs then read their base group's.
+(:data:`FLOORED_CLASSES`): against the draws' scales the note only ever widens the interval and lowers the bound
+(a climb that also reads noisy takes the smoothed class, floored at the draws' scales, not the noisy ones). A
+calibration without such climbs has no smoothed scales; its smoothed climbs then read their base group's.
 
 **In flight.** A climb that has not stopped has read windows too: the networks' estimate from them (without the
 runaway's, :attr:`~cof_gym.agents.interrogator.LearnedInterrogator.in_flight_estimate`) takes scales of its own,
