@@ -1,7 +1,7 @@
 """Whether a candidate meets a rule's conditions against a baseline, from crest_tradeoff.py ``--records`` files.
 
     python experiments/rule_check.py BASE.json CANDIDATE.json [BASE2.json CANDIDATE2.json ...] \
-        [--more-runaways N | --fewer-runaways] [--errors [--error-grid GRID]] [--returns] [--gain] \
+        [--more-runaways N | --fewer-runaways] [--errors [--error-grid GRID]] [--returns] [--gain | --no-loss] \
         [--strict-grid family] [--same-climbs] [--discordant] [--family-wise] [--sign-test] [--out FILE]
 
 The files come in pairs, the baseline's and the candidate's play of the same episodes (e.g. one pair at the
@@ -18,6 +18,8 @@ differences of :mod:`paired_comparison` (the same 95 % CIs, the same resamples):
   only on the grid of that name in every pair that has one);
 - ``--returns``: no grid's mean return lower with a CI wholly below zero;
 - ``--gain``: a strictly higher mean return over every pair's episodes together;
+- ``--no-loss``: a mean return not lower than the baseline's over every pair's episodes together (a candidate that
+  should change nothing on these plays: rule 127's gate where the encoder is sharp);
 - ``--same-climbs``: every episode's climb ended as the baseline's did (the same ``ended`` and ``macro_slip``) at
   the same peak torque (``peak_torque_fraction``, exactly): a candidate that changes only the estimate (rule 102).
 
@@ -75,6 +77,7 @@ class Conditions(NamedTuple):
     discordant: bool = False
     family_wise: bool = False  # --errors and --returns on simultaneous (Bonferroni) CIs
     sign_test: bool = False  # the runaways' one-sided exact sign test must not reject at SIGN_TEST_ALPHA
+    no_loss: bool = False  # a mean return not lower than the baseline's over every pair together
 
 
 CLIMB_FIELDS = ("ended", "macro_slip", "peak_torque_fraction")  # where and how a climb ended (--same-climbs)
@@ -167,6 +170,8 @@ def check(bases: list[Grids], candidates: list[Grids], conditions: Conditions) -
         failed.append(f"all: {totals[1]} runaways against {totals[0]} (at most {conditions.more_runaways} more)")
     if conditions.gain and not returns[1] > returns[0]:
         failed.append(f"all: mean return {returns[1]:.4f} not above {returns[0]:.4f}")
+    if conditions.no_loss and returns[1] < returns[0]:
+        failed.append(f"all: mean return {returns[1]:.4f} below {returns[0]:.4f}")
     return lines, failed
 
 
@@ -195,7 +200,10 @@ def main() -> None:
     parser.add_argument("--error-grid", default=None, metavar="GRID",
                         help="with --errors: only on the grid of this name (default: every grid)")
     parser.add_argument("--returns", action="store_true", help="no mean return lower with a CI wholly below zero")
-    parser.add_argument("--gain", action="store_true", help="a strictly higher mean return over every grid")
+    return_limit = parser.add_mutually_exclusive_group()
+    return_limit.add_argument("--gain", action="store_true", help="a strictly higher mean return over every grid")
+    return_limit.add_argument("--no-loss", action="store_true",
+                              help="a mean return not lower than the baseline's over every grid")
     parser.add_argument("--same-climbs", action="store_true",
                         help="every climb ended as the baseline's, at the same peak torque (an estimate-only "
                              "candidate)")
@@ -224,7 +232,8 @@ def main() -> None:
             parser.error(f"--error-grid: the records have no grid {args.error_grid!r} (grids: "
                          f"{', '.join(sorted(plays[0]))})")
     conditions = Conditions(args.more_runaways, strict, args.errors, args.returns, args.gain, args.fewer_runaways,
-                            args.error_grid, args.same_climbs, args.discordant, args.family_wise, args.sign_test)
+                            args.error_grid, args.same_climbs, args.discordant, args.family_wise, args.sign_test,
+                            args.no_loss)
     files = ", ".join(map(str, args.records))
     try:
         lines, failed = check(plays[0::2], plays[1::2], conditions)

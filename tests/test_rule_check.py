@@ -51,6 +51,14 @@ def test_the_same_episodes_meet_every_condition_but_a_gain() -> None:
     assert shown_returns(failed) == pytest.approx((-np.mean(ERRORS),) * 2, abs=DISPLAYED)
 
 
+def test_no_loss_holds_for_the_same_episodes_and_fails_for_a_lower_mean_return() -> None:
+    base = records("base", ERRORS)
+    assert judged(base, records("same", ERRORS), Conditions(no_loss=True)) == []
+    (failed,) = judged(base, records("worse", ERRORS * 1.01), Conditions(no_loss=True))
+    assert failed.startswith("all: mean return") and " below " in failed
+    assert judged(base, records("better", ERRORS * 0.99), Conditions(no_loss=True)) == []
+
+
 def test_a_family_runaway_fails_unless_the_strict_grid_is_another_and_the_total_allows_it() -> None:
     base, more = records("base", ERRORS), records("more", ERRORS, {"family": {3}})
     failed = judged(base, more, Conditions())
@@ -87,6 +95,8 @@ def test_the_command_exits_0_where_the_conditions_hold_1_where_they_fail_and_2_f
     assert failed.returncode == 1 and failed.stdout.endswith("\nfails\n") and "- fails: family: median" in failed.stdout
     two = run(files["both"], files["base"])
     assert two.returncode == 2 and two.stderr.count("\n") == 1 and "holds 2 settings" in two.stderr
+    both = run(files["base"], files["halved"], "--gain", "--no-loss")
+    assert both.returncode == 2 and "--no-loss" in both.stderr and both.stdout == ""
     grid = run(files["base"], files["halved"], "--strict-grid", "procedural")
     assert grid.returncode == 2 and "--strict-grid" in grid.stderr and grid.stdout == ""
 

@@ -196,7 +196,12 @@ its first :data:`NOISE_WINDOWS` driven windows (:func:`first_windows_noise_colou
 autoregressive speed residual over its white-noise SE, about 1 for an encoder's white noise) above
 :data:`~cof_gym.measurement.sine_fit.SMOOTHED_NOISE_COLOUR`, where those windows read sensor noise at all (at least
 :data:`COLOUR_NOISE_FLOOR_NMS`). A smoothing adds its delay to every phase lag the networks read; ``cof-gym
-evaluate`` records the notes per episode and prints how many episodes read each.
+evaluate`` records the notes per episode and prints how many episodes read each. A policy directory may name
+networks of their own for such a climb (its manifest's ``smoothed_encoder``: :func:`manifest_smoothed_networks`, a
+:class:`NetworkSet` of a filter and as many guards as the climb's): from the decision after its
+:data:`NOISE_WINDOWS`-th driven window, where the note is final, they steer and estimate it in place of the climb's
+own (:attr:`LearnedInterrogator.gated`; rule 127). Their features are read from the first window; every climb that
+does not read a smoothed encoder, and every climb's first decisions, are as without them.
 
 **Modules**, each importing only those above it: :mod:`.readings` (one window's sensor readings, the slope
 from Eq. 3), :mod:`.features` (the features of a climb's windows), :mod:`.networks` (the filter's networks
@@ -235,8 +240,8 @@ from cof_gym.agents.interrogator.caution import (
     CAUTION_SPAN, CAUTION_POLICY_FILE, CLIMB_STATE_FIELDS, cautioned, CautionPolicy,
 )
 from cof_gym.agents.interrogator.agent import (
-    SHIPPED_INTERROGATOR, WORLD_KWARGS, WindowDecision, LearnedInterrogator, read_manifest, manifest_climb,
-    manifest_networks, manifest_guards, interrogator_for, load_interrogator,
+    SHIPPED_INTERROGATOR, WORLD_KWARGS, WindowDecision, NetworkSet, LearnedInterrogator, read_manifest, manifest_climb,
+    manifest_networks, manifest_guards, manifest_smoothed_networks, interrogator_for, load_interrogator,
 )
 
 __all__ = [
@@ -258,7 +263,7 @@ __all__ = [
     "check_coverage", "conformal_quantile", "enough_for", "two_sided_score", "lower_score", "IntervalScales", "ESTIMATE_SOURCES", "HEADROOM_STOPS", "AT_HEADROOM", "KNEE_STOPS",
     "GUARDED_ESTIMATES", "ESTIMATOR_ESTIMATES", "TWO_TONE_ENV_OPTIONS", "CREST_RATIO_FLOOR",
     "speed_scaled_frequency", "floor_headroom", "ClimbParameters", "SHIPPED_INTERROGATOR", "WORLD_KWARGS",
-    "WindowDecision", "LearnedInterrogator", "read_manifest", "manifest_climb", "manifest_networks",
-    "manifest_guards", "interrogator_for", "load_interrogator", "CAUTION_SPAN", "CAUTION_POLICY_FILE", "cautioned",
+    "WindowDecision", "NetworkSet", "LearnedInterrogator", "read_manifest", "manifest_climb", "manifest_networks",
+    "manifest_guards", "manifest_smoothed_networks", "interrogator_for", "load_interrogator", "CAUTION_SPAN", "CAUTION_POLICY_FILE", "cautioned",
     "CautionPolicy", "CLIMB_STATE_FIELDS",
 ]

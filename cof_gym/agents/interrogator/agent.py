@@ -22,7 +22,7 @@ from cof_gym.agents.interrogator.features import EpisodeFeatures
 from cof_gym.agents.interrogator.interval import NOISY, NOISY_RATIO, SMOOTHED, IntervalScales, sensor_group
 from cof_gym.agents.interrogator.networks import FilterEnsemble, pooled_correction, pooled_std
 from cof_gym.agents.interrogator.readings import (
-    SMOOTHED_ENCODER, Reading, reads_smoothed_encoder,
+    NOISE_WINDOWS, SMOOTHED_ENCODER, Reading, reads_smoothed_encoder,
 )
 from cof_gym.agents.runaway import CrestCeiling, RunawayBracket
 from cof_gym.agents.staircase import ElasticityClimb
@@ -50,6 +50,20 @@ class WindowDecision:
     stop_reason: str
 
 
+@dataclass(frozen=True)
+class NetworkSet:
+    """A filter and its guards that steer and estimate a climb together (:attr:`LearnedInterrogator.smoothed_networks`:
+    those of a climb whose first windows read a smoothed encoder)."""
+
+    filter: FilterEnsemble
+    guards: tuple[FilterEnsemble, ...] = ()
+
+    @property
+    def networks(self) -> tuple[FilterEnsemble, ...]:
+        """The filter, then the guards."""
+        return (self.filter, *self.guards)
+
+
 @dataclass
 class LearnedInterrogator:
     """The agent (see the module docstring)."""
@@ -69,8 +83,11 @@ class LearnedInterrogator:
     estimators: tuple[FilterEnsemble, ...] = ()  # further filters whose correction the estimate may read
     interval: IntervalScales | None = None  # the calibrated interval around the estimate (cof_interval), if any
     caution_policy: CautionPolicy | None = None  # sets each decision's caution from climb_state() (rule 104), if any
+    # the filter and guards that steer and estimate a climb whose first windows read a smoothed encoder (rule 127)
+    smoothed_networks: NetworkSet | None = None
     _guard_features: tuple[EpisodeFeatures, ...] = field(default=(), repr=False)
     _estimator_features: tuple[EpisodeFeatures, ...] = field(default=(), repr=False)
+    _smoothed_features: tuple[EpisodeFeatures, ...] = field(default=(), repr=False)  # smoothed_networks' own
     _dc: float = 0.0
     _source_estimates: dict[str, float] = field(default_factory=dict, repr=False)  # per guarded/filter source
     _source_stds: dict[str, float] = field(default_factory=dict, repr=False)  # their corrections' stds (log units)
@@ -100,11 +117,37 @@ class LearnedInterrogator:
                 raise ValueError(f"a {role} reads another excitation than the climb's {self.params.tones} tone(s): "
                                  f"use {role} networks fitted on that excitation")
         self.params.check_guard_count(len(self.guards))
+        if self.smoothed_networks is not None:
+            self._check_smoothed_networks(self.smoothed_networks)
         for role, sources, networks in (("guards", GUARDED_ESTIMATES, self.guards),
                                         ("estimators", ESTIMATOR_ESTIMATES, self.estimators)):
             if self.params.estimate_from in sources and not networks:
                 raise ValueError(f"estimate_from={self.params.estimate_from!r} reads the {role}' corrections, "
                                  f"but the interrogator has no {role}")
+
+    def _check_smoothed_networks(self, networks: NetworkSet) -> None:
+        """Raises ValueError where the smoothed-encoder networks read another excitation than the climb's or bring
+        another number of guards than the climb's guards (their cautions are the climb's, guard by guard)."""
+        if any(n.tones != self.params.tones for n in networks.networks):
+            raise ValueError(f"smoothed_networks: a network reads another excitation than the climb's "
+                             f"{self.params.tones} tone(s): use networks fitted on that excitation")
+        if len(networks.guards) != len(self.guards):
+            raise ValueError(f"smoothed_networks: {len(networks.guards)} guard(s) where the climb has "
+                             f"{len(self.guards)}: the climb's guard cautions apply guard by guard")
+
+    @property
+    def gated(self) -> bool:
+        """Whether :attr:`smoothed_networks` steer and estimate the climb from here on: it has them, its first
+        :data:`~cof_gym.agents.interrogator.readings.NOISE_WINDOWS` driven windows are read (the sensor note is
+        final) and they read a smoothed encoder (:meth:`sensor_notes`)."""
+        return self.smoothed_networks is not None and self._driven >= NOISE_WINDOWS and self._smoothed
+
+    def _steering_networks(self) -> tuple[NetworkSet, tuple[EpisodeFeatures, ...]]:
+        """The filter and guards that read the window just driven, with their features: the smoothed-encoder
+        networks where the climb is :attr:`gated`, else the climb's own."""
+        if self.gated:
+            return self.smoothed_networks, self._smoothed_features
+        return NetworkSet(self.ensemble, self.guards), (self.features, *self._guard_features)
 
     @property
     def env_options(self) -> dict[str, Any]:
@@ -154,6 +197,8 @@ class LearnedInterrogator:
         self.features = EpisodeFeatures(self.counter_torque, blocks=self.ensemble.blocks)
         self._guard_features = tuple(EpisodeFeatures(self.counter_torque, blocks=g.blocks) for g in self.guards)
         self._estimator_features = tuple(EpisodeFeatures(self.counter_torque, blocks=e.blocks) for e in self.estimators)
+        self._smoothed_features = () if self.smoothed_networks is None else tuple(
+            EpisodeFeatures(self.counter_torque, blocks=n.blocks) for n in self.smoothed_networks.networks)
         self._dc = 0.0
         self._driven = 0
         self._crept = False
@@ -408,13 +453,14 @@ class LearnedInterrogator:
         falling = previous is not None and coa_fell(reading.coa, previous.coa)
         knee = previous is not None and self.params.knee_stops(reading, previous, self._driven, self._crept)
         self._bracket.observe(reading.crest_bound, reading.dc_nm + reading.amplitude_nm)  # the floor's bound too
-        for features in (self.features, *self._guard_features, *self._estimator_features):
+        for features in (self.features, *self._guard_features, *self._estimator_features, *self._smoothed_features):
             features.push(reading)
         self._noise_ratio = params.noise_ratio(self.features.readings)
         self._smoothed = reads_smoothed_encoder(self.features.readings)
         p = params.at_noise(self._noise_ratio)
-        mean, std, spread = self.ensemble.predict_with_spread(self.features.vector())
-        guard_outputs = [g.predict_with_spread(f.vector()) for g, f in zip(self.guards, self._guard_features)]
+        networks, (filter_features, *guard_features) = self._steering_networks()
+        mean, std, spread = networks.filter.predict_with_spread(filter_features.vector())
+        guard_outputs = [g.predict_with_spread(f.vector()) for g, f in zip(networks.guards, guard_features)]
         steering = self._steering_headroom(p, mean, std, spread, guard_outputs)
         headroom, headroom_std, headroom_spread, caution = steering
         self._ceiling.observe(reading.coa_cycle_max, reading.coa_cycle_bin_se, reading.dc_nm + reading.amplitude_nm,
@@ -564,10 +610,25 @@ def manifest_guards(directory: Path) -> tuple[Path, ...]:
     return manifest_networks(directory, "guards")
 
 
+def manifest_smoothed_networks(directory: Path) -> NetworkSet | None:
+    """The networks ``directory``'s manifest names under ``smoothed_encoder`` (``{"filter": DIR, "guards": [DIR,
+    ...]}``, relative to it) for a climb whose first windows read a smoothed encoder, None where it names none."""
+    named = read_manifest(directory).get("smoothed_encoder")
+    if named is None:
+        return None
+    if not isinstance(named, dict) or not isinstance(named.get("filter"), str) or not isinstance(
+            named.get("guards", []), list):
+        raise ValueError(f"{Path(directory) / 'manifest.json'}: smoothed_encoder must be "
+                         '{"filter": DIR, "guards": [DIR, ...]}')
+    return NetworkSet(FilterEnsemble.load(Path(directory) / named["filter"]),
+                      tuple(FilterEnsemble.load(Path(directory) / g) for g in named.get("guards", [])))
+
+
 def interrogator_for(env, directory: Path, params: ClimbParameters | None = None,
                      guards: Iterable[Path] | None = None, estimators: Iterable[Path] | None = None) -> LearnedInterrogator:
     """The interrogator of ``directory`` (``member_*.npz``, a ``manifest.json`` with the climb's parameters, the
-    training distribution and any guards and estimators, and an optional calibrated interval:
+    training distribution, any guards and estimators and any smoothed-encoder networks
+    (:func:`manifest_smoothed_networks`), and an optional calibrated interval:
     :class:`IntervalScales`) for ``env``'s drive and vehicle
     configuration; ``params`` replaces the manifest's climb, ``guards`` and ``estimators`` (directories of
     ``member_*.npz``) its guards and estimators. A two-tone climb acts in the env made with its ``env_options``."""
@@ -585,7 +646,8 @@ def interrogator_for(env, directory: Path, params: ClimbParameters | None = None
                                guards=tuple(FilterEnsemble.load(g) for g in guard_dirs),
                                estimators=tuple(FilterEnsemble.load(e) for e in estimator_dirs),
                                interval=IntervalScales.load(directory),
-                               caution_policy=CautionPolicy.load(directory / caution_file) if caution_file else None)
+                               caution_policy=CautionPolicy.load(directory / caution_file) if caution_file else None,
+                               smoothed_networks=manifest_smoothed_networks(directory))
 
 
 def load_interrogator(env, argument: str | None = None) -> LearnedInterrogator:

@@ -1,0 +1,106 @@
+"""The smoothed-encoder gate (rule 127): networks of their own steer and estimate a climb whose first windows read a
+smoothed encoder, from the decision where the sensor note is final; every other climb is the climb's own."""
+
+from __future__ import annotations
+
+import json
+import shutil
+from dataclasses import replace
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import cof_gym
+from cof_gym.agents.base import agent_view
+from cof_gym.agents.interrogator import (
+    NOISE_WINDOWS, SHIPPED_INTERROGATOR, SMOOTHED_ENCODER, TARGET_NAMES, FilterEnsemble, FilterNetwork, NetworkSet,
+    interrogator_for, manifest_smoothed_networks,
+)
+
+from interrogator_helpers import SHIPPED
+
+pytestmark = pytest.mark.skipif(not SHIPPED, reason="no shipped interrogator")
+
+SEED = 60_001
+LAGGED = {"encoder_lag_s": 0.005}  # a 5 ms encoder lag: the sensor note's smoothed encoder on this seed
+
+
+def constant_ensemble(like: FilterEnsemble, headroom: float) -> FilterEnsemble:
+    """One member that reads ``like``'s features and predicts ``headroom`` (and no correction) whatever it reads."""
+    names = like.members[0].feature_names
+    n, width = len(names), 4
+    weights = (np.zeros((n, width)), np.zeros((width, 2 * len(TARGET_NAMES))))
+    biases = (np.zeros(width), np.array([headroom, 0.0, -6.0, -6.0]))
+    return FilterEnsemble((FilterNetwork(np.zeros(n), np.ones(n), weights, biases, names),))
+
+
+def played(agent, options: dict) -> np.ndarray:
+    """The actions of the agent's episode at ``SEED`` with these reset options (the decisions stay on the agent)."""
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    obs, info = env.reset(seed=SEED, options=options)
+    agent.reset(obs, agent_view(info, oracle=False))
+    actions = []
+    while True:
+        actions.append(agent.act(obs, agent_view(info, oracle=False)))
+        obs, _, terminated, truncated, info = env.step(actions[-1])
+        if terminated or truncated:
+            env.close()
+            return np.asarray(actions)
+
+
+@pytest.fixture(scope="module")
+def shipped():
+    return interrogator_for(gym.make(cof_gym.WAGON_ENV_ID), SHIPPED_INTERROGATOR)
+
+
+def test_the_climbs_own_networks_as_the_gates_change_nothing_on_a_smoothed_encoder(shipped):
+    """The gate's networks read every window from the first: given the climb's own networks, the gated climb is the
+    ungated one, action for action."""
+    gated = replace(shipped, smoothed_networks=NetworkSet(shipped.ensemble, shipped.guards))
+    plain = played(shipped, LAGGED)
+    assert shipped.sensor_notes() == (SMOOTHED_ENCODER,)
+    np.testing.assert_array_equal(played(gated, LAGGED), plain)
+    assert gated.gated
+
+
+def test_the_gate_steers_a_smoothed_encoders_climb_from_its_third_window_and_no_sharp_one(shipped):
+    """Other networks behind the gate: a climb with a sharp encoder plays as without them; one with a smoothed
+    encoder plays its first decisions as without them and, from the decision after its third driven window, takes
+    their prediction."""
+    headroom = 0.5
+    other = constant_ensemble(shipped.ensemble, headroom)
+    gated = replace(shipped, smoothed_networks=NetworkSet(other, shipped.guards))
+    np.testing.assert_array_equal(played(gated, {}), played(shipped, {}))
+    assert not gated.gated and gated.sensor_notes() == ()
+    plain = played(shipped, LAGGED)
+    plain_decisions = list(shipped.decisions)
+    actions = played(gated, LAGGED)
+    first = NOISE_WINDOWS  # the first action sets the first DC; the decision after driven window k is action k
+    np.testing.assert_array_equal(actions[:first], plain[:first])
+    assert gated.decisions[:first - 1] == plain_decisions[:first - 1]
+    assert [d.filter_headroom for d in gated.decisions[first - 1:]] == pytest.approx(
+        [headroom] * (len(gated.decisions) - first + 1))
+    assert plain_decisions[first - 1].filter_headroom != pytest.approx(headroom)
+    assert gated.gated
+
+
+def test_the_gates_networks_must_read_the_climbs_excitation_and_bring_its_guard_count(shipped):
+    with pytest.raises(ValueError, match="smoothed_networks: 1 guard"):
+        replace(shipped, smoothed_networks=NetworkSet(shipped.ensemble, shipped.guards[:1]))
+
+
+def test_a_policy_directory_names_the_gates_networks_in_its_manifest(tmp_path, shipped):
+    directory = tmp_path / "policy"
+    shutil.copytree(SHIPPED_INTERROGATOR, directory)
+    manifest = json.loads((directory / "manifest.json").read_text())
+    assert manifest_smoothed_networks(directory) is None
+    manifest["smoothed_encoder"] = {"filter": ".", "guards": manifest["guards"]}
+    (directory / "manifest.json").write_text(json.dumps(manifest))
+    agent = interrogator_for(gym.make(cof_gym.WAGON_ENV_ID), directory)
+    assert len(agent.smoothed_networks.guards) == len(shipped.guards)
+    np.testing.assert_array_equal(played(agent, LAGGED), played(shipped, LAGGED))
+    manifest["smoothed_encoder"] = {"guards": manifest["guards"]}
+    (directory / "manifest.json").write_text(json.dumps(manifest))
+    with pytest.raises(ValueError, match="smoothed_encoder must be"):
+        manifest_smoothed_networks(directory)
