@@ -3,6 +3,11 @@
 
     python experiments/assemble_policy.py --filter runs/interrogator_torque/ensemble \
         --guards runs/interrogator_torque/guard/ensemble --out runs/torque_C_policy
+    python experiments/assemble_policy.py --filter cof_gym/agents/policies/interrogator \
+        --guards cof_gym/agents/policies/interrogator/guard_0 cof_gym/agents/policies/interrogator/guard_1 \
+        --smoothed-filter runs/interrogator_smoothed/ensemble \
+        --smoothed-guards cof_gym/agents/policies/interrogator/guard_0 runs/interrogator_smoothed/guard/ensemble \
+        --out runs/gate127
 
 A policy directory is what ``cof-gym evaluate --agents interrogator:DIR``, ``train_estimator.py --policy`` and
 ``crest_tradeoff.py --own-climb --run`` read: the filter's networks (``member_K.npz``), each guard's (``guard_K/``,
@@ -11,7 +16,10 @@ guards') and a ``manifest.json`` whose climb and training distribution are ``--c
 interrogator's). Networks fitted by ``train_interrogator.py --fit-only`` thus collect their own on-policy climbs
 (the recipe's second step) under a climb chosen before, without a selection of their own. The manifest's
 ``training`` names the directories the networks were copied from (each one's ``training.json`` says what they were
-fitted on); no interval is copied (``estimate_interval.py --write`` calibrates one for these networks).
+fitted on); no interval is copied (``estimate_interval.py --write`` calibrates one for these networks). With
+``--smoothed-filter`` (and ``--smoothed-guards``, as many as ``--guards``) the directory also carries the networks
+that steer and estimate a climb whose first windows read a smoothed encoder (rule 127's gate:
+``smoothed_encoder/filter``, ``smoothed_encoder/guard_K``, named by the manifest's ``smoothed_encoder``).
 """
 
 from __future__ import annotations
@@ -38,9 +46,31 @@ def shown(path: Path) -> str:
     return str(path.resolve().relative_to(Path.cwd())) if path.resolve().is_relative_to(Path.cwd()) else str(path)
 
 
-def assemble(filter_dir: Path, guards: list[Path], climb_from: Path, out: Path) -> dict:
+SMOOTHED_DIR = "smoothed_encoder"  # where a policy directory keeps its smoothed-encoder networks
+
+
+def copy_networks(source: Path, target: Path) -> None:
+    """The networks of ``source`` (``member_*.npz``) copied into the new directory ``target``."""
+    target.mkdir(parents=True)
+    for member in ensemble_files(source):
+        shutil.copy2(member, target / member.name)
+
+
+def install_smoothed(out: Path, filter_dir: Path, guards: list[Path]) -> dict:
+    """Copies the smoothed-encoder networks into ``out/smoothed_encoder`` and returns the manifest's entry for them
+    (paths relative to ``out``)."""
+    copy_networks(filter_dir, out / SMOOTHED_DIR / "filter")
+    names = [f"{SMOOTHED_DIR}/guard_{k}" for k in range(len(guards))]
+    for name, guard in zip(names, guards):
+        copy_networks(guard, out / name)
+    return {"filter": f"{SMOOTHED_DIR}/filter", "guards": names}
+
+
+def assemble(filter_dir: Path, guards: list[Path], climb_from: Path, out: Path, smoothed_filter: Path | None = None,
+             smoothed_guards: list[Path] = ()) -> dict:
     """Write the policy directory ``out`` (its networks and guards replaced, nothing else there kept) and return its
-    manifest: ``climb_from``'s climb and training distribution, ``filter_dir``'s networks, ``guards`` in order."""
+    manifest: ``climb_from``'s climb and training distribution, ``filter_dir``'s networks, ``guards`` in order (with
+    ``smoothed_filter``, also the smoothed-encoder networks: that filter and ``smoothed_guards``)."""
     source = read_manifest(climb_from)
     if out.exists():
         shutil.rmtree(out)
@@ -53,6 +83,10 @@ def assemble(filter_dir: Path, guards: list[Path], climb_from: Path, out: Path) 
     names = install_guards(out, guards)
     if names:
         manifest["guards"] = names
+    if smoothed_filter is not None:
+        manifest["smoothed_encoder"] = install_smoothed(out, smoothed_filter, list(smoothed_guards))
+        manifest["training"]["assembled_from"][SMOOTHED_DIR] = {
+            "filter": shown(smoothed_filter), "guards": [shown(g) for g in smoothed_guards]}
     (out / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n")
     return manifest
 
@@ -65,19 +99,35 @@ def main() -> None:
     ap.add_argument("--climb-from", type=Path, default=SHIPPED_INTERROGATOR, metavar="DIR",
                     help="the policy directory whose manifest's climb and training distribution are kept "
                          "(default: the shipped interrogator)")
+    ap.add_argument("--smoothed-filter", type=Path, default=None, metavar="DIR",
+                    help="the filter that steers a climb whose first windows read a smoothed encoder (rule 127)")
+    ap.add_argument("--smoothed-guards", type=Path, nargs="*", default=[], metavar="DIR",
+                    help="with --smoothed-filter: its guards, as many as --guards")
     ap.add_argument("--out", type=Path, required=True, metavar="DIR",
                     help="the policy directory written (replaced where it exists)")
     args = ap.parse_args()
     require_networks(ap, "--filter", [args.filter])
     require_networks(ap, "--guards", args.guards)
+    if args.smoothed_filter is None and args.smoothed_guards:
+        ap.error("--smoothed-guards: needs --smoothed-filter")
+    if args.smoothed_filter is not None:
+        require_networks(ap, "--smoothed-filter", [args.smoothed_filter])
+        require_networks(ap, "--smoothed-guards", args.smoothed_guards)
+        if len(args.smoothed_guards) != len(args.guards):
+            ap.error(f"--smoothed-guards: {len(args.smoothed_guards)} given, as many as --guards needed "
+                     f"({len(args.guards)}: the climb's guard cautions apply guard by guard)")
     if not {"climb", "trained_on"} <= read_manifest(args.climb_from).keys():
         ap.error(f"--climb-from: {args.climb_from} has no manifest.json with a climb and a training distribution")
     check_out_dir(ap, "--out", args.out)
-    if args.out.resolve() in {p.resolve() for p in (args.filter, *args.guards, args.climb_from)}:
+    read = (args.filter, *args.guards, args.climb_from, *filter(None, [args.smoothed_filter]), *args.smoothed_guards)
+    if args.out.resolve() in {p.resolve() for p in read}:
         ap.error(f"--out: {args.out} is one of the directories read")
-    manifest = assemble(args.filter, args.guards, args.climb_from, args.out)
-    print(f"{args.out}: the filter of {args.filter}, {len(args.guards)} guard(s), the climb of {shown(args.climb_from)}"
-          f" ({', '.join(f'{k} {v}' for k, v in manifest['climb'].items() if k in ('target_headroom', 'caution'))})")
+    manifest = assemble(args.filter, args.guards, args.climb_from, args.out, args.smoothed_filter,
+                        args.smoothed_guards)
+    smoothed = f", smoothed-encoder networks of {args.smoothed_filter}" if args.smoothed_filter else ""
+    steering = ", ".join(f"{k} {v}" for k, v in manifest["climb"].items() if k in ("target_headroom", "caution"))
+    print(f"{args.out}: the filter of {args.filter}, {len(args.guards)} guard(s){smoothed}, the climb of "
+          f"{shown(args.climb_from)} ({steering})")
 
 
 if __name__ == "__main__":

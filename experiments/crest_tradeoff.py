@@ -124,14 +124,15 @@ class Played(NamedTuple):
     peak_torque_fraction: float  # the largest true torque over the saturation torque
     source_errors: dict[str, float] | None = None  # the error of each estimate source the agent could report
     signed_error: float | None = None  # estimate / CoF - 1 (None when unscored): below the CoF < 0
+    gated: bool = False  # the smoothed-encoder networks steered the climb's end (LearnedInterrogator.gated; rule 127)
 
     @classmethod
-    def of(cls, record, ended: str, source_errors: dict[str, float] | None = None) -> "Played":
+    def of(cls, record, ended: str, source_errors: dict[str, float] | None = None, gated: bool = False) -> "Played":
         """An evaluated episode (``record``: :class:`~cof_gym.commands.evaluate_episodes.EpisodeRecord`) as the
-        tables read it, ending as ``ended`` says."""
+        tables read it, ending as ``ended`` says (``gated``: by the smoothed-encoder networks)."""
         return cls(record.relative_error if record.scored else 1.0, record.macro_slip, record.episode_return, ended,
                    record.peak_torque_fraction, source_errors,
-                   record.estimate / record.cof - 1.0 if record.scored else None)
+                   record.estimate / record.cof - 1.0 if record.scored else None, gated)
 
     def as_record(self, setting: str, grid: str, config: dict, episode: int) -> dict:
         """The episode as a ``--records`` entry (its setting, grid, vehicle configuration and index in the grid)."""
@@ -158,7 +159,8 @@ def _play(run: str, params: dict, grid: str, config: dict, guards: list[str] | N
         policy = ppo_policy(Path(caution_policy))
         wrap = lambda agent: steered(agent, policy)  # noqa: E731
     return [Played.of(r, ("macro-slip, slow probe" if agent.crept else "macro-slip") if r.macro_slip else agent.stop_reason,
-                      {s: source_error(agent, r, s, params.get("best_coa_factor", 1.0)) for s in available_sources(agent)})
+                      {s: source_error(agent, r, s, params.get("best_coa_factor", 1.0)) for s in available_sources(agent)},
+                      bool(getattr(agent, "gated", False)))
             for r, agent in episodes(run, grid, config, params, guards, estimators, scenario, wrap)]
 
 

@@ -38,6 +38,9 @@ binomial probability of at least that many of the discordant climbs being the ca
 to be either's. The concordant climbs carry no information on the difference; a total's difference of a few runaways
 can be well within chance.
 
+Where the candidate's records say which climbs its smoothed-encoder networks steered (``gated``, rule 127), a line
+counts them and the climbs that ended otherwise than the baseline's (information, no condition).
+
 It prints each grid's differences, every condition that fails, and a last line ``holds`` or ``fails``; the exit
 status is 0 when the conditions hold and 1 when they fail (2: a usage error, before anything is read further).
 Rule 78's conditions, for instance: at the draws ``--more-runaways 2 --errors --returns``, on the torque set
@@ -119,6 +122,18 @@ def intervals_examined(bases: list[Grids], conditions: Conditions) -> int:
                for b in bases for grid in b)
 
 
+def gated_lines(bases: list[Grids], candidates: list[Grids]) -> list[str]:
+    """A line with the candidate's climbs that its smoothed-encoder networks steered (the records' ``gated``, rule
+    127) and how many of all its climbs ended otherwise than the baseline's; none where its records carry no
+    ``gated``."""
+    climbs = [r for play in candidates for episodes in play.values() for r in episodes.values()]
+    if not any("gated" in r for r in climbs):
+        return []
+    differing = sum(climbs_differing(b[grid], c[grid]) for b, c in zip(bases, candidates) for grid in b)
+    return [f"- gated: {sum(bool(r.get('gated')) for r in climbs)} of {len(climbs)} climbs in the candidate's plays; "
+            f"{differing} ended otherwise than the baseline's"]
+
+
 def check(bases: list[Grids], candidates: list[Grids], conditions: Conditions) -> tuple[list[str], list[str]]:
     """(lines describing each grid and the totals, the conditions that fail) of the ``candidates``' plays against
     the ``bases``' (in pairs, the same episodes; with several, each line names its play's index)."""
@@ -157,6 +172,7 @@ def check(bases: list[Grids], candidates: list[Grids], conditions: Conditions) -
     totals = tuple(sum(runaways(e) for play in plays for e in play.values()) for plays in (bases, candidates))
     returns = mean_return(bases), mean_return(candidates)
     lines.append(f"- all: runaways {totals[0]} -> {totals[1]}; mean return {returns[0]:.4f} -> {returns[1]:.4f}")
+    lines += gated_lines(bases, candidates)
     p_more = sign_test_p(alone[1], sum(alone))
     if conditions.discordant or conditions.sign_test:
         lines.append(f"- discordant climbs: {alone[0]} ran away in the baseline's play alone, {alone[1]} in the "

@@ -104,3 +104,23 @@ def test_a_policy_directory_names_the_gates_networks_in_its_manifest(tmp_path, s
     (directory / "manifest.json").write_text(json.dumps(manifest))
     with pytest.raises(ValueError, match="smoothed_encoder must be"):
         manifest_smoothed_networks(directory)
+
+
+def test_an_assembled_policy_carries_the_gates_networks_and_its_agent_reads_them(tmp_path, shipped, monkeypatch):
+    """experiments/assemble_policy.py with --smoothed-filter: the networks copied into the directory, named by its
+    manifest, loaded by the agent as given."""
+    from pathlib import Path
+
+    monkeypatch.syspath_prepend(str(Path(__file__).resolve().parents[1] / "experiments"))
+    from assemble_policy import assemble
+
+    guards = [SHIPPED_INTERROGATOR / "guard_0", SHIPPED_INTERROGATOR / "guard_1"]
+    manifest = assemble(SHIPPED_INTERROGATOR, guards, SHIPPED_INTERROGATOR, tmp_path / "policy", guards[1],
+                        [guards[1], guards[0]])
+    assert manifest["smoothed_encoder"] == {"filter": "smoothed_encoder/filter",
+                                            "guards": ["smoothed_encoder/guard_0", "smoothed_encoder/guard_1"]}
+    agent = interrogator_for(gym.make(cof_gym.WAGON_ENV_ID), tmp_path / "policy")
+    loaded = agent.smoothed_networks
+    for network, source in zip(loaded.networks, (shipped.guards[1], shipped.guards[1], shipped.guards[0])):
+        for a, b in zip(network.members, source.members):
+            np.testing.assert_array_equal(a.weights[0], b.weights[0])

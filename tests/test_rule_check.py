@@ -59,6 +59,21 @@ def test_no_loss_holds_for_the_same_episodes_and_fails_for_a_lower_mean_return()
     assert judged(base, records("better", ERRORS * 0.99), Conditions(no_loss=True)) == []
 
 
+def test_a_gated_candidates_climbs_are_counted_with_those_that_ended_otherwise() -> None:
+    base = paired(records("base", ERRORS), "base")
+    gated = records("gated", ERRORS, {"steep": {3}})
+    for r in gated:
+        r["gated"] = r["episode"] in (3, 4)
+        r["ended"], r["peak_torque_fraction"] = "macro-slip" if r["macro_slip"] else "headroom", 1.0
+    base_records = records("base", ERRORS)
+    for r in base_records:
+        r["ended"], r["peak_torque_fraction"] = "headroom", 1.0
+    lines, _ = check([paired(base_records, "base")], [paired(gated, "gated")], Conditions(more_runaways=1))
+    assert lines[-1] == f"- gated: 4 of {2 * len(ERRORS)} climbs in the candidate's plays; 1 ended otherwise than " \
+        "the baseline's"
+    assert not any(line.startswith("- gated") for line in check([base], [base], Conditions())[0])
+
+
 def test_a_family_runaway_fails_unless_the_strict_grid_is_another_and_the_total_allows_it() -> None:
     base, more = records("base", ERRORS), records("more", ERRORS, {"family": {3}})
     failed = judged(base, more, Conditions())

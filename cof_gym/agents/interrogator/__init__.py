@@ -264,6 +264,7 @@ __all__ = [
     "GUARDED_ESTIMATES", "ESTIMATOR_ESTIMATES", "TWO_TONE_ENV_OPTIONS", "CREST_RATIO_FLOOR",
     "speed_scaled_frequency", "floor_headroom", "ClimbParameters", "SHIPPED_INTERROGATOR", "WORLD_KWARGS",
     "WindowDecision", "NetworkSet", "LearnedInterrogator", "read_manifest", "manifest_climb", "manifest_networks",
-    "manifest_guards", "manifest_smoothed_networks", "interrogator_for", "load_interrogator", "CAUTION_SPAN", "CAUTION_POLICY_FILE", "cautioned",
+    "manifest_guards", "manifest_smoothed_networks", "interrogator_for", "load_interrogator", "CAUTION_SPAN",
+    "CAUTION_POLICY_FILE", "cautioned",
     "CautionPolicy", "CLIMB_STATE_FIELDS",
 ]
