@@ -1009,6 +1009,11 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # rule 126: experiments/rules/rule126.sh; frontier.py with rule123TUk and rule126TUw as for rule 123
         # (frontier_rule126_validation, frontier_rule126_encoder_lag); rule_check.py as for rule 125's TUk
         # (rule_check_rule126TUw_validation, rule_check_rule126TUw_encoder_lag, rule_check_rule126TUw_spent)
+        # rule 127: experiments/rules/rule127.sh (G's fit, runs/gate127, its five validation plays and the shipped
+        # agent's, rule_check_rule127G_validation and rule_check_rule127G_encoder_lag), the hand-built agents'
+        # (validation_plays.py --hand-built --encoder-lag); frontier.py $(P rule95shipped53) $(P rule127G)
+        # --references ... --shipped $(P rule95shipped53) --rows (frontier_rule127_validation) and the same on the
+        # _encoder_lag_s records (frontier_rule127_encoder_lag)
     python experiments/encoder_lag_reading.py --sharp runs/interrogator_three/climbs_torque_wide.npz \
         runs/interrogator_three/climbs_procedural_torque_wide.npz \
         --lagged runs/interrogator_three/climbs_torque_wide_encoder.npz \
@@ -1396,6 +1401,8 @@ SOURCES = {
         "rule_check_rule125_confirmation_encoder_lag",
         "frontier_rule126_validation", "frontier_rule126_encoder_lag",
         *(f"rule_check_rule126TUw_{play}" for play in ("validation", "encoder_lag", "spent")),
+        "frontier_rule127_validation", "frontier_rule127_encoder_lag",
+        *(f"rule_check_rule127G_{play}" for play in ("validation", "encoder_lag")),
         "encoder_lag_reading", "noise_colour_reading",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
