@@ -7,7 +7,7 @@
         --guards cof_gym/agents/policies/interrogator/guard_0 cof_gym/agents/policies/interrogator/guard_1 \
         --smoothed-filter runs/interrogator_smoothed/ensemble \
         --smoothed-guards cof_gym/agents/policies/interrogator/guard_0 runs/interrogator_smoothed/guard/ensemble \
-        --out runs/gate127
+        --out runs/gate127 [--smoothed-set caution=2.5]
 
 A policy directory is what ``cof-gym evaluate --agents interrogator:DIR``, ``train_estimator.py --policy`` and
 ``crest_tradeoff.py --own-climb --run`` read: the filter's networks (``member_K.npz``), each guard's (``guard_K/``,
@@ -19,7 +19,8 @@ interrogator's). Networks fitted by ``train_interrogator.py --fit-only`` thus co
 fitted on); no interval is copied (``estimate_interval.py --write`` calibrates one for these networks). With
 ``--smoothed-filter`` (and ``--smoothed-guards``, as many as ``--guards``) the directory also carries the networks
 that steer and estimate a climb whose first windows read a smoothed encoder (rule 127's gate:
-``smoothed_encoder/filter``, ``smoothed_encoder/guard_K``, named by the manifest's ``smoothed_encoder``).
+``smoothed_encoder/filter``, ``smoothed_encoder/guard_K``, named by the manifest's ``smoothed_encoder``;
+``--smoothed-set NAME=VALUE ...``: climb parameters changed for the decisions those networks take, rule 128).
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 from script_checks import check_out_dir  # noqa: E402
+from crest_tradeoff import checked_climb, climb_item  # noqa: E402
 from train_interrogator import install_guards, require_networks  # noqa: E402
 
 from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR  # noqa: E402
@@ -56,21 +58,22 @@ def copy_networks(source: Path, target: Path) -> None:
         shutil.copy2(member, target / member.name)
 
 
-def install_smoothed(out: Path, filter_dir: Path, guards: list[Path]) -> dict:
+def install_smoothed(out: Path, filter_dir: Path, guards: list[Path], climb: dict | None = None) -> dict:
     """Copies the smoothed-encoder networks into ``out/smoothed_encoder`` and returns the manifest's entry for them
-    (paths relative to ``out``)."""
+    (paths relative to ``out``; ``climb``: the climb parameters their decisions change, if any)."""
     copy_networks(filter_dir, out / SMOOTHED_DIR / "filter")
     names = [f"{SMOOTHED_DIR}/guard_{k}" for k in range(len(guards))]
     for name, guard in zip(names, guards):
         copy_networks(guard, out / name)
-    return {"filter": f"{SMOOTHED_DIR}/filter", "guards": names}
+    return {"filter": f"{SMOOTHED_DIR}/filter", "guards": names, **({"climb": dict(climb)} if climb else {})}
 
 
 def assemble(filter_dir: Path, guards: list[Path], climb_from: Path, out: Path, smoothed_filter: Path | None = None,
-             smoothed_guards: list[Path] = ()) -> dict:
+             smoothed_guards: list[Path] = (), smoothed_climb: dict | None = None) -> dict:
     """Write the policy directory ``out`` (its networks and guards replaced, nothing else there kept) and return its
     manifest: ``climb_from``'s climb and training distribution, ``filter_dir``'s networks, ``guards`` in order (with
-    ``smoothed_filter``, also the smoothed-encoder networks: that filter and ``smoothed_guards``)."""
+    ``smoothed_filter``, also the smoothed-encoder networks: that filter and ``smoothed_guards``, their decisions with
+    the climb parameters ``smoothed_climb``)."""
     source = read_manifest(climb_from)
     if out.exists():
         shutil.rmtree(out)
@@ -84,7 +87,7 @@ def assemble(filter_dir: Path, guards: list[Path], climb_from: Path, out: Path, 
     if names:
         manifest["guards"] = names
     if smoothed_filter is not None:
-        manifest["smoothed_encoder"] = install_smoothed(out, smoothed_filter, list(smoothed_guards))
+        manifest["smoothed_encoder"] = install_smoothed(out, smoothed_filter, list(smoothed_guards), smoothed_climb)
         manifest["training"]["assembled_from"][SMOOTHED_DIR] = {
             "filter": shown(smoothed_filter), "guards": [shown(g) for g in smoothed_guards]}
     (out / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n")
@@ -103,13 +106,21 @@ def main() -> None:
                     help="the filter that steers a climb whose first windows read a smoothed encoder (rule 127)")
     ap.add_argument("--smoothed-guards", type=Path, nargs="*", default=[], metavar="DIR",
                     help="with --smoothed-filter: its guards, as many as --guards")
+    ap.add_argument("--smoothed-set", type=climb_item, nargs="+", default=[], metavar="NAME=VALUE",
+                    help="with --smoothed-filter: climb parameters changed for the decisions its networks take")
     ap.add_argument("--out", type=Path, required=True, metavar="DIR",
                     help="the policy directory written (replaced where it exists)")
     args = ap.parse_args()
     require_networks(ap, "--filter", [args.filter])
     require_networks(ap, "--guards", args.guards)
-    if args.smoothed_filter is None and args.smoothed_guards:
-        ap.error("--smoothed-guards: needs --smoothed-filter")
+    for flag, given in (("--smoothed-guards", args.smoothed_guards), ("--smoothed-set", args.smoothed_set)):
+        if args.smoothed_filter is None and given:
+            ap.error(f"{flag}: needs --smoothed-filter")
+    smoothed_climb = dict(args.smoothed_set)
+    try:
+        checked_climb(read_manifest(args.climb_from).get("climb", {}), smoothed_climb, len(args.guards))
+    except (TypeError, ValueError) as error:
+        ap.error(f"--smoothed-set: {error}")
     if args.smoothed_filter is not None:
         require_networks(ap, "--smoothed-filter", [args.smoothed_filter])
         require_networks(ap, "--smoothed-guards", args.smoothed_guards)
@@ -123,7 +134,7 @@ def main() -> None:
     if args.out.resolve() in {p.resolve() for p in read}:
         ap.error(f"--out: {args.out} is one of the directories read")
     manifest = assemble(args.filter, args.guards, args.climb_from, args.out, args.smoothed_filter,
-                        args.smoothed_guards)
+                        args.smoothed_guards, smoothed_climb)
     smoothed = f", smoothed-encoder networks of {args.smoothed_filter}" if args.smoothed_filter else ""
     steering = ", ".join(f"{k} {v}" for k, v in manifest["climb"].items() if k in ("target_headroom", "caution"))
     print(f"{args.out}: the filter of {args.filter}, {len(args.guards)} guard(s){smoothed}, the climb of "

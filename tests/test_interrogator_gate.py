@@ -116,11 +116,30 @@ def test_an_assembled_policy_carries_the_gates_networks_and_its_agent_reads_them
 
     guards = [SHIPPED_INTERROGATOR / "guard_0", SHIPPED_INTERROGATOR / "guard_1"]
     manifest = assemble(SHIPPED_INTERROGATOR, guards, SHIPPED_INTERROGATOR, tmp_path / "policy", guards[1],
-                        [guards[1], guards[0]])
+                        [guards[1], guards[0]], {"caution": 2.5})
     assert manifest["smoothed_encoder"] == {"filter": "smoothed_encoder/filter",
-                                            "guards": ["smoothed_encoder/guard_0", "smoothed_encoder/guard_1"]}
+                                            "guards": ["smoothed_encoder/guard_0", "smoothed_encoder/guard_1"],
+                                            "climb": {"caution": 2.5}}
     agent = interrogator_for(gym.make(cof_gym.WAGON_ENV_ID), tmp_path / "policy")
     loaded = agent.smoothed_networks
+    assert loaded.climb == {"caution": 2.5}
     for network, source in zip(loaded.networks, (shipped.guards[1], shipped.guards[1], shipped.guards[0])):
         for a, b in zip(network.members, source.members):
             np.testing.assert_array_equal(a.weights[0], b.weights[0])
+
+
+def test_the_gates_climb_parameters_change_its_decisions_alone(shipped):
+    """A caution of the gate's own: the sharp climb and a smoothed one's first decisions as without it, the gated
+    decisions more cautious (steps no larger, somewhere smaller)."""
+    cautious = replace(shipped, smoothed_networks=NetworkSet(shipped.ensemble, shipped.guards, {"caution": 4.0}))
+    np.testing.assert_array_equal(played(cautious, {}), played(shipped, {}))
+    plain = played(shipped, LAGGED)
+    plain_steps = [d.log_step for d in shipped.decisions]
+    actions = played(cautious, LAGGED)
+    np.testing.assert_array_equal(actions[:NOISE_WINDOWS], plain[:NOISE_WINDOWS])
+    gated_steps = [d.log_step for d in cautious.decisions]
+    assert gated_steps[NOISE_WINDOWS - 1] < plain_steps[NOISE_WINDOWS - 1]
+    with pytest.raises(ValueError, match="smoothed_networks: climb"):
+        replace(shipped, smoothed_networks=NetworkSet(shipped.ensemble, shipped.guards, {"caution": -1.0}))
+    with pytest.raises(ValueError, match="smoothed_networks: climb"):
+        replace(shipped, smoothed_networks=NetworkSet(shipped.ensemble, shipped.guards, {"no_such_parameter": 1}))

@@ -53,10 +53,12 @@ class WindowDecision:
 @dataclass(frozen=True)
 class NetworkSet:
     """A filter and its guards that steer and estimate a climb together (:attr:`LearnedInterrogator.smoothed_networks`:
-    those of a climb whose first windows read a smoothed encoder)."""
+    those of a climb whose first windows read a smoothed encoder), with the climb parameters they change for the
+    decisions they take (``climb``: :class:`ClimbParameters` fields, e.g. ``{"caution": 2.5}``; none by default)."""
 
     filter: FilterEnsemble
     guards: tuple[FilterEnsemble, ...] = ()
+    climb: Mapping[str, Any] = field(default_factory=dict)
 
     @property
     def networks(self) -> tuple[FilterEnsemble, ...]:
@@ -134,6 +136,11 @@ class LearnedInterrogator:
         if len(networks.guards) != len(self.guards):
             raise ValueError(f"smoothed_networks: {len(networks.guards)} guard(s) where the climb has "
                              f"{len(self.guards)}: the climb's guard cautions apply guard by guard")
+        if networks.climb:
+            try:
+                replace(self.params, **networks.climb).check_guard_count(len(self.guards))
+            except (TypeError, ValueError) as error:
+                raise ValueError(f"smoothed_networks: climb {dict(networks.climb)}: {error}") from None
 
     @property
     def gated(self) -> bool:
@@ -457,6 +464,8 @@ class LearnedInterrogator:
             features.push(reading)
         self._noise_ratio = params.noise_ratio(self.features.readings)
         self._smoothed = reads_smoothed_encoder(self.features.readings)
+        if self.gated and self.smoothed_networks.climb:
+            params = replace(params, **self.smoothed_networks.climb)
         p = params.at_noise(self._noise_ratio)
         networks, (filter_features, *guard_features) = self._steering_networks()
         mean, std, spread = networks.filter.predict_with_spread(filter_features.vector())
@@ -612,16 +621,18 @@ def manifest_guards(directory: Path) -> tuple[Path, ...]:
 
 def manifest_smoothed_networks(directory: Path) -> NetworkSet | None:
     """The networks ``directory``'s manifest names under ``smoothed_encoder`` (``{"filter": DIR, "guards": [DIR,
-    ...]}``, relative to it) for a climb whose first windows read a smoothed encoder, None where it names none."""
+    ...], "climb": {NAME: VALUE, ...}}``, directories relative to it, the climb parameters optional) for a climb whose
+    first windows read a smoothed encoder, None where it names none."""
     named = read_manifest(directory).get("smoothed_encoder")
     if named is None:
         return None
     if not isinstance(named, dict) or not isinstance(named.get("filter"), str) or not isinstance(
-            named.get("guards", []), list):
+            named.get("guards", []), list) or not isinstance(named.get("climb", {}), dict):
         raise ValueError(f"{Path(directory) / 'manifest.json'}: smoothed_encoder must be "
-                         '{"filter": DIR, "guards": [DIR, ...]}')
+                         '{"filter": DIR, "guards": [DIR, ...], "climb": {NAME: VALUE, ...}}')
     return NetworkSet(FilterEnsemble.load(Path(directory) / named["filter"]),
-                      tuple(FilterEnsemble.load(Path(directory) / g) for g in named.get("guards", [])))
+                      tuple(FilterEnsemble.load(Path(directory) / g) for g in named.get("guards", [])),
+                      dict(named.get("climb", {})))
 
 
 def interrogator_for(env, directory: Path, params: ClimbParameters | None = None,
