@@ -1017,6 +1017,11 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # rule 128: experiments/rules/rule128.sh (rule_check_rule128G2.5_encoder_lag, rule_check_rule128G3_encoder_lag);
         # frontier.py on the _encoder_lag_s records of rule95shipped53, rule127G, rule128G2.5 and rule128G3 with the
         # hand-built agents' as references, --shipped rule95shipped53's, --rows (frontier_rule128_encoder_lag)
+        # rule 129: experiments/rules/rule128.sh 2.25 129 (rule_check_rule129G2.25_encoder_lag,
+        # rule_check_rule129G2.25_validation); frontier.py as for rule 128 with rule129G2.25 in place of rule128G3
+        # (frontier_rule129_encoder_lag); its confirmation: experiments/rules/confirm129.sh
+        # (frontier_rule129_confirmation, frontier_rule129_confirmation_encoder_lag, rule_check_rule129_confirmation,
+        # rule_check_rule129_confirmation_encoder_lag)
     python experiments/encoder_lag_reading.py --sharp runs/interrogator_three/climbs_torque_wide.npz \
         runs/interrogator_three/climbs_procedural_torque_wide.npz \
         --lagged runs/interrogator_three/climbs_torque_wide_encoder.npz \
@@ -1407,6 +1412,9 @@ SOURCES = {
         "frontier_rule127_validation", "frontier_rule127_encoder_lag",
         *(f"rule_check_rule127G_{play}" for play in ("validation", "encoder_lag")),
         "frontier_rule128_encoder_lag", *(f"rule_check_rule128G{c}_encoder_lag" for c in ("2.5", "3")),
+        "frontier_rule129_encoder_lag", *(f"rule_check_rule129G2.25_{play}" for play in ("encoder_lag", "validation")),
+        "frontier_rule129_confirmation", "frontier_rule129_confirmation_encoder_lag", "rule_check_rule129_confirmation",
+        "rule_check_rule129_confirmation_encoder_lag",
         "encoder_lag_reading", "noise_colour_reading",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
