@@ -34,7 +34,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 from script_checks import check_out_dir  # noqa: E402
 from crest_tradeoff import checked_climb, climb_item  # noqa: E402
-from train_interrogator import install_guards, require_networks  # noqa: E402
+from train_interrogator import copy_networks, install_guards, require_networks  # noqa: E402
 
 from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR  # noqa: E402
 from cof_gym.agents.interrogator.agent import read_manifest  # noqa: E402
@@ -49,13 +49,6 @@ def shown(path: Path) -> str:
 
 
 SMOOTHED_DIR = "smoothed_encoder"  # where a policy directory keeps its smoothed-encoder networks
-
-
-def copy_networks(source: Path, target: Path) -> None:
-    """The networks of ``source`` (``member_*.npz``) copied into the new directory ``target``."""
-    target.mkdir(parents=True)
-    for member in ensemble_files(source):
-        shutil.copy2(member, target / member.name)
 
 
 def install_smoothed(out: Path, filter_dir: Path, guards: list[Path], climb: dict | None = None) -> dict:

@@ -514,10 +514,15 @@ def install_guards(run: Path, guards: list[Path]) -> list[str]:
         shutil.rmtree(stale)
     names = [f"guard_{k}" for k in range(len(guards))]
     for name, guard in zip(names, guards):
-        (run / name).mkdir()
-        for member in ensemble_files(guard):
-            shutil.copy2(member, run / name / member.name)
+        copy_networks(guard, run / name)
     return names
+
+
+def copy_networks(source: Path, target: Path) -> None:
+    """The networks of ``source`` (``member_*.npz``) copied into the new directory ``target`` (its parents made)."""
+    target.mkdir(parents=True)
+    for member in ensemble_files(source):
+        shutil.copy2(member, target / member.name)
 
 
 def report_runs(runs: list[Path], workers: int) -> dict:
