@@ -159,7 +159,7 @@
   written before any agent played them, after the thirty-ninth had judged rule 123; it judged rule 125 (session 64).
 - ``suites/v2_confirmation41_grid.json``, ``suites/v2_confirmation41_procedural_grid.json`` and
   ``suites/v2_confirmation41_steep_grid.json`` (session 64, seeds 591 000, 593 000, 595 000): a forty-first such set,
-  written before any agent played them, after the fortieth had judged rule 125, for the next rule.
+  written before any agent played them, after the fortieth had judged rule 125; it judged rule 129 (session 67).
 - ``suites/v2_stress_tables_grid.json`` (session 50, seeds from 305 000): reporting only, never a held-out grid of
   the targets: creep curves at the edges of what a table may be (:data:`STRESS_SHAPES`: a cliff just past the
   peak, a plateau with no falling branch, a shoulder before the peak, a peak with no knee before it, and a peak at
@@ -209,8 +209,8 @@
   before any agent played it, after the eleventh had judged rule 123 (``--grids extremes_confirmation12``); it judged
   rule 125 (session 64).
 - ``suites/v2_extremes_confirmation13_grid.json`` (session 64, seeds from 603 000): a thirteenth such set, written
-  before any agent played it, after the twelfth had judged rule 125 (``--grids extremes_confirmation13``), for the
-  next rule.
+  before any agent played it, after the twelfth had judged rule 125 (``--grids extremes_confirmation13``); it
+  judged rule 129 (session 67).
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
@@ -301,7 +301,8 @@
   (session 64).
 - ``suites/v2_torque_confirmation22_grid.json``, ``suites/v2_torque_confirmation22_procedural_grid.json`` and
   ``suites/v2_torque_confirmation22_steep_grid.json`` (session 64, seeds 597 000, 599 000, 601 000): a twenty-second
-  such set, written before any agent played them, after the twenty-first had judged rule 125, for the next rule.
+  such set, written before any agent played them, after the twenty-first had judged rule 125; it judged rule 129
+  (session 67).
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
