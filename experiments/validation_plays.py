@@ -37,11 +37,18 @@ from make_grids import CONFIRMATION_SETS, EXTREMES_CONFIRMATION_SETS, TORQUE_CON
 from train_interrogator import require_networks  # noqa: E402
 
 from cof_gym.commands.args import Parser  # noqa: E402
+from cof_gym.task.scenarios import ENCODER_LAG_MAX_S  # noqa: E402
 
 SHIPPED_GUARDS = ("cof_gym/agents/policies/interrogator/guard_0", "cof_gym/agents/policies/interrogator/guard_1")
 HAND_BUILT = ("phase-rule", "robust-model", "staircase", "model-based")
 SENSOR_STRESSES = {"noise_level": "noise_level=3", "motor_lag_s": "motor_lag_s=0.1"}  # play suffix -> --scenario
 ENCODER_STRESS = {"encoder_lag_s": "encoder_lag_s=0.01"}  # --encoder-lag's play: the encoder's signal lagged 10 ms
+
+
+def encoder_stresses(lags_s: list[float]) -> dict[str, str]:
+    """``--more-encoder-lags``' plays: the encoder's signal lagged each of ``lags_s`` (s), play suffix
+    ``encoder_lag_s`` + the lag as given (e.g. ``encoder_lag_s0.02``)."""
+    return {f"encoder_lag_s{lag:g}": f"encoder_lag_s={lag:g}" for lag in lags_s}
 
 
 def stressed(grid_set: str, prefix: str, stresses: dict[str, str] = SENSOR_STRESSES) -> dict[str, tuple[str, ...]]:
@@ -122,6 +129,9 @@ def build_parser() -> Parser:
                              "or SET_encoder_lag_s with --confirmation)")
     parser.add_argument("--encoder-lag-only", action="store_true",
                         help="only the play with the encoder lagged 10 ms (the other plays already recorded)")
+    parser.add_argument("--more-encoder-lags", nargs="+", type=float, default=None, metavar="S",
+                        help="also the plays with every episode's encoder lagged S seconds (0 < S <= "
+                             f"{ENCODER_LAG_MAX_S:g}; PLAY encoder_lag_sS, or SET_encoder_lag_sS with --confirmation)")
     parser.add_argument("--print", action="store_true", help="print the commands, play nothing")
     return parser
 
@@ -139,6 +149,11 @@ def commands_of(parser: Parser, args: argparse.Namespace) -> list[list[str]]:
     if args.encoder_lag or args.encoder_lag_only:
         lagged = stressed(grid_set, prefix, ENCODER_STRESS)
         plays = lagged if args.encoder_lag_only else {**plays, **lagged}
+    if args.more_encoder_lags is not None:
+        for lag in args.more_encoder_lags:
+            if not 0.0 < lag <= ENCODER_LAG_MAX_S:  # also refuses NaN
+                parser.error(f"--more-encoder-lags: each lag must be in (0, {ENCODER_LAG_MAX_S:g}] s, got {lag:g}")
+        plays = {**plays, **stressed(grid_set, prefix, encoder_stresses(args.more_encoder_lags))}
     if args.hand_built:
         if any(v is not None for v in (args.name, args.caution_policy, args.estimators, args.set, args.run,
                                        args.guards)):

@@ -72,6 +72,8 @@ CASES = [
      "--confirmation"),
     ("validation_plays", ["c", "--confirmation", "confirmation", "confirmation", "extremes_confirmation"],
      "--confirmation"),  # a set of another kind in the torque set's place
+    ("validation_plays", ["c", "--more-encoder-lags", "0"], "--more-encoder-lags"),
+    ("validation_plays", ["c", "--more-encoder-lags", "nan"], "--more-encoder-lags"),
     ("select_phase_rule", ["--workers", "0"], "--workers"),
     ("select_phase_rule", ["--out", "{dir}"], "--out"),
     ("select_robust_model", ["--workers", "-1"], "--workers"),

@@ -73,6 +73,14 @@ def test_the_encoder_lag_play_joins_the_plays_or_stands_alone() -> None:
                                                                             "encoder_lag_s=0.01"]
 
 
+def test_more_encoder_lags_add_a_play_each_named_by_its_lag() -> None:
+    commands = _commands("cand", "--encoder-lag-only", "--more-encoder-lags", "0.005", "0.02")
+    assert [c[c.index("--records") + 1] for c in commands] == [
+        f"out/records_cand_{p}.json" for p in ("encoder_lag_s", "encoder_lag_s0.005", "encoder_lag_s0.02")]
+    assert [c[c.index("--scenario") + 1] for c in commands] == [
+        "encoder_lag_s=0.01", "encoder_lag_s=0.005", "encoder_lag_s=0.02"]
+
+
 def test_a_candidate_reads_estimators_with_a_climb_setting() -> None:
     estimators = "cof_gym/agents/policies/interrogator/guard_0"
     for command in _commands("cand", "--estimators", estimators, "--set", "estimate_from=estimator"):
