@@ -162,7 +162,7 @@
   written before any agent played them, after the fortieth had judged rule 125; it judged rule 129 (session 67).
 - ``suites/v2_confirmation42_grid.json``, ``suites/v2_confirmation42_procedural_grid.json`` and
   ``suites/v2_confirmation42_steep_grid.json`` (session 68, seeds 611 000, 613 000, 615 000): a forty-second such
-  set, written before any agent played them, after the forty-first had judged rule 129, for the next rule.
+  set, written before any agent played them, after the forty-first had judged rule 129; it judged rule 130 (session 68).
 - ``suites/v2_stress_tables_grid.json`` (session 50, seeds from 305 000): reporting only, never a held-out grid of
   the targets: creep curves at the edges of what a table may be (:data:`STRESS_SHAPES`: a cliff just past the
   peak, a plateau with no falling branch, a shoulder before the peak, a peak with no knee before it, and a peak at
@@ -215,8 +215,8 @@
   before any agent played it, after the twelfth had judged rule 125 (``--grids extremes_confirmation13``); it
   judged rule 129 (session 67).
 - ``suites/v2_extremes_confirmation14_grid.json`` (session 68, seeds from 623 000): a fourteenth such set, written
-  before any agent played it, after the thirteenth had judged rule 129 (``--grids extremes_confirmation14``), for the
-  next rule.
+  before any agent played it, after the thirteenth had judged rule 129 (``--grids extremes_confirmation14``); it judged
+  rule 130 (session 68).
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
@@ -311,7 +311,8 @@
   (session 67).
 - ``suites/v2_torque_confirmation23_grid.json``, ``suites/v2_torque_confirmation23_procedural_grid.json`` and
   ``suites/v2_torque_confirmation23_steep_grid.json`` (session 68, seeds 617 000, 619 000, 621 000): a twenty-third
-  such set, written before any agent played them, after the twenty-second had judged rule 129, for the next rule.
+  such set, written before any agent played them, after the twenty-second had judged rule 129; it judged rule
+  130 (session 68).
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
