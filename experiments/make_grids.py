@@ -163,6 +163,9 @@
 - ``suites/v2_confirmation42_grid.json``, ``suites/v2_confirmation42_procedural_grid.json`` and
   ``suites/v2_confirmation42_steep_grid.json`` (session 68, seeds 611 000, 613 000, 615 000): a forty-second such
   set, written before any agent played them, after the forty-first had judged rule 129; it judged rule 130 (session 68).
+- ``suites/v2_confirmation43_grid.json``, ``suites/v2_confirmation43_procedural_grid.json`` and
+  ``suites/v2_confirmation43_steep_grid.json`` (session 68, seeds 631 000, 633 000, 635 000): a forty-third such
+  set, written before any agent played them, after the forty-second had judged rule 130, for the next rule.
 - ``suites/v2_stress_tables_grid.json`` (session 50, seeds from 305 000): reporting only, never a held-out grid of
   the targets: creep curves at the edges of what a table may be (:data:`STRESS_SHAPES`: a cliff just past the
   peak, a plateau with no falling branch, a shoulder before the peak, a peak with no knee before it, and a peak at
@@ -217,6 +220,9 @@
 - ``suites/v2_extremes_confirmation14_grid.json`` (session 68, seeds from 623 000): a fourteenth such set, written
   before any agent played it, after the thirteenth had judged rule 129 (``--grids extremes_confirmation14``); it judged
   rule 130 (session 68).
+- ``suites/v2_extremes_confirmation15_grid.json`` (session 68, seeds from 643 000): a fifteenth such set, written
+  before any agent played it, after the fourteenth had judged rule 130 (``--grids extremes_confirmation15``), for the
+  next rule.
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
@@ -313,6 +319,9 @@
   ``suites/v2_torque_confirmation23_steep_grid.json`` (session 68, seeds 617 000, 619 000, 621 000): a twenty-third
   such set, written before any agent played them, after the twenty-second had judged rule 129; it judged rule
   130 (session 68).
+- ``suites/v2_torque_confirmation24_grid.json``, ``suites/v2_torque_confirmation24_procedural_grid.json`` and
+  ``suites/v2_torque_confirmation24_steep_grid.json`` (session 68, seeds 637 000, 639 000, 641 000): a twenty-fourth
+  such set, written before any agent played them, after the twenty-third had judged rule 130, for the next rule.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -679,7 +688,7 @@ ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", 
             "twenty-fourth ", "twenty-fifth ", "twenty-sixth ", "twenty-seventh ", "twenty-eighth ", "twenty-ninth ",
             "thirtieth ", "thirty-first ", "thirty-second ", "thirty-third ", "thirty-fourth ", "thirty-fifth ",
             "thirty-sixth ", "thirty-seventh ", "thirty-eighth ", "thirty-ninth ", "fortieth ", "forty-first ",
-            "forty-second ")
+            "forty-second ", "forty-third ")
 
 # the confirmation sets, in the order they were written (the module docstring says when, and for which rule):
 # name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and steep grids; each was written
@@ -777,6 +786,9 @@ CONFIRMATION_SETS = {
     "confirmation42": (((0.04, 0.31, 0.54, 0.79, 0.95), (5.5, 17.5, 34.5), 611_000),
                        ((0.08, 0.4, 0.68, 0.93), (9.0, 20.5, 37.0), 613_000),
                        ((0.13, 0.46, 0.81), (7.0, 19.0, 36.5), 615_000)),
+    "confirmation43": (((0.06, 0.29, 0.53, 0.81, 0.93), (6.5, 18.5, 33.5), 631_000),
+                       ((0.07, 0.42, 0.69, 0.9), (8.5, 21.5, 36.0), 633_000),
+                       ((0.11, 0.44, 0.79), (6.0, 20.0, 37.0), 635_000)),
 }
 
 
@@ -857,6 +869,9 @@ TORQUE_CONFIRMATION_SETS = {
     "torque_confirmation23": (((0.05, 0.28, 0.56, 0.8, 0.94), (6.5, 19.0, 33.5), 617_000),
                               ((0.09, 0.39, 0.7, 0.91), (8.0, 22.0, 37.5), 619_000),
                               ((0.11, 0.47, 0.79), (6.0, 20.5, 36.0), 621_000)),
+    "torque_confirmation24": (((0.04, 0.32, 0.55, 0.78, 0.96), (7.0, 17.5, 34.0), 637_000),
+                              ((0.08, 0.37, 0.68, 0.93), (9.5, 21.0, 36.5), 639_000),
+                              ((0.14, 0.45, 0.8), (7.5, 18.5, 37.5), 641_000)),
 }
 # the confirmation sets past every draw at once (v2_extremes_grid's draw, 96 episodes each), in the order they were
 # written (the module docstring says when, and for which rule): name -> first seed
@@ -867,7 +882,8 @@ EXTREMES_CONFIRMATION_SETS = {"extremes_confirmation": 361_000, "extremes_confir
                               "extremes_confirmation9": 523_000, "extremes_confirmation10": 543_000,
                               "extremes_confirmation11": 563_000, "extremes_confirmation12": 583_000,
                               "extremes_confirmation13": 603_000,
-                              "extremes_confirmation14": 623_000}
+                              "extremes_confirmation14": 623_000,
+                              "extremes_confirmation15": 643_000}
 GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0  # the golden ratio's fraction: a low-discrepancy sequence k x GOLDEN mod 1
 
 
