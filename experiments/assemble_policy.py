@@ -8,6 +8,10 @@
         --smoothed-filter runs/interrogator_smoothed/ensemble \
         --smoothed-guards cof_gym/agents/policies/interrogator/guard_0 runs/interrogator_smoothed/guard/ensemble \
         --out runs/gate127 [--smoothed-set caution=2.5]
+    python experiments/assemble_policy.py --into cof_gym/agents/policies/interrogator \
+        --smoothed-filter runs/interrogator_smoothed/ensemble \
+        --smoothed-guards cof_gym/agents/policies/interrogator/guard_0 runs/interrogator_smoothed/guard/ensemble \
+        --smoothed-set caution=2.25
 
 A policy directory is what ``cof-gym evaluate --agents interrogator:DIR``, ``train_estimator.py --policy`` and
 ``crest_tradeoff.py --own-climb --run`` read: the filter's networks (``member_K.npz``), each guard's (``guard_K/``,
@@ -21,6 +25,10 @@ fitted on); no interval is copied (``estimate_interval.py --write`` calibrates o
 that steer and estimate a climb whose first windows read a smoothed encoder (rule 127's gate:
 ``smoothed_encoder/filter``, ``smoothed_encoder/guard_K``, named by the manifest's ``smoothed_encoder``;
 ``--smoothed-set NAME=VALUE ...``: climb parameters changed for the decisions those networks take, rule 128).
+``--into DIR`` adds (or replaces) those networks in an existing policy directory instead, the shipped one for
+instance, keeping its networks, guards, climb and training record; its interval is removed, since the smoothed
+class's scales are in the stds of the networks that read it (``estimate_interval.py --policy DIR --write``
+recalibrates).
 """
 
 from __future__ import annotations
@@ -36,7 +44,7 @@ from script_checks import check_out_dir  # noqa: E402
 from crest_tradeoff import checked_climb, climb_item  # noqa: E402
 from train_interrogator import copy_networks, install_guards, require_networks  # noqa: E402
 
-from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR  # noqa: E402
+from cof_gym.agents.interrogator import INTERVAL_FILE, SHIPPED_INTERROGATOR  # noqa: E402
 from cof_gym.agents.interrogator.agent import read_manifest  # noqa: E402
 from cof_gym.agents.interrogator.networks import ensemble_files  # noqa: E402
 from cof_gym.commands.args import Parser  # noqa: E402
@@ -87,12 +95,45 @@ def assemble(filter_dir: Path, guards: list[Path], climb_from: Path, out: Path, 
     return manifest
 
 
+def add_smoothed(into: Path, smoothed_filter: Path, smoothed_guards: list[Path],
+                 smoothed_climb: dict | None = None) -> dict:
+    """Add the smoothed-encoder networks to the policy directory ``into`` (any it had replaced; its own networks,
+    guards, climb and training record kept; its interval removed) and return its manifest."""
+    manifest = read_manifest(into)
+    if (into / SMOOTHED_DIR).exists():
+        shutil.rmtree(into / SMOOTHED_DIR)
+    manifest["smoothed_encoder"] = install_smoothed(into, smoothed_filter, list(smoothed_guards), smoothed_climb)
+    manifest.setdefault("training", {})[SMOOTHED_DIR] = {
+        "assembled_from": {"filter": shown(smoothed_filter), "guards": [shown(g) for g in smoothed_guards]}}
+    (into / INTERVAL_FILE).unlink(missing_ok=True)
+    (into / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n")
+    return manifest
+
+
+def check_into(ap: Parser, args) -> None:
+    """``--into``'s arguments: a policy directory with a climb, only the smoothed-encoder options beside it, and no
+    network read from inside the ``smoothed_encoder/`` it replaces (one line and exit code 2)."""
+    for flag, given in (("--filter", args.filter), ("--guards", args.guards), ("--climb-from", args.climb_from),
+                        ("--out", args.out)):
+        if given:
+            ap.error(f"{flag}: not with --into (the directory keeps its own networks and guards)")
+    if args.smoothed_filter is None:
+        ap.error("--into: needs --smoothed-filter (the networks it adds)")
+    if "climb" not in read_manifest(args.into):
+        ap.error(f"--into: {args.into} has no manifest.json with a climb (a policy directory)")
+    replaced = (args.into / SMOOTHED_DIR).resolve()
+    for source in (args.smoothed_filter, *args.smoothed_guards):
+        if source.resolve().is_relative_to(replaced):
+            ap.error(f"--into: {source} lies in {args.into / SMOOTHED_DIR}, which --into replaces")
+
+
 def main() -> None:
     ap = Parser(description=__doc__.splitlines()[0])
-    ap.add_argument("--filter", type=Path, required=True, metavar="DIR", help="the filter's networks (DIR/member_*.npz)")
+    ap.add_argument("--filter", type=Path, default=None, metavar="DIR",
+                    help="the filter's networks (DIR/member_*.npz); required unless --into")
     ap.add_argument("--guards", type=Path, nargs="*", default=[], metavar="DIR",
                     help="each guard's networks (DIR/member_*.npz), in the order the manifest names them")
-    ap.add_argument("--climb-from", type=Path, default=SHIPPED_INTERROGATOR, metavar="DIR",
+    ap.add_argument("--climb-from", type=Path, default=None, metavar="DIR",
                     help="the policy directory whose manifest's climb and training distribution are kept "
                          "(default: the shipped interrogator)")
     ap.add_argument("--smoothed-filter", type=Path, default=None, metavar="DIR",
@@ -101,10 +142,21 @@ def main() -> None:
                     help="with --smoothed-filter: its guards, as many as --guards")
     ap.add_argument("--smoothed-set", type=climb_item, nargs="+", default=[], metavar="NAME=VALUE",
                     help="with --smoothed-filter: climb parameters changed for the decisions its networks take")
-    ap.add_argument("--out", type=Path, required=True, metavar="DIR",
-                    help="the policy directory written (replaced where it exists)")
+    ap.add_argument("--out", type=Path, default=None, metavar="DIR",
+                    help="the policy directory written (replaced where it exists); required unless --into")
+    ap.add_argument("--into", type=Path, default=None, metavar="DIR",
+                    help="add the smoothed-encoder networks to this policy directory instead (its interval removed)")
     args = ap.parse_args()
-    require_networks(ap, "--filter", [args.filter])
+    if args.into is not None:
+        check_into(ap, args)
+        args.guards = [args.into / g for g in read_manifest(args.into).get("guards", [])]
+        args.climb_from = args.into
+    else:
+        for flag, given in (("--filter", args.filter), ("--out", args.out)):
+            if given is None:
+                ap.error(f"{flag}: required (or --into DIR)")
+        require_networks(ap, "--filter", [args.filter])
+        args.climb_from = args.climb_from or SHIPPED_INTERROGATOR
     require_networks(ap, "--guards", args.guards)
     for flag, given in (("--smoothed-guards", args.smoothed_guards), ("--smoothed-set", args.smoothed_set)):
         if args.smoothed_filter is None and given:
@@ -120,6 +172,12 @@ def main() -> None:
         if len(args.smoothed_guards) != len(args.guards):
             ap.error(f"--smoothed-guards: {len(args.smoothed_guards)} given, as many as --guards needed "
                      f"({len(args.guards)}: the climb's guard cautions apply guard by guard)")
+    if args.into is not None:
+        manifest = add_smoothed(args.into, args.smoothed_filter, args.smoothed_guards, smoothed_climb)
+        print(f"{args.into}: smoothed-encoder networks of {args.smoothed_filter} added (climb "
+              f"{manifest['smoothed_encoder'].get('climb', {})}); its interval removed: "
+              f"estimate_interval.py --policy {args.into} --write recalibrates it")
+        return
     if not {"climb", "trained_on"} <= read_manifest(args.climb_from).keys():
         ap.error(f"--climb-from: {args.climb_from} has no manifest.json with a climb and a training distribution")
     check_out_dir(ap, "--out", args.out)

@@ -24,6 +24,11 @@ CASES = [
     ("assemble_policy", ["--filter", "{SHIPPED}", "--guards", "{dir}", "--out", "{new}"], "--guards"),
     ("assemble_policy", ["--filter", "{SHIPPED}", "--climb-from", "{dir}", "--out", "{new}"], "--climb-from"),
     ("assemble_policy", ["--filter", "{SHIPPED}", "--out", "{file}"], "--out"),
+    ("assemble_policy", ["--into", "{SHIPPED}", "--filter", "{SHIPPED}"], "--filter"),
+    ("assemble_policy", ["--into", "{SHIPPED}", "--climb-from", "{SHIPPED}"], "--climb-from"),
+    ("assemble_policy", ["--into", "{dir}", "--smoothed-filter", "{SHIPPED}"], "--into"),  # no policy directory
+    ("assemble_policy", ["--into", "{SHIPPED}"], "--into"),  # nothing to add
+    ("assemble_policy", ["--guards", "{SHIPPED}"], "--filter"),
     ("assemble_policy", ["--filter", "{SHIPPED}", "--out", "{SHIPPED}"], "--out"),
     ("assemble_policy", ["--filter", "{SHIPPED}", "--smoothed-guards", "{SHIPPED}", "--out", "{new}"],
      "--smoothed-guards"),

@@ -128,6 +128,32 @@ def test_an_assembled_policy_carries_the_gates_networks_and_its_agent_reads_them
             np.testing.assert_array_equal(a.weights[0], b.weights[0])
 
 
+def test_networks_added_into_a_policy_directory_keep_its_own_and_drop_its_interval(tmp_path, shipped, monkeypatch):
+    """assemble_policy.py --into: the gate's networks join a copy of the shipped directory, whose networks, guards,
+    climb and training record stay as they were; its interval, in the stds of networks it no longer alone reads, is
+    removed; a sharp climb plays as the shipped agent's."""
+    from pathlib import Path
+
+    monkeypatch.syspath_prepend(str(Path(__file__).resolve().parents[1] / "experiments"))
+    from assemble_policy import add_smoothed
+
+    directory = tmp_path / "policy"
+    shutil.copytree(SHIPPED_INTERROGATOR, directory)
+    (directory / "interval.json").write_text("{}")
+    before = json.loads((directory / "manifest.json").read_text())
+    guards = [directory / "guard_1", directory / "guard_0"]
+    manifest = add_smoothed(directory, directory / "guard_1", guards, {"caution": 2.5})
+    assert {k: v for k, v in manifest.items() if k != "smoothed_encoder"} == {
+        **before, "training": {**before["training"], "smoothed_encoder": {"assembled_from": {
+            "filter": str(directory / "guard_1"), "guards": [str(g) for g in guards]}}}}
+    assert not (directory / "interval.json").exists()
+    agent = interrogator_for(gym.make(cof_gym.WAGON_ENV_ID), directory)
+    assert agent.smoothed_networks.climb == {"caution": 2.5}
+    np.testing.assert_array_equal(played(agent, {}), played(shipped, {}))
+    assert add_smoothed(directory, directory / "guard_0", guards)["smoothed_encoder"] == {
+        "filter": "smoothed_encoder/filter", "guards": ["smoothed_encoder/guard_0", "smoothed_encoder/guard_1"]}
+
+
 def test_the_gates_climb_parameters_change_its_decisions_alone(shipped):
     """A caution of the gate's own: the sharp climb and a smoothed one's first decisions as without it, the gated
     decisions more cautious (steps no larger, somewhere smaller)."""
