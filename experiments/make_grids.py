@@ -165,7 +165,8 @@
   set, written before any agent played them, after the forty-first had judged rule 129; it judged rule 130 (session 68).
 - ``suites/v2_confirmation43_grid.json``, ``suites/v2_confirmation43_procedural_grid.json`` and
   ``suites/v2_confirmation43_steep_grid.json`` (session 68, seeds 631 000, 633 000, 635 000): a forty-third such
-  set, written before any agent played them, after the forty-second had judged rule 130, for the next rule.
+  set, written before any agent played them, after the forty-second had judged rule 130; it judged rule 131 (session
+  68).
 - ``suites/v2_stress_tables_grid.json`` (session 50, seeds from 305 000): reporting only, never a held-out grid of
   the targets: creep curves at the edges of what a table may be (:data:`STRESS_SHAPES`: a cliff just past the
   peak, a plateau with no falling branch, a shoulder before the peak, a peak with no knee before it, and a peak at
@@ -221,8 +222,8 @@
   before any agent played it, after the thirteenth had judged rule 129 (``--grids extremes_confirmation14``); it judged
   rule 130 (session 68).
 - ``suites/v2_extremes_confirmation15_grid.json`` (session 68, seeds from 643 000): a fifteenth such set, written
-  before any agent played it, after the fourteenth had judged rule 130 (``--grids extremes_confirmation15``), for the
-  next rule.
+  before any agent played it, after the fourteenth had judged rule 130 (``--grids extremes_confirmation15``); it judged
+  rule 131 (session 68).
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
@@ -321,7 +322,8 @@
   130 (session 68).
 - ``suites/v2_torque_confirmation24_grid.json``, ``suites/v2_torque_confirmation24_procedural_grid.json`` and
   ``suites/v2_torque_confirmation24_steep_grid.json`` (session 68, seeds 637 000, 639 000, 641 000): a twenty-fourth
-  such set, written before any agent played them, after the twenty-third had judged rule 130, for the next rule.
+  such set, written before any agent played them, after the twenty-third had judged rule 130; it judged rule
+  131 (session 68).
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
