@@ -167,6 +167,9 @@
   ``suites/v2_confirmation43_steep_grid.json`` (session 68, seeds 631 000, 633 000, 635 000): a forty-third such
   set, written before any agent played them, after the forty-second had judged rule 130; it judged rule 131 (session
   68).
+- ``suites/v2_confirmation44_grid.json``, ``suites/v2_confirmation44_procedural_grid.json`` and
+  ``suites/v2_confirmation44_steep_grid.json`` (session 68, seeds 651 000, 653 000, 655 000): a forty-fourth such
+  set, written before any agent played them, after the forty-third had judged rule 131, for the next rule.
 - ``suites/v2_stress_tables_grid.json`` (session 50, seeds from 305 000): reporting only, never a held-out grid of
   the targets: creep curves at the edges of what a table may be (:data:`STRESS_SHAPES`: a cliff just past the
   peak, a plateau with no falling branch, a shoulder before the peak, a peak with no knee before it, and a peak at
@@ -224,6 +227,9 @@
 - ``suites/v2_extremes_confirmation15_grid.json`` (session 68, seeds from 643 000): a fifteenth such set, written
   before any agent played it, after the fourteenth had judged rule 130 (``--grids extremes_confirmation15``); it judged
   rule 131 (session 68).
+- ``suites/v2_extremes_confirmation16_grid.json`` (session 68, seeds from 663 000): a sixteenth such set, written
+  before any agent played it, after the fifteenth had judged rule 131 (``--grids extremes_confirmation16``), for the
+  next rule.
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
@@ -690,7 +696,8 @@ ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", 
             "twenty-fourth ", "twenty-fifth ", "twenty-sixth ", "twenty-seventh ", "twenty-eighth ", "twenty-ninth ",
             "thirtieth ", "thirty-first ", "thirty-second ", "thirty-third ", "thirty-fourth ", "thirty-fifth ",
             "thirty-sixth ", "thirty-seventh ", "thirty-eighth ", "thirty-ninth ", "fortieth ", "forty-first ",
-            "forty-second ", "forty-third ")
+            "forty-second ", "forty-third ",
+            "forty-fourth ")
 
 # the confirmation sets, in the order they were written (the module docstring says when, and for which rule):
 # name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and steep grids; each was written
@@ -791,6 +798,9 @@ CONFIRMATION_SETS = {
     "confirmation43": (((0.06, 0.29, 0.53, 0.81, 0.93), (6.5, 18.5, 33.5), 631_000),
                        ((0.07, 0.42, 0.69, 0.9), (8.5, 21.5, 36.0), 633_000),
                        ((0.11, 0.44, 0.79), (6.0, 20.0, 37.0), 635_000)),
+    "confirmation44": (((0.05, 0.3, 0.56, 0.8, 0.94), (7.0, 18.0, 34.0), 651_000),
+                       ((0.09, 0.41, 0.67, 0.92), (8.0, 22.5, 36.5), 653_000),
+                       ((0.12, 0.45, 0.8), (7.5, 19.5, 36.0), 655_000)),
 }
 
 
@@ -885,7 +895,8 @@ EXTREMES_CONFIRMATION_SETS = {"extremes_confirmation": 361_000, "extremes_confir
                               "extremes_confirmation11": 563_000, "extremes_confirmation12": 583_000,
                               "extremes_confirmation13": 603_000,
                               "extremes_confirmation14": 623_000,
-                              "extremes_confirmation15": 643_000}
+                              "extremes_confirmation15": 643_000,
+                              "extremes_confirmation16": 663_000}
 GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0  # the golden ratio's fraction: a low-discrepancy sequence k x GOLDEN mod 1
 
 

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Rule 132's confirmation (docs/interrogator.md): G2.25 (runs/gate129c2.25) and the shipped agent on confirmation44 with
+# every encoder lagged 5, 10, 15, 20 and 30 ms and on extremes_confirmation16, then the rule's three checks
+set -e
+cd "$(dirname "$0")/../.."  # the repository root
+NAME=rule132G2.25
+BASE=rule132shipped
+SET=confirmation44
+EXTREMES=extremes_confirmation16
+S="--confirmation $SET torque_confirmation24 $EXTREMES --encoder-lag-only --more-encoder-lags 0.005 0.015 0.02 0.03"
+python experiments/validation_plays.py $NAME --run runs/gate129c2.25 $S
+python experiments/validation_plays.py $BASE $S
+GUARDS="cof_gym/agents/policies/interrogator/guard_0 cof_gym/agents/policies/interrogator/guard_1"
+for agent in "$NAME --run runs/gate129c2.25" "$BASE"; do  # the extremes set's play alone (validation_plays.py's form)
+  set -- $agent
+  python experiments/crest_tradeoff.py --guards $GUARDS --guards-only --targets 0.1 --stops --return-digits 4 \
+    --grids $EXTREMES "${@:2}" --records out/records_$1_$EXTREMES.json --out out/crest_tradeoff_$1_$EXTREMES.md
+done
+pairs_of() { for play in "$@"; do printf '%s\n' "out/records_${BASE}_$play.json" "out/records_${NAME}_$play.json"; done; }
+mapfile -t lags < <(pairs_of ${SET}_encoder_lag_s0.005 ${SET}_encoder_lag_s ${SET}_encoder_lag_s0.015 \
+  ${SET}_encoder_lag_s0.02)
+mapfile -t lag30 < <(pairs_of ${SET}_encoder_lag_s0.03)
+mapfile -t sharp < <(pairs_of $EXTREMES)
+python experiments/rule_check.py "${lags[@]}" --gain --errors --returns --family-wise --sign-test --discordant \
+  --more-runaways 1728 --out out/rule_check_rule132_confirmation_encoder_lags.md || true
+python experiments/rule_check.py "${lag30[@]}" --no-loss --errors --error-grid family --returns --family-wise \
+  --sign-test --discordant --more-runaways 432 --out out/rule_check_rule132_confirmation_encoder_lag30.md || true
+python experiments/rule_check.py "${sharp[@]}" --no-loss --errors --error-grid family --returns --family-wise \
+  --sign-test --discordant --more-runaways 2352 --out out/rule_check_rule132_confirmation.md || true
