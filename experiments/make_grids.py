@@ -169,7 +169,8 @@
   68).
 - ``suites/v2_confirmation44_grid.json``, ``suites/v2_confirmation44_procedural_grid.json`` and
   ``suites/v2_confirmation44_steep_grid.json`` (session 68, seeds 651 000, 653 000, 655 000): a forty-fourth such
-  set, written before any agent played them, after the forty-third had judged rule 131, for the next rule.
+  set, written before any agent played them, after the forty-third had judged rule 131; it judged rule 132 (session
+  68).
 - ``suites/v2_stress_tables_grid.json`` (session 50, seeds from 305 000): reporting only, never a held-out grid of
   the targets: creep curves at the edges of what a table may be (:data:`STRESS_SHAPES`: a cliff just past the
   peak, a plateau with no falling branch, a shoulder before the peak, a peak with no knee before it, and a peak at
@@ -228,8 +229,8 @@
   before any agent played it, after the fourteenth had judged rule 130 (``--grids extremes_confirmation15``); it judged
   rule 131 (session 68).
 - ``suites/v2_extremes_confirmation16_grid.json`` (session 68, seeds from 663 000): a sixteenth such set, written
-  before any agent played it, after the fifteenth had judged rule 131 (``--grids extremes_confirmation16``), for the
-  next rule.
+  before any agent played it, after the fifteenth had judged rule 131 (``--grids extremes_confirmation16``); it judged
+  rule 132 (session 68).
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env

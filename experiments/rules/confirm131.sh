@@ -8,14 +8,12 @@ NAME=rule131G2.25
 BASE=rule131shipped
 SET=confirmation43
 S="--confirmation $SET torque_confirmation24 extremes_confirmation15 --encoder-lag --more-encoder-lags 0.005 0.015 0.02 0.03"
-python experiments/validation_plays.py $NAME --run runs/gate129c2.25 $S
-python experiments/validation_plays.py $BASE $S
-pairs_of() { for play in "$@"; do printf '%s\n' "out/records_${BASE}_$play.json" "out/records_${NAME}_$play.json"; done; }
+. experiments/rules/gate_pairs.sh
+play_both $S
 mapfile -t five < <(pairs_of $SET ${SET}_noise_level ${SET}_motor_lag_s torque_confirmation24 extremes_confirmation15)
 mapfile -t lags < <(pairs_of ${SET}_encoder_lag_s0.005 ${SET}_encoder_lag_s ${SET}_encoder_lag_s0.015 \
   ${SET}_encoder_lag_s0.02)
 mapfile -t lag30 < <(pairs_of ${SET}_encoder_lag_s0.03)
-FAMILY_WISE="--errors --error-grid family --returns --family-wise --sign-test --discordant"
 python experiments/rule_check.py "${five[@]}" --no-loss $FAMILY_WISE --more-runaways 2352 \
   --out out/rule_check_rule131_confirmation.md || true
 python experiments/rule_check.py "${lags[@]}" --gain --fewer-runaways $FAMILY_WISE \

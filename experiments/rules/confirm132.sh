@@ -8,15 +8,14 @@ BASE=rule132shipped
 SET=confirmation44
 EXTREMES=extremes_confirmation16
 S="--confirmation $SET torque_confirmation24 $EXTREMES --encoder-lag-only --more-encoder-lags 0.005 0.015 0.02 0.03"
-python experiments/validation_plays.py $NAME --run runs/gate129c2.25 $S
-python experiments/validation_plays.py $BASE $S
+. experiments/rules/gate_pairs.sh
+play_both $S
 GUARDS="cof_gym/agents/policies/interrogator/guard_0 cof_gym/agents/policies/interrogator/guard_1"
 for agent in "$NAME --run runs/gate129c2.25" "$BASE"; do  # the extremes set's play alone (validation_plays.py's form)
   set -- $agent
   python experiments/crest_tradeoff.py --guards $GUARDS --guards-only --targets 0.1 --stops --return-digits 4 \
     --grids $EXTREMES "${@:2}" --records out/records_$1_$EXTREMES.json --out out/crest_tradeoff_$1_$EXTREMES.md
 done
-pairs_of() { for play in "$@"; do printf '%s\n' "out/records_${BASE}_$play.json" "out/records_${NAME}_$play.json"; done; }
 mapfile -t lags < <(pairs_of ${SET}_encoder_lag_s0.005 ${SET}_encoder_lag_s ${SET}_encoder_lag_s0.015 \
   ${SET}_encoder_lag_s0.02)
 mapfile -t lag30 < <(pairs_of ${SET}_encoder_lag_s0.03)
