@@ -33,7 +33,6 @@ recalibrates).
 
 from __future__ import annotations
 
-import json
 import shutil
 import sys
 from pathlib import Path
@@ -45,7 +44,7 @@ from crest_tradeoff import checked_climb, climb_item  # noqa: E402
 from train_interrogator import copy_networks, install_guards, require_networks  # noqa: E402
 
 from cof_gym.agents.interrogator import INTERVAL_FILE, SHIPPED_INTERROGATOR  # noqa: E402
-from cof_gym.agents.interrogator.agent import read_manifest  # noqa: E402
+from cof_gym.agents.interrogator.agent import read_manifest, write_manifest  # noqa: E402
 from cof_gym.agents.interrogator.networks import ensemble_files  # noqa: E402
 from cof_gym.commands.args import Parser  # noqa: E402
 
@@ -69,6 +68,11 @@ def install_smoothed(out: Path, filter_dir: Path, guards: list[Path], climb: dic
     return {"filter": f"{SMOOTHED_DIR}/filter", "guards": names, **({"climb": dict(climb)} if climb else {})}
 
 
+def smoothed_sources(filter_dir: Path, guards: list[Path]) -> dict:
+    """Where the smoothed-encoder networks were copied from, as a manifest's ``training`` records it."""
+    return {"filter": shown(filter_dir), "guards": [shown(g) for g in guards]}
+
+
 def assemble(filter_dir: Path, guards: list[Path], climb_from: Path, out: Path, smoothed_filter: Path | None = None,
              smoothed_guards: list[Path] = (), smoothed_climb: dict | None = None) -> dict:
     """Write the policy directory ``out`` (its networks and guards replaced, nothing else there kept) and return its
@@ -89,9 +93,8 @@ def assemble(filter_dir: Path, guards: list[Path], climb_from: Path, out: Path, 
         manifest["guards"] = names
     if smoothed_filter is not None:
         manifest["smoothed_encoder"] = install_smoothed(out, smoothed_filter, list(smoothed_guards), smoothed_climb)
-        manifest["training"]["assembled_from"][SMOOTHED_DIR] = {
-            "filter": shown(smoothed_filter), "guards": [shown(g) for g in smoothed_guards]}
-    (out / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n")
+        manifest["training"]["assembled_from"][SMOOTHED_DIR] = smoothed_sources(smoothed_filter, smoothed_guards)
+    write_manifest(out, manifest)
     return manifest
 
 
@@ -104,9 +107,9 @@ def add_smoothed(into: Path, smoothed_filter: Path, smoothed_guards: list[Path],
         shutil.rmtree(into / SMOOTHED_DIR)
     manifest["smoothed_encoder"] = install_smoothed(into, smoothed_filter, list(smoothed_guards), smoothed_climb)
     manifest.setdefault("training", {})[SMOOTHED_DIR] = {
-        "assembled_from": {"filter": shown(smoothed_filter), "guards": [shown(g) for g in smoothed_guards]}}
+        "assembled_from": smoothed_sources(smoothed_filter, smoothed_guards)}
     (into / INTERVAL_FILE).unlink(missing_ok=True)
-    (into / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n")
+    write_manifest(into, manifest)
     return manifest
 
 

@@ -48,7 +48,7 @@ from train_interrogator import (  # noqa: E402
     CONFIGS, ENCODER_LAGS_S, ENV_ID, fit_networks, parse_climbs, require_networks, split)
 
 from cof_gym.agents.interrogator import (  # noqa: E402
-    SHIPPED_INTERROGATOR, FilterEnsemble, manifest_climb, manifest_guards, read_manifest,
+    SHIPPED_INTERROGATOR, FilterEnsemble, manifest_climb, manifest_guards, read_manifest, write_manifest,
 )
 from cof_gym.commands.args import DistinctValues, Parser, positive_int, seed_int  # noqa: E402
 from cof_gym.task.creep_fit import coa_fell  # noqa: E402
@@ -92,7 +92,7 @@ def policy_with(policy: Path, changes: dict, out: Path) -> Path:
     shutil.copytree(policy, copy)
     manifest = read_manifest(copy)
     manifest["climb"] = {**manifest.get("climb", {}), **changes}
-    (copy / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n")
+    write_manifest(copy, manifest)
     return copy
 
 

@@ -116,6 +116,7 @@ import numpy as np
 import cof_gym
 from cof_gym.agents.interrogator import (
     INTERVAL_FILE, SHIPPED_INTERROGATOR, ClimbParameters, FilterEnsemble, FilterNetwork, interrogator_for, manifest_climb,
+    write_manifest,
 )
 from cof_gym.agents.interrogator.networks import ensemble_files, member_files
 from cof_gym.agents.interrogator.training import (
@@ -829,7 +830,7 @@ def main() -> None:
     chosen = {**chosen, **ADOPTED_CLIMB}
     manifest = recipe_manifest(args, training, settings, chosen, guard_names)
     for r in runs:
-        (r / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n")
+        write_manifest(r, manifest)
     report = report_runs(runs, args.workers)
     text = ["# Learned interrogator: seeds, selection and report", "",
             f"Command: `python experiments/train_interrogator.py {' '.join(sys.argv[1:])}` ({time.time() - t0:.0f} s on "

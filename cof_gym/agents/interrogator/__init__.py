@@ -241,7 +241,7 @@ from cof_gym.agents.interrogator.caution import (
 )
 from cof_gym.agents.interrogator.agent import (
     SHIPPED_INTERROGATOR, WORLD_KWARGS, WindowDecision, NetworkSet, LearnedInterrogator, read_manifest, manifest_climb,
-    manifest_networks, manifest_guards, manifest_smoothed_networks, interrogator_for, load_interrogator,
+    write_manifest, manifest_networks, manifest_guards, manifest_smoothed_networks, interrogator_for, load_interrogator,
 )
 
 __all__ = [
@@ -263,7 +263,8 @@ __all__ = [
     "check_coverage", "conformal_quantile", "enough_for", "two_sided_score", "lower_score", "IntervalScales", "ESTIMATE_SOURCES", "HEADROOM_STOPS", "AT_HEADROOM", "KNEE_STOPS",
     "GUARDED_ESTIMATES", "ESTIMATOR_ESTIMATES", "TWO_TONE_ENV_OPTIONS", "CREST_RATIO_FLOOR",
     "speed_scaled_frequency", "floor_headroom", "ClimbParameters", "SHIPPED_INTERROGATOR", "WORLD_KWARGS",
-    "WindowDecision", "NetworkSet", "LearnedInterrogator", "read_manifest", "manifest_climb", "manifest_networks",
+    "WindowDecision", "NetworkSet", "LearnedInterrogator", "read_manifest", "write_manifest", "manifest_climb",
+    "manifest_networks",
     "manifest_guards", "manifest_smoothed_networks", "interrogator_for", "load_interrogator", "CAUTION_SPAN",
     "CAUTION_POLICY_FILE", "cautioned",
     "CautionPolicy", "CLIMB_STATE_FIELDS",

@@ -597,10 +597,18 @@ class LearnedInterrogator:
         return best
 
 
+MANIFEST_FILE = "manifest.json"  # a policy directory's climb, training distribution and named networks
+
+
 def read_manifest(directory: Path) -> dict[str, Any]:
     """``directory/manifest.json`` (the climb's parameters, the training distribution), {} if absent."""
-    manifest_file = Path(directory) / "manifest.json"
+    manifest_file = Path(directory) / MANIFEST_FILE
     return json.loads(manifest_file.read_text()) if manifest_file.is_file() else {}
+
+
+def write_manifest(directory: Path, manifest: dict[str, Any]) -> None:
+    """Write ``manifest`` as ``directory/manifest.json`` (indented, as read_manifest reads it)."""
+    (Path(directory) / MANIFEST_FILE).write_text(json.dumps(manifest, indent=2) + "\n")
 
 
 def manifest_climb(directory: Path) -> ClimbParameters:
