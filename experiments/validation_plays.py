@@ -132,6 +132,8 @@ def build_parser() -> Parser:
     parser.add_argument("--more-encoder-lags", nargs="+", type=float, default=None, metavar="S",
                         help="also the plays with every episode's encoder lagged S seconds (0 < S <= "
                              f"{ENCODER_LAG_MAX_S:g}; PLAY encoder_lag_sS, or SET_encoder_lag_sS with --confirmation)")
+    parser.add_argument("--only", nargs="+", default=None, metavar="PLAY",
+                        help="only these of the plays the other options ask for (PLAY as in the records' names)")
     parser.add_argument("--print", action="store_true", help="print the commands, play nothing")
     return parser
 
@@ -154,6 +156,11 @@ def commands_of(parser: Parser, args: argparse.Namespace) -> list[list[str]]:
             if not 0.0 < lag <= ENCODER_LAG_MAX_S:  # also refuses NaN
                 parser.error(f"--more-encoder-lags: each lag must be in (0, {ENCODER_LAG_MAX_S:g}] s, got {lag:g}")
         plays = {**plays, **stressed(grid_set, prefix, encoder_stresses(args.more_encoder_lags))}
+    if args.only is not None:
+        unknown = [play for play in args.only if play not in plays]
+        if unknown:
+            parser.error(f"--only: {unknown[0]!r} is none of the plays asked for ({', '.join(plays)})")
+        plays = {play: grids for play, grids in plays.items() if play in args.only}
     if args.hand_built:
         if any(v is not None for v in (args.name, args.caution_policy, args.estimators, args.set, args.run,
                                        args.guards)):

@@ -79,6 +79,7 @@ CASES = [
      "--confirmation"),  # a set of another kind in the torque set's place
     ("validation_plays", ["c", "--more-encoder-lags", "0"], "--more-encoder-lags"),
     ("validation_plays", ["c", "--more-encoder-lags", "nan"], "--more-encoder-lags"),
+    ("validation_plays", ["c", "--only", "encoder_lag_s"], "--only"),  # not asked for without --encoder-lag
     ("select_phase_rule", ["--workers", "0"], "--workers"),
     ("select_phase_rule", ["--out", "{dir}"], "--out"),
     ("select_robust_model", ["--workers", "-1"], "--workers"),

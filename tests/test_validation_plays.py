@@ -81,6 +81,13 @@ def test_more_encoder_lags_add_a_play_each_named_by_its_lag() -> None:
         "encoder_lag_s=0.01", "encoder_lag_s=0.005", "encoder_lag_s=0.02"]
 
 
+def test_only_keeps_the_named_plays_in_their_order() -> None:
+    commands = _commands("cand", "--encoder-lag", "--more-encoder-lags", "0.02", "--only", "encoder_lag_s0.02",
+                         "validation")
+    assert [c[c.index("--records") + 1] for c in commands] == [
+        "out/records_cand_validation.json", "out/records_cand_encoder_lag_s0.02.json"]
+
+
 def test_a_candidate_reads_estimators_with_a_climb_setting() -> None:
     estimators = "cof_gym/agents/policies/interrogator/guard_0"
     for command in _commands("cand", "--estimators", estimators, "--set", "estimate_from=estimator"):

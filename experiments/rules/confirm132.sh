@@ -7,17 +7,11 @@ NAME=rule132G2.25
 BASE=rule132shipped
 SET=confirmation44
 EXTREMES=extremes_confirmation16
-S="--confirmation $SET torque_confirmation24 $EXTREMES --encoder-lag-only --more-encoder-lags 0.005 0.015 0.02 0.03"
+S="--confirmation $SET torque_confirmation24 $EXTREMES --encoder-lag --more-encoder-lags 0.005 0.015 0.02 0.03"
+LAGGED="${SET}_encoder_lag_s0.005 ${SET}_encoder_lag_s ${SET}_encoder_lag_s0.015 ${SET}_encoder_lag_s0.02"
 . experiments/rules/gate_pairs.sh
-play_both $S
-GUARDS="cof_gym/agents/policies/interrogator/guard_0 cof_gym/agents/policies/interrogator/guard_1"
-for agent in "$NAME --run runs/gate129c2.25" "$BASE"; do  # the extremes set's play alone (validation_plays.py's form)
-  set -- $agent
-  python experiments/crest_tradeoff.py --guards $GUARDS --guards-only --targets 0.1 --stops --return-digits 4 \
-    --grids $EXTREMES "${@:2}" --records out/records_$1_$EXTREMES.json --out out/crest_tradeoff_$1_$EXTREMES.md
-done
-mapfile -t lags < <(pairs_of ${SET}_encoder_lag_s0.005 ${SET}_encoder_lag_s ${SET}_encoder_lag_s0.015 \
-  ${SET}_encoder_lag_s0.02)
+play_both $S --only $LAGGED ${SET}_encoder_lag_s0.03 $EXTREMES  # the lagged plays and the extremes set's alone
+mapfile -t lags < <(pairs_of $LAGGED)
 mapfile -t lag30 < <(pairs_of ${SET}_encoder_lag_s0.03)
 mapfile -t sharp < <(pairs_of $EXTREMES)
 python experiments/rule_check.py "${lags[@]}" --gain --errors --returns --family-wise --sign-test --discordant \
