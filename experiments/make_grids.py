@@ -171,6 +171,9 @@
   ``suites/v2_confirmation44_steep_grid.json`` (session 68, seeds 651 000, 653 000, 655 000): a forty-fourth such
   set, written before any agent played them, after the forty-third had judged rule 131; it judged rule 132 (session
   68).
+- ``suites/v2_confirmation45_grid.json``, ``suites/v2_confirmation45_procedural_grid.json`` and
+  ``suites/v2_confirmation45_steep_grid.json`` (session 69, seeds 671 000, 673 000, 675 000): a forty-fifth such
+  set, written before any agent played them, after the forty-fourth had judged rule 132, for the next rule.
 - ``suites/v2_stress_tables_grid.json`` (session 50, seeds from 305 000): reporting only, never a held-out grid of
   the targets: creep curves at the edges of what a table may be (:data:`STRESS_SHAPES`: a cliff just past the
   peak, a plateau with no falling branch, a shoulder before the peak, a peak with no knee before it, and a peak at
@@ -231,6 +234,9 @@
 - ``suites/v2_extremes_confirmation16_grid.json`` (session 68, seeds from 663 000): a sixteenth such set, written
   before any agent played it, after the fifteenth had judged rule 131 (``--grids extremes_confirmation16``); it judged
   rule 132 (session 68).
+- ``suites/v2_extremes_confirmation17_grid.json`` (session 69, seeds from 683 000): a seventeenth such set, written
+  before any agent played it, after the sixteenth had judged rule 132 (``--grids extremes_confirmation17``), for the
+  next rule.
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
@@ -698,7 +704,7 @@ ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", 
             "thirtieth ", "thirty-first ", "thirty-second ", "thirty-third ", "thirty-fourth ", "thirty-fifth ",
             "thirty-sixth ", "thirty-seventh ", "thirty-eighth ", "thirty-ninth ", "fortieth ", "forty-first ",
             "forty-second ", "forty-third ",
-            "forty-fourth ")
+            "forty-fourth ", "forty-fifth ")
 
 # the confirmation sets, in the order they were written (the module docstring says when, and for which rule):
 # name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and steep grids; each was written
@@ -802,6 +808,9 @@ CONFIRMATION_SETS = {
     "confirmation44": (((0.05, 0.3, 0.56, 0.8, 0.94), (7.0, 18.0, 34.0), 651_000),
                        ((0.09, 0.41, 0.67, 0.92), (8.0, 22.5, 36.5), 653_000),
                        ((0.12, 0.45, 0.8), (7.5, 19.5, 36.0), 655_000)),
+    "confirmation45": (((0.04, 0.28, 0.55, 0.81, 0.95), (6.5, 17.5, 33.0), 671_000),
+                       ((0.08, 0.43, 0.66, 0.91), (9.0, 21.5, 37.0), 673_000),
+                       ((0.13, 0.44, 0.82), (6.0, 20.5, 36.5), 675_000)),
 }
 
 
@@ -897,7 +906,8 @@ EXTREMES_CONFIRMATION_SETS = {"extremes_confirmation": 361_000, "extremes_confir
                               "extremes_confirmation13": 603_000,
                               "extremes_confirmation14": 623_000,
                               "extremes_confirmation15": 643_000,
-                              "extremes_confirmation16": 663_000}
+                              "extremes_confirmation16": 663_000,
+                              "extremes_confirmation17": 683_000}
 GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0  # the golden ratio's fraction: a low-discrepancy sequence k x GOLDEN mod 1
 
 

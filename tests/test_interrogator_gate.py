@@ -4,6 +4,7 @@ smoothed encoder, from the decision where the sensor note is final; every other 
 from __future__ import annotations
 
 import json
+import math
 import shutil
 from dataclasses import replace
 
@@ -14,9 +15,10 @@ import pytest
 import cof_gym
 from cof_gym.agents.base import agent_view
 from cof_gym.agents.interrogator import (
-    NOISE_WINDOWS, SHIPPED_INTERROGATOR, SMOOTHED_ENCODER, TARGET_NAMES, FilterEnsemble, FilterNetwork, NetworkSet,
-    interrogator_for, manifest_smoothed_networks,
+    NOISE_WINDOWS, SHIPPED_INTERROGATOR, SMOOTHED_ENCODER, TARGET_NAMES, ClimbParameters, FilterEnsemble, FilterNetwork,
+    NetworkSet, interrogator_for, manifest_smoothed_networks,
 )
+from cof_gym.agents.interrogator.readings import drive_lag_s, first_windows_drive_lag_s
 
 from interrogator_helpers import SHIPPED
 
@@ -169,3 +171,43 @@ def test_the_gates_climb_parameters_change_its_decisions_alone(shipped):
         replace(shipped, smoothed_networks=NetworkSet(shipped.ensemble, shipped.guards, {"caution": -1.0}))
     with pytest.raises(ValueError, match="smoothed_networks: climb"):
         replace(shipped, smoothed_networks=NetworkSet(shipped.ensemble, shipped.guards, {"no_such_parameter": 1}))
+
+
+@pytest.mark.parametrize("frequency_hz", [2.0, 5.0, 20.0])
+@pytest.mark.parametrize("lag_s", [0.001, 0.03, 0.1])
+def test_the_drive_lag_read_inverts_a_first_order_drives_gain(lag_s, frequency_hz):
+    """A first-order drive passes 1 / sqrt(1 + (w tau)^2) of a modulation: that fraction reads tau back (to rounding);
+    a fraction of 1 or more (a torque gain error) reads no lag."""
+    fraction = 1.0 / math.sqrt(1.0 + (2.0 * math.pi * frequency_hz * lag_s) ** 2)
+    assert drive_lag_s(fraction, frequency_hz) == pytest.approx(lag_s, rel=1e-9)
+    assert drive_lag_s(1.0, frequency_hz) == 0.0 and drive_lag_s(1.07, frequency_hz) == 0.0
+
+
+def test_the_drive_lag_is_read_from_the_first_windows_median_and_bad_input_is_refused():
+    fast, slow = (1.0 / math.sqrt(1.0 + (2.0 * math.pi * 5.0 * lag) ** 2) for lag in (0.01, 0.06))
+    assert first_windows_drive_lag_s([fast, slow, slow, fast, fast], 5.0) == pytest.approx(0.06)  # windows 1-3 alone
+    assert first_windows_drive_lag_s([], 5.0) == 0.0
+    for fraction, frequency, field in ((0.0, 5.0, "applied_fraction"), (math.nan, 5.0, "applied_fraction"),
+                                       (0.5, 0.0, "frequency_hz")):
+        with pytest.raises(ValueError, match=field):
+            drive_lag_s(fraction, frequency)
+    with pytest.raises(ValueError, match="gate_max_drive_lag_s"):
+        ClimbParameters(gate_max_drive_lag_s=0.0)
+
+
+def test_a_drive_bound_keeps_a_slow_drives_climb_from_the_gate_and_no_other():
+    """With gate_max_drive_lag_s a smoothed encoder behind a drive slower than it plays as the ungated climb (its
+    sensor note as before); behind a faster one the gate steers it as without the bound."""
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    shipped = interrogator_for(env, SHIPPED_INTERROGATOR)
+    other = NetworkSet(constant_ensemble(shipped.ensemble, 0.5), shipped.guards)
+    bounded = replace(shipped, params=replace(shipped.params, gate_max_drive_lag_s=0.04), smoothed_networks=other)
+    unbounded = replace(bounded, params=shipped.params)
+    assert not bounded.params.gates_drive([0.5] * NOISE_WINDOWS, 5.0) and shipped.params.gates_drive([0.5], 5.0)
+    slow = {**LAGGED, "motor_lag_s": 0.06}
+    np.testing.assert_array_equal(played(bounded, slow), played(shipped, slow))
+    assert not bounded.gated and bounded.sensor_notes() == (SMOOTHED_ENCODER,)
+    assert not np.array_equal(played(unbounded, slow), played(shipped, slow)) and unbounded.gated
+    fast = {**LAGGED, "motor_lag_s": 0.02}
+    np.testing.assert_array_equal(played(bounded, fast), played(unbounded, fast))
+    assert bounded.gated

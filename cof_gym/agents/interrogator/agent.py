@@ -146,8 +146,10 @@ class LearnedInterrogator:
     def gated(self) -> bool:
         """Whether :attr:`smoothed_networks` steer and estimate the climb from here on: it has them, its first
         :data:`~cof_gym.agents.interrogator.readings.NOISE_WINDOWS` driven windows are read (the sensor note is
-        final) and they read a smoothed encoder (:meth:`sensor_notes`)."""
-        return self.smoothed_networks is not None and self._driven >= NOISE_WINDOWS and self._smoothed
+        final) and they read a smoothed encoder (:meth:`sensor_notes`) behind a drive the climb may hand them
+        (:meth:`ClimbParameters.gates_drive`)."""
+        return (self.smoothed_networks is not None and self._driven >= NOISE_WINDOWS and self._smoothed
+                and self.params.gates_drive(self._applied_fractions, self._frequency))
 
     def _steering_networks(self) -> tuple[NetworkSet, tuple[EpisodeFeatures, ...]]:
         """The filter and guards that read the window just driven, with their features: the smoothed-encoder

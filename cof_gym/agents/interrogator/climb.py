@@ -9,7 +9,8 @@ from typing import Any
 
 import numpy as np
 
-from cof_gym.agents.interrogator.readings import Reading, first_windows_noise_nms, gain_from_balance
+from cof_gym.agents.interrogator.readings import (Reading, first_windows_drive_lag_s, first_windows_noise_nms,
+                                                  gain_from_balance)
 from cof_gym.agents.phase_rule import PhaseRule, knee_seen, probe_amplitude
 from cof_gym.task.excitation import encode_extra_tones
 from cof_gym.task.interface import MotorLimits, encode_action
@@ -82,6 +83,7 @@ OPTIONAL_BOUNDED_FIELDS: dict[str, tuple[float, float, bool, str]] = {
     "crest_probe_max_noise_ratio": (1.0, math.inf, False, ""),
     "lag_floor": (0.0, 1.0, True, ""),
     "crest_probe_lag_rise_deg": (0.0, 180.0, False, " deg"),
+    "gate_max_drive_lag_s": (0.0, math.inf, True, " s"),
 }
 
 
@@ -160,6 +162,9 @@ class ClimbParameters:
     # not None: ... only where that window's lag is at most this (deg): a wheel that settles within the window
     # (its time constant is tan(lag) / (2 pi f), Eq. 3); above it the torque readings stay as read
     torque_balance_max_lag_deg: float | None = None
+    # not None: smoothed-encoder networks take the climb only where its first windows read a drive no slower than
+    # this (s; gates_drive): past the drives the networks were fitted on, a residual's colour is not the encoder's
+    gate_max_drive_lag_s: float | None = None
 
     def __post_init__(self) -> None:
         if self.estimate_from not in ESTIMATE_SOURCES:
@@ -226,6 +231,14 @@ class ClimbParameters:
             return 1.0
         noise = first_windows_noise_nms(readings, self.noise_se_reported, self.noise_torque_measured)
         return max(1.0, noise / self.noise_reference_nms)
+
+    def gates_drive(self, applied_fractions: list[float], frequency_hz: float) -> bool:
+        """Whether a climb whose first driven windows measured these ``applied_fractions`` of the commanded
+        modulation at ``frequency_hz`` may be handed to smoothed-encoder networks: its drive's time constant as they
+        read it (:func:`~cof_gym.agents.interrogator.readings.first_windows_drive_lag_s`) at most
+        ``gate_max_drive_lag_s``; always without it."""
+        return (self.gate_max_drive_lag_s is None
+                or first_windows_drive_lag_s(applied_fractions, frequency_hz) <= self.gate_max_drive_lag_s)
 
     def at_noise(self, ratio: float) -> "ClimbParameters":
         """The climb at a read noise ``ratio`` times the reference (:meth:`noise_ratio`): ``caution`` and every

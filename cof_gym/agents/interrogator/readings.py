@@ -14,6 +14,7 @@ from cof_gym.measurement.sine_fit import NO_SE_DEG, SMOOTHED_NOISE_COLOUR, noise
 from cof_gym.physics.simulation import COA_CYCLE_FIELDS
 from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES, SPEED_SCALE_M_S, MotorLimits
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
+from cof_gym.validation import check_number
 
 _INDEX = {name: OBSERVATION_NAMES.index(name) for name in OBSERVATION_NAMES}
 PHASE_CLIP_DEG = (1.0, 89.0)  # the slope index ln cot(phase) is finite within these
@@ -260,6 +261,24 @@ def first_windows_noise_colour(readings: list[Reading]) -> float:
     climb's first window, at its smallest modulation, does not reach: the least is the smoothing's."""
     colours = [c for c in (r.noise_colour for r in readings[:NOISE_WINDOWS]) if c > 0.0]
     return float(np.min(colours)) if colours else 0.0
+
+
+def drive_lag_s(applied_fraction: float, frequency_hz: float) -> float:
+    """The time constant (s) of a first-order drive that applies ``applied_fraction`` of a modulation commanded at
+    ``frequency_hz``: ``sqrt(1 / a^2 - 1) / (2 pi f)`` from its gain ``a = 1 / sqrt(1 + (2 pi f tau)^2)``; 0 where
+    it applies all of it or more (a torque reading's gain error or noise), ValueError where the fraction is not a
+    positive finite number or the frequency not positive."""
+    check_number("applied_fraction", applied_fraction, 0.0, math.inf, low_open=True)
+    check_number("frequency_hz", frequency_hz, 0.0, math.inf, low_open=True, unit=" Hz")
+    return math.sqrt(max(applied_fraction ** -2 - 1.0, 0.0)) / (2.0 * math.pi * frequency_hz)
+
+
+def first_windows_drive_lag_s(applied_fractions: list[float], frequency_hz: float) -> float:
+    """The drive's time constant (s) a climb reads from its first :data:`NOISE_WINDOWS` driven windows: the
+    :func:`drive_lag_s` of the median fraction of the commanded modulation their torque readings measured
+    (``applied_fractions``, calibrated as the climb calibrates its torque readings); 0 where none was measured."""
+    fractions = applied_fractions[:NOISE_WINDOWS]
+    return drive_lag_s(float(np.median(fractions)), frequency_hz) if fractions else 0.0
 
 
 def reads_smoothed_encoder(readings: list[Reading]) -> bool:
