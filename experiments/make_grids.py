@@ -173,7 +173,8 @@
   68).
 - ``suites/v2_confirmation45_grid.json``, ``suites/v2_confirmation45_procedural_grid.json`` and
   ``suites/v2_confirmation45_steep_grid.json`` (session 69, seeds 671 000, 673 000, 675 000): a forty-fifth such
-  set, written before any agent played them, after the forty-fourth had judged rule 132, for the next rule.
+  set, written before any agent played them, after the forty-fourth had judged rule 132; it judged rule 133 (session
+  69).
 - ``suites/v2_stress_tables_grid.json`` (session 50, seeds from 305 000): reporting only, never a held-out grid of
   the targets: creep curves at the edges of what a table may be (:data:`STRESS_SHAPES`: a cliff just past the
   peak, a plateau with no falling branch, a shoulder before the peak, a peak with no knee before it, and a peak at
@@ -235,8 +236,8 @@
   before any agent played it, after the fifteenth had judged rule 131 (``--grids extremes_confirmation16``); it judged
   rule 132 (session 68).
 - ``suites/v2_extremes_confirmation17_grid.json`` (session 69, seeds from 683 000): a seventeenth such set, written
-  before any agent played it, after the sixteenth had judged rule 132 (``--grids extremes_confirmation17``), for the
-  next rule.
+  before any agent played it, after the sixteenth had judged rule 132 (``--grids extremes_confirmation17``); it judged
+  rule 133 (session 69).
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
