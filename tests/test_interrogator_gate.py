@@ -15,8 +15,8 @@ import pytest
 import cof_gym
 from cof_gym.agents.base import agent_view
 from cof_gym.agents.interrogator import (
-    NOISE_WINDOWS, SHIPPED_INTERROGATOR, SMOOTHED_ENCODER, TARGET_NAMES, ClimbParameters, FilterEnsemble, FilterNetwork,
-    NetworkSet, interrogator_for, manifest_smoothed_networks,
+    NOISE_WINDOWS, SHIPPED_INTERROGATOR, SLOW_DRIVE, SMOOTHED_ENCODER, TARGET_NAMES, ClimbParameters, FilterEnsemble,
+    FilterNetwork, NetworkSet, interrogator_for, manifest_smoothed_networks,
 )
 from cof_gym.agents.interrogator.readings import drive_lag_s, first_windows_drive_lag_s
 
@@ -206,7 +206,7 @@ def test_a_drive_bound_keeps_a_slow_drives_climb_from_the_gate_and_no_other():
     assert not bounded.params.gates_drive([0.5] * NOISE_WINDOWS, 5.0) and shipped.params.gates_drive([0.5], 5.0)
     slow = {**LAGGED, "motor_lag_s": 0.06}
     np.testing.assert_array_equal(played(bounded, slow), played(shipped, slow))
-    assert not bounded.gated and bounded.sensor_notes() == (SMOOTHED_ENCODER,)
+    assert not bounded.gated and bounded.sensor_notes() == (SMOOTHED_ENCODER, SLOW_DRIVE)
     assert not np.array_equal(played(unbounded, slow), played(shipped, slow)) and unbounded.gated
     fast = {**LAGGED, "motor_lag_s": 0.02}
     np.testing.assert_array_equal(played(bounded, fast), played(unbounded, fast))

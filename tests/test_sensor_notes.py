@@ -1,6 +1,6 @@
 """What the learned interrogator's own readings say lies outside the sensors it was fitted on (its
-``sensor_notes()``): a smoothed encoder, read from the colour of the speed residual's noise; and how ``cof-gym
-evaluate`` records and reports it."""
+``sensor_notes()``): a smoothed encoder, read from the colour of the speed residual's noise, and a slow drive, read
+from the modulation it applied; and how ``cof-gym evaluate`` records and reports them."""
 
 from __future__ import annotations
 
@@ -14,9 +14,10 @@ import pytest
 import cof_gym
 from cof_gym.agents import registry
 from cof_gym.agents.interrogator.readings import (
-    COLOUR_NOISE_FLOOR_NMS, NOISE_WINDOWS, SE_REPORTED_MAX_DEG, SMOOTHED_ENCODER, first_windows_noise_colour,
-    reads_smoothed_encoder,
+    COLOUR_NOISE_FLOOR_NMS, NOISE_WINDOWS, SE_REPORTED_MAX_DEG, SLOW_DRIVE, SLOW_DRIVE_LAG_S, SMOOTHED_ENCODER,
+    first_windows_noise_colour, reads_slow_drive, reads_smoothed_encoder,
 )
+from cof_gym.task.scenarios import ScenarioRanges
 from cof_gym.commands.suites import make_suite
 from cof_gym.commands.evaluate import sensor_notes
 from cof_gym.commands.evaluate_episodes import run_episode
@@ -87,6 +88,34 @@ def test_the_shipped_interrogator_notes_a_smoothed_encoder_and_evaluate_records_
     assert sensor_notes([record]) == ([] if not notes else [
         f"interrogator read its sensors outside those it was fitted on ({SMOOTHED_ENCODER}) in 1 of 1 episodes: "
         "its estimate there is an extrapolation"])
+
+
+def test_a_slow_drive_is_one_slower_than_the_draws_by_more_than_the_readings_spread():
+    """The draws' slowest drive passes about 73 % of a 5 Hz modulation: not slow; one passing half of it (52 ms) is."""
+    def passed(lag_s: float) -> float:
+        return 1.0 / math.sqrt(1.0 + (2.0 * math.pi * 5.0 * lag_s) ** 2)
+
+    slowest = ScenarioRanges().motor_lag_s[1]
+    assert SLOW_DRIVE_LAG_S > slowest
+    assert not reads_slow_drive([passed(slowest)] * NOISE_WINDOWS, 5.0)
+    assert reads_slow_drive([0.5] * NOISE_WINDOWS, 5.0)
+    assert not reads_slow_drive([0.5, 1.0, 1.0], 5.0) and not reads_slow_drive([], 5.0)  # the median; none read
+
+
+@pytest.mark.skipif(not SHIPPED, reason="no shipped interrogator in this checkout")
+@pytest.mark.parametrize("options, notes", [
+    ({"motor_lag_s": 0.03}, ""),
+    ({"motor_lag_s": 0.06}, SLOW_DRIVE),
+    ({"motor_lag_s": 0.06, "encoder_lag_s": 0.005}, f"{SMOOTHED_ENCODER}; {SLOW_DRIVE}"),
+])
+def test_the_shipped_interrogator_notes_a_drive_slower_than_the_draws(options, notes):
+    """The drive's lag read from the modulation it applied: the draws' slowest drive (30 ms) is not noted, one of
+    60 ms is, beside a smoothed encoder where the speed signal is lagged too."""
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    agent = registry.make_agent("interrogator", env)
+    record = run_episode(env, agent, 11, options, 0)
+    env.close()
+    assert record.sensor_notes == notes
 
 
 @pytest.mark.skipif(not SHIPPED, reason="no shipped interrogator in this checkout")

@@ -22,7 +22,7 @@ from cof_gym.agents.interrogator.features import EpisodeFeatures
 from cof_gym.agents.interrogator.interval import NOISY, NOISY_RATIO, SMOOTHED, IntervalScales, sensor_group
 from cof_gym.agents.interrogator.networks import FilterEnsemble, pooled_correction, pooled_std
 from cof_gym.agents.interrogator.readings import (
-    NOISE_WINDOWS, SMOOTHED_ENCODER, Reading, reads_smoothed_encoder,
+    NOISE_WINDOWS, SLOW_DRIVE, SMOOTHED_ENCODER, Reading, reads_slow_drive, reads_smoothed_encoder,
 )
 from cof_gym.agents.runaway import CrestCeiling, RunawayBracket
 from cof_gym.agents.staircase import ElasticityClimb
@@ -100,6 +100,7 @@ class LearnedInterrogator:
     _stuck: bool = False  # a slow-probe step has made the probe sticky (ClimbParameters.sticks_from)
     _noise_ratio: float = 1.0  # the noise the climb's first windows read over the reference (noise_ratio)
     _smoothed: bool = False  # whether the first windows read a smoothed encoder (reads_smoothed_encoder)
+    _slow_drive: bool = False  # whether the first windows read a drive slower than the draws' (reads_slow_drive)
     _ratio: float | None = None  # the modulation ratio of the next window (None: the climb's amplitude_ratio)
     _held_crest: float | None = None  # the torque crest the probe holds (N m; crest_probe_hold_crest)
     _frequency: float | None = None  # the episode's modulation frequency (Hz), from the first observation's speed
@@ -214,6 +215,7 @@ class LearnedInterrogator:
         self._stuck = False
         self._noise_ratio = 1.0
         self._smoothed = False
+        self._slow_drive = False
         self._ratio = None
         self._held_crest = None
         self._frequency = None
@@ -298,9 +300,12 @@ class LearnedInterrogator:
         """What this episode's own readings say lies outside the sensors the networks were fitted on:
         :data:`~cof_gym.agents.interrogator.readings.SMOOTHED_ENCODER` where the climb's first windows show a
         smoothed speed signal (:func:`~cof_gym.agents.interrogator.readings.reads_smoothed_encoder`: the networks
-        met white encoder noise only, and a smoothing adds its delay to every phase lag); none where the readings are
-        like the training climbs'. Sensor readings only: a train can tell this without knowing its scenario."""
-        return (SMOOTHED_ENCODER,) if self._smoothed else ()
+        met white encoder noise only, and a smoothing adds its delay to every phase lag),
+        :data:`~cof_gym.agents.interrogator.readings.SLOW_DRIVE` where they show a drive slower than the draws'
+        (:func:`~cof_gym.agents.interrogator.readings.reads_slow_drive`: from the modulation the drive applied); none
+        where the readings are like the training climbs'. Sensor readings only: a train can tell this without knowing
+        its scenario."""
+        return tuple(note for note, read in ((SMOOTHED_ENCODER, self._smoothed), (SLOW_DRIVE, self._slow_drive)) if read)
 
     @property
     def sensor_class(self) -> str:
@@ -466,6 +471,7 @@ class LearnedInterrogator:
             features.push(reading)
         self._noise_ratio = params.noise_ratio(self.features.readings)
         self._smoothed = reads_smoothed_encoder(self.features.readings)
+        self._slow_drive = reads_slow_drive(self._applied_fractions, self._frequency)
         if self.gated and self.smoothed_networks.climb:
             params = replace(params, **self.smoothed_networks.climb)
         p = params.at_noise(self._noise_ratio)

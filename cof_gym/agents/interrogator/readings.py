@@ -13,6 +13,7 @@ from cof_gym.agents.runaway import crest_lower_bound
 from cof_gym.measurement.sine_fit import NO_SE_DEG, SMOOTHED_NOISE_COLOUR, noise_colour
 from cof_gym.physics.simulation import COA_CYCLE_FIELDS
 from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES, SPEED_SCALE_M_S, MotorLimits
+from cof_gym.task.scenarios import ScenarioRanges
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 from cof_gym.validation import check_number
 
@@ -29,6 +30,14 @@ SMOOTHED_ENCODER = "smoothed encoder"
 # climb's (at least 0.0015, experiments/noise_colour_reading.py), about six times the noiseless paper setting's
 # (at most 1.7e-4 over its 60 episodes; session 65)
 COLOUR_NOISE_FLOOR_NMS = 1e-3
+# the sensor note of a climb whose first windows read a drive slower than any the networks were fitted on
+# (LearnedInterrogator.sensor_notes, reads_slow_drive)
+SLOW_DRIVE = "slow drive"
+# the drive lag (s, first_windows_drive_lag_s) above which a climb reads a drive slower than the v2 draws' slowest
+# (ScenarioRanges().motor_lag_s, 0.03 s): that lag with 10 ms for the reading's spread, which lay within -3.3 and
+# +3.2 ms of the truth on 360 climbs with drives of 20 and 30 ms and the sensors as the draws give them (session 69,
+# docs/interrogator.md, rule 133)
+SLOW_DRIVE_LAG_S = ScenarioRanges().motor_lag_s[1] + 0.01
 COMPLIANCE_CLIP = (1e-3, 0.999)  # the slope from the compliance, sqrt(1 / C^2 - 1), is finite within these
 
 
@@ -279,6 +288,13 @@ def first_windows_drive_lag_s(applied_fractions: list[float], frequency_hz: floa
     (``applied_fractions``, calibrated as the climb calibrates its torque readings); 0 where none was measured."""
     fractions = applied_fractions[:NOISE_WINDOWS]
     return drive_lag_s(float(np.median(fractions)), frequency_hz) if fractions else 0.0
+
+
+def reads_slow_drive(applied_fractions: list[float], frequency_hz: float) -> bool:
+    """Whether a climb's first driven windows, which measured these ``applied_fractions`` of the modulation commanded
+    at ``frequency_hz``, read a drive slower than the v2 draws give (:func:`first_windows_drive_lag_s` above
+    :data:`SLOW_DRIVE_LAG_S`): a slow drive applies less of the modulation, later, than any training climb's did."""
+    return first_windows_drive_lag_s(applied_fractions, frequency_hz) > SLOW_DRIVE_LAG_S
 
 
 def reads_smoothed_encoder(readings: list[Reading]) -> bool:
