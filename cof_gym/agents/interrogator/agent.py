@@ -305,7 +305,8 @@ class LearnedInterrogator:
         (:func:`~cof_gym.agents.interrogator.readings.reads_slow_drive`: from the modulation the drive applied); none
         where the readings are like the training climbs'. Sensor readings only: a train can tell this without knowing
         its scenario."""
-        return tuple(note for note, read in ((SMOOTHED_ENCODER, self._smoothed), (SLOW_DRIVE, self._slow_drive)) if read)
+        read = ((SMOOTHED_ENCODER, self._smoothed), (SLOW_DRIVE, self._slow_drive))
+        return tuple(note for note, seen in read if seen)
 
     @property
     def sensor_class(self) -> str:
