@@ -14,8 +14,8 @@ import pytest
 import cof_gym
 from cof_gym.agents import registry
 from cof_gym.agents.interrogator.readings import (
-    COLOUR_NOISE_FLOOR_NMS, NOISE_WINDOWS, SE_REPORTED_MAX_DEG, SLOW_DRIVE, SLOW_DRIVE_LAG_S, SMOOTHED_ENCODER,
-    first_windows_noise_colour, reads_slow_drive, reads_smoothed_encoder,
+    COLOUR_NOISE_FLOOR_NMS, NOISE_WINDOWS, NOISY_SENSORS, SE_REPORTED_MAX_DEG, SLOW_DRIVE, SLOW_DRIVE_LAG_S,
+    SMOOTHED_ENCODER, first_windows_noise_colour, reads_slow_drive, reads_smoothed_encoder,
 )
 from cof_gym.task.scenarios import ScenarioRanges
 from cof_gym.commands.suites import make_suite
@@ -107,10 +107,13 @@ def test_a_slow_drive_is_one_slower_than_the_draws_by_more_than_the_readings_spr
     ({"motor_lag_s": 0.03}, ""),
     ({"motor_lag_s": 0.06}, SLOW_DRIVE),
     ({"motor_lag_s": 0.06, "encoder_lag_s": 0.005}, f"{SMOOTHED_ENCODER}; {SLOW_DRIVE}"),
+    ({"noise_level": 1.0}, ""),
+    ({"noise_level": 3.0}, NOISY_SENSORS),
 ])
-def test_the_shipped_interrogator_notes_a_drive_slower_than_the_draws(options, notes):
+def test_the_shipped_interrogator_notes_a_slow_drive_and_noisy_sensors_past_the_draws(options, notes):
     """The drive's lag read from the modulation it applied: the draws' slowest drive (30 ms) is not noted, one of
-    60 ms is, beside a smoothed encoder where the speed signal is lagged too."""
+    60 ms is, beside a smoothed encoder where the speed signal is lagged too; the noise the first windows read (the
+    interval's noisy class): not at the draws' full scale, at three times it."""
     env = gym.make(cof_gym.WAGON_ENV_ID)
     agent = registry.make_agent("interrogator", env)
     record = run_episode(env, agent, 11, options, 0)

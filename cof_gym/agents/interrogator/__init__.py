@@ -195,7 +195,9 @@ say lies outside the sensors its networks were fitted on, without knowing the sc
 its first :data:`NOISE_WINDOWS` driven windows (:func:`first_windows_noise_colour`: the lag's SE for a first-order
 autoregressive speed residual over its white-noise SE, about 1 for an encoder's white noise) above
 :data:`~cof_gym.measurement.sine_fit.SMOOTHED_NOISE_COLOUR`, where those windows read sensor noise at all (at least
-:data:`COLOUR_NOISE_FLOOR_NMS`). A smoothing adds its delay to every phase lag the networks read. A slow drive
+:data:`COLOUR_NOISE_FLOOR_NMS`). A smoothing adds its delay to every phase lag the networks read. Noisy sensors
+(:data:`NOISY_SENSORS`) where the climb reads more noise than the v2 draws give (:attr:`LearnedInterrogator.noisy`,
+whose interval takes the noisy scales). A slow drive
 (:data:`SLOW_DRIVE`) where :func:`reads_slow_drive` says so: the drive's time constant read from the fraction of the
 commanded modulation its first windows' torque readings measured (:func:`first_windows_drive_lag_s`,
 :func:`drive_lag_s`: ``sqrt(1 / a^2 - 1) / (2 pi f)`` for a first-order drive) above :data:`SLOW_DRIVE_LAG_S`, past
@@ -218,7 +220,7 @@ climbs and the networks' fit: torch, imported on its own).
 from cof_gym.agents.interrogator.readings import (
     PHASE_CLIP_DEG, SE_CLIP_DEG, SE_REPORTED_MAX_DEG, NOISE_WINDOWS, COMPLIANCE_CLIP, slope_index, slope_from_phase,
     slope_from_compliance, Reading, first_windows_noise_nms, SMOOTHED_ENCODER, COLOUR_NOISE_FLOOR_NMS,
-    first_windows_noise_colour, reads_smoothed_encoder, SLOW_DRIVE, SLOW_DRIVE_LAG_S, drive_lag_s,
+    first_windows_noise_colour, reads_smoothed_encoder, NOISY_SENSORS, SLOW_DRIVE, SLOW_DRIVE_LAG_S, drive_lag_s,
     first_windows_drive_lag_s, reads_slow_drive,
 )
 from cof_gym.agents.interrogator.features import (
@@ -254,7 +256,8 @@ __all__ = [
     "PHASE_CLIP_DEG", "SE_CLIP_DEG", "SE_REPORTED_MAX_DEG", "NOISE_WINDOWS", "COMPLIANCE_CLIP", "slope_index",
     "slope_from_phase", "slope_from_compliance", "Reading", "first_windows_noise_nms",
     "SMOOTHED_ENCODER", "COLOUR_NOISE_FLOOR_NMS", "first_windows_noise_colour", "reads_smoothed_encoder",
-    "SLOW_DRIVE", "SLOW_DRIVE_LAG_S", "drive_lag_s", "first_windows_drive_lag_s", "reads_slow_drive", "HISTORY",
+    "NOISY_SENSORS", "SLOW_DRIVE", "SLOW_DRIVE_LAG_S", "drive_lag_s", "first_windows_drive_lag_s", "reads_slow_drive",
+    "HISTORY",
     "FEATURE_NAMES",
     "TONE2_FEATURE_NAMES", "CREEPAGE_RISE_FEATURE_NAMES", "CREEPAGE_RISE_FLOORS",
     "CREEPAGE_MODULATION_FEATURE_NAMES", "CREEPAGE_SWING_FLOOR", "CYCLE_CREST_FEATURE_NAMES", "CYCLE_LIFT_FLOOR",

@@ -22,7 +22,7 @@ from cof_gym.agents.interrogator.features import EpisodeFeatures
 from cof_gym.agents.interrogator.interval import NOISY, NOISY_RATIO, SMOOTHED, IntervalScales, sensor_group
 from cof_gym.agents.interrogator.networks import FilterEnsemble, pooled_correction, pooled_std
 from cof_gym.agents.interrogator.readings import (
-    NOISE_WINDOWS, SLOW_DRIVE, SMOOTHED_ENCODER, Reading, reads_slow_drive, reads_smoothed_encoder,
+    NOISE_WINDOWS, NOISY_SENSORS, SLOW_DRIVE, SMOOTHED_ENCODER, Reading, reads_slow_drive, reads_smoothed_encoder,
 )
 from cof_gym.agents.runaway import CrestCeiling, RunawayBracket
 from cof_gym.agents.staircase import ElasticityClimb
@@ -301,11 +301,12 @@ class LearnedInterrogator:
         :data:`~cof_gym.agents.interrogator.readings.SMOOTHED_ENCODER` where the climb's first windows show a
         smoothed speed signal (:func:`~cof_gym.agents.interrogator.readings.reads_smoothed_encoder`: the networks
         met white encoder noise only, and a smoothing adds its delay to every phase lag),
-        :data:`~cof_gym.agents.interrogator.readings.SLOW_DRIVE` where they show a drive slower than the draws'
-        (:func:`~cof_gym.agents.interrogator.readings.reads_slow_drive`: from the modulation the drive applied); none
-        where the readings are like the training climbs'. Sensor readings only: a train can tell this without knowing
-        its scenario."""
-        read = ((SMOOTHED_ENCODER, self._smoothed), (SLOW_DRIVE, self._slow_drive))
+        :data:`~cof_gym.agents.interrogator.readings.NOISY_SENSORS` where they read more noise than the draws give
+        (:attr:`noisy`), :data:`~cof_gym.agents.interrogator.readings.SLOW_DRIVE` where they show a drive slower than
+        the draws' (:func:`~cof_gym.agents.interrogator.readings.reads_slow_drive`: from the modulation the drive
+        applied); none where the readings are like the training climbs'. Sensor readings only: a train can tell this
+        without knowing its scenario."""
+        read = ((SMOOTHED_ENCODER, self._smoothed), (NOISY_SENSORS, self.noisy), (SLOW_DRIVE, self._slow_drive))
         return tuple(note for note, seen in read if seen)
 
     @property

@@ -30,6 +30,9 @@ SMOOTHED_ENCODER = "smoothed encoder"
 # climb's (at least 0.0015, experiments/noise_colour_reading.py), about six times the noiseless paper setting's
 # (at most 1.7e-4 over its 60 episodes; session 65)
 COLOUR_NOISE_FLOOR_NMS = 1e-3
+# the sensor note of a climb whose first windows read more noise than the v2 draws give (LearnedInterrogator.noisy,
+# the interval's noisy class)
+NOISY_SENSORS = "noisy sensors"
 # the sensor note of a climb whose first windows read a drive slower than any the networks were fitted on
 # (LearnedInterrogator.sensor_notes, reads_slow_drive)
 SLOW_DRIVE = "slow drive"
