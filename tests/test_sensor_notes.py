@@ -122,6 +122,20 @@ def test_the_shipped_interrogator_notes_a_slow_drive_and_noisy_sensors_past_the_
 
 
 @pytest.mark.skipif(not SHIPPED, reason="no shipped interrogator in this checkout")
+@pytest.mark.parametrize("torque_gain_error, force_gain_error", [(0.05, -0.01), (-0.05, 0.01), (0.05, 0.01)])
+def test_the_draws_slowest_drive_is_not_noted_at_the_ends_of_the_draws_gain_errors(torque_gain_error, force_gain_error):
+    """The drive's reading goes through the torque sensor, calibrated against the force channel: at the ends of the
+    gain errors the v2 draws give, the draws' slowest drive at their full-scale noise reads neither note."""
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    agent = registry.make_agent("interrogator", env)
+    options = {"motor_lag_s": ScenarioRanges().motor_lag_s[1], "noise_level": 1.0,
+               "torque_gain_error": torque_gain_error, "force_gain_error": force_gain_error}
+    record = run_episode(env, agent, 12, options, 0)
+    env.close()
+    assert record.sensor_notes == ""
+
+
+@pytest.mark.skipif(not SHIPPED, reason="no shipped interrogator in this checkout")
 def test_no_smoothed_encoder_is_noted_with_the_paper_settings_noiseless_sensors():
     """The paper's setting reads no sensor noise: its first episode's residual (coloured by the wheel's own
     response; noted as smoothed before the noise floor, session 65) is not an encoder's."""
