@@ -185,3 +185,23 @@ def test_evaluate_counts_each_agents_notes_over_its_episodes():
         "there is an extrapolation",
         "a read its sensors outside those it was fitted on (other) in 1 of 3 episodes: its estimate there is an "
         "extrapolation"]
+
+
+@pytest.mark.skipif(not SHIPPED, reason="no shipped interrogator in this checkout")
+def test_evaluate_breaks_the_episodes_down_by_the_agents_sensor_notes_where_any_agent_noted_one(tmp_path):
+    """One episode with a lagged encoder beside a sharp one: the interrogator's noted episode and its other in groups
+    of their own, the staircase's two in "no sensor note"; without any note the grouping is left out."""
+    from cof_gym.commands.evaluate import evaluate
+    from cof_gym.commands.suites import Suite
+
+    lagged = Suite("notes", cof_gym.WAGON_ENV_ID, {}, [(11, {"encoder_lag_s": 0.005}), (11, {})])
+    result = evaluate(["interrogator", "staircase"], lagged, tmp_path / "lagged", seed=0, quiet=True)
+    groups = {agent: entry["breakdown"] for agent, entry in result["summary"].items()}
+    assert groups["interrogator"][f"sensor notes: {SMOOTHED_ENCODER}"]["episodes"] == 1
+    assert groups["interrogator"]["no sensor note"]["episodes"] == 1
+    assert groups["staircase"]["no sensor note"]["episodes"] == 2
+    assert f"sensor notes: {SMOOTHED_ENCODER}" not in groups["staircase"]
+    assert f"| sensor notes: {SMOOTHED_ENCODER} |" in (tmp_path / "lagged" / "summary.md").read_text()
+    sharp = Suite("sharp", cof_gym.WAGON_ENV_ID, {}, [(11, {})])
+    result = evaluate(["interrogator"], sharp, tmp_path / "sharp", seed=0, quiet=True)
+    assert "no sensor note" not in result["summary"]["interrogator"]["breakdown"]

@@ -113,6 +113,9 @@ GROUPINGS = (
      lambda r: r.peak_torque_fraction),
     ("how the episode ended", lambda r: ending_group(r.ended), lambda r: ENDINGS.index(r.ended)),
     ("the suite's episode note", lambda r: f"note {r.note}" if r.note else "no note", lambda r: r.note),
+    # what the agent's own readings said lay outside its sensors (sensor_notes): shown where some agent noted any
+    ("the agent's sensor notes", lambda r: f"sensor notes: {r.sensor_notes}" if r.sensor_notes else "no sensor note",
+     lambda r: r.sensor_notes),
 )
 
 
