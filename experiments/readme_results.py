@@ -1424,8 +1424,8 @@ SOURCES = {
         "frontier_rule129_confirmation", "frontier_rule129_confirmation_encoder_lag", "rule_check_rule129_confirmation",
         "rule_check_rule129_confirmation_encoder_lag",
         *(f"rule_check_rule130_confirmation{play}" for play in ("", "_encoder_lag", "_encoder_lags")),
-        *(f"rule_check_rule131_confirmation{play}" for play in ("", "_encoder_lags", "_encoder_lag30")),
-        *(f"rule_check_rule13{r}_confirmation{play}" for r in (2, 3) for play in ("", "_encoder_lags", "_encoder_lag30")),
+        *(f"rule_check_rule13{r}_confirmation{play}" for r in (1, 2, 3)
+          for play in ("", "_encoder_lags", "_encoder_lag30")),
         "encoder_lag_reading", "noise_colour_reading",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")

@@ -100,7 +100,6 @@ class LearnedInterrogator:
     _stuck: bool = False  # a slow-probe step has made the probe sticky (ClimbParameters.sticks_from)
     _noise_ratio: float = 1.0  # the noise the climb's first windows read over the reference (noise_ratio)
     _smoothed: bool = False  # whether the first windows read a smoothed encoder (reads_smoothed_encoder)
-    _slow_drive: bool = False  # whether the first windows read a drive slower than the draws' (reads_slow_drive)
     _ratio: float | None = None  # the modulation ratio of the next window (None: the climb's amplitude_ratio)
     _held_crest: float | None = None  # the torque crest the probe holds (N m; crest_probe_hold_crest)
     _frequency: float | None = None  # the episode's modulation frequency (Hz), from the first observation's speed
@@ -215,7 +214,6 @@ class LearnedInterrogator:
         self._stuck = False
         self._noise_ratio = 1.0
         self._smoothed = False
-        self._slow_drive = False
         self._ratio = None
         self._held_crest = None
         self._frequency = None
@@ -296,6 +294,12 @@ class LearnedInterrogator:
         :data:`~cof_gym.agents.interrogator.interval.NOISY_RATIO`): its interval takes the noisy scales."""
         return self._noise_ratio >= NOISY_RATIO
 
+    @property
+    def slow_drive(self) -> bool:
+        """Whether the climb's first windows read a drive slower than the v2 draws give
+        (:func:`~cof_gym.agents.interrogator.readings.reads_slow_drive`, from the modulation the drive applied)."""
+        return reads_slow_drive(self._applied_fractions, self._frequency)
+
     def sensor_notes(self) -> tuple[str, ...]:
         """What this episode's own readings say lies outside the sensors the networks were fitted on:
         :data:`~cof_gym.agents.interrogator.readings.SMOOTHED_ENCODER` where the climb's first windows show a
@@ -306,7 +310,7 @@ class LearnedInterrogator:
         the draws' (:func:`~cof_gym.agents.interrogator.readings.reads_slow_drive`: from the modulation the drive
         applied); none where the readings are like the training climbs'. Sensor readings only: a train can tell this
         without knowing its scenario."""
-        read = ((SMOOTHED_ENCODER, self._smoothed), (NOISY_SENSORS, self.noisy), (SLOW_DRIVE, self._slow_drive))
+        read = ((SMOOTHED_ENCODER, self._smoothed), (NOISY_SENSORS, self.noisy), (SLOW_DRIVE, self.slow_drive))
         return tuple(note for note, seen in read if seen)
 
     @property
@@ -473,7 +477,6 @@ class LearnedInterrogator:
             features.push(reading)
         self._noise_ratio = params.noise_ratio(self.features.readings)
         self._smoothed = reads_smoothed_encoder(self.features.readings)
-        self._slow_drive = reads_slow_drive(self._applied_fractions, self._frequency)
         if self.gated and self.smoothed_networks.climb:
             params = replace(params, **self.smoothed_networks.climb)
         p = params.at_noise(self._noise_ratio)
