@@ -175,6 +175,9 @@
   ``suites/v2_confirmation45_steep_grid.json`` (session 69, seeds 671 000, 673 000, 675 000): a forty-fifth such
   set, written before any agent played them, after the forty-fourth had judged rule 132; it judged rule 133 (session
   69).
+- ``suites/v2_confirmation46_grid.json``, ``suites/v2_confirmation46_procedural_grid.json`` and
+  ``suites/v2_confirmation46_steep_grid.json`` (session 70, seeds 691 000, 693 000, 695 000): a forty-sixth such
+  set, written before any agent played them, after the forty-fifth had judged rule 133; it judges rule 134.
 - ``suites/v2_stress_tables_grid.json`` (session 50, seeds from 305 000): reporting only, never a held-out grid of
   the targets: creep curves at the edges of what a table may be (:data:`STRESS_SHAPES`: a cliff just past the
   peak, a plateau with no falling branch, a shoulder before the peak, a peak with no knee before it, and a peak at
@@ -238,6 +241,9 @@
 - ``suites/v2_extremes_confirmation17_grid.json`` (session 69, seeds from 683 000): a seventeenth such set, written
   before any agent played it, after the sixteenth had judged rule 132 (``--grids extremes_confirmation17``); it judged
   rule 133 (session 69).
+- ``suites/v2_extremes_confirmation18_grid.json`` (session 70, seeds from 699 000): an eighteenth such set, written
+  before any agent played it, after the seventeenth had judged rule 133 (``--grids extremes_confirmation18``); it
+  judges rule 134.
 - ``suites/v2_validation_torque_grid.json``, ``suites/v2_validation_torque_procedural_grid.json`` and
   ``suites/v2_validation_torque_steep_grid.json`` (session 45, seeds 209 000, 211 000, 213 000): the three
   validation kinds on episodes of their own, each with its torque gain error fixed somewhere within what the env
@@ -705,7 +711,7 @@ ORDINALS = ("", "second ", "third ", "fourth ", "fifth ", "sixth ", "seventh ", 
             "thirtieth ", "thirty-first ", "thirty-second ", "thirty-third ", "thirty-fourth ", "thirty-fifth ",
             "thirty-sixth ", "thirty-seventh ", "thirty-eighth ", "thirty-ninth ", "fortieth ", "forty-first ",
             "forty-second ", "forty-third ",
-            "forty-fourth ", "forty-fifth ")
+            "forty-fourth ", "forty-fifth ", "forty-sixth ")
 
 # the confirmation sets, in the order they were written (the module docstring says when, and for which rule):
 # name -> (CoF fractions, speeds m/s, first seed) of its family, procedural and steep grids; each was written
@@ -812,6 +818,9 @@ CONFIRMATION_SETS = {
     "confirmation45": (((0.04, 0.28, 0.55, 0.81, 0.95), (6.5, 17.5, 33.0), 671_000),
                        ((0.08, 0.43, 0.66, 0.91), (9.0, 21.5, 37.0), 673_000),
                        ((0.13, 0.44, 0.82), (6.0, 20.5, 36.5), 675_000)),
+    "confirmation46": (((0.05, 0.29, 0.54, 0.8, 0.96), (6.0, 18.5, 34.0), 691_000),
+                       ((0.07, 0.39, 0.68, 0.91), (8.5, 22.0, 36.5), 693_000),
+                       ((0.12, 0.46, 0.81), (7.0, 20.0, 37.0), 695_000)),
 }
 
 
@@ -908,7 +917,8 @@ EXTREMES_CONFIRMATION_SETS = {"extremes_confirmation": 361_000, "extremes_confir
                               "extremes_confirmation14": 623_000,
                               "extremes_confirmation15": 643_000,
                               "extremes_confirmation16": 663_000,
-                              "extremes_confirmation17": 683_000}
+                              "extremes_confirmation17": 683_000,
+                              "extremes_confirmation18": 699_000}
 GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0  # the golden ratio's fraction: a low-discrepancy sequence k x GOLDEN mod 1
 
 

@@ -489,7 +489,8 @@ class LearnedInterrogator:
                               p.fall_margin(p.mean_headroom(headroom, headroom_std, headroom_spread, caution),
                                             self._noise_ratio))
         if not falling:
-            self._update_estimates(reading, mean, std, guard_outputs)
+            self._update_estimates(reading, *self._estimate_outputs(p, networks, filter_features, guard_features,
+                                                                    (mean, std), guard_outputs))
         step = self._next_step(p, reading, float(mean[0, 0]), *steering)
         stop = self._stop_or_step(p, step, headroom, self._stop_reason(p, step, falling, knee))
         self.decisions.append(WindowDecision(float(mean[0, 0]), float(std[0, 0]), headroom, headroom_std,
@@ -498,6 +499,19 @@ class LearnedInterrogator:
             self._dc + p.amplitude(self._dc, self.limits, self._ratio))
         self._estimate = self.candidate_estimates(p.best_coa_factor)[p.estimate_from]  # the stop's reason known
         return p, stop
+
+    def _estimate_outputs(self, p: ClimbParameters, networks: NetworkSet, filter_features: EpisodeFeatures,
+                          guard_features: list[EpisodeFeatures], filter_output: tuple[np.ndarray, np.ndarray],
+                          guard_outputs: list[tuple[np.ndarray, np.ndarray, np.ndarray]]
+                          ) -> tuple[np.ndarray, np.ndarray, list[tuple[np.ndarray, np.ndarray, np.ndarray]]]:
+        """The filter's (mean, std) and the guards' outputs the estimate reads: those that steer, or with
+        ``slow_drive_applied_estimate`` behind a slow drive (:attr:`slow_drive`) the same networks' outputs for the
+        modulation the drive applied (:meth:`EpisodeFeatures.vector` with ``applied_ratio``)."""
+        if not (p.slow_drive_applied_estimate and self.slow_drive):
+            return (*filter_output, guard_outputs)
+        mean, std, _ = networks.filter.predict_with_spread(filter_features.vector(applied_ratio=True))
+        return mean, std, [g.predict_with_spread(f.vector(applied_ratio=True))
+                           for g, f in zip(networks.guards, guard_features)]
 
     def _update_estimates(self, reading: Reading, mean: np.ndarray, std: np.ndarray,
                           guard_outputs: list[tuple[np.ndarray, np.ndarray, np.ndarray]]) -> None:

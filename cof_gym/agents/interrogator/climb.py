@@ -54,7 +54,8 @@ def floor_headroom(coa: float) -> float:
 POSITIVE_FIELDS = ("amplitude_ratio", "min_amplitude_nm", "frequency_hz", "max_log_step", "min_log_step",
                    "best_coa_factor", "creep_while_std")
 FLAG_FIELDS = ("creep_sticky", "crest_once_crept", "crest_floor", "runaway_estimate", "crest_ceiling", "ceiling_stop",
-               "noise_se_reported", "noise_torque_measured", "crest_probe_hold_crest", "torque_balance")
+               "noise_se_reported", "noise_torque_measured", "crest_probe_hold_crest", "torque_balance",
+               "slow_drive_applied_estimate")
 BOUNDED_FIELDS: dict[str, tuple[float, float, bool, str]] = {
     "caution": (0.0, 10.0, False, ""),
     "target_headroom": (0.0, 5.0, False, ""),
@@ -165,6 +166,11 @@ class ClimbParameters:
     # not None: smoothed-encoder networks take the climb only where its first windows read a drive no slower than
     # this (s; gates_drive): past the drives the networks were fitted on, a residual's colour is not the encoder's
     gate_max_drive_lag_s: float | None = None
+    # true: where the climb's first windows read a drive slower than the v2 draws give (readings.reads_slow_drive),
+    # the estimate's networks read the modulation the drive applied over the DC in place of the commanded ratio
+    # (EpisodeFeatures.vector(applied_ratio=True)); the networks that steer read the command as before, so no step
+    # of any climb changes, only the estimate reported behind such a drive
+    slow_drive_applied_estimate: bool = False
 
     def __post_init__(self) -> None:
         if self.estimate_from not in ESTIMATE_SOURCES:

@@ -301,16 +301,22 @@ class EpisodeFeatures:
                 peak_gap(views, i, i - 1, slope_from_phase), dispersion, now.frequency_hz / 20.0,
                 now.tone2_amplitude_nm / max(now.amplitude_nm, 1e-9), prev.phase_deg / 90.0]
 
-    def vector(self) -> np.ndarray:
+    def vector(self, applied_ratio: bool = False) -> np.ndarray:
+        """The features after the newest window; with ``applied_ratio`` the ``amplitude_ratio`` entry reads the
+        modulation the drive applied over the DC (:attr:`Reading.torque_amplitude_measured_nm`, where measured)
+        instead of the commanded one: what a network fitted on the command reads behind a drive slower than any it
+        met (``ClimbParameters.slow_drive_applied_estimate``)."""
         if not self.readings:
             raise ValueError("no driven window yet")
         now, first = self.readings[-1], self.readings[0]
         slope = slope_index(now.phase_deg)
+        modulation_nm = now.torque_amplitude_measured_nm if applied_ratio and now.torque_amplitude_measured_nm > 0.0 \
+            else now.amplitude_nm
         values = [
             now.phase_deg / 90.0, now.se_deg / SE_CLIP_DEG, now.compliance, slope,
             slope_index(first.phase_deg) - slope, (now.phase_deg - first.phase_deg) / 90.0,
             now.compliance - first.compliance, math.log(now.coa / first.coa), math.log(now.dc_nm / first.dc_nm),
-            math.log(now.coa), now.amplitude_nm / now.dc_nm, now.frequency_hz / 20.0, now.speed_m_s / 40.0,
+            math.log(now.coa), modulation_nm / now.dc_nm, now.frequency_hz / 20.0, now.speed_m_s / 40.0,
             now.normal_load, float(self.counter_torque), len(self.readings) / 30.0,
             flexibility_ratio(self.readings, len(self.readings) - 1),
         ]
