@@ -1030,6 +1030,8 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # rule_check_rule132_confirmation_encoder_lag30, rule_check_rule132_confirmation)
         # rule 133: experiments/rules/confirm133.sh (rule_check_rule133_confirmation_encoder_lags,
         # rule_check_rule133_confirmation_encoder_lag30, rule_check_rule133_confirmation)
+        # rule 134: experiments/rules/rule134.sh qualify (rule_check_rule134_slow_drive, rule_check_rule134_extremes,
+        # rule_check_rule134_draws)
     python experiments/encoder_lag_reading.py --sharp runs/interrogator_three/climbs_torque_wide.npz \
         runs/interrogator_three/climbs_procedural_torque_wide.npz \
         --lagged runs/interrogator_three/climbs_torque_wide_encoder.npz \
@@ -1426,6 +1428,7 @@ SOURCES = {
         *(f"rule_check_rule130_confirmation{play}" for play in ("", "_encoder_lag", "_encoder_lags")),
         *(f"rule_check_rule13{r}_confirmation{play}" for r in (1, 2, 3)
           for play in ("", "_encoder_lags", "_encoder_lag30")),
+        *(f"rule_check_rule134_{check}" for check in ("slow_drive", "extremes", "draws")),
         "encoder_lag_reading", "noise_colour_reading",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
