@@ -1032,6 +1032,8 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # rule_check_rule133_confirmation_encoder_lag30, rule_check_rule133_confirmation)
         # rule 134: experiments/rules/rule134.sh qualify (rule_check_rule134_slow_drive, rule_check_rule134_extremes,
         # rule_check_rule134_draws)
+        # session 70's exploration: experiments/rules/relative_shift.sh (crest_tradeoff_relative_shift_validation,
+        # crest_tradeoff_relative_shift_confirmation43, crest_tradeoff_relative_shift_validation_noise)
     python experiments/encoder_lag_reading.py --sharp runs/interrogator_three/climbs_torque_wide.npz \
         runs/interrogator_three/climbs_procedural_torque_wide.npz \
         --lagged runs/interrogator_three/climbs_torque_wide_encoder.npz \
@@ -1429,6 +1431,7 @@ SOURCES = {
         *(f"rule_check_rule13{r}_confirmation{play}" for r in (1, 2, 3)
           for play in ("", "_encoder_lags", "_encoder_lag30")),
         *(f"rule_check_rule134_{check}" for check in ("slow_drive", "extremes", "draws")),
+        *(f"crest_tradeoff_relative_shift_{play}" for play in ("validation", "confirmation43", "validation_noise")),
         "encoder_lag_reading", "noise_colour_reading",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")

@@ -490,7 +490,8 @@ class LearnedInterrogator:
                                             self._noise_ratio))
         if not falling:
             self._update_estimates(reading, *self._estimate_outputs(p, networks, filter_features, guard_features,
-                                                                    (mean, std), guard_outputs))
+                                                                    (mean, std), guard_outputs),
+                                   p.relative_error_shift)
         step = self._next_step(p, reading, float(mean[0, 0]), *steering)
         stop = self._stop_or_step(p, step, headroom, self._stop_reason(p, step, falling, knee))
         self.decisions.append(WindowDecision(float(mean[0, 0]), float(std[0, 0]), headroom, headroom_std,
@@ -514,14 +515,16 @@ class LearnedInterrogator:
                            for g, f in zip(networks.guards, guard_features)]
 
     def _update_estimates(self, reading: Reading, mean: np.ndarray, std: np.ndarray,
-                          guard_outputs: list[tuple[np.ndarray, np.ndarray, np.ndarray]]) -> None:
-        """The best CoA and every source's estimate and std after a window whose CoA has not fallen."""
+                          guard_outputs: list[tuple[np.ndarray, np.ndarray, np.ndarray]], shift: float = 0.0) -> None:
+        """The best CoA and every source's estimate and std after a window whose CoA has not fallen; each estimate
+        times ``exp(-shift x std^2)`` (``ClimbParameters.relative_error_shift``)."""
         self._best_coa = max(self._best_coa, reading.coa)
         predictions = ((float(mean[0, 1]), float(std[0, 1])),
                        [(float(g_mean[0, 1]), float(g_std[0, 1])) for g_mean, g_std, _ in guard_outputs],
                        self._corrections(self.estimators, self._estimator_features))
-        self._source_estimates = self._estimates_at(reading.coa, *predictions)
         self._source_stds = self._stds_at(*predictions)
+        self._source_estimates = {source: estimate * math.exp(-shift * self._source_stds[source] ** 2)
+                                  for source, estimate in self._estimates_at(reading.coa, *predictions).items()}
 
     @property
     def _windows_left(self) -> int:

@@ -65,6 +65,7 @@ BOUNDED_FIELDS: dict[str, tuple[float, float, bool, str]] = {
     "ceiling_noise_z": (0.0, 10.0, False, ""),
     "noise_caution_exponent": (0.0, 2.0, False, ""),
     "noise_creep_exponent": (0.0, 2.0, False, ""),
+    "relative_error_shift": (0.0, 5.0, False, ""),
 }
 OPTIONAL_BOUNDED_FIELDS: dict[str, tuple[float, float, bool, str]] = {
     "floor_margin": (0.0, math.inf, False, ""),
@@ -171,6 +172,10 @@ class ClimbParameters:
     # (EpisodeFeatures.vector(applied_ratio=True)); the networks that steer read the command as before, so no step
     # of any climb changes, only the estimate reported behind such a drive
     slow_drive_applied_estimate: bool = False
+    # each estimate is CoA x exp(correction - this x std^2), std its source's (log units): 0 reports the posterior's
+    # median of ln CoF (what the reward's |ln(estimate / CoF)| asks for); 1 the value that minimises the expected
+    # relative error |estimate / CoF - 1| under the networks' Gaussian posterior (a lognormal CoF tilted by 1 / CoF)
+    relative_error_shift: float = 0.0
 
     def __post_init__(self) -> None:
         if self.estimate_from not in ESTIMATE_SOURCES:
