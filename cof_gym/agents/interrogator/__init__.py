@@ -210,6 +210,13 @@ directory may name networks of their own for a smoothed encoder's climb (its man
 own (:attr:`LearnedInterrogator.gated`; rule 127). Their features are read from the first window; every climb that
 does not read a smoothed encoder, and every climb's first decisions, are as without them.
 
+Two options change the estimate and no step of the climb (both off in the shipped climb, neither adopted):
+``ClimbParameters.slow_drive_applied_estimate`` reads the estimate behind a slow drive from the same networks with
+the modulation the drive applied in place of the commanded one (:meth:`EpisodeFeatures.vector` with
+``applied_ratio``; rule 134), and ``ClimbParameters.relative_error_shift`` ``s`` reports ``CoA x exp(mean - s x
+std^2)``, the minimiser of the expected relative error under the networks' posterior where ``s`` = 1 (0: its
+median, what the reward's log error asks for).
+
 **Modules**, each importing only those above it: :mod:`.readings` (one window's sensor readings, the slope
 from Eq. 3), :mod:`.features` (the features of a climb's windows), :mod:`.networks` (the filter's networks
 and their ensemble), :mod:`.interval` (the calibrated interval around the estimate), :mod:`.climb` (the
