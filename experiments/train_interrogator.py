@@ -120,7 +120,8 @@ from cof_gym.agents.interrogator import (
 )
 from cof_gym.agents.interrogator.networks import ensemble_files, member_files
 from cof_gym.agents.interrogator.training import (
-    FIT_LOSSES, FITTABLE_BLOCKS, STEEP_FALL, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel, fit_member, nll,
+    FAR_PEAK_CREEPAGE, FIT_LOSSES, FITTABLE_BLOCKS, STEEP_FALL, TRAINING_SEED, ClimbDraws, Dataset, FitSettings,
+    collect_parallel, fit_member, nll,
 )
 from cof_gym.commands.args import DistinctValues, Parser, float_in_range, positive_int, seed_int
 from cof_gym.commands.evaluate_episodes import run_episode
@@ -199,6 +200,12 @@ COLLECTIONS = {
     "procedural_torque_wide_encoder": ("climbs_procedural_torque_wide_encoder.npz", TRAINING_SEED + 2_400_000,
                                        ClimbDraws(shapes="procedural", **WIDE_TORQUE_GAIN,
                                                   encoder_lags_s=ENCODER_LAGS_S)),
+    # the recipe's procedural climbs with peaks anywhere up to the env's largest drawn peak creepage (0.3-20 %
+    # log-uniform: training.FAR_PEAK_CREEPAGE; the recipe's peak at 0.3-4 %): curves that still rise far past their
+    # knee, where the shipped networks stop at a third of the saturation torque (session 70, docs/interrogator.md)
+    "procedural_far_torque_wide": ("climbs_procedural_far_torque_wide.npz", TRAINING_SEED + 2_500_000,
+                                   ClimbDraws(shapes="procedural", peak_creepages=FAR_PEAK_CREEPAGE,
+                                              **WIDE_TORQUE_GAIN)),
 }
 # the shipped recipe (procedural and high_frequency lost on validation: README): since session 48 (rule 74) the env's
 # draws with the torque gain anywhere within +-15 %, read calibrated by the torque balance (RECIPE_BALANCE_LAG_DEG)

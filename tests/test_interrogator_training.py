@@ -16,8 +16,8 @@ from cof_gym.agents.interrogator import (
     Reading, floor_headroom, interrogator_for,
 )
 from cof_gym.agents.interrogator.training import (
-    GENTLE_FALL, PROCEDURAL_PEAK_CREEPAGE, READING_FIELDS, STEEP_FALL, ClimbDraws, Dataset, FallingBranch, FitSettings,
-    _climb_episode, collect, fit_member, procedural_shape,
+    FAR_PEAK_CREEPAGE, GENTLE_FALL, PROCEDURAL_PEAK_CREEPAGE, READING_FIELDS, STEEP_FALL, ClimbDraws, Dataset,
+    FallingBranch, FitSettings, _climb_episode, collect, fit_member, procedural_shape,
 )
 from cof_gym.physics.creep_laws import creep_law_from_spec
 from cof_gym.agents.base import agent_view
@@ -129,6 +129,24 @@ def test_steep_procedural_shapes_fall_as_drawn_and_the_default_draws_are_unchang
             np.random.default_rng([seed, 11]))
     with pytest.raises(ValueError, match="FallingBranch.drops"):
         FallingBranch(drops=(0.5, 0.2))
+
+
+def test_far_peaks_stretch_the_same_curve_up_to_the_envs_largest_drawn_peak():
+    """With FAR_PEAK_CREEPAGE a seed's curve is the default draw's (the same adhesion ratios) with its creepages scaled
+    to a peak within that range, up to the largest peak the env draws; a range past it is refused by name."""
+    peaks = []
+    for seed in range(200):
+        near = creep_law_from_spec(procedural_shape(np.random.default_rng([seed, 11])))
+        far = creep_law_from_spec(procedural_shape(np.random.default_rng([seed, 11]), peak_creepages=FAR_PEAK_CREEPAGE))
+        assert np.array_equal(far.adhesion_ratio, near.adhesion_ratio) and far.peak_index == near.peak_index
+        scale = np.asarray(far.creepage[1:]) / np.asarray(near.creepage[1:])
+        np.testing.assert_allclose(scale, scale[0], rtol=1e-12)
+        peaks.append(far.creepage[far.peak_index])
+    assert FAR_PEAK_CREEPAGE[0] <= min(peaks) and max(peaks) <= FAR_PEAK_CREEPAGE[1] == 0.2
+    # ln(0.2 / 0.04) / ln(0.2 / 0.003): 38 % of the draws lie past the default's 4 %
+    assert sum(p > PROCEDURAL_PEAK_CREEPAGE[1] for p in peaks) > 50
+    with pytest.raises(ValueError, match="ClimbDraws.peak_creepages"):
+        ClimbDraws(shapes="procedural", peak_creepages=(0.01, 0.3))
 
 
 def test_floor_jump_training_climbs_take_the_floor_step():

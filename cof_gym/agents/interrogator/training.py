@@ -50,6 +50,7 @@ from cof_gym.physics.creep_laws import below_peak
 from cof_gym.task.interface import MotorLimits
 from cof_gym.task.scenarios import ENCODER_LAG_MAX_S, MOTOR_LAG_MAX_S, NOISE_LEVEL_MAX
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
+from cof_gym.task.task import MAX_DRAWN_PEAK_CREEPAGE
 from cof_gym.validation import check_number, check_range
 
 TRAINING_SEED = 1_000_000  # first training seed: far from every evaluation and validation seed
@@ -201,6 +202,9 @@ def _shrunk_ratio(readings: list[Reading], amplitude_ratio: float, power: float)
 
 SHAPE_SOURCES = ("env", "procedural")  # the env's own creep-law draw, or :func:`procedural_shape`
 PROCEDURAL_PEAK_CREEPAGE = (0.003, 0.04)  # log-uniform
+# the same, up to the largest peak creepage the env draws (MAX_DRAWN_PEAK_CREEPAGE): curves that still rise far past
+# their knee, as Polach's law does at high slip velocity and a wet or contaminated rail may (ClimbDraws.peak_creepages)
+FAR_PEAK_CREEPAGE = (PROCEDURAL_PEAK_CREEPAGE[0], MAX_DRAWN_PEAK_CREEPAGE)
 PROCEDURAL_KNOTS = (0.0, 0.05, 0.15, 0.3, 0.5, 0.7, 0.85, 1.0)  # x = creepage / peak creepage
 
 
@@ -224,14 +228,15 @@ GENTLE_FALL = FallingBranch()  # the training climbs' and the procedural validat
 STEEP_FALL = FallingBranch(drops=(0.2, 0.6), decays=(0.03, 0.3), plateau=0.0)  # a steep validation grid's
 
 
-def procedural_shape(rng: np.random.Generator, fall: FallingBranch = GENTLE_FALL) -> dict[str, Any]:
+def procedural_shape(rng: np.random.Generator, fall: FallingBranch = GENTLE_FALL,
+                     peak_creepages: tuple[float, float] = PROCEDURAL_PEAK_CREEPAGE) -> dict[str, Any]:
     """A random creep curve as a ``creep_law`` table spec (domain randomisation beyond the families):
     the rise is a monotone cubic through knots at :data:`PROCEDURAL_KNOTS` whose increments are drawn
     from a Dirichlet distribution (shrinking: a concave rise; with probability 0.4 growing over the
     first 2-4 knots first: a low initial slope and one inflection, as a third-body layer gives), with a
     zero slope at the peak half of the time (a smooth maximum) and the interpolant's slope otherwise
     (a kink); after the peak it falls as ``fall`` draws (by default by 0-40 % over 0.2-4 peak
-    creepages, a plateau one time in five)."""
+    creepages, a plateau one time in five); its peak creepage is drawn last, log-uniform in ``peak_creepages``."""
     from scipy.interpolate import CubicHermiteSpline, PchipInterpolator
 
     n = len(PROCEDURAL_KNOTS) - 1
@@ -257,7 +262,7 @@ def procedural_shape(rng: np.random.Generator, fall: FallingBranch = GENTLE_FALL
     rising[1:] = np.maximum.accumulate(np.maximum(rising[1:], 1e-9))  # strictly rising, below the maximum
     rising[1:] += np.arange(1, len(rising)) * 1e-9
     ratio[: len(x_rise) - 1] = below_peak(rising)
-    peak = math.exp(rng.uniform(*np.log(PROCEDURAL_PEAK_CREEPAGE)))
+    peak = math.exp(rng.uniform(*np.log(peak_creepages)))
     return {"table": {"creepage": [float(v) for v in np.concatenate([x_rise, x_fall]) * peak],
                       "adhesion_ratio": [float(v) for v in ratio]}}
 
@@ -282,7 +287,7 @@ class ClimbDraws:
     drawn uniform in that range, each from a generator of its own, in place of the env's draw, up to what the
     env accepts (e.g. a torque gain error of +-15 % where the v2 draws reach +-5 %); ``encoder_lags_s``: the
     encoder's speed-signal lag (s, the env's ``encoder_lag_s``, which v2 never draws) uniform in this range, from a
-    generator of its own."""
+    generator of its own; ``peak_creepages``: where a procedural curve peaks (:func:`procedural_shape`)."""
 
     shapes: str = "env"
     frequencies_hz: tuple[float, float] | None = None
@@ -297,6 +302,7 @@ class ClimbDraws:
     motor_lags_s: tuple[float, float] | None = None  # the drive's lag (s) drawn in this range (None: the env's draw)
     sensor_errors: tuple[tuple[str, float, float], ...] = ()  # (field, low, high) in place of the env's draw
     encoder_lags_s: tuple[float, float] | None = None  # the encoder's speed-signal lag (s) drawn in this range
+    peak_creepages: tuple[float, float] = PROCEDURAL_PEAK_CREEPAGE  # a procedural curve's peak creepage (log-uniform)
 
     @property
     def env_options(self) -> dict[str, Any]:
@@ -325,6 +331,7 @@ class ClimbDraws:
                 raise ValueError(f"ClimbDraws.sensor_errors: unknown error {name!r}; allowed: {list(SYSTEMATIC_ERRORS)}")
             accepted = SYSTEMATIC_ERRORS[name].accepted
             check_range(f"ClimbDraws.sensor_errors {name}", (low, high), -accepted, accepted)
+        check_range("ClimbDraws.peak_creepages", self.peak_creepages, 1e-4, MAX_DRAWN_PEAK_CREEPAGE)
         for name in ("frequencies_hz", "amplitude_ratios", "floor_margins", "crest_powers", "frequency_references_m_s"):
             value = getattr(self, name)
             if value is not None and not (len(value) == 2 and 0.0 < value[0] <= value[1]):
@@ -336,7 +343,7 @@ def _reset(env, seed: int, draws: ClimbDraws) -> tuple[np.ndarray, dict[str, Any
     sensor noise, drive lag and systematic errors, or ``draws``' (:func:`_sensor_options`)."""
     options = _sensor_options(seed, draws)
     if draws.shapes == "procedural":
-        options["creep_law"] = procedural_shape(np.random.default_rng([seed, 11]), draws.fall)
+        options["creep_law"] = procedural_shape(np.random.default_rng([seed, 11]), draws.fall, draws.peak_creepages)
     return env.reset(seed=seed, options=options or None)
 
 
