@@ -344,6 +344,10 @@
   ``suites/v2_torque_confirmation24_steep_grid.json`` (session 68, seeds 637 000, 639 000, 641 000): a twenty-fourth
   such set, written before any agent played them, after the twenty-third had judged rule 130; it judged rule
   131 (session 68).
+- ``suites/v2_torque_confirmation25_grid.json``, ``suites/v2_torque_confirmation25_procedural_grid.json`` and
+  ``suites/v2_torque_confirmation25_steep_grid.json`` (session 70, seeds 703 000, 705 000, 707 000): a twenty-fifth
+  such set, written before any agent played them (the twenty-fourth has judged rule 131 and named the torque set of
+  rules 132-134's confirmation commands, which did not play it); it judges rule 135.
 - ``suites/v2_heldout_grid.json``: v2 reporting only, with what no agent was given: creep curves as
   tables of shapes outside every family (:data:`HELDOUT_SHAPES`) and systematic errors fixed on a grid
   that reaches past the v2 draws (up to 2.5 % of speed error).
@@ -904,6 +908,9 @@ TORQUE_CONFIRMATION_SETS = {
     "torque_confirmation24": (((0.04, 0.32, 0.55, 0.78, 0.96), (7.0, 17.5, 34.0), 637_000),
                               ((0.08, 0.37, 0.68, 0.93), (9.5, 21.0, 36.5), 639_000),
                               ((0.14, 0.45, 0.8), (7.5, 18.5, 37.5), 641_000)),
+    "torque_confirmation25": (((0.05, 0.29, 0.56, 0.8, 0.95), (6.5, 18.0, 33.5), 703_000),
+                              ((0.09, 0.4, 0.66, 0.92), (8.5, 22.0, 37.0), 705_000),
+                              ((0.12, 0.44, 0.81), (6.5, 20.0, 36.5), 707_000)),
 }
 # the confirmation sets past every draw at once (v2_extremes_grid's draw, 96 episodes each), in the order they were
 # written (the module docstring says when, and for which rule): name -> first seed

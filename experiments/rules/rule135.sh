@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# Rule 135 (docs/interrogator.md): F, the shipped recipe's three steps with the far-peak procedural climbs added to
+# every fit, against the shipped agent.
+#   experiments/rules/rule135.sh fit       # the three steps (the caches in runs/interrogator_far, collected first
+#                                          # where missing: about 40 minutes each on 2 cores; fits and the on-policy
+#                                          # climbs about 1 hour more)
+#   experiments/rules/rule135.sh qualify   # the four validation plays and extremes_confirmation17, both agents
+#   experiments/rules/rule135.sh confirm   # confirmation46 (at the draws, noise tripled, 0.1 s lag),
+#                                          # torque_confirmation25 and extremes_confirmation18, both agents
+set -e
+cd "$(dirname "$0")/../.."  # the repository root
+OUT=runs/interrogator_far
+NAME=rule135F
+BASE=rule135shipped
+STEP1="--out $OUT --climbs torque_wide=8000 procedural_far_torque_wide=8000 --guard-climbs torque_wide=8000
+  procedural_torque_wide=8000 procedural_far_torque_wide=8000 --torque-balance-lag 65"
+# play_both ARGS...: validation_plays.py ARGS for F and for the shipped agent
+play_both() {
+  python experiments/validation_plays.py "$NAME" --run "$OUT/ensemble" \
+    --guards "$OUT/guard/ensemble" "$OUT/probing_guard/ensemble" "$@"
+  python experiments/validation_plays.py "$BASE" "$@"
+}
+# check OUT PLAYS OPTIONS...: rule_check.py on the shipped agent's and F's records of the plays (space-separated)
+check() {
+  local out=$1 play pairs=()
+  for play in $2; do pairs+=("out/records_${BASE}_$play.json" "out/records_${NAME}_$play.json"); done
+  shift 2
+  python experiments/rule_check.py "${pairs[@]}" "$@" --out "out/rule_check_rule135_$out.md" || true
+}
+# (i) over the four plays at and past the draws, (ii) on an extremes set
+FOUR="--gain --errors --family-wise --sign-test --discordant --more-runaways 100000"
+EXTREMES="--gain --errors --family-wise --sign-test --discordant --more-runaways 100000 --strict-grid none"
+case "$1" in
+  fit)
+    python experiments/train_interrogator.py $STEP1 --fit-only
+    python experiments/assemble_policy.py --filter "$OUT/ensemble" --guards "$OUT/guard/ensemble" \
+      --out runs/far_step1_policy
+    python experiments/train_estimator.py --policy runs/far_step1_policy --set ceiling_stop=false \
+      --out runs/estimator_far --climbs env=8000 --collect-only
+    python experiments/train_interrogator.py $STEP1 --fit-only --reuse \
+      --add-guard-climbs runs/estimator_far/onpolicy_env_*.npz --probing-guard
+    ;;
+  qualify)
+    play_both
+    play_both --confirmation confirmation45 torque_confirmation24 extremes_confirmation17 \
+      --only extremes_confirmation17
+    check validation "validation validation_torque noise_level motor_lag_s" $FOUR
+    check extremes "extremes_confirmation17" $EXTREMES
+    ;;
+  confirm)
+    play_both --confirmation confirmation46 torque_confirmation25 extremes_confirmation18
+    check confirmation "confirmation46 torque_confirmation25 confirmation46_noise_level confirmation46_motor_lag_s" \
+      $FOUR
+    check confirmation_extremes "extremes_confirmation18" $EXTREMES
+    ;;
+  *) echo "usage: experiments/rules/rule135.sh fit|qualify|confirm" >&2; exit 2 ;;
+esac
