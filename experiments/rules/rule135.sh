@@ -32,7 +32,7 @@ FOUR="--gain --errors --family-wise --sign-test --discordant --more-runaways 100
 EXTREMES="--gain --errors --family-wise --sign-test --discordant --more-runaways 100000 --strict-grid none"
 case "$1" in
   fit)
-    python experiments/train_interrogator.py $STEP1 --fit-only
+    python experiments/train_interrogator.py $STEP1 --fit-only --reuse  # --reuse: an interrupted fit resumes
     python experiments/assemble_policy.py --filter "$OUT/ensemble" --guards "$OUT/guard/ensemble" \
       --out runs/far_step1_policy
     python experiments/train_estimator.py --policy runs/far_step1_policy --set ceiling_stop=false \
