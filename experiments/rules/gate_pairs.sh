@@ -6,8 +6,7 @@ play_both() {
   python experiments/validation_plays.py "$NAME" --run runs/gate129c2.25 ${CANDIDATE_SET:+--set "$CANDIDATE_SET"} "$@"
   python experiments/validation_plays.py "$BASE" "$@"
 }
-# pairs_of PLAY...: the shipped agent's and G2.25's records of each play, one path a line
-pairs_of() { for play in "$@"; do printf '%s\n' "out/records_${BASE}_$play.json" "out/records_${NAME}_$play.json"; done; }
+. experiments/rules/pairs.sh  # pairs_of: the shipped agent's and G2.25's records of each play
 FAMILY_WISE="--errors --error-grid family --returns --family-wise --sign-test --discordant"  # rule 127's (i) and (ii)
 # confirm_return_first RULE: rule 132's plays and checks (docs/interrogator.md) for rule RULE, SET and EXTREMES set:
 # SET with every encoder lagged 5, 10, 15 and 20 ms together, SET at 30 ms, and EXTREMES with the encoder as drawn

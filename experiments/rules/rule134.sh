@@ -14,15 +14,9 @@ play_both() {
   python experiments/validation_plays.py "$NAME" --set slow_drive_applied_estimate=true "$@"
   python experiments/validation_plays.py "$BASE" "$@"
 }
-# pairs_of PLAY...: the shipped agent's and S's records of each play, one path a line
-pairs_of() { for play in "$@"; do printf '%s\n' "out/records_${BASE}_$play.json" "out/records_${NAME}_$play.json"; done; }
-# check OUT PLAYS OPTIONS...: rule_check.py on the pairs of the plays (space-separated) with the rule's options
-check() {
-  local out=$1 plays=$2 pairs
-  shift 2
-  mapfile -t pairs < <(pairs_of $plays)
-  python experiments/rule_check.py "${pairs[@]}" --same-climbs "$@" --out "out/rule_check_rule134_$out.md" || true
-}
+. experiments/rules/pairs.sh
+# check OUT PLAYS OPTIONS...: check_plays with the rule's (a) on every pair, into out/rule_check_rule134_OUT.md
+check() { local out=$1; shift; check_plays "rule134_$out" "$@" --same-climbs; }
 case "$1" in
   qualify)
     play_both --only validation motor_lag_s

@@ -20,13 +20,9 @@ play_both() {
     --guards "$OUT/guard/ensemble" "$OUT/probing_guard/ensemble" "$@"
   python experiments/validation_plays.py "$BASE" "$@"
 }
-# check OUT PLAYS OPTIONS...: rule_check.py on the shipped agent's and F's records of the plays (space-separated)
-check() {
-  local out=$1 play pairs=()
-  for play in $2; do pairs+=("out/records_${BASE}_$play.json" "out/records_${NAME}_$play.json"); done
-  shift 2
-  python experiments/rule_check.py "${pairs[@]}" "$@" --out "out/rule_check_rule135_$out.md" || true
-}
+. experiments/rules/pairs.sh
+# check OUT PLAYS OPTIONS...: check_plays into out/rule_check_rule135_OUT.md
+check() { local out=$1; shift; check_plays "rule135_$out" "$@"; }
 # (i) over the four plays at and past the draws, (ii) on an extremes set
 FOUR="--gain --errors --family-wise --sign-test --discordant --more-runaways 100000"
 EXTREMES="--gain --errors --family-wise --sign-test --discordant --more-runaways 100000 --strict-grid none"
