@@ -1032,6 +1032,11 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # rule_check_rule133_confirmation_encoder_lag30, rule_check_rule133_confirmation)
         # rule 134: experiments/rules/rule134.sh qualify (rule_check_rule134_slow_drive, rule_check_rule134_extremes,
         # rule_check_rule134_draws)
+        # rule 135: experiments/rules/rule135.sh fit, then qualify (rule_check_rule135_validation,
+        # rule_check_rule135_extremes), and the climbs it played by their curves' peak creepage:
+    python experiments/peak_creepage_records.py --suite experiments/suites/v2_extremes_confirmation17_grid.json \
+        --records out/records_rule135shipped_extremes_confirmation17.json \
+        out/records_rule135F_extremes_confirmation17.json --out out/peak_creepage_rule135.md
         # session 70's exploration: experiments/rules/relative_shift.sh (crest_tradeoff_relative_shift_validation,
         # crest_tradeoff_relative_shift_confirmation43, crest_tradeoff_relative_shift_validation_noise)
     python experiments/encoder_lag_reading.py --sharp runs/interrogator_three/climbs_torque_wide.npz \
@@ -1431,6 +1436,7 @@ SOURCES = {
         *(f"rule_check_rule13{r}_confirmation{play}" for r in (1, 2, 3)
           for play in ("", "_encoder_lags", "_encoder_lag30")),
         *(f"rule_check_rule134_{check}" for check in ("slow_drive", "extremes", "draws")),
+        *(f"rule_check_rule135_{check}" for check in ("validation", "extremes")), "peak_creepage_rule135",
         *(f"crest_tradeoff_relative_shift_{play}" for play in ("validation", "confirmation43", "validation_noise")),
         "encoder_lag_reading", "noise_colour_reading",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),

@@ -198,6 +198,10 @@ CASES = [
                                "--candidate-threshold", "0.09", "--min-ratio", "0.5"], "--min-ratio"),
     ("match_creep_threshold", ["--reference", "{SHIPPED}", "--candidate", "{SHIPPED}", "--climbs", "{file}",
                                "--exponent", "0.7"], "--exponent"),
+    ("peak_creepage_records", ["--suite", "{file}", "--records", "{text}"], "--suite"),
+    ("peak_creepage_records", ["--suite", str(EXPERIMENTS / "suites" / "v2_validation_grid.json"), "--records",
+                               "{text}"], "records"),
+    ("peak_creepage_records", ["--suite", "{file}", "--records", "{text}", "--out", "{dir}"], "--out"),
 ]
 
 
@@ -235,7 +239,7 @@ REQUIRED = {"assemble_policy": ["--filter", "f", "--out", "o"], "feature_block_n
             "encoder_lag_reading": ["--sharp", "a.npz", "--lagged", "b.npz"],
             "pool_ensembles": ["a", "b", "--out", "o"],
             "match_creep_threshold": ["--reference", "r", "--candidate", "c", "--climbs", "c.npz"],
-            "noise_colour_reading": ["c.npz"]}
+            "noise_colour_reading": ["c.npz"], "peak_creepage_records": ["--suite", "s.json", "--records", "r.json"]}
 
 
 def test_every_script_parses_with_the_one_line_parser() -> None:
@@ -289,3 +293,20 @@ def test_runaways_by_option_counts_each_setting_per_band_of_the_grid_files_value
     slips_low = sum(i % 2 == 0 for i in low)
     assert f"| {slips_low} of {len(low)} | {3 - slips_low} of {6 - len(low)} | 3 of 6 |" in row_b, text
     assert "| a | 0 of" in text and "| 0 of 6 |" in text
+
+
+def test_peak_creepage_records_bins_each_settings_episodes_by_their_curves_peak() -> None:
+    """Each record falls in the band of its own episode's peak creepage in its configuration; a band's row counts
+    its climbs, their median error and macro-slips, and how they ended; empty bands are left out."""
+    import peak_creepage_records as pcr
+
+    plain, counter = pcr._config({"config": {}}), pcr._config({"config": {"counter_torque": True}})
+    peaks = {(plain, 0): 0.005, (plain, 1): 0.05, (counter, 0): 0.05, (counter, 1): 0.05}
+    records = [{"setting": "a", "config": config, "episode": i, "error": error, "macro_slip": slip,
+                "peak_torque_fraction": 0.5, "ended": ended, "signed_error": -error}
+               for config, i, error, slip, ended in [({}, 0, 0.1, True, "macro-slip"), ({}, 1, 0.2, False, "horizon"),
+                                                     ({"counter_torque": True}, 0, 0.4, False, "horizon"),
+                                                     ({"counter_torque": True}, 1, 0.6, False, "headroom")]]
+    rows = pcr.table(records, peaks).splitlines()[2:]
+    assert rows == ["| a | peak creepage < 1 % | 1 | 10.0 % | 10.0 % | -10.0 % | 1 | 50.0 % | macro-slip 1 |",
+                    "| a | peak creepage 4+ % | 3 | 40.0 % | 56.0 % | -40.0 % | 0 | 50.0 % | horizon 2, headroom 1 |"], rows
