@@ -309,4 +309,5 @@ def test_peak_creepage_records_bins_each_settings_episodes_by_their_curves_peak(
                                                      ({"counter_torque": True}, 1, 0.6, False, "headroom")]]
     rows = pcr.table(records, peaks).splitlines()[2:]
     assert rows == ["| a | peak creepage < 1 % | 1 | 10.0 % | 10.0 % | -10.0 % | 1 | 50.0 % | macro-slip 1 |",
-                    "| a | peak creepage 4+ % | 3 | 40.0 % | 56.0 % | -40.0 % | 0 | 50.0 % | horizon 2, headroom 1 |"], rows
+                    "| a | peak creepage 4+ % | 3 | 40.0 % | 56.0 % | -40.0 % | 0 | 50.0 % | "
+                    "horizon 2, headroom 1 |"], rows
