@@ -20,12 +20,9 @@ play_both() {
     --guards "$OUT/guard/ensemble" "$OUT/probing_guard/ensemble" "$@"
   python experiments/validation_plays.py "$BASE" "$@"
 }
+RULE=rule135
 . experiments/rules/pairs.sh
-# check OUT PLAYS OPTIONS...: check_plays into out/rule_check_rule135_OUT.md
-check() { local out=$1; shift; check_plays "rule135_$out" "$@"; }
-# (i) over the four plays at and past the draws, (ii) on an extremes set
-FOUR="--gain --errors --family-wise --sign-test --discordant --more-runaways 100000"
-EXTREMES="--gain --errors --family-wise --sign-test --discordant --more-runaways 100000 --strict-grid none"
+. experiments/rules/far_checks.sh
 case "$1" in
   fit)
     python experiments/train_interrogator.py $STEP1 --fit-only --reuse  # --reuse: an interrupted fit resumes

@@ -13,10 +13,9 @@ BASE=rule135shipped
 # shipped agent (qualify plays it only where its records of rule 135 are missing)
 g() { python experiments/validation_plays.py "$NAME" --run runs/interrogator_far/ensemble "$@"; }
 base() { python experiments/validation_plays.py "$BASE" "$@"; }
+RULE=rule136
 . experiments/rules/pairs.sh
-check() { local out=$1; shift; check_plays "rule136_$out" "$@"; }
-FOUR="--gain --errors --family-wise --sign-test --discordant --more-runaways 100000"
-EXTREMES="--gain --errors --family-wise --sign-test --discordant --more-runaways 100000 --strict-grid none"
+. experiments/rules/far_checks.sh
 case "$1" in
   qualify)
     g
