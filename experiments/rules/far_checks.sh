@@ -1,7 +1,33 @@
-# Rule 135's checks (docs/interrogator.md), which rule 136 takes word for word; sourced by rule135.sh and rule136.sh
-# (from the repository root, RULE, BASE and NAME set) after experiments/rules/pairs.sh.
+# Rule 135's checks (docs/interrogator.md), which rules 136 and 137 take word for word; sourced by rule135.sh,
+# rule136.sh and rule137.sh (from the repository root, RULE, BASE and NAME set) after experiments/rules/pairs.sh.
 # check OUT PLAYS OPTIONS...: check_plays into out/rule_check_${RULE}_OUT.md
 check() { local out=$1; shift; check_plays "${RULE}_$out" "$@"; }
 # (i) over the four plays at and past the draws, (ii) on an extremes set
 FOUR="--gain --errors --family-wise --sign-test --discordant --more-runaways 100000"
 EXTREMES="--gain --errors --family-wise --sign-test --discordant --more-runaways 100000 --strict-grid none"
+# judge_part qualify|confirm: a part of rule 135's fit (rules 136, 137) against the shipped agent's plays of rule 135,
+# with g ARGS... (validation_plays.py ARGS for the candidate) and base ARGS... (for the shipped agent) defined; qualify
+# plays the shipped agent only where its records of rule 135 are missing
+judge_part() {
+  local X
+  case "$1" in
+    qualify)
+      g
+      [ -f "out/records_${BASE}_motor_lag_s.json" ] || base
+      X="--confirmation confirmation45 torque_confirmation24 extremes_confirmation17 --only extremes_confirmation17"
+      g $X
+      [ -f "out/records_${BASE}_extremes_confirmation17.json" ] || base $X
+      check validation "validation validation_torque noise_level motor_lag_s" $FOUR
+      check extremes "extremes_confirmation17" $EXTREMES
+      ;;
+    confirm)
+      X="--confirmation confirmation46 torque_confirmation25 extremes_confirmation18"
+      g $X
+      base $X
+      check confirmation "confirmation46 torque_confirmation25 confirmation46_noise_level confirmation46_motor_lag_s" \
+        $FOUR
+      check confirmation_extremes "extremes_confirmation18" $EXTREMES
+      ;;
+    *) echo "usage: experiments/rules/$RULE.sh qualify|confirm" >&2; exit 2 ;;
+  esac
+}

@@ -7,32 +7,13 @@
 #                                          # torque_confirmation25 and extremes_confirmation18, both agents
 set -e
 cd "$(dirname "$0")/../.."  # the repository root
+RULE=rule136
 NAME=rule136G
 BASE=rule135shipped
 # g ARGS... / base ARGS...: validation_plays.py ARGS for G (the shipped guards: validation_plays.py's default) / for the
-# shipped agent (qualify plays it only where its records of rule 135 are missing)
+# shipped agent
 g() { python experiments/validation_plays.py "$NAME" --run runs/interrogator_far/ensemble "$@"; }
 base() { python experiments/validation_plays.py "$BASE" "$@"; }
-RULE=rule136
 . experiments/rules/pairs.sh
 . experiments/rules/far_checks.sh
-case "$1" in
-  qualify)
-    g
-    [ -f "out/records_${BASE}_motor_lag_s.json" ] || base
-    X="--confirmation confirmation45 torque_confirmation24 extremes_confirmation17 --only extremes_confirmation17"
-    g $X
-    [ -f "out/records_${BASE}_extremes_confirmation17.json" ] || base $X
-    check validation "validation validation_torque noise_level motor_lag_s" $FOUR
-    check extremes "extremes_confirmation17" $EXTREMES
-    ;;
-  confirm)
-    X="--confirmation confirmation46 torque_confirmation25 extremes_confirmation18"
-    g $X
-    base $X
-    check confirmation "confirmation46 torque_confirmation25 confirmation46_noise_level confirmation46_motor_lag_s" \
-      $FOUR
-    check confirmation_extremes "extremes_confirmation18" $EXTREMES
-    ;;
-  *) echo "usage: experiments/rules/rule136.sh qualify|confirm" >&2; exit 2 ;;
-esac
+judge_part "$1"
