@@ -24,14 +24,14 @@ import numpy as np
 
 from cof_gym.commands.args import Parser
 from cof_gym.commands.evaluate_stats import peak_creepage_band
-from cof_gym.commands.suites import SuiteError, make_suite
+from cof_gym.commands.suites import Suite, SuiteError, make_suite
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from paired_comparison import print_table, read_record_files  # noqa: E402
 from script_checks import check_out_file  # noqa: E402
 
 
-def peak_creepages(suite, configs: list[str]) -> dict[tuple[str, int], float]:
+def peak_creepages(suite: Suite, configs: list[str]) -> dict[tuple[str, int], float]:
     """The true peak's creepage of every episode of ``suite`` in each vehicle configuration (JSON text of its env
     kwargs), by (configuration, episode index)."""
     import gymnasium as gym
