@@ -2,8 +2,8 @@
 # Rule 135 (docs/interrogator.md): F, the shipped recipe's three steps with the far-peak procedural climbs added to
 # every fit, against the shipped agent.
 #   experiments/rules/rule135.sh fit       # the three steps (the caches in runs/interrogator_far, collected first
-#                                          # where missing: about 40 minutes each on 2 cores; fits and the on-policy
-#                                          # climbs about 1 hour more)
+#                                          # where missing): 74.5 minutes from nothing, alone on 2 cores (session 71:
+#                                          # each cache about 9 minutes, the on-policy climbs 11, the fits the rest)
 #   experiments/rules/rule135.sh qualify   # the four validation plays and extremes_confirmation17, both agents
 #   experiments/rules/rule135.sh confirm   # confirmation46 (at the draws, noise tripled, 0.1 s lag),
 #                                          # torque_confirmation25 and extremes_confirmation18, both agents
