@@ -1039,6 +1039,7 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         out/records_rule135F_extremes_confirmation17.json --out out/peak_creepage_rule135.md
         # rule 136: experiments/rules/rule136.sh qualify (rule_check_rule136_validation, rule_check_rule136_extremes)
         # rule 137: experiments/rules/rule137.sh qualify (rule_check_rule137_validation, rule_check_rule137_extremes)
+        # and spent (rule_check_rule137_spent)
     python experiments/peak_creepage_records.py --suite experiments/suites/v2_extremes_confirmation17_grid.json \
         --records out/records_rule136G_extremes_confirmation17.json \
         out/records_rule137H_extremes_confirmation17.json --out out/peak_creepage_rule137.md
@@ -1443,7 +1444,7 @@ SOURCES = {
         *(f"rule_check_rule134_{check}" for check in ("slow_drive", "extremes", "draws")),
         *(f"rule_check_rule135_{check}" for check in ("validation", "extremes")), "peak_creepage_rule135",
         *(f"rule_check_rule13{r}_{check}" for r in (6, 7) for check in ("validation", "extremes")),
-        "peak_creepage_rule137",
+        "peak_creepage_rule137", "rule_check_rule137_spent",
         *(f"crest_tradeoff_relative_shift_{play}" for play in ("validation", "confirmation43", "validation_noise")),
         "encoder_lag_reading", "noise_colour_reading",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),

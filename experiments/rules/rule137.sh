@@ -5,6 +5,9 @@
 #   experiments/rules/rule137.sh qualify   # the four validation plays and extremes_confirmation17
 #   experiments/rules/rule137.sh confirm   # confirmation46 (at the draws, noise tripled, 0.1 s lag),
 #                                          # torque_confirmation25 and extremes_confirmation18, both agents
+#   experiments/rules/rule137.sh spent     # information after H failed to qualify, no rule: both agents on the spent
+#                                          # confirmation45 (at the draws, noise tripled, 0.1 s lag) and
+#                                          # torque_confirmation24, read as (i) reads the four validation plays
 set -e
 cd "$(dirname "$0")/../.."  # the repository root
 RULE=rule137
@@ -19,4 +22,12 @@ g() {
 base() { python experiments/validation_plays.py "$BASE" "$@"; }
 . experiments/rules/pairs.sh
 . experiments/rules/far_checks.sh
-judge_part "$1"
+if [ "$1" = spent ]; then
+  X="--confirmation confirmation45 torque_confirmation24 extremes_confirmation17 --only confirmation45
+    confirmation45_noise_level confirmation45_motor_lag_s torque_confirmation24"
+  g $X
+  base $X
+  check spent "confirmation45 torque_confirmation24 confirmation45_noise_level confirmation45_motor_lag_s" $FOUR
+else
+  judge_part "$1"
+fi
