@@ -1046,6 +1046,7 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # rule 138: experiments/rules/rule138.sh qualify a25 and qualify a50 (rule_check_rule138a25_validation,
         # rule_check_rule138a25_extremes, rule_check_rule138a50_validation, rule_check_rule138a50_extremes), then
         # explore (frontier_rule138, rule_check_x138a0c2)
+        # rule 139: experiments/rules/rule139.sh qualify (rule_check_rule139_validation, rule_check_rule139_extremes)
         # session 70's exploration: experiments/rules/relative_shift.sh (crest_tradeoff_relative_shift_validation,
         # crest_tradeoff_relative_shift_confirmation43, crest_tradeoff_relative_shift_validation_noise)
     python experiments/encoder_lag_reading.py --sharp runs/interrogator_three/climbs_torque_wide.npz \
@@ -1450,6 +1451,7 @@ SOURCES = {
         "peak_creepage_rule137", "rule_check_rule137_spent",
         *(f"rule_check_rule138{c}_{check}" for c in ("a25", "a50") for check in ("validation", "extremes")),
         "frontier_rule138", "rule_check_x138a0c2",
+        *(f"rule_check_rule139_{check}" for check in ("validation", "extremes")),
         *(f"crest_tradeoff_relative_shift_{play}" for play in ("validation", "confirmation43", "validation_noise")),
         "encoder_lag_reading", "noise_colour_reading",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
