@@ -20,7 +20,8 @@ target rows met over every grid of every play (the absolute ones, and with ``--r
 every reference's and no more runaways than the fewest of theirs: ``selection.target_rows``, as the README's targets
 table reads them). With ``--rows`` (and ``--references`` and ``--shipped``) a second table lists every target row
 of every grid and play that some candidate meets and the shipped agent does not, or the reverse, with each one's
-value there. Nothing is chosen here: the plays were judged by their rules; this shows where they lie together.
+value there. With ``--endings`` the table also counts each play's climbs that ended at the horizon and its runaways in
+the slow probe (the records' ``ended``). Nothing is chosen here: the plays were judged by their rules; this shows where they lie together.
 """
 
 from __future__ import annotations
@@ -28,6 +29,7 @@ from __future__ import annotations
 import itertools
 import os
 import sys
+from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -61,6 +63,7 @@ class Point:
     p90: float
     mean_return: float
     cells: dict[tuple[int, str], Cell] = field(default_factory=dict, compare=False)  # by (play, grid)
+    endings: Counter = field(default_factory=Counter, compare=False)  # how its episodes ended (records' "ended")
 
 
 def label_of(path: Path) -> str:
@@ -101,7 +104,7 @@ def point(label: str, setting: str, records: list[dict], grid: str, plays: list[
     grid_all, every = summary(on_grid), summary(records)
     return Point(label, setting, every["episodes"], every["macro_slips"], grid_all["median"], grid_all["p90"],
                  every["median"], every["p90"], float(np.mean([r["episode_return"] for r in records])),
-                 cells_of(plays or [records]))
+                 cells_of(plays or [records]), Counter(r.get("ended", "") for r in records))
 
 
 def beaten_by(point: Point, candidates: list[Point]) -> int:
@@ -117,20 +120,27 @@ def on_frontier(points: list[Point]) -> list[bool]:
     return [beaten_by(p, points) == 0 for p in points]
 
 
-def table(points: list[Point], grid: str, shipped: str | None, references: list[Point] = ()) -> str:
+ENDING_COLUMNS = {"ended at the horizon": "horizon", "runaways in the slow probe": "macro-slip, slow probe"}
+
+
+def table(points: list[Point], grid: str, shipped: str | None, references: list[Point] = (),
+          endings: bool = False) -> str:
     """The markdown table, by runaways (then the ``grid`` P90): every candidate and every reference (a hand-built
     agent), each with the number of candidates that beat it on both axes (a candidate beaten by none is on the
-    frontier)."""
-    lines = [f"| play | runaways (climbs) | {grid}: median / P90 | all: median / P90 | mean return | beaten by "
-             "(candidates) | issue 16's target rows met | setting |", "|---|---|---|---|---|---|---|---|"]
+    frontier); with ``endings`` also how many of its episodes ended at the horizon and ran away in the slow probe
+    (the records' ``ended``: :data:`ENDING_COLUMNS`)."""
+    extra = "".join(f" {name} |" for name in ENDING_COLUMNS) if endings else ""
+    lines = [f"| play | runaways (climbs) | {grid}: median / P90 | all: median / P90 | mean return |{extra} beaten by "
+             "(candidates) | issue 16's target rows met | setting |", "|---" * (8 + (2 if endings else 0)) + "|"]
     rows = [(p, False) for p in points] + [(p, True) for p in references]
     for p, reference in sorted(rows, key=lambda row: (row[0].runaways, row[0].grid_p90)):
         name = (f"**{p.label}** (shipped)" if p.label == shipped else f"{p.label} (hand-built)" if reference
                 else p.label)
         beaten = beaten_by(p, points)
         met = "-" if reference else "{} of {}".format(*targets_met(p, list(references)))
+        counts = "".join(f" {p.endings[ended]} |" for ended in ENDING_COLUMNS.values()) if endings else ""
         lines.append(f"| {name} | {p.runaways} ({p.episodes}) | {100 * p.grid_median:.1f} % / {100 * p.grid_p90:.1f} % | "
-                     f"{100 * p.median:.1f} % / {100 * p.p90:.1f} % | {p.mean_return:.4f} | "
+                     f"{100 * p.median:.1f} % / {100 * p.p90:.1f} % | {p.mean_return:.4f} |{counts} "
                      f"{beaten if beaten or reference else '0: on the frontier'} | {met} | {p.setting} |")
     return "\n".join(lines) + "\n"
 
@@ -255,6 +265,9 @@ def main() -> None:
                         help="the shipped agent's play, as given among the records (marked)")
     parser.add_argument("--out", type=Path, default=None, help="also write the table to this markdown file")
     parser.add_argument("--figure", type=Path, default=None, help="write the figure to this PNG file")
+    parser.add_argument("--endings", action="store_true",
+                        help="also count each play's episodes that ended at the horizon and its runaways in the slow "
+                             "probe (the records' ended)")
     parser.add_argument("--rows", action="store_true",
                         help="also list the target rows some candidate meets and the shipped agent does not, or the "
                              "reverse (needs --references and --shipped)")
@@ -279,7 +292,7 @@ def main() -> None:
     shipped = None if args.shipped is None else label_of(Path(args.shipped.split("+")[0]))
     if shipped is not None and shipped not in {p.label for p in points}:
         parser.error(f"--shipped: {args.shipped} holds several settings; the shipped agent's play is one")
-    text = table(points, args.grid, shipped, references)
+    text = table(points, args.grid, shipped, references, args.endings)
     if args.rows:
         plays = play_names([label_of(Path(f)) for f in args.shipped.split("+")])
         text += ("\n## The target rows that part the candidates from the shipped agent\n\n"

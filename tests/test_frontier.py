@@ -152,3 +152,19 @@ def test_rows_on_a_grid_no_reference_played_read_the_absolute_targets_alone() ->
     steep = [line for line in differing_rows([shipped, better], "shipped", [rival], ["v"]).splitlines()
              if line.startswith("| v | steep")]
     assert [line.split(" | ")[2] for line in steep] == ["median <= 3 %", "P90 <= 8 %"]
+
+
+def test_endings_count_the_horizon_endings_and_the_slow_probes_runaways() -> None:
+    rows = records("s", slips=3)
+    for i, r in enumerate(rows):  # two runaways in the slow probe, one elsewhere; five climbs ran to the horizon
+        r["ended"] = ("macro-slip, slow probe" if i in (21, 22) else "macro-slip" if r["macro_slip"]
+                      else "horizon" if i < 5 else "headroom")
+    p = point("a", "s", rows, "family")
+    with_endings, plain = table([p], "family", "a", endings=True), table([p], "family", "a")
+    header, rule, row = with_endings.splitlines()
+    assert "| ended at the horizon | runaways in the slow probe |" in header
+    assert rule.count("---") == header.count("|") - 1 == 10
+    assert "| -0.8143 | 5 | 2 |" in row  # the mean return (-0.1 - 30 / 42), then the two counts
+    assert "ended at the horizon" not in plain and plain.splitlines()[1].count("---") == 8
+    unread = point("b", "s", records("s"), "family")  # records without "ended": nothing counted
+    assert "| 0 | 0 |" in table([unread], "family", None, endings=True).splitlines()[2]

@@ -29,7 +29,7 @@ if [ "$1" = explore ]; then
     done
   done
   python experiments/frontier.py $(plays $BASE rule138a25 rule138a50 x138a0c2 x138a0c25 x138a25c2 x138a25c25 x138a5c2 \
-    x138a5c25) --shipped $(plays $BASE) --out out/frontier_rule138.md
+    x138a5c25) --shipped $(plays $BASE) --endings --out out/frontier_rule138.md
   exit 0
 fi
 case "$2" in
