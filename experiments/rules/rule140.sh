@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# Rule 140 (docs/interrogator.md): FR, rule 135's F (the shipped recipe's three steps with the far-peak procedural
+# climbs added to every fit) with the creepage_rise feature block read by the filter and both guards, against the
+# shipped agent (its plays of rule 135, rule135shipped: the same commands).
+#   experiments/rules/rule140.sh fit       # the three steps on rule 135's climb caches (runs/interrogator_far,
+#                                          # linked into runs/interrogator_far_rise; rule135.sh fit collects them where
+#                                          # missing), step 2's on-policy climbs collected with FR's own step 1
+#   experiments/rules/rule140.sh qualify   # the four validation plays and extremes_confirmation17
+#   experiments/rules/rule140.sh confirm   # confirmation46 (at the draws, noise tripled, 0.1 s lag),
+#                                          # torque_confirmation25 and extremes_confirmation18, both agents
+set -e
+cd "$(dirname "$0")/../.."  # the repository root
+OUT=runs/interrogator_far_rise
+RULE=rule140
+NAME=rule140FR
+BASE=rule135shipped
+STEP1="--out $OUT --climbs torque_wide=8000 procedural_far_torque_wide=8000 --guard-climbs torque_wide=8000
+  procedural_torque_wide=8000 procedural_far_torque_wide=8000 --torque-balance-lag 65 --features creepage_rise"
+# g ARGS... / base ARGS...: validation_plays.py ARGS for FR / for the shipped agent
+g() {
+  python experiments/validation_plays.py "$NAME" --run "$OUT/ensemble" \
+    --guards "$OUT/guard/ensemble" "$OUT/probing_guard/ensemble" "$@"
+}
+base() { python experiments/validation_plays.py "$BASE" "$@"; }
+. experiments/rules/pairs.sh
+. experiments/rules/far_checks.sh
+if [ "$1" = fit ]; then
+  mkdir -p "$OUT"
+  for cache in torque_wide procedural_torque_wide procedural_far_torque_wide; do
+    [ -e "$OUT/climbs_$cache.npz" ] || ln -s "$PWD/runs/interrogator_far/climbs_$cache.npz" "$OUT/climbs_$cache.npz"
+  done
+  python experiments/train_interrogator.py $STEP1 --fit-only --reuse  # --reuse: an interrupted fit resumes
+  python experiments/assemble_policy.py --filter "$OUT/ensemble" --guards "$OUT/guard/ensemble" \
+    --out runs/far_rise_step1_policy
+  python experiments/train_estimator.py --policy runs/far_rise_step1_policy --set ceiling_stop=false \
+    --out runs/estimator_far_rise --climbs env=8000 --collect-only
+  python experiments/train_interrogator.py $STEP1 --fit-only --reuse \
+    --add-guard-climbs runs/estimator_far_rise/onpolicy_env_*.npz --probing-guard
+else
+  judge_part "$1"
+fi
