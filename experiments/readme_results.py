@@ -1047,6 +1047,11 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # rule_check_rule138a25_extremes, rule_check_rule138a50_validation, rule_check_rule138a50_extremes), then
         # explore (frontier_rule138, rule_check_x138a0c2)
         # rule 139: experiments/rules/rule139.sh qualify (rule_check_rule139_validation, rule_check_rule139_extremes)
+        # rule 140: experiments/rules/rule140.sh fit, then qualify (rule_check_rule140_validation,
+        # rule_check_rule140_extremes), and the climbs it played by their curves' peak creepage:
+    python experiments/peak_creepage_records.py --suite experiments/suites/v2_extremes_confirmation17_grid.json \
+        --records out/records_rule135shipped_extremes_confirmation17.json \
+        out/records_rule140FR_extremes_confirmation17.json --out out/peak_creepage_rule140.md
         # session 70's exploration: experiments/rules/relative_shift.sh (crest_tradeoff_relative_shift_validation,
         # crest_tradeoff_relative_shift_confirmation43, crest_tradeoff_relative_shift_validation_noise)
     python experiments/encoder_lag_reading.py --sharp runs/interrogator_three/climbs_torque_wide.npz \
@@ -1452,6 +1457,7 @@ SOURCES = {
         *(f"rule_check_rule138{c}_{check}" for c in ("a25", "a50") for check in ("validation", "extremes")),
         "frontier_rule138", "rule_check_x138a0c2",
         *(f"rule_check_rule139_{check}" for check in ("validation", "extremes")),
+        *(f"rule_check_rule140_{check}" for check in ("validation", "extremes")), "peak_creepage_rule140",
         *(f"crest_tradeoff_relative_shift_{play}" for play in ("validation", "confirmation43", "validation_noise")),
         "encoder_lag_reading", "noise_colour_reading",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),

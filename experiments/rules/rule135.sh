@@ -23,16 +23,9 @@ play_both() {
 RULE=rule135
 . experiments/rules/pairs.sh
 . experiments/rules/far_checks.sh
+. experiments/rules/far_recipe.sh
 case "$1" in
-  fit)
-    python experiments/train_interrogator.py $STEP1 --fit-only --reuse  # --reuse: an interrupted fit resumes
-    python experiments/assemble_policy.py --filter "$OUT/ensemble" --guards "$OUT/guard/ensemble" \
-      --out runs/far_step1_policy
-    python experiments/train_estimator.py --policy runs/far_step1_policy --set ceiling_stop=false \
-      --out runs/estimator_far --climbs env=8000 --collect-only
-    python experiments/train_interrogator.py $STEP1 --fit-only --reuse \
-      --add-guard-climbs runs/estimator_far/onpolicy_env_*.npz --probing-guard
-    ;;
+  fit) fit_far "$OUT" runs/far_step1_policy runs/estimator_far ;;
   qualify)
     play_both
     play_both --confirmation confirmation45 torque_confirmation24 extremes_confirmation17 \

@@ -6,6 +6,8 @@
 #                                          # linked into runs/interrogator_far_rise; rule135.sh fit collects them where
 #                                          # missing), step 2's on-policy climbs collected with FR's own step 1
 #   experiments/rules/rule140.sh qualify   # the four validation plays and extremes_confirmation17
+#   experiments/rules/rule140.sh trace     # information: FR as a policy directory (runs/far_rise_policy), its climbs
+#                                          # of the two far tables session 71 traced (trace_climb.py)
 #   experiments/rules/rule140.sh confirm   # confirmation46 (at the draws, noise tripled, 0.1 s lag),
 #                                          # torque_confirmation25 and extremes_confirmation18, both agents
 set -e
@@ -24,18 +26,18 @@ g() {
 base() { python experiments/validation_plays.py "$BASE" "$@"; }
 . experiments/rules/pairs.sh
 . experiments/rules/far_checks.sh
+. experiments/rules/far_recipe.sh
 if [ "$1" = fit ]; then
   mkdir -p "$OUT"
   for cache in torque_wide procedural_torque_wide procedural_far_torque_wide; do
     [ -e "$OUT/climbs_$cache.npz" ] || ln -s "$PWD/runs/interrogator_far/climbs_$cache.npz" "$OUT/climbs_$cache.npz"
   done
-  python experiments/train_interrogator.py $STEP1 --fit-only --reuse  # --reuse: an interrupted fit resumes
+  fit_far "$OUT" runs/far_rise_step1_policy runs/estimator_far_rise
+elif [ "$1" = trace ]; then
   python experiments/assemble_policy.py --filter "$OUT/ensemble" --guards "$OUT/guard/ensemble" \
-    --out runs/far_rise_step1_policy
-  python experiments/train_estimator.py --policy runs/far_rise_step1_policy --set ceiling_stop=false \
-    --out runs/estimator_far_rise --climbs env=8000 --collect-only
-  python experiments/train_interrogator.py $STEP1 --fit-only --reuse \
-    --add-guard-climbs runs/estimator_far_rise/onpolicy_env_*.npz --probing-guard
+    "$OUT/probing_guard/ensemble" --out runs/far_rise_policy
+  python experiments/trace_climb.py --suite experiments/suites/v2_extremes_confirmation17_grid.json --episodes 3 22 \
+    --agent runs/far_rise_policy
 else
   judge_part "$1"
 fi
