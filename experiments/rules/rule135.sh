@@ -23,9 +23,9 @@ play_both() {
 RULE=rule135
 . experiments/rules/pairs.sh
 . experiments/rules/far_checks.sh
-. experiments/rules/far_recipe.sh
+. experiments/rules/recipe_steps.sh
 case "$1" in
-  fit) fit_far "$OUT" runs/far_step1_policy runs/estimator_far ;;
+  fit) fit_three_steps "$OUT" runs/far_step1_policy runs/estimator_far ;;
   qualify)
     play_both
     play_both --confirmation confirmation45 torque_confirmation24 extremes_confirmation17 \

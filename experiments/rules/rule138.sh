@@ -16,8 +16,11 @@ base() { python experiments/validation_plays.py "$BASE" "$@"; }
 . experiments/rules/pairs.sh
 FOUR_PLAYS="validation validation_torque noise_level motor_lag_s"
 # plays NAME...: each name's four validation plays joined by + (frontier.py counts them as one play)
-plays() { for n in "$@"; do printf '%s+' out/records_"${n}"_{validation,validation_torque,noise_level,motor_lag_s}.json \
-  | sed 's/+$/\n/'; done; }
+plays() {
+  for n in "$@"; do
+    printf '%s+' out/records_"${n}"_{validation,validation_torque,noise_level,motor_lag_s}.json | sed 's/+$/\n/'
+  done
+}
 if [ "$1" = explore ]; then
   for fraction in 0 0.25 0.5; do
     for step in 0.02 0.025; do

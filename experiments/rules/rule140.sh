@@ -26,13 +26,13 @@ g() {
 base() { python experiments/validation_plays.py "$BASE" "$@"; }
 . experiments/rules/pairs.sh
 . experiments/rules/far_checks.sh
-. experiments/rules/far_recipe.sh
+. experiments/rules/recipe_steps.sh
 if [ "$1" = fit ]; then
   mkdir -p "$OUT"
   for cache in torque_wide procedural_torque_wide procedural_far_torque_wide; do
     [ -e "$OUT/climbs_$cache.npz" ] || ln -s "$PWD/runs/interrogator_far/climbs_$cache.npz" "$OUT/climbs_$cache.npz"
   done
-  fit_far "$OUT" runs/far_rise_step1_policy runs/estimator_far_rise
+  fit_three_steps "$OUT" runs/far_rise_step1_policy runs/estimator_far_rise
 elif [ "$1" = trace ]; then
   python experiments/assemble_policy.py --filter "$OUT/ensemble" --guards "$OUT/guard/ensemble" \
     "$OUT/probing_guard/ensemble" --out runs/far_rise_policy
