@@ -21,7 +21,8 @@ every reference's and no more runaways than the fewest of theirs: ``selection.ta
 table reads them). With ``--rows`` (and ``--references`` and ``--shipped``) a second table lists every target row
 of every grid and play that some candidate meets and the shipped agent does not, or the reverse, with each one's
 value there. With ``--endings`` the table also counts each play's climbs that ended at the horizon and its runaways in
-the slow probe (the records' ``ended``). Nothing is chosen here: the plays were judged by their rules; this shows where they lie together.
+the slow probe (the records' ``ended``). Nothing is chosen here: the plays were judged by their rules; this shows where
+they lie together.
 """
 
 from __future__ import annotations
