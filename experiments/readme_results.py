@@ -1052,6 +1052,8 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
     python experiments/peak_creepage_records.py --suite experiments/suites/v2_extremes_confirmation17_grid.json \
         --records out/records_rule135shipped_extremes_confirmation17.json \
         out/records_rule140FR_extremes_confirmation17.json --out out/peak_creepage_rule140.md
+        # rule 141: experiments/rules/rule141.sh fit, then qualify (rule_check_rule141_validation,
+        # rule_check_rule141_extremes)
         # session 70's exploration: experiments/rules/relative_shift.sh (crest_tradeoff_relative_shift_validation,
         # crest_tradeoff_relative_shift_confirmation43, crest_tradeoff_relative_shift_validation_noise)
     python experiments/encoder_lag_reading.py --sharp runs/interrogator_three/climbs_torque_wide.npz \
@@ -1458,6 +1460,7 @@ SOURCES = {
         "frontier_rule138", "rule_check_x138a0c2",
         *(f"rule_check_rule139_{check}" for check in ("validation", "extremes")),
         *(f"rule_check_rule140_{check}" for check in ("validation", "extremes")), "peak_creepage_rule140",
+        *(f"rule_check_rule141_{check}" for check in ("validation", "extremes")),
         *(f"crest_tradeoff_relative_shift_{play}" for play in ("validation", "confirmation43", "validation_noise")),
         "encoder_lag_reading", "noise_colour_reading",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
