@@ -13,3 +13,21 @@ fit_three_steps() {
   python experiments/train_interrogator.py $STEP1 --fit-only --reuse \
     --add-guard-climbs "$estimator"/onpolicy_env_*.npz --probing-guard
 }
+# fit_on_far_caches OUT POLICY ESTIMATOR CACHE...: fit_three_steps on rule 135's climb caches
+# (runs/interrogator_far/climbs_CACHE.npz, collected by rule135.sh fit), linked into OUT
+fit_on_far_caches() {
+  local out=$1 policy=$2 estimator=$3 cache
+  shift 3
+  mkdir -p "$out"
+  for cache in "$@"; do
+    [ -e "$out/climbs_$cache.npz" ] || ln -s "$PWD/runs/interrogator_far/climbs_$cache.npz" "$out/climbs_$cache.npz"
+  done
+  fit_three_steps "$out" "$policy" "$estimator"
+}
+# g ARGS... / base ARGS...: validation_plays.py ARGS for NAME's fitted networks in OUT (filter, guard, probing guard)
+# / for the shipped agent (BASE), as far_checks.sh's judge_part plays them
+g() {
+  python experiments/validation_plays.py "$NAME" --run "$OUT/ensemble" \
+    --guards "$OUT/guard/ensemble" "$OUT/probing_guard/ensemble" "$@"
+}
+base() { python experiments/validation_plays.py "$BASE" "$@"; }

@@ -18,21 +18,12 @@ NAME=rule140FR
 BASE=rule135shipped
 STEP1="--out $OUT --climbs torque_wide=8000 procedural_far_torque_wide=8000 --guard-climbs torque_wide=8000
   procedural_torque_wide=8000 procedural_far_torque_wide=8000 --torque-balance-lag 65 --features creepage_rise"
-# g ARGS... / base ARGS...: validation_plays.py ARGS for FR / for the shipped agent
-g() {
-  python experiments/validation_plays.py "$NAME" --run "$OUT/ensemble" \
-    --guards "$OUT/guard/ensemble" "$OUT/probing_guard/ensemble" "$@"
-}
-base() { python experiments/validation_plays.py "$BASE" "$@"; }
 . experiments/rules/pairs.sh
 . experiments/rules/far_checks.sh
 . experiments/rules/recipe_steps.sh
 if [ "$1" = fit ]; then
-  mkdir -p "$OUT"
-  for cache in torque_wide procedural_torque_wide procedural_far_torque_wide; do
-    [ -e "$OUT/climbs_$cache.npz" ] || ln -s "$PWD/runs/interrogator_far/climbs_$cache.npz" "$OUT/climbs_$cache.npz"
-  done
-  fit_three_steps "$OUT" runs/far_rise_step1_policy runs/estimator_far_rise
+  fit_on_far_caches "$OUT" runs/far_rise_step1_policy runs/estimator_far_rise torque_wide procedural_torque_wide \
+    procedural_far_torque_wide
 elif [ "$1" = trace ]; then
   python experiments/assemble_policy.py --filter "$OUT/ensemble" --guards "$OUT/guard/ensemble" \
     "$OUT/probing_guard/ensemble" --out runs/far_rise_policy

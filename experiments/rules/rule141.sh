@@ -16,21 +16,11 @@ NAME=rule141R
 BASE=rule135shipped
 STEP1="--out $OUT --climbs torque_wide=8000 --guard-climbs torque_wide=8000 procedural_torque_wide=8000
   --torque-balance-lag 65 --features creepage_rise"
-# g ARGS... / base ARGS...: validation_plays.py ARGS for R / for the shipped agent
-g() {
-  python experiments/validation_plays.py "$NAME" --run "$OUT/ensemble" \
-    --guards "$OUT/guard/ensemble" "$OUT/probing_guard/ensemble" "$@"
-}
-base() { python experiments/validation_plays.py "$BASE" "$@"; }
 . experiments/rules/pairs.sh
 . experiments/rules/far_checks.sh
 . experiments/rules/recipe_steps.sh
 if [ "$1" = fit ]; then
-  mkdir -p "$OUT"
-  for cache in torque_wide procedural_torque_wide; do
-    [ -e "$OUT/climbs_$cache.npz" ] || ln -s "$PWD/runs/interrogator_far/climbs_$cache.npz" "$OUT/climbs_$cache.npz"
-  done
-  fit_three_steps "$OUT" runs/rise_step1_policy runs/estimator_rise
+  fit_on_far_caches "$OUT" runs/rise_step1_policy runs/estimator_rise torque_wide procedural_torque_wide
 else
   judge_part "$1"
 fi
