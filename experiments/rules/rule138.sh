@@ -14,6 +14,7 @@ cd "$(dirname "$0")/../.."  # the repository root
 BASE=rule135shipped
 base() { python experiments/validation_plays.py "$BASE" "$@"; }
 . experiments/rules/pairs.sh
+. experiments/rules/far_checks.sh
 FOUR_PLAYS="validation validation_torque noise_level motor_lag_s"
 # plays NAME...: each name's four validation plays joined by + (frontier.py counts them as one play)
 plays() {
@@ -28,7 +29,7 @@ if [ "$1" = explore ]; then
       APPROACH=approach_fraction=$fraction
       [ "$fraction" = 0 ] && APPROACH=""  # the shipped approach, as its records name it
       python experiments/validation_plays.py "$NAME" --set $APPROACH creep_log_step=$step --only $FOUR_PLAYS
-      check_plays "$NAME" "$FOUR_PLAYS" --gain --errors --family-wise --sign-test --discordant --more-runaways 100000
+      check_plays "$NAME" "$FOUR_PLAYS" $FOUR
     done
   done
   python experiments/frontier.py $(plays $BASE rule138a25 rule138a50 x138a0c2 x138a0c25 x138a25c2 x138a25c25 x138a5c2 \
@@ -44,5 +45,4 @@ RULE=rule138$2
 NAME=rule138$2
 # g ARGS...: validation_plays.py ARGS for the candidate
 g() { python experiments/validation_plays.py "$NAME" --set approach_fraction=$FRACTION "$@"; }
-. experiments/rules/far_checks.sh
 judge_part "$1"
