@@ -1,13 +1,15 @@
-# Rule 135's checks (docs/interrogator.md), which rules 136 and 137 take word for word; sourced by rule135.sh,
-# rule136.sh and rule137.sh (from the repository root, RULE, BASE and NAME set) after experiments/rules/pairs.sh.
+# Rule 135's checks (docs/interrogator.md), which rules 136-141 take word for word; sourced by rule135.sh to
+# rule141.sh (from the repository root, RULE, BASE and NAME set) after experiments/rules/pairs.sh.
 # check OUT PLAYS OPTIONS...: check_plays into out/rule_check_${RULE}_OUT.md
 check() { local out=$1; shift; check_plays "${RULE}_$out" "$@"; }
 # (i) over the four plays at and past the draws, (ii) on an extremes set
 FOUR="--gain --errors --family-wise --sign-test --discordant --more-runaways 100000"
 EXTREMES="--gain --errors --family-wise --sign-test --discordant --more-runaways 100000 --strict-grid none"
-# judge_part qualify|confirm: a part of rule 135's fit (rules 136, 137) against the shipped agent's plays of rule 135,
-# with g ARGS... (validation_plays.py ARGS for the candidate) and base ARGS... (for the shipped agent) defined; qualify
-# plays the shipped agent only where its records of rule 135 are missing
+# base ARGS...: validation_plays.py ARGS for the shipped agent (BASE)
+base() { python experiments/validation_plays.py "$BASE" "$@"; }
+# judge_part qualify|confirm: a candidate against the shipped agent's plays of rule 135 (rules 136-141), with g ARGS...
+# (validation_plays.py ARGS for the candidate) defined; qualify plays the shipped agent only where its records of rule
+# 135 are missing
 judge_part() {
   local X
   case "$1" in

@@ -24,10 +24,9 @@ fit_on_far_caches() {
   done
   fit_three_steps "$out" "$policy" "$estimator"
 }
-# g ARGS... / base ARGS...: validation_plays.py ARGS for NAME's fitted networks in OUT (filter, guard, probing guard)
-# / for the shipped agent (BASE), as far_checks.sh's judge_part plays them
+# g ARGS...: validation_plays.py ARGS for NAME's fitted networks in OUT (filter, guard, probing guard), as
+# far_checks.sh's judge_part plays them
 g() {
   python experiments/validation_plays.py "$NAME" --run "$OUT/ensemble" \
     --guards "$OUT/guard/ensemble" "$OUT/probing_guard/ensemble" "$@"
 }
-base() { python experiments/validation_plays.py "$BASE" "$@"; }

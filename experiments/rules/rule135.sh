@@ -18,7 +18,7 @@ STEP1="--out $OUT --climbs torque_wide=8000 procedural_far_torque_wide=8000 --gu
 play_both() {
   python experiments/validation_plays.py "$NAME" --run "$OUT/ensemble" \
     --guards "$OUT/guard/ensemble" "$OUT/probing_guard/ensemble" "$@"
-  python experiments/validation_plays.py "$BASE" "$@"
+  base "$@"
 }
 RULE=rule135
 . experiments/rules/pairs.sh

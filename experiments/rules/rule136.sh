@@ -10,10 +10,8 @@ cd "$(dirname "$0")/../.."  # the repository root
 RULE=rule136
 NAME=rule136G
 BASE=rule135shipped
-# g ARGS... / base ARGS...: validation_plays.py ARGS for G (the shipped guards: validation_plays.py's default) / for the
-# shipped agent
+# g ARGS...: validation_plays.py ARGS for G (the shipped guards: validation_plays.py's default)
 g() { python experiments/validation_plays.py "$NAME" --run runs/interrogator_far/ensemble "$@"; }
-base() { python experiments/validation_plays.py "$BASE" "$@"; }
 . experiments/rules/pairs.sh
 . experiments/rules/far_checks.sh
 judge_part "$1"

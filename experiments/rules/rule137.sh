@@ -13,13 +13,11 @@ cd "$(dirname "$0")/../.."  # the repository root
 RULE=rule137
 NAME=rule137H
 BASE=rule135shipped
-# g ARGS... / base ARGS...: validation_plays.py ARGS for H (the shipped filter: validation_plays.py's default) / for the
-# shipped agent
+# g ARGS...: validation_plays.py ARGS for H (the shipped filter: validation_plays.py's default)
 g() {
   python experiments/validation_plays.py "$NAME" --guards runs/interrogator_far/guard/ensemble \
     runs/interrogator_far/probing_guard/ensemble "$@"
 }
-base() { python experiments/validation_plays.py "$BASE" "$@"; }
 . experiments/rules/pairs.sh
 . experiments/rules/far_checks.sh
 if [ "$1" = spent ]; then

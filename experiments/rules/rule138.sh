@@ -12,7 +12,6 @@
 set -e
 cd "$(dirname "$0")/../.."  # the repository root
 BASE=rule135shipped
-base() { python experiments/validation_plays.py "$BASE" "$@"; }
 . experiments/rules/pairs.sh
 . experiments/rules/far_checks.sh
 FOUR_PLAYS="validation validation_torque noise_level motor_lag_s"

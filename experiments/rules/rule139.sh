@@ -10,9 +10,8 @@ cd "$(dirname "$0")/../.."  # the repository root
 RULE=rule139
 NAME=rule139K25
 BASE=rule135shipped
-# g ARGS... / base ARGS...: validation_plays.py ARGS for K25 / for the shipped agent
+# g ARGS...: validation_plays.py ARGS for K25
 g() { python experiments/validation_plays.py "$NAME" --set creep_log_step=0.025 "$@"; }
-base() { python experiments/validation_plays.py "$BASE" "$@"; }
 . experiments/rules/pairs.sh
 . experiments/rules/far_checks.sh
 judge_part "$1"
