@@ -16,6 +16,7 @@ generated, never typed:
     cof-gym evaluate --env-kwargs encoder_lag_s:0.01 --out out/evaluate-v2-encoder-lag --agents \
         oracle,staircase-paper,staircase,phase-rule,phase-rule-ar1,model-based,robust-model,robust-model-ar1,interrogator
     cof-gym evaluate --agents phase-rule,phase-rule-ar1,robust-model,robust-model-ar1 --out out/evaluate-ar1
+    cof-gym evaluate --suite paper --episodes 5                                     # the paper's setting
     cof-gym evaluate --suite experiments/suites/v1_default.json --episodes 60 --out out/evaluate-v1
     cof-gym evaluate --suite experiments/suites/heldout_grid.json --out out/evaluate-heldout   # v1 held-out
     cof-gym bench --seconds 10 --markdown out/bench.md
@@ -1097,6 +1098,7 @@ DOCUMENTS = (README, ROOT / "docs" / "results.md", ROOT / "docs" / "interrogator
 # the v2 held-out grids: README block (the grid's name without "_grid") -> (label, cof-gym evaluate --out)
 HELDOUT_RUNS = {name.removesuffix("_grid"): (label, ROOT / "out" / f"evaluate-{name.removesuffix('_grid').replace('_', '-')}")
                 for name, label in v2_heldout_grids().items()}
+PAPER_RUN = ROOT / "out" / "evaluate-paper"  # cof-gym evaluate --suite paper --episodes 5 (its default --out)
 SOURCES = {
     "default": ROOT / "out" / "evaluate" / "summary.md",
     "v2_no_errors": ROOT / "out" / "evaluate-v2-no-errors" / "summary.md",
@@ -1104,6 +1106,7 @@ SOURCES = {
     "v2_extremes": ROOT / "out" / "evaluate-v2-extremes" / "summary.md",
     "v2_encoder_lag": ROOT / "out" / "evaluate-v2-encoder-lag" / "summary.md",
     "v2_ar1_default": ROOT / "out" / "evaluate-ar1" / "summary.md",
+    "v2_paper": PAPER_RUN / "summary.md",
     **{block: out / "summary.md" for block, (_, out) in HELDOUT_RUNS.items()},
     "v1_default": ROOT / "out" / "evaluate-v1" / "summary.md",
     "bench": ROOT / "out" / "bench.md",
@@ -1696,6 +1699,23 @@ def edge_suites(paths: dict[str, Path] = EDGE_SUITES, learned: str = LEARNED,
     return "\n".join(rows)
 
 
+def paper_setting(path: Path = PAPER_RUN / "summary.json", learned: str = LEARNED) -> str | None:
+    """The paper's setting (``cof-gym evaluate --suite paper``): every agent's median / P90 / macro-slips, how many of
+    its episodes ended at the horizon, its mean peak torque (% of M_sat) and measurement time; None when the summary
+    is missing."""
+    summary = _load(path, learned)
+    if summary is None:
+        return None
+    rows = ["| agent (episodes) | median / P90 / macro-slips | ended at the horizon | mean peak torque [% of M_sat] | "
+            "measurement time [s] |", "|---|---|---|---|---|"]
+    for agent, stats in summary.items():
+        rows.append(f"| {agent} ({'oracle, ' if stats['oracle'] else ''}{stats['episodes']}) | {_cell(summary, agent)} | "
+                    f"{_group(summary, agent, 'ended: horizon').get('episodes', 0)} | "
+                    f"{100 * _stat(summary, agent, 'peak_torque_fraction'):.1f} | "
+                    f"{_stat(summary, agent, 'measurement_time_s'):.1f} |")
+    return "\n".join(rows)
+
+
 def validation_runs(prefix: str) -> dict[str, Path]:
     """The three validation grids' evaluate outputs ``out/PREFIX``, ``out/PREFIX-procedural``, ``-steep``."""
     return {grid: ROOT / "out" / (prefix + suffix)
@@ -1737,6 +1757,7 @@ def ceiling_validation(runs: dict[str, Path] = CEILING_VALIDATION) -> str | None
 
 GENERATED = {"targets": targets, "heldout_overview": heldout_overview, "slip_failed": slip_failed, "horizon": horizon,
              "horizon_ends": horizon_ends, "peak_creepage": peak_creepage, "edge_suites": edge_suites,
+             "paper_setting": paper_setting,
              "runaway_validation": runaway_validation, "ceiling_validation": ceiling_validation}  # block -> its generator
 
 

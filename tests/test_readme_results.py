@@ -8,7 +8,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
 from readme_results import (DOCUMENTS, GENERATED, SOURCES, edge_suites, fill, heldout_overview, horizon,  # noqa: E402
-                            horizon_ends, peak_creepage, slip_failed, targets, with_horizon)
+                            horizon_ends, paper_setting, peak_creepage, slip_failed, targets, with_horizon)
 
 
 def _summary(path: Path, agents: dict[str, tuple[bool, float, float, int]], episodes: int = 50,
@@ -129,6 +129,21 @@ def test_edge_suites_give_the_learned_agents_peak_torque_and_interval_coverage_b
     rows = edge_suites({"edge": path}, learned="learned", agents=("rule",)).splitlines()
     assert rows[2] == "| edge (48) | 30.0 % / 80.0 % / 6 | 50.0 | 43.8 % | 25.0 % / 85.0 % / 9 |"
     assert edge_suites({"edge": path}, learned="learned", agents=("rule", "absent")) is None
+
+
+def test_paper_setting_gives_every_agent_its_horizon_endings_peak_torque_and_time(tmp_path):
+    path = _summary(tmp_path / "s.json", {"oracle": (True, 0.015, 0.015, 0), "learned": (False, 0.035, 0.075, 0)},
+                    episodes=5, peak_torque=0.915)
+    _with_breakdown(path, "learned", {"ended: horizon": (4, 0.05, 0.08, 0, 0.9), "ended: stop": (1, 0.001, 0.001, 0, 1.1)})
+    _with_breakdown(path, "oracle", {"ended: stop": (5, 0.015, 0.015, 0, 0.995)})
+    summary = json.loads(path.read_text())
+    for agent, seconds in (("oracle", 4.0), ("learned", 27.64)):
+        summary["summary"][agent]["measurement_time_s"] = {"value": seconds}
+    path.write_text(json.dumps(summary))
+    rows = paper_setting(path, learned="learned").splitlines()
+    assert rows[2:] == ["| oracle (oracle, 5) | 1.5 % / 1.5 % / 0 | 0 | 91.5 | 4.0 |",
+                        "| learned (5) | 3.5 % / 7.5 % / 0 | 4 | 91.5 | 27.6 |"]
+    assert paper_setting(tmp_path / "missing.json", learned="learned") is None
 
 
 def test_a_block_is_filled_in_the_document_that_holds_it_and_nowhere_else(tmp_path, capsys):
