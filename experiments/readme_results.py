@@ -1055,6 +1055,11 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         out/records_rule140FR_extremes_confirmation17.json --out out/peak_creepage_rule140.md
         # rule 141: experiments/rules/rule141.sh fit, then qualify (rule_check_rule141_validation,
         # rule_check_rule141_extremes)
+        # session 73: the hand-built agents, the two reading the zeroed creepage among them, on the four validation
+        # plays (scripted_plays.py with A="staircase-zeroed model-based-zeroed phase-rule robust-model staircase
+        # model-based", as above), the shipped agent's (validation_plays.py rule135shipped), then:
+    python experiments/frontier.py $(P rule135shipped) --references $(for a in $A; do P $a; done) \
+        --shipped $(P rule135shipped) --out out/frontier_zeroed.md
         # session 70's exploration: experiments/rules/relative_shift.sh (crest_tradeoff_relative_shift_validation,
         # crest_tradeoff_relative_shift_confirmation43, crest_tradeoff_relative_shift_validation_noise)
     python experiments/encoder_lag_reading.py --sharp runs/interrogator_three/climbs_torque_wide.npz \
@@ -1464,6 +1469,7 @@ SOURCES = {
         *(f"rule_check_rule139_{check}" for check in ("validation", "extremes")),
         *(f"rule_check_rule140_{check}" for check in ("validation", "extremes")), "peak_creepage_rule140",
         *(f"rule_check_rule141_{check}" for check in ("validation", "extremes")),
+        "frontier_zeroed",
         *(f"crest_tradeoff_relative_shift_{play}" for play in ("validation", "confirmation43", "validation_noise")),
         "encoder_lag_reading", "noise_colour_reading",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
@@ -1553,6 +1559,20 @@ def targets(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNED) -> s
         ]
         rows += [f"| {label} | {t} | {m} | {'met' if ok else '**not met**'} |" for t, m, ok in checks]
     return "\n".join(rows)
+
+
+def targets_count(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNED) -> str | None:
+    """One line over :func:`targets`' rows: how many are met, and of those missed how many are on the held-out grids
+    (every suite but the first, the default suite); None when a summary is missing."""
+    table = targets(paths, learned)
+    if table is None:
+        return None
+    default = next(iter(paths))
+    rows = [row.split(" | ") for row in table.splitlines()[2:]]
+    missed = [suite for suite, *_, met in rows if met != "met |"]
+    on_grids = sum(suite != f"| {default}" for suite in missed)
+    return (f"{len(rows) - len(missed)} of the {len(rows)} target rows are met; of the {len(missed)} it misses, "
+            f"{on_grids} are on the held-out grids.")
 
 
 def heldout_overview(runs: dict[str, tuple[str, Path]] = HELDOUT_RUNS, learned: str = LEARNED) -> str | None:
@@ -1653,7 +1673,8 @@ def horizon_ends(suites: dict[str, tuple[str, Path]] = HORIZON_SUITES, learned: 
 
 
 # the hand-built agents beside the learned one in the peak-creepage and edge-suite tables, in their column order
-HAND_BUILT_AGENTS = ("phase-rule", "robust-model", "staircase", "model-based")
+HAND_BUILT_AGENTS = ("phase-rule", "robust-model", "staircase", "model-based", "staircase-zeroed",
+                     "model-based-zeroed")
 
 
 def peak_creepage(path: Path = TARGET_SUITES["v2 default suite (`cof-gym evaluate`)"], learned: str = LEARNED,
@@ -1755,7 +1776,8 @@ def ceiling_validation(runs: dict[str, Path] = CEILING_VALIDATION) -> str | None
     return variant_validation(runs, ("", "+ceiling"))
 
 
-GENERATED = {"targets": targets, "heldout_overview": heldout_overview, "slip_failed": slip_failed, "horizon": horizon,
+GENERATED = {"targets": targets, "targets_count": targets_count, "heldout_overview": heldout_overview,
+             "slip_failed": slip_failed, "horizon": horizon,
              "horizon_ends": horizon_ends, "peak_creepage": peak_creepage, "edge_suites": edge_suites,
              "paper_setting": paper_setting,
              "runaway_validation": runaway_validation, "ceiling_validation": ceiling_validation}  # block -> its generator

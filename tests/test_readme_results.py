@@ -8,7 +8,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
 from readme_results import (DOCUMENTS, GENERATED, SOURCES, edge_suites, fill, heldout_overview, horizon,  # noqa: E402
-                            horizon_ends, paper_setting, peak_creepage, slip_failed, targets, with_horizon)
+                            horizon_ends, paper_setting, peak_creepage, slip_failed, targets, targets_count,
+                            with_horizon)
 
 
 def _summary(path: Path, agents: dict[str, tuple[bool, float, float, int]], episodes: int = 50,
@@ -36,6 +37,15 @@ def test_targets_compare_with_the_best_agent_that_does_not_read_the_truth(tmp_pa
                     peak_torque=0.95)
     assert targets({"suite": late}, learned="learned").splitlines()[-1].endswith("2.5 % at 95.0 % | **not met** |")
     assert targets({"suite": tmp_path / "missing.json"}, learned="learned") is None
+
+
+def test_targets_count_counts_the_rows_met_and_the_misses_off_the_first_suite(tmp_path):
+    # the first suite (the default one) misses its P90 rows (2 of 7); the grid misses those and its median rows (4)
+    first = _summary(tmp_path / "a.json", {"learned": (False, 0.025, 0.09, 0), "rule": (False, 0.05, 0.08, 0)})
+    grid = _summary(tmp_path / "b.json", {"learned": (False, 0.035, 0.09, 0), "rule": (False, 0.03, 0.08, 0)})
+    assert targets_count({"default": first, "grid": grid}, learned="learned") == (
+        "8 of the 14 target rows are met; of the 6 it misses, 4 are on the held-out grids.")
+    assert targets_count({"default": tmp_path / "missing.json"}, learned="learned") is None
 
 
 def test_heldout_overview_names_the_best_other_agent_per_column(tmp_path):

@@ -100,6 +100,11 @@ register("phase-rule", "cof_gym.agents.phase_rule:PhaseRule", oracle=False, ceil
          help="the paper's phase rule without ground truth or creepage: the modulation probes ahead of the DC level, stop on a phase jump (validation-chosen)")
 register("model-based", "cof_gym.agents.model_based:ModelBasedAgent", oracle=False, runaway=True, ceiling=True,
          help="creep-curve fit from windows below the peak")
+# the two that read the creepage, reading it zeroed at the reset window, where no torque acts (session 73)
+register("staircase-zeroed", "cof_gym.agents.zeroed:staircase_zeroed", oracle=False, runaway=True, ceiling=True,
+         help="the staircase reading the creepage zeroed at the reset window (no torque: no creep)")
+register("model-based-zeroed", "cof_gym.agents.zeroed:model_based_zeroed", oracle=False, runaway=True, ceiling=True,
+         help="the model-based agent reading the creepage zeroed at the reset window (no torque: no creep)")
 register("robust-model", "cof_gym.agents.robust_model:RobustModel", oracle=False, runaway=True, ceiling=True,
          help="the phase rule's probing climb, the knee bracketed by bisecting the probe's crest at a held DC, no creepage read (validation-chosen)")
 # the same two with the lag's SE for an autocorrelated speed residual (session 59; not in the default list): an

@@ -7,7 +7,9 @@ it and say so). Run from the commit whose numbers are published::
 
 (written in session 42, at a commit whose ``cof-gym evaluate`` default suite is byte-identical to the published
 one; each row below equals the published ``out/evaluate/episodes.csv`` row of the same agent and seed; rewritten in
-session 53 when rule 94 changed the shipped interrogator's climb, its rows again equal to the published ones).
+session 53 when rule 94 changed the shipped interrogator's climb, its rows again equal to the published ones; in
+session 73 the rows of the two agents that joined the default list, ``staircase-zeroed`` and ``model-based-zeroed``,
+were added from this script's output in their places, every earlier row kept as written).
 """
 
 from __future__ import annotations

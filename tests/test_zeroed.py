@@ -1,0 +1,54 @@
+"""cof_gym.agents.zeroed: the creepage zeroed at the reset window (no torque, no creep) is the true creepage up to the
+observation's float32 rounding, and the agents that read it measure with a creepage offset as they do without one."""
+
+from __future__ import annotations
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import cof_gym
+from cof_gym.agents.registry import make_agent
+from cof_gym.agents.zeroed import CREEPAGE, CreepageZeroed
+from cof_gym.commands.evaluate_episodes import run_episode
+from cof_gym.task.interface import CREEPAGE_SCALE
+
+# the creep curve's own scenario, no noise, no gain error: only the creepage's offset differs between the episodes
+QUIET = {"noise_level": 0.0, "motor_lag_s": 0.0, "cof": 0.3, "condition": "dry", "creep_law": "dry", "speed_m_s": 20.0,
+         "force_gain_error": 0.0, "torque_gain_error": 0.0}
+OFFSETS = ({"speed_sensor_error": 0.015, "wheel_radius_error": -0.005},  # creepage offset about -2 %
+           {"speed_sensor_error": -0.015, "wheel_radius_error": 0.005})  # about +2 %
+
+
+@pytest.fixture(scope="module")
+def env():
+    environment = gym.make(cof_gym.WAGON_ENV_ID)
+    yield environment
+    environment.close()
+
+
+def test_the_zeroed_creepage_is_the_true_creepage_up_to_the_observations_rounding(env):
+    agent = make_agent("model-based-zeroed", env)
+    zeroed = agent.agent  # inside the runaway estimate and the crest ceiling it is registered with
+    assert isinstance(zeroed, CreepageZeroed) and agent.name == "model-based-zeroed" and not agent.oracle
+    obs, info = env.reset(seed=3, options={**QUIET, **OFFSETS[0]})
+    agent.reset(obs, info)
+    assert zeroed.offset == pytest.approx(info["ground_truth"]["creepage_offset"], abs=1e-6)
+    # each creepage is a float32 of at most 0.5 (x 10): two roundings of half a spacing, and the division's
+    bound = 3 * float(np.spacing(np.float32(0.5))) / CREEPAGE_SCALE
+    for _ in range(6):
+        obs, _, terminated, truncated, info = env.step(agent.act(obs, info))
+        true = info["ground_truth"]["creepage_mean"]
+        assert abs(zeroed.zeroed(obs)[CREEPAGE] / CREEPAGE_SCALE - true) <= bound
+        assert not (terminated or truncated)
+
+
+@pytest.mark.parametrize("name", ["staircase", "model-based"])
+def test_a_zeroed_agent_measures_with_a_creepage_offset_as_without_one_where_the_plain_one_runs_away(env, name):
+    plain, zeroed = make_agent(name, env), make_agent(f"{name}-zeroed", env)
+    reference = run_episode(env, zeroed, 3, {**QUIET, "speed_sensor_error": 0.0, "wheel_radius_error": 0.0}, 0)
+    assert not reference.macro_slip
+    for errors in OFFSETS:
+        with_offset = run_episode(env, zeroed, 3, {**QUIET, **errors}, 0)
+        assert not with_offset.macro_slip and with_offset.estimate == pytest.approx(reference.estimate, rel=1e-3)
+        assert run_episode(env, plain, 3, {**QUIET, **errors}, 0).macro_slip
