@@ -9,7 +9,7 @@ import pytest
 import cof_gym
 from cof_gym.commands.evaluate_episodes import run_episode
 from cof_gym.agents.model_based import ModelBasedAgent
-from cof_gym.task.creep_fit import SHAPE_GRID, creep_shapes, fit_peak
+from cof_gym.task.creep_fit import SHAPE_FAMILIES, SHAPE_GRID, SHE_RISE, creep_shapes, family_shapes, fit_peak
 from cof_gym.agents.registry import make_agent
 from cof_gym.agents.staircase import limits_of
 from cof_gym.agents.runaway import RunawayEstimate
@@ -55,3 +55,21 @@ def test_fit_on_an_exact_curve_recovers_its_peak_and_stays_open_on_a_line() -> N
     assert closer.low <= 0.3 <= closer.high and closer.half_width < 0.5 * fit.half_width
     line = fit_peak(np.array([0.01, 0.02, 0.03, 0.04]), np.array([1e-4, 2e-4, 3e-4, 4e-4]), speed_m_s=25.0)
     assert line.high > 2.0 * 0.04 and line.half_width > 0.3
+
+
+def test_the_shen_hedrick_elkins_branch_is_the_laws_own_and_its_fit_finds_its_peak() -> None:
+    """The family's branch, s / s_peak = 1 - (1 - CoA / CoF)^(1/3), is the inverse of Shen-Hedrick-Elkins'
+    x - x^2/3 + x^3/27 at x = 3 s / s_peak; points of that curve (peak 0.3 at creepage 0.01, up to 85 % of it) are
+    found within the peak grid's step (the 160 peaks from 1 to 4 x the best CoA: 0.9 % apart) by a fit that reads
+    the family, where Polach's library alone misses them by more."""
+    x = 3.0 * SHE_RISE
+    assert np.allclose(x - x ** 2 / 3 + x ** 3 / 27, SHAPE_GRID, atol=1e-12)
+    u = np.array([0.2, 0.4, 0.6, 0.75, 0.85])
+    s = 0.01 * (1.0 - (1.0 - u) ** (1.0 / 3.0))
+    step = (4.0 * SHAPE_GRID[-1]) ** (1.0 / 159)  # the ratio between neighbouring peaks of the grid
+    fit = fit_peak(0.3 * u, s, speed_m_s=20.0, families=SHAPE_FAMILIES)
+    assert abs(np.log(fit.estimate / 0.3)) <= np.log(step) and fit.low <= 0.3 <= fit.high
+    polach = fit_peak(0.3 * u, s, speed_m_s=20.0)
+    assert abs(np.log(polach.estimate / 0.3)) > np.log(step)
+    with pytest.raises(ValueError, match="families must be a non-empty subset"):
+        family_shapes(("kalker",))

@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from cof_gym.agents.staircase import COA, CREEPAGE, DC, ElasticityClimb, peak_fraction
-from cof_gym.task.creep_fit import ELASTICITY_SPAN, ClimbRecord
+from cof_gym.task.creep_fit import ELASTICITY_SPAN, POLACH, ClimbRecord
 from cof_gym.task.interface import OBSERVATION_NAMES, SPEED_SCALE_M_S, MotorLimits
 
 SPEED = OBSERVATION_NAMES.index("speed")
@@ -48,6 +48,7 @@ class ModelBasedAgent:
     min_stop_creepage: float = 0.003
     min_span: float = ELASTICITY_SPAN
     max_ratio: float = 4.0
+    shape_families: tuple[str, ...] = (POLACH,)  # the creep-law families its fit reads (creep_fit.family_shapes)
     name: str = "model-based"
     oracle: bool = False
     interval: tuple[float, float, float] | None = None
@@ -57,7 +58,7 @@ class ModelBasedAgent:
 
     def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
         self._dc = 0.0
-        self._climb = ClimbRecord(max_ratio=self.max_ratio)
+        self._climb = ClimbRecord(max_ratio=self.max_ratio, families=self.shape_families)
         self._estimate = 0.0
         self.interval = None
 

@@ -67,7 +67,10 @@ def staircase_zeroed(limits: MotorLimits) -> CreepageZeroed:
 
 
 def model_based_zeroed(limits: MotorLimits) -> CreepageZeroed:
-    """The model-based agent reading the zeroed creepage."""
+    """The model-based agent reading the zeroed creepage, its fit reading both of v2's analytic families (Polach's and
+    Shen-Hedrick-Elkins', :data:`~cof_gym.task.creep_fit.SHAPE_FAMILIES`): the model-based agent as an engineer who
+    knows the families a train meets builds it."""
     from cof_gym.agents.model_based import ModelBasedAgent
+    from cof_gym.task.creep_fit import SHAPE_FAMILIES
 
-    return CreepageZeroed(ModelBasedAgent(limits))
+    return CreepageZeroed(ModelBasedAgent(limits, shape_families=SHAPE_FAMILIES))

@@ -35,6 +35,8 @@ from functools import lru_cache
 
 import numpy as np
 
+from cof_gym.physics.creep_laws import PolachShape, ShenHedrickElkinsShape
+
 SHAPE_CONDITIONS = ("dry", "wet", "low_adhesion", "dry_kalker")
 SHAPE_COFS = (0.02, 0.05, 0.1, 0.2, 0.35, 0.6)
 SHAPE_SPEEDS_M_S = (5.0, 12.0, 25.0, 40.0)
@@ -64,6 +66,31 @@ def creep_shapes() -> np.ndarray:
     return np.asarray(rows)
 
 
+POLACH = PolachShape.family  # the families a fit may read, by their creep-law family names
+SHEN_HEDRICK_ELKINS = ShenHedrickElkinsShape.family
+SHAPE_FAMILIES = (POLACH, SHEN_HEDRICK_ELKINS)
+# Shen-Hedrick-Elkins at constant friction (v2's draws of that family): F / (mu N) = x - x^2/3 + x^3/27 = 1 - (1 - u)^3
+# with u = x / 3 = s / s_peak, whatever the stiffness, speed or load; so s / s_peak = 1 - (1 - CoA / CoF)^(1/3): one
+# normalised rising branch, the same at every speed
+SHE_RISE = 1.0 - (1.0 - SHAPE_GRID) ** (1.0 / 3.0)
+
+
+def family_shapes(families: tuple[str, ...]) -> tuple[np.ndarray, np.ndarray]:
+    """The normalised rising branches of ``families`` (rows, as :func:`creep_shapes`) and each row's speed index:
+    Polach's library, and the Shen-Hedrick-Elkins branch once for every speed of it."""
+    unknown = set(families) - set(SHAPE_FAMILIES)
+    if not families or unknown:
+        raise ValueError(f"families must be a non-empty subset of {list(SHAPE_FAMILIES)}, got {list(families)}")
+    rows, speeds = [], []
+    if POLACH in families:
+        rows.append(creep_shapes())
+        speeds.append(SHAPE_SPEED_INDEX)
+    if SHEN_HEDRICK_ELKINS in families:
+        rows.append(np.tile(SHE_RISE, (len(SHAPE_SPEEDS_M_S), 1)))
+        speeds.append(np.arange(len(SHAPE_SPEEDS_M_S)))
+    return np.concatenate(rows), np.concatenate(speeds)
+
+
 @dataclass(frozen=True)
 class PeakFit:
     low: float
@@ -80,15 +107,15 @@ class PeakFit:
 
 def fit_peak(coa: np.ndarray, creepage: np.ndarray, speed_m_s: float, creepage_noise: float = 2.5e-3,
              relative_noise: float = 0.01, delta_chi2: float = 4.0, max_ratio: float = 4.0,
-             grid_points: int = 160, model_floor: float = 0.015) -> PeakFit:
-    """Fit every shape of :func:`creep_shapes` to measured (CoA, creepage) points with free peak CoA
-    and peak creepage; the profile over the peak CoA gives the estimate and its interval (see the
-    module docstring)."""
+             grid_points: int = 160, model_floor: float = 0.015, families: tuple[str, ...] = (POLACH,)) -> PeakFit:
+    """Fit every shape of ``families`` (:func:`family_shapes`; Polach's library of :func:`creep_shapes` alone by
+    default) to measured (CoA, creepage) points with free peak CoA and peak creepage; the profile over the peak CoA
+    gives the estimate and its interval (see the module docstring)."""
     c = np.asarray(coa, dtype=float)
     s = np.asarray(creepage, dtype=float)
-    shapes = creep_shapes()
+    shapes, speed_index = family_shapes(families)
     near = np.argsort(np.abs(np.log(np.asarray(SHAPE_SPEEDS_M_S) / max(speed_m_s, 1.0))))[:2]
-    shapes = shapes[np.isin(SHAPE_SPEED_INDEX, near)]
+    shapes = shapes[np.isin(speed_index, near)]
     c_max = float(c.max())
     ratios = np.geomspace(1.0 / SHAPE_GRID[-1] * 1.0001, max_ratio, grid_points)
     peaks = c_max * ratios
@@ -149,6 +176,7 @@ class ClimbRecord:
     speeds: list[float] = field(default_factory=list)
     falling: bool = False
     max_ratio: float = 4.0
+    families: tuple[str, ...] = (POLACH,)  # the creep-law families the fit reads (:func:`family_shapes`)
     _last_dc: float = 0.0
     _fit: PeakFit | None = None
     _fitted_points: int = 0
@@ -173,7 +201,8 @@ class ClimbRecord:
             positive = self.positive_points
             if len(positive) >= MIN_FIT_POINTS:
                 c, s = np.array(positive).T
-                self._fit = fit_peak(c, s, float(np.median(self.speeds)), max_ratio=self.max_ratio)
+                self._fit = fit_peak(c, s, float(np.median(self.speeds)), max_ratio=self.max_ratio,
+                                     families=self.families)
         return self._fit
 
     @property
