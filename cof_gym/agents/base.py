@@ -29,6 +29,22 @@ class Agent(Protocol):
         """The action (float32, shape (5,), in [-1, 1]) for the next window."""
 
 
+class AgentWrapper:
+    """Base of an agent that wraps another (``self.agent``): it is an oracle where the wrapped one is, and every
+    attribute it does not set itself (its limits, its interval, its notes, ...) is the wrapped agent's. A subclass sets
+    ``agent`` and ``name`` and calls :meth:`_wrap` after them."""
+
+    agent: Any
+
+    def _wrap(self) -> None:
+        self.oracle = bool(getattr(self.agent, "oracle", False))
+
+    def __getattr__(self, attribute: str) -> Any:
+        if attribute.startswith("_") or attribute == "agent":
+            raise AttributeError(attribute)
+        return getattr(self.agent, attribute)
+
+
 def agent_view(info: dict[str, Any], oracle: bool) -> dict[str, Any]:
     """The info dict an agent receives: without ``ground_truth`` unless the agent is an oracle."""
     if oracle:

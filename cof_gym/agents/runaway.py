@@ -31,6 +31,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
+from cof_gym.agents.base import AgentWrapper
 from cof_gym.task.interface import MotorLimits, decode_action, encode_action
 from cof_gym.validation import check_number
 
@@ -123,7 +124,7 @@ class CrestCeiling:
 
 
 @dataclass
-class RunawayEstimate:
+class RunawayEstimate(AgentWrapper):
     """``agent`` (a single-tone agent acting with absolute actions) that reports, with ``bracket``, in every
     action that is not a stop, :class:`RunawayBracket`'s estimate instead of its own, and with ``ceiling``
     every estimate (a stop's too) at most :class:`CrestCeiling`'s bound once the crest has fallen under a
@@ -142,12 +143,7 @@ class RunawayEstimate:
         if not (self.bracket or self.ceiling):
             raise ValueError("a RunawayEstimate reports the bracket, the ceiling or both: got neither")
         self.name = self.name or f"{self.agent.name}+{MODIFIER if self.bracket else CEILING_MODIFIER}"
-        self.oracle = bool(getattr(self.agent, "oracle", False))
-
-    def __getattr__(self, attribute: str) -> Any:  # distribution_note, env_options, ...: the agent's
-        if attribute.startswith("_") or attribute == "agent":
-            raise AttributeError(attribute)
-        return getattr(self.agent, attribute)
+        self._wrap()  # distribution_note, env_options, ...: the agent's
 
     def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
         self.agent.reset(observation, info)

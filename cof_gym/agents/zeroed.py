@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from cof_gym.agents.base import AgentWrapper
 from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES, MotorLimits
 
 CREEPAGE = OBSERVATION_NAMES.index("creepage_measured")
@@ -27,7 +28,7 @@ SUFFIX = "zeroed"  # the agent's name is the wrapped agent's + "-zeroed"
 
 
 @dataclass
-class CreepageZeroed:
+class CreepageZeroed(AgentWrapper):
     """``agent`` (reading the window observation, :data:`~cof_gym.task.interface.OBSERVATION_NAMES`) given every
     creepage with the reset window's reading, the offset, taken out (see the module docstring)."""
 
@@ -37,12 +38,7 @@ class CreepageZeroed:
 
     def __post_init__(self) -> None:
         self.name = self.name or f"{self.agent.name}-{SUFFIX}"
-        self.oracle = bool(getattr(self.agent, "oracle", False))
-
-    def __getattr__(self, attribute: str) -> Any:  # limits, interval, ...: the agent's
-        if attribute.startswith("_") or attribute == "agent":
-            raise AttributeError(attribute)
-        return getattr(self.agent, attribute)
+        self._wrap()
 
     def zeroed(self, observation: np.ndarray) -> np.ndarray:
         """``observation`` with its creepage as ``(s_m - offset) / (1 + offset)`` (a copy)."""
