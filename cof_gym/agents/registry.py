@@ -104,7 +104,8 @@ register("model-based", "cof_gym.agents.model_based:ModelBasedAgent", oracle=Fal
 register("staircase-zeroed", "cof_gym.agents.zeroed:staircase_zeroed", oracle=False, runaway=True, ceiling=True,
          help="the staircase reading the creepage zeroed at the reset window (no torque: no creep)")
 register("model-based-zeroed", "cof_gym.agents.zeroed:model_based_zeroed", oracle=False, runaway=True, ceiling=True,
-         help="the model-based agent reading the creepage zeroed at the reset window (no torque: no creep)")
+         help="the model-based agent reading the creepage zeroed at the reset window (no torque: no creep), its fit "
+         "reading both analytic families (Polach, Shen-Hedrick-Elkins)")
 register("robust-model", "cof_gym.agents.robust_model:RobustModel", oracle=False, runaway=True, ceiling=True,
          help="the phase rule's probing climb, the knee bracketed by bisecting the probe's crest at a held DC, no creepage read (validation-chosen)")
 # the same two with the lag's SE for an autocorrelated speed residual (session 59; not in the default list): an

@@ -4,13 +4,13 @@ the reset window shows taken out.
 A train reads the creepage as ``R_assumed omega / v_reference - 1``. A wheel radius or a reference speed that is off
 by a fraction of a percent (v2's ``wheel_radius_error``, ``speed_sensor_error``) makes that reading
 ``s_m = d + s (1 + d)`` with ``d = (1 + e_R) / (1 + e_v) - 1``
-(:attr:`cof_gym.task.sensors.SensorErrors.creepage_offset`): an offset as large as a creep curve's peak creepage, and a scale that differs from 1 by as much. Where no torque acts
-the true creepage is zero, so a window driven without torque reads ``d`` itself, up to the encoder's noise: the way a
-wheel-slide protection takes out the wheels' diameter differences, which it must (EN 15595:2018, clause 5.1.6 "Wheel
-diameter differences"), by comparing the wheels' speeds where none of them is driven or braked. The env's reset window
-is such a window: its DC torque is zero. :class:`CreepageZeroed` keeps the creepage that window read, ``d``, and hands
-the agent every later reading as ``(s_m - d) / (1 + d)``, the true creepage up to the noise of two windows; everything
-else the agent reads, and everything it does, is its own.
+(:attr:`cof_gym.task.sensors.SensorErrors.creepage_offset`): an offset as large as a creep curve's peak creepage,
+and a scale that differs from 1 by as much. Where no torque acts the true creepage is zero, so a window driven without
+torque reads ``d`` itself, up to the encoder's noise: the same correction a wheel-slide protection makes for the
+wheels' diameter differences, which its standard asks it to handle (EN 15595:2018, clause 5.1.6 "Wheel diameter
+differences"). The env's reset window is such a window: its DC torque is zero. :class:`CreepageZeroed` keeps the
+creepage that window read, ``d``, and hands the agent every later reading as ``(s_m - d) / (1 + d)``, the true
+creepage up to the noise of two windows; everything else the agent reads, and everything it does, is its own.
 """
 
 from __future__ import annotations
