@@ -20,6 +20,7 @@ from cof_gym.agents.interrogator import (
 )
 from cof_gym.commands.evaluate_episodes import run_episode
 from cof_gym.agents.base import agent_view
+from cof_gym.agents.interrogator.readings import creep_elasticity
 from cof_gym.agents.runaway import CrestCeiling, RunawayBracket
 from cof_gym.task.interface import MotorLimits, decode_action
 from exact_sensors import QUIET
@@ -674,3 +675,30 @@ def test_a_raised_command_applies_the_floors_fraction_of_the_climbs_modulation()
     assert [r.amplitude_nm for r in readings] == pytest.approx(planned[:len(readings)], rel=1e-6)
     shipped = interrogator_for(env, SHIPPED_INTERROGATOR)
     assert np.array_equal(play(agent, 6)[0], play(shipped, 6)[0])  # the draws' lag: the same climb
+
+
+def _creep_reading(coa: float, creepage: float) -> Reading:
+    return Reading(0.0, 1.0, 0.5, coa, creepage, 1000.0, 400.0, 5.0, 20.0, 1.0)
+
+
+def test_creep_elasticity_reads_the_power_of_the_creepages_rise_whatever_its_offset_and_scale():
+    """``s = offset + k CoA^n`` reads ``n`` with any offset (the sensors' zero) and any ``k`` (their scale), over a
+    baseline of at least 10 % in CoA, else nothing. The first window's CoA, 1e-12, moves the reading by about
+    1e-12 / 0.055 / ln(0.066 / 0.055), 1e-10, below the tolerance."""
+    coas = (1e-12, 0.05, 0.055, 0.06, 0.066)
+    for n, offset, k in ((1.0, 0.017, 0.2), (3.0, -0.01, 40.0)):
+        readings = [_creep_reading(c, offset + k * c ** n) for c in coas]
+        assert creep_elasticity(readings) == pytest.approx(n, rel=1e-9)  # back to 0.055: ln(0.066 / 0.055) >= 0.1
+    assert creep_elasticity([_creep_reading(c, 0.01 + c) for c in (1e-9, 0.062, 0.066)]) is None  # no window 10 % below
+    flat = [_creep_reading(c, s) for c, s in ((1e-9, 0.0), (0.05, 0.002), (0.06, 0.002))]
+    assert creep_elasticity(flat) is None  # the rise did not grow: the noise's
+
+
+def test_an_elasticity_release_defers_a_headroom_stop_where_the_creepage_still_grows_as_on_a_rising_half():
+    release = ClimbParameters(creep_log_step=0.03, elasticity_release=3.0)
+    coas = (1e-9, 0.05, 0.06)
+    assert release.probes_on([_creep_reading(c, 0.01 + 0.2 * c ** 2) for c in coas])  # elasticity 2
+    assert not release.probes_on([_creep_reading(c, 0.01 + 0.2 * c ** 5) for c in coas])  # 5: near the peak
+    assert not ClimbParameters(creep_log_step=0.03).probes_on([_creep_reading(c, 0.2 * c) for c in coas])
+    with pytest.raises(ValueError, match="elasticity_release"):
+        ClimbParameters(elasticity_release=0.5)

@@ -9,8 +9,8 @@ from typing import Any
 
 import numpy as np
 
-from cof_gym.agents.interrogator.readings import (Reading, first_windows_drive_lag_s, first_windows_noise_nms,
-                                                  gain_from_balance)
+from cof_gym.agents.interrogator.readings import (Reading, creep_elasticity, first_windows_drive_lag_s,
+                                                  first_windows_noise_nms, gain_from_balance)
 from cof_gym.agents.phase_rule import PhaseRule, knee_seen, probe_amplitude
 from cof_gym.task.excitation import encode_extra_tones
 from cof_gym.task.interface import MotorLimits, encode_action
@@ -86,6 +86,7 @@ OPTIONAL_BOUNDED_FIELDS: dict[str, tuple[float, float, bool, str]] = {
     "lag_floor": (0.0, 1.0, True, ""),
     "crest_probe_lag_rise_deg": (0.0, 180.0, False, " deg"),
     "gate_max_drive_lag_s": (0.0, math.inf, True, " s"),
+    "elasticity_release": (1.0, 100.0, False, ""),
 }
 
 
@@ -158,6 +159,9 @@ class ClimbParameters:
     crest_probe_max_noise_ratio: float | None = None
     # true: from the window the probe starts at, no later window's torque crest above that window's (held_crest_ratio)
     crest_probe_hold_crest: bool = False
+    # not None: a headroom stop is deferred by a slow-probe step while the creep curve's offset-free elasticity
+    # (readings.creep_elasticity) is at most this (probes_on; rule 142)
+    elasticity_release: float | None = None
     # true: every torque reading divided by the gain the first driven window's torque balance reads against the
     # force channel (Reading.torque_balance, readings.gain_from_balance, Reading.calibrated)
     torque_balance: bool = False
@@ -372,12 +376,18 @@ class ClimbParameters:
         the newest window's crest is above the one before (:attr:`Reading.coa_cycle_max`). A curve that rises
         slowly past its knee keeps a large lag under a crest that still rises, and its peak lies far above
         (experiments/knee_twins.py); at a rounded peak the crest falls under a rising torque crest and the
-        ceiling stop ends the climb. With ``crest_probe_max_lag_deg`` the window's lag must also be at most that (near
+        ceiling stop ends the climb. With ``elasticity_release`` set, also (whatever the crest and the lag) where the
+        creep curve's offset-free elasticity (:func:`~cof_gym.agents.interrogator.readings.creep_elasticity`) is at
+        most that: the creepage still grows as on a curve's rising half (rule 142). With ``crest_probe_max_lag_deg`` the window's lag must also be at most that (near
         90 deg the slope has vanished and the crest's rise is the sensors' noise), and with
         ``crest_probe_max_lag_step_deg`` its rise over the previous window's at most that (a lag that jumps from
         window to window is a sharp knee's, not a slow rise's). With ``crest_probe_max_noise_ratio`` only where the
         climb's first windows read at most that ratio of ``noise_reference_nms`` (:meth:`noise_ratio`): the lag's
         and the crest's rises are read against the noise of the sensors the networks were fitted on."""
+        if self.elasticity_release is not None and len(readings) >= 3:
+            elasticity = creep_elasticity(readings)
+            if elasticity is not None and elasticity <= self.elasticity_release:
+                return True
         if self.crest_probe_lag_rise_deg is None or len(readings) < 2:
             return False
         if self.crest_probe_max_noise_ratio is not None and self.noise_ratio(readings) > self.crest_probe_max_noise_ratio:

@@ -309,3 +309,24 @@ def reads_smoothed_encoder(readings: list[Reading]) -> bool:
     if not readings or first_windows_noise_nms(readings, reported=True) < COLOUR_NOISE_FLOOR_NMS:
         return False
     return first_windows_noise_colour(readings) > SMOOTHED_NOISE_COLOUR
+
+
+ELASTICITY_SPAN = 0.1  # creep_elasticity's baseline: back to the latest window at least this much lower in ln CoA
+
+
+def creep_elasticity(readings: list[Reading], span: float = ELASTICITY_SPAN) -> float | None:
+    """The creep curve's elasticity ``d ln(creepage rise) / d ln(CoA)`` from the newest driven window back to the latest
+    earlier one at least ``span`` lower in ``ln CoA``, the creepage's rise counted from the first driven window (a
+    difference: the sensors' offset cancels; a ratio of rises: their scale error cancels). 1 on a creep curve's linear
+    part, growing without bound at its peak. None where no window lies that far below, or where either rise is not
+    positive or the rise did not grow (the noise's, not the curve's)."""
+    first, now = readings[0], readings[-1]
+    rise_now = now.creepage - first.creepage
+    for earlier in reversed(readings[1:-1]):
+        if earlier.coa > 0.0 and now.coa > 0.0 and math.log(now.coa / earlier.coa) >= span:
+            rise = earlier.creepage - first.creepage
+            if rise <= 0.0 or rise_now <= rise:
+                return None
+            return math.log(rise_now / rise) / math.log(now.coa / earlier.coa)
+    return None
+
