@@ -1055,6 +1055,7 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         out/records_rule140FR_extremes_confirmation17.json --out out/peak_creepage_rule140.md
         # rule 141: experiments/rules/rule141.sh fit, then qualify (rule_check_rule141_validation,
         # rule_check_rule141_extremes)
+        # rule 142: experiments/rules/rule142.sh qualify (rule_check_rule142_validation, rule_check_rule142_extremes)
         # session 73: the hand-built agents, the two reading the zeroed creepage among them, on the four validation
         # plays (scripted_plays.py with A="staircase-zeroed model-based-zeroed phase-rule robust-model staircase
         # model-based", as above), the shipped agent's (validation_plays.py rule135shipped), then:
@@ -1469,7 +1470,7 @@ SOURCES = {
         *(f"rule_check_rule139_{check}" for check in ("validation", "extremes")),
         *(f"rule_check_rule140_{check}" for check in ("validation", "extremes")), "peak_creepage_rule140",
         *(f"rule_check_rule141_{check}" for check in ("validation", "extremes")),
-        "frontier_zeroed",
+        "frontier_zeroed", *(f"rule_check_rule142_{check}" for check in ("validation", "extremes")),
         *(f"crest_tradeoff_relative_shift_{play}" for play in ("validation", "confirmation43", "validation_noise")),
         "encoder_lag_reading", "noise_colour_reading",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
