@@ -1,5 +1,5 @@
-# Rule 135's checks (docs/interrogator.md), which rules 136-141 take word for word; sourced by rule135.sh to
-# rule141.sh (from the repository root, RULE, BASE and NAME set) after experiments/rules/pairs.sh.
+# Rule 135's checks (docs/interrogator.md), which rules 136-142 take word for word; sourced by rule135.sh to
+# rule142.sh (from the repository root, RULE, BASE and NAME set, or by judge_setting) after experiments/rules/pairs.sh.
 # check OUT PLAYS OPTIONS...: check_plays into out/rule_check_${RULE}_OUT.md
 check() { local out=$1; shift; check_plays "${RULE}_$out" "$@"; }
 # (i) over the four plays at and past the draws, (ii) on an extremes set
@@ -32,4 +32,13 @@ judge_part() {
       ;;
     *) echo "usage: experiments/rules/$RULE.sh qualify|confirm" >&2; exit 2 ;;
   esac
+}
+# judge_setting RULE NAME SETTING qualify|confirm: a rule whose candidate NAME is the shipped agent with
+# validation_plays.py's --set SETTING (rules 139 and 142), judged by judge_part against the shipped agent's plays of
+# rule 135 (g and the names judge_part reads set here; bash's locals are seen by the functions this one calls)
+judge_setting() {
+  RULE=$1 NAME=$2 BASE=rule135shipped
+  local setting=$3
+  g() { python experiments/validation_plays.py "$NAME" --set "$setting" "$@"; }
+  judge_part "$4"
 }

@@ -7,11 +7,6 @@
 #                                          # torque_confirmation25 and extremes_confirmation18, both agents
 set -e
 cd "$(dirname "$0")/../.."  # the repository root
-RULE=rule139
-NAME=rule139K25
-BASE=rule135shipped
-# g ARGS...: validation_plays.py ARGS for K25
-g() { python experiments/validation_plays.py "$NAME" --set creep_log_step=0.025 "$@"; }
 . experiments/rules/pairs.sh
 . experiments/rules/far_checks.sh
-judge_part "$1"
+judge_setting rule139 rule139K25 creep_log_step=0.025 "$1"

@@ -7,11 +7,6 @@
 #                                          # torque_confirmation25 and extremes_confirmation18, both agents
 set -e
 cd "$(dirname "$0")/../.."  # the repository root
-RULE=rule142
-NAME=rule142E3
-BASE=rule135shipped
-# g ARGS...: validation_plays.py ARGS for E3
-g() { python experiments/validation_plays.py "$NAME" --set elasticity_release=3 "$@"; }
 . experiments/rules/pairs.sh
 . experiments/rules/far_checks.sh
-judge_part "$1"
+judge_setting rule142 rule142E3 elasticity_release=3 "$1"
