@@ -75,9 +75,11 @@ SHAPE_FAMILIES = (POLACH, SHEN_HEDRICK_ELKINS)
 SHE_RISE = 1.0 - (1.0 - SHAPE_GRID) ** (1.0 / 3.0)
 
 
+@lru_cache(maxsize=None)
 def family_shapes(families: tuple[str, ...]) -> tuple[np.ndarray, np.ndarray]:
     """The normalised rising branches of ``families`` (rows, as :func:`creep_shapes`) and each row's speed index:
-    Polach's library, and the Shen-Hedrick-Elkins branch once for every speed of it."""
+    Polach's library, and the Shen-Hedrick-Elkins branch once for every speed of it (computed once per tuple; read,
+    never written)."""
     unknown = set(families) - set(SHAPE_FAMILIES)
     if not families or unknown:
         raise ValueError(f"families must be a non-empty subset of {list(SHAPE_FAMILIES)}, got {list(families)}")
@@ -113,7 +115,7 @@ def fit_peak(coa: np.ndarray, creepage: np.ndarray, speed_m_s: float, creepage_n
     gives the estimate and its interval (see the module docstring)."""
     c = np.asarray(coa, dtype=float)
     s = np.asarray(creepage, dtype=float)
-    shapes, speed_index = family_shapes(families)
+    shapes, speed_index = family_shapes(tuple(families))
     near = np.argsort(np.abs(np.log(np.asarray(SHAPE_SPEEDS_M_S) / max(speed_m_s, 1.0))))[:2]
     shapes = shapes[np.isin(speed_index, near)]
     c_max = float(c.max())
