@@ -1526,13 +1526,14 @@ def _cell(summary: dict, agent: str) -> str:
     return _triple(*(_stat(summary, agent, key) for key in ("median_error", "p90_error", "macro_slip_events")))
 
 
-def targets(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNED) -> str | None:
+def target_checks(paths: dict[str, Path] = TARGET_SUITES,
+                  learned: str = LEARNED) -> list[tuple[str, str, str, bool]] | None:
     """The learned agent's targets (median <= 3 %, P90 <= 8 %, <= 1 macro-slip per 100 episodes, better
     than every non-oracle agent on median and P90 with no more macro-slips than the best of them; the
     stretch: median <= 5 % with the estimate committed at <= 90 % of the true saturation torque, read as
-    the mean peak torque of the episodes), each marked met or not, from the evaluate summaries; None
+    the mean peak torque of the episodes) as (suite, target, measured, met) rows, from the evaluate summaries; None
     when a summary is missing."""
-    rows = ["| suite | target | measured | met |", "|---|---|---|---|"]
+    checks = []
     for label, path in paths.items():
         summary = _load(path, learned)
         if summary is None:
@@ -1546,7 +1547,7 @@ def targets(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNED) -> s
         others = [(100 * _stat(summary, a, "median_error"), 100 * _stat(summary, a, "p90_error"),
                    _stat(summary, a, "macro_slip_events")) for a, v in summary.items() if not v["oracle"] and a != learned]
         met = target_rows(med, p90, slips, n, others)
-        checks = [
+        checks += [(label, *check) for check in (
             (f"median <= {TARGET_MEDIAN_PCT:g} %", f"{med:.1f} %", met[0]),
             (f"P90 <= {TARGET_P90_PCT:g} %", f"{p90:.1f} %", met[1]),
             (f"<= {TARGET_SLIPS_PER_100:g} macro-slip per 100 episodes", f"{slips:.0f} in {n}", met[2]),
@@ -1557,22 +1558,30 @@ def targets(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNED) -> s
             ("no more macro-slips than the best non-oracle agent", f"{slips:.0f} vs {fewest:.0f}", met[5]),
             ("stretch: median <= 5 % committed at <= 90 % of M_sat (mean peak torque)", f"{med:.1f} % at {peak:.1f} %",
              med <= 5.0 and peak <= 90.0),
-        ]
-        rows += [f"| {label} | {t} | {m} | {'met' if ok else '**not met**'} |" for t, m, ok in checks]
+        )]
+    return checks
+
+
+def targets(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNED) -> str | None:
+    """:func:`target_checks` as a table, each row marked met or not; None when a summary is missing."""
+    checks = target_checks(paths, learned)
+    if checks is None:
+        return None
+    rows = ["| suite | target | measured | met |", "|---|---|---|---|"]
+    rows += [f"| {suite} | {t} | {m} | {'met' if ok else '**not met**'} |" for suite, t, m, ok in checks]
     return "\n".join(rows)
 
 
 def targets_count(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNED) -> str | None:
-    """One line over :func:`targets`' rows: how many are met, and of those missed how many are on the held-out grids
-    (every suite but the first, the default suite); None when a summary is missing."""
-    table = targets(paths, learned)
-    if table is None:
+    """One line over :func:`target_checks`: how many rows are met, and of those missed how many are on the held-out
+    grids (every suite but the first, the default suite); None when a summary is missing."""
+    checks = target_checks(paths, learned)
+    if checks is None:
         return None
     default = next(iter(paths))
-    rows = [row.split(" | ") for row in table.splitlines()[2:]]
-    missed = [suite for suite, *_, met in rows if met != "met |"]
-    on_grids = sum(suite != f"| {default}" for suite in missed)
-    return (f"{len(rows) - len(missed)} of the {len(rows)} target rows are met; of the {len(missed)} it misses, "
+    missed = [suite for suite, *_, ok in checks if not ok]
+    on_grids = sum(suite != default for suite in missed)
+    return (f"{len(checks) - len(missed)} of the {len(checks)} target rows are met; of the {len(missed)} it misses, "
             f"{on_grids} are on the held-out grids.")
 
 
@@ -1731,7 +1740,8 @@ def paper_setting(path: Path = PAPER_RUN / "summary.json", learned: str = LEARNE
     rows = ["| agent (episodes) | median / P90 / macro-slips | ended at the horizon | mean peak torque [% of M_sat] | "
             "measurement time [s] |", "|---|---|---|---|---|"]
     for agent, stats in summary.items():
-        rows.append(f"| {agent} ({'oracle, ' if stats['oracle'] else ''}{stats['episodes']}) | {_cell(summary, agent)} | "
+        label = f"{agent} ({'oracle, ' if stats['oracle'] else ''}{stats['episodes']})"
+        rows.append(f"| {label} | {_cell(summary, agent)} | "
                     f"{_group(summary, agent, 'ended: horizon').get('episodes', 0)} | "
                     f"{100 * _stat(summary, agent, 'peak_torque_fraction'):.1f} | "
                     f"{_stat(summary, agent, 'measurement_time_s'):.1f} |")

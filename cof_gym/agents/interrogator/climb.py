@@ -371,19 +371,19 @@ class ClimbParameters:
 
     def probes_on(self, readings: list["Reading"]) -> bool:
         """With ``crest_probe_lag_rise_deg`` set, whether a climb that would stop on its headroom after the driven
-        windows ``readings`` takes one more slow-probe step instead: its lag has risen at least that much since
-        the first of them (the slope has fallen: the knee is passed; the drive's own lag cancels in the rise) and
-        the newest window's crest is above the one before (:attr:`Reading.coa_cycle_max`). A curve that rises
-        slowly past its knee keeps a large lag under a crest that still rises, and its peak lies far above
-        (experiments/knee_twins.py); at a rounded peak the crest falls under a rising torque crest and the
-        ceiling stop ends the climb. With ``elasticity_release`` set, also (whatever the crest and the lag) where the
-        creep curve's offset-free elasticity (:func:`~cof_gym.agents.interrogator.readings.creep_elasticity`) is at
-        most that: the creepage still grows as on a curve's rising half (rule 142). With ``crest_probe_max_lag_deg`` the window's lag must also be at most that (near
-        90 deg the slope has vanished and the crest's rise is the sensors' noise), and with
-        ``crest_probe_max_lag_step_deg`` its rise over the previous window's at most that (a lag that jumps from
-        window to window is a sharp knee's, not a slow rise's). With ``crest_probe_max_noise_ratio`` only where the
-        climb's first windows read at most that ratio of ``noise_reference_nms`` (:meth:`noise_ratio`): the lag's
-        and the crest's rises are read against the noise of the sensors the networks were fitted on."""
+        windows ``readings`` takes one more slow-probe step instead: its lag has risen at least that much since the
+        first of them (the slope has fallen: the knee is passed; the drive's own lag cancels in the rise) and the newest
+        window's crest is above the one before (:attr:`Reading.coa_cycle_max`). A curve that rises slowly past its knee
+        keeps a large lag under a crest that still rises, and its peak lies far above (experiments/knee_twins.py); at a
+        rounded peak the crest falls under a rising torque crest and the ceiling stop ends the climb. With
+        ``elasticity_release`` set, also (whatever the crest and the lag) where the creep curve's offset-free elasticity
+        (:func:`~cof_gym.agents.interrogator.readings.creep_elasticity`) is at most that: the creepage still grows as on
+        a curve's rising half (rule 142). With ``crest_probe_max_lag_deg`` the window's lag must also be at most that
+        (near 90 deg the slope has vanished and the crest's rise is the sensors' noise), and with
+        ``crest_probe_max_lag_step_deg`` its rise over the previous window's at most that (a lag that jumps from window
+        to window is a sharp knee's, not a slow rise's). With ``crest_probe_max_noise_ratio`` only where the climb's
+        first windows read at most that ratio of ``noise_reference_nms`` (:meth:`noise_ratio`): the lag's and the
+        crest's rises are read against the noise of the sensors the networks were fitted on."""
         if self.elasticity_release is not None and len(readings) >= 3:
             elasticity = creep_elasticity(readings)
             if elasticity is not None and elasticity <= self.elasticity_release:
