@@ -52,3 +52,29 @@ def test_a_zeroed_agent_measures_with_a_creepage_offset_as_without_one_where_the
         with_offset = run_episode(env, zeroed, 3, {**QUIET, **errors}, 0)
         assert not with_offset.macro_slip and with_offset.estimate == pytest.approx(reference.estimate, rel=1e-3)
         assert run_episode(env, plain, 3, {**QUIET, **errors}, 0).macro_slip
+
+
+def _actions(env, name: str, seed: int) -> list[np.ndarray]:
+    """Every action of the registered agent ``name`` in the default v2 episode ``seed``."""
+    agent = make_agent(name, env)
+    obs, info = env.reset(seed=seed)
+    agent.reset(obs, info)
+    out = []
+    while True:
+        out.append(agent.act(obs, info))
+        obs, _, terminated, truncated, info = env.step(out[-1])
+        if terminated or truncated:
+            return out
+
+
+@pytest.mark.parametrize("seed", [209, 211])
+def test_the_jump_test_only_adds_a_stop(env, seed):
+    """model-based-zeroed-knee is model-based-zeroed with one more stop: the same actions up to its own stop, which
+    comes no later (seed 209: the lag jumps at the fifth window, where the fit's interval is still wide; 211: it never
+    jumps, and the two episodes are the same)."""
+    plain, knee = _actions(env, "model-based-zeroed", seed), _actions(env, "model-based-zeroed-knee", seed)
+    assert len(knee) <= len(plain)
+    assert all(np.array_equal(a, b) for a, b in zip(plain[:len(knee) - 1], knee[:len(knee) - 1]))
+    assert (len(knee) < len(plain)) == (seed == 209)
+    if seed == 211:
+        assert all(np.array_equal(a, b) for a, b in zip(plain, knee))

@@ -106,6 +106,10 @@ register("staircase-zeroed", "cof_gym.agents.zeroed:staircase_zeroed", oracle=Fa
 register("model-based-zeroed", "cof_gym.agents.zeroed:model_based_zeroed", oracle=False, runaway=True, ceiling=True,
          help="the model-based agent reading the creepage zeroed at the reset window (no torque: no creep), its fit "
          "reading both analytic families (Polach, Shen-Hedrick-Elkins)")
+# the same, also stopping on the phase rule's jump test: a stop that does not trust the creepage alone (session 74,
+# experiments/select_model_based.py on validation)
+register("model-based-zeroed-knee", "cof_gym.agents.zeroed:model_based_zeroed_knee", oracle=False, runaway=True,
+         ceiling=True, help="model-based-zeroed also stopping where the lag jumps (the phase rule's test; validation-chosen)")
 register("robust-model", "cof_gym.agents.robust_model:RobustModel", oracle=False, runaway=True, ceiling=True,
          help="the phase rule's probing climb, the knee bracketed by bisecting the probe's crest at a held DC, no creepage read (validation-chosen)")
 # the same two with the lag's SE for an autocorrelated speed residual (session 59; not in the default list): an

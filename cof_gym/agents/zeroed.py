@@ -11,6 +11,23 @@ wheels' diameter differences, which its standard asks it to handle (EN 15595:201
 differences"). The env's reset window is such a window: its DC torque is zero. :class:`CreepageZeroed` keeps the
 creepage that window read, ``d``, and hands the agent every later reading as ``(s_m - d) / (1 + d)``, the true
 creepage up to the noise of two windows; everything else the agent reads, and everything it does, is its own.
+
+**A stop that does not trust the creepage alone** (``model-based-zeroed-knee``, session 74): the zeroed model-based
+agent that also stops on the phase rule's jump test, its jump and what it reports there chosen by
+``experiments/select_model_based.py`` on validation only (the 192 episodes of ``select_robust_model.py``; ranked by
+macro-slips, then median + P90, as the phase rule and the robust model were chosen), 17 settings:
+
+| knee jump | reported at a jump stop | median | P90 | macro-slips |
+|---|---|---|---|---|
+| none (``model-based-zeroed``) | | 1.0 % | 11.8 % | 26 |
+| 2 deg (chosen) | the fit's estimate | 3.0 % | 30.4 % | 16 |
+| 4 deg | the fit's estimate | 2.8 % | 29.7 % | 17 |
+| 6 deg | the fit's estimate | 2.1 % | 29.0 % | 17 |
+| 8 deg | the fit's estimate | 1.9 % | 28.7 % | 19 |
+| 2 deg | the interval's low end x 1.05 | 3.6 % | 30.9 % | 16 |
+
+A lag that jumps stops ten of the 26 runaways before the peak, and stops other climbs there too, while the fit's
+interval is still wide: the trade between a runaway and a larger error that every stop short of the peak meets. Both agents are in the default list.
 """
 
 from __future__ import annotations
@@ -62,11 +79,25 @@ def staircase_zeroed(limits: MotorLimits) -> CreepageZeroed:
     return CreepageZeroed(PracticalStaircase(limits))
 
 
-def model_based_zeroed(limits: MotorLimits) -> CreepageZeroed:
+KNEE_JUMP_DEG = 2.0  # model-based-zeroed-knee's jump (deg; select_model_based.py, the table above)
+
+
+def model_based_zeroed(limits: MotorLimits, knee_jump_deg: float | None = None,
+                       knee_low_factor: float | None = None) -> CreepageZeroed:
     """The model-based agent reading the zeroed creepage, its fit reading both of v2's analytic families (Polach's and
     Shen-Hedrick-Elkins', :data:`~cof_gym.task.creep_fit.SHAPE_FAMILIES`): the model-based agent as an engineer who
-    knows the families a train meets builds it."""
+    knows the families a train meets builds it; ``knee_jump_deg``, ``knee_low_factor``: the phase rule's jump test as
+    a stop too, and what it reports there (:class:`~cof_gym.agents.model_based.ModelBasedAgent`)."""
     from cof_gym.agents.model_based import ModelBasedAgent
     from cof_gym.task.creep_fit import SHAPE_FAMILIES
 
-    return CreepageZeroed(ModelBasedAgent(limits, shape_families=SHAPE_FAMILIES))
+    return CreepageZeroed(ModelBasedAgent(limits, shape_families=SHAPE_FAMILIES, knee_jump_deg=knee_jump_deg,
+                                          knee_low_factor=knee_low_factor))
+
+
+def model_based_zeroed_knee(limits: MotorLimits) -> CreepageZeroed:
+    """:func:`model_based_zeroed` that also stops on the phase rule's jump test of :data:`KNEE_JUMP_DEG`, reporting the
+    fit's estimate there (validation-chosen; the module docstring)."""
+    agent = model_based_zeroed(limits, knee_jump_deg=KNEE_JUMP_DEG)
+    agent.name = f"{agent.name}-knee"
+    return agent

@@ -9,7 +9,8 @@ it and say so). Run from the commit whose numbers are published::
 one; each row below equals the published ``out/evaluate/episodes.csv`` row of the same agent and seed; rewritten in
 session 53 when rule 94 changed the shipped interrogator's climb, its rows again equal to the published ones; in
 session 73 the rows of the two agents that joined the default list, ``staircase-zeroed`` and ``model-based-zeroed``,
-were added from this script's output in their places, every earlier row kept as written).
+were added from this script's output in their places, every earlier row kept as written; in session 74 likewise
+``model-based-zeroed-knee``'s).
 """
 
 from __future__ import annotations
