@@ -1056,9 +1056,11 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # rule 141: experiments/rules/rule141.sh fit, then qualify (rule_check_rule141_validation,
         # rule_check_rule141_extremes)
         # rule 142: experiments/rules/rule142.sh qualify (rule_check_rule142_validation, rule_check_rule142_extremes)
-        # session 73: the hand-built agents, the two reading the zeroed creepage among them, on the four validation
-        # plays (scripted_plays.py with A="staircase-zeroed model-based-zeroed phase-rule robust-model staircase
-        # model-based", as above), the shipped agent's (validation_plays.py rule135shipped), then:
+    python experiments/select_model_based.py --out out/select_model_based.json   # model-based-zeroed-knee (session 74)
+        # sessions 73-74: the hand-built agents, the three reading the zeroed creepage among them, on the four
+        # validation plays (scripted_plays.py with A="staircase-zeroed model-based-zeroed model-based-zeroed-knee
+        # phase-rule robust-model staircase model-based", as above), the shipped agent's (validation_plays.py
+        # rule135shipped), then:
     python experiments/frontier.py $(P rule135shipped) --references $(for a in $A; do P $a; done) \
         --shipped $(P rule135shipped) --out out/frontier_zeroed.md
         # session 70's exploration: experiments/rules/relative_shift.sh (crest_tradeoff_relative_shift_validation,
@@ -1471,6 +1473,7 @@ SOURCES = {
         *(f"rule_check_rule140_{check}" for check in ("validation", "extremes")), "peak_creepage_rule140",
         *(f"rule_check_rule141_{check}" for check in ("validation", "extremes")),
         "frontier_zeroed", *(f"rule_check_rule142_{check}" for check in ("validation", "extremes")),
+        "select_model_based",
         *(f"crest_tradeoff_relative_shift_{play}" for play in ("validation", "confirmation43", "validation_noise")),
         "encoder_lag_reading", "noise_colour_reading",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
@@ -1684,7 +1687,7 @@ def horizon_ends(suites: dict[str, tuple[str, Path]] = HORIZON_SUITES, learned: 
 
 # the hand-built agents beside the learned one in the peak-creepage and edge-suite tables, in their column order
 HAND_BUILT_AGENTS = ("phase-rule", "robust-model", "staircase", "model-based", "staircase-zeroed",
-                     "model-based-zeroed")
+                     "model-based-zeroed", "model-based-zeroed-knee")
 
 
 def peak_creepage(path: Path = TARGET_SUITES["v2 default suite (`cof-gym evaluate`)"], learned: str = LEARNED,
