@@ -97,7 +97,7 @@ def table(ranked: list[dict[str, Any]], episodes: int) -> str:
     """The ranked settings as markdown (best first), per setting of the episodes too, with a first line that says
     which was chosen."""
     settings = list(ranked[0]["settings"])
-    lines = [f"{len(ranked)} settings of {AGENT} on {episodes} validation episodes; chosen: "
+    lines = [f"{len(ranked)} settings of {AGENT} on {episodes} validation episodes; chosen:",
              f"knee_jump_deg {ranked[0]['params']['knee_jump_deg']}, knee_low_factor "
              f"{ranked[0]['params']['knee_low_factor']} (None: no jump test / the fit's estimate)", "",
              "| knee_jump_deg | knee_low_factor | episodes | median | P90 | macro-slips | "
