@@ -69,6 +69,18 @@ def check_choice(name: str, value: Any, allowed: Iterable[str]) -> str:
     return value
 
 
+def brief(value: Any, limit: int = 160) -> str:
+    """``repr(value)`` cut to ``limit`` characters (with "..." and the full length where cut): a bad input named in an
+    error message without a table of hundreds of points in it."""
+    text = repr(value)
+    return text if len(text) <= limit else f"{text[:limit]}... ({len(text)} characters)"
+
+
+def first_not_rising(values: Any) -> int | None:
+    """The first index ``i`` with ``values[i + 1] <= values[i]`` (None where every value rises strictly)."""
+    return next((i for i, (a, b) in enumerate(zip(values, values[1:])) if b <= a), None)
+
+
 def _interval(low: float, high: float, low_open: bool, high_open: bool = False) -> str:
     """The allowed range as the messages write it, with its leading space: `` in [low, high]`` (a bracket per
     end), `` > low`` / `` >= low`` where ``high`` is infinite, `` < high`` / `` <= high`` where ``low`` is, and

@@ -462,6 +462,15 @@ def test_a_suite_files_options_are_checked_before_any_env_is_built(tmp_path: Pat
     (tmp_path / "s.json").write_text(json.dumps({"options": {"noise_level": -1}}))
     with pytest.raises(SuiteError, match=r"options \{'noise_level': -1\}: noise_level must be a finite number"):
         make_suite(str(tmp_path / "s.json"), 2, 0)
+    # an episode's long options (a table of 64 points) are cut in the message, the fault named in full
+    ratio = [i / 63 for i in range(64)]
+    ratio[40] = ratio[39]
+    table = {"creepage": [i / 630 for i in range(64)], "adhesion_ratio": ratio}
+    (tmp_path / "s.json").write_text(json.dumps({"episodes": [{"seed": 0, "options": {"creep_law": {"table": table}}}]}))
+    with pytest.raises(SuiteError, match=r"episode 0 \(options \{'creep_law'.*\.\.\. \(\d+ characters\)\): "
+                       r"creep_law\.table\.adhesion_ratio must rise strictly.*at indices 39 and 40") as raised:
+        make_suite(str(tmp_path / "s.json"), 1, 0)
+    assert len(str(raised.value)) < 500
 
 
 def test_configuration_note_names_each_difference_from_the_nearest_trained_world() -> None:

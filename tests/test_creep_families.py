@@ -329,17 +329,17 @@ BAD_SPECS = {
     "negative": ({"polach": {**POLACH, "k_adhesion": -1.0}},
                  r"creep_law\.polach\.k_adhesion must be a finite number > 0, got -1\.0"),
     "she-zero": ({"shen_hedrick_elkins": {"k_stiffness": 0.0}}, r"creep_law\.shen_hedrick_elkins\.k_stiffness"),
-    "not-increasing": (_table(creepage=[0.0, 0.003, 0.001, 0.01]), r"creep_law\.table\.creepage must be strictly increasing"),
-    "not-from-0": (_table(creepage=[0.0005, 0.001, 0.003, 0.01]), r"creep_law\.table\.creepage must be strictly increasing from exactly 0"),
+    "not-increasing": (_table(creepage=[0.0, 0.003, 0.001, 0.01]), r"creep_law\.table\.creepage must be strictly increasing.*got 0\.003 then 0\.001 at indices 1 and 2$"),
+    "not-from-0": (_table(creepage=[0.0005, 0.001, 0.003, 0.01]), r"creep_law\.table\.creepage must be strictly increasing from exactly 0.*got 0\.0005 at index 0$"),
     "negative-creepage": (_table(creepage=[-0.001, 0.001, 0.003, 0.01]), r"creep_law\.table\.creepage"),
     "inf": (_table(creepage=[0.0, 0.001, math.inf, 0.01]), r"creep_law\.table\.creepage must be a list of finite"),
     "not-a-list": (_table(creepage="0 1 2"), r"creep_law\.table\.creepage must be a list"),
     "nan-ratio": (_table(adhesion_ratio=[0.0, float("nan"), 1.0, 0.9]), r"creep_law\.table\.adhesion_ratio must be a list of finite"),
-    "ratio-not-from-0": (_table(adhesion_ratio=[0.1, 0.5, 1.0, 0.9]), r"creep_law\.table\.adhesion_ratio must start at exactly 0"),
-    "ratio-negative": (_table(adhesion_ratio=[0.0, 0.5, 1.0, -0.1]), r"creep_law\.table\.adhesion_ratio .*>= 0"),
+    "ratio-not-from-0": (_table(adhesion_ratio=[0.1, 0.5, 1.0, 0.9]), r"creep_law\.table\.adhesion_ratio must start at exactly 0.*got 0\.1 at index 0$"),
+    "ratio-negative": (_table(adhesion_ratio=[0.0, 0.5, 1.0, -0.1]), r"creep_law\.table\.adhesion_ratio .*>= 0, got -0\.1 at index 3$"),
     "max-below-1": (_table(adhesion_ratio=[0.0, 0.5, 0.99, 0.9]), r"creep_law\.table\.adhesion_ratio must reach its maximum exactly 1"),
     "max-above-1": (_table(adhesion_ratio=[0.0, 0.5, 1.0 + 1e-6, 0.9]), r"creep_law\.table\.adhesion_ratio must reach its maximum exactly 1"),
-    "not-rising": (_table(adhesion_ratio=[0.0, 0.5, 0.5, 1.0]), r"creep_law\.table\.adhesion_ratio must rise strictly"),
+    "not-rising": (_table(adhesion_ratio=[0.0, 0.5, 0.5, 1.0]), r"creep_law\.table\.adhesion_ratio must rise strictly.*got 0\.5 then 0\.5 at indices 1 and 2, before the maximum at index 3$"),
     "too-few": ({"table": {"creepage": [0.0, 0.01], "adhesion_ratio": [0.0, 1.0]}}, r"creep_law\.table\.creepage must have 3 to 64 points"),
     "too-many": ({"table": {"creepage": list(np.linspace(0, 0.1, 65)), "adhesion_ratio": list(np.linspace(0, 1, 65))}},
                  r"creep_law\.table\.creepage must have 3 to 64 points"),
@@ -414,3 +414,13 @@ def test_below_peak_keeps_a_rise_that_nears_its_peak_strictly_increasing() -> No
     capped = below_peak(rise)
     assert capped[:2].tolist() == [0.0, 0.5] and np.all(np.diff(capped) > 0) and capped[-1] < 1.0
     TableShape(tuple(np.arange(6) * 1e-3), tuple(capped) + (1.0,))  # the table law takes it
+
+
+def test_a_long_table_is_named_by_the_point_at_fault_not_echoed() -> None:
+    """A table of the most points a table may have, falling once before its peak: the error names the two points
+    and their indices, and stays short (no list of every point)."""
+    ratio = list(np.linspace(0.0, 1.0, 64))
+    ratio[40] = ratio[39]
+    with pytest.raises(ValueError, match=r"at indices 39 and 40, before the maximum at index 63$") as raised:
+        creep_law_from_spec({"table": {"creepage": list(np.linspace(0.0, 0.1, 64)), "adhesion_ratio": ratio}})
+    assert len(str(raised.value)) < 200

@@ -26,6 +26,7 @@ from cof_gym.commands.evaluate_tables import markdown_breakdown, markdown_interv
 from cof_gym.commands.evaluate_workers import EPISODES_PER_WORKER, MAX_WORKERS, WORKER_MEMORY_BYTES, default_workers
 from cof_gym.commands.suites import MAX_EPISODES, Suite, SuiteError, make_suite, with_env_kwargs
 from cof_gym.envs.torque_interrogation import make_kwargs
+from cof_gym.validation import brief
 
 DESCRIPTION = """\
 Play every agent on the same seeded scenarios (same CoF, condition, speed, load, noise streams) and
@@ -456,7 +457,7 @@ def check_suite_runs(suite: Suite, env) -> None:
         try:
             env.reset(seed=ep_seed, options=options)
         except (ValueError, TypeError, KeyError) as e:
-            raise SuiteError(f"{suite.name}: episode {i} (options {options}): {e}") from None
+            raise SuiteError(f"{suite.name}: episode {i} (options {brief(options)}): {e}") from None
 
 
 def run(args: argparse.Namespace) -> int:

@@ -33,7 +33,7 @@ from typing import Any, Callable, Iterator
 import cof_gym
 from cof_gym.commands.args import MAX_SEED, name_value
 from cof_gym.task.scenarios import check_fixed
-from cof_gym.validation import is_int
+from cof_gym.validation import brief, is_int
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 
 PAPER_COFS = (0.1, 0.2, 0.3, 0.4, 0.5)
@@ -277,7 +277,7 @@ def _listed_episodes(raw: Any, options: dict, seed: int, path: Path) -> tuple[li
         key = json.dumps(ep_options, sort_keys=True, default=repr)
         if key not in checked:
             checked.add(key)
-            _check_options(ep_options, f"episode {i} (options {ep_options})", path)
+            _check_options(ep_options, f"episode {i} (options {brief(ep_options)})", path)
     return episodes, notes
 
 

@@ -82,7 +82,7 @@ from typing import Any, Callable, ClassVar, Mapping
 import numpy as np
 
 from cof_gym.physics.native import layout
-from cof_gym.validation import check_number
+from cof_gym.validation import brief, check_number, first_not_rising
 
 PRESET_FAMILY = "polach"  # the presets (CONDITIONS) are named points of this family
 MAX_CREEPAGE = 2.0  # the creep-curve maximum (the CoF) must lie below this creepage; a table stays within it
@@ -256,23 +256,29 @@ class TableShape(CreepShape):
             raise ValueError(f"creepage must have 3 to {n_max} points, got {len(s)}")
         if len(r) != len(s):
             raise ValueError(f"adhesion_ratio must have one value per creepage ({len(s)}), got {len(r)}")
-        if s[0] != 0.0 or any(b <= a for a, b in zip(s, s[1:])):
-            raise ValueError(f"creepage must be strictly increasing from exactly 0 (finite values >= 0), got {list(s)}")
+        if s[0] != 0.0:
+            raise ValueError(f"creepage must be strictly increasing from exactly 0 (finite values >= 0), got {s[0]!r} "
+                             "at index 0")
+        if (i := first_not_rising(s)) is not None:
+            raise ValueError(f"creepage must be strictly increasing from exactly 0 (finite values >= 0), got {s[i]!r} "
+                             f"then {s[i + 1]!r} at indices {i} and {i + 1}")
         if s[-1] > MAX_CREEPAGE:
             raise ValueError(f"creepage must be in [0, {MAX_CREEPAGE:g}] (where every creep law's maximum lies), "
                              f"got {s[-1]!r} at index {len(s) - 1}")
         if r[0] != 0.0 or min(r) < 0.0:
-            raise ValueError(f"adhesion_ratio must start at exactly 0 and stay >= 0, got {list(r)}")
+            i = 0 if r[0] != 0.0 else int(np.argmin(r))
+            raise ValueError(f"adhesion_ratio must start at exactly 0 and stay >= 0, got {r[i]!r} at index {i}")
         peak = int(np.argmax(r))
         if abs(r[peak] - 1.0) > self.MAX_TOLERANCE or max(r) > 1.0 + self.MAX_TOLERANCE:
             raise ValueError(f"adhesion_ratio must reach its maximum exactly 1 (within {self.MAX_TOLERANCE:g}), "
                              f"the CoF, got maximum {max(r)!r}")
-        if any(b <= a for a, b in zip(r[:peak + 1], r[1:peak + 1])):
-            raise ValueError(f"adhesion_ratio must rise strictly from 0 to its maximum 1, got {list(r[:peak + 1])}")
+        if (i := first_not_rising(r[:peak + 1])) is not None:
+            raise ValueError(f"adhesion_ratio must rise strictly from 0 to its maximum 1, got {r[i]!r} then "
+                             f"{r[i + 1]!r} at indices {i} and {i + 1}, before the maximum at index {peak}")
         r = tuple(1.0 if abs(v - 1.0) <= self.MAX_TOLERANCE else v for v in r)
         if not _finite_slopes(np.array(s), np.array(r)):
             raise ValueError(f"creepage points must lie far enough apart that the slopes d(adhesion_ratio)/d(creepage) "
-                             f"are finite (at most {np.finfo(float).max:.3g}), got {list(s)}")
+                             f"are finite (at most {np.finfo(float).max:.3g}), got {brief(list(s))}")
         object.__setattr__(self, "creepage", s)
         object.__setattr__(self, "adhesion_ratio", r)
 
