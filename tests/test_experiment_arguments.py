@@ -311,3 +311,21 @@ def test_peak_creepage_records_bins_each_settings_episodes_by_their_curves_peak(
     assert rows == ["| a | peak creepage < 1 % | 1 | 10.0 % | 10.0 % | -10.0 % | 1 | 50.0 % | macro-slip 1 |",
                     "| a | peak creepage 4+ % | 3 | 40.0 % | 56.0 % | -40.0 % | 0 | 50.0 % | "
                     "horizon 2, headroom 1 |"], rows
+
+
+def test_own_window_fit_keeps_the_rising_windows_and_tables_each_ending() -> None:
+    """A window whose CoA fell (ClimbRecord's rule) and one with no positive creepage are left out of the fit; the
+    table has a row per ending and one for all, over the episodes that had a fit."""
+    import own_window_fit as owf
+
+    windows = [(0.05, 0.001, 20.0, 0.02), (0.10, 0.002, 20.0, 0.04), (0.09, 0.003, 20.0, 0.04),
+               (0.12, -0.001, 20.0, 0.05), (0.13, 0.004, 20.0, 0.05)]
+    assert owf.rising_windows(windows) == [windows[0], windows[1], windows[4]]
+    rows = [{"ended": "stop", "learned": 0.01, "fit_mean": -0.1, "fit_swing": 0.02},
+            {"ended": "horizon", "learned": -0.05, "fit_mean": 0.2, "fit_swing": -0.04},
+            {"ended": "macro-slip", "learned": 0.3}]
+    lines = owf.table(rows).splitlines()
+    assert lines[2] == "| stop | 1 | 1.0% / 1.0% | 10.0% / 10.0% | 2.0% / 2.0% |"
+    assert lines[3] == "| horizon | 1 | 5.0% / 5.0% | 20.0% / 20.0% | 4.0% / 4.0% |"
+    assert lines[4].startswith("| all | 2 |")
+    assert lines[-1].startswith("3 episodes, 1 of them macro-slips; 1 with fewer than three")

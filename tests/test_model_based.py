@@ -73,3 +73,21 @@ def test_the_shen_hedrick_elkins_branch_is_the_laws_own_and_its_fit_finds_its_pe
     assert abs(np.log(polach.estimate / 0.3)) > np.log(step)
     with pytest.raises(ValueError, match="families must be a non-empty subset"):
         family_shapes(("kalker",))
+
+
+def test_a_fit_that_reads_the_cycles_swing_finds_the_peak_a_large_modulation_hides() -> None:
+    """Windows modulated by +-35 % of their CoA on a Shen-Hedrick-Elkins curve: each window's mean creepage is the
+    cycle mean of the curve's, above its value at the mean CoA. A fit of the mean points reads the bend as a lower
+    peak; with the swing (``fit_peak(..., swing=)``) the peak is found within two steps of the fit's geometric grid of
+    peak CoAs (0.9 % each; the 16-phase cycle mean against this 256-phase one moves it by less than a step)."""
+    from cof_gym.task.creep_fit import SHEN_HEDRICK_ELKINS, SHAPE_GRID, fit_peak
+
+    cof, s_peak = 0.3, 0.012
+    phases = np.sin(2 * np.pi * (np.arange(256) + 0.5) / 256)
+    coa = np.linspace(0.1, 0.7, 12) * cof
+    swing = 0.35 * coa  # crests at most 0.945 x the CoF: on the rising branch
+    creepage = np.array([np.mean(s_peak * (1 - (1 - (c + a * phases) / cof) ** (1 / 3))) for c, a in zip(coa, swing)])
+    step = (4.0 * SHAPE_GRID[-1]) ** (1 / 159) - 1  # fit_peak's grid: 160 peak CoAs from the best CoA / 0.999 to 4 x it
+    quiet = {"families": (SHEN_HEDRICK_ELKINS,), "creepage_noise": 1e-6, "relative_noise": 1e-3}
+    assert abs(fit_peak(coa, creepage, 20.0, swing=swing, **quiet).estimate / cof - 1) < 2 * step
+    assert fit_peak(coa, creepage, 20.0, **quiet).estimate / cof - 1 < -5 * step

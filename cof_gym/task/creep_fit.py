@@ -20,7 +20,9 @@ best ``P`` and a confidence interval ``{P : chi2(P) <= chi2_min + delta_chi2 * m
 ``model_floor`` either side (the library holds the family, not the episode's exact curve: near the
 peak the statistical interval alone covers the truth in only ~70 % of fits on validation seeds). Far
 below the peak the data are a straight line that any ``P`` above the largest measured CoA fits: the
-interval is open (up to ``max_ratio`` x the largest CoA).
+interval is open (up to ``max_ratio`` x the largest CoA). Windows modulated by a large fraction of their torque
+(``swing``: each window's CoA half swing over its cycle) are fitted by the cycle mean of each shape's creepage, since
+their mean creepage lies above the curve's value at their mean CoA.
 
 :class:`ClimbRecord` keeps the points of one climb (a window counts when it was driven with a DC
 torque and its CoA did not fall) and its latest fit; the model-based agent and the env's
@@ -107,12 +109,28 @@ class PeakFit:
         return 0.5 * float(np.log(self.high / self.low))
 
 
+CYCLE_POINTS = 16  # phases of a modulation cycle averaged where a fit reads each window's CoA swing
+
+
+def inverse_shapes(shapes: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """``g_j^-1(u)`` for every shape row ``j`` of ``shapes`` (on :data:`SHAPE_GRID`) at every ``u`` (CoA over the peak
+    CoA, any shape; odd in ``u``, clipped at the grid's end), by linear interpolation: shape ``(J, *u.shape)``."""
+    a = np.abs(u)
+    pos = np.clip(a / SHAPE_GRID[-1] * (len(SHAPE_GRID) - 1), 0.0, len(SHAPE_GRID) - 1 - 1e-9)
+    lo = pos.astype(int)
+    frac = pos - lo
+    return np.sign(u) * (shapes[:, lo] * (1 - frac) + shapes[:, lo + 1] * frac)
+
+
 def fit_peak(coa: np.ndarray, creepage: np.ndarray, speed_m_s: float, creepage_noise: float = 2.5e-3,
              relative_noise: float = 0.01, delta_chi2: float = 4.0, max_ratio: float = 4.0,
-             grid_points: int = 160, model_floor: float = 0.015, families: tuple[str, ...] = (POLACH,)) -> PeakFit:
+             grid_points: int = 160, model_floor: float = 0.015, families: tuple[str, ...] = (POLACH,),
+             swing: np.ndarray | None = None) -> PeakFit:
     """Fit every shape of ``families`` (:func:`family_shapes`; Polach's library of :func:`creep_shapes` alone by
     default) to measured (CoA, creepage) points with free peak CoA and peak creepage; the profile over the peak CoA
-    gives the estimate and its interval (see the module docstring)."""
+    gives the estimate and its interval (see the module docstring). With ``swing`` (each window's CoA half swing over
+    its modulation cycle) a window's creepage is the cycle mean of the shape's over that swing (a large modulation
+    reads the curve's bend, not its value at the mean CoA)."""
     c = np.asarray(coa, dtype=float)
     s = np.asarray(creepage, dtype=float)
     shapes, speed_index = family_shapes(tuple(families))
@@ -123,12 +141,12 @@ def fit_peak(coa: np.ndarray, creepage: np.ndarray, speed_m_s: float, creepage_n
     peaks = c_max * ratios
     sigma = creepage_noise / max(speed_m_s, 1.0) + relative_noise * np.abs(s)
     w = 1.0 / sigma ** 2
-    u = c[None, :] / peaks[:, None]  # (P, n)
-    # x[j, p, i] = g_j^-1(u[p, i]) by linear interpolation on the common grid
-    pos = np.clip(u / SHAPE_GRID[-1] * (len(SHAPE_GRID) - 1), 0.0, len(SHAPE_GRID) - 1 - 1e-9)
-    lo = pos.astype(int)
-    frac = pos - lo
-    x = shapes[:, lo] * (1 - frac) + shapes[:, lo + 1] * frac  # (J, P, n)
+    if swing is None:
+        x = inverse_shapes(shapes, c[None, :] / peaks[:, None])  # x[j, p, i] = g_j^-1(c_i / P_p): (J, P, n)
+    else:  # the mean over the cycle's phases of g_j^-1 at the CoA of each phase
+        phase = np.sin(2.0 * np.pi * (np.arange(CYCLE_POINTS) + 0.5) / CYCLE_POINTS)
+        cycle = c[:, None] + np.asarray(swing, dtype=float)[:, None] * phase[None, :]  # (n, K)
+        x = inverse_shapes(shapes, cycle[None, :, :] / peaks[:, None, None]).mean(axis=-1)
     sxx = np.einsum("jpi,i->jp", x * x, w)
     sxs = np.einsum("jpi,i->jp", x, w * s)
     s_peak = np.where(sxx > 0, sxs / np.maximum(sxx, 1e-300), 0.0)

@@ -1,0 +1,132 @@
+"""What a family fit reads from the learned agent's own climb (information: nothing is chosen or adopted).
+
+The shipped interrogator plays episodes of the v2 default distribution in both vehicle configurations; after each
+episode its driven windows, the creepage zeroed at the reset window (``cof_gym/agents/zeroed.py``: the offset read where
+no torque acts) and the CoA's rising points kept as :class:`~cof_gym.task.creep_fit.ClimbRecord` keeps them, are
+fitted by the zeroed model-based agent's fit (Polach's and Shen-Hedrick-Elkins' shapes,
+:func:`~cof_gym.task.creep_fit.fit_peak`), once on each window's mean CoA and creepage and once reading each window's
+CoA swing over its modulation cycle (``swing``: half the spread of the force sensors' 16 phase bins; the climb
+modulates by 40 % of its DC torque, so a window's mean creepage is the cycle mean of the curve's, not its value at the
+mean CoA). Per ending of the climb (its own stop, the horizon), the median / P90 relative CoF error of the learned
+agent's estimate and of the two fits: does a classical reading of the same windows measure closer than the learned one?
+
+    python experiments/own_window_fit.py --episodes 200 --out out/own_window_fit.md
+
+Seeds 7,000,000 on (``--first-seed``): neither the validation seeds, nor the reporting ones, nor a confirmation set.
+200 episodes x 2 configurations take about 45 s on 2 cores.
+"""
+
+from __future__ import annotations
+
+import sys
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from script_checks import check_out_file  # noqa: E402
+from train_interrogator import CONFIGS  # noqa: E402
+
+from cof_gym.commands.args import Parser, positive_int  # noqa: E402
+
+ESTIMATES = {"learned": "the learned agent's estimate", "fit_mean": "fit of the windows' means",
+             "fit_swing": "fit reading each window's CoA swing"}
+ENDINGS = ("stop", "horizon")
+
+
+def rising_windows(windows: list[tuple[float, float, float, float]]) -> list[tuple[float, float, float, float]]:
+    """The (CoA, zeroed creepage, speed, CoA swing) windows a ClimbRecord would keep: a CoA that fell is off the
+    branch; only positive points."""
+    from cof_gym.task.creep_fit import coa_fell
+
+    kept: list[tuple[float, float, float, float]] = []
+    for w in windows:
+        if not (kept and coa_fell(w[0], kept[-1][0])):
+            kept.append(w)
+    return [w for w in kept if w[0] > 0 and w[1] > 0]
+
+
+def play(job: tuple[dict[str, Any], list[int]]) -> list[dict[str, Any]]:
+    """The interrogator on each seed in one configuration: how the climb ended and the signed relative error
+    (estimate / CoF - 1) of its estimate and of both fits of its windows."""
+    import gymnasium as gym
+
+    import cof_gym
+    from cof_gym.agents.base import agent_view
+    from cof_gym.agents.registry import make_agent
+    from cof_gym.task.creep_fit import MIN_FIT_POINTS, SHAPE_FAMILIES, fit_peak
+    from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES
+
+    config, seeds = job
+    env = gym.make(cof_gym.WAGON_ENV_ID, **config)
+    agent = make_agent("interrogator", env)
+    creepage_index = OBSERVATION_NAMES.index("creepage_measured")
+    out = []
+    for seed in seeds:
+        obs, info = env.reset(seed=seed)
+        agent.reset(obs, agent_view(info, False))
+        offset = float(obs[creepage_index]) / CREEPAGE_SCALE  # the reset window: no torque, no creep
+        windows = []
+        while True:
+            obs, _, terminated, truncated, info = env.step(agent.act(obs, agent_view(info, False)))
+            m = info["measurement"]
+            if m["torque_mean_nm"] > 0.0:
+                windows.append((m["coa_measured"], (m["creepage_measured"] - offset) / (1.0 + offset),
+                                m["speed_measured_m_s"], 0.5 * (m["coa_cycle_max"] - m["coa_cycle_min"])))
+            if terminated or truncated:
+                break
+        cof = info["ground_truth"]["cof"]
+        ended = "macro-slip" if info["macro_slip"] else "horizon" if truncated else "stop"
+        row = {"ended": ended, "learned": info["cof_estimate"] / cof - 1.0}
+        points = rising_windows(windows)
+        if len(points) >= MIN_FIT_POINTS:
+            coa, creepage, speed, swing = (np.array(x) for x in zip(*points))
+            for name, cycle in (("fit_mean", None), ("fit_swing", swing)):
+                fit = fit_peak(coa, creepage, float(np.median(speed)), families=SHAPE_FAMILIES, swing=cycle)
+                row[name] = fit.estimate / cof - 1.0
+        out.append(row)
+    env.close()
+    return out
+
+
+def cell(errors: list[float]) -> str:
+    e = np.abs(np.asarray(errors))
+    return f"{np.median(e):.1%} / {np.percentile(e, 90):.1%}" if e.size else "-"
+
+
+def table(rows: list[dict[str, Any]]) -> str:
+    """Median / P90 relative error of each estimate per ending (the episodes with a fit: at least three points)."""
+    lines = ["| climbs ended by | episodes | " + " | ".join(ESTIMATES.values()) + " |", "|---" * (2 + len(ESTIMATES)) + "|"]
+    for label, ending in (*((e, e) for e in ENDINGS), ("all", None)):
+        sel = [r for r in rows if (ending is None or r["ended"] == ending) and "fit_swing" in r]
+        lines.append(f"| {label} | {len(sel)} | " + " | ".join(cell([r[k] for r in sel]) for k in ESTIMATES) + " |")
+    unfit = sum("fit_swing" not in r for r in rows)
+    slips = sum(r["ended"] == "macro-slip" for r in rows)
+    lines += ["", f"{len(rows)} episodes, {slips} of them macro-slips; {unfit} with fewer than three rising windows have "
+              "no fit and are left out"]
+    return "\n".join(lines)
+
+
+def main() -> None:
+    parser = Parser(description=__doc__.splitlines()[0])
+    parser.add_argument("--episodes", type=positive_int, default=200, help="seeds per vehicle configuration")
+    parser.add_argument("--first-seed", type=positive_int, default=7_000_000)
+    parser.add_argument("--workers", type=positive_int, default=2)
+    parser.add_argument("--out", type=Path, default=None, help="write the table (markdown) here too")
+    args = parser.parse_args()
+    check_out_file(parser, "--out", args.out)
+    seeds = list(range(args.first_seed, args.first_seed + args.episodes))
+    jobs = [(config, seeds[i::args.workers]) for config in CONFIGS for i in range(args.workers)]
+    with ProcessPoolExecutor(args.workers) as pool:
+        rows = [r for part in pool.map(play, jobs) for r in part]
+    text = table(rows)
+    print(text)
+    if args.out:
+        args.out.parent.mkdir(parents=True, exist_ok=True)
+        args.out.write_text(text + "\n")
+
+
+if __name__ == "__main__":
+    main()
