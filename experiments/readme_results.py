@@ -1589,6 +1589,29 @@ def targets_count(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNED
             f"{on_grids} are on the held-out grids.")
 
 
+def at_a_glance(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNED) -> str | None:
+    """Every agent that does not read the truth, the learned one first: median / P90 / macro-slips on the default
+    suite (the first of ``paths``), and over the held-out grids (the others) its macro-slips in all their episodes and
+    the lowest and highest of its medians; then the count of the learned agent's target rows met. None when a
+    summary is missing."""
+    summaries = [_load(path, learned) for path in paths.values()]
+    if any(s is None for s in summaries):
+        return None
+    default, *grids = summaries
+    agents = [learned] + [a for a, v in default.items() if not v["oracle"] and a != learned]
+    episodes = sum(g[learned]["episodes"] for g in grids)
+    rows = [f"| agent (no ground truth) | default suite: median / P90 / macro-slips ({default[learned]['episodes']}) | "
+            f"{len(grids)} held-out grids: macro-slips ({episodes}) | held-out grids: median, lowest - highest |",
+            "|---|---|---|---|"]
+    for agent in agents:
+        if any(agent not in g for g in grids):
+            continue
+        medians = [100 * _stat(g, agent, "median_error") for g in grids]
+        slips = sum(_stat(g, agent, "macro_slip_events") for g in grids)
+        rows.append(f"| {agent} | {_cell(default, agent)} | {slips:.0f} | {min(medians):.1f} - {max(medians):.1f} % |")
+    return "\n".join(rows + ["", targets_count(paths, learned)])
+
+
 def heldout_overview(runs: dict[str, tuple[str, Path]] = HELDOUT_RUNS, learned: str = LEARNED) -> str | None:
     """One row per v2 held-out grid: the learned agent's median / P90 / macro-slips beside the best
     median, the best P90 and the fewest macro-slips of the agents that do not read the truth; None
@@ -1791,7 +1814,8 @@ def ceiling_validation(runs: dict[str, Path] = CEILING_VALIDATION) -> str | None
     return variant_validation(runs, ("", "+ceiling"))
 
 
-GENERATED = {"targets": targets, "targets_count": targets_count, "heldout_overview": heldout_overview,
+GENERATED = {"targets": targets, "targets_count": targets_count, "at_a_glance": at_a_glance,
+             "heldout_overview": heldout_overview,
              "slip_failed": slip_failed, "horizon": horizon,
              "horizon_ends": horizon_ends, "peak_creepage": peak_creepage, "edge_suites": edge_suites,
              "paper_setting": paper_setting,

@@ -7,9 +7,9 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
-from readme_results import (DOCUMENTS, GENERATED, SOURCES, edge_suites, fill, heldout_overview, horizon,  # noqa: E402
-                            horizon_ends, paper_setting, peak_creepage, slip_failed, targets, targets_count,
-                            with_horizon)
+from readme_results import (DOCUMENTS, GENERATED, SOURCES, at_a_glance, edge_suites, fill,  # noqa: E402
+                            heldout_overview, horizon, horizon_ends, paper_setting, peak_creepage, slip_failed,
+                            targets, targets_count, with_horizon)
 
 
 def _summary(path: Path, agents: dict[str, tuple[bool, float, float, int]], episodes: int = 50,
@@ -46,6 +46,21 @@ def test_targets_count_counts_the_rows_met_and_the_misses_off_the_first_suite(tm
     assert targets_count({"default": first, "grid": grid}, learned="learned") == (
         "8 of the 14 target rows are met; of the 6 it misses, 4 are on the held-out grids.")
     assert targets_count({"default": tmp_path / "missing.json"}, learned="learned") is None
+
+
+def test_at_a_glance_puts_the_learned_agent_first_and_sums_the_grids_macro_slips(tmp_path):
+    first = _summary(tmp_path / "a.json", {"oracle": (True, 0.001, 0.002, 0), "rule": (False, 0.05, 0.08, 3),
+                                           "learned": (False, 0.025, 0.09, 0)})
+    grids = {name: _summary(tmp_path / f"{name}.json", {"oracle": (True, 0.001, 0.002, 0), "rule": (False, m, 0.3, k),
+                                                        "learned": (False, m / 2, 0.2, k // 2)}, episodes=72)
+             for name, m, k in (("g1", 0.05, 9), ("g2", 0.1, 4))}
+    rows = at_a_glance({"default": first, **grids}, learned="learned").splitlines()
+    assert rows[0].startswith("| agent (no ground truth) | default suite: median / P90 / macro-slips (50) | "
+                              "2 held-out grids: macro-slips (144) |")
+    assert rows[2:4] == ["| learned | 2.5 % / 9.0 % / 0 | 6 | 2.5 - 5.0 % |",
+                         "| rule | 5.0 % / 8.0 % / 3 | 13 | 5.0 - 10.0 % |"]
+    assert rows[-1] == "14 of the 21 target rows are met; of the 7 it misses, 5 are on the held-out grids."
+    assert at_a_glance({"default": first, "g": tmp_path / "missing.json"}, learned="learned") is None
 
 
 def test_heldout_overview_names_the_best_other_agent_per_column(tmp_path):
