@@ -31,10 +31,9 @@ paper's outlook: the CoF at lower applied torque). No macro-slip in any of them.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any
-
-import math
 
 import numpy as np
 
@@ -81,10 +80,10 @@ class ModelBasedAgent:
         """Whether the window just read passes the phase rule's jump test (never without ``knee_jump_deg``); keeps
         its lag for the next window's test."""
         previous, self._phase = self._phase, phase_of(observation, info)
-        if self.knee_jump_deg is None or self._dc <= 0.0:
+        if self._dc <= 0.0:
             return False
         self._driven += 1
-        return self._driven > PhaseRule.baseline_windows and bool(knee_seen(
+        return self.knee_jump_deg is not None and self._driven > PhaseRule.baseline_windows and bool(knee_seen(
             *self._phase, *previous, 0.0, 0.0, self.knee_jump_deg, math.inf, PhaseRule.margin_se, PhaseRule.max_se_deg))
 
     def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:

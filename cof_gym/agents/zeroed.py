@@ -27,7 +27,8 @@ macro-slips, then median + P90, as the phase rule and the robust model were chos
 | 2 deg | the interval's low end x 1.05 | 3.6 % | 30.9 % | 16 |
 
 A lag that jumps stops ten of the 26 runaways before the peak, and stops other climbs there too, while the fit's
-interval is still wide: the trade between a runaway and a larger error that every stop short of the peak meets. Both agents are in the default list.
+interval is still wide: the trade between a runaway and a larger error that every stop short of the peak meets. Both
+agents are in the default list.
 """
 
 from __future__ import annotations
