@@ -21,7 +21,7 @@ from __future__ import annotations
 import sys
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
@@ -70,9 +70,10 @@ def play(job: tuple[dict[str, Any], list[int]]) -> list[dict[str, Any]]:
         offset = float(obs[creepage_index]) / CREEPAGE_SCALE  # the reset window: no torque, no creep
         windows = []
         while True:
+            elapsed = info["elapsed_s"]
             obs, _, terminated, truncated, info = env.step(agent.act(obs, agent_view(info, False)))
             m = info["measurement"]
-            if m["torque_mean_nm"] > 0.0:
+            if m["torque_mean_nm"] > 0.0 and info["elapsed_s"] > elapsed:  # a window was driven (a stop drives none)
                 windows.append((m["coa_measured"], (m["creepage_measured"] - offset) / (1.0 + offset),
                                 m["speed_measured_m_s"], 0.5 * (m["coa_cycle_max"] - m["coa_cycle_min"])))
             if terminated or truncated:
@@ -109,24 +110,38 @@ def table(rows: list[dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
-def main() -> None:
-    parser = Parser(description=__doc__.splitlines()[0])
-    parser.add_argument("--episodes", type=positive_int, default=200, help="seeds per vehicle configuration")
+def add_draw_options(parser: Parser, episodes: int) -> None:
+    """``--episodes``, ``--first-seed``, ``--workers`` and ``--out``: the draws both configurations play and where the
+    table goes (this script's and ``shadow_reading.py``'s)."""
+    parser.add_argument("--episodes", type=positive_int, default=episodes, help="seeds per vehicle configuration")
     parser.add_argument("--first-seed", type=positive_int, default=7_000_000)
     parser.add_argument("--workers", type=positive_int, default=2)
     parser.add_argument("--out", type=Path, default=None, help="write the table (markdown) here too")
+
+
+def play_draws(play: Callable[[tuple], list[dict[str, Any]]], args: Any, *lead: Any) -> list[dict[str, Any]]:
+    """Every row of ``play((*lead, config, seeds))`` over both vehicle configurations, the seeds of ``args`` (its
+    draw options) split among its workers."""
+    seeds = list(range(args.first_seed, args.first_seed + args.episodes))
+    jobs = [(*lead, config, seeds[i::args.workers]) for config in CONFIGS for i in range(args.workers)]
+    with ProcessPoolExecutor(args.workers) as pool:
+        return [r for part in pool.map(play, jobs) for r in part]
+
+
+def report(text: str, out: Path | None) -> None:
+    """Print the table, and write it to ``out`` too (where given)."""
+    print(text)
+    if out:
+        out.parent.mkdir(parents=True, exist_ok=True)
+        out.write_text(text + "\n")
+
+
+def main() -> None:
+    parser = Parser(description=__doc__.splitlines()[0])
+    add_draw_options(parser, episodes=200)
     args = parser.parse_args()
     check_out_file(parser, "--out", args.out)
-    seeds = list(range(args.first_seed, args.first_seed + args.episodes))
-    jobs = [(config, seeds[i::args.workers]) for config in CONFIGS for i in range(args.workers)]
-    with ProcessPoolExecutor(args.workers) as pool:
-        rows = [r for part in pool.map(play, jobs) for r in part]
-    text = table(rows)
-    print(text)
-    if args.out:
-        args.out.parent.mkdir(parents=True, exist_ok=True)
-        args.out.write_text(text + "\n")
-
+    report(table(play_draws(play, args)), args.out)
 
 if __name__ == "__main__":
     main()

@@ -1058,6 +1058,8 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # rule 142: experiments/rules/rule142.sh qualify (rule_check_rule142_validation, rule_check_rule142_extremes)
     python experiments/select_model_based.py --out out/select_model_based.json   # model-based-zeroed-knee (session 74)
     python experiments/own_window_fit.py --episodes 200 --out out/own_window_fit.md   # session 74, information
+    python experiments/shadow_reading.py --episodes 100 --out out/shadow_reading.md   # session 74, information, and
+    python experiments/shadow_reading.py --agent interrogator --episodes 100 --out out/shadow_reading_interrogator.md
         # sessions 73-74: the hand-built agents, the three reading the zeroed creepage among them, on the four
         # validation plays (scripted_plays.py with A="staircase-zeroed model-based-zeroed model-based-zeroed-knee
         # phase-rule robust-model staircase model-based", as above), the shipped agent's (validation_plays.py
@@ -1474,7 +1476,7 @@ SOURCES = {
         *(f"rule_check_rule140_{check}" for check in ("validation", "extremes")), "peak_creepage_rule140",
         *(f"rule_check_rule141_{check}" for check in ("validation", "extremes")),
         "frontier_zeroed", *(f"rule_check_rule142_{check}" for check in ("validation", "extremes")),
-        "select_model_based", "own_window_fit",
+        "select_model_based", "own_window_fit", "shadow_reading", "shadow_reading_interrogator",
         *(f"crest_tradeoff_relative_shift_{play}" for play in ("validation", "confirmation43", "validation_noise")),
         "encoder_lag_reading", "noise_colour_reading",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),

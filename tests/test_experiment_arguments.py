@@ -329,3 +329,17 @@ def test_own_window_fit_keeps_the_rising_windows_and_tables_each_ending() -> Non
     assert lines[3] == "| horizon | 1 | 5.0% / 5.0% | 20.0% / 20.0% | 4.0% / 4.0% |"
     assert lines[4].startswith("| all | 2 |")
     assert lines[-1].startswith("3 episodes, 1 of them macro-slips; 1 with fewer than three")
+
+
+def test_shadow_reading_tables_each_ending_with_where_the_shadow_would_have_stopped() -> None:
+    """Per ending: both estimates' median / P90, the median of every window's headroom std, and the climbs where the
+    shadow's cautious headroom closed before the host's stop with the median utilisation there (None: it never did)."""
+    import shadow_reading as sr
+
+    rows = [{"ended": "stop", "host": 0.01, "shadow": -0.02, "stds": [0.1, 0.3], "early": 0.6},
+            {"ended": "stop", "host": -0.03, "shadow": 0.04, "stds": [0.2], "early": None},
+            {"ended": "macro-slip", "host": 0.05, "shadow": 0.0, "stds": [0.5], "early": 0.9}]
+    lines = sr.table(rows, "host").splitlines()
+    assert lines[2].startswith("| stop | 2 | ") and lines[2].endswith(" | 0.20 | 1, 60% |")
+    assert lines[3].startswith("| macro-slip | 1 | 5.0% / 5.0% | 0.0% / 0.0% | 0.50 | 1, 90% |")
+    assert lines[4].startswith("| all | 3 |") and len(lines) == 5  # no climb ended at the horizon: no row
