@@ -28,6 +28,7 @@ they lie together.
 from __future__ import annotations
 
 import itertools
+import math
 import os
 import sys
 from collections import Counter
@@ -189,10 +190,15 @@ def differing_rows(points: list[Point], shipped: str, references: list[Point], p
     return "\n".join(lines) + "\n"
 
 
-def figure(points: list[Point], grid: str, shipped: str | None, path: Path, references: list[Point] = ()) -> None:
+REFERENCE_MARKERS = "^vsDPXo<>ph"  # one marker per reference (cycling only past eleven)
+LEGEND_COLUMNS = 5
+
+
+def figure(points: list[Point], grid: str, shipped: str | None, path: Path,
+           references: list[Point] = ()) -> list[str]:
     """The ``grid`` P90 and the mean return against the runaways (a log axis where references run away far more
     often), the frontier joined, ``shipped`` marked, each reference a green marker of its own (named by its setting
-    in the legend)."""
+    in the legend, below both panels); returns the legend's labels."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -200,28 +206,34 @@ def figure(points: list[Point], grid: str, shipped: str | None, path: Path, refe
     front = sorted((p for p, f in zip(points, on_frontier(points)) if f), key=lambda p: p.runaways)
     everything = [*points, *references]
     wide = max(p.runaways for p in everything) > 4 * max(max(p.runaways for p in points), 1)
+    candidates = [p for p in points if p.label != shipped]
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
     for ax, value, name in ((axes[0], lambda p: 100 * p.grid_p90, f"{grid} P90 rel. CoF error [%]"),
                             (axes[1], lambda p: p.mean_return, "mean episode return")):
-        ax.scatter([p.runaways for p in points], [value(p) for p in points], s=18, color="tab:blue", label="candidate")
+        if candidates:
+            ax.scatter([p.runaways for p in candidates], [value(p) for p in candidates], s=18, color="tab:blue",
+                       label="candidate")
         if len(front) > 1 and ax is axes[0]:
             ax.plot([p.runaways for p in front], [value(p) for p in front], color="tab:gray", lw=1, label="frontier")
         for p in points:
             if p.label == shipped:
                 ax.scatter([p.runaways], [value(p)], s=120, marker="*", color="tab:red", label="shipped", zorder=3)
-        for p, marker in zip(references, itertools.cycle("^vsDPX")):
+        for p, marker in zip(references, itertools.cycle(REFERENCE_MARKERS)):
             ax.scatter([p.runaways], [value(p)], s=40, marker=marker, color="tab:green", label=p.setting, zorder=3)
         if wide:
             ax.set_xscale("log")
         ax.set_xlabel(f"runaways (of {points[0].episodes} climbs{', log scale' if wide else ''})")
         ax.set_ylabel(name)
         ax.grid(alpha=0.3)
-    axes[0].legend(fontsize=8)
-    fig.suptitle("Every candidate played: runaways against accuracy and against the task's return", fontsize=10)
-    fig.tight_layout()
+    handles, labels = axes[0].get_legend_handles_labels()
+    rows = math.ceil(len(labels) / LEGEND_COLUMNS)  # the legend below both panels, clear of every point
+    fig.legend(handles, labels, loc="lower center", ncol=LEGEND_COLUMNS, fontsize=8, frameon=False)
+    fig.suptitle("Runaways against accuracy and against the task's return", fontsize=10)
+    fig.tight_layout(rect=(0.0, 0.05 * rows + 0.02, 1.0, 1.0))
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)
     plt.close(fig)
+    return labels
 
 
 def read_group(group: str, grid: str) -> list[Point]:

@@ -1065,7 +1065,7 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # phase-rule robust-model staircase model-based", as above), the shipped agent's (validation_plays.py
         # rule135shipped), then:
     python experiments/frontier.py $(P rule135shipped) --references $(for a in $A; do P $a; done) \
-        --shipped $(P rule135shipped) --out out/frontier_zeroed.md
+        --shipped $(P rule135shipped) --out out/frontier_zeroed.md --figure docs/interrogator_frontier_zeroed.png
         # session 70's exploration: experiments/rules/relative_shift.sh (crest_tradeoff_relative_shift_validation,
         # crest_tradeoff_relative_shift_confirmation43, crest_tradeoff_relative_shift_validation_noise)
     python experiments/encoder_lag_reading.py --sharp runs/interrogator_three/climbs_torque_wide.npz \

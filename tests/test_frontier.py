@@ -168,3 +168,17 @@ def test_endings_count_the_horizon_endings_and_the_slow_probes_runaways() -> Non
     assert "ended at the horizon" not in plain and plain.splitlines()[1].count("---") == 8
     unread = point("b", "s", records("s"), "family")  # records without "ended": nothing counted
     assert "| 0 | 0 |" in table([unread], "family", None, endings=True).splitlines()[2]
+
+
+def test_the_figure_names_each_point_once_and_no_candidate_where_only_the_shipped_agent_is_played(tmp_path) -> None:
+    from frontier import REFERENCE_MARKERS, figure
+
+    assert len(set(REFERENCE_MARKERS)) == len(REFERENCE_MARKERS)  # a marker of its own for each of that many
+    shipped = point("shipped_validation", "s", records("s", slips=1), "family")
+    references = [point(f"ref{i}_validation", f"ref{i}", records(f"ref{i}", 0.5, slips=10 + i), "family")
+                  for i in range(len(REFERENCE_MARKERS))]
+    labels = figure([shipped], "family", "shipped_validation", tmp_path / "f.png", references)
+    assert labels == ["shipped", *(f"ref{i}" for i in range(len(REFERENCE_MARKERS)))]
+    assert (tmp_path / "f.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    candidate = point("c_validation", "c", records("c", 1.5), "family")
+    assert figure([shipped, candidate], "family", "shipped_validation", tmp_path / "g.png")[0] == "candidate"
