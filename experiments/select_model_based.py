@@ -11,7 +11,7 @@ at the reset window, the runaway estimate and the crest ceiling as registered) o
 default v2 distribution: never the evaluate suite nor a held-out grid), ranked as there: fewest macro-slips, then
 median + P90 of the relative error.
 
-    python experiments/select_model_based.py [--workers 2] [--quick] [--out PATH.json]
+    python experiments/select_model_based.py [--workers 2] [--quick] [--out PATH.json]   # default out/select_model_based.json
 
 Runs on 2 cores in about 2.5 minutes (137 s in session 74); ``--quick``: a fifth of the episodes (a smoke test).
 Writes ``--out`` (JSON) and its table beside it (``--out`` with ``.md``).
@@ -72,7 +72,7 @@ def main() -> None:
     parser = Parser(description=__doc__.splitlines()[0])
     parser.add_argument("--workers", type=positive_int, default=2)
     parser.add_argument("--quick", action="store_true", help="a fifth of the episodes (smoke test)")
-    parser.add_argument("--out", type=Path, default=Path("experiments/results/select_model_based.json"))
+    parser.add_argument("--out", type=Path, default=Path("out/select_model_based.json"))
     args = parser.parse_args()
     check_out_file(parser, "--out", args.out)
     t0 = time.time()
