@@ -99,14 +99,15 @@ def cell(errors: list[float]) -> str:
 
 def table(rows: list[dict[str, Any]]) -> str:
     """Median / P90 relative error of each estimate per ending (the episodes with a fit: at least three points)."""
-    lines = ["| climbs ended by | episodes | " + " | ".join(ESTIMATES.values()) + " |", "|---" * (2 + len(ESTIMATES)) + "|"]
+    lines = ["| climbs ended by | episodes | " + " | ".join(ESTIMATES.values()) + " |",
+             "|---" * (2 + len(ESTIMATES)) + "|"]
     for label, ending in (*((e, e) for e in ENDINGS), ("all", None)):
         sel = [r for r in rows if (ending is None or r["ended"] == ending) and "fit_swing" in r]
         lines.append(f"| {label} | {len(sel)} | " + " | ".join(cell([r[k] for r in sel]) for k in ESTIMATES) + " |")
     unfit = sum("fit_swing" not in r for r in rows)
     slips = sum(r["ended"] == "macro-slip" for r in rows)
-    lines += ["", f"{len(rows)} episodes, {slips} of them macro-slips; {unfit} with fewer than three rising windows have "
-              "no fit and are left out"]
+    lines += ["", f"{len(rows)} episodes, {slips} of them macro-slips; {unfit} with fewer than three rising windows "
+              "have no fit and are left out"]
     return "\n".join(lines)
 
 

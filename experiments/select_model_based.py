@@ -11,7 +11,7 @@ at the reset window, the runaway estimate and the crest ceiling as registered) o
 default v2 distribution: never the evaluate suite nor a held-out grid), ranked as there: fewest macro-slips, then
 median + P90 of the relative error.
 
-    python experiments/select_model_based.py [--workers 2] [--quick] [--out PATH.json]   # default out/select_model_based.json
+    python experiments/select_model_based.py [--workers 2] [--quick] [--out PATH.json]   # out/select_model_based.json
 
 Runs on 2 cores in about 2.5 minutes (137 s in session 74); ``--quick``: a fifth of the episodes (a smoke test).
 Writes ``--out`` (JSON) and its table beside it (``--out`` with ``.md``).

@@ -1,14 +1,15 @@
 """The learned interrogator's networks reading another agent's climb (information: nothing is chosen or adopted).
 
-An agent (``--agent``, default ``model-based-zeroed``; ``interrogator``: the learned climb itself, the reference) plays episodes of the v2 default distribution in both
-vehicle configurations; a shadow copy of the shipped learned interrogator reads every window it drives (its own
-actions are discarded: the host steers) and keeps its estimate and its decisions. Per ending of the host's climb: the
-median / P90 relative CoF error of the host's estimate and of the shadow's, the shadow's median predicted-headroom std
-over the windows (the filter's; the shipped agent's slow probe starts at 0.08), and how many climbs the shadow would
-have stopped before the host did (its cautious headroom, the filter's or a guard's after the caution, below its target
-of 0.1 at a window before the host's last), with the median utilisation there (the window's largest true torque over
-the true saturation torque: the experiment reads it, no agent does). Compare `experiments/own_window_fit.py`, the mirror: a family fit reading
-the learned climb's windows.
+An agent (``--agent``, default ``model-based-zeroed``; ``interrogator``: the learned climb itself, the reference)
+plays episodes of the v2 default distribution in both vehicle configurations; a shadow copy of the shipped learned
+interrogator reads every window it drives (its own actions are discarded: the host steers) and keeps its estimate
+and its decisions. Per ending of the host's climb: the median / P90 relative CoF error of the host's estimate and of
+the shadow's, the shadow's median predicted-headroom std over the windows (the filter's; the shipped agent's slow
+probe starts at 0.08), and how many climbs the shadow would have stopped before the host did (its cautious headroom,
+the filter's or a guard's after the caution, below its target of 0.1 at a window before the host's last), with the
+median utilisation there (the window's largest true torque over the true saturation torque: the experiment reads it,
+no agent does). Compare `experiments/own_window_fit.py`, the mirror: a family fit reading the learned climb's
+windows.
 
     python experiments/shadow_reading.py --episodes 100 --out out/shadow_reading.md
 
@@ -87,8 +88,8 @@ def table(rows: list[dict[str, Any]], host: str) -> str:
         stds = [s for r in sel for s in r["stds"]]
         early = [r["early"] for r in sel if r["early"] is not None]
         there = f", {np.median(early):.0%}" if early else ""
-        lines.append(f"| {label} | {len(sel)} | {cell([r['host'] for r in sel])} | {cell([r['shadow'] for r in sel])} | "
-                     f"{np.median(stds):.2f} | {len(early)}{there} |")
+        lines.append(f"| {label} | {len(sel)} | {cell([r['host'] for r in sel])} | "
+                     f"{cell([r['shadow'] for r in sel])} | {np.median(stds):.2f} | {len(early)}{there} |")
     return "\n".join(lines)
 
 
