@@ -36,15 +36,16 @@ ESTIMATES = {"learned": "the learned agent's estimate", "fit_mean": "fit of the 
 ENDINGS = ("stop", "horizon")
 
 
-def rising_windows(windows: list[tuple[float, float, float, float]]) -> list[tuple[float, float, float, float]]:
-    """The (CoA, zeroed creepage, speed, CoA swing) windows a ClimbRecord would keep: a CoA that fell is off the
-    branch; only positive points."""
-    from cof_gym.task.creep_fit import coa_fell
+Window = tuple[float, float, float, float, float]  # CoA, zeroed creepage, speed (m/s), CoA swing, DC torque (N m)
 
-    kept: list[tuple[float, float, float, float]] = []
-    for w in windows:
-        if not (kept and coa_fell(w[0], kept[-1][0])):
-            kept.append(w)
+
+def rising_windows(windows: list[Window]) -> list[Window]:
+    """The windows whose points a :class:`~cof_gym.task.creep_fit.ClimbRecord` keeps (a CoA that fell under a torque
+    that did not is off the branch) and fits (positive CoA and creepage)."""
+    from cof_gym.task.creep_fit import ClimbRecord
+
+    record = ClimbRecord()
+    kept = [w for w in windows if not record.add(w[0], w[1], w[2], w[4])]
     return [w for w in kept if w[0] > 0 and w[1] > 0]
 
 
@@ -75,7 +76,8 @@ def play(job: tuple[dict[str, Any], list[int]]) -> list[dict[str, Any]]:
             m = info["measurement"]
             if m["torque_mean_nm"] > 0.0 and info["elapsed_s"] > elapsed:  # a window was driven (a stop drives none)
                 windows.append((m["coa_measured"], (m["creepage_measured"] - offset) / (1.0 + offset),
-                                m["speed_measured_m_s"], 0.5 * (m["coa_cycle_max"] - m["coa_cycle_min"])))
+                                m["speed_measured_m_s"], 0.5 * (m["coa_cycle_max"] - m["coa_cycle_min"]),
+                                m["torque_mean_nm"]))
             if terminated or truncated:
                 break
         cof = info["ground_truth"]["cof"]
@@ -83,7 +85,7 @@ def play(job: tuple[dict[str, Any], list[int]]) -> list[dict[str, Any]]:
         row = {"ended": ended, "learned": info["cof_estimate"] / cof - 1.0}
         points = rising_windows(windows)
         if len(points) >= MIN_FIT_POINTS:
-            coa, creepage, speed, swing = (np.array(x) for x in zip(*points))
+            coa, creepage, speed, swing, _ = (np.array(x) for x in zip(*points))
             for name, cycle in (("fit_mean", None), ("fit_swing", swing)):
                 fit = fit_peak(coa, creepage, float(np.median(speed)), families=SHAPE_FAMILIES, swing=cycle)
                 row[name] = fit.estimate / cof - 1.0
@@ -143,6 +145,7 @@ def main() -> None:
     args = parser.parse_args()
     check_out_file(parser, "--out", args.out)
     report(table(play_draws(play, args)), args.out)
+
 
 if __name__ == "__main__":
     main()

@@ -45,17 +45,14 @@ def play(job: tuple[dict[str, float | None], list[tuple[str, int, dict[str, Any]
     error it scored and whether it macro-slipped."""
     import gymnasium as gym
 
-    from cof_gym.agents.registry import AGENTS
-    from cof_gym.agents.runaway import RunawayEstimate
+    from cof_gym.agents.registry import AGENTS, as_registered
     from cof_gym.agents.zeroed import model_based_zeroed
     from cof_gym.commands.evaluate_episodes import run_episode
 
     setting, eps = job
-    entry = AGENTS[AGENT]
     env = gym.make("CofGym/TorqueInterrogation-v2")
     limits = env.unwrapped.limits
-    agent = RunawayEstimate(model_based_zeroed(limits, **setting), limits, name=AGENT,
-                            bracket=entry.runaway, ceiling=entry.ceiling)
+    agent = as_registered(AGENTS[AGENT], model_based_zeroed(limits, **setting), limits)
     out = []
     for i, (label, seed, options) in enumerate(eps):
         r = run_episode(env, agent, seed, options, i)

@@ -314,13 +314,14 @@ def test_peak_creepage_records_bins_each_settings_episodes_by_their_curves_peak(
 
 
 def test_own_window_fit_keeps_the_rising_windows_and_tables_each_ending() -> None:
-    """A window whose CoA fell (ClimbRecord's rule) and one with no positive creepage are left out of the fit; the
-    table has a row per ending and one for all, over the episodes that had a fit."""
+    """A window whose CoA fell under a torque that did not (ClimbRecord's rule) and one with no positive creepage are
+    left out of the fit, a CoA that fell under a lowered torque is kept; the table has a row per ending and one for
+    all, over the episodes that had a fit."""
     import own_window_fit as owf
 
-    windows = [(0.05, 0.001, 20.0, 0.02), (0.10, 0.002, 20.0, 0.04), (0.09, 0.003, 20.0, 0.04),
-               (0.12, -0.001, 20.0, 0.05), (0.13, 0.004, 20.0, 0.05)]
-    assert owf.rising_windows(windows) == [windows[0], windows[1], windows[4]]
+    windows = [(0.05, 0.001, 20.0, 0.02, 100.0), (0.10, 0.002, 20.0, 0.04, 200.0), (0.09, 0.003, 20.0, 0.04, 210.0),
+               (0.12, -0.001, 20.0, 0.05, 250.0), (0.13, 0.004, 20.0, 0.05, 260.0), (0.125, 0.004, 20.0, 0.05, 240.0)]
+    assert owf.rising_windows(windows) == [windows[0], windows[1], windows[4], windows[5]]
     rows = [{"ended": "stop", "learned": 0.01, "fit_mean": -0.1, "fit_swing": 0.02},
             {"ended": "horizon", "learned": -0.05, "fit_mean": 0.2, "fit_swing": -0.04},
             {"ended": "macro-slip", "learned": 0.3}]

@@ -196,12 +196,18 @@ def make_agent(spec: str, env: Any):
     ceiling: with ``+runaway`` the bracket alone; with ``+ceiling`` the ceiling and, registered with
     ``runaway``, the bracket; without a modifier what it is registered with; with ``+plain`` as its factory
     builds it (named so)."""
-    from cof_gym.agents.runaway import CEILING_MODIFIER, MODIFIER, RunawayEstimate
-
     entry, argument = parse(spec)
     factory = entry.load()
     agent = factory(env, argument) if entry.takes_env else factory(env.unwrapped.limits)
-    modifier = split_modifier(spec)[1]
+    return as_registered(entry, agent, env.unwrapped.limits, split_modifier(spec)[1])
+
+
+def as_registered(entry: AgentEntry, agent: Any, limits: Any, modifier: str | None = None):
+    """``agent`` (built by ``entry``'s factory, or as that factory would with other parameters) wrapped as
+    :func:`make_agent` wraps it for ``entry`` with ``modifier`` (None, ``runaway``, ``ceiling`` or ``plain``) for
+    the drive ``limits``."""
+    from cof_gym.agents.runaway import CEILING_MODIFIER, MODIFIER, RunawayEstimate
+
     if modifier == PLAIN:
         agent.name = f"{agent.name}+{PLAIN}"
         return agent
@@ -209,7 +215,7 @@ def make_agent(spec: str, env: Any):
     ceiling = modifier == CEILING_MODIFIER or (modifier is None and entry.ceiling)
     if not (bracket or ceiling):
         return agent
-    return RunawayEstimate(agent, env.unwrapped.limits, name=f"{agent.name}+{modifier}" if modifier else agent.name,
+    return RunawayEstimate(agent, limits, name=f"{agent.name}+{modifier}" if modifier else agent.name,
                            bracket=bracket, ceiling=ceiling)
 
 
