@@ -1,11 +1,13 @@
-"""Play a model trained by RL Zoo on the registered id (run from the repository root):
+"""Play a model trained by RL Zoo on a registered id, with any algorithm cof_gym plays (run from the repository root):
 
     python experiments/zoo_eval.py out/zoo/ppo/CofGym-TorqueInterrogation-v1_1/CofGym-TorqueInterrogation-v1.zip
 
-RL Zoo writes no ``train_meta.json``; the env's interface comes from the yml's ``env_kwargs`` (the
-ones the model was trained with). The policy acts deterministically, through the agent-side interface,
-on a default env for ``--episodes`` draws of the env's distribution (seeds 10000 + i, not the suites'),
-and the mean episode length, the median / P90 relative error and the macro-slips are printed.
+RL Zoo writes no ``train_meta.json``; the env id and the env's interface come from the run's ``args.yml`` and
+``config.yml`` (:func:`~cof_gym.agents.ppo.zoo_training`: the ``env_kwargs`` the model was trained with), or, for
+a zip without them, from ppo.yml's ``env_kwargs`` for the v2 wagon. The policy acts deterministically, through the
+agent-side interface, on a default env for ``--episodes`` draws of the env's distribution (seeds 10000 + i, not the
+suites'), and the mean episode length, the median / P90 relative error and the macro-slips are printed.
+``cof-gym evaluate --agents sb3:PATH`` plays the same model on the suites beside every other agent.
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ import numpy as np
 import cof_gym
 from cof_gym.commands.args import Parser, positive_int
 from cof_gym.commands.evaluate_episodes import run_episode
-from cof_gym.agents.ppo import PPOAgent, check_model, resolve_model_path
+from cof_gym.agents.ppo import SB3Agent, check_model, resolve_model_path, zoo_training
 from cof_gym.commands.train_hyperparams import load_hyperparams
 
 FIRST_SEED = 10_000
@@ -29,14 +31,18 @@ def main() -> None:
     parser.add_argument("model", help="the RL Zoo model zip")
     parser.add_argument("--episodes", type=positive_int, default=40)
     args = parser.parse_args()
-    env_kwargs = {k: v for k, v in load_hyperparams(cof_gym.WAGON_ENV_ID).get("env_kwargs", {}).items()
-                  if k != "shaping"}
     try:  # a missing file, one that is no model, unusable statistics or metadata: one line naming the argument
-        check_model(resolve_model_path(args.model))
-        agent = PPOAgent.load(args.model, env_id=cof_gym.WAGON_ENV_ID, env_kwargs=env_kwargs)
+        path = resolve_model_path(args.model)
+        check_model(path)
+        if zoo_training(path) is None:  # a bare zip: ppo.yml's interface for the v2 wagon
+            env_kwargs = {k: v for k, v in load_hyperparams(cof_gym.WAGON_ENV_ID).get("env_kwargs", {}).items()
+                          if k != "shaping"}
+            agent = SB3Agent.load(path, env_id=cof_gym.WAGON_ENV_ID, env_kwargs=env_kwargs)
+        else:
+            agent = SB3Agent.load(path)
     except (FileNotFoundError, ValueError) as error:
         parser.error(f"model: {' '.join(str(error).split())}")
-    env = gym.make(cof_gym.WAGON_ENV_ID)
+    env = gym.make(agent.env_id)
     records = [run_episode(env, agent, FIRST_SEED + i, {}, i) for i in range(args.episodes)]
     lengths = [r.steps for r in records]
     errors = [r.relative_error for r in records]

@@ -202,3 +202,15 @@ def test_rl_zoo_trains_the_registered_id_with_the_shipped_hyperparameters(tmp_pa
     run_dir = tmp_path / "ppo" / "CofGym-TorqueInterrogation-v1_1"
     assert (run_dir / "CofGym-TorqueInterrogation-v1.zip").is_file()
     assert (run_dir / "CofGym-TorqueInterrogation-v1" / "vecnormalize.pkl").is_file()
+    # the run directory plays as it was trained: the env id and the interface from RL Zoo's args.yml and config.yml
+    from cof_gym.agents.ppo import SB3Agent
+
+    agent = SB3Agent.load(run_dir)
+    assert agent.env_id == ENV_ID and agent.vec_normalize is not None and agent.interface is not None
+    assert agent.trained_on == (ENV_ID, {"shaping": False, "action_type": "identified",
+                                         "observation_type": "identification"})
+    env = gym.make(ENV_ID)
+    obs, info = env.reset(seed=2)
+    agent.reset(obs, info)
+    assert env.action_space.contains(agent.act(obs, info))
+    env.close()

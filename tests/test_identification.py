@@ -123,9 +123,9 @@ def test_the_shipped_policy_interrogates_and_stops_by_itself() -> None:
 
     if not shipped_ppo_available():
         pytest.skip("no shipped policy")
-    from cof_gym.agents.ppo import PPOAgent
+    from cof_gym.agents.ppo import SB3Agent
 
-    agent = PPOAgent.load(SHIPPED_PPO)
+    agent = SB3Agent.load(SHIPPED_PPO)
     env = gym.make(ENV_ID)
     errors = []
     for seed in range(20_000, 20_006):

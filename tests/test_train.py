@@ -19,7 +19,7 @@ import gymnasium as gym  # noqa: E402
 
 import cof_gym  # noqa: E402,F401
 from cof_gym.agents.base import Agent  # noqa: E402
-from cof_gym.agents.ppo import PPOAgent, vecnormalize_path  # noqa: E402
+from cof_gym.agents.ppo import SB3Agent, vecnormalize_path  # noqa: E402
 from cof_gym.commands.train import build_parser, run  # noqa: E402
 from cof_gym.commands.train_hyperparams import load_hyperparams, split_hyperparams  # noqa: E402
 
@@ -83,7 +83,7 @@ def test_tensorboard_has_episode_terms(trained: Path):
 
 
 def test_ppo_agent_acts_on_a_real_observation(trained: Path):
-    agent = PPOAgent.load(trained, env_id=ENV_ID)
+    agent = SB3Agent.load(trained, env_id=ENV_ID)
     assert isinstance(agent, Agent) and agent.name == "ppo" and agent.oracle is False
     assert agent.vec_normalize is not None
     assert agent.vec_normalize.training is False and agent.vec_normalize.norm_reward is False
@@ -106,7 +106,7 @@ def test_ppo_agent_loads_checkpoints_and_best(trained: Path):
     ckpt = trained / "checkpoints" / "ppo_128_steps.zip"
     assert vecnormalize_path(ckpt).name == "ppo_vecnormalize_128_steps.pkl"
     for path in (ckpt, trained / "best", trained / "model.zip"):
-        agent = PPOAgent.load(path)  # env id from train_meta.json
+        agent = SB3Agent.load(path)  # env id from train_meta.json
         assert agent.env_id == ENV_ID
         obs = np.zeros(len(OBSERVATION_NAMES), dtype=np.float32)
         assert agent.act(obs, {}).shape == (5,)
@@ -190,7 +190,7 @@ def test_warm_start_clones_the_expert_and_is_saved_in_rl_zoo_layout(tmp_path: Pa
     assert Path(pre["warm_start"]) == warm and warm.is_file()
     assert vecnormalize_path(warm) == out / "warm_start" / stem / "vecnormalize.pkl"
     assert vecnormalize_path(warm).is_file()
-    agent = PPOAgent.load(warm)  # the env kwargs come from train_meta.json one directory up
+    agent = SB3Agent.load(warm)  # the env kwargs come from train_meta.json one directory up
     np.testing.assert_allclose(agent.model.policy.log_std.detach().numpy(), [-3, -2, -2, -2, -2.5])
     env = gym.make(cof_gym.WAGON_ENV_ID)
     obs, info = env.reset(seed=0)

@@ -45,6 +45,12 @@ class AgentEntry:
     shipped: Path | None = None  # a file the agent needs when named without ":ARG" (a shipped policy)
     runaway: bool = False  # reports the runaway estimate between its stops, under its own name
     ceiling: bool = False  # caps every estimate at the crest ceiling, under its own name
+    check: str | None = None  # "module:function" checking an ":ARG" before any simulation (ValueError, one line)
+
+    @property
+    def needs_argument(self) -> bool:
+        """Named only with its ``:ARG`` (it takes one and ships nothing to play without it)."""
+        return self.argument is not None and self.shipped is None
 
     def shipped_available(self) -> bool:
         return self.shipped is None or self.shipped.is_file()
@@ -66,22 +72,29 @@ AGENTS: dict[str, AgentEntry] = {}
 
 def register(name: str, factory: str, *, oracle: bool, help: str = "", takes_env: bool = False,
              argument: str | None = None, default: bool = True, shipped: Path | None = None,
-             runaway: bool = False, ceiling: bool = False) -> None:
+             runaway: bool = False, ceiling: bool = False, check: str | None = None) -> None:
     """Register an agent under ``name`` (later registrations of the same name replace earlier ones)."""
     if not name or any(c in name for c in ":,+"):
         raise ValueError(f"agent names must be non-empty without ':', ',' or '+', got {name!r}")
-    AGENTS[name] = AgentEntry(name, factory, oracle, help, takes_env, argument, default, shipped, runaway, ceiling)
+    AGENTS[name] = AgentEntry(name, factory, oracle, help, takes_env, argument, default, shipped, runaway, ceiling,
+                              check)
+
+
+def _sb3(env, argument: str | None, prefix: str = "sb3"):
+    """``sb3:PATH``: the Stable-Baselines3 or sb3-contrib model at PATH (a zip, a ``cof-gym train`` output or an RL
+    Zoo run directory), named ``PREFIX:`` and the file's or directory's name; without a PATH the shipped PPO."""
+    from cof_gym.agents.ppo import SB3Agent
+
+    path = Path(argument) if argument else SHIPPED_PPO
+    agent = SB3Agent.load(path)
+    if argument:
+        agent.name = f"{prefix}:{path.stem if path.suffix else path.name}"
+    return agent
 
 
 def _ppo(env, argument: str | None):
     """The shipped policy, or ``ppo:PATH`` (a model zip or a ``cof-gym train`` output directory)."""
-    from cof_gym.agents.ppo import PPOAgent
-
-    path = Path(argument) if argument else SHIPPED_PPO
-    agent = PPOAgent.load(path)
-    if argument:
-        agent.name = f"ppo:{path.stem if path.suffix else path.name}"
-    return agent
+    return _sb3(env, argument, prefix="ppo")
 
 
 def shipped_ppo_available() -> bool:
@@ -132,8 +145,20 @@ register("interrogator", "cof_gym.agents.interrogator:load_interrogator", oracle
          "compliance and CoA; interrogator:DIR for other networks (a two-tone climb plays in an env of "
          "its own with the suite's scenarios)")
 register("ppo", "cof_gym.agents.registry:_ppo", oracle=False, takes_env=True, argument="PATH",
-         shipped=SHIPPED_PPO / "model.zip",
+         shipped=SHIPPED_PPO / "model.zip", check="cof_gym.agents.ppo:check_model_argument",
          help="the shipped PPO policy, or ppo:PATH for any saved model")
+register("sb3", "cof_gym.agents.registry:_sb3", oracle=False, takes_env=True, argument="PATH", default=False,
+         check="cof_gym.agents.ppo:check_model_argument",
+         help="sb3:PATH: a policy saved by Stable-Baselines3 or sb3-contrib (PPO, A2C, TRPO, SAC, TD3, DDPG, TQC, "
+         "CrossQ, ARS, RecurrentPPO; the algorithm read from its policy class), a cof-gym train output or an RL Zoo "
+         "run directory")
+
+
+def check_argument(entry: AgentEntry, argument: str | None) -> None:
+    """``entry``'s check of its ``:ARG`` (none without one), before anything is simulated; ``ValueError``."""
+    if argument is not None and entry.check is not None:
+        module, _, function = entry.check.partition(":")
+        getattr(importlib.import_module(module), function)(argument)
 
 
 def names(available_only: bool = True) -> list[str]:
@@ -142,7 +167,8 @@ def names(available_only: bool = True) -> list[str]:
 
 def describe() -> str:
     """``a, b, c or ppo:PATH`` for messages."""
-    parts = ([n for n in names()] + [f"{n}:{e.argument}" for n, e in AGENTS.items() if e.argument and e.available()]
+    bare = [n for n in names() if not AGENTS[n].needs_argument]
+    parts = (bare + [f"{n}:{e.argument}" for n, e in AGENTS.items() if e.argument and e.available()]
              + ["any of them +runaway, +ceiling or +plain"])
     return ", ".join(parts[:-1]) + f" or {parts[-1]}" if len(parts) > 1 else "".join(parts)
 
@@ -182,7 +208,7 @@ def parse(spec: str) -> tuple[AgentEntry, str | None]:
         raise AgentSpecError(f"unknown agent {spec.strip()!r}; allowed: {describe()}")
     if sep and entry.argument is None:
         raise AgentSpecError(f"agent {name!r} takes no ':' argument, got {spec.strip()!r}")
-    if sep and not argument:
+    if (sep and not argument) or (not sep and entry.needs_argument):
         raise AgentSpecError(f"agent {name}:{entry.argument} needs a value after ':', got {spec.strip()!r}")
     if not sep and not entry.shipped_available():
         raise AgentSpecError(f"no shipped {name} policy in this installation ({entry.shipped} is missing); use "

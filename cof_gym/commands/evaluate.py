@@ -397,16 +397,13 @@ def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
         raise UsageError("--agents", f"empty agent name in {given!r}; allowed: {registry.describe()}")
     for spec in specs:
         try:
-            _, argument = registry.parse(spec)
+            entry, argument = registry.parse(spec)
         except registry.AgentSpecError as e:
             raise UsageError("--agents", str(e)) from None
-        if argument is not None and spec.startswith("ppo:"):
-            from cof_gym.agents.ppo import check_model, resolve_model_path
-
-            try:
-                check_model(resolve_model_path(argument))
-            except (FileNotFoundError, ValueError) as e:
-                raise UsageError("--agents", f"{spec}: {e}") from None
+        try:
+            registry.check_argument(entry, argument)
+        except ValueError as e:
+            raise UsageError("--agents", f"{spec}: {e}") from None
     if len(set(specs)) != len(specs):
         raise UsageError("--agents", f"an agent is given twice in {given!r}")
     try:

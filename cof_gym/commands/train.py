@@ -4,7 +4,7 @@ Defaults come from ``cof_gym/agents/hyperparams/ppo.yml`` (RL Zoo format, the fi
 reads too); the command line overrides them. Writes, under ``--out DIR``:
 
 - ``model.zip`` and ``vecnormalize.pkl`` beside it (observation statistics; load them with
-  ``training=False, norm_reward=False``, as :class:`cof_gym.agents.ppo.PPOAgent` does);
+  ``training=False, norm_reward=False``, as :class:`cof_gym.agents.ppo.SB3Agent` does);
 - ``tb/PPO_<k>/``: TensorBoard logs, with per-episode reward terms, relative CoF error and
   macro-slip rate under ``episode/``;
 - ``checkpoints/ppo_<N>_steps.zip`` + ``ppo_vecnormalize_<N>_steps.pkl`` (``--save-freq``);

@@ -103,13 +103,10 @@ def prepare(args: argparse.Namespace) -> WatchRequest:
         entry, argument = registry.parse(spec)
     except registry.AgentSpecError as e:
         raise UsageError("--agent", str(e)) from None
-    if argument is not None and entry.name == "ppo":
-        from cof_gym.agents.ppo import check_model, resolve_model_path
-
-        try:  # the checks evaluate makes: the zip, its statistics and its train_meta.json
-            check_model(resolve_model_path(argument))
-        except (FileNotFoundError, ValueError) as e:
-            raise UsageError("--agent", f"{spec}: {e}") from None
+    try:  # the checks evaluate makes (a model's zip, its statistics and its training record)
+        registry.check_argument(entry, argument)
+    except ValueError as e:
+        raise UsageError("--agent", f"{spec}: {e}") from None
     if args.env not in cof_gym.ENV_IDS:
         raise UsageError("--env", f"unknown env {args.env!r}; allowed: {', '.join(cof_gym.ENV_IDS)}")
     out = check_video_path(Path(args.out))
