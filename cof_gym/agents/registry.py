@@ -153,6 +153,11 @@ register("sb3", "cof_gym.agents.registry:_sb3", oracle=False, takes_env=True, ar
          "CrossQ, ARS, RecurrentPPO; the algorithm read from its policy class), a cof-gym train output or an RL Zoo "
          "run directory")
 
+# an agent of your own, from a Python file, without registering it (cof_gym/agents/plugin.py)
+register("py", "cof_gym.agents.plugin:python_agent", oracle=False, takes_env=True, argument="FILE.py:NAME",
+         default=False, check="cof_gym.agents.plugin:check_python_agent",
+         help="py:FILE.py:NAME: an agent of your own, NAME(limits) of that file (reset and act; never an oracle)")
+
 
 def check_argument(entry: AgentEntry, argument: str | None) -> None:
     """``entry``'s check of its ``:ARG`` (none without one), before anything is simulated; ``ValueError``."""

@@ -1,0 +1,84 @@
+"""Agents of your own in ``cof-gym evaluate`` and ``cof-gym watch`` without registering them: ``py:FILE.py:NAME``
+(cof_gym/agents/plugin.py). The file is imported in every worker process, the agent never receives the ground truth,
+and every problem found before the first episode is one line with exit status 2."""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import pytest
+
+from cof_gym import cli
+
+AGENT_SOURCE = '''
+from cof_gym.task.interface import OBSERVATION_NAMES, encode_action
+
+COA = OBSERVATION_NAMES.index("coa_measured")
+
+
+class Climb:
+    """DC steps of 2 % of the drive's maximum, a stop after four windows reporting the last CoA measured."""
+
+    name = "my-climb"
+    oracle = ORACLE
+
+    def __init__(self, limits):
+        self.limits = limits
+
+    def reset(self, observation, info):
+        self.windows = 0
+
+    def act(self, observation, info):
+        if "ground_truth" in info:
+            raise RuntimeError("an agent of your own was handed the ground truth")
+        self.windows += 1
+        return encode_action(0.02 * self.windows * self.limits.max_dc_torque_nm, 200.0, 5.0,
+                             max(float(observation[COA]), 0.02), self.windows >= 4, self.limits)
+'''
+
+
+def _write(directory: Path, oracle: bool = False) -> Path:
+    path = directory / "my_agents.py"
+    path.write_text(AGENT_SOURCE.replace("ORACLE", str(oracle)))
+    return path
+
+
+def test_evaluate_plays_an_agent_of_your_own_in_every_worker(tmp_path: Path, monkeypatch) -> None:
+    _write(tmp_path)
+    monkeypatch.chdir(tmp_path)  # a path relative to the working directory, as a user types it
+    code = cli.main(["evaluate", "--agents", "staircase,py:my_agents.py:Climb", "--episodes", "4", "--workers", "2",
+                     "--env-kwargs", "max_windows:6", "--out", "out", "--quiet"])
+    assert code == 0
+    with open(tmp_path / "out" / "episodes.csv") as f:
+        rows = [r for r in csv.DictReader(f) if r["agent"] == "my-climb"]
+    assert len(rows) == 4 and all(r["oracle"] == "False" and r["ended"] in ("stop", "macro-slip") for r in rows)
+
+
+@pytest.mark.parametrize("spec,fragment", [
+    ("py:missing.py:Climb", "no such file"),
+    ("py:my_agents.py", "expected FILE.py:NAME"),
+    ("py:my_agents.py:Nope", "no callable 'Nope'"),
+    ("py:broken.py:Climb", "importing"),
+    ("py:not_an_agent.py:Thing", "has no reset(observation, info) and act(observation, info)"),
+    ("py:oracle_agents.py:Climb", "never reads the ground truth"),
+])
+def test_a_bad_agent_of_your_own_is_one_line_exit_2_before_any_episode(spec: str, fragment: str, tmp_path: Path,
+                                                                      monkeypatch, capsys) -> None:
+    _write(tmp_path)
+    (tmp_path / "oracle_agents.py").write_text(AGENT_SOURCE.replace("ORACLE", "True"))
+    (tmp_path / "broken.py").write_text("raise RuntimeError('boom')\n")
+    (tmp_path / "not_an_agent.py").write_text("class Thing:\n    def __init__(self, limits):\n        pass\n")
+    monkeypatch.chdir(tmp_path)
+    assert cli.main(["evaluate", "--agents", spec, "--episodes", "2", "--out", "out", "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "--agents" in err and fragment in err, err
+    assert not (tmp_path / "out").exists()
+
+
+def test_watch_renders_an_agent_of_your_own(tmp_path: Path) -> None:
+    path = _write(tmp_path)
+    out = tmp_path / "episode.gif"
+    argv = ["watch", "--agent", f"py:{path}:Climb", "--seed", "1", "--out", str(out), "--fps", "4", "--width", "320"]
+    assert cli.main(argv) == 0
+    assert out.stat().st_size > 0
