@@ -1,8 +1,8 @@
 """cof-gym: measure the wheel-rail coefficient of friction by torque modulation, in simulation.
 
-Commands: evaluate (agents side by side on the same seeded scenarios), train (a PPO interrogation
-policy), bench (simulation speed), reproduce-paper (the paper's figures re-simulated), watch (a video of an episode). Run
-"cof-gym COMMAND --help" for the options of each.
+Commands: evaluate (agents side by side on the same seeded scenarios), agents (the agents evaluate knows), train (a
+PPO interrogation policy), bench (simulation speed), reproduce-paper (the paper's figures re-simulated), watch (a video
+of an episode). Run "cof-gym COMMAND --help" for the options of each.
 
 Exit status: 0 on success, 2 on a usage error (one line on stderr, nothing written), 130 when
 interrupted.
@@ -89,6 +89,12 @@ def build_parser() -> argparse.ArgumentParser:
                        description=EVALUATE_DESCRIPTION)
     evaluate_arguments(p)
     p.set_defaults(func=_evaluate)
+    from cof_gym.commands.agents import DESCRIPTION as AGENTS_DESCRIPTION, add_arguments as agents_arguments, run
+
+    p = sub.add_parser("agents", help="the agents evaluate and watch know, and what each does",
+                       description=AGENTS_DESCRIPTION)
+    agents_arguments(p)
+    p.set_defaults(func=run)
     try:
         from cof_gym.commands.train import DESCRIPTION as TRAIN_DESCRIPTION, add_arguments as train_arguments
     except ImportError:  # training extras not installed

@@ -342,3 +342,19 @@ def test_an_interrupted_evaluate_leaves_nothing(workdir: Path, monkeypatch) -> N
     assert sorted(p.name for p in workdir.iterdir()) == sorted(["a_file.txt", "not_an_output", "not_a_model.zip",
                                                                "corrupt.zip", *SUITE_FILES, *BROKEN_MODELS,
                                                                "bad_policy.zip", "docs_is_a_file"])
+
+
+def test_agents_lists_every_registered_agent_with_its_description(capsys) -> None:
+    from cof_gym.agents import registry
+
+    assert cli.main(["agents"]) == 0
+    listing = " ".join(capsys.readouterr().out.split())
+    for name in registry.names():
+        entry = registry.AGENTS[name]
+        assert " ".join(entry.help.split()) in listing, name
+    assert "oracle [oracle, default]" in listing and "sb3:PATH " in listing and " sb3 " not in listing
+    assert cli.main(["agents", "--names"]) == 0
+    names = capsys.readouterr().out.split()
+    assert set(registry.default_agents()) <= set(names) and "py:FILE.py:NAME" in names and "sb3" not in names
+    for spelling in names:  # every name listed is one evaluate accepts
+        registry.parse(spelling.replace(":PATH", ":x").replace(":DIR", ":x").replace(":FILE.py:NAME", ":x.py:X"))
