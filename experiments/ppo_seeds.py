@@ -34,7 +34,7 @@ import numpy as np
 
 from cof_gym.commands.args import Parser, positive_int
 from cof_gym.commands.evaluate import evaluate
-from cof_gym.agents.ppo import check_model, vecnormalize_path
+from cof_gym.agents.sb3_policy import check_model, vecnormalize_path
 from cof_gym.agents.registry import SHIPPED_PPO
 from cof_gym.commands.suites import make_suite
 
@@ -91,7 +91,7 @@ def candidates(run: Path) -> list[Path]:
 
 def check_runs(parser: argparse.ArgumentParser, runs: list[Path]) -> None:
     """Each of ``runs`` a directory holding at least one candidate (:func:`candidates`), every one a readable
-    Stable-Baselines3 model with usable statistics and metadata (:func:`~cof_gym.agents.ppo.check_model`, as
+    Stable-Baselines3 model with usable statistics and metadata (:func:`~cof_gym.agents.sb3_policy.check_model`, as
     ``cof-gym evaluate --agents ppo:PATH`` checks it); otherwise a one-line usage error naming --runs, before
     anything is played."""
     for run in runs:

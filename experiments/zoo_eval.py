@@ -3,7 +3,7 @@
     python experiments/zoo_eval.py out/zoo/ppo/CofGym-TorqueInterrogation-v1_1/CofGym-TorqueInterrogation-v1.zip
 
 RL Zoo writes no ``train_meta.json``; the env id and the env's interface come from the run's ``args.yml`` and
-``config.yml`` (:func:`~cof_gym.agents.ppo.zoo_training`: the ``env_kwargs`` the model was trained with), or, for
+``config.yml`` (:func:`~cof_gym.agents.sb3_policy.zoo_training`: the ``env_kwargs`` the model was trained with), or, for
 a zip without them, from ppo.yml's ``env_kwargs`` for the v2 wagon. The policy acts deterministically, through the
 agent-side interface, on a default env for ``--episodes`` draws of the env's distribution (seeds 10000 + i, not the
 suites'), and the mean episode length, the median / P90 relative error and the macro-slips are printed.
@@ -20,7 +20,7 @@ import numpy as np
 import cof_gym
 from cof_gym.commands.args import Parser, positive_int
 from cof_gym.commands.evaluate_episodes import run_episode
-from cof_gym.agents.ppo import SB3Agent, check_model, resolve_model_path, zoo_training
+from cof_gym.agents.sb3_policy import SB3Agent, check_model, resolve_model_path, zoo_training
 from cof_gym.commands.train_hyperparams import load_hyperparams
 
 FIRST_SEED = 10_000

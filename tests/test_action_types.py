@@ -203,7 +203,7 @@ def test_rl_zoo_trains_the_registered_id_with_the_shipped_hyperparameters(tmp_pa
     assert (run_dir / "CofGym-TorqueInterrogation-v1.zip").is_file()
     assert (run_dir / "CofGym-TorqueInterrogation-v1" / "vecnormalize.pkl").is_file()
     # the run directory plays as it was trained: the env id and the interface from RL Zoo's args.yml and config.yml
-    from cof_gym.agents.ppo import SB3Agent
+    from cof_gym.agents.sb3_policy import SB3Agent
 
     agent = SB3Agent.load(run_dir)
     assert agent.env_id == ENV_ID and agent.vec_normalize is not None and agent.interface is not None

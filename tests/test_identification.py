@@ -123,7 +123,7 @@ def test_the_shipped_policy_interrogates_and_stops_by_itself() -> None:
 
     if not shipped_ppo_available():
         pytest.skip("no shipped policy")
-    from cof_gym.agents.ppo import SB3Agent
+    from cof_gym.agents.sb3_policy import SB3Agent
 
     agent = SB3Agent.load(SHIPPED_PPO)
     env = gym.make(ENV_ID)

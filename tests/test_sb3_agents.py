@@ -1,5 +1,5 @@
 """Policies of any Stable-Baselines3 or sb3-contrib algorithm in ``cof-gym evaluate`` (``sb3:PATH``,
-cof_gym/agents/ppo.py): the algorithm is read from the saved policy class, a recurrent policy keeps its state
+cof_gym/agents/sb3_policy.py): the algorithm is read from the saved policy class, a recurrent policy keeps its state
 through an episode and starts it afresh at each reset, and a model no algorithm of the table loads is refused in one
 line before anything is simulated. Models are trained for a few dozen steps here: what is tested is the loading and
 the playing, not the learning."""
@@ -22,7 +22,7 @@ from stable_baselines3.common.vec_env import VecNormalize  # noqa: E402
 
 import cof_gym  # noqa: E402
 from cof_gym import cli  # noqa: E402
-from cof_gym.agents.ppo import ALGORITHMS, SB3Agent, check_model, model_algorithm  # noqa: E402
+from cof_gym.agents.sb3_policy import ALGORITHMS, SB3Agent, check_model, model_algorithm  # noqa: E402
 
 ENV_ID = cof_gym.WAGON_ENV_ID
 SHORT_ENV = {"max_windows": 4}  # short episodes: a few steps of training see several resets
@@ -109,7 +109,7 @@ def test_rl_zoo_records_are_read_without_running_what_they_name(models: dict[str
     """RL Zoo's layout (``<run>/<env>.zip``, ``<run>/<env>/args.yml``): the env id and kwargs come from its YAML, read
     by a safe loader (an OrderedDict becomes a dict; any other Python tag None, never called); a record that is no
     mapping is refused naming the file."""
-    from cof_gym.agents.ppo import resolve_model_path, zoo_training
+    from cof_gym.agents.sb3_policy import resolve_model_path, zoo_training
 
     run = tmp_path / "run"
     (run / "Env").mkdir(parents=True)

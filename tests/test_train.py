@@ -1,4 +1,5 @@
-"""``cof-gym train`` (cof_gym/commands/train.py) and the trained-policy agent (cof_gym/agents/ppo.py): a short PPO run
+"""``cof-gym train`` (cof_gym/commands/train.py) and the trained-policy agent (cof_gym/agents/sb3_policy.py): a short
+PPO run
 writes the model, its VecNormalize statistics and TensorBoard logs; the agent acts on a real
 observation; a resumed run continues the step counter."""
 
@@ -19,7 +20,7 @@ import gymnasium as gym  # noqa: E402
 
 import cof_gym  # noqa: E402,F401
 from cof_gym.agents.base import Agent  # noqa: E402
-from cof_gym.agents.ppo import SB3Agent, vecnormalize_path  # noqa: E402
+from cof_gym.agents.sb3_policy import SB3Agent, vecnormalize_path  # noqa: E402
 from cof_gym.commands.train import build_parser, run  # noqa: E402
 from cof_gym.commands.train_hyperparams import load_hyperparams, split_hyperparams  # noqa: E402
 
@@ -206,7 +207,7 @@ def test_a_v1_training_worker_prints_no_out_of_date_notice() -> None:
     import sys
 
     v1 = [i for i in cof_gym.ENV_IDS if i.endswith("-v1")][0]
-    worker = f"from cof_gym.agents.ppo import make_env_fn; make_env_fn({v1!r})().close()"
+    worker = f"from cof_gym.agents.sb3_policy import make_env_fn; make_env_fn({v1!r})().close()"
     plain = f"import gymnasium as gym; gym.make('cof_gym:{v1}').close()"
     outputs = [subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stderr
                for code in (worker, plain)]

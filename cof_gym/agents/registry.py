@@ -83,7 +83,7 @@ def register(name: str, factory: str, *, oracle: bool, help: str = "", takes_env
 def _sb3(env, argument: str | None, prefix: str = "sb3"):
     """``sb3:PATH``: the Stable-Baselines3 or sb3-contrib model at PATH (a zip, a ``cof-gym train`` output or an RL
     Zoo run directory), named ``PREFIX:`` and the file's or directory's name; without a PATH the shipped PPO."""
-    from cof_gym.agents.ppo import SB3Agent
+    from cof_gym.agents.sb3_policy import SB3Agent
 
     path = Path(argument) if argument else SHIPPED_PPO
     agent = SB3Agent.load(path)
@@ -145,10 +145,10 @@ register("interrogator", "cof_gym.agents.interrogator:load_interrogator", oracle
          "compliance and CoA; interrogator:DIR for other networks (a two-tone climb plays in an env of "
          "its own with the suite's scenarios)")
 register("ppo", "cof_gym.agents.registry:_ppo", oracle=False, takes_env=True, argument="PATH",
-         shipped=SHIPPED_PPO / "model.zip", check="cof_gym.agents.ppo:check_model_argument",
+         shipped=SHIPPED_PPO / "model.zip", check="cof_gym.agents.sb3_policy:check_model_argument",
          help="the shipped PPO policy, or ppo:PATH for any saved model")
 register("sb3", "cof_gym.agents.registry:_sb3", oracle=False, takes_env=True, argument="PATH", default=False,
-         check="cof_gym.agents.ppo:check_model_argument",
+         check="cof_gym.agents.sb3_policy:check_model_argument",
          help="sb3:PATH: a policy saved by Stable-Baselines3 or sb3-contrib (PPO, A2C, TRPO, SAC, TD3, DDPG, TQC, "
          "CrossQ, ARS, RecurrentPPO; the algorithm read from its policy class), a cof-gym train output or an RL Zoo "
          "run directory")

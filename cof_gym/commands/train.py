@@ -4,7 +4,7 @@ Defaults come from ``cof_gym/agents/hyperparams/ppo.yml`` (RL Zoo format, the fi
 reads too); the command line overrides them. Writes, under ``--out DIR``:
 
 - ``model.zip`` and ``vecnormalize.pkl`` beside it (observation statistics; load them with
-  ``training=False, norm_reward=False``, as :class:`cof_gym.agents.ppo.SB3Agent` does);
+  ``training=False, norm_reward=False``, as :class:`cof_gym.agents.sb3_policy.SB3Agent` does);
 - ``tb/PPO_<k>/``: TensorBoard logs, with per-episode reward terms, relative CoF error and
   macro-slip rate under ``episode/``;
 - ``checkpoints/ppo_<N>_steps.zip`` + ``ppo_vecnormalize_<N>_steps.pkl`` (``--save-freq``);
@@ -185,7 +185,7 @@ def _make_venv(env_id: str, env_kwargs: dict[str, Any], n_envs: int, seed: int, 
                monitor_dir: Path | None, adapter: str = "absolute", monitor_suffix: str = ""):
     from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
 
-    from cof_gym.agents.ppo import make_env_fn
+    from cof_gym.agents.sb3_policy import make_env_fn
 
     cls = SubprocVecEnv if vec == "subproc" else DummyVecEnv
     env_fn = make_env_fn(env_id, env_kwargs, adapter)
@@ -216,7 +216,7 @@ def save_warm_start(model, train_env, out: Path, env_id: str) -> Path:
     """The cloned policy before RL, in RL Zoo's layout (``OUT/warm_start/<Env-Name>.zip`` with
     ``OUT/warm_start/<Env-Name>/vecnormalize.pkl``), so that ``python -m rl_zoo3.train ... -i`` can
     fine-tune it too. Returns the zip's path."""
-    from cof_gym.agents.ppo import VECNORMALIZE_NAME
+    from cof_gym.agents.sb3_policy import VECNORMALIZE_NAME
 
     name = env_id.split(":")[-1].replace("/", "-")
     (out / WARM_START_DIR / name).mkdir(parents=True, exist_ok=True)
@@ -425,7 +425,7 @@ def _check_pretrain(args: argparse.Namespace, resuming: bool) -> None:
 def _check_out_and_resume(args: argparse.Namespace) -> tuple[Path, Path | None, Any, dict[str, Any], bool]:
     """``--out`` and ``--resume``: the output directory, the continued model's zip, its (observation, action)
     spaces, its train_meta.json and whether it is ``--out``'s own model."""
-    from cof_gym.agents.ppo import META_NAME, check_model, find_train_meta, resolve_model_path
+    from cof_gym.agents.sb3_policy import META_NAME, check_model, find_train_meta, resolve_model_path
     from cof_gym.commands.args import UsageError, check_output_dir
 
     out = check_output_dir(Path(args.out))
@@ -509,7 +509,7 @@ def _read_conf_file(conf: Path, env_id: str) -> dict[str, Any]:
 def _env_spaces(env_id: str, env_kwargs: dict[str, Any], adapter: str) -> tuple[Any, Any]:
     """The (observation, action) spaces of one env made as training will make them; a bad ``--env-kwargs``
     is a :class:`UsageError`."""
-    from cof_gym.agents.ppo import make_env_fn
+    from cof_gym.agents.sb3_policy import make_env_fn
     from cof_gym.commands.args import UsageError
 
     from cof_gym.commands.suites import check_time_limit  # its SuiteError is a ValueError
@@ -550,7 +550,7 @@ def _check_model_settings(settings: dict[str, Any], ppo_kwargs: dict[str, Any], 
 def _history(out: Path, same_out: bool) -> list:
     """The earlier runs into ``out`` when this one continues its model there (their train_meta.json, oldest
     first), else none."""
-    from cof_gym.agents.ppo import META_NAME
+    from cof_gym.agents.sb3_policy import META_NAME
 
     if not (same_out and (out / META_NAME).is_file()):
         return []
@@ -576,7 +576,7 @@ def _train(args: argparse.Namespace, plan: TrainPlan) -> int:
     interruption too."""
     from stable_baselines3.common.utils import set_random_seed
 
-    from cof_gym.agents.ppo import META_NAME
+    from cof_gym.agents.sb3_policy import META_NAME
 
     _quiet_progress_bar(args.progress)
     if args.torch_threads and args.torch_threads > 0:
@@ -658,7 +658,7 @@ def _keep_continued_model(plan: TrainPlan, previous_steps: int) -> Path:
     kept as ``checkpoints/ppo_<N>_steps.zip`` first; returns the kept zip."""
     import shutil
 
-    from cof_gym.agents.ppo import vecnormalize_path
+    from cof_gym.agents.sb3_policy import vecnormalize_path
 
     ckpt_dir = plan.out / "checkpoints"
     ckpt_dir.mkdir(exist_ok=True)
@@ -721,7 +721,7 @@ def _continued_statistics(plan: TrainPlan, venv):
     vecnormalize.pkl is missing)."""
     from stable_baselines3.common.vec_env import VecNormalize
 
-    from cof_gym.agents.ppo import vecnormalize_path
+    from cof_gym.agents.sb3_policy import vecnormalize_path
 
     stats = vecnormalize_path(plan.resume_path)
     if not stats.is_file():

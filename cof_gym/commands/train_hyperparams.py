@@ -149,7 +149,7 @@ def check_ppo_kwargs(policy: str, ppo_kwargs: dict[str, Any], observation_space:
     from stable_baselines3 import PPO
     from stable_baselines3.common.vec_env import DummyVecEnv
 
-    from cof_gym.agents.ppo import SpacesOnly
+    from cof_gym.agents.sb3_policy import SpacesOnly
 
     for key in ("n_steps", "batch_size", "n_epochs"):
         if key in ppo_kwargs:
@@ -172,7 +172,7 @@ def check_normalize_env(normalize: dict[str, Any], observation_space: gym.Space,
     simulated); ``ValueError`` in one line."""
     from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
 
-    from cof_gym.agents.ppo import SpacesOnly
+    from cof_gym.agents.sb3_policy import SpacesOnly
 
     venv = DummyVecEnv([lambda: SpacesOnly(observation_space, action_space)])
     try:
