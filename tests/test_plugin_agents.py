@@ -82,3 +82,16 @@ def test_watch_renders_an_agent_of_your_own(tmp_path: Path) -> None:
     argv = ["watch", "--agent", f"py:{path}:Climb", "--seed", "1", "--out", str(out), "--fps", "4", "--width", "320"]
     assert cli.main(argv) == 0
     assert out.stat().st_size > 0
+
+
+def test_the_example_in_agents_plays_as_its_docstring_says(tmp_path: Path) -> None:
+    """agents/lag_rise_example.py, named as its docstring's command names it (from the repository root)."""
+    root = Path(__file__).resolve().parents[1]
+    example = root / "agents" / "lag_rise_example.py"
+    assert "py:agents/lag_rise_example.py:LagRise" in example.read_text()
+    code = cli.main(["evaluate", "--agents", f"py:{example}:LagRise", "--episodes", "3", "--out", str(tmp_path / "e"),
+                     "--quiet"])
+    assert code == 0
+    with open(tmp_path / "e" / "episodes.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert [r["agent"] for r in rows] == ["lag-rise"] * 3 and all(r["ended"] != "horizon" for r in rows)
