@@ -122,6 +122,8 @@ def test_rl_zoo_records_are_read_without_running_what_they_name(models: dict[str
     assert zoo_training(run / "Env.zip") == {"env_id": ENV_ID, "env_kwargs": {"max_windows": 4}}
     assert not marker.exists()
     check_model(run / "Env.zip")
+    (run / "best_model.zip").write_bytes((run / "Env.zip").read_bytes())  # RL Zoo's best model, beside the run's
+    assert zoo_training(run / "best_model.zip") == zoo_training(run / "Env.zip")
     (run / "Env" / "config.yml").write_text("- a list\n")
     with pytest.raises(ValueError, match="config.yml holds list"):
         check_model(run / "Env.zip")
