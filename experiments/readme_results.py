@@ -526,6 +526,8 @@ generated, never typed:
     python experiments/sensor_sensitivity.py --out out/sensor_sensitivity.md   # session 44
     python experiments/sensor_sensitivity.py --agents phase-rule,phase-rule-gated,robust-model,robust-model-gated \
         --out out/sensor_sensitivity_gated.md   # session 65
+    python experiments/sensor_sensitivity.py --agents staircase-zeroed,model-based-zeroed,model-based-zeroed-knee \
+        --out out/sensor_sensitivity_zeroed.md   # session 75
     python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
         --records out/records_shipped_validation_session45.json \
         --out out/crest_tradeoff_shipped_validation_session45.md   # rule 64's reference; and with --scenario
@@ -1303,7 +1305,7 @@ SOURCES = {
         "crest_tradeoff_rule63_validation_lag01",
         "paired_rule63_validation",
         "paired_rule63_validation_lag01",
-        "sensor_sensitivity", "sensor_sensitivity_gated",
+        "sensor_sensitivity", "sensor_sensitivity_gated", "sensor_sensitivity_zeroed",
         "crest_tradeoff_shipped_validation_session45",
         "crest_tradeoff_shipped_validation_session45_torque_low",
         "crest_tradeoff_shipped_validation_session45_torque_high",
