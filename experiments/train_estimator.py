@@ -54,7 +54,7 @@ from cof_gym.commands.args import DistinctValues, Parser, positive_int, seed_int
 from cof_gym.task.creep_fit import coa_fell  # noqa: E402
 from cof_gym.agents.interrogator.networks import ensemble_files  # noqa: E402
 from cof_gym.agents.interrogator.training import (  # noqa: E402
-    FIT_LOSSES, READING_FIELDS, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel,
+    FIT_LOSSES, FITTABLE_BLOCKS, READING_FIELDS, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel,
 )
 
 # the on-policy collections: name -> (first seed, what the episodes draw beyond the env's own)
@@ -145,13 +145,14 @@ def correction_residuals(networks: dict[str, Path], data: Dataset) -> dict[str, 
 
 
 def fit_estimator(policy: Path, out: Path, climbs: dict[str, int], seeds: list[int], workers: int,
-                  reuse: bool, loss: str = "gaussian") -> dict:
+                  reuse: bool, loss: str = "gaussian", features: tuple[str, ...] | None = None) -> dict:
     """Collect ``policy``'s climbs, fit one network per seed with its manifest's fit settings under
-    ``loss`` (:data:`~cof_gym.agents.interrogator.training.FIT_LOSSES`; OUT/seed_K, OUT/ensemble) and return
-    the fit's held-apart report, the estimate windows' correction RMSE and mean absolute error included."""
+    ``loss`` (:data:`~cof_gym.agents.interrogator.training.FIT_LOSSES`; OUT/seed_K, OUT/ensemble), reading the
+    feature blocks ``features`` where given (the manifest's otherwise), and return the fit's held-apart report, the
+    estimate windows' correction RMSE and mean absolute error included."""
     fit = {k: tuple(v) if isinstance(v, list) else v
            for k, v in read_manifest(policy).get("training", {}).get("fit", {}).items()}
-    settings = FitSettings(**{**fit, "loss": loss})
+    settings = FitSettings(**{**fit, "loss": loss, **({} if features is None else {"features": tuple(features)})})
     data = collect_on_policy(policy, out, climbs, workers)
     report = fit_networks(out, lambda: data, seeds, settings, reuse)
     _, held = split(data)
@@ -184,6 +185,9 @@ def main() -> None:
     ap.add_argument("--loss", choices=FIT_LOSSES, default="gaussian",
                     help="the likelihood the networks are fitted under: gaussian (the conditional mean of the "
                          "correction) or laplace (its conditional median); default: %(default)s")
+    ap.add_argument("--features", nargs="*", default=None, choices=FITTABLE_BLOCKS,
+                    help="feature blocks the estimator reads besides the window's (default: the policy's fit's, its "
+                         "manifest's training.fit.features; e.g. creepage_rise, rule 143)")
     args = ap.parse_args()
     check_out_dir(ap, "--out", args.out)
     require_networks(ap, "--policy", [args.policy])
@@ -200,7 +204,7 @@ def main() -> None:
         data = collect_on_policy(policy, args.out, climbs, args.workers)
         print(f"{len(data)} windows of {len(np.unique(data.episode))} climbs in {args.out} in {time.time() - t0:.0f} s")
         return
-    report = fit_estimator(policy, args.out, climbs, args.seeds, args.workers, args.reuse, args.loss)
+    report = fit_estimator(policy, args.out, climbs, args.seeds, args.workers, args.reuse, args.loss, args.features)
     (args.out / "report.json").write_text(json.dumps(report, indent=1) + "\n")
     print(f"done in {time.time() - t0:.0f} s")
 
