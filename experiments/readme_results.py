@@ -1058,6 +1058,8 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # rule 141: experiments/rules/rule141.sh fit, then qualify (rule_check_rule141_validation,
         # rule_check_rule141_extremes)
         # rule 142: experiments/rules/rule142.sh qualify (rule_check_rule142_validation, rule_check_rule142_extremes)
+        # rule 143: experiments/rules/rule143.sh fit, then qualify (rule_check_rule143_validation,
+        # rule_check_rule143_extremes)
     python experiments/select_model_based.py --out out/select_model_based.json   # model-based-zeroed-knee (session 74)
     python experiments/own_window_fit.py --episodes 200 --out out/own_window_fit.md   # session 74, information
     python experiments/shadow_reading.py --episodes 100 --out out/shadow_reading.md   # session 74, information, and
@@ -1479,6 +1481,7 @@ SOURCES = {
         *(f"rule_check_rule141_{check}" for check in ("validation", "extremes")),
         "frontier_zeroed", *(f"rule_check_rule142_{check}" for check in ("validation", "extremes")),
         "select_model_based", "own_window_fit", "shadow_reading", "shadow_reading_interrogator",
+        *(f"rule_check_rule143_{check}" for check in ("validation", "extremes")),
         *(f"crest_tradeoff_relative_shift_{play}" for play in ("validation", "confirmation43", "validation_noise")),
         "encoder_lag_reading", "noise_colour_reading",
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
