@@ -95,3 +95,47 @@ def test_the_example_in_agents_plays_as_its_docstring_says(tmp_path: Path) -> No
     with open(tmp_path / "e" / "episodes.csv") as f:
         rows = list(csv.DictReader(f))
     assert [r["agent"] for r in rows] == ["lag-rise"] * 3 and all(r["ended"] != "horizon" for r in rows)
+
+
+FAILING_AGENTS = '''
+import numpy as np
+
+
+class Short:
+    def __init__(self, limits):
+        pass
+
+    def reset(self, observation, info):
+        pass
+
+    def act(self, observation, info):
+        return np.zeros(4, dtype=np.float32)
+
+
+class Raises:
+    def __init__(self, limits):
+        pass
+
+    def reset(self, observation, info):
+        pass
+
+    def act(self, observation, info):
+        raise KeyError("no such reading")
+'''
+
+
+@pytest.mark.parametrize("name,fragment", [("Short", "returned an action the env refuses at step 0 in episode 0"),
+                                           ("Raises", "raised in act at step 0 in episode 0 (seed 0): KeyError")])
+@pytest.mark.parametrize("command", ["evaluate", "watch"])
+def test_an_agent_that_fails_in_an_episode_is_one_line_exit_2_and_writes_nothing(name: str, fragment: str, command: str,
+                                                                               tmp_path: Path, capsys) -> None:
+    path = tmp_path / "failing.py"
+    path.write_text(FAILING_AGENTS)
+    out = tmp_path / ("out" if command == "evaluate" else "episode.gif")
+    flag = "--agents" if command == "evaluate" else "--agent"
+    argv = [command, flag, f"py:{path}:{name}", "--out", str(out)] + (["--episodes", "2", "--quiet"]
+                                                                       if command == "evaluate" else [])
+    assert cli.main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and flag in err and f"agent {name} " in err and fragment in err, err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["failing.py"]

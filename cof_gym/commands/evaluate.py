@@ -20,7 +20,7 @@ from typing import Any, Mapping
 
 from cof_gym.agents import registry
 from cof_gym.agents.base import own_env_options
-from cof_gym.commands.evaluate_episodes import EpisodeRecord, run_episode
+from cof_gym.commands.evaluate_episodes import AgentError, EpisodeRecord, run_episode
 from cof_gym.commands.evaluate_stats import COF_BANDS, summarize
 from cof_gym.commands.evaluate_tables import markdown_breakdown, markdown_intervals, markdown_table, print_table
 from cof_gym.commands.evaluate_workers import EPISODES_PER_WORKER, MAX_WORKERS, WORKER_MEMORY_BYTES, default_workers
@@ -465,6 +465,6 @@ def run(args: argparse.Namespace) -> int:
         evaluate(specs, suite, out, args.seed, quiet=args.quiet, check_suite=True, workers=args.workers)
     except SuiteError as e:
         raise UsageError("--suite", str(e)) from None
-    except registry.AgentSpecError as e:
+    except (registry.AgentSpecError, AgentError) as e:
         raise UsageError("--agents", str(e)) from None
     return 0

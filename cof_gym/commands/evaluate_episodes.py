@@ -95,19 +95,39 @@ def _field(info: dict, key: str, default: float = 0.0) -> float:
     return default
 
 
+class AgentError(RuntimeError):
+    """An agent failed in an episode: its ``reset`` or ``act`` raised, or it returned an action the env refuses. The
+    message is one line naming the agent, the episode and its seed (the cause chained for a caller's traceback)."""
+
+
+def _failed(agent: Any, what: str, episode: int, seed: int, error: Exception) -> AgentError:
+    return AgentError(f"agent {agent.name} {what} in episode {episode} (seed {seed}): {type(error).__name__}: "
+                      f"{' '.join(str(error).split())}")
+
+
 def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list | None = None,
                 oracle: bool | None = None, note: str = "") -> EpisodeRecord:
     """One episode of ``agent``. ``oracle`` (default: the agent's own flag) decides whether the agent
-    sees ``info["ground_truth"]``; the evaluator always reads it for scoring."""
+    sees ``info["ground_truth"]``; the evaluator always reads it for scoring. :class:`AgentError` where the agent
+    raises or returns an action the env refuses."""
     oracle = bool(getattr(agent, "oracle", False)) if oracle is None else bool(oracle)
     obs, info = env.reset(seed=seed, options=options)
-    agent.reset(obs, agent_view(info, oracle))
+    try:
+        agent.reset(obs, agent_view(info, oracle))
+    except Exception as e:  # noqa: BLE001 - whatever an agent (one of your own too) raises
+        raise _failed(agent, "raised in reset", episode, seed, e) from e
     total, steps = 0.0, 0
     slip_e = fric_e = wd2 = 0.0
     peak = 0.0
     while True:
-        action = agent.act(obs, agent_view(info, oracle))
-        obs, reward, terminated, truncated, info = env.step(action)
+        try:
+            action = agent.act(obs, agent_view(info, oracle))
+        except Exception as e:  # noqa: BLE001
+            raise _failed(agent, f"raised in act at step {steps}", episode, seed, e) from e
+        try:
+            obs, reward, terminated, truncated, info = env.step(action)
+        except ValueError as e:  # the env's checks of the action (shape, type, finite values)
+            raise _failed(agent, f"returned an action the env refuses at step {steps}", episode, seed, e) from e
         total += reward
         steps += 1
         m = info["measurement"]

@@ -204,7 +204,7 @@ class BoundReader:
 
 def play(request: WatchRequest):
     """Play the scored episode: (record, recorder, env). The caller closes the env."""
-    from cof_gym.commands.evaluate_episodes import run_episode
+    from cof_gym.commands.evaluate_episodes import AgentError, run_episode
 
     env = Recorder(gym.make(request.env_id))
     try:
@@ -218,6 +218,9 @@ def play(request: WatchRequest):
         env = Recorder(gym.make(request.env_id, **options))
     try:
         record = run_episode(env, BoundReader(agent, env), request.seed, {}, 0, oracle=request.oracle)
+    except AgentError as e:
+        env.close()
+        raise UsageError("--agent", str(e)) from None
     finally:
         close = getattr(agent, "close", None)
         if callable(close):
