@@ -24,7 +24,7 @@ from cof_gym.commands.evaluate_episodes import AgentError, EpisodeRecord, run_ep
 from cof_gym.commands.evaluate_stats import COF_BANDS, summarize
 from cof_gym.commands.evaluate_tables import markdown_breakdown, markdown_intervals, markdown_table, print_table
 from cof_gym.commands.evaluate_workers import EPISODES_PER_WORKER, MAX_WORKERS, WORKER_MEMORY_BYTES, default_workers
-from cof_gym.commands.suites import MAX_EPISODES, Suite, SuiteError, make_suite, with_env_kwargs
+from cof_gym.commands.suites import MAX_EPISODES, Suite, SuiteError, make_suite, read_measured_curve, with_env_kwargs
 from cof_gym.envs.torque_interrogation import make_kwargs
 from cof_gym.validation import brief
 
@@ -374,6 +374,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="env constructor arguments over the suite's (a Python literal or text, as cof-gym train "
                              "and RL Zoo take them), e.g. max_windows:60 (a longer horizon) or counter_torque:True; "
                              "not the agents' interface (action_type, excitation, info_layout)")
+    parser.add_argument("--creep-table", default=None, metavar="CSV",
+                        help="a measured creep curve, rows of creepage and CoA (a twin disc, a test run), played in "
+                             "every episode at its own CoF (its points made into a table: "
+                             "cof_gym/physics/measured_curves.py); the other scenario fields as the suite draws them")
     parser.add_argument("--seed", type=seed_int, default=0,
                         help=f"seed of the first episode (episode i uses seed + i) and of the bootstrap CIs; the "
                              f"last episode's at most {MAX_SEED}")
@@ -411,19 +415,39 @@ def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
     except SuiteError as e:
         raise UsageError("--suite", str(e)) from None
     env_overrides = dict(args.env_kwargs)
+    named = dict(env_overrides)  # what names the suite and the default output directory
+    if args.creep_table is not None:
+        curve = _measured_curve(Path(args.creep_table), env_overrides)
+        env_overrides.update(curve)
+        named.update(creep_table=Path(args.creep_table).stem, cof=round(curve["cof"], 5))
     if env_overrides:
-        suite = _with_env(suite, env_overrides)
+        suite = _with_env(suite, env_overrides, named)
     last_seed = max(seed for seed, _ in suite.episodes)
     if last_seed > MAX_SEED:  # seeded episodes: seed + i
         raise UsageError("--seed", f"the last episode's seed {last_seed} is beyond {MAX_SEED}; give at most "
                                    f"{MAX_SEED - len(suite.episodes) + 1} for {len(suite.episodes)} episodes")
-    out = check_out(Path(args.out) if args.out is not None else default_out(args.suite, env_overrides))
+    out = check_out(Path(args.out) if args.out is not None else default_out(args.suite, named))
     return specs, suite, out
 
 
-def _with_env(suite: Suite, overrides: dict[str, Any]) -> Suite:
-    """``--env-kwargs``: the suite with these env arguments, the env built once with them (UsageError naming the
-    flag)."""
+def _measured_curve(path: Path, env_overrides: Mapping[str, Any]) -> dict[str, Any]:
+    """``--creep-table``'s reset options (:func:`~cof_gym.commands.suites.read_measured_curve`; UsageError naming the
+    flag, also where ``--env-kwargs`` fixes the same fields)."""
+    from cof_gym.commands.args import UsageError
+
+    try:
+        curve = read_measured_curve(path)
+    except ValueError as e:
+        raise UsageError("--creep-table", str(e)) from None
+    clash = sorted(set(curve) & set(env_overrides))
+    if clash:
+        raise UsageError("--creep-table", f"it fixes {clash}, which --env-kwargs fixes too; give one of them")
+    return curve
+
+
+def _with_env(suite: Suite, overrides: dict[str, Any], shown: dict[str, Any] | None = None) -> Suite:
+    """``--env-kwargs`` (and ``--creep-table``'s options): the suite with these env arguments, named by ``shown``, the
+    env built once with them (UsageError naming the flag)."""
     import gymnasium as gym
 
     from cof_gym.agents.base import env_defaults
@@ -436,7 +460,7 @@ def _with_env(suite: Suite, overrides: dict[str, Any]) -> Suite:
     if unknown:
         raise UsageError("--env-kwargs", f"unknown env argument(s) {unknown}; allowed: {allowed}")
     try:
-        suite = with_env_kwargs(suite, overrides)
+        suite = with_env_kwargs(suite, overrides, shown)
         gym.make(suite.env_id, **make_kwargs(suite.env_kwargs)).close()
     except (SuiteError, ValueError, TypeError) as e:
         raise UsageError("--env-kwargs", str(e)) from None

@@ -138,13 +138,14 @@ def _check_seed(value: Any, where: str, path: Path) -> int:
     return int(value)
 
 
-def with_env_kwargs(suite: Suite, overrides: dict[str, Any]) -> Suite:
+def with_env_kwargs(suite: Suite, overrides: dict[str, Any], shown: dict[str, Any] | None = None) -> Suite:
     """``suite`` with the env constructor arguments ``overrides`` over its own (``cof-gym evaluate --env-kwargs``), its
-    name saying so; :class:`SuiteError` where one would change the agents' interface or cut episodes short (as a
-    suite file's ``env_kwargs``)."""
+    name saying so (``shown``'s names and values where given: ``--creep-table``'s file for its table);
+    :class:`SuiteError` where one would change the agents' interface or cut episodes short (as a suite file's
+    ``env_kwargs``)."""
     env_kwargs = {**suite.env_kwargs, **overrides}
     _check_interface(suite.env_id, env_kwargs, "")
-    shown = " ".join(f"{k}={json.dumps(v)}" for k, v in overrides.items())
+    shown = " ".join(f"{k}={json.dumps(v)}" for k, v in (overrides if shown is None else shown).items())
     return replace(suite, name=f"{suite.name} (env {shown})", env_kwargs=env_kwargs)
 
 
@@ -279,6 +280,40 @@ def _listed_episodes(raw: Any, options: dict, seed: int, path: Path) -> tuple[li
             checked.add(key)
             _check_options(ep_options, f"episode {i} (options {brief(ep_options)})", path)
     return episodes, notes
+
+
+def read_measured_curve(path: Path) -> dict[str, Any]:
+    """The reset options that play a measured creep curve: ``creep_law`` (its table) and ``cof`` (its peak), from a
+    CSV file of (creepage, CoA) rows (:func:`cof_gym.physics.measured_curves.measured_table`: the points made into a
+    table). The first two columns are read; a first row that is not two numbers is a header, blank rows and rows
+    starting with ``#`` are skipped. ValueError (one line, naming the file and the row) otherwise."""
+    import csv
+
+    from cof_gym.physics.measured_curves import measured_table
+
+    try:
+        with open(path, newline="") as f:
+            rows = [(i + 1, r) for i, r in enumerate(csv.reader(f)) if r and "".join(r).strip()
+                    and not r[0].lstrip().startswith("#")]
+    except (OSError, UnicodeDecodeError, csv.Error) as e:
+        raise ValueError(f"{path} cannot be read as CSV ({' '.join(str(e).split())})") from None
+    points = []
+    for k, (line, row) in enumerate(rows):
+        try:
+            if len(row) < 2:
+                raise ValueError
+            points.append((float(row[0]), float(row[1])))
+        except ValueError:
+            if k == 0:
+                continue  # a header
+            raise ValueError(f"{path}: row {line} is not a creepage and a CoA (two numbers), got {brief(row)}"
+                             ) from None
+    try:
+        table, cof = measured_table([p[0] for p in points], [p[1] for p in points])
+    except ValueError as e:
+        raise ValueError(f"{path}: {e}") from None
+    return {"creep_law": {"table": {"creepage": list(table.creepage), "adhesion_ratio": list(table.adhesion_ratio)}},
+            "cof": cof}
 
 
 def make_suite(name: str, n_episodes: int, seed: int) -> Suite:

@@ -1,0 +1,111 @@
+"""A measured creep curve as the env's table (cof_gym/physics/measured_curves.py) and ``cof-gym evaluate
+--creep-table`` (cof_gym/commands/suites.py): the isotonic fit is the least-squares non-decreasing sequence, the
+table rises strictly to exactly 1 at the measured CoF, and every malformed file or point is one line naming it."""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from cof_gym import cli
+from cof_gym.commands.suites import read_measured_curve
+from cof_gym.physics.measured_curves import isotonic_fit, measured_table
+from cof_gym.physics.native import layout
+
+VALUES = st.lists(st.floats(-10, 10, allow_nan=False), min_size=1, max_size=40)
+
+
+def test_isotonic_fit_pools_each_falling_run_into_its_mean() -> None:
+    np.testing.assert_allclose(isotonic_fit([1, 3, 2, 4, 3.5, 5]), [1, 2.5, 2.5, 3.75, 3.75, 5])
+    np.testing.assert_array_equal(isotonic_fit([3, 2, 1]), [2, 2, 2])
+
+
+@settings(max_examples=200, deadline=None)
+@given(VALUES)
+def test_isotonic_fit_is_non_decreasing_keeps_the_sum_and_is_nearest(values: list[float]) -> None:
+    fit = isotonic_fit(values)
+    x = np.asarray(values)
+    tol = 1e-9 * (1 + np.abs(x).sum())  # the pooled means' rounding
+    assert np.all(np.diff(fit) >= -tol)
+    assert abs(fit.sum() - x.sum()) <= tol * len(x)
+    for other in (np.sort(x), np.full(len(x), x.mean()), np.maximum.accumulate(x)):  # other non-decreasing sequences
+        assert ((fit - x) ** 2).sum() <= ((other - x) ** 2).sum() + tol
+
+
+def _curve(s: np.ndarray) -> np.ndarray:
+    """A CoA curve peaking at 0.18 at creepage 0.008 and falling by a quarter by 0.04."""
+    return 0.18 * np.where(s < 0.008, 1 - (1 - s / 0.008) ** 3, 1 - 0.25 * (s - 0.008) / 0.032)
+
+
+def test_a_clean_measurement_is_the_table_itself_at_its_peak_cof() -> None:
+    s = np.array([0.001, 0.002, 0.004, 0.008, 0.016, 0.03])
+    table, cof = measured_table(s, _curve(s))
+    assert cof == pytest.approx(0.18, rel=1e-12)
+    np.testing.assert_allclose(table.creepage, np.r_[0.0, s], rtol=1e-12)
+    np.testing.assert_allclose(np.array(table.adhesion_ratio) * cof, np.r_[0.0, _curve(s)], rtol=1e-12)
+    assert table.peak_index == 4 and table.adhesion_ratio[4] == 1.0
+
+
+def test_scattered_repeated_points_become_a_strictly_rising_table_within_the_native_size() -> None:
+    rng = np.random.default_rng(1)
+    s = np.repeat(np.geomspace(2e-4, 0.04, 100), 2)  # every creepage measured twice
+    table, cof = measured_table(s, _curve(s) + rng.normal(0, 0.002, len(s)))
+    ratio = np.array(table.adhesion_ratio)
+    assert len(ratio) <= layout.MAX_TABLE_POINTS and ratio[table.peak_index] == 1.0
+    assert np.all(np.diff(ratio[:table.peak_index + 1]) > 0) and np.all(np.diff(table.creepage) > 0)
+    assert abs(cof / 0.18 - 1) < 0.05  # the fit's maximum: above the curve's by about the scatter
+
+
+@pytest.mark.parametrize("creepage,coa,fragment", [
+    ([0.001], [0.1], "two or more points"),
+    ([0.0, 0.001, 0.002], [0.05, 0.1, 0.12], "CoA at creepage 0 must be 0"),
+    ([0.001, -0.002], [0.1, 0.12], "creepage must be finite and >= 0, got -0.002 at point 1"),
+    ([0.001, 0.002], [0.1, float("nan")], "CoA must be finite and >= 0, got nan at point 1"),
+    ([0.001, 3.0], [0.1, 0.12], "creepage must be at most 2"),
+    ([0.001, 0.002], [0.0, 0.0], "CoA above 0"),
+])
+def test_a_bad_measurement_is_refused_naming_the_point(creepage, coa, fragment: str) -> None:
+    with pytest.raises(ValueError, match=fragment.replace("(", r"\(")):
+        measured_table(creepage, coa)
+
+
+def _write_csv(path: Path, s: np.ndarray, coa: np.ndarray) -> Path:
+    rows = "".join(f"{float(a)!r},{float(b)!r}\n" for a, b in zip(s, coa))
+    path.write_text("# a twin-disc run\ncreepage,coa\n\n" + rows)
+    return path
+
+
+def test_evaluate_plays_a_measured_curve_at_its_cof_in_every_episode(tmp_path: Path) -> None:
+    s = np.geomspace(5e-4, 0.03, 12)
+    path = _write_csv(tmp_path / "twin_disc.csv", s, _curve(s))
+    options = read_measured_curve(path)
+    assert options["cof"] == pytest.approx(float(_curve(s).max()), rel=1e-12)
+    out = tmp_path / "out"
+    assert cli.main(["evaluate", "--agents", "staircase-zeroed", "--creep-table", str(path), "--episodes", "2",
+                     "--out", str(out), "--quiet"]) == 0
+    with open(out / "episodes.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) == 2 and {r["creep_family"] for r in rows} == {"table"}
+    assert all(float(r["cof"]) == pytest.approx(options["cof"], rel=1e-9) for r in rows)
+    assert "creep_table=\"twin_disc\"" in (out / "summary.md").read_text().splitlines()[0]
+
+
+@pytest.mark.parametrize("text,extra,fragment", [
+    ("creepage,coa\n0.001,0.1\n0.002,abc\n", [], "row 3 is not a creepage and a CoA"),
+    ("0.001\n", [], "two or more points"),  # a first row that is not two numbers is a header
+    ("creepage,coa\n0.001,0.1\n0.002,0.2\n", ["--env-kwargs", "cof:0.2"], "which --env-kwargs fixes too"),
+    ("creepage,coa\n0.001,0.1\n0.0005,-0.2\n", [], "CoA must be finite and >= 0"),
+])
+def test_a_bad_creep_table_is_one_line_exit_2(text: str, extra: list[str], fragment: str, tmp_path: Path,
+                                              capsys) -> None:
+    path = tmp_path / "curve.csv"
+    path.write_text(text)
+    assert cli.main(["evaluate", "--creep-table", str(path), "--out", str(tmp_path / "out"), *extra]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "--creep-table" in err and fragment in err, err
+    assert not (tmp_path / "out").exists()
