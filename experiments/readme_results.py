@@ -526,7 +526,8 @@ generated, never typed:
     python experiments/sensor_sensitivity.py --out out/sensor_sensitivity.md   # session 44
     python experiments/sensor_sensitivity.py --agents phase-rule,phase-rule-gated,robust-model,robust-model-gated \
         --out out/sensor_sensitivity_gated.md   # session 65
-    python experiments/sensor_sensitivity.py --agents staircase-zeroed,model-based-zeroed,model-based-zeroed-knee \
+    python experiments/sensor_sensitivity.py --agents \
+        staircase-zeroed,model-based-zeroed,model-based-zeroed-knee,model-based-zeroed-knee-ar1 \
         --out out/sensor_sensitivity_zeroed.md   # session 75
     python experiments/crest_tradeoff.py --guards $G --guards-only --targets 0.1 --stops --return-digits 4 \
         --records out/records_shipped_validation_session45.json \

@@ -78,3 +78,27 @@ def test_the_jump_test_only_adds_a_stop(env, seed):
     assert (len(knee) < len(plain)) == (seed == 209)
     if seed == 211:
         assert all(np.array_equal(a, b) for a, b in zip(plain, knee))
+
+
+def test_the_ar1_knee_agent_reads_the_lags_se_for_a_correlated_residual():
+    """model-based-zeroed-knee-ar1's jump test reads phase_lag_se_corrected_deg: a 6 deg jump is beyond 2 deg plus two
+    SEs of 0.5 deg (the white-noise SE a smoothed encoder's lock-in reports) but within two SEs of 5 deg (the SE for
+    its correlated residual), so the knee agent stops there and the ar1 variant does not."""
+    from cof_gym.agents.model_based import ModelBasedAgent
+    from cof_gym.agents.phase_rule import CORRECTED_SE, DEG_PER_UNIT, PHASE, PHASE_SE
+    from cof_gym.task.interface import MotorLimits
+
+    def window(lag_deg: float) -> tuple[np.ndarray, dict]:
+        obs = np.zeros(14, dtype=np.float32)
+        obs[PHASE], obs[PHASE_SE] = lag_deg / DEG_PER_UNIT, 0.5 / DEG_PER_UNIT
+        return obs, {"measurement": {CORRECTED_SE: 5.0}}
+
+    seen = {}
+    for corrected in (False, True):
+        agent = ModelBasedAgent(MotorLimits(max_dc_torque_nm=10_000.0), knee_jump_deg=2.0, corrected_se=corrected)
+        agent.reset(*window(0.0))
+        agent._dc = 1_000.0  # driven windows from here on
+        seen[corrected] = [agent._knee(*window(lag)) for lag in (0.0, 0.0, 0.0, 6.0)]
+    assert seen == {False: [False, False, False, True], True: [False, False, False, False]}
+    registered = make_agent("model-based-zeroed-knee-ar1", gym.make(cof_gym.WAGON_ENV_ID))
+    assert registered.name == "model-based-zeroed-knee-ar1"

@@ -59,6 +59,7 @@ class ModelBasedAgent:
     shape_families: tuple[str, ...] = (POLACH,)  # the creep-law families its fit reads (creep_fit.family_shapes)
     knee_jump_deg: float | None = None  # the phase rule's jump test as a stop too, deg (None: none)
     knee_low_factor: float | None = None  # at a jump stop: the interval's low end times this (None: the fit's estimate)
+    corrected_se: bool = False  # the jump test reads the lag's SE for an autocorrelated speed residual (phase_of)
     name: str = "model-based"
     oracle: bool = False
     interval: tuple[float, float, float] | None = None
@@ -73,13 +74,13 @@ class ModelBasedAgent:
         self._climb = ClimbRecord(max_ratio=self.max_ratio, families=self.shape_families)
         self._estimate = 0.0
         self.interval = None
-        self._phase = phase_of(observation, info)
+        self._phase = phase_of(observation, info, self.corrected_se)
         self._driven = 0
 
     def _knee(self, observation: np.ndarray, info: dict[str, Any]) -> bool:
         """Whether the window just read passes the phase rule's jump test (never without ``knee_jump_deg``); keeps
         its lag for the next window's test."""
-        previous, self._phase = self._phase, phase_of(observation, info)
+        previous, self._phase = self._phase, phase_of(observation, info, self.corrected_se)
         if self._dc <= 0.0:
             return False
         self._driven += 1

@@ -125,6 +125,11 @@ register("model-based-zeroed-knee", "cof_gym.agents.zeroed:model_based_zeroed_kn
          ceiling=True, help="model-based-zeroed also stopping where the lag jumps (the phase rule's test; validation-chosen)")
 register("robust-model", "cof_gym.agents.robust_model:RobustModel", oracle=False, runaway=True, ceiling=True,
          help="the phase rule's probing climb, the knee bracketed by bisecting the probe's crest at a held DC, no creepage read (validation-chosen)")
+# the same reading the lag's SE for an autocorrelated speed residual (session 75; not in the default list, as the two
+# below): under a smoothed encoder the knee agent's jump test fires on noise (README, sensor_sensitivity_zeroed)
+register("model-based-zeroed-knee-ar1", "cof_gym.agents.zeroed:model_based_zeroed_knee_ar1", oracle=False,
+         runaway=True, ceiling=True, default=False,
+         help="model-based-zeroed-knee reading the lag's SE for an autocorrelated speed residual (a smoothed encoder)")
 # the same two with the lag's SE for an autocorrelated speed residual (session 59; not in the default list): an
 # encoder whose speed signal is smoothed (encoder_lag_s) makes the white-noise SE understate the lag's scatter
 register("phase-rule-ar1", "cof_gym.agents.phase_rule:phase_rule_ar1", oracle=False, ceiling=True, default=False,

@@ -84,21 +84,29 @@ KNEE_JUMP_DEG = 2.0  # model-based-zeroed-knee's jump (deg; select_model_based.p
 
 
 def model_based_zeroed(limits: MotorLimits, knee_jump_deg: float | None = None,
-                       knee_low_factor: float | None = None) -> CreepageZeroed:
+                       knee_low_factor: float | None = None, corrected_se: bool = False) -> CreepageZeroed:
     """The model-based agent reading the zeroed creepage, its fit reading both of v2's analytic families (Polach's and
     Shen-Hedrick-Elkins', :data:`~cof_gym.task.creep_fit.SHAPE_FAMILIES`): the model-based agent as an engineer who
-    knows the families a train meets builds it; ``knee_jump_deg``, ``knee_low_factor``: the phase rule's jump test as
-    a stop too, and what it reports there (:class:`~cof_gym.agents.model_based.ModelBasedAgent`)."""
+    knows the families a train meets builds it; ``knee_jump_deg``, ``knee_low_factor``, ``corrected_se``: the phase
+    rule's jump test as a stop too, what it reports there and the lag's SE it reads
+    (:class:`~cof_gym.agents.model_based.ModelBasedAgent`)."""
     from cof_gym.agents.model_based import ModelBasedAgent
     from cof_gym.task.creep_fit import SHAPE_FAMILIES
 
     return CreepageZeroed(ModelBasedAgent(limits, shape_families=SHAPE_FAMILIES, knee_jump_deg=knee_jump_deg,
-                                          knee_low_factor=knee_low_factor))
+                                          knee_low_factor=knee_low_factor, corrected_se=corrected_se))
 
 
-def model_based_zeroed_knee(limits: MotorLimits) -> CreepageZeroed:
+def model_based_zeroed_knee(limits: MotorLimits, corrected_se: bool = False) -> CreepageZeroed:
     """:func:`model_based_zeroed` that also stops on the phase rule's jump test of :data:`KNEE_JUMP_DEG`, reporting the
-    fit's estimate there (validation-chosen; the module docstring)."""
-    agent = model_based_zeroed(limits, knee_jump_deg=KNEE_JUMP_DEG)
-    agent.name = f"{agent.name}-knee"
+    fit's estimate there (validation-chosen; the module docstring); with ``corrected_se`` the test reads the lag's SE
+    for an autocorrelated speed residual (``model-based-zeroed-knee-ar1``, as ``phase-rule-ar1``; every other setting
+    as chosen)."""
+    agent = model_based_zeroed(limits, knee_jump_deg=KNEE_JUMP_DEG, corrected_se=corrected_se)
+    agent.name = f"{agent.name}-knee" + ("-ar1" if corrected_se else "")
     return agent
+
+
+def model_based_zeroed_knee_ar1(limits: MotorLimits) -> CreepageZeroed:
+    """:func:`model_based_zeroed_knee` reading the lag's SE for an autocorrelated speed residual."""
+    return model_based_zeroed_knee(limits, corrected_se=True)
