@@ -109,3 +109,14 @@ def test_a_bad_creep_table_is_one_line_exit_2(text: str, extra: list[str], fragm
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "--creep-table" in err and fragment in err, err
     assert not (tmp_path / "out").exists()
+
+
+def test_watch_plays_a_measured_curve(tmp_path: Path, capsys) -> None:
+    s = np.geomspace(5e-4, 0.03, 12)
+    path = _write_csv(tmp_path / "twin_disc.csv", s, _curve(s))
+    out = tmp_path / "episode.gif"
+    assert cli.main(["watch", "--agent", "staircase-zeroed", "--creep-table", str(path), "--seed", "2", "--out",
+                     str(out), "--fps", "4", "--width", "320"]) == 0
+    assert out.stat().st_size > 0
+    cof = read_measured_curve(path)["cof"]
+    assert f"true CoF {cof:.4f}" in capsys.readouterr().out

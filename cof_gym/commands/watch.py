@@ -14,7 +14,7 @@ import math
 import os
 import sys
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -94,6 +94,7 @@ class WatchRequest:
     fps: int
     width: int
     speed: float  # simulated seconds per video second
+    options: dict = field(default_factory=dict)  # reset options over the seed's draws (--creep-table's curve)
 
 
 def prepare(args: argparse.Namespace) -> WatchRequest:
@@ -114,9 +115,17 @@ def prepare(args: argparse.Namespace) -> WatchRequest:
     check_writer(suffix)
     if not 0.05 <= args.speed <= 10.0:
         raise UsageError("--speed", f"must be in [0.05, 10] simulated seconds per video second, got {args.speed:g}")
+    options = {}
+    if args.creep_table is not None:
+        from cof_gym.commands.suites import read_measured_curve
+
+        try:
+            options = read_measured_curve(Path(args.creep_table))
+        except ValueError as e:
+            raise UsageError("--creep-table", str(e)) from None
     return WatchRequest(spec, entry.oracle, args.env, args.seed, out,
                         args.fps if args.fps is not None else DEFAULT_FPS[suffix],
-                        args.width if args.width is not None else DEFAULT_WIDTH[suffix], args.speed)
+                        args.width if args.width is not None else DEFAULT_WIDTH[suffix], args.speed, options)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -127,6 +136,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--env", default=cof_gym.WAGON_ENV_ID, metavar="ENV_ID",
                         help=f"environment id: {', '.join(cof_gym.ENV_IDS)}")
     parser.add_argument("--out", default="episode.mp4", metavar="FILE", help="the video, .mp4 or .gif")
+    parser.add_argument("--creep-table", default=None, metavar="CSV",
+                        help="a measured creep curve (rows of creepage and CoA), played at its own CoF, as cof-gym "
+                             "evaluate --creep-table plays it")
     parser.add_argument("--fps", type=int_in_range(1, 60), default=None,
                         help="frames per video second (default: 25 for MP4, 12 for GIF)")
     parser.add_argument("--width", type=int_in_range(320, 3840), default=None,
@@ -217,7 +229,7 @@ def play(request: WatchRequest):
         env.close()
         env = Recorder(gym.make(request.env_id, **options))
     try:
-        record = run_episode(env, BoundReader(agent, env), request.seed, {}, 0, oracle=request.oracle)
+        record = run_episode(env, BoundReader(agent, env), request.seed, request.options, 0, oracle=request.oracle)
     except AgentError as e:
         env.close()
         raise UsageError("--agent", str(e)) from None
