@@ -52,6 +52,12 @@ class AgentEntry:
         """Named only with its ``:ARG`` (it takes one and ships nothing to play without it)."""
         return self.argument is not None and self.shipped is None
 
+    @property
+    def spellings(self) -> tuple[str, ...]:
+        """How it is named on the command line: ``NAME`` (unless it needs its argument), ``NAME:ARG``."""
+        return (() if self.needs_argument else (self.name,)) + ((f"{self.name}:{self.argument}",) if self.argument
+                                                                 else ())
+
     def shipped_available(self) -> bool:
         return self.shipped is None or self.shipped.is_file()
 
@@ -177,8 +183,8 @@ def names(available_only: bool = True) -> list[str]:
 
 def describe() -> str:
     """``a, b, c or ppo:PATH`` for messages."""
-    bare = [n for n in names() if not AGENTS[n].needs_argument]
-    parts = (bare + [f"{n}:{e.argument}" for n, e in AGENTS.items() if e.argument and e.available()]
+    spellings = [s for n in names() for s in AGENTS[n].spellings]  # the bare names first, then NAME:ARG
+    parts = ([s for s in spellings if ":" not in s] + [s for s in spellings if ":" in s]
              + ["any of them +runaway, +ceiling or +plain"])
     return ", ".join(parts[:-1]) + f" or {parts[-1]}" if len(parts) > 1 else "".join(parts)
 

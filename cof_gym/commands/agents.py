@@ -20,12 +20,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--names", action="store_true", help="only the names, one a line (for scripts)")
 
 
-def spellings(entry: registry.AgentEntry) -> list[str]:
-    """How ``entry`` is named on the command line: ``NAME`` (unless it needs its argument), ``NAME:ARG``."""
-    return ([] if entry.needs_argument else [entry.name]) + ([f"{entry.name}:{entry.argument}"] if entry.argument
-                                                              else [])
-
-
 def listing(width: int) -> list[str]:
     """One block a registered agent that can be built here: its spellings and flags, then its description
     indented, wrapped to ``width`` columns."""
@@ -34,7 +28,7 @@ def listing(width: int) -> list[str]:
     for name in registry.names():
         entry = registry.AGENTS[name]
         flags = [flag for flag, on in (("oracle", entry.oracle), ("default", name in defaults)) if on]
-        lines.append(", ".join(spellings(entry)) + (f"  [{', '.join(flags)}]" if flags else ""))
+        lines.append(", ".join(entry.spellings) + (f"  [{', '.join(flags)}]" if flags else ""))
         lines += textwrap.wrap(entry.help or "(no description)", width, initial_indent="    ",
                                subsequent_indent="    ", break_long_words=False, break_on_hyphens=False)
     return lines
@@ -42,7 +36,7 @@ def listing(width: int) -> list[str]:
 
 def run(args: argparse.Namespace) -> int:
     if args.names:
-        print("\n".join(s for name in registry.names() for s in spellings(registry.AGENTS[name])))
+        print("\n".join(s for name in registry.names() for s in registry.AGENTS[name].spellings))
     else:
         print("\n".join(listing(max(60, min(120, shutil.get_terminal_size().columns)))))
     return 0
