@@ -100,6 +100,7 @@ def test_evaluate_plays_a_measured_curve_at_its_cof_in_every_episode(tmp_path: P
     ("0.001\n", [], "two or more points"),  # a first row that is not two numbers is a header
     ("creepage,coa\n0.001,0.1\n0.002,0.2\n", ["--env-kwargs", "cof:0.2"], "which --env-kwargs fixes too"),
     ("creepage,coa\n0.001,0.1\n0.0005,-0.2\n", [], "CoA must be finite and >= 0"),
+    ("creepage,coa\n0.001,0.1\n0.002,0.2\n", ["--suite", "paper"], "which episode 0 of suite paper fixes too"),
 ])
 def test_a_bad_creep_table_is_one_line_exit_2(text: str, extra: list[str], fragment: str, tmp_path: Path,
                                               capsys) -> None:

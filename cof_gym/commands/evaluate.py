@@ -417,7 +417,7 @@ def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
     env_overrides = dict(args.env_kwargs)
     named = dict(env_overrides)  # what names the suite and the default output directory
     if args.creep_table is not None:
-        curve = _measured_curve(Path(args.creep_table), env_overrides)
+        curve = _measured_curve(Path(args.creep_table), env_overrides, suite)
         env_overrides.update(curve)
         named.update(creep_table=Path(args.creep_table).stem, cof=round(curve["cof"], 5))
     if env_overrides:
@@ -430,9 +430,10 @@ def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
     return specs, suite, out
 
 
-def _measured_curve(path: Path, env_overrides: Mapping[str, Any]) -> dict[str, Any]:
+def _measured_curve(path: Path, env_overrides: Mapping[str, Any], suite: Suite) -> dict[str, Any]:
     """``--creep-table``'s reset options (:func:`~cof_gym.commands.suites.read_measured_curve`; UsageError naming the
-    flag, also where ``--env-kwargs`` fixes the same fields)."""
+    flag, also where ``--env-kwargs`` or an episode of the suite fixes the same fields, which would play another
+    curve there)."""
     from cof_gym.commands.args import UsageError
 
     try:
@@ -442,6 +443,10 @@ def _measured_curve(path: Path, env_overrides: Mapping[str, Any]) -> dict[str, A
     clash = sorted(set(curve) & set(env_overrides))
     if clash:
         raise UsageError("--creep-table", f"it fixes {clash}, which --env-kwargs fixes too; give one of them")
+    for i, (_, options) in enumerate(suite.episodes):
+        if clash := sorted(set(curve) & set(options)):
+            raise UsageError("--creep-table", f"it fixes {clash}, which episode {i} of suite {suite.name} fixes too; "
+                                              "play it on a suite that leaves them to the draws")
     return curve
 
 
