@@ -86,7 +86,7 @@ def test_evaluate_plays_sb3_models_beside_the_other_agents(models: dict[str, Pat
     assert code == 0
     with open(out / "episodes.csv") as f:
         rows = list(csv.DictReader(f))
-    assert {r["agent"] for r in rows} == {"staircase", "sb3:sac", "sb3:model"}
+    assert {r["agent"] for r in rows} == {"staircase", "sac:sac", "recurrentppo:model"}  # the algorithm names it
     assert all(np.isfinite(float(r["relative_error"])) for r in rows if r["scored"] == "True")
 
 
@@ -128,3 +128,29 @@ def test_rl_zoo_records_are_read_without_running_what_they_name(models: dict[str
     (run / "Env" / "config.yml").write_text("- a list\n")
     with pytest.raises(ValueError, match="config.yml holds list"):
         check_model(run / "Env.zip")
+
+
+@pytest.mark.skipif(__import__("os").environ.get("COF_GYM_SKIP_ZOO") == "1", reason="COF_GYM_SKIP_ZOO=1")
+@pytest.mark.parametrize("algo,short", [("sac", ["learning_starts:32"]),
+                                        ("ppo_lstm", ["n_steps:32", "batch_size:32", "n_epochs:1"])])
+def test_rl_zoo_trains_the_v2_wagon_with_the_shipped_starting_points_and_evaluate_plays_the_run(
+        algo: str, short: list[str], tmp_path: Path) -> None:
+    """cof_gym/agents/hyperparams/{sac,ppo_lstm}.yml through RL Zoo's own entry point (128 steps: the files run, nothing
+    is learnt), then the run directory in cof-gym evaluate (``sb3:RUN``: the history observation of sac.yml applied on
+    the agent's side, the LSTM state of ppo_lstm carried)."""
+    import subprocess
+    import sys
+
+    pytest.importorskip("rl_zoo3")
+    root = Path(__file__).resolve().parents[1]
+    cmd = [sys.executable, "-m", "rl_zoo3.train", "--algo", algo, "--env", ENV_ID, "--gym-packages", "cof_gym",
+           "--conf-file", str(root / "cof_gym/agents/hyperparams" / f"{algo}.yml"), "-n", "128", "--eval-freq", "-1",
+           "--seed", "0", "--log-folder", str(tmp_path / "logs"), "--device", "cpu", "--hyperparams", *short]
+    done = subprocess.run(cmd, cwd=root, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-2000:]
+    run = tmp_path / "logs" / algo / "CofGym-TorqueInterrogation-v2_1"
+    out = tmp_path / "evaluate"
+    assert cli.main(["evaluate", "--agents", f"sb3:{run}", "--episodes", "1", "--out", str(out), "--quiet"]) == 0
+    with open(out / "episodes.csv") as f:
+        (row,) = list(csv.DictReader(f))
+    assert row["agent"] == {"sac": "sac", "ppo_lstm": "recurrentppo"}[algo] + ":CofGym-TorqueInterrogation-v2_1"

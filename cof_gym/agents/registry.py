@@ -86,15 +86,16 @@ def register(name: str, factory: str, *, oracle: bool, help: str = "", takes_env
                               check)
 
 
-def _sb3(env, argument: str | None, prefix: str = "sb3"):
+def _sb3(env, argument: str | None, prefix: str | None = None):
     """``sb3:PATH``: the Stable-Baselines3 or sb3-contrib model at PATH (a zip, a ``cof-gym train`` output or an RL
-    Zoo run directory), named ``PREFIX:`` and the file's or directory's name; without a PATH the shipped PPO."""
+    Zoo run directory), named ``PREFIX:`` (default: its algorithm, e.g. ``sac:``) and the file's or directory's name;
+    without a PATH the shipped PPO."""
     from cof_gym.agents.sb3_policy import SB3Agent
 
     path = Path(argument) if argument else SHIPPED_PPO
     agent = SB3Agent.load(path)
     if argument:
-        agent.name = f"{prefix}:{path.stem if path.suffix else path.name}"
+        agent.name = f"{prefix or agent.name}:{path.stem if path.suffix else path.name}"
     return agent
 
 
