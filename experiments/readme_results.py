@@ -1062,6 +1062,11 @@ torque_confirmation11,extremes_confirmation2}.json | sed 's/+$/\\n/'; }
         # rule 143: experiments/rules/rule143.sh fit, then qualify (rule_check_rule143_validation,
         # rule_check_rule143_extremes)
     python experiments/select_model_based.py --out out/select_model_based.json   # model-based-zeroed-knee (session 74)
+    python -m rl_zoo3.train --algo sac --env CofGym/TorqueInterrogation-v2 --gym-packages cof_gym \
+        --conf-file cof_gym/agents/hyperparams/sac.yml -n 50000 --eval-freq -1 --seed 0 --log-folder runs/zoo_ref \
+        --device cpu --vec-env subproc   # session 75, and the same with --algo ppo_lstm, ppo_lstm.yml, -n 100000; then
+    cof-gym evaluate --agents interrogator,sb3:runs/zoo_ref/sac/CofGym-TorqueInterrogation-v2_1,\
+sb3:runs/zoo_ref/ppo_lstm/CofGym-TorqueInterrogation-v2_1 --out out/evaluate-zoo-reference   # (block zoo_reference)
     python experiments/own_window_fit.py --episodes 200 --out out/own_window_fit.md   # session 74, information
     python experiments/shadow_reading.py --episodes 100 --out out/shadow_reading.md   # session 74, information, and
     python experiments/shadow_reading.py --agent interrogator --episodes 100 --out out/shadow_reading_interrogator.md
@@ -1125,6 +1130,7 @@ SOURCES = {
     "v2_paper": PAPER_RUN / "summary.md",
     **{block: out / "summary.md" for block, (_, out) in HELDOUT_RUNS.items()},
     "v1_default": ROOT / "out" / "evaluate-v1" / "summary.md",
+    "zoo_reference": ROOT / "out" / "evaluate-zoo-reference" / "summary.md",  # off-the-shelf RL from scratch
     "bench": ROOT / "out" / "bench.md",
     "heldout": ROOT / "out" / "evaluate-heldout" / "summary.md",
     "ppo_seeds": ROOT / "out" / "ppo_seeds" / "report.md",
