@@ -61,6 +61,17 @@ def test_scattered_repeated_points_become_a_strictly_rising_table_within_the_nat
     assert abs(cof / 0.18 - 1) < 0.05  # the fit's maximum: above the curve's by about the scatter
 
 
+@pytest.mark.parametrize("rise,fall", [(100, 2), (2, 100), (1, 100), (100, 0), (64, 64)])
+def test_a_long_measurement_keeps_its_peak_within_the_native_table(rise: int, fall: int) -> None:
+    """However the points split between the branches, the table holds at most the native size, the peak among them."""
+    s = np.r_[np.linspace(0.01 / rise, 0.01, rise), np.linspace(0.012, 0.03, fall)]  # the peak at 0.01 in each
+    coa = np.r_[np.linspace(0.3 / rise, 0.3, rise), np.linspace(0.29, 0.2, fall)]
+    table, cof = measured_table(s, coa)
+    assert 3 <= len(table.creepage) <= layout.MAX_TABLE_POINTS and cof == pytest.approx(0.3, rel=1e-12)
+    assert table.creepage[table.peak_index] == pytest.approx(0.01, rel=1e-12)
+    assert len(table.creepage) == min(1 + rise + fall, layout.MAX_TABLE_POINTS)
+
+
 @pytest.mark.parametrize("creepage,coa,fragment", [
     ([0.001], [0.1], "two or more points"),
     ([0.0, 0.001, 0.002], [0.05, 0.1, 0.12], "CoA at creepage 0 must be 0"),

@@ -76,8 +76,8 @@ def _runs_merged(s: np.ndarray, fitted: np.ndarray) -> tuple[np.ndarray, np.ndar
 
 
 def _spread(n: int, keep: int) -> np.ndarray:
-    """``keep`` indices of ``n`` evenly spread, the first and the last among them."""
-    return np.unique(np.round(np.linspace(0, n - 1, max(keep, 2))).astype(int)) if n > keep else np.arange(n)
+    """``min(keep, n)`` indices of ``n`` evenly spread, the first (and with two or more, the last) among them."""
+    return np.arange(n) if keep >= n else np.round(np.linspace(0, n - 1, keep)).astype(int)
 
 
 def measured_table(creepage: Sequence[float], coa: Sequence[float]) -> tuple[TableShape, float]:
@@ -93,9 +93,9 @@ def measured_table(creepage: Sequence[float], coa: Sequence[float]) -> tuple[Tab
     rise_ratio[-1] = 1.0
     fall_s, fall_ratio = s[peak + 1:], np.minimum(a[peak + 1:] / cof, 1.0)
     room = layout.MAX_TABLE_POINTS - 1  # (0, 0) first
-    if len(rise_s) + len(fall_s) > room:
-        rise_room = max(2, round(room * len(rise_s) / (len(rise_s) + len(fall_s))))
-        keep_rise, keep_fall = _spread(len(rise_s), rise_room), _spread(len(fall_s), room - min(rise_room, len(rise_s)))
+    if len(rise_s) + len(fall_s) > room:  # the rising branch keeps its first point and its peak
+        rise_keep = min(len(rise_s), max(2, round(room * len(rise_s) / (len(rise_s) + len(fall_s)))))
+        keep_rise, keep_fall = _spread(len(rise_s), rise_keep), _spread(len(fall_s), room - rise_keep)
         rise_s, rise_ratio, fall_s, fall_ratio = (rise_s[keep_rise], rise_ratio[keep_rise], fall_s[keep_fall],
                                                   fall_ratio[keep_fall])
     table = TableShape(tuple(np.r_[0.0, rise_s, fall_s]), tuple(np.r_[0.0, rise_ratio, fall_ratio]))
