@@ -85,6 +85,40 @@ def test_a_bad_measurement_is_refused_naming_the_point(creepage, coa, fragment: 
         measured_table(creepage, coa)
 
 
+def test_points_that_read_no_creep_force_above_creepage_0_are_left_to_the_tables_origin() -> None:
+    """A force sensor at zero (or scatter clipped at it) at the smallest creepages: the table starts from (0, 0), the
+    points above it unchanged; one point left above 0 after the fit is refused as a measured curve's error."""
+    table, cof = measured_table([0.0005, 0.001, 0.002, 0.004], [0.0, 0.0, 0.1, 0.2])
+    np.testing.assert_array_equal(table.creepage, [0.0, 0.002, 0.004])
+    np.testing.assert_array_equal(table.adhesion_ratio, [0.0, 0.5, 1.0])
+    assert cof == 0.2
+    for coa in ([0.0, 0.2], [0.0, 0.0, 0.2]):
+        with pytest.raises(ValueError, match="a measured creep curve needs two or more points after its fit"):
+            measured_table([0.001, 0.002, 0.003][:len(coa)], coa)
+
+
+POINTS = st.lists(st.tuples(st.floats(0, 2, allow_nan=False), st.floats(0, 1, allow_nan=False)), min_size=1,
+                  max_size=80)
+
+
+@settings(max_examples=300, deadline=None)
+@given(POINTS)
+def test_any_finite_measurement_is_a_valid_table_or_refused_as_a_measured_curve(points) -> None:
+    """Whatever points a user measured within the accepted ranges, the answer is a table the env accepts (the
+    measured maximum as its CoF) or one ValueError about the measured curve, never the table's own checks."""
+    s, coa = [p[0] for p in points], [p[1] for p in points]
+    try:
+        table, cof = measured_table(s, coa)
+    except ValueError as e:
+        assert str(e).startswith("a measured"), e
+        return
+    by_creepage: dict[float, list[float]] = {}
+    for x, a in points:
+        by_creepage.setdefault(x, []).append(a)
+    assert cof == pytest.approx(max(np.mean(a) for x, a in by_creepage.items() if x > 0), rel=1e-12)
+    assert 3 <= len(table.creepage) <= layout.MAX_TABLE_POINTS
+
+
 def _write_csv(path: Path, s: np.ndarray, coa: np.ndarray) -> Path:
     rows = "".join(f"{float(a)!r},{float(b)!r}\n" for a, b in zip(s, coa))
     path.write_text("# a twin-disc run\ncreepage,coa\n\n" + rows)

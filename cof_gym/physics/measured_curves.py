@@ -9,7 +9,9 @@ scatter, repeat a creepage and dip on the way up. :func:`measured_table` makes t
 2. the rising branch, every point up to the largest CoA measured, is replaced by its least-squares non-decreasing fit
    (isotonic regression by pooling adjacent violators: Barlow, Bartholomew, Bremner and Brunk 1972, *Statistical
    inference under order restrictions*, Wiley; Best and Chakravarti 1990, Mathematical Programming 47:425-439), and
-   each run of equal fitted values becomes one point at its mean creepage, so that the branch rises strictly;
+   each run of equal fitted values becomes one point at its mean creepage, so that the branch rises strictly; a
+   first run fitted at CoA 0 (points that read no creep force above creepage 0) is dropped, the table's (0, 0)
+   standing for it, and a curve left with fewer than two points is refused;
 3. the CoF is the fit's maximum (the rising branch's last point, ratio exactly 1); the points past the peak keep their
    measured CoA over that CoF, at most 1. Where the points scatter about a flat top, the fit's maximum lies above the
    curve's by about the scatter (the largest of several noisy readings): smooth such data first, or give the CoF;
@@ -91,12 +93,20 @@ def measured_table(creepage: Sequence[float], coa: Sequence[float]) -> tuple[Tab
         raise ValueError("a measured creep curve must have a CoA above 0")
     rise_ratio = rise_ratio / cof
     rise_ratio[-1] = 1.0
+    if rise_ratio[0] == 0.0:  # the curve's points at CoA 0 (after the fit) above creepage 0: the table's (0, 0) says it
+        rise_s, rise_ratio = rise_s[1:], rise_ratio[1:]
     fall_s, fall_ratio = s[peak + 1:], np.minimum(a[peak + 1:] / cof, 1.0)
+    if len(rise_s) + len(fall_s) < 2:
+        raise ValueError(f"a measured creep curve needs two or more points after its fit (a CoA above 0 up to the "
+                         f"peak, runs of equal CoA merged), got {len(rise_s) + len(fall_s)}")
     room = layout.MAX_TABLE_POINTS - 1  # (0, 0) first
     if len(rise_s) + len(fall_s) > room:  # the rising branch keeps its first point and its peak
         rise_keep = min(len(rise_s), max(2, round(room * len(rise_s) / (len(rise_s) + len(fall_s)))))
         keep_rise, keep_fall = _spread(len(rise_s), rise_keep), _spread(len(fall_s), room - rise_keep)
         rise_s, rise_ratio, fall_s, fall_ratio = (rise_s[keep_rise], rise_ratio[keep_rise], fall_s[keep_fall],
                                                   fall_ratio[keep_fall])
-    table = TableShape(tuple(np.r_[0.0, rise_s, fall_s]), tuple(np.r_[0.0, rise_ratio, fall_ratio]))
+    try:
+        table = TableShape(tuple(np.r_[0.0, rise_s, fall_s]), tuple(np.r_[0.0, rise_ratio, fall_ratio]))
+    except ValueError as e:  # e.g. points so close that a slope overflows
+        raise ValueError(f"a measured creep curve's fitted points are not a table the env accepts: {e}") from None
     return table, cof
