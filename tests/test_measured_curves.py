@@ -140,18 +140,51 @@ def test_evaluate_plays_a_measured_curve_at_its_cof_in_every_episode(tmp_path: P
     assert "creep_table=\"twin_disc\"" in (out / "summary.md").read_text().splitlines()[0]
 
 
+def _rows(out: Path) -> list[dict[str, str]]:
+    with open(out / "episodes.csv") as f:
+        return list(csv.DictReader(f))
+
+
+def test_several_measured_curves_play_the_same_seeds_each_as_one_curve_alone(tmp_path: Path) -> None:
+    """Two files: every episode once per curve, the same seeds (the speed, load and sensor draws pair up), each noted
+    by its file's name, and each curve's episodes exactly what ``--creep-table`` with that file alone plays."""
+    s = np.geomspace(5e-4, 0.03, 12)
+    dry = _write_csv(tmp_path / "dry.csv", s, _curve(s))
+    wet = _write_csv(tmp_path / "wet.csv", s * 2, 0.5 * _curve(s))
+    run = ["evaluate", "--agents", "staircase-zeroed", "--episodes", "2", "--quiet", "--creep-table"]
+    assert cli.main([*run, str(dry), str(wet), "--out", str(tmp_path / "both")]) == 0
+    both = _rows(tmp_path / "both")
+    assert [(r["note"], r["seed"]) for r in both] == [("dry", "0"), ("dry", "1"), ("wet", "0"), ("wet", "1")]
+    for key in ("speed_m_s", "load_case", "creepage_offset"):
+        assert [r[key] for r in both[:2]] == [r[key] for r in both[2:]]
+    for k, path in enumerate((dry, wet)):
+        assert cli.main([*run, str(path), "--out", str(tmp_path / path.stem)]) == 0
+        alone = _rows(tmp_path / path.stem)
+        for key in ("cof", "estimate", "relative_error", "steps"):
+            assert [r[key] for r in both[2 * k:2 * k + 2]] == [r[key] for r in alone], key
+    assert "note dry" in (tmp_path / "both" / "summary.md").read_text()
+
+
 @pytest.mark.parametrize("text,extra,fragment", [
     ("creepage,coa\n0.001,0.1\n0.002,abc\n", [], "row 3 is not a creepage and a CoA"),
     ("0.001\n", [], "two or more points"),  # a first row that is not two numbers is a header
     ("creepage,coa\n0.001,0.1\n0.002,0.2\n", ["--env-kwargs", "cof:0.2"], "which --env-kwargs fixes too"),
     ("creepage,coa\n0.001,0.1\n0.0005,-0.2\n", [], "CoA must be finite and >= 0"),
     ("creepage,coa\n0.001,0.1\n0.002,0.2\n", ["--suite", "paper"], "which episode 0 of suite paper fixes too"),
+    ("creepage,coa\n0.001,0.35\n0.004,0.7\n", [], "the measured curve's CoF (its largest CoA after the fit) must be"),
+    ("creepage,coa\n0.001,0.1\n0.002,0.2\n", ["SAME"], "two files have one name"),
+    ("creepage,coa\n0.001,0.1\n0.002,0.2\n", ["SAME", "--episodes", "60000"], "2 curves x 60000 episodes"),
 ])
 def test_a_bad_creep_table_is_one_line_exit_2(text: str, extra: list[str], fragment: str, tmp_path: Path,
                                               capsys) -> None:
     path = tmp_path / "curve.csv"
     path.write_text(text)
-    assert cli.main(["evaluate", "--creep-table", str(path), "--out", str(tmp_path / "out"), *extra]) == 2
+    if extra[:1] == ["SAME"]:  # a second file: of the same name, or (with more episodes) another
+        (tmp_path / "sub").mkdir()
+        other = tmp_path / ("sub/curve.csv" if len(extra) == 1 else "other.csv")
+        other.write_text(text)
+        extra = [str(other), *extra[1:]]
+    assert cli.main(["evaluate", "--creep-table", str(path), *extra, "--out", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "--creep-table" in err and fragment in err, err
     assert not (tmp_path / "out").exists()

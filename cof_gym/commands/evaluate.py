@@ -24,7 +24,8 @@ from cof_gym.commands.evaluate_episodes import AgentError, EpisodeRecord, run_ep
 from cof_gym.commands.evaluate_stats import COF_BANDS, summarize
 from cof_gym.commands.evaluate_tables import markdown_breakdown, markdown_intervals, markdown_table, print_table
 from cof_gym.commands.evaluate_workers import EPISODES_PER_WORKER, MAX_WORKERS, WORKER_MEMORY_BYTES, default_workers
-from cof_gym.commands.suites import MAX_EPISODES, Suite, SuiteError, make_suite, read_measured_curve, with_env_kwargs
+from cof_gym.commands.suites import (MAX_EPISODES, Suite, SuiteError, make_suite, per_curve, read_measured_curve,
+                                     with_env_kwargs)
 from cof_gym.envs.torque_interrogation import make_kwargs
 from cof_gym.validation import brief
 
@@ -374,10 +375,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="env constructor arguments over the suite's (a Python literal or text, as cof-gym train "
                              "and RL Zoo take them), e.g. max_windows:60 (a longer horizon) or counter_torque:True; "
                              "not the agents' interface (action_type, excitation, info_layout)")
-    parser.add_argument("--creep-table", default=None, metavar="CSV",
+    parser.add_argument("--creep-table", nargs="+", default=None, metavar="CSV",
                         help="a measured creep curve, rows of creepage and CoA (a twin disc, a test run), played in "
                              "every episode at its own CoF (its points made into a table: "
-                             "cof_gym/physics/measured_curves.py); the other scenario fields as the suite draws them")
+                             "cof_gym/physics/measured_curves.py); the other scenario fields as the suite draws them. "
+                             "Several files: the suite's episodes played once per curve with the same seeds, each "
+                             "episode noted by its file's name (the breakdown's 'note' rows)")
     parser.add_argument("--seed", type=seed_int, default=0,
                         help=f"seed of the first episode (episode i uses seed + i) and of the bootstrap CIs; the "
                              f"last episode's at most {MAX_SEED}")
@@ -416,10 +419,20 @@ def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
         raise UsageError("--suite", str(e)) from None
     env_overrides = dict(args.env_kwargs)
     named = dict(env_overrides)  # what names the suite and the default output directory
-    if args.creep_table is not None:
-        curve = _measured_curve(Path(args.creep_table), env_overrides, suite)
-        env_overrides.update(curve)
-        named.update(creep_table=Path(args.creep_table).stem, cof=round(curve["cof"], 5))
+    tables = [Path(p) for p in args.creep_table or ()]
+    curves = [(path.stem, _measured_curve(path, env_overrides, suite)) for path in tables]
+    if len(curves) == 1:  # one curve: env arguments, fixed in every episode
+        env_overrides.update(curves[0][1])
+        named.update(creep_table=curves[0][0], cof=round(curves[0][1]["cof"], 5))
+    elif curves:
+        if len(names := [name for name, _ in curves]) != len(set(names)):
+            raise UsageError("--creep-table", f"two files have one name in {[str(p) for p in tables]}: each curve is "
+                                              "known by its file's name (stem); rename one")
+        try:
+            suite = per_curve(suite, curves)
+        except SuiteError as e:
+            raise UsageError("--creep-table", str(e)) from None
+        named.update(creep_tables="+".join(names))
     if env_overrides:
         suite = _with_env(suite, env_overrides, named)
     last_seed = max(seed for seed, _ in suite.episodes)

@@ -32,8 +32,8 @@ from typing import Any, Callable, Iterator
 
 import cof_gym
 from cof_gym.commands.args import MAX_SEED, name_value
-from cof_gym.task.scenarios import check_fixed
-from cof_gym.validation import brief, is_int
+from cof_gym.task.scenarios import COF_ENVELOPE, check_fixed
+from cof_gym.validation import brief, check_number, is_int
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 
 PAPER_COFS = (0.1, 0.2, 0.3, 0.4, 0.5)
@@ -310,10 +310,23 @@ def read_measured_curve(path: Path) -> dict[str, Any]:
                              ) from None
     try:
         table, cof = measured_table([p[0] for p in points], [p[1] for p in points])
+        check_number("the measured curve's CoF (its largest CoA after the fit)", cof, *COF_ENVELOPE)
     except ValueError as e:
         raise ValueError(f"{path}: {e}") from None
     return {"creep_law": {"table": {"creepage": list(table.creepage), "adhesion_ratio": list(table.adhesion_ratio)}},
             "cof": cof}
+
+
+def per_curve(suite: Suite, curves: Sequence[tuple[str, dict[str, Any]]]) -> Suite:
+    """``suite`` played once per creep curve: every episode (its seed, so the other draws pair up across the curves)
+    with each curve's reset options over its own (:func:`read_measured_curve`), labelled by the curve's name (and the
+    episode's own note); :class:`SuiteError` where that makes more than :data:`MAX_EPISODES` episodes."""
+    if len(curves) * len(suite.episodes) > MAX_EPISODES:
+        raise SuiteError(f"{len(curves)} curves x {len(suite.episodes)} episodes is more than {MAX_EPISODES} episodes")
+    episodes = [(seed, {**options, **curve}) for _, curve in curves for seed, options in suite.episodes]
+    notes = [", ".join(filter(None, (name, suite.note(i)))) for name, _ in curves for i in range(len(suite.episodes))]
+    return Suite(f"{suite.name} (creep curves {', '.join(name for name, _ in curves)})", suite.env_id,
+                 dict(suite.env_kwargs), episodes, tuple(notes))
 
 
 def make_suite(name: str, n_episodes: int, seed: int) -> Suite:
