@@ -145,6 +145,27 @@ def _rows(out: Path) -> list[dict[str, str]]:
         return list(csv.DictReader(f))
 
 
+@pytest.mark.parametrize("header,creepage_scale,coa_scale", [
+    ("creepage,coa", 1.0, 1.0), ("creepage [%],traction coefficient", 100.0, 1.0),
+    ("Creep (percent),adhesion %", 100.0, 100.0), ("# no header", 1.0, 1.0)])
+def test_a_header_in_percent_reads_the_same_curve(header: str, creepage_scale: float, coa_scale: float,
+                                                  tmp_path: Path) -> None:
+    s = np.geomspace(5e-4, 0.03, 12)
+    plain = read_measured_curve(_write_csv(tmp_path / "plain.csv", s, _curve(s)))
+    rows = "".join(f"{float(a) * creepage_scale!r},{float(b) * coa_scale!r}\n" for a, b in zip(s, _curve(s)))
+    (path := tmp_path / "scaled.csv").write_text(f"{header}\n{rows}")
+    scaled = read_measured_curve(path)
+    assert scaled["cof"] == pytest.approx(plain["cof"], rel=1e-12)
+    np.testing.assert_allclose(scaled["creep_law"]["table"]["creepage"], plain["creep_law"]["table"]["creepage"],
+                               rtol=1e-12)
+
+
+def test_a_slip_velocity_column_is_refused(tmp_path: Path) -> None:
+    (path := tmp_path / "slip.csv").write_text("slip velocity [m/s],coa\n0.01,0.1\n0.05,0.2\n")
+    with pytest.raises(ValueError, match="the first column is a slip velocity"):
+        read_measured_curve(path)
+
+
 def test_several_measured_curves_play_the_same_seeds_each_as_one_curve_alone(tmp_path: Path) -> None:
     """Two files: every episode once per curve, the same seeds (the speed, load and sensor draws pair up), each noted
     by its file's name, and each curve's episodes exactly what ``--creep-table`` with that file alone plays."""

@@ -286,7 +286,9 @@ def read_measured_curve(path: Path) -> dict[str, Any]:
     """The reset options that play a measured creep curve: ``creep_law`` (its table) and ``cof`` (its peak), from a
     CSV file of (creepage, CoA) rows (:func:`cof_gym.physics.measured_curves.measured_table`: the points made into a
     table). The first two columns are read; a first row that is not two numbers is a header, blank rows and rows
-    starting with ``#`` are skipped. ValueError (one line, naming the file and the row) otherwise."""
+    starting with ``#`` are skipped. A header cell with ``%`` or ``percent`` in it says its column is in percent (a
+    twin-disc report's "creepage [%]"); one with ``m/s`` in the creepage's is refused (a slip velocity needs the
+    speed it was measured at: divide by it). ValueError (one line, naming the file and the row) otherwise."""
     import csv
 
     from cof_gym.physics.measured_curves import measured_table
@@ -298,14 +300,16 @@ def read_measured_curve(path: Path) -> dict[str, Any]:
     except (OSError, UnicodeDecodeError, csv.Error) as e:
         raise ValueError(f"{path} cannot be read as CSV ({' '.join(str(e).split())})") from None
     points = []
+    scales = (1.0, 1.0)
     for k, (line, row) in enumerate(rows):
         try:
             if len(row) < 2:
                 raise ValueError
-            points.append((float(row[0]), float(row[1])))
+            points.append((float(row[0]) * scales[0], float(row[1]) * scales[1]))
         except ValueError:
             if k == 0:
-                continue  # a header
+                scales = _header_scales(path, row)
+                continue
             raise ValueError(f"{path}: row {line} is not a creepage and a CoA (two numbers), got {brief(row)}"
                              ) from None
     try:
@@ -315,6 +319,15 @@ def read_measured_curve(path: Path) -> dict[str, Any]:
         raise ValueError(f"{path}: {e}") from None
     return {"creep_law": {"table": {"creepage": list(table.creepage), "adhesion_ratio": list(table.adhesion_ratio)}},
             "cof": cof}
+
+
+def _header_scales(path: Path, header: list[str]) -> tuple[float, float]:
+    """What the creepage and the CoA columns are multiplied by: 0.01 where the header says percent, else 1."""
+    cells = [cell.lower() for cell in [*header, "", ""][:2]]
+    if "m/s" in cells[0]:
+        raise ValueError(f"{path}: the first column is a slip velocity ({header[0].strip()!r}); give the creepage, "
+                         "the slip velocity over the speed it was measured at")
+    return tuple(0.01 if "%" in cell or "percent" in cell else 1.0 for cell in cells)
 
 
 def per_curve(suite: Suite, curves: Sequence[tuple[str, dict[str, Any]]]) -> Suite:
