@@ -419,22 +419,16 @@ def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
         raise UsageError("--suite", str(e)) from None
     env_overrides = dict(args.env_kwargs)
     named = dict(env_overrides)  # what names the suite and the default output directory
-    tables = [Path(p) for p in args.creep_table or ()]
-    curves = [(path.stem, _measured_curve(path, env_overrides, suite)) for path in tables]
+    curves = [(Path(p).stem, _measured_curve(Path(p), env_overrides, suite)) for p in args.creep_table or ()]
     if len(curves) == 1:  # one curve: env arguments, fixed in every episode
         env_overrides.update(curves[0][1])
         named.update(creep_table=curves[0][0], cof=round(curves[0][1]["cof"], 5))
     elif curves:
-        if len(names := [name for name, _ in curves]) != len(set(names)):
-            raise UsageError("--creep-table", f"two files have one name in {[str(p) for p in tables]}: each curve is "
-                                              "known by its file's name (stem); rename one")
-        try:
-            suite = per_curve(suite, curves)
-        except SuiteError as e:
-            raise UsageError("--creep-table", str(e)) from None
-        named.update(creep_tables="+".join(names))
+        suite = _per_curve(suite, curves, args.creep_table)
     if env_overrides:
         suite = _with_env(suite, env_overrides, named)
+    if len(curves) > 1:  # the suite's name says them already; the default output directory too
+        named.update(creep_tables="+".join(name for name, _ in curves))
     last_seed = max(seed for seed, _ in suite.episodes)
     if last_seed > MAX_SEED:  # seeded episodes: seed + i
         raise UsageError("--seed", f"the last episode's seed {last_seed} is beyond {MAX_SEED}; give at most "
@@ -461,6 +455,20 @@ def _measured_curve(path: Path, env_overrides: Mapping[str, Any], suite: Suite) 
             raise UsageError("--creep-table", f"it fixes {clash}, which episode {i} of suite {suite.name} fixes too; "
                                               "play it on a suite that leaves them to the draws")
     return curve
+
+
+def _per_curve(suite: Suite, curves: list[tuple[str, dict[str, Any]]], files: list[str]) -> Suite:
+    """Several ``--creep-table`` curves: the suite played once per curve (:func:`~cof_gym.commands.suites.per_curve`;
+    UsageError naming the flag, also where two files have one name, by which the episodes are noted)."""
+    from cof_gym.commands.args import UsageError
+
+    if len({name for name, _ in curves}) != len(curves):
+        raise UsageError("--creep-table", f"two files have one name in {files}: each curve is known by its file's "
+                                          "name (stem); rename one")
+    try:
+        return per_curve(suite, curves)
+    except SuiteError as e:
+        raise UsageError("--creep-table", str(e)) from None
 
 
 def _with_env(suite: Suite, overrides: dict[str, Any], shown: dict[str, Any] | None = None) -> Suite:
