@@ -1109,6 +1109,8 @@ import shutil
 import sys
 from pathlib import Path
 
+from cof_gym.commands.evaluate_stats import PEAK_CREEPAGE_BANDS, peak_creepage_band
+
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from make_grids import v2_heldout_grids  # noqa: E402
 from selection import TARGET_MEDIAN_PCT, TARGET_P90_PCT, TARGET_SLIPS_PER_100, target_rows  # noqa: E402
@@ -1746,6 +1748,31 @@ def peak_creepage(path: Path = TARGET_SUITES["v2 default suite (`cof-gym evaluat
     return "\n".join(rows)
 
 
+def heldout_peak_creepage(runs: dict[str, tuple[str, Path]] = HELDOUT_RUNS, learned: str = LEARNED,
+                          agents: tuple[str, ...] = HAND_BUILT_AGENTS) -> str | None:
+    """Where each agent runs away on the v2 held-out grids together: per peak-creepage group (the true creep curve's
+    peak, the evaluator's ground truth), the episodes and each agent's macro-slips summed over the grids' summaries;
+    None when a summary is missing."""
+    summaries = [_load(out / "summary.json", learned) for _, out in runs.values()]
+    if any(s is None or any(a not in s for a in agents) for s in summaries):
+        return None
+    present = {g for s in summaries for g in s[learned]["breakdown"]}
+    groups = [g for g in (peak_creepage_band(lo) for lo in PEAK_CREEPAGE_BANDS[:-1]) if g in present]
+
+    def total(agent: str, key: str, group: str | None) -> float:
+        """``key`` of ``agent`` summed over the grids, in ``group`` (a grid without it: 0) or in all episodes."""
+        if group is not None:
+            return sum(_group(s, agent, group).get(key, 0) for s in summaries)
+        return sum(s[agent]["episodes"] if key == "episodes" else _stat(s, agent, key) for s in summaries)
+
+    rows = [f"| peak creepage (episodes) | {learned} | " + " | ".join(agents) + " |", "|---" * (2 + len(agents)) + "|"]
+    for group in [*groups, None]:
+        cells = [f"{total(agent, 'macro_slip_events', group):.0f}" for agent in (learned, *agents)]
+        label = group.removeprefix("peak creepage ") if group else "all"
+        rows.append(f"| {label} ({total(learned, 'episodes', group):.0f}) | " + " | ".join(cells) + " |")
+    return "\n".join(rows)
+
+
 EDGE_SUITES = {"v2 stress tables (`--suite experiments/suites/v2_stress_tables_grid.json`)":
                ROOT / "out" / "evaluate-v2-stress-tables" / "summary.json",
                "v2 extremes (`--suite experiments/suites/v2_extremes_grid.json`)":
@@ -1831,7 +1858,8 @@ def ceiling_validation(runs: dict[str, Path] = CEILING_VALIDATION) -> str | None
 GENERATED = {"targets": targets, "targets_count": targets_count, "at_a_glance": at_a_glance,
              "heldout_overview": heldout_overview,
              "slip_failed": slip_failed, "horizon": horizon,
-             "horizon_ends": horizon_ends, "peak_creepage": peak_creepage, "edge_suites": edge_suites,
+             "horizon_ends": horizon_ends, "peak_creepage": peak_creepage, "heldout_peak_creepage": heldout_peak_creepage,
+             "edge_suites": edge_suites,
              "paper_setting": paper_setting,
              "runaway_validation": runaway_validation, "ceiling_validation": ceiling_validation}  # block -> its generator
 

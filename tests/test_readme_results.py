@@ -8,8 +8,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
 from readme_results import (DOCUMENTS, GENERATED, SOURCES, at_a_glance, edge_suites, fill,  # noqa: E402
-                            heldout_overview, horizon, horizon_ends, paper_setting, peak_creepage, slip_failed,
-                            targets, targets_count, with_horizon)
+                            heldout_overview, heldout_peak_creepage, horizon, horizon_ends, paper_setting,
+                            peak_creepage, slip_failed, targets, targets_count, with_horizon)
 
 
 def _summary(path: Path, agents: dict[str, tuple[bool, float, float, int]], episodes: int = 50,
@@ -143,6 +143,25 @@ def test_peak_creepage_rows_follow_the_learned_agents_groups_for_every_agent_nam
     assert rows[2:] == ["| < 1 % (30) | 1.0 % / 5.0 % / 0 | 2.0 % / 10.0 % / 3 |",
                         "| 4+ % (20) | 8.0 % / 30.0 % / 0 | 16.0 % / 60.0 % / 3 |"]
     assert peak_creepage(path, learned="learned", agents=("rule", "absent")) is None
+
+
+def test_heldout_peak_creepage_sums_each_agents_macro_slips_over_the_grids_in_band_order(tmp_path):
+    runs = {}
+    grids = ({"peak creepage 2-4 %": (10, 0.02, 0.1, 1, 1.0), "peak creepage < 1 %": (20, 0.02, 0.1, 4, 1.0)},
+             {"peak creepage < 1 %": (30, 0.02, 0.1, 5, 1.0)})  # the second grid has no curve peaking at 2-4 %
+    for k, groups in enumerate(grids):
+        out = tmp_path / f"grid{k}"
+        out.mkdir()
+        path = _summary(out / "summary.json", {"learned": (False, 0.04, 0.3, 5 + 4 * (1 - k)),
+                                               "rule": (False, 0.06, 0.25, 20)}, episodes=30)
+        _with_breakdown(path, "learned", groups)
+        _with_breakdown(path, "rule", {g: (n, med, p90, 2 * slips, peak) for g, (n, med, p90, slips, peak)
+                                       in groups.items()})
+        runs[f"grid{k}"] = (f"grid {k}", out)
+    rows = heldout_peak_creepage(runs, learned="learned", agents=("rule",)).splitlines()
+    assert rows[0] == "| peak creepage (episodes) | learned | rule |"
+    assert rows[2:] == ["| < 1 % (50) | 9 | 18 |", "| 2-4 % (10) | 1 | 2 |", "| all (60) | 14 | 40 |"]
+    assert heldout_peak_creepage(runs, learned="learned", agents=("rule", "absent")) is None
 
 
 def test_edge_suites_give_the_learned_agents_peak_torque_and_interval_coverage_beside_the_others(tmp_path):
