@@ -1858,8 +1858,8 @@ def ceiling_validation(runs: dict[str, Path] = CEILING_VALIDATION) -> str | None
 GENERATED = {"targets": targets, "targets_count": targets_count, "at_a_glance": at_a_glance,
              "heldout_overview": heldout_overview,
              "slip_failed": slip_failed, "horizon": horizon,
-             "horizon_ends": horizon_ends, "peak_creepage": peak_creepage, "heldout_peak_creepage": heldout_peak_creepage,
-             "edge_suites": edge_suites,
+             "horizon_ends": horizon_ends, "peak_creepage": peak_creepage,
+             "heldout_peak_creepage": heldout_peak_creepage, "edge_suites": edge_suites,
              "paper_setting": paper_setting,
              "runaway_validation": runaway_validation, "ceiling_validation": ceiling_validation}  # block -> its generator
 
