@@ -13,6 +13,8 @@ from cof_gym.cli import main
 from cof_gym.commands import watch
 from cof_gym.commands.watch_frames import CURVE_COLOR
 
+SUITES = Path(__file__).resolve().parents[1] / "experiments" / "suites"
+
 
 def _clear_model_caches() -> None:
     from cof_gym.task import ground_truth, task
@@ -107,6 +109,34 @@ def test_the_video_carries_the_learned_interrogators_in_flight_bound_and_no_othe
             plain.close()
 
 
+def test_an_episode_of_a_suite_is_the_one_evaluate_plays(tmp_path):
+    """``--suite SUITE --episode K`` plays episode K as ``cof-gym evaluate --suite SUITE`` plays it (its seed, options,
+    env id and env arguments: the paper suite's counter torque); the default and paper suites' episode K has seed
+    ``--seed`` + K."""
+    import gymnasium as gym
+
+    from cof_gym.agents import registry
+    from cof_gym.cli import build_parser
+    from cof_gym.commands.evaluate_episodes import run_episode
+    from cof_gym.commands.suites import make_suite
+    from cof_gym.envs.torque_interrogation import make_kwargs
+
+    for name, episode, seed in ((str(SUITES / "v2_heldout_grid.json"), 3, "0"), ("paper", 2, "10")):
+        suite = make_suite(name, episode + 1, int(seed))
+        args = build_parser().parse_args(["watch", "--agent", "staircase-zeroed", "--suite", name, "--episode",
+                                          str(episode), "--seed", seed, "--out", str(tmp_path / "e.gif")])
+        request = watch.prepare(args)
+        ep_seed, options = suite.episodes[episode]
+        assert (request.env_id, request.env_kwargs, request.seed, request.options) == (
+            suite.env_id, suite.env_kwargs, ep_seed, options)
+        record, env = watch.play(request)
+        env.close()
+        plain = gym.make(suite.env_id, **make_kwargs(suite.env_kwargs))
+        assert run_episode(plain, registry.make_agent("staircase-zeroed", plain), ep_seed, options, 0) == record
+        plain.close()
+    assert (request.env_kwargs, request.seed) == ({"counter_torque": True}, 12)
+
+
 @pytest.mark.parametrize("argv, flag", [
     (["--agent", "nope"], "--agent"),
     (["--agent", "ppo:/nonexistent/model.zip"], "--agent"),
@@ -118,6 +148,11 @@ def test_the_video_carries_the_learned_interrogators_in_flight_bound_and_no_othe
     (["--width", "10"], "--width"),
     (["--speed", "100"], "--speed"),
     (["--env", "CartPole-v1"], "--env"),
+    (["--episode", "3"], "--episode"),
+    (["--suite", "nope.json"], "--suite"),
+    (["--suite", "paper", "--episode", "-1"], "--episode"),
+    (["--suite", str(SUITES / "v2_heldout_grid.json"), "--episode", "48"], "--episode"),
+    (["--suite", "paper", "--env", cof_gym.WAGON_ENV_ID], "--env"),
 ])
 def test_bad_input_one_line_exit_2_nothing_written(argv, flag, tmp_path, monkeypatch, capsys):
     def no_simulation(*args, **kwargs):

@@ -26,6 +26,8 @@ import cof_gym
 from cof_gym.agents import registry
 from cof_gym.agents.base import own_env_options
 from cof_gym.commands.args import UsageError, check_output_file, int_in_range, positive_float, seed_int
+from cof_gym.commands.suites import MAX_EPISODES
+from cof_gym.envs.torque_interrogation import make_kwargs
 from cof_gym.physics.creep import creep_curve
 from cof_gym.physics.native import layout
 from cof_gym.physics.simulation import DriveCommand, Simulation, begin_window, dc_torque_at
@@ -94,7 +96,8 @@ class WatchRequest:
     fps: int
     width: int
     speed: float  # simulated seconds per video second
-    options: dict = field(default_factory=dict)  # reset options over the seed's draws (--creep-table's curve)
+    options: dict = field(default_factory=dict)  # reset options over the seed's draws (a suite's, --creep-table's)
+    env_kwargs: dict = field(default_factory=dict)  # the env's arguments (a suite's)
 
 
 def prepare(args: argparse.Namespace) -> WatchRequest:
@@ -108,33 +111,72 @@ def prepare(args: argparse.Namespace) -> WatchRequest:
         registry.check_argument(entry, argument)
     except ValueError as e:
         raise UsageError("--agent", f"{spec}: {e}") from None
-    if args.env not in cof_gym.ENV_IDS:
+    if args.env is not None and args.env not in cof_gym.ENV_IDS:
         raise UsageError("--env", f"unknown env {args.env!r}; allowed: {', '.join(cof_gym.ENV_IDS)}")
     out = check_video_path(Path(args.out))
     suffix = out.suffix.lower()
     check_writer(suffix)
     if not 0.05 <= args.speed <= 10.0:
         raise UsageError("--speed", f"must be in [0.05, 10] simulated seconds per video second, got {args.speed:g}")
-    options = {}
+    env_id, env_kwargs, seed, options = _suite_episode(args)
     if args.creep_table is not None:
         from cof_gym.commands.suites import read_measured_curve
 
         try:
-            options = read_measured_curve(Path(args.creep_table))
+            curve = read_measured_curve(Path(args.creep_table))
         except ValueError as e:
             raise UsageError("--creep-table", str(e)) from None
-    return WatchRequest(spec, entry.oracle, args.env, args.seed, out,
+        if clash := sorted(set(curve) & (set(options) | set(env_kwargs))):
+            raise UsageError("--creep-table", f"it fixes {clash}, which episode {args.episode or 0} of suite {args.suite} "
+                                              "fixes too; play it on a suite that leaves them to the draws")
+        options = {**options, **curve}
+    return WatchRequest(spec, entry.oracle, env_id, seed, out,
                         args.fps if args.fps is not None else DEFAULT_FPS[suffix],
-                        args.width if args.width is not None else DEFAULT_WIDTH[suffix], args.speed, options)
+                        args.width if args.width is not None else DEFAULT_WIDTH[suffix], args.speed, options,
+                        env_kwargs)
+
+
+def _suite_episode(args: argparse.Namespace) -> tuple[str, dict, int, dict]:
+    """The env id, env arguments, seed and reset options of the episode to play: ``--suite``'s episode ``--episode``
+    as ``cof-gym evaluate --suite`` plays it (``--seed`` the default and paper suites' first), or ``--env`` with
+    ``--seed`` (UsageError naming the flag)."""
+    from cof_gym.commands.args import MAX_SEED
+    from cof_gym.commands.suites import SuiteError, make_suite
+
+    if args.suite is None:
+        if args.episode is not None:
+            raise UsageError("--episode", "picks an episode of --suite; give --suite too (or --seed alone)")
+        return args.env or cof_gym.WAGON_ENV_ID, {}, args.seed, {}
+    if args.env is not None:
+        raise UsageError("--env", f"suite {args.suite} names its env id; give --suite or --env, not both")
+    episode = args.episode or 0
+    try:
+        suite = make_suite(args.suite, episode + 1, args.seed)
+    except SuiteError as e:
+        raise UsageError("--suite", str(e)) from None
+    if episode >= len(suite.episodes):
+        raise UsageError("--episode", f"suite {args.suite} has {len(suite.episodes)} episodes (0 to "
+                                      f"{len(suite.episodes) - 1}), got {episode}")
+    seed, options = suite.episodes[episode]
+    if seed > MAX_SEED:
+        raise UsageError("--seed", f"episode {episode}'s seed {seed} is beyond {MAX_SEED}")
+    return suite.env_id, dict(suite.env_kwargs), seed, dict(options)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--agent", default="model-based", metavar="AGENT",
                         help=f"the agent: {registry.describe()}")
     parser.add_argument("--seed", type=seed_int, default=0,
-                        help="episode seed (the scenario cof-gym evaluate plays as its episode with this seed)")
-    parser.add_argument("--env", default=cof_gym.WAGON_ENV_ID, metavar="ENV_ID",
-                        help=f"environment id: {', '.join(cof_gym.ENV_IDS)}")
+                        help="episode seed (the scenario cof-gym evaluate plays as its episode with this seed); with "
+                             "--suite default or paper, the suite's first seed, as evaluate --seed")
+    parser.add_argument("--env", default=None, metavar="ENV_ID",
+                        help=f"environment id: {', '.join(cof_gym.ENV_IDS)} (default: {cof_gym.WAGON_ENV_ID})")
+    parser.add_argument("--suite", default=None, metavar="SUITE",
+                        help="play an episode of a suite as cof-gym evaluate --suite plays it (its env id, env "
+                             "arguments, seed and scenario): 'default', 'paper' or a JSON suite file")
+    parser.add_argument("--episode", type=int_in_range(0, MAX_EPISODES - 1), default=None, metavar="K",
+                        help="with --suite: the episode's index in the suite, as in evaluate's episodes.csv "
+                             "(default: 0)")
     parser.add_argument("--out", default="episode.mp4", metavar="FILE", help="the video, .mp4 or .gif")
     parser.add_argument("--creep-table", default=None, metavar="CSV",
                         help="a measured creep curve (rows of creepage and CoA), played at its own CoF, as cof-gym "
@@ -218,7 +260,8 @@ def play(request: WatchRequest):
     """Play the scored episode: (record, recorder, env). The caller closes the env."""
     from cof_gym.commands.evaluate_episodes import AgentError, run_episode
 
-    env = Recorder(gym.make(request.env_id))
+    env_kwargs = make_kwargs(request.env_kwargs)
+    env = Recorder(gym.make(request.env_id, **env_kwargs))
     try:
         agent = registry.make_agent(request.agent, env)
     except (FileNotFoundError, ValueError, OSError) as e:
@@ -227,7 +270,7 @@ def play(request: WatchRequest):
     options = own_env_options(agent)  # an excitation of its own (two tones)
     if options:
         env.close()
-        env = Recorder(gym.make(request.env_id, **options))
+        env = Recorder(gym.make(request.env_id, **{**env_kwargs, **options}))
     try:
         record = run_episode(env, BoundReader(agent, env), request.seed, request.options, 0, oracle=request.oracle)
     except AgentError as e:
