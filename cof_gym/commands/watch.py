@@ -127,8 +127,8 @@ def prepare(args: argparse.Namespace) -> WatchRequest:
         except ValueError as e:
             raise UsageError("--creep-table", str(e)) from None
         if clash := sorted(set(curve) & (set(options) | set(env_kwargs))):
-            raise UsageError("--creep-table", f"it fixes {clash}, which episode {args.episode or 0} of suite {args.suite} "
-                                              "fixes too; play it on a suite that leaves them to the draws")
+            raise UsageError("--creep-table", f"it fixes {clash}, which episode {args.episode or 0} of suite "
+                                              f"{args.suite} fixes too; play it on a suite that leaves them to the draws")
         options = {**options, **curve}
     return WatchRequest(spec, entry.oracle, env_id, seed, out,
                         args.fps if args.fps is not None else DEFAULT_FPS[suffix],
