@@ -25,13 +25,12 @@ from pathlib import Path
 import numpy as np
 
 from cof_gym.commands.args import Parser
+from cof_gym.commands.evaluate_stats import N_BOOTSTRAP, paired_differences
 from cof_gym.validation import check_bool, check_number
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from script_checks import check_out_file  # noqa: E402
 
-N_BOOTSTRAP = 2000
-STATISTICS = {"median": lambda e: np.median(e, axis=-1), "P90": lambda e: np.percentile(e, 90, axis=-1)}
 
 
 def paired(records: list[dict], setting: str) -> dict[str, dict[tuple, dict]]:
@@ -47,21 +46,13 @@ def differences(base: dict[tuple, dict], other: dict[tuple, dict], seed: int = 0
                 resamples: int = N_BOOTSTRAP) -> dict[str, tuple[float, float, float]]:
     """(difference, CI low, CI high) of ``other`` - ``base`` on their common episodes: the median and P90
     relative error (percentage points) and the mean return, resampled in pairs (``resamples`` draws); the CI leaves
-    ``tail_percent`` % of the draws out on each side (2.5: the 95 % CI)."""
+    ``tail_percent`` % of the draws out on each side (2.5: the 95 % CI)
+    (:func:`cof_gym.commands.evaluate_stats.paired_differences`)."""
     keys = sorted(set(base) & set(other))
     if len(keys) != len(base) or len(keys) != len(other):
         raise ValueError("the two settings did not play the same episodes")
-    b_err, o_err = (np.array([s[k]["error"] for k in keys]) for s in (base, other))
-    b_ret, o_ret = (np.array([s[k]["episode_return"] for k in keys]) for s in (base, other))
-    draws = np.random.default_rng(seed).integers(0, len(keys), size=(resamples, len(keys)))
-    ci = lambda boot: (float(np.percentile(boot, tail_percent)),  # noqa: E731
-                       float(np.percentile(boot, 100.0 - tail_percent)))
-    result = {}
-    for name, stat in STATISTICS.items():
-        point = 100.0 * float(stat(o_err) - stat(b_err))
-        result[name] = (point, *ci(100.0 * (stat(o_err[draws]) - stat(b_err[draws]))))
-    result["return"] = (float(o_ret.mean() - b_ret.mean()), *ci(o_ret[draws].mean(axis=1) - b_ret[draws].mean(axis=1)))
-    return result
+    arrays = [np.array([s[k][field] for k in keys]) for field in ("error", "episode_return") for s in (base, other)]
+    return paired_differences(*arrays, seed=seed, tail_percent=tail_percent, resamples=resamples)
 
 
 def runaways(episodes: dict[tuple, dict]) -> int:

@@ -70,6 +70,7 @@ BAD = [
     (["evaluate", "--agents", "staircase-paper,staircase,pp0"], "pp0"),
     (["evaluate", "--agents", "staircase,,staircase-paper"], "--agents"),
     (["evaluate", "--agents", "staircase,staircase"], "twice"),
+    (["evaluate", "--agents", "staircase,phase-rule", "--paired", "oracle"], "--paired: 'oracle' is none"),
     (["evaluate", "--agents", "staircase", "staircase"], "twice"),
     (["evaluate", "--agents", "staircase", "pp0"], "pp0"),
     (["evaluate", "--agents"], "--agents: expected at least one argument"),
@@ -323,6 +324,34 @@ def test_evaluate_writes_complete_outputs_and_replaces_its_own(workdir: Path, ca
                      "--seed", "1"]) == 0
     assert (out / "summary.json").read_text() != first
     assert not [p for p in (workdir / "out").iterdir() if p.name.startswith(".")]  # no staging left behind
+
+
+def test_evaluate_pairs_every_agent_with_the_one_named_over_the_same_episodes(workdir: Path) -> None:
+    """``--paired A``: each other agent's differences against A are those of the episodes both played (the point
+    values recomputed from episodes.csv), in summary.json and summary.md; without it neither has a paired part."""
+    import csv
+
+    import numpy as np
+
+    run = ["evaluate", "--agents", "staircase,staircase-zeroed,phase-rule", "--episodes", "6", "--quiet"]
+    assert cli.main([*run, "--paired", "staircase", "--out", "paired"]) == 0
+    paired = json.loads((workdir / "paired" / "summary.json").read_text())["paired"]
+    assert paired["baseline"] == "staircase" and list(paired["agents"]) == ["staircase-zeroed", "phase-rule"]
+    with open(workdir / "paired" / "episodes.csv") as f:
+        rows = list(csv.DictReader(f))
+    column = lambda agent, key: np.array([float(r[key]) for r in rows if r["agent"] == agent])  # noqa: E731
+    base = column("staircase", "relative_error")
+    for agent, entry in paired["agents"].items():
+        other = column(agent, "relative_error")
+        assert entry["median"][0] == pytest.approx(100 * (np.median(other) - np.median(base)), abs=1e-9)
+        assert entry["lower_error"][0] == pytest.approx(100 * np.mean((other < base) + 0.5 * (other == base)))
+        assert entry["median"][1] <= entry["median"][0] <= entry["median"][2]
+        slips = [sum(r["macro_slip"] == "True" for r in rows if r["agent"] == a) for a in ("staircase", agent)]
+        assert entry["macro_slips"] == slips
+    assert "## Paired against staircase" in (workdir / "paired" / "summary.md").read_text()
+    assert cli.main([*run, "--out", "plain"]) == 0
+    assert "paired" not in json.loads((workdir / "plain" / "summary.json").read_text())
+    assert "Paired" not in (workdir / "plain" / "summary.md").read_text()
 
 
 def test_an_interrupted_evaluate_leaves_nothing(workdir: Path, monkeypatch) -> None:

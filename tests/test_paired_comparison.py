@@ -30,12 +30,14 @@ def test_the_same_errors_differ_by_nothing_and_halved_errors_by_half_their_stati
     errors = np.random.default_rng(1).uniform(0.0, 0.3, 40)
     recs = records({"shipped": errors, "same": errors, "halved": errors / 2})
     base = paired(recs, "shipped")["family"]
-    assert differences(base, paired(recs, "same")["family"]) == {k: (0.0, 0.0, 0.0) for k in ("median", "P90", "return")}
+    same = differences(base, paired(recs, "same")["family"])
+    assert same == {**{k: (0.0, 0.0, 0.0) for k in ("median", "P90", "return")}, "lower_error": (50.0, 50.0, 50.0)}
     d = differences(base, paired(recs, "halved")["family"])
     assert d["median"][0] == pytest.approx(-50.0 * np.median(errors), abs=1e-9)
     assert d["P90"][0] == pytest.approx(-50.0 * np.percentile(errors, 90), abs=1e-9)
     assert d["median"][2] < 0.0 and d["P90"][2] < 0.0  # every resample: halved errors have a lower median and P90
     assert d["return"][0] == pytest.approx(np.mean(errors) / 2, abs=1e-12) and d["return"][1] > 0.0
+    assert d["lower_error"] == (100.0, 100.0, 100.0)  # lower in every episode, so in every resample
 
 
 def test_the_table_names_every_setting_against_the_baseline_and_refuses_unpaired_episodes():

@@ -21,8 +21,9 @@ from typing import Any, Mapping
 from cof_gym.agents import registry
 from cof_gym.agents.base import own_env_options
 from cof_gym.commands.evaluate_episodes import AgentError, EpisodeRecord, run_episode
-from cof_gym.commands.evaluate_stats import COF_BANDS, summarize
-from cof_gym.commands.evaluate_tables import markdown_breakdown, markdown_intervals, markdown_table, print_table
+from cof_gym.commands.evaluate_stats import COF_BANDS, paired_summary, summarize
+from cof_gym.commands.evaluate_tables import (markdown_breakdown, markdown_intervals, markdown_paired, markdown_table,
+                                              print_paired, print_table)
 from cof_gym.commands.evaluate_workers import EPISODES_PER_WORKER, MAX_WORKERS, WORKER_MEMORY_BYTES, default_workers
 from cof_gym.commands.suites import (MAX_EPISODES, Suite, SuiteError, make_suite, per_curve, read_measured_curve,
                                      with_env_kwargs)
@@ -146,16 +147,20 @@ def build_agents(agent_specs: list[str], env) -> list[tuple[Any, bool]]:
 
 
 def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: bool = False,
-             check_suite: bool = False, workers: int | None = 1) -> dict[str, Any]:
+             check_suite: bool = False, workers: int | None = 1, paired: str | None = None) -> dict[str, Any]:
     """Play ``agent_specs`` on ``suite``; write the outputs to ``out`` (atomically); return the results.
 
     Before the first episode every agent is built (:class:`~cof_gym.agents.registry.AgentSpecError`)
     and, with ``check_suite``, the env kwargs and every distinct reset option set of the suite are tried
     (:class:`~cof_gym.commands.suites.SuiteError`). ``workers``: processes that play the episodes (None:
     :func:`default_workers`); every episode is seeded on its own, so the outputs are the same for any number. The
-    workers are spawned: a script that asks for more than one needs the usual ``if __name__ == "__main__":`` guard."""
+    workers are spawned: a script that asks for more than one needs the usual ``if __name__ == "__main__":`` guard.
+    ``paired``: one of ``agent_specs``, every other agent compared with it over the same episodes
+    (:func:`~cof_gym.commands.evaluate_stats.paired_summary`: in summary.md, summary.json and on the terminal)."""
     import gymnasium as gym
 
+    if paired is not None and paired not in agent_specs:
+        raise ValueError(f"paired: {paired!r} is none of the agents {agent_specs}")
     t0 = time.perf_counter()
     try:
         env = gym.make(suite.env_id, **make_kwargs(suite.env_kwargs))
@@ -173,7 +178,9 @@ def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: 
         staging = _Staging(out)
         try:
             n_workers = default_workers(len(agents) * len(suite.episodes)) if workers is None else workers
-            result = _play_and_write(envs, agents, agent_specs, suite, staging.path, seed, quiet, t0, n_workers)
+            baseline = agents[agent_specs.index(paired)][0].name if paired is not None else None
+            result = _play_and_write(envs, agents, agent_specs, suite, staging.path, seed, quiet, t0, n_workers,
+                                     baseline)
             staging.commit()
         except BaseException:
             staging.abort()
@@ -190,6 +197,8 @@ def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: 
     if not quiet:
         print_table(result["summary"], f"cof-gym evaluate: suite {suite.name} ({len(suite.episodes)} episodes per "
                                        f"agent), seed {seed}, {suite.env_id}")
+        if "paired" in result:
+            print_paired(result["paired"])
         for note in result["notes"]:
             print(f"note: {note}")
         print(f"episodes.csv, summary.md/json and figures in {out} ({result['wall_time_s']:.1f} s)")
@@ -320,8 +329,13 @@ def _intervals_section(summary: dict[str, Any]) -> str:
     return f"## The intervals the agents reported around their estimates\n\n{table}\n\n" if table else ""
 
 
+def _paired_section(paired: dict[str, Any] | None) -> str:
+    """summary.md's section comparing every agent with the baseline ("" where none was asked for)."""
+    return f"## Paired against {paired['baseline']}\n\n{markdown_paired(paired)}\n\n" if paired else ""
+
+
 def _play_and_write(envs: dict[str, Any], agents, agent_specs, suite: Suite, out: Path, seed: int, quiet: bool,
-                    t0: float, workers: int = 1) -> dict[str, Any]:
+                    t0: float, workers: int = 1, baseline: str | None = None) -> dict[str, Any]:
     progress = _progress(quiet)
     if progress is not None:
         progress.start()
@@ -336,6 +350,7 @@ def _play_and_write(envs: dict[str, Any], agents, agent_specs, suite: Suite, out
     records = [record for _, _, record, _ in played]
     traces = {agents[k][0].name: trace for k, i, _, trace in played if i == 0}
     summary = summarize(records, seed)
+    paired = paired_summary(records, baseline, seed) if baseline is not None else None
     notes = distribution_notes(agents, suite) + sensor_notes(records)
     with open(out / "episodes.csv", "w", newline="") as fh:
         writer = csv.DictWriter(fh, fieldnames=list(asdict(records[0])))
@@ -343,7 +358,8 @@ def _play_and_write(envs: dict[str, Any], agents, agent_specs, suite: Suite, out
         writer.writerows(asdict(r) for r in records)
     (out / "summary.md").write_text(
         f"# cof-gym evaluate: suite {suite.name}, seed {seed}, {suite.env_id}\n\n"
-        + "".join(f"Note: {n}.\n\n" for n in notes) + f"{markdown_table(summary)}\n\n" + _intervals_section(summary)
+        + "".join(f"Note: {n}.\n\n" for n in notes) + f"{markdown_table(summary)}\n\n" + _paired_section(paired)
+        + _intervals_section(summary)
         + "## By condition, CoF band, creep-law family, peak creepage, creepage-error band, utilisation, ending and "
         f"note\n\n{markdown_breakdown(summary)}\n")
     from cof_gym.commands.evaluate_figures import plot_all
@@ -351,7 +367,7 @@ def _play_and_write(envs: dict[str, Any], agents, agent_specs, suite: Suite, out
     figures = [Path(p).name for p in plot_all(records, summary, traces, out)]
     result = {"suite": suite.name, "env_id": suite.env_id, "env_kwargs": suite.env_kwargs, "seed": seed,
               "agents": list(agent_specs), "summary": summary, "traces": traces, "figures": figures, "notes": notes,
-              "cof_bands": [b for b in COF_BANDS if math.isfinite(b)]}
+              "cof_bands": [b for b in COF_BANDS if math.isfinite(b)], **({"paired": paired} if paired else {})}
     # written last: its presence marks a complete output directory
     (out / OUTPUT_MARKER).write_text(json.dumps(result, indent=1))
     result["wall_time_s"] = time.perf_counter() - t0
@@ -381,6 +397,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "cof_gym/physics/measured_curves.py); the other scenario fields as the suite draws them. "
                              "Several files: the suite's episodes played once per curve with the same seeds, each "
                              "episode noted by its file's name (the breakdown's 'note' rows)")
+    parser.add_argument("--paired", default=None, metavar="AGENT",
+                        help="one of --agents: every other agent against it over the same episodes, the difference "
+                             "of the median and P90 error and of the mean return and the share of episodes with the "
+                             "lower error (the probability of improvement), each with a paired bootstrap 95 %% CI, "
+                             "and both agents' macro-slips (summary.md, summary.json and the terminal)")
     parser.add_argument("--seed", type=seed_int, default=0,
                         help=f"seed of the first episode (episode i uses seed + i) and of the bootstrap CIs; the "
                              f"last episode's at most {MAX_SEED}")
@@ -413,6 +434,8 @@ def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
             raise UsageError("--agents", f"{spec}: {e}") from None
     if len(set(specs)) != len(specs):
         raise UsageError("--agents", f"an agent is given twice in {given!r}")
+    if args.paired is not None and args.paired not in specs:
+        raise UsageError("--paired", f"{args.paired!r} is none of the agents played: {', '.join(specs)}")
     try:
         suite = make_suite(args.suite, args.episodes, args.seed)
     except SuiteError as e:
@@ -512,7 +535,8 @@ def run(args: argparse.Namespace) -> int:
 
     specs, suite, out = prepare(args)
     try:
-        evaluate(specs, suite, out, args.seed, quiet=args.quiet, check_suite=True, workers=args.workers)
+        evaluate(specs, suite, out, args.seed, quiet=args.quiet, check_suite=True, workers=args.workers,
+                 paired=args.paired)
     except SuiteError as e:
         raise UsageError("--suite", str(e)) from None
     except (registry.AgentSpecError, AgentError) as e:

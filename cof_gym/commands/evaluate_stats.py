@@ -34,6 +34,34 @@ def bootstrap_ci(values: np.ndarray, stat, rng: np.random.Generator, n: int = N_
     return float(np.percentile(stats, 2.5)), float(np.percentile(stats, 97.5))
 
 
+def paired_differences(base_error: np.ndarray, other_error: np.ndarray, base_return: np.ndarray,
+                       other_return: np.ndarray, seed: int = 0, tail_percent: float = 2.5,
+                       resamples: int = N_BOOTSTRAP) -> dict[str, tuple[float, float, float]]:
+    """(value, CI low, CI high) of an agent against a baseline over the same episodes (index by index), each
+    resampled in pairs (``resamples`` draws of the episodes, seeded; the CI leaves ``tail_percent`` % of the draws out
+    on each side): ``median`` and ``P90``, the difference other - base of the relative error's median and 90th
+    percentile (percentage points); ``return``, of the mean episode return; ``lower_error``, the share of episodes in
+    which the other's error is the lower, ties counted half (%): the probability of improvement (Agarwal et al.,
+    "Deep reinforcement learning at the edge of the statistical precipice", NeurIPS 2021), 50 where neither is better.
+    """
+    n = len(base_error)
+    if not n or any(len(a) != n for a in (other_error, base_return, other_return)):
+        raise ValueError(f"paired episodes must be as many for both and at least one, got {len(base_error)} and "
+                         f"{len(other_error)}")
+    draws = np.random.default_rng(seed).integers(0, n, size=(resamples, n))
+    ci = lambda boot: (float(np.percentile(boot, tail_percent)),  # noqa: E731
+                       float(np.percentile(boot, 100.0 - tail_percent)))
+    result = {}
+    for name, stat in (("median", lambda e: np.median(e, axis=-1)), ("P90", lambda e: np.percentile(e, 90, axis=-1))):
+        point = 100.0 * float(stat(other_error) - stat(base_error))
+        result[name] = (point, *ci(100.0 * (stat(other_error[draws]) - stat(base_error[draws]))))
+    result["return"] = (float(other_return.mean() - base_return.mean()),
+                        *ci(other_return[draws].mean(axis=1) - base_return[draws].mean(axis=1)))
+    better = 100.0 * ((other_error < base_error) + 0.5 * (other_error == base_error))
+    result["lower_error"] = (float(better.mean()), *ci(better[draws].mean(axis=1)))
+    return result
+
+
 def _p90(v: np.ndarray, axis: int | None = None):
     """The 90th percentile (per row along ``axis``)."""
     return np.percentile(v, 90, axis=axis) if axis is not None else float(np.percentile(v, 90))
@@ -165,6 +193,33 @@ def summarize(records: list[EpisodeRecord], seed: int) -> dict[str, dict[str, An
             entry["interval"] = interval
         entry["breakdown"] = groups[agent]
         out[agent] = entry
+    return out
+
+
+PAIRED_STATISTICS = (  # paired_differences' keys: (key, label with unit), in the tables' order
+    ("median", "median error, agent - baseline [points]"), ("P90", "P90 error, agent - baseline [points]"),
+    ("return", "mean return, agent - baseline"), ("lower_error", "agent's error the lower [% of episodes, ties half]"))
+
+
+def paired_summary(records: list[EpisodeRecord], baseline: str, seed: int) -> dict[str, Any]:
+    """Every other agent against ``baseline`` over the same episodes (:func:`paired_differences`, seeded with
+    ``seed``): per agent each statistic as ``[value, CI low, CI high]`` and both agents' macro-slips."""
+    by_agent: dict[str, list[EpisodeRecord]] = {}
+    for r in sorted(records, key=lambda r: r.episode):
+        by_agent.setdefault(r.agent, []).append(r)
+    if baseline not in by_agent:
+        raise ValueError(f"no agent {baseline!r} played here; agents: {list(by_agent)}")
+    column = lambda rows, name: np.array([getattr(r, name) for r in rows], dtype=float)  # noqa: E731
+    base = by_agent[baseline]
+    out: dict[str, Any] = {"baseline": baseline, "episodes": len(base), "resamples": N_BOOTSTRAP, "agents": {}}
+    for agent, rows in by_agent.items():
+        if agent == baseline:
+            continue
+        d = paired_differences(column(base, "relative_error"), column(rows, "relative_error"),
+                               column(base, "episode_return"), column(rows, "episode_return"), seed=seed)
+        out["agents"][agent] = {**{key: list(d[key]) for key, _ in PAIRED_STATISTICS},
+                                "macro_slips": [int(sum(r.macro_slip for r in base)),
+                                                int(sum(r.macro_slip for r in rows))]}
     return out
 
 

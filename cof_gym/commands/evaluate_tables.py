@@ -6,7 +6,7 @@ from typing import Any
 
 import numpy as np
 
-from cof_gym.commands.evaluate_stats import AGENT_GROUPINGS, METRICS
+from cof_gym.commands.evaluate_stats import AGENT_GROUPINGS, METRICS, PAIRED_STATISTICS
 
 # the statistics of the intervals the agents reported (evaluate_stats.interval_stats' keys) and their labels
 INTERVAL_ROWS = (("coverage", "CoF in its reported interval [%]"),
@@ -39,6 +39,35 @@ def markdown_table(summary: dict[str, dict[str, Any]]) -> str:
     for key, label, _, _, kind in METRICS:
         lines.append(f"| {label} | " + " | ".join(_ci_cell(summary[a][key], kind) for a in agents) + " |")
     lines.append("| episodes [count] | " + " | ".join(str(summary[a]["episodes"]) for a in agents) + " |")
+    return "\n".join(lines)
+
+
+def _paired_cells(entry: dict[str, Any], between: str = " ") -> list[str]:
+    """An agent's paired statistics (``paired_summary``'s entry) as ``value [low, high]`` cells, then its macro-slips
+    against the baseline's."""
+    digits = {"return": 4, "lower_error": 0}
+    cells = []
+    for key, _ in PAIRED_STATISTICS:
+        d = digits.get(key, 1)
+        sign = "" if key == "lower_error" else "+"
+        value, low, high = entry[key]
+        cells.append(f"{value:{sign}.{d}f}{between}[{low:{sign}.{d}f}, {high:{sign}.{d}f}]")
+    return cells + [f"{entry['macro_slips'][0]} -> {entry['macro_slips'][1]}"]
+
+
+def paired_title(paired: dict[str, Any]) -> str:
+    return (f"against {paired['baseline']}, paired over the same {paired['episodes']} episodes (95 % CIs from "
+            f"{paired['resamples']} paired resamples)")
+
+
+PAIRED_HEADERS = ("agent", *(label for _, label in PAIRED_STATISTICS), "macro-slips (baseline -> agent)")
+
+
+def markdown_paired(paired: dict[str, Any]) -> str:
+    """Every agent against the baseline (``paired_summary``), as a Markdown table under a line saying so."""
+    lines = [f"Every agent {paired_title(paired)}:", "", "| " + " | ".join(PAIRED_HEADERS) + " |",
+             "|---" * len(PAIRED_HEADERS) + "|"]
+    lines += [f"| {agent} | " + " | ".join(_paired_cells(entry)) + " |" for agent, entry in paired["agents"].items()]
     return "\n".join(lines)
 
 
@@ -123,6 +152,14 @@ def _interval_rows(summary: dict[str, dict[str, Any]]) -> list[list[str]]:
         return []
     return [[label, *[_ci_cell(summary[a]["interval"][key], "pct", "\n") if key in summary[a].get("interval", {})
                       else "-" for a in summary]] for key, label in INTERVAL_ROWS]
+
+
+def print_paired(paired: dict[str, Any], out=None) -> None:
+    """The paired comparison (``paired_summary``) on ``out`` (a rich console; default: stdout)."""
+    from cof_gym.commands import terminal
+
+    rows = [[agent, *_paired_cells(entry, "\n")] for agent, entry in paired["agents"].items()]
+    terminal.print_table(paired_title(paired), list(PAIRED_HEADERS), rows, out or terminal.console())
 
 
 def print_table(summary: dict[str, dict[str, Any]], title: str, out=None) -> None:
