@@ -186,6 +186,49 @@ def test_several_measured_curves_play_the_same_seeds_each_as_one_curve_alone(tmp
     assert "note dry" in (tmp_path / "both" / "summary.md").read_text()
 
 
+def test_a_suite_file_names_measured_curves_beside_it(tmp_path: Path) -> None:
+    """``"creep_table": "FILE.csv"`` in a suite file's options (top level or an episode's), relative to the file: the
+    curve's table at its own CoF, or at the episode's ``cof``; played by evaluate as given."""
+    import json
+
+    from cof_gym.commands.suites import file_suite
+
+    s = np.geomspace(5e-4, 0.03, 12)
+    (tmp_path / "curves").mkdir()
+    measured = read_measured_curve(_write_csv(tmp_path / "curves" / "dry.csv", s, _curve(s)))
+    suite_path = tmp_path / "suite.json"
+    suite_path.write_text(json.dumps({"options": {"creep_table": "curves/dry.csv", "speed_m_s": 12.0},
+                                      "episodes": [{"seed": 3}, {"seed": 4, "options": {"cof": 0.25}}]}))
+    suite = file_suite(suite_path, 1, 0)
+    assert suite.episodes[0] == (3, {**measured, "speed_m_s": 12.0})
+    assert suite.episodes[1] == (4, {**measured, "speed_m_s": 12.0, "cof": 0.25})
+    out = tmp_path / "out"
+    assert cli.main(["evaluate", "--agents", "staircase-zeroed", "--suite", str(suite_path), "--out", str(out),
+                     "--quiet"]) == 0
+    rows = _rows(out)
+    assert [float(r["cof"]) for r in rows] == pytest.approx([measured["cof"], 0.25], rel=1e-9)
+    assert {r["creep_family"] for r in rows} == {"table"}
+
+
+@pytest.mark.parametrize("options,fragment", [
+    ({"creep_table": "missing.csv"}, "creep_table: "),
+    ({"creep_table": "curves/dry.csv", "creep_law": "wet"}, "give creep_table or creep_law, not both"),
+    ({"creep_table": 3}, "creep_table must be a CSV file's path"),
+])
+def test_a_bad_measured_curve_in_a_suite_is_one_line_exit_2(options: dict, fragment: str, tmp_path: Path,
+                                                           capsys) -> None:
+    import json
+
+    s = np.geomspace(5e-4, 0.03, 12)
+    (tmp_path / "curves").mkdir()
+    _write_csv(tmp_path / "curves" / "dry.csv", s, _curve(s))
+    (suite := tmp_path / "suite.json").write_text(json.dumps({"options": options}))
+    assert cli.main(["evaluate", "--suite", str(suite), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "--suite" in err and fragment in err, err
+    assert not (tmp_path / "out").exists()
+
+
 @pytest.mark.parametrize("text,extra,fragment", [
     ("creepage,coa\n0.001,0.1\n0.002,abc\n", [], "row 3 is not a creepage and a CoA"),
     ("0.001\n", [], "two or more points"),  # a first row that is not two numbers is a header

@@ -10,7 +10,10 @@ A suite file is JSON::
       "episodes": [{"seed": 1, "options": {"cof": 0.2}, "note": "..."}, ...],
                           (options: any scenario field, e.g. "creep_law": "wet",
                            {"polach": {...}} or {"table": {"creepage": [...],
-                           "adhesion_ratio": [...]}}, "speed_sensor_error": 0.01)
+                           "adhesion_ratio": [...]}}, "speed_sensor_error": 0.01; or
+                           "creep_table": "curves/dry.csv", a measured curve's CSV beside
+                           the suite file, read as cof-gym evaluate --creep-table reads it:
+                           its table, at its own CoF unless the options give "cof")
       "description": "..."                               (optional; free text)
     }
 
@@ -196,6 +199,30 @@ def _check_options(options: dict[str, Any], where: str, path: Path) -> None:
         raise SuiteError(f"{path}: {where}: {e}") from None
 
 
+MEASURED_CURVE_KEY = "creep_table"  # a suite file's option: a measured curve's CSV, relative to the file
+
+
+def _measured_options(options: dict[str, Any], where: str, path: Path, read: dict[Path, dict]) -> dict[str, Any]:
+    """``options`` with a ``creep_table`` (a CSV path relative to the suite file) made the table and CoF it measures
+    (:func:`read_measured_curve`, each file read once through ``read``); a ``cof`` of the options' own scales the
+    table instead. SuiteError where the options also give a ``creep_law`` or the file is not a measured curve."""
+    if MEASURED_CURVE_KEY not in options:
+        return options
+    options = dict(options)
+    name = options.pop(MEASURED_CURVE_KEY)
+    if not isinstance(name, str) or not name:
+        raise SuiteError(f"{path}: {where}: {MEASURED_CURVE_KEY} must be a CSV file's path, got {name!r:.60}")
+    if "creep_law" in options:
+        raise SuiteError(f"{path}: {where}: give {MEASURED_CURVE_KEY} or creep_law, not both: each is the creep curve")
+    csv_path = path.parent / name
+    if csv_path not in read:
+        try:
+            read[csv_path] = read_measured_curve(csv_path)
+        except ValueError as e:
+            raise SuiteError(f"{path}: {where}: {MEASURED_CURVE_KEY}: {e}") from None
+    return {**read[csv_path], **options}
+
+
 def file_suite(path: Path, n_episodes: int, seed: int) -> Suite:
     """A suite read from a JSON file (schema in the module docstring)."""
     path = Path(path)
@@ -214,7 +241,8 @@ def file_suite(path: Path, n_episodes: int, seed: int) -> Suite:
     if "episodes" in spec:
         episodes, notes = _listed_episodes(spec["episodes"], options, seed, path)
         return Suite(str(path), env_id, env_kwargs, episodes, tuple(notes) if any(notes) else ())
-    _check_options(options, f"options {options}", path)
+    options = _measured_options(options, "options", path, {})
+    _check_options(options, f"options {brief(options)}", path)
     return Suite(str(path), env_id, env_kwargs, SeededEpisodes(seed, n_episodes, lambda i: dict(options)))
 
 
@@ -258,7 +286,7 @@ def _listed_episodes(raw: Any, options: dict, seed: int, path: Path) -> tuple[li
     if not isinstance(raw, list) or not raw or len(raw) > MAX_EPISODES:
         raise SuiteError(f"{path}: episodes must be a list of 1 to {MAX_EPISODES} objects like "
                          f'{{"seed": 1, "options": {{...}}}}, got {raw!r:.60}')
-    episodes, notes = [], []
+    episodes, notes, read = [], [], {}
     for i, e in enumerate(raw):
         e = _check_dict(e, f"episodes[{i}]", path)
         bad = sorted(set(e) - set(EPISODE_KEYS))
@@ -272,7 +300,8 @@ def _listed_episodes(raw: Any, options: dict, seed: int, path: Path) -> tuple[li
         if not isinstance(note, str):
             raise SuiteError(f"{path}: episodes[{i}].note must be a string, got {note!r:.60}")
         notes.append(note)
-        episodes.append((ep_seed, {**options, **_check_dict(e.get("options", {}), f"episodes[{i}].options", path)}))
+        merged = {**options, **_check_dict(e.get("options", {}), f"episodes[{i}].options", path)}
+        episodes.append((ep_seed, _measured_options(merged, f"episodes[{i}]", path, read)))
     checked = set()
     for i, (_, ep_options) in enumerate(episodes):
         key = json.dumps(ep_options, sort_keys=True, default=repr)
