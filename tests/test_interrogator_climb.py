@@ -291,6 +291,36 @@ def test_the_crest_ratio_keeps_the_crest_below_the_cautious_saturation_torque():
     assert ClimbParameters(amplitude_ratio=0.4).crest_ratio(0.1) == 0.4
     with pytest.raises(ValueError, match="crest_fraction"):
         ClimbParameters(crest_fraction=-0.1)
+    slow_only = ClimbParameters(amplitude_ratio=0.4, crest_fraction=1.0, crest_below_m_s=12.0)
+    assert slow_only.crest_ratio(0.1, speed_m_s=8.0) == capped.crest_ratio(0.1)  # below: capped
+    assert slow_only.crest_ratio(0.1, speed_m_s=12.0) == 0.4  # at or above: the full modulation
+    with pytest.raises(ValueError, match="crest_below_m_s"):
+        ClimbParameters(crest_below_m_s=0.0)
+
+
+def test_a_crest_cap_below_a_speed_leaves_every_faster_climb_as_it_was():
+    """crest_below_m_s: a climb whose starting speed is at or above it is the uncapped climb, action for action."""
+    from dataclasses import replace
+
+    from cof_gym.agents.interrogator.agent import SHIPPED_INTERROGATOR, interrogator_for, manifest_climb
+
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    shipped = manifest_climb(SHIPPED_INTERROGATOR)
+    actions = {}
+    for name, params in (("plain", shipped), ("slow_only", replace(shipped, crest_fraction=1.0, crest_below_m_s=5.0))):
+        agent = interrogator_for(env, SHIPPED_INTERROGATOR, params)
+        obs, info = env.reset(seed=3)  # the default draws: every speed at least 5 m/s
+        agent.reset(obs, info)
+        taken = []
+        for _ in range(30):
+            action = agent.act(obs, info)
+            taken.append(action.copy())
+            obs, _, terminated, truncated, info = env.step(action)
+            if terminated or truncated:
+                break
+        actions[name] = np.array(taken)
+    env.close()
+    np.testing.assert_array_equal(actions["plain"], actions["slow_only"])
 
 
 def test_a_crest_capped_climb_shrinks_its_modulation_as_the_headroom_closes():

@@ -139,7 +139,9 @@ after the step (:meth:`ClimbParameters.crest_ratio`, at least :data:`CREST_RATIO
 crest ``DC (1 + ratio)`` stays that fraction of the way to the cautiously predicted saturation torque: on
 a creep curve that falls steeply past its peak, a 40 % crest passing the peak lets the wheel run away
 before any reading shows the peak (the paper's outlook: interrogation at lower magnitudes of torque). Its
-networks should be fitted on climbs whose modulation shrinks too (``ClimbDraws.crest_powers``).
+networks should be fitted on climbs whose modulation shrinks too (``ClimbDraws.crest_powers``). With
+``crest_below_m_s`` the cap holds only in climbs whose starting speed is below it (a crest's excess torque spins a
+slow wheel further; docs/interrogator.md, session 76: the slow family climbs lose what the slow steep ones gain).
 
 **Two tones.** With ``tone2_frequency_hz`` set, the modulation is two sines (the env's
 ``excitation="multitone"``, ``tones=2``; :attr:`LearnedInterrogator.env_options`, which

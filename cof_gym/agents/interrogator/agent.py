@@ -217,6 +217,7 @@ class LearnedInterrogator:
         self._ratio = None
         self._held_crest = None
         self._frequency = None
+        self._start_speed: float | None = None  # the speed measured before the first window (m/s)
         self._applied_fractions = []
         self._torque_gain = None
         self._raised_by = 1.0
@@ -432,7 +433,8 @@ class LearnedInterrogator:
         else:
             p, stop = self.params, False
             self._dc = self.climb.first_dc(self.limits)
-            self._frequency = p.frequency_at(Reading.of(observation, self.limits, info).speed_m_s, self.limits)
+            self._start_speed = Reading.of(observation, self.limits, info).speed_m_s
+            self._frequency = p.frequency_at(self._start_speed, self.limits)
         return self._command(p, stop)
 
     def _command(self, p: ClimbParameters, stop: bool) -> np.ndarray:
@@ -587,7 +589,7 @@ class LearnedInterrogator:
         if reason:
             self.stop_reason = reason
             return True
-        self._ratio = p.crest_ratio(headroom - math.log(new_dc / self._dc), self._crept)
+        self._ratio = p.crest_ratio(headroom - math.log(new_dc / self._dc), self._crept, self._start_speed)
         if held_ratio is not None:
             self._ratio = min(self._ratio, held_ratio)
         self._dc = new_dc

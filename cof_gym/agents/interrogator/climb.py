@@ -80,6 +80,7 @@ OPTIONAL_BOUNDED_FIELDS: dict[str, tuple[float, float, bool, str]] = {
     "noise_reference_nms": (0.0, math.inf, True, " N m s"),
     "pace_caution": (0.0, 10.0, False, ""),
     "frequency_reference_m_s": (0.0, 100.0, True, " m/s"),
+    "crest_below_m_s": (0.0, 100.0, True, " m/s"),
     "crest_probe_max_lag_deg": (0.0, 180.0, False, " deg"),
     "crest_probe_max_lag_step_deg": (0.0, 180.0, False, " deg"),
     "crest_probe_max_noise_ratio": (1.0, math.inf, False, ""),
@@ -130,6 +131,10 @@ class ClimbParameters:
     tone2_weight: float = 1.0  # its weight against tone 1's 1 (the env's share_2 + 1, in [0, 2])
     crest_fraction: float | None = None  # not None: the crest stays within this fraction of the cautious headroom
     crest_once_crept: bool = False  # the crest cap only from the climb's first slow probe on
+    # not None: the crest cap only in a climb whose speed measured at its start is below this (m/s): a crest past the
+    # peak spins the wheel further at a low speed, the creepage its excess torque drives in a half cycle growing as
+    # 1 / speed
+    crest_below_m_s: float | None = None
     crest_floor: bool = False  # the estimate at least the climb's best crest bound (Reading.crest_bound)
     runaway_estimate: bool = False  # a window that is not a stop reports what a runaway in it would (RunawayBracket)
     pace_caution: float | None = None  # not None: a slow-probe step at least the horizon pace (pace_step)
@@ -434,14 +439,16 @@ class ClimbParameters:
         is tone 2's)."""
         return probe_amplitude(self.amplitude_ratio if ratio is None else ratio, dc_nm, self.min_amplitude_nm, limits)
 
-    def crest_ratio(self, cautious_headroom_after: float, crept: bool = True) -> float:
+    def crest_ratio(self, cautious_headroom_after: float, crept: bool = True, speed_m_s: float | None = None) -> float:
         """The modulation ratio at a DC torque whose cautious headroom is ``cautious_headroom_after``:
         ``amplitude_ratio``, or with ``crest_fraction`` at most ``exp(crest_fraction x headroom) - 1``, so
         that the crest ``DC (1 + ratio)`` stays that fraction (in log units) of the way from the DC to the
         cautiously predicted saturation torque, and at least :data:`CREST_RATIO_FLOOR` (the lowest ratio
         of the training climbs: below it the lock-in reads noise); with ``crest_once_crept`` only once the
-        climb has ``crept`` (its slow probe, where the filter thinks the peak may be near)."""
-        if self.crest_fraction is None or (self.crest_once_crept and not crept):
+        climb has ``crept`` (its slow probe, where the filter thinks the peak may be near); with ``crest_below_m_s``
+        only where the climb's starting speed ``speed_m_s`` is below it."""
+        fast = self.crest_below_m_s is not None and speed_m_s is not None and speed_m_s >= self.crest_below_m_s
+        if self.crest_fraction is None or (self.crest_once_crept and not crept) or fast:
             return self.amplitude_ratio
         cap = math.expm1(self.crest_fraction * max(cautious_headroom_after, 0.0))
         return min(self.amplitude_ratio, max(cap, CREST_RATIO_FLOOR))
