@@ -1103,13 +1103,16 @@ evaluate summaries (:data:`GENERATED`): the learned agent's targets and the held
 
 from __future__ import annotations
 
+import csv
 import json
 import re
 import shutil
 import sys
 from pathlib import Path
 
-from cof_gym.commands.evaluate_stats import PEAK_CREEPAGE_BANDS, peak_creepage_band
+import numpy as np
+
+from cof_gym.commands.evaluate_stats import PEAK_CREEPAGE_BANDS, paired_differences, peak_creepage_band
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from make_grids import v2_heldout_grids  # noqa: E402
@@ -1592,6 +1595,41 @@ def targets(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNED) -> s
     return "\n".join(rows)
 
 
+def _errors_and_returns(episodes_csv: Path, agent: str) -> tuple[np.ndarray, np.ndarray]:
+    """``agent``'s relative errors and episode returns in ``episodes_csv`` (evaluate's), in episode order."""
+    with open(episodes_csv, newline="") as f:
+        rows = sorted((r for r in csv.DictReader(f) if r["agent"] == agent), key=lambda r: int(r["episode"]))
+    return tuple(np.array([float(r[key]) for r in rows]) for key in ("relative_error", "episode_return"))
+
+
+def _paired(episodes_csv: Path, base: str, other: str) -> dict[str, tuple[float, float, float]]:
+    """``other`` against ``base`` over the episodes of ``episodes_csv`` (``paired_differences``)."""
+    base_error, base_return = _errors_and_returns(episodes_csv, base)
+    other_error, other_return = _errors_and_returns(episodes_csv, other)
+    return paired_differences(base_error, other_error, base_return, other_return)
+
+
+def paired_targets(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNED) -> str | None:
+    """Per suite, the learned agent against the agent with the lowest other median and the one with the lowest
+    other P90 (the targets' comparisons), paired over the same episodes (``episodes.csv`` beside each summary;
+    :func:`cof_gym.commands.evaluate_stats.paired_differences`, as ``cof-gym evaluate --paired`` computes it): the
+    difference with its 95 % CI, and the share of episodes in which the learned agent's error is the lower; None when
+    a summary or its episodes are missing."""
+    rows = [f"| suite | lowest other median | median, {learned} - it [95 % CI] (points) | {learned}'s error the lower "
+            f"[% of episodes, 95 % CI] | lowest other P90 | P90, {learned} - it [95 % CI] (points) |",
+            "|---|---|---|---|---|---|"]
+    cell = lambda v, sign="+", d=1: f"{v[0]:{sign}.{d}f} [{v[1]:{sign}.{d}f}, {v[2]:{sign}.{d}f}]"  # noqa: E731
+    for label, path in paths.items():
+        summary, episodes = _load(path, learned), path.parent / "episodes.csv"
+        if summary is None or not episodes.is_file():
+            return None
+        best_med, best_p90 = _best(summary, learned, "median_error"), _best(summary, learned, "p90_error")
+        med, p90 = _paired(episodes, best_med, learned), _paired(episodes, best_p90, learned)
+        rows.append(f"| {label} | {best_med} | {cell(med['median'])} | {cell(med['lower_error'], '', 0)} | "
+                    f"{best_p90} | {cell(p90['P90'])} |")
+    return "\n".join(rows)
+
+
 def targets_count(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNED) -> str | None:
     """One line over :func:`target_checks`: how many rows are met, and of those missed how many are on the held-out
     grids (every suite but the first, the default suite); None when a summary is missing."""
@@ -1855,7 +1893,8 @@ def ceiling_validation(runs: dict[str, Path] = CEILING_VALIDATION) -> str | None
     return variant_validation(runs, ("", "+ceiling"))
 
 
-GENERATED = {"targets": targets, "targets_count": targets_count, "at_a_glance": at_a_glance,
+GENERATED = {"targets": targets, "targets_count": targets_count, "paired_targets": paired_targets,
+             "at_a_glance": at_a_glance,
              "heldout_overview": heldout_overview,
              "slip_failed": slip_failed, "horizon": horizon,
              "horizon_ends": horizon_ends, "peak_creepage": peak_creepage,

@@ -8,8 +8,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
 from readme_results import (DOCUMENTS, GENERATED, SOURCES, at_a_glance, edge_suites, fill,  # noqa: E402
-                            heldout_overview, heldout_peak_creepage, horizon, horizon_ends, paper_setting,
-                            peak_creepage, slip_failed, targets, targets_count, with_horizon)
+                            heldout_overview, heldout_peak_creepage, horizon, horizon_ends, paired_targets,
+                            paper_setting, peak_creepage, slip_failed, targets, targets_count, with_horizon)
 
 
 def _summary(path: Path, agents: dict[str, tuple[bool, float, float, int]], episodes: int = 50,
@@ -162,6 +162,35 @@ def test_heldout_peak_creepage_sums_each_agents_macro_slips_over_the_grids_in_ba
     assert rows[0] == "| peak creepage (episodes) | learned | rule |"
     assert rows[2:] == ["| < 1 % (50) | 9 | 18 |", "| 2-4 % (10) | 1 | 2 |", "| all (60) | 14 | 40 |"]
     assert heldout_peak_creepage(runs, learned="learned", agents=("rule", "absent")) is None
+
+
+def test_paired_targets_pair_the_learned_agent_with_the_best_others_over_the_same_episodes(tmp_path):
+    """Each suite's row: the agents with the lowest other median and P90 (as the targets name them), the learned
+    agent's paired differences against them (the point values those of the episodes), its share of lower errors."""
+    import csv
+
+    import numpy as np
+
+    errors = {"learned": np.array([0.01, 0.02, 0.05, 0.2]), "rule": np.array([0.02, 0.01, 0.04, 0.1]),
+              "other": np.array([0.05, 0.06, 0.07, 0.3])}
+    out = tmp_path / "run"
+    out.mkdir()
+    path = _summary(out / "summary.json", {a: (False, float(np.median(e)), float(np.percentile(e, 90)), 0)
+                                           for a, e in errors.items()}, episodes=4)
+    with open(out / "episodes.csv", "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=["agent", "episode", "relative_error", "episode_return"])
+        writer.writeheader()
+        for agent, e in errors.items():
+            writer.writerows({"agent": agent, "episode": i, "relative_error": v, "episode_return": -v}
+                             for i, v in reversed(list(enumerate(e))))  # any row order: paired by episode
+    row = paired_targets({"suite": path}, learned="learned").splitlines()[2].split(" | ")
+    median = 100 * (np.median(errors["learned"]) - np.median(errors["rule"]))
+    p90 = 100 * (np.percentile(errors["learned"], 90) - np.percentile(errors["rule"], 90))
+    lower = 100 * np.mean(errors["learned"] < errors["rule"])  # no ties here
+    assert row[1] == "rule" and row[2].startswith(f"{median:+.1f} [") and row[3].startswith(f"{lower:.0f} [")
+    assert row[4] == "rule" and row[5].startswith(f"{p90:+.1f} [")
+    (out / "episodes.csv").unlink()
+    assert paired_targets({"suite": path}, learned="learned") is None
 
 
 def test_edge_suites_give_the_learned_agents_peak_torque_and_interval_coverage_beside_the_others(tmp_path):
