@@ -1630,6 +1630,35 @@ def paired_targets(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNE
     return "\n".join(rows)
 
 
+def rate_interval(events: int, trials: int, confidence: float = 0.95) -> tuple[float, float]:
+    """The exact (Clopper-Pearson) two-sided ``confidence`` interval of a rate seen as ``events`` in ``trials``
+    (Clopper and Pearson 1934, Biometrika 26:404-413): beta quantiles, 0 below no event and 1 above all."""
+    from scipy.stats import beta
+
+    tail = (1.0 - confidence) / 2.0
+    low = 0.0 if events == 0 else float(beta.ppf(tail, events, trials - events + 1))
+    high = 1.0 if events == trials else float(beta.ppf(1.0 - tail, events + 1, trials - events))
+    return low, high
+
+
+def slip_rates(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNED) -> str | None:
+    """Per suite, the learned agent's macro-slips as a rate per 100 episodes with its exact 95 % interval, against
+    the target's 1 per 100: whether the suite shows the rate below it, above it, or cannot tell; None when a summary
+    is missing."""
+    rows = [f"| suite | {learned}: macro-slips (episodes) | per 100 episodes [95 % CI] | against <= "
+            f"{TARGET_SLIPS_PER_100:g} per 100 |", "|---|---|---|---|"]
+    for label, path in paths.items():
+        summary = _load(path, learned)
+        if summary is None:
+            return None
+        n, slips = summary[learned]["episodes"], int(_stat(summary, learned, "macro_slip_events"))
+        low, high = (100.0 * v for v in rate_interval(slips, n))
+        verdict = ("shown below" if high <= TARGET_SLIPS_PER_100 else "shown above" if low > TARGET_SLIPS_PER_100
+                   else "cannot tell")
+        rows.append(f"| {label} | {slips} ({n}) | {100.0 * slips / n:.1f} [{low:.1f}, {high:.1f}] | {verdict} |")
+    return "\n".join(rows)
+
+
 def targets_count(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNED) -> str | None:
     """One line over :func:`target_checks`: how many rows are met, and of those missed how many are on the held-out
     grids (every suite but the first, the default suite); None when a summary is missing."""
@@ -1894,6 +1923,7 @@ def ceiling_validation(runs: dict[str, Path] = CEILING_VALIDATION) -> str | None
 
 
 GENERATED = {"targets": targets, "targets_count": targets_count, "paired_targets": paired_targets,
+             "slip_rates": slip_rates,
              "at_a_glance": at_a_glance,
              "heldout_overview": heldout_overview,
              "slip_failed": slip_failed, "horizon": horizon,

@@ -6,10 +6,13 @@ import json
 import sys
 from pathlib import Path
 
+import pytest
+
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
 from readme_results import (DOCUMENTS, GENERATED, SOURCES, at_a_glance, edge_suites, fill,  # noqa: E402
                             heldout_overview, heldout_peak_creepage, horizon, horizon_ends, paired_targets,
-                            paper_setting, peak_creepage, slip_failed, targets, targets_count, with_horizon)
+                            paper_setting, peak_creepage, rate_interval, slip_failed, slip_rates, targets,
+                            targets_count, with_horizon)
 
 
 def _summary(path: Path, agents: dict[str, tuple[bool, float, float, int]], episodes: int = 50,
@@ -191,6 +194,26 @@ def test_paired_targets_pair_the_learned_agent_with_the_best_others_over_the_sam
     assert row[4] == "rule" and row[5].startswith(f"{p90:+.1f} [")
     (out / "episodes.csv").unlink()
     assert paired_targets({"suite": path}, learned="learned") is None
+
+
+def test_a_rate_interval_is_exact_where_its_bounds_have_a_closed_form():
+    """Clopper-Pearson: with no event the upper bound is 1 - (tail)^(1/n), with every trial an event the lower bound
+    is tail^(1/n); the interval holds the observed rate and narrows as the trials grow."""
+    for n in (1, 10, 60, 480):
+        assert rate_interval(0, n) == (0.0, pytest.approx(1.0 - 0.025 ** (1.0 / n), rel=1e-9))
+        assert rate_interval(n, n) == (pytest.approx(0.025 ** (1.0 / n), rel=1e-9), 1.0)
+    low, high = rate_interval(3, 48)
+    assert low < 3 / 48 < high and high - low > rate_interval(30, 480)[1] - rate_interval(30, 480)[0]
+
+
+def test_slip_rates_say_below_above_or_cannot_tell_against_one_per_hundred(tmp_path):
+    rows = {}
+    for name, slips, n in (("none", 0, 60), ("many", 12, 72), ("none_long", 0, 600)):
+        path = _summary(tmp_path / f"{name}.json", {"learned": (False, 0.02, 0.08, slips)}, episodes=n)
+        rows[name] = slip_rates({name: path}, learned="learned").splitlines()[2]
+    assert rows["none"].endswith("| 0 (60) | 0.0 [0.0, 6.0] | cannot tell |")
+    assert rows["many"].endswith("| shown above |") and rows["none_long"].endswith("| shown below |")
+    assert slip_rates({"x": tmp_path / "missing.json"}, learned="learned") is None
 
 
 def test_edge_suites_give_the_learned_agents_peak_torque_and_interval_coverage_beside_the_others(tmp_path):
