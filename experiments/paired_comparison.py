@@ -26,11 +26,11 @@ import numpy as np
 
 from cof_gym.commands.args import Parser
 from cof_gym.commands.evaluate_stats import N_BOOTSTRAP, paired_differences
+from cof_gym.commands.evaluate_tables import ci_text  # noqa: F401 - a difference and its CI; rule_check reads it here
 from cof_gym.validation import check_bool, check_number
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from script_checks import check_out_file  # noqa: E402
-
 
 
 def paired(records: list[dict], setting: str) -> dict[str, dict[tuple, dict]]:
@@ -58,11 +58,6 @@ def differences(base: dict[tuple, dict], other: dict[tuple, dict], seed: int = 0
 def runaways(episodes: dict[tuple, dict]) -> int:
     """The macro-slips (runaways) among ``episodes`` (one grid's, :func:`paired`)."""
     return sum(bool(r["macro_slip"]) for r in episodes.values())
-
-
-def ci_text(value: tuple[float, float, float], digits: int = 1) -> str:
-    """A difference and its CI (:func:`differences`' triple) as ``+d [+lo, +hi]`` with ``digits`` decimals."""
-    return f"{value[0]:+.{digits}f} [{value[1]:+.{digits}f}, {value[2]:+.{digits}f}]"
 
 
 def table(records: list[dict], baseline: str | None = None, compared: list[str] | None = None) -> str:

@@ -1113,6 +1113,7 @@ from pathlib import Path
 import numpy as np
 
 from cof_gym.commands.evaluate_stats import PEAK_CREEPAGE_BANDS, paired_differences, peak_creepage_band
+from cof_gym.commands.evaluate_tables import ci_text
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from make_grids import v2_heldout_grids  # noqa: E402
@@ -1595,18 +1596,13 @@ def targets(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNED) -> s
     return "\n".join(rows)
 
 
-def _errors_and_returns(episodes_csv: Path, agent: str) -> tuple[np.ndarray, np.ndarray]:
-    """``agent``'s relative errors and episode returns in ``episodes_csv`` (evaluate's), in episode order."""
+def _errors_and_returns(episodes_csv: Path) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Every agent's relative errors and episode returns in ``episodes_csv`` (evaluate's), in episode order."""
     with open(episodes_csv, newline="") as f:
-        rows = sorted((r for r in csv.DictReader(f) if r["agent"] == agent), key=lambda r: int(r["episode"]))
-    return tuple(np.array([float(r[key]) for r in rows]) for key in ("relative_error", "episode_return"))
-
-
-def _paired(episodes_csv: Path, base: str, other: str) -> dict[str, tuple[float, float, float]]:
-    """``other`` against ``base`` over the episodes of ``episodes_csv`` (``paired_differences``)."""
-    base_error, base_return = _errors_and_returns(episodes_csv, base)
-    other_error, other_return = _errors_and_returns(episodes_csv, other)
-    return paired_differences(base_error, other_error, base_return, other_return)
+        rows = sorted(csv.DictReader(f), key=lambda r: int(r["episode"]))
+    agents = dict.fromkeys(r["agent"] for r in rows)
+    return {agent: tuple(np.array([float(r[key]) for r in rows if r["agent"] == agent])
+                         for key in ("relative_error", "episode_return")) for agent in agents}
 
 
 def paired_targets(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNED) -> str | None:
@@ -1618,15 +1614,18 @@ def paired_targets(paths: dict[str, Path] = TARGET_SUITES, learned: str = LEARNE
     rows = [f"| suite | lowest other median | median, {learned} - it [95 % CI] (points) | {learned}'s error the lower "
             f"[% of episodes, 95 % CI] | lowest other P90 | P90, {learned} - it [95 % CI] (points) |",
             "|---|---|---|---|---|---|"]
-    cell = lambda v, sign="+", d=1: f"{v[0]:{sign}.{d}f} [{v[1]:{sign}.{d}f}, {v[2]:{sign}.{d}f}]"  # noqa: E731
     for label, path in paths.items():
         summary, episodes = _load(path, learned), path.parent / "episodes.csv"
         if summary is None or not episodes.is_file():
             return None
         best_med, best_p90 = _best(summary, learned, "median_error"), _best(summary, learned, "p90_error")
-        med, p90 = _paired(episodes, best_med, learned), _paired(episodes, best_p90, learned)
-        rows.append(f"| {label} | {best_med} | {cell(med['median'])} | {cell(med['lower_error'], '', 0)} | "
-                    f"{best_p90} | {cell(p90['P90'])} |")
+        played = _errors_and_returns(episodes)
+        error, episode_return = played[learned]
+        against = {rival: paired_differences(played[rival][0], error, played[rival][1], episode_return)
+                   for rival in {best_med, best_p90}}  # one bootstrap where one agent is both
+        rows.append(f"| {label} | {best_med} | {ci_text(against[best_med]['median'])} | "
+                    f"{ci_text(against[best_med]['lower_error'], 0, signed=False)} | {best_p90} | "
+                    f"{ci_text(against[best_p90]['P90'])} |")
     return "\n".join(rows)
 
 

@@ -42,16 +42,20 @@ def markdown_table(summary: dict[str, dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
+def ci_text(value: tuple[float, float, float] | list[float], digits: int = 1, signed: bool = True,
+            between: str = " ") -> str:
+    """A statistic and its CI, ``(value, low, high)``, as ``+v [+lo, +hi]`` (``signed``: with their signs, as a
+    difference reads) with ``digits`` decimals, ``between`` the value and the bracket."""
+    sign = "+" if signed else ""
+    value, low, high = value
+    return f"{value:{sign}.{digits}f}{between}[{low:{sign}.{digits}f}, {high:{sign}.{digits}f}]"
+
+
 def _paired_cells(entry: dict[str, Any], between: str = " ") -> list[str]:
     """An agent's paired statistics (``paired_summary``'s entry) as ``value [low, high]`` cells, then its macro-slips
     against the baseline's."""
     digits = {"return": 4, "lower_error": 0}
-    cells = []
-    for key, _ in PAIRED_STATISTICS:
-        d = digits.get(key, 1)
-        sign = "" if key == "lower_error" else "+"
-        value, low, high = entry[key]
-        cells.append(f"{value:{sign}.{d}f}{between}[{low:{sign}.{d}f}, {high:{sign}.{d}f}]")
+    cells = [ci_text(entry[key], digits.get(key, 1), key != "lower_error", between) for key, _ in PAIRED_STATISTICS]
     return cells + [f"{entry['macro_slips'][0]} -> {entry['macro_slips'][1]}"]
 
 

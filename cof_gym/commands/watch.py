@@ -25,8 +25,8 @@ import numpy as np
 import cof_gym
 from cof_gym.agents import registry
 from cof_gym.agents.base import own_env_options
-from cof_gym.commands.args import UsageError, check_output_file, int_in_range, positive_float, seed_int
-from cof_gym.commands.suites import MAX_EPISODES
+from cof_gym.commands.args import MAX_SEED, UsageError, check_output_file, int_in_range, positive_float, seed_int
+from cof_gym.commands.suites import MAX_EPISODES, SuiteError, make_suite, read_measured_curve
 from cof_gym.envs.torque_interrogation import make_kwargs
 from cof_gym.physics.creep import creep_curve
 from cof_gym.physics.native import layout
@@ -120,8 +120,6 @@ def prepare(args: argparse.Namespace) -> WatchRequest:
         raise UsageError("--speed", f"must be in [0.05, 10] simulated seconds per video second, got {args.speed:g}")
     env_id, env_kwargs, seed, options = _suite_episode(args)
     if args.creep_table is not None:
-        from cof_gym.commands.suites import read_measured_curve
-
         try:
             curve = read_measured_curve(Path(args.creep_table))
         except ValueError as e:
@@ -140,9 +138,6 @@ def _suite_episode(args: argparse.Namespace) -> tuple[str, dict, int, dict]:
     """The env id, env arguments, seed and reset options of the episode to play: ``--suite``'s episode ``--episode``
     as ``cof-gym evaluate --suite`` plays it (``--seed`` the default and paper suites' first), or ``--env`` with
     ``--seed`` (UsageError naming the flag)."""
-    from cof_gym.commands.args import MAX_SEED
-    from cof_gym.commands.suites import SuiteError, make_suite
-
     if args.suite is None:
         if args.episode is not None:
             raise UsageError("--episode", "picks an episode of --suite; give --suite too (or --seed alone)")
