@@ -8,6 +8,7 @@ from __future__ import annotations
 import json
 import math
 import re
+from dataclasses import replace
 
 import gymnasium as gym
 import numpy as np
@@ -18,7 +19,7 @@ from cof_gym.physics.contact_geometry import ContactGeometry
 from cof_gym.physics.creep import OperatingConditions
 from cof_gym.physics.creep_laws import PolachShape
 from cof_gym.physics.simulation import DriveCommand
-from cof_gym.task.scenarios import ScenarioRanges, draw_scenario
+from cof_gym.task.scenarios import V2_RANGES, ScenarioRanges, draw_scenario
 from cof_gym.task.task import TIMESTEP_RANGE_S, InterrogationTask
 from cof_gym.validation import check_bool, check_int, check_number
 
@@ -161,6 +162,20 @@ def test_python_numbers_are_stored_unchanged() -> None:
     assert task.window_s == 0.3 and task.settle_fraction == 0.1 + 0.2 and type(task.max_windows) is int
     ranges = ScenarioRanges(speed_m_s=(5.5, 39.0))
     assert ranges.speed_m_s == (5.5, 39.0) and ranges.cof["wet"] == (0.05, 0.25)
+
+
+def test_ranges_of_another_task_version_are_refused_not_quietly_used() -> None:
+    """v1 ranges on a -v2 id would drop its creep-law families and sensor errors without a word."""
+    v1_ranges, v2_ranges = ScenarioRanges(speed_m_s=(10.0, 20.0)), replace(V2_RANGES, speed_m_s=(10.0, 20.0))
+    with pytest.raises(ValueError, match=r"ranges: .* task_version is 2 .*V2_RANGES"):
+        gym.make(WAGON, ranges=v1_ranges)
+    with pytest.raises(ValueError, match=r"ranges: .* task_version is 1"):
+        gym.make(cof_gym.WAGON_V1_ENV_ID, ranges=v2_ranges)
+    env = gym.make(WAGON, ranges=v2_ranges, **SHORT)  # the v2 draws, narrowed: families and sensor errors kept
+    truths = [env.reset(seed=seed)[1]["ground_truth"] for seed in range(12)]
+    assert {t["creep_family"] for t in truths} == set(V2_RANGES.creep_families)
+    assert all(10.0 <= t["speed_m_s"] <= 20.0 for t in truths) and len({t["speed_sensor_error"] for t in truths}) == 12
+    assert gym.make(cof_gym.WAGON_V1_ENV_ID, ranges=v1_ranges).unwrapped.task.ranges == v1_ranges
 
 
 def test_numpy_scalars_in_the_ranges_draw_as_the_python_numbers_they_hold() -> None:

@@ -16,7 +16,7 @@ import pytest
 
 import cof_gym
 from cof_gym.commands.suites import make_suite
-from cof_gym.task.scenarios import ScenarioRanges
+from cof_gym.task.scenarios import V2_RANGES
 from cof_gym.agents import registry
 from cof_gym.agents.interrogator import (
     TARGET_NAMES, ClimbParameters, FilterEnsemble, FilterNetwork, LearnedInterrogator, feature_names,
@@ -87,7 +87,7 @@ def test_distribution_note_counts_episodes_beyond_the_training_draws(env):
     assert "1 of 5 episodes" in note and "cof in 1 (e.g. 0.1, drawn: 0.15-0.6)" in note
     default = make_suite("default", 60, 0)
     assert agent.distribution_note(default.env_id, default.env_kwargs, [o for _, o in default.episodes]) is None
-    ranges = ScenarioRanges(speed_m_s=(10.0, 20.0))
+    ranges = replace(V2_RANGES, speed_m_s=(10.0, 20.0))
     assert "ranges" in agent.distribution_note(cof_gym.WAGON_ENV_ID, {"ranges": ranges})
 
 

@@ -43,6 +43,22 @@ def default_ranges(task_version: int) -> ScenarioRanges:
     return V2_RANGES if check_int("task_version", task_version, 1, 2) == 2 else ScenarioRanges()
 
 
+def task_ranges(task_version: int, ranges: ScenarioRanges | None) -> ScenarioRanges:
+    """The draws of a task: ``ranges``, or the version's own where ``None``. Ranges that disagree with the
+    version (v1 draws on a v2 task, which would quietly drop its creep-law families and sensor errors, or v2
+    draws on a v1 task) are a ``ValueError`` naming both arguments."""
+    version_ranges = default_ranges(task_version)
+    if ranges is None or not isinstance(ranges, ScenarioRanges) or ranges.draws_v2 == version_ranges.draws_v2:
+        return version_ranges if ranges is None else ranges  # (a wrong type is the task's error, named there)
+    if task_version == 2:
+        raise ValueError("ranges: draws no creep-law family and no systematic sensor error (the v1 draws), but "
+                         "task_version is 2 (the -v2 ids draw both): narrow the v2 draws with "
+                         "dataclasses.replace(cof_gym.task.V2_RANGES, ...), or make the v1 id (task_version=1)")
+    raise ValueError(f"ranges: draws creep-law families {ranges.creep_families} and sensor errors at "
+                     f"{ranges.sensor_error_scale} x their ranges (the v2 draws), but task_version is 1 (Polach "
+                     "presets, unbiased sensors): make the -v2 id (task_version=2) for them")
+
+
 def make_kwargs(kwargs: dict[str, Any]) -> dict[str, Any]:
     """``gym.make`` / ``gym.make_vec`` keyword arguments in which a ``max_windows`` also moves the
     registered ``TimeLimit`` (``max_episode_steps``) unless that is given too, so that the task's own
@@ -72,7 +88,7 @@ def make_task(vehicle: str = "wagon", window_s: float = 1.0, settle_fraction: fl
     return InterrogationTask(
         vehicle=vehicle, window_s=window_s, settle_fraction=settle_fraction, ramp_fraction=ramp_fraction,
         max_windows=max_windows, counter_torque=counter_torque, traction_balance=traction_balance, timestep=timestep,
-        ranges=default_ranges(task_version) if ranges is None else ranges, fixed=fixed,
+        ranges=task_ranges(task_version, ranges), fixed=fixed,
         reward=Reward(w_error, w_slip, w_comfort, w_time, macro_slip_penalty),
         macro_slip=MacroSlipLimit(macro_slip_ratio, macro_slip_floor), shaping=shaping,
         action_type=action_type, observation_type=observation_type, info_layout=info_layout,
@@ -261,7 +277,7 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | counter_torque | False | the paper's equal-and-opposite torque on the bogie's other wheelset (the wagon only: refused on the half wheelset) |
     | traction_balance | None | the rest of the train cancels the DC torque (None: on for the wagon without counter torque) |
     | timestep | 0.001 | physics step, s, in [1e-4, 2e-3] |
-    | ranges | ScenarioRanges() | per-episode draw ranges |
+    | ranges | None | per-episode draw ranges (:class:`cof_gym.task.ScenarioRanges`); None: the task version's (v2: ``cof_gym.task.V2_RANGES``); v1 ranges on a v2 task or v2 ranges on a v1 task are refused |
     | w_error, w_slip, w_comfort, w_time, macro_slip_penalty | 10, 1, 0.05, 0.02, 10 | reward weights |
     | macro_slip_ratio, macro_slip_floor | 2, 0.02 | the macro-slip limit relative to the peak creepage |
     | cof, condition, speed_m_s, load_case, noise_level, motor_lag_s | None | fix a scenario field |
