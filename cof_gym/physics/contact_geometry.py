@@ -79,7 +79,8 @@ def _check_load(normal_load_n: float) -> float:
 
 
 def _eccentricity_squared(curvature_ratio: float) -> float:
-    """Solve Johnson's eq. (4.?) for m = e^2 given the ratio (large/small) of curvature sums.
+    """Solve Hertz's relation between the contact ellipse and the curvatures (Johnson, Contact Mechanics, 1985,
+    ch. 4, elliptical contact) for m = e^2 given the ratio (large/small) of curvature sums.
 
     With the gap z = A' x^2 + B' y^2, A' <= B', the contact ellipse has its major semi-axis along
     x and  B'/A' = [(a/b)^2 E(e) - K(e)] / [K(e) - E(e)],  (a/b)^2 = 1 / (1 - e^2).
