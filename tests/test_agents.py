@@ -429,7 +429,14 @@ def test_a_suite_keeps_the_interface_the_agents_act_through(tmp_path: Path) -> N
             ({"info_layout": "flat"}, "env_kwargs.info_layout must be 'nested' (.*), got 'flat'"),
             ({"max_episode_steps": 3}, "env_kwargs.max_episode_steps must be -1 .* max_windows=30 .*, got 3$"),
             ({"max_windows": 40, "max_episode_steps": None}, "max_windows=40 .*, got None$"),  # the spec's 30
-            ({"max_episode_steps": True}, "env_kwargs.max_episode_steps must be an integer, got True")):
+            ({"max_episode_steps": True},
+             r"env_kwargs.max_episode_steps must be an integer \(-1: no TimeLimit\), got True"),
+            ({"max_episode_steps": 1.5}, r"must be an integer \(-1: no TimeLimit\), got 1.5"),
+            ({"max_episode_steps": 0}, "must be -1 .*, got 0$"), ({"max_episode_steps": -5}, "must be -1 .*, got -5$"),
+            ({"vehicle": "half_wheelset"}, "env_kwargs.vehicle is the env id's own"),
+            ({"task_version": 1},
+             r"env_kwargs.task_version is the env id's own \(CofGym/TorqueInterrogation-v2 is made with "
+             r"task_version=2\)")):
         with pytest.raises(SuiteError, match=message):
             suite(env_kwargs)
 

@@ -40,6 +40,14 @@ SUITE_FILES = {
     "multitone.json": json.dumps({"env_kwargs": {"excitation": "multitone"}}),
     "flat_info.json": json.dumps({"env_kwargs": {"info_layout": "flat"}}),
     "deep_nesting.json": "[" * 100_000 + "]" * 100_000,
+    # the id's own arguments: a suite names the id, so that its outputs' env_id says what was played
+    "vehicle_of_its_own.json": json.dumps({"env_kwargs": {"vehicle": "half_wheelset"}}),
+    "task_version_of_its_own.json": json.dumps({"env_kwargs": {"task_version": 1}}),
+    "float_time_limit.json": json.dumps({"env_kwargs": {"max_episode_steps": 1.5}}),
+    "zero_horizon.json": json.dumps({"env_kwargs": {"max_windows": 0}}),
+    # episode 1 asks the half wheelset for a load case it lacks: only its env's reset can tell
+    "empty_half_wheelset.json": json.dumps({"env_id": "CofGym/HalfWheelset-v2",
+                                            "episodes": [{}, {"options": {"load_case": "empty"}}]}),
 }
 SHIPPED = str(Path(cli.__file__).parent / "agents" / "policies" / "ppo_wagon")  # observation (38,)
 # model directories beside the shipped model.zip (a link) whose statistics or train_meta.json are broken
@@ -66,6 +74,28 @@ BAD = [
     (["evaluate", "--agents", "staircase", "--env-kwargs", "max_episode_steps:5"], "env_kwargs.max_episode_steps must"),
     (["evaluate", "--agents", "staircase", "--env-kwargs", "noise_level:5"], "--env-kwargs: noise_level must be a finite"),
     (["evaluate", "--agents", "staircase", "--env-kwargs", "max_windows"], "--env-kwargs expects key:value pairs"),
+    (["evaluate", "--agents", "staircase", "--env-kwargs", "cof:0.2", "--env-kwargs", "cof:0.3"],
+     "--env-kwargs: 'cof' given twice"),  # a second flag would have replaced the first's value
+    (["evaluate", "--agents", "staircase", "--env-kwargs", "max_episode_steps:-5"], "max_episode_steps must be -1"),
+    (["evaluate", "--agents", "staircase", "--env-kwargs", "max_episode_steps:1.5"],
+     "env_kwargs.max_episode_steps must be an integer (-1: no TimeLimit), got 1.5"),
+    (["evaluate", "--agents", "staircase", "--env-kwargs", "vehicle:half_wheelset"],
+     "unknown env argument(s) ['vehicle']"),
+    (["evaluate", "--agents", "staircase", "--paired", "staircase"],
+     "--paired: compares every other agent with 'staircase', and --agents plays no other"),
+    (["evaluate", "--agents", "staircase", "--suite", "vehicle_of_its_own.json"],
+     "env_kwargs.vehicle is the env id's own (CofGym/TorqueInterrogation-v2 is made with vehicle='wagon')"),
+    (["evaluate", "--agents", "staircase", "--suite", "task_version_of_its_own.json"],
+     "env_kwargs.task_version is the env id's own"),
+    (["evaluate", "--agents", "staircase", "--suite", "empty_half_wheelset.json"], "episode 1 (options"),
+    # watch checks a suite's env arguments and its episode as evaluate does, before anything is simulated
+    (["watch", "--suite", "zero_horizon.json", "--out", "e.gif"],
+     "--suite: zero_horizon.json: env_kwargs {'max_windows': 0}: max_windows must be an integer in [1"),
+    (["watch", "--suite", "vehicle_of_its_own.json", "--out", "e.gif"], "env_kwargs.vehicle is the env id's own"),
+    (["watch", "--suite", "float_time_limit.json", "--out", "e.gif"], "max_episode_steps must be an integer"),
+    (["watch", "--suite", "empty_half_wheelset.json", "--episode", "1", "--out", "e.gif"],
+     "empty_half_wheelset.json: episode 1 (options {'load_case': 'empty'}): load_case must be one of ['laden']"),
+    (["watch", "--speed", "0", "--out", "e.gif"], "--speed: must be a finite number in [0.05, 10]"),
     (["evaluate", "--agents", "nonexistent"], "--agents"),
     (["evaluate", "--agents", "staircase-paper,staircase,pp0"], "pp0"),
     (["evaluate", "--agents", "staircase,,staircase-paper"], "--agents"),
@@ -108,6 +138,17 @@ BAD = [
     (["train", "--out", "run", "--resume", "/no/such/model.zip"], "--resume"),
     (["train", "--out", "run", "--env-kwargs", "counter_torque:false"], "counter_torque"),
     (["train", "--out", "run", "--env-kwargs", "max_episode_steps:2"], "max_episode_steps must be -1"),  # unscored
+    (["train", "--out", "run", "--env-kwargs", "vehicle:half_wheelset"], "env_kwargs.vehicle is the env id's own"),
+    (["train", "--out", "run", "--env-kwargs", "cof:0.2", "--env-kwargs", "cof:0.3"], "'cof' given twice"),
+    # a policy_kwargs / normalize expression that raises whatever it raises: one line naming the key
+    (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "policy_kwargs:dict(activation_fn=nn.Relu)"],
+     "policy_kwargs: 'dict(activation_fn=nn.Relu)' does not evaluate (AttributeError"),
+    (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "normalize:1/0"],
+     "normalize: '1/0' does not evaluate (ZeroDivisionError"),
+    (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "normalize:abc"],
+     "normalize: 'abc' does not evaluate (NameError"),
+    (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "batch_size:1"],
+     "batch_size must be an integer in [2,"),
     (["train", "--out", "run", "--n-envs", "100000"], "--n-envs: must be an integer in [1, 256]"),
     (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "learning_rate:1e9"], "learning_rate must be"),
     (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "learning_rate:true"], "learning_rate: expected a number"),

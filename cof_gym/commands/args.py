@@ -66,7 +66,8 @@ class StoreDict(argparse.Action):
 
     def __call__(self, parser, namespace, values, option_string=None):
         out = dict(getattr(namespace, self.dest) or {})
-        given: set[str] = set()
+        given_attr = f"_{self.dest}_given"  # the keys of every earlier occurrence of the flag (the default's are not)
+        given: set[str] = set(getattr(namespace, given_attr, ()))
         for item in values:
             key, sep, value = item.partition(":")
             if not sep or not key:
@@ -75,6 +76,7 @@ class StoreDict(argparse.Action):
                 parser.error(f"{option_string}: {key!r} given twice; give each key once")
             given.add(key)
             out[key] = _literal_or_text(value)
+        setattr(namespace, given_attr, given)
         setattr(namespace, self.dest, out)
 
 

@@ -25,8 +25,8 @@ from cof_gym.commands.evaluate_stats import COF_BANDS, paired_summary, summarize
 from cof_gym.commands.evaluate_tables import (markdown_breakdown, markdown_intervals, markdown_paired, markdown_table,
                                               print_paired, print_table)
 from cof_gym.commands.evaluate_workers import EPISODES_PER_WORKER, MAX_WORKERS, WORKER_MEMORY_BYTES, default_workers
-from cof_gym.commands.suites import (MAX_EPISODES, Suite, SuiteError, make_suite, per_curve, read_measured_curve,
-                                     with_env_kwargs)
+from cof_gym.commands.suites import (ID_KWARGS, MAX_EPISODES, Suite, SuiteError, make_suite, per_curve,
+                                     read_measured_curve, with_env_kwargs)
 from cof_gym.envs.torque_interrogation import make_kwargs
 from cof_gym.validation import brief
 
@@ -157,22 +157,13 @@ def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: 
     workers are spawned: a script that asks for more than one needs the usual ``if __name__ == "__main__":`` guard.
     ``paired``: one of ``agent_specs``, every other agent compared with it over the same episodes
     (:func:`~cof_gym.commands.evaluate_stats.paired_summary`: in summary.md, summary.json and on the terminal)."""
-    import gymnasium as gym
-
-    if paired is not None and paired not in agent_specs:
-        raise ValueError(f"paired: {paired!r} is none of the agents {agent_specs}")
+    if paired is not None and (paired not in agent_specs or len(agent_specs) < 2):
+        raise ValueError(f"paired: {paired!r} must be one of the agents {agent_specs}, beside at least one other")
     t0 = time.perf_counter()
-    try:
-        env = gym.make(suite.env_id, **make_kwargs(suite.env_kwargs))
-    except (ValueError, TypeError) as e:
-        if not check_suite:
-            raise
-        raise SuiteError(f"{suite.name}: env_kwargs {suite.env_kwargs}: {e}") from None
+    env = suite_env(suite, check_suite)
     agents: list[tuple[Any, bool]] = []
     envs: dict[str, Any] = {}
     try:
-        if check_suite:
-            check_suite_runs(suite, env)
         agents = build_agents(agent_specs, env)
         envs = agent_envs(agents, suite, env)
         staging = _Staging(out)
@@ -436,6 +427,9 @@ def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
         raise UsageError("--agents", f"an agent is given twice in {given!r}")
     if args.paired is not None and args.paired not in specs:
         raise UsageError("--paired", f"{args.paired!r} is none of the agents played: {', '.join(specs)}")
+    if args.paired is not None and len(specs) < 2:
+        raise UsageError("--paired", f"compares every other agent with {args.paired!r}, and --agents plays no other; "
+                                     "name at least one more")
     try:
         suite = make_suite(args.suite, args.episodes, args.seed)
     except SuiteError as e:
@@ -504,7 +498,8 @@ def _with_env(suite: Suite, overrides: dict[str, Any], shown: dict[str, Any] | N
     from cof_gym.task.scenarios import SCENARIO_KEYS
 
     # the constructor's arguments (a scenario field fixes it in every episode that does not set it), not the id's own
-    allowed = sorted({*env_defaults(suite.env_id), *SCENARIO_KEYS, "max_episode_steps"} - {"vehicle", "task_version"})
+    # nor ranges (a ScenarioRanges, which no command-line text writes)
+    allowed = sorted({*env_defaults(suite.env_id), *SCENARIO_KEYS, "max_episode_steps"} - {*ID_KWARGS, "ranges"})
     unknown = sorted(set(overrides) - set(allowed))
     if unknown:
         raise UsageError("--env-kwargs", f"unknown env argument(s) {unknown}; allowed: {allowed}")
@@ -516,10 +511,32 @@ def _with_env(suite: Suite, overrides: dict[str, Any], shown: dict[str, Any] | N
     return suite
 
 
-def check_suite_runs(suite: Suite, env) -> None:
-    """Every distinct reset option set of the suite is accepted by the env (one reset each)."""
+def suite_env(suite: Suite, check: bool = True, first_episode: int = 0):
+    """The suite's env, made with its env arguments; with ``check``, a :class:`SuiteError` naming the suite where the
+    env refuses them or any of the suite's reset option sets (:func:`check_suite_runs`; ``first_episode``: the index
+    its messages give the suite's first episode), before any episode."""
+    import gymnasium as gym
+
+    try:
+        env = gym.make(suite.env_id, **make_kwargs(suite.env_kwargs))
+    except (ValueError, TypeError) as e:
+        if not check:
+            raise
+        raise SuiteError(f"{suite.name}: env_kwargs {suite.env_kwargs}: {e}") from None
+    if check:
+        try:
+            check_suite_runs(suite, env, first_episode)
+        except SuiteError:
+            env.close()
+            raise
+    return env
+
+
+def check_suite_runs(suite: Suite, env, first_episode: int = 0) -> None:
+    """Every distinct reset option set of the suite is accepted by the env (one reset each; the messages number the
+    episodes from ``first_episode``)."""
     seen = set()
-    for i, (ep_seed, options) in enumerate(suite.episodes):
+    for i, (ep_seed, options) in enumerate(suite.episodes, start=first_episode):
         key = json.dumps(options, sort_keys=True, default=repr)
         if key in seen:
             continue

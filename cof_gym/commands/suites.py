@@ -5,7 +5,8 @@ A suite file is JSON::
     {
       "env_id": "CofGym/TorqueInterrogation-v1",        (optional; default: the wagon)
       "env_kwargs": {"counter_torque": true},            (optional; constructor arguments, not ones that
-                          change the agents' interface (INTERFACE_KWARGS) or a max_episode_steps below the horizon)
+                          change the agents' interface (INTERFACE_KWARGS), a max_episode_steps below the horizon
+                          or the id's own vehicle and task_version (ID_KWARGS): env_id names those)
       "options": {"condition": "wet"},                   (optional; reset options of every episode)
       "episodes": [{"seed": 1, "options": {"cof": 0.2}, "note": "..."}, ...],
                           (options: any scenario field, e.g. "creep_law": "wet",
@@ -53,6 +54,9 @@ INTERFACE_KWARGS = {
 }
 # env_kwargs an evaluation cannot honour: what each must be, and why
 UNRENDERED_KWARGS = {"render_mode": (None, "evaluation renders nothing; cof-gym watch renders an episode")}
+# the env id's own arguments: a suite (and a training run) names the id (cof_gym.ENV_IDS) instead, so that what was
+# played is what its outputs' env_id says
+ID_KWARGS = ("vehicle", "task_version")
 MAX_EPISODES = 100_000  # episodes per agent (--episodes and a file's episode list): hours of simulation
 
 
@@ -165,12 +169,26 @@ def _check_interface(env_id: str, env_kwargs: dict[str, Any], where: Path | str)
     for key, (needed, why) in UNRENDERED_KWARGS.items():
         if env_kwargs.get(key, needed) != needed:
             raise SuiteError(f"{prefix}env_kwargs.{key} must be {needed!r} ({why}), got {env_kwargs[key]!r}")
+    check_env_kwargs(env_id, env_kwargs, prefix)
+
+
+def check_env_kwargs(env_id: str, env_kwargs: dict[str, Any], prefix: str = "") -> None:
+    """:class:`SuiteError` where ``env_kwargs`` set the id's own arguments (:data:`ID_KWARGS`) or a TimeLimit that
+    ends episodes unscored (:func:`check_time_limit`): evaluation and training alike."""
+    import gymnasium as gym
+
+    for key in ID_KWARGS:
+        if key in env_kwargs:
+            own = gym.spec(env_id).kwargs.get(key)
+            raise SuiteError(f"{prefix}env_kwargs.{key} is the env id's own ({env_id} is made with {key}={own!r}): "
+                             f"name the id instead, one of {list(cof_gym.ENV_IDS)}")
     check_time_limit(env_id, env_kwargs, prefix)
 
 
 def check_time_limit(env_id: str, env_kwargs: dict[str, Any], prefix: str = "") -> None:
-    """:class:`SuiteError` where ``env_kwargs`` would give ``env_id`` a TimeLimit (``max_episode_steps``) that ends
-    episodes before the task's horizon (``max_windows``) scores them (evaluation and training alike)."""
+    """:class:`SuiteError` where ``env_kwargs`` would give ``env_id`` a TimeLimit (``max_episode_steps``) that is not
+    -1 (none) or an integer at least the task's horizon (``max_windows``): a shorter one ends episodes before the task
+    scores them (evaluation and training alike)."""
     import gymnasium as gym
 
     from cof_gym.envs.torque_interrogation import make_kwargs
@@ -181,9 +199,11 @@ def check_time_limit(env_id: str, env_kwargs: dict[str, Any], prefix: str = "") 
     steps = kwargs.get("max_episode_steps", spec.max_episode_steps)
     if steps is None:  # gym.make applies the registered TimeLimit
         steps = spec.max_episode_steps
-    if isinstance(steps, bool):
-        raise SuiteError(f"{prefix}env_kwargs.max_episode_steps must be an integer, got {steps!r}")
-    if is_int(horizon) and is_int(steps) and steps != -1 and 0 < steps < horizon:
+    if steps is None:  # an id without a TimeLimit
+        return
+    if not is_int(steps):
+        raise SuiteError(f"{prefix}env_kwargs.max_episode_steps must be an integer (-1: no TimeLimit), got {steps!r}")
+    if is_int(horizon) and steps != -1 and steps < horizon:
         raise SuiteError(f"{prefix}env_kwargs.max_episode_steps must be -1 (no TimeLimit) or at least the task's "
                          f"horizon max_windows={horizon} (a shorter TimeLimit ends every episode unscored), "
                          f"got {env_kwargs.get('max_episode_steps', steps)!r}")

@@ -512,10 +512,10 @@ def _env_spaces(env_id: str, env_kwargs: dict[str, Any], adapter: str) -> tuple[
     from cof_gym.agents.sb3_policy import make_env_fn
     from cof_gym.commands.args import UsageError
 
-    from cof_gym.commands.suites import check_time_limit  # its SuiteError is a ValueError
+    from cof_gym.commands.suites import check_env_kwargs  # its SuiteError is a ValueError
 
     try:
-        check_time_limit(env_id, env_kwargs)  # a TimeLimit that ends episodes unscored leaves nothing to learn from
+        check_env_kwargs(env_id, env_kwargs)  # the id's own arguments; a TimeLimit that ends episodes unscored
         probe = make_env_fn(env_id, env_kwargs, adapter)()
     except (ValueError, TypeError) as e:
         raise UsageError("--env-kwargs", f"{env_id}: {e}") from None
@@ -677,7 +677,8 @@ def _initial_meta(args: argparse.Namespace, plan: TrainPlan, seed: int, vec: str
     """train_meta.json before set-up: the command, the plan, the versions, status ``setting up``."""
     meta: dict[str, Any] = {
         "command": shlex.join(sys.argv), "argv": sys.argv,
-        "args": {k: v for k, v in vars(args).items() if k not in ("func", "command_parser")},  # the options only
+        # the options only (not the parser's own entries: its command, StoreDict's private "_DEST_given" sets)
+        "args": {k: v for k, v in vars(args).items() if k not in ("func", "command_parser") and not k.startswith("_")},
         "algo": args.algo, "env_id": plan.env_id, "env_kwargs": plan.env_kwargs, "action_adapter": plan.adapter,
         "seed": seed, "n_envs": plan.n_envs, "vec": vec,
         "timesteps_requested": plan.timesteps, "conf_file": str(args.conf_file),

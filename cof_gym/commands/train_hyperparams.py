@@ -13,10 +13,11 @@ from cof_gym.validation import check_bool, check_int, check_number
 
 DEFAULT_CONF = Path(__file__).resolve().parents[1] / "agents" / "hyperparams" / "ppo.yml"
 _SCHEDULED = ("learning_rate", "clip_range", "clip_range_vf")
-# integer hyperparameters: name -> (low, high); high None: no upper bound
+# integer hyperparameters: name -> (low, high); high None: no upper bound (PPO normalises each minibatch's advantages,
+# so SB3 asks for a batch_size above 1)
 MAX_N_ENVS = 256  # parallel envs: each a process with its own files and MuJoCo model (100 000 exhausts open files)
-INT_BOUNDS: dict[str, tuple[int, int | None]] = {"n_steps": (1, 10**7), "batch_size": (1, 10**7), "n_epochs": (1, 10**6),
-                                                 "n_envs": (1, MAX_N_ENVS)}
+INT_BOUNDS: dict[str, tuple[int, int | None]] = {"n_steps": (1, 10**7), "batch_size": (2, 10**7),
+                                                 "n_epochs": (1, 10**6), "n_envs": (1, MAX_N_ENVS)}
 # VecNormalize arguments (of ``normalize``) that must be booleans / numbers in (low, high]
 _NORMALIZE_BOOLS = ("training", "norm_obs", "norm_reward")
 _NORMALIZE_BOUNDS = {"clip_obs": (0.0, 1e12), "clip_reward": (0.0, 1e12), "gamma": (0.0, 1.0), "epsilon": (0.0, 1.0)}
@@ -35,15 +36,20 @@ def load_hyperparams(env_id: str, conf_file: str | Path = DEFAULT_CONF) -> dict[
     raise KeyError(f"no hyperparameters for {env_id!r} in {conf_file} (ids: {sorted(table)})")
 
 
-def _eval_kwargs(text: str) -> dict[str, Any]:
-    """``policy_kwargs`` / ``normalize`` strings, evaluated as RL Zoo does (``dict(...)``, ``nn.Tanh``)."""
+def _eval_kwargs(key: str, text: str) -> dict[str, Any]:
+    """``policy_kwargs`` / ``normalize`` strings, evaluated as RL Zoo does (``dict(...)``, ``nn.Tanh``); whatever
+    the evaluation raises is a one-line ``ValueError`` naming ``key``."""
     import torch
 
     namespace = {"__builtins__": {}, "dict": dict, "list": list, "tuple": tuple, "True": True, "False": False,
                  "None": None, "nn": torch.nn, "th": torch, "torch": torch}
-    value = eval(text, namespace)  # noqa: S307 - same contract as RL Zoo: the YAML is trusted code
+    try:
+        value = eval(text, namespace)  # noqa: S307 - same contract as RL Zoo: the YAML is trusted code
+    except Exception as e:  # noqa: BLE001 - any error of the user's expression (AttributeError, KeyError, ...)
+        raise ValueError(f"{key}: {text!r} does not evaluate ({type(e).__name__}: {' '.join(str(e).split())}); "
+                         f"write a dict such as dict(net_arch=[64, 64], activation_fn=nn.Tanh)") from None
     if not isinstance(value, dict):
-        raise ValueError(f"expected a dict, got {value!r} from {text!r}")
+        raise ValueError(f"{key}: expected a dict, got {value!r} from {text!r}")
     return value
 
 
@@ -107,7 +113,7 @@ def split_hyperparams(raw: dict[str, Any]) -> tuple[dict[str, Any], dict[str, An
     }
     normalize = raw.pop("normalize", True)
     if isinstance(normalize, str):
-        normalize = _eval_kwargs(normalize)
+        normalize = _eval_kwargs("normalize", normalize)
     if isinstance(normalize, dict):
         check_normalize(normalize)
         norm = {"norm_obs": True, "norm_reward": False, **normalize}
@@ -125,7 +131,7 @@ def split_hyperparams(raw: dict[str, Any]) -> tuple[dict[str, Any], dict[str, An
     ppo: dict[str, Any] = {}
     for key, value in raw.items():
         if key == "policy_kwargs" and isinstance(value, str):
-            value = _eval_kwargs(value)
+            value = _eval_kwargs(key, value)
         elif key in _SCHEDULED:
             value = _schedule(key, value)
         ppo[key] = value

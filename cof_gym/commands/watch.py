@@ -25,8 +25,9 @@ import numpy as np
 import cof_gym
 from cof_gym.agents import registry
 from cof_gym.agents.base import own_env_options
-from cof_gym.commands.args import MAX_SEED, UsageError, check_output_file, int_in_range, positive_float, seed_int
-from cof_gym.commands.suites import MAX_EPISODES, SuiteError, make_suite, read_measured_curve
+from cof_gym.commands.args import MAX_SEED, UsageError, check_output_file, float_in_range, int_in_range, seed_int
+from cof_gym.commands.evaluate import suite_env
+from cof_gym.commands.suites import MAX_EPISODES, Suite, SuiteError, make_suite, read_measured_curve
 from cof_gym.envs.torque_interrogation import make_kwargs
 from cof_gym.physics.creep import creep_curve
 from cof_gym.physics.native import layout
@@ -43,6 +44,7 @@ MUJOCO_GL=osmesa)."""
 EXTENSIONS = (".mp4", ".gif")
 DEFAULT_WIDTH = {".mp4": 1280, ".gif": 960}  # frame width, pixels (height 9/16 of it)
 DEFAULT_FPS = {".mp4": 25, ".gif": 12}
+MIN_SPEED, MAX_SPEED = 0.05, 10.0  # --speed: simulated seconds per video second
 SAMPLE_STEPS_S = 0.002  # the traces are sampled every 2 ms of simulated time (25 samples per 20 Hz period)
 HOLD_S = 2.5  # the last frame is held this long (video seconds)
 STATE_SPEC = mujoco.mjtState.mjSTATE_INTEGRATION  # time, qpos, qvel, act, userdata, ...
@@ -116,8 +118,9 @@ def prepare(args: argparse.Namespace) -> WatchRequest:
     out = check_video_path(Path(args.out))
     suffix = out.suffix.lower()
     check_writer(suffix)
-    if not 0.05 <= args.speed <= 10.0:
-        raise UsageError("--speed", f"must be in [0.05, 10] simulated seconds per video second, got {args.speed:g}")
+    if not MIN_SPEED <= args.speed <= MAX_SPEED:  # (the parser's type checks it; a request built in Python too)
+        raise UsageError("--speed", f"must be in [{MIN_SPEED:g}, {MAX_SPEED:g}] simulated seconds per video second, "
+                                    f"got {args.speed:g}")
     env_id, env_kwargs, seed, options = _suite_episode(args)
     if args.creep_table is not None:
         try:
@@ -128,6 +131,12 @@ def prepare(args: argparse.Namespace) -> WatchRequest:
             raise UsageError("--creep-table", f"it fixes {clash}, which episode {args.episode or 0} of suite "
                                               f"{args.suite} fixes too; play it on a suite that leaves them to the draws")
         options = {**options, **curve}
+    if args.suite is not None:  # the env arguments and the episode's options, as evaluate checks a suite's
+        try:
+            suite_env(Suite(str(args.suite), env_id, env_kwargs, [(seed, options)]), first_episode=args.episode or 0
+                      ).close()
+        except SuiteError as e:
+            raise UsageError("--suite", str(e)) from None
     return WatchRequest(spec, entry.oracle, env_id, seed, out,
                         args.fps if args.fps is not None else DEFAULT_FPS[suffix],
                         args.width if args.width is not None else DEFAULT_WIDTH[suffix], args.speed, options,
@@ -180,8 +189,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="frames per video second (default: 25 for MP4, 12 for GIF)")
     parser.add_argument("--width", type=int_in_range(320, 3840), default=None,
                         help="frame width in pixels, height 9/16 of it (default: 1280 for MP4, 960 for GIF)")
-    parser.add_argument("--speed", type=positive_float, default=1.0,
-                        help="simulated seconds per video second, in [0.05, 10] (0.5: slow motion)")
+    parser.add_argument("--speed", type=float_in_range(MIN_SPEED, MAX_SPEED, low_inclusive=True), default=1.0,
+                        help=f"simulated seconds per video second, in [{MIN_SPEED:g}, {MAX_SPEED:g}] "
+                             "(0.5: slow motion)")
 
 
 # ---------------------------------------------------------------------------- the scored episode
