@@ -56,3 +56,17 @@ def test_a_damaged_network_file_is_refused_when_loaded_not_mid_episode(tmp_path,
     np.savez(tmp_path / "member_0.npz", **arrays)
     with pytest.raises(ValueError, match=message):
         FilterNetwork.load(tmp_path / "member_0.npz")
+
+
+@pytest.mark.parametrize("content", [b"garbage", b"PK\x03\x04 truncated", np.arange(3)])
+def test_a_file_that_is_no_npz_archive_is_refused_in_our_words(tmp_path, content):
+    """numpy's own words for garbage speak of pickled data and allow_pickle; a bare .npy array has no files."""
+    path = tmp_path / "member_0.npz"
+    if isinstance(content, bytes):
+        path.write_bytes(content)
+    else:
+        with open(path, "wb") as f:
+            np.save(f, content)
+    with pytest.raises(ValueError, match=r"member_0\.npz: not an interrogator network \((not a readable \.npz archive|"
+                                         r"a single array, not an \.npz archive)\)"):
+        FilterNetwork.load(path)

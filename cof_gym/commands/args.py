@@ -240,6 +240,16 @@ def check_output_dir(path: Path, flag: str = "--out") -> Path:
     return path
 
 
+def check_command_output(path: Path, marker: str, command: str, flag: str = "--out") -> Path:
+    """``flag``: a creatable directory (:func:`check_output_dir`) that, where it exists, is empty or an earlier output
+    of ``command`` (it holds ``marker``), so that a run never writes into a directory of other files."""
+    out = check_output_dir(Path(path), flag)
+    if out.is_dir() and any(out.iterdir()) and not (out / marker).is_file():
+        raise UsageError(flag, f"{out} exists and is not a {command} output (no {marker}); give a new or empty "
+                               "directory")
+    return out
+
+
 def check_output_file(path: Path, flag: str = "--out") -> Path:
     """An output file that can be written: not a directory, writable if it exists, below no file, its nearest
     existing ancestor (missing folders are created by the writer) writable unless the file is there already,

@@ -101,13 +101,9 @@ class _Staging:
 
 def check_out(out: Path) -> Path:
     """``--out``: creatable, and if it exists, empty or a previous ``cof-gym evaluate`` output."""
-    from cof_gym.commands.args import UsageError, check_output_dir
+    from cof_gym.commands.args import check_command_output
 
-    out = check_output_dir(Path(out))
-    if out.is_dir() and any(out.iterdir()) and not (out / OUTPUT_MARKER).is_file():
-        raise UsageError("--out", f"{out} exists and is not a cof-gym evaluate output (no {OUTPUT_MARKER}); "
-                         "give a new or empty directory")
-    return out
+    return check_command_output(Path(out), OUTPUT_MARKER, "cof-gym evaluate")
 
 
 # ---------------------------------------------------------------------------- the run

@@ -31,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-from cof_gym.commands.args import UsageError
+from cof_gym.commands.args import UsageError, check_command_output
 from cof_gym.commands.paper_readme import check_readme, update_readme
 from cof_gym.analysis.theory import (
     CompliantWheelset,
@@ -47,6 +47,7 @@ from cof_gym.physics.models import build_half_wheelset, build_wagon
 from cof_gym.physics.simulation import DriveCommand, Scenario, Simulation
 from cof_gym.physics.vehicle import HalfWheelsetParameters, WagonParameters, wagon_parameters
 
+RESULTS_FILE = "results.json"  # every plotted number; also what marks an earlier output directory
 PAPER_AMPLITUDE_NM = 345.0
 PAPER_FREQUENCY_HZ = 5.0
 PAPER_OMEGA_RAD_S = 2 * math.pi * PAPER_FREQUENCY_HZ
@@ -324,7 +325,7 @@ def reproduce(out_dir: Path, quick: bool = False) -> dict:
     from cof_gym.commands.paper_figures import plot_all
 
     results["figures"] = [p.name for p in plot_all(results, out_dir)]
-    (out_dir / "results.json").write_text(json.dumps(results, indent=1))
+    (out_dir / RESULTS_FILE).write_text(json.dumps(results, indent=1))
     return results
 
 
@@ -377,7 +378,8 @@ def run(args: argparse.Namespace) -> int:
             check_readme(Path(readme))
         except ValueError as e:
             raise UsageError("--readme", str(e)) from None
-    results = reproduce(Path(args.out), quick=args.quick)
+    out = check_command_output(Path(args.out), RESULTS_FILE, "cof-gym reproduce-paper")
+    results = reproduce(out, quick=args.quick)
     print("\n".join(summary_lines(results)))
     print(f"figures and results.json in {args.out}")
     if readme is not None:

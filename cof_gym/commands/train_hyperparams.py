@@ -29,6 +29,9 @@ def load_hyperparams(env_id: str, conf_file: str | Path = DEFAULT_CONF) -> dict[
 
     with open(conf_file) as f:
         table = yaml.safe_load(f) or {}
+    if not isinstance(table, dict):
+        raise ValueError("not an RL Zoo hyperparameter file (a mapping of env ids to their "
+                         f"hyperparameters), it holds a {type(table).__name__}")
     if env_id in table:
         return dict(table[env_id])
     if "default" in table:

@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from cof_gym.agents.interrogator.climb import ClimbParameters
+from cof_gym.agents.interrogator.networks import open_npz
 
 CAUTION_SPAN = math.log(2.0)  # an action of +-1: the climb's caution (filter and guards) times 2 or halved
 CAUTION_POLICY_FILE = "caution_policy.npz"
@@ -49,7 +50,7 @@ class CautionPolicy:
 
     @classmethod
     def load(cls, path: Path) -> "CautionPolicy":
-        with np.load(path) as data:
+        with open_npz(path, "a caution policy") as data:
             depth = sum(1 for name in data.files if name.endswith("_w")) - 1
             hidden = tuple((data[f"hidden_{k}_w"].astype(np.float32), data[f"hidden_{k}_b"].astype(np.float32))
                            for k in range(depth))

@@ -4,9 +4,11 @@
 from __future__ import annotations
 
 import json
+import zipfile
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Iterable
+from typing import Iterable, Iterator
 
 import numpy as np
 
@@ -94,7 +96,7 @@ class FilterNetwork:
 
     @classmethod
     def load(cls, path: Path) -> "FilterNetwork":
-        with np.load(path) as z:
+        with open_npz(path, "an interrogator network") as z:
             if "feature_names" not in z.files:
                 raise ValueError(f"{path}: not an interrogator network (no feature_names)")
             names = tuple(str(n) for n in z["feature_names"])
@@ -111,6 +113,22 @@ class FilterNetwork:
                            tuple(z[f"b{i}"] if f"b{i}" in z.files else np.zeros(0) for i in range(layers)), names)
             except ValueError as e:
                 raise ValueError(f"{path}: {e}") from None
+
+
+@contextmanager
+def open_npz(path: Path, what: str) -> Iterator[np.lib.npyio.NpzFile]:
+    """``np.load(path)`` of a network's ``.npz``; a file that is no readable ``.npz`` (garbage, truncated, a pickle
+    numpy would refuse with its own words) is a one-line ``ValueError`` saying it is not ``what``."""
+    try:
+        archive = np.load(path)
+    except FileNotFoundError:
+        raise
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile):  # (numpy's words for garbage speak of pickles)
+        raise ValueError(f"{path}: not {what} (not a readable .npz archive)") from None
+    if not isinstance(archive, np.lib.npyio.NpzFile):  # a bare .npy array
+        raise ValueError(f"{path}: not {what} (a single array, not an .npz archive)")
+    with archive as z:
+        yield z
 
 
 # a pooled ensemble read generation by generation (FilterEnsemble.generations): {"members": [count, count, ...]}
