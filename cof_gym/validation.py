@@ -48,6 +48,12 @@ def check_range(name: str, value: Any, low: float, high: float) -> tuple[float, 
     return lo, hi
 
 
+def is_number(value: Any) -> bool:
+    """A finite real number (a numpy one too), never a bool."""
+    return (isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
+            and math.isfinite(float(value)))
+
+
 def is_int(value: Any) -> bool:
     """An integer (a numpy integer too), never a bool (Python's or numpy's) nor a float."""
     return isinstance(value, numbers.Integral) and not isinstance(value, (bool, np.bool_))

@@ -46,7 +46,7 @@ from train_interrogator import copy_networks, install_guards, require_networks  
 from cof_gym.agents.interrogator import INTERVAL_FILE, SHIPPED_INTERROGATOR  # noqa: E402
 from cof_gym.agents.interrogator.agent import read_manifest, write_manifest  # noqa: E402
 from cof_gym.agents.interrogator.networks import ensemble_files  # noqa: E402
-from cof_gym.commands.args import Parser  # noqa: E402
+from cof_gym.commands.args import DistinctNames, Parser  # noqa: E402
 
 
 def shown(path: Path) -> str:
@@ -144,6 +144,7 @@ def main() -> None:
     ap.add_argument("--smoothed-guards", type=Path, nargs="*", default=[], metavar="DIR",
                     help="with --smoothed-filter: its guards, as many as --guards")
     ap.add_argument("--smoothed-set", type=climb_item, nargs="+", default=[], metavar="NAME=VALUE",
+                    action=DistinctNames,
                     help="with --smoothed-filter: climb parameters changed for the decisions its networks take")
     ap.add_argument("--out", type=Path, default=None, metavar="DIR",
                     help="the policy directory written (replaced where it exists); required unless --into")

@@ -78,7 +78,8 @@ from make_grids import CONFIRMATION_SETS, EXTREMES_CONFIRMATION_SETS, SUITES, TO
 from script_checks import check_out_file  # noqa: E402
 
 from cof_gym.agents.interrogator import (  # noqa: E402
-    ESTIMATE_SOURCES, ESTIMATOR_ESTIMATES, GUARDED_ESTIMATES, SHIPPED_INTERROGATOR, ClimbParameters, read_manifest,
+    ESTIMATE_SOURCES, ESTIMATOR_ESTIMATES, GUARDED_ESTIMATES, SHIPPED_INTERROGATOR, ClimbParameters, manifest_networks,
+    read_manifest,
 )
 from cof_gym.commands.args import Parser, name_value, positive_int  # noqa: E402
 from cof_gym.commands.suites import scenario_option  # noqa: E402
@@ -327,12 +328,16 @@ def climb_item(text: str) -> tuple[str, object]:
     return name, value
 
 
-def checked_climb(climb: dict, changes: dict, guards: int | None = None) -> None:
+def checked_climb(climb: dict, changes: dict, guards: int | None = None, estimators: int | None = None) -> None:
     """Raises ValueError naming the parameter where ``climb`` with ``changes`` is no valid climb (with ``guards``:
-    for an interrogator with that many guards)."""
+    for an interrogator with that many guards; with ``estimators``: that many estimators, so that an estimate source
+    that reads networks the agent lacks is refused here, not in a worker mid-play)."""
     params = ClimbParameters(**{**climb, **changes})
     if guards is not None:
         params.check_guard_count(guards)
+    if estimators == 0 and params.estimate_from in ESTIMATOR_ESTIMATES:
+        raise ValueError(f"estimate_from={params.estimate_from!r} reads the estimators' corrections, but the "
+                         "interrogator has no estimators")
 
 
 def climb_setting(text: str) -> tuple[str, object]:
@@ -436,6 +441,12 @@ def check_arguments(parser: Parser, args: argparse.Namespace) -> None:
             checked_climb(read_manifest(SHIPPED_INTERROGATOR)["climb"], {"guard_cautions": cautions}, len(args.guards))
         except ValueError as error:
             parser.error(f"--set: {error}")
+    estimators = len(args.estimators or manifest_networks(SHIPPED_INTERROGATOR, "estimators"))
+    for source in (v for n, v in args.set if n == "estimate_from"):
+        try:
+            checked_climb(read_manifest(SHIPPED_INTERROGATOR)["climb"], {"estimate_from": source}, None, estimators)
+        except ValueError as error:
+            parser.error(f"--set: {error} (give --estimators)")
     require_networks(parser, "--run", args.run)
     require_networks(parser, "--guards", args.guards or [])
     require_networks(parser, "--estimators", args.estimators or [])

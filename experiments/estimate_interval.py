@@ -280,7 +280,11 @@ def coverage(option: str):
     """An argparse type for a coverage in (0, 1)."""
     def parse(text: str) -> float:
         try:
-            return check_coverage(option, float(text))
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{option} must be a number in (0, 1), got {text!r}") from None
+        try:
+            return check_coverage(option, value)
         except ValueError as error:
             raise argparse.ArgumentTypeError(str(error)) from None
     return parse

@@ -36,7 +36,7 @@ from cof_gym.commands.suites import SuiteError, make_suite
 from cof_gym.task.scenarios import COF_ENVELOPE
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from script_checks import check_out_file  # noqa: E402
+from script_checks import check_out_file, checked_agents  # noqa: E402
 
 DEFAULT_SUITE = Path(__file__).resolve().parent / "suites" / "v2_validation_steep_grid.json"
 DEFAULT_AGENTS = ("interrogator", "phase-rule", "staircase", "model-based", "robust-model")
@@ -179,15 +179,7 @@ def checked_pair_arguments(ap: argparse.ArgumentParser, args: argparse.Namespace
 def sensor_only_agents(ap: argparse.ArgumentParser, text: str) -> list[str]:
     """The comma-separated agents of ``--agents`` (``text``), each registered and none an oracle: twins read alike
     only to agents that do not read the truth (``ap.error`` otherwise: one line, exit code 2)."""
-    agents = [a.strip() for a in text.split(",") if a.strip()]
-    for spec in agents:
-        try:
-            entry, _ = registry.parse(spec)
-        except registry.AgentSpecError as error:
-            ap.error(f"--agents: {error}")
-        if entry.oracle:
-            ap.error(f"--agents: {spec} reads the truth; the twins read alike only to agents that do not")
-    return agents
+    return checked_agents(ap, "--agents", text.split(","), "the twins read alike only to agents that do not")
 
 
 def main() -> None:

@@ -29,7 +29,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from script_checks import check_out_file  # noqa: E402
 from train_interrogator import CONFIGS  # noqa: E402
 
-from cof_gym.commands.args import Parser, positive_int  # noqa: E402
+from cof_gym.commands.args import MAX_SEED, Parser, positive_int, seed_int  # noqa: E402
 
 ESTIMATES = {"learned": "the learned agent's estimate", "fit_mean": "fit of the windows' means",
              "fit_swing": "fit reading each window's CoA swing"}
@@ -117,9 +117,18 @@ def add_draw_options(parser: Parser, episodes: int) -> None:
     """``--episodes``, ``--first-seed``, ``--workers`` and ``--out``: the draws both configurations play and where the
     table goes (this script's and ``shadow_reading.py``'s)."""
     parser.add_argument("--episodes", type=positive_int, default=episodes, help="seeds per vehicle configuration")
-    parser.add_argument("--first-seed", type=positive_int, default=7_000_000)
+    parser.add_argument("--first-seed", type=seed_int, default=7_000_000)
     parser.add_argument("--workers", type=positive_int, default=2)
     parser.add_argument("--out", type=Path, default=None, help="write the table (markdown) here too")
+
+
+def check_draw_options(parser: Parser, args: Any) -> None:
+    """The draws' last seed within what an episode seed may be (``parser.error`` naming ``--first-seed``), and
+    ``--out`` writable, before anything is played."""
+    last = args.first_seed + args.episodes - 1
+    if last > MAX_SEED:
+        parser.error(f"--first-seed: the last draw's seed {last} is beyond {MAX_SEED}")
+    check_out_file(parser, "--out", args.out)
 
 
 def play_draws(play: Callable[[tuple], list[dict[str, Any]]], args: Any, *lead: Any) -> list[dict[str, Any]]:
@@ -143,7 +152,7 @@ def main() -> None:
     parser = Parser(description=__doc__.splitlines()[0])
     add_draw_options(parser, episodes=200)
     args = parser.parse_args()
-    check_out_file(parser, "--out", args.out)
+    check_draw_options(parser, args)
     report(table(play_draws(play, args)), args.out)
 
 

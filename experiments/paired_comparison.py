@@ -27,7 +27,7 @@ import numpy as np
 from cof_gym.commands.args import Parser
 from cof_gym.commands.evaluate_stats import N_BOOTSTRAP, paired_differences
 from cof_gym.commands.evaluate_tables import ci_text  # noqa: F401 - a difference and its CI; rule_check reads it here
-from cof_gym.validation import check_bool, check_number
+from cof_gym.validation import check_bool, check_int, check_number
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from script_checks import check_out_file  # noqa: E402
@@ -88,10 +88,16 @@ def table(records: list[dict], baseline: str | None = None, compared: list[str] 
 
 
 def check_record(index: int, record: dict) -> None:
-    """An episode's numbers as the tables read them: ``error`` a finite relative error >= 0, ``macro_slip`` a
+    """An episode's fields as the tables read them: ``grid`` a name, ``config`` the vehicle configuration (an
+    object of env arguments), ``episode`` an index >= 0, ``error`` a finite relative error >= 0, ``macro_slip`` a
     bool, ``episode_return`` (where present) a finite number (the package's argument checks,
     :mod:`cof_gym.validation`); ValueError naming the episode and the field."""
     try:
+        if not isinstance(record.get("grid"), str):
+            raise ValueError(f"grid must be a grid's name (a string), got {record.get('grid')!r}")
+        if not isinstance(record.get("config"), dict):
+            raise ValueError(f"config must be an object of env arguments, got {record.get('config')!r}")
+        check_int("episode", record.get("episode"), 0)
         check_number("error", record.get("error"), 0.0, math.inf)
         check_bool("macro_slip", record.get("macro_slip"))
         if "episode_return" in record:

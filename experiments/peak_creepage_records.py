@@ -25,6 +25,7 @@ import numpy as np
 from cof_gym.commands.args import Parser
 from cof_gym.commands.evaluate_stats import peak_creepage_band
 from cof_gym.commands.suites import Suite, SuiteError, make_suite
+from cof_gym.validation import is_number
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from paired_comparison import print_table, read_record_files  # noqa: E402
@@ -82,6 +83,10 @@ def main(argv: list[str] | None = None) -> None:
     except SuiteError as error:
         parser.error(f"--suite: {error}")
     records = read_record_files(parser, args.records)
+    for index, record in enumerate(records):  # how each climb ended: what this table reads beyond the errors
+        if not isinstance(record.get("ended"), str) or not is_number(record.get("peak_torque_fraction")):
+            parser.error(f"--records: episode {index} has no 'ended' (text) and 'peak_torque_fraction' (a number): "
+                         "records of crest_tradeoff.py --records carry both")
     missing = sorted({r["episode"] for r in records if not 0 <= r["episode"] < len(suite.episodes)})
     if missing:
         parser.error(f"--records: episode {missing[0]} is not in --suite {args.suite} "

@@ -57,6 +57,9 @@ def main() -> None:
     check_out_dir(parser, "--out", args.out)
     if member_files(args.out):
         parser.error(f"--out: {args.out} already holds networks (member_*.npz); give an empty or new directory")
+    resolved = [d.resolve() for d in args.directories]
+    if twice := sorted({str(d) for d, r in zip(args.directories, resolved) if resolved.count(r) > 1}):
+        parser.error(f"DIR: {', '.join(twice)} given more than once; its networks would count twice in the pool")
     members = []
     for directory in args.directories:
         try:

@@ -1112,6 +1112,7 @@ from pathlib import Path
 
 import numpy as np
 
+from cof_gym.commands.args import Parser
 from cof_gym.commands.evaluate_stats import PEAK_CREEPAGE_BANDS, paired_differences, peak_creepage_band
 from cof_gym.commands.evaluate_tables import ci_text
 
@@ -1953,7 +1954,11 @@ def fill(texts: dict[Path, str], name: str, content: str | None, source: str) ->
         print(f"{', '.join(_shown(d) for d in holders)}: results:{name} <- {source}")
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
+    # no options: a parser so that --help (or a stray argument) explains and changes nothing
+    Parser(prog="readme_results.py", description="Copy measured agent results into README.md, docs/results.md and "
+           "docs/interrogator.md (run from the repository root after the commands in this script's docstring), so "
+           "that their tables are generated, never typed.").parse_args(argv)
     for src, dst in FIGURES.items():
         if src.is_file():
             shutil.copyfile(src, dst)

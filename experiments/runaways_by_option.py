@@ -23,6 +23,8 @@ from crest_tradeoff import GRID_SETS  # noqa: E402
 from paired_comparison import paired, print_table, read_record_files  # noqa: E402
 from script_checks import check_out_file  # noqa: E402
 
+from cof_gym.validation import is_number  # noqa: E402
+
 EDGE = float_in_range(-1e9, 1e9, low_inclusive=True)  # a finite band edge (an option's value, any sign)
 
 
@@ -85,6 +87,9 @@ def main() -> None:
     episodes = grid_episodes(GRID_SETS[args.grids])
     if not any(args.option in e.get("options", {}) for grid in episodes.values() for e in grid):
         parser.error(f"--option: no episode of --grids {args.grids} sets {args.option!r}")
+    if not all(is_number(e.get("options", {}).get(args.option, 0.0)) for grid in episodes.values() for e in grid):
+        parser.error(f"--option: {args.option!r} is not a number in the grids' episodes (e.g. a condition or a creep "
+                     "law); band a numeric option such as torque_gain_error or noise_level")
     records = read_record_files(parser, args.records)
     values = option_values(episodes, args.option)
     try:

@@ -34,6 +34,29 @@ def check_out_dir(parser: argparse.ArgumentParser, option: str, path: Path) -> N
         parser.error(str(error))
 
 
+def checked_agents(parser: argparse.ArgumentParser, option: str, specs: list[str], no_oracle: str | None = None
+                   ) -> list[str]:
+    """The agents ``specs`` of ``option`` (cof-gym evaluate's names), at least one, each once, each known to the
+    registry with a usable ``:ARG`` (a model file that exists); with ``no_oracle`` (why), none that reads the truth.
+    Otherwise ``parser.error`` naming ``option``, before any simulation."""
+    from cof_gym.agents import registry
+
+    specs = [spec.strip() for spec in specs if spec.strip()]
+    if not specs:
+        parser.error(f"{option}: give at least one agent")
+    if repeated := sorted({spec for spec in specs if specs.count(spec) > 1}):
+        parser.error(f"{option}: {', '.join(repeated)} given more than once; give each agent once")
+    for spec in specs:
+        try:
+            entry, argument = registry.parse(spec)
+            registry.check_argument(entry, argument)
+        except (ValueError, OSError) as error:
+            parser.error(f"{option}: {spec}: {error}")
+        if no_oracle and entry.oracle:
+            parser.error(f"{option}: {spec} reads the truth; {no_oracle}")
+    return specs
+
+
 def load_climbs(parser: argparse.ArgumentParser, option: str, path: Path) -> Any:
     """The climbs ``path`` holds (a file ``Dataset.save`` wrote: :class:`~cof_gym.agents.interrogator.training.Dataset`);
     a missing or unreadable file is ``parser.error`` naming ``option``."""

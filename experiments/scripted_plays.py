@@ -23,7 +23,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from crest_tradeoff import GRID_SETS, Played  # noqa: E402
-from script_checks import check_out_file  # noqa: E402
+from script_checks import check_out_file, checked_agents  # noqa: E402
 from train_interrogator import CONFIGS  # noqa: E402
 
 from cof_gym.agents import registry  # noqa: E402
@@ -64,13 +64,8 @@ def main() -> None:
     args = parser.parse_args()
     if "{agent}" not in args.records and len(args.agents) > 1:
         parser.error("--records: name {agent} in it, one file per agent")
+    args.agents = checked_agents(parser, "--agents", args.agents, "only agents that do not are compared here")
     for name in args.agents:
-        try:
-            entry, _ = registry.parse(name)
-        except ValueError as e:
-            parser.error(f"--agents: {e}")
-        if entry.oracle:
-            parser.error(f"--agents: {name} reads the truth; only agents that do not are compared here")
         check_out_file(parser, "--records", Path(args.records.replace("{agent}", name)))
     jobs = [(name, grid, path, config, dict(args.scenario)) for name in args.agents
             for grid, path in GRID_SETS[args.grids].items() for config in CONFIGS]

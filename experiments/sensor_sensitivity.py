@@ -41,7 +41,7 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-from script_checks import check_out_file, write_report  # noqa: E402
+from script_checks import check_out_file, checked_agents, write_report  # noqa: E402
 from train_interrogator import CONFIGS, VALIDATION  # noqa: E402
 
 import cof_gym  # noqa: E402,F401  (registers the envs)
@@ -101,12 +101,7 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=Path("out/sensor_sensitivity.md"))
     args = parser.parse_args()
     check_out_file(parser, "--out", args.out)
-    agents = [a.strip() for a in args.agents.split(",") if a.strip()]
-    for spec in agents:
-        try:
-            registry.parse(spec)
-        except registry.AgentSpecError as error:
-            parser.error(f"--agents: {error}")
+    agents = checked_agents(parser, "--agents", args.agents.split(","))
     rows = settings()
     jobs = [(spec, setting, config) for setting in rows for spec in agents for config in CONFIGS]
     with ProcessPoolExecutor(args.workers) as pool:

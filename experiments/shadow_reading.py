@@ -26,8 +26,7 @@ from typing import Any
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from own_window_fit import ENDINGS, add_draw_options, cell, play_draws, report  # noqa: E402
-from script_checks import check_out_file  # noqa: E402
+from own_window_fit import ENDINGS, add_draw_options, cell, check_draw_options, play_draws, report  # noqa: E402
 
 from cof_gym.commands.args import Parser  # noqa: E402
 
@@ -100,7 +99,7 @@ def main() -> None:
                         "reads the learned climb's own windows, a reference)")
     add_draw_options(parser, episodes=100)
     args = parser.parse_args()
-    check_out_file(parser, "--out", args.out)
+    check_draw_options(parser, args)
     from cof_gym.agents import registry
 
     entry = registry.AGENTS.get(args.agent)

@@ -48,9 +48,10 @@ from train_interrogator import (  # noqa: E402
     CONFIGS, ENCODER_LAGS_S, ENV_ID, fit_networks, parse_climbs, require_networks, split)
 
 from cof_gym.agents.interrogator import (  # noqa: E402
-    SHIPPED_INTERROGATOR, FilterEnsemble, manifest_climb, manifest_guards, read_manifest, write_manifest,
+    SHIPPED_INTERROGATOR, FilterEnsemble, manifest_climb, manifest_guards, manifest_networks, read_manifest,
+    write_manifest,
 )
-from cof_gym.commands.args import DistinctValues, Parser, positive_int, seed_int  # noqa: E402
+from cof_gym.commands.args import DistinctNames, DistinctValues, Parser, positive_int, seed_int  # noqa: E402
 from cof_gym.task.creep_fit import coa_fell  # noqa: E402
 from cof_gym.agents.interrogator.networks import ensemble_files  # noqa: E402
 from cof_gym.agents.interrogator.training import (  # noqa: E402
@@ -179,7 +180,7 @@ def main() -> None:
     ap.add_argument("--reuse", action="store_true", help="keep OUT/seed_K networks that exist")
     ap.add_argument("--collect-only", action="store_true",
                     help="collect the policy's climbs into OUT's cache and stop (no networks, no report)")
-    ap.add_argument("--set", nargs="+", default=[], metavar="NAME=VALUE", type=climb_item,
+    ap.add_argument("--set", nargs="+", default=[], metavar="NAME=VALUE", type=climb_item, action=DistinctNames,
                     help="the policy climbs with these climb parameters (ClimbParameters fields; values JSON or plain "
                          "text) changed: a copy of it in OUT/policy/")
     ap.add_argument("--loss", choices=FIT_LOSSES, default="gaussian",
@@ -194,7 +195,8 @@ def main() -> None:
     if not (args.policy / "manifest.json").is_file():
         ap.error(f"--policy: no manifest.json in {args.policy} (the climb the estimator learns)")
     try:  # the --set values against the policy's own climb
-        checked_climb(read_manifest(args.policy).get("climb", {}), dict(args.set), len(manifest_guards(args.policy)))
+        checked_climb(read_manifest(args.policy).get("climb", {}), dict(args.set), len(manifest_guards(args.policy)),
+                      len(manifest_networks(args.policy, "estimators")))
     except ValueError as error:
         ap.error(f"--set: {error}")
     climbs = parse_climbs(ap, args.climbs, "--climbs", ON_POLICY)

@@ -604,6 +604,9 @@ def report_only(parser: argparse.ArgumentParser, args: argparse.Namespace) -> No
     for option in ("add_climbs", "add_guard_climbs", "guards"):
         if getattr(args, option):
             parser.error(f"--report-only: plays the shipped agent's own networks, without --{option.replace('_', '-')}")
+    for option in ("climbs", "guard_climbs", "epochs", "loss", "features", "criterion", "grid", "seeds"):
+        if getattr(args, option, None) != parser.get_default(option):  # what only fitting or selecting reads
+            parser.error(f"--report-only: fits and selects nothing, so --{option.replace('_', '-')} would be ignored")
     t0 = time.time()
     args.out.mkdir(parents=True, exist_ok=True)
     runs = shipped_runs(args.out)
@@ -816,6 +819,8 @@ def main() -> None:
     if args.report_only:
         report_only(ap, args)
         return
+    if args.ship and args.fit_only:
+        ap.error("--ship: not with --fit-only, which stops before the selection whose climb ships")
     training = checked_climbs(ap, args)
     out = args.out
     out.mkdir(parents=True, exist_ok=True)

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import csv
 import math
+import re
 import json
+from dataclasses import replace
 from pathlib import Path
 
 import gymnasium as gym
@@ -149,6 +151,39 @@ def test_usable_cores_honour_a_containers_cpu_quota(monkeypatch) -> None:
     assert ev.usable_cores() == 64
     files["/proc/meminfo"] = "MemTotal:  8000 kB\nMemAvailable:    2048 kB\n"
     assert ev.available_memory_bytes() == 2048 * 1024
+
+
+def test_evaluate_from_python_checks_its_arguments_before_playing_and_never_replaces_other_files(tmp_path) -> None:
+    """The CLI checked these; a script calling evaluate() lost a directory of its own files to the output."""
+    suite = make_suite("default", 1, 0)
+    foreign = tmp_path / "mine"
+    foreign.mkdir()
+    (foreign / "notes.txt").write_text("keep me\n")
+    with pytest.raises(ValueError, match="mine exists and is not a cof-gym evaluate output"):
+        evaluate(["staircase"], suite, foreign, 0, quiet=True)
+    assert (foreign / "notes.txt").read_text() == "keep me\n"
+    (tmp_path / "a_file").write_text("x")
+    for agents, the_suite, out, seed, fragment in (
+            (["staircase"], suite, tmp_path / "a_file", 0, "a_file"),
+            ("staircase", suite, tmp_path / "o", 0, "agent_specs must be a list of agent names"),
+            (["staircase"], replace(suite, episodes=[]), tmp_path / "o", 0, "has no episodes to play"),
+            (["staircase"], suite, tmp_path / "o", -1, "seed must be an integer in"),
+            (["staircase"], suite, tmp_path / "o", float("nan"), "seed must be an integer in")):
+        with pytest.raises(ValueError, match=fragment):
+            evaluate(agents, the_suite, out, seed, quiet=True)
+    assert not (tmp_path / "o").exists() and (tmp_path / "a_file").read_text() == "x"
+    for n_episodes, seed, fragment in ((-1, 0, "n_episodes"), (0, 0, "n_episodes"), (float("nan"), 0, "n_episodes"),
+                                       (2, -1, "seed"), (True, 0, "n_episodes")):
+        with pytest.raises(SuiteError, match=f"{fragment} must be an integer in"):
+            make_suite("default", n_episodes, seed)
+
+
+@pytest.mark.parametrize("spec", [None, 3, ["staircase"]])
+def test_an_agent_named_by_anything_but_a_string_is_refused_in_words(spec) -> None:
+    with pytest.raises(registry.AgentSpecError, match="an agent is named by a string"):
+        registry.parse(spec)
+    with pytest.raises(ValueError, match="env must be a cof_gym env"):
+        registry.make_agent("staircase", None)
 
 
 def test_bad_agent_and_suite_names_raise(tmp_path: Path) -> None:
@@ -550,3 +585,40 @@ def test_a_macro_slip_counts_as_a_failed_measurement_in_its_own_metrics_only() -
     for key, _, column, stat, _ in earlier:
         values = np.array([getattr(r, column) for r in records], dtype=float)
         assert entry[key]["ci95"] == list(bootstrap_ci(values, stat, rng)), key
+
+
+@pytest.mark.parametrize("module, name, parameters, fragment", [
+    ("phase_rule", "PhaseRule", {"frequency_hz": math.nan}, "PhaseRule.frequency_hz must be a number"),
+    ("phase_rule", "PhaseRule", {"frequency_hz": -5.0}, "PhaseRule.frequency_hz must be > 0"),
+    ("phase_rule", "PhaseRule", {"baseline_windows": 1.5}, "PhaseRule.baseline_windows must be an integer"),
+    ("phase_rule", "PhaseRule", {"corrected_se": 1}, "PhaseRule.corrected_se must be a bool"),
+    ("robust_model", "RobustModel", {"amplitude_ratio": -1.0}, "RobustModel.amplitude_ratio must be > 0"),
+    ("robust_model", "RobustModel", {"margin_se": math.inf}, "RobustModel.margin_se must be finite"),
+    ("model_based", "ModelBasedAgent", {"ci_tolerance": math.nan}, "ci_tolerance must be a number"),
+    ("model_based", "ModelBasedAgent", {"shape_families": ("nope",)}, "shape_families must be"),
+    ("staircase", "PracticalStaircase", {"min_stop_creepage": -0.1}, "must be >= 0"),
+])
+def test_a_hand_built_agent_refuses_a_parameter_that_would_become_a_nan_or_a_clipped_action(module, name, parameters,
+                                                                                           fragment) -> None:
+    """Before, each was accepted and sent a NaN action mid-episode (or one silently clipped to the drive's range)."""
+    limits = gym.make(cof_gym.WAGON_ENV_ID).unwrapped.limits
+    with pytest.raises(ValueError, match=re.escape(fragment)):
+        registry_free(module, name, limits, **parameters)
+
+
+def test_a_hand_built_agent_keeps_the_values_its_parameters_may_take() -> None:
+    from cof_gym.agents.robust_model import RobustModel
+    from cof_gym.agents.staircase import ElasticityClimb
+
+    limits = gym.make(cof_gym.WAGON_ENV_ID).unwrapped.limits
+    assert RobustModel(limits, knee_weight=0.0, refine_windows=0).knee_weight == 0.0  # the bracket's lower end
+    assert registry_free("phase_rule", "PhaseRule", limits, threshold_rise_deg=math.inf, margin_se=0.0).margin_se == 0
+    with pytest.raises(ValueError, match=r"ElasticityClimb.first_fraction must be > 0"):
+        ElasticityClimb(first_fraction=0.0)
+
+
+def registry_free(module: str, name: str, limits, **parameters):
+    """``cof_gym.agents.MODULE.NAME(limits, **parameters)``: a hand-built agent made as a user's script makes it."""
+    import importlib
+
+    return getattr(importlib.import_module(f"cof_gym.agents.{module}"), name)(limits, **parameters)

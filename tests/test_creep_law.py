@@ -158,3 +158,12 @@ def test_accepted_conditions_have_a_true_peak(condition: str, cof: float, speed:
     coa, _ = creep_curve(s, op)
     assert coa.max() <= cof * (1 + 1e-6)
     assert peak.creepage < 1.0  # an interior maximum, not the scan's edge at s = 2
+
+
+def test_operating_conditions_hold_the_documented_cof_range() -> None:
+    """Below 1e-3 (COF_RANGE) the curve's slopes underflow towards NaN; the check said (0, 1.5]."""
+    from cof_gym.physics.creep import COF_RANGE, OperatingConditions
+
+    assert OperatingConditions(cof=COF_RANGE[0]).cof == COF_RANGE[0]
+    with pytest.raises(ValueError, match=r"cof must be a finite number in \[0.001, 1.5\]"):
+        OperatingConditions(cof=1e-300)

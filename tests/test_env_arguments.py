@@ -87,7 +87,7 @@ def test_a_range_with_an_infinite_end_is_written_as_its_bound(low, high, low_ope
 
 
 @pytest.mark.parametrize("make, message", [
-    (lambda: OperatingConditions(cof=True), "cof must be a number in (0, 1.5], got True (bool)"),
+    (lambda: OperatingConditions(cof=True), "cof must be a number in [0.001, 1.5], got True (bool)"),
     (lambda: OperatingConditions(cof=0.3, speed_m_s=-1.0), "speed_m_s must be a finite number > 0 m/s, got -1.0"),
     (lambda: PolachShape(k_adhesion=1.0, k_slip="0.4", friction_ratio=0.4, friction_decay_s_per_m=0.6),
      "k_slip must be a number > 0, got '0.4' (str)"),
@@ -248,3 +248,29 @@ def test_a_bad_reset_seed_is_refused_naming_it(seed):
         env.reset(seed=seed)
     assert np.array_equal(env.reset(seed=np.int64(3))[0], env.reset(seed=3)[0])  # a numpy integer is the int it holds
     env.close()
+
+
+def test_motor_limits_encode_action_and_decode_observation_refuse_what_would_turn_into_nan_or_true() -> None:
+    """For scripted agents: an infinite limit made every DC torque encode to -1; a NaN went on as an action
+    component; stop="no" was a stop; a short observation vector failed with an IndexError, a long one decoded."""
+    from cof_gym.task.interface import (OBSERVATION_NAMES, MotorLimits, ObservationScales, decode_observation,
+                                        encode_action)
+
+    for args, fragment in (((math.inf,), "MotorLimits.max_dc_torque_nm must be a finite number > 0"),
+                           (("1e4",), "MotorLimits.max_dc_torque_nm must be a number > 0"),
+                           ((1e4, 0.46, 30.0, 20.0), "MotorLimits.min_amplitude_nm must be below max_amplitude_nm")):
+        with pytest.raises(ValueError, match=re.escape(fragment)):
+            MotorLimits(*args)
+    limits = MotorLimits(1e4)
+    assert type(MotorLimits(np.float32(1e4)).max_dc_torque_nm) is float
+    for args, fragment in (((math.nan, 100.0, 5.0, 0.2, False), "dc_torque_nm must be a finite number"),
+                           ((1e3, 100.0, 5.0, math.inf, False), "cof_estimate must be a finite number"),
+                           ((1e3, 100.0, 5.0, 0.2, "no"), "stop must be a bool"),
+                           ((1e3, 100.0, 5.0, 0.2, 1), "stop must be a bool")):
+        with pytest.raises(ValueError, match=fragment):
+            encode_action(*args, limits)
+    assert encode_action(1e3, 100.0, 5.0, 0.2, np.bool_(True), limits)[4] == 1.0
+    scales = ObservationScales(limits, 116.0, 1e5, 30.0)
+    for length in (5, len(OBSERVATION_NAMES) + 6):
+        with pytest.raises(ValueError, match=rf"a window observation has shape \({len(OBSERVATION_NAMES)},\)"):
+            decode_observation(np.zeros(length), scales)

@@ -98,6 +98,28 @@ CASES = [
     ("learned_caution", ["--seeds", "4294967296", "--out", "{new}"], "--seeds"),
     ("train_interrogator", ["--climbs", "torque_wide=\u00b2", "--out", "{new}"], "--climbs"),  # a digit int() refuses
     ("make_grids", ["--bogus"], "--bogus"),  # no options: nothing is generated or written
+    ("readme_results", ["--bogus"], "--bogus"),  # no options: --help and a stray option rewrite no document
+    # a key given twice (the last value won); an estimate source that reads networks the agent lacks (a worker's
+    # traceback mid-play)
+    ("assemble_policy", ["--filter", "{SHIPPED}", "--smoothed-filter", "{SHIPPED}", "--smoothed-set", "caution=1",
+                         "caution=2", "--out", "{new}"], "--smoothed-set: caution given more than once"),
+    ("train_estimator", ["--set", "caution=1", "caution=2", "--out", "{new}"], "--set: caution given more than once"),
+    ("train_estimator", ["--set", "estimate_from=estimator", "--out", "{new}"], "--set: estimate_from='estimator'"),
+    ("crest_tradeoff", ["--set", "estimate_from=estimator", "--out", "{new}/t.md"], "(give --estimators)"),
+    # agents: at least one, each once, a model that exists (named as --agents, not --suite)
+    *[(script, ["--agents", agents, "--out", "{new}/t.md"], fragment)
+      for script in ("knee_twins", "indistinguishable_peaks", "sensor_sensitivity")
+      for agents, fragment in ((",", "--agents: give at least one agent"),
+                               ("phase-rule,phase-rule", "--agents: phase-rule given more than once"),
+                               ("sb3:{new}.zip", "--agents: sb3:"))],
+    ("scripted_plays", ["--agents", "phase-rule", "phase-rule", "--records", "{new}/r_{{agent}}.json"],
+     "--agents: phase-rule given more than once"),
+    ("own_window_fit", ["--first-seed", "9223372036854775800", "--out", "{new}/t.md"],
+     "--first-seed: the last draw's seed"),
+    ("shadow_reading", ["--first-seed", "99999999999999999999999", "--out", "{new}/t.md"], "--first-seed"),
+    ("pool_ensembles", ["{SHIPPED}", "{SHIPPED}", "--out", "{new}"], "given more than once"),
+    ("train_interrogator", ["--report-only", "--climbs", "env=5", "--out", "{new}"], "--climbs would be ignored"),
+    ("train_interrogator", ["--ship", "--fit-only", "--out", "{new}"], "--ship: not with --fit-only"),
     ("train_interrogator", ["--epochs", "0", "--out", "{new}"], "--epochs"),
     ("train_interrogator", ["--epochs", "0", "--report-only", "--out", "{new}"], "--epochs"),
     ("train_interrogator", ["--workers", "0", "--out", "{new}"], "--workers"),

@@ -306,3 +306,14 @@ def test_guards_come_from_the_manifest_and_must_drive_the_climbs_tones(tmp_path)
     with pytest.raises(ValueError, match="guard reads another excitation"):
         LearnedInterrogator(env.unwrapped.limits, FilterEnsemble((random_network(1),)),
                             guards=(FilterEnsemble((two_tone,)),))
+
+
+@pytest.mark.parametrize("text, fragment", [("{bad", "manifest.json is not JSON"),
+                                            ("[1, 2]", "manifest.json must hold a JSON object")])
+def test_a_broken_manifest_is_refused_naming_the_file(tmp_path, text, fragment):
+    from cof_gym.agents.interrogator.agent import read_manifest
+
+    (tmp_path / "manifest.json").write_text(text)
+    with pytest.raises(ValueError, match=fragment):
+        read_manifest(tmp_path)
+    assert read_manifest(tmp_path / "no_such_directory") == {}

@@ -119,18 +119,23 @@ def test_several_files_are_paired_together_and_a_setting_in_two_is_refused(tmp_p
     ("error", "0.1", r"error must be a number >= 0"),
     ("macro_slip", 1, r"macro_slip must be a bool"),
     ("episode_return", float("inf"), r"episode_return must be a finite number, got inf"),
+    ("grid", None, r"grid must be a grid's name"),  # the keys every table pairs the episodes by
+    ("config", "x", r"config must be an object of env arguments"),
+    ("episode", -1, r"episode must be an integer >= 0"),
 ])
 def test_a_records_file_with_a_number_no_table_can_read_is_refused_naming_the_episode_and_field(tmp_path, field,
                                                                                                  value, message):
     """A NaN error would pass every comparison (a NaN is above no bound); a bool would count as 1 or 0."""
     from paired_comparison import read_records
 
-    episodes = [{"setting": "a", "error": 0.1, "macro_slip": False, "episode_return": -1.0} for _ in range(3)]
+    episodes = [{"setting": "a", "grid": "family", "config": {}, "episode": i, "error": 0.1, "macro_slip": False,
+                 "episode_return": -1.0} for i in range(3)]
     episodes[1][field] = value
     path = tmp_path / "records.json"
     path.write_text(json.dumps(episodes))
     with pytest.raises(ValueError, match=f"episode 1: {message}"):
         read_records(path, set())
-    episodes[1][field] = {"error": 0.2, "macro_slip": True, "episode_return": -2.0}[field]
+    episodes[1][field] = {"error": 0.2, "macro_slip": True, "episode_return": -2.0, "grid": "steep",
+                          "config": {"counter_torque": True}, "episode": 1}[field]
     path.write_text(json.dumps(episodes))
     assert len(read_records(path, set())) == 3

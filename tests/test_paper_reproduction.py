@@ -103,3 +103,18 @@ def test_readme_creep_law_constants_match_the_code() -> None:
     for value, condition in zip(slopes.groups(), ("dry", "dry_kalker")):
         initial = creep_curve(1e-9, OperatingConditions(cof=0.4, condition=condition))[1][0]
         assert float(value) == pytest.approx(initial, abs=0.05)
+
+
+def test_the_compliant_wheelset_model_refuses_constants_that_divide_by_zero_or_turn_it_around() -> None:
+    from cof_gym.analysis.theory import CompliantWheelset, crossing_fraction
+    from cof_gym.physics.vehicle import wagon_parameters
+
+    base = CompliantWheelset.of_wagon(wagon_parameters(), 10.0)
+    assert base.phase_lag_deg(20.0, 2 * math.pi * 5) < 0.0  # the speed lags the torque
+    for field, value in (("speed_m_s", 0.0), ("speed_m_s", -10.0), ("contact_load_n", 0.0), ("mass_kg", math.nan),
+                         ("kx_n_m", math.inf), ("cx_n_s_m", -1.0)):
+        with pytest.raises(ValueError, match=f"CompliantWheelset.{field} must be a"):
+            CompliantWheelset(**{**base.__dict__, field: value})
+    assert CompliantWheelset(**{**base.__dict__, "cx_n_s_m": 0.0}).cx_n_s_m == 0.0  # no damper is a model too
+    with pytest.raises(ValueError, match="omega_m must be a finite number > 0"):
+        crossing_fraction(base, OperatingConditions(cof=0.3), 0.0)

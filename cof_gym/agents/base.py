@@ -69,6 +69,37 @@ def registered_ranges(env_id: str, env_kwargs: Mapping[str, Any] | None = None) 
     return kwargs["ranges"] if kwargs.get("ranges") is not None else default_ranges(kwargs.get("task_version", 2))
 
 
+def check_parameters(agent: Any, positive: Iterable[str] = ()) -> None:
+    """A hand-built agent's numeric parameters (its dataclass fields, the private ones aside) as its defaults are:
+    a bool stays a bool, an int an int, a number a real number that is never NaN, >= 0 where its default is (> 0
+    for the fields named in ``positive``: scales such as a frequency or an amplitude) and infinite only where its
+    default is. ``ValueError`` naming the agent's class and the field at construction, not a NaN action or a
+    silently clipped one mid-episode."""
+    import dataclasses
+    import math
+    import numbers
+
+    cls = type(agent).__name__
+    for f in dataclasses.fields(agent):
+        default, value = f.default, getattr(agent, f.name)
+        if f.name.startswith("_") or isinstance(default, str) or not isinstance(default, numbers.Real):
+            continue  # a name, a flag of another kind, a structure, or None (an optional switch: its own check)
+        where = f"{cls}.{f.name}"
+        if isinstance(default, bool):
+            if not isinstance(value, (bool, np.bool_)):
+                raise ValueError(f"{where} must be a bool (True or False), got {value!r}")
+            continue
+        if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real) or math.isnan(value):
+            raise ValueError(f"{where} must be a number, got {value!r} ({type(value).__name__})")
+        if isinstance(default, numbers.Integral) and not isinstance(value, numbers.Integral):
+            raise ValueError(f"{where} must be an integer, got {value!r}")
+        if math.isinf(value) and not math.isinf(default):
+            raise ValueError(f"{where} must be finite, got {value!r}")
+        strict = f.name in positive
+        if (strict and not value > 0) or (default >= 0 and value < 0):
+            raise ValueError(f"{where} must be {'> 0' if strict else '>= 0'}, got {value!r}")
+
+
 def env_defaults(env_id: str) -> dict[str, Any]:
     """The constructor arguments a registered cof_gym env id is made with by default: its spec's kwargs
     over the constructor's defaults (the constructor's alone for an id that is not registered)."""

@@ -37,9 +37,10 @@ from typing import Any
 
 import numpy as np
 
+from cof_gym.agents.base import check_parameters
 from cof_gym.agents.phase_rule import UNKNOWN_SE_DEG, PhaseRule, knee_seen, phase_of
 from cof_gym.agents.staircase import COA, CREEPAGE, DC, ElasticityClimb, peak_fraction
-from cof_gym.task.creep_fit import ELASTICITY_SPAN, POLACH, ClimbRecord
+from cof_gym.task.creep_fit import ELASTICITY_SPAN, POLACH, SHAPE_FAMILIES, ClimbRecord
 from cof_gym.task.interface import OBSERVATION_NAMES, SPEED_SCALE_M_S, MotorLimits
 
 SPEED = OBSERVATION_NAMES.index("speed")
@@ -68,6 +69,13 @@ class ModelBasedAgent:
     _estimate: float = 0.0
     _phase: tuple[float, float] = (0.0, UNKNOWN_SE_DEG)  # the last window's lag and its SE, deg
     _driven: int = 0  # driven windows read
+
+    def __post_init__(self) -> None:
+        # every numeric parameter as its default is (these > 0): a clear error, not a NaN action
+        check_parameters(self, positive=("ci_tolerance", "stop_elasticity", "min_span", "max_ratio"))
+        if not self.shape_families or set(self.shape_families) - set(SHAPE_FAMILIES):  # refused now, not mid-fit
+            raise ValueError(f"ModelBasedAgent.shape_families must be a non-empty subset of {list(SHAPE_FAMILIES)}, "
+                             f"got {self.shape_families!r}")
 
     def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
         self._dc = 0.0

@@ -219,6 +219,8 @@ def split_modifier(spec: str) -> tuple[str, str | None]:
 def parse(spec: str) -> tuple[AgentEntry, str | None]:
     """``name`` or ``name:ARG`` (either with ``+runaway``, ``+ceiling`` or ``+plain``) -> (entry, ARG or None);
     :class:`AgentSpecError` for anything else."""
+    if not isinstance(spec, str):
+        raise AgentSpecError(f"an agent is named by a string (e.g. 'phase-rule' or 'interrogator:DIR'), got {spec!r}")
     name, sep, argument = split_modifier(spec)[0].partition(":")
     entry = AGENTS.get(name)
     if entry is None or not entry.available():
@@ -240,6 +242,9 @@ def make_agent(spec: str, env: Any):
     ``runaway``, the bracket; without a modifier what it is registered with; with ``+plain`` as its factory
     builds it (named so)."""
     entry, argument = parse(spec)
+    if not hasattr(getattr(env, "unwrapped", None), "limits"):
+        raise ValueError(f"make_agent({spec!r}, env): env must be a cof_gym env (gym.make of one of its ids), "
+                         f"got {env!r}")
     factory = entry.load()
     agent = factory(env, argument) if entry.takes_env else factory(env.unwrapped.limits)
     return as_registered(entry, agent, env.unwrapped.limits, split_modifier(spec)[1])

@@ -38,6 +38,7 @@ from typing import Any
 
 import numpy as np
 
+from cof_gym.agents.base import check_parameters
 from cof_gym.agents.phase_rule import phase_of, phase_rise, probe_amplitude, probe_next_dc, smoothed_speed_signal
 from cof_gym.agents.staircase import COA, ElasticityClimb
 from cof_gym.task.creep_fit import coa_fell
@@ -129,6 +130,11 @@ class RobustModel:
     _corrected: bool = False  # this episode's SE: corrected_se, or the gate's reading of the reset window
     stop_reason: str = field(default="", repr=False)
     probes: list[Probe] = field(default_factory=list, repr=False)
+
+    def __post_init__(self) -> None:
+        # every numeric parameter as its default is (these > 0): a clear error, not a NaN action
+        check_parameters(self, positive=("amplitude_ratio", "max_step", "probe_step", "min_amplitude_nm",
+                                       "frequency_hz", "max_se_deg", "correction"))
 
     def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
         self._dc = self._amp = 0.0

@@ -10,6 +10,7 @@ from typing import Any
 
 import numpy as np
 
+from cof_gym.agents.base import check_parameters
 from cof_gym.analysis.theory import paper_schedule
 from cof_gym.task.creep_fit import coa_fell, elasticity_between
 from cof_gym.task.interface import OBSERVATION_NAMES, MotorLimits, encode_action
@@ -39,6 +40,10 @@ class PaperStaircase:
     _schedule: np.ndarray = field(default_factory=paper_schedule, repr=False)
     _step: int = 0
     _seen_negative: bool = False
+
+    def __post_init__(self) -> None:
+        # every numeric parameter as its default is (these > 0): a clear error, not a NaN action
+        check_parameters(self, positive=("amplitude_nm", "frequency_hz"))
 
     def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
         self._step = 0
@@ -91,6 +96,11 @@ class ElasticityClimb:
     frequency_hz: float = 5.0
     amplitude_ratio: float = 0.02
     min_amplitude_nm: float = 40.0
+
+    def __post_init__(self) -> None:
+        # every numeric parameter as its default is (these > 0): a clear error, not a NaN action
+        check_parameters(self, positive=("first_fraction", "max_growth", "min_growth", "safety", "frequency_hz",
+                                       "amplitude_ratio", "min_amplitude_nm"))
 
     def first_dc(self, limits: MotorLimits) -> float:
         """The first DC torque (N m) of a climb: ``first_fraction`` of the drive's maximum, below the
@@ -150,6 +160,10 @@ class PracticalStaircase:
     _estimate: float = 0.0
     _points: list = field(default_factory=list)
     _falls: int = 0
+
+    def __post_init__(self) -> None:
+        # every numeric parameter as its default is (these > 0): a clear error, not a NaN action
+        check_parameters(self, positive=("stop_elasticity",))
 
     def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
         self._dc = 0.0

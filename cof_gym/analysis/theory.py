@@ -24,13 +24,14 @@ from __future__ import annotations
 
 import cmath
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 from scipy.optimize import brentq
 
 from cof_gym.physics.creep import OperatingConditions, creep_curve, creepage_at_coa
 from cof_gym.physics.vehicle import WagonParameters
+from cof_gym.validation import check_number
 
 SCHEDULE_STEPS_PERCENT = ((50, 10), (70, 5), (90, 3))  # (below this level, step); 1 % from there on
 
@@ -89,6 +90,13 @@ class CompliantWheelset:
     kx_n_m: float
     cx_n_s_m: float
 
+    def __post_init__(self) -> None:
+        # every constant a finite number > 0 (the damper >= 0), stored as checked: a zero speed or load divided by
+        # zero, a negative speed turned the lag around, a NaN mass gave NaN lags
+        for f in fields(self):
+            object.__setattr__(self, f.name, check_number(f"CompliantWheelset.{f.name}", getattr(self, f.name), 0.0,
+                                                          math.inf, low_open=f.name != "cx_n_s_m", high_open=True))
+
     @classmethod
     def of_wagon(cls, p: WagonParameters, speed_m_s: float) -> "CompliantWheelset":
         """The wagon's driven wheelset: two axleboxes, two wheels at the static load."""
@@ -132,7 +140,9 @@ class CompliantWheelset:
 
 def crossing_fraction(model: CompliantWheelset, op: OperatingConditions, omega_m: float) -> float:
     """Fraction of the saturation torque R N CoF at which ``model``'s phase crosses zero on the steady
-    creep curve of ``op`` (slope falling with torque); NaN if it does not in (0.01, 0.999)."""
+    creep curve of ``op`` (slope falling with torque); NaN if it does not in (0.01, 0.999). ``omega_m`` (rad/s) > 0:
+    at 0 every phase is 0, which would read as a crossing at 1 %."""
+    check_number("omega_m", omega_m, 0.0, math.inf, low_open=True, high_open=True)
     m_sat = model.radius_m * model.contact_load_n * op.cof
 
     def phase(frac: float) -> float:

@@ -28,7 +28,7 @@ from cof_gym.commands.evaluate_workers import EPISODES_PER_WORKER, MAX_WORKERS, 
 from cof_gym.commands.suites import (ID_KWARGS, MAX_EPISODES, Suite, SuiteError, make_suite, per_curve,
                                      read_measured_curve, with_env_kwargs)
 from cof_gym.envs.torque_interrogation import make_kwargs
-from cof_gym.validation import brief
+from cof_gym.validation import brief, check_int
 
 DESCRIPTION = """\
 Play every agent on the same seeded scenarios (same CoF, condition, speed, load, noise streams) and
@@ -142,6 +142,25 @@ def build_agents(agent_specs: list[str], env) -> list[tuple[Any, bool]]:
     return built
 
 
+def check_request(agent_specs: list[str], suite: Suite, out: Path, seed: int, paired: str | None) -> None:
+    """:func:`evaluate`'s arguments, before anything is built or played (``ValueError`` naming the argument): a list
+    of agent names, a suite with episodes, an ``out`` that is new, empty or an earlier evaluate output (nothing else
+    is replaced), a seed for the bootstraps, ``paired`` one of the agents beside another."""
+    from cof_gym.commands.args import MAX_SEED, UsageError, check_command_output
+
+    if isinstance(agent_specs, str) or not all(isinstance(spec, str) for spec in agent_specs):
+        raise ValueError(f"agent_specs must be a list of agent names (str), got {agent_specs!r}")
+    if not suite.episodes:
+        raise ValueError(f"suite {suite.name} has no episodes to play")
+    check_int("seed", seed, 0, MAX_SEED)
+    if paired is not None and (paired not in agent_specs or len(agent_specs) < 2):
+        raise ValueError(f"paired: {paired!r} must be one of the agents {agent_specs}, beside at least one other")
+    try:
+        check_command_output(Path(out), OUTPUT_MARKER, "cof-gym evaluate", flag="out")
+    except UsageError as e:
+        raise ValueError(str(e)) from None
+
+
 def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: bool = False,
              check_suite: bool = False, workers: int | None = 1, paired: str | None = None) -> dict[str, Any]:
     """Play ``agent_specs`` on ``suite``; write the outputs to ``out`` (atomically); return the results.
@@ -153,8 +172,7 @@ def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: 
     workers are spawned: a script that asks for more than one needs the usual ``if __name__ == "__main__":`` guard.
     ``paired``: one of ``agent_specs``, every other agent compared with it over the same episodes
     (:func:`~cof_gym.commands.evaluate_stats.paired_summary`: in summary.md, summary.json and on the terminal)."""
-    if paired is not None and (paired not in agent_specs or len(agent_specs) < 2):
-        raise ValueError(f"paired: {paired!r} must be one of the agents {agent_specs}, beside at least one other")
+    check_request(agent_specs, suite, out, seed, paired)
     t0 = time.perf_counter()
     env = suite_env(suite, check_suite)
     agents: list[tuple[Any, bool]] = []

@@ -37,7 +37,7 @@ from typing import Any, Callable, Iterator
 import cof_gym
 from cof_gym.commands.args import MAX_SEED, name_value
 from cof_gym.task.scenarios import COF_ENVELOPE, check_fixed
-from cof_gym.validation import brief, check_number, is_int
+from cof_gym.validation import brief, check_int, check_number, is_int
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 
 PAPER_COFS = (0.1, 0.2, 0.3, 0.4, 0.5)
@@ -392,7 +392,16 @@ def per_curve(suite: Suite, curves: Sequence[tuple[str, dict[str, Any]]]) -> Sui
 
 
 def make_suite(name: str, n_episodes: int, seed: int) -> Suite:
-    """``default``, ``paper`` or a JSON file path (:class:`SuiteError` otherwise)."""
+    """``default``, ``paper`` or a JSON file path (:class:`SuiteError` otherwise); ``n_episodes`` seeded draws from
+    ``seed`` on where the suite lists no episodes of its own (integers in [1, MAX_EPISODES] and [0, MAX_SEED])."""
+    try:
+        check_int("n_episodes", n_episodes, 1, MAX_EPISODES)
+        check_int("seed", seed, 0, MAX_SEED)
+    except ValueError as e:
+        raise SuiteError(str(e)) from None
+    if not isinstance(name, (str, Path)):
+        raise SuiteError(f"suite must be 'default', 'paper' or a JSON file path, got {name!r}")
+    name = str(name)
     if name == "default":
         return default_suite(n_episodes, seed)
     if name == "paper":

@@ -185,7 +185,7 @@ class OperatingConditions:
     geometry: ContactGeometry = field(default_factory=ContactGeometry)
 
     def __post_init__(self) -> None:
-        check_number("cof", self.cof, 0.0, COF_RANGE[1], low_open=True)
+        check_number("cof", self.cof, *COF_RANGE)
         check_number("wheel_load_n", self.wheel_load_n, 0.0, math.inf, low_open=True, unit=" N")
         check_number("speed_m_s", self.speed_m_s, 0.0, math.inf, low_open=True, unit=" m/s")
         shape_of(self.condition)

@@ -8,13 +8,14 @@ is ground truth, reported under ``info["ground_truth"]``).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 from gymnasium import spaces
 
 from cof_gym.task.creep_fit import ELASTICITY_SPAN, ClimbRecord
 from cof_gym.physics.simulation import COA_CYCLE_FIELDS, DriveCommand, WindowMeasurement
+from cof_gym.validation import check_number
 
 ACTION_NAMES = ("dc_torque", "amplitude", "frequency", "cof_estimate", "stop")
 OBSERVATION_NAMES = (
@@ -52,9 +53,15 @@ class MotorLimits:
     max_cof_estimate: float = 1.0
 
     def __post_init__(self) -> None:
-        if not (0 < self.min_amplitude_nm < self.max_amplitude_nm and 0 < self.min_frequency_hz < self.max_frequency_hz
-                and self.max_dc_torque_nm > 0 and self.wheel_radius_m > 0 and 0 < self.min_cof_estimate < self.max_cof_estimate):
-            raise ValueError(f"motor limits must be positive with min < max, got {self!r}")
+        # every limit a finite positive number (stored as checked: Python floats), each minimum below its maximum
+        for f in fields(self):
+            object.__setattr__(self, f.name, check_number(f"MotorLimits.{f.name}", getattr(self, f.name), 0.0,
+                                                          math.inf, low_open=True, high_open=True))
+        for low, high in (("min_amplitude_nm", "max_amplitude_nm"), ("min_frequency_hz", "max_frequency_hz"),
+                          ("min_cof_estimate", "max_cof_estimate")):
+            if not getattr(self, low) < getattr(self, high):
+                raise ValueError(f"MotorLimits.{low} must be below {high}, got {getattr(self, low)} and "
+                                 f"{getattr(self, high)}")
 
 
 def action_space() -> spaces.Box:
@@ -109,7 +116,13 @@ def decode_action(a: np.ndarray, limits: MotorLimits) -> DecodedAction:
 
 def encode_action(dc_torque_nm: float, amplitude_nm: float, frequency_hz: float, cof_estimate: float, stop: bool,
                   limits: MotorLimits) -> np.ndarray:
-    """Inverse of :func:`decode_action` (for scripted agents), clipped to the limits."""
+    """Inverse of :func:`decode_action` (for scripted agents), clipped to the limits. A value that is not a finite
+    number (``stop``: not a bool) is a ``ValueError`` naming it: an agent's NaN never reaches the env as an action."""
+    for name, value in (("dc_torque_nm", dc_torque_nm), ("amplitude_nm", amplitude_nm),
+                        ("frequency_hz", frequency_hz), ("cof_estimate", cof_estimate)):
+        check_number(name, value, -math.inf, math.inf)
+    if not isinstance(stop, (bool, np.bool_)):
+        raise ValueError(f"stop must be a bool (True or False), got {stop!r} ({type(stop).__name__})")
     a = np.array([
         2.0 * dc_torque_nm / limits.max_dc_torque_nm - 1.0,
         _log_unmap(amplitude_nm, limits.min_amplitude_nm, limits.max_amplitude_nm),
@@ -176,8 +189,10 @@ class DecodedObservation:
 
 
 def decode_observation(obs: np.ndarray, scales: ObservationScales) -> DecodedObservation:
-    """Physical units back from an observation vector (for scripted agents)."""
+    """Physical units back from an observation vector (for scripted agents); another shape is a ``ValueError``."""
     o = np.asarray(obs, dtype=np.float64)
+    if o.shape != (len(OBSERVATION_NAMES),):
+        raise ValueError(f"a window observation has shape ({len(OBSERVATION_NAMES)},), got {o.shape}")
     lim = scales.limits
     return DecodedObservation(
         phase_lag_deg=o[0] * 90.0, phase_lag_se_deg=o[1] * 90.0, compliance=o[2], coa_measured=o[3],

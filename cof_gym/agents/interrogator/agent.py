@@ -635,7 +635,16 @@ MANIFEST_FILE = "manifest.json"  # a policy directory's climb, training distribu
 def read_manifest(directory: Path) -> dict[str, Any]:
     """``directory/manifest.json`` (the climb's parameters, the training distribution), {} if absent."""
     manifest_file = Path(directory) / MANIFEST_FILE
-    return json.loads(manifest_file.read_text()) if manifest_file.is_file() else {}
+    if not manifest_file.is_file():
+        return {}
+    try:
+        manifest = json.loads(manifest_file.read_text())
+    except (json.JSONDecodeError, UnicodeDecodeError) as e:
+        raise ValueError(f"{manifest_file} is not JSON ({e})") from None
+    if not isinstance(manifest, dict):
+        raise ValueError(f"{manifest_file} must hold a JSON object (climb, trained_on, ...), got a "
+                         f"{type(manifest).__name__}")
+    return manifest
 
 
 def write_manifest(directory: Path, manifest: dict[str, Any]) -> None:
