@@ -155,3 +155,13 @@ def test_creep_constant_falls_with_load() -> None:
     # a b ~ Q^(2/3) at fixed a/b, so C ~ Q^(-1/3)
     ratio = creep_stiffness_constant(50e3) / creep_stiffness_constant(100e3)
     assert ratio == pytest.approx(2 ** (1 / 3), rel=1e-9)
+
+
+def test_a_contact_ellipse_that_under_or_overflows_is_refused_not_returned_as_zero() -> None:
+    """(0, 0) semi-axes divided by zero further on (the creep stiffness) where the load or modulus is at the edge of
+    the floats."""
+    from cof_gym.physics.contact_geometry import ContactGeometry, hertz_semi_axes
+
+    for load, geometry in ((1e5, ContactGeometry(youngs_modulus_pa=1e308)), (1e-320, ContactGeometry())):
+        with pytest.raises(ValueError, match="contact ellipse .* is not representable"):
+            hertz_semi_axes(load, geometry)

@@ -263,3 +263,14 @@ def test_watch_plays_a_measured_curve(tmp_path: Path, capsys) -> None:
     assert out.stat().st_size > 0
     cof = read_measured_curve(path)["cof"]
     assert f"true CoF {cof:.4f}" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("creepage, coa", [([True, 0.02], [0.1, 0.2]), ("abc", "def"),
+                                           ([[0.01], [0.02]], [[0.1], [0.2]]), (None, None),
+                                           ([0.01, 0.02], ["0.1", "0.2"])])
+def test_measured_points_that_are_not_flat_numbers_are_refused_naming_them(creepage, coa):
+    """True read as creepage 1, text as a conversion error naming nothing, 2-D input as 'got 2 creepages and 2 CoAs'."""
+    from cof_gym.physics.measured_curves import measured_table
+
+    with pytest.raises(ValueError, match=r"a measured (creepage|CoA) must be a flat sequence of numbers"):
+        measured_table(creepage, coa)

@@ -131,6 +131,9 @@ def hertz_semi_axes(
         major = (3.0 * q * (k - e) / (2.0 * math.pi * curv_small * e_star * m)) ** (1.0 / 3.0)
         minor = major * math.sqrt(1.0 - m)
 
+    if not (0.0 < minor <= major < math.inf):  # a load or modulus at the edge of the floats under- or overflows
+        raise ValueError(f"the Hertz contact ellipse of normal_load_n={q:g} N on this geometry (E*={e_star:g} Pa) is "
+                         f"not representable (semi-axes {major:g}, {minor:g} m): give a physical load and modulus")
     if curv_roll <= curv_lat:
         return float(major), float(minor)  # major axis along the rolling direction
     return float(minor), float(major)

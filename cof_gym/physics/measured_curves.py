@@ -50,8 +50,16 @@ def isotonic_fit(values: Sequence[float]) -> np.ndarray:
 
 def _averaged(creepage: Sequence[float], coa: Sequence[float]) -> tuple[np.ndarray, np.ndarray]:
     """The points sorted by creepage, those at one creepage averaged, (0, 0) dropped (ValueError for a bad point)."""
-    s, a = np.asarray(creepage, dtype=float), np.asarray(coa, dtype=float)
-    if s.ndim != 1 or s.shape != a.shape:
+    given = {"creepage": creepage, "CoA": coa}
+    raw = {name: np.asarray(values) for name, values in given.items()}
+    for name, values in raw.items():  # numbers only: True is no creepage, "0.1" no CoA
+        mixed_bool = (isinstance(given[name], (list, tuple))
+                      and any(isinstance(v, (bool, np.bool_)) for v in given[name]))
+        if values.ndim != 1 or values.dtype.kind not in "iuf" or mixed_bool:
+            raise ValueError(f"a measured {name} must be a flat sequence of numbers, got {values.dtype.name} values of "
+                             f"shape {values.shape}")
+    s, a = raw["creepage"].astype(float), raw["CoA"].astype(float)
+    if s.shape != a.shape:
         raise ValueError(f"a measured creep curve needs one CoA per creepage, got {s.size} creepages and {a.size} CoAs")
     for name, values in (("creepage", s), ("CoA", a)):
         bad = np.flatnonzero(~np.isfinite(values) | (values < 0))
