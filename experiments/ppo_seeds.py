@@ -49,8 +49,11 @@ N_BOOTSTRAP = 2000
 
 
 def iqm(x: np.ndarray) -> float:
-    """Interquartile mean: the mean of the middle 50 % of the values."""
+    """Interquartile mean: the mean of the middle 50 % of the values (ValueError for a NaN, which a sort would
+    place last, shifting the middle window)."""
     x = np.sort(np.ravel(x))
+    if not x.size or np.isnan(x).any():
+        raise ValueError(f"an interquartile mean needs values, none of them NaN; got {x.size} values")
     lo, hi = int(np.floor(0.25 * x.size)), int(np.ceil(0.75 * x.size))
     return float(x[lo:hi].mean())
 

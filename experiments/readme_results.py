@@ -1635,6 +1635,9 @@ def rate_interval(events: int, trials: int, confidence: float = 0.95) -> tuple[f
     (Clopper and Pearson 1934, Biometrika 26:404-413): beta quantiles, 0 below no event and 1 above all."""
     from scipy.stats import beta
 
+    if not (0 <= events <= trials and trials > 0 and 0.0 < confidence < 1.0):
+        raise ValueError(f"a rate needs 0 <= events <= trials, trials > 0 and a confidence in (0, 1); got {events} "
+                         f"events in {trials} trials at {confidence}")
     tail = (1.0 - confidence) / 2.0
     low = 0.0 if events == 0 else float(beta.ppf(tail, events, trials - events + 1))
     high = 1.0 if events == trials else float(beta.ppf(1.0 - tail, events + 1, trials - events))

@@ -419,6 +419,32 @@ def test_peak_creepage_bands_cover_every_creepage_once() -> None:
         "peak creepage 4+ %", "peak creepage 4+ %"]
 
 
+def test_utilisation_bands_read_as_their_labels_and_no_band_takes_a_nan() -> None:
+    """The issue's bands (<= 80, 80-90, 90-95, > 95 %): 80 % exactly is "<= 80" (it was "80-90"), 95 % is "90-95"."""
+    assert [utilisation_band(f) for f in (0.0, 0.5, 0.8, 0.8000001, 0.9, 0.95, 0.9500001, 1.3)] == [
+        "committed at <= 80 % M_sat", "committed at <= 80 % M_sat", "committed at <= 80 % M_sat",
+        "committed at 80-90 % M_sat", "committed at 80-90 % M_sat", "committed at 90-95 % M_sat",
+        "committed at > 95 % M_sat", "committed at > 95 % M_sat"]
+    for band, value in ((utilisation_band, math.nan), (peak_creepage_band, math.nan), (peak_creepage_band, -0.01)):
+        with pytest.raises(ValueError, match="lies in no band"):
+            band(value)
+
+
+def test_statistics_refuse_a_nan_rather_than_report_one() -> None:
+    from cof_gym.commands.evaluate_stats import paired_differences
+
+    base, other, returns = np.array([0.1, np.nan, 0.3, 0.4]), np.array([0.1, 0.1, 0.4, 0.3]), np.zeros(4)
+    with pytest.raises(ValueError, match="finite errors and returns"):
+        paired_differences(base, other, returns, returns)
+    from cof_gym.commands.evaluate_stats import summarize
+
+    env = gym.make(cof_gym.WAGON_ENV_ID, max_windows=3, max_episode_steps=3)
+    record = run_episode(env, registry.make_agent("staircase", env), 5, {"cof": 0.1}, 0)
+    assert summarize([record, replace(record, episode=1)], 0)["staircase"]["episodes"] == 2
+    with pytest.raises(ValueError, match=r"staircase: episode 1 has relative_error nan"):
+        summarize([record, replace(record, episode=1, relative_error=math.nan)], 0)
+
+
 def test_a_record_carries_the_true_curves_peak_creepage() -> None:
     env = gym.make(cof_gym.WAGON_ENV_ID)
     _, info = env.reset(seed=5, options={"cof": 0.1})

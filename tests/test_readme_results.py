@@ -6,6 +6,7 @@ import json
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
@@ -204,6 +205,17 @@ def test_a_rate_interval_is_exact_where_its_bounds_have_a_closed_form():
         assert rate_interval(n, n) == (pytest.approx(0.025 ** (1.0 / n), rel=1e-9), 1.0)
     low, high = rate_interval(3, 48)
     assert low < 3 / 48 < high and high - low > rate_interval(30, 480)[1] - rate_interval(30, 480)[0]
+    for events, trials in ((3, 2), (-1, 5), (0, 0)):  # beta quantiles of such gave (nan, nan)
+        with pytest.raises(ValueError, match="0 <= events <= trials"):
+            rate_interval(events, trials)
+
+
+def test_the_interquartile_mean_refuses_a_nan_which_a_sort_would_put_last():
+    from ppo_seeds import iqm
+
+    assert iqm(np.array([4.0, 1.0, 3.0, 2.0])) == 2.5
+    with pytest.raises(ValueError, match="none of them NaN"):
+        iqm(np.array([0.01, 0.02, 0.03, np.nan]))
 
 
 def test_slip_rates_say_below_above_or_cannot_tell_against_one_per_hundred(tmp_path):

@@ -18,7 +18,8 @@ CREEPAGE_ERROR_BANDS = (0.0, 1e-9, 0.002, 0.005, 0.01, math.inf)
 # the creepage of the true creep curve's peak: the lag reaches 90 deg there, and a curve that still rises slowly past
 # its knee (a peak at several % creepage) reads a large lag well below its peak's adhesion
 PEAK_CREEPAGE_BANDS = (0.0, 0.01, 0.02, 0.04, math.inf)
-# "how early can you know": peak torque at the committed estimate, as a fraction of the true M_sat
+# "how early can you know": peak torque at the committed estimate, as a fraction of the true M_sat; closed on the
+# right as the issue's bands read (<= 80, 80-90, 90-95, > 95 %): a commitment at exactly 80 % is "<= 80"
 UTILISATION_BANDS = (0.0, 0.8, 0.9, 0.95, math.inf)
 
 
@@ -48,6 +49,8 @@ def paired_differences(base_error: np.ndarray, other_error: np.ndarray, base_ret
     if not n or any(len(a) != n for a in (other_error, base_return, other_return)):
         raise ValueError(f"paired episodes must be as many for both and at least one, got {len(base_error)} and "
                          f"{len(other_error)}")
+    if not all(np.isfinite(a).all() for a in (base_error, other_error, base_return, other_return)):
+        raise ValueError("paired episodes need finite errors and returns (a NaN would count as the baseline's win)")
     draws = np.random.default_rng(seed).integers(0, n, size=(resamples, n))
     ci = lambda boot: (float(np.percentile(boot, tail_percent)),  # noqa: E731
                        float(np.percentile(boot, 100.0 - tail_percent)))
@@ -82,9 +85,13 @@ METRICS = (
 )
 
 
-def _band(value: float, edges: tuple[float, ...], label) -> str:
+def _band(value: float, edges: tuple[float, ...], label, right_closed: bool = False) -> str:
+    """The label of the band of ``edges`` that holds ``value``: [lo, hi) (``right_closed``: (lo, hi], the first band
+    [edges[0], hi]); a NaN or a value below the first edge is a ``ValueError``, never the top band."""
+    if math.isnan(value) or value < edges[0]:
+        raise ValueError(f"{value!r} lies in no band of {edges}")
     for lo, hi in zip(edges[:-1], edges[1:]):
-        if lo <= value < hi:
+        if (lo < value <= hi or value == lo == edges[0]) if right_closed else (lo <= value < hi):
             return label(lo, hi)
     return label(edges[-2], edges[-1])
 
@@ -115,7 +122,7 @@ def _utilisation_label(lo: float, hi: float) -> str:
 
 def utilisation_band(fraction: float) -> str:
     """The band of the peak torque (fraction of the true saturation torque) at the committed estimate."""
-    return _band(fraction, UTILISATION_BANDS, _utilisation_label)
+    return _band(fraction, UTILISATION_BANDS, _utilisation_label, right_closed=True)
 
 
 def ending_group(ended: str) -> str:
@@ -186,6 +193,10 @@ def summarize(records: list[EpisodeRecord], seed: int) -> dict[str, dict[str, An
         entry: dict[str, Any] = {"episodes": len(rows), "oracle": rows[0].oracle}
         for key, _, column, stat, _ in METRICS:
             values = np.array([getattr(r, column) for r in rows], dtype=float)
+            if not np.isfinite(values).all():  # a NaN would make every statistic of the column NaN, silently
+                bad = int(np.flatnonzero(~np.isfinite(values))[0])
+                raise ValueError(f"{agent}: episode {rows[bad].episode} has {column} {float(values[bad])}; every "
+                                 "statistic needs a finite value")
             lo, hi = bootstrap_ci(values, stat, rng)
             entry[key] = {"value": float(stat(values)), "ci95": [lo, hi]}
         interval = interval_stats(rows, rng)  # after METRICS: their CIs are drawn first, as before
