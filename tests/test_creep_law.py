@@ -167,3 +167,18 @@ def test_operating_conditions_hold_the_documented_cof_range() -> None:
     assert OperatingConditions(cof=COF_RANGE[0]).cof == COF_RANGE[0]
     with pytest.raises(ValueError, match=r"cof must be a finite number in \[0.001, 1.5\]"):
         OperatingConditions(cof=1e-300)
+
+
+def test_a_creepage_that_is_not_finite_and_a_draw_without_a_generator_are_refused() -> None:
+    """Polach and Shen-Hedrick-Elkins answered a NaN creepage with NaN, a table with its end value."""
+    import numpy as np
+
+    from cof_gym.physics.creep import OperatingConditions, creep_curve
+    from cof_gym.physics.creep_laws import draw_shape
+
+    for creepage in (np.nan, np.inf, -np.inf):
+        with pytest.raises(ValueError, match="creepage must be finite"):
+            creep_curve([0.01, creepage], OperatingConditions(cof=0.3))
+    for rng in (None, 0):
+        with pytest.raises(ValueError, match="rng must be a numpy Generator"):
+            draw_shape(rng, "polach", "dry")

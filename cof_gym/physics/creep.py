@@ -231,8 +231,13 @@ def _mu0_cached(cof: float, shape: CreepShape, load: float, speed: float, geomet
 
 def creep_curve(creepage: np.ndarray | float, op: OperatingConditions) -> tuple[np.ndarray, np.ndarray]:
     """Steady creep curve: adhesion CoA (tangential/normal force) and its slope dCoA/ds at the given
-    longitudinal creepages s = (R Omega - v)/v. Same native code as the simulation."""
+    longitudinal creepages s = (R Omega - v)/v. Same native code as the simulation. A creepage that is not finite is
+    a ``ValueError`` (the families answered it differently: NaN for Polach and Shen-Hedrick-Elkins, the table's end
+    for a table)."""
     s = np.atleast_1d(np.asarray(creepage, dtype=np.float64))
+    if not np.isfinite(s).all():
+        bad = int(np.flatnonzero(~np.isfinite(s))[0])
+        raise ValueError(f"creepage must be finite, got {float(s[bad])} at index {bad}")
     return _curve(op.law(), op.patch, op.wheel_load_n, op.speed_m_s, s)
 
 

@@ -446,7 +446,10 @@ def draw_shape(rng: np.random.Generator, family: str, condition: str,
     range, in field order, redrawn until the family's constraint (:meth:`CreepShape.drawable`) and
     ``accept`` (e.g. "the curve has a maximum at this episode's speed and load",
     :func:`cof_gym.physics.creep.has_maximum`) hold. Randomness only from ``rng``."""
-    if family not in RANGES:
+    if not isinstance(rng, np.random.Generator):
+        raise ValueError(f"rng must be a numpy Generator (np.random.default_rng(seed), an env's np_random), "
+                         f"got {rng!r}")
+    if not isinstance(family, str) or family not in RANGES:
         raise ValueError(f"family must be one of {sorted(RANGES)} (the families with parameter ranges), got {family!r}")
     ranges = RANGES[family]
     if condition not in ranges:
