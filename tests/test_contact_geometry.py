@@ -165,3 +165,14 @@ def test_a_contact_ellipse_that_under_or_overflows_is_refused_not_returned_as_ze
     for load, geometry in ((1e5, ContactGeometry(youngs_modulus_pa=1e308)), (1e-320, ContactGeometry())):
         with pytest.raises(ValueError, match="contact ellipse .* is not representable"):
             hertz_semi_axes(load, geometry)
+
+
+def test_a_geometry_outside_kalkers_table_is_refused_naming_its_radii() -> None:
+    """It was refused later as 'a_over_b must be in [0.1, 10]', a name the caller never gave."""
+    from cof_gym.physics.contact_geometry import ContactGeometry, hertz_semi_axes
+
+    geometry = ContactGeometry(rail_crown_radius_m=0.9)
+    a, b = hertz_semi_axes(1e5, geometry)
+    assert geometry.aspect_ratio == pytest.approx(a / b, rel=1e-12) and geometry.aspect_ratio < 1.0
+    with pytest.raises(ValueError, match=r"wheel_radius_m=100 and rail_crown_radius_m=0.3 give a contact ellipse"):
+        ContactGeometry(wheel_radius_m=100.0)

@@ -14,6 +14,7 @@ O. Polach, Wear 258 (2005) 992-1000 (creep-force law).
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 from dataclasses import dataclass
 
 import numpy as np
@@ -64,6 +65,18 @@ class ContactGeometry:
                            ("shear_modulus_pa", " Pa")):
             check_number(name, getattr(self, name), 0.0, math.inf, low_open=True, unit=unit)
         check_number("poisson_ratio", self.poisson_ratio, 0.0, 0.5, low_open=True, high_open=True)
+        ratio = self.aspect_ratio
+        if not 0.1 <= ratio <= 10.0:  # Kalker's c11 table: named here, not as an a_over_b the caller never gave
+            raise ValueError(f"wheel_radius_m={self.wheel_radius_m:g} and rail_crown_radius_m="
+                             f"{self.rail_crown_radius_m:g} give a contact ellipse with a/b = {ratio:.3g}, outside "
+                             "[0.1, 10] where Kalker's creepage coefficients are tabulated")
+
+    @property
+    def aspect_ratio(self) -> float:
+        """The contact ellipse's a/b (rolling over lateral semi-axis): a property of the radii alone (Hertz)."""
+        curv_roll, curv_lat = 1.0 / (2.0 * self.wheel_radius_m), 1.0 / (2.0 * self.rail_crown_radius_m)
+        elongation = 1.0 / math.sqrt(1.0 - _eccentricity_squared(max(curv_roll, curv_lat) / min(curv_roll, curv_lat)))
+        return elongation if curv_roll <= curv_lat else 1.0 / elongation
 
     @property
     def reduced_modulus_pa(self) -> float:
@@ -71,13 +84,11 @@ class ContactGeometry:
         return self.youngs_modulus_pa / (2.0 * (1.0 - self.poisson_ratio**2))
 
 
-_DEFAULT_GEOMETRY = ContactGeometry()
-
-
 def _check_load(normal_load_n: float) -> float:
     return check_number("normal_load_n", normal_load_n, 0.0, math.inf, low_open=True, unit=" N")
 
 
+@lru_cache(maxsize=256)  # a pure function of the radii: every geometry of the same radii solves it once
 def _eccentricity_squared(curvature_ratio: float) -> float:
     """Solve Hertz's relation between the contact ellipse and the curvatures (Johnson, Contact Mechanics, 1985,
     ch. 4, elliptical contact) for m = e^2 given the ratio (large/small) of curvature sums.
@@ -94,6 +105,9 @@ def _eccentricity_squared(curvature_ratio: float) -> float:
 
     # residual -> 0 as m -> 0 (ratio -> 1) and -> +inf as m -> 1; bracket in (0, 1).
     return float(brentq(residual, 1e-12, 1.0 - 1e-15, xtol=1e-15, rtol=1e-14, maxiter=500))
+
+
+_DEFAULT_GEOMETRY = ContactGeometry()  # (made once the ellipse's relation above is defined)
 
 
 def hertz_semi_axes(
