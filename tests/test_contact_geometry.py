@@ -73,8 +73,9 @@ def test_bad_load_is_rejected(load: float) -> None:
     [
         ("wheel_radius_m", 0.0, r"wheel_radius_m.*> 0"),
         ("rail_crown_radius_m", -0.3, r"rail_crown_radius_m.*> 0"),
-        ("youngs_modulus_pa", 0.0, r"youngs_modulus_pa.*> 0"),
-        ("shear_modulus_pa", -1.0, r"shear_modulus_pa.*> 0"),
+        ("youngs_modulus_pa", 0.0, r"youngs_modulus_pa.*in \(0, 1e\+13\] Pa"),
+        ("shear_modulus_pa", -1.0, r"shear_modulus_pa.*in \(0, 1e\+13\] Pa"),
+        ("youngs_modulus_pa", 1e308, r"youngs_modulus_pa.*in \(0, 1e\+13\] Pa"),
         ("poisson_ratio", 0.0, r"poisson_ratio.*\(0, 0\.5\)"),
         ("poisson_ratio", 0.5, r"poisson_ratio.*\(0, 0\.5\)"),
     ],
@@ -162,9 +163,8 @@ def test_a_contact_ellipse_that_under_or_overflows_is_refused_not_returned_as_ze
     the floats."""
     from cof_gym.physics.contact_geometry import ContactGeometry, hertz_semi_axes
 
-    for load, geometry in ((1e5, ContactGeometry(youngs_modulus_pa=1e308)), (1e-320, ContactGeometry())):
-        with pytest.raises(ValueError, match="contact ellipse .* is not representable"):
-            hertz_semi_axes(load, geometry)
+    with pytest.raises(ValueError, match="contact ellipse .* is not representable"):
+        hertz_semi_axes(1e-320, ContactGeometry())  # (a modulus of 1e308 Pa is refused by the geometry itself)
 
 
 def test_a_geometry_outside_kalkers_table_is_refused_naming_its_radii() -> None:

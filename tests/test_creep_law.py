@@ -182,3 +182,23 @@ def test_a_creepage_that_is_not_finite_and_a_draw_without_a_generator_are_refuse
     for rng in (None, 0):
         with pytest.raises(ValueError, match="rng must be a numpy Generator"):
             draw_shape(rng, "polach", "dry")
+
+
+def test_the_stiffest_shape_and_contact_accepted_give_finite_curves_and_stiffer_ones_are_refused() -> None:
+    """kA = 1e200 or G = 1e300 overflowed (k eps)^2 into NaN slopes; at the accepted bounds, even at the lowest CoF,
+    every CoA and slope is finite."""
+    import numpy as np
+
+    from cof_gym.physics.contact_geometry import MAX_MODULUS_PA, ContactGeometry
+    from cof_gym.physics.creep import COF_RANGE, OperatingConditions, creep_curve
+    from cof_gym.physics.creep_laws import MAX_REDUCTION_FACTOR, PolachShape
+
+    stiffest = OperatingConditions(
+        cof=COF_RANGE[0], condition=PolachShape(MAX_REDUCTION_FACTOR, MAX_REDUCTION_FACTOR, 0.4, 0.6),
+        geometry=ContactGeometry(youngs_modulus_pa=MAX_MODULUS_PA, shear_modulus_pa=MAX_MODULUS_PA))
+    coa, slope = creep_curve(np.geomspace(1e-9, 2.0, 200), stiffest)
+    assert np.isfinite(coa).all() and np.isfinite(slope).all()
+    with pytest.raises(ValueError, match=r"k_adhesion must be a finite number in \(0, 100\]"):
+        PolachShape(1e200, 1.0, 0.4, 0.6)
+    with pytest.raises(ValueError, match=r"shear_modulus_pa must be a finite number in \(0, 1e\+13\] Pa"):
+        ContactGeometry(shear_modulus_pa=1e300)

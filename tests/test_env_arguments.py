@@ -90,7 +90,7 @@ def test_a_range_with_an_infinite_end_is_written_as_its_bound(low, high, low_ope
     (lambda: OperatingConditions(cof=True), "cof must be a number in [0.001, 1.5], got True (bool)"),
     (lambda: OperatingConditions(cof=0.3, speed_m_s=-1.0), "speed_m_s must be a finite number > 0 m/s, got -1.0"),
     (lambda: PolachShape(k_adhesion=1.0, k_slip="0.4", friction_ratio=0.4, friction_decay_s_per_m=0.6),
-     "k_slip must be a number > 0, got '0.4' (str)"),
+     "k_slip must be a number in (0, 100], got '0.4' (str)"),
     (lambda: ContactGeometry(poisson_ratio=0.5), "poisson_ratio must be a finite number in (0, 0.5), got 0.5"),
     (lambda: DriveCommand(1000.0, float("nan"), 5.0), "amplitude_nm must be a finite number >= 0 N m, got nan"),
     # a numpy bool, written as the installed numpy writes it

@@ -34,6 +34,9 @@ __all__ = [
 ]
 
 
+MAX_MODULUS_PA = 1e13  # a modulus accepted up to this: about 8 times diamond's (1.2 TPa), far beyond any wheel or rail
+
+
 @dataclass(frozen=True)
 class ContactGeometry:
     """Wheel and rail geometry and (identical) material of both bodies.
@@ -61,9 +64,10 @@ class ContactGeometry:
     shear_modulus_pa: float = 80e9
 
     def __post_init__(self) -> None:
-        for name, unit in (("wheel_radius_m", " m"), ("rail_crown_radius_m", " m"), ("youngs_modulus_pa", " Pa"),
-                           ("shear_modulus_pa", " Pa")):
+        for name, unit in (("wheel_radius_m", " m"), ("rail_crown_radius_m", " m")):
             check_number(name, getattr(self, name), 0.0, math.inf, low_open=True, unit=unit)
+        for name in ("youngs_modulus_pa", "shear_modulus_pa"):  # steel's 210 and 80 GPa; 1e300 overflowed the curve
+            check_number(name, getattr(self, name), 0.0, MAX_MODULUS_PA, low_open=True, unit=" Pa")
         check_number("poisson_ratio", self.poisson_ratio, 0.0, 0.5, low_open=True, high_open=True)
         ratio = self.aspect_ratio
         if not 0.1 <= ratio <= 10.0:  # Kalker's c11 table: named here, not as an a_over_b the caller never gave

@@ -138,6 +138,8 @@ class CreepShape:
         """The peak when it is known in closed form (independent of speed and load), else None."""
         return None
 
+MAX_REDUCTION_FACTOR = 100.0  # Polach's kA, kS accepted up to this (any published set is at most 1)
+
 
 @dataclass(frozen=True)
 class PolachShape(CreepShape):
@@ -161,8 +163,10 @@ class PolachShape(CreepShape):
     })
 
     def __post_init__(self) -> None:
-        check_number("k_adhesion", self.k_adhesion, 0.0, math.inf, low_open=True)
-        check_number("k_slip", self.k_slip, 0.0, math.inf, low_open=True)
+        # reduction factors of Kalker's slope (Polach: at most 1; drawn up to 1.2): bounded far above any published
+        # set, where the curve's terms (k eps)^2 would overflow into NaN slopes
+        check_number("k_adhesion", self.k_adhesion, 0.0, MAX_REDUCTION_FACTOR, low_open=True)
+        check_number("k_slip", self.k_slip, 0.0, MAX_REDUCTION_FACTOR, low_open=True)
         check_number("friction_ratio", self.friction_ratio, 0.0, 1.0, high_open=True,
                      unit=" (A; below 1 for a creep curve with a peak)")
         check_number("friction_decay_s_per_m", self.friction_decay_s_per_m, 0.0, math.inf, low_open=True,
