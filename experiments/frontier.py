@@ -240,6 +240,8 @@ def read_group(group: str, grid: str) -> list[Point]:
     """The points of one positional argument: a records file, or several joined by ``+`` (plays of the same
     candidates on other grids, e.g. the noise tripled), whose k-th settings together make its k-th point; named by
     the first file (OSError, ValueError or KeyError for a file it cannot read)."""
+    if not all(group.split("+")):
+        raise ValueError("an empty file name (files are joined by a single +, none before the first or after the last)")
     paths = [Path(p) for p in group.split("+")]
     plays = []
     for path in paths:

@@ -180,9 +180,13 @@ def commands_of(parser: Parser, args: argparse.Namespace) -> list[list[str]]:
     for flag, directories in (("--estimators", args.estimators), ("--run", [args.run] if args.run else None),
                               ("--guards", args.guards)):
         require_networks(parser, flag, [Path(d) for d in directories or []])
+    from crest_tradeoff import climb_setting  # the value checked against the shipped climb, as crest_tradeoff.py does
+
     for item in args.set or []:
-        if "=" not in item:
-            parser.error(f"--set: expected NAME=VALUE, got {item!r}")
+        try:
+            climb_setting(item)
+        except (argparse.ArgumentTypeError, ValueError) as error:
+            parser.error(f"--set: {error}")
     return candidate_commands(args.name, args.caution_policy, plays, args.estimators, args.set, args.run,
                               args.guards)
 

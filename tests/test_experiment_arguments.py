@@ -77,6 +77,8 @@ CASES = [
      "--confirmation"),
     ("validation_plays", ["c", "--confirmation", "confirmation", "confirmation", "extremes_confirmation"],
      "--confirmation"),  # a set of another kind in the torque set's place
+    ("validation_plays", ["c", "--print", "--set", "nope=1"], "--set: expected NAME=VALUE with NAME a climb"),
+    ("validation_plays", ["c", "--print", "--set", "caution=-1"], "--set: caution: caution must be"),  # printed
     ("validation_plays", ["c", "--more-encoder-lags", "0"], "--more-encoder-lags"),
     ("validation_plays", ["c", "--more-encoder-lags", "nan"], "--more-encoder-lags"),
     ("validation_plays", ["c", "--only", "encoder_lag_s"], "--only"),  # not asked for without --encoder-lag
@@ -118,6 +120,7 @@ CASES = [
      "--first-seed: the last draw's seed"),
     ("shadow_reading", ["--first-seed", "99999999999999999999999", "--out", "{new}/t.md"], "--first-seed"),
     ("pool_ensembles", ["{SHIPPED}", "{SHIPPED}", "--out", "{new}"], "given more than once"),
+    ("frontier", ["{text}+"], "an empty file name"),  # it read '.' and said 'Is a directory
     ("train_interrogator", ["--report-only", "--climbs", "env=5", "--out", "{new}"], "--climbs would be ignored"),
     ("train_interrogator", ["--ship", "--fit-only", "--out", "{new}"], "--ship: not with --fit-only"),
     ("train_interrogator", ["--epochs", "0", "--out", "{new}"], "--epochs"),
