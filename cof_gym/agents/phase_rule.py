@@ -134,6 +134,11 @@ class Window:
     best_crest_coa: float
 
 
+# the probing climb's parameters that are scales (> 0), the phase rule's and the robust model's alike
+PROBE_SCALES = ("amplitude_ratio", "max_step", "probe_step", "min_amplitude_nm", "frequency_hz", "max_se_deg",
+                "correction")
+
+
 @dataclass
 class PhaseRule:
     """The paper's phase rule without ground truth or creepage, the modulation probing ahead of the DC
@@ -196,8 +201,7 @@ class PhaseRule:
 
     def __post_init__(self) -> None:
         # every numeric parameter as its default is (these > 0): a clear error, not a NaN action
-        check_parameters(self, positive=("amplitude_ratio", "max_step", "probe_step", "min_amplitude_nm",
-                                       "frequency_hz", "max_se_deg", "correction"))
+        check_parameters(self, positive=PROBE_SCALES)
 
     def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
         self._dc = self._amp = 0.0

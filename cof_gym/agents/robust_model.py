@@ -39,7 +39,8 @@ from typing import Any
 import numpy as np
 
 from cof_gym.agents.base import check_parameters
-from cof_gym.agents.phase_rule import phase_of, phase_rise, probe_amplitude, probe_next_dc, smoothed_speed_signal
+from cof_gym.agents.phase_rule import (PROBE_SCALES, phase_of, phase_rise, probe_amplitude, probe_next_dc,
+                                      smoothed_speed_signal)
 from cof_gym.agents.staircase import COA, ElasticityClimb
 from cof_gym.task.creep_fit import coa_fell
 from cof_gym.task.interface import OBSERVATION_NAMES, MotorLimits, encode_action
@@ -133,8 +134,7 @@ class RobustModel:
 
     def __post_init__(self) -> None:
         # every numeric parameter as its default is (these > 0): a clear error, not a NaN action
-        check_parameters(self, positive=("amplitude_ratio", "max_step", "probe_step", "min_amplitude_nm",
-                                       "frequency_hz", "max_se_deg", "correction"))
+        check_parameters(self, positive=PROBE_SCALES)
 
     def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
         self._dc = self._amp = 0.0

@@ -118,9 +118,6 @@ def prepare(args: argparse.Namespace) -> WatchRequest:
     out = check_video_path(Path(args.out))
     suffix = out.suffix.lower()
     check_writer(suffix)
-    if not MIN_SPEED <= args.speed <= MAX_SPEED:  # (the parser's type checks it; a request built in Python too)
-        raise UsageError("--speed", f"must be in [{MIN_SPEED:g}, {MAX_SPEED:g}] simulated seconds per video second, "
-                                    f"got {args.speed:g}")
     env_id, env_kwargs, seed, options = _suite_episode(args)
     if args.creep_table is not None:
         try:

@@ -76,10 +76,22 @@ class ContactGeometry:
                              "[0.1, 10] where Kalker's creepage coefficients are tabulated")
 
     @property
+    def curvature_sums(self) -> tuple[float, float]:
+        """Hertz's curvature sums (1/m): A = 1/(2 R_wheel) in the rolling direction, B = 1/(2 R_crown) laterally (a
+        flat wheel tread profile)."""
+        return 1.0 / (2.0 * self.wheel_radius_m), 1.0 / (2.0 * self.rail_crown_radius_m)
+
+    @property
+    def eccentricity_squared(self) -> float:
+        """e^2 of the contact ellipse, 1 - (minor / major)^2: a property of the radii alone (Hertz)."""
+        small, large = sorted(self.curvature_sums)
+        return _eccentricity_squared(large / small)
+
+    @property
     def aspect_ratio(self) -> float:
-        """The contact ellipse's a/b (rolling over lateral semi-axis): a property of the radii alone (Hertz)."""
-        curv_roll, curv_lat = 1.0 / (2.0 * self.wheel_radius_m), 1.0 / (2.0 * self.rail_crown_radius_m)
-        elongation = 1.0 / math.sqrt(1.0 - _eccentricity_squared(max(curv_roll, curv_lat) / min(curv_roll, curv_lat)))
+        """The contact ellipse's a/b (rolling over lateral semi-axis); the major axis lies along the smaller sum."""
+        elongation = 1.0 / math.sqrt(1.0 - self.eccentricity_squared)
+        curv_roll, curv_lat = self.curvature_sums
         return elongation if curv_roll <= curv_lat else 1.0 / elongation
 
     @property
@@ -132,10 +144,9 @@ def hertz_semi_axes(
         Radii and material constants.
     """
     q = _check_load(normal_load_n)
-    curv_roll = 1.0 / (2.0 * geometry.wheel_radius_m)
-    curv_lat = 1.0 / (2.0 * geometry.rail_crown_radius_m)
-    curv_small, curv_large = sorted((curv_roll, curv_lat))
-    m = _eccentricity_squared(curv_large / curv_small)
+    curv_roll, curv_lat = geometry.curvature_sums
+    curv_small = min(curv_roll, curv_lat)
+    m = geometry.eccentricity_squared
     e_star = geometry.reduced_modulus_pa
 
     if m == 0.0:
