@@ -1715,6 +1715,28 @@ def heldout_overview(runs: dict[str, tuple[str, Path]] = HELDOUT_RUNS, learned: 
     return "\n".join(rows)
 
 
+
+def heldout_shapes(runs: dict[str, tuple[str, Path]] = HELDOUT_RUNS, learned: str = LEARNED) -> str | None:
+    """One row per creep-curve shape (a ``note`` group) of each v2 held-out grid: the learned agent's macro-slips
+    and its median, beside the fewest macro-slips of the agents that do not read the truth there (ties: every
+    agent that has them); None when a summary is missing."""
+    rows = [f"| suite | shape or condition (episodes) | {learned}: macro-slips | {learned}: median | fewest other macro-slips |",
+            "|---|---|---|---|---|"]
+    for label, out in runs.values():
+        summary = _load(out / "summary.json", learned)
+        if summary is None:
+            return None
+        others = [a for a, v in summary.items() if not v["oracle"] and a != learned]
+        for group, cell in summary[learned]["breakdown"].items():
+            if not group.startswith("note "):
+                continue
+            slips = {a: summary[a]["breakdown"][group]["macro_slip_events"] for a in others}
+            fewest = min(slips.values())
+            rivals = ", ".join(a for a in others if slips[a] == fewest)
+            rows.append(f"| {label.removeprefix('v2 ')} | {group.removeprefix('note ')} ({cell['episodes']}) | "
+                        f"{cell['macro_slip_events']} | {100 * cell['median_error']:.1f} % | {rivals} {fewest} |")
+    return "\n".join(rows)
+
 HORIZON_AGENTS = ("phase-rule", "robust-model")  # the agents beside the learned one in the horizon table
 LONGER_HORIZONS = (45, 60)  # the default suite's longer horizons (steps); each held-out grid's: the last
 HORIZON_SUITES = {"default": ("v2 default suite", ROOT / "out" / "evaluate"),  # suite -> (label, its 30-step run)
@@ -1928,7 +1950,7 @@ def ceiling_validation(runs: dict[str, Path] = CEILING_VALIDATION) -> str | None
 GENERATED = {"targets": targets, "targets_count": targets_count, "paired_targets": paired_targets,
              "slip_rates": slip_rates,
              "at_a_glance": at_a_glance,
-             "heldout_overview": heldout_overview,
+             "heldout_overview": heldout_overview, "heldout_shapes": heldout_shapes,
              "slip_failed": slip_failed, "horizon": horizon,
              "horizon_ends": horizon_ends, "peak_creepage": peak_creepage,
              "heldout_peak_creepage": heldout_peak_creepage, "edge_suites": edge_suites,

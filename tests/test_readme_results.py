@@ -11,7 +11,7 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
 from readme_results import (DOCUMENTS, GENERATED, SOURCES, at_a_glance, edge_suites, fill,  # noqa: E402
-                            heldout_overview, heldout_peak_creepage, horizon, horizon_ends, paired_targets,
+                            heldout_overview, heldout_peak_creepage, heldout_shapes, horizon, horizon_ends, paired_targets,
                             paper_setting, peak_creepage, rate_interval, slip_failed, slip_rates, targets,
                             targets_count, with_horizon)
 
@@ -75,6 +75,25 @@ def test_heldout_overview_names_the_best_other_agent_per_column(tmp_path):
     rows = heldout_overview({"grid": ("v2 a held-out grid", out)}, learned="learned").splitlines()
     assert rows[2] == "| a held-out grid (72) | 4.0 % / 30.0 % / 5 | fit 5.0 % | rule 25.0 % | fit 2 |"
 
+
+
+def test_heldout_shapes_sets_each_shape_beside_the_fewest_macro_slips_of_the_others(tmp_path):
+    out = tmp_path / "grid"
+    out.mkdir()
+    path = _summary(out / "summary.json", {"oracle": (True, 0.001, 0.002, 0), "learned": (False, 0.04, 0.3, 5),
+                                            "rule": (False, 0.06, 0.25, 7), "fit": (False, 0.05, 0.5, 2)})
+    data = json.loads(path.read_text())
+    slips = {"oracle": (0, 0), "learned": (4, 1), "rule": (3, 4), "fit": (3, 9)}  # agent -> (cliff, knee)
+    for agent, (cliff, knee) in slips.items():
+        data["summary"][agent]["breakdown"] = {
+            "dry (25)": {"episodes": 25, "median_error": 0.5, "macro_slip_events": 0},  # not a note: left out
+            "note cliff": {"episodes": 18, "median_error": 0.021, "macro_slip_events": cliff},
+            "note knee": {"episodes": 18, "median_error": 0.1, "macro_slip_events": knee}}
+    path.write_text(json.dumps(data))
+    rows = heldout_shapes({"grid": ("v2 a held-out grid", out)}, learned="learned").splitlines()
+    assert rows[2:] == ["| a held-out grid | cliff (18) | 4 | 2.1 % | rule, fit 3 |",  # ties: both, never the oracle
+                        "| a held-out grid | knee (18) | 1 | 10.0 % | rule 4 |"]
+    assert heldout_shapes({"grid": ("g", tmp_path / "missing")}, learned="learned") is None
 
 def test_slip_failed_compares_each_measure_with_the_lowest_other_and_says_ties(tmp_path):
     path = _summary(tmp_path / "a.json", {"oracle": (True, 0.001, 0.002, 0), "learned": (False, 0.04, 0.3, 5),
