@@ -1720,7 +1720,8 @@ def heldout_shapes(runs: dict[str, tuple[str, Path]] = HELDOUT_RUNS, learned: st
     """One row per creep-curve shape (a ``note`` group) of each v2 held-out grid: the learned agent's macro-slips
     and its median, beside the fewest macro-slips of the agents that do not read the truth there (ties: every
     agent that has them); None when a summary is missing."""
-    rows = [f"| suite | shape or condition (episodes) | {learned}: macro-slips | {learned}: median | fewest other macro-slips |",
+    rows = [f"| suite | shape or condition (episodes) | {learned}: macro-slips | {learned}: median | "
+            "fewest other macro-slips |",
             "|---|---|---|---|---|"]
     for label, out in runs.values():
         summary = _load(out / "summary.json", learned)

@@ -11,9 +11,9 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
 from readme_results import (DOCUMENTS, GENERATED, SOURCES, at_a_glance, edge_suites, fill,  # noqa: E402
-                            heldout_overview, heldout_peak_creepage, heldout_shapes, horizon, horizon_ends, paired_targets,
-                            paper_setting, peak_creepage, rate_interval, slip_failed, slip_rates, targets,
-                            targets_count, with_horizon)
+                            heldout_overview, heldout_peak_creepage, heldout_shapes, horizon, horizon_ends,
+                            paired_targets, paper_setting, peak_creepage, rate_interval, slip_failed, slip_rates,
+                            targets, targets_count, with_horizon)
 
 
 def _summary(path: Path, agents: dict[str, tuple[bool, float, float, int]], episodes: int = 50,
