@@ -9,13 +9,16 @@
    return there is that seed's policy: the task's own reward (relative error, slip past the peak,
    macro-slips, comfort, time; evaluated without the training-time shaping), so no single metric is
    bought at the others' cost.
-2. The seeds' policies are played on ``suites/heldout_grid.json`` and on 100 episodes of the default
-   suite (reporting only; nothing is selected there). Per seed: median / P90 relative error,
+2. The seeds' policies are played on ``suites/heldout_grid.json`` and on 100 episodes of the v1 default
+   suite (``suites/v1_default.json``; reporting only; nothing is selected there). Per seed: median / P90 relative error,
    macro-slips. Over seeds: the interquartile mean (IQM) and median of the relative error with
    stratified-bootstrap 95 % CIs (runs resampled within each scenario, as rliable's
    ``StratifiedBootstrap`` does; Agarwal et al. 2021), so the CI covers seed and scenario variation.
 3. ``--ship`` copies the policy of the best seed *on the validation grid* (highest mean return; model zip, VecNormalize
    statistics, train_meta.json) into ``cof_gym/agents/policies/ppo_wagon``, the default ``ppo`` agent.
+
+Every grid is a v1 grid, so every run must have trained on ``CofGym/TorqueInterrogation-v1`` (``cof-gym train --env
+CofGym/TorqueInterrogation-v1``, as ``experiments/shipped_policy.sh`` does): a run of another env is refused.
 
 Writes ``OUT/report.md`` and ``OUT/report.json``.
 """
@@ -34,7 +37,7 @@ import numpy as np
 
 from cof_gym.commands.args import Parser, positive_int
 from cof_gym.commands.evaluate import evaluate
-from cof_gym.agents.sb3_policy import check_model, vecnormalize_path
+from cof_gym.agents.sb3_policy import check_model, find_train_meta, vecnormalize_path
 from cof_gym.agents.registry import SHIPPED_PPO
 from cof_gym.commands.suites import make_suite
 
@@ -44,6 +47,8 @@ from script_checks import check_out_dir  # noqa: E402
 
 VALIDATION = HERE / "suites" / "validation_grid.json"
 HELDOUT = HERE / "suites" / "heldout_grid.json"
+V1_DEFAULT = HERE / "suites" / "v1_default.json"
+REPORTS = {"heldout_grid": HELDOUT, "default": V1_DEFAULT}  # report name -> suite (the v1 task's)
 DEFAULT_EPISODES = 100
 N_BOOTSTRAP = 2000
 
@@ -64,6 +69,11 @@ def stratified_bootstrap_ci(scores: np.ndarray, stat, seed: int = 0) -> tuple[fl
     runs, tasks = scores.shape
     stats = [stat(scores[rng.integers(0, runs, size=(runs, tasks)), np.arange(tasks)]) for _ in range(N_BOOTSTRAP)]
     return float(np.percentile(stats, 2.5)), float(np.percentile(stats, 97.5))
+
+
+def suite_env_id(path: Path) -> str:
+    """The env id a suite file plays."""
+    return make_suite(str(path), DEFAULT_EPISODES, 0).env_id
 
 
 def play(spec: str, suite_name: str, out: Path, episodes: int = DEFAULT_EPISODES) -> tuple[dict, np.ndarray, int, float]:
@@ -92,11 +102,11 @@ def candidates(run: Path) -> list[Path]:
     return [p for p in (*warm_start, *checkpoints, run / "best" / "best_model.zip", run / "model.zip") if p.is_file()]
 
 
-def check_runs(parser: argparse.ArgumentParser, runs: list[Path]) -> None:
+def check_runs(parser: argparse.ArgumentParser, runs: list[Path], env_id: str) -> None:
     """Each of ``runs`` a directory holding at least one candidate (:func:`candidates`), every one a readable
     Stable-Baselines3 model with usable statistics and metadata (:func:`~cof_gym.agents.sb3_policy.check_model`, as
-    ``cof-gym evaluate --agents ppo:PATH`` checks it); otherwise a one-line usage error naming --runs, before
-    anything is played."""
+    ``cof-gym evaluate --agents ppo:PATH`` checks it) trained on ``env_id`` (its ``train_meta.json``); otherwise a
+    one-line usage error naming --runs, before anything is played."""
     for run in runs:
         if not run.is_dir():
             parser.error(f"--runs: no directory {run}")
@@ -109,6 +119,10 @@ def check_runs(parser: argparse.ArgumentParser, runs: list[Path]) -> None:
                 check_model(model)
             except ValueError as error:
                 parser.error(f"--runs: {' '.join(str(error).split())}")
+            trained = (find_train_meta(model) or {}).get("env_id")
+            if trained != env_id:
+                parser.error(f"--runs: {model} was trained on {trained or 'an unknown env'}, and the grids this "
+                             f"script selects and reports on are {env_id}'s (cof-gym train --env {env_id})")
 
 
 def main() -> None:
@@ -119,7 +133,7 @@ def main() -> None:
     parser.add_argument("--jobs", type=positive_int, default=2, help="evaluations run in parallel (processes)")
     args = parser.parse_args()
     check_out_dir(parser, "--out", args.out)
-    check_runs(parser, args.runs)
+    check_runs(parser, args.runs, suite_env_id(VALIDATION))
     args.out.mkdir(parents=True, exist_ok=True)
     jobs = [(run, k, model) for run in args.runs for k, model in enumerate(candidates(run))]
     results = play_all([(f"ppo:{m}", str(VALIDATION), args.out / f"val_{run.name}_{k}") for run, k, m in jobs],
@@ -135,21 +149,20 @@ def main() -> None:
     chosen = {name: {**max(entries, key=lambda c: c["validation_return"]), "candidates": entries}
               for name, entries in scored.items() if entries}
     report: dict = {"seeds": chosen, "suites": {}}
-    suites = (str(HELDOUT), "default")
-    reports = [(name, suite_name) for suite_name in suites for name in chosen]
-    played = dict(zip(reports, play_all([(f"ppo:{chosen[name]['model']}", suite_name,
-                                          args.out / f"rep_{name}_{Path(suite_name).stem}")
-                                         for name, suite_name in reports], args.jobs)))
-    for suite_name in suites:
+    reports = [(name, report_name) for report_name in REPORTS for name in chosen]
+    played = dict(zip(reports, play_all([(f"ppo:{chosen[name]['model']}", str(REPORTS[report_name]),
+                                          args.out / f"rep_{name}_{report_name}")
+                                         for name, report_name in reports], args.jobs)))
+    for report_name in REPORTS:
         matrix = []
         per_seed = {}
         for name in chosen:
-            _, errors, slips, _ = played[(name, suite_name)]
+            _, errors, slips, _ = played[(name, report_name)]
             matrix.append(errors)
             per_seed[name] = {"median": float(np.median(errors)), "p90": float(np.percentile(errors, 90)),
                               "macro_slips": slips, "episodes": int(errors.size)}
         scores = np.array(matrix)
-        report["suites"][Path(suite_name).stem] = {
+        report["suites"][report_name] = {
             "per_seed": per_seed,
             "iqm": iqm(scores), "iqm_ci95": stratified_bootstrap_ci(scores, iqm),
             "median": float(np.median(scores)),

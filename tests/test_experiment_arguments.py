@@ -369,3 +369,25 @@ def test_shadow_reading_tables_each_ending_with_where_the_shadow_would_have_stop
     assert lines[2].startswith("| stop | 2 | ") and lines[2].endswith(" | 0.20 | 1, 60% |")
     assert lines[3].startswith("| macro-slip | 1 | 5.0% / 5.0% | 0.0% / 0.0% | 0.50 | 1, 90% |")
     assert lines[4].startswith("| all | 3 |") and len(lines) == 5  # no climb ended at the horizon: no row
+
+
+def test_ppo_seeds_refuses_a_run_trained_on_another_env_than_its_v1_grids(tmp_path: Path, experiment_exit) -> None:
+    """ppo_seeds.py selects on v1 grids: a run that `cof-gym train` made on its default v2 id is named, with the flag
+    that trains the recipe's env, before anything is played."""
+    import json
+    import shutil
+
+    import cof_gym
+    from cof_gym.agents.registry import SHIPPED_PPO
+
+    run = tmp_path / "run"
+    run.mkdir()
+    for name in ("model.zip", "vecnormalize.pkl"):
+        shutil.copyfile(SHIPPED_PPO / name, run / name)
+    meta = json.loads((SHIPPED_PPO / "train_meta.json").read_text())
+    (run / "train_meta.json").write_text(json.dumps({**meta, "env_id": cof_gym.WAGON_ENV_ID}))
+    code, last = experiment_exit("ppo_seeds", ["--runs", str(run), "--out", str(tmp_path / "new")])
+    assert code == 2
+    assert last.startswith("ppo_seeds.py: error: --runs: ") and f"was trained on {cof_gym.WAGON_ENV_ID}" in last, last
+    assert "cof-gym train --env CofGym/TorqueInterrogation-v1" in last
+    assert not (tmp_path / "new").exists()
