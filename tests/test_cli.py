@@ -45,6 +45,7 @@ SUITE_FILES = {
     "task_version_of_its_own.json": json.dumps({"env_kwargs": {"task_version": 1}}),
     "float_time_limit.json": json.dumps({"env_kwargs": {"max_episode_steps": 1.5}}),
     "zero_horizon.json": json.dumps({"env_kwargs": {"max_windows": 0}}),
+    "unknown_env_kwarg.json": json.dumps({"env_kwargs": {"horizon": 60}}),  # max_windows is the horizon
     # episode 1 asks the half wheelset for a load case it lacks: only its env's reset can tell
     "empty_half_wheelset.json": json.dumps({"env_id": "CofGym/HalfWheelset-v2",
                                             "episodes": [{}, {"options": {"load_case": "empty"}}]}),
@@ -80,13 +81,15 @@ BAD = [
     (["evaluate", "--agents", "staircase", "--env-kwargs", "max_episode_steps:1.5"],
      "env_kwargs.max_episode_steps must be an integer (-1: no TimeLimit), got 1.5"),
     (["evaluate", "--agents", "staircase", "--env-kwargs", "vehicle:half_wheelset"],
-     "unknown env argument(s) ['vehicle']"),
+     "env_kwargs.vehicle is the env id's own"),  # as train and a suite file say it (check_env_kwargs)
     (["evaluate", "--agents", "staircase", "--paired", "staircase"],
      "--paired: compares every other agent with 'staircase', and --agents plays no other"),
     (["evaluate", "--agents", "staircase", "--suite", "vehicle_of_its_own.json"],
      "env_kwargs.vehicle is the env id's own (CofGym/TorqueInterrogation-v2 is made with vehicle='wagon')"),
     (["evaluate", "--agents", "staircase", "--suite", "task_version_of_its_own.json"],
      "env_kwargs.task_version is the env id's own"),
+    (["evaluate", "--agents", "staircase", "--suite", "unknown_env_kwarg.json"],
+     "unknown_env_kwarg.json: unknown env argument(s) ['horizon']; allowed: ['action_type',"),
     (["evaluate", "--agents", "staircase", "--suite", "empty_half_wheelset.json"], "episode 1 (options"),
     # watch checks a suite's env arguments and its episode as evaluate does, before anything is simulated
     (["watch", "--suite", "zero_horizon.json", "--out", "e.gif"],
@@ -139,6 +142,9 @@ BAD = [
     (["train", "--out", "run", "--env-kwargs", "counter_torque:false"], "counter_torque"),
     (["train", "--out", "run", "--env-kwargs", "max_episode_steps:2"], "max_episode_steps must be -1"),  # unscored
     (["train", "--out", "run", "--env-kwargs", "vehicle:half_wheelset"], "env_kwargs.vehicle is the env id's own"),
+    # named in our words, as evaluate names it (gymnasium's message quoted every kwarg the creator got)
+    (["train", "--out", "run", "--env-kwargs", "nosuch:1"],
+     "--env-kwargs: CofGym/TorqueInterrogation-v2: unknown env argument(s) ['nosuch']; allowed: ['action_type',"),
     (["train", "--out", "run", "--env-kwargs", "cof:0.2", "--env-kwargs", "cof:0.3"], "'cof' given twice"),
     # a policy_kwargs / normalize expression that raises whatever it raises: one line naming the key
     (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "policy_kwargs:dict(activation_fn=nn.Relu)"],

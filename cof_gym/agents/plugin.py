@@ -67,7 +67,7 @@ def python_agent(env: Any, argument: str) -> Any:
     except Exception as e:  # noqa: BLE001 - whatever the user's constructor raises
         raise ValueError(f"{name}(limits) of {path} raised {type(e).__name__}: {' '.join(str(e).split())}") from None
     if not (callable(getattr(agent, "reset", None)) and callable(getattr(agent, "act", None))):
-        raise ValueError(f"{name}(limits) of {path} returned a {type(agent).__name__}, which has no reset(observation, "
+        raise ValueError(f"{name}(limits) of {path} returned {type(agent).__name__!r}, which has no reset(observation, "
                          "info) and act(observation, info)")
     if getattr(agent, "oracle", False):
         raise ValueError(f"{name} of {path} says it is an oracle: an agent of your own never reads the ground truth")

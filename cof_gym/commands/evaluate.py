@@ -25,7 +25,7 @@ from cof_gym.commands.evaluate_stats import COF_BANDS, paired_summary, summarize
 from cof_gym.commands.evaluate_tables import (markdown_breakdown, markdown_intervals, markdown_paired, markdown_table,
                                               print_paired, print_table)
 from cof_gym.commands.evaluate_workers import EPISODES_PER_WORKER, MAX_WORKERS, WORKER_MEMORY_BYTES, default_workers
-from cof_gym.commands.suites import (ID_KWARGS, MAX_EPISODES, Suite, SuiteError, make_suite, per_curve,
+from cof_gym.commands.suites import (MAX_EPISODES, Suite, SuiteError, make_suite, per_curve,
                                      read_measured_curve, with_env_kwargs)
 from cof_gym.envs.torque_interrogation import make_kwargs
 from cof_gym.validation import brief, check_int
@@ -507,16 +507,8 @@ def _with_env(suite: Suite, overrides: dict[str, Any], shown: dict[str, Any] | N
     env built once with them (UsageError naming the flag)."""
     import gymnasium as gym
 
-    from cof_gym.agents.base import env_defaults
     from cof_gym.commands.args import UsageError
-    from cof_gym.task.scenarios import SCENARIO_KEYS
 
-    # the constructor's arguments (a scenario field fixes it in every episode that does not set it), not the id's own
-    # nor ranges (a ScenarioRanges, which no command-line text writes)
-    allowed = sorted({*env_defaults(suite.env_id), *SCENARIO_KEYS, "max_episode_steps"} - {*ID_KWARGS, "ranges"})
-    unknown = sorted(set(overrides) - set(allowed))
-    if unknown:
-        raise UsageError("--env-kwargs", f"unknown env argument(s) {unknown}; allowed: {allowed}")
     try:
         suite = with_env_kwargs(suite, overrides, shown)
         gym.make(suite.env_id, **make_kwargs(suite.env_kwargs)).close()

@@ -172,9 +172,20 @@ def _check_interface(env_id: str, env_kwargs: dict[str, Any], where: Path | str)
     check_env_kwargs(env_id, env_kwargs, prefix)
 
 
+def allowed_env_kwargs(env_id: str) -> list[str]:
+    """The env arguments a suite, ``--env-kwargs`` or training may set for ``env_id``: the constructor's (a scenario
+    field fixes it in every episode that does not set it) and ``max_episode_steps``, not the id's own
+    (:data:`ID_KWARGS`) nor ``ranges`` (a ScenarioRanges, which no file or command-line text writes)."""
+    from cof_gym.agents.base import env_defaults
+    from cof_gym.task.scenarios import SCENARIO_KEYS
+
+    return sorted({*env_defaults(env_id), *SCENARIO_KEYS, "max_episode_steps"} - {*ID_KWARGS, "ranges"})
+
+
 def check_env_kwargs(env_id: str, env_kwargs: dict[str, Any], prefix: str = "") -> None:
-    """:class:`SuiteError` where ``env_kwargs`` set the id's own arguments (:data:`ID_KWARGS`) or a TimeLimit that
-    ends episodes unscored (:func:`check_time_limit`): evaluation and training alike."""
+    """:class:`SuiteError` where ``env_kwargs`` set the id's own arguments (:data:`ID_KWARGS`), one the env does not
+    take (:func:`allowed_env_kwargs`) or a TimeLimit that ends episodes unscored (:func:`check_time_limit`):
+    evaluation and training alike."""
     import gymnasium as gym
 
     for key in ID_KWARGS:
@@ -182,6 +193,10 @@ def check_env_kwargs(env_id: str, env_kwargs: dict[str, Any], prefix: str = "") 
             own = gym.spec(env_id).kwargs.get(key)
             raise SuiteError(f"{prefix}env_kwargs.{key} is the env id's own ({env_id} is made with {key}={own!r}): "
                              f"name the id instead, one of {list(cof_gym.ENV_IDS)}")
+    allowed = allowed_env_kwargs(env_id)
+    unknown = sorted(set(env_kwargs) - set(allowed))
+    if unknown:
+        raise SuiteError(f"{prefix}unknown env argument(s) {unknown}; allowed: {allowed}")
     check_time_limit(env_id, env_kwargs, prefix)
 
 
