@@ -82,6 +82,7 @@ from cof_gym.agents.interrogator import (  # noqa: E402
     read_manifest,
 )
 from cof_gym.commands.args import Parser, name_value, positive_int  # noqa: E402
+from cof_gym.agents.policy_files import MANIFEST_FILE  # noqa: E402
 from cof_gym.commands.suites import scenario_option  # noqa: E402
 
 
@@ -421,7 +422,7 @@ def check_arguments(parser: Parser, args: argparse.Namespace) -> None:
             if value is not None:
                 parser.error(f"{option}: not with --own-climb (each run plays its own manifest's climb)")
         for run in args.run:
-            if not (run / "manifest.json").is_file():
+            if not (run / MANIFEST_FILE).is_file():
                 parser.error(f"--run: no manifest.json in {run} (--own-climb plays the climb it names)")
     args.targets = args.targets or [0.1, 0.15, 0.2, 0.3]
     if any(not 0.0 < t < 1.0 for t in args.targets):

@@ -54,6 +54,7 @@ from script_checks import check_out_file, write_report  # noqa: E402
 from train_interrogator import CONFIGS, PROCEDURAL_VALIDATION, STEEP_VALIDATION, VALIDATION, episodes  # noqa: E402
 
 from cof_gym.agents.base import agent_view  # noqa: E402
+from cof_gym.agents.policy_files import MANIFEST_FILE  # noqa: E402
 from cof_gym.agents.interrogator import (  # noqa: E402
     CLASS_POOLS, FLOORED_CLASSES, IN_FLIGHT, NOISY, POOLED, SHIPPED_INTERROGATOR, SMOOTHED, IntervalScales,
     check_coverage, sensor_class_of, sensor_group,
@@ -318,7 +319,7 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=Path("out/estimate_interval.md"))
     args = parser.parse_args()
     check_out_file(parser, "--out", args.out)
-    if not (args.policy / "manifest.json").is_file():
+    if not (args.policy / MANIFEST_FILE).is_file():
         parser.error(f"--policy: {args.policy} holds no manifest.json (an interrogator's directory)")
     check_policy(parser, args.policy)
     heldout_grids = v2_heldout_grids()

@@ -67,6 +67,7 @@ from script_checks import check_out_dir, check_out_file  # noqa: E402
 
 import cof_gym  # noqa: E402
 from cof_gym.agents.base import agent_view  # noqa: E402
+from cof_gym.agents.policy_files import MANIFEST_FILE, MODEL_NAMES, TRAINING_RECORD  # noqa: E402
 from cof_gym.agents.interrogator import (  # noqa: E402
     CAUTION_POLICY_FILE, CAUTION_SPAN, CLIMB_STATE_FIELDS, SHIPPED_INTERROGATOR, CautionPolicy, interrogator_for,
 )
@@ -246,14 +247,14 @@ def train(out: Path, seed: int, timesteps: int, budget: float | None = None) -> 
     model.learn(total_timesteps=timesteps, callback=callback)
     directory = out / f"seed_{seed}"
     directory.mkdir(parents=True, exist_ok=True)
-    model.save(directory / "model.zip")
+    model.save(directory / MODEL_NAMES[0])
     envs.close()
     record = {"seed": seed, "timesteps": timesteps, "training_seed": TRAINING_SEED + 1_000_000 * seed,
               "caution_span": CAUTION_SPAN, "shapes": SHAPES, "noisy_share": NOISY_SHARE,
               "seconds": round(time.time() - start, 1)}
     if callback is not None:
         record |= {"cost_budget": budget, "multiplier_step": MULTIPLIER_STEP, "dual_ascent": callback.history}
-    (directory / "training.json").write_text(json.dumps(record, indent=1) + "\n")
+    (directory / TRAINING_RECORD).write_text(json.dumps(record, indent=1) + "\n")
     return record
 
 
@@ -411,11 +412,11 @@ def export(parser: Parser, args: argparse.Namespace) -> None:
     """``--export MODEL --into DIR``: the model's policy written into the policy directory (module docstring)."""
     if args.export is None or args.into is None:
         parser.error("--export and --into go together (a seed's model.zip, a policy directory)")
-    manifest_path = args.into / "manifest.json"
+    manifest_path = args.into / MANIFEST_FILE
     if args.export.is_file() and not manifest_path.is_file():  # the cheap check first: loading a model takes seconds
         parser.error(f"--into: no manifest.json in {args.into} (a policy directory)")
     check_caution_model(parser, "--export", args.export)
-    training = args.export.parent / "training.json"
+    training = args.export.parent / TRAINING_RECORD
     exported(args.export).save(args.into / CAUTION_POLICY_FILE)
     manifest = json.loads(manifest_path.read_text())
     manifest["caution_policy"] = CAUTION_POLICY_FILE

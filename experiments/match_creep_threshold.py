@@ -85,9 +85,9 @@ def print_noise_exponent(args, reference: np.ndarray, candidate: np.ndarray, rat
 
 
 def main() -> None:
-    from cof_gym.agents.interrogator import NOISY_RATIO, manifest_climb
+    from cof_gym.agents.interrogator import NOISY_RATIO, SHIPPED_INTERROGATOR, manifest_climb
 
-    shipped = manifest_climb(HERE.parent / "cof_gym/agents/policies/interrogator")
+    shipped = manifest_climb(SHIPPED_INTERROGATOR)
     parser = Parser(description=__doc__.splitlines()[0])
     parser.add_argument("--reference", type=Path, required=True, help="the networks whose threshold is matched")
     parser.add_argument("--candidate", type=Path, required=True, help="the networks a threshold is found for")

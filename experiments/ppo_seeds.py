@@ -38,7 +38,7 @@ import numpy as np
 from cof_gym.commands.args import Parser, positive_int
 from cof_gym.commands.evaluate import evaluate
 from cof_gym.agents.sb3_policy import check_model, find_train_meta, vecnormalize_path
-from cof_gym.agents.registry import SHIPPED_PPO
+from cof_gym.agents.policy_files import META_NAME, MODEL_NAMES, SHIPPED_PPO, VECNORMALIZE_NAME
 from cof_gym.commands.suites import make_suite
 
 HERE = Path(__file__).resolve().parent
@@ -99,7 +99,7 @@ def play_all(plays: list[tuple[str, str, Path]], jobs: int) -> list[tuple[dict, 
 def candidates(run: Path) -> list[Path]:
     checkpoints = sorted(run.glob("checkpoints/ppo_*_steps.zip"), key=lambda p: int(p.stem.split("_")[1]))
     warm_start = sorted(run.glob("warm_start/*.zip"))  # the cloned policy before RL (--pretrain-episodes)
-    return [p for p in (*warm_start, *checkpoints, run / "best" / "best_model.zip", run / "model.zip") if p.is_file()]
+    return [p for p in (*warm_start, *checkpoints, run / "best" / MODEL_NAMES[1], run / MODEL_NAMES[0]) if p.is_file()]
 
 
 def check_runs(parser: argparse.ArgumentParser, runs: list[Path], env_id: str) -> None:
@@ -189,10 +189,10 @@ def main() -> None:
     if args.ship:
         model = Path(shipped[1]["model"])
         SHIPPED_PPO.mkdir(parents=True, exist_ok=True)
-        shutil.copyfile(model, SHIPPED_PPO / "model.zip")
-        shutil.copyfile(vecnormalize_path(model), SHIPPED_PPO / "vecnormalize.pkl")
-        run = model.parent if (model.parent / "train_meta.json").is_file() else model.parent.parent
-        shutil.copyfile(run / "train_meta.json", SHIPPED_PPO / "train_meta.json")
+        shutil.copyfile(model, SHIPPED_PPO / MODEL_NAMES[0])
+        shutil.copyfile(vecnormalize_path(model), SHIPPED_PPO / VECNORMALIZE_NAME)
+        run = model.parent if (model.parent / META_NAME).is_file() else model.parent.parent
+        shutil.copyfile(run / META_NAME, SHIPPED_PPO / META_NAME)
         (SHIPPED_PPO / "selection.json").write_text(json.dumps(report["shipped"], indent=1))
         print(f"shipped to {SHIPPED_PPO}")
 

@@ -54,6 +54,7 @@ from cof_gym.agents.interrogator import (  # noqa: E402
 from cof_gym.commands.args import DistinctNames, DistinctValues, Parser, positive_int, seed_int  # noqa: E402
 from cof_gym.task.creep_fit import coa_fell  # noqa: E402
 from cof_gym.agents.interrogator.networks import ensemble_files  # noqa: E402
+from cof_gym.agents.policy_files import MANIFEST_FILE  # noqa: E402
 from cof_gym.agents.interrogator.training import (  # noqa: E402
     FIT_LOSSES, FITTABLE_BLOCKS, READING_FIELDS, TRAINING_SEED, ClimbDraws, Dataset, FitSettings, collect_parallel,
 )
@@ -192,7 +193,7 @@ def main() -> None:
     args = ap.parse_args()
     check_out_dir(ap, "--out", args.out)
     require_networks(ap, "--policy", [args.policy])
-    if not (args.policy / "manifest.json").is_file():
+    if not (args.policy / MANIFEST_FILE).is_file():
         ap.error(f"--policy: no manifest.json in {args.policy} (the climb the estimator learns)")
     try:  # the --set values against the policy's own climb
         checked_climb(read_manifest(args.policy).get("climb", {}), dict(args.set), len(manifest_guards(args.policy)),

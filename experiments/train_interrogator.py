@@ -119,6 +119,7 @@ from cof_gym.agents.interrogator import (
     write_manifest,
 )
 from cof_gym.agents.interrogator.networks import ensemble_files, member_files
+from cof_gym.agents.policy_files import MANIFEST_FILE, TRAINING_RECORD
 from cof_gym.agents.interrogator.training import (
     FAR_PEAK_CREEPAGE, FIT_LOSSES, FITTABLE_BLOCKS, STEEP_FALL, TRAINING_SEED, ClimbDraws, Dataset, FitSettings,
     collect_parallel, fit_member, nll,
@@ -353,7 +354,7 @@ def source_error(agent, record, estimate_from: str, best_coa_factor: float = 1.0
     where the episode is unscored."""
     limits = agent.limits
     estimate = agent.candidate_estimates(best_coa_factor)[estimate_from]
-    estimate = min(max(estimate, limits.min_cof_estimate), limits.max_cof_estimate)
+    estimate = limits.clip_estimate(estimate)
     return abs(estimate / record.cof - 1.0) if record.scored else 1.0
 
 
@@ -426,7 +427,6 @@ def select_climb(ensemble_dir: Path, workers: int, criterion: str = "pooled",
 NOTHING_HELD_APART = "no climb held apart (fewer than 10 climbs)"  # a held-apart report of no window, not NaN
 
 
-TRAINING_RECORD = "training.json"  # what a directory's networks were fitted on (training_record)
 
 
 def lag_or_none(text: str) -> float | None:
@@ -558,7 +558,7 @@ def shipped_runs(out: Path, package: Path = SHIPPED_INTERROGATOR) -> list[Path]:
     """The shipped agent laid out as the recipe's runs (step 4's input): OUT/seed_K holds the package's
     ``member_J.npz`` of the manifest's J-th training seed K alone, OUT/ensemble every member; each has the
     package's guards (every member: the recipe copies the guards' ensembles into every run) and manifest."""
-    seeds = json.loads((package / "manifest.json").read_text())["training"]["seeds"]
+    seeds = json.loads((package / MANIFEST_FILE).read_text())["training"]["seeds"]
     members = member_files(package)
     if len(members) != len(seeds):
         raise ValueError(f"{package}: {len(members)} member_*.npz for the manifest's {len(seeds)} training seeds")

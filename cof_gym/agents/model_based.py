@@ -39,9 +39,10 @@ import numpy as np
 
 from cof_gym.agents.base import check_parameters
 from cof_gym.agents.phase_rule import UNKNOWN_SE_DEG, PhaseRule, knee_seen, phase_of
-from cof_gym.agents.staircase import COA, CREEPAGE, DC, ElasticityClimb, peak_fraction
+from cof_gym.agents.staircase import (COA, CREEPAGE, DC, MIN_STOP_CREEPAGE, STOP_ELASTICITY, ElasticityClimb,
+                                     peak_fraction)
 from cof_gym.task.creep_fit import ELASTICITY_SPAN, POLACH, SHAPE_FAMILIES, ClimbRecord
-from cof_gym.task.interface import OBSERVATION_NAMES, SPEED_SCALE_M_S, MotorLimits
+from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES, SPEED_SCALE_M_S, MotorLimits
 
 SPEED = OBSERVATION_NAMES.index("speed")
 @dataclass
@@ -53,8 +54,8 @@ class ModelBasedAgent:
     climb: ElasticityClimb = field(default_factory=ElasticityClimb)
     ci_tolerance: float = 0.04
     min_windows: int = 4
-    stop_elasticity: float = 10.0
-    min_stop_creepage: float = 0.003
+    stop_elasticity: float = STOP_ELASTICITY
+    min_stop_creepage: float = MIN_STOP_CREEPAGE
     min_span: float = ELASTICITY_SPAN
     max_ratio: float = 4.0
     shape_families: tuple[str, ...] = (POLACH,)  # the creep-law families its fit reads (creep_fit.family_shapes)
@@ -97,7 +98,7 @@ class ModelBasedAgent:
 
     def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
         coa = float(observation[COA])
-        creepage = float(observation[CREEPAGE]) / 10.0
+        creepage = float(observation[CREEPAGE]) / CREEPAGE_SCALE
         # the DC torque the drive applied in this window (the observation's, so that the agent follows
         # the applied level even when it was not its own command, e.g. perturbed demonstrations)
         self._dc = float(observation[DC]) * self.limits.max_dc_torque_nm

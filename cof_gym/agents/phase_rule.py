@@ -53,10 +53,10 @@ from cof_gym.agents.base import check_parameters
 from cof_gym.agents.staircase import COA, PHASE, ElasticityClimb
 from cof_gym.measurement.sine_fit import NO_SE_DEG, SMOOTHED_NOISE_COLOUR, noise_colour
 from cof_gym.task.creep_fit import coa_fell
-from cof_gym.task.interface import OBSERVATION_NAMES, MotorLimits, encode_action
+from cof_gym.task.interface import OBSERVATION_NAMES, PHASE_SCALE_DEG, MotorLimits, encode_action
 
 PHASE_SE = OBSERVATION_NAMES.index("phase_lag_se")
-DEG_PER_UNIT = 90.0  # observation phase_lag and phase_lag_se are in units of 90 deg
+DEG_PER_UNIT = PHASE_SCALE_DEG  # observation phase_lag and phase_lag_se are in units of 90 deg
 UNKNOWN_SE_DEG = NO_SE_DEG  # the standard error of a window whose sine fit gave none
 PAPER_CORRECTION = 1.0 / 0.95  # the paper: the CoA at the zero crossing is ~95 % of the CoF
 
@@ -261,7 +261,7 @@ class PhaseRule:
             self._dc = self.climb.first_dc(self.limits)
         self._amp = self.amplitude(self._dc)
         estimate = self._best_crest * self.correction if self._best_crest > 0 else self.limits.min_cof_estimate
-        estimate = min(max(estimate, self.limits.min_cof_estimate), self.limits.max_cof_estimate)
+        estimate = self.limits.clip_estimate(estimate)
         return encode_action(self._dc, self._amp, self.frequency_hz, estimate, stop, self.limits)
 
 

@@ -25,8 +25,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-PACKAGE_DIR = Path(__file__).resolve().parent
-SHIPPED_PPO = PACKAGE_DIR / "policies" / "ppo_wagon"
+from cof_gym.agents.policy_files import MANIFEST_FILE, MODEL_NAMES, SHIPPED_INTERROGATOR, SHIPPED_PPO
 
 
 class AgentSpecError(ValueError):
@@ -152,12 +151,12 @@ register("robust-model-gated", "cof_gym.agents.robust_model:robust_model_gated",
          ceiling=True, default=False,
          help="the robust model reading that SE only where its reset window reads a smoothed speed signal")
 register("interrogator", "cof_gym.agents.interrogator:load_interrogator", oracle=False, takes_env=True,
-         argument="DIR", shipped=PACKAGE_DIR / "policies" / "interrogator" / "manifest.json",
+         argument="DIR", shipped=SHIPPED_INTERROGATOR / MANIFEST_FILE,
          help="the learned interrogator (v2): a torque climb steered by a learned filter of phase, "
          "compliance and CoA; interrogator:DIR for other networks (a two-tone climb plays in an env of "
          "its own with the suite's scenarios)")
 register("ppo", "cof_gym.agents.registry:_ppo", oracle=False, takes_env=True, argument="PATH",
-         shipped=SHIPPED_PPO / "model.zip", check="cof_gym.agents.sb3_policy:check_model_argument",
+         shipped=SHIPPED_PPO / MODEL_NAMES[0], check="cof_gym.agents.sb3_policy:check_model_argument",
          help="the shipped PPO policy, or ppo:PATH for any saved model")
 register("sb3", "cof_gym.agents.registry:_sb3", oracle=False, takes_env=True, argument="PATH", default=False,
          check="cof_gym.agents.sb3_policy:check_model_argument",

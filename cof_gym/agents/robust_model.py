@@ -192,7 +192,7 @@ class RobustModel:
             estimate = self._best_crest_coa() * correction
         if not estimate > 0:
             estimate = self.limits.min_cof_estimate
-        return min(max(estimate, self.limits.min_cof_estimate), self.limits.max_cof_estimate)
+        return self.limits.clip_estimate(estimate)
 
     # -- the policy ------------------------------------------------------------------------------------
     def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:

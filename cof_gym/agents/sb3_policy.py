@@ -25,11 +25,9 @@ import numpy as np
 
 import cof_gym
 from cof_gym.agents.base import configuration_note, outside_training_note, registered_ranges, without_defaults
+from cof_gym.agents.policy_files import META_NAME, MODEL_NAMES, VECNORMALIZE_NAME  # noqa: F401 - read from here too
 
 DEFAULT_ENV_ID = cof_gym.WAGON_V1_ENV_ID  # the shipped policy was trained on v1
-MODEL_NAMES = ("model.zip", "best_model.zip")  # looked for, in this order, when given a directory
-VECNORMALIZE_NAME = "vecnormalize.pkl"
-META_NAME = "train_meta.json"
 ZOO_CONFIG_NAME, ZOO_ARGS_NAME = "config.yml", "args.yml"  # RL Zoo's hyperparameters and arguments of a run
 
 # the saved policy's module -> the algorithm ("module:Class") that loads it; only the policy acts, so one

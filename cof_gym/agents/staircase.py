@@ -13,7 +13,7 @@ import numpy as np
 from cof_gym.agents.base import check_parameters
 from cof_gym.analysis.theory import paper_schedule
 from cof_gym.task.creep_fit import coa_fell, elasticity_between
-from cof_gym.task.interface import OBSERVATION_NAMES, MotorLimits, encode_action
+from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES, MotorLimits, encode_action
 
 PHASE = OBSERVATION_NAMES.index("phase_lag")
 COA = OBSERVATION_NAMES.index("coa_measured")
@@ -72,6 +72,10 @@ PEAK_FRACTION_MEDIAN = (0.0, 0.270, 0.396, 0.507, 0.619, 0.719, 0.860, 0.955, 0.
 PEAK_FRACTION_MAX = (0.30, 0.373, 0.535, 0.667, 0.787, 0.877, 0.935, 0.970, 0.993, 0.999)
 CREEPAGE = OBSERVATION_NAMES.index("creepage_measured")
 DC = OBSERVATION_NAMES.index("dc_torque")
+# the elasticity climbs' stop near the peak (StaircaseAgent, ModelBasedAgent): e at least this, at a creepage of at
+# least MIN_STOP_CREEPAGE (every peak in range lies above 1 %: a large e at a tiny creepage is sensor noise)
+STOP_ELASTICITY = 10.0
+MIN_STOP_CREEPAGE = 0.003
 
 
 def peak_fraction(elasticity: float, table: tuple[float, ...] = PEAK_FRACTION_MEDIAN) -> float:
@@ -120,7 +124,7 @@ class ElasticityClimb:
 
     def command(self, dc: float, estimate: float, stop: bool, limits: MotorLimits) -> np.ndarray:
         """The absolute env action for this DC torque, its modulation and the estimate."""
-        estimate = min(max(estimate, limits.min_cof_estimate), limits.max_cof_estimate)
+        estimate = limits.clip_estimate(estimate)
         amplitude = max(self.min_amplitude_nm, self.amplitude_ratio * dc)
         return encode_action(dc, amplitude, self.frequency_hz, estimate, stop, limits)
 
@@ -151,8 +155,8 @@ class PracticalStaircase:
 
     limits: MotorLimits
     climb: ElasticityClimb = field(default_factory=ElasticityClimb)
-    stop_elasticity: float = 10.0
-    min_stop_creepage: float = 0.003
+    stop_elasticity: float = STOP_ELASTICITY
+    min_stop_creepage: float = MIN_STOP_CREEPAGE
     name: str = "staircase"
     oracle: bool = False
     _dc: float = 0.0
@@ -181,7 +185,7 @@ class PracticalStaircase:
 
     def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
         coa = float(observation[COA])
-        creepage = float(observation[CREEPAGE]) / 10.0
+        creepage = float(observation[CREEPAGE]) / CREEPAGE_SCALE
         if self._dc > 0:
             falling = bool(self._points) and coa_fell(coa, self._points[-1][0])
             self._falls = self._falls + 1 if falling else 0

@@ -41,6 +41,7 @@ from typing import Any
 import numpy as np
 
 import cof_gym
+from cof_gym.agents.policy_files import META_NAME, MODEL_NAMES, VECNORMALIZE_NAME
 from cof_gym.commands.train_hyperparams import (
     DEFAULT_CONF, MAX_N_ENVS, check_normalize_env, check_ppo_kwargs, load_hyperparams, split_hyperparams,
 )
@@ -216,8 +217,6 @@ def save_warm_start(model, train_env, out: Path, env_id: str) -> Path:
     """The cloned policy before RL, in RL Zoo's layout (``OUT/warm_start/<Env-Name>.zip`` with
     ``OUT/warm_start/<Env-Name>/vecnormalize.pkl``), so that ``python -m rl_zoo3.train ... -i`` can
     fine-tune it too. Returns the zip's path."""
-    from cof_gym.agents.sb3_policy import VECNORMALIZE_NAME
-
     name = env_id.split(":")[-1].replace("/", "-")
     (out / WARM_START_DIR / name).mkdir(parents=True, exist_ok=True)
     zip_path = out / WARM_START_DIR / f"{name}.zip"
@@ -425,7 +424,7 @@ def _check_pretrain(args: argparse.Namespace, resuming: bool) -> None:
 def _check_out_and_resume(args: argparse.Namespace) -> tuple[Path, Path | None, Any, dict[str, Any], bool]:
     """``--out`` and ``--resume``: the output directory, the continued model's zip, its (observation, action)
     spaces, its train_meta.json and whether it is ``--out``'s own model."""
-    from cof_gym.agents.sb3_policy import META_NAME, check_model, find_train_meta, resolve_model_path
+    from cof_gym.agents.sb3_policy import check_model, find_train_meta, resolve_model_path
     from cof_gym.commands.args import UsageError, check_output_dir
 
     out = check_output_dir(Path(args.out))
@@ -437,12 +436,13 @@ def _check_out_and_resume(args: argparse.Namespace) -> tuple[Path, Path | None, 
             prev_meta = find_train_meta(resume_path, strict=True) or {}
         except (FileNotFoundError, ValueError) as e:
             raise UsageError("--resume", str(e)) from None
-    same_out = resume_path is not None and resume_path.resolve() == (out / "model.zip").resolve()
+    model_zip = out / MODEL_NAMES[0]
+    same_out = resume_path is not None and resume_path.resolve() == model_zip.resolve()
     if out.is_dir() and not same_out and not (out / META_NAME).is_file() and any(out.iterdir()):
         raise UsageError("--out", f"{out} exists and is not a cof-gym train output (no {META_NAME}); "
                          "give a new or empty directory")
-    if (out / "model.zip").exists() and not args.overwrite and not same_out:
-        raise UsageError("--out", f"{out / 'model.zip'} exists; use --overwrite, another --out or "
+    if model_zip.exists() and not args.overwrite and not same_out:
+        raise UsageError("--out", f"{model_zip} exists; use --overwrite, another --out or "
                          f"--resume {out}")
     return out, resume_path, resume_spaces, prev_meta, same_out
 
@@ -550,8 +550,6 @@ def _check_model_settings(settings: dict[str, Any], ppo_kwargs: dict[str, Any], 
 def _history(out: Path, same_out: bool) -> list:
     """The earlier runs into ``out`` when this one continues its model there (their train_meta.json, oldest
     first), else none."""
-    from cof_gym.agents.sb3_policy import META_NAME
-
     if not (same_out and (out / META_NAME).is_file()):
         return []
     previous = json.loads((out / META_NAME).read_text())
@@ -575,8 +573,6 @@ def _train(args: argparse.Namespace, plan: TrainPlan) -> int:
     """Set up, learn and save as ``plan`` says; train_meta.json records every stage, and a failure or an
     interruption too."""
     from stable_baselines3.common.utils import set_random_seed
-
-    from cof_gym.agents.sb3_policy import META_NAME
 
     _quiet_progress_bar(args.progress)
     if args.torch_threads and args.torch_threads > 0:
@@ -779,8 +775,8 @@ def _training_callbacks(args: argparse.Namespace, plan: TrainPlan, eval_env) -> 
         eval_env, n_eval_episodes=args.eval_episodes, eval_freq=max(args.eval_freq // n_envs, 1),
         best_model_save_path=str(out / "best"),
         log_path=str(out / "eval" / f"resume{plan.run_index}" if plan.run_index else out / "eval"), deterministic=True,
-        callback_on_new_best=SaveVecNormalizeCallback(out / "best" / "vecnormalize.pkl"), verbose=args.verbose)
-    if plan.same_out and (out / "best" / "best_model.zip").is_file():
+        callback_on_new_best=SaveVecNormalizeCallback(out / "best" / VECNORMALIZE_NAME), verbose=args.verbose)
+    if plan.same_out and (out / "best" / MODEL_NAMES[1]).is_file():
         best = _previous_best(out, plan.prev_meta)
         if best is not None:  # best/ is replaced only by a better model
             eval_callback.best_mean_reward = best
@@ -805,8 +801,8 @@ def _learn(model, args: argparse.Namespace, plan: TrainPlan, callbacks: list) ->
 def _save_and_record(model, plan: TrainPlan, meta: dict[str, Any], meta_path: Path, status: str, steps: int,
                      wall: float, eval_callback) -> None:
     """OUT/model.zip and vecnormalize.pkl, then train_meta.json's final record and one line on the terminal."""
-    model.save(plan.out / "model.zip")
-    model.get_vec_normalize_env().save(str(plan.out / "vecnormalize.pkl"))
+    model.save(plan.out / MODEL_NAMES[0])
+    model.get_vec_normalize_env().save(str(plan.out / VECNORMALIZE_NAME))
     meta.update({
         "status": status, "finished": datetime.now(timezone.utc).isoformat(timespec="seconds"),
         "wall_time_s": round(wall, 3), "timesteps_trained": steps, "num_timesteps": int(model.num_timesteps),

@@ -17,8 +17,8 @@ import mujoco
 import numpy as np
 
 from cof_gym.measurement.comfort import band_limiting_sos, wd_weighting_sos
-from cof_gym.measurement.sine_fit import (SineFit, colored_noise_factor, fit_from_sums, fit_tones_from_sums,
-                                         lag1_correlation, wrap_deg)
+from cof_gym.measurement.sine_fit import (NO_SE_DEG, SineFit, colored_noise_factor, fit_from_sums,
+                                         fit_tones_from_sums, lag1_correlation, wrap_deg)
 from cof_gym.measurement.synchronous_average import cycle_extremes
 from cof_gym.physics.creep import OperatingConditions, creep_peak
 from cof_gym.physics.models import BuiltModel
@@ -262,17 +262,17 @@ class WindowMeasurement:
     # creepage's lag and amplitude) are tone 1's from the joint fit; a single tone fills tone 1 with them.
     n_tones: int = 1
     tone1_phase_lag_deg: float = 0.0
-    tone1_phase_lag_se_deg: float = 180.0
+    tone1_phase_lag_se_deg: float = NO_SE_DEG
     tone1_amplitude_ratio: float = 0.0  # rad/s per N m
     tone1_torque_amplitude_nm: float = 0.0
     tone1_omega_amplitude_rad_s: float = 0.0
     tone2_phase_lag_deg: float = 0.0
-    tone2_phase_lag_se_deg: float = 180.0
+    tone2_phase_lag_se_deg: float = NO_SE_DEG
     tone2_amplitude_ratio: float = 0.0
     tone2_torque_amplitude_nm: float = 0.0
     tone2_omega_amplitude_rad_s: float = 0.0
     tone3_phase_lag_deg: float = 0.0
-    tone3_phase_lag_se_deg: float = 180.0
+    tone3_phase_lag_se_deg: float = NO_SE_DEG
     tone3_amplitude_ratio: float = 0.0
     tone3_torque_amplitude_nm: float = 0.0
     tone3_omega_amplitude_rad_s: float = 0.0
@@ -281,7 +281,7 @@ class WindowMeasurement:
     # its amplitude, its lag behind the torque (deg) and that lag's standard error (180: not modulated)
     creepage_modulation_amplitude: float = 0.0
     creepage_modulation_lag_deg: float = 0.0
-    creepage_modulation_lag_se_deg: float = 180.0
+    creepage_modulation_lag_se_deg: float = NO_SE_DEG
     # the measured CoA's synchronous average over tone 1's cycle (PHASE_BINS phase bins, each averaged over
     # the window's cycles): its largest and smallest bin means (the crest and trough of the adhesion the
     # force sensors read) and the standard error of one bin's mean
@@ -291,7 +291,7 @@ class WindowMeasurement:
     # the lag's SE with the speed fit's residual taken as first-order autoregressive instead of white (its lag-1
     # correlation read from the window: a smoothed speed signal's residual is correlated, and the white SE then
     # understates the scatter of the lag several times); single-tone windows only (180 with extra tones)
-    phase_lag_se_corrected_deg: float = 180.0
+    phase_lag_se_corrected_deg: float = NO_SE_DEG
 
 
 # the measured CoA's synchronous-average fields of WindowMeasurement, in CycleExtremes' order
@@ -325,9 +325,9 @@ def _tone_fits(ud: np.ndarray, n: float, ntones: int) -> tuple[tuple[SineFit, ..
 def _lag(torque: SineFit, omega: SineFit, commanded: bool) -> tuple[float, float, float]:
     """(lag of omega behind torque deg, its SE deg (<= 180), amplitude ratio) of one tone."""
     if not (commanded and torque.amplitude > 1e-9):
-        return 0.0, 180.0, 0.0
+        return 0.0, NO_SE_DEG, 0.0
     lag = wrap_deg(math.degrees(torque.phase_rad - omega.phase_rad))
-    lag_se = min(math.degrees(math.hypot(torque.phase_se_rad, omega.phase_se_rad)), 180.0)
+    lag_se = min(math.degrees(math.hypot(torque.phase_se_rad, omega.phase_se_rad)), NO_SE_DEG)
     return lag, lag_se, omega.amplitude / torque.amplitude
 
 
@@ -381,7 +381,7 @@ def read_window(ud: np.ndarray) -> WindowMeasurement:
     if ntones > 1:  # every tone from the joint fit; tone 1's replaces the single-tone fit (leaked into by the others)
         tones, (torque, omega, creep, creep_measured) = _joint_tones(ud, n, ntones)
         lag, lag_se, ratio = (tones[tone_field(1, f)] for f in ("phase_lag_deg", "phase_lag_se_deg", "amplitude_ratio"))
-        lag_se_corrected = 180.0  # the lag-1 sums hold the single-tone fit's residual, not the joint fit's
+        lag_se_corrected = NO_SE_DEG  # the lag-1 sums hold the single-tone fit's residual, not the joint fit's
     else:
         lag, lag_se, ratio = _lag(torque, omega, True)
         lag_se_corrected = _lag_se_corrected(ud, n, torque, omega)

@@ -116,7 +116,7 @@ class RelativeActions:
         amp = min(max(ratio * max(dc, floor), limits.min_amplitude_nm), limits.max_amplitude_nm)
         freq = _log_map(float(a[2]), limits.min_frequency_hz, limits.max_frequency_hz)
         est = self._base(context, limits) * math.exp(self.estimate_log_range * float(a[3]))
-        est = min(max(est, limits.min_cof_estimate), limits.max_cof_estimate)
+        est = limits.clip_estimate(est)
         return DecodedAction(DriveCommand(dc, amp, freq), float(est), bool(a[4] > self.stop_threshold))
 
     def encode(self, context: ActionContext, dc_torque_nm: float, amplitude_nm: float, frequency_hz: float,
@@ -127,7 +127,7 @@ class RelativeActions:
         a0 = math.log(dc_torque_nm / level) / self.max_log_step if dc_torque_nm > 0 else -1.0
         a1 = _log_unmap(amplitude_nm / max(dc_torque_nm, floor), self.min_amplitude_ratio, self.max_amplitude_ratio)
         a2 = _log_unmap(frequency_hz, limits.min_frequency_hz, limits.max_frequency_hz)
-        est = min(max(cof_estimate, limits.min_cof_estimate), limits.max_cof_estimate)
+        est = limits.clip_estimate(cof_estimate)
         a3 = math.log(est / self._base(context, limits)) / self.estimate_log_range
         a4 = 1.0 if stop else -1.0
         return np.clip(np.array([a0, a1, a2, a3, a4]), -1.0, 1.0).astype(np.float32)
@@ -154,7 +154,7 @@ class IdentifiedActions(RelativeActions):
 
 def _within_estimate_range(coa: float, limits: MotorLimits) -> float:
     coa = coa if math.isfinite(coa) else 0.0
-    return min(max(coa, limits.min_cof_estimate), limits.max_cof_estimate)
+    return limits.clip_estimate(coa)
 
 
 ACTION_TYPES: dict[str, ActionType] = {"absolute": AbsoluteActions(), "relative": RelativeActions(),

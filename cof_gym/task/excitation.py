@@ -37,8 +37,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from cof_gym.measurement.sine_fit import NO_SE_DEG
 from cof_gym.physics.simulation import MAX_TONES, DriveCommand, WindowMeasurement, tone_field
-from cof_gym.task.interface import _log_map, _log_unmap
+from cof_gym.task.interface import PHASE_SCALE_DEG, MotorLimits, _log_map, _log_unmap
 from cof_gym.validation import check_choice, check_int
 
 EXCITATIONS = ("sine", "multitone")
@@ -54,8 +55,8 @@ def min_separation_hz(measured_s: float) -> float:
     return RESOLUTION_FACTOR / measured_s
 
 
-def encode_extra_tones(tones: list[tuple[float, float]], min_frequency_hz: float = 1.0,
-                       max_frequency_hz: float = 20.0) -> np.ndarray:
+def encode_extra_tones(tones: list[tuple[float, float]], min_frequency_hz: float = MotorLimits.min_frequency_hz,
+                       max_frequency_hz: float = MotorLimits.max_frequency_hz) -> np.ndarray:
     """The action components appended for extra tones given as ``(frequency_hz, weight)`` pairs (weight
     ``w_k`` in [0, 2], tone 1's being 1): the inverse of :meth:`Excitation.drive`'s decoding."""
     out = []
@@ -84,8 +85,8 @@ class Excitation:
     kind: str = "sine"
     tones: int = 2
     measured_s: float = 0.6  # window_s - settle_s: the span each tone is fitted over
-    min_frequency_hz: float = 1.0
-    max_frequency_hz: float = 20.0
+    min_frequency_hz: float = MotorLimits.min_frequency_hz  # the drive's range, as tone 1's
+    max_frequency_hz: float = MotorLimits.max_frequency_hz
 
     def __post_init__(self) -> None:
         check_choice("excitation", self.kind, EXCITATIONS)
@@ -154,10 +155,11 @@ class Excitation:
         out = []
         for k, (_, freq) in enumerate(drive.tones[:self.n_tones], start=1):
             wm = 2 * math.pi * freq
-            out += [getattr(m, tone_field(k, "phase_lag_deg")) / 90.0,
-                    min(getattr(m, tone_field(k, "phase_lag_se_deg")), 180.0) / 90.0,
+            out += [getattr(m, tone_field(k, "phase_lag_deg")) / PHASE_SCALE_DEG,
+                    min(getattr(m, tone_field(k, "phase_lag_se_deg")), NO_SE_DEG) / PHASE_SCALE_DEG,
                     getattr(m, tone_field(k, "amplitude_ratio")) * spin_inertia_kg_m2 * wm]
-        out += [0.0, 2.0, 0.0] * (self.n_tones - len(drive.tones))  # a drive with fewer tones (never, in the env)
+        # a drive with fewer tones (never, in the env): silent tones
+        out += [0.0, NO_SE_DEG / PHASE_SCALE_DEG, 0.0] * (self.n_tones - len(drive.tones))
         return np.nan_to_num(np.asarray(out, dtype=np.float64), nan=0.0, posinf=0.0, neginf=0.0)
 
     def measurement_info(self, m: WindowMeasurement, drive: DriveCommand) -> dict[str, float]:

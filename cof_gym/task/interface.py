@@ -13,6 +13,7 @@ from dataclasses import dataclass, field, fields
 import numpy as np
 from gymnasium import spaces
 
+from cof_gym.measurement.sine_fit import NO_SE_DEG
 from cof_gym.task.creep_fit import ELASTICITY_SPAN, ClimbRecord
 from cof_gym.physics.simulation import COA_CYCLE_FIELDS, DriveCommand, WindowMeasurement
 from cof_gym.validation import check_number
@@ -24,6 +25,7 @@ OBSERVATION_NAMES = (
 )
 OBS_BOUND = 1e3  # observations are clipped to +-OBS_BOUND (they are O(1) in normal operation)
 CREEPAGE_SCALE = 10.0  # observation = measured creepage x 10
+PHASE_SCALE_DEG = 90.0  # observation = phase lag (and its standard error) / 90 deg
 SPEED_SCALE_M_S = 40.0
 JERK_SCALE_M_S3 = 10.0
 WD_SCALE_M_S2 = 0.01
@@ -62,6 +64,10 @@ class MotorLimits:
             if not getattr(self, low) < getattr(self, high):
                 raise ValueError(f"MotorLimits.{low} must be below {high}, got {getattr(self, low)} and "
                                  f"{getattr(self, high)}")
+
+    def clip_estimate(self, cof: float) -> float:
+        """A CoF estimate within the range the action reports, [min_cof_estimate, max_cof_estimate]."""
+        return min(max(cof, self.min_cof_estimate), self.max_cof_estimate)
 
 
 def action_space() -> spaces.Box:
@@ -150,8 +156,8 @@ def encode_observation(m: WindowMeasurement, drive: DriveCommand, scales: Observ
     lim = scales.limits
     wm = 2 * math.pi * drive.frequency_hz
     obs = np.array([
-        m.phase_lag_deg / 90.0,
-        min(m.phase_lag_se_deg, 180.0) / 90.0,
+        m.phase_lag_deg / PHASE_SCALE_DEG,
+        min(m.phase_lag_se_deg, NO_SE_DEG) / PHASE_SCALE_DEG,
         m.amplitude_ratio * scales.spin_inertia_kg_m2 * wm,
         m.coa_measured,
         m.creepage_measured * CREEPAGE_SCALE,
@@ -195,7 +201,8 @@ def decode_observation(obs: np.ndarray, scales: ObservationScales) -> DecodedObs
         raise ValueError(f"a window observation has shape ({len(OBSERVATION_NAMES)},), got {o.shape}")
     lim = scales.limits
     return DecodedObservation(
-        phase_lag_deg=o[0] * 90.0, phase_lag_se_deg=o[1] * 90.0, compliance=o[2], coa_measured=o[3],
+        phase_lag_deg=o[0] * PHASE_SCALE_DEG, phase_lag_se_deg=o[1] * PHASE_SCALE_DEG, compliance=o[2],
+        coa_measured=o[3],
         creepage_measured=o[4] / CREEPAGE_SCALE, dc_torque_nm=o[5] * lim.max_dc_torque_nm,
         amplitude_nm=o[6] * lim.max_amplitude_nm, frequency_hz=o[7] * lim.max_frequency_hz,
         speed_m_s=o[8] * SPEED_SCALE_M_S, wd_rms_m_s2=o[9] * WD_SCALE_M_S2, jerk_rms_m_s3=o[10] * JERK_SCALE_M_S3,
@@ -360,7 +367,8 @@ def decode_history(obs: np.ndarray, scales: ObservationScales) -> DecodedHistory
     w = len(HISTORY_WINDOW_NAMES)
     previous = tuple(
         {"coa_measured": float(o[i]), "creepage_measured": float(o[i + 1] / CREEPAGE_SCALE),
-         "phase_lag_deg": float(o[i + 2] * 90.0), "dc_torque_nm": float(o[i + 3] * scales.limits.max_dc_torque_nm)}
+         "phase_lag_deg": float(o[i + 2] * PHASE_SCALE_DEG),
+         "dc_torque_nm": float(o[i + 3] * scales.limits.max_dc_torque_nm)}
         for i in range(n + s, n + s + w * HISTORY_WINDOWS, w))
-    return DecodedHistory(decode_observation(o[:n], scales), baseline_phase_lag_deg=float(o[n] * 90.0),
+    return DecodedHistory(decode_observation(o[:n], scales), baseline_phase_lag_deg=float(o[n] * PHASE_SCALE_DEG),
                           baseline_compliance=float(o[n + 1]), best_coa=float(o[n + 2]), previous=previous)

@@ -334,7 +334,7 @@ class InterrogationTask:
         """Phi = w_error (E_max - |ln(estimate / CoF)|) >= 0, E_max the largest error in range."""
         lim = self.limits
         e_max = math.log(lim.max_cof_estimate / lim.min_cof_estimate)
-        est = min(max(episode.estimate, lim.min_cof_estimate), lim.max_cof_estimate)
+        est = lim.clip_estimate(episode.estimate)
         return self.reward.w_error * max(e_max - log_error(est, episode.truth.cof), 0.0)
 
     def _info(self, episode: Episode, m: WindowMeasurement, sensed: WindowMeasurement, extra: dict, diverged: bool,

@@ -21,6 +21,7 @@ from cof_gym.agents.interrogator.climb import (
 from cof_gym.agents.interrogator.features import EpisodeFeatures
 from cof_gym.agents.interrogator.interval import NOISY, NOISY_RATIO, SMOOTHED, IntervalScales, sensor_group
 from cof_gym.agents.interrogator.networks import FilterEnsemble, pooled_correction, pooled_std
+from cof_gym.agents.policy_files import MANIFEST_FILE, SHIPPED_INTERROGATOR  # noqa: F401 - read from here too
 from cof_gym.agents.interrogator.readings import (
     NOISE_WINDOWS, NOISY_SENSORS, SLOW_DRIVE, SMOOTHED_ENCODER, Reading, reads_slow_drive, reads_smoothed_encoder,
 )
@@ -29,7 +30,6 @@ from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.task.creep_fit import coa_fell
 from cof_gym.task.interface import MotorLimits
 
-SHIPPED_INTERROGATOR = Path(__file__).resolve().parents[1] / "policies" / "interrogator"
 WORLD_KWARGS = ("vehicle", "counter_torque", "traction_balance", "window_s", "settle_fraction", "ramp_fraction",
                 "timestep")  # constructor arguments that change what the sensors see
 
@@ -264,7 +264,7 @@ class LearnedInterrogator:
 
     def _in_range(self, estimate: float) -> float:
         """``estimate`` clipped to the drive's estimate range."""
-        return min(max(estimate, self.limits.min_cof_estimate), self.limits.max_cof_estimate)
+        return self.limits.clip_estimate(estimate)
 
     @property
     def estimate(self) -> float:
@@ -629,7 +629,6 @@ class LearnedInterrogator:
         return best
 
 
-MANIFEST_FILE = "manifest.json"  # a policy directory's climb, training distribution and named networks
 
 
 def read_manifest(directory: Path) -> dict[str, Any]:

@@ -12,7 +12,8 @@ import numpy as np
 from cof_gym.agents.runaway import crest_lower_bound
 from cof_gym.measurement.sine_fit import NO_SE_DEG, SMOOTHED_NOISE_COLOUR, noise_colour
 from cof_gym.physics.simulation import COA_CYCLE_FIELDS
-from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES, SPEED_SCALE_M_S, MotorLimits
+from cof_gym.task.interface import (CREEPAGE_SCALE, OBSERVATION_NAMES, PHASE_SCALE_DEG, SPEED_SCALE_M_S,
+                                    MotorLimits)
 from cof_gym.task.scenarios import ScenarioRanges
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 from cof_gym.validation import check_number
@@ -207,13 +208,13 @@ class Reading:
         crest of the measured CoA's synchronous average."""
         full = np.nan_to_num(np.asarray(observation, dtype=np.float64), nan=0.0)
         o = full[: len(OBSERVATION_NAMES)]
-        se_deg = o[_INDEX["phase_lag_se"]] * 90.0
+        se_deg = o[_INDEX["phase_lag_se"]] * PHASE_SCALE_DEG
         tone2 = {}
         measurement = (info or {}).get("measurement", {})
         if len(full) >= len(OBSERVATION_NAMES) + 6 and "tone2_frequency_hz" in measurement:
             phase2, se2, compliance2 = full[len(OBSERVATION_NAMES) + 3: len(OBSERVATION_NAMES) + 6]
-            tone2 = {"tone2_phase_deg": float(phase2 * 90.0),
-                     "tone2_se_deg": float(_se_clipped(se2 * 90.0)),
+            tone2 = {"tone2_phase_deg": float(phase2 * PHASE_SCALE_DEG),
+                     "tone2_se_deg": float(_se_clipped(se2 * PHASE_SCALE_DEG)),
                      "tone2_compliance": float(compliance2),
                      "tone2_frequency_hz": float(measurement["tone2_frequency_hz"]),
                      "tone2_amplitude_nm": float(measurement["tone2_amplitude_nm"])}
@@ -230,7 +231,7 @@ class Reading:
         if "phase_lag_se_corrected_deg" in measurement:
             tone2["se_corrected_deg"] = _se_reported(float(measurement["phase_lag_se_corrected_deg"]))
         return cls(
-            phase_deg=float(o[_INDEX["phase_lag"]] * 90.0),
+            phase_deg=float(o[_INDEX["phase_lag"]] * PHASE_SCALE_DEG),
             se_deg=float(_se_clipped(se_deg)),
             se_reported_deg=_se_reported(float(se_deg)),
             compliance=float(o[_INDEX["compliance"]]),

@@ -1,0 +1,18 @@
+"""Where policies live: the shipped policies' directories and the files a policy directory holds (one definition,
+read by the registry, the agents that load them, training and the experiment scripts)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+POLICIES_DIR = Path(__file__).resolve().parent / "policies"
+SHIPPED_PPO = POLICIES_DIR / "ppo_wagon"  # the v1 PPO policy (the ``ppo`` agent)
+SHIPPED_INTERROGATOR = POLICIES_DIR / "interrogator"  # the learned interrogator's networks (``interrogator``)
+
+# a Stable-Baselines3 policy (cof-gym train's output, an RL Zoo run)
+MODEL_NAMES = ("model.zip", "best_model.zip")  # looked for, in this order, when given a directory
+VECNORMALIZE_NAME = "vecnormalize.pkl"  # its observation statistics, beside the model
+META_NAME = "train_meta.json"  # how cof-gym train made it
+# a learned interrogator's policy directory
+MANIFEST_FILE = "manifest.json"  # its climb, training distribution and named networks
+TRAINING_RECORD = "training.json"  # what a directory's networks were fitted on
