@@ -23,18 +23,12 @@ BENCH_MAX_SECONDS = 3600.0  # and the longest: an hour of simulated time per tim
 
 # ---------------------------------------------------------------------------- commands
 def _add_reproduce(sub) -> None:
-    try:
-        from cof_gym.commands import paper
-    except ImportError:  # reported when the command runs
-        paper = None
+    from cof_gym.commands import paper
+
     p = sub.add_parser("reproduce-paper", help="re-simulate the paper's Figs. 5, 4/7 and 8; exit 1 if a check fails",
                        description="Re-simulate the paper's Figs. 5, 4/7 and 8 (figures and results.json); exit "
                                    "status 1 if a check that should hold fails.")
-    if paper is not None and hasattr(paper, "add_arguments"):
-        paper.add_arguments(p)
-    else:
-        p.add_argument("--out", default="out/paper", help="output directory (figures, results.json)")
-        p.add_argument("--quick", action="store_true", help="shorter windows (under 2 minutes)")
+    paper.add_arguments(p)
     p.set_defaults(func=_reproduce)
 
 
@@ -43,12 +37,7 @@ def _reproduce(args: argparse.Namespace) -> int:
 
     if getattr(args, "out", None) is not None:
         check_output_dir(Path(args.out))
-    if hasattr(paper, "run"):
-        return int(paper.run(args) or 0)
-    results = paper.reproduce(Path(args.out), quick=args.quick)
-    print("\n".join(paper.summary_lines(results)))
-    print(f"figures and results.json in {args.out}")
-    return 0
+    return int(paper.run(args) or 0)
 
 
 def _bench(args: argparse.Namespace) -> int:

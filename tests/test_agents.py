@@ -323,6 +323,20 @@ def test_a_new_agent_is_one_registry_line() -> None:
         del registry.AGENTS["test-staircase"]
 
 
+
+def test_every_registered_agent_is_built_with_its_registry_name_and_oracle_flag() -> None:
+    """The registry's name and oracle flag are what evaluate groups and shields the ground truth by; the agent's own
+    name and flag (which run_episode reads when it is given none) must say the same, for every agent a name builds."""
+    from cof_gym.agents import registry
+
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    built = {name: registry.make_agent(name, env) for name, entry in registry.AGENTS.items()
+             if not entry.needs_argument and entry.available() and entry.shipped_available()}
+    env.close()
+    assert {"oracle", "staircase-paper", "phase-rule", "model-based-zeroed", "interrogator"} <= set(built)
+    assert {name: (agent.name, bool(agent.oracle)) for name, agent in built.items()} == {
+        name: (name, registry.AGENTS[name].oracle) for name in built}
+
 def _records(path: Path) -> list:
     """episodes.csv rows with the fields the breakdown groups by, as numbers where they are numbers."""
     from dataclasses import fields

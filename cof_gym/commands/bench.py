@@ -17,6 +17,7 @@ import numpy as np
 import cof_gym
 
 from cof_gym.physics.creep import FAMILIES, CreepShape, OperatingConditions
+from cof_gym.physics.creep_laws import PRESET_FAMILY
 from cof_gym.physics.models import build_wagon
 from cof_gym.physics.native.build import install_callback, native
 from cof_gym.physics.simulation import DriveCommand, Scenario, Simulation, begin_window
@@ -189,7 +190,7 @@ def main(seconds: float = 5.0, markdown: str | None = None) -> None:
     from rich.table import Table
 
     families = bench_families(seconds)
-    pb = families["polach"]
+    pb = families[PRESET_FAMILY]  # the wagon as the presets drive it
     rows = [
         ("wagon physics steps/s, native callback", f"{pb.native_steps_per_s:,.0f}"),
         ("wagon physics steps/s, bare mj_step (no callback)", f"{pb.bare_steps_per_s:,.0f}"),

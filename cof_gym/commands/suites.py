@@ -36,7 +36,7 @@ from typing import Any, Callable, Iterator
 
 import cof_gym
 from cof_gym.commands.args import MAX_SEED, name_value
-from cof_gym.task.scenarios import COF_ENVELOPE, check_fixed
+from cof_gym.task.scenarios import COF_ENVELOPE, check_fixed, shape_spec
 from cof_gym.validation import brief, check_int, check_number, is_int
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 
@@ -381,8 +381,7 @@ def read_measured_curve(path: Path) -> dict[str, Any]:
         check_number("the measured curve's CoF (its largest CoA after the fit)", cof, *COF_ENVELOPE)
     except ValueError as e:
         raise ValueError(f"{path}: {e}") from None
-    return {"creep_law": {"table": {"creepage": list(table.creepage), "adhesion_ratio": list(table.adhesion_ratio)}},
-            "cof": cof}
+    return {"creep_law": shape_spec(table), "cof": cof}
 
 
 def _header_scales(path: Path, header: list[str]) -> tuple[float, float]:

@@ -60,7 +60,6 @@ monitor/ (episode logs) and train_meta.json (command, seed, hyperparameters, ver
 the resumed model is kept as a checkpoint, new monitor files and evaluations sit beside the old ones,
 best/ is replaced only by a better model, and train_meta.json keeps the earlier runs under "history".
 Everything on the command line is checked before anything is written (usage errors exit with 2)."""
-REWARD_TERMS = ("reward_error", "reward_slip", "reward_comfort", "reward_time", "reward_shaping")
 # PPO arguments the command sets itself (-> the option that sets it, or None)
 SET_BY_COMMAND: dict[str, str | None] = {"seed": "--seed", "device": "--device", "verbose": "--verbose",
                                          "tensorboard_log": None, "env": "--env", "_init_setup_model": None}
@@ -68,8 +67,12 @@ SET_BY_COMMAND: dict[str, str | None] = {"seed": "--seed", "device": "--device",
 
 # ---------------------------------------------------------------------------- callbacks
 def _callbacks():
-    """Callback classes, defined lazily so that importing this module does not import SB3."""
+    """Callback classes, defined lazily so that importing this module does not import SB3 (nor the physics)."""
     from stable_baselines3.common.callbacks import BaseCallback
+
+    from cof_gym.task.reward import REWARD_TERMS as TASK_TERMS, SHAPING_TERM
+
+    REWARD_TERMS = (*TASK_TERMS, SHAPING_TERM)  # logged per episode (the shaping term: 0 without shaping)
 
     class EpisodeTermsCallback(BaseCallback):
         """Logs, per finished training episode (mean over the episodes of each logging interval):

@@ -84,7 +84,6 @@ import numpy as np
 from cof_gym.physics.native import layout
 from cof_gym.validation import brief, check_number, first_not_rising
 
-PRESET_FAMILY = "polach"  # the presets (CONDITIONS) are named points of this family
 MAX_CREEPAGE = 2.0  # the creep-curve maximum (the CoF) must lie below this creepage; a table stays within it
 
 
@@ -353,6 +352,7 @@ CONDITIONS: Mapping[str, CreepShape] = MappingProxyType({
     "dry_kalker": PolachShape(1.00, 1.00, 0.40, 0.60),
 })
 """The named presets: points of the Polach family (see :mod:`cof_gym.physics.creep`)."""
+PRESET_FAMILY = PolachShape.family  # the family every preset (CONDITIONS) is a point of
 
 RANGES: Mapping[str, Mapping[str, Mapping[str, tuple[float, float]]]] = MappingProxyType(
     {name: cls.RANGES for name, cls in FAMILIES.items() if cls.RANGES})

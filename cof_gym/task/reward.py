@@ -35,6 +35,12 @@ from cof_gym.physics.simulation import WindowMeasurement
 from cof_gym.validation import check_number
 
 COMFORT_REFERENCE_M_S2 = 0.01
+# a step's reward terms (info["reward_*"], in this order; their sum is the reward), the potential-based shaping term
+# added with ``shaping``, and the unweighted costs (info["cost"])
+REWARD_TERMS = ("reward_error", "reward_slip", "reward_comfort", "reward_time")
+SHAPING_TERM = "reward_shaping"
+COST_TERMS = ("slip", "discomfort", "macro_slip")
+NO_COSTS = dict.fromkeys(COST_TERMS, 0.0)  # a step that runs no window
 PAST_PEAK_ENERGY_WEIGHT = 100.0
 
 
@@ -78,18 +84,17 @@ class Reward:
     def terms(self, m: WindowMeasurement, contact_load_n: float, speed_m_s: float, window_s: float,
               scored_log_error: float | None, macro_slip: bool) -> dict[str, float]:
         """The weighted terms of one step's reward."""
-        return {
-            "reward_error": -self.w_error * scored_log_error if scored_log_error is not None else 0.0,
-            "reward_slip": -self.w_slip * slip_cost(m, contact_load_n, speed_m_s, window_s)
+        return dict(zip(REWARD_TERMS, (
+            -self.w_error * scored_log_error if scored_log_error is not None else 0.0,
+            -self.w_slip * slip_cost(m, contact_load_n, speed_m_s, window_s)
             - (self.macro_slip_penalty if macro_slip else 0.0),
-            "reward_comfort": -self.w_comfort * discomfort(m),
-            "reward_time": -self.w_time * window_s,
-        }
+            -self.w_comfort * discomfort(m),
+            -self.w_time * window_s,
+        )))
 
     def terms_without_window(self, scored_log_error: float) -> dict[str, float]:
         """The terms of a step that runs no window (a stop): only the scored error."""
-        return {"reward_error": -self.w_error * scored_log_error, "reward_slip": 0.0, "reward_comfort": 0.0,
-                "reward_time": 0.0}
+        return {**dict.fromkeys(REWARD_TERMS, 0.0), "reward_error": -self.w_error * scored_log_error}
 
 
 @dataclass(frozen=True)

@@ -38,7 +38,8 @@ from typing import Any, Mapping
 import numpy as np
 
 from cof_gym.physics.creep import CONDITIONS, OperatingConditions
-from cof_gym.physics.creep_laws import RANGES as CREEP_RANGES, CreepShape, creep_law_from_spec, draw_shape
+from cof_gym.physics.creep_laws import (PRESET_FAMILY, RANGES as CREEP_RANGES, CreepShape, creep_law_from_spec,
+                                        draw_shape)
 from cof_gym.physics.simulation import Scenario, SensorNoise
 from cof_gym.physics.vehicle import LOAD_CASES
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS, SensorErrors
@@ -131,7 +132,7 @@ class EpisodeScenario:
 
     @property
     def creep_family(self) -> str:
-        return "polach" if self.creep_law is None else self.creep_law.family
+        return PRESET_FAMILY if self.creep_law is None else self.creep_law.family
 
     @property
     def sensor_errors(self) -> SensorErrors:

@@ -31,7 +31,8 @@ from cof_gym.task.interface import (
     ACTION_NAMES, OBS_BOUND, OBSERVATION_TYPES, SENSOR_FIELDS, DecodedAction, Memory, MotorLimits, ObservationScales,
     check_action, encode_observation, get_observation_type,
 )
-from cof_gym.task.reward import MacroSlipLimit, Reward, discomfort, log_error, relative_error, slip_cost
+from cof_gym.task.reward import (COST_TERMS, NO_COSTS, SHAPING_TERM, MacroSlipLimit, Reward, discomfort, log_error,
+                                 relative_error, slip_cost)
 from cof_gym.task.scenarios import COF_ENVELOPE, EpisodeScenario, ScenarioRanges, check_fixed, draw_scenario, physics_scenario
 from cof_gym.validation import check_bool, check_choice, check_int, check_number
 
@@ -276,11 +277,11 @@ class InterrogationTask:
         if self.shaping:
             # Phi = 0 in terminal states; a truncated state is not terminal (learners bootstrap there)
             potential = 0.0 if terminated else self._potential(episode)
-            terms["reward_shaping"] = SHAPING_GAMMA * potential - episode.potential
+            terms[SHAPING_TERM] = SHAPING_GAMMA * potential - episode.potential
             episode.potential = potential
         reward = float(sum(terms.values()))
-        costs = {"slip": slip_cost(m, contact_load, sc.speed_m_s, self.window_s), "discomfort": discomfort(m),
-                 "macro_slip": float(macro_slip)}
+        costs = dict(zip(COST_TERMS, (slip_cost(m, contact_load, sc.speed_m_s, self.window_s), discomfort(m),
+                                      float(macro_slip))))
         sensed = episode.scenario.sensor_errors.read(m)
         info = self._info(episode, m, sensed, {**terms, "cost": costs}, diverged, macro_slip, scored)
         episode.done = terminated or truncated
@@ -292,9 +293,9 @@ class InterrogationTask:
         err = log_error(episode.estimate, episode.truth.cof)
         terms = self.reward.terms_without_window(err)
         if self.shaping:
-            terms["reward_shaping"] = -episode.potential  # Phi = 0 in the terminal state
+            terms[SHAPING_TERM] = -episode.potential  # Phi = 0 in the terminal state
             episode.potential = 0.0
-        costs = {"slip": 0.0, "discomfort": 0.0, "macro_slip": 0.0}
+        costs = dict(NO_COSTS)
         info = self._info(episode, episode.last, episode.scenario.sensor_errors.read(episode.last),
                           {**terms, "cost": costs}, False, False, True)
         episode.done = True
@@ -342,7 +343,7 @@ class InterrogationTask:
         """The step's info: ``m`` the window (ground truth), ``sensed`` what the sensors read of it."""
         truth = episode.truth
         info: dict[str, Any] = {**extra}
-        info.setdefault("cost", {"slip": 0.0, "discomfort": 0.0, "macro_slip": 0.0})
+        info.setdefault("cost", dict(NO_COSTS))
         info["diverged"] = bool(diverged)
         info["macro_slip"] = bool(macro_slip)
         info["scored"] = bool(scored)

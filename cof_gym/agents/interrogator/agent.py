@@ -11,6 +11,7 @@ from typing import Any, Iterable, Mapping
 
 import numpy as np
 
+from cof_gym import MAX_EPISODE_STEPS
 from cof_gym.agents.base import (
     configuration_note, env_defaults, episode_scenarios, outside_training_note, registered_ranges, without_defaults,
 )
@@ -74,7 +75,7 @@ class LearnedInterrogator:
     ensemble: FilterEnsemble
     counter_torque: bool = False
     params: ClimbParameters = field(default_factory=ClimbParameters)
-    max_windows: int = 30
+    max_windows: int = MAX_EPISODE_STEPS  # the ids' horizon; a loaded agent takes its env's (load_interrogator)
     name: str = "interrogator"
     oracle: bool = False
     climb: ElasticityClimb = field(default_factory=ElasticityClimb, repr=False)
