@@ -274,3 +274,29 @@ def test_motor_limits_encode_action_and_decode_observation_refuse_what_would_tur
     for length in (5, len(OBSERVATION_NAMES) + 6):
         with pytest.raises(ValueError, match=rf"a window observation has shape \({len(OBSERVATION_NAMES)},\)"):
             decode_observation(np.zeros(length), scales)
+
+
+def test_the_env_make_task_and_the_task_dataclasses_default_every_argument_alike() -> None:
+    """An env argument's default is written in the env's signature (its documented API), make_task's and the task's
+    dataclasses (InterrogationTask, Reward, MacroSlipLimit): the four must agree, so that gym.make(id) and a task
+    built from its parts are the same task."""
+    import dataclasses
+    import inspect
+
+    from cof_gym.envs.torque_interrogation import TorqueInterrogationEnv, make_task
+    from cof_gym.task.reward import MacroSlipLimit, Reward
+
+    def defaults(function) -> dict:
+        return {name: p.default for name, p in inspect.signature(function).parameters.items()
+                if p.default is not inspect.Parameter.empty}
+
+    def field_defaults(cls, rename=lambda name: name) -> dict:
+        return {rename(f.name): f.default for f in dataclasses.fields(cls) if f.default is not dataclasses.MISSING}
+
+    env, task = defaults(TorqueInterrogationEnv.__init__), defaults(make_task)
+    assert {k: v for k, v in env.items() if k not in ("render_mode", "width", "height")} == task
+    parts = {**field_defaults(InterrogationTask), **field_defaults(Reward),
+             **field_defaults(MacroSlipLimit, lambda name: f"macro_slip_{name}")}
+    shared = set(task) & set(parts)
+    assert {"window_s", "max_windows", "w_error", "macro_slip_penalty", "macro_slip_ratio", "tones"} <= shared
+    assert {k: task[k] for k in shared} == {k: parts[k] for k in shared}
