@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from cof_gym.agents.base import check_parameters
-from cof_gym.analysis.theory import paper_schedule
+from cof_gym.analysis.theory import PAPER_AMPLITUDE_NM, PAPER_FREQUENCY_HZ, paper_schedule
 from cof_gym.task.creep_fit import coa_fell, elasticity_between
 from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES, MotorLimits, encode_action
 
@@ -33,8 +33,8 @@ class PaperStaircase:
     a reproduction of the paper, labelled as an oracle."""
 
     limits: MotorLimits
-    amplitude_nm: float = 345.0
-    frequency_hz: float = 5.0
+    amplitude_nm: float = PAPER_AMPLITUDE_NM
+    frequency_hz: float = PAPER_FREQUENCY_HZ
     name: str = "staircase-paper"
     oracle: bool = True
     _schedule: np.ndarray = field(default_factory=paper_schedule, repr=False)

@@ -34,6 +34,11 @@ from cof_gym.physics.vehicle import WagonParameters
 from cof_gym.validation import check_number
 
 SCHEDULE_STEPS_PERCENT = ((50, 10), (70, 5), (90, 3))  # (below this level, step); 1 % from there on
+# the paper's simulated setting (Sect. 4): the modulation superimposed on the DC torque, the speed, the CoFs
+PAPER_AMPLITUDE_NM = 345.0
+PAPER_FREQUENCY_HZ = 5.0
+PAPER_SPEED_M_S = 10.0
+PAPER_COFS = (0.1, 0.2, 0.3, 0.4, 0.5)
 
 
 def paper_schedule(last_percent: int = 99) -> np.ndarray:

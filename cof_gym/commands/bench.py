@@ -16,6 +16,7 @@ import numpy as np
 
 import cof_gym
 
+from cof_gym.analysis.theory import PAPER_AMPLITUDE_NM, PAPER_FREQUENCY_HZ, PAPER_SPEED_M_S
 from cof_gym.physics.creep import FAMILIES, CreepShape, OperatingConditions
 from cof_gym.physics.creep_laws import PRESET_FAMILY
 from cof_gym.physics.models import build_wagon
@@ -68,11 +69,12 @@ def _bench_laws(conditions: dict[str, str | CreepShape], seconds: float, repeats
     built = build_wagon(wagon_parameters("laden"))
     sims, bares = {}, {}
     for name, condition in conditions.items():
-        op = OperatingConditions(cof=0.4, condition=condition, wheel_load_n=built.nominal_wheel_load_n, speed_m_s=10.0)
+        op = OperatingConditions(cof=0.4, condition=condition, wheel_load_n=built.nominal_wheel_load_n,
+                                 speed_m_s=PAPER_SPEED_M_S)
         sim = sims[name] = Simulation(built)
         sim.reset(Scenario(op))
-        begin_window(sim.data.userdata, 0.0, DriveCommand(0.9 * built.saturation_torque_per_cof * 0.4, 345.0, 5.0),
-                     0.5, 0.0)
+        drive = DriveCommand(0.9 * built.saturation_torque_per_cof * 0.4, PAPER_AMPLITUDE_NM, PAPER_FREQUENCY_HZ)
+        begin_window(sim.data.userdata, 0.0, drive, 0.5, 0.0)
         bare = bares[name] = mujoco.MjData(built.model)
         bare.qpos[:], bare.qvel[:] = sim.data.qpos, sim.data.qvel
     timestep = built.model.opt.timestep

@@ -34,6 +34,10 @@ import numpy as np
 from cof_gym.commands.args import UsageError, check_command_output
 from cof_gym.commands.paper_readme import check_readme, update_readme
 from cof_gym.analysis.theory import (
+    PAPER_AMPLITUDE_NM,
+    PAPER_COFS,
+    PAPER_FREQUENCY_HZ,
+    PAPER_SPEED_M_S,
     CompliantWheelset,
     creep_slope_at_torque,
     crossing_fraction,
@@ -48,11 +52,7 @@ from cof_gym.physics.simulation import DriveCommand, Scenario, Simulation
 from cof_gym.physics.vehicle import HalfWheelsetParameters, WagonParameters, wagon_parameters
 
 RESULTS_FILE = "results.json"  # every plotted number; also what marks an earlier output directory
-PAPER_AMPLITUDE_NM = 345.0
-PAPER_FREQUENCY_HZ = 5.0
 PAPER_OMEGA_RAD_S = 2 * math.pi * PAPER_FREQUENCY_HZ
-PAPER_SPEED_M_S = 10.0
-PAPER_COFS = (0.1, 0.2, 0.3, 0.4, 0.5)
 PAPER_CROSSING_PERCENT = (94.0, 95.0)  # paper Sect. 4.2
 PAPER_ERROR_PERCENT = -5.0  # paper Sect. 4.2: "an expected error of 5 %" (the CoA is below the CoF)
 SHAPES = ("dry", "dry_kalker")

@@ -35,12 +35,12 @@ from pathlib import Path
 from typing import Any, Callable, Iterator
 
 import cof_gym
+from cof_gym.analysis.theory import PAPER_COFS, PAPER_SPEED_M_S
 from cof_gym.commands.args import MAX_SEED, name_value
 from cof_gym.task.scenarios import COF_ENVELOPE, check_fixed, shape_spec
 from cof_gym.validation import brief, check_int, check_number, is_int
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 
-PAPER_COFS = (0.1, 0.2, 0.3, 0.4, 0.5)
 SUITE_NAMES = ("default", "paper")
 FILE_KEYS = ("env_id", "env_kwargs", "options", "episodes", "description")
 EPISODE_KEYS = ("seed", "options", "note")  # note: a free-text label (evaluate's breakdown groups by it)
@@ -127,7 +127,7 @@ def paper_suite(n_episodes: int, seed: int) -> Suite:
     """The paper's setting: laden wagon with the opposite torque on the bogie, dry, 10 m/s, no noise
     or lag, CoF 0.1...0.5 (cycled over ``n_episodes``)."""
     # the paper's simulation: Polach's dry curve, ideal sensors (no noise, no systematic error)
-    fixed = {"condition": "dry", "speed_m_s": 10.0, "load_case": "laden", "noise_level": 0.0, "motor_lag_s": 0.0,
+    fixed = {"condition": "dry", "speed_m_s": PAPER_SPEED_M_S, "load_case": "laden", "noise_level": 0.0, "motor_lag_s": 0.0,
              "creep_law": "dry", **{name: 0.0 for name in SYSTEMATIC_ERRORS}}
     episodes = SeededEpisodes(seed, n_episodes, lambda i: {**fixed, "cof": PAPER_COFS[i % len(PAPER_COFS)]})
     return Suite("paper", cof_gym.WAGON_ENV_ID, {"counter_torque": True}, episodes)
