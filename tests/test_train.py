@@ -142,18 +142,21 @@ def test_refuses_to_clone_a_resumed_model(trained: Path, tmp_path: Path, capsys)
     assert not out.exists()
 
 
-def test_resume_into_the_same_out_appends(trained: Path, tmp_path: Path) -> None:
+def test_resume_into_the_same_out_appends(trained: Path, tmp_path: Path, capsys) -> None:
     import shutil
 
     out = tmp_path / "same"
     shutil.copytree(trained, out)
     monitors = {f: f.read_text() for f in (out / "monitor").glob("*.monitor.csv")}
     assert monitors
-    rc = _train("--resume", str(out), "--timesteps", "128", "--eval-freq", "0", "--save-freq", "0", "--no-progress",
+    rc = _train("--resume", str(out), "--timesteps", "100", "--eval-freq", "0", "--save-freq", "0", "--no-progress",
                 "--out", str(out))
     assert rc == 0
     meta = json.loads((out / "train_meta.json").read_text())
     assert meta["status"] == "finished" and meta["num_timesteps"] >= 384
+    # PPO trains whole rollouts (n_steps 128 x n_envs): more than the 100 asked, and a note says how many
+    trained = meta["timesteps_trained"]
+    assert trained > 100 and trained % 128 == 0 and f"--timesteps 100 trains {trained}" in capsys.readouterr().err
     assert [h["num_timesteps"] for h in meta["history"]] == [256]  # the first run's record is kept
     assert meta["resumed_from"].endswith("ppo_256_steps.zip") and Path(meta["resumed_from"]).is_file()
     assert (out / "checkpoints" / "ppo_vecnormalize_256_steps.pkl").is_file()

@@ -598,6 +598,7 @@ def _train(args: argparse.Namespace, plan: TrainPlan) -> int:
                                plan.adapter, suffix)
         model, train_env = _model(args, plan, train_env, seed, meta, meta_path)
         start_steps = int(model.num_timesteps)
+        _note_whole_rollouts(plan.timesteps, int(model.n_steps), int(model.n_envs))
         if args.eval_freq and args.eval_freq > 0:
             eval_env = _eval_venv(plan, seed)
         callbacks, eval_callback = _training_callbacks(args, plan, eval_env)
@@ -615,6 +616,17 @@ def _train(args: argparse.Namespace, plan: TrainPlan) -> int:
         raise
     finally:
         _close(train_env, eval_env)
+
+
+def _note_whole_rollouts(timesteps: int, n_steps: int, n_envs: int) -> int:
+    """The steps PPO will train for ``timesteps`` (whole rollouts of ``n_steps x n_envs``); a note on stderr where
+    that is more than asked (SB3's progress bar then reads e.g. 1,024/64)."""
+    rollout = n_steps * n_envs
+    trains = -(-timesteps // rollout) * rollout
+    if trains != timesteps:
+        print(f"cof-gym train: note: PPO collects whole rollouts of n_steps x n_envs = {n_steps} x {n_envs} = "
+              f"{rollout} steps, so --timesteps {timesteps} trains {trains}", file=sys.stderr)
+    return trains
 
 
 def _quiet_progress_bar(progress: bool) -> None:

@@ -9,7 +9,8 @@ of a creep curve; the friction level ``mu0`` is solved per episode so that the c
 (supremum) at the episode's speed and load is its CoF (:func:`cof_gym.physics.creep.mu0_for_cof`).
 Adding a family: its C function and ``FAMILIES`` row, one dataclass here and its :data:`FAMILIES`
 entry; the task, the environments and the agents take it through :func:`creep_law_from_spec` and
-:func:`draw_shape`.
+:func:`draw_shape`. With drawing ranges it can be drawn (``ScenarioRanges.creep_families``); the v2 ids' draws stay
+the two families their numbers were published with (``cof_gym.task.scenarios.V2_CREEP_FAMILIES``).
 
 **Families.**
 
