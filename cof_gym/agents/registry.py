@@ -265,7 +265,3 @@ def as_registered(entry: AgentEntry, agent: Any, limits: Any, modifier: str | No
     return RunawayEstimate(agent, limits, name=f"{agent.name}+{modifier}" if modifier else agent.name,
                            bracket=bracket, ceiling=ceiling)
 
-
-def is_oracle(agent: Any) -> bool:
-    """Whether an agent may read the ground truth: its registry entry or its own ``oracle`` flag."""
-    return bool(getattr(agent, "oracle", False))
