@@ -183,9 +183,11 @@ def names(available_only: bool = True) -> list[str]:
 
 def describe() -> str:
     """``a, b, c or ppo:PATH`` for messages."""
+    from cof_gym.agents.runaway import CEILING_MODIFIER, MODIFIER
+
     spellings = [s for n in names() for s in AGENTS[n].spellings]  # the bare names first, then NAME:ARG
     parts = ([s for s in spellings if ":" not in s] + [s for s in spellings if ":" in s]
-             + ["any of them +runaway, +ceiling or +plain"])
+             + [f"any of them +{MODIFIER}, +{CEILING_MODIFIER} or +{PLAIN}"])
     return ", ".join(parts[:-1]) + f" or {parts[-1]}" if len(parts) > 1 else "".join(parts)
 
 
