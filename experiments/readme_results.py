@@ -1818,6 +1818,24 @@ def horizon_ends(suites: dict[str, tuple[str, Path]] = HORIZON_SUITES, learned: 
     return "\n".join(rows)
 
 
+
+def horizon_by_condition(suites: dict[str, tuple[str, Path]] = HORIZON_SUITES, learned: str = LEARNED) -> str | None:
+    """Per suite and rail condition: the learned agent's episodes, how many ended at the horizon and their median
+    error there (from each run's ``episodes.csv``); None when one is missing."""
+    rows = [f"| suite | condition | {learned}: episodes | ended at the horizon | median there |",
+            "|---|---|---|---|---|"]
+    for label, out in suites.values():
+        if not (out / "episodes.csv").is_file():
+            return None
+        with open(out / "episodes.csv", newline="") as f:
+            mine = [r for r in csv.DictReader(f) if r["agent"] == learned]
+        for condition in sorted({r["condition"] for r in mine}):
+            group = [r for r in mine if r["condition"] == condition]
+            ended = [abs(float(r["relative_error"])) for r in group if r["ended"] == "horizon"]
+            there = f"{100 * float(np.median(ended)):.1f} %" if ended else "-"
+            rows.append(f"| {label} | {condition} | {len(group)} | {len(ended)} | {there} |")
+    return "\n".join(rows)
+
 # the hand-built agents beside the learned one in the peak-creepage and edge-suite tables, in their column order
 HAND_BUILT_AGENTS = ("phase-rule", "robust-model", "staircase", "model-based", "staircase-zeroed",
                      "model-based-zeroed", "model-based-zeroed-knee")
@@ -1953,7 +1971,7 @@ GENERATED = {"targets": targets, "targets_count": targets_count, "paired_targets
              "at_a_glance": at_a_glance,
              "heldout_overview": heldout_overview, "heldout_shapes": heldout_shapes,
              "slip_failed": slip_failed, "horizon": horizon,
-             "horizon_ends": horizon_ends, "peak_creepage": peak_creepage,
+             "horizon_ends": horizon_ends, "horizon_by_condition": horizon_by_condition, "peak_creepage": peak_creepage,
              "heldout_peak_creepage": heldout_peak_creepage, "edge_suites": edge_suites,
              "paper_setting": paper_setting,
              "runaway_validation": runaway_validation, "ceiling_validation": ceiling_validation}  # block -> its generator

@@ -11,9 +11,9 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "experiments"))
 from readme_results import (DOCUMENTS, GENERATED, SOURCES, at_a_glance, edge_suites, fill,  # noqa: E402
-                            heldout_overview, heldout_peak_creepage, heldout_shapes, horizon, horizon_ends,
-                            paired_targets, paper_setting, peak_creepage, rate_interval, slip_failed, slip_rates,
-                            targets, targets_count, with_horizon)
+                            heldout_overview, heldout_peak_creepage, heldout_shapes, horizon, horizon_by_condition,
+                            horizon_ends, paired_targets, paper_setting, peak_creepage, rate_interval, slip_failed,
+                            slip_rates, targets, targets_count, with_horizon)
 
 
 def _summary(path: Path, agents: dict[str, tuple[bool, float, float, int]], episodes: int = 50,
@@ -94,6 +94,19 @@ def test_heldout_shapes_sets_each_shape_beside_the_fewest_macro_slips_of_the_oth
     assert rows[2:] == ["| a held-out grid | cliff (18) | 4 | 2.1 % | rule, fit 3 |",  # ties: both, never the oracle
                         "| a held-out grid | knee (18) | 1 | 10.0 % | rule 4 |"]
     assert heldout_shapes({"grid": ("g", tmp_path / "missing")}, learned="learned") is None
+
+
+def test_horizon_by_condition_counts_the_learned_agents_horizon_ends_per_condition(tmp_path):
+    out = tmp_path / "run"
+    out.mkdir()
+    rows = [("learned", "dry", "horizon", "0.04"), ("learned", "dry", "horizon", "-0.08"),
+            ("learned", "dry", "stop", "0.5"), ("learned", "wet", "stop", "0.01"),
+            ("rule", "wet", "horizon", "0.3")]  # another agent's: not counted
+    (out / "episodes.csv").write_text("agent,condition,ended,relative_error\n"
+                                      + "".join(",".join(r) + "\n" for r in rows))
+    table = horizon_by_condition({"s": ("a suite", out)}, learned="learned").splitlines()
+    assert table[2:] == ["| a suite | dry | 3 | 2 | 6.0 % |", "| a suite | wet | 1 | 0 | - |"]  # |errors|' median
+    assert horizon_by_condition({"s": ("a suite", tmp_path / "missing")}, learned="learned") is None
 
 def test_slip_failed_compares_each_measure_with_the_lowest_other_and_says_ties(tmp_path):
     path = _summary(tmp_path / "a.json", {"oracle": (True, 0.001, 0.002, 0), "learned": (False, 0.04, 0.3, 5),
