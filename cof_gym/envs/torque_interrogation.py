@@ -302,7 +302,8 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     ## Version History
     - v2: creep-law families (Polach with drawn shapes, Shen-Hedrick-Elkins saturation, tables) and
       systematic sensor errors (reference speed, wheel radius, force and torque gains) drawn per
-      episode; the horizon on the spec; no ``None`` in ``info``. v1 stays registered with its numbers.
+      episode; no ``None`` in ``info``. v1 stays registered with its numbers. Both versions' ids carry the
+      task's horizon (30 steps) on their spec as well (``max_episode_steps``, the task still truncating there).
       Later additions to ``info["measurement"]`` (v1 and v2 alike) add readings and change no number
       of the observation, reward or ground truth: the measured creepage's modulation (session 12), the
       measured CoA's synchronous average over the cycle (``coa_cycle_*``, session 22), the lag's SE for an
@@ -312,7 +313,7 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     - v1: ground truth from the simulated physics (load transfer, controlled speed); PI cruise control
       and traction balance; a traction rod; CoF ranges per condition; macro-slip relative to the peak;
       log-ratio error, no slip cost below the peak, comfort over the whole window; sensors apart from
-      truth (14 observations, creepage measured); logarithmic estimate 0.01-1; the task owns the horizon.
+      truth (14 observations, creepage measured); logarithmic estimate 0.01-1; the task truncates at its horizon.
     - v0: initial release (removed: its ground truth disagreed with its own simulation).
     """
 

@@ -31,7 +31,8 @@ JERK_SCALE_M_S3 = 10.0
 WD_SCALE_M_S2 = 0.01
 
 # What a train's sensors measure in a window (encoder, speed sensor, force sensors or an observer, the
-# drive's torque, a car-body accelerometer); info["measurement"] holds exactly these.
+# drive's torque, a car-body accelerometer); info["measurement"] holds these (and, with a multi-tone excitation, each
+# tone's tone<k>_* readings).
 SENSOR_FIELDS = (
     "phase_lag_deg", "phase_lag_se_deg", "amplitude_ratio", "torque_amplitude_nm", "omega_amplitude_rad_s",
     "coa_measured", "creepage_measured", "speed_measured_m_s", "normal_load_measured_n",

@@ -21,9 +21,10 @@ the interrogation must stay far below what a passenger would notice.
 **What each weight trades** (defaults): ``w_error`` 10: one percent of error is worth 0.1, i.e. five
 one-second windows (``w_time`` 0.02 per s); ``w_comfort`` 0.05: the paper's 345 N m at 5 Hz on the
 laden wagon (~0.005 m/s^2 Wd) costs ~0.025 per window, about a quarter percent of error, while a
-3 kN m modulation costs ~10x that; ``w_slip`` 1: a whole window past the peak costs about one percent
-of error plus its energy term; ``macro_slip_penalty`` 10: a wheel spin costs more than any estimate
-in the CoF envelope can lose (ln(0.6 / 0.02) = 3.4, i.e. 34).
+3 kN m modulation costs ~10x that; ``w_slip`` 1: a whole window past the peak costs 1 plus its energy
+term, as much as ten percent of error (a log error of 0.1); ``macro_slip_penalty`` 10: a wheel spin costs
+as much as an estimate off by a factor e (a log error of 1, i.e. -63 % or +172 %) on top of its slip cost;
+an estimate at the far end of the CoF envelope (0.6 for 0.02, ln 30 = 3.4) loses more, 34.
 """
 
 from __future__ import annotations

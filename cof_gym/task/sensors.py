@@ -57,10 +57,10 @@ correlation read in the window). The range is cof_gym's choice (unverified): fro
 The drive applies the commanded torque and its reading carries the gain, so in cof_gym the torque gain
 error shows as the ratio of the mean torque reading to the command. A real drive that controls on its own
 torque estimate would apply ``command / (1 + e)`` and read its command back, so that ratio is this
-model's, not a train's: the learned interrogator reads torque only through the amplitude ratio (and,
-with the off-by-default ``ClimbParameters.noise_torque_measured`` and ``lag_floor``, the amplitude
-reading), never the mean torque against its command. With the off-by-default ``ClimbParameters.torque_balance`` it
-reads the mean torque against the measured creep force instead: on a wheelset at a steady creepage the drive
+model's, not a train's: the learned interrogator reads torque through the amplitude ratio (and, with
+``ClimbParameters.noise_torque_measured`` and ``lag_floor``, off in the shipped climb, the amplitude reading), never
+the mean torque against its command. With ``ClimbParameters.torque_balance`` (off by default, on in the shipped
+policy's manifest) it reads the mean torque against the measured creep force instead: on a wheelset at a steady creepage the drive
 torque is the creep force times the wheel radius, so the ratio of the two readings is ``(1 + e_T) / (1 + e_F)``,
 a calibration a train with a force measurement can make too. In cof_gym the wheel rolls on its nominal radius (the
 radius error is the creepage computation's), so the balance carries no radius error; a train's would carry its
