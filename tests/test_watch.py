@@ -175,3 +175,14 @@ def _exit_code(argv: list[str]) -> int:
         return main(argv)
     except SystemExit as e:
         return int(e.code)
+
+
+def test_a_gif_frame_shows_for_the_hundredths_of_a_second_the_format_stores() -> None:
+    """A GIF stores frame durations in hundredths of a second: at 12 fps a frame shows 0.08 s, and the video's length
+    watch reports is the one the file plays (an MP4 holds its fps exactly)."""
+    from pathlib import Path
+
+    from cof_gym.commands.watch import frame_s
+
+    assert frame_s(Path("e.gif"), 12) == 0.08 and frame_s(Path("e.gif"), 25) == 0.04
+    assert frame_s(Path("e.mp4"), 12) == 1 / 12
