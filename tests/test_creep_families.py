@@ -426,3 +426,18 @@ def test_a_long_table_is_named_by_the_point_at_fault_not_echoed() -> None:
     with pytest.raises(ValueError, match=r"at indices 39 and 40, before the maximum at index 63$") as raised:
         creep_law_from_spec({"table": {"creepage": list(np.linspace(0.0, 0.1, 64)), "adhesion_ratio": ratio}})
     assert len(str(raised.value)) < 200
+
+
+def test_polach_refuses_a_friction_that_falls_to_nothing() -> None:
+    """At A = 0 Polach's friction falls to exactly 0 once exp(-B |u|) underflows and eps = C s / mu divides by it
+    (NaN forces, a NoPeakError that blamed the speed): A is at least MIN_FRICTION_RATIO, and at that bound a curve
+    with a steep decay keeps finite forces and slopes far out on its falling branch."""
+    from cof_gym.physics.creep_laws import MIN_FRICTION_RATIO
+
+    with pytest.raises(ValueError, match=r"friction_ratio must be a finite number in \[0.01, 1\)"):
+        PolachShape(1.0, 0.4, 0.0, 10.0)
+    shape = PolachShape(1.0, 0.4, MIN_FRICTION_RATIO, 100.0)
+    op = OperatingConditions(cof=0.02, condition=shape, wheel_load_n=100e3, speed_m_s=40.0)
+    s = np.geomspace(1e-6, 1.0, 200)
+    coa, slope = creep_curve(s, op)
+    assert np.isfinite(coa).all() and np.isfinite(slope).all() and coa.max() == pytest.approx(0.02, rel=1e-3)

@@ -300,3 +300,18 @@ def test_the_env_make_task_and_the_task_dataclasses_default_every_argument_alike
     shared = set(task) & set(parts)
     assert {"window_s", "max_windows", "w_error", "macro_slip_penalty", "macro_slip_ratio", "tones"} <= shared
     assert {k: task[k] for k in shared} == {k: parts[k] for k in shared}
+
+
+def test_the_cruise_control_and_the_models_refuse_gains_and_steps_their_native_loop_cannot_take() -> None:
+    """The cruise control's acceleration feedback acts one step late in the native loop, which diverges once kd nears
+    the car body's mass: held below MAX_KD_MASS_RATIO (the default 0.5 passes); a model's step must sample the
+    comfort filters above 200 Hz, so 5 ms is refused as 'timestep', not as a filter's sample rate."""
+    from cof_gym.physics.models import build_half_wheelset
+    from cof_gym.physics.simulation import MAX_KD_MASS_RATIO, CruiseControl
+
+    assert CruiseControl().kd_mass_ratio == 0.5 < MAX_KD_MASS_RATIO
+    for bad in ({"kd_mass_ratio": 0.9}, {"kd_mass_ratio": -0.1}, {"bandwidth_hz": 0.0}, {"integral_hz": math.nan}):
+        with pytest.raises(ValueError, match=f"CruiseControl.{next(iter(bad))}"):
+            CruiseControl(**bad)
+    with pytest.raises(ValueError, match="timestep must be a finite number in"):
+        build_half_wheelset(timestep=5e-3)

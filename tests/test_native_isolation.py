@@ -270,3 +270,28 @@ def test_sensor_noise_is_reproducible_per_seed() -> None:
     assert np.array_equal(qa, qc) and np.array_equal(va, vc)
     assert a.coa_true == c.coa_true
     assert a.coa_measured != a.coa_true
+
+
+def test_a_window_puts_the_callback_back_where_something_replaced_it() -> None:
+    """MuJoCo's passive callback is process-global: where another library (or a user) replaced or cleared it after
+    an env was made, the next reset and window install cof_gym's again (with a warning for a replaced one) instead of
+    reading windows that accumulated nothing ('window too short')."""
+    import warnings
+
+    import gymnasium as gym
+
+    import cof_gym
+
+    env = gym.make(cof_gym.HALF_WHEELSET_ENV_ID)
+    env.reset(seed=0)
+    mujoco.set_mjcb_passive(None)  # cleared: reinstalled silently
+    obs, *_ = env.step(env.action_space.sample())
+    assert np.isfinite(obs).all()
+    mujoco.set_mjcb_passive(lambda m, d: None)  # replaced: reinstalled, and said so
+    with pytest.warns(RuntimeWarning, match="replaces the mjcb_passive callback"):
+        env.reset(seed=1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # in place now: the window installs nothing more
+        obs, *_ = env.step(env.action_space.sample())
+    assert np.isfinite(obs).all()
+    env.close()

@@ -34,7 +34,8 @@ from cof_gym.task import Episode
 from cof_gym.task.interface import DecodedAction
 from cof_gym.physics.native import layout
 from cof_gym.physics.native.build import install_callback
-from cof_gym.physics.simulation import begin_window, initial_state, initial_userdata, read_window, state_is_finite
+from cof_gym.physics.simulation import (SimulationDiverged, begin_window, initial_state, initial_userdata, read_window,
+                                        state_is_finite)
 from cof_gym.validation import check_int, is_int
 
 _BADQACC = int(mujoco.mjtWarning.mjWARN_BADQACC)
@@ -224,6 +225,7 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
         if not active:
             return set()
         ids = None if len(active) == self.num_envs else np.asarray(active, dtype=np.int32)
+        install_callback()  # idempotent: back in place if anything replaced the process-global callback since
         t0 = time.perf_counter()
         failed: set[int] = set()
         try:
@@ -237,6 +239,8 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
         """Sub-env ``i``'s first observation from its baseline window (a MuJoCo error there raises)."""
         if i in failed:
             raise RuntimeError(f"sub-env {i}: MuJoCo raised in the baseline window: {self._batch.error(i)}")
+        if self._ud[i][_MAGIC] != layout.MAGIC:  # MuJoCo's auto-reset wiped the userdata: it diverged
+            raise SimulationDiverged(f"sub-env {i}: the simulation diverged in the baseline window (MuJoCo reset it)")
         obs, info = self.task.after_reset(self.episodes[i], read_window(self._ud[i]))
         return obs, 0.0, False, False, info
 

@@ -139,6 +139,9 @@ class CreepShape:
         return None
 
 MAX_REDUCTION_FACTOR = 100.0  # Polach's kA, kS accepted up to this (any published set is at most 1)
+# Polach's A = mu_inf / mu0 at least this: at A = 0 the friction falls to exactly 0 once exp(-B |u|) underflows and the
+# curve's eps = C s / mu divides by it (NaN forces); every drawn range and preset has A >= 0.25
+MIN_FRICTION_RATIO = 0.01
 
 
 @dataclass(frozen=True)
@@ -167,7 +170,7 @@ class PolachShape(CreepShape):
         # set, where the curve's terms (k eps)^2 would overflow into NaN slopes
         check_number("k_adhesion", self.k_adhesion, 0.0, MAX_REDUCTION_FACTOR, low_open=True)
         check_number("k_slip", self.k_slip, 0.0, MAX_REDUCTION_FACTOR, low_open=True)
-        check_number("friction_ratio", self.friction_ratio, 0.0, 1.0, high_open=True,
+        check_number("friction_ratio", self.friction_ratio, MIN_FRICTION_RATIO, 1.0, high_open=True,
                      unit=" (A; below 1 for a creep curve with a peak)")
         check_number("friction_decay_s_per_m", self.friction_decay_s_per_m, 0.0, math.inf, low_open=True,
                      unit=" s/m (B)")

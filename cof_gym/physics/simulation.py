@@ -43,6 +43,11 @@ class SensorNoise:
             check_number(f"noise {name}", getattr(self, name), 0.0, math.inf)
 
 
+# the acceleration feedback's bound: the one-step-late feedback of the native step diverges once kd reaches the car
+# body's mass, about 0.72 of the empty wagon's whole mass (0.85 laden); 0.6 keeps a margin above the default 0.5
+MAX_KD_MASS_RATIO = 0.6
+
+
 @dataclass(frozen=True)
 class CruiseControl:
     """PI speed control with acceleration feedback on the car body:
@@ -51,11 +56,20 @@ class CruiseControl:
     The gains scale with the vehicle mass m: ``bandwidth_hz`` sets kp = 2 pi f m, ``integral_hz``
     ki = 2 pi f_i kp (the integral action removes the steady speed error under a steady traction
     force) and ``kd_mass_ratio`` kd = ratio * m (an acceleration feedback that adds apparent mass).
-    The closed loop (m + kd) s^2 + kp s + ki is stable for any positive gains."""
+    The continuous loop (m + kd) s^2 + kp s + ki is stable for any positive gains; the native step feeds back
+    the previous step's acceleration, a loop that is unstable once kd nears the car body's own mass (at a ratio
+    of about 0.72 of the whole vehicle's mass, empty), so ``kd_mass_ratio`` is held below
+    :data:`MAX_KD_MASS_RATIO` (the env's default 0.5)."""
 
     bandwidth_hz: float = 0.5
     integral_hz: float = 0.1
     kd_mass_ratio: float = 0.5
+
+    def __post_init__(self) -> None:
+        check_number("CruiseControl.bandwidth_hz", self.bandwidth_hz, 0.0, math.inf, low_open=True, high_open=True,
+                     unit=" Hz")
+        check_number("CruiseControl.integral_hz", self.integral_hz, 0.0, math.inf, high_open=True, unit=" Hz")
+        check_number("CruiseControl.kd_mass_ratio", self.kd_mass_ratio, 0.0, MAX_KD_MASS_RATIO)
 
     def gains(self, mass_kg: float) -> tuple[float, float, float]:
         """(kp N s/m, ki N/m, kd kg) for a vehicle of ``mass_kg``."""
@@ -455,6 +469,7 @@ class Simulation:
         return float(self.model.opt.timestep)
 
     def reset(self, scenario: Scenario) -> None:
+        install_callback()  # idempotent: back in place if anything replaced the process-global callback since
         mujoco.mj_resetData(self.model, self.data)
         initial_state(self.built, scenario.op.speed_m_s, self.data.qpos, self.data.qvel)
         self.data.userdata[:] = initial_userdata(self.built, scenario)
@@ -469,6 +484,7 @@ class Simulation:
             raise RuntimeError("call reset() before run_window()")
         if not (0.0 <= settle_s < duration_s):
             raise ValueError(f"settle_s must be in [0, duration_s={duration_s}), got {settle_s!r}")
+        install_callback()
         begin_window(self.data.userdata, self.data.time, drive, ramp_s, settle_s)
         nstep = int(round(duration_s / self.timestep))
         mujoco.mj_step(self.model, self.data, nstep)

@@ -205,6 +205,9 @@ TONE0 = OFFSETS[f"TONE2_{TONE_FIELDS[0]}"]
 assert all(OFFSETS[f"TONE{k}_{f}"] == TONE0 + (k - 2) * TONE_STRIDE + i
            for k in range(2, MAX_TONES + 1) for i, f in enumerate(TONE_FIELDS)), "tone blocks must be contiguous"
 CONTACT_STRIDE = len(CONTACT_FIELDS)
+_LAW_AT = CONTACT_FIELDS.index(CONTACT_LAW_FIELDS[0])
+assert CONTACT_FIELDS[_LAW_AT:_LAW_AT + len(CONTACT_LAW_FIELDS)] == CONTACT_LAW_FIELDS, \
+    "the contact-law fields must be contiguous in CONTACT_FIELDS, in CONTACT_LAW_FIELDS' order (cfg + CF_AB_REF)"
 ACC_FIRST = OFFSETS[ACCUMULATORS[0]]
 ACC_COUNT = len(ACCUMULATORS)
 

@@ -85,7 +85,8 @@ def mujoco_library(directory: Path | None = None) -> Path:
 
 def build_id(header: str, src_dir: Path = HERE, mujoco_ver: str | None = None) -> str:
     """Hash of everything the library is made of: the C sources, the generated layout header, the
-    MuJoCo version it is linked against and the flags."""
+    MuJoCo version it is linked against and cof_gym's own flags (``CFLAGS``, ``LDFLAGS`` of this module; flags
+    the environment adds at build time are the builder's choice and not part of the id)."""
     h = hashlib.sha256()
     for path in source_files(src_dir):
         h.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
