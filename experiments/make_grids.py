@@ -379,6 +379,7 @@ from __future__ import annotations
 import itertools
 import json
 import math
+from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -1024,9 +1025,15 @@ def all_grids() -> dict[str, dict]:
     return grids
 
 
+@lru_cache(maxsize=1)
+def grid_names() -> tuple[str, ...]:
+    """Every grid's file name (without ``.json``), in :func:`all_grids`' order (generated once a process)."""
+    return tuple(all_grids())
+
+
 def v2_heldout_grids() -> dict[str, str]:
     """The v2 reporting grids in the order they were written: file name (without ``.json``) -> label."""
-    names = [name for name in all_grids() if name.startswith("v2_heldout")]
+    names = [name for name in grid_names() if name.startswith("v2_heldout")]
     return {name: f"v2 {ORDINALS[k]}held-out grid" for k, name in enumerate(names)}
 
 

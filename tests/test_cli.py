@@ -290,10 +290,6 @@ def test_bench_writes_its_markdown_table_into_a_new_folder(tmp_path: Path, monke
     assert "ratio native / bare" in capsys.readouterr().out
 
 
-def test_at_least_15_bad_invocations() -> None:
-    assert len(BAD) >= 15
-
-
 def test_a_usage_error_in_a_subprocess(tmp_path: Path) -> None:
     proc = subprocess.run([sys.executable, "-m", "cof_gym.cli", "evaluate", "--agents", "staircase,pp0"],
                           cwd=tmp_path, capture_output=True, text=True, timeout=120)

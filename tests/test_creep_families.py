@@ -325,7 +325,7 @@ BAD_SPECS = {
     "string": ({"polach": {**POLACH, "k_slip": "0.4"}},
                r"creep_law\.polach\.k_slip must be a number, got '0\.4' \(str\)"),
     "bool": ({"polach": {**POLACH, "k_slip": True}}, r"creep_law\.polach\.k_slip must be a number, got True \(bool\)"),
-    "no-peak": ({"polach": {**POLACH, "friction_ratio": 1.0}}, r"creep_law\.polach\.friction_ratio .*\[0, 1\)"),
+    "no-peak": ({"polach": {**POLACH, "friction_ratio": 1.0}}, r"creep_law\.polach\.friction_ratio .*\[0.01, 1\)"),
     "negative": ({"polach": {**POLACH, "k_adhesion": -1.0}},
                  r"creep_law\.polach\.k_adhesion must be a finite number in \(0, 100\], got -1\.0"),
     "too-stiff": ({"polach": {**POLACH, "k_slip": 1e200}},

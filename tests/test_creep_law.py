@@ -147,16 +147,27 @@ def test_polach_shape_accepts_valid_custom_shape() -> None:
     ("condition", "cof", "speed"),
     [("low_adhesion", 0.6, 80.0), ("dry", 1.0, 80.0), ("wet", 1.5, 40.0)],
 )
+def test_conditions_without_a_peak_are_refused(condition: str, cof: float, speed: float) -> None:
+    """Far past the task's speeds and CoFs a preset's curve has no maximum below creepage 2: refused, never a CoF
+    that is not the curve's maximum."""
+    with pytest.raises(ValueError, match="no maximum below creepage 2"):
+        creep_peak(OperatingConditions(cof=cof, condition=condition, speed_m_s=speed))
+
+
+@pytest.mark.parametrize(
+    ("condition", "cof", "speed"),
+    [("low_adhesion", 0.1, 40.0), ("dry", 0.6, 40.0), ("wet", 0.25, 40.0), ("dry_kalker", 0.6, 40.0),
+     ("low_adhesion", 0.02, 5.0)],
+)
 def test_accepted_conditions_have_a_true_peak(condition: str, cof: float, speed: float) -> None:
-    """Either the conditions are rejected, or the CoF is the curve's maximum (the documented meaning)."""
-    try:
-        op = OperatingConditions(cof=cof, condition=condition, speed_m_s=speed)
-        peak = creep_peak(op)
-    except ValueError:
-        return
+    """At the ends of each condition's CoF range and the task's speeds the CoF is the curve's maximum (the documented
+    meaning), an interior one."""
+    op = OperatingConditions(cof=cof, condition=condition, speed_m_s=speed)
+    peak = creep_peak(op)
     s = np.geomspace(1e-6, 1e3, 20000)
     coa, _ = creep_curve(s, op)
     assert coa.max() <= cof * (1 + 1e-6)
+    assert peak.coa == pytest.approx(cof, rel=1e-9)
     assert peak.creepage < 1.0  # an interior maximum, not the scan's edge at s = 2
 
 

@@ -74,12 +74,27 @@ def test_no_march_native_in_a_distributable_build() -> None:
 
 
 # ---------------------------------------------------------------------------- the wheel
+# what a wheel is built from: the tracked files of the package and its build configuration
+WHEEL_SOURCES = ("pyproject.toml", "setup.py", "README.md", "LICENSE", "cof_gym")
+
+
+def tracked(*paths: str) -> list[str]:
+    """The files git tracks under ``paths`` (relative to the repository root)."""
+    proc = subprocess.run(["git", "ls-files", "-z", "--", *paths], cwd=ROOT, capture_output=True, text=True)
+    assert proc.returncode == 0 and proc.stdout, f"git ls-files in {ROOT}: {proc.stderr}"
+    return [name for name in proc.stdout.split("\0") if name]
+
+
 @pytest.fixture(scope="module")
 def wheel(tmp_path_factory) -> Path:
-    """``pip wheel .`` (no build isolation: the test venv has setuptools and mujoco already)."""
+    """``pip wheel .`` on a copy of the tracked sources (no build isolation: the test venv has setuptools and mujoco
+    already): what a clean clone builds, never a checkout's build/ leftovers, and nothing written into the tree."""
     pytest.importorskip("setuptools")
-    out = tmp_path_factory.mktemp("wheel")
-    proc = subprocess.run([sys.executable, "-m", "pip", "wheel", str(ROOT), "--no-deps", "--no-build-isolation",
+    src, out = tmp_path_factory.mktemp("source"), tmp_path_factory.mktemp("wheel")
+    for name in tracked(*WHEEL_SOURCES):
+        (src / name).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(ROOT / name, src / name)
+    proc = subprocess.run([sys.executable, "-m", "pip", "wheel", str(src), "--no-deps", "--no-build-isolation",
                            "-q", "-w", str(out)], capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr[-3000:]
     (whl,) = out.glob("cof_gym-*.whl")
@@ -99,6 +114,8 @@ def test_the_wheel_installs_only_cof_gym_and_carries_the_library(wheel: Path) ->
     assert f"cof_gym/physics/native/{toolchain.LIBRARY_NAME}" in names
     assert "cof_gym/physics/native/layout.py" in names and "cof_gym/physics/native/cofgym_native.c" in names
     assert not any(n.endswith((".pyc", ".lock", ".tmp")) for n in names)
+    # every Python module of the package as tracked, and no other (a stale build/ once shipped a removed module)
+    assert {n for n in names if n.endswith(".py")} == {n for n in tracked("cof_gym") if n.endswith(".py")}
     assert tag and tag[0].split()[-1].startswith("py3-none-"), tag  # the library does not use Python's ABI
 
 

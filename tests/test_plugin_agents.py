@@ -44,12 +44,12 @@ def _write(directory: Path, oracle: bool = False) -> Path:
     return path
 
 
-def test_evaluate_plays_an_agent_of_your_own_in_every_worker(tmp_path: Path, monkeypatch) -> None:
+def test_evaluate_plays_an_agent_of_your_own_in_every_worker(tmp_path: Path, monkeypatch, capsys) -> None:
     _write(tmp_path)
     monkeypatch.chdir(tmp_path)  # a path relative to the working directory, as a user types it
     code = cli.main(["evaluate", "--agents", "staircase,py:my_agents.py:Climb", "--episodes", "4", "--workers", "2",
                      "--env-kwargs", "max_windows:6", "--out", "out", "--quiet"])
-    assert code == 0
+    assert code == 0 and "no worker processes here" not in capsys.readouterr().err  # the workers played it
     with open(tmp_path / "out" / "episodes.csv") as f:
         rows = [r for r in csv.DictReader(f) if r["agent"] == "my-climb"]
     assert len(rows) == 4 and all(r["oracle"] == "False" and r["ended"] in ("stop", "macro-slip") for r in rows)

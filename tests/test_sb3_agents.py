@@ -100,7 +100,8 @@ def test_a_model_no_algorithm_of_the_table_loads_is_one_line_exit_2(tmp_path: Pa
     assert "\n" not in err and "--agents" in err and "DQNPolicy" in err and not (tmp_path / "e").exists()
 
 
-def test_sb3_needs_a_path(capsys) -> None:
+def test_sb3_needs_a_path(capsys, tmp_path: Path, monkeypatch) -> None:
+    monkeypatch.chdir(tmp_path)  # a relative --out, as a user types it: nothing written here
     assert cli.main(["evaluate", "--agents", "sb3", "--out", "never"]) == 2
     assert "sb3:PATH needs a value" in capsys.readouterr().err
     assert not Path("never").exists()

@@ -5,7 +5,10 @@ seeds: reset and step observations, rewards, the ground truth) equals the one th
 Tolerances: the physics is deterministic for one MuJoCo build; what may differ across CPUs and BLAS
 kernels is the sine fit's linear solve (a few ulps of float64), which reaches the float32
 observations as at most a rounding flip of the last bits: 1e-6 relative (8 float32 ulps) plus an
-absolute 1e-6 for values that are ~0."""
+absolute 1e-6 for values that are ~0. The ground truth's CoF, the seeded draw, is held to 1e-12 (a few float64 ulps
+of its scaling); the saturation torque (the CoF times the static load transfer's balance) and the reward (its terms
+reach a solve only through the estimate and the comfort filters' design, a few float64 ulps of a term) to 1e-9,
+orders of magnitude above those ulps and below any change of the physics."""
 
 from __future__ import annotations
 

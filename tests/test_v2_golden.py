@@ -8,14 +8,16 @@ may differ across CPUs and BLAS kernels is the lock-in's linear solve, a few ulp
 observations take that as at most a rounding flip of their last bits: 1e-6 relative (8 float32 ulps) plus an
 absolute 1e-6 for values that are ~0. Every float64 reading and truth downstream of a solve is held to the same
 1e-6 relative, with an absolute floor of 1e-9 of the largest magnitude the field takes in the episode (a value
-that is ~0 by cancellation carries the rounding of its operands' scale). The reward reads no solve: 1e-9.
+that is ~0 by cancellation carries the rounding of its operands' scale). The reward is held to 1e-9: its terms read
+a solve only through the estimate (a relative action's factor on the best measured CoA, a few float64 ulps) and the
+comfort filters' design (scipy's tf2zpk, LAPACK's roots: as many ulps), each a few 1e-16 of the term, far below it.
 
 A standard error is such a cancellation too: the scatter of what the fit leaves of the signal. With little noise
 that residual is ~1e-6 of the signal, so a fit that moves by ~1e-11 of itself moves the SE by ~1e-6 of itself (on a
 second machine in session 57, with the physics identical to the bit: the phase lag and the amplitude ratio by up to
 1.6e-11, the phase SE by up to 3.5e-6). An SE is therefore held to
 the tolerance of the quantity it qualifies: a phase's SE in degrees to 1e-6 of 90 deg, as the observation holds it
-(SE / 90 within an absolute 1e-6), and the CoA bins' SE to 1e-6 of the CoA the window reaches."""
+(SE / 90 within an absolute 1e-6), and the CoA bins' SE to 1e-6 of the largest CoA crest the episode reaches."""
 
 from __future__ import annotations
 

@@ -83,6 +83,7 @@ def test_make_vec_returns_the_batched_env_with_gymnasium_spaces():
         assert np.array_equal(envs._time, t_reset)
         # gymnasium's vector wrappers accept it (they check the autoreset mode)
         wrapped = gym.wrappers.vector.RecordEpisodeStatistics(envs)
+        envs.action_space.seed(0)
         out = wrapped.step(envs.action_space.sample())
         assert envs.observation_space.contains(out[0]) and out[1].dtype == np.float64
     finally:
