@@ -6,7 +6,8 @@ The paper's principle in a few lines (an example of the agent protocol, not a tu
 a fixed factor every window with a sine of a tenth of it on top, and stop once the phase lag of the wheelset speed
 has risen ``stop_rise_deg`` above the first window's, the lag climbing towards 90 deg as the operating point nears the
 creep curve's peak; report the largest adhesion (CoA) measured so far. It reads only the observation (sensor
-readings, :data:`cof_gym.task.interface.OBSERVATION_NAMES`) and builds its action with
+readings, :data:`cof_gym.task.interface.OBSERVATION_NAMES`, each in physical units by
+:func:`cof_gym.task.interface.window_reading`) and builds its action with
 :func:`cof_gym.task.interface.encode_action`.
 """
 
@@ -16,10 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from cof_gym.task.interface import OBSERVATION_NAMES, MotorLimits, encode_action
-
-LAG, COA = OBSERVATION_NAMES.index("phase_lag"), OBSERVATION_NAMES.index("coa_measured")
-LAG_SCALE_DEG = 90.0  # the observation's phase lag is the lag in degrees / 90
+from cof_gym.task.interface import MotorLimits, encode_action, window_reading
 
 
 class LagRise:
@@ -39,7 +37,7 @@ class LagRise:
         self.best_coa = self.limits.min_cof_estimate
 
     def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
-        lag_deg, coa = float(observation[LAG]) * LAG_SCALE_DEG, float(observation[COA])
+        lag_deg, coa = window_reading(observation, "phase_lag"), window_reading(observation, "coa_measured")
         driven = info.get("elapsed_s", 0.0) > 0.0  # the reset window drives no torque
         if driven:
             self.best_coa = max(self.best_coa, coa)

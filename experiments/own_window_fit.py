@@ -58,17 +58,16 @@ def play(job: tuple[dict[str, Any], list[int]]) -> list[dict[str, Any]]:
     from cof_gym.agents.base import agent_view
     from cof_gym.agents.registry import make_agent
     from cof_gym.task.creep_fit import MIN_FIT_POINTS, SHAPE_FAMILIES, fit_peak
-    from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES
+    from cof_gym.task.interface import window_reading
 
     config, seeds = job
     env = gym.make(cof_gym.WAGON_ENV_ID, **config)
     agent = make_agent("interrogator", env)
-    creepage_index = OBSERVATION_NAMES.index("creepage_measured")
     out = []
     for seed in seeds:
         obs, info = env.reset(seed=seed)
         agent.reset(obs, agent_view(info, False))
-        offset = float(obs[creepage_index]) / CREEPAGE_SCALE  # the reset window: no torque, no creep
+        offset = window_reading(obs, "creepage_measured")  # the reset window: no torque, no creep
         windows = []
         while True:
             elapsed = info["elapsed_s"]

@@ -315,3 +315,40 @@ def test_the_cruise_control_and_the_models_refuse_gains_and_steps_their_native_l
             CruiseControl(**bad)
     with pytest.raises(ValueError, match="timestep must be a finite number in"):
         build_half_wheelset(timestep=5e-3)
+
+
+def test_window_reading_and_decode_observation_give_back_what_the_sensors_measured() -> None:
+    """The readings an agent decodes (window_reading, decode_observation) are the window's sensor readings in
+    info["measurement"] to the float32 observation's rounding (a relative 2**-24 of each, the scaling a factor
+    exact to float64), the two decoders alike to the bit; an unknown name or a limit-scaled reading without the
+    limits is a ValueError naming it."""
+    import gymnasium as gym
+
+    import cof_gym
+    from cof_gym.task.interface import decode_observation, encode_action, window_reading
+
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    obs, info = env.reset(seed=3)
+    task = env.unwrapped.task
+    limits = task.limits
+    obs, _, _, _, info = env.step(encode_action(0.2 * limits.max_dc_torque_nm, 400.0, 4.0, 0.2, False, limits))
+    decoded = decode_observation(obs, task.scales(env.unwrapped.episode.built))
+    m = info["measurement"]
+    for name, field_name, measured in (("phase_lag", "phase_lag_deg", m["phase_lag_deg"]),
+                                       ("phase_lag_se", "phase_lag_se_deg", m["phase_lag_se_deg"]),
+                                       ("coa_measured", "coa_measured", m["coa_measured"]),
+                                       ("creepage_measured", "creepage_measured", m["creepage_measured"]),
+                                       ("speed", "speed_m_s", m["speed_measured_m_s"]),
+                                       ("wd_rms", "wd_rms_m_s2", m["wd_rms_m_s2"]),
+                                       ("jerk_rms", "jerk_rms_m_s3", m["jerk_rms_m_s3"]),
+                                       ("dc_torque", "dc_torque_nm", 0.2 * limits.max_dc_torque_nm),
+                                       ("frequency", "frequency_hz", 4.0)):
+        reading = window_reading(obs, name, limits)
+        assert reading == getattr(decoded, field_name), name
+        assert reading == pytest.approx(measured, rel=2.0 ** -23, abs=1e-300), name
+    assert decoded.normal_load_n == pytest.approx(m["normal_load_measured_n"], rel=2.0 ** -23)
+    with pytest.raises(ValueError, match=r"window_reading: name must be one of .*'creepage_measured'.*got 'creep'"):
+        window_reading(obs, "creep")
+    with pytest.raises(ValueError, match=r"'dc_torque' is scaled by the drive's limits: pass limits="):
+        window_reading(obs, "dc_torque")
+    env.close()

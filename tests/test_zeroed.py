@@ -85,12 +85,14 @@ def test_the_ar1_knee_agent_reads_the_lags_se_for_a_correlated_residual():
     SEs of 0.5 deg (the white-noise SE a smoothed encoder's lock-in reports) but within two SEs of 5 deg (the SE for
     its correlated residual), so the knee agent stops there and the ar1 variant does not."""
     from cof_gym.agents.model_based import ModelBasedAgent
-    from cof_gym.agents.phase_rule import CORRECTED_SE, DEG_PER_UNIT, PHASE, PHASE_SE
-    from cof_gym.task.interface import MotorLimits
+    from cof_gym.agents.phase_rule import CORRECTED_SE
+    from cof_gym.task.interface import OBSERVATION_NAMES, PHASE_SCALE_DEG, MotorLimits
+
+    PHASE, PHASE_SE = OBSERVATION_NAMES.index("phase_lag"), OBSERVATION_NAMES.index("phase_lag_se")
 
     def window(lag_deg: float) -> tuple[np.ndarray, dict]:
         obs = np.zeros(14, dtype=np.float32)
-        obs[PHASE], obs[PHASE_SE] = lag_deg / DEG_PER_UNIT, 0.5 / DEG_PER_UNIT
+        obs[PHASE], obs[PHASE_SE] = lag_deg / PHASE_SCALE_DEG, 0.5 / PHASE_SCALE_DEG
         return obs, {"measurement": {CORRECTED_SE: 5.0}}
 
     seen = {}

@@ -27,13 +27,13 @@ import numpy as np
 from cof_gym.task.actions import ActionContext, RelativeActions, get_action_type
 from cof_gym.task.interface import (
     HISTORY_OBSERVATION_NAMES, OBSERVATION_NAMES, Memory, MotorLimits, encode_action, get_observation_type,
+    window_reading,
 )
 
 RELATIVE = RelativeActions()
 ESTIMATE_CORRECTION = RELATIVE.estimate_log_range
 STOP_THRESHOLD = RELATIVE.stop_threshold
 ADAPTERS = ("absolute", "relative", "incremental")
-_DC = OBSERVATION_NAMES.index("dc_torque")
 _COA = OBSERVATION_NAMES.index("coa_measured")
 _BEST = HISTORY_OBSERVATION_NAMES.index("best_coa")
 
@@ -45,7 +45,7 @@ def incremental_to_env(raw: np.ndarray, observation: np.ndarray, limits: MotorLi
     a = np.clip(np.asarray(raw, dtype=np.float64).reshape(-1), -1.0, 1.0)
     obs = np.asarray(observation, dtype=np.float64).reshape(-1)
     best = float(obs[_BEST]) if obs.shape[0] == len(HISTORY_OBSERVATION_NAMES) else max(float(obs[_COA]), 0.0)
-    context = ActionContext(float(obs[_DC]) * limits.max_dc_torque_nm, best)
+    context = ActionContext(window_reading(obs, "dc_torque", limits), best)
     d = RELATIVE.decode(context, a, limits)
     return encode_action(d.drive.dc_torque_nm, d.drive.amplitude_nm, d.drive.frequency_hz, d.cof_estimate, d.stop,
                          limits)

@@ -39,12 +39,11 @@ import numpy as np
 
 from cof_gym.agents.base import check_parameters
 from cof_gym.agents.phase_rule import UNKNOWN_SE_DEG, PhaseRule, knee_seen, phase_of
-from cof_gym.agents.staircase import (COA, CREEPAGE, DC, MIN_STOP_CREEPAGE, STOP_ELASTICITY, ElasticityClimb,
-                                     peak_fraction)
+from cof_gym.agents.staircase import COA, MIN_STOP_CREEPAGE, STOP_ELASTICITY, ElasticityClimb, peak_fraction
 from cof_gym.task.creep_fit import ELASTICITY_SPAN, POLACH, SHAPE_FAMILIES, ClimbRecord
-from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES, SPEED_SCALE_M_S, MotorLimits
+from cof_gym.task.interface import MotorLimits, window_reading
 
-SPEED = OBSERVATION_NAMES.index("speed")
+
 @dataclass
 class ModelBasedAgent:
     """Creep-curve identification below the peak, reported with a confidence interval (see the module
@@ -98,12 +97,12 @@ class ModelBasedAgent:
 
     def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
         coa = float(observation[COA])
-        creepage = float(observation[CREEPAGE]) / CREEPAGE_SCALE
+        creepage = window_reading(observation, "creepage_measured")
         # the DC torque the drive applied in this window (the observation's, so that the agent follows
         # the applied level even when it was not its own command, e.g. perturbed demonstrations)
-        self._dc = float(observation[DC]) * self.limits.max_dc_torque_nm
+        self._dc = window_reading(observation, "dc_torque", self.limits)
         climb = self._climb
-        falling = self._dc > 0 and climb.add(coa, creepage, float(observation[SPEED]) * SPEED_SCALE_M_S, self._dc)
+        falling = self._dc > 0 and climb.add(coa, creepage, window_reading(observation, "speed"), self._dc)
         knee = self._knee(observation, info)
         e = climb.elasticity(self.min_span)
         fit = climb.fit

@@ -50,13 +50,11 @@ from typing import Any
 import numpy as np
 
 from cof_gym.agents.base import check_parameters
-from cof_gym.agents.staircase import COA, PHASE, ElasticityClimb
+from cof_gym.agents.staircase import COA, ElasticityClimb
 from cof_gym.measurement.sine_fit import NO_SE_DEG, SMOOTHED_NOISE_COLOUR, noise_colour
 from cof_gym.task.creep_fit import coa_fell
-from cof_gym.task.interface import OBSERVATION_NAMES, PHASE_SCALE_DEG, MotorLimits, encode_action
+from cof_gym.task.interface import MotorLimits, encode_action, window_reading
 
-PHASE_SE = OBSERVATION_NAMES.index("phase_lag_se")
-DEG_PER_UNIT = PHASE_SCALE_DEG  # observation phase_lag and phase_lag_se are in units of 90 deg
 UNKNOWN_SE_DEG = NO_SE_DEG  # the standard error of a window whose sine fit gave none
 PAPER_CORRECTION = 1.0 / 0.95  # the paper: the CoA at the zero crossing is ~95 % of the CoF
 
@@ -69,8 +67,8 @@ def phase_of(observation: np.ndarray, info: dict[str, Any] | None = None,
     """(phase lag, its standard error) of a window, deg; a missing or non-positive SE is unknown (180). With
     ``corrected_se`` the SE is ``info["measurement"]``'s :data:`CORRECTED_SE` (the speed fit's residual taken as
     autocorrelated, as a smoothed speed signal's is), not the observation's white-noise SE."""
-    phase = float(observation[PHASE]) * DEG_PER_UNIT
-    se = float(info["measurement"][CORRECTED_SE]) if corrected_se else float(observation[PHASE_SE]) * DEG_PER_UNIT
+    phase = window_reading(observation, "phase_lag")
+    se = float(info["measurement"][CORRECTED_SE]) if corrected_se else window_reading(observation, "phase_lag_se")
     if not math.isfinite(phase):
         return 0.0, UNKNOWN_SE_DEG
     if not math.isfinite(se) or se <= 0.0:
@@ -86,7 +84,7 @@ def smoothed_speed_signal(observation: np.ndarray, info: dict[str, Any] | None) 
     the sensor noise; unlike the learned interrogator's note (over its first driven windows,
     :func:`~cof_gym.agents.interrogator.readings.reads_smoothed_encoder`) it sets no noise floor: with the paper
     setting's noiseless sensors the gated rule's 60 records were the original's (session 65)."""
-    white = float(observation[PHASE_SE]) * DEG_PER_UNIT
+    white = window_reading(observation, "phase_lag_se")
     corrected = float((info or {}).get("measurement", {}).get(CORRECTED_SE, 0.0))
     return noise_colour(white, corrected) > SMOOTHED_NOISE_COLOUR
 

@@ -13,7 +13,7 @@ import numpy as np
 from cof_gym.agents.base import check_parameters
 from cof_gym.analysis.theory import PAPER_AMPLITUDE_NM, PAPER_FREQUENCY_HZ, paper_schedule
 from cof_gym.task.creep_fit import coa_fell, elasticity_between
-from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES, MotorLimits, encode_action
+from cof_gym.task.interface import OBSERVATION_NAMES, MotorLimits, encode_action, window_reading
 
 PHASE = OBSERVATION_NAMES.index("phase_lag")
 COA = OBSERVATION_NAMES.index("coa_measured")
@@ -70,8 +70,6 @@ class PaperStaircase:
 ELASTICITY = (1.0, 1.1, 1.25, 1.5, 2.0, 3.0, 5.0, 8.0, 15.0, 40.0)
 PEAK_FRACTION_MEDIAN = (0.0, 0.270, 0.396, 0.507, 0.619, 0.719, 0.860, 0.955, 0.987, 0.998)
 PEAK_FRACTION_MAX = (0.30, 0.373, 0.535, 0.667, 0.787, 0.877, 0.935, 0.970, 0.993, 0.999)
-CREEPAGE = OBSERVATION_NAMES.index("creepage_measured")
-DC = OBSERVATION_NAMES.index("dc_torque")
 # the elasticity climbs' stop near the peak (StaircaseAgent, ModelBasedAgent): e at least this, at a creepage of at
 # least MIN_STOP_CREEPAGE (every peak in range lies above 1 %: a large e at a tiny creepage is sensor noise)
 STOP_ELASTICITY = 10.0
@@ -185,7 +183,7 @@ class PracticalStaircase:
 
     def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:
         coa = float(observation[COA])
-        creepage = float(observation[CREEPAGE]) / CREEPAGE_SCALE
+        creepage = window_reading(observation, "creepage_measured")
         if self._dc > 0:
             falling = bool(self._points) and coa_fell(coa, self._points[-1][0])
             self._falls = self._falls + 1 if falling else 0

@@ -39,7 +39,7 @@ from typing import Any
 import numpy as np
 
 from cof_gym.agents.base import AgentWrapper
-from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES, MotorLimits
+from cof_gym.task.interface import CREEPAGE_SCALE, OBSERVATION_NAMES, MotorLimits, window_reading
 
 CREEPAGE = OBSERVATION_NAMES.index("creepage_measured")
 SUFFIX = "zeroed"  # the agent's name is the wrapped agent's + "-zeroed"
@@ -61,12 +61,12 @@ class CreepageZeroed(AgentWrapper):
     def zeroed(self, observation: np.ndarray) -> np.ndarray:
         """``observation`` with its creepage as ``(s_m - offset) / (1 + offset)`` (a copy)."""
         out = np.array(observation, dtype=np.float32, copy=True)
-        measured = float(observation[CREEPAGE]) / CREEPAGE_SCALE
+        measured = window_reading(observation, "creepage_measured")
         out[CREEPAGE] = (measured - self.offset) / (1.0 + self.offset) * CREEPAGE_SCALE
         return out
 
     def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
-        self.offset = float(observation[CREEPAGE]) / CREEPAGE_SCALE
+        self.offset = window_reading(observation, "creepage_measured")
         self.agent.reset(self.zeroed(observation), info)
 
     def act(self, observation: np.ndarray, info: dict[str, Any]) -> np.ndarray:

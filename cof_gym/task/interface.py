@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, fields
+from typing import Callable
 
 import numpy as np
 from gymnasium import spaces
@@ -175,6 +176,37 @@ def encode_observation(m: WindowMeasurement, drive: DriveCommand, scales: Observ
     return np.nan_to_num(np.clip(obs, -OBS_BOUND, OBS_BOUND), nan=0.0).astype(np.float32)
 
 
+# each window reading an agent decodes with the drive's limits alone, back to physical units from its observation
+# value (the inverse of encode_observation's scaling; normal_load and elapsed need the vehicle's ObservationScales)
+_UNSCALE: dict[str, Callable[[float, MotorLimits | None], float]] = {
+    "phase_lag": lambda v, limits: v * PHASE_SCALE_DEG,
+    "phase_lag_se": lambda v, limits: v * PHASE_SCALE_DEG,
+    "compliance": lambda v, limits: v,
+    "coa_measured": lambda v, limits: v,
+    "creepage_measured": lambda v, limits: v / CREEPAGE_SCALE,
+    "dc_torque": lambda v, limits: v * limits.max_dc_torque_nm,
+    "amplitude": lambda v, limits: v * limits.max_amplitude_nm,
+    "frequency": lambda v, limits: v * limits.max_frequency_hz,
+    "speed": lambda v, limits: v * SPEED_SCALE_M_S,
+    "wd_rms": lambda v, limits: v * WD_SCALE_M_S2,
+    "jerk_rms": lambda v, limits: v * JERK_SCALE_M_S3,
+    "cof_estimate": lambda v, limits: v * limits.max_cof_estimate,
+}
+_INDEX = {name: i for i, name in enumerate(OBSERVATION_NAMES)}
+LIMITS_READINGS = ("dc_torque", "amplitude", "frequency", "cof_estimate")  # the readings scaled by MotorLimits
+
+
+def window_reading(observation: np.ndarray, name: str, limits: MotorLimits | None = None) -> float:
+    """One reading of a window observation (any observation type: the window's values come first) in physical
+    units: phase lag and its SE in deg, creepage, torques in N m, frequency in Hz, speed in m/s, the body's
+    accelerations in m/s^2 and m/s^3 (:data:`LIMITS_READINGS` need the drive's ``limits``)."""
+    if name not in _UNSCALE:
+        raise ValueError(f"window_reading: name must be one of {sorted(_UNSCALE)}, got {name!r}")
+    if limits is None and name in LIMITS_READINGS:
+        raise ValueError(f"window_reading: {name!r} is scaled by the drive's limits: pass limits=MotorLimits(...)")
+    return _UNSCALE[name](float(observation[_INDEX[name]]), limits)
+
+
 @dataclass(frozen=True)
 class DecodedObservation:
     """An observation in physical units (the inverse of :func:`encode_observation`)."""
@@ -201,15 +233,10 @@ def decode_observation(obs: np.ndarray, scales: ObservationScales) -> DecodedObs
     if o.shape != (len(OBSERVATION_NAMES),):
         raise ValueError(f"a window observation has shape ({len(OBSERVATION_NAMES)},), got {o.shape}")
     lim = scales.limits
+    readings = [window_reading(o, name, lim) for name in _UNSCALE]
     return DecodedObservation(
-        phase_lag_deg=o[0] * PHASE_SCALE_DEG, phase_lag_se_deg=o[1] * PHASE_SCALE_DEG, compliance=o[2],
-        coa_measured=o[3],
-        creepage_measured=o[4] / CREEPAGE_SCALE, dc_torque_nm=o[5] * lim.max_dc_torque_nm,
-        amplitude_nm=o[6] * lim.max_amplitude_nm, frequency_hz=o[7] * lim.max_frequency_hz,
-        speed_m_s=o[8] * SPEED_SCALE_M_S, wd_rms_m_s2=o[9] * WD_SCALE_M_S2, jerk_rms_m_s3=o[10] * JERK_SCALE_M_S3,
-        normal_load_n=o[11] * scales.static_contact_load_n, elapsed_s=o[12] * scales.horizon_s,
-        cof_estimate=o[13] * lim.max_cof_estimate,
-    )
+        *readings[:11], normal_load_n=float(o[_INDEX["normal_load"]]) * scales.static_contact_load_n,
+        elapsed_s=float(o[_INDEX["elapsed"]]) * scales.horizon_s, cof_estimate=readings[11])
 
 
 # ---------------------------------------------------------------------------------------------------------
@@ -252,7 +279,7 @@ class Memory:
             self.best_coa = max(self.best_coa, coa)
         self.recent = [window] + self.recent[:HISTORY_WINDOWS]
         if driven and window[_DC] > 0:
-            self.climb.add(coa, float(window[_CREEPAGE]) / CREEPAGE_SCALE, float(window[_SPEED]) * SPEED_SCALE_M_S,
+            self.climb.add(coa, window_reading(window, "creepage_measured"), window_reading(window, "speed"),
                            float(window[_DC]))
 
 
@@ -366,10 +393,10 @@ def decode_history(obs: np.ndarray, scales: ObservationScales) -> DecodedHistory
         raise ValueError(f"a history observation has shape ({len(HISTORY_OBSERVATION_NAMES)},), got {o.shape}")
     n, s = len(OBSERVATION_NAMES), len(HISTORY_SUMMARY_NAMES)
     w = len(HISTORY_WINDOW_NAMES)
-    previous = tuple(
-        {"coa_measured": float(o[i]), "creepage_measured": float(o[i + 1] / CREEPAGE_SCALE),
-         "phase_lag_deg": float(o[i + 2] * PHASE_SCALE_DEG),
-         "dc_torque_nm": float(o[i + 3] * scales.limits.max_dc_torque_nm)}
-        for i in range(n + s, n + s + w * HISTORY_WINDOWS, w))
-    return DecodedHistory(decode_observation(o[:n], scales), baseline_phase_lag_deg=float(o[n] * PHASE_SCALE_DEG),
+    keys = ("coa_measured", "creepage_measured", "phase_lag_deg", "dc_torque_nm")  # of HISTORY_WINDOW_NAMES
+    previous = tuple({key: _UNSCALE[name](float(o[i + k]), scales.limits)
+                      for k, (name, key) in enumerate(zip(HISTORY_WINDOW_NAMES, keys))}
+                     for i in range(n + s, n + s + w * HISTORY_WINDOWS, w))
+    return DecodedHistory(decode_observation(o[:n], scales),
+                          baseline_phase_lag_deg=_UNSCALE["phase_lag"](float(o[n]), None),
                           baseline_compliance=float(o[n + 1]), best_coa=float(o[n + 2]), previous=previous)

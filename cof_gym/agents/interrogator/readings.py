@@ -12,8 +12,7 @@ import numpy as np
 from cof_gym.agents.runaway import crest_lower_bound
 from cof_gym.measurement.sine_fit import NO_SE_DEG, SMOOTHED_NOISE_COLOUR, noise_colour
 from cof_gym.physics.simulation import COA_CYCLE_FIELDS
-from cof_gym.task.interface import (CREEPAGE_SCALE, OBSERVATION_NAMES, PHASE_SCALE_DEG, SPEED_SCALE_M_S,
-                                    MotorLimits)
+from cof_gym.task.interface import OBSERVATION_NAMES, PHASE_SCALE_DEG, MotorLimits, window_reading
 from cof_gym.task.scenarios import ScenarioRanges
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 from cof_gym.validation import check_number
@@ -208,7 +207,7 @@ class Reading:
         crest of the measured CoA's synchronous average."""
         full = np.nan_to_num(np.asarray(observation, dtype=np.float64), nan=0.0)
         o = full[: len(OBSERVATION_NAMES)]
-        se_deg = o[_INDEX["phase_lag_se"]] * PHASE_SCALE_DEG
+        se_deg = window_reading(o, "phase_lag_se")
         tone2 = {}
         measurement = (info or {}).get("measurement", {})
         if len(full) >= len(OBSERVATION_NAMES) + 6 and "tone2_frequency_hz" in measurement:
@@ -231,16 +230,16 @@ class Reading:
         if "phase_lag_se_corrected_deg" in measurement:
             tone2["se_corrected_deg"] = _se_reported(float(measurement["phase_lag_se_corrected_deg"]))
         return cls(
-            phase_deg=float(o[_INDEX["phase_lag"]] * PHASE_SCALE_DEG),
+            phase_deg=window_reading(o, "phase_lag"),
             se_deg=float(_se_clipped(se_deg)),
             se_reported_deg=_se_reported(float(se_deg)),
-            compliance=float(o[_INDEX["compliance"]]),
-            coa=float(max(o[_INDEX["coa_measured"]], 1e-4)),
-            creepage=float(o[_INDEX["creepage_measured"]] / CREEPAGE_SCALE),
-            dc_nm=float(o[_INDEX["dc_torque"]] * limits.max_dc_torque_nm),
-            amplitude_nm=float(o[_INDEX["amplitude"]] * limits.max_amplitude_nm),
-            frequency_hz=float(o[_INDEX["frequency"]] * limits.max_frequency_hz),
-            speed_m_s=float(o[_INDEX["speed"]] * SPEED_SCALE_M_S),
+            compliance=window_reading(o, "compliance"),
+            coa=max(window_reading(o, "coa_measured"), 1e-4),
+            creepage=window_reading(o, "creepage_measured"),
+            dc_nm=window_reading(o, "dc_torque", limits),
+            amplitude_nm=window_reading(o, "amplitude", limits),
+            frequency_hz=window_reading(o, "frequency", limits),
+            speed_m_s=window_reading(o, "speed"),
             normal_load=float(o[_INDEX["normal_load"]]),
             **tone2,
         )
