@@ -352,3 +352,22 @@ def test_window_reading_and_decode_observation_give_back_what_the_sensors_measur
     with pytest.raises(ValueError, match=r"'dc_torque' is scaled by the drive's limits: pass limits="):
         window_reading(obs, "dc_torque")
     env.close()
+
+
+def test_a_spec_with_ranges_comes_back_from_its_json_as_the_same_env() -> None:
+    """EnvSpec.to_json writes ScenarioRanges as a dict of lists: gym.make of the spec read back refused it ("ranges
+    must be a ScenarioRanges"); it now makes the same draws. A mapping with a field the ranges lack names it."""
+    import dataclasses
+
+    import gymnasium as gym
+    from gymnasium.envs.registration import EnvSpec
+
+    import cof_gym
+    from cof_gym.task import V2_RANGES
+
+    env = gym.make(cof_gym.WAGON_ENV_ID, ranges=dataclasses.replace(V2_RANGES, speed_m_s=(10.0, 20.0)))
+    again = gym.make(EnvSpec.from_json(env.spec.to_json()))
+    assert again.unwrapped.task.ranges == env.unwrapped.task.ranges
+    assert env.reset(seed=4)[0].tobytes() == again.reset(seed=4)[0].tobytes()
+    with pytest.raises(ValueError, match=r"ranges: unknown field\(s\) \['speed'\]; allowed: \['cof', "):
+        gym.make(cof_gym.WAGON_ENV_ID, ranges={"speed": [10.0, 20.0]})

@@ -610,7 +610,8 @@ def render_frame(env_id: str, width: int, height: int) -> tuple[np.ndarray, floa
     env.reset(seed=0)
     env.step(np.array([0.0, 0.0, 0.0, 0.0, -1.0], np.float32))
     frame = env.render()
-    renderer, model = env.unwrapped._renderer, env.unwrapped._sim.model
+    model = env.unwrapped._sim.model
+    renderer = env.unwrapped._renderers[id(model)]
     renderer.enable_segmentation_rendering()
     try:
         seg = env.render()
@@ -676,17 +677,119 @@ def test_render_human_without_display(env_id: str, monkeypatch: pytest.MonkeyPat
     monkeypatch.delenv("DISPLAY", raising=False)
     monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
     env = gym.make(env_id, render_mode="human", **SHORT)
-    env.reset(seed=0)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
+        env.reset(seed=0)  # reset and step render in human mode
         first = env.render()
         second = env.render()
-        obs, *_ = env.step(QUIET)  # step renders in human mode
+        obs, *_ = env.step(QUIET)
     assert first is None and second is None
     messages = [str(w.message) for w in caught]
     assert len(messages) == 1 and HUMAN_NO_DISPLAY in messages[0], messages
     assert np.isfinite(obs).all()
     env.close()
+
+
+class FakeViewer:
+    """mujoco.viewer's passive handle as the env uses it: the (model, data) it was launched on, syncs, close."""
+
+    launched: list["FakeViewer"] = []
+
+    def __init__(self, model, data) -> None:
+        self.model, self.data, self.syncs, self.closed = model, data, 0, False
+        FakeViewer.launched.append(self)
+
+    def sync(self) -> None:
+        self.syncs += 1
+
+    def close(self) -> None:
+        self.closed = True
+
+
+def test_the_human_viewer_shows_each_episode_on_its_own_load_cases_model(monkeypatch: pytest.MonkeyPatch) -> None:
+    """In render_mode='human' reset renders as well as step (as gymnasium's MuJoCo envs do), and an episode on
+    the other load case (another model and data) gets a viewer of its own: the one launched on the first episode
+    kept syncing that episode's data, a frozen picture."""
+    import mujoco.viewer
+
+    from cof_gym.envs import torque_interrogation
+
+    monkeypatch.setattr(torque_interrogation, "display_available", lambda: True)
+    monkeypatch.setattr(mujoco.viewer, "launch_passive", FakeViewer)
+    FakeViewer.launched = []
+    env = gym.make(cof_gym.WAGON_ENV_ID, render_mode="human", **SHORT)
+    env.reset(seed=0, options={"load_case": "empty"})
+    first = FakeViewer.launched[-1]
+    assert first.syncs == 1 and first.data is env.unwrapped._sim.data
+    env.step(QUIET)
+    assert first.syncs == 2 and len(FakeViewer.launched) == 1
+    env.reset(seed=1, options={"load_case": "laden"})
+    second = FakeViewer.launched[-1]
+    assert first.closed and second is not first and second.data is env.unwrapped._sim.data
+    assert second.model is not first.model
+    env.close()
+    assert second.closed
+
+
+def test_rgb_array_builds_one_renderer_per_load_case(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A renderer is built once per model (about a second each): episodes alternating the load case built one
+    at every switch and closed none of them; close() closes them all."""
+    import mujoco
+
+    built = []
+
+    class FakeRenderer:
+        def __init__(self, model, height: int, width: int) -> None:
+            self.model, self.closed = model, False
+            built.append(self)
+
+        def update_scene(self, data, camera: str) -> None:
+            pass
+
+        def render(self) -> np.ndarray:
+            return np.zeros((2, 2, 3), np.uint8)
+
+        def close(self) -> None:
+            self.closed = True
+
+    monkeypatch.setattr(mujoco, "Renderer", FakeRenderer)
+    env = gym.make(cof_gym.WAGON_ENV_ID, render_mode="rgb_array", **SHORT)
+    for seed, load_case in enumerate(("empty", "laden") * 3):
+        env.reset(seed=seed, options={"load_case": load_case})
+        env.render()
+        assert built[-1 if load_case == "laden" else 0].model is env.unwrapped._sim.model
+    assert len(built) == 2
+    env.close()
+    assert all(r.closed for r in built)
+
+
+def test_an_episode_cut_unscored_at_the_registered_time_limit_is_a_warning() -> None:
+    """gym.make(id, max_windows=N) with N above the id's registered TimeLimit (30) truncates every episode at
+    step 30, before the task's horizon scores the estimate: the next reset warns once, naming the fix; with
+    max_episode_steps=N the episode runs to its horizon and is scored, with no warning."""
+    limit = gym.spec(HALF).max_episode_steps
+    kwargs = {"max_windows": limit + 2, "window_s": 0.2}
+    env = gym.make(HALF, **kwargs)
+    env.reset(seed=0)
+    for _ in range(limit):
+        _, _, terminated, truncated, info = env.step(QUIET)
+    assert truncated and not terminated and "relative_error" not in info
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        env.reset(seed=1)
+        env.reset(seed=2)  # once an env
+    messages = [str(w.message) for w in caught]
+    assert len(messages) == 1, messages
+    assert f"ended unscored at step {limit}" in messages[0]
+    assert f"max_windows={limit + 2}, max_episode_steps={limit + 2}" in messages[0]
+    env = gym.make(HALF, max_episode_steps=limit + 2, **kwargs)
+    env.reset(seed=0)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        for _ in range(limit + 2):
+            _, _, terminated, truncated, info = env.step(QUIET)
+        env.reset(seed=1)
+    assert truncated and "relative_error" in info and not caught
 
 
 # --------------------------------------------------------------------------------------- 7. PPO

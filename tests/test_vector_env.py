@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import warnings
 
 import gymnasium as gym
 import numpy as np
@@ -208,7 +209,7 @@ def test_max_episode_steps_minus_one_applies_no_time_limit_as_gym_make_does(valu
 
 def test_numpy_integer_vector_arguments_are_stored_as_ints():
     envs = gym.make_vec(ENV_ID, num_envs=np.int64(2), vectorization_mode="vector_entry_point",
-                        num_threads=np.int32(1), max_episode_steps=np.int16(5))
+                        num_threads=np.int32(1), max_episode_steps=np.int16(5), max_windows=5)
     try:
         assert (envs.num_envs, envs.num_threads, envs.max_episode_steps) == (2, 1, 5)
         assert all(type(v) is int for v in (envs.num_envs, envs.num_threads, envs.max_episode_steps))
@@ -249,3 +250,34 @@ def test_numpy_integer_seeds_seed_as_the_ints_they_hold(pair_env):
         assert pair_env.reset(seed=seed)[0].tobytes() == expected.tobytes()
     first = pair_env.reset(seed=[3, None])[0]  # None: that sub-env draws unseeded (its stream goes on)
     assert first[0].tobytes() == expected[0].tobytes()
+
+
+def test_a_closed_vector_env_refuses_reset_and_step_as_gymnasiums_do():
+    """(It failed with "'NoneType' object has no attribute 'reset'".)"""
+    envs = gym.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point", max_windows=2, window_s=0.5)
+    envs.reset(seed=0)
+    envs.close()
+    envs.close()  # twice is fine
+    with pytest.raises(gym.error.ClosedEnvironmentError, match="the vector env is closed"):
+        envs.reset(seed=0)
+    with pytest.raises(gym.error.ClosedEnvironmentError, match="the vector env is closed"):
+        envs.step(np.zeros(envs.action_space.shape, np.float32))
+
+
+def test_get_attr_reads_the_episodes_and_names_their_fields_for_any_other_name(pair_env):
+    pair_env.reset(seed=0)
+    assert [s.load_case for s in pair_env.get_attr("scenario")] == [e.scenario.load_case for e in pair_env.episodes]
+    with pytest.raises(AttributeError, match=r"'np_random' is none of its fields \['scenario', 'truth'"):
+        pair_env.get_attr("np_random")
+
+
+def test_a_time_limit_below_the_tasks_horizon_is_a_warning():
+    """make_vec passes the id's registered TimeLimit (30) unless given one: a max_windows beyond it would end
+    every episode unscored."""
+    with pytest.warns(UserWarning, match=r"max_episode_steps=30 .* max_windows=40 scores its estimate: pass "
+                                         r"max_episode_steps=40"):
+        gym.make_vec(cof_gym.WAGON_ENV_ID, num_envs=1, vectorization_mode="vector_entry_point", max_windows=40).close()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        gym.make_vec(cof_gym.WAGON_ENV_ID, num_envs=1, vectorization_mode="vector_entry_point", max_windows=40,
+                     max_episode_steps=40).close()

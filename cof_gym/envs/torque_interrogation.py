@@ -11,7 +11,7 @@ import importlib
 import os
 import sys
 from dataclasses import fields
-from typing import Any
+from typing import Any, Mapping
 
 import gymnasium as gym
 import mujoco
@@ -21,6 +21,7 @@ from gymnasium.utils import EzPickle
 from cof_gym.physics.models import DEFAULT_TIMESTEP_S
 from cof_gym.physics.simulation import SimulationDiverged, Simulation, WindowMeasurement
 from cof_gym.task import InterrogationTask, MacroSlipLimit, Reward, ScenarioRanges
+from cof_gym.task.interface import DecodedAction
 from cof_gym.task.scenarios import SCENARIO_KEYS, V2_RANGES
 from cof_gym.task.task import DEFAULT_MAX_WINDOWS, Episode
 from cof_gym.validation import check_choice, check_int, is_int
@@ -43,11 +44,14 @@ def default_ranges(task_version: int) -> ScenarioRanges:
     return V2_RANGES if check_int("task_version", task_version, 1, 2) == 2 else ScenarioRanges()
 
 
-def task_ranges(task_version: int, ranges: ScenarioRanges | None) -> ScenarioRanges:
-    """The draws of a task: ``ranges``, or the version's own where ``None``. Ranges that disagree with the
+def task_ranges(task_version: int, ranges: ScenarioRanges | Mapping[str, Any] | None) -> ScenarioRanges:
+    """The draws of a task: ``ranges`` (a mapping of its fields, as a spec's JSON gives it back, too), or the
+    version's own where ``None``. Ranges that disagree with the
     version (v1 draws on a v2 task, which would quietly drop its creep-law families and sensor errors, or v2
     draws on a v1 task) are a ``ValueError`` naming both arguments."""
     version_ranges = default_ranges(task_version)
+    if isinstance(ranges, Mapping):
+        ranges = ScenarioRanges.from_mapping(ranges)
     if ranges is None or not isinstance(ranges, ScenarioRanges) or ranges.draws_v2 == version_ranges.draws_v2:
         return version_ranges if ranges is None else ranges  # (a wrong type is the task's error, named there)
     if task_version == 2:
@@ -277,7 +281,7 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | counter_torque | False | the paper's equal-and-opposite torque on the bogie's other wheelset (the wagon only: refused on the half wheelset) |
     | traction_balance | None | the rest of the train cancels the DC torque (None: on for the wagon without counter torque) |
     | timestep | 0.001 | physics step, s, in [1e-4, 2e-3] |
-    | ranges | None | per-episode draw ranges (:class:`cof_gym.task.ScenarioRanges`); None: the task version's (v2: ``cof_gym.task.V2_RANGES``); v1 ranges on a v2 task or v2 ranges on a v1 task are refused |
+    | ranges | None | per-episode draw ranges (:class:`cof_gym.task.ScenarioRanges`); None: the task version's (v2: ``cof_gym.task.V2_RANGES``), or a mapping of its fields (as a spec's JSON holds them); v1 ranges on a v2 task or v2 ranges on a v1 task are refused |
     | w_error, w_slip, w_comfort, w_time, macro_slip_penalty | 10, 1, 0.05, 0.02, 10 | reward weights |
     | macro_slip_ratio, macro_slip_floor | 2, 0.02 | the macro-slip limit relative to the peak creepage |
     | cof, condition, speed_m_s, load_case, noise_level, motor_lag_s | None | fix a scenario field |
@@ -351,9 +355,11 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
         self._sims: dict[str, Simulation] = {}
         self._sim: Simulation | None = None
         self.episode: Episode | None = None
-        self._renderer = None
+        self._renderers: dict[int, mujoco.Renderer] = {}  # rgb_array: one per model (load case), id(model) ->
         self._viewer = None
+        self._viewer_sim: Simulation | None = None  # the simulation the human viewer shows
         self._warned_display = False
+        self._warned_cut = False
 
     # ------------------------------------------------------------------ episode
     def _simulation(self, load_case: str) -> Simulation:
@@ -361,7 +367,23 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
             self._sims[load_case] = Simulation(self.task.model(load_case))
         return self._sims[load_case]
 
+    def _note_cut_episode(self) -> None:
+        """Warn (once an env) where the episode ending now was cut unscored at the id's registered TimeLimit
+        (``max_episode_steps``) while the task's horizon ``max_windows`` lies beyond it: gym.make applies the
+        registered limit unless given ``max_episode_steps``, and a truncation there scores no estimate."""
+        episode, spec = self.episode, self.spec
+        if self._warned_cut or episode is None or episode.done or spec is None or spec.id not in gym.registry:
+            return
+        limit = gym.spec(spec.id).max_episode_steps
+        if limit is not None and episode.windows == limit < self.task.max_windows:
+            gym.logger.warn(f"an episode ended unscored at step {limit}, the TimeLimit registered with {spec.id} "
+                            f"(max_episode_steps={limit}), before the task's horizon max_windows="
+                            f"{self.task.max_windows} scores its estimate: make it with gym.make({spec.id!r}, "
+                            f"max_windows={self.task.max_windows}, max_episode_steps={self.task.max_windows})")
+            self._warned_cut = True
+
     def reset(self, *, seed: int | None = None, options: dict | None = None):
+        self._note_cut_episode()
         self.episode = None  # a reset that raises leaves an env that refuses to step
         if seed is not None and not (is_int(seed) and seed >= 0):  # Gymnasium takes True as seed 1
             raise ValueError(f"seed must be None or an int >= 0, got {seed!r} ({type(seed).__name__})")
@@ -373,6 +395,8 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
         m = sim.run_window(episode.drive, self.task.window_s, self.task.settle_s, self.task.ramp_s)
         obs, info = self.task.after_reset(episode, m)
         self._sim, self.episode = sim, episode
+        if self.render_mode == "human":
+            self.render()
         return obs, info
 
     def step(self, action):
@@ -380,16 +404,21 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
             raise RuntimeError("call reset() (successfully) before step()")
         decoded = self.task.decode(self.episode, action)
         if decoded.stop:  # the measurement ends now: no window is run
-            return self.task.after_stop(self.episode)
+            out = self.task.after_stop(self.episode)
+        else:
+            out = self._run_step(decoded)
+        if self.render_mode == "human":
+            self.render()
+        return out
+
+    def _run_step(self, decoded: DecodedAction) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        """Run one window with the decoded drive and score it (a diverged window terminates)."""
         try:
             m = self._sim.run_window(self.episode.drive, self.task.window_s, self.task.settle_s, self.task.ramp_s)
             diverged = self._diverged(m)
         except SimulationDiverged:
             m, diverged = self.episode.last, True
-        out = self.task.after_step(self.episode, m, decoded, diverged)
-        if self.render_mode == "human":
-            self.render()
-        return out
+        return self.task.after_step(self.episode, m, decoded, diverged)
 
     def _diverged(self, m: WindowMeasurement) -> bool:
         d = self._sim.data
@@ -402,25 +431,31 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
             return None
         model, data = self._sim.model, self._sim.data
         if self.render_mode == "rgb_array":
-            if self._renderer is None or self._renderer.model is not model:
-                self._renderer = mujoco.Renderer(model, self.height, self.width)
-            self._renderer.update_scene(data, camera="side")
-            return self._renderer.render()
+            renderer = self._renderers.get(id(model))
+            if renderer is None:  # built once per load case's model (about a second each)
+                renderer = self._renderers[id(model)] = mujoco.Renderer(model, self.height, self.width)
+            renderer.update_scene(data, camera="side")
+            return renderer.render()
         if not display_available():
             if not self._warned_display:
                 gym.logger.warn("render_mode='human' needs a display (DISPLAY/WAYLAND_DISPLAY); nothing is shown")
                 self._warned_display = True
             return None
+        if self._viewer is not None and self._viewer_sim is not self._sim:  # another load case: its own model
+            self._close_viewer()
         if self._viewer is None:
             viewer = importlib.import_module("mujoco.viewer")
-            self._viewer = viewer.launch_passive(model, data)
+            self._viewer, self._viewer_sim = viewer.launch_passive(model, data), self._sim
         self._viewer.sync()
         return None
 
-    def close(self) -> None:
-        if self._renderer is not None:
-            self._renderer.close()
-            self._renderer = None
+    def _close_viewer(self) -> None:
         if self._viewer is not None:
             self._viewer.close()
-            self._viewer = None
+        self._viewer, self._viewer_sim = None, None
+
+    def close(self) -> None:
+        for renderer in self._renderers.values():
+            renderer.close()
+        self._renderers.clear()
+        self._close_viewer()

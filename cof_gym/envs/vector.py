@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import os
 import time
+from dataclasses import fields
 from typing import Any, Mapping, Sequence
 
 import gymnasium as gym
@@ -76,7 +77,8 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
             ``min(num_envs, os.cpu_count(), 256)``.
         max_episode_steps: a ``TimeLimit`` (``gym.make_vec`` passes the spec's), an int in [1, 2**31 - 1],
             applied per sub-env exactly as ``gymnasium.wrappers.TimeLimit`` does; None or -1 (as
-            ``gym.make(..., max_episode_steps=-1)``): the task's horizon ``max_windows`` ends episodes.
+            ``gym.make(..., max_episode_steps=-1)``): the task's horizon ``max_windows`` ends episodes. One below
+            ``max_windows`` truncates episodes unscored (a warning says so).
         **kwargs: the arguments of :class:`TorqueInterrogationEnv` (vehicle, window_s, scenario fields...).
 
     ``autoreset_mode`` (:data:`AUTORESET_MODES`, declared in ``metadata["autoreset_mode"]``), as
@@ -124,6 +126,10 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
         self.max_episode_steps = max_episode_steps
         self.render_mode = None
         self.task = make_task(**kwargs)
+        if max_episode_steps is not None and max_episode_steps < self.task.max_windows:
+            gym.logger.warn(f"max_episode_steps={max_episode_steps} (gym.make_vec passes the spec's unless given) "
+                            f"ends every episode before the task's horizon max_windows={self.task.max_windows} "
+                            f"scores its estimate: pass max_episode_steps={self.task.max_windows} (or -1)")
         self.metadata = {**type(self).metadata, "render_fps": max(1, int(round(1.0 / self.task.window_s))),
                          "autoreset_mode": self.autoreset_mode}
         self.single_action_space = self.task.action_space
@@ -284,8 +290,13 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
         return [None if s is None else int(s) for s in seeds]
 
     # ------------------------------------------------------------------ gymnasium API
+    def _check_open(self) -> None:
+        if self.closed:
+            raise gym.error.ClosedEnvironmentError("the vector env is closed: make a new one to reset or step")
+
     def reset(self, *, seed: int | Sequence[int | None] | None = None, options: dict[str, Any] | None = None):
         """Reset all sub-envs (or ``options["reset_mask"]``'s); sub-env i is seeded ``seed + i``."""
+        self._check_open()
         seeds = self._seeds(seed, self.num_envs)
         if options is not None and not isinstance(options, Mapping):
             raise ValueError(f"options must be a dict (a mapping of scenario fields, and 'reset_mask') or None, "
@@ -316,6 +327,7 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
     def step(self, actions):
         """Step every sub-env; ended ones are reset as ``autoreset_mode`` says (next step: those that
         ended at the previous step are reset instead; same step: those that end now are reset too)."""
+        self._check_open()
         actions = np.asarray(actions)
         if actions.shape != self.action_space.shape:
             raise ValueError(f"actions must have shape {self.action_space.shape}, got {actions.shape}")
@@ -339,8 +351,14 @@ class TorqueInterrogationVectorEnv(gym.vector.VectorEnv):
                 self._truncations.copy(), infos)
 
     def get_attr(self, name: str) -> tuple[Any, ...]:
-        """An attribute of every sub-env's episode (e.g. ``scenario``, ``truth``)."""
-        return tuple(getattr(episode, name) for episode in self.episodes)
+        """An attribute of every sub-env's episode (e.g. ``scenario``, ``truth``; None before its first reset):
+        the batch has no sub-env objects, so a name :class:`~cof_gym.task.Episode` does not have is an
+        ``AttributeError`` naming those it has."""
+        episode_fields = [f.name for f in fields(Episode)]
+        if name not in episode_fields:
+            raise AttributeError(f"get_attr reads each sub-env's episode (the batch has no sub-env objects); "
+                                 f"{name!r} is none of its fields {episode_fields}")
+        return tuple(None if episode is None else getattr(episode, name) for episode in self.episodes)
 
     def close_extras(self, **kwargs: Any) -> None:
         # the bound arrays are views of the batch's state rows: drop them with it

@@ -97,6 +97,21 @@ class ScenarioRanges:
         set_(self, "sensor_error_scale", check_number("ranges.sensor_error_scale", self.sensor_error_scale, 0.0,
                                                       SENSOR_ERROR_SCALE_MAX))
 
+    @classmethod
+    def from_mapping(cls, value: Mapping[str, Any]) -> "ScenarioRanges":
+        """Ranges from a mapping of their fields, as a spec's JSON holds them (``EnvSpec.to_json``: lists where the
+        fields are tuples); a field the ranges do not have is a ``ValueError`` naming those they have."""
+        names = [f.name for f in fields(cls)]
+        unknown = sorted(set(value) - set(names))
+        if unknown:
+            raise ValueError(f"ranges: unknown field(s) {unknown}; allowed: {names}")
+
+        def tuples(v: Any) -> Any:
+            return tuple(v) if isinstance(v, list) else v
+
+        return cls(**{name: {c: tuples(r) for c, r in v.items()} if name == "cof" and isinstance(v, Mapping)
+                      else tuples(v) for name, v in value.items()})
+
     @property
     def draws_v2(self) -> bool:
         """Whether the v2 fields (a creep-law shape, systematic errors) are drawn."""
