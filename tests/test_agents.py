@@ -526,6 +526,10 @@ def test_a_suite_file_that_names_a_key_twice_or_renders_is_refused(tmp_path: Pat
     (tmp_path / "s.json").write_text(json.dumps({"env_kwargs": {"render_mode": "human"}}))
     with pytest.raises(SuiteError, match=r"env_kwargs\.render_mode must be None \(evaluation renders nothing"):
         make_suite(str(tmp_path / "s.json"), 2, 0)
+    # an integer beyond Python's str -> int digit limit was a traceback
+    (tmp_path / "s.json").write_text('{"options": {"cof": 1' + "0" * 5000 + "}}")
+    with pytest.raises(SuiteError, match=r"s\.json: cannot be read as JSON \(Exceeds the limit"):
+        make_suite(str(tmp_path / "s.json"), 2, 0)
 
 
 def test_a_listed_episode_without_a_seed_past_the_largest_seed_names_the_run_seed(tmp_path: Path) -> None:

@@ -149,6 +149,12 @@ BAD = [
     # a policy_kwargs / normalize expression that raises whatever it raises: one line naming the key
     (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "policy_kwargs:dict(activation_fn=nn.Relu)"],
      "policy_kwargs: 'dict(activation_fn=nn.Relu)' does not evaluate (AttributeError"),
+    # a width 0 trained a network that learns nothing; -1 was torch's "negative dimension"
+    (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "policy_kwargs:dict(net_arch=[0])"],
+     "policy_kwargs.net_arch must be a list of layer widths (integers >= 1)"),
+    (["train", "--out", "run", "--timesteps", "10", "--hyperparams",
+      "policy_kwargs:dict(net_arch=dict(pi=[8], vf=[-1]))"], "policy_kwargs.net_arch must be a list of layer widths"),
+    (["train", "--out", "run", "--timesteps", "10", "--resume", ""], "--resume: an empty path"),  # was ignored
     (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "normalize:1/0"],
      "normalize: '1/0' does not evaluate (ZeroDivisionError"),
     (["train", "--out", "run", "--timesteps", "10", "--hyperparams", "normalize:abc"],

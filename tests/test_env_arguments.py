@@ -371,3 +371,48 @@ def test_a_spec_with_ranges_comes_back_from_its_json_as_the_same_env() -> None:
     assert env.reset(seed=4)[0].tobytes() == again.reset(seed=4)[0].tobytes()
     with pytest.raises(ValueError, match=r"ranges: unknown field\(s\) \['speed'\]; allowed: \['cof', "):
         gym.make(cof_gym.WAGON_ENV_ID, ranges={"speed": [10.0, 20.0]})
+
+
+@pytest.mark.parametrize("lag_s", [1e-20, 1e-13])
+def test_a_drive_lag_far_below_a_step_runs_as_no_lag(lag_s: float) -> None:
+    """A motor_lag_s of 1e-20 s diverged the first window (SimulationDiverged from reset): the callback divided the
+    torque's rounding error by it. Below MIN_MOTOR_LAG_S (1e-12 s) it runs as none, window for window."""
+    import gymnasium as gym
+
+    import cof_gym
+
+    runs = []
+    for lag in (lag_s, 0.0):
+        env = gym.make(cof_gym.HALF_WHEELSET_ENV_ID, max_windows=3, window_s=0.5)
+        obs, _ = env.reset(seed=3, options={"motor_lag_s": lag})
+        steps = [env.step(np.array([-0.9, -1.0, 0.0, 0.0, -1.0], np.float32)) for _ in range(2)]
+        assert not any(info["diverged"] for *_, info in steps)
+        runs.append([obs.tobytes(), *(o.tobytes() for o, *_ in steps)])
+    assert runs[0] == runs[1]
+
+
+def test_a_fixed_creep_law_is_played_where_it_has_a_peak() -> None:
+    """A Polach law with a peak at 5 m/s and none at 20 or 40 m/s passed evaluate's check (one reset) and stopped
+    the run with a NoPeakError at the first episode drawn faster. A draw where a fixed law has no peak is drawn
+    again: every episode has a CoF, at a speed where the curve peaks; with the speed, load and CoF fixed where it
+    has none, the reset is one ValueError naming the speed."""
+    import gymnasium as gym
+
+    import cof_gym
+    from cof_gym.physics.creep import NoPeakError
+
+    law = {"polach": {"k_adhesion": 1.0, "k_slip": 0.05, "friction_ratio": 0.9, "friction_decay_s_per_m": 1.0}}
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    speeds = []
+    for seed in range(8):
+        _, info = env.reset(seed=seed, options={"creep_law": law})
+        truth = info["ground_truth"]
+        assert 0.0 < truth["cof"] and 0.0 < truth["peak_creepage"] < 2.0
+        speeds.append(env.unwrapped.episode.scenario.speed_m_s)
+    assert max(speeds) < 20.0  # no peak at 20 m/s: such draws were drawn again
+    with pytest.raises(NoPeakError, match=r"no maximum below creepage .* at speed_m_s=30\.0 .*"
+                                          r"fix speed_m_s, load_case and cof where the curve has a peak"):
+        env.reset(seed=0, options={"creep_law": law, "speed_m_s": 30.0})
+    with pytest.raises(NoPeakError, match=r"at speed_m_s=30\.0 .*steeply with the slip velocity$"):
+        env.reset(seed=0, options={"creep_law": law, "speed_m_s": 30.0, "load_case": "laden", "cof": 0.3,
+                                   "condition": "dry"})

@@ -231,7 +231,12 @@ def test_a_bad_measured_curve_in_a_suite_is_one_line_exit_2(options: dict, fragm
 
 @pytest.mark.parametrize("text,extra,fragment", [
     ("creepage,coa\n0.001,0.1\n0.002,abc\n", [], "row 3 is not a creepage and a CoA"),
-    ("0.001\n", [], "two or more points"),  # a first row that is not two numbers is a header
+    ("0.001\n", [], "row 1 is not a creepage and a CoA"),  # a number in it: data, not a header
+    ("coa\n", [], "two or more points"),  # a first row without a number is a header
+    # a typo in the first row was taken for a header and that point lost; a percent sign after a number for a
+    # header saying percent, every later creepage divided by 100
+    ("0.0005,O.05\n0.001,0.1\n0.002,0.2\n0.004,0.3\n0.01,0.25\n", [], "row 1 is not a creepage and a CoA"),
+    ("0.1%,0.1\n0.2,0.2\n0.4,0.3\n1,0.25\n", [], "row 1 is not a creepage and a CoA"),
     ("creepage,coa\n0.001,0.1\n0.002,0.2\n", ["--env-kwargs", "cof:0.2"], "which --env-kwargs fixes too"),
     ("creepage,coa\n0.001,0.1\n0.0005,-0.2\n", [], "CoA must be finite and >= 0"),
     ("creepage,coa\n0.001,0.1\n0.002,0.2\n", ["--suite", "paper"], "which episode 0 of suite paper fixes too"),

@@ -311,6 +311,8 @@ def _read_json(path: Path) -> Any:
         raise SuiteError(f"{path}: key {e.args[0]!r} given twice in one object; give each key once") from None
     except json.JSONDecodeError as e:
         raise SuiteError(f"{path}: invalid JSON at line {e.lineno} column {e.colno}: {e.msg}") from None
+    except ValueError as e:  # e.g. an integer beyond Python's digit limit for str -> int
+        raise SuiteError(f"{path}: cannot be read as JSON ({' '.join(str(e).split())})") from None
     except RecursionError:
         raise SuiteError(f"{path}: JSON nested too deeply") from None
 
@@ -349,7 +351,8 @@ def _listed_episodes(raw: Any, options: dict, seed: int, path: Path) -> tuple[li
 def read_measured_curve(path: Path) -> dict[str, Any]:
     """The reset options that play a measured creep curve: ``creep_law`` (its table) and ``cof`` (its peak), from a
     CSV file of (creepage, CoA) rows (:func:`cof_gym.physics.measured_curves.measured_table`: the points made into a
-    table). The first two columns are read; a first row that is not two numbers is a header, blank rows and rows
+    table). The first two columns are read; a first row whose first two cells are neither a number is a header (one
+    with a number in it is data, read as such or refused as a row), blank rows and rows
     starting with ``#`` are skipped. A header cell with ``%`` or ``percent`` in it says its column is in percent (a
     twin-disc report's "creepage [%]"); one with ``m/s`` in the creepage's is refused (a slip velocity needs the
     speed it was measured at: divide by it). ValueError (one line, naming the file and the row) otherwise."""
@@ -371,7 +374,7 @@ def read_measured_curve(path: Path) -> dict[str, Any]:
                 raise ValueError
             points.append((float(row[0]) * scales[0], float(row[1]) * scales[1]))
         except ValueError:
-            if k == 0:
+            if k == 0 and not any(_is_number(cell) for cell in row[:2]):
                 scales = _header_scales(path, row)
                 continue
             raise ValueError(f"{path}: row {line} is not a creepage and a CoA (two numbers), got {brief(row)}"
@@ -382,6 +385,14 @@ def read_measured_curve(path: Path) -> dict[str, Any]:
     except ValueError as e:
         raise ValueError(f"{path}: {e}") from None
     return {"creep_law": shape_spec(table), "cof": cof}
+
+
+def _is_number(cell: str) -> bool:
+    try:
+        float(cell)
+    except ValueError:
+        return False
+    return True
 
 
 def _header_scales(path: Path, header: list[str]) -> tuple[float, float]:

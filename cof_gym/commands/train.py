@@ -432,6 +432,8 @@ def _check_out_and_resume(args: argparse.Namespace) -> tuple[Path, Path | None, 
 
     out = check_output_dir(Path(args.out))
     resume_path, resume_spaces, prev_meta = None, None, {}
+    if args.resume is not None and not args.resume.strip():
+        raise UsageError("--resume", "an empty path: give a model zip or a cof-gym train output directory")
     if args.resume:
         try:  # the zip, its VecNormalize statistics and its train_meta.json
             resume_path = resolve_model_path(args.resume)

@@ -9,7 +9,7 @@ from typing import Any
 
 import gymnasium as gym
 
-from cof_gym.validation import check_bool, check_int, check_number
+from cof_gym.validation import check_bool, check_int, check_number, is_int
 
 DEFAULT_CONF = Path(__file__).resolve().parents[1] / "agents" / "hyperparams" / "ppo.yml"
 _SCHEDULED = ("learning_rate", "clip_range", "clip_range_vf")
@@ -54,6 +54,17 @@ def _eval_kwargs(key: str, text: str) -> dict[str, Any]:
     if not isinstance(value, dict):
         raise ValueError(f"{key}: expected a dict, got {value!r} from {text!r}")
     return value
+
+
+def check_net_arch(net_arch: Any) -> None:
+    """SB3's ``net_arch``: a list of layer widths (ints >= 1) or a dict of such lists for ``pi`` and ``vf``;
+    ``ValueError`` naming it otherwise (a width 0 built a network that trains nothing, -1 was torch's own error)."""
+    lists = net_arch.items() if isinstance(net_arch, dict) else [("", net_arch)]
+    for name, widths in lists:
+        if (name not in ("", "pi", "vf") or not isinstance(widths, (list, tuple))
+                or not all(is_int(w) and w >= 1 for w in widths)):
+            raise ValueError(f"policy_kwargs.net_arch must be a list of layer widths (integers >= 1) or "
+                             f"dict(pi=[...], vf=[...]) of such lists, got {net_arch!r}")
 
 
 def check_normalize(normalize: dict[str, Any]) -> None:
@@ -135,6 +146,8 @@ def split_hyperparams(raw: dict[str, Any]) -> tuple[dict[str, Any], dict[str, An
     for key, value in raw.items():
         if key == "policy_kwargs" and isinstance(value, str):
             value = _eval_kwargs(key, value)
+        if key == "policy_kwargs" and isinstance(value, dict) and "net_arch" in value:
+            check_net_arch(value["net_arch"])
         elif key in _SCHEDULED:
             value = _schedule(key, value)
         ppo[key] = value

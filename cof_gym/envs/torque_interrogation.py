@@ -285,7 +285,7 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | w_error, w_slip, w_comfort, w_time, macro_slip_penalty | 10, 1, 0.05, 0.02, 10 | reward weights |
     | macro_slip_ratio, macro_slip_floor | 2, 0.02 | the macro-slip limit relative to the peak creepage |
     | cof, condition, speed_m_s, load_case, noise_level, motor_lag_s | None | fix a scenario field |
-    | creep_law | None | fix the creep curve: a preset name, ``{"polach": {...}}``, ``{"shen_hedrick_elkins": {...}}`` or ``{"table": {"creepage": [...], "adhesion_ratio": [...]}}`` (:func:`cof_gym.physics.creep_laws.creep_law_from_spec`) |
+    | creep_law | None | fix the creep curve: a preset name, ``{"polach": {...}}``, ``{"shen_hedrick_elkins": {...}}`` or ``{"table": {"creepage": [...], "adhesion_ratio": [...]}}`` (:func:`cof_gym.physics.creep_laws.creep_law_from_spec`); played where it has a peak (a draw where it has none is drawn again) |
     | speed_sensor_error, wheel_radius_error, force_gain_error, torque_gain_error | None | fix a systematic sensor error (relative; ranges in :data:`cof_gym.task.sensors.SYSTEMATIC_ERRORS`) |
     | encoder_lag_s | None (0) | a first-order lag of the encoder's speed signal, s, in [0, 0.05]: adds ``atan(w tau)`` to every phase the lock-in reads (never drawn; :mod:`cof_gym.task.sensors`) |
     | task_version | 1 | 1: Polach presets, unbiased sensors; 2: creep-law families and systematic sensor errors drawn (the -v2 ids) |

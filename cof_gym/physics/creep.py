@@ -158,8 +158,8 @@ def _peak(law: CreepLaw, patch: ContactPatch, wheel_load_n: float, speed_m_s: fl
     if i >= grid.size - 2 or not coa[i] > 0.0:  # rising to the scan's edge, or no adhesion at all (zero, NaN)
         raise NoPeakError(
             f"the creep curve has no maximum below creepage {MAX_CREEPAGE} at speed_m_s={speed_m_s} for this "
-            "condition, so its CoF (the curve's maximum) is undefined; use a lower speed or a condition with "
-            "stronger falling friction"
+            "condition and load, so its CoF (the curve's maximum) is undefined there: play it at another speed, "
+            "load or CoF, or a curve whose friction falls more steeply with the slip velocity"
         )
     if coa[i + 1] == coa[i]:  # saturated: the maximum is held from its first point on
         below = float(grid[i - 1]) if i > 0 else 0.0  # CoA(0) = 0 < coa[i]: never wrap round to grid[-1]

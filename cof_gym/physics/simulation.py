@@ -132,8 +132,8 @@ def _check_tones(tones) -> tuple[tuple[float, float], ...]:
 
 @dataclass(frozen=True)
 class Scenario:
-    """Everything drawn per episode: operating conditions plus sensor noise, the drive's torque lag (s) and the
-    encoder's speed-signal lag (s; both first-order time constants)."""
+    """Everything drawn per episode: operating conditions plus sensor noise, the drive's torque lag (s; one below
+    :data:`MIN_MOTOR_LAG_S` runs as none) and the encoder's speed-signal lag (s; both first-order time constants)."""
 
     op: OperatingConditions
     noise: SensorNoise = field(default_factory=SensorNoise)
@@ -146,6 +146,12 @@ class Scenario:
     def __post_init__(self) -> None:
         for name in ("motor_lag_s", "encoder_lag_s"):
             check_number(name, getattr(self, name), 0.0, 1.0, unit=" s")
+
+
+# A drive lag (s) below this runs as none: its first-order response completes within a step to the last bit
+# (exp(-dt / tau) is 0), and the callback's torque rate, the rounding left in (command - torque) over tau, overflowed
+# from about 1e-17 s (a diverged step); ms-scale lags, as drawn, are untouched
+MIN_MOTOR_LAG_S = 1e-12
 
 
 def initial_userdata(built: BuiltModel, scenario: Scenario) -> np.ndarray:
@@ -173,7 +179,7 @@ def initial_userdata(built: BuiltModel, scenario: Scenario) -> np.ndarray:
         ud[I[name]] = value
     ud[I["S_PEAK"]] = creep_peak(op).creepage
     ud[I["MOD_OMEGA"]] = 2 * math.pi * 5.0
-    ud[I["MOTOR_TAU"]] = scenario.motor_lag_s
+    ud[I["MOTOR_TAU"]] = scenario.motor_lag_s if scenario.motor_lag_s >= MIN_MOTOR_LAG_S else 0.0
     ud[I["ENCODER_TAU"]] = scenario.encoder_lag_s
     kp, ki, kd = scenario.cruise.gains(built.total_mass_kg)
     ud[I["CRUISE_SPEED"]], ud[I["CRUISE_KP"]], ud[I["CRUISE_KI"]], ud[I["CRUISE_KD"]] = op.speed_m_s, kp, ki, kd

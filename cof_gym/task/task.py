@@ -43,6 +43,10 @@ DRIVE_MARGIN = 1.25  # the drive's DC torque reaches 1.25 x the largest saturati
 SHAPING_GAMMA = 0.95  # the discount the shaping potential assumes (agents' hyperparams' gamma)
 BASELINE_DRIVE = DriveCommand(0.0, 100.0, 5.0)  # the reset window: no DC torque, a small modulation
 MAX_DRAWN_PEAK_CREEPAGE = 0.2  # a drawn creep curve peaks below 20 % creepage (else drawn again)
+# a fixed creep law without a peak at a draw's speed, load and CoF: the draw is made again, at most this many times
+MAX_FIXED_LAW_DRAWS = 100
+# the drawn fields on which whether a fixed creep law has a peak depends (the condition sets the CoF's range)
+PEAK_FIELDS = ("speed_m_s", "load_case", "cof", "condition")
 WINDOW_TRUTH_FIELDS = (
     "coa_true", "creepage_mean", "creep_phase_lag_deg", "creepage_amplitude", "normal_load_n", "tangential_force_n",
     "friction_energy_j", "time_past_peak_s", "energy_past_peak_j", "max_abs_creepage",
@@ -215,9 +219,7 @@ class InterrogationTask:
     def new_episode(self, rng: np.random.Generator, options: Mapping[str, Any] | None) -> Episode:
         """Draw a scenario (``options`` fix fields for this episode) and its ground truth."""
         fixed = {**self.fixed, **check_fixed({} if options is None else options, self.ranges.load_cases)}
-        scenario = draw_scenario(rng, self.ranges, fixed)
-        built = self.model(scenario.load_case)
-        truth, wheel_load, scenario = self._truth(built, scenario, rng, shape_fixed="creep_law" in fixed)
+        built, truth, wheel_load, scenario = self._draw(rng, fixed)
         physics = physics_scenario(scenario, wheel_load, seed=int(rng.integers(2**31)), traction_balance=self.balanced)
         episode = Episode(scenario=scenario, truth=truth, built=built, physics=physics,
                           drive=self.signal.baseline(BASELINE_DRIVE))
@@ -302,6 +304,29 @@ class InterrogationTask:
         return episode.observation.copy(), float(sum(terms.values())), True, False, info
 
     # ------------------------------------------------------------------ helpers
+    def _draw(self, rng: np.random.Generator,
+              fixed: Mapping[str, Any]) -> tuple[BuiltModel, GroundTruth, float, EpisodeScenario]:
+        """A scenario and its ground truth. A fixed creep law that has no peak (no CoF) at the drawn speed, load
+        and CoF is played where it has one: the scenario is drawn again (the fixed fields kept; at most
+        :data:`MAX_FIXED_LAW_DRAWS` times, none where those fields are all fixed), as a drawn shape is; a first
+        draw that has a peak is played as drawn."""
+        drawn = [name for name in PEAK_FIELDS if name not in fixed]
+        redraws = MAX_FIXED_LAW_DRAWS - 1 if "creep_law" in fixed and drawn else 0
+        for attempt in range(redraws + 1):
+            scenario = draw_scenario(rng, self.ranges, fixed)
+            built = self.model(scenario.load_case)
+            try:
+                truth, wheel_load, scenario = self._truth(built, scenario, rng, shape_fixed="creep_law" in fixed)
+            except NoPeakError as e:
+                if attempt < redraws:
+                    continue
+                if redraws:
+                    raise NoPeakError(f"{e} (and at each of {redraws + 1} draws of {', '.join(drawn)}: fix "
+                                      f"speed_m_s, load_case and cof where the curve has a peak)") from None
+                raise
+            return built, truth, wheel_load, scenario
+        raise AssertionError("unreachable")
+
     def _truth(self, built: BuiltModel, scenario: EpisodeScenario, rng: np.random.Generator,
                shape_fixed: bool) -> tuple[GroundTruth, float, EpisodeScenario]:
         """The ground truth; a *drawn* shape whose curve has no peak, or one beyond
