@@ -359,6 +359,9 @@ BAD_SPECS = {
     "huge-int": ({"polach": {**POLACH, "k_adhesion": 10**400}}, r"creep_law\.polach\.k_adhesion must be a finite"),
     "huge-int-table": (_table(creepage=[0, 0.001, -10**400, 0.01]),
                        r"creep_law\.table\.creepage must be a list of finite numbers, got -1000.* at index 2"),
+    # a set's order is arbitrary (it was read in whatever order it iterated)
+    "set-table": ({"table": {"creepage": {0.0, 0.001, 0.01}, "adhesion_ratio": [0.0, 0.5, 1.0]}},
+                  r"creep_law\.table\.creepage must be a list of finite numbers, got \{"),
 }
 
 

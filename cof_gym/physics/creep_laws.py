@@ -78,6 +78,7 @@ import math
 from dataclasses import MISSING, dataclass, fields
 from functools import lru_cache
 from types import MappingProxyType
+from collections.abc import Set
 from typing import Any, Callable, ClassVar, Mapping
 
 import numpy as np
@@ -332,8 +333,10 @@ def _finite_slopes(s: np.ndarray, r: np.ndarray) -> bool:
 
 
 def _float_tuple(name: str, values: Any) -> tuple[float, ...]:
-    """A sequence of finite real numbers as a tuple of floats (ValueError naming ``name``)."""
-    if isinstance(values, (str, bytes, Mapping)) or not hasattr(values, "__len__"):
+    """A sequence of finite real numbers as a tuple of floats (ValueError naming ``name``); an unordered
+    collection (a set: its order is arbitrary) is refused."""
+    if (isinstance(values, (str, bytes, Mapping, Set)) or not hasattr(values, "__len__")
+            or not hasattr(values, "__getitem__")):
         raise ValueError(f"{name} must be a list of finite numbers, got {values!r}")
     out = []
     for i, v in enumerate(values):
