@@ -139,3 +139,69 @@ def test_an_agent_that_fails_in_an_episode_is_one_line_exit_2_and_writes_nothing
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and flag in err and f"agent {name} " in err and fragment in err, err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["failing.py"]
+
+
+REPORTING_AGENTS = '''
+from cof_gym.task.interface import encode_action
+
+
+class Stops:
+    oracle = False
+
+    def __init__(self, limits):
+        self.limits = limits
+
+    def reset(self, observation, info):
+        pass
+
+    def act(self, observation, info):
+        return encode_action(0.0, self.limits.min_amplitude_nm, 5.0, 0.2, True, self.limits)
+
+
+class NanInterval(Stops):
+    def cof_interval(self):
+        return (float("nan"), 0.25)
+
+
+class IntervalRaises(Stops):
+    def cof_interval(self):
+        raise RuntimeError("no interval")
+
+
+class BadNotes(Stops):
+    def sensor_notes(self):
+        return ("a;b",)
+
+
+class BogusEnv(Stops):
+    env_options = {"excitation": "bogus"}
+
+
+class CloseRaises(Stops):
+    def close(self):
+        raise RuntimeError("close failed")
+'''
+
+
+@pytest.mark.parametrize("name,fragment,writes", [
+    ("NanInterval", "reported after its episode in episode 0 (seed 0): ValueError: NanInterval reported the interval "
+                    "(nan, 0.25)", False),
+    ("IntervalRaises", "reported after its episode in episode 0 (seed 0): RuntimeError: no interval", False),
+    ("BadNotes", "reported after its episode in episode 0 (seed 0): ValueError: BadNotes reported the sensor notes",
+     False),
+    ("BogusEnv", "its env_options {'excitation': 'bogus'} make no env of CofGym/TorqueInterrogation-v2: excitation "
+                 "must be one of", False),
+    ("CloseRaises", "raised in close() after the run: RuntimeError: close failed", True),
+])
+def test_what_an_agent_reports_or_asks_for_beside_its_actions_fails_in_one_line(name: str, fragment: str, writes: bool,
+                                                                               tmp_path: Path, capsys) -> None:
+    """Its interval, lower bound and sensor notes after an episode, the env options it asks for and its close():
+    each failed with a traceback (a close() after the outputs were written, the summary never printed)."""
+    path = tmp_path / "reporting.py"
+    path.write_text(REPORTING_AGENTS)
+    argv = ["evaluate", "--agents", f"oracle,py:{path}:{name}", "--episodes", "2", "--workers", "1", "--quiet",
+            "--out", str(tmp_path / "out")]
+    assert cli.main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "--agents" in err and f"agent {name}" in err and fragment in err, err
+    assert (tmp_path / "out").exists() == writes

@@ -195,10 +195,9 @@ def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: 
         for own in envs.values():
             if own is not env:
                 own.close()
-        for agent, _ in agents:
-            close = getattr(agent, "close", None)
-            if callable(close):
-                close()
+        close_error = _close_agents(agents)
+    if close_error is not None:  # the outputs are written: the agent's error is still the user's to see
+        raise close_error
     if not quiet:
         print_table(result["summary"], f"cof-gym evaluate: suite {suite.name} ({len(suite.episodes)} episodes per "
                                        f"agent), seed {seed}, {suite.env_id}")
@@ -208,6 +207,20 @@ def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: 
             print(f"note: {note}")
         print(f"episodes.csv, summary.md/json and figures in {out} ({result['wall_time_s']:.1f} s)")
     return result
+
+
+def _close_agents(agents) -> AgentError | None:
+    """Close every agent that has ``close()``; the first one that raised, as an :class:`AgentError` (None if none)."""
+    error = None
+    for agent, _ in agents:
+        close = getattr(agent, "close", None)
+        try:
+            if callable(close):
+                close()
+        except Exception as e:  # noqa: BLE001 - whatever an agent (one of your own too) raises
+            error = error or AgentError(f"agent {agent.name} raised in close() after the run: {type(e).__name__}: "
+                                        f"{' '.join(str(e).split())}")
+    return error
 
 
 def agent_envs(agents, suite: Suite, shared_env) -> dict[str, Any]:
@@ -220,8 +233,15 @@ def agent_envs(agents, suite: Suite, shared_env) -> dict[str, Any]:
     envs = {}
     for agent, _ in agents:
         options = own_env_options(agent)
-        envs[agent.name] = gym.make(suite.env_id, **{**make_kwargs(suite.env_kwargs), **options}) if options \
-            else shared_env
+        try:
+            envs[agent.name] = gym.make(suite.env_id, **{**make_kwargs(suite.env_kwargs), **options}) if options \
+                else shared_env
+        except (ValueError, TypeError) as e:
+            for env in envs.values():
+                if env is not shared_env:
+                    env.close()
+            raise registry.AgentSpecError(f"agent {agent.name}: its env_options {options!r} make no env of "
+                                          f"{suite.env_id}: {' '.join(str(e).split())}") from None
     return envs
 
 

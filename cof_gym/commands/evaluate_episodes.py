@@ -148,7 +148,10 @@ def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list 
              "horizon" if truncated or steps >= env.unwrapped.task.max_windows else "stop")
     err = info.get("relative_error")
     scored = err is not None and bool(info.get("scored", True)) and not info.get("diverged", False)
-    interval = _reported_interval(agent)
+    try:
+        interval, notes = _reported_interval(agent), _sensor_notes(agent)
+    except Exception as e:  # noqa: BLE001 - what an agent's own interval or notes method raises, or a bad report
+        raise _failed(agent, "reported after its episode", episode, seed, e) from e
     return EpisodeRecord(
         **ScenarioColumns.read(gt), agent=agent.name, oracle=oracle, episode=episode, seed=seed,
         estimate=info["cof_estimate"],
@@ -157,7 +160,7 @@ def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list 
         wd_rms_m_s2=math.sqrt(wd2 / steps), measurement_time_s=info["elapsed_s"], peak_torque_fraction=peak,
         episode_return=total, steps=steps, note=note, ended=ended,
         interval_low=interval[0], interval_high=interval[1], lower_bound=interval[2],
-        sensor_notes="; ".join(_sensor_notes(agent)),
+        sensor_notes="; ".join(notes),
     )
 
 
