@@ -183,7 +183,8 @@ def main() -> None:
         lines.append(f"\n{s}: IQM {v['iqm']:.1%} [{v['iqm_ci95'][0]:.1%}, {v['iqm_ci95'][1]:.1%}], median "
                      f"{v['median']:.1%} [{v['median_ci95'][0]:.1%}, {v['median_ci95'][1]:.1%}] "
                      "(relative error over seeds x scenarios, stratified bootstrap 95 % CI)")
-    lines.append(f"\nshipped (best on the validation grid): {shipped[0]} ({shipped[1]['model']})")
+    verdict = "shipped" if args.ship else "to ship with --ship"
+    lines.append(f"\n{verdict} (best on the validation grid): {shipped[0]} ({shipped[1]['model']})")
     (args.out / "report.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
     if args.ship:

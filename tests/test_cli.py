@@ -7,6 +7,7 @@ import csv
 import functools
 import io
 import json
+import re
 import subprocess
 import sys
 import tempfile
@@ -316,6 +317,7 @@ def test_help_shows_defaults_and_every_flag_has_help(capsys) -> None:
         cli.main(["evaluate", "--help"])
     text = capsys.readouterr().out
     assert "(default: 60)" in text and "(default: default)" in text
+    assert re.search(r"--seed SEED\s+seed of the first episode .*?\(default: 0\)", text, re.S)  # 0 is no False
     assert "``" not in (parser.description or "") and ":class:" not in (parser.description or "")
 
 

@@ -110,3 +110,27 @@ def test_the_anchor_check_sees_a_retitled_heading(tmp_path: Path) -> None:
     page.write_text("[a](notes.md#how-the-numbers-moved-sessions-20-53), "
                     "[b](notes.md#how-the-numbers-moved-sessions-20-48), [c](#notes-here)\n\n## Notes here\n")
     assert broken_anchors(page) == ["notes.md#how-the-numbers-moved-sessions-20-48"]
+
+
+FILE_LINK = re.compile(r"\]\(([^)#\s:]+)(?:#[^)\s]*)?\)")  # [text](relative/path) or (relative/path#anchor)
+
+
+def broken_file_links(path: Path) -> list[str]:
+    """The relative links of ``path`` (not a URL, not an anchor alone) that name no file or folder, read from the
+    document's own folder as a markdown viewer reads them."""
+    return [target for target in FILE_LINK.findall(path.read_text()) if not (path.parent / target).exists()]
+
+
+@pytest.mark.parametrize("path", DOCUMENTS, ids=lambda p: str(p.relative_to(ROOT)))
+def test_every_relative_link_finds_its_file(path: Path) -> None:
+    """(docs/interrogator.md linked docs/results.md as 'docs/results.md': docs/docs/results.md.)"""
+    broken = broken_file_links(path)
+    assert not broken, f"{path.relative_to(ROOT)}: {broken}"
+
+
+def test_the_file_link_check_sees_a_path_from_the_wrong_folder(tmp_path: Path) -> None:
+    (tmp_path / "docs").mkdir()
+    (tmp_path / "docs" / "results.md").write_text("# Results\n")
+    page = tmp_path / "docs" / "page.md"
+    page.write_text("[a](results.md), [b](docs/results.md#results), [c](https://example.org/x.md), [d](#here)\n")
+    assert broken_file_links(page) == ["docs/results.md"]

@@ -28,7 +28,9 @@ class HelpFormatter(argparse.RawDescriptionHelpFormatter, argparse.ArgumentDefau
     def _get_help_string(self, action: argparse.Action) -> str:
         text = action.help or ""
         default = action.default
-        if ("%(default)" in text or default in (None, False, argparse.SUPPRESS) or not action.option_strings
+        # by identity: 0 == False, and a default of 0 (a seed, a count) was hidden as a switch's False
+        hidden = any(default is v for v in (None, False, argparse.SUPPRESS))
+        if ("%(default)" in text or hidden or not action.option_strings
                 or (isinstance(default, (list, tuple, dict, set)) and not default)):
             return text
         return text + f" (default: {default_text(default)})".replace("%", "%%")
