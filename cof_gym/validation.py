@@ -11,6 +11,9 @@ from typing import Any, Iterable
 
 import numpy as np
 
+# characters a label must not hold that becomes a cell of a markdown table (an agent's name, a suite's episode note)
+TABLE_CELL_FORBIDDEN = ("|", "\n", "\r")
+
 
 def check_bool(name: str, value: Any) -> bool:
     """A real boolean (``True``/``False`` or a numpy bool), nothing else; returned as a Python ``bool``."""

@@ -526,6 +526,16 @@ def test_a_suite_file_that_names_a_key_twice_or_renders_is_refused(tmp_path: Pat
     (tmp_path / "s.json").write_text(json.dumps({"env_kwargs": {"render_mode": "human"}}))
     with pytest.raises(SuiteError, match=r"env_kwargs\.render_mode must be None \(evaluation renders nothing"):
         make_suite(str(tmp_path / "s.json"), 2, 0)
+    # a note is a row label of summary.md's tables: a '|' or a line break split the row, a blank one made a group
+    for note in ("a|b", "c\nd", "  "):
+        (tmp_path / "s.json").write_text(json.dumps({"episodes": [{"seed": 1, "note": note}]}))
+        with pytest.raises(SuiteError, match=r"episodes\[0\]\.note must be a string of one line without '\|'"):
+            make_suite(str(tmp_path / "s.json"), 2, 0)
+    # the same seed and options twice: one episode counted twice (zero-width intervals)
+    (tmp_path / "s.json").write_text(json.dumps({"episodes": [{"seed": 7, "options": {"cof": 0.2}}, {"seed": 8},
+                                                              {"seed": 7, "options": {"cof": 0.2}}]}))
+    with pytest.raises(SuiteError, match=r"episodes\[2\] repeats episodes\[0\] \(the same seed and options\)"):
+        make_suite(str(tmp_path / "s.json"), 2, 0)
     # an integer beyond Python's str -> int digit limit was a traceback
     (tmp_path / "s.json").write_text('{"options": {"cof": 1' + "0" * 5000 + "}}")
     with pytest.raises(SuiteError, match=r"s\.json: cannot be read as JSON \(Exceeds the limit"):

@@ -18,6 +18,8 @@ import sys
 from pathlib import Path
 from typing import Any, Callable
 
+from cof_gym.validation import TABLE_CELL_FORBIDDEN
+
 SUFFIX = ".py"
 
 
@@ -72,6 +74,9 @@ def python_agent(env: Any, argument: str) -> Any:
     if getattr(agent, "oracle", False):
         raise ValueError(f"{name} of {path} says it is an oracle: an agent of your own never reads the ground truth")
     own_name = getattr(agent, "name", None)
+    if isinstance(own_name, str) and any(c in own_name for c in TABLE_CELL_FORBIDDEN):
+        raise ValueError(f"{name} of {path}: its name {own_name!r} must be one line without '|' (a column of "
+                         "summary.md's tables)")
     try:
         agent.name = own_name if isinstance(own_name, str) and own_name.strip() else name
         agent.oracle = False

@@ -38,7 +38,7 @@ import cof_gym
 from cof_gym.analysis.theory import PAPER_COFS, PAPER_SPEED_M_S
 from cof_gym.commands.args import MAX_SEED, name_value
 from cof_gym.task.scenarios import COF_ENVELOPE, check_fixed, shape_spec
-from cof_gym.validation import brief, check_int, check_number, is_int
+from cof_gym.validation import TABLE_CELL_FORBIDDEN, brief, check_int, check_number, is_int
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 
 SUITE_NAMES = ("default", "paper")
@@ -323,7 +323,7 @@ def _listed_episodes(raw: Any, options: dict, seed: int, path: Path) -> tuple[li
     if not isinstance(raw, list) or not raw or len(raw) > MAX_EPISODES:
         raise SuiteError(f"{path}: episodes must be a list of 1 to {MAX_EPISODES} objects like "
                          f'{{"seed": 1, "options": {{...}}}}, got {raw!r:.60}')
-    episodes, notes, read = [], [], {}
+    episodes, notes, read, played = [], [], {}, {}
     for i, e in enumerate(raw):
         e = _check_dict(e, f"episodes[{i}]", path)
         bad = sorted(set(e) - set(EPISODE_KEYS))
@@ -334,11 +334,17 @@ def _listed_episodes(raw: Any, options: dict, seed: int, path: Path) -> tuple[li
                              f"is past the largest seed {MAX_SEED}; give a smaller --seed")
         ep_seed = _check_seed(e.get("seed", seed + i), f"episodes[{i}].seed", path)
         note = e.get("note", "")
-        if not isinstance(note, str):
-            raise SuiteError(f"{path}: episodes[{i}].note must be a string, got {note!r:.60}")
+        if not isinstance(note, str) or (note and not note.strip()) or any(c in note for c in TABLE_CELL_FORBIDDEN):
+            raise SuiteError(f"{path}: episodes[{i}].note must be a string of one line without '|' (a row label "
+                             f"of summary.md's tables), not blank, got {note!r:.60}")
         notes.append(note)
         merged = {**options, **_check_dict(e.get("options", {}), f"episodes[{i}].options", path)}
         episodes.append((ep_seed, _measured_options(merged, f"episodes[{i}]", path, read)))
+        key = json.dumps(episodes[-1], sort_keys=True, default=repr)
+        if key in played:
+            raise SuiteError(f"{path}: episodes[{i}] repeats episodes[{played[key]}] (the same seed and options): "
+                             "the same episode would count twice")
+        played[key] = i
     checked = set()
     for i, (_, ep_options) in enumerate(episodes):
         key = json.dumps(ep_options, sort_keys=True, default=repr)
