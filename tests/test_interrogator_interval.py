@@ -303,7 +303,7 @@ def test_the_shipped_interrogator_bounds_the_cof_in_flight_at_its_places_scale()
 @pytest.mark.skipif(not SHIPPED, reason="no shipped interrogator")
 def test_evaluate_records_and_summarises_the_intervals_agents_report():
     from cof_gym.agents.registry import make_agent
-    from cof_gym.commands.evaluate_episodes import run_episode
+    from cof_gym.commands.evaluate_episodes import AgentError, run_episode
     from cof_gym.commands.evaluate_stats import summarize
     from cof_gym.commands.evaluate_tables import markdown_intervals, print_table
     from rich.console import Console
@@ -343,7 +343,7 @@ def test_evaluate_records_and_summarises_the_intervals_agents_report():
         def cof_interval(self):
             return 0.3, 0.2
 
-    with pytest.raises(ValueError, match="careless reported the interval"):
+    with pytest.raises(AgentError, match="agent careless reported after its episode .*careless reported the interval"):
         run_episode(env, Careless(), 0, {}, 0)
 
     class IntervalOnly(Careless):  # an interval and no lower bound: no lower-bound coverage, not a NaN one

@@ -20,7 +20,7 @@ from cof_gym.agents.interrogator.readings import (
 from cof_gym.task.scenarios import ScenarioRanges
 from cof_gym.commands.suites import make_suite
 from cof_gym.commands.evaluate import sensor_notes
-from cof_gym.commands.evaluate_episodes import run_episode
+from cof_gym.commands.evaluate_episodes import AgentError, run_episode
 from cof_gym.measurement.sine_fit import SMOOTHED_NOISE_COLOUR, colored_noise_factor
 from cof_gym.physics.models import DEFAULT_TIMESTEP_S
 
@@ -169,7 +169,8 @@ class _Noting:
 def test_a_bad_sensor_note_names_the_agent(notes):
     env = gym.make(cof_gym.WAGON_ENV_ID, max_windows=1)
     agent = _Noting(notes)
-    with pytest.raises(ValueError, match="noting reported the sensor notes"):
+    with pytest.raises(AgentError, match="agent noting reported after its episode in episode 0 .*noting reported the "
+                                         "sensor notes"):
         run_episode(env, agent, 0, {}, 0)
     env.close()
 
