@@ -323,7 +323,7 @@ def _listed_episodes(raw: Any, options: dict, seed: int, path: Path) -> tuple[li
     if not isinstance(raw, list) or not raw or len(raw) > MAX_EPISODES:
         raise SuiteError(f"{path}: episodes must be a list of 1 to {MAX_EPISODES} objects like "
                          f'{{"seed": 1, "options": {{...}}}}, got {raw!r:.60}')
-    episodes, notes, read, played = [], [], {}, {}
+    episodes, notes, read = [], [], {}
     for i, e in enumerate(raw):
         e = _check_dict(e, f"episodes[{i}]", path)
         bad = sorted(set(e) - set(EPISODE_KEYS))
@@ -340,14 +340,13 @@ def _listed_episodes(raw: Any, options: dict, seed: int, path: Path) -> tuple[li
         notes.append(note)
         merged = {**options, **_check_dict(e.get("options", {}), f"episodes[{i}].options", path)}
         episodes.append((ep_seed, _measured_options(merged, f"episodes[{i}]", path, read)))
-        key = json.dumps(episodes[-1], sort_keys=True, default=repr)
-        if key in played:
-            raise SuiteError(f"{path}: episodes[{i}] repeats episodes[{played[key]}] (the same seed and options): "
-                             "the same episode would count twice")
-        played[key] = i
-    checked = set()
-    for i, (_, ep_options) in enumerate(episodes):
+    checked, played = set(), {}
+    for i, (ep_seed, ep_options) in enumerate(episodes):
         key = json.dumps(ep_options, sort_keys=True, default=repr)
+        if (ep_seed, key) in played:
+            raise SuiteError(f"{path}: episodes[{i}] repeats episodes[{played[ep_seed, key]}] (the same seed and "
+                             "options): the same episode would count twice")
+        played[ep_seed, key] = i
         if key not in checked:
             checked.add(key)
             _check_options(ep_options, f"episode {i} (options {brief(ep_options)})", path)

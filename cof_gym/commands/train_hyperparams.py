@@ -144,10 +144,10 @@ def split_hyperparams(raw: dict[str, Any]) -> tuple[dict[str, Any], dict[str, An
         raise ValueError(f"RL Zoo keys not supported by cof-gym train: {sorted(unsupported)}")
     ppo: dict[str, Any] = {}
     for key, value in raw.items():
-        if key == "policy_kwargs" and isinstance(value, str):
-            value = _eval_kwargs(key, value)
-        if key == "policy_kwargs" and isinstance(value, dict) and "net_arch" in value:
-            check_net_arch(value["net_arch"])
+        if key == "policy_kwargs":
+            value = _eval_kwargs(key, value) if isinstance(value, str) else value
+            if isinstance(value, dict) and "net_arch" in value:
+                check_net_arch(value["net_arch"])
         elif key in _SCHEDULED:
             value = _schedule(key, value)
         ppo[key] = value

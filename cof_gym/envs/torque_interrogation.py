@@ -355,7 +355,7 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
         self._sims: dict[str, Simulation] = {}
         self._sim: Simulation | None = None
         self.episode: Episode | None = None
-        self._renderers: dict[int, mujoco.Renderer] = {}  # rgb_array: one per model (load case), id(model) ->
+        self._renderers: dict[int, mujoco.Renderer] = {}  # rgb_array: id(model) -> its renderer, one a load case
         self._viewer = None
         self._viewer_sim: Simulation | None = None  # the simulation the human viewer shows
         self._warned_display = False

@@ -232,11 +232,10 @@ def decode_observation(obs: np.ndarray, scales: ObservationScales) -> DecodedObs
     o = np.asarray(obs, dtype=np.float64)
     if o.shape != (len(OBSERVATION_NAMES),):
         raise ValueError(f"a window observation has shape ({len(OBSERVATION_NAMES)},), got {o.shape}")
-    lim = scales.limits
-    readings = [window_reading(o, name, lim) for name in _UNSCALE]
-    return DecodedObservation(
-        *readings[:11], normal_load_n=float(o[_INDEX["normal_load"]]) * scales.static_contact_load_n,
-        elapsed_s=float(o[_INDEX["elapsed"]]) * scales.horizon_s, cof_estimate=readings[11])
+    vehicle = {"normal_load": scales.static_contact_load_n, "elapsed": scales.horizon_s}  # scaled by the vehicle
+    readings = (float(o[i]) * vehicle[name] if name in vehicle else window_reading(o, name, scales.limits)
+                for i, name in enumerate(OBSERVATION_NAMES))
+    return DecodedObservation(*readings)  # its fields are the observation's, in its order
 
 
 # ---------------------------------------------------------------------------------------------------------
@@ -249,9 +248,8 @@ HISTORY_SUMMARY_NAMES = ("baseline_phase_lag", "baseline_compliance", "best_coa"
 HISTORY_WINDOW_NAMES = ("coa_measured", "creepage_measured", "phase_lag", "dc_torque")  # per previous window
 HISTORY_OBSERVATION_NAMES = OBSERVATION_NAMES + HISTORY_SUMMARY_NAMES + tuple(
     f"{name}_{k}" for k in range(1, HISTORY_WINDOWS + 1) for name in HISTORY_WINDOW_NAMES)
-_WINDOW_INDEX = tuple(OBSERVATION_NAMES.index(n) for n in HISTORY_WINDOW_NAMES)
-_PHASE, _COMPLIANCE, _COA, _CREEPAGE, _SPEED, _DC = (OBSERVATION_NAMES.index(n) for n in (
-    "phase_lag", "compliance", "coa_measured", "creepage_measured", "speed", "dc_torque"))
+_WINDOW_INDEX = tuple(_INDEX[n] for n in HISTORY_WINDOW_NAMES)
+_PHASE, _COMPLIANCE, _COA, _DC = (_INDEX[n] for n in ("phase_lag", "compliance", "coa_measured", "dc_torque"))
 
 
 @dataclass
