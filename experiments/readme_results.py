@@ -191,7 +191,8 @@ generated, never typed:
     cof-gym evaluate --suite experiments/suites/v2_validation_grid.json --out out/ceiling-validation \
         --agents staircase,staircase+ceiling,phase-rule,phase-rule+ceiling,model-based,model-based+ceiling,robust-model,robust-model+ceiling
     (the same with v2_validation_procedural_grid.json into out/ceiling-validation-procedural and with
-    v2_validation_steep_grid.json into out/ceiling-validation-steep: rule 29)
+    v2_validation_steep_grid.json into out/ceiling-validation-steep: rule 29, before it registered the four with
+    the ceiling; since then NAME+ceiling is NAME, and evaluate refuses the pair as one agent given twice)
     python experiments/crest_tradeoff.py --guards cof_gym/agents/policies/interrogator/guard_0 --guards-only \
         --targets 0.1 --stops --return-digits 4 --set ceiling_stop=false ceiling_stop=true \
         --out out/crest_tradeoff_ceiling_stop.md    # rule 30

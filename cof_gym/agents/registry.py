@@ -251,17 +251,34 @@ def make_agent(spec: str, env: Any):
     return as_registered(entry, agent, env.unwrapped.limits, split_modifier(spec)[1])
 
 
+def _wrapping(entry: AgentEntry, modifier: str | None) -> tuple[bool, bool]:
+    """Whether ``entry``'s agent with ``modifier`` reports the runaway bracket and whether it caps its estimates at
+    the crest ceiling (see :func:`make_agent`)."""
+    from cof_gym.agents.runaway import CEILING_MODIFIER, MODIFIER
+
+    if modifier == PLAIN:
+        return False, False
+    return (modifier == MODIFIER or entry.runaway,
+            modifier == CEILING_MODIFIER or (modifier is None and entry.ceiling))
+
+
+def plays_as(spec: str) -> tuple[str, str | None, bool, bool]:
+    """What the agent ``spec`` names plays as: (registered name, its ':' argument, bracket, ceiling). Two specs with
+    the same play the same agent, e.g. ``staircase`` and ``staircase+ceiling`` (registered with the ceiling)."""
+    entry, argument = parse(spec)
+    return (entry.name, argument, *_wrapping(entry, split_modifier(spec)[1]))
+
+
 def as_registered(entry: AgentEntry, agent: Any, limits: Any, modifier: str | None = None):
     """``agent`` (built by ``entry``'s factory, or as that factory would with other parameters) wrapped as
     :func:`make_agent` wraps it for ``entry`` with ``modifier`` (None, ``runaway``, ``ceiling`` or ``plain``) for
     the drive ``limits``."""
-    from cof_gym.agents.runaway import CEILING_MODIFIER, MODIFIER, RunawayEstimate
+    from cof_gym.agents.runaway import RunawayEstimate
 
     if modifier == PLAIN:
         agent.name = f"{agent.name}+{PLAIN}"
         return agent
-    bracket = modifier == MODIFIER or entry.runaway
-    ceiling = modifier == CEILING_MODIFIER or (modifier is None and entry.ceiling)
+    bracket, ceiling = _wrapping(entry, modifier)
     if not (bracket or ceiling):
         return agent
     return RunawayEstimate(agent, limits, name=f"{agent.name}+{modifier}" if modifier else agent.name,

@@ -128,9 +128,13 @@ def build_agents(agent_specs: list[str], env) -> list[tuple[Any, bool]]:
     :class:`~cof_gym.agents.registry.AgentSpecError` for an unknown name or a model that cannot be used."""
     if not agent_specs:
         raise registry.AgentSpecError(f"no agent given; allowed: {registry.describe()}")
-    built, names = [], set()
+    built, names, plays = [], set(), {}
     for spec in agent_specs:
         entry, _ = registry.parse(spec)
+        same = plays.setdefault(registry.plays_as(spec), spec.strip())
+        if same != spec.strip():
+            raise registry.AgentSpecError(f"agents {same!r} and {spec.strip()!r} are the same agent (its registration "
+                                          f"already has what the name adds): give one")
         try:
             agent = registry.make_agent(spec, env)
         except (FileNotFoundError, ValueError, OSError) as e:
