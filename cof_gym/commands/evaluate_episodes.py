@@ -47,9 +47,10 @@ class EpisodeRecord(ScenarioColumns):
     relative_error: float  # |estimate / CoF - 1|; 1.0 when the episode ended unscored (divergence)
     scored: bool
     macro_slip: bool
-    slip_energy_j: float  # energy dissipated past the creep-curve peak
-    friction_energy_j: float
-    wd_rms_m_s2: float  # time-weighted over the episode
+    # the windows the agent drove, each counted once (:class:`WindowTotals`): a stop runs none
+    slip_energy_j: float  # energy dissipated past the creep-curve peak [J]
+    friction_energy_j: float  # [J]
+    wd_rms_m_s2: float  # over the driven windows (0 where none was driven) [m/s^2]
     measurement_time_s: float
     peak_torque_fraction: float  # max |torque| over the real saturation torque
     episode_return: float
@@ -105,6 +106,35 @@ def _failed(agent: Any, what: str, episode: int, seed: int, error: Exception) ->
                       f"{' '.join(str(error).split())}")
 
 
+@dataclass
+class WindowTotals:
+    """The energy and comfort of the windows an episode drove, each window counted once. A step adds its window
+    only where one ran and was measured: the env's elapsed time grew and it did not diverge. A stop runs no
+    window, and a diverged window has no measurement: the env's ``info`` repeats the last window's readings for
+    both, which are not counted again (nor is the reset's baseline window, which the agent did not drive)."""
+
+    slip_energy_j: float = 0.0
+    friction_energy_j: float = 0.0
+    wd_squared_sum: float = 0.0  # sum of the windows' Wd RMS squared [m^2/s^4] (windows of equal length)
+    windows: int = 0
+    elapsed_s: float = 0.0  # the env's elapsed time at the last window counted (or at the reset)
+
+    def add(self, info: dict) -> None:
+        """The step's window, if it ran one (see the class)."""
+        if info["elapsed_s"] <= self.elapsed_s or info.get("diverged", False):
+            return
+        self.elapsed_s = info["elapsed_s"]
+        self.windows += 1
+        self.slip_energy_j += _field(info, "energy_past_peak_j")
+        self.friction_energy_j += _field(info, "friction_energy_j")
+        self.wd_squared_sum += info["measurement"]["wd_rms_m_s2"] ** 2
+
+    @property
+    def wd_rms_m_s2(self) -> float:
+        """The Wd-weighted RMS acceleration over the windows counted [m/s^2]; 0 for none."""
+        return math.sqrt(self.wd_squared_sum / self.windows) if self.windows else 0.0
+
+
 def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list | None = None,
                 oracle: bool | None = None, note: str = "") -> EpisodeRecord:
     """One episode of ``agent``. ``oracle`` (default: the agent's own flag) decides whether the agent
@@ -117,7 +147,7 @@ def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list 
     except Exception as e:  # noqa: BLE001 - whatever an agent (one of your own too) raises
         raise _failed(agent, "raised in reset", episode, seed, e) from e
     total, steps = 0.0, 0
-    slip_e = fric_e = wd2 = 0.0
+    windows = WindowTotals(elapsed_s=info["elapsed_s"])
     peak = 0.0
     while True:
         try:
@@ -131,9 +161,7 @@ def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list 
         total += reward
         steps += 1
         m = info["measurement"]
-        slip_e += _field(info, "energy_past_peak_j")
-        fric_e += _field(info, "friction_energy_j")
-        wd2 += m["wd_rms_m_s2"] ** 2
+        windows.add(info)
         peak = max(peak, _field(info, "peak_torque_fraction"))  # the true torque, not the biased reading
         if trace is not None:
             trace.append({"t": info["elapsed_s"], "dc_torque_nm": m["torque_mean_nm"], "speed_m_s": m["speed_measured_m_s"],
@@ -156,8 +184,8 @@ def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list 
         **ScenarioColumns.read(gt), agent=agent.name, oracle=oracle, episode=episode, seed=seed,
         estimate=info["cof_estimate"],
         relative_error=float(err) if err is not None else 1.0, scored=scored,
-        macro_slip=macro_slip, slip_energy_j=slip_e, friction_energy_j=fric_e,
-        wd_rms_m_s2=math.sqrt(wd2 / steps), measurement_time_s=info["elapsed_s"], peak_torque_fraction=peak,
+        macro_slip=macro_slip, slip_energy_j=windows.slip_energy_j, friction_energy_j=windows.friction_energy_j,
+        wd_rms_m_s2=windows.wd_rms_m_s2, measurement_time_s=info["elapsed_s"], peak_torque_fraction=peak,
         episode_return=total, steps=steps, note=note, ended=ended,
         interval_low=interval[0], interval_high=interval[1], lower_bound=interval[2],
         sensor_notes="; ".join(notes),

@@ -10,7 +10,10 @@ one; each row below equals the published ``out/evaluate/episodes.csv`` row of th
 session 53 when rule 94 changed the shipped interrogator's climb, its rows again equal to the published ones; in
 session 73 the rows of the two agents that joined the default list, ``staircase-zeroed`` and ``model-based-zeroed``,
 were added from this script's output in their places, every earlier row kept as written; in session 74 likewise
-``model-based-zeroed-knee``'s).
+``model-based-zeroed-knee``'s; rewritten in session 80, when evaluate counted each window an agent drove once (a
+stop's repeated readings had been counted again): only ``slip_energy_j``, ``friction_energy_j`` and ``wd_rms_m_s2``
+changed, besides ppo's return in its tenth digit (a float32 policy) and the ``sensor_notes`` column joining; every
+row again equal to the published one).
 """
 
 from __future__ import annotations
