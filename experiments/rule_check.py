@@ -148,6 +148,8 @@ def check(bases: list[Grids], candidates: list[Grids], conditions: Conditions) -
         for grid in sorted(b):
             name = grid if len(bases) == 1 else f"{k + 1}, {grid}"
             d = differences(b[grid], c[grid])
+            if d["median"][1] is None:  # the conditions read CIs, which one episode does not have
+                raise ValueError(f"grid {grid} has one episode: a rule's conditions need at least two")
             # the CIs the conditions read: the 95 % ones, or with --family-wise the simultaneous ones
             dc = differences(b[grid], c[grid], tail_percent=2.5 / m, resamples=FAMILY_RESAMPLES) \
                 if conditions.family_wise and m else d

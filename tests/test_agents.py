@@ -279,6 +279,33 @@ def test_a_record_says_how_its_episode_ended(dc: float, stop_step: int | None, c
     assert steps is None or rec.steps == steps
 
 
+@pytest.mark.parametrize("stop_step", [1, 3, None])
+def test_a_record_counts_each_driven_window_once(stop_step: int | None) -> None:
+    """Energy and comfort come from the windows the agent drove: a stop runs none (the env's info repeats the last
+    window's readings, which are not counted again), and an agent that stops at once drove none (zeros)."""
+    env = gym.make("CofGym/TorqueInterrogation-v2", max_windows=4)
+    options = {"cof": 0.3, "condition": "low_adhesion"}
+    agent = _StopsAt(-0.7, stop_step)  # 43 % of the saturation torque: no macro-slip
+    rec = run_episode(env, agent, 0, options, 0)
+    obs, info = env.reset(seed=0, options=options)
+    agent.reset(obs, info)
+    driven = []
+    while True:
+        obs, _, terminated, truncated, info = env.step(agent.act(obs, info))
+        if terminated or truncated:
+            break
+        driven.append(info)
+    if stop_step is None:
+        driven.append(info)  # the horizon's last step drove its window
+    assert len(driven) == {1: 0, 3: 2, None: 4}[stop_step]
+    gt = [d["ground_truth"] for d in driven]
+    assert rec.friction_energy_j == sum(g["friction_energy_j"] for g in gt)
+    assert rec.slip_energy_j == sum(g["energy_past_peak_j"] for g in gt)
+    wd = [d["measurement"]["wd_rms_m_s2"] for d in driven]
+    assert rec.wd_rms_m_s2 == (math.sqrt(sum(w ** 2 for w in wd) / len(wd)) if wd else 0.0)
+    assert (rec.friction_energy_j > 0.0) == bool(driven) and (rec.wd_rms_m_s2 > 0.0) == bool(driven)
+
+
 class _InfoSpy:
     """Records the info dicts it is handed; stops at once with no DC torque."""
 
@@ -641,6 +668,24 @@ def test_a_macro_slip_counts_as_a_failed_measurement_in_its_own_metrics_only() -
     for key, _, column, stat, _ in earlier:
         values = np.array([getattr(r, column) for r in records], dtype=float)
         assert entry[key]["ci95"] == list(bootstrap_ci(values, stat, rng)), key
+
+
+def test_one_episode_has_no_interval_and_says_so() -> None:
+    """A CI of one episode would be [v, v], a certainty one episode does not give: the summary holds None, the tables
+    and the paired statistics print ``[-]``, and two episodes have an interval again."""
+    from cof_gym.commands.evaluate_stats import METRICS, paired_summary, summarize
+    from cof_gym.commands.evaluate_tables import markdown_paired, markdown_table
+
+    one = summarize([_record(0, 0.02)], seed=0)
+    assert all(one["a"][key]["ci95"] is None for key, *_ in METRICS)
+    assert "| median rel. CoF error [%] | 2.0 [-] |" in markdown_table(one)
+    json.dumps(one, allow_nan=False)  # valid JSON: no NaN stands in for the missing bounds
+    two = summarize([_record(0, 0.02), _record(1, 0.04)], seed=0)
+    assert all(len(two["a"][key]["ci95"]) == 2 for key, *_ in METRICS)
+    other = [replace(_record(0, 0.05), agent="b")]
+    paired = paired_summary([_record(0, 0.02), *other], "a", seed=0)
+    assert all(paired["agents"]["b"][key][1:] == [None, None] for key in ("median", "P90", "return", "lower_error"))
+    assert "[-]" in markdown_paired(paired)
 
 
 @pytest.mark.parametrize("module, name, parameters, fragment", [

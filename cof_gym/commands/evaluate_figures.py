@@ -47,9 +47,7 @@ def plot_all(records, summary, traces, out: Path) -> list[Path]:
     for a in agents:
         s = summary[a]
         x, y = s["wd_rms_m_s2"], s["median_error"]
-        ax.errorbar(x["value"], 100 * y["value"],
-                    xerr=[[x["value"] - x["ci95"][0]], [x["ci95"][1] - x["value"]]],
-                    yerr=[[100 * (y["value"] - y["ci95"][0])], [100 * (y["ci95"][1] - y["value"])]], fmt="o", capsize=3,
+        ax.errorbar(x["value"], 100 * y["value"], xerr=_error_bar(x), yerr=_error_bar(y, 100.0), fmt="o", capsize=3,
                     label=a)
     ax.set(xlabel="mean Wd-weighted RMS car-body acceleration [m/s^2]", ylabel="median relative CoF error [%]",
            title="Error vs discomfort (95 % CI)")
@@ -61,6 +59,13 @@ def plot_all(records, summary, traces, out: Path) -> list[Path]:
     paths.append(plot_traces(traces, out))
     paths += plot_creepage_error(records, agents, out)
     return paths
+
+
+def _error_bar(stat: dict, scale: float = 1.0) -> list[list[float]] | None:
+    """A statistic's CI as matplotlib's error bar (below, above), times ``scale``; None where it has none."""
+    if stat["ci95"] is None:
+        return None
+    return [[scale * (stat["value"] - stat["ci95"][0])], [scale * (stat["ci95"][1] - stat["value"])]]
 
 
 def plot_error_vs_peak_torque(records, agents: list[str], out: Path) -> Path:

@@ -23,12 +23,14 @@ PEAK_CREEPAGE_BANDS = (0.0, 0.01, 0.02, 0.04, math.inf)
 UTILISATION_BANDS = (0.0, 0.8, 0.9, 0.95, math.inf)
 
 
-def bootstrap_ci(values: np.ndarray, stat, rng: np.random.Generator, n: int = N_BOOTSTRAP) -> tuple[float, float]:
+def bootstrap_ci(values: np.ndarray, stat, rng: np.random.Generator,
+                 n: int = N_BOOTSTRAP) -> tuple[float, float] | None:
     """Percentile bootstrap 95 % confidence interval of ``stat`` (a NumPy reduction taking ``axis``: each
-    resample's statistic is a row's, computed as for the resample alone, in blocks of rows to bound memory)."""
+    resample's statistic is a row's, computed as for the resample alone, in blocks of rows to bound memory); None
+    for fewer than two values, which have no interval (one value resampled is itself: ``[v, v]`` would claim a
+    certainty one episode does not give). ``rng`` is drawn from only where there is an interval."""
     if len(values) < 2:
-        v = float(stat(values)) if len(values) else float("nan")
-        return v, v
+        return None
     idx = rng.integers(0, len(values), size=(n, len(values)))
     block = max(1, BOOTSTRAP_BLOCK_VALUES // len(values))
     stats = np.concatenate([stat(values[idx[i:i + block]], axis=1) for i in range(0, n, block)])
@@ -37,13 +39,14 @@ def bootstrap_ci(values: np.ndarray, stat, rng: np.random.Generator, n: int = N_
 
 def paired_differences(base_error: np.ndarray, other_error: np.ndarray, base_return: np.ndarray,
                        other_return: np.ndarray, seed: int = 0, tail_percent: float = 2.5,
-                       resamples: int = N_BOOTSTRAP) -> dict[str, tuple[float, float, float]]:
+                       resamples: int = N_BOOTSTRAP) -> dict[str, tuple[float, float | None, float | None]]:
     """(value, CI low, CI high) of an agent against a baseline over the same episodes (index by index), each
     resampled in pairs (``resamples`` draws of the episodes, seeded; the CI leaves ``tail_percent`` % of the draws out
     on each side): ``median`` and ``P90``, the difference other - base of the relative error's median and 90th
     percentile (percentage points); ``return``, of the mean episode return; ``lower_error``, the share of episodes in
     which the other's error is the lower, ties counted half (%): the probability of improvement (Agarwal et al.,
     "Deep reinforcement learning at the edge of the statistical precipice", NeurIPS 2021), 50 where neither is better.
+    One episode has no interval: its CI bounds are None.
     """
     n = len(base_error)
     if not n or any(len(a) != n for a in (other_error, base_return, other_return)):
@@ -52,8 +55,8 @@ def paired_differences(base_error: np.ndarray, other_error: np.ndarray, base_ret
     if not all(np.isfinite(a).all() for a in (base_error, other_error, base_return, other_return)):
         raise ValueError("paired episodes need finite errors and returns (a NaN would count as the baseline's win)")
     draws = np.random.default_rng(seed).integers(0, n, size=(resamples, n))
-    ci = lambda boot: (float(np.percentile(boot, tail_percent)),  # noqa: E731
-                       float(np.percentile(boot, 100.0 - tail_percent)))
+    ci = lambda boot: ((float(np.percentile(boot, tail_percent)),  # noqa: E731
+                        float(np.percentile(boot, 100.0 - tail_percent))) if n > 1 else (None, None))
     result = {}
     for name, stat in (("median", lambda e: np.median(e, axis=-1)), ("P90", lambda e: np.percentile(e, 90, axis=-1))):
         point = 100.0 * float(stat(other_error) - stat(base_error))
@@ -197,8 +200,8 @@ def summarize(records: list[EpisodeRecord], seed: int) -> dict[str, dict[str, An
                 bad = int(np.flatnonzero(~np.isfinite(values))[0])
                 raise ValueError(f"{agent}: episode {rows[bad].episode} has {column} {float(values[bad])}; every "
                                  "statistic needs a finite value")
-            lo, hi = bootstrap_ci(values, stat, rng)
-            entry[key] = {"value": float(stat(values)), "ci95": [lo, hi]}
+            ci = bootstrap_ci(values, stat, rng)
+            entry[key] = {"value": float(stat(values)), "ci95": None if ci is None else list(ci)}
         interval = interval_stats(rows, rng)  # after METRICS: their CIs are drawn first, as before
         if interval is not None:
             entry["interval"] = interval
@@ -247,7 +250,7 @@ def interval_stats(rows: list[EpisodeRecord], rng: np.random.Generator) -> dict[
         if None in values:  # a coverage of some episodes only would be no coverage of the agent's
             continue
         values = np.array(values, dtype=float)
-        lo, hi = bootstrap_ci(values, np.mean, rng)
-        out[key] = {"value": float(np.mean(values)), "ci95": [lo, hi]}
+        ci = bootstrap_ci(values, np.mean, rng)
+        out[key] = {"value": float(np.mean(values)), "ci95": None if ci is None else list(ci)}
     out["median_width"] = float(np.median([r.interval_high / r.interval_low for r in rows]))
     return out

@@ -24,7 +24,10 @@ def _fmt(value: float, kind: str) -> str:
 
 
 def _ci_cell(stat: dict[str, Any], kind: str, between: str = " ") -> str:
-    """A statistic ``{"value", "ci95"}`` as ``value [low, high]`` (``between``: what separates the two)."""
+    """A statistic ``{"value", "ci95"}`` as ``value [low, high]`` (``between``: what separates the two); ``value [-]``
+    where it has no interval (``ci95`` None: one episode)."""
+    if stat["ci95"] is None:
+        return f"{_fmt(stat['value'], kind)}{between}[-]"
     return f"{_fmt(stat['value'], kind)}{between}[{_fmt(stat['ci95'][0], kind)}, {_fmt(stat['ci95'][1], kind)}]"
 
 
@@ -42,12 +45,15 @@ def markdown_table(summary: dict[str, dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
-def ci_text(value: tuple[float, float, float] | list[float], digits: int = 1, signed: bool = True,
+def ci_text(value: tuple[float, float | None, float | None] | list, digits: int = 1, signed: bool = True,
             between: str = " ") -> str:
     """A statistic and its CI, ``(value, low, high)``, as ``+v [+lo, +hi]`` (``signed``: with their signs, as a
-    difference reads) with ``digits`` decimals, ``between`` the value and the bracket."""
+    difference reads) with ``digits`` decimals, ``between`` the value and the bracket; ``+v [-]`` without a CI (None
+    bounds: one episode)."""
     sign = "+" if signed else ""
     value, low, high = value
+    if low is None or high is None:
+        return f"{value:{sign}.{digits}f}{between}[-]"
     return f"{value:{sign}.{digits}f}{between}[{low:{sign}.{digits}f}, {high:{sign}.{digits}f}]"
 
 
