@@ -68,7 +68,7 @@ BAD = [
     (["evaluate", "--agents", "staircase", "--suite", "flat_info.json"], "env_kwargs.info_layout must be 'nested'"),
     (["evaluate", "--agents", "staircase", "--suite", "deep_nesting.json"], "deep_nesting.json: JSON nested too deeply"),
     # the same agent under two names: staircase is registered with the crest ceiling (the pair played it twice)
-    (["evaluate", "--agents", "staircase,staircase+ceiling"], "agents 'staircase' and 'staircase+ceiling' are the same"),
+    (["evaluate", "--agents", "staircase,staircase+ceiling"], "'staircase' and 'staircase+ceiling' are the same"),
     (["evaluate", "--agents", "oracle,oracle+plain"], "agents 'oracle' and 'oracle+plain' are the same agent"),
     (["evaluate", "--agents", "staircase", "--env-kwargs", "max_windows:0"], "--env-kwargs: max_windows must be an integer in [1"),
     (["evaluate", "--agents", "staircase", "--env-kwargs", "max_windows:True"], "--env-kwargs: max_windows must be an integer"),

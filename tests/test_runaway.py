@@ -140,7 +140,8 @@ def test_the_agents_rule_24_chose_report_it_under_their_own_names(name):
 def test_the_registry_builds_name_plus_ceiling_on_what_the_agent_is_registered_with(spec, bracket, ceiling, name):
     agent = registry.make_agent(spec, gym.make(cof_gym.WAGON_ENV_ID))
     assert isinstance(agent, RunawayEstimate) and (agent.bracket, agent.ceiling, agent.name) == (bracket, ceiling, name)
-    assert registry.plays_as(spec) == (registry.split_modifier(spec)[0], None, bracket, ceiling)  # what evaluate compares
+    # what evaluate compares to find one agent given twice
+    assert registry.plays_as(spec) == (registry.split_modifier(spec)[0], None, bracket, ceiling)
     with pytest.raises(ValueError, match="neither"):
         RunawayEstimate(agent.agent, agent.limits, bracket=False, ceiling=False)
 
