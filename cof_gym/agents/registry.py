@@ -269,6 +269,21 @@ def plays_as(spec: str) -> tuple[str, str | None, bool, bool]:
     return (entry.name, argument, *_wrapping(entry, split_modifier(spec)[1]))
 
 
+def check_distinct(specs: list[str]) -> None:
+    """:class:`AgentSpecError` naming the first two of ``specs`` that play the same agent (:func:`plays_as`): one
+    name given twice, or e.g. ``staircase`` and ``staircase+ceiling``."""
+    seen: dict[tuple, str] = {}
+    for spec in (s.strip() for s in specs):
+        play = plays_as(spec)
+        if play not in seen:
+            seen[play] = spec
+        elif seen[play] == spec:
+            raise AgentSpecError(f"agent {spec!r} is given twice")
+        else:
+            raise AgentSpecError(f"agents {seen[play]!r} and {spec!r} are the same agent (its registration already has "
+                                 "what the name adds): give one")
+
+
 def as_registered(entry: AgentEntry, agent: Any, limits: Any, modifier: str | None = None):
     """``agent`` (built by ``entry``'s factory, or as that factory would with other parameters) wrapped as
     :func:`make_agent` wraps it for ``entry`` with ``modifier`` (None, ``runaway``, ``ceiling`` or ``plain``) for

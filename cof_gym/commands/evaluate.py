@@ -128,13 +128,10 @@ def build_agents(agent_specs: list[str], env) -> list[tuple[Any, bool]]:
     :class:`~cof_gym.agents.registry.AgentSpecError` for an unknown name or a model that cannot be used."""
     if not agent_specs:
         raise registry.AgentSpecError(f"no agent given; allowed: {registry.describe()}")
-    built, names, plays = [], set(), {}
+    registry.check_distinct(agent_specs)
+    built, names = [], set()
     for spec in agent_specs:
         entry, _ = registry.parse(spec)
-        same = plays.setdefault(registry.plays_as(spec), spec.strip())
-        if same != spec.strip():
-            raise registry.AgentSpecError(f"agents {same!r} and {spec.strip()!r} are the same agent (its registration "
-                                          f"already has what the name adds): give one")
         try:
             agent = registry.make_agent(spec, env)
         except (FileNotFoundError, ValueError, OSError) as e:
@@ -461,8 +458,10 @@ def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
             registry.check_argument(entry, argument)
         except ValueError as e:
             raise UsageError("--agents", f"{spec}: {e}") from None
-    if len(set(specs)) != len(specs):
-        raise UsageError("--agents", f"an agent is given twice in {given!r}")
+    try:
+        registry.check_distinct(specs)  # one name twice, or two names of one agent
+    except registry.AgentSpecError as e:
+        raise UsageError("--agents", str(e)) from None
     if args.paired is not None and args.paired not in specs:
         raise UsageError("--paired", f"{args.paired!r} is none of the agents played: {', '.join(specs)}")
     if args.paired is not None and len(specs) < 2:
