@@ -467,7 +467,7 @@ def test_a_stop_runs_no_window(env_id: str) -> None:
     advance, and the observation is the last window's."""
     env = gym.make(env_id, **SHORT, cof=0.3)
     env.reset(seed=1)
-    obs, *_ = env.step(QUIET)
+    obs, _, _, _, window_info = env.step(QUIET)
     time_before = env.unwrapped._sim.data.time
     stop = np.array([1.0, 1.0, 0.0, 0.0, 1.0], np.float32)  # full DC torque with the stop: never applied
     obs2, reward, terminated, truncated, info = env.step(stop)
@@ -475,7 +475,9 @@ def test_a_stop_runs_no_window(env_id: str) -> None:
     assert env.unwrapped._sim.data.time == time_before and np.array_equal(obs, obs2)
     assert (info["reward_time"], info["reward_slip"], info["reward_comfort"]) == (0.0, 0.0, 0.0)
     assert reward == info["reward_error"] == pytest.approx(-10.0 * abs(math.log(estimate_of(0.0) / 0.3)))
-    assert info["elapsed_s"] == SHORT["window_s"]
+    # the elapsed time does not grow, and the readings are the last window's (the docstring: sums skip such a step)
+    assert info["elapsed_s"] == window_info["elapsed_s"] == SHORT["window_s"]
+    assert info["measurement"] == window_info["measurement"]
 
 
 def test_stop_threshold_is_strictly_positive() -> None:

@@ -262,7 +262,9 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
 
     ## Episode End
     - terminated: the agent requests stop (its estimate is scored at once: that step runs no window,
-      costs no time, slip or comfort, and returns the last window's observation); macro-slip (any wheel's creepage
+      costs no time, slip or comfort, and returns the last window's observation; its info repeats the last window's
+      readings and ``info["elapsed_s"]`` does not grow: a sum of window quantities over steps counts a step only where
+      it grew, as ``cof-gym evaluate`` does); macro-slip (any wheel's creepage
       beyond ``max(macro_slip_ratio x peak creepage, peak + macro_slip_floor)``: penalised, the estimate
       scored); a diverging simulation (``info["diverged"] = True``, treated as a macro-slip).
     - truncated: after ``max_windows`` windows (the task's horizon, default 30; the last estimate is
