@@ -193,9 +193,7 @@ def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: 
             raise
     finally:
         env.close()
-        for own in envs.values():
-            if own is not env:
-                own.close()
+        _close_own_envs(envs, env)
         close_error = _close_agents(agents)
     if close_error is not None:  # the outputs are written: the agent's error is still the user's to see
         raise close_error
@@ -224,6 +222,13 @@ def _close_agents(agents) -> AgentError | None:
     return error
 
 
+def _close_own_envs(envs: dict[str, Any], shared_env) -> None:
+    """Close the envs of :func:`agent_envs` that agents have of their own (not ``shared_env``, the suite's)."""
+    for env in envs.values():
+        if env is not shared_env:
+            env.close()
+
+
 def agent_envs(agents, suite: Suite, shared_env) -> dict[str, Any]:
     """The env each agent plays in, by name: ``shared_env`` (the suite's), or an env of its own for an agent whose
     excitation needs env options beyond the suite's (``agent.env_options``, e.g. the two-tone interrogator's
@@ -238,9 +243,7 @@ def agent_envs(agents, suite: Suite, shared_env) -> dict[str, Any]:
             envs[agent.name] = gym.make(suite.env_id, **{**make_kwargs(suite.env_kwargs), **options}) if options \
                 else shared_env
         except (ValueError, TypeError) as e:
-            for env in envs.values():
-                if env is not shared_env:
-                    env.close()
+            _close_own_envs(envs, shared_env)
             raise registry.AgentSpecError(f"agent {agent.name}: its env_options {options!r} make no env of "
                                           f"{suite.env_id}: {' '.join(str(e).split())}") from None
     return envs
