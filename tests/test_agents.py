@@ -141,6 +141,22 @@ def test_default_workers_give_each_enough_episodes_and_memory_and_never_exceed_t
     assert ev.default_workers(10**6) == 8
 
 
+def test_workers_beyond_the_usable_cores_are_noted_and_still_started(monkeypatch, tmp_path, capsys) -> None:
+    """--workers N is honoured as asked, but N processes on fewer cores share them and each starts on its own: the
+    CLI says so in one line on stderr; at most one worker an episode is started, so one that fits says nothing."""
+    from cof_gym.cli import main
+    from cof_gym.commands import evaluate_workers as ev
+
+    monkeypatch.setattr(ev, "usable_cores", lambda: 2)
+    assert ev.oversubscription_note(2, 100) is None and ev.oversubscription_note(8, 2) is None
+    note = ev.oversubscription_note(8, 3)
+    assert note.startswith("note: --workers 8 starts 3 processes on the 2 usable core(s)") and "\n" not in note
+    monkeypatch.setattr(ev, "usable_cores", lambda: 1)
+    assert main(["evaluate", "--agents", "oracle", "--episodes", "2", "--workers", "2", "-q",
+                 "--out", str(tmp_path / "ev")]) == 0
+    assert capsys.readouterr().err.startswith("note: --workers 2 starts 2 processes on the 1 usable core(s)")
+
+
 def test_usable_cores_honour_a_containers_cpu_quota(monkeypatch) -> None:
     from cof_gym.commands import evaluate_workers as ev
 

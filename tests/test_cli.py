@@ -79,6 +79,10 @@ BAD = [
     (["evaluate", "--agents", "staircase", "--env-kwargs", "max_episode_steps:5"], "env_kwargs.max_episode_steps must"),
     (["evaluate", "--agents", "staircase", "--env-kwargs", "noise_level:5"], "--env-kwargs: noise_level must be a finite"),
     (["evaluate", "--agents", "staircase", "--env-kwargs", "max_windows"], "--env-kwargs expects key:value pairs"),
+    # two pairs joined by a comma, as --agents joins its names: the second pair named, not read as the first's value
+    (["evaluate", "--agents", "staircase", "--env-kwargs", "speed_sensor_error:0.04,encoder_lag_s:0.02"],
+     "--env-kwargs: 'speed_sensor_error:0.04,encoder_lag_s:0.02' joins several pairs with a comma; separate"),
+    (["train", "--out", "run", "--hyperparams", "n_steps:64, batch_size:32"], "--hyperparams: 'n_steps:64, batch_size"),
     (["evaluate", "--agents", "staircase", "--env-kwargs", "cof:0.2", "--env-kwargs", "cof:0.3"],
      "--env-kwargs: 'cof' given twice"),  # a second flag would have replaced the first's value
     (["evaluate", "--agents", "staircase", "--env-kwargs", "max_episode_steps:-5"], "max_episode_steps must be -1"),

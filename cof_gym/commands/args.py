@@ -9,6 +9,7 @@ import ast
 import json
 import math
 import os
+import re
 from pathlib import Path
 
 PROG = "cof-gym"
@@ -78,6 +79,9 @@ class StoreDict(argparse.Action):
                 parser.error(f"{option_string}: {key!r} given twice; give each key once")
             given.add(key)
             out[key] = _literal_or_text(value)
+            if isinstance(out[key], str) and _JOINED_PAIR.search(value):
+                parser.error(f"{option_string}: {item!r} joins several pairs with a comma; separate key:value "
+                             "pairs with spaces (KEY:VALUE KEY:VALUE)")
         setattr(namespace, given_attr, given)
         setattr(namespace, self.dest, out)
 
@@ -108,6 +112,11 @@ class DistinctNames(DistinctValues):
     @staticmethod
     def compared(value):
         return value[0]
+
+
+# text that reads as a second pair joined to a plain-text value by a comma (``0.04,encoder_lag_s:0.02``); a value
+# that is a literal (a dict, a list) is read as one
+_JOINED_PAIR = re.compile(r",\s*[A-Za-z_]\w*:")
 
 
 def _literal_or_text(text: str) -> object:

@@ -24,7 +24,8 @@ from cof_gym.commands.evaluate_episodes import AgentError, EpisodeRecord, run_ep
 from cof_gym.commands.evaluate_stats import COF_BANDS, paired_summary, summarize
 from cof_gym.commands.evaluate_tables import (markdown_breakdown, markdown_intervals, markdown_paired, markdown_table,
                                               print_paired, print_table)
-from cof_gym.commands.evaluate_workers import EPISODES_PER_WORKER, MAX_WORKERS, WORKER_MEMORY_BYTES, default_workers
+from cof_gym.commands.evaluate_workers import (EPISODES_PER_WORKER, MAX_WORKERS, WORKER_MEMORY_BYTES, default_workers,
+                                               oversubscription_note)
 from cof_gym.commands.suites import (MAX_EPISODES, Suite, SuiteError, make_suite, per_curve,
                                      read_measured_curve, with_env_kwargs)
 from cof_gym.envs.torque_interrogation import make_kwargs
@@ -583,6 +584,9 @@ def run(args: argparse.Namespace) -> int:
     from cof_gym.commands.args import UsageError
 
     specs, suite, out = prepare(args)
+    note = None if args.workers is None else oversubscription_note(args.workers, len(specs) * len(suite.episodes))
+    if note:
+        print(note, file=sys.stderr)
     try:
         evaluate(specs, suite, out, args.seed, quiet=args.quiet, check_suite=True, workers=args.workers,
                  paired=args.paired)

@@ -53,3 +53,14 @@ def default_workers(n_episodes: int) -> int:
     (every agent's together) to play and :data:`WORKER_MEMORY_BYTES` of the available memory; 1: the episodes
     are played in this process."""
     return max(1, min(fitting_workers(WORKER_MEMORY_BYTES), n_episodes // EPISODES_PER_WORKER))
+
+
+def oversubscription_note(workers: int, n_episodes: int) -> str | None:
+    """A one-line note where ``workers`` asked for (at most one an episode is started) exceed the usable cores: they
+    are started as asked, share the cores and each pays its start-up; None where they fit."""
+    started, cores = min(workers, n_episodes), usable_cores()
+    if started <= cores:
+        return None
+    return (f"note: --workers {workers} starts {started} processes on the {cores} usable core(s): they share them and "
+            f"each pays a start-up of a few seconds (the outputs are the same for any number; default: "
+            f"{default_workers(n_episodes)} here)")
