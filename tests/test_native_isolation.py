@@ -120,6 +120,9 @@ def _foreign_model(nuserdata: int) -> mujoco.MjModel:
 def _foreign_userdata(kind: str, n: int) -> np.ndarray:
     if kind == "zeros":
         return np.zeros(n)
+    if kind == "wagon-marked":  # a wagon's own userdata, marker and all: its bodies and dofs lie past this model's
+        wagon = build_wagon(wagon_parameters("laden"))
+        return initial_userdata(wagon, _scenario(wagon, 0.3))
     # plausible-looking numbers everywhere except the marker
     ud = np.random.default_rng(0).uniform(-1.0, 5.0, n)
     ud[layout.index("MAGIC")] = 0.0
@@ -144,8 +147,8 @@ def _foreign_trajectory(model: mujoco.MjModel, ud0: np.ndarray, partner: Simulat
 
 @pytest.mark.parametrize(
     ("nuserdata", "kind"),
-    [(0, "zeros"), (300, "zeros"), (layout.SIZE, "zeros"), (layout.SIZE, "unmarked")],
-    ids=["nuserdata0", "nuserdata300", "nuserdataSIZE", "unmarked-garbage"],
+    [(0, "zeros"), (300, "zeros"), (layout.SIZE, "zeros"), (layout.SIZE, "unmarked"), (layout.SIZE, "wagon-marked")],
+    ids=["nuserdata0", "nuserdata300", "nuserdataSIZE", "unmarked-garbage", "marked-indices-outside-the-model"],
 )
 def test_foreign_model_is_untouched_by_the_callback(nuserdata: int, kind: str) -> None:
     install_callback()
@@ -177,6 +180,20 @@ def test_foreign_model_is_untouched_by_the_callback(nuserdata: int, kind: str) -
     # sanity: the foreign body fell under gravity and its spring acted (passive forces non-zero)
     assert with_cb[0][-1, 2] < 2.0 - 0.5 * 9.81 * 0.7**2 + 1.0
     assert np.abs(with_cb[1]).max() > 0.1
+
+
+def test_a_built_model_refuses_indices_outside_it() -> None:
+    """Every body, dof and qpos index the callback will read lies in the model: one outside is refused, naming it."""
+    half = build_half_wheelset()
+    contact = half.contacts[0]
+    with pytest.raises(ValueError, match=r"contacts\[0\]\.wheel_body must be an integer in \[1, 2\], got 3"):
+        dataclasses.replace(half, contacts=[dataclasses.replace(contact, wheel_body=half.model.nbody)])
+    with pytest.raises(ValueError, match=r"contacts\[0\]\.z_dof must be an integer in \[0, 1\], got -1"):
+        dataclasses.replace(half, contacts=[dataclasses.replace(contact, z_qpos=0)])
+    with pytest.raises(ValueError, match=r"measured_contact must be an integer in \[0, 0\], got 1"):
+        dataclasses.replace(half, measured_contact=1)
+    with pytest.raises(ValueError, match=r"contacts: 1 to 4 contacts, got 5"):
+        dataclasses.replace(half, contacts=[contact] * 5)
 
 
 def test_reinstalled_callback_drives_cof_gym_again() -> None:

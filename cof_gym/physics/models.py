@@ -69,10 +69,29 @@ class BuiltModel:
     x_dofs: list[int] = field(default_factory=list)  # slide-x dofs (initial speed v)
     spin_dofs: list[tuple[int, float]] = field(default_factory=list)  # (dof, radius) rolling at v/R
 
+    def __post_init__(self) -> None:
+        """Every index the native callback reads from the userdata lies in the model (ValueError naming it)."""
+        m = self.model
+        if not 1 <= len(self.contacts) <= layout.MAX_CONTACTS:
+            raise ValueError(f"contacts: 1 to {layout.MAX_CONTACTS} contacts, got {len(self.contacts)}")
+        _check_index("measured_contact", self.measured_contact, 0, len(self.contacts))
+        _check_index("carbody_x_dof", self.carbody_x_dof, -1, m.nv)
+        for k, c in enumerate(self.contacts):
+            _check_index(f"contacts[{k}].wheel_body", c.wheel_body, 1, m.nbody)
+            _check_index(f"contacts[{k}].reaction_body", c.reaction_body, -1, m.nbody)
+            _check_index(f"contacts[{k}].z_qpos", c.z_qpos, -1, m.nq)
+            _check_index(f"contacts[{k}].z_dof", c.z_dof, 0 if c.z_qpos >= 0 else -1, m.nv)
+
     @property
     def saturation_torque_per_cof(self) -> float:
         """Static saturation torque of the driven wheel(set) per unit CoF, N m: R N_contact."""
         return self.wheel_radius_m * self.nominal_wheel_load_n * self.wheels_per_contact
+
+
+def _check_index(name: str, value: int, low: int, high: int) -> None:
+    """``value`` an integer in [low, high) (an index into the model's arrays; -1: none, where ``low`` is -1)."""
+    if isinstance(value, bool) or not isinstance(value, int) or not low <= value < high:
+        raise ValueError(f"{name} must be an integer in [{low}, {high - 1}], got {value!r}")
 
 
 def _spec(timestep: float) -> mujoco.MjSpec:

@@ -292,6 +292,21 @@ typedef struct {
   double creepage;
 } contact_state;
 
+/* Every body, dof and qpos index the userdata gives lies in the model (Python's BuiltModel checks them when it
+ * is built, models.py; this keeps a userdata written otherwise from reading or writing past MuJoCo's arrays). */
+static int indices_valid(const mjModel* m, const double* ud, int ncon) {
+  const int mc = (int)ud[UD_MEASURED_CONTACT], cx = (int)ud[UD_CARBODY_X_DOF];
+  if (mc < 0 || mc >= ncon || cx < -1 || cx >= m->nv) return 0;
+  for (int k = 0; k < ncon; k++) {
+    const double* cfg = ud + UD_CONTACT0 + k * UD_CONTACT_STRIDE;
+    const int body = (int)cfg[CF_WHEEL_BODY], rb = (int)cfg[CF_REACTION_BODY];
+    const int zq = (int)cfg[CF_Z_QPOS], zd = (int)cfg[CF_Z_DOF];
+    if (body < 1 || body >= m->nbody || rb < -1 || rb >= m->nbody || zq < -1 || zq >= m->nq) return 0;
+    if (zq >= 0 && (zd < 0 || zd >= m->nv)) return 0;
+  }
+  return 1;
+}
+
 void cofgym_passive(const mjModel* m, mjData* d) {
   if (m->nuserdata < UD_SIZE) return;
   double* ud = d->userdata;
@@ -302,7 +317,7 @@ void cofgym_passive(const mjModel* m, mjData* d) {
   const double t = d->time;
   const int advance = t != ud[UD_LAST_TIME];
   const int ncon = (int)ud[UD_N_CONTACTS];
-  if (ncon < 1 || ncon > UD_MAX_CONTACTS) return;
+  if (ncon < 1 || ncon > UD_MAX_CONTACTS || !indices_valid(m, ud, ncon)) return;
 
   /* scratch on the C stack (variable-length arrays: nv is small for these vehicles) */
   double tau[nv];       /* generalised forces we add */
@@ -313,7 +328,6 @@ void cofgym_passive(const mjModel* m, mjData* d) {
   mju_zero(tau, nv);
   mju_zero(unit_torque, nv);
   int reaction_done[UD_MAX_CONTACTS];
-  mju_zero(tau, nv);
 
   /* drive: DC ramp + sine (+ tones 2..N_TONES) at mid-step (the torque acts over [t, t+dt]), first-order lag */
   const double t_mid = t + 0.5 * dt;
