@@ -54,17 +54,23 @@ def paired_differences(base_error: np.ndarray, other_error: np.ndarray, base_ret
                          f"{len(other_error)}")
     if not all(np.isfinite(a).all() for a in (base_error, other_error, base_return, other_return)):
         raise ValueError("paired episodes need finite errors and returns (a NaN would count as the baseline's win)")
-    draws = np.random.default_rng(seed).integers(0, n, size=(resamples, n))
-    ci = lambda boot: ((float(np.percentile(boot, tail_percent)),  # noqa: E731
-                        float(np.percentile(boot, 100.0 - tail_percent))) if n > 1 else (None, None))
+    draws = np.random.default_rng(seed).integers(0, n, size=(resamples, n)) if n > 1 else None
+
+    def ci(boot_of) -> tuple[float | None, float | None]:
+        """The percentile interval of ``boot_of(draws)`` (a statistic per draw); (None, None) for one episode."""
+        if draws is None:
+            return None, None
+        boot = boot_of(draws)
+        return float(np.percentile(boot, tail_percent)), float(np.percentile(boot, 100.0 - tail_percent))
+
     result = {}
     for name, stat in (("median", lambda e: np.median(e, axis=-1)), ("P90", lambda e: np.percentile(e, 90, axis=-1))):
         point = 100.0 * float(stat(other_error) - stat(base_error))
-        result[name] = (point, *ci(100.0 * (stat(other_error[draws]) - stat(base_error[draws]))))
+        result[name] = (point, *ci(lambda d, stat=stat: 100.0 * (stat(other_error[d]) - stat(base_error[d]))))
     result["return"] = (float(other_return.mean() - base_return.mean()),
-                        *ci(other_return[draws].mean(axis=1) - base_return[draws].mean(axis=1)))
+                        *ci(lambda d: other_return[d].mean(axis=1) - base_return[d].mean(axis=1)))
     better = 100.0 * ((other_error < base_error) + 0.5 * (other_error == base_error))
-    result["lower_error"] = (float(better.mean()), *ci(better[draws].mean(axis=1)))
+    result["lower_error"] = (float(better.mean()), *ci(lambda d: better[d].mean(axis=1)))
     return result
 
 
