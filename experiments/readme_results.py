@@ -1113,6 +1113,7 @@ from pathlib import Path
 
 import numpy as np
 
+from cof_gym.agents import registry
 from cof_gym.commands.args import Parser
 from cof_gym.commands.evaluate_stats import PEAK_CREEPAGE_BANDS, paired_differences, peak_creepage_band
 from cof_gym.commands.evaluate_tables import ci_text
@@ -1837,9 +1838,10 @@ def horizon_by_condition(suites: dict[str, tuple[str, Path]] = HORIZON_SUITES, l
             rows.append(f"| {label} | {condition} | {len(group)} | {len(ended)} | {there} |")
     return "\n".join(rows)
 
-# the hand-built agents beside the learned one in the peak-creepage and edge-suite tables, in their column order
-HAND_BUILT_AGENTS = ("phase-rule", "robust-model", "staircase", "model-based", "staircase-zeroed",
-                     "model-based-zeroed", "model-based-zeroed-knee")
+# the hand-built agents beside the learned one in the peak-creepage and edge-suite tables: the default list's agents
+# that read no truth and ship no learned policy, in the registry's order (as `cof-gym evaluate` plays them)
+HAND_BUILT_AGENTS = tuple(name for name in registry.default_agents()
+                          if not registry.AGENTS[name].oracle and registry.AGENTS[name].shipped is None)
 
 
 def peak_creepage(path: Path = TARGET_SUITES["v2 default suite (`cof-gym evaluate`)"], learned: str = LEARNED,
