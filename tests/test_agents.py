@@ -111,6 +111,35 @@ def test_worker_processes_write_what_one_process_writes(tmp_path: Path, monkeypa
         assert (tmp_path / "one" / name).read_bytes() == (tmp_path / "two" / name).read_bytes(), name
 
 
+def test_windows_csv_holds_every_episodes_windows_and_changes_nothing_else(tmp_path: Path) -> None:
+    """--windows: windows.csv has a row per window each episode drove (its steps), the last holding the estimate the
+    episode scored, the same bytes from two workers as from one; the other outputs are those of a run without it."""
+    from cof_gym.commands.evaluate import WINDOW_COLUMNS
+
+    suite = make_suite("default", 2, seed=3)
+    agents = ["staircase", "phase-rule"]
+    plain = evaluate(agents, suite, tmp_path / "plain", seed=3, quiet=True, workers=1)
+    one = evaluate(agents, suite, tmp_path / "one", seed=3, quiet=True, workers=1, windows=True)
+    two = evaluate(agents, suite, tmp_path / "two", seed=3, quiet=True, workers=2, windows=True)
+    assert not (tmp_path / "plain" / "windows.csv").exists()
+    assert (tmp_path / "one" / "windows.csv").read_bytes() == (tmp_path / "two" / "windows.csv").read_bytes()
+    for name in ("episodes.csv", "summary.md", "summary.json"):
+        assert (tmp_path / "plain" / name).read_bytes() == (tmp_path / "one" / name).read_bytes(), name
+    assert plain["traces"] == one["traces"] == two["traces"]
+    with open(tmp_path / "one" / "windows.csv", newline="") as f:
+        reader = csv.DictReader(f)
+        assert tuple(reader.fieldnames) == WINDOW_COLUMNS
+        windows = list(reader)
+    with open(tmp_path / "one" / "episodes.csv", newline="") as f:
+        episodes = list(csv.DictReader(f))
+    assert len(episodes) == 4 and len(windows) == sum(int(e["steps"]) for e in episodes)
+    for e in episodes:
+        mine = [w for w in windows if (w["agent"], w["episode"]) == (e["agent"], e["episode"])]
+        assert [int(w["step"]) for w in mine] == list(range(1, int(e["steps"]) + 1))
+        assert {w["seed"] for w in mine} == {e["seed"]} and float(mine[-1]["estimate"]) == float(e["estimate"])
+        assert all(float(w["cof"]) == float(e["cof"]) for w in mine)
+
+
 def test_where_no_worker_process_can_start_the_episodes_are_played_here(tmp_path: Path, monkeypatch, capsys) -> None:
     import concurrent.futures
 

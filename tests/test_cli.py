@@ -349,13 +349,15 @@ def test_evaluate_env_arguments_play_the_suite_in_that_env_and_name_the_output(w
     from cof_gym.commands.evaluate import default_out
 
     assert cli.main(["evaluate", "--agents", "staircase", "--episodes", "2", "--env-kwargs", "max_windows:3",
-                     "counter_torque:True", "--quiet"]) == 0
+                     "counter_torque:True", "--windows", "--quiet"]) == 0
     out = workdir / "out" / "evaluate-max_windows=3-counter_torque=true"  # never the default suite's out/evaluate
     result = json.loads((out / "summary.json").read_text())
     assert result["env_kwargs"] == {"max_windows": 3, "counter_torque": True}
     assert result["suite"] == "default (env max_windows=3 counter_torque=true)"
     assert "suite default (env max_windows=3 counter_torque=true)" in (out / "summary.md").read_text()
     assert all(int(r["steps"]) <= 3 for r in csv.DictReader(open(out / "episodes.csv")))
+    steps = sum(int(r["steps"]) for r in csv.DictReader(open(out / "episodes.csv")))
+    assert len(list(csv.DictReader(open(out / "windows.csv")))) == steps  # --windows: a row a window
     assert not (workdir / "out" / "evaluate").exists()
     assert default_out("experiments/suites/x.json", {"creep_law": {"table": [1]}}) == Path(
         "out/evaluate-x-creep_law=__table____1__")

@@ -20,7 +20,7 @@ from typing import Any, Mapping
 
 from cof_gym.agents import registry
 from cof_gym.agents.base import own_env_options
-from cof_gym.commands.evaluate_episodes import AgentError, EpisodeRecord, run_episode
+from cof_gym.commands.evaluate_episodes import TRACE_FIELDS, AgentError, EpisodeRecord, run_episode
 from cof_gym.commands.evaluate_stats import COF_BANDS, paired_summary, summarize
 from cof_gym.commands.evaluate_tables import (markdown_breakdown, markdown_intervals, markdown_paired, markdown_table,
                                               print_paired, print_table)
@@ -40,13 +40,16 @@ each with a bootstrap 95 % CI, and a breakdown by condition, CoF band, creep-law
 family, the creep curve's peak creepage, systematic creepage-error band, the utilisation at which
 the estimate was committed and how the episode ended: the agent's stop, the horizon (the last of the
 task's steps), a macro-slip), the coverage of the interval an agent reports around its estimate (the learned
-interrogator's), and figures. --env-kwargs plays the suite with other env arguments
-(e.g. max_windows:60, a longer horizon). The outputs appear all at once when the run completes (an
+interrogator's), and figures; with --windows also OUT/windows.csv, every episode window by window. --env-kwargs
+plays the suite with other env arguments (e.g. max_windows:60, a longer horizon). The outputs appear all at once when the run completes (an
 interrupted run leaves the previous OUT as it was). Only agents marked as oracles see
 info["ground_truth"]."""
 
 DEFAULT_OUT = Path("out") / "evaluate"
 OUTPUT_MARKER = "summary.json"  # what makes an existing --out directory a previous evaluate output
+# windows.csv's columns (--windows): the episode's agent, index and seed, the window's step (1: the first action's),
+# then its trace (evaluate_episodes.TRACE_FIELDS)
+WINDOW_COLUMNS = ("agent", "episode", "seed", "step", *TRACE_FIELDS)
 QUEUED_PER_WORKER = 4  # episodes handed to the workers at a time, per worker (however long the suite)
 
 
@@ -164,7 +167,8 @@ def check_request(agent_specs: list[str], suite: Suite, out: Path, seed: int, pa
 
 
 def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: bool = False,
-             check_suite: bool = False, workers: int | None = 1, paired: str | None = None) -> dict[str, Any]:
+             check_suite: bool = False, workers: int | None = 1, paired: str | None = None,
+             windows: bool = False) -> dict[str, Any]:
     """Play ``agent_specs`` on ``suite``; write the outputs to ``out`` (atomically); return the results.
 
     Before the first episode every agent is built (:class:`~cof_gym.agents.registry.AgentSpecError`)
@@ -173,7 +177,8 @@ def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: 
     :func:`default_workers`); every episode is seeded on its own, so the outputs are the same for any number. The
     workers are spawned: a script that asks for more than one needs the usual ``if __name__ == "__main__":`` guard.
     ``paired``: one of ``agent_specs``, every other agent compared with it over the same episodes
-    (:func:`~cof_gym.commands.evaluate_stats.paired_summary`: in summary.md, summary.json and on the terminal)."""
+    (:func:`~cof_gym.commands.evaluate_stats.paired_summary`: in summary.md, summary.json and on the terminal).
+    ``windows``: also write ``windows.csv``, every episode's windows, a row each (:data:`WINDOW_COLUMNS`)."""
     check_request(agent_specs, suite, out, seed, paired)
     t0 = time.perf_counter()
     env = suite_env(suite, check_suite)
@@ -187,7 +192,7 @@ def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: 
             n_workers = default_workers(len(agents) * len(suite.episodes)) if workers is None else workers
             baseline = agents[agent_specs.index(paired)][0].name if paired is not None else None
             result = _play_and_write(envs, agents, agent_specs, suite, staging.path, seed, quiet, t0, n_workers,
-                                     baseline)
+                                     baseline, windows)
             staging.commit()
         except BaseException:
             staging.abort()
@@ -205,7 +210,8 @@ def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: 
             print_paired(result["paired"])
         for note in result["notes"]:
             print(f"note: {note}")
-        print(f"episodes.csv, summary.md/json and figures in {out} ({result['wall_time_s']:.1f} s)")
+        written = "episodes.csv, windows.csv" if windows else "episodes.csv"
+        print(f"{written}, summary.md/json and figures in {out} ({result['wall_time_s']:.1f} s)")
     return result
 
 
@@ -273,18 +279,20 @@ def sensor_notes(records) -> list[str]:
             "its estimate there is an extrapolation" for agent, labels in counts.items() for label, n in labels.items()]
 
 
-def _play_episode(envs: dict[str, Any], agents, suite: Suite, k: int, i: int) -> tuple[EpisodeRecord, list | None]:
-    """Agent ``k`` on the suite's episode ``i``; the trace of every agent's first episode (the figures')."""
+def _play_episode(envs: dict[str, Any], agents, suite: Suite, k: int, i: int,
+                  windows: bool = False) -> tuple[EpisodeRecord, list | None]:
+    """Agent ``k`` on the suite's episode ``i``; the trace of every agent's first episode (the figures'), of every
+    episode with ``windows``."""
     agent, oracle = agents[k]
     ep_seed, options = suite.episodes[i]
-    trace = [] if i == 0 else None
+    trace = [] if i == 0 or windows else None
     return run_episode(envs[agent.name], agent, ep_seed, options, i, trace, oracle=oracle, note=suite.note(i)), trace
 
 
 _WORKER: dict[str, Any] = {}  # a worker process's envs, agents and suite (:func:`_start_worker`)
 
 
-def _start_worker(agent_specs: list[str], suite: Suite, warning_filters: list) -> None:
+def _start_worker(agent_specs: list[str], suite: Suite, warning_filters: list, windows: bool = False) -> None:
     """A worker's own env and agents, built as the parent built them, with the parent's warning filters (one
     torch thread: the cores are the workers')."""
     import warnings
@@ -296,30 +304,33 @@ def _start_worker(agent_specs: list[str], suite: Suite, warning_filters: list) -
     torch.set_num_threads(1)
     env = gym.make(suite.env_id, **make_kwargs(suite.env_kwargs))
     agents = build_agents(agent_specs, env)
-    _WORKER.update(envs=agent_envs(agents, suite, env), agents=agents, suite=suite)
+    _WORKER.update(envs=agent_envs(agents, suite, env), agents=agents, suite=suite, windows=windows)
 
 
 def _worker_episode(task: tuple[int, int]) -> tuple[int, int, EpisodeRecord, list | None]:
     k, i = task
-    return (k, i, *_play_episode(_WORKER["envs"], _WORKER["agents"], _WORKER["suite"], k, i))
+    return (k, i, *_play_episode(_WORKER["envs"], _WORKER["agents"], _WORKER["suite"], k, i, _WORKER["windows"]))
 
 
-def _play(envs: dict[str, Any], agents, agent_specs, suite: Suite, workers: int, advance) -> list[tuple]:
+def _play(envs: dict[str, Any], agents, agent_specs, suite: Suite, workers: int, advance,
+          windows: bool = False) -> list[tuple]:
     """``(k, i, record, trace)`` of every agent ``k`` and episode ``i``, in that order: played here in that
-    order (``workers`` 1), or by ``workers`` spawned processes, an episode a task. ``advance(k)`` after each."""
+    order (``workers`` 1), or by ``workers`` spawned processes, an episode a task. ``advance(k)`` after each.
+    The trace of every episode with ``windows``, else of each agent's first."""
     tasks = [(k, i) for k in range(len(agents)) for i in range(len(suite.episodes))]
     workers = min(workers, len(tasks))
-    played = _play_in_workers(agent_specs, suite, tasks, workers, advance) if workers > 1 else None
+    played = _play_in_workers(agent_specs, suite, tasks, workers, advance, windows) if workers > 1 else None
     if played is not None:
         return played
     played = []
     for k, i in tasks:
-        played.append((k, i, *_play_episode(envs, agents, suite, k, i)))
+        played.append((k, i, *_play_episode(envs, agents, suite, k, i, windows)))
         advance(k)
     return played
 
 
-def _play_in_workers(agent_specs, suite: Suite, tasks: list[tuple[int, int]], workers: int, advance) -> list | None:
+def _play_in_workers(agent_specs, suite: Suite, tasks: list[tuple[int, int]], workers: int, advance,
+                     windows: bool = False) -> list | None:
     """:func:`_play`'s tasks in ``workers`` spawned processes, a few handed to each at a time; None where no
     worker process can start here (no process-shared semaphores, e.g. no /dev/shm: one note on stderr)."""
     import multiprocessing
@@ -329,7 +340,7 @@ def _play_in_workers(agent_specs, suite: Suite, tasks: list[tuple[int, int]], wo
     portable = replace(suite, env_kwargs=dict(suite.env_kwargs), episodes=list(suite.episodes))  # what pickles
     try:
         pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"), initializer=_start_worker,
-                                   initargs=(list(agent_specs), portable, list(warnings.filters)))
+                                   initargs=(list(agent_specs), portable, list(warnings.filters), windows))
     except (OSError, NotImplementedError, ImportError) as e:
         print(f"note: no worker processes here ({e}); the episodes are played in this process", file=sys.stderr)
         return None
@@ -364,8 +375,19 @@ def _paired_section(paired: dict[str, Any] | None) -> str:
     return f"## Paired against {paired['baseline']}\n\n{markdown_paired(paired)}\n\n" if paired else ""
 
 
+def _write_windows(played: list[tuple], path: Path) -> None:
+    """``windows.csv``: every played episode's windows (its trace), a row each, in the episodes' order."""
+    with open(path, "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=WINDOW_COLUMNS)
+        writer.writeheader()
+        for _, _, record, trace in played:
+            writer.writerows({"agent": record.agent, "episode": record.episode, "seed": record.seed, "step": step,
+                              **window} for step, window in enumerate(trace, start=1))
+
+
 def _play_and_write(envs: dict[str, Any], agents, agent_specs, suite: Suite, out: Path, seed: int, quiet: bool,
-                    t0: float, workers: int = 1, baseline: str | None = None) -> dict[str, Any]:
+                    t0: float, workers: int = 1, baseline: str | None = None,
+                    windows: bool = False) -> dict[str, Any]:
     progress = _progress(quiet)
     if progress is not None:
         progress.start()
@@ -373,7 +395,7 @@ def _play_and_write(envs: dict[str, Any], agents, agent_specs, suite: Suite, out
         bars = [progress.add_task(agent.name, total=len(suite.episodes)) for agent, _ in agents] \
             if progress is not None else []
         played = _play(envs, agents, agent_specs, suite, workers,
-                       lambda k: progress.advance(bars[k]) if progress is not None else None)
+                       lambda k: progress.advance(bars[k]) if progress is not None else None, windows)
     finally:
         if progress is not None:
             progress.stop()
@@ -386,6 +408,8 @@ def _play_and_write(envs: dict[str, Any], agents, agent_specs, suite: Suite, out
         writer = csv.DictWriter(fh, fieldnames=list(asdict(records[0])))
         writer.writeheader()
         writer.writerows(asdict(r) for r in records)
+    if windows:
+        _write_windows(played, out / "windows.csv")
     (out / "summary.md").write_text(
         f"# cof-gym evaluate: suite {suite.name}, seed {seed}, {suite.env_id}\n\n"
         + "".join(f"Note: {n}.\n\n" for n in notes) + f"{markdown_table(summary)}\n\n" + _paired_section(paired)
@@ -442,6 +466,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=f"processes that play the episodes, at most {MAX_WORKERS} (default: one a usable core, "
                              f"each with at least {EPISODES_PER_WORKER} episodes and {WORKER_MEMORY_BYTES >> 30} GiB "
                              "of the available memory); the outputs are the same for any N")
+    parser.add_argument("--windows", action="store_true",
+                        help="also write OUT/windows.csv: every episode's windows, a row each (agent, episode, seed, "
+                             "step, then the env's elapsed time, the measured DC torque, speed and wheel speed, CoA "
+                             "and phase lag, the agent's estimate and the true CoF)")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress and no table on the terminal")
 
 
@@ -589,7 +617,7 @@ def run(args: argparse.Namespace) -> int:
         print(note, file=sys.stderr)
     try:
         evaluate(specs, suite, out, args.seed, quiet=args.quiet, check_suite=True, workers=args.workers,
-                 paired=args.paired)
+                 paired=args.paired, windows=args.windows)
     except SuiteError as e:
         raise UsageError("--suite", str(e)) from None
     except (registry.AgentSpecError, AgentError) as e:

@@ -13,6 +13,9 @@ from cof_gym.agents.base import agent_view
 # episode ran to the task's last step, max_windows: the agent used every window it had, whether it asked to stop at
 # that step or the task ended the episode there), a macro-slip (scored, penalised), a diverging simulation (unscored)
 ENDINGS = ("stop", "horizon", "macro-slip", "diverged")
+# a trace's window, in order: the env's elapsed time [s], the measured DC torque [N m], the speed sensor's reading and
+# the wheel's speed [m/s], the measured CoA, the phase lag [deg], the agent's estimate and the true CoF
+TRACE_FIELDS = ("t", "dc_torque_nm", "speed_m_s", "wheel_speed_m_s", "coa", "phase_deg", "estimate", "cof")
 
 
 @dataclass
@@ -164,10 +167,10 @@ def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list 
         windows.add(info)
         peak = max(peak, _field(info, "peak_torque_fraction"))  # the true torque, not the biased reading
         if trace is not None:
-            trace.append({"t": info["elapsed_s"], "dc_torque_nm": m["torque_mean_nm"], "speed_m_s": m["speed_measured_m_s"],
-                          "wheel_speed_m_s": m["speed_measured_m_s"] * (1.0 + _field(info, "creepage_mean")),
-                          "coa": m["coa_measured"], "phase_deg": m["phase_lag_deg"],
-                          "estimate": info["cof_estimate"], "cof": info["ground_truth"]["cof"]})
+            trace.append(dict(zip(TRACE_FIELDS, (
+                info["elapsed_s"], m["torque_mean_nm"], m["speed_measured_m_s"],
+                m["speed_measured_m_s"] * (1.0 + _field(info, "creepage_mean")), m["coa_measured"], m["phase_lag_deg"],
+                info["cof_estimate"], info["ground_truth"]["cof"]), strict=True)))
         if terminated or truncated:
             break
     gt = info["ground_truth"]
