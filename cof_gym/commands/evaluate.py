@@ -41,8 +41,8 @@ family, the creep curve's peak creepage, systematic creepage-error band, the uti
 the estimate was committed and how the episode ended: the agent's stop, the horizon (the last of the
 task's steps), a macro-slip), the coverage of the interval an agent reports around its estimate (the learned
 interrogator's), and figures; with --windows also OUT/windows.csv, every episode window by window. --env-kwargs
-plays the suite with other env arguments (e.g. max_windows:60, a longer horizon). The outputs appear all at once when the run completes (an
-interrupted run leaves the previous OUT as it was). Only agents marked as oracles see
+plays the suite with other env arguments (e.g. max_windows:60, a longer horizon). The outputs appear all at once
+when the run completes (an interrupted run leaves the previous OUT as it was). Only agents marked as oracles see
 info["ground_truth"]."""
 
 DEFAULT_OUT = Path("out") / "evaluate"
