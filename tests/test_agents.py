@@ -112,8 +112,9 @@ def test_worker_processes_write_what_one_process_writes(tmp_path: Path, monkeypa
 
 
 def test_windows_csv_holds_every_episodes_windows_and_changes_nothing_else(tmp_path: Path) -> None:
-    """--windows: windows.csv has a row per window each episode drove (its steps), the last holding the estimate the
-    episode scored, the same bytes from two workers as from one; the other outputs are those of a run without it."""
+    """--windows: windows.csv has a row per step of each episode, the last holding the estimate the episode scored,
+    its rewards summing to the episode's return and its driven windows those the record counted (a stop drives none);
+    the same bytes from two workers as from one; the other outputs are those of a run without it."""
     from cof_gym.commands.evaluate import WINDOW_COLUMNS
 
     suite = make_suite("default", 2, seed=3)
@@ -138,6 +139,12 @@ def test_windows_csv_holds_every_episodes_windows_and_changes_nothing_else(tmp_p
         assert [int(w["step"]) for w in mine] == list(range(1, int(e["steps"]) + 1))
         assert {w["seed"] for w in mine} == {e["seed"]} and float(mine[-1]["estimate"]) == float(e["estimate"])
         assert all(float(w["cof"]) == float(e["cof"]) for w in mine)
+        assert sum(float(w["reward"]) for w in mine) == float(e["episode_return"])  # the same sum, in the same order
+        drove = [w["drove_window"] == "True" for w in mine]
+        # every step but the last drove a window; a stop drives none (a horizon's last step may be a stop too)
+        assert all(drove[:-1]) and (e["ended"] != "stop" or not drove[-1])
+        assert sum(float(w["t"]) - float(p["t"]) > 0 for p, w in zip(mine, mine[1:])) == sum(drove[1:])
+    assert {e["ended"] for e in episodes} >= {"stop"}  # the stop's row is seen
 
 
 def test_where_no_worker_process_can_start_the_episodes_are_played_here(tmp_path: Path, monkeypatch, capsys) -> None:

@@ -20,7 +20,7 @@ from typing import Any, Mapping
 
 from cof_gym.agents import registry
 from cof_gym.agents.base import own_env_options
-from cof_gym.commands.evaluate_episodes import TRACE_FIELDS, AgentError, EpisodeRecord, run_episode
+from cof_gym.commands.evaluate_episodes import STEP_FIELDS, AgentError, EpisodeRecord, run_episode
 from cof_gym.commands.evaluate_stats import COF_BANDS, paired_summary, summarize
 from cof_gym.commands.evaluate_tables import (markdown_breakdown, markdown_intervals, markdown_paired, markdown_table,
                                               print_paired, print_table)
@@ -40,16 +40,16 @@ each with a bootstrap 95 % CI, and a breakdown by condition, CoF band, creep-law
 family, the creep curve's peak creepage, systematic creepage-error band, the utilisation at which
 the estimate was committed and how the episode ended: the agent's stop, the horizon (the last of the
 task's steps), a macro-slip), the coverage of the interval an agent reports around its estimate (the learned
-interrogator's), and figures; with --windows also OUT/windows.csv, every episode window by window. --env-kwargs
+interrogator's), and figures; with --windows also OUT/windows.csv, every episode step by step. --env-kwargs
 plays the suite with other env arguments (e.g. max_windows:60, a longer horizon). The outputs appear all at once
 when the run completes (an interrupted run leaves the previous OUT as it was). Only agents marked as oracles see
 info["ground_truth"]."""
 
 DEFAULT_OUT = Path("out") / "evaluate"
 OUTPUT_MARKER = "summary.json"  # what makes an existing --out directory a previous evaluate output
-# windows.csv's columns (--windows): the episode's agent, index and seed, the window's step (1: the first action's),
-# then its trace (evaluate_episodes.TRACE_FIELDS)
-WINDOW_COLUMNS = ("agent", "episode", "seed", "step", *TRACE_FIELDS)
+# windows.csv's columns (--windows): the episode's agent, index and seed, the step (1: the first action's), then what
+# the step read and scored (evaluate_episodes.STEP_FIELDS)
+WINDOW_COLUMNS = ("agent", "episode", "seed", "step", *STEP_FIELDS)
 QUEUED_PER_WORKER = 4  # episodes handed to the workers at a time, per worker (however long the suite)
 
 
@@ -280,13 +280,16 @@ def sensor_notes(records) -> list[str]:
 
 
 def _play_episode(envs: dict[str, Any], agents, suite: Suite, k: int, i: int,
-                  windows: bool = False) -> tuple[EpisodeRecord, list | None]:
-    """Agent ``k`` on the suite's episode ``i``; the trace of every agent's first episode (the figures'), of every
-    episode with ``windows``."""
+                  windows: bool = False) -> tuple[EpisodeRecord, list | None, list | None]:
+    """Agent ``k`` on the suite's episode ``i``: its record, its trace if it is the agent's first (the figures'),
+    its steps with ``windows`` (windows.csv's rows)."""
     agent, oracle = agents[k]
     ep_seed, options = suite.episodes[i]
-    trace = [] if i == 0 or windows else None
-    return run_episode(envs[agent.name], agent, ep_seed, options, i, trace, oracle=oracle, note=suite.note(i)), trace
+    trace = [] if i == 0 else None
+    steps = [] if windows else None
+    record = run_episode(envs[agent.name], agent, ep_seed, options, i, trace, oracle=oracle, note=suite.note(i),
+                         steps_out=steps)
+    return record, trace, steps
 
 
 _WORKER: dict[str, Any] = {}  # a worker process's envs, agents and suite (:func:`_start_worker`)
@@ -307,16 +310,16 @@ def _start_worker(agent_specs: list[str], suite: Suite, warning_filters: list, w
     _WORKER.update(envs=agent_envs(agents, suite, env), agents=agents, suite=suite, windows=windows)
 
 
-def _worker_episode(task: tuple[int, int]) -> tuple[int, int, EpisodeRecord, list | None]:
+def _worker_episode(task: tuple[int, int]) -> tuple[int, int, EpisodeRecord, list | None, list | None]:
     k, i = task
     return (k, i, *_play_episode(_WORKER["envs"], _WORKER["agents"], _WORKER["suite"], k, i, _WORKER["windows"]))
 
 
 def _play(envs: dict[str, Any], agents, agent_specs, suite: Suite, workers: int, advance,
           windows: bool = False) -> list[tuple]:
-    """``(k, i, record, trace)`` of every agent ``k`` and episode ``i``, in that order: played here in that
-    order (``workers`` 1), or by ``workers`` spawned processes, an episode a task. ``advance(k)`` after each.
-    The trace of every episode with ``windows``, else of each agent's first."""
+    """``(k, i, record, trace, steps)`` of every agent ``k`` and episode ``i`` (:func:`_play_episode`), in that
+    order: played here in that order (``workers`` 1), or by ``workers`` spawned processes, an episode a task.
+    ``advance(k)`` after each."""
     tasks = [(k, i) for k in range(len(agents)) for i in range(len(suite.episodes))]
     workers = min(workers, len(tasks))
     played = _play_in_workers(agent_specs, suite, tasks, workers, advance, windows) if workers > 1 else None
@@ -354,9 +357,9 @@ def _play_in_workers(agent_specs, suite: Suite, tasks: list[tuple[int, int]], wo
                     break
                 finished, pending = wait(pending, return_when=FIRST_COMPLETED)
                 for future in finished:
-                    k, i, record, trace = future.result()
-                    done[k, i] = (k, i, record, trace)
-                    advance(k)
+                    outcome = future.result()  # (k, i, record, trace, steps)
+                    done[outcome[:2]] = outcome
+                    advance(outcome[0])
         except BaseException:
             for future in pending:
                 future.cancel()
@@ -376,13 +379,13 @@ def _paired_section(paired: dict[str, Any] | None) -> str:
 
 
 def _write_windows(played: list[tuple], path: Path) -> None:
-    """``windows.csv``: every played episode's windows (its trace), a row each, in the episodes' order."""
+    """``windows.csv``: every played episode's steps, a row each, in the episodes' order."""
     with open(path, "w", newline="") as fh:
         writer = csv.DictWriter(fh, fieldnames=WINDOW_COLUMNS)
         writer.writeheader()
-        for _, _, record, trace in played:
+        for _, _, record, _, steps in played:
             writer.writerows({"agent": record.agent, "episode": record.episode, "seed": record.seed, "step": step,
-                              **window} for step, window in enumerate(trace, start=1))
+                              **row} for step, row in enumerate(steps, start=1))
 
 
 def _play_and_write(envs: dict[str, Any], agents, agent_specs, suite: Suite, out: Path, seed: int, quiet: bool,
@@ -399,8 +402,8 @@ def _play_and_write(envs: dict[str, Any], agents, agent_specs, suite: Suite, out
     finally:
         if progress is not None:
             progress.stop()
-    records = [record for _, _, record, _ in played]
-    traces = {agents[k][0].name: trace for k, i, _, trace in played if i == 0}
+    records = [record for _, _, record, _, _ in played]
+    traces = {agents[k][0].name: trace for k, i, _, trace, _ in played if i == 0}
     summary = summarize(records, seed)
     paired = paired_summary(records, baseline, seed) if baseline is not None else None
     notes = distribution_notes(agents, suite) + sensor_notes(records)
@@ -467,9 +470,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              f"each with at least {EPISODES_PER_WORKER} episodes and {WORKER_MEMORY_BYTES >> 30} GiB "
                              "of the available memory); the outputs are the same for any N")
     parser.add_argument("--windows", action="store_true",
-                        help="also write OUT/windows.csv: every episode's windows, a row each (agent, episode, seed, "
-                             "step, then the env's elapsed time, the measured DC torque, speed and wheel speed, CoA "
-                             "and phase lag, the agent's estimate and the true CoF)")
+                        help="also write OUT/windows.csv: every episode's steps, a row each (agent, episode, seed, "
+                             "step; the env's elapsed time, the measured DC torque, speed and wheel speed, CoA and "
+                             "phase lag, the agent's estimate and the true CoF; whether the step drove a window, the "
+                             "measured modulation amplitude, the lag's SE and the creepage, the reward and its terms, "
+                             "the true CoA and torque over the saturation torque)")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress and no table on the terminal")
 
 

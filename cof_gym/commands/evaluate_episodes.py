@@ -8,6 +8,7 @@ from dataclasses import dataclass, fields
 from typing import Any
 
 from cof_gym.agents.base import agent_view
+from cof_gym.task.reward import REWARD_TERMS
 
 # how an episode ended, in the breakdown's order: the agent's stop action before its last step, the horizon (the
 # episode ran to the task's last step, max_windows: the agent used every window it had, whether it asked to stop at
@@ -16,6 +17,12 @@ ENDINGS = ("stop", "horizon", "macro-slip", "diverged")
 # a trace's window, in order: the env's elapsed time [s], the measured DC torque [N m], the speed sensor's reading and
 # the wheel's speed [m/s], the measured CoA, the phase lag [deg], the agent's estimate and the true CoF
 TRACE_FIELDS = ("t", "dc_torque_nm", "speed_m_s", "wheel_speed_m_s", "coa", "phase_deg", "estimate", "cof")
+# a step as windows.csv holds it (evaluate --windows): its trace, whether it drove a window (a stop and a diverged
+# step did not: their readings repeat the last window's, WindowTotals), the measured modulation amplitude [N m], the
+# lag's standard error [deg] and the measured creepage, the step's reward and its terms, and from the ground truth the
+# true CoA and the true torque over the saturation torque
+STEP_FIELDS = (*TRACE_FIELDS, "drove_window", "torque_amplitude_nm", "phase_se_deg", "creepage", "reward",
+               *REWARD_TERMS, "coa_true", "torque_fraction")
 
 
 @dataclass
@@ -122,15 +129,16 @@ class WindowTotals:
     windows: int = 0
     elapsed_s: float = 0.0  # the env's elapsed time at the last window counted (or at the reset)
 
-    def add(self, info: dict) -> None:
-        """The step's window, if it ran one (see the class)."""
+    def add(self, info: dict) -> bool:
+        """The step's window, if it ran one (see the class); whether it did."""
         if info["elapsed_s"] <= self.elapsed_s or info.get("diverged", False):
-            return
+            return False
         self.elapsed_s = info["elapsed_s"]
         self.windows += 1
         self.slip_energy_j += _field(info, "energy_past_peak_j")
         self.friction_energy_j += _field(info, "friction_energy_j")
         self.wd_squared_sum += info["measurement"]["wd_rms_m_s2"] ** 2
+        return True
 
     @property
     def wd_rms_m_s2(self) -> float:
@@ -139,10 +147,11 @@ class WindowTotals:
 
 
 def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list | None = None,
-                oracle: bool | None = None, note: str = "") -> EpisodeRecord:
+                oracle: bool | None = None, note: str = "", steps_out: list | None = None) -> EpisodeRecord:
     """One episode of ``agent``. ``oracle`` (default: the agent's own flag) decides whether the agent
     sees ``info["ground_truth"]``; the evaluator always reads it for scoring. :class:`AgentError` where the agent
-    raises or returns an action the env refuses."""
+    raises or returns an action the env refuses. Each step is appended to ``trace`` (:data:`TRACE_FIELDS`) and to
+    ``steps_out`` (:data:`STEP_FIELDS`) where they are given."""
     oracle = bool(getattr(agent, "oracle", False)) if oracle is None else bool(oracle)
     obs, info = env.reset(seed=seed, options=options)
     try:
@@ -164,13 +173,17 @@ def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list 
         total += reward
         steps += 1
         m = info["measurement"]
-        windows.add(info)
+        drove = windows.add(info)
         peak = max(peak, _field(info, "peak_torque_fraction"))  # the true torque, not the biased reading
-        if trace is not None:
-            trace.append(dict(zip(TRACE_FIELDS, (
+        if trace is not None or steps_out is not None:
+            window = dict(zip(TRACE_FIELDS, (
                 info["elapsed_s"], m["torque_mean_nm"], m["speed_measured_m_s"],
                 m["speed_measured_m_s"] * (1.0 + _field(info, "creepage_mean")), m["coa_measured"], m["phase_lag_deg"],
-                info["cof_estimate"], info["ground_truth"]["cof"]), strict=True)))
+                info["cof_estimate"], info["ground_truth"]["cof"]), strict=True))
+            if trace is not None:
+                trace.append(window)
+            if steps_out is not None:
+                steps_out.append(_step_row(window, drove, info, reward))
         if terminated or truncated:
             break
     gt = info["ground_truth"]
@@ -193,6 +206,15 @@ def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list 
         interval_low=interval[0], interval_high=interval[1], lower_bound=interval[2],
         sensor_notes="; ".join(notes),
     )
+
+
+def _step_row(window: dict[str, float], drove: bool, info: dict, reward: float) -> dict[str, Any]:
+    """A step's :data:`STEP_FIELDS`: its trace ``window``, whether it drove one, and what ``info`` and ``reward``
+    add."""
+    m, truth = info["measurement"], info["ground_truth"]
+    return {**window, **dict(zip(STEP_FIELDS[len(TRACE_FIELDS):], (
+        drove, m["torque_amplitude_nm"], m["phase_lag_se_deg"], m["creepage_measured"], reward,
+        *(info[term] for term in REWARD_TERMS), truth["coa_true"], truth["torque_fraction"]), strict=True))}
 
 
 def _sensor_notes(agent) -> tuple[str, ...]:
