@@ -111,7 +111,7 @@ def test_worker_processes_write_what_one_process_writes(tmp_path: Path, monkeypa
         assert (tmp_path / "one" / name).read_bytes() == (tmp_path / "two" / name).read_bytes(), name
 
 
-def test_windows_csv_holds_every_episodes_windows_and_changes_nothing_else(tmp_path: Path) -> None:
+def test_windows_csv_holds_every_episodes_steps_and_changes_nothing_else(tmp_path: Path) -> None:
     """--windows: windows.csv has a row per step of each episode, the last holding the estimate the episode scored,
     its rewards summing to the episode's return and its driven windows those the record counted (a stop drives none);
     the same bytes from two workers as from one; the other outputs are those of a run without it."""

@@ -178,7 +178,7 @@ def evaluate(agent_specs: list[str], suite: Suite, out: Path, seed: int, quiet: 
     workers are spawned: a script that asks for more than one needs the usual ``if __name__ == "__main__":`` guard.
     ``paired``: one of ``agent_specs``, every other agent compared with it over the same episodes
     (:func:`~cof_gym.commands.evaluate_stats.paired_summary`: in summary.md, summary.json and on the terminal).
-    ``windows``: also write ``windows.csv``, every episode's windows, a row each (:data:`WINDOW_COLUMNS`)."""
+    ``windows``: also write ``windows.csv``, every episode's steps, a row each (:data:`WINDOW_COLUMNS`)."""
     check_request(agent_specs, suite, out, seed, paired)
     t0 = time.perf_counter()
     env = suite_env(suite, check_suite)
