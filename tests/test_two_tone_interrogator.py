@@ -114,9 +114,13 @@ def test_evaluate_plays_a_two_tone_interrogator_in_its_own_env_on_the_same_scena
     two_tone_member.save(run / "member_0.npz")
     (run / "manifest.json").write_text(json.dumps({"climb": asdict(TWO_TONES)}))
     suite = make_suite("default", 2, 0)
-    result = evaluate(["phase-rule", f"interrogator:{run}"], suite, tmp_path / "out", 0, quiet=True)
+    result = evaluate(["phase-rule", f"interrogator:{run}"], suite, tmp_path / "out", 0, quiet=True, windows=True)
     with open(tmp_path / "out" / "episodes.csv") as fh:
         rows = list(csv.DictReader(fh))
+    with open(tmp_path / "out" / "windows.csv") as fh:  # the multitone env's steps, as the sine env's
+        steps = list(csv.DictReader(fh))
+    assert len(steps) == sum(int(row["steps"]) for row in rows)
+    assert {s["agent"] for s in steps} == {row["agent"] for row in rows}
     by_agent = {}
     for row in rows:
         by_agent.setdefault(row["agent"], []).append((row["seed"], row["cof"]))
