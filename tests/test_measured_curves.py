@@ -160,6 +160,25 @@ def test_a_header_in_percent_reads_the_same_curve(header: str, creepage_scale: f
                                rtol=1e-12)
 
 
+@pytest.mark.parametrize("separated", ["semicolons", "semicolons, decimal points", "tabs", "spaces",
+                                       "commas, a semicolon in the header"])
+def test_a_spreadsheets_export_reads_the_same_curve(separated: str, tmp_path: Path) -> None:
+    """A measured curve exported where the comma is the decimal mark (cells split at semicolons or tabs), or written
+    with spaces between its columns, reads as the comma-separated file of the same numbers."""
+    s = np.geomspace(5e-4, 0.03, 12)
+    plain = read_measured_curve(_write_csv(tmp_path / "plain.csv", s, _curve(s)))
+    pairs = [(repr(float(a)), repr(float(b))) for a, b in zip(s, _curve(s))]
+    header, rows = {
+        "semicolons": ("creepage;CoA", [f"{a.replace('.', ',')};{b.replace('.', ',')}" for a, b in pairs]),
+        "semicolons, decimal points": ("creepage;CoA", [f"{a};{b}" for a, b in pairs]),
+        "tabs": ("creepage\tCoA", [f"{a.replace('.', ',')}\t{b}" for a, b in pairs]),
+        "spaces": ("# creepage, CoA\ncreepage   CoA", [f"{a}   {b}" for a, b in pairs]),
+        "commas, a semicolon in the header": ('"creepage; [-]",CoA', [f"{a},{b}" for a, b in pairs]),
+    }[separated]
+    (path := tmp_path / "export.csv").write_text("\n".join([header, *rows]) + "\n")
+    assert read_measured_curve(path) == plain
+
+
 def test_a_slip_velocity_column_is_refused(tmp_path: Path) -> None:
     (path := tmp_path / "slip.csv").write_text("slip velocity [m/s],coa\n0.01,0.1\n0.05,0.2\n")
     with pytest.raises(ValueError, match="the first column is a slip velocity"):
@@ -231,6 +250,7 @@ def test_a_bad_measured_curve_in_a_suite_is_one_line_exit_2(options: dict, fragm
 
 @pytest.mark.parametrize("text,extra,fragment", [
     ("creepage,coa\n0.001,0.1\n0.002,abc\n", [], "row 3 is not a creepage and a CoA"),
+    ("creepage;coa\n0,001;0,1\n0,002;0,2,5\n", [], "row 3 is not a creepage and a CoA"),  # two decimal commas
     ("0.001\n", [], "row 1 is not a creepage and a CoA"),  # a number in it: data, not a header
     ("coa\n", [], "two or more points"),  # a first row without a number is a header
     # a typo in the first row was taken for a header and that point lost; a percent sign after a number for a

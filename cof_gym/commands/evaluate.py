@@ -449,7 +449,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "and RL Zoo take them), e.g. max_windows:60 (a longer horizon) or counter_torque:True; "
                              "not the agents' interface (action_type, excitation, info_layout)")
     parser.add_argument("--creep-table", nargs="+", default=None, metavar="CSV",
-                        help="a measured creep curve, rows of creepage and CoA (a twin disc, a test run), played in "
+                        help="a measured creep curve, rows of creepage and CoA (a twin disc, a test run; separated "
+                             "by commas, semicolons, tabs or spaces, a decimal comma where semicolons or tabs "
+                             "separate), played in "
                              "every episode at its own CoF (its points made into a table: "
                              "cof_gym/physics/measured_curves.py); the other scenario fields as the suite draws them. "
                              "Several files: the suite's episodes played once per curve with the same seeds, each "

@@ -360,26 +360,35 @@ def read_measured_curve(path: Path) -> dict[str, Any]:
     with a number in it is data, read as such or refused as a row), blank rows and rows
     starting with ``#`` are skipped. A header cell with ``%`` or ``percent`` in it says its column is in percent (a
     twin-disc report's "creepage [%]"); one with ``m/s`` in the creepage's is refused (a slip velocity needs the
-    speed it was measured at: divide by it). ValueError (one line, naming the file and the row) otherwise."""
+    speed it was measured at: divide by it). The cells are separated as :func:`_delimiter` finds them: by commas, by
+    semicolons or tabs (a spreadsheet's export where the comma is the decimal mark, ``0,002;0,15``: there a number may
+    use either mark), or by spaces (decimal points). ValueError (one line, naming the file and the row) otherwise."""
     import csv
 
     from cof_gym.physics.measured_curves import measured_table
 
     try:
-        with open(path, newline="") as f:
-            rows = [(i + 1, r) for i, r in enumerate(csv.reader(f)) if r and "".join(r).strip()
-                    and not r[0].lstrip().startswith("#")]
-    except (OSError, UnicodeDecodeError, csv.Error) as e:
+        lines = Path(path).read_text().splitlines()
+    except (OSError, UnicodeDecodeError) as e:
         raise ValueError(f"{path} cannot be read as CSV ({' '.join(str(e).split())})") from None
+    data = [(i + 1, line) for i, line in enumerate(lines) if line.strip() and not line.lstrip().startswith("#")]
+    delimiter = _delimiter([line for _, line in data])
+    try:
+        cells = [line.split() if delimiter is None else next(csv.reader([line], delimiter=delimiter))
+                 for _, line in data]
+    except csv.Error as e:
+        raise ValueError(f"{path} cannot be read as CSV ({' '.join(str(e).split())})") from None
+    rows = [(line, row) for (line, _), row in zip(data, cells) if "".join(row).strip()]
+    number = float if delimiter == "," else _decimal_comma_float
     points = []
     scales = (1.0, 1.0)
     for k, (line, row) in enumerate(rows):
         try:
             if len(row) < 2:
                 raise ValueError
-            points.append((float(row[0]) * scales[0], float(row[1]) * scales[1]))
+            points.append((number(row[0]) * scales[0], number(row[1]) * scales[1]))
         except ValueError:
-            if k == 0 and not any(_is_number(cell) for cell in row[:2]):
+            if k == 0 and not any(_is_number(cell, number) for cell in row[:2]):
                 scales = _header_scales(path, row)
                 continue
             raise ValueError(f"{path}: row {line} is not a creepage and a CoA (two numbers), got {brief(row)}"
@@ -392,9 +401,23 @@ def read_measured_curve(path: Path) -> dict[str, Any]:
     return {"creep_law": shape_spec(table), "cof": cof}
 
 
-def _is_number(cell: str) -> bool:
+def _delimiter(lines: list[str]) -> str | None:
+    """What separates a measured curve's cells: of a semicolon, a tab and a comma, the one in the most ``lines``
+    (a tie: the first of them, so ``0,002;0,15`` is split at its semicolons), or (None) runs of spaces where no line
+    holds any of them."""
+    counts = {d: sum(d in line for line in lines) for d in (";", "\t", ",")}
+    delimiter = max(counts, key=counts.get)  # the first of the most frequent
+    return delimiter if counts[delimiter] else None
+
+
+def _decimal_comma_float(cell: str) -> float:
+    """A number with a decimal point or a decimal comma (``0,002``); ValueError otherwise."""
+    return float(cell.replace(",", ".", 1) if "." not in cell else cell)
+
+
+def _is_number(cell: str, number=float) -> bool:
     try:
-        float(cell)
+        number(cell)
     except ValueError:
         return False
     return True
