@@ -177,6 +177,13 @@ def test_a_spreadsheets_export_reads_the_same_curve(separated: str, tmp_path: Pa
     }[separated]
     (path := tmp_path / "export.csv").write_text("\n".join([header, *rows]) + "\n")
     assert read_measured_curve(path) == plain
+    # as a spreadsheet writes it: a UTF-8 byte-order mark and Windows line ends, or a Latin-1 header
+    path.write_bytes(b"\xef\xbb\xbf" + "\r\n".join(rows).encode())
+    assert read_measured_curve(path) == plain
+    path.write_bytes("\n".join([header.replace("CoA", "µ [°]"), *rows]).encode("latin-1"))
+    assert read_measured_curve(path) == plain
+    path.write_bytes("\r\n".join([header, *rows]).encode("utf-16"))  # "Unicode text", its byte-order mark first
+    assert read_measured_curve(path) == plain
 
 
 def test_a_slip_velocity_column_is_refused(tmp_path: Path) -> None:
@@ -251,6 +258,7 @@ def test_a_bad_measured_curve_in_a_suite_is_one_line_exit_2(options: dict, fragm
 @pytest.mark.parametrize("text,extra,fragment", [
     ("creepage,coa\n0.001,0.1\n0.002,abc\n", [], "row 3 is not a creepage and a CoA"),
     ("creepage;coa\n0,001;0,1\n0,002;0,2,5\n", [], "row 3 is not a creepage and a CoA"),  # two decimal commas
+    ("\x00\x01", [], "cannot be read as CSV (it holds NUL bytes: not a text file)"),
     ("0.001\n", [], "row 1 is not a creepage and a CoA"),  # a number in it: data, not a header
     ("coa\n", [], "two or more points"),  # a first row without a number is a header
     # a typo in the first row was taken for a header and that point lost; a percent sign after a number for a

@@ -368,9 +368,12 @@ def read_measured_curve(path: Path) -> dict[str, Any]:
     from cof_gym.physics.measured_curves import measured_table
 
     try:
-        lines = Path(path).read_text().splitlines()
-    except (OSError, UnicodeDecodeError) as e:
+        raw = Path(path).read_bytes()
+    except OSError as e:
         raise ValueError(f"{path} cannot be read as CSV ({' '.join(str(e).split())})") from None
+    lines = _text_lines(raw)
+    if lines is None:
+        raise ValueError(f"{path} cannot be read as CSV (it holds NUL bytes: not a text file)")
     data = [(i + 1, line) for i, line in enumerate(lines) if line.strip() and not line.lstrip().startswith("#")]
     delimiter = _delimiter([line for _, line in data])
     try:
@@ -399,6 +402,21 @@ def read_measured_curve(path: Path) -> dict[str, Any]:
     except ValueError as e:
         raise ValueError(f"{path}: {e}") from None
     return {"creep_law": shape_spec(table), "cof": cof}
+
+
+def _text_lines(raw: bytes) -> list[str] | None:
+    """A text file's lines: UTF-16 after its byte-order mark (a spreadsheet's "Unicode text"), UTF-8 (a byte-order
+    mark dropped), else Latin-1 (a header's "µ" or "°" from an older export); None for bytes of no text (a NUL)."""
+    import codecs
+
+    if raw.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
+        return raw.decode("utf-16").splitlines()
+    if b"\x00" in raw:
+        return None
+    try:
+        return raw.decode("utf-8-sig").splitlines()
+    except UnicodeDecodeError:
+        return raw.decode("latin-1").splitlines()
 
 
 def _delimiter(lines: list[str]) -> str | None:
