@@ -258,7 +258,9 @@ def test_a_bad_measured_curve_in_a_suite_is_one_line_exit_2(options: dict, fragm
 @pytest.mark.parametrize("text,extra,fragment", [
     ("creepage,coa\n0.001,0.1\n0.002,abc\n", [], "row 3 is not a creepage and a CoA"),
     ("creepage;coa\n0,001;0,1\n0,002;0,2,5\n", [], "row 3 is not a creepage and a CoA"),  # two decimal commas
-    ("\x00\x01", [], "cannot be read as CSV (it holds NUL bytes: not a text file)"),
+    ("\x00\x01", [], "cannot be read as CSV (not a text file"),
+    # "creepage [%] CoA" split at its spaces put the percent on the CoA's column
+    ("creepage [%]  CoA\n0.1 0.1\n0.3 0.2\n1 0.25\n", [], "a header of columns separated by spaces, names units"),
     ("0.001\n", [], "row 1 is not a creepage and a CoA"),  # a number in it: data, not a header
     ("coa\n", [], "two or more points"),  # a first row without a number is a header
     # a typo in the first row was taken for a header and that point lost; a percent sign after a number for a

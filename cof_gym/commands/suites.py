@@ -373,7 +373,7 @@ def read_measured_curve(path: Path) -> dict[str, Any]:
         raise ValueError(f"{path} cannot be read as CSV ({' '.join(str(e).split())})") from None
     lines = _text_lines(raw)
     if lines is None:
-        raise ValueError(f"{path} cannot be read as CSV (it holds NUL bytes: not a text file)")
+        raise ValueError(f"{path} cannot be read as CSV (not a text file: NUL bytes, or UTF-16 that does not decode)")
     data = [(i + 1, line) for i, line in enumerate(lines) if line.strip() and not line.lstrip().startswith("#")]
     delimiter = _delimiter([line for _, line in data])
     try:
@@ -392,6 +392,10 @@ def read_measured_curve(path: Path) -> dict[str, Any]:
             points.append((number(row[0]) * scales[0], number(row[1]) * scales[1]))
         except ValueError:
             if k == 0 and not any(_is_number(cell, number) for cell in row[:2]):
+                if delimiter is None and len(row) > 2 and any(unit in " ".join(row).lower() for unit in _UNITS):
+                    raise ValueError(f"{path}: row {line}, a header of columns separated by spaces, names units "
+                                     f"({brief(row)}) without saying of which column; separate the columns with "
+                                     "commas, semicolons or tabs") from None
                 scales = _header_scales(path, row)
                 continue
             raise ValueError(f"{path}: row {line} is not a creepage and a CoA (two numbers), got {brief(row)}"
@@ -404,13 +408,22 @@ def read_measured_curve(path: Path) -> dict[str, Any]:
     return {"creep_law": shape_spec(table), "cof": cof}
 
 
+# what a header cell may say of its column (_header_scales): in percent; a slip velocity (refused)
+PERCENT_MARKS, SLIP_VELOCITY_MARK = ("%", "percent"), "m/s"
+_UNITS = (*PERCENT_MARKS, SLIP_VELOCITY_MARK)
+
+
 def _text_lines(raw: bytes) -> list[str] | None:
     """A text file's lines: UTF-16 after its byte-order mark (a spreadsheet's "Unicode text"), UTF-8 (a byte-order
-    mark dropped), else Latin-1 (a header's "µ" or "°" from an older export); None for bytes of no text (a NUL)."""
+    mark dropped), else Latin-1 (a header's "µ" or "°" from an older export); None for bytes of no text (a NUL, or
+    UTF-16 that does not decode)."""
     import codecs
 
     if raw.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
-        return raw.decode("utf-16").splitlines()
+        try:
+            return raw.decode("utf-16").splitlines()
+        except UnicodeDecodeError:
+            return None
     if b"\x00" in raw:
         return None
     try:
@@ -444,10 +457,10 @@ def _is_number(cell: str, number=float) -> bool:
 def _header_scales(path: Path, header: list[str]) -> tuple[float, float]:
     """What the creepage and the CoA columns are multiplied by: 0.01 where the header says percent, else 1."""
     cells = [cell.lower() for cell in [*header, "", ""][:2]]
-    if "m/s" in cells[0]:
+    if SLIP_VELOCITY_MARK in cells[0]:
         raise ValueError(f"{path}: the first column is a slip velocity ({header[0].strip()!r}); give the creepage, "
                          "the slip velocity over the speed it was measured at")
-    return tuple(0.01 if "%" in cell or "percent" in cell else 1.0 for cell in cells)
+    return tuple(0.01 if any(mark in cell for mark in PERCENT_MARKS) else 1.0 for cell in cells)
 
 
 def per_curve(suite: Suite, curves: Sequence[tuple[str, dict[str, Any]]]) -> Suite:
