@@ -145,6 +145,50 @@ def test_windows_csv_holds_every_episodes_steps_and_changes_nothing_else(tmp_pat
         assert all(drove[:-1]) and (e["ended"] != "stop" or not drove[-1])
         assert sum(float(w["t"]) - float(p["t"]) > 0 for p, w in zip(mine, mine[1:])) == sum(drove[1:])
     assert {e["ended"] for e in episodes} >= {"stop"}  # the stop's row is seen
+    assert {w["lower_bound_in_flight"] for w in windows} == {""}  # neither agent holds a bound in flight
+
+
+class _BoundAgent(PracticalStaircase):
+    """The staircase reporting a given in-flight lower bound after every action."""
+
+    bound: object = 0.1
+
+    def in_flight_lower_bound(self):
+        return self.bound
+
+
+@pytest.mark.parametrize("bound", [0.1, math.nan, -0.1, "high"])
+def test_a_step_records_the_in_flight_bound_the_agent_held_and_refuses_a_bad_one(bound) -> None:
+    """windows.csv's lower_bound_in_flight is what the agent reported after choosing the step's action; a NaN, a
+    non-positive or non-numeric report is the agent's error, one line naming it, the step and the episode."""
+    from cof_gym.commands.evaluate_episodes import AgentError
+
+    env = gym.make("CofGym/TorqueInterrogation-v2")
+    agent = _BoundAgent(limits_of(env))
+    agent.bound = bound
+    steps: list = []
+    if bound == 0.1:
+        record = run_episode(env, agent, 4, {}, 0, steps_out=steps)
+        assert len(steps) == record.steps and all(row["lower_bound_in_flight"] == 0.1 for row in steps)
+    else:
+        with pytest.raises(AgentError, match=r"reported in flight at step 0 in episode 0 \(seed 4\)"):
+            run_episode(env, agent, 4, {}, 0, steps_out=steps)
+    record = run_episode(env, agent, 4, {}, 0)  # without steps_out the bound is not asked for
+    assert record.steps > 0
+    env.close()
+
+
+def test_the_learned_interrogator_holds_a_bound_in_flight_in_windows_csv() -> None:
+    """The shipped interrogator reports a calibrated lower bound in flight once its climb has read windows: the
+    step rows carry it, a positive CoF, beside the estimate the step acted on."""
+    env = gym.make("CofGym/TorqueInterrogation-v2")
+    agent = registry.make_agent("interrogator", env)
+    steps: list = []
+    run_episode(env, agent, 0, {}, 0, steps_out=steps)
+    bounds = [row["lower_bound_in_flight"] for row in steps]
+    assert bounds[0] is None  # the reset window alone: no estimate in flight yet
+    assert any(b is not None for b in bounds) and all(b > 0.0 for b in bounds if b is not None)
+    env.close()
 
 
 def test_where_no_worker_process_can_start_the_episodes_are_played_here(tmp_path: Path, monkeypatch, capsys) -> None:

@@ -476,7 +476,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "step; the env's elapsed time, the measured DC torque, speed and wheel speed, CoA and "
                              "phase lag, the agent's estimate and the true CoF; whether the step drove a window, the "
                              "measured modulation amplitude, the lag's SE and the creepage, the reward and its terms, "
-                             "the true CoA and torque over the saturation torque)")
+                             "the true CoA and torque over the saturation torque, the agent's in-flight lower bound)")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress and no table on the terminal")
 
 

@@ -19,10 +19,11 @@ ENDINGS = ("stop", "horizon", "macro-slip", "diverged")
 TRACE_FIELDS = ("t", "dc_torque_nm", "speed_m_s", "wheel_speed_m_s", "coa", "phase_deg", "estimate", "cof")
 # a step as windows.csv holds it (evaluate --windows): its trace, whether it drove a window (a stop and a diverged
 # step did not: their readings repeat the last window's, WindowTotals), the measured modulation amplitude [N m], the
-# lag's standard error [deg] and the measured creepage, the step's reward and its terms, and from the ground truth the
-# true CoA and the true torque over the saturation torque
+# lag's standard error [deg] and the measured creepage, the step's reward and its terms, from the ground truth the
+# true CoA and the true torque over the saturation torque, and the lower bound on the CoF the agent held in flight when
+# it chose the step's action (its in_flight_lower_bound(), the learned interrogator's; None: none)
 STEP_FIELDS = (*TRACE_FIELDS, "drove_window", "torque_amplitude_nm", "phase_se_deg", "creepage", "reward",
-               *REWARD_TERMS, "coa_true", "torque_fraction")
+               *REWARD_TERMS, "coa_true", "torque_fraction", "lower_bound_in_flight")
 
 
 @dataclass
@@ -166,6 +167,7 @@ def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list 
             action = agent.act(obs, agent_view(info, oracle))
         except Exception as e:  # noqa: BLE001
             raise _failed(agent, f"raised in act at step {steps}", episode, seed, e) from e
+        bound = _in_flight_bound(agent, episode, seed, steps) if steps_out is not None else None
         try:
             obs, reward, terminated, truncated, info = env.step(action)
         except ValueError as e:  # the env's checks of the action (shape, type, finite values)
@@ -183,7 +185,7 @@ def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list 
             if trace is not None:
                 trace.append(window)
             if steps_out is not None:
-                steps_out.append(_step_row(window, drove, info, reward))
+                steps_out.append(_step_row(window, drove, info, reward, bound))
         if terminated or truncated:
             break
     gt = info["ground_truth"]
@@ -208,13 +210,29 @@ def run_episode(env, agent, seed: int, options: dict, episode: int, trace: list 
     )
 
 
-def _step_row(window: dict[str, float], drove: bool, info: dict, reward: float) -> dict[str, Any]:
-    """A step's :data:`STEP_FIELDS`: its trace ``window``, whether it drove one, and what ``info`` and ``reward``
-    add."""
+def _step_row(window: dict[str, float], drove: bool, info: dict, reward: float,
+              bound: float | None) -> dict[str, Any]:
+    """A step's :data:`STEP_FIELDS`: its trace ``window``, whether it drove one, what ``info`` and ``reward`` add and
+    the agent's in-flight lower ``bound``."""
     m, truth = info["measurement"], info["ground_truth"]
     return {**window, **dict(zip(STEP_FIELDS[len(TRACE_FIELDS):], (
         drove, m["torque_amplitude_nm"], m["phase_lag_se_deg"], m["creepage_measured"], reward,
-        *(info[term] for term in REWARD_TERMS), truth["coa_true"], truth["torque_fraction"]), strict=True))}
+        *(info[term] for term in REWARD_TERMS), truth["coa_true"], truth["torque_fraction"], bound), strict=True))}
+
+
+def _in_flight_bound(agent, episode: int, seed: int, step: int) -> float | None:
+    """The lower bound on the CoF ``agent`` holds in flight after its action (``in_flight_lower_bound()``; None for
+    none, or an agent without it); :class:`AgentError` where it raises or reports no positive finite CoF."""
+    try:
+        bound = getattr(agent, "in_flight_lower_bound", lambda: None)()
+        if bound is None:
+            return None
+        bound = float(bound)
+        if not (math.isfinite(bound) and bound > 0.0):
+            raise ValueError(f"reported the in-flight lower bound {bound!r}: it must be a positive finite CoF")
+    except Exception as e:  # noqa: BLE001 - what an agent's own method raises, or a bad report
+        raise _failed(agent, f"reported in flight at step {step}", episode, seed, e) from e
+    return bound
 
 
 def _sensor_notes(agent) -> tuple[str, ...]:
