@@ -1071,6 +1071,8 @@ sb3:runs/zoo_ref/ppo_lstm/CofGym-TorqueInterrogation-v2_1 --out out/evaluate-zoo
     python experiments/own_window_fit.py --episodes 200 --out out/own_window_fit.md   # session 74, information
     python experiments/shadow_reading.py --episodes 100 --out out/shadow_reading.md   # session 74, information, and
     python experiments/shadow_reading.py --agent interrogator --episodes 100 --out out/shadow_reading_interrogator.md
+    python experiments/indistinguishable_peaks.py --counter-torque --agents staircase-zeroed,model-based-zeroed,\
+model-based-zeroed-knee --out out/indistinguishable_peaks_zeroed.md   # session 81, information (94 s)
         # sessions 73-74: the hand-built agents, the three reading the zeroed creepage among them, on the four
         # validation plays (scripted_plays.py with A="staircase-zeroed model-based-zeroed model-based-zeroed-knee
         # phase-rule robust-model staircase model-based", as above), the shipped agent's (validation_plays.py
@@ -1503,7 +1505,7 @@ SOURCES = {
         *(f"rule_check_rule89K{c}_{condition}" for c in ("n", "0", "p") for condition in ("i", "ii", "iii", "iv")),
         *(f"{kind}_swap79{c}_{grids}" for c in ("PF", "PG") for grids in ("validation_torque", "noise_level")
           for kind in ("crest_tradeoff", "paired")),
-        "runaways_by_torque_gain_session49",
+        "runaways_by_torque_gain_session49", "indistinguishable_peaks_zeroed",
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about
