@@ -357,7 +357,7 @@ def test_evaluate_env_arguments_play_the_suite_in_that_env_and_name_the_output(w
     assert "suite default (env max_windows=3 counter_torque=true)" in (out / "summary.md").read_text()
     assert all(int(r["steps"]) <= 3 for r in csv.DictReader(open(out / "episodes.csv")))
     steps = sum(int(r["steps"]) for r in csv.DictReader(open(out / "episodes.csv")))
-    assert len(list(csv.DictReader(open(out / "windows.csv")))) == steps  # --windows: a row a window
+    assert len(list(csv.DictReader(open(out / "windows.csv")))) == steps  # --windows: a row a step
     assert not (workdir / "out" / "evaluate").exists()
     assert default_out("experiments/suites/x.json", {"creep_law": {"table": [1]}}) == Path(
         "out/evaluate-x-creep_law=__table____1__")
