@@ -62,12 +62,14 @@ def test_identified_estimate_is_a_small_factor_on_the_fitted_peak() -> None:
 
 def test_identification_observation_is_sensor_only_and_rebuilt_by_the_agent() -> None:
     """The 38 values follow from the window observations alone: AgentSideInterface on a default env rebuilds them
-    from its float32 observations, bit for bit at the reset, and the identified actions drive the same commands.
+    from its float32 observations, bit for bit at the reset, and the identified actions drive the same commands up
+    to the plain env's float32 action.
 
     After a step the two sides are not bit-identical, and the tolerances say by how much they may differ: the agent
-    fits the climb on the float32 readings where the identified env fits its float64 ones, so the commands it
-    re-encodes differ in their last float32 bits, and each window's physics carries that on (the plain env's
-    observation against the identified env's: rtol 2e-4), the 38 values' fit compounding both (2e-3, with 1e-4 for
+    re-encodes each identified action as the plain env's absolute action (float32, through its log maps), so the
+    plain env applies the identified env's commands (decoded in float64) to within their last float32 bits, and each
+    window's physics carries that on (the plain env's observation against the identified env's: rtol 2e-4); both
+    sides then fit their own float32 readings of the climb, and the 38 values compound it (2e-3, with 1e-4 for
     values near zero). Over 20 seeds of this test's random actions the largest difference was 0.14 of the first
     tolerance and 0.01 of the second (session 82)."""
     assert IDENTIFICATION_OBSERVATION_NAMES[-len(IDENTIFICATION_NAMES):] == IDENTIFICATION_NAMES
