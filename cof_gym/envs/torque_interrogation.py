@@ -290,6 +290,7 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | creep_law | None | fix the creep curve: a preset name, ``{"polach": {...}}``, ``{"shen_hedrick_elkins": {...}}`` or ``{"table": {"creepage": [...], "adhesion_ratio": [...]}}`` (:func:`cof_gym.physics.creep_laws.creep_law_from_spec`); played where it has a peak (a draw where it has none is drawn again) |
     | speed_sensor_error, wheel_radius_error, force_gain_error, torque_gain_error | None | fix a systematic sensor error (relative; ranges in :data:`cof_gym.task.sensors.SYSTEMATIC_ERRORS`) |
     | encoder_lag_s | None (0) | a first-order lag of the encoder's speed signal, s, in [0, 0.05]: adds ``atan(w tau)`` to every phase the lock-in reads (never drawn; :mod:`cof_gym.task.sensors`) |
+    | track_irregularity | None ("smooth") | the rail's vertical profile: "smooth", or a profile drawn per episode from ORE B176's spectrum for "ore_low" or "ore_high" irregularity (wavelengths 1-80 m; never drawn; :mod:`cof_gym.physics.track`) |
     | task_version | 1 | 1: Polach presets, unbiased sensors; 2: creep-law families and systematic sensor errors drawn (the -v2 ids) |
     | shaping | False | add the potential-based shaping term (training) |
     | action_type | "absolute" | "absolute", "relative" or "identified" (see Action Space) |
@@ -315,7 +316,8 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
       measured CoA's synchronous average over the cycle (``coa_cycle_*``, session 22), the lag's SE for an
       autocorrelated residual (``phase_lag_se_corrected_deg``, session 59). Later options that no draw gives
       leave every drawn episode as it was: ``encoder_lag_s`` (session 59; 0 unless fixed, and
-      ``info["ground_truth"]`` carries it).
+      ``info["ground_truth"]`` carries it), ``track_irregularity`` (session 82; "smooth" unless fixed, its profile's
+      phases drawn from a stream of their own, so that fixing it moves no other draw).
     - v1: ground truth from the simulated physics (load transfer, controlled speed); PI cruise control
       and traction balance; a traction rod; CoF ranges per condition; macro-slip relative to the peak;
       log-ratio error, no slip cost below the peak, comfort over the whole window; sensors apart from

@@ -24,6 +24,7 @@ from cof_gym.physics.creep import OperatingConditions, creep_peak
 from cof_gym.physics.models import BuiltModel
 from cof_gym.physics.native import layout
 from cof_gym.physics.native.build import install_callback
+from cof_gym.physics.track import TrackProfile
 from cof_gym.validation import check_number
 
 I = layout.OFFSETS
@@ -142,6 +143,7 @@ class Scenario:
     traction_balance: bool = False  # the rest of the train cancels the DC part of the torque
     seed: int = 0
     encoder_lag_s: float = 0.0
+    track: TrackProfile = field(default_factory=TrackProfile)  # the rail's vertical profile (none: a smooth track)
 
     def __post_init__(self) -> None:
         for name in ("motor_lag_s", "encoder_lag_s"):
@@ -181,6 +183,11 @@ def initial_userdata(built: BuiltModel, scenario: Scenario) -> np.ndarray:
     ud[I["MOD_OMEGA"]] = 2 * math.pi * 5.0
     ud[I["MOTOR_TAU"]] = scenario.motor_lag_s if scenario.motor_lag_s >= MIN_MOTOR_LAG_S else 0.0
     ud[I["ENCODER_TAU"]] = scenario.encoder_lag_s
+    track = scenario.track
+    ud[I["TRACK_N_WAVES"]] = len(track.amplitudes_m)
+    for prefix, values in (("AMP", track.amplitudes_m), ("WAVENUMBER", track.wavenumbers_rad_m),
+                           ("PHASE", track.phases_rad)):
+        ud[I[f"TRACK_{prefix}_0"]:I[f"TRACK_{prefix}_0"] + len(values)] = values
     kp, ki, kd = scenario.cruise.gains(built.total_mass_kg)
     ud[I["CRUISE_SPEED"]], ud[I["CRUISE_KP"]], ud[I["CRUISE_KI"]], ud[I["CRUISE_KD"]] = op.speed_m_s, kp, ki, kd
     if scenario.traction_balance:

@@ -29,6 +29,7 @@ from types import MappingProxyType
 from typing import Any, Mapping
 
 from cof_gym.physics.creep_laws import FAMILIES
+from cof_gym.physics.track import TRACK_CLASSES
 from cof_gym.physics.vehicle import LOAD_CASES
 from cof_gym.task.scenarios import COF_BY_CONDITION
 
@@ -38,6 +39,7 @@ FLAT_CODES: Mapping[str, tuple[str, ...]] = MappingProxyType({
     "ground_truth/condition": tuple(COF_BY_CONDITION),
     "ground_truth/load_case": tuple(LOAD_CASES),
     "ground_truth/creep_family": tuple(FAMILIES),
+    "ground_truth/track_irregularity": TRACK_CLASSES,
 })
 """The flat layout's code of each string field: its value is the name's index in the tuple."""
 FLAT_DROPPED = ("ground_truth/creep_law",)

@@ -41,6 +41,7 @@ from cof_gym.physics.creep import CONDITIONS, OperatingConditions
 from cof_gym.physics.creep_laws import (PRESET_FAMILY, RANGES as CREEP_RANGES, CreepShape, creep_law_from_spec,
                                         draw_shape)
 from cof_gym.physics.simulation import Scenario, SensorNoise
+from cof_gym.physics.track import SMOOTH, TRACK_CLASSES, draw_profile
 from cof_gym.physics.vehicle import LOAD_CASES
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS, SensorErrors
 from cof_gym.validation import check_choice, check_number, check_range
@@ -139,6 +140,7 @@ class EpisodeScenario:
     force_gain_error: float = 0.0
     torque_gain_error: float = 0.0
     encoder_lag_s: float = 0.0  # first-order lag of the encoder's speed signal, s (cof_gym.task.sensors)
+    track_irregularity: str = SMOOTH  # the rail's vertical profile: its spectrum's class (cof_gym.physics.track)
 
     @property
     def shape(self) -> CreepShape | str:
@@ -202,6 +204,8 @@ def check_fixed(fixed: Mapping[str, Any], load_cases: tuple[str, ...] = LOAD_CAS
             out[key] = check_number("encoder_lag_s", value, 0.0, ENCODER_LAG_MAX_S, unit=" s")
         elif key == "creep_law":
             out[key] = creep_law_from_spec(value)
+        elif key == "track_irregularity":
+            out[key] = check_choice("track_irregularity", value, TRACK_CLASSES)
         else:
             bound = SYSTEMATIC_ERRORS[key].accepted
             out[key] = check_number(key, value, -bound, bound)
@@ -261,6 +265,8 @@ def outside_draws(options: Mapping[str, Any], ranges: ScenarioRanges) -> dict[st
         out["load_case"] = f"{fixed['load_case']!r}, drawn: {', '.join(ranges.load_cases)}"
     if fixed.get("encoder_lag_s", 0.0) > 0.0:
         out["encoder_lag_s"] = f"{fixed['encoder_lag_s']:g}, drawn: 0"
+    if fixed.get("track_irregularity", SMOOTH) != SMOOTH:
+        out["track_irregularity"] = f"{fixed['track_irregularity']!r}, drawn: {SMOOTH!r}"
     if "creep_law" in fixed and (why := _creep_law_outside(fixed["creep_law"], ranges, conditions)):
         out["creep_law"] = why
     for name, err in SYSTEMATIC_ERRORS.items():
@@ -294,5 +300,11 @@ def physics_scenario(sc: EpisodeScenario, wheel_load_n: float, seed: int, tracti
     """The simulation's scenario: the creep law is calibrated at ``wheel_load_n`` (the driven wheel's
     load at saturation, see :mod:`cof_gym.task.ground_truth`)."""
     op = OperatingConditions(cof=sc.cof, condition=sc.shape, wheel_load_n=wheel_load_n, speed_m_s=sc.speed_m_s)
+    track = draw_profile(sc.track_irregularity, np.random.default_rng([TRACK_STREAM, seed]))
     return Scenario(op=op, noise=sc.noise(), motor_lag_s=sc.motor_lag_s, traction_balance=traction_balance, seed=seed,
-                    encoder_lag_s=sc.encoder_lag_s)
+                    encoder_lag_s=sc.encoder_lag_s, track=track)
+
+
+# the track profile's phases come from a stream of their own, keyed by the episode's physics seed (itself drawn from
+# the env's np_random), so that asking for a profile moves no other draw of the episode
+TRACK_STREAM = 20261203

@@ -188,6 +188,22 @@ static uint32_t rng_next(double* ud) {
   return (uint32_t)(x >> 32);
 }
 
+/* The vertical track profile at x (m): its height (m) and slope dz/dx, the sum of the userdata's cosines
+ * (layout.py, TRACK_*; cof_gym/physics/track.py draws them). */
+static void track_profile(const double* ud, double x, double* height, double* slope) {
+  int n = (int)ud[UD_TRACK_N_WAVES];
+  if (n > UD_MAX_TRACK_WAVES) n = UD_MAX_TRACK_WAVES;
+  double h = 0.0, s = 0.0;
+  for (int i = 0; i < n; i++) {
+    double k = ud[UD_TRACK_WAVENUMBER_0 + i], a = ud[UD_TRACK_AMP_0 + i];
+    double arg = k * x + ud[UD_TRACK_PHASE_0 + i];
+    h += a * cos(arg);
+    s -= a * k * sin(arg);
+  }
+  *height = h;
+  *slope = s;
+}
+
 static double rng_normal(double* ud) {
   /* Box-Muller; (k + 0.5) / 2^32 keeps u1 in (0, 1) */
   double u1 = ((double)rng_next(ud) + 0.5) / 4294967296.0;
@@ -399,7 +415,14 @@ void cofgym_passive(const mjModel* m, mjData* d) {
     double normal;
     int zq = (int)cfg[CF_Z_QPOS], zd = (int)cfg[CF_Z_DOF];
     if (zq >= 0) {
-      normal = cfg[CF_K_TRACK] * (cfg[CF_Z_REST] - d->qpos[zq]) - cfg[CF_C_TRACK] * d->qvel[zd];
+      double rest = cfg[CF_Z_REST], zvel = d->qvel[zd];
+      if (ud[UD_TRACK_N_WAVES] > 0.0) { /* the rail's height under the wheelset, moving past at its speed */
+        double height, slope;
+        track_profile(ud, d->xpos[3 * body], &height, &slope);
+        rest += height;
+        zvel -= speed * slope;
+      }
+      normal = cfg[CF_K_TRACK] * (rest - d->qpos[zq]) - cfg[CF_C_TRACK] * zvel;
       if (normal < 0.0) normal = 0.0; /* unilateral: the wheel may lift */
       chain_add(J, J->z, normal, tau);
     } else {

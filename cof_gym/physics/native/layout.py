@@ -30,6 +30,10 @@ MT_MAX_BTB = MT_MAX_BASIS * (MT_MAX_BASIS + 1) // 2
 # samples of the force sensors' CoA are summed in PHASE_BINS equal bins of tone 1's phase (COA_BIN_*),
 # which averages the sensor noise over the cycles of a window while keeping the cycle's shape (its crest).
 PHASE_BINS = 16
+# Vertical track irregularity (cof_gym/physics/track.py): the rail's height under a wheelset at x is
+# sum_k TRACK_AMP_k cos(TRACK_WAVENUMBER_k x + TRACK_PHASE_k) over the first TRACK_N_WAVES cosines; 0 waves (the
+# default): a smooth track, and the normal-load arithmetic exactly as without it.
+MAX_TRACK_WAVES = 32
 
 # Per-contact configuration block (model constants, copied into every simulation's userdata).
 CONTACT_FIELDS: tuple[str, ...] = (
@@ -126,6 +130,11 @@ _SCALARS: tuple[str, ...] = (
     # multi-tone drive (see MAX_TONES)
     "N_TONES",
     *(f"TONE{k}_{f}" for k in range(2, MAX_TONES + 1) for f in TONE_FIELDS),
+    # vertical track irregularity (see MAX_TRACK_WAVES): m, rad/m, rad
+    "TRACK_N_WAVES",
+    *(f"TRACK_AMP_{i}" for i in range(MAX_TRACK_WAVES)),
+    *(f"TRACK_WAVENUMBER_{i}" for i in range(MAX_TRACK_WAVES)),
+    *(f"TRACK_PHASE_{i}" for i in range(MAX_TRACK_WAVES)),
 )
 
 # Window accumulators: zeroed by Python at the start of a window.
@@ -243,6 +252,7 @@ def c_header() -> str:
         lines.append(f"#define TONE_{f} {i}")
     lines.append(f"#define UD_MT_MAX_BASIS {MT_MAX_BASIS}")
     lines.append(f"#define UD_PHASE_BINS {PHASE_BINS}")
+    lines.append(f"#define UD_MAX_TRACK_WAVES {MAX_TRACK_WAVES}")
     lines.append(f"#define UD_ACC_COUNT {ACC_COUNT}")
     for name in ("WD_SOS_0", "WD_STATE_0", "WD_NSECT", "BAND_SOS_0", "BAND_STATE_0", "BAND_NSECT"):
         lines.append(f"#define UD_{name} {OFFSETS[name]}")
