@@ -16,6 +16,8 @@ generated, never typed:
     cof-gym evaluate --env-kwargs encoder_lag_s:0.01 --out out/evaluate-v2-encoder-lag --agents \
         oracle,staircase-paper,staircase,phase-rule,phase-rule-ar1,model-based,robust-model,robust-model-ar1,interrogator
     cof-gym evaluate --agents phase-rule,phase-rule-ar1,robust-model,robust-model-ar1 --out out/evaluate-ar1
+    cof-gym evaluate --env-kwargs track_irregularity:ore_low --out out/evaluate-v2-track-ore-low
+    cof-gym evaluate --env-kwargs track_irregularity:ore_high --out out/evaluate-v2-track-ore-high
     cof-gym evaluate --suite paper --episodes 5                                     # the paper's setting
     cof-gym evaluate --suite experiments/suites/v1_default.json --episodes 60 --out out/evaluate-v1
     cof-gym evaluate --suite experiments/suites/heldout_grid.json --out out/evaluate-heldout   # v1 held-out
@@ -1138,6 +1140,8 @@ SOURCES = {
     "v2_extremes": ROOT / "out" / "evaluate-v2-extremes" / "summary.md",
     "v2_encoder_lag": ROOT / "out" / "evaluate-v2-encoder-lag" / "summary.md",
     "v2_ar1_default": ROOT / "out" / "evaluate-ar1" / "summary.md",
+    "v2_track_ore_low": ROOT / "out" / "evaluate-v2-track-ore-low" / "summary.md",
+    "v2_track_ore_high": ROOT / "out" / "evaluate-v2-track-ore-high" / "summary.md",
     "v2_paper": PAPER_RUN / "summary.md",
     **{block: out / "summary.md" for block, (_, out) in HELDOUT_RUNS.items()},
     "v1_default": ROOT / "out" / "evaluate-v1" / "summary.md",
