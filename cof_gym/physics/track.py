@@ -14,8 +14,8 @@ form of ORE B176's reference spectra for European track, as used for European an
 
 with ``Omega_c`` 0.8246 rad/m, ``Omega_r`` 0.0206 rad/m and ``A_v`` 4.032e-7 m rad for low irregularity (good
 track) or 1.080e-6 m rad for high irregularity (ORE B176, "Bogies with steered or steering wheelsets", Report 1,
-Utrecht 1989). The coefficients are as commonly reproduced from that report (e.g. in Claus and Schiehlen, Vehicle
-System Dynamics 29 suppl. 1, 1998); cof_gym has not read the report itself (unverified). The profile holds the
+Utrecht 1989). The coefficients are as commonly reproduced from that report (the same in several independent
+public implementations of railway dynamics); cof_gym has not read the report itself (unverified). The profile holds the
 wavelengths 1-80 m (``WAVELENGTH_RANGE_M``; the usual band of such simulations): its standard deviation is about
 2.1 mm (low) and 3.4 mm (high), most of it in the longest waves.
 
