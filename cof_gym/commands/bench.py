@@ -22,6 +22,7 @@ from cof_gym.physics.creep_laws import PRESET_FAMILY
 from cof_gym.physics.models import build_wagon
 from cof_gym.physics.native.build import install_callback, native
 from cof_gym.physics.simulation import DriveCommand, Scenario, Simulation, begin_window
+from cof_gym.physics.track import TrackProfile, draw_profile
 from cof_gym.physics.vehicle import wagon_parameters
 from cof_gym.validation import check_number
 
@@ -65,14 +66,22 @@ def bench_families(seconds: float = 5.0, repeats: int = 5) -> dict[str, PhysicsB
     return _bench_laws({name: cls.example() for name, cls in FAMILIES.items()}, seconds, repeats)
 
 
-def _bench_laws(conditions: dict[str, str | CreepShape], seconds: float, repeats: int) -> dict[str, PhysicsBench]:
+def bench_track(seconds: float = 5.0, repeats: int = 5) -> dict[str, PhysicsBench]:
+    """:func:`bench_physics` with the preset law on a level track and on a track of high vertical irregularity
+    (a profile of ``ore_high``, :mod:`cof_gym.physics.track`), interleaved in each repeat."""
+    rough = draw_profile("ore_high", np.random.default_rng(0))
+    return _bench_laws({"level": "dry", "rough": "dry"}, seconds, repeats, tracks={"rough": rough})
+
+
+def _bench_laws(conditions: dict[str, str | CreepShape], seconds: float, repeats: int,
+                tracks: dict[str, TrackProfile] | None = None) -> dict[str, PhysicsBench]:
     built = build_wagon(wagon_parameters("laden"))
     sims, bares = {}, {}
     for name, condition in conditions.items():
         op = OperatingConditions(cof=0.4, condition=condition, wheel_load_n=built.nominal_wheel_load_n,
                                  speed_m_s=PAPER_SPEED_M_S)
         sim = sims[name] = Simulation(built)
-        sim.reset(Scenario(op))
+        sim.reset(Scenario(op, track=(tracks or {}).get(name, TrackProfile())))
         drive = DriveCommand(0.9 * built.saturation_torque_per_cof * 0.4, PAPER_AMPLITUDE_NM, PAPER_FREQUENCY_HZ)
         begin_window(sim.data.userdata, 0.0, drive, 0.5, 0.0)
         bare = bares[name] = mujoco.MjData(built.model)
@@ -199,6 +208,9 @@ def main(seconds: float = 5.0, markdown: str | None = None) -> None:
         ("simulated s per wall s (dt = %.4g s)" % pb.timestep_s, f"{pb.realtime_factor:,.0f}"),
         *((f"ratio native / bare, creep law {name} (target >= 0.8)", f"{fb.ratio:.3f}") for name, fb in families.items()),
     ]
+    track = bench_track(seconds)
+    rows.append(("ratio native on a track of high vertical irregularity / level track",
+                 f"{track['rough'].native_steps_per_s / track['level'].native_steps_per_s:.3f}"))
     ab = bench_agent(seconds)
     agent_rows = [
         ("agent steps/s, one env (gym.make, 1 s windows)", f"{ab.single_steps_per_s:,.1f}"),

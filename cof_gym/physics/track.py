@@ -23,8 +23,9 @@ Synthesis: the band is split into ``MAX_TRACK_WAVES`` intervals equally spaced i
 ``a_k cos(Omega_k x + phi_k)`` at the interval's geometric centre with a phase drawn uniformly, and an amplitude
 ``a_k = sqrt(2 int S_v)`` over the interval (the closed-form integral below), so that the profile's variance is the
 spectrum's integral over the band exactly, whatever the number of waves (Shinozuka's spectral representation).
-Evaluating the 32 cosines under four wheelsets costs the wagon about a quarter of its physics steps per second
-(0.72 of a level track's in session 82, one process alternating the two); a level track costs nothing.
+Evaluating the 32 cosines under four wheelsets costs the wagon about a third of its physics steps per second
+(``cof-gym bench``'s row "ratio native on a track of high vertical irregularity / level track": 0.63-0.82 over six
+runs in session 82 on a busy machine, 0.70 in the median); a level track costs nothing.
 """
 
 from __future__ import annotations
