@@ -45,10 +45,11 @@ def absolute_floor(key: str, want: list[dict]) -> float:
     return 1e-9 * max(abs(row[key]) for row in want)
 
 
-# entries the env added after the golden file was written (session 59): the encoder lag of the ground truth, with
-# the value every drawn episode has (no case fixes it), and a new reading, any finite number; each must be there,
-# and the rest must be what the golden file holds
-ADDED_SINCE_GOLDEN = {"encoder_lag_s": 0.0, "phase_lag_se_corrected_deg": None}
+# entries the env added after the golden file was written: the encoder lag of the ground truth (session 59) and the
+# encoder's pulses and runout (session 83), with the value every drawn episode has (no case fixes them), and a new
+# reading (session 59), any finite number; each must be there, and the rest must be what the golden file holds
+ADDED_SINCE_GOLDEN = {"encoder_lag_s": 0.0, "encoder_pulses_per_rev": 0, "encoder_runout": 0.0,
+                      "phase_lag_se_corrected_deg": None}
 
 
 def without_added(got: list[dict], want: list[dict]) -> list[dict]:

@@ -80,7 +80,8 @@ def make_task(vehicle: str = "wagon", window_s: float = 1.0, settle_fraction: fl
               w_comfort: float = 0.05, w_time: float = 0.02, macro_slip_penalty: float = 10.0,
               macro_slip_ratio: float = 2.0, macro_slip_floor: float = 0.02, shaping: bool = False,
               action_type: str = "absolute", observation_type: str = "window", task_version: int = 1,
-              info_layout: str = "nested", excitation: str = "sine", tones: int = 2, **fixed: Any) -> InterrogationTask:
+              info_layout: str = "nested", excitation: str = "sine", tones: int = 2, lock_in: str = "plain",
+              **fixed: Any) -> InterrogationTask:
     """The task from the environment's keyword arguments (the table in the env's docstring). An unknown
     argument name is a ``TypeError`` (as Python's for an unexpected keyword: RL libraries such as
     torchrl retry without an optional argument on it); a wrong value is a ``ValueError``."""
@@ -96,7 +97,7 @@ def make_task(vehicle: str = "wagon", window_s: float = 1.0, settle_fraction: fl
         reward=Reward(w_error, w_slip, w_comfort, w_time, macro_slip_penalty),
         macro_slip=MacroSlipLimit(macro_slip_ratio, macro_slip_floor), shaping=shaping,
         action_type=action_type, observation_type=observation_type, info_layout=info_layout,
-        excitation=excitation, tones=tones,
+        excitation=excitation, tones=tones, lock_in=lock_in,
     )
 
 
@@ -290,6 +291,7 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | creep_law | None | fix the creep curve: a preset name, ``{"polach": {...}}``, ``{"shen_hedrick_elkins": {...}}`` or ``{"table": {"creepage": [...], "adhesion_ratio": [...]}}`` (:func:`cof_gym.physics.creep_laws.creep_law_from_spec`); played where it has a peak (a draw where it has none is drawn again) |
     | speed_sensor_error, wheel_radius_error, force_gain_error, torque_gain_error | None | fix a systematic sensor error (relative; ranges in :data:`cof_gym.task.sensors.SYSTEMATIC_ERRORS`) |
     | encoder_lag_s | None (0) | a first-order lag of the encoder's speed signal, s, in [0, 0.05]: adds ``atan(w tau)`` to every phase the lock-in reads (never drawn; :mod:`cof_gym.task.sensors`) |
+    | encoder_pulses_per_rev, encoder_runout | None (0, 0) | the wheelset-speed encoder as a speed probe's pulses: pulses per revolution of the wheelset, 0 (a continuous reading) or 8-10000, read by the period method (adds about one pulse interval's delay to every lag), and its target wheel's runout, relative, in [0, 0.01] (a once-per-revolution ripple of the reading; never drawn; :mod:`cof_gym.physics.encoder`) |
     | track_irregularity | None ("smooth") | the rail's vertical profile: "smooth", or a profile drawn per episode from ORE B176's spectrum for "ore_low" or "ore_high" irregularity (wavelengths 1-80 m; never drawn; :mod:`cof_gym.physics.track`) |
     | task_version | 1 | 1: Polach presets, unbiased sensors; 2: creep-law families and systematic sensor errors drawn (the -v2 ids) |
     | shaping | False | add the potential-based shaping term (training) |
@@ -297,6 +299,7 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | observation_type | "window" | "window" (14), "history" (29) or "identification" (38; see Observation Space) |
     | excitation | "sine" | "sine" (one tone, as in the paper) or "multitone" (``tones`` sines, each with its own lock-in; see Action Space) |
     | tones | 2 | tones of the "multitone" excitation, 2 or 3 (ignored with "sine", still checked) |
+    | lock_in | "plain" | the speed's lock-in: "plain" (each tone's ``[cos, sin]``, an offset and a drift) or "rotation" (also ``[cos, sin]`` of the angle the encoder counts and of twice it: a runout's once-per-revolution ripple taken out of every tone's reading; ``phase_lag_se_corrected_deg`` is then not computed, 180; :data:`cof_gym.physics.simulation.LOCK_INS`) |
     | info_layout | "nested" | "nested" (the info above) or "flat": one level of keys joined by "/" (``info["measurement/phase_lag_deg"]``), every value a number, strings as indices (:data:`cof_gym.task.info_layout.FLAT_CODES`), the creep law's spec left out; for torchrl's ``GymWrapper`` over ``gym.make_vec`` (:mod:`cof_gym.task.info_layout`) |
     | render_mode | None | "rgb_array" or "human" |
     | width, height | 480, 240 | rgb_array frame size, pixels |
@@ -317,7 +320,8 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
       autocorrelated residual (``phase_lag_se_corrected_deg``, session 59). Later options that no draw gives
       leave every drawn episode as it was: ``encoder_lag_s`` (session 59; 0 unless fixed, and
       ``info["ground_truth"]`` carries it), ``track_irregularity`` (session 82; "smooth" unless fixed, its profile's
-      phases drawn from a stream of their own, so that fixing it moves no other draw).
+      phases drawn from a stream of their own, so that fixing it moves no other draw), ``encoder_pulses_per_rev`` and
+      ``encoder_runout`` (session 83; 0 unless fixed: the continuous reading).
     - v1: ground truth from the simulated physics (load transfer, controlled speed); PI cruise control
       and traction balance; a traction rod; CoF ranges per condition; macro-slip relative to the peak;
       log-ratio error, no slip cost below the peak, comfort over the whole window; sensors apart from
@@ -335,18 +339,18 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
                  macro_slip_ratio: float = 2.0, macro_slip_floor: float = 0.02, shaping: bool = False,
                  render_mode: str | None = None, width: int = 480, height: int = 240, action_type: str = "absolute",
                  observation_type: str = "window", task_version: int = 1, info_layout: str = "nested",
-                 excitation: str = "sine", tones: int = 2, **fixed: Any) -> None:
+                 excitation: str = "sine", tones: int = 2, lock_in: str = "plain", **fixed: Any) -> None:
         EzPickle.__init__(self, vehicle, window_s, settle_fraction, ramp_fraction, max_windows, counter_torque,
                           traction_balance, timestep, ranges, w_error, w_slip, w_comfort, w_time, macro_slip_penalty,
                           macro_slip_ratio, macro_slip_floor, shaping, render_mode, width, height,
                           action_type=action_type, observation_type=observation_type, task_version=task_version,
-                          info_layout=info_layout, excitation=excitation, tones=tones, **fixed)
+                          info_layout=info_layout, excitation=excitation, tones=tones, lock_in=lock_in, **fixed)
         self.task = make_task(vehicle, window_s, settle_fraction, ramp_fraction, max_windows, counter_torque,
                               traction_balance, timestep, ranges, w_error, w_slip, w_comfort, w_time,
                               macro_slip_penalty, macro_slip_ratio, macro_slip_floor, shaping,
                               action_type=action_type, observation_type=observation_type,
                               task_version=task_version, info_layout=info_layout, excitation=excitation,
-                              tones=tones, **fixed)
+                              tones=tones, lock_in=lock_in, **fixed)
         self.width = check_int("width", width, 16, 4096)
         self.height = check_int("height", height, 16, 4096)
         if render_mode is not None:

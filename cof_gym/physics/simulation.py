@@ -21,11 +21,12 @@ from cof_gym.measurement.sine_fit import (NO_SE_DEG, SineFit, colored_noise_fact
                                          fit_tones_from_sums, lag1_correlation, wrap_deg)
 from cof_gym.measurement.synchronous_average import cycle_extremes
 from cof_gym.physics.creep import OperatingConditions, creep_peak
+from cof_gym.physics.encoder import PulseEncoder
 from cof_gym.physics.models import BuiltModel
 from cof_gym.physics.native import layout
 from cof_gym.physics.native.build import install_callback
 from cof_gym.physics.track import TrackProfile
-from cof_gym.validation import check_number
+from cof_gym.validation import check_choice, check_number
 
 I = layout.OFFSETS
 MIN_SPEED_M_S = 0.1  # creepage denominator floor (only reached when a wheel stands still)
@@ -134,7 +135,8 @@ def _check_tones(tones) -> tuple[tuple[float, float], ...]:
 @dataclass(frozen=True)
 class Scenario:
     """Everything drawn per episode: operating conditions plus sensor noise, the drive's torque lag (s; one below
-    :data:`MIN_MOTOR_LAG_S` runs as none) and the encoder's speed-signal lag (s; both first-order time constants)."""
+    :data:`MIN_MOTOR_LAG_S` runs as none), the encoder's speed-signal lag (s; both first-order time constants), the
+    track's profile and the encoder's pulses."""
 
     op: OperatingConditions
     noise: SensorNoise = field(default_factory=SensorNoise)
@@ -144,10 +146,21 @@ class Scenario:
     seed: int = 0
     encoder_lag_s: float = 0.0
     track: TrackProfile = field(default_factory=TrackProfile)  # the rail's vertical profile (none: a smooth track)
+    encoder: PulseEncoder = field(default_factory=PulseEncoder)  # the speed probe's pulses (none: continuous)
+    lock_in: str = "plain"  # the speed's lock-in (LOCK_INS)
 
     def __post_init__(self) -> None:
         for name in ("motor_lag_s", "encoder_lag_s"):
             check_number(name, getattr(self, name), 0.0, 1.0, unit=" s")
+        check_choice("lock_in", self.lock_in, LOCK_INS)
+
+
+# The lock-in's basis for the speed (and the creepage) readings: "plain" fits [cos, sin] of each tone, an offset and a
+# drift; "rotation" also fits [cos, sin] of the angle the encoder counts and of twice it, which takes a
+# once-per-revolution ripple of the reading (a target wheel's runout, cof_gym.physics.encoder) and the period method's
+# second-order term of it out of every tone's fit: the tones' readings come from the joint fit (as with several tones),
+# and the lag's SE for a correlated residual is not computed (NO_SE_DEG)
+LOCK_INS = ("plain", "rotation")
 
 
 # A drive lag (s) below this runs as none: its first-order response completes within a step to the last bit
@@ -183,6 +196,9 @@ def initial_userdata(built: BuiltModel, scenario: Scenario) -> np.ndarray:
     ud[I["MOD_OMEGA"]] = 2 * math.pi * 5.0
     ud[I["MOTOR_TAU"]] = scenario.motor_lag_s if scenario.motor_lag_s >= MIN_MOTOR_LAG_S else 0.0
     ud[I["ENCODER_TAU"]] = scenario.encoder_lag_s
+    ud[I["ENCODER_PULSES"]] = scenario.encoder.pulses_per_rev
+    ud[I["ENCODER_RUNOUT"]] = scenario.encoder.runout
+    ud[I["LOCK_IN_ROTATION"]] = 1.0 if scenario.lock_in == "rotation" else 0.0
     track = scenario.track
     ud[I["TRACK_N_WAVES"]] = len(track.amplitudes_m)
     for prefix, values in (("AMP", track.amplitudes_m), ("WAVENUMBER", track.wavenumbers_rad_m),
@@ -365,13 +381,15 @@ def _coa_cycle(ud: np.ndarray) -> dict[str, float]:
     return dict(zip(COA_CYCLE_FIELDS, (extremes.maximum, extremes.minimum, extremes.bin_se)))
 
 
-def _joint_tones(ud: np.ndarray, n: float, ntones: int) -> tuple[dict[str, float], tuple]:
-    """A multi-tone window's per-tone readings (phase lag, its SE, amplitude ratio, torque and speed amplitudes,
-    keyed by :func:`tone_field`) from the joint fit of every tone, and tone 1's fits of the torque, the speed, the
-    creepage and the measured creepage."""
-    if n <= 2 * ntones + 2 + 4:
+def _joint_tones(ud: np.ndarray, n: float, ntones: int, rotation: bool) -> tuple[dict[str, float], tuple]:
+    """A joint fit's per-tone readings (phase lag, its SE, amplitude ratio, torque and speed amplitudes, keyed by
+    :func:`tone_field`) from the joint fit of every tone (and of the encoder's rotation where ``rotation``: its pair
+    after the tones', read as one more tone and left out), and tone 1's fits of the torque, the speed, the creepage
+    and the measured creepage."""
+    pairs = ntones + (layout.ROTATION_BASIS // 2 if rotation else 0)
+    if n <= 2 * pairs + 2 + 4:
         raise ValueError(f"window too short: {n:g} samples for {ntones} tones; lengthen the window")
-    t_fits, o_fits, c_fits, cm_fits = _tone_fits(ud, n, ntones)
+    t_fits, o_fits, c_fits, cm_fits = _tone_fits(ud, n, pairs)
     commanded = [ud[I["TORQUE_AMPLITUDE"]] > 0.0] + [ud[I[f"TONE{k}_AMPLITUDE"]] > 0.0 for k in range(2, ntones + 1)]
     tones: dict[str, float] = {}
     for k in range(1, ntones + 1):
@@ -404,9 +422,10 @@ def read_window(ud: np.ndarray) -> WindowMeasurement:
     creep = _fit(ud, "BTB_STATE", "BTY_CREEP", "YTY_CREEP", n)
     creep_measured = _fit(ud, "BTB_STATE", "BTY_CREEP_MEASURED", "YTY_CREEP_MEASURED", n)
     ntones = min(max(int(ud[I["N_TONES"]]), 1), MAX_TONES)
+    rotation = bool(ud[I["LOCK_IN_ROTATION"]] > 0.0)
     tones: dict[str, float] = {}
-    if ntones > 1:  # every tone from the joint fit; tone 1's replaces the single-tone fit (leaked into by the others)
-        tones, (torque, omega, creep, creep_measured) = _joint_tones(ud, n, ntones)
+    if ntones > 1 or rotation:  # every tone from the joint fit, tone 1's replacing the single-tone fit (leaked into)
+        tones, (torque, omega, creep, creep_measured) = _joint_tones(ud, n, ntones, rotation)
         lag, lag_se, ratio = (tones[tone_field(1, f)] for f in ("phase_lag_deg", "phase_lag_se_deg", "amplitude_ratio"))
         lag_se_corrected = NO_SE_DEG  # the lag-1 sums hold the single-tone fit's residual, not the joint fit's
     else:

@@ -40,6 +40,7 @@ import numpy as np
 from cof_gym.physics.creep import CONDITIONS, OperatingConditions
 from cof_gym.physics.creep_laws import (PRESET_FAMILY, RANGES as CREEP_RANGES, CreepShape, creep_law_from_spec,
                                         draw_shape)
+from cof_gym.physics.encoder import PulseEncoder, check_pulses_per_rev, check_runout
 from cof_gym.physics.simulation import Scenario, SensorNoise
 from cof_gym.physics.track import SMOOTH, TRACK_CLASSES, draw_profile
 from cof_gym.physics.vehicle import LOAD_CASES
@@ -141,6 +142,8 @@ class EpisodeScenario:
     torque_gain_error: float = 0.0
     encoder_lag_s: float = 0.0  # first-order lag of the encoder's speed signal, s (cof_gym.task.sensors)
     track_irregularity: str = SMOOTH  # the rail's vertical profile: its spectrum's class (cof_gym.physics.track)
+    encoder_pulses_per_rev: int = 0  # the speed probe's pulses per wheelset revolution, 0: a continuous reading
+    encoder_runout: float = 0.0  # its target wheel's runout over its pitch radius (cof_gym.physics.encoder)
 
     @property
     def shape(self) -> CreepShape | str:
@@ -206,6 +209,10 @@ def check_fixed(fixed: Mapping[str, Any], load_cases: tuple[str, ...] = LOAD_CAS
             out[key] = creep_law_from_spec(value)
         elif key == "track_irregularity":
             out[key] = check_choice("track_irregularity", value, TRACK_CLASSES)
+        elif key == "encoder_pulses_per_rev":
+            out[key] = check_pulses_per_rev(key, value)
+        elif key == "encoder_runout":
+            out[key] = check_runout(key, value)
         else:
             bound = SYSTEMATIC_ERRORS[key].accepted
             out[key] = check_number(key, value, -bound, bound)
@@ -267,6 +274,9 @@ def outside_draws(options: Mapping[str, Any], ranges: ScenarioRanges) -> dict[st
         out["encoder_lag_s"] = f"{fixed['encoder_lag_s']:g}, drawn: 0"
     if fixed.get("track_irregularity", SMOOTH) != SMOOTH:
         out["track_irregularity"] = f"{fixed['track_irregularity']!r}, drawn: {SMOOTH!r}"
+    for name in ("encoder_pulses_per_rev", "encoder_runout"):
+        if fixed.get(name, 0) != 0:
+            out[name] = f"{fixed[name]:g}, drawn: 0 (a continuous reading)"
     if "creep_law" in fixed and (why := _creep_law_outside(fixed["creep_law"], ranges, conditions)):
         out["creep_law"] = why
     for name, err in SYSTEMATIC_ERRORS.items():
@@ -296,13 +306,16 @@ V2_RANGES = ScenarioRanges(creep_families=V2_CREEP_FAMILIES, sensor_error_scale=
 """The v2 task's draws: the two analytic families (:data:`V2_CREEP_FAMILIES`), systematic sensor errors."""
 
 
-def physics_scenario(sc: EpisodeScenario, wheel_load_n: float, seed: int, traction_balance: bool) -> Scenario:
+def physics_scenario(sc: EpisodeScenario, wheel_load_n: float, seed: int, traction_balance: bool,
+                     lock_in: str = "plain") -> Scenario:
     """The simulation's scenario: the creep law is calibrated at ``wheel_load_n`` (the driven wheel's
-    load at saturation, see :mod:`cof_gym.task.ground_truth`)."""
+    load at saturation, see :mod:`cof_gym.task.ground_truth`); ``lock_in`` the speed's lock-in
+    (:data:`cof_gym.physics.simulation.LOCK_INS`)."""
     op = OperatingConditions(cof=sc.cof, condition=sc.shape, wheel_load_n=wheel_load_n, speed_m_s=sc.speed_m_s)
     track = draw_profile(sc.track_irregularity, np.random.default_rng([TRACK_STREAM, seed]))
     return Scenario(op=op, noise=sc.noise(), motor_lag_s=sc.motor_lag_s, traction_balance=traction_balance, seed=seed,
-                    encoder_lag_s=sc.encoder_lag_s, track=track)
+                    encoder_lag_s=sc.encoder_lag_s, track=track,
+                    encoder=PulseEncoder(sc.encoder_pulses_per_rev, sc.encoder_runout), lock_in=lock_in)
 
 
 # the track profile's phases come from a stream of their own, keyed by the episode's physics seed (itself drawn from

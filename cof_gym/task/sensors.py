@@ -54,6 +54,12 @@ times over at 10 ms; ``phase_lag_se_corrected_deg`` is the SE for a first-order 
 correlation read in the window). The range is cof_gym's choice (unverified): from no smoothing through a light one
 (5 ms: a 32 Hz cut-off) to a sluggish one (50 ms: 3 Hz).
 
+Nor does any draw read the wheelset's speed from a **speed probe's pulses** (``encoder_pulses_per_rev``) or give its
+target wheel a **runout** (``encoder_runout``): both are scenario fields, 0 unless fixed, modelled with their sources
+in :mod:`cof_gym.physics.encoder`. The pulses' period method delays the reading by about one interval between
+pulses (a lag of ``360 f T_p`` degrees that grows as the train slows); a runout adds a ripple at the wheelset's
+rotation frequency, which no gain calibration removes either and which a lock-in near that frequency reads.
+
 The drive applies the commanded torque and its reading carries the gain, so in cof_gym the torque gain
 error shows as the ratio of the mean torque reading to the command. A real drive that controls on its own
 torque estimate would apply ``command / (1 + e)`` and read its command back, so that ratio is this

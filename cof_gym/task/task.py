@@ -21,7 +21,7 @@ from cof_gym import MAX_EPISODE_STEPS
 from cof_gym.physics.models import DEFAULT_TIMESTEP_S, BuiltModel, build_half_wheelset, build_wagon
 from cof_gym.physics.creep import NoPeakError
 from cof_gym.physics.creep_laws import CreepShape, draw_shape
-from cof_gym.physics.simulation import DriveCommand, Scenario, WindowMeasurement
+from cof_gym.physics.simulation import LOCK_INS, DriveCommand, Scenario, WindowMeasurement
 from cof_gym.physics.vehicle import HalfWheelsetParameters, wagon_parameters
 from cof_gym.task.ground_truth import GroundTruth, ground_truth, max_saturation_torque_nm, static_contact_load_n
 from cof_gym.task.actions import ACTION_TYPES, ActionContext, get_action_type
@@ -109,12 +109,14 @@ class InterrogationTask:
     info_layout: str = "nested"  # cof_gym.task.info_layout.INFO_LAYOUTS
     excitation: str = "sine"  # cof_gym.task.excitation.EXCITATIONS
     tones: int = 2  # tones of the "multitone" excitation (2 or 3)
+    lock_in: str = "plain"  # the speed's lock-in: cof_gym.physics.simulation.LOCK_INS
 
     def __post_init__(self) -> None:
         check_choice("action_type", self.action_type, tuple(ACTION_TYPES))
         check_choice("observation_type", self.observation_type, tuple(OBSERVATION_TYPES))
         check_choice("info_layout", self.info_layout, INFO_LAYOUTS)
         check_choice("vehicle", self.vehicle, VEHICLES)
+        check_choice("lock_in", self.lock_in, LOCK_INS)
         # the checked values are stored (a numpy scalar as the Python number it holds, so that it computes
         # exactly as that number would; a Python float is stored unchanged)
         set_ = object.__setattr__
@@ -220,7 +222,8 @@ class InterrogationTask:
         """Draw a scenario (``options`` fix fields for this episode) and its ground truth."""
         fixed = {**self.fixed, **check_fixed({} if options is None else options, self.ranges.load_cases)}
         built, truth, wheel_load, scenario = self._draw(rng, fixed)
-        physics = physics_scenario(scenario, wheel_load, seed=int(rng.integers(2**31)), traction_balance=self.balanced)
+        physics = physics_scenario(scenario, wheel_load, seed=int(rng.integers(2**31)), traction_balance=self.balanced,
+                                   lock_in=self.lock_in)
         episode = Episode(scenario=scenario, truth=truth, built=built, physics=physics,
                           drive=self.signal.baseline(BASELINE_DRIVE))
         episode.potential = self._potential(episode)

@@ -204,6 +204,49 @@ static void track_profile(const double* ud, double x, double* height, double* sl
   *slope = s;
 }
 
+/* the wheelset-speed encoder (cof_gym/physics/encoder.py): the wheel's angle th from the reset by the trapezoid rule,
+ * read at the apparent angle th + e sin th (e the target wheel's relative runout). Without pulses the reading is that
+ * angle's rate, spin (1 + e cos th). With them, pulses come where the apparent angle passes a multiple of the pitch,
+ * each pulse's time interpolated linearly within the step; the reading is one pitch over the last complete interval
+ * between pulses (the period method), held until the next pulse, and the spin rate at the reset before two pulses.
+ * Forward rotation only: a wheel turning back gives no pulse and holds the reading. */
+static double encoder_reading(double* ud, double spin, double t, double dt, int first_step) {
+  const double e = ud[UD_ENCODER_RUNOUT];
+  if (first_step) {
+    ud[UD_ENCODER_ANGLE] = 0.0;
+    ud[UD_ENCODER_SPIN] = spin;
+    ud[UD_ENCODER_PULSES_SEEN] = 0.0;
+    ud[UD_ENCODER_READING] = spin * (1.0 + e);
+    ud[UD_ENCODER_COUNT_ANGLE] = 0.0;
+    return ud[UD_ENCODER_READING];
+  }
+  const double th0 = ud[UD_ENCODER_ANGLE];
+  const double th1 = th0 + 0.5 * (ud[UD_ENCODER_SPIN] + spin) * dt;
+  ud[UD_ENCODER_ANGLE] = th1;
+  ud[UD_ENCODER_SPIN] = spin;
+  if (ud[UD_ENCODER_PULSES] <= 0.0) {
+    ud[UD_ENCODER_READING] = spin * (1.0 + e * cos(th1));
+    ud[UD_ENCODER_COUNT_ANGLE] = th1 + e * sin(th1); /* the reading's integral */
+    return ud[UD_ENCODER_READING];
+  }
+  const double pitch = 2.0 * PI / ud[UD_ENCODER_PULSES];
+  const double s0 = th0 + e * sin(th0), s1 = th1 + e * sin(th1);
+  const double n0 = floor(s0 / pitch), n1 = floor(s1 / pitch);
+  if (n1 > n0) {
+    const double rate = (s1 - s0) / dt; /* the apparent angle's rate over the step, rad/s */
+    const double t_last = t - dt + (n1 * pitch - s0) / rate;
+    if (n1 - n0 >= 2.0) { /* two pulses in the step: their interval is the pitch over the rate */
+      ud[UD_ENCODER_READING] = rate;
+    } else if (ud[UD_ENCODER_PULSES_SEEN] >= 1.0) {
+      ud[UD_ENCODER_READING] = pitch / (t_last - ud[UD_ENCODER_PULSE_TIME]);
+    }
+    ud[UD_ENCODER_PULSE_TIME] = t_last;
+    ud[UD_ENCODER_PULSES_SEEN] = fmin(2.0, ud[UD_ENCODER_PULSES_SEEN] + (n1 - n0));
+    ud[UD_ENCODER_COUNT_ANGLE] = n1 * pitch;
+  }
+  return ud[UD_ENCODER_READING];
+}
+
 static double rng_normal(double* ud) {
   /* Box-Muller; (k + 0.5) / 2^32 keeps u1 in (0, 1) */
   double u1 = ((double)rng_next(ud) + 0.5) / 4294967296.0;
@@ -523,7 +566,10 @@ void cofgym_passive(const mjModel* m, mjData* d) {
     ud[UD_LAST_TIME] = t;
     int mc = (int)ud[UD_MEASURED_CONTACT];
     const contact_state* c = cs + mc;
-    double omega_meas = c->omega + (ud[UD_NOISE_OMEGA] > 0.0 ? ud[UD_NOISE_OMEGA] * rng_normal(ud) : 0.0);
+    const int rotation = ud[UD_LOCK_IN_ROTATION] > 0.0;
+    const double omega_read = ud[UD_ENCODER_PULSES] > 0.0 || ud[UD_ENCODER_RUNOUT] > 0.0 || rotation
+                                  ? encoder_reading(ud, c->omega, t, dt, first_step) : c->omega;
+    double omega_meas = omega_read + (ud[UD_NOISE_OMEGA] > 0.0 ? ud[UD_NOISE_OMEGA] * rng_normal(ud) : 0.0);
     const double tau_e = ud[UD_ENCODER_TAU];
     if (tau_e > 0.0) {
       /* the encoder's speed signal through a first-order lag of time constant tau_e, started at the first
@@ -601,10 +647,11 @@ void cofgym_passive(const mjModel* m, mjData* d) {
       for (int i = 0; i < 4; i++) ud[UD_LAG1_PREV_B_0 + i] = b_now[i];
       acc_bty(ud + UD_BTY_CREEP_0, ud + UD_YTY_CREEP, b_now, c->creepage);
       acc_bty(ud + UD_BTY_CREEP_MEASURED_0, ud + UD_YTY_CREEP_MEASURED, b_now, creep_meas);
-      if (ntones > 1) {
-        /* joint basis [cos th_1, sin th_1, ..., cos th_K, sin th_K, 1, tau]; tone 1 as above */
+      if (ntones > 1 || rotation) {
+        /* joint basis [cos th_1, sin th_1, ..., cos th_K, sin th_K, (cos phi, sin phi,) 1, tau]; tone 1 as above,
+         * phi the encoder's counted angle where the rotation's ripple is taken out */
         double mt_mid[UD_MT_MAX_BASIS], mt_now[UD_MT_MAX_BASIS];
-        const int np = 2 * ntones + 2;
+        const int np = 2 * ntones + (rotation ? UD_ROTATION_BASIS : 0) + 2;
         mt_mid[0] = b_mid[0]; mt_mid[1] = b_mid[1];
         mt_now[0] = b_now[0]; mt_now[1] = b_now[1];
         for (int k = 1; k < ntones; k++) {
@@ -614,6 +661,14 @@ void cofgym_passive(const mjModel* m, mjData* d) {
           mt_mid[2 * k + 1] = tone_sin_mid[k];
           mt_now[2 * k] = cos(th);
           mt_now[2 * k + 1] = sin(th);
+        }
+        if (rotation) { /* the counted angle at the step's start, for the torque's basis too (it has no such ripple):
+                         * its first and second harmonics (a runout's ripple, and the period method's e^2 term) */
+          const double phi = ud[UD_ENCODER_COUNT_ANGLE];
+          for (int h = 0; h < UD_ROTATION_BASIS / 2; h++) {
+            mt_mid[2 * (ntones + h)] = mt_now[2 * (ntones + h)] = cos((h + 1) * phi);
+            mt_mid[2 * (ntones + h) + 1] = mt_now[2 * (ntones + h) + 1] = sin((h + 1) * phi);
+          }
         }
         mt_mid[np - 2] = 1.0; mt_mid[np - 1] = b_mid[3];
         mt_now[np - 2] = 1.0; mt_now[np - 1] = b_now[3];

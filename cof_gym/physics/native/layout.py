@@ -24,7 +24,11 @@ SOS_COEFFS = 5  # b0 b1 b2 a1 a2 (a0 == 1)
 MAX_TONES = 3
 TONE_FIELDS: tuple[str, ...] = ("AMPLITUDE", "OMEGA", "THETA_BASE")
 TONE_STRIDE = len(TONE_FIELDS)
-MT_MAX_BASIS = 2 * MAX_TONES + 2
+# LOCK_IN_ROTATION > 0 adds the encoder's counted angle phi as further pairs [cos phi, sin phi, cos 2 phi, sin 2 phi]
+# after the tones (a once-per-revolution ripple of the speed reading and its second harmonic taken out of every fit),
+# also to a single tone's window, which then runs the joint lock-in with K = 1
+ROTATION_BASIS = 4
+MT_MAX_BASIS = 2 * MAX_TONES + ROTATION_BASIS + 2
 MT_MAX_BTB = MT_MAX_BASIS * (MT_MAX_BASIS + 1) // 2
 # Synchronous (phase-binned) average of the measured CoA over tone 1's modulation cycle: the window's
 # samples of the force sensors' CoA are summed in PHASE_BINS equal bins of tone 1's phase (COA_BIN_*),
@@ -112,6 +116,16 @@ _SCALARS: tuple[str, ...] = (
     "ENCODER_TAU",  # first-order lag of the encoder's wheelset-speed signal, s (0: none)
     "OMEGA_FILTERED",  # the encoder's lagged speed reading (its state), rad/s
     "OMEGA_PREVIOUS",  # the encoder's reading of the step before, rad/s (the lag's input is held as their mean)
+    # the encoder as a pulse generator (cof_gym.physics.encoder; ENCODER_PULSES 0: a continuous reading)
+    "ENCODER_PULSES",  # pulses per revolution of the wheelset
+    "ENCODER_RUNOUT",  # the target wheel's runout over its pitch radius, relative
+    "ENCODER_ANGLE",  # the measured wheelset's angle since the reset, rad (its state)
+    "ENCODER_SPIN",  # its spin rate at the last step, rad/s (the angle's trapezoid rule)
+    "ENCODER_PULSE_TIME",  # time of the last pulse, s
+    "ENCODER_PULSES_SEEN",  # pulses since the reset, capped at 2 (a reading needs two)
+    "ENCODER_READING",  # the held reading, rad/s
+    "ENCODER_COUNT_ANGLE",  # the angle the encoder counts (its pulses x the pitch; without pulses, its reading's), rad
+    "LOCK_IN_ROTATION",  # 1: every fit also takes out a ripple at ENCODER_COUNT_ANGLE (see ROTATION_BASIS)
     "RNG_STATE0",
     "RNG_STATE1",
     # bookkeeping
@@ -251,6 +265,7 @@ def c_header() -> str:
     for i, f in enumerate(TONE_FIELDS):
         lines.append(f"#define TONE_{f} {i}")
     lines.append(f"#define UD_MT_MAX_BASIS {MT_MAX_BASIS}")
+    lines.append(f"#define UD_ROTATION_BASIS {ROTATION_BASIS}")
     lines.append(f"#define UD_PHASE_BINS {PHASE_BINS}")
     lines.append(f"#define UD_MAX_TRACK_WAVES {MAX_TRACK_WAVES}")
     lines.append(f"#define UD_ACC_COUNT {ACC_COUNT}")
