@@ -18,6 +18,11 @@ generated, never typed:
     cof-gym evaluate --agents phase-rule,phase-rule-ar1,robust-model,robust-model-ar1 --out out/evaluate-ar1
     cof-gym evaluate --env-kwargs track_irregularity:ore_low --out out/evaluate-v2-track-ore-low
     cof-gym evaluate --env-kwargs track_irregularity:ore_high --out out/evaluate-v2-track-ore-high
+    cof-gym evaluate --env-kwargs encoder_pulses_per_rev:100 --out out/evaluate-v2-encoder-pulses
+    cof-gym evaluate --env-kwargs encoder_pulses_per_rev:100 encoder_runout:0.0005 --out out/evaluate-v2-encoder-runout
+    cof-gym evaluate --env-kwargs encoder_pulses_per_rev:100 encoder_runout:0.0005 lock_in:rotation \
+        --out out/evaluate-v2-encoder-runout-rotation
+    cof-gym evaluate --env-kwargs lock_in:rotation --out out/evaluate-v2-lock-in-rotation
     cof-gym evaluate --suite paper --episodes 5                                     # the paper's setting
     cof-gym evaluate --suite experiments/suites/v1_default.json --episodes 60 --out out/evaluate-v1
     cof-gym evaluate --suite experiments/suites/heldout_grid.json --out out/evaluate-heldout   # v1 held-out
@@ -1142,6 +1147,10 @@ SOURCES = {
     "v2_ar1_default": ROOT / "out" / "evaluate-ar1" / "summary.md",
     "v2_track_ore_low": ROOT / "out" / "evaluate-v2-track-ore-low" / "summary.md",
     "v2_track_ore_high": ROOT / "out" / "evaluate-v2-track-ore-high" / "summary.md",
+    "v2_encoder_pulses": ROOT / "out" / "evaluate-v2-encoder-pulses" / "summary.md",
+    "v2_encoder_runout": ROOT / "out" / "evaluate-v2-encoder-runout" / "summary.md",
+    "v2_encoder_runout_rotation": ROOT / "out" / "evaluate-v2-encoder-runout-rotation" / "summary.md",
+    "v2_lock_in_rotation": ROOT / "out" / "evaluate-v2-lock-in-rotation" / "summary.md",
     "v2_paper": PAPER_RUN / "summary.md",
     **{block: out / "summary.md" for block, (_, out) in HELDOUT_RUNS.items()},
     "v1_default": ROOT / "out" / "evaluate-v1" / "summary.md",
