@@ -13,7 +13,8 @@ import pytest
 
 import cof_gym
 from cof_gym.agents import registry
-from cof_gym.measurement.sine_fit import basis, colored_noise_factor, fit_from_sums, lag1_correlation, sums
+from cof_gym.measurement.sine_fit import (basis, colored_noise_factor, fit_from_sums, fit_tones_from_sums,
+                                         lag1_correlation, packed_sums, sums, tone_basis)
 from cof_gym.physics.models import DEFAULT_TIMESTEP_S
 from cof_gym.task.scenarios import ENCODER_LAG_MAX_S, V2_RANGES, outside_draws
 
@@ -115,6 +116,31 @@ def test_the_residuals_lag1_correlation_from_sums_is_the_samples(rho):
     assert abs(got - rho) < 0.15  # the estimate of the process's own correlation over 600 samples
 
 
+def test_a_joint_fits_lag1_correlation_from_sums_is_the_samples():
+    """The rotation lock-in's joint basis (a tone, the first two harmonics of a rotation angle, offset, drift): the
+    correlation from its sums (packed B'B, and the np x np lag-1 cross sums the native chain keeps) equals the
+    residuals' own, as for one tone (the same cancellation bound, held to 1e-9), and the joint fit's coefficients
+    (every tone's :attr:`SineFit.coefficients`) give exactly the number solved there again."""
+    rng = np.random.default_rng(2)
+    n = 600
+    tau = np.arange(n) * 1e-3
+    theta = 2 * math.pi * FREQUENCY_HZ * tau + 0.3
+    phi = 21.7 * tau + 0.1  # the wheel's angle at 10 m/s
+    noise = np.zeros(n)
+    for i in range(1, n):
+        noise[i] = 0.8 * noise[i - 1] + 0.05 * rng.standard_normal()
+    y = 1.7 * np.sin(theta + 0.4) + 0.2 * np.cos(phi - 0.5) + 2.0 + 0.3 * tau + noise
+    b = tone_basis(np.stack([theta, phi, 2.0 * phi]), tau)
+    btb, bty, yty, count = packed_sums(b, y)
+    residual = y - b @ np.linalg.lstsq(b, y, rcond=None)[0]
+    direct = (residual[1:] @ residual[:-1] / (n - 1)) / (residual @ residual / n)
+    lag1 = (float(y[1:] @ y[:-1]), b[1:].T @ y[:-1], b[:-1].T @ y[1:], np.ravel(b[1:].T @ b[:-1]))
+    got = lag1_correlation(btb, bty, yty, count, *lag1)
+    assert got == pytest.approx(direct, abs=1e-9)
+    tone = fit_tones_from_sums(btb, bty, yty, count, 3)[0]
+    assert lag1_correlation(btb, bty, yty, count, *lag1, tone.coefficients) == got
+
+
 def test_the_factor_is_one_for_a_white_residual_and_the_ar1_spectrum_otherwise():
     assert colored_noise_factor(0.0, 0.03) == 1.0
     rho, step = 0.9, 0.03
@@ -122,16 +148,18 @@ def test_the_factor_is_one_for_a_white_residual_and_the_ar1_spectrum_otherwise()
     assert colored_noise_factor(rho, step) ** 2 == pytest.approx(spectrum * (1.0 - rho**2), rel=1e-12)  # ... variance
 
 
-def test_the_corrected_se_follows_the_lags_scatter_where_the_white_one_understates_it():
+@pytest.mark.parametrize("lock_in", ["plain", "rotation"])
+def test_the_corrected_se_follows_the_lags_scatter_where_the_white_one_understates_it(lock_in):
     """40 seeds of one half-wheelset window with the noise at full scale: without a lag both SEs match the scatter of
     the lag over the seeds; with a 10 ms encoder lag the white SE falls to a fifth of it (the smoothed noise leaves a
-    correlated residual) and the corrected one stays with it. Bounds: the scatter of 40 draws is known to ~11 %
-    (1 / sqrt(2 x 39)), the SEs' medians to a few %; measured 0.84-0.89 and 0.18."""
+    correlated residual) and the corrected one stays with it; the same for the rotation lock-in's joint fit (its
+    own residual's lag-1 sums). Bounds: the scatter of 40 draws is known to ~11 % (1 / sqrt(2 x 39)), the SEs'
+    medians to a few %; measured 0.84-0.89 and 0.18 (plain)."""
     frequency = 2.0 * math.log(FREQUENCY_HZ) / math.log(20.0) - 1.0
     action = np.array([-0.5, 0.6, frequency, 0.0, -1.0], dtype=np.float32)
     for encoder_lag_s in (0.0, 0.01):
         lags, white, corrected = [], [], []
-        env = gym.make(cof_gym.HALF_WHEELSET_ENV_ID, action_type="absolute")
+        env = gym.make(cof_gym.HALF_WHEELSET_ENV_ID, action_type="absolute", lock_in=lock_in)
         for seed in range(40):
             env.reset(seed=seed, options={**QUIET, "noise_level": 1.0, "encoder_lag_s": encoder_lag_s})
             m = env.step(action)[4]["measurement"]

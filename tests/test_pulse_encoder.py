@@ -17,7 +17,8 @@ from cof_gym.physics.models import DEFAULT_TIMESTEP_S, build_half_wheelset
 from cof_gym.physics.native.layout import OFFSETS
 from cof_gym.physics.simulation import Scenario, Simulation
 from cof_gym.task.scenarios import V2_RANGES, outside_draws
-from test_vector_env import first_difference, make_pair, same  # tests/ is on sys.path (pytest rootdir)
+from test_track_irregularity import play  # tests/ is on sys.path (pytest rootdir)
+from test_vector_env import assert_batched_plays_as_sync, same
 
 SPEED_M_S = 10.0
 STEPS = 3000  # 3 s at 1 kHz: 65 rad of a 0.46 m wheel at 10 m/s
@@ -125,17 +126,6 @@ def test_the_pulses_add_about_one_interval_to_every_lag_the_lock_in_reads(speed_
     assert pulsed["creepage_measured"] == pytest.approx(plain["creepage_measured"], abs=1e-5)
 
 
-def play(env, seed: int, options: dict, steps: int = 3) -> list:
-    obs, info = env.reset(seed=seed, options=options)
-    out = [obs, info["ground_truth"]]
-    for _ in range(steps):
-        obs, reward, terminated, truncated, info = env.step(np.array([-0.9, 0.0, 0.0, 0.0, -1.0], np.float32))
-        out += [obs, reward, info["measurement"]]
-        if terminated or truncated:
-            break
-    return out
-
-
 def test_no_pulses_and_no_runout_is_the_default_and_an_encoder_moves_no_other_draw():
     """``encoder_pulses_per_rev=0`` and ``encoder_runout=0`` play the episode the default plays, bit for bit; a
     pulse encoder changes the readings, not the physics nor any drawn field: the episode's truth is the default's
@@ -155,21 +145,11 @@ def test_no_pulses_and_no_runout_is_the_default_and_an_encoder_moves_no_other_dr
     env.close()
 
 
-def test_the_batched_env_reads_the_same_pulses():
-    """The vector env (mujoco.batch) plays a pulse encoder with runout bit for bit as gymnasium's SyncVectorEnv of
-    single envs does (every observation, reward, flag and info)."""
-    batched, sync = make_pair(2)
-    try:
-        options = {"encoder_pulses_per_rev": 80, "encoder_runout": 0.001}
-        a, b = batched.reset(seed=5, options=dict(options)), sync.reset(seed=5, options=dict(options))
-        assert same(a, b), first_difference(a, b)
-        actions = np.tile(np.array([-0.9, 0.0, 0.0, 0.0, -1.0], np.float32), (2, 1))
-        for step in range(2):
-            a, b = batched.step(actions), sync.step(actions)
-            assert same(a, b), f"step {step}: {first_difference(a, b)}"
-    finally:
-        batched.close()
-        sync.close()
+@pytest.mark.parametrize("lock_in", ["plain", "rotation"])
+def test_the_batched_env_reads_the_same_pulses(lock_in):
+    """The vector env (mujoco.batch) plays a pulse encoder with runout, read by either lock-in, bit for bit as
+    gymnasium's SyncVectorEnv of single envs does (every observation, reward, flag and info)."""
+    assert_batched_plays_as_sync({"encoder_pulses_per_rev": 80, "encoder_runout": 0.001}, lock_in=lock_in)
 
 
 @pytest.mark.parametrize("name, value, match", [

@@ -20,7 +20,7 @@ from cof_gym.physics.track import (MAX_TRACK_WAVES, SMOOTH, TRACK_CLASSES, TRACK
                                    TrackProfile, draw_profile)
 from cof_gym.physics.vehicle import WagonParameters
 from cof_gym.task.scenarios import V2_RANGES, outside_draws
-from test_vector_env import first_difference, make_pair, same  # tests/ is on sys.path (pytest rootdir)
+from test_vector_env import assert_batched_plays_as_sync, same  # tests/ is on sys.path (pytest rootdir)
 
 BAND = tuple(2.0 * math.pi / wavelength for wavelength in WAVELENGTH_RANGE_M[::-1])
 
@@ -120,18 +120,7 @@ def test_the_batched_env_lays_the_same_profile() -> None:
     """The vector env (mujoco.batch) plays a rough track bit for bit as gymnasium's SyncVectorEnv of single envs
     does: every observation, reward, flag and info (the wagon id the vector env's own tests pair, test_vector_env;
     the profile is laid by the same userdata rows for every task version)."""
-    batched, sync = make_pair(2)
-    try:
-        options = {"track_irregularity": "ore_low"}
-        a, b = batched.reset(seed=5, options=dict(options)), sync.reset(seed=5, options=dict(options))
-        assert same(a, b), first_difference(a, b)
-        actions = np.tile(np.array([-0.9, 0.0, 0.0, 0.0, -1.0], np.float32), (2, 1))
-        for step in range(2):
-            a, b = batched.step(actions), sync.step(actions)
-            assert same(a, b), f"step {step}: {first_difference(a, b)}"
-    finally:
-        batched.close()
-        sync.close()
+    assert_batched_plays_as_sync({"track_irregularity": "ore_low"})
 
 
 def test_a_profile_is_outside_every_draw() -> None:

@@ -61,6 +61,22 @@ def make_pair(n: int, **kwargs):
     return batched, sync
 
 
+def assert_batched_plays_as_sync(options: dict, steps: int = 2, **kwargs) -> None:
+    """Two envs of the batched vector env reset with ``options`` and stepped ``steps`` times at a small DC torque
+    give every observation, reward, flag and info that gymnasium's SyncVectorEnv of single envs gives, bit for bit."""
+    batched, sync = make_pair(2, **kwargs)
+    try:
+        a, b = batched.reset(seed=5, options=dict(options)), sync.reset(seed=5, options=dict(options))
+        assert same(a, b), first_difference(a, b)
+        actions = np.tile(np.array([-0.9, 0.0, 0.0, 0.0, -1.0], np.float32), (2, 1))
+        for step in range(steps):
+            a, b = batched.step(actions), sync.step(actions)
+            assert same(a, b), f"step {step}: {first_difference(a, b)}"
+    finally:
+        batched.close()
+        sync.close()
+
+
 def test_make_vec_returns_the_batched_env_with_gymnasium_spaces():
     envs = gym.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point")
     single = gym.make(ENV_ID)

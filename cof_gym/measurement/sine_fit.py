@@ -47,8 +47,8 @@ class SineFit:
     offset: float
     drift_per_s: float
     residual_rms: float
-    # the single-tone fit's coefficients (c0, c1, c2, c3) as solved, for what reads its residual
-    # (lag1_correlation); empty for a tone of a joint fit
+    # the fit's coefficients as solved, for what reads its residual (lag1_correlation): the single-tone fit's
+    # (c0, c1, c2, c3), or the joint fit's whole vector (every tone of it holds the same)
     coefficients: tuple[float, ...] = field(default=(), repr=False, compare=False)
 
 
@@ -78,15 +78,18 @@ def lag1_correlation(btb: np.ndarray, bty: np.ndarray, yty: float, n: float, yy1
                      prev_by: np.ndarray, bb: np.ndarray, coefficients: tuple[float, ...] = ()) -> float:
     """The lag-1 autocorrelation of the fit's residual ``r_n = y_n - b_n' c`` over consecutive samples, from the fit's
     sums and the lag-1 cross sums ``sum y_n y_(n-1)``, ``sum b_n y_(n-1)``, ``sum b_(n-1) y_n`` and ``sum b_n
-    b_(n-1)'`` (16 entries, row-major): ``(sum r_n r_(n-1) / (n - 1)) / (sum r_n^2 / n)``, within [-0.999, 0.999];
-    0 where the fit leaves no residual. ``coefficients``: the fit's as :func:`fit_from_sums` solved them from the same
+    b_(n-1)'`` (``size`` x ``size`` entries, row-major; ``size`` the basis's columns, ``len(bty)``: 4 for one tone):
+    ``(sum r_n r_(n-1) / (n - 1)) / (sum r_n^2 / n)``, within [-0.999, 0.999]; 0 where the fit leaves no residual.
+    ``coefficients``: the fit's as :func:`fit_from_sums` (or :func:`fit_tones_from_sums`) solved them from the same
     sums (:attr:`SineFit.coefficients`), not solved again; empty: solved here."""
+    bty = np.asarray(bty, dtype=np.float64)
+    size = len(bty)
     coef = (np.array(coefficients, dtype=np.float64) if coefficients else
-            _solve_scaled(unpack_symmetric(np.asarray(btb, dtype=np.float64)), np.asarray(bty, dtype=np.float64))[0])
+            _solve_scaled(unpack_symmetric(np.asarray(btb, dtype=np.float64), size), bty)[0])
     rss = float(yty - coef @ bty)
     if not rss > 0.0 or n < 2:
         return 0.0
-    cross = float(yy1 - coef @ by_prev - coef @ prev_by + coef @ np.reshape(bb, (N_BASIS, N_BASIS)) @ coef)
+    cross = float(yy1 - coef @ by_prev - coef @ prev_by + coef @ np.reshape(bb, (size, size)) @ coef)
     return float(np.clip((cross / (n - 1)) / (rss / n), -0.999, 0.999))
 
 
@@ -185,7 +188,7 @@ def fit_tones_from_sums(btb: np.ndarray, bty: np.ndarray, yty: float, n: float, 
         else:
             phase_se = float(np.pi)
         fits.append(SineFit(float(np.sqrt(amp2)), float(np.arctan2(c0, c1)), phase_se, float(coef[-2]),
-                            float(coef[-1]), float(np.sqrt(rss / n))))
+                            float(coef[-1]), float(np.sqrt(rss / n)), tuple(float(c) for c in coef)))
     return tuple(fits)
 
 

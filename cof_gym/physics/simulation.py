@@ -159,7 +159,7 @@ class Scenario:
 # drift; "rotation" also fits [cos, sin] of the angle the encoder counts and of twice it, which takes a
 # once-per-revolution ripple of the reading (a target wheel's runout, cof_gym.physics.encoder) and the period method's
 # second-order term of it out of every tone's fit: the tones' readings come from the joint fit (as with several tones),
-# and the lag's SE for a correlated residual is not computed (NO_SE_DEG)
+# the lag's SE for a correlated residual (one tone) from the joint fit's residual
 LOCK_INS = ("plain", "rotation")
 
 
@@ -401,13 +401,17 @@ def _joint_tones(ud: np.ndarray, n: float, ntones: int, rotation: bool) -> tuple
     return tones, (t_fits[0], o_fits[0], c_fits[0], cm_fits[0])
 
 
-def _lag_se_corrected(ud: np.ndarray, n: float, torque: SineFit, omega: SineFit) -> float:
-    """A single-tone window's lag SE (deg) with the speed fit's SE scaled by
-    :func:`~cof_gym.measurement.sine_fit.colored_noise_factor` of its residual's lag-1 correlation."""
-    b0, y0 = I["BTB_STATE_0"], I["BTY_OMEGA_0"]
-    rho = lag1_correlation(ud[b0:b0 + 10], ud[y0:y0 + 4], ud[I["YTY_OMEGA"]], n, ud[I["LAG1_YY"]],
-                           ud[I["LAG1_BY_0"]: I["LAG1_BY_0"] + 4], ud[I["LAG1_PY_0"]: I["LAG1_PY_0"] + 4],
-                           ud[I["LAG1_BB_0"]: I["LAG1_BB_0"] + 16], omega.coefficients)
+def _lag_se_corrected(ud: np.ndarray, n: float, torque: SineFit, omega: SineFit, joint_size: int = 0) -> float:
+    """Tone 1's lag SE (deg) with the speed fit's SE scaled by
+    :func:`~cof_gym.measurement.sine_fit.colored_noise_factor` of its residual's lag-1 correlation: the single-tone
+    fit's, or (``joint_size`` columns) the rotation lock-in's joint fit's."""
+    size, btb, bty, lag1 = (joint_size, "MT_BTB_STATE", "MT_BTY_OMEGA", "MT_LAG1") if joint_size else (
+        4, "BTB_STATE", "BTY_OMEGA", "LAG1")
+    b0, y0 = I[f"{btb}_0"], I[f"{bty}_0"]
+    rho = lag1_correlation(ud[b0:b0 + size * (size + 1) // 2], ud[y0:y0 + size], ud[I["YTY_OMEGA"]], n,
+                           ud[I["LAG1_YY"]], ud[I[f"{lag1}_BY_0"]: I[f"{lag1}_BY_0"] + size],
+                           ud[I[f"{lag1}_PY_0"]: I[f"{lag1}_PY_0"] + size],
+                           ud[I[f"{lag1}_BB_0"]: I[f"{lag1}_BB_0"] + size * size], omega.coefficients)
     factor = colored_noise_factor(rho, ud[I["MOD_OMEGA"]] * ud[I["TIMESTEP_S"]])
     return _lag(torque, replace(omega, phase_se_rad=omega.phase_se_rad * factor), True)[1]
 
@@ -427,7 +431,10 @@ def read_window(ud: np.ndarray) -> WindowMeasurement:
     if ntones > 1 or rotation:  # every tone from the joint fit, tone 1's replacing the single-tone fit (leaked into)
         tones, (torque, omega, creep, creep_measured) = _joint_tones(ud, n, ntones, rotation)
         lag, lag_se, ratio = (tones[tone_field(1, f)] for f in ("phase_lag_deg", "phase_lag_se_deg", "amplitude_ratio"))
-        lag_se_corrected = NO_SE_DEG  # the lag-1 sums hold the single-tone fit's residual, not the joint fit's
+        # the rotation lock-in keeps the lag-1 sums of its joint fit's residual; several tones keep none (their
+        # agents were fitted on the SE of no information)
+        size = 2 * (ntones + layout.ROTATION_BASIS // 2) + 2
+        lag_se_corrected = _lag_se_corrected(ud, n, torque, omega, size) if rotation and ntones == 1 else NO_SE_DEG
     else:
         lag, lag_se, ratio = _lag(torque, omega, True)
         lag_se_corrected = _lag_se_corrected(ud, n, torque, omega)

@@ -633,8 +633,8 @@ void cofgym_passive(const mjModel* m, mjData* d) {
       acc_bty(ud + UD_BTY_TORQUE_0, ud + UD_YTY_TORQUE, b_mid, torque);
       acc_btb(ud + UD_BTB_STATE_0, b_now);
       acc_bty(ud + UD_BTY_OMEGA_0, ud + UD_YTY_OMEGA, b_now, omega_meas);
+      const double y_prev = ud[UD_LAG1_PREV_Y]; /* the previous sample's speed reading (lag-1 sums) */
       if (ud[UD_N_SAMPLES] > 1.0) { /* a previous sample of this window: the lag-1 cross sums */
-        const double y_prev = ud[UD_LAG1_PREV_Y];
         const double* b_prev = ud + UD_LAG1_PREV_B_0;
         ud[UD_LAG1_YY] += omega_meas * y_prev;
         for (int i = 0; i < 4; i++) {
@@ -678,6 +678,17 @@ void cofgym_passive(const mjModel* m, mjData* d) {
         acc_bty_n(ud + UD_MT_BTY_OMEGA_0, mt_now, np, omega_meas);
         acc_bty_n(ud + UD_MT_BTY_CREEP_0, mt_now, np, c->creepage);
         acc_bty_n(ud + UD_MT_BTY_CREEP_MEASURED_0, mt_now, np, creep_meas);
+        if (rotation) { /* the joint basis's lag-1 cross sums (the single tone's above hold the plain fit's) */
+          double* prev_b = ud + UD_MT_LAG1_PREV_B_0;
+          if (ud[UD_N_SAMPLES] > 1.0) {
+            for (int i = 0; i < np; i++) {
+              ud[UD_MT_LAG1_BY_0 + i] += mt_now[i] * y_prev;
+              ud[UD_MT_LAG1_PY_0 + i] += prev_b[i] * omega_meas;
+              for (int j = 0; j < np; j++) ud[UD_MT_LAG1_BB_0 + np * i + j] += mt_now[i] * prev_b[j];
+            }
+          }
+          for (int i = 0; i < np; i++) prev_b[i] = mt_now[i];
+        }
       }
       {
         /* synchronous average of the measured CoA: its bin of tone 1's phase at the step's start */

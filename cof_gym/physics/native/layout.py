@@ -201,6 +201,13 @@ ACCUMULATORS: tuple[str, ...] = (
     *(f"MT_BTY_OMEGA_{i}" for i in range(MT_MAX_BASIS)),
     *(f"MT_BTY_CREEP_{i}" for i in range(MT_MAX_BASIS)),
     *(f"MT_BTY_CREEP_MEASURED_{i}" for i in range(MT_MAX_BASIS)),
+    # the joint basis's lag-1 cross sums with the speed reading (LOCK_IN_ROTATION only; as LAG1_ for the single
+    # tone, with LAG1_YY and LAG1_PREV_Y shared): sum b_n y_(n-1), sum b_(n-1) y_n, sum b_n b_(n-1)' (row-major, np x
+    # np for the window's np columns), and the previous sample's basis
+    *(f"MT_LAG1_BY_{i}" for i in range(MT_MAX_BASIS)),
+    *(f"MT_LAG1_PY_{i}" for i in range(MT_MAX_BASIS)),
+    *(f"MT_LAG1_BB_{i}" for i in range(MT_MAX_BASIS * MT_MAX_BASIS)),
+    *(f"MT_LAG1_PREV_B_{i}" for i in range(MT_MAX_BASIS)),
     # synchronous average of the measured CoA (PHASE_BINS bins of tone 1's phase at the step's start, bin k
     # centred on -pi + 2 pi k / PHASE_BINS, so one bin is centred on the torque's crest): samples, sum, sum of squares
     *(f"COA_BIN_N_{k}" for k in range(PHASE_BINS)),
