@@ -19,10 +19,11 @@ import cof_gym
 from cof_gym.analysis.theory import PAPER_AMPLITUDE_NM, PAPER_FREQUENCY_HZ, PAPER_SPEED_M_S
 from cof_gym.physics.creep import FAMILIES, CreepShape, OperatingConditions
 from cof_gym.physics.creep_laws import PRESET_FAMILY
+from cof_gym.physics.encoder import PulseEncoder
 from cof_gym.physics.models import build_wagon
 from cof_gym.physics.native.build import install_callback, native
 from cof_gym.physics.simulation import DriveCommand, Scenario, Simulation, begin_window
-from cof_gym.physics.track import TrackProfile, draw_profile
+from cof_gym.physics.track import draw_profile
 from cof_gym.physics.vehicle import wagon_parameters
 from cof_gym.validation import check_number
 
@@ -70,18 +71,27 @@ def bench_track(seconds: float = 5.0, repeats: int = 5) -> dict[str, PhysicsBenc
     """:func:`bench_physics` with the preset law on a level track and on a track of high vertical irregularity
     (a profile of ``ore_high``, :mod:`cof_gym.physics.track`), interleaved in each repeat."""
     rough = draw_profile("ore_high", np.random.default_rng(0))
-    return _bench_laws({"level": "dry", "rough": "dry"}, seconds, repeats, tracks={"rough": rough})
+    return _bench_laws({"level": "dry", "rough": "dry"}, seconds, repeats, options={"rough": {"track": rough}})
+
+
+def bench_encoder(seconds: float = 5.0, repeats: int = 5) -> dict[str, PhysicsBench]:
+    """:func:`bench_physics` with the preset law read by the continuous encoder and by a pulse encoder (100 pulses,
+    a runout of 0.05 %, :mod:`cof_gym.physics.encoder`) through the rotation lock-in, interleaved in each repeat."""
+    pulses = {"encoder": PulseEncoder(pulses_per_rev=100, runout=0.0005), "lock_in": "rotation"}
+    return _bench_laws({"continuous": "dry", "pulses": "dry"}, seconds, repeats, options={"pulses": pulses})
 
 
 def _bench_laws(conditions: dict[str, str | CreepShape], seconds: float, repeats: int,
-                tracks: dict[str, TrackProfile] | None = None) -> dict[str, PhysicsBench]:
+                options: dict[str, dict] | None = None) -> dict[str, PhysicsBench]:
+    """The wagon of :func:`bench_physics` under each named creep law, its :class:`Scenario` given the keyword
+    arguments ``options[name]`` too (a track, an encoder)."""
     built = build_wagon(wagon_parameters("laden"))
     sims, bares = {}, {}
     for name, condition in conditions.items():
         op = OperatingConditions(cof=0.4, condition=condition, wheel_load_n=built.nominal_wheel_load_n,
                                  speed_m_s=PAPER_SPEED_M_S)
         sim = sims[name] = Simulation(built)
-        sim.reset(Scenario(op, track=(tracks or {}).get(name, TrackProfile())))
+        sim.reset(Scenario(op, **(options or {}).get(name, {})))
         drive = DriveCommand(0.9 * built.saturation_torque_per_cof * 0.4, PAPER_AMPLITUDE_NM, PAPER_FREQUENCY_HZ)
         begin_window(sim.data.userdata, 0.0, drive, 0.5, 0.0)
         bare = bares[name] = mujoco.MjData(built.model)
@@ -211,6 +221,9 @@ def main(seconds: float = 5.0, markdown: str | None = None) -> None:
     track = bench_track(seconds)
     rows.append(("ratio native on a track of high vertical irregularity / level track",
                  f"{track['rough'].native_steps_per_s / track['level'].native_steps_per_s:.3f}"))
+    encoder = bench_encoder(seconds)
+    rows.append(("ratio native with a pulse encoder read by the rotation lock-in / continuous encoder",
+                 f"{encoder['pulses'].native_steps_per_s / encoder['continuous'].native_steps_per_s:.3f}"))
     ab = bench_agent(seconds)
     agent_rows = [
         ("agent steps/s, one env (gym.make, 1 s windows)", f"{ab.single_steps_per_s:,.1f}"),

@@ -31,6 +31,12 @@ acts on the continuous reading, ``omega (1 + e cos theta)`` (an angle sensor mou
 0 with no runout is the continuous reading every v1 and v2 draw has, bit for bit. The accepted ranges are cof_gym's
 choice (unverified): 8 to 10000 pulses per revolution (a coarse axle probe to a motor-shaft encoder behind a gear),
 runout up to 1 %.
+
+The env argument ``lock_in="rotation"`` (:data:`cof_gym.physics.simulation.LOCK_INS`) takes the runout's ripple out of
+the lock-in: it also fits the first two harmonics of the angle the encoder counts (its pulses times the pitch), of
+which the reading's ripple is a function to the runout's third order. Cost: ``cof-gym bench``'s row "ratio native with
+a pulse encoder read by the rotation lock-in / continuous encoder", 0.93-1.04 over four runs in session 83 (0.94 in the
+median).
 """
 
 from __future__ import annotations
