@@ -25,7 +25,11 @@ only a fraction of those values, so the rows past the first measure the agents o
   are the two validation-chosen agents that test the lag's significance reading the SE for a first-order
   autoregressive residual instead (``phase_lag_se_corrected_deg``), every parameter as chosen; ``phase-rule-gated``
   and ``robust-model-gated`` (not in the default list) read it only where their reset window's noise colour shows a
-  smoothed speed signal.
+  smoothed speed signal;
+- a pulse encoder (``encoder_pulses_per_rev`` 100, :mod:`cof_gym.physics.encoder`) reads the speed about one
+  interval between pulses late (a lag offset that shrinks as the speed grows), a runout of its target wheel
+  (``encoder_runout`` 0.0005) adds a ripple at the wheelset's rotation frequency, and the env argument
+  ``lock_in="rotation"`` takes that ripple out of the lock-in (the last row).
 
 Cells: median / P90 relative CoF error [%] / macro-slips, over the grid's scored episodes.
 """
@@ -58,25 +62,33 @@ AGENTS = ("oracle", "staircase", "phase-rule", "phase-rule-ar1", "model-based", 
 
 
 ENCODER_LAGS_S = (0.005, 0.01, ENCODER_LAG_MAX_S)  # the encoder's speed-signal lags played, s
+# the encoder read from a speed probe's pulses (session 83): 100 per wheelset revolution, then with a target wheel's
+# runout of 0.05 %, then that read by the rotation lock-in (an env argument, the rest reset options)
+PULSE_ENCODERS = ({"encoder_pulses_per_rev": 100}, {"encoder_pulses_per_rev": 100, "encoder_runout": 0.0005},
+                  {"encoder_pulses_per_rev": 100, "encoder_runout": 0.0005, "lock_in": "rotation"})
+ENV_SETTINGS = ("lock_in",)  # settings that are the env's arguments, not a reset's options
 
 
-def settings() -> list[dict[str, float]]:
+def settings() -> list[dict[str, float | str]]:
     """The grid as drawn ({}), then each systematic error at plus and minus its accepted bound, then each encoder
-    lag of ENCODER_LAGS_S."""
+    lag of ENCODER_LAGS_S, then each pulse encoder of PULSE_ENCODERS."""
     return ([{}] + [{name: sign * span.accepted} for name, span in SYSTEMATIC_ERRORS.items() for sign in (1.0, -1.0)]
-            + [{"encoder_lag_s": lag} for lag in ENCODER_LAGS_S])
+            + [{"encoder_lag_s": lag} for lag in ENCODER_LAGS_S] + [dict(encoder) for encoder in PULSE_ENCODERS])
 
 
-def play(spec: str, setting: dict[str, float], config: dict) -> list[tuple[float, bool]]:
+def play(spec: str, setting: dict[str, float | str], config: dict) -> list[tuple[float, bool]]:
     """(relative error, macro-slip) of every scored episode of the family validation grid, played by ``spec`` in
-    the vehicle configuration ``config`` with ``setting`` over each episode's own options."""
+    the vehicle configuration ``config`` with ``setting`` over each episode's own options (its ENV_SETTINGS as the
+    env's arguments)."""
     suite = make_suite(str(VALIDATION), 60, 0)
-    env = gym.make(suite.env_id, **{**suite.env_kwargs, **config})
+    env_setting = {k: v for k, v in setting.items() if k in ENV_SETTINGS}
+    setting = {k: v for k, v in setting.items() if k not in ENV_SETTINGS}
+    env = gym.make(suite.env_id, **{**suite.env_kwargs, **config, **env_setting})
     agent = registry.make_agent(spec, env)
     options = own_env_options(agent)
     if options:  # an excitation of its own (two tones): the same agent plays in an env made with it
         env.close()
-        env = gym.make(suite.env_id, **{**suite.env_kwargs, **config, **options})
+        env = gym.make(suite.env_id, **{**suite.env_kwargs, **config, **env_setting, **options})
     records = [run_episode(env, agent, seed, {**own, **setting}, i) for i, (seed, own) in enumerate(suite.episodes)]
     env.close()
     return [(r.relative_error, r.macro_slip) for r in records if r.scored]
@@ -88,9 +100,12 @@ def cell(played: list[tuple[float, bool]]) -> str:
             f"{sum(slip for _, slip in played)}")
 
 
-def label(setting: dict[str, float]) -> str:
+def label(setting: dict[str, float | str]) -> str:
     if "encoder_lag_s" in setting:
         return f"encoder_lag_s {setting['encoder_lag_s']:g} s"
+    if "encoder_pulses_per_rev" in setting:  # a pulse encoder: its fields and the lock-in as given
+        return ", ".join(f"{name} {value:g}" if name != "lock_in" else f"lock_in {value}" for name, value in
+                         setting.items())
     return "as drawn" if not setting else ", ".join(f"{name} {value:+g}" for name, value in setting.items())
 
 
@@ -111,7 +126,9 @@ def main() -> None:
              "median / P90 relative CoF error [%] / macro-slips, with one systematic sensor error fixed at the end "
              "of the range the env accepts (the v2 draws: "
              + ", ".join(f"{name} +-{span.drawn:g}" for name, span in SYSTEMATIC_ERRORS.items())
-             + "), or the encoder's speed signal lagged (a first-order lag the draws never give).", "",
+             + "), or the encoder's speed signal lagged (a first-order lag the draws never give), or the encoder "
+             "read from 100 pulses per revolution, with a runout of its target wheel, and that through the rotation "
+             "lock-in (none of which the draws give).", "",
              "| sensors | " + " | ".join(agents) + " |", "|---" * (len(agents) + 1) + "|"]
     for r, setting in enumerate(rows):
         cells = []
