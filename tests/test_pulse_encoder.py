@@ -14,6 +14,7 @@ import cof_gym
 from cof_gym.physics.creep import OperatingConditions
 from cof_gym.physics.encoder import PULSES_PER_REV_RANGE, RUNOUT_MAX, PulseEncoder
 from cof_gym.physics.models import DEFAULT_TIMESTEP_S, build_half_wheelset
+from cof_gym.physics import simulation
 from cof_gym.physics.native.layout import OFFSETS
 from cof_gym.physics.simulation import Scenario, Simulation
 from cof_gym.task.scenarios import V2_RANGES, outside_draws
@@ -173,7 +174,7 @@ def test_a_bad_encoder_is_refused_naming_the_field_and_its_range(name, value, ma
 def test_an_encoder_with_pulses_or_runout_is_outside_every_draw():
     assert outside_draws({"encoder_pulses_per_rev": 100, "encoder_runout": 0.001}, V2_RANGES) == {
         "encoder_pulses_per_rev": "100, drawn: 0 (a continuous reading)",
-        "encoder_runout": "0.001, drawn: 0 (a continuous reading)"}
+        "encoder_runout": "0.001, drawn: 0"}
     assert outside_draws({"encoder_pulses_per_rev": 0, "encoder_runout": 0.0}, V2_RANGES) == {}
 
 
@@ -221,3 +222,28 @@ def test_the_rotation_lock_in_reads_no_ripple_where_there_is_none_and_a_bad_one_
     assert rotation == pytest.approx(plain, abs=0.05)
     with pytest.raises(ValueError, match=r"lock_in must be one of \['plain', 'rotation'\], got 'sync'"):
         gym.make(cof_gym.HALF_WHEELSET_ENV_ID, lock_in="sync")
+
+
+def noisy_window(lock_in: str, speed_m_s: float) -> dict:
+    """A half-wheelset window with the drawn noise at full scale, a 5 Hz modulation, the continuous encoder."""
+    env = gym.make(cof_gym.HALF_WHEELSET_ENV_ID, action_type="absolute", lock_in=lock_in)
+    env.reset(seed=3, options={**QUIET, "noise_level": 1.0, "speed_m_s": speed_m_s})
+    frequency = 2.0 * math.log(FREQUENCY_HZ) / math.log(20.0) - 1.0
+    info = env.step(np.array([-0.5, 0.6, frequency, 0.0, -1.0], dtype=np.float32))[4]
+    env.close()
+    return dict(info["measurement"])
+
+
+@pytest.mark.parametrize("harmonic", [1, 2])
+def test_a_rotation_harmonic_at_the_modulations_frequency_is_left_out_not_fitted(harmonic, monkeypatch):
+    """Where the wheel turns at 5 Hz (14.45 m/s) or at half that (7.23 m/s), that harmonic of the counted angle and the
+    tone are nearly one regressor over the window: fitted together, the tone's lag carries almost no information
+    (its SE more than ten times the plain lock-in's: 88 and 180 deg here, against 5 and 10). The
+    rotation lock-in leaves out a harmonic that would raise a tone's coefficient variance more than
+    MAX_ROTATION_INFLATION (2) times, so its lag's SE stays within sqrt(2) of the plain lock-in's, whichever other
+    harmonic it keeps."""
+    speed = FREQUENCY_HZ / harmonic * 2.0 * math.pi * build_half_wheelset().wheel_radius_m
+    plain, rotation = noisy_window("plain", speed), noisy_window("rotation", speed)
+    assert rotation["phase_lag_se_deg"] <= math.sqrt(2.0) * plain["phase_lag_se_deg"] < 90.0
+    monkeypatch.setattr(simulation, "MAX_ROTATION_INFLATION", math.inf)
+    assert noisy_window("rotation", speed)["phase_lag_se_deg"] > 10.0 * plain["phase_lag_se_deg"]

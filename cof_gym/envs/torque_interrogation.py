@@ -299,7 +299,7 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | observation_type | "window" | "window" (14), "history" (29) or "identification" (38; see Observation Space) |
     | excitation | "sine" | "sine" (one tone, as in the paper) or "multitone" (``tones`` sines, each with its own lock-in; see Action Space) |
     | tones | 2 | tones of the "multitone" excitation, 2 or 3 (ignored with "sine", still checked) |
-    | lock_in | "plain" | the speed's lock-in: "plain" (each tone's ``[cos, sin]``, an offset and a drift) or "rotation" (also ``[cos, sin]`` of the angle the encoder counts and of twice it: a runout's once-per-revolution ripple taken out of every tone's reading; :data:`cof_gym.physics.simulation.LOCK_INS`) |
+    | lock_in | "plain" | the speed's lock-in: "plain" (each tone's ``[cos, sin]``, an offset and a drift) or "rotation" (also ``[cos, sin]`` of the angle the encoder counts and of twice it: a runout's once-per-revolution ripple taken out of every tone's reading, but for a harmonic the window cannot tell from a tone, left out; :data:`cof_gym.physics.simulation.LOCK_INS`) |
     | info_layout | "nested" | "nested" (the info above) or "flat": one level of keys joined by "/" (``info["measurement/phase_lag_deg"]``), every value a number, strings as indices (:data:`cof_gym.task.info_layout.FLAT_CODES`), the creep law's spec left out; for torchrl's ``GymWrapper`` over ``gym.make_vec`` (:mod:`cof_gym.task.info_layout`) |
     | render_mode | None | "rgb_array" or "human" |
     | width, height | 480, 240 | rgb_array frame size, pixels |

@@ -18,7 +18,7 @@ import numpy as np
 
 from cof_gym.measurement.comfort import band_limiting_sos, wd_weighting_sos
 from cof_gym.measurement.sine_fit import (NO_SE_DEG, SineFit, colored_noise_factor, fit_from_sums,
-                                         fit_tones_from_sums, lag1_correlation, wrap_deg)
+                                         fit_tones_from_sums, lag1_correlation, unpack_symmetric, wrap_deg)
 from cof_gym.measurement.synchronous_average import cycle_extremes
 from cof_gym.physics.creep import OperatingConditions, creep_peak
 from cof_gym.physics.encoder import PulseEncoder
@@ -159,7 +159,8 @@ class Scenario:
 # drift; "rotation" also fits [cos, sin] of the angle the encoder counts and of twice it, which takes a
 # once-per-revolution ripple of the reading (a target wheel's runout, cof_gym.physics.encoder) and the period method's
 # second-order term of it out of every tone's fit: the tones' readings come from the joint fit (as with several tones),
-# the lag's SE for a correlated residual (one tone) from the joint fit's residual
+# the lag's SE for a correlated residual (one tone) from the joint fit's residual. A harmonic the window cannot tell
+# from a tone (MAX_ROTATION_INFLATION) is left out of that window's fit, its ripple leaking in as the plain fit's does
 LOCK_INS = ("plain", "rotation")
 
 
@@ -352,17 +353,52 @@ def _fit(ud: np.ndarray, btb: str, bty: str, yty: str, n: float):
     return fit_from_sums(ud[b0:b0 + 10], ud[y0:y0 + 4], ud[I[yty]], n)
 
 
-def _tone_fits(ud: np.ndarray, n: float, ntones: int) -> tuple[tuple[SineFit, ...], ...]:
-    """The joint multi-tone fits (torque, omega, creepage, measured creepage), one SineFit per tone each."""
-    size = 2 * ntones + 2
+def _tone_fits(ud: np.ndarray, n: float, size: int,
+               columns: list[int] | None = None) -> tuple[tuple[SineFit, ...], ...]:
+    """The joint fits (torque, omega, creepage, measured creepage) over the window's ``size`` columns, or over the
+    ``columns`` of them kept (pairs, then the offset and drift: :func:`_rotation_columns`), one SineFit per pair
+    each."""
     packed = size * (size + 1) // 2
     out = []
     for btb, bty, yty in (("MT_BTB_TORQUE", "MT_BTY_TORQUE", "YTY_TORQUE"), ("MT_BTB_STATE", "MT_BTY_OMEGA", "YTY_OMEGA"),
                           ("MT_BTB_STATE", "MT_BTY_CREEP", "YTY_CREEP"),
                           ("MT_BTB_STATE", "MT_BTY_CREEP_MEASURED", "YTY_CREEP_MEASURED")):
         b0, y0 = I[f"{btb}_0"], I[f"{bty}_0"]
-        out.append(fit_tones_from_sums(ud[b0:b0 + packed], ud[y0:y0 + size], ud[I[yty]], n, ntones))
+        sums, products = ud[b0:b0 + packed], ud[y0:y0 + size]
+        if columns is not None:
+            sums, products = _packed(unpack_symmetric(sums, size)[np.ix_(columns, columns)]), products[columns]
+        out.append(fit_tones_from_sums(sums, products, ud[I[yty]], n, len(products) // 2 - 1))
     return tuple(out)
+
+
+def _packed(matrix: np.ndarray) -> np.ndarray:
+    """A symmetric matrix's upper triangle, row-major (the native sums' packing)."""
+    return matrix[np.triu_indices(len(matrix))]
+
+
+# a rotation harmonic whose pair would raise a tone's coefficient variance more than this many times (it shares more
+# than half of the tone's information over the window: its frequency within about 0.44 / span of the tone's) is left
+# out of the rotation lock-in's fit, which cannot tell the two apart there; its ripple then leaks into the tone as it
+# does into the plain lock-in's
+MAX_ROTATION_INFLATION = 2.0
+
+
+def _rotation_columns(ud: np.ndarray, ntones: int) -> list[int]:
+    """The rotation lock-in's columns kept: every tone's pair, each rotation harmonic's pair that raises no tone's
+    coefficient variance more than :data:`MAX_ROTATION_INFLATION` times (from the speed basis's sums), the offset
+    and the drift."""
+    size = 2 * ntones + layout.ROTATION_BASIS + 2
+    a = unpack_symmetric(ud[I["MT_BTB_STATE_0"]: I["MT_BTB_STATE_0"] + size * (size + 1) // 2], size)
+    tones, tail = list(range(2 * ntones)), [size - 2, size - 1]
+
+    def tone_variances(cols: list[int]) -> np.ndarray:
+        scale = 1.0 / np.sqrt(np.maximum(np.diag(a)[cols], 1e-300))
+        return np.diag(np.linalg.pinv(a[np.ix_(cols, cols)] * np.outer(scale, scale)))[:2 * ntones]
+
+    base = tone_variances(tones + tail)
+    kept = [[2 * ntones + 2 * h, 2 * ntones + 2 * h + 1] for h in range(layout.ROTATION_BASIS // 2)]
+    kept = [pair for pair in kept if np.all(tone_variances(tones + pair + tail) <= MAX_ROTATION_INFLATION * base)]
+    return tones + [c for pair in kept for c in pair] + tail
 
 
 def _lag(torque: SineFit, omega: SineFit, commanded: bool) -> tuple[float, float, float]:
@@ -381,15 +417,15 @@ def _coa_cycle(ud: np.ndarray) -> dict[str, float]:
     return dict(zip(COA_CYCLE_FIELDS, (extremes.maximum, extremes.minimum, extremes.bin_se)))
 
 
-def _joint_tones(ud: np.ndarray, n: float, ntones: int, rotation: bool) -> tuple[dict[str, float], tuple]:
+def _joint_tones(ud: np.ndarray, n: float, ntones: int, size: int,
+                 columns: list[int] | None) -> tuple[dict[str, float], tuple]:
     """A joint fit's per-tone readings (phase lag, its SE, amplitude ratio, torque and speed amplitudes, keyed by
-    :func:`tone_field`) from the joint fit of every tone (and of the encoder's rotation where ``rotation``: its pair
-    after the tones', read as one more tone and left out), and tone 1's fits of the torque, the speed, the creepage
-    and the measured creepage."""
-    pairs = ntones + (layout.ROTATION_BASIS // 2 if rotation else 0)
-    if n <= 2 * pairs + 2 + 4:
+    :func:`tone_field`) from the joint fit of every tone over ``size`` columns or the ``columns`` kept of them (with
+    the rotation lock-in, its harmonics' pairs after the tones', read as further tones and left out), and tone 1's
+    fits of the torque, the speed, the creepage and the measured creepage."""
+    if n <= size + 4:
         raise ValueError(f"window too short: {n:g} samples for {ntones} tones; lengthen the window")
-    t_fits, o_fits, c_fits, cm_fits = _tone_fits(ud, n, pairs)
+    t_fits, o_fits, c_fits, cm_fits = _tone_fits(ud, n, size, columns)
     commanded = [ud[I["TORQUE_AMPLITUDE"]] > 0.0] + [ud[I[f"TONE{k}_AMPLITUDE"]] > 0.0 for k in range(2, ntones + 1)]
     tones: dict[str, float] = {}
     for k in range(1, ntones + 1):
@@ -401,17 +437,22 @@ def _joint_tones(ud: np.ndarray, n: float, ntones: int, rotation: bool) -> tuple
     return tones, (t_fits[0], o_fits[0], c_fits[0], cm_fits[0])
 
 
-def _lag_se_corrected(ud: np.ndarray, n: float, torque: SineFit, omega: SineFit, joint_size: int = 0) -> float:
+def _lag_se_corrected(ud: np.ndarray, n: float, torque: SineFit, omega: SineFit, joint_size: int = 0,
+                      columns: list[int] | None = None) -> float:
     """Tone 1's lag SE (deg) with the speed fit's SE scaled by
     :func:`~cof_gym.measurement.sine_fit.colored_noise_factor` of its residual's lag-1 correlation: the single-tone
-    fit's, or (``joint_size`` columns) the rotation lock-in's joint fit's."""
+    fit's, or the rotation lock-in's joint fit's over ``joint_size`` columns (its ``columns`` kept)."""
     size, btb, bty, lag1 = (joint_size, "MT_BTB_STATE", "MT_BTY_OMEGA", "MT_LAG1") if joint_size else (
         4, "BTB_STATE", "BTY_OMEGA", "LAG1")
     b0, y0 = I[f"{btb}_0"], I[f"{bty}_0"]
-    rho = lag1_correlation(ud[b0:b0 + size * (size + 1) // 2], ud[y0:y0 + size], ud[I["YTY_OMEGA"]], n,
-                           ud[I["LAG1_YY"]], ud[I[f"{lag1}_BY_0"]: I[f"{lag1}_BY_0"] + size],
-                           ud[I[f"{lag1}_PY_0"]: I[f"{lag1}_PY_0"] + size],
-                           ud[I[f"{lag1}_BB_0"]: I[f"{lag1}_BB_0"] + size * size], omega.coefficients)
+    sums, products = ud[b0:b0 + size * (size + 1) // 2], ud[y0:y0 + size]
+    by, py = ud[I[f"{lag1}_BY_0"]: I[f"{lag1}_BY_0"] + size], ud[I[f"{lag1}_PY_0"]: I[f"{lag1}_PY_0"] + size]
+    cross = ud[I[f"{lag1}_BB_0"]: I[f"{lag1}_BB_0"] + size * size]
+    if columns is not None:
+        sums, products = _packed(unpack_symmetric(sums, size)[np.ix_(columns, columns)]), products[columns]
+        by, py, cross = by[columns], py[columns], np.reshape(cross, (size, size))[np.ix_(columns, columns)].ravel()
+    rho = lag1_correlation(sums, products, ud[I["YTY_OMEGA"]], n, ud[I["LAG1_YY"]], by, py, cross,
+                           omega.coefficients)
     factor = colored_noise_factor(rho, ud[I["MOD_OMEGA"]] * ud[I["TIMESTEP_S"]])
     return _lag(torque, replace(omega, phase_se_rad=omega.phase_se_rad * factor), True)[1]
 
@@ -429,12 +470,14 @@ def read_window(ud: np.ndarray) -> WindowMeasurement:
     rotation = bool(ud[I["LOCK_IN_ROTATION"]] > 0.0)
     tones: dict[str, float] = {}
     if ntones > 1 or rotation:  # every tone from the joint fit, tone 1's replacing the single-tone fit (leaked into)
-        tones, (torque, omega, creep, creep_measured) = _joint_tones(ud, n, ntones, rotation)
+        size = 2 * ntones + (layout.ROTATION_BASIS if rotation else 0) + 2
+        columns = _rotation_columns(ud, ntones) if rotation else None
+        tones, (torque, omega, creep, creep_measured) = _joint_tones(ud, n, ntones, size, columns)
         lag, lag_se, ratio = (tones[tone_field(1, f)] for f in ("phase_lag_deg", "phase_lag_se_deg", "amplitude_ratio"))
         # the rotation lock-in keeps the lag-1 sums of its joint fit's residual; several tones keep none (their
         # agents were fitted on the SE of no information)
-        size = 2 * (ntones + layout.ROTATION_BASIS // 2) + 2
-        lag_se_corrected = _lag_se_corrected(ud, n, torque, omega, size) if rotation and ntones == 1 else NO_SE_DEG
+        lag_se_corrected = (_lag_se_corrected(ud, n, torque, omega, size, columns) if rotation and ntones == 1
+                            else NO_SE_DEG)
     else:
         lag, lag_se, ratio = _lag(torque, omega, True)
         lag_se_corrected = _lag_se_corrected(ud, n, torque, omega)

@@ -274,9 +274,9 @@ def outside_draws(options: Mapping[str, Any], ranges: ScenarioRanges) -> dict[st
         out["encoder_lag_s"] = f"{fixed['encoder_lag_s']:g}, drawn: 0"
     if fixed.get("track_irregularity", SMOOTH) != SMOOTH:
         out["track_irregularity"] = f"{fixed['track_irregularity']!r}, drawn: {SMOOTH!r}"
-    for name in ("encoder_pulses_per_rev", "encoder_runout"):
+    for name, drawn in (("encoder_pulses_per_rev", "0 (a continuous reading)"), ("encoder_runout", "0")):
         if fixed.get(name, 0) != 0:
-            out[name] = f"{fixed[name]:g}, drawn: 0 (a continuous reading)"
+            out[name] = f"{fixed[name]:g}, drawn: {drawn}"
     if "creep_law" in fixed and (why := _creep_law_outside(fixed["creep_law"], ranges, conditions)):
         out["creep_law"] = why
     for name, err in SYSTEMATIC_ERRORS.items():

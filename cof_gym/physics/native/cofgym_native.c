@@ -648,8 +648,8 @@ void cofgym_passive(const mjModel* m, mjData* d) {
       acc_bty(ud + UD_BTY_CREEP_0, ud + UD_YTY_CREEP, b_now, c->creepage);
       acc_bty(ud + UD_BTY_CREEP_MEASURED_0, ud + UD_YTY_CREEP_MEASURED, b_now, creep_meas);
       if (ntones > 1 || rotation) {
-        /* joint basis [cos th_1, sin th_1, ..., cos th_K, sin th_K, (cos phi, sin phi,) 1, tau]; tone 1 as above,
-         * phi the encoder's counted angle where the rotation's ripple is taken out */
+        /* joint basis [cos th_1, sin th_1, ..., cos th_K, sin th_K, (cos phi, sin phi, cos 2 phi, sin 2 phi,) 1,
+         * tau]; tone 1 as above, phi the encoder's counted angle where the rotation lock-in takes its ripple out */
         double mt_mid[UD_MT_MAX_BASIS], mt_now[UD_MT_MAX_BASIS];
         const int np = 2 * ntones + (rotation ? UD_ROTATION_BASIS : 0) + 2;
         mt_mid[0] = b_mid[0]; mt_mid[1] = b_mid[1];
