@@ -50,6 +50,10 @@ def test_distribution_note_names_untrained_settings():
     both = agent.distribution_note(cof_gym.WAGON_ENV_ID, {"max_windows": 60}, [{"noise_level": 3.0}])
     assert "max_windows=60" in both and "1 of 1 episodes lie outside" in both and both.count("; ") >= 1
     assert "out of its training distribution" in agent.distribution_note(cof_gym.WAGON_V1_ENV_ID, {})
+    # the rotation lock-in reads other numbers from the same speed than the ones its networks were fitted on
+    assert "lock_in='rotation' (trained: 'default')" in agent.distribution_note(cof_gym.WAGON_ENV_ID,
+                                                                                 {"lock_in": "rotation"})
+    assert agent.distribution_note(cof_gym.WAGON_ENV_ID, {"lock_in": "plain"}) is None
     assert "traction_balance" in agent.distribution_note(cof_gym.WAGON_ENV_ID, {"traction_balance": False})
 
 

@@ -32,7 +32,7 @@ from cof_gym.task.creep_fit import coa_fell
 from cof_gym.task.interface import MotorLimits
 
 WORLD_KWARGS = ("vehicle", "counter_torque", "traction_balance", "window_s", "settle_fraction", "ramp_fraction",
-                "timestep")  # constructor arguments that change what the sensors see
+                "timestep", "lock_in")  # constructor arguments that change what the sensors see
 
 
 @dataclass(frozen=True)
