@@ -1,5 +1,5 @@
 """How each agent's CoF error moves with one systematic sensor error at the end of the range the env accepts
-(information only: nothing is chosen here). (Run from the repository root; 2 cores, about 12 min.)
+(information only: nothing is chosen here). (Run from the repository root; 2 cores, about 17 min.)
 
     python experiments/sensor_sensitivity.py [--agents oracle,staircase,phase-rule,...,interrogator]
                                              [--workers 2] [--out out/sensor_sensitivity.md]
