@@ -38,9 +38,9 @@ which the reading's ripple is a function to the runout's third order. Where a ha
 0.44 / span of the modulation's (the wheel turning at 5 Hz at 14.5 m/s, at 2.5 Hz at 7.2 m/s on a 0.46 m wheel), the
 window cannot tell it from the tone, and that window's fit leaves it out (a tone's coefficient variance would grow
 more than twice, :data:`cof_gym.physics.simulation.MAX_ROTATION_INFLATION`): its ripple leaks into the lag there as
-into the plain lock-in's, where fitting it would leave the lag no information. Cost: ``cof-gym bench``'s row "ratio native with
-a pulse encoder read by the rotation lock-in / continuous encoder", 0.93-1.04 over four runs in session 83 (0.94 in the
-median).
+into the plain lock-in's, where fitting it would leave the lag no information. Cost: ``cof-gym bench``'s row "ratio
+native with a pulse encoder read by the rotation lock-in / continuous encoder", 0.93-1.04 over four runs in session
+83 (0.94 in the median).
 """
 
 from __future__ import annotations
