@@ -39,6 +39,12 @@ def _solve_scaled(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray,
     return scale * (cov_s @ (b * scale)), cov_s * np.outer(scale, scale), a_s
 
 
+def coefficient_covariance(a: np.ndarray) -> np.ndarray:
+    """The unit-variance covariance of the coefficients of a basis whose normal matrix B'B is ``a``, as the fits
+    solve it (the basis scaled to unit diagonal first)."""
+    return _solve_scaled(a, np.zeros(len(a)))[1]
+
+
 @dataclass(frozen=True)
 class SineFit:
     amplitude: float

@@ -17,8 +17,9 @@ import mujoco
 import numpy as np
 
 from cof_gym.measurement.comfort import band_limiting_sos, wd_weighting_sos
-from cof_gym.measurement.sine_fit import (NO_SE_DEG, SineFit, colored_noise_factor, fit_from_sums,
-                                         fit_tones_from_sums, lag1_correlation, unpack_symmetric, wrap_deg)
+from cof_gym.measurement.sine_fit import (NO_SE_DEG, SineFit, coefficient_covariance, colored_noise_factor,
+                                         fit_from_sums, fit_tones_from_sums, lag1_correlation, unpack_symmetric,
+                                         wrap_deg)
 from cof_gym.measurement.synchronous_average import cycle_extremes
 from cof_gym.physics.creep import OperatingConditions, creep_peak
 from cof_gym.physics.encoder import PulseEncoder
@@ -364,16 +365,18 @@ def _tone_fits(ud: np.ndarray, n: float, size: int,
                           ("MT_BTB_STATE", "MT_BTY_CREEP", "YTY_CREEP"),
                           ("MT_BTB_STATE", "MT_BTY_CREEP_MEASURED", "YTY_CREEP_MEASURED")):
         b0, y0 = I[f"{btb}_0"], I[f"{bty}_0"]
-        sums, products = ud[b0:b0 + packed], ud[y0:y0 + size]
-        if columns is not None:
-            sums, products = _packed(unpack_symmetric(sums, size)[np.ix_(columns, columns)]), products[columns]
+        sums, products = _kept(ud[b0:b0 + packed], ud[y0:y0 + size], size, columns)
         out.append(fit_tones_from_sums(sums, products, ud[I[yty]], n, len(products) // 2 - 1))
     return tuple(out)
 
 
-def _packed(matrix: np.ndarray) -> np.ndarray:
-    """A symmetric matrix's upper triangle, row-major (the native sums' packing)."""
-    return matrix[np.triu_indices(len(matrix))]
+def _kept(sums: np.ndarray, products: np.ndarray, size: int,
+          columns: list[int] | None) -> tuple[np.ndarray, np.ndarray]:
+    """A fit's packed B'B and its B'y over ``size`` columns, reduced to the ``columns`` kept (None: all, as given)."""
+    if columns is None:
+        return sums, products
+    kept = unpack_symmetric(sums, size)[np.ix_(columns, columns)]
+    return kept[np.triu_indices(len(columns))], products[columns]
 
 
 # a rotation harmonic whose pair would raise a tone's coefficient variance more than this many times (it shares more
@@ -383,17 +386,15 @@ def _packed(matrix: np.ndarray) -> np.ndarray:
 MAX_ROTATION_INFLATION = 2.0
 
 
-def _rotation_columns(ud: np.ndarray, ntones: int) -> list[int]:
-    """The rotation lock-in's columns kept: every tone's pair, each rotation harmonic's pair that raises no tone's
-    coefficient variance more than :data:`MAX_ROTATION_INFLATION` times (from the speed basis's sums), the offset
-    and the drift."""
-    size = 2 * ntones + layout.ROTATION_BASIS + 2
+def _rotation_columns(ud: np.ndarray, ntones: int, size: int) -> list[int]:
+    """The rotation lock-in's columns kept of its ``size``: every tone's pair, each rotation harmonic's pair that
+    raises no tone's coefficient variance more than :data:`MAX_ROTATION_INFLATION` times (from the speed basis's
+    sums), the offset and the drift."""
     a = unpack_symmetric(ud[I["MT_BTB_STATE_0"]: I["MT_BTB_STATE_0"] + size * (size + 1) // 2], size)
     tones, tail = list(range(2 * ntones)), [size - 2, size - 1]
 
     def tone_variances(cols: list[int]) -> np.ndarray:
-        scale = 1.0 / np.sqrt(np.maximum(np.diag(a)[cols], 1e-300))
-        return np.diag(np.linalg.pinv(a[np.ix_(cols, cols)] * np.outer(scale, scale)))[:2 * ntones]
+        return np.diag(coefficient_covariance(a[np.ix_(cols, cols)]))[:2 * ntones]
 
     base = tone_variances(tones + tail)
     kept = [[2 * ntones + 2 * h, 2 * ntones + 2 * h + 1] for h in range(layout.ROTATION_BASIS // 2)]
@@ -445,11 +446,10 @@ def _lag_se_corrected(ud: np.ndarray, n: float, torque: SineFit, omega: SineFit,
     size, btb, bty, lag1 = (joint_size, "MT_BTB_STATE", "MT_BTY_OMEGA", "MT_LAG1") if joint_size else (
         4, "BTB_STATE", "BTY_OMEGA", "LAG1")
     b0, y0 = I[f"{btb}_0"], I[f"{bty}_0"]
-    sums, products = ud[b0:b0 + size * (size + 1) // 2], ud[y0:y0 + size]
+    sums, products = _kept(ud[b0:b0 + size * (size + 1) // 2], ud[y0:y0 + size], size, columns)
     by, py = ud[I[f"{lag1}_BY_0"]: I[f"{lag1}_BY_0"] + size], ud[I[f"{lag1}_PY_0"]: I[f"{lag1}_PY_0"] + size]
     cross = ud[I[f"{lag1}_BB_0"]: I[f"{lag1}_BB_0"] + size * size]
     if columns is not None:
-        sums, products = _packed(unpack_symmetric(sums, size)[np.ix_(columns, columns)]), products[columns]
         by, py, cross = by[columns], py[columns], np.reshape(cross, (size, size))[np.ix_(columns, columns)].ravel()
     rho = lag1_correlation(sums, products, ud[I["YTY_OMEGA"]], n, ud[I["LAG1_YY"]], by, py, cross,
                            omega.coefficients)
@@ -471,7 +471,7 @@ def read_window(ud: np.ndarray) -> WindowMeasurement:
     tones: dict[str, float] = {}
     if ntones > 1 or rotation:  # every tone from the joint fit, tone 1's replacing the single-tone fit (leaked into)
         size = 2 * ntones + (layout.ROTATION_BASIS if rotation else 0) + 2
-        columns = _rotation_columns(ud, ntones) if rotation else None
+        columns = _rotation_columns(ud, ntones, size) if rotation else None
         tones, (torque, omega, creep, creep_measured) = _joint_tones(ud, n, ntones, size, columns)
         lag, lag_se, ratio = (tones[tone_field(1, f)] for f in ("phase_lag_deg", "phase_lag_se_deg", "amplitude_ratio"))
         # the rotation lock-in keeps the lag-1 sums of its joint fit's residual; several tones keep none (their
