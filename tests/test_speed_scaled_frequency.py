@@ -3,6 +3,8 @@ arithmetic, the interrogator driving it, and the training climbs that draw it.""
 
 from __future__ import annotations
 
+import math
+
 import gymnasium as gym
 import numpy as np
 import pytest
@@ -13,6 +15,7 @@ from cof_gym.agents.interrogator import (
     speed_scaled_frequency,
 )
 from cof_gym.agents.interrogator.training import ClimbDraws, _climb_episode
+from cof_gym.agents.phase_rule import rotation_clear_frequency
 from cof_gym.task.interface import MotorLimits, decode_action
 from fixed_options import FixedOptions
 
@@ -51,16 +54,24 @@ def _zero_network() -> FilterNetwork:
     return FilterNetwork(np.zeros(n), np.ones(n), tuple(np.zeros(s) for s in shapes), tuple(np.zeros(s[1]) for s in shapes))
 
 
-@pytest.mark.parametrize("reference", [None, 5.0, 40.0, 90.0])
-def test_the_interrogator_drives_the_frequency_of_the_speed_it_measured_at_the_start(reference):
+# the speed (m/s) at which the wheelset turns at 5 Hz on the drive's nominal wheel (0.46 m)
+ROTATING_AT_5_HZ = 5.0 * 2.0 * math.pi * 0.46
+
+
+@pytest.mark.parametrize("reference, margin, speed", [(None, None, 10.0), (5.0, None, 10.0), (40.0, None, 10.0),
+                                                      (90.0, None, 10.0), (None, 1.0, ROTATING_AT_5_HZ),
+                                                      (None, 1.0, 10.0), (24.0, 1.0, 18.0)])
+def test_the_interrogator_drives_the_frequency_of_the_speed_it_measured_at_the_start(reference, margin, speed):
     """Every window of the climb is modulated at frequency_at(the reset observation's measured speed): the
-    speed sensor's error included, never the true speed."""
+    speed sensor's error included, never the true speed; scaled with the speed first, then moved clear of the
+    rotation's harmonics (ClimbParameters.rotation_margin_hz)."""
     env = gym.make(cof_gym.WAGON_ENV_ID)
     agent = LearnedInterrogator(env.unwrapped.limits, FilterEnsemble((_zero_network(),)),
-                                params=ClimbParameters(frequency_reference_m_s=reference, floor_margin=0.2))
-    obs, info = env.reset(seed=3, options={"speed_m_s": 10.0, "speed_sensor_error": 0.01})
+                                params=ClimbParameters(frequency_reference_m_s=reference, rotation_margin_hz=margin,
+                                                       floor_margin=0.2))
+    obs, info = env.reset(seed=3, options={"speed_m_s": speed, "speed_sensor_error": 0.01})
     measured = Reading.of(obs, env.unwrapped.limits, info).speed_m_s
-    assert measured == pytest.approx(10.0 * 1.01, rel=1e-3)  # the sensor's error, read by the agent
+    assert measured == pytest.approx(speed * 1.01, rel=1e-3)  # the sensor's error, read by the agent
     expected = agent.params.frequency_at(measured, env.unwrapped.limits)
     agent.reset(obs, info)
     frequencies = []
@@ -72,7 +83,13 @@ def test_the_interrogator_drives_the_frequency_of_the_speed_it_measured_at_the_s
         if terminated or truncated:
             break
     assert frequencies == pytest.approx([expected] * len(frequencies), rel=FREQUENCY_RTOL)
-    assert expected == {None: 5.0, 5.0: 5.0, 40.0: pytest.approx(5.0 * 40.0 / measured), 90.0: 20.0}[reference]
+    if margin is None:
+        assert expected == {None: 5.0, 5.0: 5.0, 40.0: pytest.approx(5.0 * 40.0 / measured), 90.0: 20.0}[reference]
+    else:  # scaled first, then moved off the rotation only where within the margin (5 Hz is 1.5 Hz from it at 10 m/s,
+        # 1.3 Hz at 18 m/s, where 24 m/s scales it to 0.3 Hz from it)
+        scaled = 5.0 if reference is None else speed_scaled_frequency(5.0, reference, measured, env.unwrapped.limits)
+        assert expected == rotation_clear_frequency(scaled, measured, margin, env.unwrapped.limits)
+        assert (expected != scaled) == (speed == ROTATING_AT_5_HZ or reference == 24.0)
 
 
 def test_speed_scaled_training_climbs_raise_the_drawn_frequency_as_the_deployed_climb_would():

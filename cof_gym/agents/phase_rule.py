@@ -54,11 +54,17 @@ from cof_gym.agents.staircase import COA, ElasticityClimb
 from cof_gym.measurement.sine_fit import NO_SE_DEG, SMOOTHED_NOISE_COLOUR, noise_colour
 from cof_gym.task.creep_fit import coa_fell
 from cof_gym.task.interface import MotorLimits, encode_action, window_reading
+from cof_gym.validation import check_choice
 
 UNKNOWN_SE_DEG = NO_SE_DEG  # the standard error of a window whose sine fit gave none
 PAPER_CORRECTION = 1.0 / 0.95  # the paper: the CoA at the zero crossing is ~95 % of the CoF
 
 
+# phase-rule-rotation's distance (Hz) of its modulation frequency from the rotation frequency and the side it moves to
+# (rotation_clear_frequency; experiments/select_rotation_margin.py on validation seeds only: ranked by macro-slips, then
+# median, then P90 with a runout read by the rotation lock-in: 11.3 / 29.5 / 0 against 15.1 / 86.3 / 0 at 5 Hz always)
+ROTATION_MARGIN_HZ = 1.0
+ROTATION_SIDE = "above"
 CORRECTED_SE = "phase_lag_se_corrected_deg"  # the info["measurement"] reading of the lag's SE for a correlated residual
 
 
@@ -99,6 +105,46 @@ def probe_next_dc(dc_nm: float, amplitude_nm: float, max_step: float, probe_step
     """The DC torque after a window at ``dc_nm`` whose probe of ``amplitude_nm`` showed no knee: a step
     of at most ``max_step`` x DC and ``probe_step`` x the amplitude (below the probed crest)."""
     return min(dc_nm + min(max_step * dc_nm, probe_step * amplitude_nm), limits.max_dc_torque_nm)
+
+
+# the harmonics of the wheelset's rotation a modulation keeps clear of (cof_gym.physics.encoder): a runout e reads as
+# a ripple of e times the spin rate at the rotation frequency; the period method's term at twice it is of order e^2
+# (2.5e-7 of the spin rate at e = 0.05 %), far below any modulation's response, though the rotation lock-in fits it
+# too (avoiding both read worse on validation for the learned interrogator, session 84)
+ROTATION_HARMONICS = (1,)
+ROTATION_SIDES = ("nearest", "below", "above")  # where rotation_clear_frequency may move a frequency
+EDGE_RTOL = 1e-12  # a band's edge c +- margin counts as clear of c: |edge - c| is the margin to a few roundings
+
+
+def rotation_frequency_hz(speed_m_s: float, limits: MotorLimits) -> float:
+    """The wheelset's rotation frequency ``v / (2 pi r)`` (Hz) at the measured speed ``speed_m_s`` (m/s) on the drive's
+    nominal wheel radius ``limits.wheel_radius_m``: what a train knows of it (no ground truth)."""
+    return speed_m_s / (2.0 * math.pi * limits.wheel_radius_m)
+
+
+def rotation_clear_frequency(frequency_hz: float, speed_m_s: float, margin_hz: float, limits: MotorLimits,
+                             side: str = "nearest") -> float:
+    """The modulation frequency (Hz) nearest ``frequency_hz`` at least ``margin_hz`` from every harmonic of the
+    wheelset's rotation (:data:`ROTATION_HARMONICS` of :func:`rotation_frequency_hz`) within the drive's frequency
+    range: ``frequency_hz`` itself where it is clear or ``margin_hz`` is 0, else the nearest edge of a harmonic's
+    excluded band that no other band covers (``side``, :data:`ROTATION_SIDES`: on either side, the higher one on a
+    tie; only below ``frequency_hz``; only above it), else ``frequency_hz`` (no clear edge, or a speed that is not a
+    positive finite number). Where a tone lies within about ``1 / T`` of a harmonic (T the lock-in's window) the
+    rotation lock-in cannot tell the two apart and leaves the harmonic out of its fit, so a runout's ripple leaks into
+    the tone's lag."""
+    check_choice("side", side, ROTATION_SIDES)
+    rotation = rotation_frequency_hz(speed_m_s, limits) if math.isfinite(speed_m_s) and speed_m_s > 0.0 else 0.0
+    centres = [k * rotation for k in ROTATION_HARMONICS] if rotation > 0.0 else []
+
+    def clear(f: float) -> bool:
+        return (limits.min_frequency_hz <= f <= limits.max_frequency_hz
+                and all(abs(f - c) >= margin_hz * (1.0 - EDGE_RTOL) for c in centres))
+
+    if margin_hz <= 0.0 or clear(frequency_hz):
+        return frequency_hz
+    edges = [e for c in centres for e in (c - margin_hz, c + margin_hz) if clear(e)
+             and (side == "nearest" or (e < frequency_hz) == (side == "below"))]
+    return min(edges, key=lambda e: (abs(e - frequency_hz), -e)) if edges else frequency_hz
 
 
 def phase_rise(phase_deg, se_deg, ref_deg, ref_se_deg, margin_se: float):
@@ -182,6 +228,10 @@ class PhaseRule:
     # read it in an episode whose reset window reads a smoothed speed signal (smoothed_speed_signal), the white one
     # otherwise
     se_gate: bool = False
+    # > 0: the modulation frequency of the episode moved at least this far (Hz) from the rotation's harmonics at the
+    # reset's measured speed (rotation_clear_frequency); 0: frequency_hz always (the shipped rule)
+    rotation_margin_hz: float = 0.0
+    rotation_side: str = "nearest"  # ... to the nearest clear frequency, or only below or above frequency_hz
     name: str = "phase-rule"
     oracle: bool = False
     climb: ElasticityClimb = field(default_factory=ElasticityClimb, repr=False)  # the shared safe first step
@@ -194,12 +244,14 @@ class PhaseRule:
     _base_weight: float = 0.0  # sum of 1 / se^2
     _driven: int = 0
     _corrected: bool = False  # this episode's SE: corrected_se, or the gate's reading of the reset window
+    _frequency: float = 0.0  # this episode's modulation frequency, Hz
     stop_reason: str = field(default="", repr=False)
     windows: list[Window] = field(default_factory=list, repr=False)  # this episode's driven windows
 
     def __post_init__(self) -> None:
         # every numeric parameter as its default is (these > 0): a clear error, not a NaN action
         check_parameters(self, positive=PROBE_SCALES)
+        check_choice(f"{type(self).__name__}.rotation_side", self.rotation_side, ROTATION_SIDES)
 
     def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
         self._dc = self._amp = 0.0
@@ -212,6 +264,8 @@ class PhaseRule:
         self._corrected = self.corrected_se or (self.se_gate and smoothed_speed_signal(observation, info))
         self._prev = phase_of(observation, info, self._corrected)
         self._add_baseline(*self._prev)
+        self._frequency = rotation_clear_frequency(self.frequency_hz, window_reading(observation, "speed"),
+                                                   self.rotation_margin_hz, self.limits, self.rotation_side)
 
     def _add_baseline(self, phase: float, se: float) -> None:
         self._base_sum += phase / se**2
@@ -260,7 +314,7 @@ class PhaseRule:
         self._amp = self.amplitude(self._dc)
         estimate = self._best_crest * self.correction if self._best_crest > 0 else self.limits.min_cof_estimate
         estimate = self.limits.clip_estimate(estimate)
-        return encode_action(self._dc, self._amp, self.frequency_hz, estimate, stop, self.limits)
+        return encode_action(self._dc, self._amp, self._frequency, estimate, stop, self.limits)
 
 
 def phase_rule_ar1(limits: MotorLimits) -> PhaseRule:
@@ -274,3 +328,11 @@ def phase_rule_gated(limits: MotorLimits) -> PhaseRule:
     window reads a smoothed speed signal (``phase-rule-gated``: :func:`smoothed_speed_signal`), the white one
     otherwise: every parameter the validation-chosen rule's."""
     return PhaseRule(limits, se_gate=True, name="phase-rule-gated")
+
+
+def phase_rule_rotation(limits: MotorLimits) -> PhaseRule:
+    """The phase rule modulating clear of the wheelset's rotation frequency (``phase-rule-rotation``:
+    :func:`rotation_clear_frequency` with :data:`ROTATION_MARGIN_HZ` and :data:`ROTATION_SIDE`), for a speed probe whose
+    target wheel runs out, read by the rotation lock-in: every other parameter the validation-chosen rule's."""
+    return PhaseRule(limits, rotation_margin_hz=ROTATION_MARGIN_HZ, rotation_side=ROTATION_SIDE,
+                     name="phase-rule-rotation")

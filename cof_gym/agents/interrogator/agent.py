@@ -717,3 +717,20 @@ def load_interrogator(env, argument: str | None = None) -> LearnedInterrogator:
     if argument:
         agent.name = f"interrogator:{directory.name}"
     return agent
+
+
+# interrogator-rotation's distance (Hz) of its modulation frequency from the wheelset's rotation harmonics
+# (ClimbParameters.rotation_margin_hz; experiments/select_rotation_margin.py --agent interrogator on validation seeds
+# only, ranked by macro-slips, then median, then P90 with a runout read by the rotation lock-in)
+INTERROGATOR_ROTATION_MARGIN_HZ = 1.0
+
+
+def load_interrogator_rotation(env, argument: str | None = None) -> LearnedInterrogator:
+    """The shipped interrogator (or ``interrogator-rotation:DIR``'s) with its climb's modulation frequency moved
+    :data:`INTERROGATOR_ROTATION_MARGIN_HZ` clear of the wheelset's rotation harmonics at the measured speed (for a
+    speed probe whose target wheel runs out, read by the rotation lock-in); every other setting its manifest's."""
+    directory = Path(argument) if argument else SHIPPED_INTERROGATOR
+    params = replace(manifest_climb(directory), rotation_margin_hz=INTERROGATOR_ROTATION_MARGIN_HZ)
+    agent = interrogator_for(env, directory, params=params)
+    agent.name = f"interrogator-rotation:{directory.name}" if argument else "interrogator-rotation"
+    return agent

@@ -11,7 +11,7 @@ import numpy as np
 
 from cof_gym.agents.interrogator.readings import (Reading, creep_elasticity, first_windows_drive_lag_s,
                                                   first_windows_noise_nms, gain_from_balance)
-from cof_gym.agents.phase_rule import PhaseRule, knee_seen, probe_amplitude
+from cof_gym.agents.phase_rule import PhaseRule, knee_seen, probe_amplitude, rotation_clear_frequency
 from cof_gym.task.excitation import encode_extra_tones
 from cof_gym.task.interface import MotorLimits, encode_action
 from cof_gym.task.scenarios import COF_ENVELOPE
@@ -80,6 +80,7 @@ OPTIONAL_BOUNDED_FIELDS: dict[str, tuple[float, float, bool, str]] = {
     "noise_reference_nms": (0.0, math.inf, True, " N m s"),
     "pace_caution": (0.0, 10.0, False, ""),
     "frequency_reference_m_s": (0.0, 100.0, True, " m/s"),
+    "rotation_margin_hz": (0.0, 10.0, True, " Hz"),
     "crest_below_m_s": (0.0, 100.0, True, " m/s"),
     "crest_probe_max_lag_deg": (0.0, 180.0, False, " deg"),
     "crest_probe_max_lag_step_deg": (0.0, 180.0, False, " deg"),
@@ -100,6 +101,9 @@ class ClimbParameters:
     frequency_hz: float = 5.0
     # not None: below this speed (m/s) the frequency rises as 1 / speed (frequency_at), up to the drive's
     frequency_reference_m_s: float | None = None
+    # not None: the frequency then moved at least this far (Hz) from the wheelset's rotation harmonics at the measured
+    # speed (phase_rule.rotation_clear_frequency, the nearest side): a speed probe's runout read by the rotation lock-in
+    rotation_margin_hz: float | None = None
     target_headroom: float = 0.05  # ln(M_sat / DC) the climb aims at (0.05: DC at 95 % of M_sat)
     caution: float = 1.0  # standard deviations taken off the predicted headroom
     spread_caution: float = 0.0  # and this many more of the members' spread alone (their disagreement)
@@ -428,10 +432,13 @@ class ClimbParameters:
         with ``frequency_reference_m_s`` that times ``max(1, reference / speed)``, within the drive's range.
         Eq. 3's lag is ``atan(I w v / (k r^2))``: at a low speed it stays small and flat until the slope
         ``k`` has nearly vanished; a frequency rising as ``1 / v`` keeps ``w v`` (the lag's sensitivity to
-        the slope) at least the reference speed's."""
-        if self.frequency_reference_m_s is None:
-            return self.frequency_hz
-        return speed_scaled_frequency(self.frequency_hz, self.frequency_reference_m_s, speed_m_s, limits)
+        the slope) at least the reference speed's. With ``rotation_margin_hz`` the frequency then moves at least that
+        far from the rotation's harmonics (:func:`~cof_gym.agents.phase_rule.rotation_clear_frequency`)."""
+        frequency = (self.frequency_hz if self.frequency_reference_m_s is None else
+                     speed_scaled_frequency(self.frequency_hz, self.frequency_reference_m_s, speed_m_s, limits))
+        if self.rotation_margin_hz is None:
+            return frequency
+        return rotation_clear_frequency(frequency, speed_m_s, self.rotation_margin_hz, limits)
 
     def amplitude(self, dc_nm: float, limits: MotorLimits, ratio: float | None = None) -> float:
         """The modulation amplitude (N m) at DC torque ``dc_nm``: ``ratio`` (default ``amplitude_ratio``) of
