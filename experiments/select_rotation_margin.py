@@ -6,9 +6,10 @@ A speed probe whose target wheel runs out reads the wheelset's speed with a ripp
 ``v / (2 pi r)`` (and, through the period method, a little at twice it). The rotation lock-in (env argument
 ``lock_in="rotation"``) fits both harmonics beside the tone, but a harmonic within about ``1 / T`` of the tone (T the
 window, 0.6 s) it cannot tell from the tone and leaves out, so the ripple leaks into the lag; near 5 Hz that is 12-17
-m/s (the rotation) and 6-8 m/s (twice it). A train knows its speed and its nominal wheel radius, so an agent can
-choose its modulation frequency away from them: the margin, in Hz (and for the phase rule the side it moves to), is
-chosen here.
+m/s (the rotation) and 6-8 m/s (twice it, where the ripple is of the runout's second order and negligible). A train
+knows its speed and its nominal wheel radius, so an agent can choose its modulation frequency away from the rotation
+frequency (:data:`cof_gym.agents.phase_rule.ROTATION_HARMONICS`): the margin, in Hz (and for the phase rule the side it
+moves to), is chosen here.
 
 Validation set (the seeds of ``select_phase_rule.py``: never the default evaluate suite, seeds 0-59, nor a held-out
 grid): the v2 wagon's seeds 100000-100119 as drawn, with and without the paper's counter torque, each played with the

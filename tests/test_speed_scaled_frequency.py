@@ -3,8 +3,6 @@ arithmetic, the interrogator driving it, and the training climbs that draw it.""
 
 from __future__ import annotations
 
-import math
-
 import gymnasium as gym
 import numpy as np
 import pytest
@@ -18,6 +16,7 @@ from cof_gym.agents.interrogator.training import ClimbDraws, _climb_episode
 from cof_gym.agents.phase_rule import rotation_clear_frequency
 from cof_gym.task.interface import MotorLimits, decode_action
 from fixed_options import FixedOptions
+from test_rotation_clear_frequency import coincidence_speed
 
 LIMITS = MotorLimits(max_dc_torque_nm=10_000.0)
 # the action carries the frequency as a float32 on a log scale over the drive's 1-20 Hz (ln 20 = 3.0) and the
@@ -54,8 +53,7 @@ def _zero_network() -> FilterNetwork:
     return FilterNetwork(np.zeros(n), np.ones(n), tuple(np.zeros(s) for s in shapes), tuple(np.zeros(s[1]) for s in shapes))
 
 
-# the speed (m/s) at which the wheelset turns at 5 Hz on the drive's nominal wheel (0.46 m)
-ROTATING_AT_5_HZ = 5.0 * 2.0 * math.pi * 0.46
+ROTATING_AT_5_HZ = coincidence_speed(1)  # the speed (m/s) at which the wheelset turns at 5 Hz on the nominal wheel
 
 
 @pytest.mark.parametrize("reference, margin, speed", [(None, None, 10.0), (5.0, None, 10.0), (40.0, None, 10.0),
