@@ -23,6 +23,11 @@ generated, never typed:
     cof-gym evaluate --env-kwargs encoder_pulses_per_rev:100 encoder_runout:0.0005 lock_in:rotation \
         --out out/evaluate-v2-encoder-runout-rotation
     cof-gym evaluate --env-kwargs lock_in:rotation --out out/evaluate-v2-lock-in-rotation
+    cof-gym evaluate --agents phase-rule,phase-rule-rotation,interrogator,interrogator-rotation --paired interrogator \
+        --out out/evaluate-v2-rotation-clear
+    cof-gym evaluate --agents phase-rule,phase-rule-rotation,interrogator,interrogator-rotation --paired interrogator \
+        --env-kwargs encoder_pulses_per_rev:100 encoder_runout:0.0005 lock_in:rotation \
+        --out out/evaluate-v2-rotation-clear-runout
     cof-gym evaluate --suite paper --episodes 5                                     # the paper's setting
     cof-gym evaluate --suite experiments/suites/v1_default.json --episodes 60 --out out/evaluate-v1
     cof-gym evaluate --suite experiments/suites/heldout_grid.json --out out/evaluate-heldout   # v1 held-out
@@ -1151,6 +1156,8 @@ SOURCES = {
     "v2_encoder_runout": ROOT / "out" / "evaluate-v2-encoder-runout" / "summary.md",
     "v2_encoder_runout_rotation": ROOT / "out" / "evaluate-v2-encoder-runout-rotation" / "summary.md",
     "v2_lock_in_rotation": ROOT / "out" / "evaluate-v2-lock-in-rotation" / "summary.md",
+    "v2_rotation_clear": ROOT / "out" / "evaluate-v2-rotation-clear" / "summary.md",
+    "v2_rotation_clear_runout": ROOT / "out" / "evaluate-v2-rotation-clear-runout" / "summary.md",
     "v2_paper": PAPER_RUN / "summary.md",
     **{block: out / "summary.md" for block, (_, out) in HELDOUT_RUNS.items()},
     "v1_default": ROOT / "out" / "evaluate-v1" / "summary.md",

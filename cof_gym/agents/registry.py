@@ -150,21 +150,21 @@ register("phase-rule-gated", "cof_gym.agents.phase_rule:phase_rule_gated", oracl
 register("robust-model-gated", "cof_gym.agents.robust_model:robust_model_gated", oracle=False, runaway=True,
          ceiling=True, default=False,
          help="the robust model reading that SE only where its reset window reads a smoothed speed signal")
-# the phase rule modulating clear of the wheelset's rotation harmonics (session 84; not in the default list): a speed
+# the phase rule modulating clear of the wheelset's rotation frequency (session 84; not in the default list): a speed
 # probe's target wheel that runs out read by the rotation lock-in (experiments/select_rotation_margin.py on validation)
 register("phase-rule-rotation", "cof_gym.agents.phase_rule:phase_rule_rotation", oracle=False, ceiling=True,
          default=False, help="the phase rule modulating at least ROTATION_MARGIN_HZ from the wheelset's rotation "
-         "harmonics at its measured speed (a speed probe's runout read by the rotation lock-in)")
+         "frequency at its measured speed (a speed probe's runout read by the rotation lock-in)")
 register("interrogator", "cof_gym.agents.interrogator:load_interrogator", oracle=False, takes_env=True,
          argument="DIR", shipped=SHIPPED_INTERROGATOR / MANIFEST_FILE,
          help="the learned interrogator (v2): a torque climb steered by a learned filter of phase, "
          "compliance and CoA; interrogator:DIR for other networks (a two-tone climb plays in an env of "
          "its own with the suite's scenarios)")
-# the same modulating clear of the wheelset's rotation harmonics (session 84; not in the default list)
+# the same modulating clear of the wheelset's rotation frequency (session 84; not in the default list)
 register("interrogator-rotation", "cof_gym.agents.interrogator.agent:load_interrogator_rotation", oracle=False,
          takes_env=True, argument="DIR", shipped=SHIPPED_INTERROGATOR / MANIFEST_FILE, default=False,
          help="the learned interrogator modulating at least INTERROGATOR_ROTATION_MARGIN_HZ from the wheelset's "
-         "rotation harmonics at its measured speed (a speed probe's runout read by the rotation lock-in)")
+         "rotation frequency at its measured speed (a speed probe's runout read by the rotation lock-in)")
 register("ppo", "cof_gym.agents.registry:_ppo", oracle=False, takes_env=True, argument="PATH",
          shipped=SHIPPED_PPO / MODEL_NAMES[0], check="cof_gym.agents.sb3_policy:check_model_argument",
          help="the shipped PPO policy, or ppo:PATH for any saved model")

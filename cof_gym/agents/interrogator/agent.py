@@ -719,7 +719,7 @@ def load_interrogator(env, argument: str | None = None) -> LearnedInterrogator:
     return agent
 
 
-# interrogator-rotation's distance (Hz) of its modulation frequency from the wheelset's rotation harmonics
+# interrogator-rotation's distance (Hz) of its modulation frequency from the wheelset's rotation frequency
 # (ClimbParameters.rotation_margin_hz; experiments/select_rotation_margin.py --agent interrogator on validation seeds
 # only, ranked by macro-slips, then median, then P90 with a runout read by the rotation lock-in)
 INTERROGATOR_ROTATION_MARGIN_HZ = 1.0
@@ -727,7 +727,7 @@ INTERROGATOR_ROTATION_MARGIN_HZ = 1.0
 
 def load_interrogator_rotation(env, argument: str | None = None) -> LearnedInterrogator:
     """The shipped interrogator (or ``interrogator-rotation:DIR``'s) with its climb's modulation frequency moved
-    :data:`INTERROGATOR_ROTATION_MARGIN_HZ` clear of the wheelset's rotation harmonics at the measured speed (for a
+    :data:`INTERROGATOR_ROTATION_MARGIN_HZ` clear of the wheelset's rotation frequency at the measured speed (for a
     speed probe whose target wheel runs out, read by the rotation lock-in); every other setting its manifest's."""
     directory = Path(argument) if argument else SHIPPED_INTERROGATOR
     params = replace(manifest_climb(directory), rotation_margin_hz=INTERROGATOR_ROTATION_MARGIN_HZ)

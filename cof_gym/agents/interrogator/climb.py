@@ -101,7 +101,7 @@ class ClimbParameters:
     frequency_hz: float = 5.0
     # not None: below this speed (m/s) the frequency rises as 1 / speed (frequency_at), up to the drive's
     frequency_reference_m_s: float | None = None
-    # not None: the frequency then moved at least this far (Hz) from the wheelset's rotation harmonics at the measured
+    # not None: the frequency then moved at least this far (Hz) from the wheelset's rotation frequency at the measured
     # speed (phase_rule.rotation_clear_frequency, the nearest side): a speed probe's runout read by the rotation lock-in
     rotation_margin_hz: float | None = None
     target_headroom: float = 0.05  # ln(M_sat / DC) the climb aims at (0.05: DC at 95 % of M_sat)
