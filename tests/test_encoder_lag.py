@@ -17,20 +17,14 @@ from cof_gym.measurement.sine_fit import (basis, colored_noise_factor, fit_from_
                                          lag1_correlation, packed_sums, sums, tone_basis)
 from cof_gym.physics.models import DEFAULT_TIMESTEP_S
 from cof_gym.task.scenarios import ENCODER_LAG_MAX_S, V2_RANGES, outside_draws
+from held_windows import FREQUENCY_HZ, QUIET, held_action, held_windows  # tests/ is on sys.path (pytest rootdir)
 
-FREQUENCY_HZ = 5.0
-QUIET = {"noise_level": 0.0, "motor_lag_s": 0.0, "cof": 0.3, "condition": "dry", "speed_m_s": 10.0}
+QUIET_10 = {**QUIET, "speed_m_s": 10.0}
 
 
 def windows(env_id: str, encoder_lag_s: float, steps: int = 2) -> list[dict]:
     """The readings of ``steps`` windows at a low DC torque and a small 5 Hz modulation (absolute actions)."""
-    env = gym.make(env_id, action_type="absolute")
-    env.reset(seed=3, options={**QUIET, "encoder_lag_s": encoder_lag_s})
-    frequency = 2.0 * math.log(FREQUENCY_HZ) / math.log(20.0) - 1.0  # the action that decodes to 5 Hz
-    action = np.array([-0.9, -0.6, frequency, 0.0, -1.0], dtype=np.float32)
-    out = [dict(env.step(action)[4]["measurement"]) for _ in range(steps)]
-    env.close()
-    return out
+    return held_windows(env_id, {**QUIET_10, "encoder_lag_s": encoder_lag_s}, steps)
 
 
 def filter_response(encoder_lag_s: float) -> complex:
@@ -155,13 +149,12 @@ def test_the_corrected_se_follows_the_lags_scatter_where_the_white_one_understat
     correlated residual) and the corrected one stays with it; the same for the rotation lock-in's joint fit (its
     own residual's lag-1 sums). Bounds: the scatter of 40 draws is known to ~11 % (1 / sqrt(2 x 39)), the SEs'
     medians to a few %; measured 0.84-0.89 and 0.18 (plain)."""
-    frequency = 2.0 * math.log(FREQUENCY_HZ) / math.log(20.0) - 1.0
-    action = np.array([-0.5, 0.6, frequency, 0.0, -1.0], dtype=np.float32)
     for encoder_lag_s in (0.0, 0.01):
         lags, white, corrected = [], [], []
         env = gym.make(cof_gym.HALF_WHEELSET_ENV_ID, action_type="absolute", lock_in=lock_in)
+        action = held_action(env, dc=-0.5, amplitude=0.6)
         for seed in range(40):
-            env.reset(seed=seed, options={**QUIET, "noise_level": 1.0, "encoder_lag_s": encoder_lag_s})
+            env.reset(seed=seed, options={**QUIET_10, "noise_level": 1.0, "encoder_lag_s": encoder_lag_s})
             m = env.step(action)[4]["measurement"]
             lags.append(m["phase_lag_deg"])
             white.append(m["phase_lag_se_deg"])

@@ -18,6 +18,7 @@ from cof_gym.physics import simulation
 from cof_gym.physics.native.layout import OFFSETS
 from cof_gym.physics.simulation import Scenario, Simulation
 from cof_gym.task.scenarios import V2_RANGES, outside_draws
+from held_windows import FREQUENCY_HZ, QUIET, held_windows  # tests/ is on sys.path (pytest rootdir)
 from test_track_irregularity import play  # tests/ is on sys.path (pytest rootdir)
 from test_vector_env import assert_batched_plays_as_sync, same
 
@@ -92,20 +93,9 @@ def test_pulses_average_the_ripple_over_a_pitch_and_read_it_about_a_pitch_late(p
     assert lag == pytest.approx(pitch, abs=spins.mean() * DEFAULT_TIMESTEP_S / 2)
 
 
-FREQUENCY_HZ = 5.0
-QUIET = {"noise_level": 0.0, "motor_lag_s": 0.0, "cof": 0.3, "condition": "dry"}
-
-
 def last_window(speed_m_s: float, **options) -> dict:
     """The readings of the third window at a low DC torque and a small 5 Hz modulation on the half wheelset."""
-    env = gym.make(cof_gym.HALF_WHEELSET_ENV_ID, action_type="absolute")
-    env.reset(seed=3, options={**QUIET, "speed_m_s": speed_m_s, **options})
-    frequency = 2.0 * math.log(FREQUENCY_HZ) / math.log(20.0) - 1.0  # the action that decodes to 5 Hz
-    action = np.array([-0.9, -0.6, frequency, 0.0, -1.0], dtype=np.float32)
-    for _ in range(3):
-        info = env.step(action)[4]
-    env.close()
-    return dict(info["measurement"])
+    return held_windows(cof_gym.HALF_WHEELSET_ENV_ID, {**QUIET, "speed_m_s": speed_m_s, **options}, 3)[-1]
 
 
 @pytest.mark.parametrize("speed_m_s, pulses", [(10.0, 100), (5.0, 60)])
@@ -182,21 +172,11 @@ def tone_lags(lock_in: str, speed_m_s: float, tones: int = 1, **options) -> list
     """Each tone's lag (deg) in the third window on the half wheelset: one 5 Hz tone, or three at 3, 7 and 17 Hz
     (test_multitone's set without second-order coincidences) at a low DC torque."""
     kwargs = {"excitation": "multitone", "tones": tones} if tones > 1 else {}
-    env = gym.make(cof_gym.HALF_WHEELSET_ENV_ID, action_type="absolute", lock_in=lock_in, **kwargs)
-    env.reset(seed=3, options={**QUIET, "speed_m_s": speed_m_s, **options})
-    limits = env.unwrapped.task.limits
-    unmap = lambda f: 2.0 * math.log(f / limits.min_frequency_hz) / math.log(  # noqa: E731
-        limits.max_frequency_hz / limits.min_frequency_hz) - 1.0
+    info = held_windows(cof_gym.HALF_WHEELSET_ENV_ID, {**QUIET, "speed_m_s": speed_m_s, **options}, 3,
+                        (FREQUENCY_HZ,) if tones == 1 else (3.0, 7.0, 17.0), lock_in=lock_in, **kwargs)[-1]
     if tones == 1:
-        action = np.array([-0.9, -0.6, unmap(FREQUENCY_HZ), 0.0, -1.0], dtype=np.float32)
-    else:
-        action = np.array([-0.9, -0.6, unmap(3.0), 0.0, -1.0, unmap(7.0), 0.0, unmap(17.0), 0.0], dtype=np.float32)
-    for _ in range(3):
-        info = env.step(action)[4]
-    env.close()
-    if tones == 1:
-        return [info["measurement"]["phase_lag_deg"]]
-    return [info["measurement"][f"tone{k}_phase_lag_deg"] for k in range(1, tones + 1)]
+        return [info["phase_lag_deg"]]
+    return [info[f"tone{k}_phase_lag_deg"] for k in range(1, tones + 1)]
 
 
 @pytest.mark.parametrize("tones, speed_m_s, pulses, runout", [(1, 10.0, 100, 0.002), (1, 10.0, 60, 0.01),
@@ -226,12 +206,8 @@ def test_the_rotation_lock_in_reads_no_ripple_where_there_is_none_and_a_bad_one_
 
 def noisy_window(lock_in: str, speed_m_s: float) -> dict:
     """A half-wheelset window with the drawn noise at full scale, a 5 Hz modulation, the continuous encoder."""
-    env = gym.make(cof_gym.HALF_WHEELSET_ENV_ID, action_type="absolute", lock_in=lock_in)
-    env.reset(seed=3, options={**QUIET, "noise_level": 1.0, "speed_m_s": speed_m_s})
-    frequency = 2.0 * math.log(FREQUENCY_HZ) / math.log(20.0) - 1.0
-    info = env.step(np.array([-0.5, 0.6, frequency, 0.0, -1.0], dtype=np.float32))[4]
-    env.close()
-    return dict(info["measurement"])
+    return held_windows(cof_gym.HALF_WHEELSET_ENV_ID, {**QUIET, "noise_level": 1.0, "speed_m_s": speed_m_s}, 1,
+                        dc=-0.5, amplitude=0.6, lock_in=lock_in)[0]
 
 
 @pytest.mark.parametrize("harmonic", [1, 2])
