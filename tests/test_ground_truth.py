@@ -140,7 +140,7 @@ DOCUMENTED_SENSORS = {
     "tangential_force_measured_n", "torque_mean_nm", "torque_peak_nm", "wd_rms_m_s2", "jerk_rms_m_s3",
     "wd_peak_m_s2", "samples", "creepage_modulation_amplitude", "creepage_modulation_lag_deg",
     "creepage_modulation_lag_se_deg", "coa_cycle_max", "coa_cycle_min", "coa_cycle_bin_se",
-    "phase_lag_se_corrected_deg",
+    "phase_lag_se_corrected_deg", "rotation_ripple_rad_s", "rotation_ripple_phase_se_deg",
 }
 PRIVILEGED = {"coa_true", "creepage_mean", "creep_phase_lag_deg", "creepage_amplitude", "time_past_peak_s",
               "energy_past_peak_j", "max_abs_creepage", "friction_energy_j", "peak_creepage", "cof",

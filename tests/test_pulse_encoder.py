@@ -223,3 +223,23 @@ def test_a_rotation_harmonic_at_the_modulations_frequency_is_left_out_not_fitted
     assert rotation["phase_lag_se_deg"] <= math.sqrt(2.0) * plain["phase_lag_se_deg"] < 90.0
     monkeypatch.setattr(simulation, "MAX_ROTATION_INFLATION", math.inf)
     assert noisy_window("rotation", speed)["phase_lag_se_deg"] > 10.0 * plain["phase_lag_se_deg"]
+
+
+@pytest.mark.parametrize("pulses, speed_m_s", [(0, 10.0), (100, 10.0), (0, 20.0)])
+def test_the_rotation_lock_in_reads_the_runouts_ripple_where_it_tells_it_from_the_tone(pulses, speed_m_s):
+    """``rotation_ripple_rad_s``: the first harmonic of the counted angle in the speed reads the runout's ripple, ``e``
+    times the spin rate (``omega (1 + e cos theta)``; the period method averages it over a pitch, sinc(pi / 100) = 1 -
+    1.6e-4), its phase to within a degree; the spin rate is ``v / r`` to the creepage at this low DC torque (< 1e-3).
+    The plain lock-in reads none (0 and an SE of 180), nor does the rotation lock-in where it leaves the harmonic out
+    (the wheel turning at the tone's 5 Hz)."""
+    runout = 0.002
+    options = {**QUIET, "speed_m_s": speed_m_s, "encoder_pulses_per_rev": pulses, "encoder_runout": runout}
+    m = held_windows(cof_gym.HALF_WHEELSET_ENV_ID, options, 1, lock_in="rotation")[0]
+    wheel_radius = build_half_wheelset().wheel_radius_m
+    assert m["rotation_ripple_rad_s"] == pytest.approx(runout * speed_m_s / wheel_radius, rel=2e-3)
+    assert m["rotation_ripple_phase_se_deg"] < 1.0
+    plain = held_windows(cof_gym.HALF_WHEELSET_ENV_ID, options, 1)[0]
+    coincident = {**options, "speed_m_s": FREQUENCY_HZ * 2.0 * math.pi * wheel_radius}
+    left_out = held_windows(cof_gym.HALF_WHEELSET_ENV_ID, coincident, 1, lock_in="rotation")[0]
+    for unread in (plain, left_out):
+        assert (unread["rotation_ripple_rad_s"], unread["rotation_ripple_phase_se_deg"]) == (0.0, 180.0)

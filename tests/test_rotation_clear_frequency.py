@@ -12,10 +12,12 @@ import pytest
 
 from cof_gym.agents.interrogator import ClimbParameters
 from cof_gym.agents.phase_rule import (
-    ROTATION_HARMONICS, ROTATION_MARGIN_HZ, ROTATION_SIDE, ROTATION_SIDES, PhaseRule, rotation_clear_frequency, rotation_frequency_hz,
+    RIPPLE_SE, ROTATION_HARMONICS, ROTATION_MARGIN_HZ, ROTATION_SIDE, ROTATION_SIDES, PhaseRule, ripple_possible,
+    rotation_clear_frequency, rotation_frequency_hz,
 )
 from cof_gym.agents.registry import AGENTS, default_agents, make_agent
 from cof_gym.agents.runaway import RunawayEstimate
+from cof_gym.measurement.sine_fit import NO_SE_DEG
 from cof_gym.task.interface import MotorLimits, decode_action, window_reading
 
 LIMITS = MotorLimits(max_dc_torque_nm=10_000.0)
@@ -160,3 +162,59 @@ def test_the_interrogator_variant_is_the_shipped_one_with_the_margin(env):
     assert variant.name == "interrogator-rotation" and "interrogator-rotation" not in default_agents()
     assert shipped.params.rotation_margin_hz is None
     assert variant.params == replace(shipped.params, rotation_margin_hz=INTERROGATOR_ROTATION_MARGIN_HZ)
+
+
+@pytest.mark.parametrize("se_deg, max_se_deg, possible", [
+    (1.0, 5.0, True), (5.0, 5.0, True), (20.0, 5.0, False), (179.9, 5.0, False),  # read: a clear ripple, or none
+    (180.0, 5.0, True),  # not read (the plain lock-in, a harmonic left out at the tone): it may be there
+    (20.0, 180.0, True), (0.0, 0.0, True),  # no gate; a ripple read exactly
+])
+def test_a_ripple_is_ruled_out_only_where_the_rotation_lock_in_read_none(se_deg, max_se_deg, possible):
+    assert ripple_possible({"measurement": {RIPPLE_SE: se_deg}}, max_se_deg) is possible
+    assert ripple_possible({}, max_se_deg) and ripple_possible(None, max_se_deg)  # no reading: not ruled out
+
+
+GATE_ENV_SPEED_M_S = 17.05  # the rotation at 5.9 Hz: within a 1 Hz margin of 5 Hz, far enough for the lock-in to read
+
+
+@pytest.fixture(scope="module")
+def rotation_env():
+    import gymnasium as gym
+
+    import cof_gym
+
+    env = gym.make(cof_gym.WAGON_ENV_ID, lock_in="rotation")
+    yield env
+    env.close()
+
+
+@pytest.mark.parametrize("speed, runout, gated_moves", [
+    (GATE_ENV_SPEED_M_S, 0.0005, True),  # the ripple read clearly (a phase SE of about 1 deg)
+    (GATE_ENV_SPEED_M_S, 0.0, False),  # none read (its SE tens of degrees)
+    (coincidence_speed(1), 0.0, True),  # the harmonic left out at the tone: not read, so not ruled out
+])
+def test_the_gated_agents_move_only_where_the_reset_window_leaves_a_ripple_possible(rotation_env, speed, runout,
+                                                                                    gated_moves):
+    """rotation_ripple_max_se_deg (5 deg here): the phase rule and the interrogator's climb move their frequency where
+    the reset window's rotation lock-in reads the ripple's phase to within it, or cannot read it; the ungated ones
+    wherever the margin asks."""
+    limits = rotation_env.unwrapped.limits
+    obs, info = rotation_env.reset(seed=5, options={"speed_m_s": speed, "encoder_runout": runout})
+    measured = window_reading(obs, "speed")
+    moved = rotation_clear_frequency(NOMINAL_HZ, measured, 1.0, limits)
+    assert moved != NOMINAL_HZ
+    for max_se, expected in ((NO_SE_DEG, moved), (5.0, moved if gated_moves else NOMINAL_HZ)):
+        rule = PhaseRule(limits, rotation_margin_hz=1.0, rotation_ripple_max_se_deg=max_se)
+        rule.reset(obs, info)
+        assert decode_action(rule.act(obs, info), limits).drive.frequency_hz == pytest.approx(expected,
+                                                                                             rel=FREQUENCY_RTOL)
+        climb = ClimbParameters(rotation_margin_hz=1.0, rotation_ripple_max_se_deg=max_se)
+        assert climb.frequency_at(measured, limits, ripple_possible(info, max_se)) == expected
+
+
+@pytest.mark.parametrize("value", [-1.0, 180.5, math.nan, math.inf, True])
+def test_a_bad_ripple_gate_names_the_field(value):
+    with pytest.raises(ValueError, match="PhaseRule.rotation_ripple_max_se_deg"):
+        PhaseRule(LIMITS, rotation_ripple_max_se_deg=value)
+    with pytest.raises(ValueError, match="rotation_ripple_max_se_deg"):
+        ClimbParameters(rotation_ripple_max_se_deg=value)

@@ -46,10 +46,12 @@ def absolute_floor(key: str, want: list[dict]) -> float:
 
 
 # entries the env added after the golden file was written: the encoder lag of the ground truth (session 59) and the
-# encoder's pulses and runout (session 83), with the value every drawn episode has (no case fixes them), and a new
-# reading (session 59), any finite number; each must be there, and the rest must be what the golden file holds
+# encoder's pulses and runout (session 83), with the value every drawn episode has (no case fixes them), a new
+# reading (session 59), any finite number, and the rotation lock-in's ripple (session 85), not read by the plain
+# lock-in of every case; each must be there, and the rest must be what the golden file holds
 ADDED_SINCE_GOLDEN = {"encoder_lag_s": 0.0, "encoder_pulses_per_rev": 0, "encoder_runout": 0.0,
-                      "phase_lag_se_corrected_deg": None}
+                      "phase_lag_se_corrected_deg": None, "rotation_ripple_rad_s": 0.0,
+                      "rotation_ripple_phase_se_deg": 180.0}
 
 
 def without_added(got: list[dict], want: list[dict]) -> list[dict]:

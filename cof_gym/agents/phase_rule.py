@@ -54,7 +54,7 @@ from cof_gym.agents.staircase import COA, ElasticityClimb
 from cof_gym.measurement.sine_fit import NO_SE_DEG, SMOOTHED_NOISE_COLOUR, noise_colour
 from cof_gym.task.creep_fit import coa_fell
 from cof_gym.task.interface import MotorLimits, encode_action, window_reading
-from cof_gym.validation import check_choice
+from cof_gym.validation import check_choice, check_number
 
 UNKNOWN_SE_DEG = NO_SE_DEG  # the standard error of a window whose sine fit gave none
 PAPER_CORRECTION = 1.0 / 0.95  # the paper: the CoA at the zero crossing is ~95 % of the CoF
@@ -114,6 +114,21 @@ def probe_next_dc(dc_nm: float, amplitude_nm: float, max_step: float, probe_step
 ROTATION_HARMONICS = (1,)
 ROTATION_SIDES = ("nearest", "below", "above")  # where rotation_clear_frequency may move a frequency
 EDGE_RTOL = 1e-12  # a band's edge c +- margin counts as clear of c: |edge - c| is the margin to a few roundings
+
+
+# info["measurement"]'s reading of the phase SE (deg) of the speed's ripple at the rotation frequency (the rotation
+# lock-in's; NO_SE_DEG where it is not read)
+RIPPLE_SE = "rotation_ripple_phase_se_deg"
+
+
+def ripple_possible(info: dict[str, Any] | None, max_se_deg: float) -> bool:
+    """Whether a window leaves a runout's ripple possible (a gate on :func:`rotation_clear_frequency`): the rotation
+    lock-in read the ripple's phase to within ``max_se_deg`` (a ripple clear of the noise), or did not read it
+    (:data:`RIPPLE_SE` of :data:`NO_SE_DEG`: the plain lock-in, or the harmonic left out where the window cannot tell
+    it from the tone); False only where it fitted the harmonic and read no clear ripple. ``max_se_deg`` of
+    :data:`NO_SE_DEG`: always True (no gate)."""
+    se = float((info or {}).get("measurement", {}).get(RIPPLE_SE, NO_SE_DEG))
+    return se <= max_se_deg or se >= NO_SE_DEG
 
 
 def rotation_frequency_hz(speed_m_s: float, limits: MotorLimits) -> float:
@@ -232,6 +247,10 @@ class PhaseRule:
     # reset's measured speed (rotation_clear_frequency); 0: frequency_hz always (the shipped rule)
     rotation_margin_hz: float = 0.0
     rotation_side: str = "nearest"  # ... to the nearest clear frequency, or only below or above frequency_hz
+    # ... only where the reset window leaves a runout's ripple possible (ripple_possible: read with a phase SE at most
+    # this, deg, or not read); NO_SE_DEG: wherever the margin moves it (no gate read better on validation, session 85:
+    # the lock-in reads the ripple only where it lies more than about 0.7 Hz from the tone, the margin's band's edge)
+    rotation_ripple_max_se_deg: float = NO_SE_DEG
     name: str = "phase-rule"
     oracle: bool = False
     climb: ElasticityClimb = field(default_factory=ElasticityClimb, repr=False)  # the shared safe first step
@@ -252,6 +271,8 @@ class PhaseRule:
         # every numeric parameter as its default is (these > 0): a clear error, not a NaN action
         check_parameters(self, positive=PROBE_SCALES)
         check_choice(f"{type(self).__name__}.rotation_side", self.rotation_side, ROTATION_SIDES)
+        check_number(f"{type(self).__name__}.rotation_ripple_max_se_deg", self.rotation_ripple_max_se_deg, 0.0,
+                     NO_SE_DEG, unit=" deg")
 
     def reset(self, observation: np.ndarray, info: dict[str, Any]) -> None:
         self._dc = self._amp = 0.0
@@ -264,8 +285,9 @@ class PhaseRule:
         self._corrected = self.corrected_se or (self.se_gate and smoothed_speed_signal(observation, info))
         self._prev = phase_of(observation, info, self._corrected)
         self._add_baseline(*self._prev)
-        self._frequency = rotation_clear_frequency(self.frequency_hz, window_reading(observation, "speed"),
-                                                   self.rotation_margin_hz, self.limits, self.rotation_side)
+        margin = self.rotation_margin_hz if ripple_possible(info, self.rotation_ripple_max_se_deg) else 0.0
+        self._frequency = rotation_clear_frequency(self.frequency_hz, window_reading(observation, "speed"), margin,
+                                                   self.limits, self.rotation_side)
 
     def _add_baseline(self, phase: float, se: float) -> None:
         self._base_sum += phase / se**2

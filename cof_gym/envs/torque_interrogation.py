@@ -238,7 +238,9 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     modulation's phase over its cycles, their largest and smallest bin means and one bin's standard
     error, :mod:`cof_gym.measurement.synchronous_average`; and ``phase_lag_se_corrected_deg``, the lag's SE
     with the speed fit's residual taken as first-order autoregressive, its lag-1 correlation read in the window,
-    180 with extra tones: :func:`cof_gym.measurement.sine_fit.colored_noise_factor`);
+    180 with extra tones: :func:`cof_gym.measurement.sine_fit.colored_noise_factor`; and with ``lock_in="rotation"``
+    ``rotation_ripple_rad_s`` and ``rotation_ripple_phase_se_deg``, the speed's ripple at the wheelset's rotation
+    frequency (a target wheel's runout) and its phase's SE, 0 and 180 where it is not read);
     every privileged quantity (the CoF, the saturation torque, true creepage and CoA, anything relative
     to the creep peak) is under ``info["ground_truth"]``, for evaluation only. With ``shaping=True`` a
     potential-based term ``reward_shaping = 0.95 Phi' - Phi``, ``Phi = w_error (ln 100 - |ln(estimate /
@@ -317,7 +319,9 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
       Later additions to ``info["measurement"]`` (v1 and v2 alike) add readings and change no number
       of the observation, reward or ground truth: the measured creepage's modulation (session 12), the
       measured CoA's synchronous average over the cycle (``coa_cycle_*``, session 22), the lag's SE for an
-      autocorrelated residual (``phase_lag_se_corrected_deg``, session 59). Later options that no draw gives
+      autocorrelated residual (``phase_lag_se_corrected_deg``, session 59), the rotation lock-in's ripple
+      (``rotation_ripple_rad_s``, ``rotation_ripple_phase_se_deg``, session 85; 0 and 180 with the plain lock-in).
+      Later options that no draw gives
       leave every drawn episode as it was: ``encoder_lag_s`` (session 59; 0 unless fixed, and
       ``info["ground_truth"]`` carries it), ``track_irregularity`` (session 82; "smooth" unless fixed, its profile's
       phases drawn from a stream of their own, so that fixing it moves no other draw), ``encoder_pulses_per_rev`` and

@@ -337,6 +337,12 @@ class WindowMeasurement:
     # correlation read from the window: a smoothed speed signal's residual is correlated, and the white SE then
     # understates the scatter of the lag several times); single-tone windows only (180 with extra tones)
     phase_lag_se_corrected_deg: float = NO_SE_DEG
+    # the rotation lock-in's reading of the speed's ripple at the wheelset's rotation frequency (a target wheel's
+    # runout, cof_gym.physics.encoder): the first harmonic's amplitude (rad/s) and its phase's standard error (deg;
+    # a clear ripple reads a small one); 0 and 180 where it is not fitted (the plain lock-in, or a harmonic the
+    # window cannot tell from a tone, left out)
+    rotation_ripple_rad_s: float = 0.0
+    rotation_ripple_phase_se_deg: float = NO_SE_DEG
 
 
 # the measured CoA's synchronous-average fields of WindowMeasurement, in CycleExtremes' order
@@ -422,8 +428,9 @@ def _joint_tones(ud: np.ndarray, n: float, ntones: int, size: int,
                  columns: list[int] | None) -> tuple[dict[str, float], tuple]:
     """A joint fit's per-tone readings (phase lag, its SE, amplitude ratio, torque and speed amplitudes, keyed by
     :func:`tone_field`) from the joint fit of every tone over ``size`` columns or the ``columns`` kept of them (with
-    the rotation lock-in, its harmonics' pairs after the tones', read as further tones and left out), and tone 1's
-    fits of the torque, the speed, the creepage and the measured creepage."""
+    the rotation lock-in, its harmonics' pairs after the tones', read as further tones and left out, but for the
+    first harmonic's ripple in the speed: :func:`_rotation_ripple`), and tone 1's fits of the torque, the speed,
+    the creepage and the measured creepage."""
     if n <= size + 4:
         raise ValueError(f"window too short: {n:g} samples for {ntones} tones; lengthen the window")
     t_fits, o_fits, c_fits, cm_fits = _tone_fits(ud, n, size, columns)
@@ -435,7 +442,20 @@ def _joint_tones(ud: np.ndarray, n: float, ntones: int, size: int,
                       tone_field(k, "amplitude_ratio"): ratio_k,
                       tone_field(k, "torque_amplitude_nm"): t_fits[k - 1].amplitude,
                       tone_field(k, "omega_amplitude_rad_s"): o_fits[k - 1].amplitude})
+    if columns is not None:
+        tones.update(_rotation_ripple(o_fits, ntones, columns))
     return tones, (t_fits[0], o_fits[0], c_fits[0], cm_fits[0])
+
+
+def _rotation_ripple(o_fits: tuple[SineFit, ...], ntones: int, columns: list[int]) -> dict[str, float]:
+    """The first rotation harmonic's ripple in the speed (:class:`WindowMeasurement`'s ``rotation_ripple_*``) from
+    the rotation lock-in's joint speed fit, whose pairs are the tones' and then the harmonics' kept in ``columns``
+    (the first harmonic's, if kept, first among them); none where it was left out."""
+    if 2 * ntones not in columns:
+        return {}
+    ripple = o_fits[ntones]
+    return {"rotation_ripple_rad_s": ripple.amplitude,
+            "rotation_ripple_phase_se_deg": min(math.degrees(ripple.phase_se_rad), NO_SE_DEG)}
 
 
 def _lag_se_corrected(ud: np.ndarray, n: float, torque: SineFit, omega: SineFit, joint_size: int = 0,

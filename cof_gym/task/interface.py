@@ -39,7 +39,8 @@ SENSOR_FIELDS = (
     "coa_measured", "creepage_measured", "speed_measured_m_s", "normal_load_measured_n",
     "tangential_force_measured_n", "torque_mean_nm", "torque_peak_nm", "wd_rms_m_s2", "jerk_rms_m_s3",
     "wd_peak_m_s2", "samples", "creepage_modulation_amplitude", "creepage_modulation_lag_deg",
-    "creepage_modulation_lag_se_deg", *COA_CYCLE_FIELDS, "phase_lag_se_corrected_deg",
+    "creepage_modulation_lag_se_deg", *COA_CYCLE_FIELDS, "phase_lag_se_corrected_deg", "rotation_ripple_rad_s",
+    "rotation_ripple_phase_se_deg",
 )
 
 

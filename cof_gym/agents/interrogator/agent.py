@@ -26,6 +26,7 @@ from cof_gym.agents.policy_files import MANIFEST_FILE, SHIPPED_INTERROGATOR  # n
 from cof_gym.agents.interrogator.readings import (
     NOISE_WINDOWS, NOISY_SENSORS, SLOW_DRIVE, SMOOTHED_ENCODER, Reading, reads_slow_drive, reads_smoothed_encoder,
 )
+from cof_gym.agents.phase_rule import ripple_possible
 from cof_gym.agents.runaway import CrestCeiling, RunawayBracket
 from cof_gym.agents.staircase import ElasticityClimb
 from cof_gym.task.creep_fit import coa_fell
@@ -435,7 +436,8 @@ class LearnedInterrogator:
             p, stop = self.params, False
             self._dc = self.climb.first_dc(self.limits)
             self._start_speed = Reading.of(observation, self.limits, info).speed_m_s
-            self._frequency = p.frequency_at(self._start_speed, self.limits)
+            self._frequency = p.frequency_at(self._start_speed, self.limits,
+                                             ripple_possible(info, p.rotation_ripple_max_se_deg))
         return self._command(p, stop)
 
     def _command(self, p: ClimbParameters, stop: bool) -> np.ndarray:

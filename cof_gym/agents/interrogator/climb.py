@@ -12,6 +12,7 @@ import numpy as np
 from cof_gym.agents.interrogator.readings import (Reading, creep_elasticity, first_windows_drive_lag_s,
                                                   first_windows_noise_nms, gain_from_balance)
 from cof_gym.agents.phase_rule import PhaseRule, knee_seen, probe_amplitude, rotation_clear_frequency
+from cof_gym.measurement.sine_fit import NO_SE_DEG
 from cof_gym.task.excitation import encode_extra_tones
 from cof_gym.task.interface import MotorLimits, encode_action
 from cof_gym.task.scenarios import COF_ENVELOPE
@@ -81,6 +82,7 @@ OPTIONAL_BOUNDED_FIELDS: dict[str, tuple[float, float, bool, str]] = {
     "pace_caution": (0.0, 10.0, False, ""),
     "frequency_reference_m_s": (0.0, 100.0, True, " m/s"),
     "rotation_margin_hz": (0.0, 10.0, True, " Hz"),
+    "rotation_ripple_max_se_deg": (0.0, NO_SE_DEG, False, " deg"),
     "crest_below_m_s": (0.0, 100.0, True, " m/s"),
     "crest_probe_max_lag_deg": (0.0, 180.0, False, " deg"),
     "crest_probe_max_lag_step_deg": (0.0, 180.0, False, " deg"),
@@ -104,6 +106,9 @@ class ClimbParameters:
     # not None: the frequency then moved at least this far (Hz) from the wheelset's rotation frequency at the measured
     # speed (phase_rule.rotation_clear_frequency, the nearest side): a speed probe's runout read by the rotation lock-in
     rotation_margin_hz: float | None = None
+    # ... only where the reset window leaves a runout's ripple possible (phase_rule.ripple_possible: read with a phase
+    # SE at most this, deg, or not read); NO_SE_DEG: wherever the margin moves it
+    rotation_ripple_max_se_deg: float = NO_SE_DEG
     target_headroom: float = 0.05  # ln(M_sat / DC) the climb aims at (0.05: DC at 95 % of M_sat)
     caution: float = 1.0  # standard deviations taken off the predicted headroom
     spread_caution: float = 0.0  # and this many more of the members' spread alone (their disagreement)
@@ -427,16 +432,17 @@ class ClimbParameters:
             return 0.0
         return floor_headroom(coa) - self.target_headroom - self.floor_margin
 
-    def frequency_at(self, speed_m_s: float, limits: MotorLimits) -> float:
+    def frequency_at(self, speed_m_s: float, limits: MotorLimits, ripple_possible: bool = True) -> float:
         """The modulation frequency (Hz) of a climb at the measured speed ``speed_m_s``: ``frequency_hz``, or
         with ``frequency_reference_m_s`` that times ``max(1, reference / speed)``, within the drive's range.
         Eq. 3's lag is ``atan(I w v / (k r^2))``: at a low speed it stays small and flat until the slope
         ``k`` has nearly vanished; a frequency rising as ``1 / v`` keeps ``w v`` (the lag's sensitivity to
         the slope) at least the reference speed's. With ``rotation_margin_hz`` the frequency then moves at least that
-        far from the rotation's harmonics (:func:`~cof_gym.agents.phase_rule.rotation_clear_frequency`)."""
+        far from the rotation's harmonics (:func:`~cof_gym.agents.phase_rule.rotation_clear_frequency`) where
+        ``ripple_possible`` (the reset window's reading, :func:`~cof_gym.agents.phase_rule.ripple_possible`)."""
         frequency = (self.frequency_hz if self.frequency_reference_m_s is None else
                      speed_scaled_frequency(self.frequency_hz, self.frequency_reference_m_s, speed_m_s, limits))
-        if self.rotation_margin_hz is None:
+        if self.rotation_margin_hz is None or not ripple_possible:
             return frequency
         return rotation_clear_frequency(frequency, speed_m_s, self.rotation_margin_hz, limits)
 
