@@ -321,11 +321,10 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
       measured CoA's synchronous average over the cycle (``coa_cycle_*``, session 22), the lag's SE for an
       autocorrelated residual (``phase_lag_se_corrected_deg``, session 59), the rotation lock-in's ripple
       (``rotation_ripple_rad_s``, ``rotation_ripple_phase_se_deg``, session 85; 0 and 180 with the plain lock-in).
-      Later options that no draw gives
-      leave every drawn episode as it was: ``encoder_lag_s`` (session 59; 0 unless fixed, and
-      ``info["ground_truth"]`` carries it), ``track_irregularity`` (session 82; "smooth" unless fixed, its profile's
-      phases drawn from a stream of their own, so that fixing it moves no other draw), ``encoder_pulses_per_rev`` and
-      ``encoder_runout`` (session 83; 0 unless fixed: the continuous reading).
+      Later options that no draw gives leave every drawn episode as it was: ``encoder_lag_s`` (session 59; 0 unless
+      fixed, and ``info["ground_truth"]`` carries it), ``track_irregularity`` (session 82; "smooth" unless fixed, its
+      profile's phases drawn from a stream of their own, so that fixing it moves no other draw),
+      ``encoder_pulses_per_rev`` and ``encoder_runout`` (session 83; 0 unless fixed: the continuous reading).
     - v1: ground truth from the simulated physics (load transfer, controlled speed); PI cruise control
       and traction balance; a traction rod; CoF ranges per condition; macro-slip relative to the peak;
       log-ratio error, no slip cost below the peak, comfort over the whole window; sensors apart from
