@@ -148,20 +148,33 @@ def test_the_interrogators_climb_moves_its_frequency_as_the_phase_rule_does():
     assert moved == rotation_clear_frequency(NOMINAL_HZ, speed, 1.0, LIMITS) == pytest.approx(6.0, rel=1e-12)
 
 
+@pytest.mark.parametrize("side", ROTATION_SIDES)
+@pytest.mark.parametrize("speed", [coincidence_speed(1) - 1.0, coincidence_speed(1), coincidence_speed(1) + 1.0])
+def test_the_climb_moves_to_its_side_as_the_phase_rule_does(side, speed):
+    climb = ClimbParameters(rotation_margin_hz=1.0, rotation_side=side)
+    assert climb.frequency_at(speed, LIMITS) == rotation_clear_frequency(NOMINAL_HZ, speed, 1.0, LIMITS, side)
+
+
 @pytest.mark.parametrize("value", [0.0, -1.0, 10.5, math.nan, True])
 def test_a_bad_climb_margin_names_the_field(value):
     with pytest.raises(ValueError, match="rotation_margin_hz"):
         ClimbParameters(rotation_margin_hz=value)
+    with pytest.raises(ValueError, match="rotation_side"):
+        ClimbParameters(rotation_side="left")
 
 
 def test_the_interrogator_variant_is_the_shipped_one_with_the_margin(env):
     """``interrogator-rotation``: the shipped networks and climb, only its rotation margin set; not a default."""
-    from cof_gym.agents.interrogator.agent import INTERROGATOR_ROTATION_MARGIN_HZ
+    from cof_gym.agents.interrogator.agent import (
+        INTERROGATOR_ROTATION_MARGIN_HZ, INTERROGATOR_ROTATION_RIPPLE_MAX_SE_DEG, INTERROGATOR_ROTATION_SIDE,
+    )
 
     shipped, variant = make_agent("interrogator", env), make_agent("interrogator-rotation", env)
     assert variant.name == "interrogator-rotation" and "interrogator-rotation" not in default_agents()
     assert shipped.params.rotation_margin_hz is None
-    assert variant.params == replace(shipped.params, rotation_margin_hz=INTERROGATOR_ROTATION_MARGIN_HZ)
+    assert variant.params == replace(shipped.params, rotation_margin_hz=INTERROGATOR_ROTATION_MARGIN_HZ,
+                                     rotation_side=INTERROGATOR_ROTATION_SIDE,
+                                     rotation_ripple_max_se_deg=INTERROGATOR_ROTATION_RIPPLE_MAX_SE_DEG)
 
 
 @pytest.mark.parametrize("se_deg, max_se_deg, possible", [

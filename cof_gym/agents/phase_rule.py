@@ -248,8 +248,8 @@ class PhaseRule:
     rotation_margin_hz: float = 0.0
     rotation_side: str = "nearest"  # ... to the nearest clear frequency, or only below or above frequency_hz
     # ... only where the reset window leaves a runout's ripple possible (ripple_possible: read with a phase SE at most
-    # this, deg, or not read); NO_SE_DEG: wherever the margin moves it (no gate read better on validation, session 85:
-    # the lock-in reads the ripple only where it lies more than about 0.7 Hz from the tone, the margin's band's edge)
+    # this, deg, or not read); NO_SE_DEG: wherever the margin moves it (phase-rule-rotation: no gate read better on
+    # validation, session 85: the lock-in reads the ripple only more than about 0.7 Hz from the tone, the band's edge)
     rotation_ripple_max_se_deg: float = NO_SE_DEG
     name: str = "phase-rule"
     oracle: bool = False

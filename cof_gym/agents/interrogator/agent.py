@@ -721,18 +721,28 @@ def load_interrogator(env, argument: str | None = None) -> LearnedInterrogator:
     return agent
 
 
-# interrogator-rotation's distance (Hz) of its modulation frequency from the wheelset's rotation frequency
-# (ClimbParameters.rotation_margin_hz; experiments/select_rotation_margin.py --agent interrogator on validation seeds
-# only, ranked by macro-slips, then median, then P90 with a runout read by the rotation lock-in)
+# interrogator-rotation's distance (Hz) of its modulation frequency from the wheelset's rotation frequency and the
+# side it moves to (ClimbParameters.rotation_margin_hz, rotation_side; experiments/select_rotation_margin.py --agent
+# interrogator on validation seeds only, ranked by macro-slips, then median, then P90 with a runout read by the
+# rotation lock-in: 2.9 / 22.9 / 0 against 3.8 / 42.6 / 0 at 5 Hz always; session 84 chose 1 Hz of the nearest side,
+# 3.2 / 23.1 / 0, before the sides were played)
 INTERROGATOR_ROTATION_MARGIN_HZ = 1.0
+INTERROGATOR_ROTATION_SIDE = "below"
+# ... only where the reset window leaves a runout's ripple possible (ClimbParameters.rotation_ripple_max_se_deg, deg;
+# select_rotation_margin.py --gate --agent interrogator: every gate of 5-30 deg ties no gate but for one as-drawn
+# median 0.01 points lower, so the rule's order picks 30)
+INTERROGATOR_ROTATION_RIPPLE_MAX_SE_DEG = 30.0
 
 
 def load_interrogator_rotation(env, argument: str | None = None) -> LearnedInterrogator:
     """The shipped interrogator (or ``interrogator-rotation:DIR``'s) with its climb's modulation frequency moved
-    :data:`INTERROGATOR_ROTATION_MARGIN_HZ` clear of the wheelset's rotation frequency at the measured speed (for a
-    speed probe whose target wheel runs out, read by the rotation lock-in); every other setting its manifest's."""
+    :data:`INTERROGATOR_ROTATION_MARGIN_HZ` clear of the wheelset's rotation frequency at the measured speed, below
+    it, where the reset window leaves a runout's ripple possible (for a speed probe whose target wheel runs out, read
+    by the rotation lock-in); every other setting its manifest's."""
     directory = Path(argument) if argument else SHIPPED_INTERROGATOR
-    params = replace(manifest_climb(directory), rotation_margin_hz=INTERROGATOR_ROTATION_MARGIN_HZ)
+    params = replace(manifest_climb(directory), rotation_margin_hz=INTERROGATOR_ROTATION_MARGIN_HZ,
+                     rotation_side=INTERROGATOR_ROTATION_SIDE,
+                     rotation_ripple_max_se_deg=INTERROGATOR_ROTATION_RIPPLE_MAX_SE_DEG)
     agent = interrogator_for(env, directory, params=params)
     agent.name = f"interrogator-rotation:{directory.name}" if argument else "interrogator-rotation"
     return agent

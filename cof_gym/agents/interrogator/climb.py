@@ -11,12 +11,12 @@ import numpy as np
 
 from cof_gym.agents.interrogator.readings import (Reading, creep_elasticity, first_windows_drive_lag_s,
                                                   first_windows_noise_nms, gain_from_balance)
-from cof_gym.agents.phase_rule import PhaseRule, knee_seen, probe_amplitude, rotation_clear_frequency
+from cof_gym.agents.phase_rule import ROTATION_SIDES, PhaseRule, knee_seen, probe_amplitude, rotation_clear_frequency
 from cof_gym.measurement.sine_fit import NO_SE_DEG
 from cof_gym.task.excitation import encode_extra_tones
 from cof_gym.task.interface import MotorLimits, encode_action
 from cof_gym.task.scenarios import COF_ENVELOPE
-from cof_gym.validation import check_bool, check_number
+from cof_gym.validation import check_bool, check_choice, check_number
 
 ESTIMATE_SOURCES = ("filter", "best_coa", "guard", "pooled", "pooled_at_headroom", "estimator", "estimator_pooled",
                     "estimator_pooled_at_headroom", "estimator_at_headroom", "guard_estimator_pooled")
@@ -104,8 +104,9 @@ class ClimbParameters:
     # not None: below this speed (m/s) the frequency rises as 1 / speed (frequency_at), up to the drive's
     frequency_reference_m_s: float | None = None
     # not None: the frequency then moved at least this far (Hz) from the wheelset's rotation frequency at the measured
-    # speed (phase_rule.rotation_clear_frequency, the nearest side): a speed probe's runout read by the rotation lock-in
+    # speed (phase_rule.rotation_clear_frequency): a speed probe's runout read by the rotation lock-in
     rotation_margin_hz: float | None = None
+    rotation_side: str = "nearest"  # ... to the nearest clear frequency, or only below or above it (ROTATION_SIDES)
     # ... only where the reset window leaves a runout's ripple possible (phase_rule.ripple_possible: read with a phase
     # SE at most this, deg, or not read); NO_SE_DEG: wherever the margin moves it
     rotation_ripple_max_se_deg: float = NO_SE_DEG
@@ -212,6 +213,7 @@ class ClimbParameters:
                                  f"guard), got {self.guard_cautions!r}")
             object.__setattr__(self, "guard_cautions", tuple(
                 check_number(f"guard_cautions[{i}]", c, 0.0, 10.0) for i, c in enumerate(self.guard_cautions)))
+        check_choice("rotation_side", self.rotation_side, ROTATION_SIDES)
         if self.knee_stop not in KNEE_STOPS:
             raise ValueError(f"knee_stop must be one of {KNEE_STOPS}, got {self.knee_stop!r}")
         if not (isinstance(self.creep_log_step, (int, float)) and 0.0 <= self.creep_log_step <= self.max_log_step):
@@ -444,7 +446,7 @@ class ClimbParameters:
                      speed_scaled_frequency(self.frequency_hz, self.frequency_reference_m_s, speed_m_s, limits))
         if self.rotation_margin_hz is None or not ripple_possible:
             return frequency
-        return rotation_clear_frequency(frequency, speed_m_s, self.rotation_margin_hz, limits)
+        return rotation_clear_frequency(frequency, speed_m_s, self.rotation_margin_hz, limits, self.rotation_side)
 
     def amplitude(self, dc_nm: float, limits: MotorLimits, ratio: float | None = None) -> float:
         """The modulation amplitude (N m) at DC torque ``dc_nm``: ``ratio`` (default ``amplitude_ratio``) of
