@@ -1,4 +1,4 @@
-"""Choose how far the phase rule or the learned interrogator modulates from the wheelset's rotation harmonics
+"""Choose how far the phase rule or the learned interrogator modulates from the wheelset's rotation frequency
 (``phase-rule-rotation``, ``interrogator-rotation``: :func:`cof_gym.agents.phase_rule.rotation_clear_frequency`) on
 validation seeds only.
 
@@ -8,8 +8,8 @@ A speed probe whose target wheel runs out reads the wheelset's speed with a ripp
 window, 0.6 s) it cannot tell from the tone and leaves out, so the ripple leaks into the lag; near 5 Hz that is 12-17
 m/s (the rotation) and 6-8 m/s (twice it, where the ripple is of the runout's second order and negligible). A train
 knows its speed and its nominal wheel radius, so an agent can choose its modulation frequency away from the rotation
-frequency (:data:`cof_gym.agents.phase_rule.ROTATION_HARMONICS`): the margin, in Hz (and for the phase rule the side it
-moves to), is chosen here.
+frequency (:data:`cof_gym.agents.phase_rule.ROTATION_HARMONICS`): the margin, in Hz, and the side it moves to are
+chosen here (the interrogator's side since session 85; session 84 played its nearest side only).
 
 Validation set (the seeds of ``select_phase_rule.py``: never the default evaluate suite, seeds 0-59, nor a held-out
 grid): the v2 wagon's seeds 100000-100119 as drawn, with and without the paper's counter torque, each played with the

@@ -225,7 +225,7 @@ def test_the_gated_agents_move_only_where_the_reset_window_leaves_a_ripple_possi
         assert climb.frequency_at(measured, limits, ripple_possible(info, max_se)) == expected
 
 
-@pytest.mark.parametrize("value", [-1.0, 180.5, math.nan, math.inf, True])
+@pytest.mark.parametrize("value", [-1.0, 180.5, math.nan, math.inf, True, None])
 def test_a_bad_ripple_gate_names_the_field(value):
     with pytest.raises(ValueError, match="PhaseRule.rotation_ripple_max_se_deg"):
         PhaseRule(LIMITS, rotation_ripple_max_se_deg=value)

@@ -67,6 +67,7 @@ BOUNDED_FIELDS: dict[str, tuple[float, float, bool, str]] = {
     "noise_caution_exponent": (0.0, 2.0, False, ""),
     "noise_creep_exponent": (0.0, 2.0, False, ""),
     "relative_error_shift": (0.0, 5.0, False, ""),
+    "rotation_ripple_max_se_deg": (0.0, NO_SE_DEG, False, " deg"),
 }
 OPTIONAL_BOUNDED_FIELDS: dict[str, tuple[float, float, bool, str]] = {
     "floor_margin": (0.0, math.inf, False, ""),
@@ -82,7 +83,6 @@ OPTIONAL_BOUNDED_FIELDS: dict[str, tuple[float, float, bool, str]] = {
     "pace_caution": (0.0, 10.0, False, ""),
     "frequency_reference_m_s": (0.0, 100.0, True, " m/s"),
     "rotation_margin_hz": (0.0, 10.0, True, " Hz"),
-    "rotation_ripple_max_se_deg": (0.0, NO_SE_DEG, False, " deg"),
     "crest_below_m_s": (0.0, 100.0, True, " m/s"),
     "crest_probe_max_lag_deg": (0.0, 180.0, False, " deg"),
     "crest_probe_max_lag_step_deg": (0.0, 180.0, False, " deg"),
