@@ -3,7 +3,10 @@ Gymnasium learning problem.
 
 Importing the package registers ``CofGym/TorqueInterrogation-v2`` (the wagon) and
 ``CofGym/HalfWheelset-v2`` (the paper's Sect. 2 model), the realistic task (creep-law families,
-systematic sensor errors), and their v1 predecessors, kept as published."""
+systematic sensor errors), their v1 predecessors, kept as published, and
+``CofGym/TorqueInterrogationInService-v3``: task v3, the wagon with a train's speed probe (pulses, runout,
+lag) and track irregularity drawn as well. Its name is its own, so that Gymnasium does not call the -v2
+ids, on which the shipped agents were trained, out of date; its version is the task's."""
 
 from __future__ import annotations
 
@@ -19,13 +22,17 @@ import gymnasium as gym  # noqa: E402
 __version__ = "0.2.0"
 
 WAGON_ENV_ID = "CofGym/TorqueInterrogation-v2"
+WAGON_IN_SERVICE_ENV_ID = "CofGym/TorqueInterrogationInService-v3"
 HALF_WHEELSET_ENV_ID = "CofGym/HalfWheelset-v2"
 WAGON_V1_ENV_ID = "CofGym/TorqueInterrogation-v1"
 HALF_WHEELSET_V1_ENV_ID = "CofGym/HalfWheelset-v1"
-ENV_IDS = (WAGON_ENV_ID, HALF_WHEELSET_ENV_ID, WAGON_V1_ENV_ID, HALF_WHEELSET_V1_ENV_ID)
+ENV_IDS = (WAGON_ENV_ID, HALF_WHEELSET_ENV_ID, WAGON_V1_ENV_ID, HALF_WHEELSET_V1_ENV_ID,
+           WAGON_IN_SERVICE_ENV_ID)
 # id -> (vehicle, task version): v2 draws creep-law families and systematic sensor errors; v1 stays as
-# published (the Polach presets, unbiased sensors)
+# published (the Polach presets, unbiased sensors); v3 also draws a train's speed probe and track, the wagon only (the
+# half wheelset rides on no track spring, so a track's profile would not reach it)
 _IDS = {WAGON_ENV_ID: ("wagon", 2), HALF_WHEELSET_ENV_ID: ("half_wheelset", 2),
+        WAGON_IN_SERVICE_ENV_ID: ("wagon", 3),
         WAGON_V1_ENV_ID: ("wagon", 1), HALF_WHEELSET_V1_ENV_ID: ("half_wheelset", 1)}
 
 

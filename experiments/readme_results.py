@@ -28,6 +28,10 @@ generated, never typed:
     cof-gym evaluate --agents phase-rule,phase-rule-rotation,interrogator,interrogator-rotation --paired interrogator \
         --env-kwargs encoder_pulses_per_rev:100 encoder_runout:0.0005 lock_in:rotation \
         --out out/evaluate-v2-rotation-clear-runout
+    cof-gym evaluate --suite in-service                              # task v3 (its default --out)
+    cof-gym evaluate --suite in-service --agents phase-rule-ar1,phase-rule-gated,robust-model-ar1,robust-model-gated,\
+model-based-zeroed-knee-ar1,phase-rule-rotation,interrogator-rotation --out out/evaluate-in-service-variants
+    cof-gym evaluate --suite in-service --env-kwargs track_irregularity:smooth --out out/evaluate-in-service-smooth
     cof-gym evaluate --suite paper --episodes 5                                     # the paper's setting
     cof-gym evaluate --suite experiments/suites/v1_default.json --episodes 60 --out out/evaluate-v1
     cof-gym evaluate --suite experiments/suites/heldout_grid.json --out out/evaluate-heldout   # v1 held-out
@@ -1158,6 +1162,9 @@ SOURCES = {
     "v2_lock_in_rotation": ROOT / "out" / "evaluate-v2-lock-in-rotation" / "summary.md",
     "v2_rotation_clear": ROOT / "out" / "evaluate-v2-rotation-clear" / "summary.md",
     "v2_rotation_clear_runout": ROOT / "out" / "evaluate-v2-rotation-clear-runout" / "summary.md",
+    "in_service": ROOT / "out" / "evaluate-in-service" / "summary.md",
+    "in_service_variants": ROOT / "out" / "evaluate-in-service-variants" / "summary.md",
+    "in_service_smooth": ROOT / "out" / "evaluate-in-service-smooth" / "summary.md",
     "v2_paper": PAPER_RUN / "summary.md",
     **{block: out / "summary.md" for block, (_, out) in HELDOUT_RUNS.items()},
     "v1_default": ROOT / "out" / "evaluate-v1" / "summary.md",

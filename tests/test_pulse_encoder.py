@@ -161,7 +161,7 @@ def test_a_bad_encoder_is_refused_naming_the_field_and_its_range(name, value, ma
     env.close()
 
 
-def test_an_encoder_with_pulses_or_runout_is_outside_every_draw():
+def test_an_encoder_with_pulses_or_runout_is_outside_the_v2_draws():
     assert outside_draws({"encoder_pulses_per_rev": 100, "encoder_runout": 0.001}, V2_RANGES) == {
         "encoder_pulses_per_rev": "100, drawn: 0 (a continuous reading)",
         "encoder_runout": "0.001, drawn: 0"}

@@ -123,7 +123,7 @@ def test_the_batched_env_lays_the_same_profile() -> None:
     assert_batched_plays_as_sync({"track_irregularity": "ore_low"})
 
 
-def test_a_profile_is_outside_every_draw() -> None:
+def test_a_profile_is_outside_the_v2_draws() -> None:
     assert outside_draws({"track_irregularity": "ore_low"}, V2_RANGES) == {
         "track_irregularity": "'ore_low', drawn: 'smooth'"}
     assert outside_draws({"track_irregularity": SMOOTH}, V2_RANGES) == {}

@@ -54,17 +54,18 @@ def first_difference(x, y, path: str = "") -> str:
     return "" if same(x, y) else f"{path}: {x!r} != {y!r}"
 
 
-def make_pair(n: int, **kwargs):
-    batched = gym.make_vec(ENV_ID, num_envs=n, vectorization_mode="vector_entry_point", **kwargs)
+def make_pair(n: int, env_id: str = ENV_ID, **kwargs):
+    batched = gym.make_vec(env_id, num_envs=n, vectorization_mode="vector_entry_point", **kwargs)
     kwargs.pop("num_threads", None)
-    sync = gym.make_vec(ENV_ID, num_envs=n, vectorization_mode="sync", **kwargs)
+    sync = gym.make_vec(env_id, num_envs=n, vectorization_mode="sync", **kwargs)
     return batched, sync
 
 
-def assert_batched_plays_as_sync(options: dict, steps: int = 2, **kwargs) -> None:
-    """Two envs of the batched vector env reset with ``options`` and stepped ``steps`` times at a small DC torque
-    give every observation, reward, flag and info that gymnasium's SyncVectorEnv of single envs gives, bit for bit."""
-    batched, sync = make_pair(2, **kwargs)
+def assert_batched_plays_as_sync(options: dict, steps: int = 2, env_id: str = ENV_ID, **kwargs) -> None:
+    """Two envs of the batched vector env of ``env_id`` reset with ``options`` and stepped ``steps`` times at a small
+    DC torque give every observation, reward, flag and info that gymnasium's SyncVectorEnv of single envs gives, bit
+    for bit."""
+    batched, sync = make_pair(2, env_id, **kwargs)
     try:
         a, b = batched.reset(seed=5, options=dict(options)), sync.reset(seed=5, options=dict(options))
         assert same(a, b), first_difference(a, b)

@@ -442,8 +442,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=f"episodes per agent, at most {MAX_EPISODES} (a suite file with an episode list sets "
                              "its own)")
     parser.add_argument("--suite", default="default", metavar="SUITE",
-                        help="scenarios: 'default' (the env's distribution), 'paper' (the paper's setting) or a "
-                             "JSON suite file (see cof_gym/commands/suites.py)")
+                        help="scenarios: 'default' (the env's distribution), 'paper' (the paper's setting), "
+                             "'in-service' (the default seeds on task v3: a train's speed probe and track drawn too) "
+                             "or a JSON suite file (see cof_gym/commands/suites.py)")
     parser.add_argument("--env-kwargs", nargs="+", action=StoreDict, default={}, metavar="KEY:VALUE",
                         help="env constructor arguments over the suite's (a Python literal or text, as cof-gym train "
                              "and RL Zoo take them), e.g. max_windows:60 (a longer horizon) or counter_torque:True; "

@@ -41,7 +41,6 @@ from cof_gym.task.scenarios import COF_ENVELOPE, check_fixed, shape_spec
 from cof_gym.validation import TABLE_CELL_FORBIDDEN, brief, check_int, check_number, is_int
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 
-SUITE_NAMES = ("default", "paper")
 FILE_KEYS = ("env_id", "env_kwargs", "options", "episodes", "description")
 EPISODE_KEYS = ("seed", "options", "note")  # note: a free-text label (evaluate's breakdown groups by it)
 # env_kwargs that change the interface the evaluated agents act through: what every agent needs (the env's
@@ -131,6 +130,18 @@ def paper_suite(n_episodes: int, seed: int) -> Suite:
              "creep_law": "dry", **{name: 0.0 for name in SYSTEMATIC_ERRORS}}
     episodes = SeededEpisodes(seed, n_episodes, lambda i: {**fixed, "cof": PAPER_COFS[i % len(PAPER_COFS)]})
     return Suite("paper", cof_gym.WAGON_ENV_ID, {"counter_torque": True}, episodes)
+
+
+def in_service_suite(n_episodes: int, seed: int) -> Suite:
+    """The default suite's seeds on task v3 (``CofGym/TorqueInterrogationInService-v3``): v2's draws, and a train's
+    speed probe (pulses, runout, lag) on a track of drawn irregularity."""
+    return Suite("in-service", cof_gym.WAGON_IN_SERVICE_ENV_ID, {}, SeededEpisodes(seed, n_episodes))
+
+
+# the suites played by name (cof-gym evaluate --suite NAME): one table
+NAMED_SUITES: dict[str, Callable[[int, int], Suite]] = {"default": default_suite, "paper": paper_suite,
+                                                        "in-service": in_service_suite}
+SUITE_NAMES = tuple(NAMED_SUITES)
 
 
 def _check_dict(value: Any, where: str, path: Path) -> dict[str, Any]:
@@ -476,20 +487,19 @@ def per_curve(suite: Suite, curves: Sequence[tuple[str, dict[str, Any]]]) -> Sui
 
 
 def make_suite(name: str, n_episodes: int, seed: int) -> Suite:
-    """``default``, ``paper`` or a JSON file path (:class:`SuiteError` otherwise); ``n_episodes`` seeded draws from
-    ``seed`` on where the suite lists no episodes of its own (integers in [1, MAX_EPISODES] and [0, MAX_SEED])."""
+    """A name of :data:`NAMED_SUITES` or a JSON file path (:class:`SuiteError` otherwise); ``n_episodes`` seeded
+    draws from ``seed`` on where the suite lists no episodes of its own (integers in [1, MAX_EPISODES] and [0,
+    MAX_SEED])."""
     try:
         check_int("n_episodes", n_episodes, 1, MAX_EPISODES)
         check_int("seed", seed, 0, MAX_SEED)
     except ValueError as e:
         raise SuiteError(str(e)) from None
     if not isinstance(name, (str, Path)):
-        raise SuiteError(f"suite must be 'default', 'paper' or a JSON file path, got {name!r}")
+        raise SuiteError(f"suite must be one of {', '.join(SUITE_NAMES)} or a JSON file path, got {name!r}")
     name = str(name)
-    if name == "default":
-        return default_suite(n_episodes, seed)
-    if name == "paper":
-        return paper_suite(n_episodes, seed)
+    if name in NAMED_SUITES:
+        return NAMED_SUITES[name](n_episodes, seed)
     path = Path(name)
     if path.exists():
         return file_suite(path, n_episodes, seed)

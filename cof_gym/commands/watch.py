@@ -174,7 +174,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=f"environment id: {', '.join(cof_gym.ENV_IDS)} (default: {cof_gym.WAGON_ENV_ID})")
     parser.add_argument("--suite", default=None, metavar="SUITE",
                         help="play an episode of a suite as cof-gym evaluate --suite plays it (its env id, env "
-                             "arguments, seed and scenario): 'default', 'paper' or a JSON suite file")
+                             "arguments, seed and scenario): 'default', 'paper', 'in-service' or a JSON suite file")
     parser.add_argument("--episode", type=int_in_range(0, MAX_EPISODES - 1), default=None, metavar="K",
                         help="with --suite: the episode's index in the suite, as in evaluate's episodes.csv "
                              "(default: 0)")

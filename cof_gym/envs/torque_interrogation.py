@@ -22,7 +22,7 @@ from cof_gym.physics.models import DEFAULT_TIMESTEP_S
 from cof_gym.physics.simulation import SimulationDiverged, Simulation, WindowMeasurement
 from cof_gym.task import InterrogationTask, MacroSlipLimit, Reward, ScenarioRanges
 from cof_gym.task.interface import DecodedAction
-from cof_gym.task.scenarios import SCENARIO_KEYS, V2_RANGES
+from cof_gym.task.scenarios import SCENARIO_KEYS, TASK_VERSION_RANGES, drawn_kinds
 from cof_gym.task.task import DEFAULT_MAX_WINDOWS, Episode
 from cof_gym.validation import check_choice, check_int, is_int
 
@@ -39,28 +39,43 @@ def window_diverged(m: WindowMeasurement, bad_qacc: bool, state_finite: bool) ->
 
 
 def default_ranges(task_version: int) -> ScenarioRanges:
-    """The scenario draws of a task version: 1 the Polach presets without systematic sensor errors, 2
-    creep-law families with drawn shapes and systematic sensor errors (:data:`cof_gym.task.scenarios.V2_RANGES`)."""
-    return V2_RANGES if check_int("task_version", task_version, 1, 2) == 2 else ScenarioRanges()
+    """The scenario draws of a task version (:data:`cof_gym.task.scenarios.TASK_VERSION_RANGES`): 1 the Polach
+    presets without systematic sensor errors, 2 creep-law families with drawn shapes and systematic sensor errors
+    (:data:`~cof_gym.task.scenarios.V2_RANGES`), 3 also a train's speed probe and track
+    (:data:`~cof_gym.task.scenarios.V3_RANGES`)."""
+    return TASK_VERSION_RANGES[check_int("task_version", task_version, min(TASK_VERSION_RANGES),
+                                         max(TASK_VERSION_RANGES))]
+
+
+# how a user narrows each version's draws (the names of cof_gym.task's ranges), for the error below
+NARROWING = {1: "cof_gym.task.ScenarioRanges(...)", 2: "dataclasses.replace(cof_gym.task.V2_RANGES, ...)",
+             3: "dataclasses.replace(cof_gym.task.V3_RANGES, ...)"}
+
+
+def _kinds(ranges: ScenarioRanges) -> tuple[bool, bool]:
+    return ranges.draws_v2, ranges.draws_v3
+
+
+def _version_of(ranges: ScenarioRanges) -> int:
+    """The task version whose kinds of draws ``ranges`` have (narrowed or widened), 0 where none has them."""
+    return next((v for v, r in TASK_VERSION_RANGES.items() if _kinds(r) == _kinds(ranges)), 0)
 
 
 def task_ranges(task_version: int, ranges: ScenarioRanges | Mapping[str, Any] | None) -> ScenarioRanges:
     """The draws of a task: ``ranges`` (a mapping of its fields, as a spec's JSON gives it back, too), or the
-    version's own where ``None``. Ranges that disagree with the
-    version (v1 draws on a v2 task, which would quietly drop its creep-law families and sensor errors, or v2
-    draws on a v1 task) are a ``ValueError`` naming both arguments."""
+    version's own where ``None``. Ranges that draw other kinds of uncertainty than the version (v1 draws on a v2
+    task, which would quietly drop its creep-law families and sensor errors, v2 draws on a v3 task, which would
+    drop its speed probe and track, or the reverse) are a ``ValueError`` naming both arguments."""
     version_ranges = default_ranges(task_version)
     if isinstance(ranges, Mapping):
         ranges = ScenarioRanges.from_mapping(ranges)
-    if ranges is None or not isinstance(ranges, ScenarioRanges) or ranges.draws_v2 == version_ranges.draws_v2:
+    if ranges is None or not isinstance(ranges, ScenarioRanges) or _kinds(ranges) == _kinds(version_ranges):
         return version_ranges if ranges is None else ranges  # (a wrong type is the task's error, named there)
-    if task_version == 2:
-        raise ValueError("ranges: draws no creep-law family and no systematic sensor error (the v1 draws), but "
-                         "task_version is 2 (the -v2 ids draw both): narrow the v2 draws with "
-                         "dataclasses.replace(cof_gym.task.V2_RANGES, ...), or make the v1 id (task_version=1)")
-    raise ValueError(f"ranges: draws creep-law families {ranges.creep_families} and sensor errors at "
-                     f"{ranges.sensor_error_scale} x their ranges (the v2 draws), but task_version is 1 (Polach "
-                     "presets, unbiased sensors): make the -v2 id (task_version=2) for them")
+    narrow = NARROWING[task_version]
+    other = _version_of(ranges)
+    instead = f", or make the -v{other} id (task_version={other})" if other else ""
+    raise ValueError(f"ranges: draws {drawn_kinds(ranges)}, but task_version is {task_version} (the -v{task_version} "
+                     f"ids draw {drawn_kinds(version_ranges)}): narrow that version's draws with {narrow}{instead}")
 
 
 def make_kwargs(kwargs: dict[str, Any]) -> dict[str, Any]:
@@ -258,7 +273,9 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     dry / wet / low_adhesion, CoF 0.02-0.6 overall, 5-40 m/s, empty / laden, noise 0-1 x full scale,
     lag 0-30 ms); v2 (``task_version=2``) also draws a creep-law family and its shape
     (:mod:`cof_gym.physics.creep_laws`) and the systematic sensor errors (:mod:`cof_gym.task.sensors`),
-    which change readings, never physics, and are reported only under ``info["ground_truth"]``; each
+    which change readings, never physics, and are reported only under ``info["ground_truth"]``; v3
+    (``task_version=3``, ``CofGym/TorqueInterrogationInService-v3``) then also draws a train's speed probe
+    (pulses, runout, lag) and the track's irregularity (:data:`cof_gym.task.V3_RANGES`); each
     can be fixed by a constructor kwarg or ``reset(options={...})``. The vehicle
     starts at the static equilibrium, rolling, and a baseline window (no DC torque, 100 N m at 5 Hz) is
     measured for the first observation.
@@ -286,16 +303,16 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     | counter_torque | False | the paper's equal-and-opposite torque on the bogie's other wheelset (the wagon only: refused on the half wheelset) |
     | traction_balance | None | the rest of the train cancels the DC torque (None: on for the wagon without counter torque) |
     | timestep | 0.001 | physics step, s, in [1e-4, 2e-3] |
-    | ranges | None | per-episode draw ranges (:class:`cof_gym.task.ScenarioRanges`); None: the task version's (v2: ``cof_gym.task.V2_RANGES``), or a mapping of its fields (as a spec's JSON holds them); v1 ranges on a v2 task or v2 ranges on a v1 task are refused |
+    | ranges | None | per-episode draw ranges (:class:`cof_gym.task.ScenarioRanges`); None: the task version's (v2: ``cof_gym.task.V2_RANGES``, v3: ``cof_gym.task.V3_RANGES``), or a mapping of its fields (as a spec's JSON holds them); ranges that draw other kinds than the version's (v1 ranges on a v2 task, v2 ranges on a v3 task, ...) are refused |
     | w_error, w_slip, w_comfort, w_time, macro_slip_penalty | 10, 1, 0.05, 0.02, 10 | reward weights |
     | macro_slip_ratio, macro_slip_floor | 2, 0.02 | the macro-slip limit relative to the peak creepage |
     | cof, condition, speed_m_s, load_case, noise_level, motor_lag_s | None | fix a scenario field |
     | creep_law | None | fix the creep curve: a preset name, ``{"polach": {...}}``, ``{"shen_hedrick_elkins": {...}}`` or ``{"table": {"creepage": [...], "adhesion_ratio": [...]}}`` (:func:`cof_gym.physics.creep_laws.creep_law_from_spec`); played where it has a peak (a draw where it has none is drawn again) |
     | speed_sensor_error, wheel_radius_error, force_gain_error, torque_gain_error | None | fix a systematic sensor error (relative; ranges in :data:`cof_gym.task.sensors.SYSTEMATIC_ERRORS`) |
-    | encoder_lag_s | None (0) | a first-order lag of the encoder's speed signal, s, in [0, 0.05]: adds ``atan(w tau)`` to every phase the lock-in reads (never drawn; :mod:`cof_gym.task.sensors`) |
-    | encoder_pulses_per_rev, encoder_runout | None (0, 0) | the wheelset-speed encoder as a speed probe's pulses: pulses per revolution of the wheelset, 0 (a continuous reading) or 8-10000, read by the period method (adds about one pulse interval's delay to every lag), and its target wheel's runout, relative, in [0, 0.01] (a once-per-revolution ripple of the reading; never drawn; :mod:`cof_gym.physics.encoder`) |
-    | track_irregularity | None ("smooth") | the rail's vertical profile: "smooth", or a profile drawn per episode from ORE B176's spectrum for "ore_low" or "ore_high" irregularity (wavelengths 1-80 m; never drawn; :mod:`cof_gym.physics.track`) |
-    | task_version | 1 | 1: Polach presets, unbiased sensors; 2: creep-law families and systematic sensor errors drawn (the -v2 ids) |
+    | encoder_lag_s | None (0) | a first-order lag of the encoder's speed signal, s, in [0, 0.05]: adds ``atan(w tau)`` to every phase the lock-in reads (drawn by v3 only, 0-5 ms; :mod:`cof_gym.task.sensors`) |
+    | encoder_pulses_per_rev, encoder_runout | None (0, 0) | the wheelset-speed encoder as a speed probe's pulses: pulses per revolution of the wheelset, 0 (a continuous reading) or 8-10000, read by the period method (adds about one pulse interval's delay to every lag), and its target wheel's runout, relative, in [0, 0.01] (a once-per-revolution ripple of the reading; drawn by v3 only, 60-300 pulses and 0-0.1 %; :mod:`cof_gym.physics.encoder`) |
+    | track_irregularity | None ("smooth") | the rail's vertical profile: "smooth", or a profile drawn per episode from ORE B176's spectrum for "ore_low" or "ore_high" irregularity (wavelengths 1-80 m; drawn by v3 only, "ore_low" or "ore_high"; :mod:`cof_gym.physics.track`) |
+    | task_version | 1 | 1: Polach presets, unbiased sensors; 2: creep-law families and systematic sensor errors drawn (the -v2 ids); 3: also a train's speed probe and track (``CofGym/TorqueInterrogationInService-v3``) |
     | shaping | False | add the potential-based shaping term (training) |
     | action_type | "absolute" | "absolute", "relative" or "identified" (see Action Space) |
     | observation_type | "window" | "window" (14), "history" (29) or "identification" (38; see Observation Space) |
@@ -312,6 +329,10 @@ class TorqueInterrogationEnv(gym.Env, EzPickle):
     exactly as ``float(np.float32(0.3))``).
 
     ## Version History
+    - v3 (``CofGym/TorqueInterrogationInService-v3``, the wagon; session 86): each seed's v2 scenario, every v2 field
+      as the -v2 id draws it, then a train's speed probe (60-300 pulses per revolution read by the period method, a
+      target-wheel runout of 0-0.1 %, a signal lag of 0-5 ms) and a track of ORE B176 low or high irregularity
+      (:data:`cof_gym.task.V3_RANGES`). A name of its own, so that Gymnasium calls no -v2 id out of date.
     - v2: creep-law families (Polach with drawn shapes, Shen-Hedrick-Elkins saturation, tables) and
       systematic sensor errors (reference speed, wheel radius, force and torque gains) drawn per
       episode; no ``None`` in ``info``. v1 stays registered with its numbers. Both versions' ids carry the

@@ -28,7 +28,8 @@ phase), each pulse's time interpolated linearly within the step, before two puls
 drawn white noise and the encoder's lag (``encoder_lag_s``) then act on this reading as on the continuous one. It
 counts forward rotation only (the task drives; a wheel turning back holds the reading). Without pulses a runout
 acts on the continuous reading, ``omega (1 + e cos theta)`` (an angle sensor mounted off centre). ``pulses_per_rev``
-0 with no runout is the continuous reading every v1 and v2 draw has, bit for bit. The accepted ranges are cof_gym's
+0 with no runout is the continuous reading every v1 and v2 draw has, bit for bit (v3 draws 60-300 pulses and a
+runout of 0-0.1 %: :data:`cof_gym.task.V3_RANGES`). The accepted ranges are cof_gym's
 choice (unverified): 8 to 10000 pulses per revolution (a coarse axle probe to a motor-shaft encoder behind a gear),
 runout up to 1 %.
 

@@ -3,9 +3,9 @@
 A real track is not level: its vertical profile (the rail's height along the track) varies by millimetres over
 wavelengths of metres to tens of metres, and a wheelset rolling over it at speed ``v`` is excited at ``v /
 wavelength``. The wheel loads then vary, and with them the saturation torque under a climb and the creep force a
-modulation reads. cof_gym draws a profile per episode (only where a scenario asks for one; no v1 or v2 draw does)
-and the native callback evaluates it at every wheelset's position every physics step: the track spring's rest
-height is raised by the profile, ``N = k (z_rest + z_t(x) - z) - c (z' - v dz_t/dx)``.
+modulation reads. cof_gym draws a profile per episode (where a scenario asks for one, and in every v3 draw; no v1 or
+v2 draw does) and the native callback evaluates it at every wheelset's position every physics step: the track
+spring's rest height is raised by the profile, ``N = k (z_rest + z_t(x) - z) - c (z' - v dz_t/dx)``.
 
 Spectrum (one-sided, in the spatial angular frequency ``Omega`` in rad/m, m^2 / (rad/m)), the vertical-profile
 form of ORE B176's reference spectra for European track, as used for European and German high-speed lines::

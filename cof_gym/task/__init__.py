@@ -7,11 +7,11 @@ from cof_gym.task.interface import (
     decode_observation, encode_action,
 )
 from cof_gym.task.reward import MacroSlipLimit, Reward
-from cof_gym.task.scenarios import COF_BY_CONDITION, COF_ENVELOPE, V2_RANGES, ScenarioRanges
+from cof_gym.task.scenarios import COF_BY_CONDITION, COF_ENVELOPE, V2_RANGES, V3_RANGES, ScenarioRanges
 from cof_gym.task.task import Episode, InterrogationTask
 
 __all__ = [
     "ACTION_NAMES", "OBSERVATION_NAMES", "SENSOR_FIELDS", "COF_BY_CONDITION", "COF_ENVELOPE", "DecodedObservation",
     "Episode", "GroundTruth", "InterrogationTask", "MacroSlipLimit", "MotorLimits", "ObservationScales", "Reward",
-    "ScenarioRanges", "V2_RANGES", "decode_observation", "encode_action",
+    "ScenarioRanges", "V2_RANGES", "V3_RANGES", "decode_observation", "encode_action",
 ]

@@ -26,7 +26,28 @@ that family's documented ranges for the condition (:func:`cof_gym.physics.creep_
 the condition's shape; the condition still sets the CoF range of a draw.
 
 **Systematic sensor errors** (:mod:`cof_gym.task.sensors`): drawn in +-``sensor_error_scale`` x each
-error's documented range (0 in v1, 1 in v2); each fixable within its accepted range.
+error's documented range (0 in v1, 1 in v2 and v3); each fixable within its accepted range.
+
+**The speed probe and the track** (v3, :data:`V3_RANGES`; v1 and v2 read a continuous, unlagged encoder on a
+level track): per episode the encoder's pulses per wheelset revolution, its target wheel's runout, its speed
+signal's lag and the track's irregularity class, each fixable as in v2:
+
+====================== ============= ==================================================================
+field                   drawn (v3)    source
+====================== ============= ==================================================================
+encoder_pulses_per_rev  60-300        "between 60 and 300 pulses per revolution" for the two-channel
+                                      probes that read a traction drive's target wheel (Wikipedia,
+                                      "Wheel speed sensor", "Rail vehicles", as read in 2026); read by
+                                      the period method (:mod:`cof_gym.physics.encoder`)
+encoder_runout          0-0.1 %       the target wheel's runout over its pitch radius, up to 0.1 mm on a
+                                      100 mm radius: cof_gym's choice, a machined and mounted toothed
+                                      wheel's order of magnitude (unverified)
+encoder_lag_s           0-5 ms        a first-order lag of the speed signal (the drive's filtering):
+                                      cof_gym's choice, a filter well above the 5 Hz modulation
+                                      (unverified; :mod:`cof_gym.task.sensors`)
+track_irregularity      ore_low,      every real track has a vertical profile: ORE B176's spectra for
+                        ore_high      low and high irregularity (:mod:`cof_gym.physics.track`)
+====================== ============= ==================================================================
 """
 
 from __future__ import annotations
@@ -40,12 +61,13 @@ import numpy as np
 from cof_gym.physics.creep import CONDITIONS, OperatingConditions
 from cof_gym.physics.creep_laws import (PRESET_FAMILY, RANGES as CREEP_RANGES, CreepShape, creep_law_from_spec,
                                         draw_shape)
-from cof_gym.physics.encoder import PulseEncoder, check_pulses_per_rev, check_runout
+from cof_gym.physics.encoder import (PULSES_PER_REV_RANGE, RUNOUT_MAX, PulseEncoder, check_pulses_per_rev,
+                                    check_runout)
 from cof_gym.physics.simulation import Scenario, SensorNoise
 from cof_gym.physics.track import SMOOTH, TRACK_CLASSES, draw_profile
 from cof_gym.physics.vehicle import LOAD_CASES
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS, SensorErrors
-from cof_gym.validation import check_choice, check_number, check_range
+from cof_gym.validation import check_choice, check_number, check_range, is_int
 
 # sensor noise at full scale (noise_level = 1): realistic on-board sensors (assumed values)
 FULL_SCALE_NOISE = SensorNoise(omega_rad_s=0.02, force_relative=0.02, speed_m_s=0.05)
@@ -61,7 +83,7 @@ COF_ENVELOPE = (0.02, 0.60)  # every CoF the task accepts; the drive reaches its
 SPEED_ENVELOPE_M_S = (5.0, 40.0)
 NOISE_LEVEL_MAX = 3.0  # multiples of FULL_SCALE_NOISE
 MOTOR_LAG_MAX_S = 0.1
-ENCODER_LAG_MAX_S = 0.05  # the encoder's speed-signal lag a fixed scenario may have (never drawn: v1 and v2 draw 0)
+ENCODER_LAG_MAX_S = 0.05  # the encoder's speed-signal lag a scenario may have (v1 and v2 draw 0)
 SENSOR_ERROR_SCALE_MAX = 3.0  # multiples of each systematic error's drawn range
 
 
@@ -77,6 +99,11 @@ class ScenarioRanges:
     motor_lag_s: tuple[float, float] = (0.0, 0.03)
     creep_families: tuple[str, ...] | None = None  # None: the condition's preset (v1); else drawn shapes
     sensor_error_scale: float = 0.0  # systematic errors drawn in +- this x their ranges (v1: none)
+    # the speed probe and the track (v3); the defaults draw none: a continuous, unlagged encoder on a level track
+    encoder_pulses_per_rev: tuple[int, int] = (0, 0)  # integers drawn uniformly in this range; (0, 0): continuous
+    encoder_runout: tuple[float, float] = (0.0, 0.0)
+    encoder_lag_s: tuple[float, float] = (0.0, 0.0)
+    track_irregularities: tuple[str, ...] = (SMOOTH,)
 
     def __post_init__(self) -> None:
         if not isinstance(self.cof, Mapping):
@@ -98,6 +125,11 @@ class ScenarioRanges:
             _choices("ranges.creep_families", self.creep_families, tuple(CREEP_RANGES))
         set_(self, "sensor_error_scale", check_number("ranges.sensor_error_scale", self.sensor_error_scale, 0.0,
                                                       SENSOR_ERROR_SCALE_MAX))
+        set_(self, "encoder_pulses_per_rev", _pulses_range(self.encoder_pulses_per_rev))
+        set_(self, "encoder_runout", check_range("ranges.encoder_runout", self.encoder_runout, 0.0, RUNOUT_MAX))
+        set_(self, "encoder_lag_s", check_range("ranges.encoder_lag_s", self.encoder_lag_s, 0.0, ENCODER_LAG_MAX_S))
+        _choices("ranges.track_irregularities", self.track_irregularities, TRACK_CLASSES)
+        set_(self, "track_irregularities", tuple(self.track_irregularities))
 
     @classmethod
     def from_mapping(cls, value: Mapping[str, Any]) -> "ScenarioRanges":
@@ -118,6 +150,25 @@ class ScenarioRanges:
     def draws_v2(self) -> bool:
         """Whether the v2 fields (a creep-law shape, systematic errors) are drawn."""
         return self.creep_families is not None or self.sensor_error_scale > 0.0
+
+    @property
+    def draws_v3(self) -> bool:
+        """Whether the v3 fields (the speed probe's pulses, runout and lag, the track's irregularity) are drawn."""
+        return (self.encoder_pulses_per_rev != (0, 0) or self.encoder_runout != (0.0, 0.0)
+                or self.encoder_lag_s != (0.0, 0.0) or self.track_irregularities != (SMOOTH,))
+
+
+def _pulses_range(value: Any) -> tuple[int, int]:
+    """``ranges.encoder_pulses_per_rev``: (0, 0) (the continuous reading) or a (min, max) pair of integers within
+    :data:`cof_gym.physics.encoder.PULSES_PER_REV_RANGE`."""
+    name = "ranges.encoder_pulses_per_rev"
+    low, high = PULSES_PER_REV_RANGE
+    if isinstance(value, (tuple, list)) and len(value) == 2 and all(is_int(v) for v in value):
+        lo, hi = int(value[0]), int(value[1])
+        if (lo, hi) == (0, 0) or low <= lo <= hi <= high:
+            return lo, hi
+    raise ValueError(f"{name} must be (0, 0) (a continuous reading) or a (min, max) pair of integers within "
+                     f"[{low}, {high}] with min <= max, got {value!r}")
 
 
 def _choices(name: str, value: Any, allowed: tuple[str, ...]) -> None:
@@ -237,6 +288,8 @@ def draw_scenario(rng: np.random.Generator, ranges: ScenarioRanges, fixed: Mappi
     }
     if ranges.draws_v2:  # drawn after the v1 fields, so v1 streams (and numbers) stay as they were
         drawn.update(_draw_v2(rng, ranges, condition))
+    if ranges.draws_v3:  # drawn after the v2 fields, so v2 streams (and numbers) stay as they were
+        drawn.update(_draw_v3(rng, ranges))
     drawn.update(fixed)
     return EpisodeScenario(**drawn)
 
@@ -253,6 +306,16 @@ def _draw_v2(rng: np.random.Generator, ranges: ScenarioRanges, condition: str) -
     return out
 
 
+def _draw_v3(rng: np.random.Generator, ranges: ScenarioRanges) -> dict[str, Any]:
+    """The speed probe (pulses per revolution, its target wheel's runout, its signal's lag) and the track's class."""
+    low, high = ranges.encoder_pulses_per_rev
+    tracks = ranges.track_irregularities
+    return {"encoder_pulses_per_rev": int(rng.integers(low, high + 1)),
+            "encoder_runout": float(rng.uniform(*ranges.encoder_runout)),
+            "encoder_lag_s": float(rng.uniform(*ranges.encoder_lag_s)),
+            "track_irregularity": str(tracks[rng.integers(len(tracks))])}
+
+
 def outside_draws(options: Mapping[str, Any], ranges: ScenarioRanges) -> dict[str, str]:
     """Where an episode's fixed ``options`` (validated as :func:`check_fixed` does) lie outside what
     ``ranges`` draws: field -> what it is and what is drawn (``{}``: a scenario the draws could have
@@ -264,19 +327,18 @@ def outside_draws(options: Mapping[str, Any], ranges: ScenarioRanges) -> dict[st
         out["condition"] = f"{condition!r}, drawn: {', '.join(ranges.conditions)}"
     conditions = (condition,) if condition in ranges.cof else ranges.conditions
     intervals = {"cof": (min(ranges.cof[c][0] for c in conditions), max(ranges.cof[c][1] for c in conditions)),
-                 "speed_m_s": ranges.speed_m_s, "noise_level": ranges.noise_level, "motor_lag_s": ranges.motor_lag_s}
+                 "speed_m_s": ranges.speed_m_s, "noise_level": ranges.noise_level, "motor_lag_s": ranges.motor_lag_s,
+                 "encoder_lag_s": ranges.encoder_lag_s, "encoder_runout": ranges.encoder_runout,
+                 "encoder_pulses_per_rev": ranges.encoder_pulses_per_rev}
     for name, (lo, hi) in intervals.items():
         if name in fixed and not lo <= fixed[name] <= hi:
-            out[name] = f"{fixed[name]:g}, drawn: {lo:g}-{hi:g}"
-    if "load_case" in fixed and fixed["load_case"] not in ranges.load_cases:
-        out["load_case"] = f"{fixed['load_case']!r}, drawn: {', '.join(ranges.load_cases)}"
-    if fixed.get("encoder_lag_s", 0.0) > 0.0:
-        out["encoder_lag_s"] = f"{fixed['encoder_lag_s']:g}, drawn: 0"
-    if fixed.get("track_irregularity", SMOOTH) != SMOOTH:
-        out["track_irregularity"] = f"{fixed['track_irregularity']!r}, drawn: {SMOOTH!r}"
-    for name, drawn in (("encoder_pulses_per_rev", "0 (a continuous reading)"), ("encoder_runout", "0")):
-        if fixed.get(name, 0) != 0:
-            out[name] = f"{fixed[name]:g}, drawn: {drawn}"
+            drawn = f"{lo:g}" if lo == hi else f"{lo:g}-{hi:g}"
+            continuous = name == "encoder_pulses_per_rev" and hi == 0
+            out[name] = f"{fixed[name]:g}, drawn: {drawn}" + (" (a continuous reading)" if continuous else "")
+    for name, drawn_choices in (("load_case", ranges.load_cases), ("track_irregularity", ranges.track_irregularities)):
+        if name in fixed and fixed[name] not in drawn_choices:
+            shown = ", ".join(drawn_choices) if name == "load_case" else ", ".join(map(repr, drawn_choices))
+            out[name] = f"{fixed[name]!r}, drawn: {shown}"
     if "creep_law" in fixed and (why := _creep_law_outside(fixed["creep_law"], ranges, conditions)):
         out["creep_law"] = why
     for name, err in SYSTEMATIC_ERRORS.items():
@@ -304,6 +366,22 @@ def _creep_law_outside(shape: CreepShape, ranges: ScenarioRanges, conditions: tu
 V2_CREEP_FAMILIES = ("polach", "shen_hedrick_elkins")
 V2_RANGES = ScenarioRanges(creep_families=V2_CREEP_FAMILIES, sensor_error_scale=1.0)
 """The v2 task's draws: the two analytic families (:data:`V2_CREEP_FAMILIES`), systematic sensor errors."""
+V3_RANGES = ScenarioRanges(creep_families=V2_CREEP_FAMILIES, sensor_error_scale=1.0, encoder_pulses_per_rev=(60, 300),
+                           encoder_runout=(0.0, 0.001), encoder_lag_s=(0.0, 0.005),
+                           track_irregularities=("ore_low", "ore_high"))
+"""The v3 task's draws: v2's, and a train's speed probe (pulses, runout, lag) on a track of ORE B176 irregularity
+(the module docstring's table; drawn after v2's fields)."""
+TASK_VERSION_RANGES: Mapping[int, ScenarioRanges] = MappingProxyType({1: ScenarioRanges(), 2: V2_RANGES, 3: V3_RANGES})
+"""Each task version's draws (the -v1, -v2 and -v3 ids): one table, which the env and the agents read."""
+
+
+def drawn_kinds(ranges: ScenarioRanges) -> str:
+    """What kinds of uncertainty ``ranges`` draw, in words (for an error naming a version's draws)."""
+    laws = ("creep-law families and systematic sensor errors" if ranges.draws_v2
+            else "no creep-law family and no systematic sensor error")
+    probe = "a speed probe's pulses, runout and lag and a track's irregularity" if ranges.draws_v3 \
+        else "a continuous encoder on a level track"
+    return f"{laws}, {probe}"
 
 
 def physics_scenario(sc: EpisodeScenario, wheel_load_n: float, seed: int, traction_balance: bool,

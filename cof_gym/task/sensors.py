@@ -38,7 +38,7 @@ gain changes it: the paper's point about the phase method. Every map is affine i
 it to every sample would give.
 
 One systematic error is not a gain: the **encoder's speed-signal lag** (``encoder_lag_s``, a scenario field in
-[0, 0.05] s; no draw gives it, v1 and v2 read the encoder without lag). A wheel's speed is estimated from an
+[0, 0.05] s; v1 and v2 read the encoder without lag, v3 draws 0-5 ms). A wheel's speed is estimated from an
 encoder's pulses (counted over a gate time or timed between edges) and smoothed before the drive or a
 wheel-slide protection reads it; cof_gym models that as a first-order lag of time constant ``tau`` on the
 encoder's reading, run per physics step in the native measurement chain (``y += (1 - exp(-dt / tau)) (x - y)``,
