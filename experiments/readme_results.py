@@ -29,8 +29,13 @@ generated, never typed:
         --env-kwargs encoder_pulses_per_rev:100 encoder_runout:0.0005 lock_in:rotation \
         --out out/evaluate-v2-rotation-clear-runout
     cof-gym evaluate --suite in-service                              # task v3 (its default --out)
-    cof-gym evaluate --suite in-service --agents phase-rule-ar1,phase-rule-gated,robust-model-ar1,robust-model-gated,\
-model-based-zeroed-knee-ar1,phase-rule-rotation,interrogator-rotation --out out/evaluate-in-service-variants
+    cof-gym evaluate --suite in-service --agents phase-rule-in-service,phase-rule-ar1,phase-rule-gated,\
+robust-model-ar1,robust-model-gated,model-based-zeroed-knee-ar1,phase-rule-rotation,interrogator-rotation \
+        --out out/evaluate-in-service-variants
+    python experiments/select_phase_rule.py --in-service --markdown out/select_phase_rule_in_service.md
+    python experiments/select_phase_rule.py --in-service --corrected-se \
+        --out experiments/results/select_phase_rule_in_service_ar1.json \
+        --markdown out/select_phase_rule_in_service_ar1.md
     cof-gym evaluate --suite in-service --env-kwargs track_irregularity:smooth --out out/evaluate-in-service-smooth
     cof-gym evaluate --suite paper --episodes 5                                     # the paper's setting
     cof-gym evaluate --suite experiments/suites/v1_default.json --episodes 60 --out out/evaluate-v1
@@ -1165,6 +1170,8 @@ SOURCES = {
     "in_service": ROOT / "out" / "evaluate-in-service" / "summary.md",
     "in_service_variants": ROOT / "out" / "evaluate-in-service-variants" / "summary.md",
     "in_service_smooth": ROOT / "out" / "evaluate-in-service-smooth" / "summary.md",
+    "select_phase_rule_in_service": ROOT / "out" / "select_phase_rule_in_service.md",
+    "select_phase_rule_in_service_ar1": ROOT / "out" / "select_phase_rule_in_service_ar1.md",
     "v2_paper": PAPER_RUN / "summary.md",
     **{block: out / "summary.md" for block, (_, out) in HELDOUT_RUNS.items()},
     "v1_default": ROOT / "out" / "evaluate-v1" / "summary.md",

@@ -789,6 +789,7 @@ def test_one_episode_has_no_interval_and_says_so() -> None:
     ("phase_rule", "PhaseRule", {"frequency_hz": -5.0}, "PhaseRule.frequency_hz must be > 0"),
     ("phase_rule", "PhaseRule", {"baseline_windows": 1.5}, "PhaseRule.baseline_windows must be an integer"),
     ("phase_rule", "PhaseRule", {"corrected_se": 1}, "PhaseRule.corrected_se must be a bool"),
+    ("phase_rule", "PhaseRule", {"jump_deg": -math.inf}, "PhaseRule.jump_deg must be finite"),
     ("robust_model", "RobustModel", {"amplitude_ratio": -1.0}, "RobustModel.amplitude_ratio must be > 0"),
     ("robust_model", "RobustModel", {"margin_se": math.inf}, "RobustModel.margin_se must be finite"),
     ("model_based", "ModelBasedAgent", {"ci_tolerance": math.nan}, "ci_tolerance must be a number"),
@@ -810,6 +811,8 @@ def test_a_hand_built_agent_keeps_the_values_its_parameters_may_take() -> None:
     limits = gym.make(cof_gym.WAGON_ENV_ID).unwrapped.limits
     assert RobustModel(limits, knee_weight=0.0, refine_windows=0).knee_weight == 0.0  # the bracket's lower end
     assert registry_free("phase_rule", "PhaseRule", limits, threshold_rise_deg=math.inf, margin_se=0.0).margin_se == 0
+    # the jump test off (select_phase_rule.py records its climbs so, and its rules without a jump test read so)
+    assert registry_free("phase_rule", "PhaseRule", limits, jump_deg=math.inf).jump_deg == math.inf
     with pytest.raises(ValueError, match=r"ElasticityClimb.first_fraction must be > 0"):
         ElasticityClimb(first_fraction=0.0)
 

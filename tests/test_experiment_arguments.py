@@ -84,6 +84,8 @@ CASES = [
     ("validation_plays", ["c", "--only", "encoder_lag_s"], "--only"),  # not asked for without --encoder-lag
     ("select_phase_rule", ["--workers", "0"], "--workers"),
     ("select_phase_rule", ["--out", "{dir}"], "--out"),
+    ("select_phase_rule", ["--in-service", "--markdown", "{dir}"], "--markdown"),
+    ("select_phase_rule", ["--in-service", "--workers", "0"], "--workers"),
     ("select_rotation_margin", ["--workers", "0"], "--workers"),
     ("select_rotation_margin", ["--gate", "--out", "{dir}"], "--out"),
     ("select_robust_model", ["--workers", "-1"], "--workers"),

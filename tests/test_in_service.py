@@ -11,7 +11,9 @@ import numpy as np
 import pytest
 
 import cof_gym
+from cof_gym.agents import registry
 from cof_gym.agents.interrogator import FilterEnsemble, LearnedInterrogator
+from cof_gym.agents.phase_rule import IN_SERVICE_PARAMETERS, PhaseRule
 from cof_gym.commands.suites import SUITE_NAMES, make_suite
 from cof_gym.envs.torque_interrogation import NARROWING, default_ranges
 from cof_gym.task import V2_RANGES, V3_RANGES, ScenarioRanges
@@ -129,3 +131,16 @@ def test_the_batched_env_plays_task_v3_as_single_envs_do() -> None:
     """The vector env (mujoco.batch) draws and lays the probe and the track as gymnasium's SyncVectorEnv of single
     envs does, bit for bit."""
     assert_batched_plays_as_sync({}, env_id=IN_SERVICE)
+
+
+def test_the_phase_rule_chosen_for_v3_is_registered_beside_the_default_list() -> None:
+    """``phase-rule-in-service`` is the phase rule with the parameters select_phase_rule.py --in-service chose, every
+    other one the v2 rule's; the default suite (v2) does not play it."""
+    assert "phase-rule-in-service" in registry.AGENTS and "phase-rule-in-service" not in registry.default_agents()
+    env = gym.make(IN_SERVICE)
+    agent = registry.make_agent("phase-rule-in-service+plain", env)
+    assert isinstance(agent, PhaseRule) and agent.name == "phase-rule-in-service+plain"  # as its factory builds it
+    assert {key: getattr(agent, key) for key in IN_SERVICE_PARAMETERS} == IN_SERVICE_PARAMETERS
+    v2_rule = PhaseRule(env.unwrapped.limits)
+    assert agent.baseline_windows == v2_rule.baseline_windows and agent.min_amplitude_nm == v2_rule.min_amplitude_nm
+    env.close()

@@ -69,12 +69,13 @@ def registered_ranges(env_id: str, env_kwargs: Mapping[str, Any] | None = None) 
     return kwargs["ranges"] if kwargs.get("ranges") is not None else default_ranges(kwargs.get("task_version", 2))
 
 
-def check_parameters(agent: Any, positive: Iterable[str] = ()) -> None:
+def check_parameters(agent: Any, positive: Iterable[str] = (), off_at_infinity: Iterable[str] = ()) -> None:
     """A hand-built agent's numeric parameters (its dataclass fields, the private ones aside) as its defaults are:
     a bool stays a bool, an int an int, a number a real number that is never NaN, >= 0 where its default is (> 0
     for the fields named in ``positive``: scales such as a frequency or an amplitude) and infinite only where its
-    default is. ``ValueError`` naming the agent's class and the field at construction, not a NaN action or a
-    silently clipped one mid-episode."""
+    default is or for the fields named in ``off_at_infinity`` (a test's threshold whose +inf turns the test off).
+    ``ValueError`` naming the agent's class and the field at construction, not a NaN action or a silently clipped one
+    mid-episode."""
     import dataclasses
     import math
     import numbers
@@ -93,7 +94,7 @@ def check_parameters(agent: Any, positive: Iterable[str] = ()) -> None:
             raise ValueError(f"{where} must be a number, got {value!r} ({type(value).__name__})")
         if isinstance(default, numbers.Integral) and not isinstance(value, numbers.Integral):
             raise ValueError(f"{where} must be an integer, got {value!r}")
-        if math.isinf(value) and not math.isinf(default):
+        if math.isinf(value) and not math.isinf(default) and not (value > 0 and f.name in off_at_infinity):
             raise ValueError(f"{where} must be finite, got {value!r}")
         strict = f.name in positive
         if (strict and not value > 0) or (default >= 0 and value < 0):

@@ -268,8 +268,9 @@ class PhaseRule:
     windows: list[Window] = field(default_factory=list, repr=False)  # this episode's driven windows
 
     def __post_init__(self) -> None:
-        # every numeric parameter as its default is (these > 0): a clear error, not a NaN action
-        check_parameters(self, positive=PROBE_SCALES)
+        # every numeric parameter as its default is (these > 0; the jump test off at +inf, as the selection's rules
+        # without it): a clear error, not a NaN action
+        check_parameters(self, positive=PROBE_SCALES, off_at_infinity=("jump_deg",))
         check_choice(f"{type(self).__name__}.rotation_side", self.rotation_side, ROTATION_SIDES)
         check_number(f"{type(self).__name__}.rotation_ripple_max_se_deg", self.rotation_ripple_max_se_deg, 0.0,
                      NO_SE_DEG, unit=" deg")
@@ -350,6 +351,20 @@ def phase_rule_gated(limits: MotorLimits) -> PhaseRule:
     window reads a smoothed speed signal (``phase-rule-gated``: :func:`smoothed_speed_signal`), the white one
     otherwise: every parameter the validation-chosen rule's."""
     return PhaseRule(limits, se_gate=True, name="phase-rule-gated")
+
+
+# the rule chosen for task v3 (a train's speed probe on an irregular track) by experiments/select_phase_rule.py
+# --in-service on that id's validation seeds (session 86): a smaller probe at 8 Hz, above most of the track's band,
+# the smallest jump and the largest correction of the grid; still far from the CoF there (docs/results.md)
+IN_SERVICE_PARAMETERS: dict[str, float] = {"amplitude_ratio": 0.3, "max_step": 0.2, "probe_step": 0.67,
+                                           "frequency_hz": 8.0, "jump_deg": 2.0, "threshold_rise_deg": math.inf,
+                                           "margin_se": 2.0, "max_se_deg": 5.0, "correction": 1.2}
+
+
+def phase_rule_in_service(limits: MotorLimits) -> PhaseRule:
+    """The phase rule chosen on task v3's validation seeds (``phase-rule-in-service``: :data:`IN_SERVICE_PARAMETERS`),
+    every other parameter the v2 rule's."""
+    return PhaseRule(limits, **IN_SERVICE_PARAMETERS, name="phase-rule-in-service")
 
 
 def phase_rule_rotation(limits: MotorLimits) -> PhaseRule:

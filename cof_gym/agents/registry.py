@@ -155,6 +155,11 @@ register("robust-model-gated", "cof_gym.agents.robust_model:robust_model_gated",
 register("phase-rule-rotation", "cof_gym.agents.phase_rule:phase_rule_rotation", oracle=False, ceiling=True,
          default=False, help="the phase rule modulating at least ROTATION_MARGIN_HZ from the wheelset's rotation "
          "frequency at its measured speed (a speed probe's runout read by the rotation lock-in)")
+# the phase rule chosen for task v3 (session 86; not in the default list: the default suite is v2's), on the v3 id's
+# validation seeds by experiments/select_phase_rule.py --in-service
+register("phase-rule-in-service", "cof_gym.agents.phase_rule:phase_rule_in_service", oracle=False, ceiling=True,
+         default=False, help="the phase rule chosen on task v3's validation seeds "
+         "(CofGym/TorqueInterrogationInService-v3: a speed probe, an irregular track): a smaller probe at 8 Hz")
 register("interrogator", "cof_gym.agents.interrogator:load_interrogator", oracle=False, takes_env=True,
          argument="DIR", shipped=SHIPPED_INTERROGATOR / MANIFEST_FILE,
          help="the learned interrogator (v2): a torque climb steered by a learned filter of phase, "
