@@ -173,10 +173,12 @@ def main() -> None:
     parser.add_argument("--in-service", action="store_true",
                         help="select for task v3 (phase-rule-in-service), each climb at every frequency of "
                              "IN_SERVICE_FREQUENCIES_HZ")
-    parser.add_argument("--out", type=Path, help="default: experiments/results/select_phase_rule[_in_service].json")
+    parser.add_argument("--out", type=Path,
+                        help="default: experiments/results/select_phase_rule[_in_service][_ar1].json")
     parser.add_argument("--markdown", type=Path, help="also write the printed report there (a generated docs block)")
     args = parser.parse_args()
-    out = args.out or Path(f"experiments/results/select_phase_rule{'_in_service' * args.in_service}.json")
+    out = args.out or Path(f"experiments/results/select_phase_rule{'_in_service' * args.in_service}"
+                           f"{'_ar1' * args.corrected_se}.json")
     check_out_file(parser, "--out", out)
     check_out_file(parser, "--markdown", args.markdown)
     t0 = time.time()
