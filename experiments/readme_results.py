@@ -33,7 +33,8 @@ generated, never typed:
 robust-model-ar1,robust-model-gated,model-based-zeroed-knee-ar1,phase-rule-rotation,interrogator-rotation \
         --out out/evaluate-in-service-variants
     python experiments/select_phase_rule.py --in-service --markdown out/select_phase_rule_in_service.md
-    python experiments/select_phase_rule.py --in-service --corrected-se --markdown out/select_phase_rule_in_service_ar1.md
+    python experiments/select_phase_rule.py --in-service --corrected-se \
+        --markdown out/select_phase_rule_in_service_ar1.md
     cof-gym evaluate --suite in-service --env-kwargs track_irregularity:smooth --out out/evaluate-in-service-smooth
     cof-gym evaluate --suite paper --episodes 5                                     # the paper's setting
     cof-gym evaluate --suite experiments/suites/v1_default.json --episodes 60 --out out/evaluate-v1
