@@ -36,6 +36,8 @@ robust-model-ar1,robust-model-gated,model-based-zeroed-knee-ar1,phase-rule-rotat
     python experiments/select_phase_rule.py --in-service --corrected-se \
         --markdown out/select_phase_rule_in_service_ar1.md
     cof-gym evaluate --suite in-service --env-kwargs track_irregularity:smooth --out out/evaluate-in-service-smooth
+    cof-gym evaluate --suite experiments/suites/v2_heldout_grid.json --env CofGym/TorqueInterrogationInService-v3 \
+        --out out/evaluate-in-service-heldout
     cof-gym evaluate --suite paper --episodes 5                                     # the paper's setting
     cof-gym evaluate --suite experiments/suites/v1_default.json --episodes 60 --out out/evaluate-v1
     cof-gym evaluate --suite experiments/suites/heldout_grid.json --out out/evaluate-heldout   # v1 held-out
@@ -1169,6 +1171,7 @@ SOURCES = {
     "in_service": ROOT / "out" / "evaluate-in-service" / "summary.md",
     "in_service_variants": ROOT / "out" / "evaluate-in-service-variants" / "summary.md",
     "in_service_smooth": ROOT / "out" / "evaluate-in-service-smooth" / "summary.md",
+    "in_service_heldout": ROOT / "out" / "evaluate-in-service-heldout" / "summary.md",
     "select_phase_rule_in_service": ROOT / "out" / "select_phase_rule_in_service.md",
     "select_phase_rule_in_service_ar1": ROOT / "out" / "select_phase_rule_in_service_ar1.md",
     "v2_paper": PAPER_RUN / "summary.md",

@@ -90,6 +90,10 @@ BAD = [
      "env_kwargs.max_episode_steps must be an integer (-1: no TimeLimit), got 1.5"),
     (["evaluate", "--agents", "staircase", "--env-kwargs", "vehicle:half_wheelset"],
      "env_kwargs.vehicle is the env id's own"),  # as train and a suite file say it (check_env_kwargs)
+    (["evaluate", "--agents", "staircase", "--env", "CartPole-v1"],
+     "--env: 'CartPole-v1' is no cof_gym env id; allowed:"),
+    (["evaluate", "--agents", "staircase", "--suite", "paper", "--env", "CofGym/HalfWheelset-v2"],
+     "--env: counter_torque=True needs the wagon"),  # the paper's counter torque: refused before any episode
     (["evaluate", "--agents", "staircase", "--paired", "staircase"],
      "--paired: compares every other agent with 'staircase', and --agents plays no other"),
     (["evaluate", "--agents", "staircase", "--suite", "vehicle_of_its_own.json"],
@@ -364,6 +368,17 @@ def test_evaluate_env_arguments_play_the_suite_in_that_env_and_name_the_output(w
     assert not (workdir / "out" / "evaluate").exists()
     assert default_out("experiments/suites/x.json", {"creep_law": {"table": [1]}}) == Path(
         "out/evaluate-x-creep_law=__table____1__")
+
+
+def test_evaluate_on_another_env_plays_the_suite_there_and_names_the_output(workdir: Path) -> None:
+    """``--env``: the default suite's seeds on task v3, its outputs saying so and apart from the default suite's."""
+    in_service = "CofGym/TorqueInterrogationInService-v3"
+    assert cli.main(["evaluate", "--agents", "staircase", "--episodes", "1", "--env", in_service, "--env-kwargs",
+                     "max_windows:2", "--quiet"]) == 0
+    out = workdir / "out" / "evaluate-env=_CofGym_TorqueInterrogationInService-v3_-max_windows=2"
+    result = json.loads((out / "summary.json").read_text())
+    assert result["env_id"] == in_service and result["suite"] == f"default (on {in_service}) (env max_windows=2)"
+    assert not (workdir / "out" / "evaluate-max_windows=2").exists()
 
 
 def test_evaluate_takes_its_agents_comma_or_space_separated() -> None:

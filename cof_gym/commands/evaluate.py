@@ -27,7 +27,7 @@ from cof_gym.commands.evaluate_tables import (markdown_breakdown, markdown_inter
 from cof_gym.commands.evaluate_workers import (EPISODES_PER_WORKER, MAX_WORKERS, WORKER_MEMORY_BYTES, default_workers,
                                                oversubscription_note)
 from cof_gym.commands.suites import (MAX_EPISODES, Suite, SuiteError, make_suite, per_curve,
-                                     read_measured_curve, with_env_kwargs)
+                                     read_measured_curve, with_env_id, with_env_kwargs)
 from cof_gym.envs.torque_interrogation import make_kwargs
 from cof_gym.validation import brief, check_int
 
@@ -445,6 +445,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="scenarios: 'default' (the env's distribution), 'paper' (the paper's setting), "
                              "'in-service' (the default seeds on task v3: a train's speed probe and track drawn too) "
                              "or a JSON suite file (see cof_gym/commands/suites.py)")
+    parser.add_argument("--env", default=None, metavar="ENV_ID",
+                        help="play the suite on this registered id instead of its own, its env arguments and "
+                             "episodes kept (e.g. a v2 grid on task v3, CofGym/TorqueInterrogationInService-v3)")
     parser.add_argument("--env-kwargs", nargs="+", action=StoreDict, default={}, metavar="KEY:VALUE",
                         help="env constructor arguments over the suite's (a Python literal or text, as cof-gym train "
                              "and RL Zoo take them), e.g. max_windows:60 (a longer horizon) or counter_torque:True; "
@@ -511,6 +514,8 @@ def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
         suite = make_suite(args.suite, args.episodes, args.seed)
     except SuiteError as e:
         raise UsageError("--suite", str(e)) from None
+    if args.env is not None:
+        suite = _on_env(suite, args.env)
     env_overrides = dict(args.env_kwargs)
     named = dict(env_overrides)  # what names the suite and the default output directory
     curves = [(Path(p).stem, _measured_curve(Path(p), env_overrides, suite)) for p in args.creep_table or ()]
@@ -527,8 +532,23 @@ def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
     if last_seed > MAX_SEED:  # seeded episodes: seed + i
         raise UsageError("--seed", f"the last episode's seed {last_seed} is beyond {MAX_SEED}; give at most "
                                    f"{MAX_SEED - len(suite.episodes) + 1} for {len(suite.episodes)} episodes")
-    out = check_out(Path(args.out) if args.out is not None else default_out(args.suite, named))
+    on_env = {} if args.env is None else {"env": args.env}
+    out = check_out(Path(args.out) if args.out is not None else default_out(args.suite, {**on_env, **named}))
     return specs, suite, out
+
+
+def _on_env(suite: Suite, env_id: str) -> Suite:
+    """``--env``: the suite on that id, its env built once with the suite's arguments (UsageError naming the flag)."""
+    import gymnasium as gym
+
+    from cof_gym.commands.args import UsageError
+
+    try:
+        suite = with_env_id(suite, env_id)
+        gym.make(suite.env_id, **make_kwargs(suite.env_kwargs)).close()
+    except (SuiteError, ValueError, TypeError) as e:
+        raise UsageError("--env", str(e)) from None
+    return suite
 
 
 def _measured_curve(path: Path, env_overrides: Mapping[str, Any], suite: Suite) -> dict[str, Any]:

@@ -167,6 +167,16 @@ def with_env_kwargs(suite: Suite, overrides: dict[str, Any], shown: dict[str, An
     return replace(suite, name=f"{suite.name} (env {shown})", env_kwargs=env_kwargs)
 
 
+def with_env_id(suite: Suite, env_id: str) -> Suite:
+    """``suite`` played on another registered id (``cof-gym evaluate --env``: e.g. a v2 grid on task v3), its env
+    arguments and episodes kept, its name saying so; :class:`SuiteError` for an id cof_gym does not register or env
+    arguments that id refuses by name (an argument it refuses by value is the env's error)."""
+    if env_id not in cof_gym.ENV_IDS:
+        raise SuiteError(f"{env_id!r} is no cof_gym env id; allowed: {', '.join(cof_gym.ENV_IDS)}")
+    _check_interface(env_id, dict(suite.env_kwargs), "")
+    return replace(suite, name=f"{suite.name} (on {env_id})", env_id=env_id)
+
+
 def _check_interface(env_id: str, env_kwargs: dict[str, Any], where: Path | str) -> None:
     """env_kwargs that would change what the evaluated agents act through (:data:`INTERFACE_KWARGS`) or cut
     episodes short: the registered TimeLimit (``max_episode_steps``) must not end an episode before the task's
