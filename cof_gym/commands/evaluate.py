@@ -15,7 +15,7 @@ import time
 from collections import Counter
 from dataclasses import asdict, replace
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, Callable, Mapping
 
 
 from cof_gym.agents import registry
@@ -537,20 +537,6 @@ def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
     return specs, suite, out
 
 
-def _on_env(suite: Suite, env_id: str) -> Suite:
-    """``--env``: the suite on that id, its env built once with the suite's arguments (UsageError naming the flag)."""
-    import gymnasium as gym
-
-    from cof_gym.commands.args import UsageError
-
-    try:
-        suite = with_env_id(suite, env_id)
-        gym.make(suite.env_id, **make_kwargs(suite.env_kwargs)).close()
-    except (SuiteError, ValueError, TypeError) as e:
-        raise UsageError("--env", str(e)) from None
-    return suite
-
-
 def _measured_curve(path: Path, env_overrides: Mapping[str, Any], suite: Suite) -> dict[str, Any]:
     """``--creep-table``'s reset options (:func:`~cof_gym.commands.suites.read_measured_curve`; UsageError naming the
     flag, also where ``--env-kwargs`` or an episode of the suite fixes the same fields, which would play another
@@ -588,15 +574,26 @@ def _per_curve(suite: Suite, curves: list[tuple[str, dict[str, Any]]], files: li
 def _with_env(suite: Suite, overrides: dict[str, Any], shown: dict[str, Any] | None = None) -> Suite:
     """``--env-kwargs`` (and ``--creep-table``'s options): the suite with these env arguments, named by ``shown``, the
     env built once with them (UsageError naming the flag)."""
+    return _env_built("--env-kwargs", lambda: with_env_kwargs(suite, overrides, shown))
+
+
+def _on_env(suite: Suite, env_id: str) -> Suite:
+    """``--env``: the suite on that id, its env built once with the suite's arguments (UsageError naming the flag)."""
+    return _env_built("--env", lambda: with_env_id(suite, env_id))
+
+
+def _env_built(flag: str, changed: Callable[[], Suite]) -> Suite:
+    """The suite ``changed()`` returns, its env built once with its arguments; a :class:`SuiteError`, ``ValueError`` or
+    ``TypeError`` of either is a UsageError naming ``flag``."""
     import gymnasium as gym
 
     from cof_gym.commands.args import UsageError
 
     try:
-        suite = with_env_kwargs(suite, overrides, shown)
+        suite = changed()
         gym.make(suite.env_id, **make_kwargs(suite.env_kwargs)).close()
     except (SuiteError, ValueError, TypeError) as e:
-        raise UsageError("--env-kwargs", str(e)) from None
+        raise UsageError(flag, str(e)) from None
     return suite
 
 

@@ -52,7 +52,7 @@ track_irregularity      ore_low,      every real track has a vertical profile: O
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, fields, replace
 from types import MappingProxyType
 from typing import Any, Mapping
 
@@ -366,9 +366,8 @@ def _creep_law_outside(shape: CreepShape, ranges: ScenarioRanges, conditions: tu
 V2_CREEP_FAMILIES = ("polach", "shen_hedrick_elkins")
 V2_RANGES = ScenarioRanges(creep_families=V2_CREEP_FAMILIES, sensor_error_scale=1.0)
 """The v2 task's draws: the two analytic families (:data:`V2_CREEP_FAMILIES`), systematic sensor errors."""
-V3_RANGES = ScenarioRanges(creep_families=V2_CREEP_FAMILIES, sensor_error_scale=1.0, encoder_pulses_per_rev=(60, 300),
-                           encoder_runout=(0.0, 0.001), encoder_lag_s=(0.0, 0.005),
-                           track_irregularities=("ore_low", "ore_high"))
+V3_RANGES = replace(V2_RANGES, encoder_pulses_per_rev=(60, 300), encoder_runout=(0.0, 0.001),
+                    encoder_lag_s=(0.0, 0.005), track_irregularities=("ore_low", "ore_high"))
 """The v3 task's draws: v2's, and a train's speed probe (pulses, runout, lag) on a track of ORE B176 irregularity
 (the module docstring's table; drawn after v2's fields)."""
 TASK_VERSION_RANGES: Mapping[int, ScenarioRanges] = MappingProxyType({1: ScenarioRanges(), 2: V2_RANGES, 3: V3_RANGES})
