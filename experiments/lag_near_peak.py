@@ -268,7 +268,8 @@ def main() -> None:
             played.append(windows(env, seed, options, args.levels, args.amplitude_ratio, args.frequency,
                                   args.harmonics, args.hold_dc)[1])
             continue
-        print(f"\n### episode {k} (seed {seed}): {options.get('condition')}, CoF {options.get('cof')}\n")
+        condition, cof = (options.get(name, "drawn") for name in ("condition", "cof"))
+        print(f"\n### episode {k} (seed {seed}): {condition}, CoF {cof}\n")
         extra = " H2 | H3 |" if args.harmonics else ""
         print(f"| {level_name} | lag [deg] | compliance | CoA / CoF | cycle crest / CoF | creepage / peak creepage |"
               f"{extra} creepage swing / first | creepage lag [deg] | macro-slip |")

@@ -38,6 +38,17 @@ robust-model-ar1,robust-model-gated,model-based-zeroed-knee-ar1,phase-rule-rotat
     cof-gym evaluate --suite in-service --env-kwargs track_irregularity:smooth --out out/evaluate-in-service-smooth
     cof-gym evaluate --suite experiments/suites/v2_heldout_grid.json --env CofGym/TorqueInterrogationInService-v3 \
         --out out/evaluate-in-service-heldout
+    python experiments/train_interrogator.py --env CofGym/TorqueInterrogationInService-v3 \
+        --out runs/interrogator_in_service --fit-only                   # the learned interrogator on task v3
+    python experiments/train_interrogator.py --env CofGym/TorqueInterrogationInService-v3 \
+        --out runs/interrogator_in_service --reuse --grid floor_until   # ... its selection and report
+    cp -r runs/interrogator_in_service/ensemble runs/interrogator-v3
+    cof-gym evaluate --suite in-service --agents interrogator:runs/interrogator-v3,interrogator,phase-rule-in-service,\
+staircase-zeroed,model-based-zeroed,oracle --paired interrogator:runs/interrogator-v3 \
+        --out out/evaluate-in-service-learned
+    cof-gym evaluate --suite experiments/suites/v2_heldout_grid.json --env CofGym/TorqueInterrogationInService-v3 \
+        --agents (as above) --paired interrogator:runs/interrogator-v3 --out out/evaluate-in-service-heldout-learned
+    cof-gym evaluate --agents interrogator:runs/interrogator-v3,interrogator --out out/evaluate-v2-learned-v3
     cof-gym evaluate --suite paper --episodes 5                                     # the paper's setting
     cof-gym evaluate --suite experiments/suites/v1_default.json --episodes 60 --out out/evaluate-v1
     cof-gym evaluate --suite experiments/suites/heldout_grid.json --out out/evaluate-heldout   # v1 held-out
@@ -1172,6 +1183,12 @@ SOURCES = {
     "in_service_variants": ROOT / "out" / "evaluate-in-service-variants" / "summary.md",
     "in_service_smooth": ROOT / "out" / "evaluate-in-service-smooth" / "summary.md",
     "in_service_heldout": ROOT / "out" / "evaluate-in-service-heldout" / "summary.md",
+    # the learned interrogator fitted on task v3 (session 87: train_interrogator.py --env, runs/interrogator-v3 a copy
+    # of that run's ensemble) beside the agents it is paired with
+    "in_service_learned": ROOT / "out" / "evaluate-in-service-learned" / "summary.md",
+    "in_service_heldout_learned": ROOT / "out" / "evaluate-in-service-heldout-learned" / "summary.md",
+    "v2_learned_v3": ROOT / "out" / "evaluate-v2-learned-v3" / "summary.md",
+    "interrogator_in_service_seeds": ROOT / "runs" / "interrogator_in_service" / "report.md",
     "select_phase_rule_in_service": ROOT / "out" / "select_phase_rule_in_service.md",
     "select_phase_rule_in_service_ar1": ROOT / "out" / "select_phase_rule_in_service_ar1.md",
     "v2_paper": PAPER_RUN / "summary.md",

@@ -126,7 +126,7 @@ from cof_gym.agents.interrogator.training import (
 )
 from cof_gym.commands.args import DistinctValues, Parser, float_in_range, positive_int, seed_int
 from cof_gym.commands.evaluate_episodes import run_episode
-from cof_gym.commands.suites import make_suite
+from cof_gym.commands.suites import make_suite, with_env_id
 from cof_gym.task.scenarios import MOTOR_LAG_MAX_S, NOISE_LEVEL_MAX
 from cof_gym.task.sensors import SYSTEMATIC_ERRORS
 
@@ -138,6 +138,10 @@ from selection import error_summary  # noqa: E402
 from script_checks import check_out_dir, load_climbs  # noqa: E402
 
 ENV_ID = cof_gym.WAGON_ENV_ID
+# the ids a recipe may be run on (--env): the v2 wagon (the shipped agent's) and task v3's wagon (a speed probe and an
+# irregular track drawn; session 87); each collection's climbs are collected on the run's id, the selection's
+# validation grids and the report's suites played on it
+TRAINING_ENV_IDS = (ENV_ID, cof_gym.WAGON_IN_SERVICE_ENV_ID)
 CONFIGS = [{}, {"counter_torque": True}]  # the two vehicle configurations trained on
 # draws past the env's own, up to what the env accepts: the sensors' noise (multiples of the full scale) and the
 # drive's lag (s) where the env draws 0-1 and 0-0.03 s, and the torque gain error where it draws +-5 %
@@ -250,6 +254,9 @@ GRIDS = {  # the climbs the selection tries
     # the predicted headroom is 0.12 or not (64 climbs)
     "recipe": climb_grid((0.07, 0.1)) + climb_grid((0.07, 0.1), floors=(0.2,), untils=(None, 0.12)),
     "session8": climb_grid((0.07, 0.1)),  # the recipe until session 8 (24 climbs)
+    # the recipe's climbs with the floor jump and the slow probe's end, the shipped climb's structure (16 climbs):
+    # the selection of networks fitted on task v3 (session 87), whose plays cost about 2.6 times the v2 wagon's
+    "floor_until": climb_grid((0.07, 0.1), floors=(0.2,), untils=(0.12,)),
     # tried in session 8 and not adopted (README: its choice macro-slips in 15 of the 48 held-out episodes)
     "extended": climb_grid((0.07, 0.1, 0.15), approaches=(0.0, 0.3), probes=(PROBES[0], PROBES[2])),
     # tried in session 9 with networks fitted on env=8000 floor_jump=8000, not adopted (README)
@@ -265,11 +272,22 @@ ESTIMATES = [{"estimate_from": "filter", "best_coa_factor": 1.0}] + [
     {"estimate_from": "best_coa", "best_coa_factor": f} for f in (1.0, 1.02, 1.05)]
 
 
-def load_or_collect(out: Path, name: str, episodes: int, workers: int, balance: bool = False) -> Dataset:
-    """``episodes`` training climbs of collection ``name`` (:data:`COLLECTIONS`), from OUT's cache when it
-    holds them (with ``balance``, recorded with each window's torque balance)."""
+def cache_file(file: str, env_id: str = ENV_ID) -> str:
+    """A collection's cache file name in OUT for climbs on ``env_id``: :data:`COLLECTIONS`' own on the v2 wagon, the
+    id's version added before the suffix on another (``climbs_torque_wide_v3.npz``), so that no run reads another
+    id's climbs as its own."""
+    if env_id == ENV_ID:
+        return file
+    stem, _, suffix = file.rpartition(".")
+    return f"{stem}_v{env_id.rpartition('-v')[2]}.{suffix}"
+
+
+def load_or_collect(out: Path, name: str, episodes: int, workers: int, balance: bool = False,
+                    env_id: str = ENV_ID) -> Dataset:
+    """``episodes`` training climbs of collection ``name`` (:data:`COLLECTIONS`) on ``env_id``, from OUT's cache
+    when it holds them (with ``balance``, recorded with each window's torque balance)."""
     file, first_seed, draws = COLLECTIONS[name]
-    path = out / file
+    path = out / cache_file(file, env_id)
     if path.is_file():
         try:
             data = Dataset.load(path)
@@ -278,9 +296,10 @@ def load_or_collect(out: Path, name: str, episodes: int, workers: int, balance: 
         if data is not None and int(data.episode.max()) + 1 >= episodes and (data.reads_torque_balance or not balance):
             return data.subset(data.episode < episodes)
     t0 = time.time()
-    data = collect_parallel(ENV_ID, CONFIGS, episodes, workers, first_seed, draws)
+    data = collect_parallel(env_id, CONFIGS, episodes, workers, first_seed, draws)
     data.save(path)
-    print(f"collected {episodes} {name} climbs ({len(data)} windows) in {time.time() - t0:.0f} s", flush=True)
+    print(f"collected {episodes} {name} climbs on {env_id} ({len(data)} windows) in {time.time() - t0:.0f} s",
+          flush=True)
     return data
 
 
@@ -299,10 +318,11 @@ def parse_climbs(parser: argparse.ArgumentParser, items: list[str], option: str 
     return out
 
 
-def collect(out: Path, climbs: dict[str, int], workers: int, balance: bool = False) -> Dataset:
-    """The training climbs of ``climbs`` ({collection: climbs}), in that order, from OUT's caches or collected
-    (with ``balance``, caches recorded with the torque balance: :func:`load_or_collect`)."""
-    return Dataset.concatenate([load_or_collect(out, name, n, workers, balance) for name, n in climbs.items() if n])
+def collect(out: Path, climbs: dict[str, int], workers: int, balance: bool = False, env_id: str = ENV_ID) -> Dataset:
+    """The training climbs of ``climbs`` ({collection: climbs}) on ``env_id``, in that order, from OUT's caches or
+    collected (with ``balance``, caches recorded with the torque balance: :func:`load_or_collect`)."""
+    return Dataset.concatenate([load_or_collect(out, name, n, workers, balance, env_id)
+                                for name, n in climbs.items() if n])
 
 
 def load_added_climbs(parser: argparse.ArgumentParser, files: list[Path], option: str = "--add-climbs") -> list[Dataset]:
@@ -319,13 +339,15 @@ def split(data: Dataset, every: int = 10) -> tuple[Dataset, Dataset]:
 
 def episodes(run_dir: str, suite_path: str, env_kwargs: dict, params: dict | None = None,
              guards: list[str] | None = None, estimators: list[str] | None = None, scenario: dict | None = None,
-             wrap=None):
+             wrap=None, env_id: str | None = None):
     """(record, agent after the episode) of every episode of a suite (the default suite: 60 episodes)
     in a vehicle configuration, played by the interrogator of ``run_dir`` (``params``: another climb,
     ``guards`` / ``estimators``: other guard / estimator directories than its manifest's; ``scenario``: reset
     options over every episode's own, e.g. ``{"noise_level": 3.0}``; ``wrap``: what plays in its place, made from
-    it, e.g. a recorder of its windows)."""
+    it, e.g. a recorder of its windows; ``env_id``: the suite played on that id, its episodes kept)."""
     suite = make_suite(suite_path, 60, 0)
+    if env_id is not None and env_id != suite.env_id:
+        suite = with_env_id(suite, env_id)
     climb = ClimbParameters(**params) if params else None
     options = (climb or manifest_climb(Path(run_dir))).env_options
     env = gym.make(suite.env_id, **{**suite.env_kwargs, **env_kwargs, **options})
@@ -338,11 +360,13 @@ def episodes(run_dir: str, suite_path: str, env_kwargs: dict, params: dict | Non
 
 
 def play(ensemble_dir: str, params: dict, suite_path: str, env_kwargs: dict,
-         guards: list[str] | None = None) -> list[list[tuple[float, bool]]]:
+         guards: list[str] | None = None, env_id: str | None = None) -> list[list[tuple[float, bool]]]:
     """(relative error, macro-slip) of every episode of a suite file, in a vehicle configuration, for
-    each estimate source of ESTIMATES (``guards``: the climb's guard directories, None: the manifest's)."""
+    each estimate source of ESTIMATES (``guards``: the climb's guard directories, None: the manifest's; ``env_id``:
+    the suite played on that id)."""
     out: list[list[tuple[float, bool]]] = [[] for _ in ESTIMATES]
-    for r, agent in episodes(ensemble_dir, suite_path, env_kwargs, params, guards, []):  # no estimator: ESTIMATES
+    for r, agent in episodes(ensemble_dir, suite_path, env_kwargs, params, guards, [],  # no estimator: ESTIMATES
+                             env_id=env_id):
         for k, e in enumerate(ESTIMATES):
             out[k].append((source_error(agent, r, e["estimate_from"], e["best_coa_factor"]), r.macro_slip))
     return out
@@ -399,15 +423,17 @@ CRITERIA = {  # how the selection ranks the climbs (sort keys of a table row)
 
 
 def select_climb(ensemble_dir: Path, workers: int, criterion: str = "pooled",
-                 grid: str = "recipe", guards: list[str] | None = None) -> tuple[dict, list[dict]]:
+                 grid: str = "recipe", guards: list[str] | None = None,
+                 env_id: str | None = None) -> tuple[dict, list[dict]]:
     """The climb of GRIDS[grid] x ESTIMATES chosen on the two validation grids, both vehicle configurations;
     ``pooled`` (the recipe): fewest macro-slips on the family grid (VALIDATION), then, over both grids
     pooled with a macro-slip counted as a failed measurement (100 % error), the lowest P90, then median;
     ``family``: macro-slips, P90, median on the family grid alone. Every climb with the guard
-    directories ``guards`` (None: the manifest's). Returns it and the whole table."""
+    directories ``guards`` (None: the manifest's), the grids played on ``env_id`` (None: their own). Returns it
+    and the whole table."""
     grids = [VALIDATION, PROCEDURAL_VALIDATION]
     climbs = GRIDS[grid]
-    jobs = [(str(ensemble_dir), g, str(v), c, guards) for g in climbs for v in grids for c in CONFIGS]
+    jobs = [(str(ensemble_dir), g, str(v), c, guards, env_id) for g in climbs for v in grids for c in CONFIGS]
     with ProcessPoolExecutor(workers) as pool:
         results = iter(list(pool.map(play, *zip(*jobs))))
     table = []
@@ -445,11 +471,14 @@ def file_digest(path: Path) -> str:
 
 
 def training_record(climbs: dict[str, int], added: list[Path], settings: FitSettings,
-                    balance_lag_deg: float | None = None) -> dict:
+                    balance_lag_deg: float | None = None, env_id: str = ENV_ID) -> dict:
     """What networks are fitted on, as JSON: the collections' climbs, each added climbs file's digest
-    (its bytes, whatever its name or place), the fit settings and, where the readings were calibrated by the
-    torque balance (``--torque-balance-lag``), that window lag bound."""
+    (its bytes, whatever its name or place), the fit settings, where the readings were calibrated by the
+    torque balance (``--torque-balance-lag``), that window lag bound, and the id the climbs were collected on where
+    it is not the v2 wagon (whose records name none)."""
     record = {"climbs": climbs, "added_sha256": [file_digest(f) for f in added], "fit": asdict(settings)}
+    if env_id != ENV_ID:
+        record["env_id"] = env_id
     if balance_lag_deg is not None:
         record["torque_balance_max_lag_deg"] = balance_lag_deg
     return json.loads(json.dumps(record))  # tuples as lists, as the file holds them
@@ -533,16 +562,17 @@ def copy_networks(source: Path, target: Path) -> None:
         shutil.copy2(member, target / member.name)
 
 
-def report_runs(runs: list[Path], workers: int) -> dict:
+def report_runs(runs: list[Path], workers: int, env_id: str | None = None) -> dict:
     """Every run (seed or ensemble) on the default suite, the held-out grids and the procedural
-    validation grid (per seed: the selection played the ensemble there), per episode."""
+    validation grid (per seed: the selection played the ensemble there), per episode; each played on ``env_id``
+    (None: the suite's own)."""
     suites = [{"name": "default", "path": "default"},
               *({"name": label, "path": str(HERE / "suites" / f"{name}.json")} for name, label in v2_heldout_grids().items()),
               {"name": "procedural validation grid (selection data, per seed)", "path": str(PROCEDURAL_VALIDATION)}]
     report = {}
     for s in suites:
         suite = make_suite(s["path"], 60, 0)
-        jobs = [(str(r), s["path"]) for r in runs]
+        jobs = [(str(r), s["path"], env_id) for r in runs]
         with ProcessPoolExecutor(workers) as pool:
             per_run = list(pool.map(_play_shipped_climb, *zip(*jobs)))
         report[s["name"]] = {"episodes": len(suite.episodes),
@@ -575,8 +605,9 @@ def shipped_runs(out: Path, package: Path = SHIPPED_INTERROGATOR) -> list[Path]:
     return runs
 
 
-def _play_shipped_climb(run_dir: str, suite_path: str) -> list[tuple[float, bool]]:
-    return [(r.relative_error if r.scored else 1.0, r.macro_slip) for r, _ in episodes(run_dir, suite_path, {})]
+def _play_shipped_climb(run_dir: str, suite_path: str, env_id: str | None = None) -> list[tuple[float, bool]]:
+    return [(r.relative_error if r.scored else 1.0, r.macro_slip)
+            for r, _ in episodes(run_dir, suite_path, {}, env_id=env_id)]
 
 
 def markdown(report: dict, seeds: list[str]) -> str:
@@ -595,6 +626,12 @@ def markdown(report: dict, seeds: list[str]) -> str:
     return "\n".join(lines)
 
 
+def played_on(env_id: str) -> str:
+    """The reports' sentence on the id every suite was played on: none on the v2 wagon, the suites' own."""
+    return "" if env_id == ENV_ID else (f" Climbs collected and every suite (validation grids, report) played on "
+                                        f"`{env_id}`, each suite's episodes kept.")
+
+
 def report_only(parser: argparse.ArgumentParser, args: argparse.Namespace) -> None:
     """``--report-only``: the report (step 4) of the shipped agent, every seed and the ensemble, written to
     OUT/report.md and OUT/report.json; every option that fits, selects or ships is refused."""
@@ -610,10 +647,11 @@ def report_only(parser: argparse.ArgumentParser, args: argparse.Namespace) -> No
     t0 = time.time()
     args.out.mkdir(parents=True, exist_ok=True)
     runs = shipped_runs(args.out)
-    report = report_runs(runs, args.workers)
+    report = report_runs(runs, args.workers, args.env)
     text = ["# Learned interrogator: the shipped agent per seed", "",
             f"Command: `python experiments/train_interrogator.py {' '.join(sys.argv[1:])}` ({time.time() - t0:.0f} s on "
-            "this machine; the shipped networks, guards and climb, nothing fitted or selected).", "",
+            "this machine; the shipped networks, guards and climb, nothing fitted or selected)." + played_on(args.env),
+            "",
             markdown(report, [r.name for r in runs[:-1]])]
     (args.out / "report.md").write_text("\n".join(text) + "\n")
     (args.out / "report.json").write_text(json.dumps({"report": report}, indent=1))
@@ -681,6 +719,9 @@ def build_parser() -> Parser:
                          "torque_balance_max_lag_deg=DEG reads them (Dataset.calibrated; caches recorded without the "
                          "balance are collected again, added climbs must hold it); 'none': the readings as read "
                          "(default: %(default)s, the shipped climb's bound)")
+    ap.add_argument("--env", choices=TRAINING_ENV_IDS, default=ENV_ID,
+                    help="the id the climbs are collected on and the validation grids and the report's suites played "
+                         "on, their episodes kept (default: %(default)s, the shipped agent's; --ship only there)")
     ap.add_argument("--report-only", action="store_true",
                     help="step 4 alone, on the shipped agent as it is (its networks, guards and climb; OUT/seed_K: "
                          "member K alone): no climbs, no fit, no selection")
@@ -730,11 +771,12 @@ def fit_all(args: argparse.Namespace, training: TrainingClimbs, settings: FitSet
         """fit_networks in ``directory`` on the climbs of ``collections`` and those of ``files`` (``data``, read
         from them), recorded as such."""
         def load() -> Dataset:
-            climbs_read = Dataset.concatenate([collect(out, collections, args.workers, training.balance), *data])
+            climbs_read = Dataset.concatenate([collect(out, collections, args.workers, training.balance, args.env),
+                                               *data])
             return climbs_read.calibrated(args.torque_balance_lag) if training.balance else climbs_read
 
         return fit_networks(directory, load, args.seeds, settings, args.reuse,
-                            training_record(collections, files, settings, args.torque_balance_lag))
+                            training_record(collections, files, settings, args.torque_balance_lag, args.env))
 
     fit_report = fit(out, training.filter_collections, args.add_climbs, training.filter_added)
     guards = list(args.guards)
@@ -753,7 +795,7 @@ def recipe_manifest(args: argparse.Namespace, training: TrainingClimbs, settings
     """Every run's manifest.json: the chosen climb over the defaults, the training distribution, what was fitted
     on what, and the guards' directories."""
     manifest = {"climb": {**asdict(ClimbParameters()), **chosen},
-                "trained_on": {"env_id": ENV_ID, "configs": CONFIGS},
+                "trained_on": {"env_id": args.env, "configs": CONFIGS},
                 "training": {"climbs": training.filter_collections, "seeds": args.seeds, "fit": asdict(settings)}}
     if guard_names:
         manifest["guards"] = guard_names
@@ -821,6 +863,8 @@ def main() -> None:
         return
     if args.ship and args.fit_only:
         ap.error("--ship: not with --fit-only, which stops before the selection whose climb ships")
+    if args.ship and args.env != ENV_ID:
+        ap.error(f"--ship: ships the interrogator of {ENV_ID} only, not networks fitted on --env {args.env}")
     training = checked_climbs(ap, args)
     out = args.out
     out.mkdir(parents=True, exist_ok=True)
@@ -833,7 +877,8 @@ def main() -> None:
     t = time.time()
     # the selection plays the filter with the --guards networks only (read where they are); the recipe's guard
     # joins the chosen climb, and every guard is copied into every run below
-    chosen, table = select_climb(ensemble_dir, args.workers, args.criterion, args.grid, [str(g) for g in args.guards])
+    chosen, table = select_climb(ensemble_dir, args.workers, args.criterion, args.grid, [str(g) for g in args.guards],
+                                 args.env)
     print(f"climb selected on validation in {time.time() - t:.0f} s: {chosen}", flush=True)
     runs = [out / f"seed_{s}" for s in args.seeds] + [ensemble_dir]
     guard_names = [install_guards(r, guards) for r in runs][-1]  # the same names in every run
@@ -843,10 +888,10 @@ def main() -> None:
     manifest = recipe_manifest(args, training, settings, chosen, guard_names)
     for r in runs:
         write_manifest(r, manifest)
-    report = report_runs(runs, args.workers)
+    report = report_runs(runs, args.workers, args.env)
     text = ["# Learned interrogator: seeds, selection and report", "",
             f"Command: `python experiments/train_interrogator.py {' '.join(sys.argv[1:])}` ({time.time() - t0:.0f} s on "
-            f"this machine{'; networks reused, not fitted' if args.reuse else ''}).", "",
+            f"this machine{'; networks reused, not fitted' if args.reuse else ''})." + played_on(args.env), "",
             *selection_table(table, grid_columns(GRIDS[args.grid]), args.criterion),
             "", shipped_estimate_text(chosen), "",
             "## Report (nothing chosen here)", "", markdown(report, [f"seed_{s}" for s in args.seeds])]

@@ -90,6 +90,29 @@ def test_the_shipped_interrogator_notes_a_smoothed_encoder_and_evaluate_records_
         "its estimate there is an extrapolation"])
 
 
+@pytest.mark.skipif(not SHIPPED, reason="no shipped interrogator in this checkout")
+def test_networks_fitted_on_another_ids_climbs_name_no_sensor_note(tmp_path):
+    """The notes' bounds describe the v2 wagon's training climbs: the shipped networks, their manifest saying they
+    were fitted on task v3's climbs (whose probe and track colour the residual), read the episode whose 5 ms encoder
+    lag the shipped agent notes (above) and name nothing."""
+    import json
+    import shutil
+
+    from cof_gym.agents.policy_files import MANIFEST_FILE, SHIPPED_INTERROGATOR
+
+    directory = tmp_path / "fitted_on_v3"
+    shutil.copytree(SHIPPED_INTERROGATOR, directory)
+    manifest = json.loads((directory / MANIFEST_FILE).read_text())
+    manifest["trained_on"]["env_id"] = cof_gym.WAGON_IN_SERVICE_ENV_ID
+    (directory / MANIFEST_FILE).write_text(json.dumps(manifest))
+    env = gym.make(cof_gym.WAGON_ENV_ID)
+    shipped, fitted_on_v3 = (registry.make_agent(spec, env) for spec in ("interrogator", f"interrogator:{directory}"))
+    records = [run_episode(env, agent, 11, {"encoder_lag_s": 0.005}, 0) for agent in (shipped, fitted_on_v3)]
+    env.close()
+    assert [r.sensor_notes for r in records] == [SMOOTHED_ENCODER, ""]
+    assert records[0].estimate == records[1].estimate  # the notes change no step of the climb
+
+
 def test_a_slow_drive_is_one_slower_than_the_draws_by_more_than_the_readings_spread():
     """The draws' slowest drive passes about 73 % of a 5 Hz modulation: not slow; one passing half of it (52 ms) is."""
     def passed(lag_s: float) -> float:

@@ -330,3 +330,33 @@ def test_training_collections_draw_disjoint_seeds() -> None:
                     + [first for first, _ in train_estimator.ON_POLICY.values()])
     assert starts[0] >= TRAINING_SEED
     assert all(b - a >= 100_000 for a, b in zip(starts, starts[1:])), starts
+
+
+def test_env_collects_on_that_id_into_caches_and_records_of_its_own(tmp_path: Path, monkeypatch,
+                                                                     experiment_exit) -> None:
+    """``--env`` (task v3's id) collects the climbs on that id, into cache files named for its version (a v2 run's
+    caches in the same directory are neither read nor overwritten), records the id beside what the networks were
+    fitted on and in the manifest's training distribution, and refuses ``--ship`` (the shipped agent is v2's) with
+    one line, exit 2, before any climb is collected."""
+    import train_interrogator
+    from cof_gym.agents.interrogator.training import Dataset, collect
+
+    v3 = cof_gym.WAGON_IN_SERVICE_ENV_ID
+    assert train_interrogator.cache_file("climbs_torque_wide.npz") == "climbs_torque_wide.npz"
+    assert train_interrogator.cache_file("climbs_torque_wide.npz", v3) == "climbs_torque_wide_v3.npz"
+    run = tmp_path / "run"
+    run.mkdir()
+    v2_cache = train_interrogator.collect(run, {"env": 2}, 1)
+    monkeypatch.setattr(sys, "argv", ["train_interrogator.py", "--out", str(run), "--climbs", "env=2", "--guard-climbs",
+                                      "none", "--seeds", "0", "--epochs", "1", "--workers", "1", "--fit-only",
+                                      "--env", v3])
+    train_interrogator.main()
+    on_v3 = Dataset.load(run / "climbs_v3.npz")
+    expected = collect(v3, train_interrogator.CONFIGS, 2, train_interrogator.TRAINING_SEED)
+    np.testing.assert_array_equal(on_v3.readings, expected.readings)
+    assert not np.array_equal(on_v3.readings, v2_cache.readings)  # the same seeds read otherwise on v3
+    np.testing.assert_array_equal(Dataset.load(run / "climbs.npz").readings, v2_cache.readings)
+    assert json.loads((run / "training.json").read_text())["env_id"] == v3
+    code, last = experiment_exit("train_interrogator", ["--out", str(tmp_path / "other"), "--env", v3, "--ship"])
+    assert code == 2 and last.startswith("train_interrogator.py: error: --ship:") and v3 in last
+    assert not (tmp_path / "other").exists()

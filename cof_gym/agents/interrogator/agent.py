@@ -11,7 +11,7 @@ from typing import Any, Iterable, Mapping
 
 import numpy as np
 
-from cof_gym import MAX_EPISODE_STEPS
+from cof_gym import MAX_EPISODE_STEPS, WAGON_ENV_ID
 from cof_gym.agents.base import (
     configuration_note, env_defaults, episode_scenarios, outside_training_note, registered_ranges, without_defaults,
 )
@@ -312,7 +312,10 @@ class LearnedInterrogator:
         (:attr:`noisy`), :data:`~cof_gym.agents.interrogator.readings.SLOW_DRIVE` where they show a drive slower than
         the draws' (:func:`~cof_gym.agents.interrogator.readings.reads_slow_drive`: from the modulation the drive
         applied); none where the readings are like the training climbs'. Sensor readings only: a train can tell this
-        without knowing its scenario."""
+        without knowing its scenario. None for networks fitted on another id's climbs than the v2 wagon's (task v3's
+        speed probe and track, e.g.): the notes' bounds describe the v2 wagon's training climbs."""
+        if self.trained_on is not None and self.trained_on[0] != WAGON_ENV_ID:
+            return ()
         read = ((SMOOTHED_ENCODER, self._smoothed), (NOISY_SENSORS, self.noisy), (SLOW_DRIVE, self.slow_drive))
         return tuple(note for note, seen in read if seen)
 
