@@ -626,10 +626,13 @@ def markdown(report: dict, seeds: list[str]) -> str:
     return "\n".join(lines)
 
 
-def played_on(env_id: str) -> str:
-    """The reports' sentence on the id every suite was played on: none on the v2 wagon, the suites' own."""
-    return "" if env_id == ENV_ID else (f" Climbs collected and every suite (validation grids, report) played on "
-                                        f"`{env_id}`, each suite's episodes kept.")
+def played_on(env_id: str, trained: bool = True) -> str:
+    """The reports' sentence on the id every suite was played on (and, for a run that trains, ``trained``, every
+    climb collected on): none on the v2 wagon, the suites' own."""
+    if env_id == ENV_ID:
+        return ""
+    what = "Climbs collected and every suite (validation grids, report)" if trained else "Every suite"
+    return f" {what} played on `{env_id}`, each suite's episodes kept."
 
 
 def report_only(parser: argparse.ArgumentParser, args: argparse.Namespace) -> None:
@@ -650,7 +653,8 @@ def report_only(parser: argparse.ArgumentParser, args: argparse.Namespace) -> No
     report = report_runs(runs, args.workers, args.env)
     text = ["# Learned interrogator: the shipped agent per seed", "",
             f"Command: `python experiments/train_interrogator.py {' '.join(sys.argv[1:])}` ({time.time() - t0:.0f} s on "
-            "this machine; the shipped networks, guards and climb, nothing fitted or selected)." + played_on(args.env),
+            "this machine; the shipped networks, guards and climb, nothing fitted or selected)."
+            + played_on(args.env, trained=False),
             "",
             markdown(report, [r.name for r in runs[:-1]])]
     (args.out / "report.md").write_text("\n".join(text) + "\n")
