@@ -38,6 +38,7 @@ robust-model-ar1,robust-model-gated,model-based-zeroed-knee-ar1,phase-rule-rotat
     cof-gym evaluate --suite in-service --env-kwargs track_irregularity:smooth --out out/evaluate-in-service-smooth
     cof-gym evaluate --suite experiments/suites/v2_heldout_grid.json --env CofGym/TorqueInterrogationInService-v3 \
         --out out/evaluate-in-service-heldout
+    python experiments/track_lag_spread.py --out out/track_lag_spread.md   # the lag's spread on v3's tracks
     python experiments/train_interrogator.py --env CofGym/TorqueInterrogationInService-v3 \
         --out runs/interrogator_in_service --fit-only                   # the learned interrogator on task v3
     python experiments/train_interrogator.py --env CofGym/TorqueInterrogationInService-v3 \
@@ -1189,6 +1190,7 @@ SOURCES = {
     "in_service_heldout_learned": ROOT / "out" / "evaluate-in-service-heldout-learned" / "summary.md",
     "v2_learned_v3": ROOT / "out" / "evaluate-v2-learned-v3" / "summary.md",
     "interrogator_in_service_seeds": ROOT / "runs" / "interrogator_in_service" / "report.md",
+    "track_lag_spread": ROOT / "out" / "track_lag_spread.md",  # experiments/track_lag_spread.py --out
     "select_phase_rule_in_service": ROOT / "out" / "select_phase_rule_in_service.md",
     "select_phase_rule_in_service_ar1": ROOT / "out" / "select_phase_rule_in_service_ar1.md",
     "v2_paper": PAPER_RUN / "summary.md",
