@@ -50,6 +50,9 @@ staircase-zeroed,model-based-zeroed,oracle --paired interrogator:runs/interrogat
     cof-gym evaluate --suite experiments/suites/v2_heldout_grid.json --env CofGym/TorqueInterrogationInService-v3 \
         --agents (as above) --paired interrogator:runs/interrogator-v3 --out out/evaluate-in-service-heldout-learned
     cof-gym evaluate --agents interrogator:runs/interrogator-v3,interrogator --out out/evaluate-v2-learned-v3
+    cof-gym evaluate --suite experiments/suites/v2_heldoutK_grid.json --env CofGym/TorqueInterrogationInService-v3 \
+        --agents (as above) --paired interrogator:runs/interrogator-v3 \
+        --out out/evaluate-in-service-heldoutK-learned             # K: 2 ... 7, the other held-out grids on v3
     cof-gym evaluate --suite paper --episodes 5                                     # the paper's setting
     cof-gym evaluate --suite experiments/suites/v1_default.json --episodes 60 --out out/evaluate-v1
     cof-gym evaluate --suite experiments/suites/heldout_grid.json --out out/evaluate-heldout   # v1 held-out
@@ -1564,6 +1567,12 @@ SOURCES = {
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about
+# the learned interrogator fitted on task v3 (session 87: runs/interrogator-v3, a copy of the ensemble of
+# train_interrogator.py --env CofGym/TorqueInterrogationInService-v3), and every v2 held-out grid played on v3
+# beside the agents of its in-service run (cof-gym evaluate --env, into out/evaluate-in-service-heldoutK-learned)
+V3_LEARNED = "interrogator:interrogator-v3"
+IN_SERVICE_HELDOUT_RUNS = {name: (label, ROOT / "out" / f"evaluate-in-service-{name.removeprefix('v2_')}-learned")
+                           for name, (label, _) in HELDOUT_RUNS.items()}
 TARGET_SUITES = {"v2 default suite (`cof-gym evaluate`)": ROOT / "out" / "evaluate" / "summary.json",
                  **{f"{label} (`--suite experiments/suites/{block}_grid.json`)": out / "summary.json"
                     for block, (label, out) in HELDOUT_RUNS.items()}}
@@ -2041,7 +2050,9 @@ GENERATED = {"targets": targets, "targets_count": targets_count, "paired_targets
              "horizon_ends": horizon_ends, "horizon_by_condition": horizon_by_condition, "peak_creepage": peak_creepage,
              "heldout_peak_creepage": heldout_peak_creepage, "edge_suites": edge_suites,
              "paper_setting": paper_setting,
-             "runaway_validation": runaway_validation, "ceiling_validation": ceiling_validation}  # block -> its generator
+             "runaway_validation": runaway_validation, "ceiling_validation": ceiling_validation,
+             "in_service_heldout_overview": lambda: heldout_overview(IN_SERVICE_HELDOUT_RUNS, V3_LEARNED),
+             }  # block -> its generator
 
 
 def _shown(path: Path) -> str:
