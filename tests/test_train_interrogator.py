@@ -336,8 +336,8 @@ def test_env_collects_on_that_id_into_caches_and_records_of_its_own(tmp_path: Pa
                                                                      experiment_exit) -> None:
     """``--env`` (task v3's id) collects the climbs on that id, into cache files named for its version (a v2 run's
     caches in the same directory are neither read nor overwritten), records the id beside what the networks were
-    fitted on and in the manifest's training distribution, and refuses ``--ship`` (the shipped agent is v2's) with
-    one line, exit 2, before any climb is collected."""
+    fitted on (``training.json``), and refuses ``--ship`` (the shipped agent is v2's) with one line, exit 2, before
+    any climb is collected."""
     import train_interrogator
     from cof_gym.agents.interrogator.training import Dataset, collect
 
