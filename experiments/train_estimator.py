@@ -10,7 +10,8 @@
    4000 each; ``env_encoder`` and ``procedural_encoder``, from 3 100 000 and 3 200 000 on: the same with the
    encoder's speed signal lagged 0-20 ms, uniform per climb, rule 110). Every window is kept with its labels
    from the episode's truth. Cached in OUT/onpolicy_NAME_DIGEST.npz, the digest naming the policy's networks
-   and climb. ``--collect-only``
+   and climb; with ``--env CofGym/TorqueInterrogationInService-v3`` the climbs are those of task v3's wagon (a
+   speed probe and an irregular track drawn; session 88), cached as OUT/onpolicy_NAME_DIGEST_v3.npz. ``--collect-only``
    stops here (a policy's own climbs for another fit: ``train_interrogator.py --add-climbs``). With
    ``--set NAME=VALUE ...`` the policy climbs with those climb parameters changed (a copy of it in
    OUT/policy/ whose manifest says so, e.g. ``--set ceiling_stop=false``: the recipe's first agent as it
@@ -45,7 +46,7 @@ sys.path.insert(0, str(HERE))
 from crest_tradeoff import checked_climb, climb_item  # noqa: E402
 from script_checks import check_out_dir  # noqa: E402
 from train_interrogator import (  # noqa: E402
-    CONFIGS, ENCODER_LAGS_S, ENV_ID, fit_networks, parse_climbs, require_networks, split)
+    CONFIGS, ENCODER_LAGS_S, ENV_ID, TRAINING_ENV_IDS, cache_file, fit_networks, parse_climbs, require_networks, split)
 
 from cof_gym.agents.interrogator import (  # noqa: E402
     SHIPPED_INTERROGATOR, FilterEnsemble, manifest_climb, manifest_guards, manifest_networks, read_manifest,
@@ -98,12 +99,12 @@ def policy_with(policy: Path, changes: dict, out: Path) -> Path:
     return copy
 
 
-def collect_on_policy(policy: Path, out: Path, climbs: dict[str, int], workers: int) -> Dataset:
-    """``policy``'s own climbs of the :data:`ON_POLICY` collections (``climbs``: {name: episodes}), from OUT's
-    cache when it holds them."""
+def collect_on_policy(policy: Path, out: Path, climbs: dict[str, int], workers: int, env_id: str = ENV_ID) -> Dataset:
+    """``policy``'s own climbs of the :data:`ON_POLICY` collections (``climbs``: {name: episodes}) on ``env_id``, from
+    OUT's cache when it holds them (a cache file per id: :func:`train_interrogator.cache_file`)."""
     digest, parts = policy_digest(policy), []
     for name, episodes in climbs.items():
-        path = out / f"onpolicy_{name}_{digest}.npz"
+        path = out / cache_file(f"onpolicy_{name}_{digest}.npz", env_id)
         cached = Dataset.load(path) if path.is_file() else None
         held = int(cached.episode.max()) + 1 if cached is not None and len(cached) else 0
         if held % len(CONFIGS):  # a cache that ends mid-rotation of the configurations is not extended
@@ -111,12 +112,12 @@ def collect_on_policy(policy: Path, out: Path, climbs: dict[str, int], workers: 
         if held < episodes:  # the missing episodes only, in the same order (seeds, configurations)
             first_seed, draws = ON_POLICY[name]
             t0 = time.time()
-            more = collect_parallel(ENV_ID, CONFIGS, episodes - held, workers, first_seed + held, draws, str(policy))
+            more = collect_parallel(env_id, CONFIGS, episodes - held, workers, first_seed + held, draws, str(policy))
             cached = Dataset.concatenate([cached, more]) if held else more
             out.mkdir(parents=True, exist_ok=True)
             cached.save(path)
-            print(f"collected {episodes - held} on-policy {name} climbs ({len(more)} windows) in {time.time() - t0:.0f} s",
-                  flush=True)
+            print(f"collected {episodes - held} on-policy {name} climbs on {env_id} ({len(more)} windows) in "
+                  f"{time.time() - t0:.0f} s", flush=True)
         parts.append(cached.subset(cached.episode < episodes))
     return Dataset.concatenate(parts)
 
@@ -147,15 +148,16 @@ def correction_residuals(networks: dict[str, Path], data: Dataset) -> dict[str, 
 
 
 def fit_estimator(policy: Path, out: Path, climbs: dict[str, int], seeds: list[int], workers: int,
-                  reuse: bool, loss: str = "gaussian", features: tuple[str, ...] | None = None) -> dict:
+                  reuse: bool, loss: str = "gaussian", features: tuple[str, ...] | None = None,
+                  env_id: str = ENV_ID) -> dict:
     """Collect ``policy``'s climbs, fit one network per seed with its manifest's fit settings under
     ``loss`` (:data:`~cof_gym.agents.interrogator.training.FIT_LOSSES`; OUT/seed_K, OUT/ensemble), reading the
-    feature blocks ``features`` where given (the manifest's otherwise), and return the fit's held-apart report, the
-    estimate windows' correction RMSE and mean absolute error included."""
+    feature blocks ``features`` where given (the manifest's otherwise), the climbs on ``env_id``, and return the fit's
+    held-apart report, the estimate windows' correction RMSE and mean absolute error included."""
     fit = {k: tuple(v) if isinstance(v, list) else v
            for k, v in read_manifest(policy).get("training", {}).get("fit", {}).items()}
     settings = FitSettings(**{**fit, "loss": loss, **({} if features is None else {"features": tuple(features)})})
-    data = collect_on_policy(policy, out, climbs, workers)
+    data = collect_on_policy(policy, out, climbs, workers, env_id)
     report = fit_networks(out, lambda: data, seeds, settings, reuse)
     _, held = split(data)
     networks = {"estimator": out / "ensemble", "filter": policy,
@@ -177,6 +179,8 @@ def main() -> None:
     ap.add_argument("--climbs", nargs="+", default=[f"{k}={v}" for k, v in EPISODES.items()], metavar="NAME=N",
                     help=f"on-policy episodes per collection ({', '.join(ON_POLICY)}; default: %(default)s)")
     ap.add_argument("--seeds", type=seed_int, nargs="+", default=[0, 1, 2, 3, 4], action=DistinctValues)
+    ap.add_argument("--env", choices=TRAINING_ENV_IDS, default=ENV_ID,
+                    help="the id whose wagon the policy climbs (default: %(default)s, the shipped agent's)")
     ap.add_argument("--workers", type=positive_int, default=2)
     ap.add_argument("--reuse", action="store_true", help="keep OUT/seed_K networks that exist")
     ap.add_argument("--collect-only", action="store_true",
@@ -204,10 +208,11 @@ def main() -> None:
     t0 = time.time()
     policy = policy_with(args.policy, dict(args.set), args.out)
     if args.collect_only:
-        data = collect_on_policy(policy, args.out, climbs, args.workers)
+        data = collect_on_policy(policy, args.out, climbs, args.workers, args.env)
         print(f"{len(data)} windows of {len(np.unique(data.episode))} climbs in {args.out} in {time.time() - t0:.0f} s")
         return
-    report = fit_estimator(policy, args.out, climbs, args.seeds, args.workers, args.reuse, args.loss, args.features)
+    report = fit_estimator(policy, args.out, climbs, args.seeds, args.workers, args.reuse, args.loss, args.features,
+                           args.env)
     (args.out / "report.json").write_text(json.dumps(report, indent=1) + "\n")
     print(f"done in {time.time() - t0:.0f} s")
 

@@ -19,7 +19,8 @@ the third keeps the filter (fitted on the same climbs: OUT/training.json), fits 
 climbs and those (OUT/guard/training.json differs), fits the first step's guard again as a second guard
 (``--probing-guard``: OUT/probing_guard/, on the probing climbs alone; or keeps it where it is there),
 selects the same climb (the selection plays the filter alone; ADOPTED_CLIMB, the parts later rules adopted, is set
-after it) and ships.
+after it) and ships. On task v3's wagon (``--env CofGym/TorqueInterrogationInService-v3`` on all three; session 88)
+the second step's cache is ``onpolicy_env_DIGEST_v3.npz`` and the third does not ship (``--ship`` refused).
 
 1. **Data**: training climbs on the v2 wagon's randomisation, half with the paper's counter torque
    (cof_gym/agents/interrogator/training.py): probing climbs steered by their own readings, never by

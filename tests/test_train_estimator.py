@@ -10,6 +10,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR, read_manifest
@@ -27,7 +28,8 @@ SCRIPT = str(EXPERIMENTS / "train_estimator.py")
                                           (["--set", "caution=x"], "--set: caution must be a number"),
                                           (["--set", "caution=-1"], "--set: caution"),
                                           (["--set", "creep_log_step=0.2"], "--set: creep_log_step"),
-                                          (["--set", "guard_cautions=[2]"], "--set: guard_cautions names 1")])
+                                          (["--set", "guard_cautions=[2]"], "--set: guard_cautions names 1"),
+                                          (["--env", "CofGym/TorqueInterrogation-v1"], "argument --env")])
 def test_bad_options_exit_2_naming_the_option(tmp_path: Path, args: list[str], option: str, experiment_exit) -> None:
     code, last = experiment_exit("train_estimator", ["--out", str(tmp_path / "run"), *args])
     assert code == 2 and last.startswith(f"train_estimator.py: error: {option}")
@@ -96,6 +98,30 @@ def test_collect_only_writes_the_cache_and_fits_nothing(tmp_path: Path) -> None:
     assert [p.name for p in out.iterdir()] == [f"onpolicy_env_{policy_digest(SHIPPED_INTERROGATOR)}.npz"]
     assert sorted(set(Dataset.load(next(out.iterdir())).episode.tolist())) == [0, 1]
     assert f"of 2 climbs in {out}" in done.stdout
+
+
+def test_env_collects_the_policys_climbs_on_that_id_into_a_cache_of_its_own(tmp_path: Path) -> None:
+    """``--env`` (task v3's id): the policy climbs that id's wagon, the same seeds and configurations as
+    :func:`~cof_gym.agents.interrogator.training.collect` with the policy there, into a cache named for the id's
+    version beside (not over) the v2 wagon's."""
+    import cof_gym
+    from cof_gym.agents.interrogator.training import Dataset, collect
+    from train_estimator import CONFIGS, ON_POLICY, collect_on_policy
+
+    v3, out = cof_gym.WAGON_IN_SERVICE_ENV_ID, tmp_path / "run"
+    on_v2 = collect_on_policy(SHIPPED_INTERROGATOR, out, {"env": 2}, 1)
+    done = subprocess.run([sys.executable, SCRIPT, "--out", str(out), "--climbs", "env=2", "--workers", "1",
+                           "--collect-only", "--env", v3], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    digest = policy_digest(SHIPPED_INTERROGATOR)
+    assert sorted(p.name for p in out.iterdir()) == [f"onpolicy_env_{digest}.npz", f"onpolicy_env_{digest}_v3.npz"]
+    on_v3 = Dataset.load(out / f"onpolicy_env_{digest}_v3.npz")
+    first_seed, draws = ON_POLICY["env"]
+    expected = collect(v3, CONFIGS, 2, first_seed, draws, str(SHIPPED_INTERROGATOR))
+    np.testing.assert_array_equal(on_v3.readings, expected.readings)
+    assert on_v3.readings.shape != on_v2.readings.shape or not np.array_equal(on_v3.readings, on_v2.readings)
+    np.testing.assert_array_equal(Dataset.load(out / f"onpolicy_env_{digest}.npz").readings, on_v2.readings)
+    assert v3 in done.stdout
 
 
 def test_set_climbs_a_copy_of_the_policy_with_those_parameters(tmp_path: Path) -> None:
