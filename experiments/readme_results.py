@@ -43,15 +43,26 @@ robust-model-ar1,robust-model-gated,model-based-zeroed-knee-ar1,phase-rule-rotat
         --out runs/interrogator_in_service --fit-only                   # the learned interrogator on task v3
     python experiments/train_interrogator.py --env CofGym/TorqueInterrogationInService-v3 \
         --out runs/interrogator_in_service --reuse --grid floor_until   # ... its selection and report
-    cp -r runs/interrogator_in_service/ensemble runs/interrogator-v3
-    cof-gym evaluate --suite in-service --agents interrogator:runs/interrogator-v3,interrogator,phase-rule-in-service,\
-staircase-zeroed,model-based-zeroed,oracle --paired interrogator:runs/interrogator-v3 \
-        --out out/evaluate-in-service-learned
+    cp -r runs/interrogator_in_service/ensemble runs/interrogator-v3           # rule 144's candidate A
+    python experiments/train_estimator.py --env CofGym/TorqueInterrogationInService-v3 \
+        --policy runs/interrogator_in_service/ensemble --set ceiling_stop=false --out runs/estimator_env_v3 \
+        --climbs env=8000 --collect-only                                # candidate B: A's own climbs, then
+    python experiments/train_interrogator.py --env CofGym/TorqueInterrogationInService-v3 \
+        --out runs/interrogator_in_service_guarded --reuse --grid floor_until --probing-guard \
+        --add-guard-climbs runs/estimator_env_v3/onpolicy_env_DIGEST_v3.npz  # A's networks copied in first
+    cp -r runs/interrogator_in_service_guarded/ensemble runs/interrogator-v3-guarded
+    cof-gym evaluate --suite experiments/suites/GRID.json --env CofGym/TorqueInterrogationInService-v3 \
+        --env-kwargs counter_torque:CT --agents interrogator,interrogator:runs/interrogator-v3 \
+        --out out/rule144-A-GRID-ctCT       # GRID: v2_validation_grid, v2_validation_procedural_grid; CT: False, True
+    cof-gym evaluate (the same) --agents interrogator:runs/interrogator-v3-guarded --out out/rule144-B-GRID-ctCT
+    cof-gym evaluate --suite in-service --agents interrogator-in-service,interrogator,phase-rule-in-service,\
+staircase-zeroed,model-based-zeroed,oracle --paired interrogator-in-service \
+        --out out/evaluate-in-service-learned                       # the shipped A (rule 144) on task v3
     cof-gym evaluate --suite experiments/suites/v2_heldout_grid.json --env CofGym/TorqueInterrogationInService-v3 \
-        --agents (as above) --paired interrogator:runs/interrogator-v3 --out out/evaluate-in-service-heldout-learned
-    cof-gym evaluate --agents interrogator:runs/interrogator-v3,interrogator --out out/evaluate-v2-learned-v3
+        --agents (as above) --paired interrogator-in-service --out out/evaluate-in-service-heldout-learned
+    cof-gym evaluate --agents interrogator-in-service,interrogator --out out/evaluate-v2-learned-v3
     cof-gym evaluate --suite experiments/suites/v2_heldoutK_grid.json --env CofGym/TorqueInterrogationInService-v3 \
-        --agents (as above) --paired interrogator:runs/interrogator-v3 \
+        --agents (as above) --paired interrogator-in-service \
         --out out/evaluate-in-service-heldoutK-learned             # K: 2 ... 7, the other held-out grids on v3
     cof-gym evaluate --suite paper --episodes 5                                     # the paper's setting
     cof-gym evaluate --suite experiments/suites/v1_default.json --episodes 60 --out out/evaluate-v1
@@ -1187,12 +1198,14 @@ SOURCES = {
     "in_service_variants": ROOT / "out" / "evaluate-in-service-variants" / "summary.md",
     "in_service_smooth": ROOT / "out" / "evaluate-in-service-smooth" / "summary.md",
     "in_service_heldout": ROOT / "out" / "evaluate-in-service-heldout" / "summary.md",
-    # the learned interrogator fitted on task v3 (session 87: train_interrogator.py --env, runs/interrogator-v3 a copy
-    # of that run's ensemble) beside the agents it is paired with
+    # the learned interrogator fitted on task v3 (session 87: train_interrogator.py --env; shipped as
+    # interrogator-in-service by rule 144, session 88) beside the agents it is paired with
     "in_service_learned": ROOT / "out" / "evaluate-in-service-learned" / "summary.md",
     "in_service_heldout_learned": ROOT / "out" / "evaluate-in-service-heldout-learned" / "summary.md",
     "v2_learned_v3": ROOT / "out" / "evaluate-v2-learned-v3" / "summary.md",
     "interrogator_in_service_seeds": ROOT / "runs" / "interrogator_in_service" / "report.md",
+    # rule 144's candidate B, the recipe's later steps on v3 (session 88; not shipped)
+    "interrogator_in_service_guarded_seeds": ROOT / "runs" / "interrogator_in_service_guarded" / "report.md",
     "track_lag_spread": ROOT / "out" / "track_lag_spread.md",  # experiments/track_lag_spread.py --out
     "select_phase_rule_in_service": ROOT / "out" / "select_phase_rule_in_service.md",
     "select_phase_rule_in_service_ar1": ROOT / "out" / "select_phase_rule_in_service_ar1.md",
@@ -1567,10 +1580,11 @@ SOURCES = {
     )},
 }
 LEARNED = "interrogator"  # the learned agent the issue's targets are about
-# the learned interrogator fitted on task v3 (session 87: runs/interrogator-v3, a copy of the ensemble of
-# train_interrogator.py --env CofGym/TorqueInterrogationInService-v3), and every v2 held-out grid played on v3
-# beside the agents of its in-service run (cof-gym evaluate --env, into out/evaluate-in-service-heldoutK-learned)
-V3_LEARNED = "interrogator:interrogator-v3"
+# the learned interrogator fitted on task v3 (session 87: train_interrogator.py --env
+# CofGym/TorqueInterrogationInService-v3; shipped as interrogator-in-service by rule 144, session 88), and every v2
+# held-out grid played on v3 beside the agents of its in-service run (cof-gym evaluate --env, into
+# out/evaluate-in-service-heldoutK-learned)
+V3_LEARNED = "interrogator-in-service"
 IN_SERVICE_HELDOUT_RUNS = {name: (label, ROOT / "out" / f"evaluate-in-service-{name.removeprefix('v2_')}-learned")
                            for name, (label, _) in HELDOUT_RUNS.items()}
 TARGET_SUITES = {"v2 default suite (`cof-gym evaluate`)": ROOT / "out" / "evaluate" / "summary.json",
@@ -2037,6 +2051,42 @@ def runaway_validation(runs: dict[str, Path] = RUNAWAY_VALIDATION) -> str | None
     return variant_validation(runs, ("+plain", "+runaway"))
 
 
+# rule 144 (session 88): the v3-fitted candidates (A: interrogator-v3, B: interrogator-v3-guarded) and the shipped
+# interrogator on the validation grids played on v3, both vehicle configurations (selection data; the commands in the
+# docstring write out/rule144-TAG-GRID-ctCONFIG)
+RULE144_GRIDS = {"family": "v2_validation_grid", "procedural": "v2_validation_procedural_grid"}
+RULE144_PLAYS = {label: [ROOT / "out" / f"rule144-{tag}-{grid}-ct{ct}" for tag in ("A", "B") for ct in (False, True)]
+                 for label, grid in RULE144_GRIDS.items()}
+
+
+def pooled_validation(plays: dict[str, list[Path]] = RULE144_PLAYS) -> str | None:
+    """One row per agent of the plays ({grid: evaluate runs}; an agent's episodes pooled over a grid's runs): each
+    grid's median / P90 / macro-slips, and over every grid the median and the P90 with a macro-slip (or an unscored
+    episode) counted as 100 % error, as the recipe's selection ranks; None when a run is missing."""
+    played: dict[str, dict[str, list[tuple[float, bool]]]] = {}
+    for grid, runs in plays.items():
+        for out in runs:
+            if not (out / "episodes.csv").is_file():
+                return None
+            with open(out / "episodes.csv", newline="") as f:
+                for r in csv.DictReader(f):
+                    error = float(r["relative_error"]) if r["scored"] == "True" else 1.0
+                    played.setdefault(r["agent"], {}).setdefault(grid, []).append((error, r["macro_slip"] == "True"))
+    rows = ["| agent | " + " | ".join(f"{grid} grid: median / P90 / macro-slips (climbs)" for grid in plays)
+            + " | pooled median, macro-slip = 100 % | pooled P90, macro-slip = 100 % |",
+            "|---" * (len(plays) + 3) + "|"]
+    for agent, grids in played.items():
+        cells = []
+        for grid in plays:
+            errors = np.array([e for e, _ in grids[grid]])
+            cells.append(f"{100 * np.median(errors):.1f} % / {100 * np.percentile(errors, 90):.1f} % / "
+                         f"{sum(slip for _, slip in grids[grid])} ({errors.size})")
+        failed = np.array([1.0 if slip else e for grid in plays for e, slip in grids[grid]])
+        rows.append(f"| {agent} | {' | '.join(cells)} | {100 * np.median(failed):.1f} % | "
+                    f"{100 * np.percentile(failed, 90):.1f} % |")
+    return "\n".join(rows)
+
+
 def ceiling_validation(runs: dict[str, Path] = CEILING_VALIDATION) -> str | None:
     """Rule 29's table: each scripted agent as registered and with ``+ceiling``."""
     return variant_validation(runs, ("", "+ceiling"))
@@ -2052,6 +2102,7 @@ GENERATED = {"targets": targets, "targets_count": targets_count, "paired_targets
              "paper_setting": paper_setting,
              "runaway_validation": runaway_validation, "ceiling_validation": ceiling_validation,
              "in_service_heldout_overview": lambda: heldout_overview(IN_SERVICE_HELDOUT_RUNS, V3_LEARNED),
+             "rule144_validation": pooled_validation,
              }  # block -> its generator
 
 

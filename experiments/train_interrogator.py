@@ -20,7 +20,8 @@ climbs and those (OUT/guard/training.json differs), fits the first step's guard 
 (``--probing-guard``: OUT/probing_guard/, on the probing climbs alone; or keeps it where it is there),
 selects the same climb (the selection plays the filter alone; ADOPTED_CLIMB, the parts later rules adopted, is set
 after it) and ships. On task v3's wagon (``--env CofGym/TorqueInterrogationInService-v3`` on all three; session 88)
-the second step's cache is ``onpolicy_env_DIGEST_v3.npz`` and the third does not ship (``--ship`` refused).
+the second step's cache is ``onpolicy_env_DIGEST_v3.npz`` and ``--ship`` writes the ``interrogator-in-service``
+package (SHIPPED_PACKAGES).
 
 1. **Data**: training climbs on the v2 wagon's randomisation, half with the paper's counter torque
    (cof_gym/agents/interrogator/training.py): probing climbs steered by their own readings, never by
@@ -80,7 +81,9 @@ the second step's cache is ``onpolicy_env_DIGEST_v3.npz`` and the third does not
    per seed, where the selection played the ensemble); per seed median / P90 / macro-slips, and over
    seeds x scenarios the interquartile mean (IQM) of the relative error with a stratified-bootstrap
    95 % CI (runs resampled within each scenario; Agarwal et al. 2021). OUT/report.md, OUT/report.json.
-5. ``--ship`` copies OUT/ensemble into cof_gym/agents/policies/interrogator (the ``interrogator`` agent).
+5. ``--ship`` copies OUT/ensemble into cof_gym/agents/policies/interrogator (the ``interrogator`` agent), or with
+   ``--env CofGym/TorqueInterrogationInService-v3`` into cof_gym/agents/policies/interrogator_in_service (the
+   ``interrogator-in-service`` agent); the package's model card stays.
 
 ``--report-only`` plays step 4 alone on the shipped agent as it is (no climb cache: seed K is the package's member K
 alone beside the shipped guards, the ensemble the package), e.g. after a rule changed the shipped climb and no network.
@@ -120,7 +123,7 @@ from cof_gym.agents.interrogator import (
     write_manifest,
 )
 from cof_gym.agents.interrogator.networks import ensemble_files, member_files
-from cof_gym.agents.policy_files import MANIFEST_FILE, TRAINING_RECORD
+from cof_gym.agents.policy_files import MANIFEST_FILE, SHIPPED_INTERROGATOR_IN_SERVICE, TRAINING_RECORD
 from cof_gym.agents.interrogator.training import (
     FAR_PEAK_CREEPAGE, FIT_LOSSES, FITTABLE_BLOCKS, STEEP_FALL, TRAINING_SEED, ClimbDraws, Dataset, FitSettings,
     collect_parallel, fit_member, nll,
@@ -139,10 +142,12 @@ from selection import error_summary  # noqa: E402
 from script_checks import check_out_dir, load_climbs  # noqa: E402
 
 ENV_ID = cof_gym.WAGON_ENV_ID
-# the ids a recipe may be run on (--env): the v2 wagon (the shipped agent's) and task v3's wagon (a speed probe and an
-# irregular track drawn; session 87); each collection's climbs are collected on the run's id, the selection's
-# validation grids and the report's suites played on it
-TRAINING_ENV_IDS = (ENV_ID, cof_gym.WAGON_IN_SERVICE_ENV_ID)
+# the ids a recipe may be run on (--env), each with the package --ship writes: the v2 wagon (``interrogator``) and task
+# v3's wagon (a speed probe and an irregular track drawn; session 87; ``interrogator-in-service``, rule 144, session
+# 88); each collection's climbs are collected on the run's id, the selection's validation grids and the report's suites
+# played on it
+SHIPPED_PACKAGES = {ENV_ID: SHIPPED_INTERROGATOR, cof_gym.WAGON_IN_SERVICE_ENV_ID: SHIPPED_INTERROGATOR_IN_SERVICE}
+TRAINING_ENV_IDS = tuple(SHIPPED_PACKAGES)
 CONFIGS = [{}, {"counter_torque": True}]  # the two vehicle configurations trained on
 # draws past the env's own, up to what the env accepts: the sensors' noise (multiples of the full scale) and the
 # drive's lag (s) where the env draws 0-1 and 0-0.03 s, and the torque gain error where it draws +-5 %
@@ -726,7 +731,8 @@ def build_parser() -> Parser:
                          "(default: %(default)s, the shipped climb's bound)")
     ap.add_argument("--env", choices=TRAINING_ENV_IDS, default=ENV_ID,
                     help="the id the climbs are collected on and the validation grids and the report's suites played "
-                         "on, their episodes kept (default: %(default)s, the shipped agent's; --ship only there)")
+                         "on, their episodes kept (default: %(default)s, the shipped interrogator's; --ship writes "
+                         "each id's own package)")
     ap.add_argument("--report-only", action="store_true",
                     help="step 4 alone, on the shipped agent as it is (its networks, guards and climb; OUT/seed_K: "
                          "member K alone): no climbs, no fit, no selection")
@@ -868,8 +874,6 @@ def main() -> None:
         return
     if args.ship and args.fit_only:
         ap.error("--ship: not with --fit-only, which stops before the selection whose climb ships")
-    if args.ship and args.env != ENV_ID:
-        ap.error(f"--ship: ships the interrogator of {ENV_ID} only, not networks fitted on --env {args.env}")
     training = checked_climbs(ap, args)
     out = args.out
     out.mkdir(parents=True, exist_ok=True)
@@ -904,9 +908,11 @@ def main() -> None:
     (out / "report.json").write_text(json.dumps({"fit": fit_report, "selection": table, "report": report}, indent=1))
     print("\n".join(text))
     if args.ship:
-        ship(ensemble_dir)
-        print(f"shipped {ensemble_dir} -> {SHIPPED_INTERROGATOR}; calibrate its interval with "
-              "python experiments/estimate_interval.py --write")
+        package = SHIPPED_PACKAGES[args.env]
+        ship(ensemble_dir, package)
+        print(f"shipped {ensemble_dir} -> {package}" + ("; calibrate its interval with python "
+                                                        "experiments/estimate_interval.py --write" if args.env == ENV_ID
+                                                        else ""))
 
 
 if __name__ == "__main__":

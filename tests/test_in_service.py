@@ -144,3 +144,23 @@ def test_the_phase_rule_chosen_for_v3_is_registered_beside_the_default_list() ->
     v2_rule = PhaseRule(env.unwrapped.limits)
     assert agent.baseline_windows == v2_rule.baseline_windows and agent.min_amplitude_nm == v2_rule.min_amplitude_nm
     env.close()
+
+
+def test_the_interrogator_fitted_on_v3_is_registered_beside_the_default_list_and_knows_its_task() -> None:
+    """``interrogator-in-service`` plays its own package (networks fitted on the v3 wagon's climbs, its manifest saying
+    so) under its registry name; on the in-service suite it is in its training distribution, on the v2 default suite
+    it says it is not; the default suite (v2) does not play it."""
+    from cof_gym.agents.policy_files import SHIPPED_INTERROGATOR_IN_SERVICE
+
+    assert "interrogator-in-service" in registry.AGENTS and "interrogator-in-service" not in registry.default_agents()
+    manifest = json.loads((SHIPPED_INTERROGATOR_IN_SERVICE / "manifest.json").read_text())
+    assert manifest["trained_on"]["env_id"] == IN_SERVICE
+    env = gym.make(IN_SERVICE)
+    agent = registry.make_agent("interrogator-in-service", env)
+    assert isinstance(agent, LearnedInterrogator) and agent.name == "interrogator-in-service"
+    assert agent.trained_on[0] == IN_SERVICE and len(agent.guards) == len(manifest["guards"])
+    in_service, v2 = make_suite("in-service", 3, 0), make_suite("default", 3, 0)
+    assert agent.distribution_note(in_service.env_id, in_service.env_kwargs, [o for _, o in in_service.episodes]) is None
+    note = agent.distribution_note(v2.env_id, v2.env_kwargs, [o for _, o in v2.episodes])
+    assert f"env {cof_gym.WAGON_ENV_ID} (trained: {IN_SERVICE})" in note
+    env.close()

@@ -332,12 +332,11 @@ def test_training_collections_draw_disjoint_seeds() -> None:
     assert all(b - a >= 100_000 for a, b in zip(starts, starts[1:])), starts
 
 
-def test_env_collects_on_that_id_into_caches_and_records_of_its_own(tmp_path: Path, monkeypatch,
-                                                                     experiment_exit) -> None:
+def test_env_collects_on_that_id_into_caches_and_records_of_its_own(tmp_path: Path, monkeypatch) -> None:
     """``--env`` (task v3's id) collects the climbs on that id, into cache files named for its version (a v2 run's
     caches in the same directory are neither read nor overwritten), records the id beside what the networks were
-    fitted on (``training.json``), and refuses ``--ship`` (the shipped agent is v2's) with one line, exit 2, before
-    any climb is collected."""
+    fitted on (``training.json``); ``--ship`` writes each id's own package, the one the registry's agent for that id
+    plays."""
     import train_interrogator
     from cof_gym.agents.interrogator.training import Dataset, collect
 
@@ -357,6 +356,8 @@ def test_env_collects_on_that_id_into_caches_and_records_of_its_own(tmp_path: Pa
     assert not np.array_equal(on_v3.readings, v2_cache.readings)  # the same seeds read otherwise on v3
     np.testing.assert_array_equal(Dataset.load(run / "climbs.npz").readings, v2_cache.readings)
     assert json.loads((run / "training.json").read_text())["env_id"] == v3
-    code, last = experiment_exit("train_interrogator", ["--out", str(tmp_path / "other"), "--env", v3, "--ship"])
-    assert code == 2 and last.startswith("train_interrogator.py: error: --ship:") and v3 in last
-    assert not (tmp_path / "other").exists()
+    from cof_gym.agents import registry
+
+    assert train_interrogator.SHIPPED_PACKAGES == {
+        cof_gym.WAGON_ENV_ID: registry.AGENTS["interrogator"].shipped.parent,
+        v3: registry.AGENTS["interrogator-in-service"].shipped.parent}

@@ -8,6 +8,8 @@ from pathlib import Path
 POLICIES_DIR = Path(__file__).resolve().parent / "policies"
 SHIPPED_PPO = POLICIES_DIR / "ppo_wagon"  # the v1 PPO policy (the ``ppo`` agent)
 SHIPPED_INTERROGATOR = POLICIES_DIR / "interrogator"  # the learned interrogator's networks (``interrogator``)
+# the same recipe's networks fitted on task v3's wagon (``interrogator-in-service``; rule 144, session 88)
+SHIPPED_INTERROGATOR_IN_SERVICE = POLICIES_DIR / "interrogator_in_service"
 
 # a Stable-Baselines3 policy (cof-gym train's output, an RL Zoo run)
 MODEL_NAMES = ("model.zip", "best_model.zip")  # looked for, in this order, when given a directory

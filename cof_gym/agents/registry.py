@@ -25,7 +25,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from cof_gym.agents.policy_files import MANIFEST_FILE, MODEL_NAMES, SHIPPED_INTERROGATOR, SHIPPED_PPO
+from cof_gym.agents.policy_files import (
+    MANIFEST_FILE, MODEL_NAMES, SHIPPED_INTERROGATOR, SHIPPED_INTERROGATOR_IN_SERVICE, SHIPPED_PPO,
+)
 
 
 class AgentSpecError(ValueError):
@@ -170,6 +172,12 @@ register("interrogator-rotation", "cof_gym.agents.interrogator.agent:load_interr
          takes_env=True, argument="DIR", shipped=SHIPPED_INTERROGATOR / MANIFEST_FILE, default=False,
          help="the learned interrogator modulating at least INTERROGATOR_ROTATION_MARGIN_HZ from the wheelset's "
          "rotation frequency at its measured speed (a speed probe's runout read by the rotation lock-in)")
+# the same recipe fitted on task v3's wagon (rule 144, session 88; not in the default list: the default suite is v2's,
+# out of its training distribution)
+register("interrogator-in-service", "cof_gym.agents.interrogator.agent:load_interrogator_in_service", oracle=False,
+         takes_env=True, shipped=SHIPPED_INTERROGATOR_IN_SERVICE / MANIFEST_FILE, default=False,
+         help="the learned interrogator fitted on task v3 (CofGym/TorqueInterrogationInService-v3: a speed probe, an "
+         "irregular track): the same recipe, its climbs collected there")
 register("ppo", "cof_gym.agents.registry:_ppo", oracle=False, takes_env=True, argument="PATH",
          shipped=SHIPPED_PPO / MODEL_NAMES[0], check="cof_gym.agents.sb3_policy:check_model_argument",
          help="the shipped PPO policy, or ppo:PATH for any saved model")

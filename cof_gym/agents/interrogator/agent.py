@@ -22,7 +22,9 @@ from cof_gym.agents.interrogator.climb import (
 from cof_gym.agents.interrogator.features import EpisodeFeatures
 from cof_gym.agents.interrogator.interval import NOISY, NOISY_RATIO, SMOOTHED, IntervalScales, sensor_group
 from cof_gym.agents.interrogator.networks import FilterEnsemble, pooled_correction, pooled_std
-from cof_gym.agents.policy_files import MANIFEST_FILE, SHIPPED_INTERROGATOR  # noqa: F401 - read from here too
+from cof_gym.agents.policy_files import (  # noqa: F401 - read from here too
+    MANIFEST_FILE, SHIPPED_INTERROGATOR, SHIPPED_INTERROGATOR_IN_SERVICE,
+)
 from cof_gym.agents.interrogator.readings import (
     NOISE_WINDOWS, NOISY_SENSORS, SLOW_DRIVE, SMOOTHED_ENCODER, Reading, reads_slow_drive, reads_smoothed_encoder,
 )
@@ -721,6 +723,16 @@ def load_interrogator(env, argument: str | None = None) -> LearnedInterrogator:
     agent = interrogator_for(env, directory)
     if argument:
         agent.name = f"interrogator:{directory.name}"
+    return agent
+
+
+def load_interrogator_in_service(env, argument: str | None = None) -> LearnedInterrogator:
+    """The learned interrogator fitted on task v3's wagon (``CofGym/TorqueInterrogationInService-v3``: a speed probe
+    and an irregular track drawn; the recipe of experiments/train_interrogator.py run with ``--env`` there, shipped by
+    rule 144, session 88): its own networks, guards and climb (the package's manifest). ``argument``: unused (the
+    registry's factory signature; ``interrogator:DIR`` plays any other directory)."""
+    agent = interrogator_for(env, SHIPPED_INTERROGATOR_IN_SERVICE)
+    agent.name = "interrogator-in-service"
     return agent
 
 
