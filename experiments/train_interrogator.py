@@ -86,7 +86,8 @@ package (SHIPPED_PACKAGES).
    ``interrogator-in-service`` agent); the package's model card stays.
 
 ``--report-only`` plays step 4 alone on the shipped agent as it is (no climb cache: seed K is the package's member K
-alone beside the shipped guards, the ensemble the package), e.g. after a rule changed the shipped climb and no network.
+alone beside the shipped guards, the ensemble the package), e.g. after a rule changed the shipped climb and no network;
+with ``--env``, the package shipped for that id (SHIPPED_PACKAGES).
 ``--fit-only`` stops after step 2: networks for another run's ``--guards`` or crest_tradeoff.py's ``--run``
 (``--loss laplace``: fitted under the Laplace likelihood, each output the conditional median; session 26);
 ``--guard-climbs none`` fits no guard (the recipe before session 16). ``--add-climbs FILE ...`` adds climbs
@@ -642,8 +643,8 @@ def played_on(env_id: str, trained: bool = True) -> str:
 
 
 def report_only(parser: argparse.ArgumentParser, args: argparse.Namespace) -> None:
-    """``--report-only``: the report (step 4) of the shipped agent, every seed and the ensemble, written to
-    OUT/report.md and OUT/report.json; every option that fits, selects or ships is refused."""
+    """``--report-only``: the report (step 4) of the agent shipped for ``--env``, every seed and the ensemble, written
+    to OUT/report.md and OUT/report.json; every option that fits, selects or ships is refused."""
     for option in ("ship", "reuse", "fit_only", "probing_guard"):
         if getattr(args, option):
             parser.error(f"--report-only: plays the shipped agent as it is, without --{option.replace('_', '-')}")
@@ -655,7 +656,7 @@ def report_only(parser: argparse.ArgumentParser, args: argparse.Namespace) -> No
             parser.error(f"--report-only: fits and selects nothing, so --{option.replace('_', '-')} would be ignored")
     t0 = time.time()
     args.out.mkdir(parents=True, exist_ok=True)
-    runs = shipped_runs(args.out)
+    runs = shipped_runs(args.out, SHIPPED_PACKAGES[args.env])
     report = report_runs(runs, args.workers, args.env)
     text = ["# Learned interrogator: the shipped agent per seed", "",
             f"Command: `python experiments/train_interrogator.py {' '.join(sys.argv[1:])}` ({time.time() - t0:.0f} s on "

@@ -287,28 +287,29 @@ def test_a_bad_balance_lag_names_both_accepted_forms(text: str) -> None:
         lag_or_none(text)
 
 
-def test_the_report_only_runs_are_the_shipped_agent_member_by_member(tmp_path: Path) -> None:
-    """``--report-only`` plays seed K as the shipped package's member K alone, with the package's guards and
-    manifest, and the ensemble as the package, without its calibrated interval; a stale run directory is
-    replaced."""
-    from train_interrogator import shipped_runs
+@pytest.mark.parametrize("env_id", [cof_gym.WAGON_ENV_ID, cof_gym.WAGON_IN_SERVICE_ENV_ID])
+def test_the_report_only_runs_are_the_shipped_agent_member_by_member(tmp_path: Path, env_id: str) -> None:
+    """``--report-only`` plays seed K as the package's member K alone (the package shipped for ``--env``), with the
+    package's guards and manifest, and the ensemble as the package, without its calibrated interval; a stale run
+    directory is replaced."""
+    from train_interrogator import SHIPPED_PACKAGES, shipped_runs
 
-    from cof_gym.agents.interrogator import SHIPPED_INTERROGATOR
-
+    package = SHIPPED_PACKAGES[env_id]
     (tmp_path / "seed_0" / "guard_9").mkdir(parents=True)  # a stale run
-    runs = shipped_runs(tmp_path)
-    members = sorted(SHIPPED_INTERROGATOR.glob("member_*.npz"))
+    runs = shipped_runs(tmp_path, package)
+    members = sorted(package.glob("member_*.npz"))
     assert [r.name for r in runs] == [f"seed_{k}" for k in range(len(members))] + ["ensemble"]
     for k, run in enumerate(runs[:-1]):
         assert sorted(p.name for p in run.glob("member_*.npz")) == ["member_0.npz"]
         assert (run / "member_0.npz").read_bytes() == members[k].read_bytes()
         assert not (run / "guard_9").exists()
     for run in runs:
-        assert (run / "manifest.json").read_text() == (SHIPPED_INTERROGATOR / "manifest.json").read_text()
+        assert (run / "manifest.json").read_text() == (package / "manifest.json").read_text()
         assert not (run / "interval.json").exists()  # calibrated for the shipped networks alone
     assert [p.read_bytes() for p in sorted(runs[-1].glob("member_*.npz"))] == [p.read_bytes() for p in members]
-    agent = interrogator_for(gym.make(cof_gym.WAGON_ENV_ID), runs[0])
-    assert len(agent.ensemble.members) == 1 and [len(g.members) for g in agent.guards] == [len(members)] * 2
+    agent = interrogator_for(gym.make(env_id), runs[0])
+    guards = json.loads((package / "manifest.json").read_text())["guards"]
+    assert len(agent.ensemble.members) == 1 and [len(g.members) for g in agent.guards] == [len(members)] * len(guards)
 
 
 @pytest.mark.parametrize("options", [["--ship"], ["--reuse"], ["--fit-only"], ["--guards", "x"]])
