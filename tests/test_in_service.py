@@ -3,6 +3,7 @@ on a track of drawn irregularity, each drawn after v2's fields so that every v2 
 
 from __future__ import annotations
 
+import argparse
 import json
 from dataclasses import asdict, replace
 
@@ -153,6 +154,7 @@ def test_the_interrogator_fitted_on_v3_is_registered_beside_the_default_list_and
     from cof_gym.agents.policy_files import SHIPPED_INTERROGATOR_IN_SERVICE
 
     assert "interrogator-in-service" in registry.AGENTS and "interrogator-in-service" not in registry.default_agents()
+    assert "interrogator-in-service" in registry.default_agents(IN_SERVICE)
     manifest = json.loads((SHIPPED_INTERROGATOR_IN_SERVICE / "manifest.json").read_text())
     assert manifest["trained_on"]["env_id"] == IN_SERVICE
     env = gym.make(IN_SERVICE)
@@ -164,3 +166,21 @@ def test_the_interrogator_fitted_on_v3_is_registered_beside_the_default_list_and
     note = agent.distribution_note(v2.env_id, v2.env_kwargs, [o for _, o in v2.episodes])
     assert f"env {cof_gym.WAGON_ENV_ID} (trained: {IN_SERVICE})" in note
     env.close()
+
+
+@pytest.mark.parametrize("suite, env, added", [("in-service", None, ["phase-rule-in-service", "interrogator-in-service"]),
+                                               ("default", IN_SERVICE, ["phase-rule-in-service",
+                                                                        "interrogator-in-service"]),
+                                               ("default", None, []), ("paper", None, [])])
+def test_without_agents_a_suite_played_on_v3_adds_the_agents_fitted_for_it(suite, env, added) -> None:
+    """``cof-gym evaluate`` without ``--agents`` plays the default list, and on a suite played on the v3 id (its own or
+    through ``--env``) the agents chosen or fitted for task v3 as well, in the registry's order; on a v2 suite the
+    default list alone."""
+    from cof_gym.commands.evaluate import add_arguments, prepare
+
+    parser = argparse.ArgumentParser()
+    add_arguments(parser)
+    args = parser.parse_args(["--suite", suite, "--episodes", "2", *(["--env", env] if env else [])])
+    specs, played, _ = prepare(args)
+    assert specs == [n for n in registry.AGENTS if n in registry.default_agents() or n in added]
+    assert played.env_id == (env or (IN_SERVICE if suite == "in-service" else cof_gym.WAGON_ENV_ID))

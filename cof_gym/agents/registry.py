@@ -25,6 +25,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from cof_gym import WAGON_IN_SERVICE_ENV_ID
 from cof_gym.agents.policy_files import (
     MANIFEST_FILE, MODEL_NAMES, SHIPPED_INTERROGATOR, SHIPPED_INTERROGATOR_IN_SERVICE, SHIPPED_PPO,
 )
@@ -47,6 +48,7 @@ class AgentEntry:
     runaway: bool = False  # reports the runaway estimate between its stops, under its own name
     ceiling: bool = False  # caps every estimate at the crest ceiling, under its own name
     check: str | None = None  # "module:function" checking an ":ARG" before any simulation (ValueError, one line)
+    default_on: tuple[str, ...] = ()  # env ids whose suites also play it by default (an agent fitted for that task)
 
     @property
     def needs_argument(self) -> bool:
@@ -79,12 +81,13 @@ AGENTS: dict[str, AgentEntry] = {}
 
 def register(name: str, factory: str, *, oracle: bool, help: str = "", takes_env: bool = False,
              argument: str | None = None, default: bool = True, shipped: Path | None = None,
-             runaway: bool = False, ceiling: bool = False, check: str | None = None) -> None:
+             runaway: bool = False, ceiling: bool = False, check: str | None = None,
+             default_on: tuple[str, ...] = ()) -> None:
     """Register an agent under ``name`` (later registrations of the same name replace earlier ones)."""
     if not name or any(c in name for c in ":,+"):
         raise ValueError(f"agent names must be non-empty without ':', ',' or '+', got {name!r}")
     AGENTS[name] = AgentEntry(name, factory, oracle, help, takes_env, argument, default, shipped, runaway, ceiling,
-                              check)
+                              check, tuple(default_on))
 
 
 def _sb3(env, argument: str | None, prefix: str | None = None):
@@ -157,10 +160,10 @@ register("robust-model-gated", "cof_gym.agents.robust_model:robust_model_gated",
 register("phase-rule-rotation", "cof_gym.agents.phase_rule:phase_rule_rotation", oracle=False, ceiling=True,
          default=False, help="the phase rule modulating at least ROTATION_MARGIN_HZ from the wheelset's rotation "
          "frequency at its measured speed (a speed probe's runout read by the rotation lock-in)")
-# the phase rule chosen for task v3 (session 86; not in the default list: the default suite is v2's), on the v3 id's
-# validation seeds by experiments/select_phase_rule.py --in-service
+# the phase rule chosen for task v3 (session 86; not in the default list: the default suite is v2's; in it on a suite of
+# the v3 id, since session 88), on the v3 id's validation seeds by experiments/select_phase_rule.py --in-service
 register("phase-rule-in-service", "cof_gym.agents.phase_rule:phase_rule_in_service", oracle=False, ceiling=True,
-         default=False, help="the phase rule chosen on task v3's validation seeds "
+         default=False, default_on=(WAGON_IN_SERVICE_ENV_ID,), help="the phase rule chosen on task v3's validation seeds "
          "(CofGym/TorqueInterrogationInService-v3: a speed probe, an irregular track): a smaller probe at 8 Hz")
 register("interrogator", "cof_gym.agents.interrogator:load_interrogator", oracle=False, takes_env=True,
          argument="DIR", shipped=SHIPPED_INTERROGATOR / MANIFEST_FILE,
@@ -173,9 +176,10 @@ register("interrogator-rotation", "cof_gym.agents.interrogator.agent:load_interr
          help="the learned interrogator modulating at least INTERROGATOR_ROTATION_MARGIN_HZ from the wheelset's "
          "rotation frequency at its measured speed (a speed probe's runout read by the rotation lock-in)")
 # the same recipe fitted on task v3's wagon (rule 144, session 88; not in the default list: the default suite is v2's,
-# out of its training distribution)
+# out of its training distribution; in it on a suite of the v3 id)
 register("interrogator-in-service", "cof_gym.agents.interrogator.agent:load_interrogator_in_service", oracle=False,
          takes_env=True, shipped=SHIPPED_INTERROGATOR_IN_SERVICE / MANIFEST_FILE, default=False,
+         default_on=(WAGON_IN_SERVICE_ENV_ID,),
          help="the learned interrogator fitted on task v3 (CofGym/TorqueInterrogationInService-v3: a speed probe, an "
          "irregular track): the same recipe, its climbs collected there")
 register("ppo", "cof_gym.agents.registry:_ppo", oracle=False, takes_env=True, argument="PATH",
@@ -214,15 +218,25 @@ def describe() -> str:
     return ", ".join(parts[:-1]) + f" or {parts[-1]}" if len(parts) > 1 else "".join(parts)
 
 
-def default_agents() -> list[str]:
+def default_agents(env_id: str | None = None) -> list[str]:
+    """The agents ``cof-gym evaluate`` plays without ``--agents``, in registration order: those registered with
+    ``default``, and on a suite of ``env_id`` also those whose ``default_on`` names it; each only where it can be
+    built here (its module and shipped files present)."""
     out = []
     for name, entry in AGENTS.items():
-        if not entry.default or not entry.available():
+        if not (entry.default or env_id in entry.default_on) or not entry.available():
             continue
         if not entry.shipped_available():
             continue
         out.append(name)
     return out
+
+
+def default_on_text() -> str:
+    """``; on a suite of ID also A, B`` for every id some agent's ``default_on`` names (help texts); empty if none."""
+    ids = dict.fromkeys(i for e in AGENTS.values() for i in e.default_on)
+    return "".join(f"; on a suite of {i} also {','.join(n for n in default_agents(i) if n not in default_agents())}"
+                   for i in ids)
 
 
 PLAIN = "plain"  # the agent-name suffix of an agent without the runaway estimate or the crest ceiling

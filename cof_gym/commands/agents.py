@@ -12,8 +12,8 @@ from cof_gym.agents import registry
 
 DESCRIPTION = ("Every agent cof-gym evaluate and cof-gym watch know (one registry, cof_gym/agents/registry.py): its "
                "name (NAME:ARG where it takes an argument), 'oracle' where it reads the ground truth, 'default' where "
-               "cof-gym evaluate plays it without --agents, and what it does. Any of them takes +runaway, +ceiling or "
-               "+plain (cof-gym evaluate --help).")
+               "cof-gym evaluate plays it without --agents ('default on ID' where it does on a suite played on that "
+               "id), and what it does. Any of them takes +runaway, +ceiling or +plain (cof-gym evaluate --help).")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -28,6 +28,7 @@ def listing(width: int) -> list[str]:
     for name in registry.names():
         entry = registry.AGENTS[name]
         flags = [flag for flag, on in (("oracle", entry.oracle), ("default", name in defaults)) if on]
+        flags += [f"default on {env_id}" for env_id in entry.default_on]
         lines.append(", ".join(entry.spellings) + (f"  [{', '.join(flags)}]" if flags else ""))
         lines += textwrap.wrap(entry.help or "(no description)", width, initial_indent="    ",
                                subsequent_indent="    ", break_long_words=False, break_on_hyphens=False)

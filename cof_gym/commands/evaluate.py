@@ -437,7 +437,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
     parser.add_argument("--agents", nargs="+", default=None, metavar="A,B",
                         help=f"agents, comma- or space-separated: {registry.describe()} (default: "
-                             f"{','.join(registry.default_agents())})")
+                             f"{','.join(registry.default_agents())}{registry.default_on_text()})")
     parser.add_argument("--episodes", type=int_in_range(1, MAX_EPISODES), default=60,
                         help=f"episodes per agent, at most {MAX_EPISODES} (a suite file with an episode list sets "
                              "its own)")
@@ -489,7 +489,14 @@ def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
     from cof_gym.commands.args import MAX_SEED, UsageError
 
     given = None if args.agents is None else ",".join(args.agents)  # --agents a,b and --agents a b alike
-    specs = [s.strip() for s in given.split(",")] if given is not None else registry.default_agents()
+    try:
+        suite = make_suite(args.suite, args.episodes, args.seed)
+    except SuiteError as e:
+        raise UsageError("--suite", str(e)) from None
+    if args.env is not None:
+        suite = _on_env(suite, args.env)
+    # without --agents: the default list of the id the suite is played on (cof_gym.agents.registry.default_agents)
+    specs = [s.strip() for s in given.split(",")] if given is not None else registry.default_agents(suite.env_id)
     if not specs or any(not s for s in specs):
         raise UsageError("--agents", f"empty agent name in {given!r}; allowed: {registry.describe()}")
     for spec in specs:
@@ -510,12 +517,6 @@ def prepare(args: argparse.Namespace) -> tuple[list[str], Suite, Path]:
     if args.paired is not None and len(specs) < 2:
         raise UsageError("--paired", f"compares every other agent with {args.paired!r}, and --agents plays no other; "
                                      "name at least one more")
-    try:
-        suite = make_suite(args.suite, args.episodes, args.seed)
-    except SuiteError as e:
-        raise UsageError("--suite", str(e)) from None
-    if args.env is not None:
-        suite = _on_env(suite, args.env)
     env_overrides = dict(args.env_kwargs)
     named = dict(env_overrides)  # what names the suite and the default output directory
     curves = [(Path(p).stem, _measured_curve(Path(p), env_overrides, suite)) for p in args.creep_table or ()]
