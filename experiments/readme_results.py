@@ -1585,6 +1585,8 @@ LEARNED = "interrogator"  # the learned agent the issue's targets are about
 # held-out grid played on v3 beside the agents of its in-service run (cof-gym evaluate --env, into
 # out/evaluate-in-service-heldoutK-learned)
 V3_LEARNED = "interrogator-in-service"
+# the agents beside it in those runs that read no truth (the --agents of the docstring's commands, in that order)
+IN_SERVICE_RIVALS = ("interrogator", "phase-rule-in-service", "staircase-zeroed", "model-based-zeroed")
 IN_SERVICE_HELDOUT_RUNS = {name: (label, ROOT / "out" / f"evaluate-in-service-{name.removeprefix('v2_')}-learned")
                            for name, (label, _) in HELDOUT_RUNS.items()}
 TARGET_SUITES = {"v2 default suite (`cof-gym evaluate`)": ROOT / "out" / "evaluate" / "summary.json",
@@ -2103,6 +2105,8 @@ GENERATED = {"targets": targets, "targets_count": targets_count, "paired_targets
              "runaway_validation": runaway_validation, "ceiling_validation": ceiling_validation,
              "in_service_heldout_overview": lambda: heldout_overview(IN_SERVICE_HELDOUT_RUNS, V3_LEARNED),
              "rule144_validation": pooled_validation,
+             "in_service_heldout_peak_creepage": lambda: heldout_peak_creepage(IN_SERVICE_HELDOUT_RUNS, V3_LEARNED,
+                                                                               IN_SERVICE_RIVALS),
              }  # block -> its generator
 
 
