@@ -2064,7 +2064,8 @@ RULE144_PLAYS = {label: [ROOT / "out" / f"rule144-{tag}-{grid}-ct{ct}" for tag i
 def pooled_validation(plays: dict[str, list[Path]] = RULE144_PLAYS) -> str | None:
     """One row per agent of the plays ({grid: evaluate runs}; an agent's episodes pooled over a grid's runs): each
     grid's median / P90 / macro-slips, and over every grid the median and the P90 with a macro-slip (or an unscored
-    episode) counted as 100 % error, as the recipe's selection ranks; None when a run is missing."""
+    episode) counted as 100 % error (``EpisodeRecord.error_slip_failed``, read back from episodes.csv's columns), as
+    the recipe's selection ranks; None when a run is missing."""
     played: dict[str, dict[str, list[tuple[float, bool]]]] = {}
     for grid, runs in plays.items():
         for out in runs:

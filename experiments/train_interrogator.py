@@ -21,7 +21,7 @@ climbs and those (OUT/guard/training.json differs), fits the first step's guard 
 selects the same climb (the selection plays the filter alone; ADOPTED_CLIMB, the parts later rules adopted, is set
 after it) and ships. On task v3's wagon (``--env CofGym/TorqueInterrogationInService-v3`` on all three; session 88)
 the second step's cache is ``onpolicy_env_DIGEST_v3.npz`` and ``--ship`` writes the ``interrogator-in-service``
-package (SHIPPED_PACKAGES).
+package (``cof_gym.agents.policy_files.SHIPPED_INTERROGATORS``).
 
 1. **Data**: training climbs on the v2 wagon's randomisation, half with the paper's counter torque
    (cof_gym/agents/interrogator/training.py): probing climbs steered by their own readings, never by
@@ -87,7 +87,7 @@ package (SHIPPED_PACKAGES).
 
 ``--report-only`` plays step 4 alone on the shipped agent as it is (no climb cache: seed K is the package's member K
 alone beside the shipped guards, the ensemble the package), e.g. after a rule changed the shipped climb and no network;
-with ``--env``, the package shipped for that id (SHIPPED_PACKAGES).
+with ``--env``, the package shipped for that id (``cof_gym.agents.policy_files.SHIPPED_INTERROGATORS``).
 ``--fit-only`` stops after step 2: networks for another run's ``--guards`` or crest_tradeoff.py's ``--run``
 (``--loss laplace``: fitted under the Laplace likelihood, each output the conditional median; session 26);
 ``--guard-climbs none`` fits no guard (the recipe before session 16). ``--add-climbs FILE ...`` adds climbs
@@ -124,7 +124,7 @@ from cof_gym.agents.interrogator import (
     write_manifest,
 )
 from cof_gym.agents.interrogator.networks import ensemble_files, member_files
-from cof_gym.agents.policy_files import MANIFEST_FILE, SHIPPED_INTERROGATOR_IN_SERVICE, TRAINING_RECORD
+from cof_gym.agents.policy_files import MANIFEST_FILE, SHIPPED_INTERROGATORS, TRAINING_RECORD
 from cof_gym.agents.interrogator.training import (
     FAR_PEAK_CREEPAGE, FIT_LOSSES, FITTABLE_BLOCKS, STEEP_FALL, TRAINING_SEED, ClimbDraws, Dataset, FitSettings,
     collect_parallel, fit_member, nll,
@@ -143,12 +143,11 @@ from selection import error_summary  # noqa: E402
 from script_checks import check_out_dir, load_climbs  # noqa: E402
 
 ENV_ID = cof_gym.WAGON_ENV_ID
-# the ids a recipe may be run on (--env), each with the package --ship writes: the v2 wagon (``interrogator``) and task
-# v3's wagon (a speed probe and an irregular track drawn; session 87; ``interrogator-in-service``, rule 144, session
-# 88); each collection's climbs are collected on the run's id, the selection's validation grids and the report's suites
-# played on it
-SHIPPED_PACKAGES = {ENV_ID: SHIPPED_INTERROGATOR, cof_gym.WAGON_IN_SERVICE_ENV_ID: SHIPPED_INTERROGATOR_IN_SERVICE}
-TRAINING_ENV_IDS = tuple(SHIPPED_PACKAGES)
+# the ids a recipe may be run on (--env), each with the package --ship writes (SHIPPED_INTERROGATORS): the v2 wagon
+# (``interrogator``) and task v3's wagon (a speed probe and an irregular track drawn; session 87;
+# ``interrogator-in-service``, rule 144, session 88); each collection's climbs are collected on the run's id, the
+# selection's validation grids and the report's suites played on it
+TRAINING_ENV_IDS = tuple(SHIPPED_INTERROGATORS)
 CONFIGS = [{}, {"counter_torque": True}]  # the two vehicle configurations trained on
 # draws past the env's own, up to what the env accepts: the sensors' noise (multiples of the full scale) and the
 # drive's lag (s) where the env draws 0-1 and 0-0.03 s, and the torque gain error where it draws +-5 %
@@ -656,7 +655,7 @@ def report_only(parser: argparse.ArgumentParser, args: argparse.Namespace) -> No
             parser.error(f"--report-only: fits and selects nothing, so --{option.replace('_', '-')} would be ignored")
     t0 = time.time()
     args.out.mkdir(parents=True, exist_ok=True)
-    runs = shipped_runs(args.out, SHIPPED_PACKAGES[args.env])
+    runs = shipped_runs(args.out, SHIPPED_INTERROGATORS[args.env])
     report = report_runs(runs, args.workers, args.env)
     text = ["# Learned interrogator: the shipped agent per seed", "",
             f"Command: `python experiments/train_interrogator.py {' '.join(sys.argv[1:])}` ({time.time() - t0:.0f} s on "
@@ -909,7 +908,7 @@ def main() -> None:
     (out / "report.json").write_text(json.dumps({"fit": fit_report, "selection": table, "report": report}, indent=1))
     print("\n".join(text))
     if args.ship:
-        package = SHIPPED_PACKAGES[args.env]
+        package = SHIPPED_INTERROGATORS[args.env]
         ship(ensemble_dir, package)
         print(f"shipped {ensemble_dir} -> {package}" + ("; calibrate its interval with python "
                                                         "experiments/estimate_interval.py --write" if args.env == ENV_ID

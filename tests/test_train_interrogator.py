@@ -292,9 +292,11 @@ def test_the_report_only_runs_are_the_shipped_agent_member_by_member(tmp_path: P
     """``--report-only`` plays seed K as the package's member K alone (the package shipped for ``--env``), with the
     package's guards and manifest, and the ensemble as the package, without its calibrated interval; a stale run
     directory is replaced."""
-    from train_interrogator import SHIPPED_PACKAGES, shipped_runs
+    from train_interrogator import shipped_runs
 
-    package = SHIPPED_PACKAGES[env_id]
+    from cof_gym.agents.policy_files import SHIPPED_INTERROGATORS
+
+    package = SHIPPED_INTERROGATORS[env_id]
     (tmp_path / "seed_0" / "guard_9").mkdir(parents=True)  # a stale run
     runs = shipped_runs(tmp_path, package)
     members = sorted(package.glob("member_*.npz"))
@@ -358,7 +360,9 @@ def test_env_collects_on_that_id_into_caches_and_records_of_its_own(tmp_path: Pa
     np.testing.assert_array_equal(Dataset.load(run / "climbs.npz").readings, v2_cache.readings)
     assert json.loads((run / "training.json").read_text())["env_id"] == v3
     from cof_gym.agents import registry
+    from cof_gym.agents.policy_files import SHIPPED_INTERROGATORS
 
-    assert train_interrogator.SHIPPED_PACKAGES == {
+    assert set(train_interrogator.TRAINING_ENV_IDS) == set(SHIPPED_INTERROGATORS)
+    assert SHIPPED_INTERROGATORS == {
         cof_gym.WAGON_ENV_ID: registry.AGENTS["interrogator"].shipped.parent,
         v3: registry.AGENTS["interrogator-in-service"].shipped.parent}

@@ -235,8 +235,8 @@ def default_agents(env_id: str | None = None) -> list[str]:
 def default_on_text() -> str:
     """``; on a suite of ID also A, B`` for every id some agent's ``default_on`` names (help texts); empty if none."""
     ids = dict.fromkeys(i for e in AGENTS.values() for i in e.default_on)
-    return "".join(f"; on a suite of {i} also {','.join(n for n in default_agents(i) if n not in default_agents())}"
-                   for i in ids)
+    base = set(default_agents())
+    return "".join(f"; on a suite of {i} also {','.join(n for n in default_agents(i) if n not in base)}" for i in ids)
 
 
 PLAIN = "plain"  # the agent-name suffix of an agent without the runaway estimate or the crest ceiling
